@@ -1,0 +1,102 @@
+# lanray - one Makefile for everything.
+#   make            build bin/lanray-render and bin/obj2tmd (float build)
+#   make deps       install the Debian packages the build needs (idempotent)
+#   make check      unit + CLI tests (after installing deps)
+#   make check-asan the same tests under AddressSanitizer + UBSan
+#   make bench      renderer benchmark against Embree (prints ratios)
+#   make PRECISION=double ...   double-precision build in build/double, bin/double
+PRECISION ?= float
+SAN ?=
+CC ?= gcc
+
+ifeq ($(PRECISION),double)
+  PFLAGS := -DLANRAY_DOUBLE
+  BIN := bin/double
+else ifeq ($(PRECISION),float)
+  PFLAGS :=
+  BIN := bin
+else
+  $(error PRECISION must be float or double)
+endif
+
+ifeq ($(SAN),asan)
+  SANFLAGS := -fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=all
+  OPT := -O1
+  BIN := $(BIN)/asan
+else
+  SANFLAGS :=
+  OPT := -O2
+endif
+
+BUILD := build/$(PRECISION)$(if $(SAN),-$(SAN))
+CFLAGS ?= $(OPT) -g
+CPPFLAGS := -D_POSIX_C_SOURCE=200809L $(PFLAGS) -Icommon
+ALL_CFLAGS := -std=c17 -Wall -Wextra -Werror -pthread -MMD -MP $(SANFLAGS) $(CPPFLAGS) $(CFLAGS)
+LDLIBS := -lnetpbm -lpng -lm -pthread
+LDFLAGS := $(SANFLAGS)
+
+COMMON_SRC := $(wildcard common/*.c)
+COMMON_OBJ := $(COMMON_SRC:%.c=$(BUILD)/%.o)
+LIB := $(BUILD)/liblanray.a
+TOOLS := $(BIN)/lanray-render $(BIN)/obj2tmd
+TEST_SRC := $(wildcard tests/test_*.c)
+TESTS := $(TEST_SRC:tests/%.c=$(BUILD)/tests/%)
+
+DEB_PACKAGES := gcc make pkg-config libsdl2-dev libnetpbm-dev libpng-dev libcmocka-dev libembree-dev
+
+.PHONY: all deps check check-asan bench demo clean
+all: $(TOOLS)
+
+deps:
+	@missing=""; for p in $(DEB_PACKAGES); do \
+	  dpkg-query -W -f='$${Status}' $$p 2>/dev/null | grep -q "ok installed" || missing="$$missing $$p"; \
+	done; \
+	if [ -n "$$missing" ]; then \
+	  echo "make deps: installing$$missing"; \
+	  SUDO=""; [ "$$(id -u)" = 0 ] || SUDO=sudo; \
+	  $$SUDO apt-get update -qq && DEBIAN_FRONTEND=noninteractive $$SUDO apt-get install -y -qq $$missing >/dev/null; \
+	else echo "make deps: all packages present"; fi
+
+$(BUILD)/%.o: %.c
+	@mkdir -p $(dir $@)
+	$(CC) $(ALL_CFLAGS) -c $< -o $@
+
+$(LIB): $(COMMON_OBJ)
+	@rm -f $@
+	ar rcs $@ $^
+
+$(BIN)/lanray-render: $(BUILD)/tools/lanray_render.o $(LIB)
+	@mkdir -p $(dir $@)
+	$(CC) $(LDFLAGS) -o $@ $^ $(LDLIBS)
+
+$(BIN)/obj2tmd: $(BUILD)/tools/obj2tmd.o $(LIB)
+	@mkdir -p $(dir $@)
+	$(CC) $(LDFLAGS) -o $@ $^ $(LDLIBS)
+
+$(BUILD)/tests/%: $(BUILD)/tests/%.o $(LIB)
+	$(CC) $(LDFLAGS) -o $@ $^ -lcmocka $(LDLIBS)
+
+# The unit tests, then the command-line tests against the built tools.
+check: deps
+	@$(MAKE) --no-print-directory test-run
+check-asan: deps
+	@$(MAKE) --no-print-directory test-run SAN=asan
+
+.PHONY: test-run
+test-run: $(TESTS) $(TOOLS)
+	@BUILD=$(BUILD) BIN=$(BIN) bash tests/run.sh $(TESTS)
+
+$(BUILD)/tools/embree_ref: tools/embree_ref.c $(LIB)
+	@mkdir -p $(dir $@)
+	$(CC) $(ALL_CFLAGS) -o $@ $< $(LIB) -lembree3 $(LDLIBS)
+
+bench: deps $(TOOLS) $(BUILD)/tools/embree_ref
+	@BIN=$(BIN) EMBREE_REF=$(BUILD)/tools/embree_ref bash tools/bench-render
+
+demo: deps $(TOOLS)
+	@$(BIN)/lanray-render -o lanray-demo.png
+
+clean:
+	rm -rf build bin
+
+-include $(shell find build -name '*.d' 2>/dev/null)

@@ -1,0 +1,84 @@
+/* bvh.h - bounding volume hierarchies: flat layout, builders, slab test.
+ *
+ * Invariants of a built or loaded Bvh (checked by bvh_validate):
+ *  - node 0 is the root; an interior node's two children sit side by side at
+ *    `first` and `first + 1`, always after their parent;
+ *  - a leaf (count > 0) covers primitives [first, first + count) of `prims`
+ *    (or of the caller's reordered arrays when prims is NULL);
+ *  - depth <= BVH_MAX_DEPTH, so traversal needs a fixed stack of that size. */
+#ifndef LANRAY_BVH_H
+#define LANRAY_BVH_H
+
+#include <stdint.h>
+
+#include "aabb.h"
+#include "err.h"
+#include "ray.h"
+
+#define BVH_MAX_DEPTH 64
+#define BVH_MAX_PRIMS (1u << 26)
+
+/* 32 bytes in the float build: two nodes per 64-byte cache line. */
+typedef struct __attribute__((aligned(32))) {
+    real bmin[3];
+    uint32_t first; /* interior: index of the first child; leaf: first primitive */
+    real bmax[3];
+    uint32_t count; /* 0 for an interior node, else the number of primitives */
+} BvhNode;
+
+typedef enum { BVH_SBT = 0, BVH_MST = 1, BVH_SAH = 2, BVH_KIND_COUNT } BvhKind;
+
+typedef struct {
+    BvhKind kind;
+    uint32_t max_leaf;     /* most primitives per leaf (the MST and SAH may use fewer) */
+    int sbt_alternate;     /* SBT: split axes in turn x, y, z instead of the longest */
+} BvhOptions;
+
+typedef struct {
+    BvhNode *nodes;
+    uint32_t node_count;
+    uint32_t *prims; /* leaf order -> caller's primitive index; NULL once the caller reordered */
+    uint32_t prim_count;
+    uint32_t depth; /* nodes on the longest root-to-leaf path */
+    BvhKind kind;
+} Bvh;
+
+BvhOptions bvh_options_default(BvhKind kind);
+/* Builds over n boxes. Empty boxes are not allowed (callers drop degenerate input). */
+int bvh_build(Bvh *out, const Aabb *boxes, uint32_t n, const BvhOptions *opt, Err *err);
+void bvh_destroy(Bvh *b);
+/* Structural check of a tree that came from outside (a .tmd file). */
+int bvh_validate(const Bvh *b, Err *err);
+/* SAH cost with traversal cost 1 and intersection cost 1, relative to the root area. */
+double bvh_sah_cost(const Bvh *b);
+const char *bvh_kind_name(BvhKind k);
+int bvh_kind_parse(const char *s, BvhKind *out);
+static inline Aabb bvh_node_box(const BvhNode *n)
+{
+    Aabb b = {v3(n->bmin[0], n->bmin[1], n->bmin[2]), v3(n->bmax[0], n->bmax[1], n->bmax[2])};
+    return b;
+}
+
+/* Slab test with Ize's conservative rounding ("Robust BVH Ray Traversal",
+ * JCGT 2013): the far distance is enlarged by 1 + 2*gamma(3), so that a ray
+ * grazing a box is never lost to rounding.  Writes the entry distance. */
+static inline int bvh_node_hit(const BvhNode *n, const Ray *r, real tmax, real *tnear)
+{
+    const real fudge = R(1) + R(2) * real_gamma(3);
+    real t0 = (n->bmin[0] - r->org.x) * r->inv.x, t1 = (n->bmax[0] - r->org.x) * r->inv.x;
+    real lo = real_min(t0, t1), hi = real_max(t0, t1);
+    t0 = (n->bmin[1] - r->org.y) * r->inv.y;
+    t1 = (n->bmax[1] - r->org.y) * r->inv.y;
+    lo = real_max(lo, real_min(t0, t1));
+    hi = real_min(hi, real_max(t0, t1));
+    t0 = (n->bmin[2] - r->org.z) * r->inv.z;
+    t1 = (n->bmax[2] - r->org.z) * r->inv.z;
+    lo = real_max(lo, real_min(t0, t1));
+    hi = real_min(hi, real_max(t0, t1));
+    lo = real_max(lo, r->tmin);
+    hi = real_min(hi * fudge, tmax);
+    *tnear = lo;
+    return lo <= hi;
+}
+
+#endif

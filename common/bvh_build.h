@@ -1,0 +1,38 @@
+/* bvh_build.h - what the three BVH builders share (private to common/bvh*.c).
+ *
+ * Each builder produces a binary tree of BuildNodes over primitive indices;
+ * bvh_flatten then turns any such tree into the flat traversal layout. */
+#ifndef LANRAY_BVH_BUILD_H
+#define LANRAY_BVH_BUILD_H
+
+#include "bvh.h"
+
+typedef struct {
+    Aabb box;
+    int32_t left, right; /* -1 for a leaf */
+    uint32_t first, count; /* leaf: range in the builder's perm[] */
+} BuildNode;
+
+typedef struct {
+    const Aabb *boxes;
+    vec3 *centres;
+    uint32_t n;
+    uint32_t *perm; /* primitive indices, grouped by leaf */
+    BuildNode *nodes;
+    uint32_t node_count, node_cap;
+    uint32_t root;
+    const BvhOptions *opt;
+    int collapse; /* let bvh_flatten merge small subtrees into leaves by SAH */
+} Builder;
+
+/* Appends a node, returns its index or -1 when out of memory. */
+int32_t builder_add(Builder *b, BuildNode node);
+/* Bounds of the primitive boxes and of their centres over perm[first, first+count). */
+void builder_bounds(const Builder *b, uint32_t first, uint32_t count, Aabb *box, Aabb *cbox);
+
+int bvh_build_sbt(Builder *b, Err *err);
+int bvh_build_sah(Builder *b, Err *err);
+int bvh_build_mst(Builder *b, Err *err);
+int bvh_flatten(const Builder *b, Bvh *out, Err *err);
+
+#endif

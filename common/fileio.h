@@ -1,0 +1,26 @@
+/* fileio.h - whole-file reads with a size limit, and atomic writes.
+ *
+ * Outputs are written to a temporary name beside the target and renamed into
+ * place, so a crash, a full disk or an error never leaves a partial file. */
+#ifndef LANRAY_FILEIO_H
+#define LANRAY_FILEIO_H
+
+#include <stddef.h>
+#include <stdio.h>
+
+#include "err.h"
+
+/* Reads all of path into a malloc'd buffer (NUL-terminated for text parsers). */
+int file_read_all(const char *path, size_t max_bytes, char **data, size_t *len, Err *err);
+
+/* Atomic write through a callback that writes to the open temporary FILE. */
+typedef int (*file_write_fn)(FILE *f, void *ctx, Err *err);
+int file_write_atomic(const char *path, file_write_fn fn, void *ctx, Err *err);
+int file_write_bytes(const char *path, const void *data, size_t len, Err *err);
+
+/* Directory part of path ("." when none) into buf. */
+void file_dirname(const char *path, char *buf, size_t size);
+/* Joins dir and a relative name; absolute names are kept as they are. */
+int file_join(const char *dir, const char *name, char *buf, size_t size);
+
+#endif

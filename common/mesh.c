@@ -1,0 +1,103 @@
+/* mesh.c - growable triangle lists. */
+#include "mesh.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+#define MESH_MAX_TRIS (1u << 26)
+
+int mesh_init(Mesh *m, int with_normals, int with_uvs, int with_materials, Err *err)
+{
+    memset(m, 0, sizeof *m);
+    m->cap = 1024;
+    m->pos = malloc(m->cap * 3 * sizeof *m->pos);
+    m->nrm = with_normals ? malloc(m->cap * 3 * sizeof *m->nrm) : NULL;
+    m->uv = with_uvs ? malloc(m->cap * 6 * sizeof *m->uv) : NULL;
+    m->mat = with_materials ? malloc(m->cap * sizeof *m->mat) : NULL;
+    if (!m->pos || (with_normals && !m->nrm) || (with_uvs && !m->uv) || (with_materials && !m->mat)) {
+        mesh_free(m);
+        return err_set(err, "mesh: out of memory");
+    }
+    return 0;
+}
+
+void mesh_free(Mesh *m)
+{
+    free(m->pos);
+    free(m->nrm);
+    free(m->uv);
+    free(m->mat);
+    free(m->materials);
+    memset(m, 0, sizeof *m);
+}
+
+static int grow(void **p, size_t elem, uint32_t cap)
+{
+    if (!*p)
+        return 0;
+    void *q = realloc(*p, elem * cap);
+    if (!q)
+        return -1;
+    *p = q;
+    return 0;
+}
+
+int mesh_add(Mesh *m, const vec3 pos[3], const vec3 *nrm, const real *uv, uint32_t mat, Err *err)
+{
+    if (m->tri_count == m->cap) {
+        if (m->cap >= MESH_MAX_TRIS)
+            return err_set(err, "mesh: more than %u triangles", MESH_MAX_TRIS);
+        uint32_t cap = m->cap * 2;
+        if (grow((void **)&m->pos, 3 * sizeof *m->pos, cap) || grow((void **)&m->nrm, 3 * sizeof *m->nrm, cap) ||
+            grow((void **)&m->uv, 6 * sizeof *m->uv, cap) || grow((void **)&m->mat, sizeof *m->mat, cap))
+            return err_set(err, "mesh: out of memory at %u triangles", m->tri_count);
+        m->cap = cap;
+    }
+    uint32_t i = m->tri_count++;
+    memcpy(&m->pos[3 * i], pos, 3 * sizeof *pos);
+    if (m->nrm)
+        memcpy(&m->nrm[3 * i], nrm, 3 * sizeof *nrm);
+    if (m->uv)
+        memcpy(&m->uv[6 * i], uv, 6 * sizeof *uv);
+    if (m->mat)
+        m->mat[i] = mat;
+    return 0;
+}
+
+int mesh_add_material(Mesh *m, Material mat, Err *err)
+{
+    if (m->material_count >= 65536)
+        return err_set(err, "mesh: more than 65536 materials");
+    Material *p = realloc(m->materials, (m->material_count + 1) * sizeof *p);
+    if (!p)
+        return err_set(err, "mesh: out of memory");
+    m->materials = p;
+    p[m->material_count++] = mat;
+    return 0;
+}
+
+void mesh_trim(Mesh *m, int keep_normals, int keep_uvs, int keep_materials)
+{
+    if (!keep_normals) {
+        free(m->nrm);
+        m->nrm = NULL;
+    }
+    if (!keep_uvs) {
+        free(m->uv);
+        m->uv = NULL;
+    }
+    if (!keep_materials) {
+        free(m->mat);
+        m->mat = NULL;
+        free(m->materials);
+        m->materials = NULL;
+        m->material_count = 0;
+    }
+}
+
+int mesh_tri_is_degenerate(const vec3 p[3])
+{
+    vec3 n = v3_cross(v3_sub(p[1], p[0]), v3_sub(p[2], p[0]));
+    real a = v3_dot(n, n);
+    return !(a > R(0)) || !isfinite(a) || !v3_is_finite(p[0]) || !v3_is_finite(p[1]) || !v3_is_finite(p[2]);
+}

@@ -1,0 +1,33 @@
+/* mesh.h - a plain triangle list: what the OBJ reader and procedural shapes
+ * produce and what a Model is built from.  Attributes are per corner, so no
+ * index buffers; arrays that no triangle uses are dropped by mesh_trim. */
+#ifndef LANRAY_MESH_H
+#define LANRAY_MESH_H
+
+#include <stdint.h>
+
+#include "err.h"
+#include "material.h"
+
+typedef struct {
+    uint32_t tri_count, cap;
+    vec3 *pos;      /* 3 per triangle */
+    vec3 *nrm;      /* 3 per triangle, or NULL */
+    real *uv;       /* 6 per triangle, or NULL */
+    uint32_t *mat;  /* 1 per triangle, or NULL */
+    Material *materials;
+    uint32_t material_count;
+} Mesh;
+
+/* Starts an empty mesh; the attribute arrays exist only for the kinds asked for. */
+int mesh_init(Mesh *m, int with_normals, int with_uvs, int with_materials, Err *err);
+void mesh_free(Mesh *m);
+/* Appends one triangle; nrm, uv may be NULL when the mesh has no such array. */
+int mesh_add(Mesh *m, const vec3 pos[3], const vec3 *nrm, const real *uv, uint32_t mat, Err *err);
+int mesh_add_material(Mesh *m, Material mat, Err *err);
+/* Drops attribute arrays the caller found unused. */
+void mesh_trim(Mesh *m, int keep_normals, int keep_uvs, int keep_materials);
+/* Twice the area is zero or not finite: a triangle that can never be hit. */
+int mesh_tri_is_degenerate(const vec3 p[3]);
+
+#endif

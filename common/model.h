@@ -1,0 +1,51 @@
+/* model.h - a triangle model with its own BVH: what a .tmd file holds.
+ *
+ * Triangles are stored in BVH leaf order, so a leaf's range indexes the
+ * triangle arrays directly (bvh.prims is NULL).  Optional attributes exist
+ * only when the model uses them: a flat, untextured, single-material model
+ * carries nothing but positions and the tree. */
+#ifndef LANRAY_MODEL_H
+#define LANRAY_MODEL_H
+
+#include "bvh.h"
+#include "intersect.h"
+#include "mesh.h"
+
+typedef struct {
+    Bvh bvh;
+    Tri *tris;
+    uint32_t tri_count;
+    vec3 *normals;      /* 3 per triangle, or NULL (flat shading) */
+    real *uvs;          /* 6 per triangle, or NULL */
+    uint32_t *mat_ids;  /* 1 per triangle, or NULL (one material for all) */
+    Material *materials;
+    uint32_t material_count;
+    Aabb bounds;
+} Model;
+
+typedef struct {
+    real t, b1, b2;
+    uint32_t tri;
+} ModelHit;
+
+/* Builds a model from a mesh (the mesh is not modified). */
+int model_from_mesh(Model **out, const Mesh *mesh, const BvhOptions *opt, Err *err);
+/* Replaces the BVH with one of another kind, keeping the triangles. */
+int model_rebuild(Model *m, const BvhOptions *opt, Err *err);
+void model_destroy(Model *m);
+/* Allocates a model with room for the given counts and attributes (used by the .tmd reader). */
+Model *model_alloc(uint32_t tri_count, uint32_t node_count, uint32_t material_count, int normals, int uvs, int mat_ids);
+
+/* Closest hit nearer than tmax in model space. */
+int model_intersect(const Model *m, const Ray *r, real tmax, ModelHit *hit);
+/* Any hit nearer than tmax: shadow rays stop at the first occluder. */
+int model_occluded(const Model *m, const Ray *r, real tmax);
+/* Geometric (flat) normal of triangle i, not normalised. */
+static inline vec3 model_face_normal(const Model *m, uint32_t i)
+{
+    const Tri *t = &m->tris[i];
+    vec3 a = tri_vertex(t, 0);
+    return v3_cross(v3_sub(tri_vertex(t, 1), a), v3_sub(tri_vertex(t, 2), a));
+}
+
+#endif

@@ -1,0 +1,105 @@
+/* mtl.c - reads the subset of MTL that Phong shading uses; other statements
+ * (illum, map_*, Ni, d, ...) are accepted and ignored. */
+#include "mtl.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+#include "fileio.h"
+#include "lex.h"
+
+#define MTL_MAX_BYTES ((size_t)64 << 20)
+#define MTL_MAX_MATERIALS 65536u
+
+static int add(MtlLib *lib, const char *name)
+{
+    if (lib->count >= MTL_MAX_MATERIALS)
+        return -1;
+    void *n = realloc(lib->names, (lib->count + 1) * sizeof *lib->names);
+    if (!n)
+        return -1;
+    lib->names = n;
+    void *m = realloc(lib->mats, (lib->count + 1) * sizeof *lib->mats);
+    if (!m)
+        return -1;
+    lib->mats = m;
+    snprintf(lib->names[lib->count], MTL_NAME_MAX, "%s", name);
+    lib->mats[lib->count] = material_default();
+    lib->count++;
+    return 0;
+}
+
+static int read_vec(const Tokens *t, vec3 *out)
+{
+    if (t->n != 4 && t->n != 2)
+        return -1;
+    real v[3];
+    for (int i = 0; i < 3; i++)
+        if (lex_real(t->tok[t->n == 2 ? 1 : 1 + i], &v[i]) || v[i] < R(0))
+            return -1;
+    *out = v3(v[0], v[1], v[2]);
+    return 0;
+}
+
+int mtl_parse(MtlLib *lib, char *text, size_t len, const char *name, Err *err)
+{
+    Lexer lx = lex_make(text, len);
+    Tokens t;
+    Material *cur = NULL;
+    while (lex_next_line(&lx, &t)) {
+        if (t.n == 0)
+            continue;
+        const char *k = t.tok[0];
+        if (strcmp(k, "newmtl") == 0) {
+            if (t.n != 2)
+                return err_set(err, "%s:%d: expected one material name after newmtl", name, lx.line);
+            if (add(lib, t.tok[1]))
+                return err_set(err, "%s:%d: too many materials or out of memory", name, lx.line);
+            cur = &lib->mats[lib->count - 1];
+        } else if (strcmp(k, "Kd") == 0 || strcmp(k, "Ks") == 0) {
+            if (!cur)
+                return err_set(err, "%s:%d: %s before any newmtl", name, lx.line, k);
+            vec3 v;
+            if (read_vec(&t, &v))
+                return err_set(err, "%s:%d: expected 3 non-negative numbers after %s", name, lx.line, k);
+            if (k[1] == 'd')
+                cur->kd = v;
+            else
+                cur->ks = v;
+        } else if (strcmp(k, "Ns") == 0) {
+            if (!cur)
+                return err_set(err, "%s:%d: Ns before any newmtl", name, lx.line);
+            real ns;
+            if (t.n != 2 || lex_real(t.tok[1], &ns) || ns < R(0))
+                return err_set(err, "%s:%d: expected one non-negative number after Ns", name, lx.line);
+            cur->shininess = ns;
+        }
+    }
+    return 0;
+}
+
+int mtl_read(MtlLib *lib, const char *path, Err *err)
+{
+    char *text;
+    size_t len;
+    if (file_read_all(path, MTL_MAX_BYTES, &text, &len, err))
+        return -1;
+    int rc = mtl_parse(lib, text, len, path, err);
+    free(text);
+    return rc;
+}
+
+int mtl_find(const MtlLib *lib, const char *name)
+{
+    for (unsigned i = 0; i < lib->count; i++)
+        if (strncmp(lib->names[i], name, MTL_NAME_MAX - 1) == 0)
+            return (int)i;
+    return -1;
+}
+
+void mtl_free(MtlLib *lib)
+{
+    free(lib->names);
+    free(lib->mats);
+    memset(lib, 0, sizeof *lib);
+}

@@ -1,0 +1,353 @@
+/* obj.c - see obj.h.  Parsing collects indexed triangles first; the Mesh is
+ * assembled at the end, once it is known which attributes are really used. */
+#include "obj.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+#include "fileio.h"
+#include "lex.h"
+#include "mtl.h"
+
+#define OBJ_MAX_BYTES ((size_t)1 << 31)
+#define OBJ_MAX_ITEMS (1u << 26)
+
+typedef struct {
+    int32_t p[3], t[3], n[3];
+    int32_t mat;
+} ObjTri;
+
+typedef struct {
+    vec3 *v;
+    real *vt; /* 2 per entry */
+    vec3 *vn;
+    ObjTri *tris;
+    uint32_t nv, nvt, nvn, ntri;
+    uint32_t cv, cvt, cvn, ctri;
+    int32_t (*corner)[3];
+    uint32_t ccorner;
+    MtlLib lib;
+} Obj;
+
+static int grow(void **p, uint32_t *cap, uint32_t need, size_t elem)
+{
+    if (need <= *cap)
+        return 0;
+    if (need > OBJ_MAX_ITEMS)
+        return -1;
+    uint32_t c = *cap ? *cap : 256;
+    while (c < need)
+        c *= 2;
+    void *q = realloc(*p, (size_t)c * elem);
+    if (!q)
+        return -1;
+    *p = q;
+    *cap = c;
+    return 0;
+}
+
+/* Resolves a 1-based or negative (relative) OBJ index against count. */
+static int resolve(long idx, uint32_t count, int32_t *out)
+{
+    if (idx > 0 && (unsigned long)idx <= count) {
+        *out = (int32_t)(idx - 1);
+        return 0;
+    }
+    if (idx < 0 && (unsigned long)-idx <= count) {
+        *out = (int32_t)(count + idx);
+        return 0;
+    }
+    return -1;
+}
+
+/* Parses one face corner "v", "v/t", "v//n" or "v/t/n". */
+static int parse_corner(const char *s, const Obj *o, int32_t c[3], const char **what)
+{
+    c[0] = c[1] = c[2] = -1;
+    char *end;
+    long v = strtol(s, &end, 10);
+    *what = "vertex index";
+    if (end == s || resolve(v, o->nv, &c[0]))
+        return -1;
+    if (*end == 0)
+        return 0;
+    if (*end != '/')
+        return -1;
+    s = end + 1;
+    if (*s != '/') {
+        *what = "texture coordinate index";
+        long t = strtol(s, &end, 10);
+        if (end == s || resolve(t, o->nvt, &c[1]))
+            return -1;
+        if (*end == 0)
+            return 0;
+        if (*end != '/')
+            return -1;
+        s = end;
+    }
+    s++;
+    *what = "normal index";
+    long n = strtol(s, &end, 10);
+    if (end == s || *end != 0 || resolve(n, o->nvn, &c[2]))
+        return -1;
+    return 0;
+}
+
+static int read_reals(const Tokens *t, int first, int want, int allow_extra, real *out)
+{
+    if (t->n - first < want || (!allow_extra && t->n - first > want) || t->n - first > want + 1)
+        return -1;
+    for (int i = 0; i < want; i++)
+        if (lex_real(t->tok[first + i], &out[i]))
+            return -1;
+    return 0;
+}
+
+static void obj_free(Obj *o)
+{
+    free(o->v);
+    free(o->vt);
+    free(o->vn);
+    free(o->tris);
+    free(o->corner);
+    mtl_free(&o->lib);
+}
+
+/* Builds the Mesh from the indexed triangles, keeping only used attributes. */
+static int obj_assemble(Obj *o, const ObjOptions *opt, Mesh *out, ObjStats *st, const char *name, Err *err)
+{
+    int has_n = opt && opt->smooth, has_t = 0, has_m = 0;
+    for (uint32_t i = 0; i < o->ntri; i++) {
+        const ObjTri *t = &o->tris[i];
+        has_n |= t->n[0] >= 0 && t->n[1] >= 0 && t->n[2] >= 0;
+        has_t |= t->t[0] >= 0 && t->t[1] >= 0 && t->t[2] >= 0;
+        has_m |= t->mat >= 0;
+    }
+    /* only the materials that faces use, renumbered; faces before any usemtl get a default */
+    int32_t *remap = NULL;
+    uint32_t nmat = 0;
+    if (has_m) {
+        remap = malloc((o->lib.count + 1) * sizeof *remap);
+        if (!remap)
+            return err_set(err, "%s: out of memory", name);
+        for (uint32_t i = 0; i <= o->lib.count; i++)
+            remap[i] = -1;
+        for (uint32_t i = 0; i < o->ntri; i++) {
+            uint32_t k = o->tris[i].mat < 0 ? o->lib.count : (uint32_t)o->tris[i].mat;
+            if (remap[k] < 0)
+                remap[k] = (int32_t)nmat++;
+        }
+    }
+    vec3 *smooth = NULL;
+    if (opt && opt->smooth) {
+        smooth = calloc(o->nv ? o->nv : 1, sizeof *smooth);
+        if (!smooth) {
+            free(remap);
+            return err_set(err, "%s: out of memory", name);
+        }
+        for (uint32_t i = 0; i < o->ntri; i++) {
+            const ObjTri *t = &o->tris[i];
+            vec3 a = o->v[t->p[0]], b = o->v[t->p[1]], c = o->v[t->p[2]];
+            vec3 fn = v3_cross(v3_sub(b, a), v3_sub(c, a)); /* length = 2*area: area weighting */
+            for (int k = 0; k < 3; k++)
+                smooth[t->p[k]] = v3_add(smooth[t->p[k]], fn);
+        }
+    }
+    int rc = mesh_init(out, has_n, has_t, has_m, err);
+    for (uint32_t i = 0; rc == 0 && i < nmat; i++)
+        rc = mesh_add_material(out, material_default(), err);
+    if (rc == 0 && has_m)
+        for (uint32_t k = 0; k <= o->lib.count; k++)
+            if (remap[k] >= 0 && k < o->lib.count)
+                out->materials[remap[k]] = o->lib.mats[k];
+    for (uint32_t i = 0; rc == 0 && i < o->ntri; i++) {
+        const ObjTri *t = &o->tris[i];
+        vec3 p[3], n[3];
+        real uv[6] = {0};
+        for (int k = 0; k < 3; k++)
+            p[k] = o->v[t->p[k]];
+        if (mesh_tri_is_degenerate(p)) {
+            st->degenerate++;
+            continue;
+        }
+        vec3 fn = v3_norm(v3_cross(v3_sub(p[1], p[0]), v3_sub(p[2], p[0])));
+        int file_n = t->n[0] >= 0 && t->n[1] >= 0 && t->n[2] >= 0;
+        for (int k = 0; k < 3; k++) {
+            n[k] = file_n ? v3_norm(o->vn[t->n[k]]) : (smooth ? v3_norm(smooth[t->p[k]]) : fn);
+            if (!(v3_dot(n[k], n[k]) > R(0.5)))
+                n[k] = fn; /* a zero normal in the file or a cancelling fan */
+            if (t->t[k] >= 0) {
+                uv[2 * k] = o->vt[2 * t->t[k]];
+                uv[2 * k + 1] = o->vt[2 * t->t[k] + 1];
+            }
+        }
+        uint32_t mat = has_m ? (uint32_t)remap[t->mat < 0 ? o->lib.count : (uint32_t)t->mat] : 0;
+        rc = mesh_add(out, p, n, uv, mat, err);
+    }
+    free(remap);
+    free(smooth);
+    if (rc == 0)
+        st->triangles = out->tri_count;
+    else
+        mesh_free(out);
+    return rc;
+}
+
+int obj_parse(char *text, size_t len, const char *name, const char *dir, const ObjOptions *opt, Mesh *out,
+              ObjStats *st, Err *err)
+{
+    Obj o = {0};
+    ObjStats local;
+    if (!st)
+        st = &local;
+    memset(st, 0, sizeof *st);
+    memset(out, 0, sizeof *out);
+    Lexer lx = lex_make(text, len);
+    Tokens t;
+    int32_t mat = -1;
+    int rc = -1;
+    char *line;
+    while ((line = lex_next_raw(&lx))) {
+        /* faces may have any number of corners: split them without the token limit */
+        char *s = line;
+        while (*s == ' ' || *s == '\t')
+            s++;
+        if (s[0] == 'f' && (s[1] == ' ' || s[1] == '\t')) {
+            uint32_t nc = 0;
+            char *p = s + 1;
+            for (;;) {
+                while (*p == ' ' || *p == '\t' || *p == '\r')
+                    p++;
+                if (*p == 0 || *p == '#')
+                    break;
+                char *tok = p;
+                while (*p && *p != ' ' && *p != '\t' && *p != '\r' && *p != '#')
+                    p++;
+                char c = *p;
+                *p = 0;
+                const char *what;
+                if (grow((void **)&o.corner, &o.ccorner, nc + 1, sizeof *o.corner)) {
+                    err_set(err, "%s:%d: face too large or out of memory", name, lx.line);
+                    goto done;
+                }
+                if (parse_corner(tok, &o, o.corner[nc], &what)) {
+                    err_set(err, "%s:%d: bad %s in face corner '%s' (%u vertices, %u texture coordinates, %u normals defined so far)",
+                            name, lx.line, what, tok, o.nv, o.nvt, o.nvn);
+                    goto done;
+                }
+                nc++;
+                if (c == 0 || c == '#')
+                    break;
+                p++;
+            }
+            if (nc < 3) {
+                err_set(err, "%s:%d: a face needs at least 3 corners, this one has %u", name, lx.line, nc);
+                goto done;
+            }
+            st->faces++;
+            /* fan triangulation: exact for the convex polygons OBJ exporters write */
+            for (uint32_t k = 1; k + 1 < nc; k++) {
+                if (grow((void **)&o.tris, &o.ctri, o.ntri + 1, sizeof *o.tris)) {
+                    err_set(err, "%s:%d: too many triangles or out of memory", name, lx.line);
+                    goto done;
+                }
+                ObjTri *tr = &o.tris[o.ntri++];
+                const uint32_t idx[3] = {0, k, k + 1};
+                for (int j = 0; j < 3; j++) {
+                    tr->p[j] = o.corner[idx[j]][0];
+                    tr->t[j] = o.corner[idx[j]][1];
+                    tr->n[j] = o.corner[idx[j]][2];
+                }
+                tr->mat = mat;
+            }
+            continue;
+        }
+        lex_split(line, &t);
+        if (t.n == 0)
+            continue;
+        const char *k = t.tok[0];
+        if (strcmp(k, "v") == 0) {
+            real v[3];
+            if (read_reals(&t, 1, 3, 1, v)) { /* an optional w is allowed and ignored */
+                err_set(err, "%s:%d: expected 3 finite numbers after 'v'", name, lx.line);
+                goto done;
+            }
+            if (grow((void **)&o.v, &o.cv, o.nv + 1, sizeof *o.v)) {
+                err_set(err, "%s:%d: too many vertices or out of memory", name, lx.line);
+                goto done;
+            }
+            o.v[o.nv++] = v3(v[0], v[1], v[2]);
+        } else if (strcmp(k, "vt") == 0) {
+            real v[2] = {0, 0};
+            if (t.n < 2 || t.n > 4 || lex_real(t.tok[1], &v[0]) || (t.n >= 3 && lex_real(t.tok[2], &v[1]))) {
+                err_set(err, "%s:%d: expected 1 to 3 finite numbers after 'vt'", name, lx.line);
+                goto done;
+            }
+            if (grow((void **)&o.vt, &o.cvt, o.nvt + 1, 2 * sizeof *o.vt)) {
+                err_set(err, "%s:%d: too many texture coordinates or out of memory", name, lx.line);
+                goto done;
+            }
+            o.vt[2 * o.nvt] = v[0];
+            o.vt[2 * o.nvt + 1] = v[1];
+            o.nvt++;
+        } else if (strcmp(k, "vn") == 0) {
+            real v[3];
+            if (read_reals(&t, 1, 3, 0, v)) {
+                err_set(err, "%s:%d: expected 3 finite numbers after 'vn'", name, lx.line);
+                goto done;
+            }
+            if (grow((void **)&o.vn, &o.cvn, o.nvn + 1, sizeof *o.vn)) {
+                err_set(err, "%s:%d: too many normals or out of memory", name, lx.line);
+                goto done;
+            }
+            o.vn[o.nvn++] = v3(v[0], v[1], v[2]);
+        } else if (strcmp(k, "o") == 0 || strcmp(k, "g") == 0) {
+            st->groups++;
+        } else if (strcmp(k, "mtllib") == 0) {
+            if (t.n < 2) {
+                err_set(err, "%s:%d: expected a file name after 'mtllib'", name, lx.line);
+                goto done;
+            }
+            for (int i = 1; i < t.n; i++) {
+                char path[4096];
+                if (!dir || file_join(dir, t.tok[i], path, sizeof path)) {
+                    err_set(err, "%s:%d: cannot resolve material library '%s'", name, lx.line, t.tok[i]);
+                    goto done;
+                }
+                if (mtl_read(&o.lib, path, err)) {
+                    err_prefix(err, "%s:%d: mtllib", name, lx.line);
+                    goto done;
+                }
+            }
+        } else if (strcmp(k, "usemtl") == 0) {
+            if (t.n != 2) {
+                err_set(err, "%s:%d: expected one material name after 'usemtl'", name, lx.line);
+                goto done;
+            }
+            mat = mtl_find(&o.lib, t.tok[1]);
+            if (mat < 0) {
+                err_set(err, "%s:%d: material '%s' is not defined by any mtllib", name, lx.line, t.tok[1]);
+                goto done;
+            }
+        }
+        /* s, l, p, curves and the rest do not describe triangles: ignored */
+    }
+    st->vertices = o.nv;
+    rc = obj_assemble(&o, opt, out, st, name, err);
+done:
+    obj_free(&o);
+    return rc;
+}
+
+int obj_read(const char *path, const ObjOptions *opt, Mesh *out, ObjStats *stats, Err *err)
+{
+    char *text;
+    size_t len;
+    if (file_read_all(path, OBJ_MAX_BYTES, &text, &len, err))
+        return -1;
+    char dir[4096];
+    file_dirname(path, dir, sizeof dir);
+    int rc = obj_parse(text, len, path, dir, opt, out, stats, err);
+    free(text);
+    return rc;
+}

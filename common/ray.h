@@ -1,0 +1,47 @@
+/* ray.h - rays with the per-ray constants that traversal and intersection reuse.
+ *
+ * The inverse direction (slab test) and the shear constants of the watertight
+ * triangle test (Woop, Benthin & Wald 2013) are computed once per ray, not
+ * once per box or triangle. */
+#ifndef LANRAY_RAY_H
+#define LANRAY_RAY_H
+
+#include "vec.h"
+
+typedef struct {
+    vec3 org, dir, inv;
+    real tmin, tmax;
+    int kx, ky, kz;  /* axis permutation: kz is the dominant direction axis */
+    real sx, sy, sz; /* shear that maps the ray onto +z */
+} Ray;
+
+static inline Ray ray_make(vec3 org, vec3 dir, real tmin, real tmax)
+{
+    Ray r;
+    r.org = org;
+    r.dir = dir;
+    /* 1/0 gives +-inf, which the slab test handles: a ray parallel to a slab
+     * is either inside it for all t or never. */
+    r.inv = v3(R(1) / dir.x, R(1) / dir.y, R(1) / dir.z);
+    r.tmin = tmin;
+    r.tmax = tmax;
+    int kz = v3_max_axis(v3_abs(dir));
+    int kx = kz + 1 == 3 ? 0 : kz + 1;
+    int ky = kx + 1 == 3 ? 0 : kx + 1;
+    if (dir.e[kz] < R(0)) { /* keep the winding so that U, V, W keep their signs */
+        int t = kx;
+        kx = ky;
+        ky = t;
+    }
+    r.kx = kx;
+    r.ky = ky;
+    r.kz = kz;
+    r.sx = dir.e[kx] / dir.e[kz];
+    r.sy = dir.e[ky] / dir.e[kz];
+    r.sz = R(1) / dir.e[kz];
+    return r;
+}
+
+static inline vec3 ray_at(const Ray *r, real t) { return v3_madd(r->org, r->dir, t); }
+
+#endif

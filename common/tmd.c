@@ -1,0 +1,189 @@
+/* tmd.c - reading and writing .tmd files; the reader trusts nothing. */
+#include "tmd.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+#include "cursor.h"
+#include "fileio.h"
+
+/* float32 on disk in every build; bounds are rounded outward so that a
+ * double-precision tree stays conservative after the narrowing. */
+static float f32_down(real x)
+{
+    float f = (float)x;
+    return (real)f > x ? nextafterf(f, -INFINITY) : f;
+}
+static float f32_up(real x)
+{
+    float f = (float)x;
+    return (real)f < x ? nextafterf(f, INFINITY) : f;
+}
+
+int tmd_encode(const Model *m, void **data, size_t *len, Err *err)
+{
+    Sink s = {0};
+    uint32_t flags = (m->normals ? TMD_HAS_NORMALS : 0) | (m->uvs ? TMD_HAS_UVS : 0) |
+                     (m->mat_ids ? TMD_HAS_MATERIALS : 0);
+    char magic[8] = TMD_MAGIC;
+    sink_put(&s, magic, 8);
+    uint32_t head[14] = {TMD_VERSION, TMD_BOM, TMD_HEADER_BYTES, flags, (uint32_t)m->bvh.kind, m->bvh.node_count,
+                         m->tri_count, m->mat_ids ? m->material_count : 0, m->bvh.depth, 0, 0, 0, 0, 0};
+    sink_put(&s, head, sizeof head);
+    for (uint32_t i = 0; i < m->bvh.node_count; i++) {
+        const BvhNode *n = &m->bvh.nodes[i];
+        for (int a = 0; a < 3; a++)
+            sink_f32(&s, f32_down(n->bmin[a]));
+        sink_u32(&s, n->first);
+        for (int a = 0; a < 3; a++)
+            sink_f32(&s, f32_up(n->bmax[a]));
+        sink_u32(&s, n->count);
+    }
+    for (uint32_t i = 0; i < m->tri_count; i++)
+        for (int k = 0; k < 3; k++)
+            for (int a = 0; a < 3; a++)
+                sink_f32(&s, (float)m->tris[i].v[k][a]);
+    if (m->normals)
+        for (uint32_t i = 0; i < 3 * m->tri_count; i++)
+            for (int a = 0; a < 3; a++)
+                sink_f32(&s, (float)m->normals[i].e[a]);
+    if (m->uvs)
+        for (uint32_t i = 0; i < 6 * m->tri_count; i++)
+            sink_f32(&s, (float)m->uvs[i]);
+    if (m->mat_ids) {
+        for (uint32_t i = 0; i < m->material_count; i++) {
+            const Material *mt = &m->materials[i];
+            for (int a = 0; a < 3; a++)
+                sink_f32(&s, (float)mt->kd.e[a]);
+            for (int a = 0; a < 3; a++)
+                sink_f32(&s, (float)mt->ks.e[a]);
+            sink_f32(&s, (float)mt->shininess);
+        }
+        sink_put(&s, m->mat_ids, m->tri_count * sizeof *m->mat_ids);
+    }
+    if (s.failed) {
+        sink_free(&s);
+        return err_set(err, "tmd: out of memory encoding %u triangles", m->tri_count);
+    }
+    *data = s.data;
+    *len = s.len;
+    return 0;
+}
+
+int tmd_write(const char *path, const Model *m, Err *err)
+{
+    void *data;
+    size_t len;
+    if (tmd_encode(m, &data, &len, err))
+        return err_prefix(err, "%s", path);
+    int rc = file_write_bytes(path, data, len, err);
+    free(data);
+    return rc;
+}
+
+static int read_reals(Cursor *c, real *dst, size_t n)
+{
+    for (size_t i = 0; i < n; i++) {
+        float f = cursor_f32(c);
+        if (!isfinite(f))
+            return -1;
+        dst[i] = f;
+    }
+    return c->failed ? -1 : 0;
+}
+
+int tmd_decode(const void *data, size_t len, const char *name, Model **out, Err *err)
+{
+    *out = NULL;
+    Cursor c = cursor_make(data, len);
+    char magic[8];
+    uint32_t h[14];
+    if (cursor_get(&c, magic, 8) || cursor_get(&c, h, sizeof h))
+        return err_set(err, "%s: %zu bytes is too short for a .tmd header (64 bytes)", name, len);
+    if (memcmp(magic, TMD_MAGIC, 8) != 0)
+        return err_set(err, "%s: not a .tmd file (bad magic)", name);
+    if (h[1] != TMD_BOM)
+        return err_set(err, "%s: byte-order mark 0x%08x: written on a machine of the other byte order", name, h[1]);
+    if (h[0] != TMD_VERSION)
+        return err_set(err, "%s: format version %u, this build reads version %u", name, h[0], TMD_VERSION);
+    uint32_t flags = h[3], kind = h[4], nodes = h[5], tris = h[6], mats = h[7], depth = h[8];
+    if (h[2] != TMD_HEADER_BYTES)
+        return err_set(err, "%s: header size %u, expected %u", name, h[2], TMD_HEADER_BYTES);
+    if (flags & ~(TMD_HAS_NORMALS | TMD_HAS_UVS | TMD_HAS_MATERIALS))
+        return err_set(err, "%s: unknown flags 0x%x", name, flags);
+    if (kind >= BVH_KIND_COUNT)
+        return err_set(err, "%s: unknown BVH kind %u", name, kind);
+    if (tris > BVH_MAX_PRIMS || nodes > 2 * tris || (tris > 0) != (nodes > 0))
+        return err_set(err, "%s: implausible counts (%u nodes, %u triangles)", name, nodes, tris);
+    if (mats > 65536 || ((flags & TMD_HAS_MATERIALS) != 0) != (mats > 0))
+        return err_set(err, "%s: implausible material count %u", name, mats);
+    if (depth > BVH_MAX_DEPTH)
+        return err_set(err, "%s: tree depth %u exceeds %u", name, depth, BVH_MAX_DEPTH);
+    /* the exact size follows from the header: check it before allocating anything */
+    uint64_t want = TMD_HEADER_BYTES + (uint64_t)nodes * 32 + (uint64_t)tris * 36;
+    if (flags & TMD_HAS_NORMALS)
+        want += (uint64_t)tris * 36;
+    if (flags & TMD_HAS_UVS)
+        want += (uint64_t)tris * 24;
+    if (flags & TMD_HAS_MATERIALS)
+        want += (uint64_t)mats * 28 + (uint64_t)tris * 4;
+    if (want != len)
+        return err_set(err, "%s: header promises %llu bytes but the file has %zu", name, (unsigned long long)want, len);
+    Model *m = model_alloc(tris, nodes, mats, flags & TMD_HAS_NORMALS, flags & TMD_HAS_UVS, flags & TMD_HAS_MATERIALS);
+    if (!m)
+        return err_set(err, "%s: out of memory for %u triangles", name, tris);
+    m->bvh.kind = (BvhKind)kind;
+    m->bvh.depth = depth;
+    const char *bad = NULL;
+    for (uint32_t i = 0; i < nodes && !bad; i++) {
+        BvhNode *n = &m->bvh.nodes[i];
+        if (read_reals(&c, n->bmin, 3))
+            bad = "node box";
+        n->first = cursor_u32(&c);
+        if (read_reals(&c, n->bmax, 3))
+            bad = "node box";
+        n->count = cursor_u32(&c);
+    }
+    for (uint32_t i = 0; i < tris && !bad; i++)
+        if (read_reals(&c, &m->tris[i].v[0][0], 9))
+            bad = "triangle vertex";
+    for (uint32_t i = 0; m->normals && i < 3 * tris && !bad; i++)
+        if (read_reals(&c, m->normals[i].e, 3))
+            bad = "normal";
+    if (m->uvs && !bad && read_reals(&c, m->uvs, (size_t)6 * tris))
+        bad = "texture coordinate";
+    for (uint32_t i = 0; i < mats && !bad; i++) {
+        Material *mt = &m->materials[i];
+        *mt = material_default();
+        if (read_reals(&c, mt->kd.e, 3) || read_reals(&c, mt->ks.e, 3) || read_reals(&c, &mt->shininess, 1))
+            bad = "material";
+    }
+    if (m->mat_ids && !bad && cursor_get(&c, m->mat_ids, (size_t)tris * 4) == 0)
+        for (uint32_t i = 0; i < tris; i++)
+            if (m->mat_ids[i] >= mats) {
+                model_destroy(m);
+                return err_set(err, "%s: triangle %u uses material %u of %u", name, i, m->mat_ids[i], mats);
+            }
+    if (bad || c.failed) {
+        model_destroy(m);
+        return err_set(err, "%s: %s is not a finite number", name, bad ? bad : "data");
+    }
+    if (bvh_validate(&m->bvh, err)) {
+        model_destroy(m);
+        return err_prefix(err, "%s", name);
+    }
+    m->bounds = nodes ? bvh_node_box(&m->bvh.nodes[0]) : aabb_empty();
+    *out = m;
+    return 0;
+}
+
+int tmd_read(const char *path, Model **out, Err *err)
+{
+    char *data;
+    size_t len;
+    if (file_read_all(path, TMD_MAX_FILE_BYTES, &data, &len, err))
+        return -1;
+    int rc = tmd_decode(data, len, path, out, err);
+    free(data);
+    return rc;
+}

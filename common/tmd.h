@@ -1,0 +1,28 @@
+/* tmd.h - the .tmd model file: a serialised Model (BVH + triangles + attributes).
+ *
+ * Layout (docs/tmd.md): a 64-byte header with magic, version, byte-order mark,
+ * flags and counts, then the sections in a fixed order, all numbers 32-bit in
+ * the writer's byte order.  Geometry is stored as float32 in every build. */
+#ifndef LANRAY_TMD_H
+#define LANRAY_TMD_H
+
+#include <stddef.h>
+
+#include "model.h"
+
+#define TMD_MAGIC "LRAYTMD"
+#define TMD_VERSION 1u
+#define TMD_BOM 0x01020304u
+#define TMD_HEADER_BYTES 64u
+#define TMD_HAS_NORMALS 1u
+#define TMD_HAS_UVS 2u
+#define TMD_HAS_MATERIALS 4u
+#define TMD_MAX_FILE_BYTES ((size_t)1 << 31)
+
+int tmd_write(const char *path, const Model *m, Err *err);
+int tmd_read(const char *path, Model **out, Err *err);
+/* In-memory forms, for tests and fuzzing; `name` labels error messages. */
+int tmd_encode(const Model *m, void **data, size_t *len, Err *err);
+int tmd_decode(const void *data, size_t len, const char *name, Model **out, Err *err);
+
+#endif
