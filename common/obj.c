@@ -5,6 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "array.h"
 #include "fileio.h"
 #include "lex.h"
 #include "mtl.h"
@@ -31,19 +32,7 @@ typedef struct {
 
 static int grow(void **p, uint32_t *cap, uint32_t need, size_t elem)
 {
-    if (need <= *cap)
-        return 0;
-    if (need > OBJ_MAX_ITEMS)
-        return -1;
-    uint32_t c = *cap ? *cap : 256;
-    while (c < need)
-        c *= 2;
-    void *q = realloc(*p, (size_t)c * elem);
-    if (!q)
-        return -1;
-    *p = q;
-    *cap = c;
-    return 0;
+    return array_reserve(p, cap, need, elem, OBJ_MAX_ITEMS);
 }
 
 /* Resolves a 1-based or negative (relative) OBJ index against count. */

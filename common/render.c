@@ -1,0 +1,274 @@
+/* render.c - the thread pool and the per-pixel sampling (regular N x N grid,
+ * or adaptive: one sample, then N x N where a 4-neighbour saw another key). */
+#include "render.h"
+
+#include <pthread.h>
+#include <stdatomic.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "camera.h"
+
+#define CHUNK 32 /* pixels per work item */
+
+typedef void (*JobFn)(void *ctx, uint32_t chunk, RayStats *stats);
+
+typedef struct {
+    RayStats s;
+    char pad[64 - sizeof(RayStats)]; /* one cache line per worker: no false sharing */
+} PaddedStats;
+
+struct RenderPool {
+    int n;
+    pthread_t *threads;
+    pthread_mutex_t mu;
+    pthread_cond_t go, done;
+    uint64_t generation;
+    int running, quit;
+    JobFn fn;
+    void *ctx;
+    uint32_t chunks;
+    atomic_uint next;
+    PaddedStats *stats;
+};
+
+typedef struct {
+    RenderPool *pool;
+    int id;
+} WorkerArg;
+
+static void *worker(void *arg)
+{
+    WorkerArg *wa = arg;
+    RenderPool *p = wa->pool;
+    int id = wa->id;
+    free(wa);
+    uint64_t seen = 0;
+    for (;;) {
+        pthread_mutex_lock(&p->mu);
+        while (p->generation == seen && !p->quit)
+            pthread_cond_wait(&p->go, &p->mu);
+        if (p->quit) {
+            pthread_mutex_unlock(&p->mu);
+            return NULL;
+        }
+        seen = p->generation;
+        pthread_mutex_unlock(&p->mu);
+        RayStats local = {0, 0};
+        uint32_t c;
+        while ((c = atomic_fetch_add(&p->next, 1)) < p->chunks)
+            p->fn(p->ctx, c, &local);
+        pthread_mutex_lock(&p->mu);
+        p->stats[id].s.primary += local.primary;
+        p->stats[id].s.shadow += local.shadow;
+        if (--p->running == 0)
+            pthread_cond_signal(&p->done);
+        pthread_mutex_unlock(&p->mu);
+    }
+}
+
+RenderPool *render_pool_create(int threads, Err *err)
+{
+    if (threads < 1 || threads > RENDER_MAX_THREADS) {
+        err_set(err, "render: %d threads out of range 1..%d", threads, RENDER_MAX_THREADS);
+        return NULL;
+    }
+    RenderPool *p = calloc(1, sizeof *p);
+    if (!p || !(p->threads = calloc((size_t)threads, sizeof *p->threads)) ||
+        !(p->stats = aligned_alloc(64, (size_t)threads * sizeof *p->stats))) {
+        if (p)
+            free(p->threads);
+        free(p);
+        err_set(err, "render: out of memory");
+        return NULL;
+    }
+    memset(p->stats, 0, (size_t)threads * sizeof *p->stats);
+    pthread_mutex_init(&p->mu, NULL);
+    pthread_cond_init(&p->go, NULL);
+    pthread_cond_init(&p->done, NULL);
+    for (int i = 0; i < threads; i++) {
+        WorkerArg *wa = malloc(sizeof *wa);
+        if (!wa || pthread_create(&p->threads[i], NULL, worker, (wa->pool = p, wa->id = i, wa)) != 0) {
+            free(wa);
+            p->n = i;
+            render_pool_destroy(p);
+            err_set(err, "render: cannot start worker thread %d", i);
+            return NULL;
+        }
+        p->n = i + 1;
+    }
+    return p;
+}
+
+void render_pool_destroy(RenderPool *p)
+{
+    if (!p)
+        return;
+    pthread_mutex_lock(&p->mu);
+    p->quit = 1;
+    pthread_cond_broadcast(&p->go);
+    pthread_mutex_unlock(&p->mu);
+    for (int i = 0; i < p->n; i++)
+        pthread_join(p->threads[i], NULL);
+    pthread_mutex_destroy(&p->mu);
+    pthread_cond_destroy(&p->go);
+    pthread_cond_destroy(&p->done);
+    free(p->threads);
+    free(p->stats);
+    free(p);
+}
+
+int render_pool_threads(const RenderPool *p) { return p->n; }
+
+/* Runs fn over chunks [0, chunks) on all workers and waits; returns summed stats. */
+static RayStats pool_run(RenderPool *p, JobFn fn, void *ctx, uint32_t chunks)
+{
+    pthread_mutex_lock(&p->mu);
+    p->fn = fn;
+    p->ctx = ctx;
+    p->chunks = chunks;
+    atomic_store(&p->next, 0);
+    memset(p->stats, 0, (size_t)p->n * sizeof *p->stats);
+    p->running = p->n;
+    p->generation++;
+    pthread_cond_broadcast(&p->go);
+    while (p->running > 0)
+        pthread_cond_wait(&p->done, &p->mu);
+    RayStats total = {0, 0};
+    for (int i = 0; i < p->n; i++) {
+        total.primary += p->stats[i].s.primary;
+        total.shadow += p->stats[i].s.shadow;
+    }
+    pthread_mutex_unlock(&p->mu);
+    return total;
+}
+
+typedef struct {
+    const Scene *s;
+    CameraFrame cam;
+    int width, first, count;
+    uint8_t *pixels;
+    /* adaptive mode: keys of lines first-1 .. first+count (clipped), colours of the lines */
+    int key_first, key_count;
+    uint64_t *keys;
+    vec3 *colors;
+} Frame;
+
+static vec3 sample(const Frame *f, real x, real y, RayStats *st, uint64_t *key)
+{
+    vec3 d = v3_norm(camera_dir(&f->cam, x, y));
+    Ray r = ray_make(f->cam.org, d, R(0), REAL_INF);
+    return shade_ray(f->s, &r, st, key);
+}
+
+static vec3 sample_grid(const Frame *f, int px, int py, int n, RayStats *st)
+{
+    vec3 sum = v3_splat(0);
+    real inv = R(1) / (real)n;
+    for (int j = 0; j < n; j++)
+        for (int i = 0; i < n; i++)
+            sum = v3_add(sum, sample(f, (real)px + ((real)i + R(0.5)) * inv, (real)py + ((real)j + R(0.5)) * inv, st, NULL));
+    return v3_scale(sum, inv * inv);
+}
+
+static void put_pixel(uint8_t *dst, vec3 c)
+{
+    for (int k = 0; k < 3; k++)
+        dst[k] = (uint8_t)(real_clamp(c.e[k], R(0), R(1)) * R(255) + R(0.5));
+}
+
+/* chunk of the lines, regular grid */
+static void job_grid(void *ctx, uint32_t chunk, RayStats *st)
+{
+    Frame *f = ctx;
+    size_t total = (size_t)f->width * (size_t)f->count;
+    size_t i0 = (size_t)chunk * CHUNK, i1 = i0 + CHUNK < total ? i0 + CHUNK : total;
+    int n = f->s->settings.aa;
+    for (size_t i = i0; i < i1; i++) {
+        int px = (int)(i % (size_t)f->width), py = f->first + (int)(i / (size_t)f->width);
+        vec3 c = n == 1 ? sample(f, (real)px + R(0.5), (real)py + R(0.5), st, NULL) : sample_grid(f, px, py, n, st);
+        put_pixel(&f->pixels[3 * i], c);
+    }
+}
+
+/* adaptive pass 1: one centre sample per pixel, keeping its key */
+static void job_keys(void *ctx, uint32_t chunk, RayStats *st)
+{
+    Frame *f = ctx;
+    size_t total = (size_t)f->width * (size_t)f->key_count;
+    size_t i0 = (size_t)chunk * CHUNK, i1 = i0 + CHUNK < total ? i0 + CHUNK : total;
+    for (size_t i = i0; i < i1; i++) {
+        int px = (int)(i % (size_t)f->width), ky = (int)(i / (size_t)f->width), py = f->key_first + ky;
+        vec3 c = sample(f, (real)px + R(0.5), (real)py + R(0.5), st, &f->keys[i]);
+        if (py >= f->first && py < f->first + f->count)
+            f->colors[(size_t)(py - f->first) * (size_t)f->width + (size_t)px] = c;
+    }
+}
+
+/* adaptive pass 2: supersample where a 4-neighbour differs */
+static void job_refine(void *ctx, uint32_t chunk, RayStats *st)
+{
+    Frame *f = ctx;
+    size_t total = (size_t)f->width * (size_t)f->count;
+    size_t i0 = (size_t)chunk * CHUNK, i1 = i0 + CHUNK < total ? i0 + CHUNK : total;
+    int last_line = f->key_first + f->key_count - 1;
+    for (size_t i = i0; i < i1; i++) {
+        int px = (int)(i % (size_t)f->width), py = f->first + (int)(i / (size_t)f->width);
+        const uint64_t *row = &f->keys[(size_t)(py - f->key_first) * (size_t)f->width];
+        uint64_t k = row[px];
+        int edge = (px > 0 && row[px - 1] != k) || (px + 1 < f->width && row[px + 1] != k) ||
+                   (py > f->key_first && row[px - f->width] != k) || (py < last_line && row[px + f->width] != k);
+        vec3 c = edge ? sample_grid(f, px, py, f->s->settings.aa, st) : f->colors[i];
+        put_pixel(&f->pixels[3 * i], c);
+    }
+}
+
+int render_lines(RenderPool *p, const Scene *s, int width, int height, int first_line, int count, uint8_t *pixels,
+                 RayStats *stats, Err *err)
+{
+    if (!s->prepared)
+        return err_set(err, "render: scene not prepared");
+    if (width < 1 || height < 1 || width > RENDER_MAX_SIDE || height > RENDER_MAX_SIDE)
+        return err_set(err, "render: frame %dx%d out of range 1..%d", width, height, RENDER_MAX_SIDE);
+    if (first_line < 0 || count < 0 || count > height - first_line)
+        return err_set(err, "render: lines %d..%d outside a frame of %d lines", first_line, first_line + count, height);
+    if (stats)
+        *stats = (RayStats){0, 0};
+    if (count == 0)
+        return 0;
+    Frame f;
+    memset(&f, 0, sizeof f);
+    f.s = s;
+    f.cam = camera_frame(&s->camera, width, height);
+    f.width = width;
+    f.first = first_line;
+    f.count = count;
+    f.pixels = pixels;
+    size_t npix = (size_t)width * (size_t)count;
+    uint32_t chunks = (uint32_t)((npix + CHUNK - 1) / CHUNK);
+    RayStats st;
+    if (!s->settings.adaptive || s->settings.aa == 1) {
+        st = pool_run(p, job_grid, &f, chunks);
+    } else {
+        f.key_first = first_line > 0 ? first_line - 1 : 0;
+        int key_last = first_line + count < height ? first_line + count : height - 1;
+        f.key_count = key_last - f.key_first + 1;
+        f.keys = malloc((size_t)width * (size_t)f.key_count * sizeof *f.keys);
+        f.colors = malloc(npix * sizeof *f.colors);
+        if (!f.keys || !f.colors) {
+            free(f.keys);
+            free(f.colors);
+            return err_set(err, "render: out of memory for adaptive sampling of %d lines", count);
+        }
+        size_t nkeys = (size_t)width * (size_t)f.key_count;
+        st = pool_run(p, job_keys, &f, (uint32_t)((nkeys + CHUNK - 1) / CHUNK));
+        RayStats st2 = pool_run(p, job_refine, &f, chunks);
+        st.primary += st2.primary;
+        st.shadow += st2.shadow;
+        free(f.keys);
+        free(f.colors);
+    }
+    if (stats)
+        *stats = st;
+    return 0;
+}

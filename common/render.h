@@ -1,0 +1,29 @@
+/* render.h - rendering lines of a frame with a pool of worker threads.
+ *
+ * render_lines is the one entry point both the standalone renderer and the
+ * network client use: workers take chunks of CHUNK pixels through an atomic
+ * counter, so lines of very different cost still balance.  Results do not
+ * depend on the thread count or on how a frame is cut into segments: every
+ * pixel is a pure function of the scene and its coordinates. */
+#ifndef LANRAY_RENDER_H
+#define LANRAY_RENDER_H
+
+#include <stdint.h>
+
+#include "shade.h"
+
+#define RENDER_MAX_SIDE 65536
+#define RENDER_MAX_THREADS 1024
+
+typedef struct RenderPool RenderPool;
+
+RenderPool *render_pool_create(int threads, Err *err);
+void render_pool_destroy(RenderPool *p);
+int render_pool_threads(const RenderPool *p);
+
+/* Renders lines [first_line, first_line + count) of a width x height frame of
+ * the prepared scene into pixels (RGB8, count*width*3 bytes). */
+int render_lines(RenderPool *p, const Scene *s, int width, int height, int first_line, int count, uint8_t *pixels,
+                 RayStats *stats, Err *err);
+
+#endif

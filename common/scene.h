@@ -1,0 +1,135 @@
+/* scene.h - everything a frame is rendered from.
+ *
+ * A Scene is filled through the scene_add_* calls (by the scene-file parser,
+ * the built-in default scene or, later, the wire decoder), then
+ * scene_prepare() derives what rendering needs: instance transforms, the
+ * top-level BVH over spheres, triangles and model instances (planes are
+ * unbounded and tested apart), and the feature flags that let the inner loop
+ * skip what the scene does not use. */
+#ifndef LANRAY_SCENE_H
+#define LANRAY_SCENE_H
+
+#include <stdint.h>
+
+#include "camera.h"
+#include "model.h"
+#include "texture.h"
+
+#define SCENE_MAX_ITEMS (1u << 24)
+#define SCENE_MAX_LIGHTS 65536u
+#define AA_MAX 16
+
+typedef struct {
+    vec3 centre;
+    real radius;
+    uint32_t material;
+} Sphere;
+
+typedef struct {
+    vec3 point, normal; /* normal is unit length after scene_prepare */
+    uint32_t material;
+} Plane;
+
+/* Shading attributes of a scene-level triangle (positions live in Scene.tris). */
+typedef struct {
+    vec3 n[3];
+    real uv[6];
+    uint32_t material;
+    uint8_t smooth, textured;
+} TriAttr;
+
+typedef struct {
+    uint32_t model;
+    vec3 translate, rotate; /* rotate: degrees about x, y, z */
+    real scale;             /* uniform, > 0 */
+    int32_t material;       /* scene material overriding the model's, or -1 */
+    /* derived by scene_prepare */
+    mat3 rot;               /* model -> world rotation */
+    Aabb world_box;
+} Instance;
+
+typedef enum { LIGHT_POINT = 0, LIGHT_SPOT = 1, LIGHT_DIRECTIONAL = 2 } LightKind;
+
+typedef struct {
+    LightKind kind;
+    vec3 pos;          /* point, spot */
+    vec3 dir;          /* spot: beam axis; directional: direction light travels; unit length */
+    vec3 color;
+    real intensity;
+    int attenuate;     /* point, spot: divide by distance squared */
+    real angle, soft;  /* spot: full beam angle and soft edge width, degrees */
+    real cos_outer, cos_inner; /* derived */
+} Light;
+
+typedef enum { SHADE_PHONG = 0, SHADE_DIFFUSE = 1 } ShadeModel;
+
+/* Quality knobs: the scene file sets defaults, the command line may override. */
+typedef struct {
+    int aa;            /* samples per pixel side: aa*aa per pixel (1..AA_MAX) */
+    int adaptive;      /* 1: one sample, aa*aa only where neighbours differ */
+    ShadeModel shading;
+    int shadows;
+    TextureFilter filter;
+} RenderSettings;
+
+enum {
+    FEAT_TEXTURES = 1 << 0,
+    FEAT_SMOOTH = 1 << 1,
+    FEAT_SPOT = 1 << 2,
+    FEAT_ATTENUATION = 1 << 3,
+    FEAT_PLANES = 1 << 4,
+    FEAT_SHADOWS = 1 << 5,
+    FEAT_SPECULAR = 1 << 6,
+};
+
+typedef struct {
+    Camera camera;
+    vec3 ambient, background;
+    RenderSettings settings;
+
+    Material *materials;   uint32_t material_count, material_cap;
+    Texture **textures;    uint32_t texture_count, texture_cap;
+    Sphere *spheres;       uint32_t sphere_count, sphere_cap;
+    Plane *planes;         uint32_t plane_count, plane_cap;
+    Tri *tris;             uint32_t tri_count, tri_cap;
+    TriAttr *tri_attrs;    uint32_t tri_attr_cap;
+    Model **models;        uint32_t model_count, model_cap;
+    Instance *instances;   uint32_t instance_count, instance_cap;
+    Light *lights;         uint32_t light_count, light_cap;
+
+    /* derived by scene_prepare */
+    Bvh top;               /* prims index spheres, then triangles, then instances */
+    uint32_t features;
+    int prepared;
+} Scene;
+
+Scene *scene_create(void);
+void scene_destroy(Scene *s);
+
+int scene_add_material(Scene *s, Material m, uint32_t *id, Err *err);
+/* Takes ownership of t, also on failure. */
+int scene_add_texture(Scene *s, Texture *t, uint32_t *id, Err *err);
+int scene_add_sphere(Scene *s, Sphere sp, Err *err);
+int scene_add_plane(Scene *s, Plane p, Err *err);
+/* n (3 normals) and uv (6 numbers) may be NULL. */
+int scene_add_triangle(Scene *s, const vec3 p[3], const vec3 *n, const real *uv, uint32_t material, Err *err);
+/* Takes ownership of m, also on failure. */
+int scene_add_model(Scene *s, Model *m, uint32_t *id, Err *err);
+int scene_add_instance(Scene *s, Instance in, Err *err);
+int scene_add_light(Scene *s, Light l, Err *err);
+
+Light light_point(vec3 pos, vec3 color, real intensity, int attenuate);
+Light light_spot(vec3 pos, vec3 dir, real angle, real soft, vec3 color, real intensity, int attenuate);
+Light light_directional(vec3 dir, vec3 color, real intensity);
+Instance instance_make(uint32_t model, vec3 translate, vec3 rotate, real scale);
+RenderSettings render_settings_default(void);
+
+/* Checks references and values, derives transforms, builds the top-level BVH. */
+int scene_prepare(Scene *s, Err *err);
+/* Rebuilds every model's BVH with another builder (then call scene_prepare). */
+int scene_rebuild_models(Scene *s, const BvhOptions *opt, Err *err);
+uint64_t scene_triangle_count(const Scene *s);
+
+static inline int scene_has(const Scene *s, uint32_t feature) { return (s->features & feature) != 0; }
+
+#endif

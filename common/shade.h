@@ -1,0 +1,19 @@
+/* shade.h - colour of a camera ray: Phong or diffuse-only shading with
+ * point, spot and directional lights and hard shadows. */
+#ifndef LANRAY_SHADE_H
+#define LANRAY_SHADE_H
+
+#include <stdint.h>
+
+#include "trace.h"
+
+typedef struct {
+    uint64_t primary, shadow;
+} RayStats;
+
+/* Traces r and returns its colour.  *key (may be NULL) receives an identifier
+ * of what the ray saw, for adaptive anti-aliasing: the surface and which of
+ * the first 16 lights reached it. */
+vec3 shade_ray(const Scene *s, const Ray *r, RayStats *stats, uint64_t *key);
+
+#endif

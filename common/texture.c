@@ -1,0 +1,122 @@
+/* texture.c - PPM/PGM loading through libnetpbm.
+ *
+ * libnetpbm reports errors by calling pm_error(), which exits the process by
+ * default.  We install a jump buffer (pm_setjmpbuf) and a message hook so
+ * that a bad file becomes an error message instead; the size is checked
+ * against TEXTURE_MAX_SIDE before any pixel memory is allocated. */
+#include "texture.h"
+
+#include <errno.h>
+#include <netpbm/pam.h>
+#include <setjmp.h>
+#include <stdlib.h>
+#include <string.h>
+
+static char pm_last_error[256];
+
+static void capture_pm_error(const char *msg)
+{
+    snprintf(pm_last_error, sizeof pm_last_error, "%s", msg);
+    size_t n = strlen(pm_last_error);
+    while (n && (pm_last_error[n - 1] == '\n' || pm_last_error[n - 1] == ' '))
+        pm_last_error[--n] = 0;
+}
+
+static void quiet_pm_message(const char *msg) { (void)msg; }
+
+Texture *texture_from_rgb8(uint32_t w, uint32_t h, const uint8_t *rgb)
+{
+    Texture *t = calloc(1, sizeof *t);
+    if (!t)
+        return NULL;
+    t->w = w;
+    t->h = h;
+    t->rgb = malloc((size_t)w * h * 3 * sizeof *t->rgb);
+    if (!t->rgb) {
+        free(t);
+        return NULL;
+    }
+    for (size_t i = 0; i < (size_t)w * h * 3; i++)
+        t->rgb[i] = rgb[i] / 255.0f;
+    return t;
+}
+
+void texture_destroy(Texture *t)
+{
+    if (!t)
+        return;
+    free(t->rgb);
+    free(t);
+}
+
+int texture_read_stream(FILE *f, const char *name, Texture **out, Err *err)
+{
+    static int initialised;
+    if (!initialised) {
+        pm_init("lanray", 0);
+        pm_setusererrormsgfn(capture_pm_error);
+        pm_setusermessagefn(quiet_pm_message);
+        initialised = 1;
+    }
+    *out = NULL;
+    struct pam pam;
+    Texture *volatile tex = NULL;
+    tuple *volatile row = NULL;
+    jmp_buf jb, *saved;
+    pm_last_error[0] = 0;
+    pm_setjmpbufsave(&jb, &saved);
+    if (setjmp(jb) != 0) {
+        pm_setjmpbuf(saved);
+        if (row)
+            pnm_freepamrow(row);
+        texture_destroy(tex);
+        return err_set(err, "%s: not a valid PPM/PGM image: %s", name, pm_last_error[0] ? pm_last_error : "unknown error");
+    }
+    pnm_readpaminit(f, &pam, PAM_STRUCT_SIZE(tuple_type));
+    int rc = 0;
+    if (pam.width < 1 || pam.height < 1 || (uint32_t)pam.width > TEXTURE_MAX_SIDE || (uint32_t)pam.height > TEXTURE_MAX_SIDE)
+        rc = err_set(err, "%s: image is %dx%d, textures must be 1..%u pixels on a side", name, pam.width, pam.height,
+                     TEXTURE_MAX_SIDE);
+    else if (pam.depth != 1 && pam.depth != 3)
+        rc = err_set(err, "%s: image has %u channels, expected 1 (grey) or 3 (RGB)", name, pam.depth);
+    else if (pam.maxval < 1)
+        rc = err_set(err, "%s: maxval %lu is invalid", name, pam.maxval);
+    if (rc) {
+        pm_setjmpbuf(saved);
+        return rc;
+    }
+    tex = calloc(1, sizeof *tex);
+    if (tex) {
+        tex->w = (uint32_t)pam.width;
+        tex->h = (uint32_t)pam.height;
+        tex->rgb = malloc((size_t)tex->w * tex->h * 3 * sizeof *tex->rgb);
+    }
+    if (!tex || !tex->rgb) {
+        pm_setjmpbuf(saved);
+        texture_destroy(tex);
+        return err_set(err, "%s: out of memory for a %dx%d texture", name, pam.width, pam.height);
+    }
+    row = pnm_allocpamrow(&pam);
+    float scale = 1.0f / (float)pam.maxval;
+    for (uint32_t y = 0; y < tex->h; y++) {
+        pnm_readpamrow(&pam, row);
+        float *dst = &tex->rgb[(size_t)y * tex->w * 3];
+        for (uint32_t x = 0; x < tex->w; x++)
+            for (int c = 0; c < 3; c++)
+                dst[3 * x + c] = fminf(1.0f, (float)row[x][pam.depth == 3 ? c : 0] * scale);
+    }
+    pnm_freepamrow(row);
+    pm_setjmpbuf(saved);
+    *out = tex;
+    return 0;
+}
+
+int texture_read(const char *path, Texture **out, Err *err)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f)
+        return err_set(err, "%s: cannot open: %s", path, strerror(errno));
+    int rc = texture_read_stream(f, path, out, err);
+    fclose(f);
+    return rc;
+}

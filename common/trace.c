@@ -1,0 +1,264 @@
+/* trace.c - the top level of traversal: scene BVH, planes, model instances. */
+#include "trace.h"
+
+#include <string.h>
+
+/* Ray in an instance's model space.  The map x -> R^T (x - T) / s is affine,
+ * so distances t along the ray are the same in both spaces. */
+static Ray instance_ray(const Instance *in, const Ray *r)
+{
+    real inv = R(1) / in->scale;
+    vec3 o = v3_scale(m3_apply_t(&in->rot, v3_sub(r->org, in->translate)), inv);
+    vec3 d = v3_scale(m3_apply_t(&in->rot, r->dir), inv);
+    return ray_make(o, d, r->tmin, r->tmax);
+}
+
+static int leaf_closest(const Scene *s, uint32_t p, const Ray *r, Hit *hit)
+{
+    real t, b1 = 0, b2 = 0;
+    if (p < s->sphere_count) {
+        const Sphere *sp = &s->spheres[p];
+        if (!sphere_intersect(r, sp->centre, sp->radius, hit->t, &t))
+            return 0;
+        *hit = (Hit){t, 0, 0, HIT_SPHERE, p, 0};
+        return 1;
+    }
+    p -= s->sphere_count;
+    if (p < s->tri_count) {
+        if (!tri_intersect(r, &s->tris[p], hit->t, &t, &b1, &b2))
+            return 0;
+        *hit = (Hit){t, b1, b2, HIT_TRIANGLE, p, 0};
+        return 1;
+    }
+    p -= s->tri_count;
+    const Instance *in = &s->instances[p];
+    Ray mr = instance_ray(in, r);
+    ModelHit mh;
+    if (!model_intersect(s->models[in->model], &mr, hit->t, &mh))
+        return 0;
+    *hit = (Hit){mh.t, mh.b1, mh.b2, HIT_INSTANCE, p, mh.tri};
+    return 1;
+}
+
+static int leaf_occluded(const Scene *s, uint32_t p, const Ray *r, real tmax)
+{
+    real t, b1, b2;
+    if (p < s->sphere_count)
+        return sphere_intersect(r, s->spheres[p].centre, s->spheres[p].radius, tmax, &t);
+    p -= s->sphere_count;
+    if (p < s->tri_count)
+        return tri_intersect(r, &s->tris[p], tmax, &t, &b1, &b2);
+    p -= s->tri_count;
+    const Instance *in = &s->instances[p];
+    Ray mr = instance_ray(in, r);
+    return model_occluded(s->models[in->model], &mr, tmax);
+}
+
+typedef struct {
+    uint32_t node;
+    real tnear;
+} StackEntry;
+
+int trace_closest(const Scene *s, const Ray *r, Hit *hit)
+{
+    hit->t = r->tmax;
+    hit->kind = HIT_NONE;
+    if (scene_has(s, FEAT_PLANES))
+        for (uint32_t i = 0; i < s->plane_count; i++) {
+            real t;
+            if (plane_intersect(r, s->planes[i].point, s->planes[i].normal, hit->t, &t))
+                *hit = (Hit){t, 0, 0, HIT_PLANE, i, 0};
+        }
+    const BvhNode *nodes = s->top.nodes;
+    real tn;
+    if (s->top.node_count == 0 || !bvh_node_hit(&nodes[0], r, hit->t, &tn))
+        return hit->kind != HIT_NONE;
+    StackEntry stack[BVH_MAX_DEPTH];
+    uint32_t sp = 0, idx = 0;
+    for (;;) {
+        const BvhNode *n = &nodes[idx];
+        if (n->count) {
+            for (uint32_t i = 0; i < n->count; i++)
+                leaf_closest(s, s->top.prims[n->first + i], r, hit);
+        } else {
+            real t0, t1;
+            const uint32_t c = n->first;
+            int h0 = bvh_node_hit(&nodes[c], r, hit->t, &t0);
+            int h1 = bvh_node_hit(&nodes[c + 1], r, hit->t, &t1);
+            if (h0 && h1) {
+                idx = t1 < t0 ? c + 1 : c;
+                stack[sp++] = t1 < t0 ? (StackEntry){c, t0} : (StackEntry){c + 1, t1};
+                continue;
+            }
+            if (h0 | h1) {
+                idx = h0 ? c : c + 1;
+                continue;
+            }
+        }
+        do {
+            if (sp == 0)
+                return hit->kind != HIT_NONE;
+            --sp;
+        } while (stack[sp].tnear > hit->t);
+        idx = stack[sp].node;
+    }
+}
+
+int trace_occluded(const Scene *s, const Ray *r, real tmax)
+{
+    if (scene_has(s, FEAT_PLANES))
+        for (uint32_t i = 0; i < s->plane_count; i++) {
+            real t;
+            if (plane_intersect(r, s->planes[i].point, s->planes[i].normal, tmax, &t))
+                return 1;
+        }
+    const BvhNode *nodes = s->top.nodes;
+    real tn;
+    if (s->top.node_count == 0 || !bvh_node_hit(&nodes[0], r, tmax, &tn))
+        return 0;
+    uint32_t stack[BVH_MAX_DEPTH];
+    uint32_t sp = 0, idx = 0;
+    for (;;) {
+        const BvhNode *n = &nodes[idx];
+        if (n->count) {
+            for (uint32_t i = 0; i < n->count; i++)
+                if (leaf_occluded(s, s->top.prims[n->first + i], r, tmax))
+                    return 1;
+        } else {
+            real t0, t1;
+            const uint32_t c = n->first;
+            int h0 = bvh_node_hit(&nodes[c], r, tmax, &t0);
+            int h1 = bvh_node_hit(&nodes[c + 1], r, tmax, &t1);
+            if (h0 && h1) {
+                idx = t1 < t0 ? c + 1 : c;
+                stack[sp++] = t1 < t0 ? c : c + 1;
+                continue;
+            }
+            if (h0 | h1) {
+                idx = h0 ? c : c + 1;
+                continue;
+            }
+        }
+        if (sp == 0)
+            return 0;
+        idx = stack[--sp];
+    }
+}
+
+static vec3 bary(vec3 a, vec3 b, vec3 c, real b1, real b2)
+{
+    return v3_add(v3_add(v3_scale(a, R(1) - b1 - b2), v3_scale(b, b1)), v3_scale(c, b2));
+}
+
+static const Material fallback_material = {{{R(0.8), R(0.8), R(0.8)}}, {{0, 0, 0}}, R(1), -1};
+
+void trace_surface(const Scene *s, const Ray *r, const Hit *h, Surface *out)
+{
+    memset(out, 0, sizeof *out);
+    out->mat = &fallback_material;
+    switch (h->kind) {
+    case HIT_SPHERE: {
+        const Sphere *sp = &s->spheres[h->index];
+        vec3 p = ray_at(r, h->t);
+        out->ng = v3_norm(v3_sub(p, sp->centre));
+        /* re-project onto the surface: removes the error of o + t*d */
+        out->p = v3_madd(sp->centre, out->ng, sp->radius);
+        out->ns = out->ng;
+        out->mat = &s->materials[sp->material];
+        out->object = h->index;
+        break;
+    }
+    case HIT_PLANE: {
+        const Plane *pl = &s->planes[h->index];
+        vec3 p = ray_at(r, h->t);
+        /* project onto the plane for the same reason */
+        out->p = v3_madd(p, pl->normal, v3_dot(v3_sub(pl->point, p), pl->normal));
+        out->ng = out->ns = pl->normal;
+        out->mat = &s->materials[pl->material];
+        out->object = s->sphere_count + h->index;
+        break;
+    }
+    case HIT_TRIANGLE: {
+        const Tri *t = &s->tris[h->index];
+        const TriAttr *a = &s->tri_attrs[h->index];
+        vec3 v0 = tri_vertex(t, 0), v1 = tri_vertex(t, 1), v2 = tri_vertex(t, 2);
+        out->p = bary(v0, v1, v2, h->b1, h->b2);
+        out->ng = v3_norm(v3_cross(v3_sub(v1, v0), v3_sub(v2, v0)));
+        out->ns = a->smooth ? v3_norm(bary(a->n[0], a->n[1], a->n[2], h->b1, h->b2)) : out->ng;
+        if (a->textured) {
+            out->u = (R(1) - h->b1 - h->b2) * a->uv[0] + h->b1 * a->uv[2] + h->b2 * a->uv[4];
+            out->v = (R(1) - h->b1 - h->b2) * a->uv[1] + h->b1 * a->uv[3] + h->b2 * a->uv[5];
+            out->has_uv = 1;
+        }
+        out->mat = &s->materials[a->material];
+        /* scene triangles of one material form one surface (a quad is two triangles) */
+        out->object = s->sphere_count + s->plane_count + a->material;
+        break;
+    }
+    case HIT_INSTANCE: {
+        const Instance *in = &s->instances[h->index];
+        const Model *m = s->models[in->model];
+        const Tri *t = &m->tris[h->sub];
+        vec3 v0 = tri_vertex(t, 0), v1 = tri_vertex(t, 1), v2 = tri_vertex(t, 2);
+        vec3 pm = bary(v0, v1, v2, h->b1, h->b2);
+        out->p = v3_add(v3_scale(m3_apply(&in->rot, pm), in->scale), in->translate);
+        /* uniform scale: normals transform by the rotation alone */
+        out->ng = v3_norm(m3_apply(&in->rot, v3_cross(v3_sub(v1, v0), v3_sub(v2, v0))));
+        if (m->normals) {
+            const vec3 *n = &m->normals[3 * h->sub];
+            out->ns = v3_norm(m3_apply(&in->rot, bary(n[0], n[1], n[2], h->b1, h->b2)));
+        } else {
+            out->ns = out->ng;
+        }
+        if (m->uvs) {
+            const real *uv = &m->uvs[6 * h->sub];
+            out->u = (R(1) - h->b1 - h->b2) * uv[0] + h->b1 * uv[2] + h->b2 * uv[4];
+            out->v = (R(1) - h->b1 - h->b2) * uv[1] + h->b1 * uv[3] + h->b2 * uv[5];
+            out->has_uv = 1;
+        }
+        if (in->material >= 0)
+            out->mat = &s->materials[in->material];
+        else if (m->mat_ids)
+            out->mat = &m->materials[m->mat_ids[h->sub]];
+        else if (s->material_count)
+            out->mat = &s->materials[0];
+        out->object = s->sphere_count + s->plane_count + s->material_count + h->index;
+        break;
+    }
+    default:
+        break;
+    }
+    /* face the viewer: all surfaces are two-sided */
+    if (v3_dot(out->ng, r->dir) > R(0))
+        out->ng = v3_neg(out->ng);
+    if (v3_dot(out->ns, out->ng) < R(0))
+        out->ns = v3_neg(out->ns);
+}
+
+#ifdef LANRAY_DOUBLE
+typedef int64_t offset_int;
+#define OFFSET_FLOAT_SCALE R(1.0 / 35184372088832.0) /* 2^-45: float's 2^-16 scaled by 2^-29 */
+#else
+typedef int32_t offset_int;
+#define OFFSET_FLOAT_SCALE R(1.0 / 65536.0)
+#endif
+#define OFFSET_ORIGIN R(1.0 / 32.0)
+#define OFFSET_INT_SCALE R(256.0)
+
+static real offset_ulps(real x, real n)
+{
+    offset_int i, of = (offset_int)(OFFSET_INT_SCALE * n);
+    memcpy(&i, &x, sizeof x);
+    i += x < R(0) ? -of : of;
+    real y;
+    memcpy(&y, &i, sizeof y);
+    return y;
+}
+
+vec3 trace_offset_origin(vec3 p, vec3 n)
+{
+    vec3 o;
+    for (int a = 0; a < 3; a++)
+        o.e[a] = fabs(p.e[a]) < OFFSET_ORIGIN ? p.e[a] + OFFSET_FLOAT_SCALE * n.e[a] : offset_ulps(p.e[a], n.e[a]);
+    return o;
+}
