@@ -59,12 +59,17 @@ static inline Aabb bvh_node_box(const BvhNode *n)
     return b;
 }
 
-/* Slab test with Ize's conservative rounding ("Robust BVH Ray Traversal",
- * JCGT 2013): the far distance is enlarged by 1 + 2*gamma(3), so that a ray
- * grazing a box is never lost to rounding.  Writes the entry distance. */
+/* Ize's conservative factor ("Robust BVH Ray Traversal", JCGT 2013): the
+ * computed slab distances are off by at most gamma(3) relative, so far
+ * distances and the current closest hit are enlarged by 1 + 2*gamma(3)
+ * before comparing with an entry distance. */
+#define BVH_FUDGE (R(1) + R(2) * real_gamma(3))
+
+/* Slab test: a box grazed by the ray, or holding a hit exactly as far as the
+ * current closest one, is never lost to rounding.  Writes the entry distance. */
 static inline int bvh_node_hit(const BvhNode *n, const Ray *r, real tmax, real *tnear)
 {
-    const real fudge = R(1) + R(2) * real_gamma(3);
+    const real fudge = BVH_FUDGE;
     real t0 = (n->bmin[0] - r->org.x) * r->inv.x, t1 = (n->bmax[0] - r->org.x) * r->inv.x;
     real lo = real_min(t0, t1), hi = real_max(t0, t1);
     t0 = (n->bmin[1] - r->org.y) * r->inv.y;
@@ -76,7 +81,7 @@ static inline int bvh_node_hit(const BvhNode *n, const Ray *r, real tmax, real *
     lo = real_max(lo, real_min(t0, t1));
     hi = real_min(hi, real_max(t0, t1));
     lo = real_max(lo, r->tmin);
-    hi = real_min(hi * fudge, tmax);
+    hi = real_min(hi, tmax) * fudge;
     *tnear = lo;
     return lo <= hi;
 }

@@ -47,16 +47,14 @@ static inline int tri_intersect(const Ray *r, const Tri *tri, real tmax, real *t
     if (det == R(0))
         return 0;
     const real T = U * (r->sz * az) + V * (r->sz * bz) + W * (r->sz * cz);
-    /* compare T against det*[tmin, tmax] without dividing: flip by det's sign */
-    if (det > R(0)) {
-        if (T <= r->tmin * det || T >= tmax * det)
-            return 0;
-    } else {
-        if (T >= r->tmin * det || T <= tmax * det)
-            return 0;
-    }
+    /* compare the distance itself, not T against tmax*det: the two round
+     * differently, and the closest of two near-coincident hits would then
+     * depend on the order the triangles are visited */
     const real inv = R(1) / det;
-    *t_out = T * inv;
+    const real t = T * inv;
+    if (!(t > r->tmin && t < tmax))
+        return 0;
+    *t_out = t;
     *b1 = V * inv;
     *b2 = W * inv;
     return 1;

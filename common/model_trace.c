@@ -60,7 +60,7 @@ int model_intersect(const Model *m, const Ray *r, real tmax, ModelHit *hit)
             if (sp == 0)
                 return found;
             --sp;
-        } while (stack[sp].tnear > tmax);
+        } while (stack[sp].tnear > tmax * BVH_FUDGE);
         idx = stack[sp].node;
     }
 }

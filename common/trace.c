@@ -99,7 +99,7 @@ int trace_closest(const Scene *s, const Ray *r, Hit *hit)
             if (sp == 0)
                 return hit->kind != HIT_NONE;
             --sp;
-        } while (stack[sp].tnear > hit->t);
+        } while (stack[sp].tnear > hit->t * BVH_FUDGE);
         idx = stack[sp].node;
     }
 }

@@ -1,0 +1,73 @@
+/* helpers.h - small utilities shared by the unit tests (cmocka). */
+#ifndef LANRAY_TEST_HELPERS_H
+#define LANRAY_TEST_HELPERS_H
+
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include <cmocka.h>
+
+#include "vec.h"
+
+/* Deterministic xorshift generator: tests must be repeatable. */
+typedef struct {
+    uint64_t s;
+} Rng;
+
+static inline uint64_t rng_next(Rng *r)
+{
+    r->s ^= r->s << 13;
+    r->s ^= r->s >> 7;
+    r->s ^= r->s << 17;
+    return r->s;
+}
+static inline real rng_real(Rng *r, real lo, real hi)
+{
+    return lo + (hi - lo) * (real)((double)(rng_next(r) >> 11) * (1.0 / 9007199254740992.0));
+}
+static inline vec3 rng_vec(Rng *r, real lo, real hi) { return v3(rng_real(r, lo, hi), rng_real(r, lo, hi), rng_real(r, lo, hi)); }
+static inline vec3 rng_dir(Rng *r)
+{
+    for (;;) {
+        vec3 v = rng_vec(r, -1, 1);
+        real l = v3_dot(v, v);
+        if (l > R(1e-4) && l <= 1)
+            return v3_scale(v, R(1) / sqrt(l));
+    }
+}
+
+/* A fresh temporary directory for a test's files. */
+static inline const char *test_tmpdir(void)
+{
+    static char dir[64];
+    if (!dir[0]) {
+        snprintf(dir, sizeof dir, "/tmp/lanray-test-XXXXXX");
+        if (!mkdtemp(dir))
+            abort();
+    }
+    return dir;
+}
+
+static inline void test_write_file(const char *path, const char *text)
+{
+    FILE *f = fopen(path, "wb");
+    assert_non_null(f);
+    fputs(text, f);
+    fclose(f);
+}
+
+static inline int file_exists(const char *path) { return access(path, F_OK) == 0; }
+
+#define assert_contains(haystack, needle)                                                           \
+    do {                                                                                            \
+        if (!strstr((haystack), (needle)))                                                          \
+            fail_msg("expected \"%s\" in \"%s\"", (needle), (haystack));                            \
+    } while (0)
+
+#endif

@@ -1,0 +1,227 @@
+/* test_bvh.c - every builder: structure, enclosure, and the same answers as brute force. */
+#include "helpers.h"
+
+#include "model.h"
+
+static void random_mesh(Mesh *m, Rng *rng, uint32_t n, int clustered)
+{
+    assert_int_equal(mesh_init(m, 0, 0, 0, NULL), 0);
+    for (uint32_t i = 0; i < n; i++) {
+        /* clustered: most triangles in a few dense blobs, as in scanned models */
+        vec3 c = clustered && i % 10 ? v3_scale(rng_vec(rng, -1, 1), R(0.05)) : rng_vec(rng, -10, 10);
+        if (clustered)
+            c = v3_add(c, v3((real)(i % 3) * 4, 0, 0));
+        real size = rng_real(rng, R(0.01), R(0.6));
+        vec3 p[3] = {v3_add(c, v3_scale(rng_dir(rng), size)), v3_add(c, v3_scale(rng_dir(rng), size)),
+                     v3_add(c, v3_scale(rng_dir(rng), size))};
+        if (mesh_tri_is_degenerate(p)) {
+            i--;
+            continue;
+        }
+        assert_int_equal(mesh_add(m, p, NULL, NULL, 0, NULL), 0);
+    }
+}
+
+static int box_has(const BvhNode *n, vec3 p)
+{
+    return p.x >= n->bmin[0] && p.y >= n->bmin[1] && p.z >= n->bmin[2] && p.x <= n->bmax[0] && p.y <= n->bmax[1] &&
+           p.z <= n->bmax[2];
+}
+
+static void check_structure(const Model *m)
+{
+    Err err;
+    if (bvh_validate(&m->bvh, &err))
+        fail_msg("%s", err.msg);
+    assert_true(m->bvh.depth <= BVH_MAX_DEPTH);
+    for (uint32_t i = 0; i < m->bvh.node_count; i++) {
+        const BvhNode *n = &m->bvh.nodes[i];
+        if (n->count) {
+            for (uint32_t t = n->first; t < n->first + n->count; t++)
+                for (int k = 0; k < 3; k++)
+                    assert_true(box_has(n, tri_vertex(&m->tris[t], k)));
+        } else {
+            for (uint32_t c = n->first; c <= n->first + 1; c++) {
+                const BvhNode *ch = &m->bvh.nodes[c];
+                assert_true(box_has(n, v3(ch->bmin[0], ch->bmin[1], ch->bmin[2])));
+                assert_true(box_has(n, v3(ch->bmax[0], ch->bmax[1], ch->bmax[2])));
+            }
+        }
+    }
+}
+
+/* Closest hit and any hit agree with testing every triangle. */
+static void check_against_brute_force(const Model *m, Rng *rng, int rays)
+{
+    Aabb b = m->bounds;
+    vec3 c = aabb_centre(b);
+    real radius = v3_len(aabb_extent(b));
+    int hits = 0;
+    for (int i = 0; i < rays; i++) {
+        vec3 org = v3_add(c, v3_scale(rng_dir(rng), radius * rng_real(rng, R(0.1), R(1.5))));
+        vec3 target = v3_add(c, v3_scale(rng_vec(rng, -1, 1), radius * R(0.3)));
+        if (i % 2) { /* half the rays aim near a random triangle's centre */
+            const Tri *t = &m->tris[rng_next(rng) % m->tri_count];
+            target = v3_scale(v3_add(v3_add(tri_vertex(t, 0), tri_vertex(t, 1)), tri_vertex(t, 2)), R(1) / 3);
+        }
+        Ray r = ray_make(org, v3_sub(target, org), 0, REAL_INF);
+        real best = REAL_INF;
+        for (uint32_t t = 0; t < m->tri_count; t++) {
+            real tt, b1, b2;
+            if (tri_intersect(&r, &m->tris[t], best, &tt, &b1, &b2))
+                best = tt;
+        }
+        ModelHit h;
+        int got = model_intersect(m, &r, REAL_INF, &h);
+        assert_int_equal(got, best < REAL_INF);
+        if (got) {
+            if (h.t != best)
+                fail_msg("closest hit %.9g, brute force %.9g (ray %d)", (double)h.t, (double)best, i);
+            hits++;
+        }
+        assert_int_equal(model_occluded(m, &r, REAL_INF), best < REAL_INF);
+        assert_int_equal(model_occluded(m, &r, best * R(0.999)), 0);
+    }
+    assert_true(hits > rays / 4); /* the rays do reach the geometry */
+}
+
+static void each_builder(Mesh *mesh, Rng *rng, int rays)
+{
+    for (int k = 0; k < BVH_KIND_COUNT; k++)
+        for (int alt = 0; alt < (k == BVH_SBT ? 2 : 1); alt++) {
+            BvhOptions opt = bvh_options_default((BvhKind)k);
+            opt.sbt_alternate = alt;
+            Model *m;
+            Err err;
+            if (model_from_mesh(&m, mesh, &opt, &err))
+                fail_msg("%s: %s", bvh_kind_name((BvhKind)k), err.msg);
+            assert_int_equal(m->tri_count, mesh->tri_count);
+            check_structure(m);
+            check_against_brute_force(m, rng, rays);
+            model_destroy(m);
+        }
+}
+
+static void builders_on_random_triangles(void **state)
+{
+    (void)state;
+    Rng rng = {4242};
+    Mesh mesh;
+    random_mesh(&mesh, &rng, 3000, 0);
+    each_builder(&mesh, &rng, 3000);
+    mesh_free(&mesh);
+    random_mesh(&mesh, &rng, 3000, 1);
+    each_builder(&mesh, &rng, 3000);
+    mesh_free(&mesh);
+}
+
+static void builders_on_tiny_and_coincident_input(void **state)
+{
+    (void)state;
+    Rng rng = {7};
+    for (uint32_t n = 1; n <= 9; n++) {
+        Mesh mesh;
+        random_mesh(&mesh, &rng, n, 0);
+        each_builder(&mesh, &rng, 200);
+        mesh_free(&mesh);
+    }
+    /* 500 copies of one triangle: centres coincide, splits must fall back to counts */
+    Mesh mesh;
+    assert_int_equal(mesh_init(&mesh, 0, 0, 0, NULL), 0);
+    vec3 p[3] = {v3(0, 0, 0), v3(1, 0, 0), v3(0, 1, 0)};
+    for (int i = 0; i < 500; i++)
+        assert_int_equal(mesh_add(&mesh, p, NULL, NULL, 0, NULL), 0);
+    each_builder(&mesh, &rng, 200);
+    mesh_free(&mesh);
+}
+
+/* Triangles at x = 2^-k: a spatial median peels off one per level, which
+ * would make a 2000-deep chain.  The depth repair keeps it within the limit. */
+static void depth_is_bounded_on_adversarial_input(void **state)
+{
+    (void)state;
+    Mesh mesh;
+    assert_int_equal(mesh_init(&mesh, 0, 0, 0, NULL), 0);
+    real x = 1;
+    for (int i = 0; i < 120; i++, x *= R(0.5)) {
+        vec3 p[3] = {v3(x, 0, 0), v3(x, 1, 0), v3(x, 0, 1)};
+        assert_int_equal(mesh_add(&mesh, p, NULL, NULL, 0, NULL), 0);
+    }
+    Rng rng = {5};
+    for (int k = 0; k < BVH_KIND_COUNT; k++) {
+        BvhOptions opt = bvh_options_default((BvhKind)k);
+        opt.max_leaf = 1;
+        Model *m;
+        assert_int_equal(model_from_mesh(&m, &mesh, &opt, NULL), 0);
+        check_structure(m);
+        check_against_brute_force(m, &rng, 500);
+        model_destroy(m);
+    }
+    mesh_free(&mesh);
+}
+
+static int cmp_real(const void *a, const void *b)
+{
+    real x = *(const real *)a, y = *(const real *)b;
+    return x < y ? -1 : x > y;
+}
+
+/* The MST must equal the naive greedy algorithm: repeatedly merge the pair
+ * whose union box has the smallest area.  Compare the areas of all clusters. */
+static void mst_equals_naive_greedy(void **state)
+{
+    (void)state;
+    Rng rng = {31337};
+    enum { N = 80 };
+    for (int round = 0; round < 5; round++) {
+        Aabb box[N];
+        int alive[N];
+        for (int i = 0; i < N; i++) {
+            vec3 c = rng_vec(&rng, -10, 10), e = rng_vec(&rng, R(0.01), 2);
+            box[i] = (Aabb){v3_sub(c, e), v3_add(c, e)};
+            alive[i] = 1;
+        }
+        Bvh bvh;
+        BvhOptions opt = bvh_options_default(BVH_MST);
+        opt.max_leaf = 1;
+        assert_int_equal(bvh_build(&bvh, box, N, &opt, NULL), 0);
+        real naive[N - 1], ours[N - 1];
+        Aabb work[N];
+        memcpy(work, box, sizeof work);
+        for (int m = 0; m < N - 1; m++) {
+            real best = REAL_INF;
+            int bi = -1, bj = -1;
+            for (int i = 0; i < N; i++)
+                for (int j = i + 1; j < N; j++)
+                    if (alive[i] && alive[j]) {
+                        real a = aabb_half_area(aabb_union(work[i], work[j]));
+                        if (a < best)
+                            best = a, bi = i, bj = j;
+                    }
+            work[bi] = aabb_union(work[bi], work[bj]);
+            alive[bj] = 0;
+            naive[m] = best;
+        }
+        int k = 0;
+        for (uint32_t i = 0; i < bvh.node_count; i++)
+            if (bvh.nodes[i].count == 0)
+                ours[k++] = aabb_half_area(bvh_node_box(&bvh.nodes[i]));
+        assert_int_equal(k, N - 1);
+        qsort(naive, N - 1, sizeof *naive, cmp_real);
+        qsort(ours, N - 1, sizeof *ours, cmp_real);
+        for (int i = 0; i < N - 1; i++)
+            assert_float_equal(ours[i], naive[i], R(1e-4) * naive[i]);
+        bvh_destroy(&bvh);
+    }
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(builders_on_random_triangles),
+        cmocka_unit_test(builders_on_tiny_and_coincident_input),
+        cmocka_unit_test(depth_is_bounded_on_adversarial_input),
+        cmocka_unit_test(mst_equals_naive_greedy),
+    };
+    return cmocka_run_group_tests_name("bvh", tests, NULL, NULL);
+}
