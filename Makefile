@@ -45,6 +45,7 @@ TESTS := $(TEST_SRC:tests/%.c=$(BUILD)/tests/%)
 DEB_PACKAGES := gcc make pkg-config libsdl2-dev libnetpbm-dev libpng-dev libcmocka-dev libembree-dev
 
 .PHONY: all deps check check-asan bench demo clean
+.SECONDARY:
 all: $(TOOLS)
 
 deps:

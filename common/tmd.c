@@ -161,8 +161,9 @@ int tmd_decode(const void *data, size_t len, const char *name, Model **out, Err 
     if (m->mat_ids && !bad && cursor_get(&c, m->mat_ids, (size_t)tris * 4) == 0)
         for (uint32_t i = 0; i < tris; i++)
             if (m->mat_ids[i] >= mats) {
+                uint32_t bad_id = m->mat_ids[i];
                 model_destroy(m);
-                return err_set(err, "%s: triangle %u uses material %u of %u", name, i, m->mat_ids[i], mats);
+                return err_set(err, "%s: triangle %u uses material %u of %u", name, i, bad_id, mats);
             }
     if (bad || c.failed) {
         model_destroy(m);

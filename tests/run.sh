@@ -1,12 +1,24 @@
 #!/usr/bin/env bash
-# Runs the unit-test binaries given as arguments, then the command-line tests,
-# and prints one closing line "N passed, N failed".
+# Runs the cmocka test binaries given as arguments, then the command-line
+# tests (tests/cli/*.sh), and closes with one line "N passed, N failed"
+# counting individual tests.
 set -u
 passed=0
 failed=0
 failed_names=()
+log=$(mktemp)
+trap 'rm -f "$log"' EXIT
 for t in "$@"; do
-    if "$t"; then passed=$((passed + 1)); else failed=$((failed + 1)); failed_names+=("$(basename "$t")"); fi
+    "$t" 2>&1 | tee "$log"
+    rc=${PIPESTATUS[0]}
+    p=$(sed -n 's/^\[  PASSED  \] \([0-9]*\) test(s)\./\1/p' "$log" | tail -1)
+    f=$(sed -n 's/^\[  FAILED  \] \([0-9]*\) test(s), listed below:/\1/p' "$log" | tail -1)
+    passed=$((passed + ${p:-0}))
+    failed=$((failed + ${f:-0}))
+    if [ "$rc" -ne 0 ]; then
+        failed_names+=("$(basename "$t")")
+        [ -n "$f" ] || failed=$((failed + 1)) # crashed before reporting
+    fi
 done
 for t in tests/cli/*.sh; do
     [ -e "$t" ] || continue
@@ -17,6 +29,6 @@ for t in tests/cli/*.sh; do
         echo "[  FAILED  ] $(basename "$t")"; failed=$((failed + 1)); failed_names+=("$(basename "$t")")
     fi
 done
-[ "$failed" -eq 0 ] || echo "failed suites: ${failed_names[*]}"
+[ ${#failed_names[@]} -eq 0 ] || echo "failing: ${failed_names[*]}"
 echo "$passed passed, $failed failed"
-[ "$failed" -eq 0 ]
+[ "$failed" -eq 0 ] && [ ${#failed_names[@]} -eq 0 ]

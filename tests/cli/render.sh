@@ -1,0 +1,30 @@
+#!/usr/bin/env bash
+# lanray-render: the default scene with no arguments, a scene file, and errors.
+set -u
+BIN=${BIN:-bin}
+root=$(pwd)
+dir=$(mktemp -d)
+trap 'rm -rf "$dir"' EXIT
+fail() { echo "FAIL: $*"; exit 1; }
+
+# no arguments: the built-in scene, written to lanray.png in the current directory
+out=$(cd "$dir" && "$root/$BIN/lanray-render" --threads 2) || fail "default render failed: $out"
+[ "$(head -c 8 "$dir/lanray.png" | od -An -tx1 | tr -d ' \n')" = 89504e470d0a1a0a ] || fail "lanray.png is not a PNG"
+grep -q "1024x768 .* Mrays/s" <<<"$out" || fail "no timing line: $out"
+
+# a scene file to PPM at a given size: exact size of header plus pixels
+"$BIN/lanray-render" models/example.scene -o "$dir/ex.ppm" --width 33 --height 17 --aa 2 --quiet >/dev/null || fail "scene render"
+head -c 15 "$dir/ex.ppm" | grep -q "P6" || fail "not a PPM"
+[ "$(stat -c %s "$dir/ex.ppm")" -eq $((13 + 33 * 17 * 3)) ] || fail "PPM size $(stat -c %s "$dir/ex.ppm")"
+"$BIN/lanray-render" models/example.scene -o "$dir/a.ppm" --width 1 --height 1 --aa adaptive:3 --bvh mst --quiet >/dev/null || fail "1x1 adaptive mst"
+
+# errors: a bad scene names file and line; nothing is written
+printf 'camera position 0 0 5 lookat 0 0 0\nsphere centre 0 0 0 radius nope\n' >"$dir/bad.scene"
+err=$("$BIN/lanray-render" "$dir/bad.scene" -o "$dir/bad.png" 2>&1); [ $? -eq 1 ] || fail "bad scene should exit 1"
+grep -q "bad.scene:2: 'radius' of sphere expects 1 finite number, got 'nope'" <<<"$err" || fail "message: $err"
+[ ! -e "$dir/bad.png" ] || fail "image written for a bad scene"
+"$BIN/lanray-render" --aa 17 2>/dev/null; [ $? -eq 2 ] || fail "--aa 17 should exit 2"
+"$BIN/lanray-render" --bogus 2>/dev/null; [ $? -eq 2 ] || fail "unknown option should exit 2"
+err=$("$BIN/lanray-render" -o "$dir/x.gif" --width 4 --height 4 2>&1); [ $? -eq 1 ] || fail "gif should exit 1"
+grep -q "unknown image format" <<<"$err" || fail "format message: $err"
+exit 0

@@ -1,0 +1,163 @@
+/* test_obj.c - the OBJ/MTL reader on good and malformed input. */
+#include "helpers.h"
+
+#include "obj.h"
+
+static int parse(const char *text, Mesh *m, ObjStats *st, Err *err, int smooth)
+{
+    char *buf = strdup(text);
+    ObjOptions opt = {smooth};
+    int rc = obj_parse(buf, strlen(buf), "t.obj", test_tmpdir(), &opt, m, st, err);
+    free(buf);
+    return rc;
+}
+
+static void index_forms_and_negative_indices(void **state)
+{
+    (void)state;
+    const char *text = "# all four corner forms\n"
+                       "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\n"
+                       "vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n"
+                       "vn 0 0 1\n"
+                       "o thing\ng part\n"
+                       "f 1 2 3\n"
+                       "f 1/1 2/2 3/3\n"
+                       "f 1//1 2//1 3//1\n"
+                       "f 1/1/1 2/2/1 3/3/1\n"
+                       "f -4/-4/-1 -3/-3/-1 -2/-2/-1\r\n";
+    Mesh m;
+    ObjStats st;
+    Err err;
+    if (parse(text, &m, &st, &err, 0))
+        fail_msg("%s", err.msg);
+    assert_int_equal(m.tri_count, 5);
+    assert_int_equal(st.vertices, 4);
+    assert_int_equal(st.groups, 2);
+    assert_non_null(m.nrm);
+    assert_non_null(m.uv);
+    assert_null(m.mat);
+    /* the negative-index face is the same as the first */
+    assert_memory_equal(&m.pos[0], &m.pos[12], 3 * sizeof(vec3));
+    /* texture coordinates of the 2nd face: (0,0) (1,0) (1,1) */
+    assert_float_equal(m.uv[6 + 2], 1, 0);
+    assert_float_equal(m.uv[6 + 5], 1, 0);
+    /* face 1 has no file normals: the flat normal +z */
+    assert_float_equal(m.nrm[0].z, 1, R(1e-6));
+    mesh_free(&m);
+}
+
+static void polygons_are_triangulated_and_degenerates_dropped(void **state)
+{
+    (void)state;
+    const char *text = "v 0 0 0\nv 2 0 0\nv 2 2 0\nv 1 3 0\nv 0 2 0\nv 5 5 5\n"
+                       "f 1 2 3 4 5\n"   /* pentagon: 3 triangles */
+                       "f 1 2 3 5\n"     /* quad: 2 */
+                       "f 1 1 2\n"       /* repeated vertex: zero area */
+                       "f 1 2 2\n";
+    Mesh m;
+    ObjStats st;
+    Err err;
+    if (parse(text, &m, &st, &err, 0))
+        fail_msg("%s", err.msg);
+    assert_int_equal(m.tri_count, 5);
+    assert_int_equal(st.faces, 4);
+    assert_int_equal(st.degenerate, 2);
+    /* positions only: no normals, uvs or materials were used */
+    assert_null(m.nrm);
+    assert_null(m.uv);
+    assert_null(m.mat);
+    /* the pentagon's area is kept: 2*2 square + triangle of area 1 */
+    real area = 0;
+    for (int i = 0; i < 3; i++)
+        area += v3_len(v3_cross(v3_sub(m.pos[3 * i + 1], m.pos[3 * i]), v3_sub(m.pos[3 * i + 2], m.pos[3 * i]))) / 2;
+    assert_float_equal(area, 5, R(1e-5));
+    mesh_free(&m);
+}
+
+static void materials_from_mtllib(void **state)
+{
+    (void)state;
+    char path[256];
+    snprintf(path, sizeof path, "%s/t.mtl", test_tmpdir());
+    test_write_file(path, "newmtl red\nKd 1 0 0\nKs 0.5 0.5 0.5\nNs 32\nillum 2\n"
+                          "newmtl unused\nKd 0 1 0\n"
+                          "newmtl blue\nKd 0 0 1\nmap_Kd ignored.png\n");
+    const char *text = "mtllib t.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\n"
+                       "f 1 2 3\nusemtl blue\nf 2 4 3\nusemtl red\nf 1 2 4\n";
+    Mesh m;
+    Err err;
+    if (parse(text, &m, NULL, &err, 0))
+        fail_msg("%s", err.msg);
+    assert_int_equal(m.tri_count, 3);
+    assert_non_null(m.mat);
+    /* default (for the face before usemtl), blue and red: "unused" is dropped */
+    assert_int_equal(m.material_count, 3);
+    const Material *blue = &m.materials[m.mat[1]], *red = &m.materials[m.mat[2]];
+    assert_float_equal(blue->kd.z, 1, 0);
+    assert_float_equal(red->kd.x, 1, 0);
+    assert_float_equal(red->ks.y, R(0.5), 0);
+    assert_float_equal(red->shininess, 32, 0);
+    assert_true(m.mat[0] != m.mat[1] && m.mat[1] != m.mat[2]);
+    mesh_free(&m);
+}
+
+static void smooth_normals_average_faces(void **state)
+{
+    (void)state;
+    /* two faces folded at 90 degrees along the shared edge 1-2 */
+    const char *text = "v 0 0 0\nv 0 1 0\nv 1 0 0\nv 0 0 1\nf 1 2 3\nf 1 4 2\n";
+    Mesh m;
+    Err err;
+    if (parse(text, &m, NULL, &err, 1))
+        fail_msg("%s", err.msg);
+    assert_non_null(m.nrm);
+    /* vertex 1 is shared: its normal is the mean of -z and -x (area weighted, equal areas) */
+    vec3 n = m.nrm[0];
+    assert_float_equal(v3_len(n), 1, R(1e-5));
+    assert_float_equal(fabs(n.x), fabs(n.z), R(1e-5));
+    assert_float_equal(n.y, 0, R(1e-6));
+    mesh_free(&m);
+}
+
+static void expect_error(const char *text, const char *what)
+{
+    Mesh m;
+    Err err = {{0}};
+    assert_int_equal(parse(text, &m, NULL, &err, 0), -1);
+    assert_contains(err.msg, what);
+}
+
+static void malformed_input_names_file_and_line(void **state)
+{
+    (void)state;
+    expect_error("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 4\n", "t.obj:4: bad vertex index in face corner '4'");
+    expect_error("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 0\n", "t.obj:4: bad vertex index");
+    expect_error("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 -4\n", "t.obj:4: bad vertex index");
+    expect_error("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1/1 2/1 3/1\n", "t.obj:4: bad texture coordinate index");
+    expect_error("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1//2 2//1 3//1\n", "t.obj:4: bad normal index");
+    expect_error("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1/x 2 3\n", "t.obj:4: bad texture coordinate index");
+    expect_error("v 0 0 0\nv 1 0 0\nf 1 2\n", "t.obj:3: a face needs at least 3 corners, this one has 2");
+    expect_error("v 0 zero 0\n", "t.obj:1: expected 3 finite numbers after 'v'");
+    expect_error("v 0 0\n", "t.obj:1: expected 3 finite numbers after 'v'");
+    expect_error("v 1e999 0 0\n", "t.obj:1: expected 3 finite numbers after 'v'");
+    expect_error("vn 0 nan 1\n", "t.obj:1: expected 3 finite numbers after 'vn'");
+    expect_error("vt\n", "t.obj:1: expected 1 to 3 finite numbers after 'vt'");
+    expect_error("\n\nusemtl nothing\n", "t.obj:3: material 'nothing' is not defined");
+    expect_error("mtllib missing.mtl\n", "t.obj:1: mtllib");
+    char path[256];
+    snprintf(path, sizeof path, "%s/bad.mtl", test_tmpdir());
+    test_write_file(path, "newmtl a\nKd 1 0\n");
+    expect_error("mtllib bad.mtl\n", "bad.mtl:2: expected 3 non-negative numbers after Kd");
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(index_forms_and_negative_indices),
+        cmocka_unit_test(polygons_are_triangulated_and_degenerates_dropped),
+        cmocka_unit_test(materials_from_mtllib),
+        cmocka_unit_test(smooth_normals_average_faces),
+        cmocka_unit_test(malformed_input_names_file_and_line),
+    };
+    return cmocka_run_group_tests_name("obj", tests, NULL, NULL);
+}

@@ -1,0 +1,240 @@
+/* test_render.c - shading against analytic values, and pixels that do not
+ * depend on threads or on how the frame is cut into segments. */
+#include "helpers.h"
+
+#include "render.h"
+#include "scene_default.h"
+
+static Scene *empty_scene(void)
+{
+    Scene *s = scene_create();
+    assert_non_null(s);
+    s->ambient = v3_splat(0);
+    s->background = v3_splat(0);
+    Material white = {v3(1, 1, 1), v3(0, 0, 0), 1, -1};
+    assert_int_equal(scene_add_material(s, white, NULL, NULL), 0);
+    return s;
+}
+
+static void prepare(Scene *s)
+{
+    Err err;
+    if (scene_prepare(s, &err))
+        fail_msg("%s", err.msg);
+}
+
+/* Colour seen by a ray from eye towards point p. */
+static vec3 look(const Scene *s, vec3 eye, vec3 p)
+{
+    Ray r = ray_make(eye, v3_norm(v3_sub(p, eye)), 0, REAL_INF);
+    RayStats st = {0, 0};
+    return shade_ray(s, &r, &st, NULL);
+}
+
+static void diffuse_and_phong_match_the_formula(void **state)
+{
+    (void)state;
+    Scene *s = empty_scene();
+    s->materials[0].ks = v3_splat(R(0.25));
+    s->materials[0].shininess = 10;
+    assert_int_equal(scene_add_sphere(s, (Sphere){v3(0, 0, 0), 1, 0}, NULL), 0);
+    assert_int_equal(scene_add_light(s, light_directional(v3(0, 0, -1), v3(1, 1, 1), R(0.5)), NULL), 0);
+    prepare(s);
+    /* front of the sphere: N.L = 1 and the mirror direction points at the eye */
+    vec3 c = look(s, v3(0, 0, 5), v3(0, 0, 1));
+    assert_float_equal(c.x, R(0.5) + R(0.25) * R(0.5), R(1e-5));
+    /* 60 degrees off: N.L = cos 60; the highlight is gone (R.V = cos 120 < 0) */
+    vec3 p = v3(sin(REAL_PI / 3), 0, cos(REAL_PI / 3));
+    c = look(s, v3_scale(p, 5), p);
+    assert_float_equal(c.x, R(0.5) * cos(REAL_PI / 3) + R(0.25) * R(0.5) * pow(cos(REAL_PI / 3), R(10)), R(1e-4));
+    s->settings.shading = SHADE_DIFFUSE;
+    c = look(s, v3(0, 0, 5), v3(0, 0, 1));
+    assert_float_equal(c.x, R(0.5), R(1e-5));
+    scene_destroy(s);
+}
+
+static void shadows_attenuation_and_spot_cone(void **state)
+{
+    (void)state;
+    Scene *s = empty_scene();
+    assert_int_equal(scene_add_plane(s, (Plane){v3(0, 0, 0), v3(0, 1, 0), 0}, NULL), 0);
+    assert_int_equal(scene_add_sphere(s, (Sphere){v3(0, 2, 0), R(0.5), 0}, NULL), 0);
+    assert_int_equal(scene_add_light(s, light_point(v3(0, 4, 0), v3(1, 1, 1), 16, 1), NULL), 0);
+    prepare(s);
+    vec3 eye = v3(0, 3, 6);
+    /* under the sphere: shadowed */
+    assert_float_equal(look(s, eye, v3(0, 0, 0)).x, 0, 0);
+    /* at (3, 0, 0): N.L = 4/5, distance^2 = 25, intensity 16 */
+    assert_float_equal(look(s, eye, v3(3, 0, 0)).x, R(16) / 25 * R(0.8), R(1e-4));
+    s->settings.shadows = 0;
+    prepare(s);
+    assert_float_equal(look(s, eye, v3(0, 0, 0)).x, 1, R(1e-4)); /* 16 / 16 * N.L 1 */
+    /* a spot light straight down with a 60 degree beam and no soft edge */
+    s->settings.shadows = 1;
+    s->lights[0] = light_spot(v3(0, 4, 0), v3(0, -1, 0), 60, 0, v3(1, 1, 1), 1, 0);
+    s->spheres[0].centre = v3(50, 50, 50); /* out of the way */
+    prepare(s);
+    real inside = look(s, eye, v3(R(2.2), 0, 0)).x;  /* 28.8 degrees off the axis */
+    real outside = look(s, eye, v3(R(2.4), 0, 0)).x; /* 31 degrees */
+    assert_float_equal(inside, v3_dot(v3(0, 1, 0), v3_norm(v3(R(-2.2), 4, 0))), R(1e-4));
+    assert_float_equal(outside, 0, 0);
+    /* with a 10 degree soft edge the rim fades: between 0 and the hard value */
+    s->lights[0].soft = 10;
+    prepare(s);
+    real soft = look(s, eye, v3(R(2.2), 0, 0)).x;
+    assert_true(soft > 0 && soft < inside);
+    assert_float_equal(look(s, eye, v3(R(0.5), 0, 0)).x, v3_dot(v3(0, 1, 0), v3_norm(v3(R(-0.5), 4, 0))), R(1e-4));
+    scene_destroy(s);
+}
+
+static void textured_triangle_and_instances(void **state)
+{
+    (void)state;
+    Scene *s = empty_scene();
+    s->ambient = v3_splat(1); /* colour = texture exactly */
+    const uint8_t px[12] = {255, 0, 0, 0, 255, 0, 0, 0, 255, 255, 255, 255};
+    uint32_t tex, mat;
+    assert_int_equal(scene_add_texture(s, texture_from_rgb8(2, 2, px), &tex, NULL), 0);
+    Material m = {v3(1, 1, 1), v3(0, 0, 0), 1, (int32_t)tex};
+    assert_int_equal(scene_add_material(s, m, &mat, NULL), 0);
+    const vec3 p[3] = {v3(0, 0, 0), v3(2, 0, 0), v3(0, 2, 0)};
+    const real uv[6] = {0, 0, 1, 0, 0, 1};
+    assert_int_equal(scene_add_triangle(s, p, NULL, uv, mat, NULL), 0);
+    s->settings.filter = FILTER_NEAREST;
+    prepare(s);
+    /* (0.5, 0.5) has uv (0.25, 0.25): the bottom-left texel, blue */
+    vec3 c = look(s, v3(R(0.5), R(0.5), 3), v3(R(0.5), R(0.5), 0));
+    assert_float_equal(c.z, 1, 0);
+    assert_float_equal(c.x, 0, 0);
+    /* an instance: a unit triangle model scaled by 3, turned 90 degrees about y, moved to x = 10 */
+    Mesh mesh;
+    assert_int_equal(mesh_init(&mesh, 0, 0, 0, NULL), 0);
+    const vec3 q[3] = {v3(0, 0, 0), v3(1, 0, 0), v3(0, 1, 0)};
+    assert_int_equal(mesh_add(&mesh, q, NULL, NULL, 0, NULL), 0);
+    Model *model;
+    BvhOptions opt = bvh_options_default(BVH_SAH);
+    assert_int_equal(model_from_mesh(&model, &mesh, &opt, NULL), 0);
+    mesh_free(&mesh);
+    uint32_t mid;
+    assert_int_equal(scene_add_model(s, model, &mid, NULL), 0);
+    assert_int_equal(scene_add_instance(s, instance_make(mid, v3(10, 0, 0), v3(0, 90, 0), 3), NULL), 0);
+    prepare(s);
+    /* rotating +x by 90 degrees about y gives -z: the model's (1,0,0) lands at (10, 0, -3) */
+    Ray r = ray_make(v3(20, R(0.5), R(-1)), v3(-1, 0, 0), 0, REAL_INF);
+    Hit h;
+    assert_true(trace_closest(s, &r, &h));
+    assert_int_equal(h.kind, HIT_INSTANCE);
+    assert_float_equal(h.t, 10, R(1e-5));
+    Surface sf;
+    trace_surface(s, &r, &h, &sf);
+    assert_float_equal(sf.ng.x, 1, R(1e-5)); /* faces the ray */
+    assert_float_equal(sf.p.z, -1, R(1e-5));
+    r = ray_make(v3(20, R(0.5), R(-3.5)), v3(-1, 0, 0), 0, REAL_INF); /* beyond the scaled edge */
+    assert_false(trace_closest(s, &r, &h));
+    scene_destroy(s);
+}
+
+static uint8_t *render_all(RenderPool *p, const Scene *s, int w, int h, int segment)
+{
+    uint8_t *px = malloc((size_t)w * h * 3);
+    Err err;
+    for (int y = 0; y < h; y += segment) {
+        int n = y + segment <= h ? segment : h - y;
+        if (render_lines(p, s, w, h, y, n, px + (size_t)y * w * 3, NULL, &err))
+            fail_msg("%s", err.msg);
+    }
+    return px;
+}
+
+static void pixels_do_not_depend_on_threads_or_segments(void **state)
+{
+    (void)state;
+    Scene *s;
+    BvhOptions opt = bvh_options_default(BVH_SAH);
+    Err err;
+    if (scene_default(&s, &opt, &err))
+        fail_msg("%s", err.msg);
+    RenderPool *one = render_pool_create(1, &err), *three = render_pool_create(3, &err);
+    const int W = 97, H = 61;
+    for (int mode = 0; mode < 3; mode++) {
+        s->settings.aa = mode == 0 ? 1 : 3;
+        s->settings.adaptive = mode == 2;
+        uint8_t *ref = render_all(one, s, W, H, H);
+        const int segments[] = {1, 2, 7, 13, 60};
+        for (int i = 0; i < 5; i++) {
+            uint8_t *px = render_all(three, s, W, H, segments[i]);
+            assert_memory_equal(ref, px, (size_t)W * H * 3);
+            free(px);
+        }
+        /* and the frame is not blank: the scene is in view */
+        int distinct = 0;
+        for (int i = 3; i < W * H * 3; i += 3)
+            distinct += memcmp(ref + i, ref, 3) != 0;
+        assert_true(distinct > W * H / 2);
+        free(ref);
+    }
+    render_pool_destroy(one);
+    render_pool_destroy(three);
+    scene_destroy(s);
+}
+
+static void adaptive_refines_only_edges(void **state)
+{
+    (void)state;
+    Scene *s;
+    BvhOptions opt = bvh_options_default(BVH_SAH);
+    assert_int_equal(scene_default(&s, &opt, NULL), 0);
+    RenderPool *p = render_pool_create(2, NULL);
+    const int W = 160, H = 120;
+    uint8_t *px = malloc(W * H * 3);
+    RayStats plain, adaptive, full;
+    s->settings.aa = 4;
+    assert_int_equal(render_lines(p, s, W, H, 0, H, px, &full, NULL), 0);
+    s->settings.adaptive = 1;
+    assert_int_equal(render_lines(p, s, W, H, 0, H, px, &adaptive, NULL), 0);
+    s->settings.aa = 1;
+    s->settings.adaptive = 0;
+    assert_int_equal(render_lines(p, s, W, H, 0, H, px, &plain, NULL), 0);
+    assert_int_equal(plain.primary, W * H);
+    assert_int_equal(full.primary, 16 * W * H);
+    /* more than one sample per pixel, far fewer than 16 */
+    assert_true(adaptive.primary > plain.primary + W * H / 20);
+    assert_true(adaptive.primary < full.primary / 2);
+    free(px);
+    render_pool_destroy(p);
+    scene_destroy(s);
+}
+
+static void frame_sizes_and_bad_requests(void **state)
+{
+    (void)state;
+    Scene *s;
+    BvhOptions opt = bvh_options_default(BVH_SAH);
+    assert_int_equal(scene_default(&s, &opt, NULL), 0);
+    RenderPool *p = render_pool_create(2, NULL);
+    uint8_t px[3 * 4];
+    RayStats st;
+    assert_int_equal(render_lines(p, s, 1, 1, 0, 1, px, &st, NULL), 0);
+    assert_int_equal(st.primary, 1);
+    Err err = {{0}};
+    assert_int_equal(render_lines(p, s, 2, 2, 1, 2, px, NULL, &err), -1);
+    assert_contains(err.msg, "outside a frame");
+    assert_int_equal(render_lines(p, s, 0, 2, 0, 1, px, NULL, &err), -1);
+    assert_contains(err.msg, "out of range");
+    assert_null(render_pool_create(0, &err));
+    render_pool_destroy(p);
+    scene_destroy(s);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(diffuse_and_phong_match_the_formula),
+        cmocka_unit_test(shadows_attenuation_and_spot_cone),
+        cmocka_unit_test(textured_triangle_and_instances),
+        cmocka_unit_test(pixels_do_not_depend_on_threads_or_segments),
+        cmocka_unit_test(adaptive_refines_only_edges),
+        cmocka_unit_test(frame_sizes_and_bad_requests),
+    };
+    return cmocka_run_group_tests_name("render", tests, NULL, NULL);
+}

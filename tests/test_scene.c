@@ -1,0 +1,129 @@
+/* test_scene.c - the scene-file parser: a full scene, and every kind of error with file and line. */
+#include "helpers.h"
+
+#include "scene_parse.h"
+
+static int parse(const char *text, Scene **s, Err *err)
+{
+    char *buf = strdup(text);
+    BvhOptions opt = bvh_options_default(BVH_SAH);
+    int rc = scene_parse(buf, strlen(buf), "t.scene", test_tmpdir(), &opt, 0, s, err);
+    free(buf);
+    return rc;
+}
+
+static void full_scene(void **state)
+{
+    (void)state;
+    char path[256];
+    snprintf(path, sizeof path, "%s/tex.ppm", test_tmpdir());
+    test_write_file(path, "P3\n2 2\n255\n255 0 0 0 255 0 0 0 255 255 255 255\n");
+    snprintf(path, sizeof path, "%s/tri.obj", test_tmpdir());
+    test_write_file(path, "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+    const char *text = "# everything the format has\n"
+                       "camera position 0 1 5 lookat 0 0 0 fov 60\n"
+                       "ambient 0.1 0.1 0.1\nbackground 0 0 0.2\n"
+                       "settings aa 2 shading diffuse shadows off filter nearest\n"
+                       "texture checker tex.ppm\n"
+                       "material red diffuse 1 0 0 specular 0.5 0.5 0.5 shininess 30\n"
+                       "material pic texture checker\n"
+                       "sphere centre 0 1 0 radius 1 material red\n"
+                       "plane point 0 0 0 normal 0 2 0\n"
+                       "triangle vertices 0 0 0 1 0 0 0 1 0 uv 0 0 1 0 0 1 material pic\n"
+                       "triangle vertices 0 0 1 1 0 1 0 1 1 normals 0 0 1 0 0 1 0 0 1\n"
+                       "model tri tri.obj bvh mst\n"
+                       "instance tri translate 1 2 3 rotate 0 90 0 scale 2 material red\n"
+                       "instance tri\n"
+                       "light point position 0 5 0 color 1 1 1 intensity 2 attenuate\n"
+                       "light spot position 0 5 0 target 0 0 0 angle 40 soft 5\n"
+                       "light directional direction 0 -1 0 intensity 0.5\n";
+    Scene *s;
+    Err err;
+    if (parse(text, &s, &err))
+        fail_msg("%s", err.msg);
+    assert_int_equal(s->sphere_count, 1);
+    assert_int_equal(s->plane_count, 1);
+    assert_int_equal(s->tri_count, 2);
+    assert_int_equal(s->model_count, 1);
+    assert_int_equal(s->instance_count, 2);
+    assert_int_equal(s->light_count, 3);
+    assert_int_equal(s->material_count, 3); /* default, red, pic */
+    assert_int_equal(s->texture_count, 1);
+    assert_int_equal(s->models[0]->bvh.kind, BVH_MST);
+    assert_int_equal(s->settings.aa, 2);
+    assert_int_equal(s->settings.shading, SHADE_DIFFUSE);
+    assert_int_equal(s->settings.shadows, 0);
+    assert_int_equal(s->settings.filter, FILTER_NEAREST);
+    assert_float_equal(s->planes[0].normal.y, 1, R(1e-6)); /* normalised */
+    assert_float_equal(s->spheres[0].radius, 1, 0);
+    assert_int_equal(s->instances[0].material, 1);
+    assert_float_equal(s->lights[1].dir.y, -1, R(1e-6));
+    assert_true(s->lights[0].attenuate);
+    assert_true(scene_has(s, FEAT_TEXTURES) && scene_has(s, FEAT_SMOOTH) && scene_has(s, FEAT_SPOT) &&
+                scene_has(s, FEAT_ATTENUATION) && scene_has(s, FEAT_PLANES) && !scene_has(s, FEAT_SHADOWS));
+    assert_true(s->prepared);
+    scene_destroy(s);
+}
+
+static void features_reflect_what_is_used(void **state)
+{
+    (void)state;
+    Scene *s;
+    Err err;
+    if (parse("sphere centre 0 0 0 radius 1\nlight point position 0 5 0\n", &s, &err))
+        fail_msg("%s", err.msg);
+    assert_int_equal(s->features, FEAT_SHADOWS);
+    scene_destroy(s);
+}
+
+static void expect_error(const char *text, const char *what)
+{
+    Scene *s = NULL;
+    Err err = {{0}};
+    assert_int_equal(parse(text, &s, &err), -1);
+    assert_null(s);
+    assert_contains(err.msg, what);
+}
+
+static void errors_name_file_line_and_expectation(void **state)
+{
+    (void)state;
+    expect_error("\nspere centre 0 0 0 radius 1\n", "t.scene:2: unknown directive 'spere'");
+    expect_error("sphere centre 0 0 0 radus 1\n", "t.scene:1: unknown keyword 'radus' for sphere (expected one of: centre, radius, material)");
+    expect_error("sphere centre 0 0 0\n", "t.scene:1: sphere needs 'radius'");
+    expect_error("sphere centre 0 x 0 radius 1\n", "t.scene:1: 'centre' of sphere expects 3 finite numbers, got 'x'");
+    expect_error("sphere centre 0 0 0 radius\n", "got 'end of line'");
+    expect_error("sphere centre 0 0 0 radius -1\n", "'radius' of sphere must be positive");
+    expect_error("sphere centre 0 0 0 radius 1 radius 2\n", "keyword 'radius' given twice");
+    expect_error("sphere centre 0 0 0 radius 1 material gold\n", "t.scene:1: unknown material 'gold'");
+    expect_error("material a\nmaterial a\n", "t.scene:2: material 'a' is defined twice");
+    expect_error("material a texture none\n", "unknown texture 'none'");
+    expect_error("material a diffuse 1 -1 0\n", "'diffuse' of material must not be negative");
+    expect_error("plane point 0 0 0 normal 0 0 0\n", "'normal' of plane must not be zero");
+    expect_error("triangle vertices 0 0 0 1 1 1 2 2 2\n", "triangle has zero area");
+    expect_error("light laser position 0 0 0\n", "unknown light kind 'laser'");
+    expect_error("light spot position 0 5 0 direction 0 -1 0\n", "a spot light needs 'position', 'angle'");
+    expect_error("light spot position 0 5 0 direction 0 -1 0 angle 190\n", "spot 'angle' must be between 0 and 180");
+    expect_error("light point direction 0 1 0\n", "a point light takes 'position'");
+    expect_error("camera position 0 0 0 lookat 0 0 0\n", "camera 'lookat' point equals its position");
+    expect_error("camera position 0 0 0 fov 180\n", "'fov' of camera must be between 0 and 180");
+    expect_error("camera lookat 0 0 0\n", "camera needs 'position'");
+    expect_error("settings aa 17\n", "'aa' of settings must be a whole number from 1 to 16");
+    expect_error("settings shading toon\n", "'shading' must be phong or diffuse");
+    expect_error("ambient 1 1\n", "ambient expects 3 finite numbers");
+    expect_error("instance nothing\n", "unknown model 'nothing'");
+    expect_error("model m missing.tmd\n", "t.scene:1:");
+    expect_error("model m thing.stl\n", "must end in .tmd or .obj");
+    expect_error("texture t missing.ppm\n", "t.scene:1:");
+    expect_error("sphere centre 0 0 1e999 radius 1\n", "expects 3 finite numbers, got '1e999'");
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(full_scene),
+        cmocka_unit_test(features_reflect_what_is_used),
+        cmocka_unit_test(errors_name_file_line_and_expectation),
+    };
+    return cmocka_run_group_tests_name("scene", tests, NULL, NULL);
+}

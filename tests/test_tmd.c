@@ -1,0 +1,203 @@
+/* test_tmd.c - .tmd round trips and a reader that rejects every malformed file cleanly. */
+#include "helpers.h"
+
+#include <sys/stat.h>
+
+#include "scene_default.h"
+#include "tmd.h"
+
+static Model *sample_model(int normals, int uvs, int materials)
+{
+    Mesh mesh;
+    assert_int_equal(mesh_init(&mesh, normals, uvs, materials, NULL), 0);
+    Rng rng = {11};
+    if (materials) {
+        Material a = {v3(1, 0, 0), v3(R(0.5), R(0.5), R(0.5)), 20, -1}, b = {v3(0, 0, 1), v3(0, 0, 0), 1, -1};
+        assert_int_equal(mesh_add_material(&mesh, a, NULL), 0);
+        assert_int_equal(mesh_add_material(&mesh, b, NULL), 0);
+    }
+    for (uint32_t i = 0; i < 200; i++) {
+        vec3 c = rng_vec(&rng, -5, 5);
+        vec3 p[3] = {c, v3_add(c, rng_vec(&rng, R(0.1), 1)), v3_add(c, rng_vec(&rng, -1, R(-0.1)))};
+        if (mesh_tri_is_degenerate(p)) {
+            i--;
+            continue;
+        }
+        vec3 n[3] = {rng_dir(&rng), rng_dir(&rng), rng_dir(&rng)};
+        real uv[6];
+        for (int k = 0; k < 6; k++)
+            uv[k] = rng_real(&rng, 0, 1);
+        assert_int_equal(mesh_add(&mesh, p, n, uv, i % 2, NULL), 0);
+    }
+    Model *m;
+    BvhOptions opt = bvh_options_default(BVH_SAH);
+    assert_int_equal(model_from_mesh(&m, &mesh, &opt, NULL), 0);
+    mesh_free(&mesh);
+    return m;
+}
+
+static void assert_models_equal(const Model *a, const Model *b)
+{
+    assert_int_equal(a->tri_count, b->tri_count);
+    assert_int_equal(a->bvh.node_count, b->bvh.node_count);
+    assert_int_equal(a->bvh.kind, b->bvh.kind);
+    assert_int_equal(a->bvh.depth, b->bvh.depth);
+    assert_memory_equal(a->tris, b->tris, a->tri_count * sizeof *a->tris);
+    assert_memory_equal(a->bvh.nodes, b->bvh.nodes, a->bvh.node_count * sizeof *a->bvh.nodes);
+    assert_int_equal(a->normals != NULL, b->normals != NULL);
+    assert_int_equal(a->uvs != NULL, b->uvs != NULL);
+    assert_int_equal(a->mat_ids != NULL, b->mat_ids != NULL);
+    if (a->normals)
+        assert_memory_equal(a->normals, b->normals, 3 * a->tri_count * sizeof *a->normals);
+    if (a->uvs)
+        assert_memory_equal(a->uvs, b->uvs, 6 * a->tri_count * sizeof *a->uvs);
+    if (a->mat_ids) {
+        assert_memory_equal(a->mat_ids, b->mat_ids, a->tri_count * sizeof *a->mat_ids);
+        assert_int_equal(a->material_count, b->material_count);
+        for (uint32_t i = 0; i < a->material_count; i++) {
+            assert_memory_equal(&a->materials[i].kd, &b->materials[i].kd, sizeof(vec3));
+            assert_true(a->materials[i].shininess == b->materials[i].shininess);
+        }
+    }
+}
+
+static void round_trip_through_a_file(void **state)
+{
+    (void)state;
+    char path[256];
+    snprintf(path, sizeof path, "%s/model.tmd", test_tmpdir());
+    for (int mask = 0; mask < 8; mask++) {
+        Model *m = sample_model(mask & 1, mask & 2, mask & 4), *back;
+        Err err;
+        if (tmd_write(path, m, &err) || tmd_read(path, &back, &err))
+            fail_msg("%s", err.msg);
+        /* in every build the decoded model encodes to the same bytes */
+        void *a, *b;
+        size_t alen, blen;
+        assert_int_equal(tmd_encode(m, &a, &alen, NULL), 0);
+        assert_int_equal(tmd_encode(back, &b, &blen, NULL), 0);
+        assert_int_equal(alen, blen);
+        assert_memory_equal(a, b, alen);
+        free(a);
+        free(b);
+#ifndef LANRAY_DOUBLE
+        /* the float build stores what it computes: the model itself comes back exactly */
+        assert_models_equal(m, back);
+#else
+        (void)assert_models_equal;
+#endif
+        /* only the attributes the model has take space */
+        struct stat st;
+        assert_int_equal(stat(path, &st), 0);
+        size_t want = 64 + 32 * (size_t)m->bvh.node_count + 36 * (size_t)m->tri_count;
+        if (mask & 1)
+            want += 36 * (size_t)m->tri_count;
+        if (mask & 2)
+            want += 24 * (size_t)m->tri_count;
+        if (mask & 4)
+            want += 2 * 28 + 4 * (size_t)m->tri_count;
+        assert_int_equal((size_t)st.st_size, want);
+        model_destroy(m);
+        model_destroy(back);
+    }
+}
+
+/* Every truncation of a valid file fails with a message, and never crashes. */
+static void truncated_files_are_rejected(void **state)
+{
+    (void)state;
+    Model *m = sample_model(1, 1, 1);
+    void *data;
+    size_t len;
+    assert_int_equal(tmd_encode(m, &data, &len, NULL), 0);
+    for (size_t n = 0; n < len; n++) {
+        Model *back = NULL;
+        Err err = {{0}};
+        assert_int_equal(tmd_decode(data, n, "cut.tmd", &back, &err), -1);
+        assert_null(back);
+        assert_contains(err.msg, "cut.tmd");
+    }
+    free(data);
+    model_destroy(m);
+}
+
+static void expect_error(const uint8_t *data, size_t len, const char *what)
+{
+    Model *back = NULL;
+    Err err = {{0}};
+    assert_int_equal(tmd_decode(data, len, "bad.tmd", &back, &err), -1);
+    assert_null(back);
+    assert_contains(err.msg, what);
+}
+
+static void corrupted_fields_are_rejected(void **state)
+{
+    (void)state;
+    Model *m = sample_model(0, 0, 1);
+    uint8_t *data;
+    size_t len;
+    assert_int_equal(tmd_encode(m, (void **)&data, &len, NULL), 0);
+    uint8_t *bad = malloc(len);
+    uint32_t v;
+#define PATCH(off, val) (memcpy(bad, data, len), v = (val), memcpy(bad + (off), &v, 4))
+    memcpy(bad, data, len);
+    bad[0] = 'X';
+    expect_error(bad, len, "bad magic");
+    PATCH(8, 99);
+    expect_error(bad, len, "version 99");
+    PATCH(12, 0x04030201);
+    expect_error(bad, len, "other byte order");
+    PATCH(20, 0x80);
+    expect_error(bad, len, "unknown flags");
+    PATCH(24, 7);
+    expect_error(bad, len, "BVH kind");
+    PATCH(32, 0xffffffffu);
+    expect_error(bad, len, "implausible counts");
+    PATCH(28, m->bvh.node_count + 1);
+    expect_error(bad, len, "header promises");
+    /* the root's child index pointing back at itself */
+    PATCH(64 + 12, 0);
+    expect_error(bad, len, "child index");
+    /* a NaN vertex coordinate */
+    float nan = NAN;
+    memcpy(bad, data, len);
+    memcpy(bad + 64 + 32 * m->bvh.node_count, &nan, 4);
+    expect_error(bad, len, "not a finite number");
+    /* a triangle using a material that does not exist */
+    PATCH(len - 4, 2);
+    expect_error(bad, len, "uses material 2");
+    /* a leaf covering primitives past the end */
+    uint32_t leaf = 0;
+    while (m->bvh.nodes[leaf].count == 0)
+        leaf++;
+    PATCH(64 + 32 * leaf + 28, m->tri_count + 5);
+    expect_error(bad, len, "beyond");
+#undef PATCH
+    free(bad);
+    free(data);
+    model_destroy(m);
+}
+
+static void unwritable_destination_leaves_nothing(void **state)
+{
+    (void)state;
+    Model *m = sample_model(0, 0, 0);
+    Err err = {{0}};
+    assert_int_equal(tmd_write("/nonexistent-dir/x.tmd", m, &err), -1);
+    assert_contains(err.msg, "/nonexistent-dir/x.tmd");
+    Model *back;
+    assert_int_equal(tmd_read("/nonexistent-dir/x.tmd", &back, &err), -1);
+    assert_contains(err.msg, "cannot open");
+    model_destroy(m);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(round_trip_through_a_file),
+        cmocka_unit_test(truncated_files_are_rejected),
+        cmocka_unit_test(corrupted_fields_are_rejected),
+        cmocka_unit_test(unwritable_destination_leaves_nothing),
+    };
+    return cmocka_run_group_tests_name("tmd", tests, NULL, NULL);
+}
