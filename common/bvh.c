@@ -98,9 +98,20 @@ done:
     return rc;
 }
 
+int bvh_alloc_nodes(Bvh *b, uint32_t count)
+{
+    size_t bytes = ((size_t)count * sizeof(BvhNode) + 64 + 63) / 64 * 64;
+    uint8_t *mem = aligned_alloc(64, bytes);
+    if (!mem)
+        return -1;
+    b->nodes_mem = mem;
+    b->nodes = (BvhNode *)(mem + (sizeof(BvhNode) == 32 ? 32 : 0));
+    return 0;
+}
+
 void bvh_destroy(Bvh *b)
 {
-    free(b->nodes);
+    free(b->nodes_mem);
     free(b->prims);
     memset(b, 0, sizeof *b);
 }

@@ -9,6 +9,7 @@
 #ifndef LANRAY_BVH_H
 #define LANRAY_BVH_H
 
+#include <stddef.h>
 #include <stdint.h>
 
 #include "aabb.h"
@@ -35,7 +36,8 @@ typedef struct {
 } BvhOptions;
 
 typedef struct {
-    BvhNode *nodes;
+    BvhNode *nodes;   /* see bvh_alloc_nodes for the alignment */
+    void *nodes_mem;  /* what to free */
     uint32_t node_count;
     uint32_t *prims; /* leaf order -> caller's primitive index; NULL once the caller reordered */
     uint32_t prim_count;
@@ -47,6 +49,11 @@ BvhOptions bvh_options_default(BvhKind kind);
 /* Builds over n boxes. Empty boxes are not allowed (callers drop degenerate input). */
 int bvh_build(Bvh *out, const Aabb *boxes, uint32_t n, const BvhOptions *opt, Err *err);
 void bvh_destroy(Bvh *b);
+/* Allocates b->nodes for count nodes.  Sibling pairs always start at odd
+ * indices (the root is 0, then pairs follow), so the array is placed 32 bytes
+ * past a 64-byte boundary: each pair then shares one cache line and a visit
+ * to an interior node touches a single line for both child boxes. */
+int bvh_alloc_nodes(Bvh *b, uint32_t count);
 /* Structural check of a tree that came from outside (a .tmd file). */
 int bvh_validate(const Bvh *b, Err *err);
 /* SAH cost with traversal cost 1 and intersection cost 1, relative to the root area. */
@@ -65,25 +72,27 @@ static inline Aabb bvh_node_box(const BvhNode *n)
  * before comparing with an entry distance. */
 #define BVH_FUDGE (R(1) + R(2) * real_gamma(3))
 
+/* The slab test reads a node as reals: bmin at 0..2, bmax at 4..6. */
+_Static_assert(offsetof(BvhNode, bmax) == 4 * sizeof(real), "BvhNode layout: bmax must start at real 4");
+
 /* Slab test: a box grazed by the ray, or holding a hit exactly as far as the
- * current closest one, is never lost to rounding.  Writes the entry distance. */
-static inline int bvh_node_hit(const BvhNode *n, const Ray *r, real tmax, real *tnear)
+ * current closest one, is never lost to rounding.  The entry and exit planes
+ * are chosen by the sign of the direction (precomputed in the Ray), so no
+ * min/max per axis.  A NaN (ray parallel to and exactly in a slab's plane:
+ * 0 * inf) is ignored, i.e. treated as inside that slab: conservative.
+ * Writes the entry distance. */
+static inline __attribute__((always_inline)) int bvh_node_hit(const BvhNode *n, const Ray *r, real tmax, real *tnear)
 {
-    const real fudge = BVH_FUDGE;
-    real t0 = (n->bmin[0] - r->org.x) * r->inv.x, t1 = (n->bmax[0] - r->org.x) * r->inv.x;
-    real lo = real_min(t0, t1), hi = real_max(t0, t1);
-    t0 = (n->bmin[1] - r->org.y) * r->inv.y;
-    t1 = (n->bmax[1] - r->org.y) * r->inv.y;
-    lo = real_max(lo, real_min(t0, t1));
-    hi = real_min(hi, real_max(t0, t1));
-    t0 = (n->bmin[2] - r->org.z) * r->inv.z;
-    t1 = (n->bmax[2] - r->org.z) * r->inv.z;
-    lo = real_max(lo, real_min(t0, t1));
-    hi = real_min(hi, real_max(t0, t1));
-    lo = real_max(lo, r->tmin);
-    hi = real_min(hi, tmax) * fudge;
+    const real *f = (const real *)(const void *)n;
+    real lo = r->tmin, hi = tmax;
+    for (int a = 0; a < 3; a++) {
+        real t0 = (f[r->near[a]] - r->org.e[a]) * r->inv.e[a];
+        real t1 = (f[r->far[a]] - r->org.e[a]) * r->inv.e[a];
+        lo = t0 > lo ? t0 : lo; /* NaN compares false: keeps lo */
+        hi = t1 < hi ? t1 : hi;
+    }
     *tnear = lo;
-    return lo <= hi;
+    return lo <= hi * BVH_FUDGE;
 }
 
 #endif

@@ -128,7 +128,9 @@ int bvh_flatten(const Builder *b, Bvh *out, Err *err)
     uint32_t *tmp = malloc(b->n * sizeof *tmp);
     uint32_t (*work)[3] = malloc(bn_count * sizeof *work); /* build node, flat slot, depth */
     Flat f = {b, NULL, 0, 2 * b->n, NULL, 0, 0};
-    f.nodes = aligned_alloc(64, ((f.node_cap * sizeof(BvhNode) + 63) / 64) * 64);
+    Bvh nodes_owner = {0};
+    if (bvh_alloc_nodes(&nodes_owner, f.node_cap) == 0)
+        f.nodes = nodes_owner.nodes;
     f.prims = malloc(b->n * sizeof *f.prims);
     int rc = -1;
     if (!order || !stack || !height || !nprims || !cost || !tmp || !work || !f.nodes || !f.prims) {
@@ -196,6 +198,7 @@ int bvh_flatten(const Builder *b, Bvh *out, Err *err)
         work[wp][0] = (uint32_t)bn->left, work[wp][1] = c, work[wp][2] = depth + 1, wp++;
     }
     out->nodes = f.nodes;
+    out->nodes_mem = nodes_owner.nodes_mem;
     out->node_count = f.node_count;
     out->prims = f.prims;
     out->prim_count = f.prim_count;
@@ -211,7 +214,8 @@ done:
     free(cost);
     free(tmp);
     free(work);
-    free(f.nodes);
+    if (f.nodes)
+        free(nodes_owner.nodes_mem);
     free(f.prims);
     return rc;
 }

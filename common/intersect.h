@@ -22,7 +22,7 @@ static inline vec3 tri_vertex(const Tri *t, int i) { return v3(t->v[i][0], t->v[
  * vertex hits at least one of the triangles, never none.  Edge functions that
  * come out exactly zero are recomputed in double, as the paper prescribes.
  * On a hit, *b1 and *b2 are the barycentric weights of vertices 1 and 2. */
-static inline int tri_intersect(const Ray *r, const Tri *tri, real tmax, real *t_out, real *b1, real *b2)
+static inline __attribute__((always_inline)) int tri_intersect(const Ray *r, const Tri *tri, real tmax, real *t_out, real *b1, real *b2)
 {
     const int kx = r->kx, ky = r->ky, kz = r->kz;
     const real ax = tri->v[0][kx] - r->org.e[kx], ay = tri->v[0][ky] - r->org.e[ky], az = tri->v[0][kz] - r->org.e[kz];
@@ -64,7 +64,7 @@ static inline int tri_intersect(const Ray *r, const Tri *tri, real tmax, real *t
  * Improvements for Ray/Sphere Intersection" (Ray Tracing Gems, ch. 7): the
  * discriminant is computed from the distance of the centre to the ray, which
  * does not cancel catastrophically for distant or small spheres. */
-static inline int sphere_intersect(const Ray *r, vec3 centre, real radius, real tmax, real *t_out)
+static inline __attribute__((always_inline)) int sphere_intersect(const Ray *r, vec3 centre, real radius, real tmax, real *t_out)
 {
     const vec3 f = v3_sub(r->org, centre);
     const real a = v3_dot(r->dir, r->dir);

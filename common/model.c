@@ -19,7 +19,8 @@ Model *model_alloc(uint32_t tri_count, uint32_t node_count, uint32_t material_co
     m->materials = material_count ? malloc(material_count * sizeof *m->materials) : NULL;
     m->bvh.node_count = node_count;
     m->bvh.prim_count = tri_count;
-    m->bvh.nodes = node_count ? aligned_alloc(64, ((node_count * sizeof(BvhNode) + 63) / 64) * 64) : NULL;
+    if (node_count && bvh_alloc_nodes(&m->bvh, node_count))
+        m->bvh.nodes = NULL;
     if (!m->tris || (normals && !m->normals) || (uvs && !m->uvs) || (mat_ids && !m->mat_ids) ||
         (material_count && !m->materials) || (node_count && !m->bvh.nodes)) {
         model_destroy(m);

@@ -12,6 +12,7 @@ typedef struct {
     vec3 org, dir, inv;
     real tmin, tmax;
     int kx, ky, kz;  /* axis permutation: kz is the dominant direction axis */
+    int near[3], far[3]; /* per axis: index of the entry/exit plane in a BVH node's reals */
     real sx, sy, sz; /* shear that maps the ray onto +z */
 } Ray;
 
@@ -25,6 +26,10 @@ static inline Ray ray_make(vec3 org, vec3 dir, real tmin, real tmax)
     r.inv = v3(R(1) / dir.x, R(1) / dir.y, R(1) / dir.z);
     r.tmin = tmin;
     r.tmax = tmax;
+    for (int a = 0; a < 3; a++) { /* a node is bmin[3], first, bmax[3], count: bmax starts at real 4 */
+        r.near[a] = r.inv.e[a] >= R(0) ? a : a + 4;
+        r.far[a] = r.inv.e[a] >= R(0) ? a + 4 : a;
+    }
     int kz = v3_max_axis(v3_abs(dir));
     int kx = kz + 1 == 3 ? 0 : kz + 1;
     int ky = kx + 1 == 3 ? 0 : kx + 1;
@@ -36,9 +41,11 @@ static inline Ray ray_make(vec3 org, vec3 dir, real tmin, real tmax)
     r.kx = kx;
     r.ky = ky;
     r.kz = kz;
-    r.sx = dir.e[kx] / dir.e[kz];
-    r.sy = dir.e[ky] / dir.e[kz];
-    r.sz = R(1) / dir.e[kz];
+    /* reuse the reciprocal: the test stays watertight however S is rounded,
+     * as long as every triangle sees the same S for this ray */
+    r.sz = r.inv.e[kz];
+    r.sx = dir.e[kx] * r.sz;
+    r.sy = dir.e[ky] * r.sz;
     return r;
 }
 

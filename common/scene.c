@@ -249,6 +249,8 @@ int scene_prepare(Scene *s, Err *err)
         if (in->material >= 0 && check_material(s, (uint32_t)in->material, "instance", i, err))
             return -1;
         in->rot = m3_rotation_xyz(in->rotate);
+        in->identity = in->scale == R(1) && in->rotate.x == R(0) && in->rotate.y == R(0) && in->rotate.z == R(0) &&
+                       in->translate.x == R(0) && in->translate.y == R(0) && in->translate.z == R(0);
         const Model *m = s->models[in->model];
         if (m->normals)
             f |= FEAT_SMOOTH;

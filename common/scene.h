@@ -45,6 +45,7 @@ typedef struct {
     int32_t material;       /* scene material overriding the model's, or -1 */
     /* derived by scene_prepare */
     mat3 rot;               /* model -> world rotation */
+    int identity;           /* no rotation, scale 1, no translation: rays need no transform */
     Aabb world_box;
 } Instance;
 

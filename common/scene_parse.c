@@ -328,7 +328,7 @@ static int do_triangle(Ctx *c, const Tokens *t)
     }
     if (mesh_tri_is_degenerate(p))
         return fail(c, "triangle has zero area (its vertices are on one line)");
-    uint32_t mat;
+    uint32_t mat = 0;
     if (lookup_material(c, &kv, 3, &mat))
         return -1;
     return scene_add_triangle(c->s, p, kv.present[1] ? n : NULL, kv.present[2] ? kv.num[2] : NULL, mat, c->err);
@@ -398,7 +398,7 @@ static int do_instance(Ctx *c, const Tokens *t)
     if (positive(c, in.scale, "scale", "instance"))
         return -1;
     if (kv.present[3]) {
-        uint32_t mat;
+        uint32_t mat = 0;
         if (lookup_material(c, &kv, 3, &mat))
             return -1;
         in.material = (int32_t)mat;

@@ -32,9 +32,10 @@ static int leaf_closest(const Scene *s, uint32_t p, const Ray *r, Hit *hit)
     }
     p -= s->tri_count;
     const Instance *in = &s->instances[p];
-    Ray mr = instance_ray(in, r);
+    Ray mr;
+    const Ray *rr = in->identity ? r : (mr = instance_ray(in, r), &mr);
     ModelHit mh;
-    if (!model_intersect(s->models[in->model], &mr, hit->t, &mh))
+    if (!model_intersect(s->models[in->model], rr, hit->t, &mh))
         return 0;
     *hit = (Hit){mh.t, mh.b1, mh.b2, HIT_INSTANCE, p, mh.tri};
     return 1;
@@ -50,8 +51,9 @@ static int leaf_occluded(const Scene *s, uint32_t p, const Ray *r, real tmax)
         return tri_intersect(r, &s->tris[p], tmax, &t, &b1, &b2);
     p -= s->tri_count;
     const Instance *in = &s->instances[p];
-    Ray mr = instance_ray(in, r);
-    return model_occluded(s->models[in->model], &mr, tmax);
+    Ray mr;
+    const Ray *rr = in->identity ? r : (mr = instance_ray(in, r), &mr);
+    return model_occluded(s->models[in->model], rr, tmax);
 }
 
 typedef struct {

@@ -1,0 +1,208 @@
+/* embree_ref - reference renderer on Intel Embree (Debian's libembree3), for
+ * the renderer benchmark (tools/bench-render).
+ *
+ *   embree_ref SCENE [--width W] [--height H] [--threads T] [--frames N] [-o out.png]
+ *
+ * It reads the same scene file with lanray's parser, flattens every model
+ * instance into one world-space triangle mesh, and traces exactly lanray's
+ * camera rays (camera_frame) and one shadow ray per light per hit, with
+ * rtcIntersect1 and rtcOccluded1, on T threads of its own taking lines
+ * through an atomic counter.  Shading is the same Phong model, so both
+ * programs do the same work per ray.  Prints rays per second like
+ * lanray-render does.  Spheres and planes are not supported here: the
+ * benchmark scenes are meshes only. */
+#include <embree3/rtcore.h>
+#include <pthread.h>
+#include <stdatomic.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "camera.h"
+#include "image.h"
+#include "scene_parse.h"
+#include "timer.h"
+#include "trace.h"
+
+typedef struct {
+    RTCScene scene;
+    const Scene *s;
+    CameraFrame cam;
+    uint8_t *pixels;
+    vec3 kd, ks;
+    real shininess;
+    atomic_int next_line;
+    atomic_ullong primary, shadow;
+} Job;
+
+static vec3 shade(Job *j, struct RTCIntersectContext *ctx, vec3 d, unsigned long long *nshadow)
+{
+    const Scene *s = j->s;
+    struct RTCRayHit rh;
+    rh.ray.org_x = j->cam.org.x, rh.ray.org_y = j->cam.org.y, rh.ray.org_z = j->cam.org.z;
+    rh.ray.dir_x = d.x, rh.ray.dir_y = d.y, rh.ray.dir_z = d.z;
+    rh.ray.tnear = 0, rh.ray.tfar = INFINITY, rh.ray.time = 0, rh.ray.mask = 0xffffffffu, rh.ray.id = 0, rh.ray.flags = 0;
+    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+    rtcIntersect1(j->scene, ctx, &rh);
+    if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID)
+        return s->background;
+    vec3 p = v3_madd(j->cam.org, d, rh.ray.tfar);
+    vec3 n = v3_norm(v3(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z));
+    if (v3_dot(n, d) > 0)
+        n = v3_neg(n);
+    vec3 col = v3_mul(s->ambient, j->kd), view = v3_neg(d);
+    vec3 origin = trace_offset_origin(p, n);
+    for (uint32_t i = 0; i < s->light_count; i++) {
+        const Light *l = &s->lights[i];
+        vec3 L = v3_sub(l->pos, p);
+        real dist = v3_len(L);
+        L = v3_scale(L, R(1) / dist);
+        real ndotl = v3_dot(n, L);
+        if (ndotl <= 0)
+            continue;
+        struct RTCRay sr;
+        sr.org_x = origin.x, sr.org_y = origin.y, sr.org_z = origin.z;
+        sr.dir_x = L.x, sr.dir_y = L.y, sr.dir_z = L.z;
+        sr.tnear = 0, sr.tfar = dist * (R(1) - R(64) * REAL_EPS), sr.time = 0, sr.mask = 0xffffffffu, sr.id = 0, sr.flags = 0;
+        (*nshadow)++;
+        rtcOccluded1(j->scene, ctx, &sr);
+        if (sr.tfar < 0) /* Embree marks an occluded ray with tfar = -inf */
+            continue;
+        vec3 rad = v3_scale(l->color, l->intensity);
+        col = v3_add(col, v3_scale(v3_mul(j->kd, rad), ndotl));
+        real rv = v3_dot(v3_reflect(v3_neg(L), n), view);
+        if (rv > 0)
+            col = v3_add(col, v3_scale(v3_mul(j->ks, rad), pow(rv, j->shininess)));
+    }
+    return col;
+}
+
+static void *worker(void *arg)
+{
+    Job *j = arg;
+    struct RTCIntersectContext ctx;
+    rtcInitIntersectContext(&ctx);
+    unsigned long long np = 0, ns = 0;
+    int y;
+    while ((y = atomic_fetch_add(&j->next_line, 1)) < j->cam.height) {
+        for (int x = 0; x < j->cam.width; x++) {
+            vec3 d = v3_norm(camera_dir(&j->cam, (real)x + R(0.5), (real)y + R(0.5)));
+            vec3 c = shade(j, &ctx, d, &ns);
+            np++;
+            uint8_t *px = &j->pixels[3 * ((size_t)y * j->cam.width + x)];
+            for (int k = 0; k < 3; k++)
+                px[k] = (uint8_t)(real_clamp(c.e[k], 0, 1) * 255 + R(0.5));
+        }
+    }
+    atomic_fetch_add(&j->primary, np);
+    atomic_fetch_add(&j->shadow, ns);
+    return NULL;
+}
+
+int main(int argc, char **argv)
+{
+    const char *scene_path = NULL, *out = NULL;
+    int width = 1024, height = 768, threads = 2, frames = 1;
+    for (int i = 1; i < argc; i++) {
+        if (strcmp(argv[i], "--width") == 0 && i + 1 < argc)
+            width = atoi(argv[++i]);
+        else if (strcmp(argv[i], "--height") == 0 && i + 1 < argc)
+            height = atoi(argv[++i]);
+        else if (strcmp(argv[i], "--threads") == 0 && i + 1 < argc)
+            threads = atoi(argv[++i]);
+        else if (strcmp(argv[i], "--frames") == 0 && i + 1 < argc)
+            frames = atoi(argv[++i]);
+        else if (strcmp(argv[i], "-o") == 0 && i + 1 < argc)
+            out = argv[++i];
+        else if (!scene_path)
+            scene_path = argv[i];
+        else {
+            fprintf(stderr, "usage: embree_ref SCENE [--width W] [--height H] [--threads T] [--frames N] [-o out.png]\n");
+            return 2;
+        }
+    }
+    if (!scene_path || width < 1 || height < 1 || threads < 1 || threads > 256 || frames < 1) {
+        fprintf(stderr, "usage: embree_ref SCENE [--width W] [--height H] [--threads T] [--frames N] [-o out.png]\n");
+        return 2;
+    }
+    Err err;
+    Scene *s;
+    BvhOptions opt = bvh_options_default(BVH_SAH);
+    if (scene_load(scene_path, &opt, 0, &s, &err)) {
+        fprintf(stderr, "embree_ref: %s\n", err.msg);
+        return 1;
+    }
+    if (s->sphere_count || s->plane_count || s->tri_count) {
+        fprintf(stderr, "embree_ref: %s: only model instances are supported\n", scene_path);
+        return 1;
+    }
+    for (uint32_t i = 0; i < s->light_count; i++)
+        if (s->lights[i].kind != LIGHT_POINT || s->lights[i].attenuate) {
+            fprintf(stderr, "embree_ref: %s: only point lights without attenuation are supported\n", scene_path);
+            return 1;
+        }
+    RTCDevice dev = rtcNewDevice(NULL);
+    RTCScene rs = rtcNewScene(dev);
+    uint64_t ntri = scene_triangle_count(s);
+    RTCGeometry g = rtcNewGeometry(dev, RTC_GEOMETRY_TYPE_TRIANGLE);
+    float *vb = rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), 3 * ntri);
+    unsigned *ib = rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), ntri);
+    uint64_t k = 0;
+    for (uint32_t i = 0; i < s->instance_count; i++) {
+        const Instance *in = &s->instances[i];
+        const Model *m = s->models[in->model];
+        for (uint32_t t = 0; t < m->tri_count; t++, k++)
+            for (int c = 0; c < 3; c++) {
+                vec3 w = v3_add(v3_scale(m3_apply(&in->rot, tri_vertex(&m->tris[t], c)), in->scale), in->translate);
+                vb[9 * k + 3 * c] = (float)w.x, vb[9 * k + 3 * c + 1] = (float)w.y, vb[9 * k + 3 * c + 2] = (float)w.z;
+                ib[3 * k + c] = (unsigned)(3 * k + c);
+            }
+    }
+    double t0 = timer_now();
+    rtcCommitGeometry(g);
+    rtcAttachGeometry(rs, g);
+    rtcReleaseGeometry(g);
+    rtcCommitScene(rs);
+    double build = timer_now() - t0;
+    Job j;
+    memset(&j, 0, sizeof j);
+    j.scene = rs;
+    j.s = s;
+    j.cam = camera_frame(&s->camera, width, height);
+    j.pixels = malloc((size_t)width * height * 3);
+    const Material *mat = s->instance_count && s->instances[0].material >= 0 ? &s->materials[s->instances[0].material]
+                                                                             : &s->materials[0];
+    j.kd = mat->kd, j.ks = mat->ks, j.shininess = mat->shininess;
+    double best = 1e30;
+    unsigned long long prim = 0, shad = 0;
+    pthread_t th[256];
+    for (int f = 0; f < frames; f++) {
+        atomic_store(&j.next_line, 0);
+        atomic_store(&j.primary, 0);
+        atomic_store(&j.shadow, 0);
+        double a = timer_now();
+        for (int i = 0; i < threads; i++)
+            pthread_create(&th[i], NULL, worker, &j);
+        for (int i = 0; i < threads; i++)
+            pthread_join(th[i], NULL);
+        double dt = timer_now() - a;
+        if (dt < best)
+            best = dt;
+        prim = atomic_load(&j.primary);
+        shad = atomic_load(&j.shadow);
+    }
+    printf("embree %s: %llu triangles, build %.3f s; %dx%d threads %d: frame %.4f s, %.2f Mrays/s (%llu camera + %llu shadow rays)\n",
+           rtcGetDeviceProperty(dev, RTC_DEVICE_PROPERTY_VERSION) ? "3" : "?", (unsigned long long)ntri, build, width,
+           height, threads, best, (double)(prim + shad) / best * 1e-6, prim, shad);
+    int rc = 0;
+    if (out && image_write(out, width, height, j.pixels, &err)) {
+        fprintf(stderr, "embree_ref: %s\n", err.msg);
+        rc = 1;
+    }
+    free(j.pixels);
+    rtcReleaseScene(rs);
+    rtcReleaseDevice(dev);
+    scene_destroy(s);
+    return rc;
+}
