@@ -38,7 +38,7 @@ LDFLAGS := $(SANFLAGS)
 COMMON_SRC := $(wildcard common/*.c)
 COMMON_OBJ := $(COMMON_SRC:%.c=$(BUILD)/%.o)
 LIB := $(BUILD)/liblanray.a
-TOOLS := $(BIN)/lanray-render $(BIN)/obj2tmd
+TOOLS := $(BIN)/lanray-render $(BIN)/obj2tmd $(BIN)/lanray-imgdiff
 TEST_SRC := $(wildcard tests/test_*.c)
 TESTS := $(TEST_SRC:tests/%.c=$(BUILD)/tests/%)
 
@@ -71,6 +71,10 @@ $(BIN)/lanray-render: $(BUILD)/tools/lanray_render.o $(LIB)
 	$(CC) $(LDFLAGS) -o $@ $^ $(LDLIBS)
 
 $(BIN)/obj2tmd: $(BUILD)/tools/obj2tmd.o $(LIB)
+	@mkdir -p $(dir $@)
+	$(CC) $(LDFLAGS) -o $@ $^ $(LDLIBS)
+
+$(BIN)/lanray-imgdiff: $(BUILD)/tools/imgdiff.o $(LIB)
 	@mkdir -p $(dir $@)
 	$(CC) $(LDFLAGS) -o $@ $^ $(LDLIBS)
 

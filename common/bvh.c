@@ -116,8 +116,10 @@ void bvh_destroy(Bvh *b)
     memset(b, 0, sizeof *b);
 }
 
-int bvh_validate(const Bvh *b, Err *err)
+int bvh_validate(const Bvh *b, uint32_t *depth_out, Err *err)
 {
+    if (depth_out)
+        *depth_out = 0;
     if (b->node_count == 0)
         return b->prim_count == 0 ? 0 : err_set(err, "bvh: %u primitives but no nodes", b->prim_count);
     /* children strictly after the parent and referenced once: the node graph is a tree */
@@ -189,7 +191,8 @@ int bvh_validate(const Bvh *b, Err *err)
                 goto done;
             }
     rc = 0;
-    (void)max_depth;
+    if (depth_out)
+        *depth_out = max_depth;
 done:
     free(seen);
     free(depth);

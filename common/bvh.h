@@ -54,8 +54,9 @@ void bvh_destroy(Bvh *b);
  * past a 64-byte boundary: each pair then shares one cache line and a visit
  * to an interior node touches a single line for both child boxes. */
 int bvh_alloc_nodes(Bvh *b, uint32_t count);
-/* Structural check of a tree that came from outside (a .tmd file). */
-int bvh_validate(const Bvh *b, Err *err);
+/* Structural check of a tree that came from outside (a .tmd file); writes
+ * the measured depth to *depth (may be NULL). */
+int bvh_validate(const Bvh *b, uint32_t *depth, Err *err);
 /* SAH cost with traversal cost 1 and intersection cost 1, relative to the root area. */
 double bvh_sah_cost(const Bvh *b);
 const char *bvh_kind_name(BvhKind k);

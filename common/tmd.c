@@ -169,7 +169,7 @@ int tmd_decode(const void *data, size_t len, const char *name, Model **out, Err 
         model_destroy(m);
         return err_set(err, "%s: %s is not a finite number", name, bad ? bad : "data");
     }
-    if (bvh_validate(&m->bvh, err)) {
+    if (bvh_validate(&m->bvh, &m->bvh.depth, err)) {
         model_destroy(m);
         return err_prefix(err, "%s", name);
     }

@@ -31,8 +31,10 @@ static int box_has(const BvhNode *n, vec3 p)
 static void check_structure(const Model *m)
 {
     Err err;
-    if (bvh_validate(&m->bvh, &err))
+    uint32_t depth;
+    if (bvh_validate(&m->bvh, &depth, &err))
         fail_msg("%s", err.msg);
+    assert_int_equal(depth, m->bvh.depth); /* the builder reports the depth it made */
     assert_true(m->bvh.depth <= BVH_MAX_DEPTH);
     for (uint32_t i = 0; i < m->bvh.node_count; i++) {
         const BvhNode *n = &m->bvh.nodes[i];
