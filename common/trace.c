@@ -1,6 +1,8 @@
 /* trace.c - the top level of traversal: scene BVH, planes, model instances. */
 #include "trace.h"
 
+#include "bvh_traverse.h"
+
 #include <string.h>
 
 /* Ray in an instance's model space.  The map x -> R^T (x - T) / s is affine,
@@ -57,9 +59,30 @@ static int leaf_occluded(const Scene *s, uint32_t p, const Ray *r, real tmax)
 }
 
 typedef struct {
-    uint32_t node;
-    real tnear;
-} StackEntry;
+    const Scene *s;
+    Hit *hit;
+} ClosestCtx;
+
+static inline __attribute__((always_inline)) int top_leaf_closest(void *vctx, uint32_t first, uint32_t count,
+                                                                  const Ray *r, real *tmax)
+{
+    ClosestCtx *c = vctx;
+    int found = 0;
+    for (uint32_t i = 0; i < count; i++)
+        found |= leaf_closest(c->s, c->s->top.prims[first + i], r, c->hit);
+    *tmax = c->hit->t;
+    return found;
+}
+
+static inline __attribute__((always_inline)) int top_leaf_any(const void *vctx, uint32_t first, uint32_t count,
+                                                              const Ray *r, real tmax)
+{
+    const Scene *s = vctx;
+    for (uint32_t i = 0; i < count; i++)
+        if (leaf_occluded(s, s->top.prims[first + i], r, tmax))
+            return 1;
+    return 0;
+}
 
 int trace_closest(const Scene *s, const Ray *r, Hit *hit)
 {
@@ -71,39 +94,10 @@ int trace_closest(const Scene *s, const Ray *r, Hit *hit)
             if (plane_intersect(r, s->planes[i].point, s->planes[i].normal, hit->t, &t))
                 *hit = (Hit){t, 0, 0, HIT_PLANE, i, 0};
         }
-    const BvhNode *nodes = s->top.nodes;
-    real tn;
-    if (s->top.node_count == 0 || !bvh_node_hit(&nodes[0], r, hit->t, &tn))
-        return hit->kind != HIT_NONE;
-    StackEntry stack[BVH_MAX_DEPTH];
-    uint32_t sp = 0, idx = 0;
-    for (;;) {
-        const BvhNode *n = &nodes[idx];
-        if (n->count) {
-            for (uint32_t i = 0; i < n->count; i++)
-                leaf_closest(s, s->top.prims[n->first + i], r, hit);
-        } else {
-            real t0, t1;
-            const uint32_t c = n->first;
-            int h0 = bvh_node_hit(&nodes[c], r, hit->t, &t0);
-            int h1 = bvh_node_hit(&nodes[c + 1], r, hit->t, &t1);
-            if (h0 && h1) {
-                idx = t1 < t0 ? c + 1 : c;
-                stack[sp++] = t1 < t0 ? (StackEntry){c, t0} : (StackEntry){c + 1, t1};
-                continue;
-            }
-            if (h0 | h1) {
-                idx = h0 ? c : c + 1;
-                continue;
-            }
-        }
-        do {
-            if (sp == 0)
-                return hit->kind != HIT_NONE;
-            --sp;
-        } while (stack[sp].tnear > hit->t * BVH_FUDGE);
-        idx = stack[sp].node;
-    }
+    ClosestCtx c = {s, hit};
+    real tmax = hit->t;
+    bvh_closest(&s->top, r, &tmax, top_leaf_closest, &c);
+    return hit->kind != HIT_NONE;
 }
 
 int trace_occluded(const Scene *s, const Ray *r, real tmax)
@@ -114,37 +108,7 @@ int trace_occluded(const Scene *s, const Ray *r, real tmax)
             if (plane_intersect(r, s->planes[i].point, s->planes[i].normal, tmax, &t))
                 return 1;
         }
-    const BvhNode *nodes = s->top.nodes;
-    real tn;
-    if (s->top.node_count == 0 || !bvh_node_hit(&nodes[0], r, tmax, &tn))
-        return 0;
-    uint32_t stack[BVH_MAX_DEPTH];
-    uint32_t sp = 0, idx = 0;
-    for (;;) {
-        const BvhNode *n = &nodes[idx];
-        if (n->count) {
-            for (uint32_t i = 0; i < n->count; i++)
-                if (leaf_occluded(s, s->top.prims[n->first + i], r, tmax))
-                    return 1;
-        } else {
-            real t0, t1;
-            const uint32_t c = n->first;
-            int h0 = bvh_node_hit(&nodes[c], r, tmax, &t0);
-            int h1 = bvh_node_hit(&nodes[c + 1], r, tmax, &t1);
-            if (h0 && h1) {
-                idx = t1 < t0 ? c + 1 : c;
-                stack[sp++] = t1 < t0 ? c : c + 1;
-                continue;
-            }
-            if (h0 | h1) {
-                idx = h0 ? c : c + 1;
-                continue;
-            }
-        }
-        if (sp == 0)
-            return 0;
-        idx = stack[--sp];
-    }
+    return bvh_any(&s->top, r, tmax, top_leaf_any, s);
 }
 
 static vec3 bary(vec3 a, vec3 b, vec3 c, real b1, real b2)
