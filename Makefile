@@ -30,19 +30,20 @@ endif
 
 BUILD := build/$(PRECISION)$(if $(SAN),-$(SAN))
 CFLAGS ?= $(OPT) -g
-CPPFLAGS := -D_POSIX_C_SOURCE=200809L $(PFLAGS) -Icommon
+CPPFLAGS := -D_POSIX_C_SOURCE=200809L $(PFLAGS) -Icommon -Iserver -Iclient
 ALL_CFLAGS := -std=c17 -Wall -Wextra -Werror -pthread -MMD -MP $(SANFLAGS) $(CPPFLAGS) $(CFLAGS)
-LDLIBS := -lnetpbm -lpng -lm -pthread
+LDLIBS := -lsodium -lnetpbm -lpng -lm -pthread
 LDFLAGS := $(SANFLAGS)
 
-COMMON_SRC := $(wildcard common/*.c)
+# everything but the programs' main files goes into the library the tests link
+COMMON_SRC := $(wildcard common/*.c) $(filter-out server/main.c,$(wildcard server/*.c)) $(filter-out client/main.c,$(wildcard client/*.c))
 COMMON_OBJ := $(COMMON_SRC:%.c=$(BUILD)/%.o)
 LIB := $(BUILD)/liblanray.a
 TOOLS := $(BIN)/lanray-render $(BIN)/obj2tmd $(BIN)/lanray-imgdiff
 TEST_SRC := $(wildcard tests/test_*.c)
 TESTS := $(TEST_SRC:tests/%.c=$(BUILD)/tests/%)
 
-DEB_PACKAGES := gcc make pkg-config libsdl2-dev libnetpbm-dev libpng-dev libcmocka-dev libembree-dev
+DEB_PACKAGES := gcc make pkg-config libsdl2-dev libnetpbm-dev libpng-dev libcmocka-dev libembree-dev libsodium-dev xvfb x11-apps
 
 .PHONY: all deps check check-asan bench demo clean
 .SECONDARY:

@@ -146,13 +146,17 @@ static RayStats pool_run(RenderPool *p, JobFn fn, void *ctx, uint32_t chunks)
 typedef struct {
     const Scene *s;
     CameraFrame cam;
-    int width, first, count;
+    int width;
+    uint64_t first, count; /* the span, in pixels */
     uint8_t *pixels;
-    /* adaptive mode: keys of lines first-1 .. first+count (clipped), colours of the lines */
-    int key_first, key_count;
+    const atomic_int *cancel;
+    /* adaptive mode: keys of whole lines key_first .. key_first + key_lines - 1, colours of the span */
+    int key_first, key_lines;
     uint64_t *keys;
     vec3 *colors;
 } Frame;
+
+static int cancelled(const Frame *f) { return f->cancel && atomic_load_explicit(f->cancel, memory_order_relaxed); }
 
 static vec3 sample(const Frame *f, real x, real y, RayStats *st, uint64_t *key)
 {
@@ -177,31 +181,44 @@ static void put_pixel(uint8_t *dst, vec3 c)
         dst[k] = (uint8_t)(real_clamp(c.e[k], R(0), R(1)) * R(255) + R(0.5));
 }
 
-/* chunk of the lines, regular grid */
+/* [i0, i1): the chunk's pixels as offsets into a run of `total` */
+static void chunk_range(uint32_t chunk, uint64_t total, uint64_t *i0, uint64_t *i1)
+{
+    *i0 = (uint64_t)chunk * CHUNK;
+    *i1 = *i0 + CHUNK < total ? *i0 + CHUNK : total;
+}
+
+/* chunk of the span, regular grid */
 static void job_grid(void *ctx, uint32_t chunk, RayStats *st)
 {
     Frame *f = ctx;
-    size_t total = (size_t)f->width * (size_t)f->count;
-    size_t i0 = (size_t)chunk * CHUNK, i1 = i0 + CHUNK < total ? i0 + CHUNK : total;
+    if (cancelled(f))
+        return;
+    uint64_t i0, i1;
+    chunk_range(chunk, f->count, &i0, &i1);
     int n = f->s->settings.aa;
-    for (size_t i = i0; i < i1; i++) {
-        int px = (int)(i % (size_t)f->width), py = f->first + (int)(i / (size_t)f->width);
+    for (uint64_t i = i0; i < i1; i++) {
+        uint64_t g = f->first + i;
+        int px = (int)(g % (uint64_t)f->width), py = (int)(g / (uint64_t)f->width);
         vec3 c = n == 1 ? sample(f, (real)px + R(0.5), (real)py + R(0.5), st, NULL) : sample_grid(f, px, py, n, st);
         put_pixel(&f->pixels[3 * i], c);
     }
 }
 
-/* adaptive pass 1: one centre sample per pixel, keeping its key */
+/* adaptive pass 1: one centre sample per pixel of the key lines, keeping its key */
 static void job_keys(void *ctx, uint32_t chunk, RayStats *st)
 {
     Frame *f = ctx;
-    size_t total = (size_t)f->width * (size_t)f->key_count;
-    size_t i0 = (size_t)chunk * CHUNK, i1 = i0 + CHUNK < total ? i0 + CHUNK : total;
-    for (size_t i = i0; i < i1; i++) {
-        int px = (int)(i % (size_t)f->width), ky = (int)(i / (size_t)f->width), py = f->key_first + ky;
+    if (cancelled(f))
+        return;
+    uint64_t i0, i1;
+    chunk_range(chunk, (uint64_t)f->width * (uint64_t)f->key_lines, &i0, &i1);
+    for (uint64_t i = i0; i < i1; i++) {
+        int px = (int)(i % (uint64_t)f->width), py = f->key_first + (int)(i / (uint64_t)f->width);
         vec3 c = sample(f, (real)px + R(0.5), (real)py + R(0.5), st, &f->keys[i]);
-        if (py >= f->first && py < f->first + f->count)
-            f->colors[(size_t)(py - f->first) * (size_t)f->width + (size_t)px] = c;
+        uint64_t g = (uint64_t)py * (uint64_t)f->width + (uint64_t)px;
+        if (g >= f->first && g < f->first + f->count)
+            f->colors[g - f->first] = c;
     }
 }
 
@@ -209,11 +226,14 @@ static void job_keys(void *ctx, uint32_t chunk, RayStats *st)
 static void job_refine(void *ctx, uint32_t chunk, RayStats *st)
 {
     Frame *f = ctx;
-    size_t total = (size_t)f->width * (size_t)f->count;
-    size_t i0 = (size_t)chunk * CHUNK, i1 = i0 + CHUNK < total ? i0 + CHUNK : total;
-    int last_line = f->key_first + f->key_count - 1;
-    for (size_t i = i0; i < i1; i++) {
-        int px = (int)(i % (size_t)f->width), py = f->first + (int)(i / (size_t)f->width);
+    if (cancelled(f))
+        return;
+    uint64_t i0, i1;
+    chunk_range(chunk, f->count, &i0, &i1);
+    int last_line = f->key_first + f->key_lines - 1;
+    for (uint64_t i = i0; i < i1; i++) {
+        uint64_t g = f->first + i;
+        int px = (int)(g % (uint64_t)f->width), py = (int)(g / (uint64_t)f->width);
         const uint64_t *row = &f->keys[(size_t)(py - f->key_first) * (size_t)f->width];
         uint64_t k = row[px];
         int edge = (px > 0 && row[px - 1] != k) || (px + 1 < f->width && row[px + 1] != k) ||
@@ -223,46 +243,51 @@ static void job_refine(void *ctx, uint32_t chunk, RayStats *st)
     }
 }
 
-int render_lines(RenderPool *p, const Scene *s, int width, int height, int first_line, int count, uint8_t *pixels,
-                 RayStats *stats, Err *err)
+static uint32_t chunks_of(uint64_t n) { return (uint32_t)((n + CHUNK - 1) / CHUNK); }
+
+int render_span(RenderPool *p, const Scene *s, int width, int height, uint64_t first, uint64_t count, uint8_t *pixels,
+                RayStats *stats, const atomic_int *cancel, Err *err)
 {
     if (!s->prepared)
         return err_set(err, "render: scene not prepared");
     if (width < 1 || height < 1 || width > RENDER_MAX_SIDE || height > RENDER_MAX_SIDE)
         return err_set(err, "render: frame %dx%d out of range 1..%d", width, height, RENDER_MAX_SIDE);
-    if (first_line < 0 || count < 0 || count > height - first_line)
-        return err_set(err, "render: lines %d..%d outside a frame of %d lines", first_line, first_line + count, height);
+    uint64_t total = (uint64_t)width * (uint64_t)height;
+    if (first > total || count > total - first)
+        return err_set(err, "render: pixels %llu..%llu outside a frame of %llu", (unsigned long long)first,
+                       (unsigned long long)(first + count), (unsigned long long)total);
     if (stats)
         *stats = (RayStats){0, 0};
     if (count == 0)
         return 0;
+    if (count / CHUNK >= UINT32_MAX)
+        return err_set(err, "render: span of %llu pixels too large", (unsigned long long)count);
     Frame f;
     memset(&f, 0, sizeof f);
     f.s = s;
     f.cam = camera_frame(&s->camera, width, height);
     f.width = width;
-    f.first = first_line;
+    f.first = first;
     f.count = count;
     f.pixels = pixels;
-    size_t npix = (size_t)width * (size_t)count;
-    uint32_t chunks = (uint32_t)((npix + CHUNK - 1) / CHUNK);
+    f.cancel = cancel;
     RayStats st;
     if (!s->settings.adaptive || s->settings.aa == 1) {
-        st = pool_run(p, job_grid, &f, chunks);
+        st = pool_run(p, job_grid, &f, chunks_of(count));
     } else {
-        f.key_first = first_line > 0 ? first_line - 1 : 0;
-        int key_last = first_line + count < height ? first_line + count : height - 1;
-        f.key_count = key_last - f.key_first + 1;
-        f.keys = malloc((size_t)width * (size_t)f.key_count * sizeof *f.keys);
-        f.colors = malloc(npix * sizeof *f.colors);
+        /* keys for the span's lines and the lines just above and below */
+        int l0 = (int)(first / (uint64_t)width), l1 = (int)((first + count - 1) / (uint64_t)width);
+        f.key_first = l0 > 0 ? l0 - 1 : 0;
+        f.key_lines = (l1 + 1 < height ? l1 + 1 : l1) - f.key_first + 1;
+        f.keys = malloc((size_t)width * (size_t)f.key_lines * sizeof *f.keys);
+        f.colors = malloc(count * sizeof *f.colors);
         if (!f.keys || !f.colors) {
             free(f.keys);
             free(f.colors);
-            return err_set(err, "render: out of memory for adaptive sampling of %d lines", count);
+            return err_set(err, "render: out of memory for adaptive sampling of %llu pixels", (unsigned long long)count);
         }
-        size_t nkeys = (size_t)width * (size_t)f.key_count;
-        st = pool_run(p, job_keys, &f, (uint32_t)((nkeys + CHUNK - 1) / CHUNK));
-        RayStats st2 = pool_run(p, job_refine, &f, chunks);
+        st = pool_run(p, job_keys, &f, chunks_of((uint64_t)width * (uint64_t)f.key_lines));
+        RayStats st2 = pool_run(p, job_refine, &f, chunks_of(count));
         st.primary += st2.primary;
         st.shadow += st2.shadow;
         free(f.keys);
@@ -270,5 +295,14 @@ int render_lines(RenderPool *p, const Scene *s, int width, int height, int first
     }
     if (stats)
         *stats = st;
-    return 0;
+    return cancelled(&f) ? RENDER_CANCELLED : 0;
+}
+
+int render_lines(RenderPool *p, const Scene *s, int width, int height, int first_line, int count, uint8_t *pixels,
+                 RayStats *stats, Err *err)
+{
+    if (first_line < 0 || count < 0 || count > height - first_line)
+        return err_set(err, "render: lines %d..%d outside a frame of %d lines", first_line, first_line + count, height);
+    return render_span(p, s, width, height, (uint64_t)first_line * (uint64_t)(width > 0 ? width : 0),
+                       (uint64_t)count * (uint64_t)(width > 0 ? width : 0), pixels, stats, NULL, err);
 }

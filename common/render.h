@@ -8,6 +8,7 @@
 #ifndef LANRAY_RENDER_H
 #define LANRAY_RENDER_H
 
+#include <stdatomic.h>
 #include <stdint.h>
 
 #include "shade.h"
@@ -25,5 +26,13 @@ int render_pool_threads(const RenderPool *p);
  * the prepared scene into pixels (RGB8, count*width*3 bytes). */
 int render_lines(RenderPool *p, const Scene *s, int width, int height, int first_line, int count, uint8_t *pixels,
                  RayStats *stats, Err *err);
+
+#define RENDER_CANCELLED 1
+/* Renders pixels [first, first + count) in row-major order (a segment may
+ * start or end inside a line).  When cancel is not NULL and becomes non-zero,
+ * the workers stop taking chunks and RENDER_CANCELLED is returned (the
+ * pixels are then incomplete). */
+int render_span(RenderPool *p, const Scene *s, int width, int height, uint64_t first, uint64_t count, uint8_t *pixels,
+                RayStats *stats, const atomic_int *cancel, Err *err);
 
 #endif

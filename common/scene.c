@@ -22,9 +22,9 @@ void scene_destroy(Scene *s)
 {
     if (!s)
         return;
-    for (uint32_t i = 0; i < s->texture_count; i++)
+    for (uint32_t i = 0; i < s->texture_count && !s->borrowed_assets; i++)
         texture_destroy(s->textures[i]);
-    for (uint32_t i = 0; i < s->model_count; i++)
+    for (uint32_t i = 0; i < s->model_count && !s->borrowed_assets; i++)
         model_destroy(s->models[i]);
     free(s->materials);
     free(s->textures);
@@ -64,7 +64,8 @@ int scene_add_material(Scene *s, Material m, uint32_t *id, Err *err)
 int scene_add_texture(Scene *s, Texture *t, uint32_t *id, Err *err)
 {
     if (array_reserve((void **)&s->textures, &s->texture_cap, s->texture_count + 1, sizeof *s->textures, 65536)) {
-        texture_destroy(t);
+        if (!s->borrowed_assets)
+            texture_destroy(t);
         return err_set(err, "scene: too many textures or out of memory");
     }
     s->textures[s->texture_count++] = t;
@@ -112,7 +113,8 @@ int scene_add_triangle(Scene *s, const vec3 p[3], const vec3 *n, const real *uv,
 int scene_add_model(Scene *s, Model *m, uint32_t *id, Err *err)
 {
     if (array_reserve((void **)&s->models, &s->model_cap, s->model_count + 1, sizeof *s->models, 65536)) {
-        model_destroy(m);
+        if (!s->borrowed_assets)
+            model_destroy(m);
         return err_set(err, "scene: too many models or out of memory");
     }
     s->models[s->model_count++] = m;
@@ -201,10 +203,16 @@ int scene_prepare(Scene *s, Err *err)
     uint32_t f = 0;
     if (s->settings.aa < 1 || s->settings.aa > AA_MAX)
         return err_set(err, "scene: anti-aliasing %d out of range 1..%d", s->settings.aa, AA_MAX);
-    if (!(s->camera.zoom > R(0)) || !v3_is_finite(s->camera.pos))
-        return err_set(err, "scene: camera zoom must be positive and its position finite");
+    const Camera *cam = &s->camera;
+    if (!(cam->zoom > R(0)) || !isfinite(cam->zoom) || !v3_is_finite(cam->pos) || !isfinite(cam->yaw) ||
+        !isfinite(cam->pitch) || !isfinite(cam->roll))
+        return err_set(err, "scene: camera needs a finite position and angles and a positive zoom");
+    if (!v3_is_finite(s->ambient) || !v3_is_finite(s->background))
+        return err_set(err, "scene: ambient and background colours must be finite");
     for (uint32_t i = 0; i < s->material_count; i++) {
         const Material *m = &s->materials[i];
+        if (!v3_is_finite(m->kd) || !v3_is_finite(m->ks) || !(m->shininess >= R(0)) || !isfinite(m->shininess))
+            return err_set(err, "scene: material %u needs finite colours and a non-negative shininess", i);
         if (m->texture >= (int32_t)s->texture_count)
             return err_set(err, "scene: material %u uses texture %d but the scene has %u", i, m->texture, s->texture_count);
         if (m->texture >= 0)

@@ -98,6 +98,8 @@ typedef struct {
     Instance *instances;   uint32_t instance_count, instance_cap;
     Light *lights;         uint32_t light_count, light_cap;
 
+    int borrowed_assets;   /* models and textures belong to someone else (a client's asset cache) */
+
     /* derived by scene_prepare */
     Bvh top;               /* prims index spheres, then triangles, then instances */
     uint32_t features;
@@ -108,13 +110,13 @@ Scene *scene_create(void);
 void scene_destroy(Scene *s);
 
 int scene_add_material(Scene *s, Material m, uint32_t *id, Err *err);
-/* Takes ownership of t, also on failure. */
+/* Takes ownership of t, also on failure (unless borrowed_assets). */
 int scene_add_texture(Scene *s, Texture *t, uint32_t *id, Err *err);
 int scene_add_sphere(Scene *s, Sphere sp, Err *err);
 int scene_add_plane(Scene *s, Plane p, Err *err);
 /* n (3 normals) and uv (6 numbers) may be NULL. */
 int scene_add_triangle(Scene *s, const vec3 p[3], const vec3 *n, const real *uv, uint32_t material, Err *err);
-/* Takes ownership of m, also on failure. */
+/* Takes ownership of m, also on failure (unless borrowed_assets). */
 int scene_add_model(Scene *s, Model *m, uint32_t *id, Err *err);
 int scene_add_instance(Scene *s, Instance in, Err *err);
 int scene_add_light(Scene *s, Light l, Err *err);

@@ -178,6 +178,45 @@ static void pixels_do_not_depend_on_threads_or_segments(void **state)
     scene_destroy(s);
 }
 
+/* Segments that start and end inside lines (what the scheduler's adaptive
+ * tail makes) give the same pixels as the whole frame; cancel stops work. */
+static void partial_line_spans_and_cancel(void **state)
+{
+    (void)state;
+    Scene *s;
+    BvhOptions opt = bvh_options_default(BVH_SAH);
+    assert_int_equal(scene_default(&s, &opt, NULL), 0);
+    RenderPool *p = render_pool_create(2, NULL);
+    const int W = 53, H = 29;
+    const uint64_t N = (uint64_t)W * H;
+    uint8_t *ref = malloc(N * 3), *px = malloc(N * 3);
+    for (int mode = 0; mode < 3; mode++) {
+        s->settings.aa = mode == 0 ? 1 : 2;
+        s->settings.adaptive = mode == 2;
+        assert_int_equal(render_span(p, s, W, H, 0, N, ref, NULL, NULL, NULL), 0);
+        const uint64_t sizes[3] = {1, 37, 150};
+        for (int k = 0; k < 3; k++) {
+            memset(px, 0, N * 3);
+            for (uint64_t a = 0; a < N; a += sizes[k]) {
+                uint64_t n = a + sizes[k] <= N ? sizes[k] : N - a;
+                assert_int_equal(render_span(p, s, W, H, a, n, px + 3 * a, NULL, NULL, NULL), 0);
+            }
+            assert_memory_equal(ref, px, N * 3);
+        }
+    }
+    atomic_int cancel = 1;
+    RayStats st;
+    assert_int_equal(render_span(p, s, W, H, 0, N, px, &st, &cancel, NULL), RENDER_CANCELLED);
+    assert_int_equal(st.primary, 0);
+    Err err = {{0}};
+    assert_int_equal(render_span(p, s, W, H, N - 5, 6, px, NULL, NULL, &err), -1);
+    assert_contains(err.msg, "outside a frame");
+    free(ref);
+    free(px);
+    render_pool_destroy(p);
+    scene_destroy(s);
+}
+
 static void adaptive_refines_only_edges(void **state)
 {
     (void)state;
@@ -233,6 +272,7 @@ int main(void)
         cmocka_unit_test(shadows_attenuation_and_spot_cone),
         cmocka_unit_test(textured_triangle_and_instances),
         cmocka_unit_test(pixels_do_not_depend_on_threads_or_segments),
+        cmocka_unit_test(partial_line_spans_and_cancel),
         cmocka_unit_test(adaptive_refines_only_edges),
         cmocka_unit_test(frame_sizes_and_bad_requests),
     };

@@ -1,0 +1,215 @@
+/* sched.c - see sched.h. */
+#include "sched.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+typedef struct {
+    Segment seg;
+    uint8_t done;
+    uint32_t holders;
+} Rec;
+
+typedef struct {
+    int client;
+    uint32_t rec;
+} Assignment;
+
+struct Sched {
+    SchedConfig cfg;
+    uint32_t frame, clients;
+    uint32_t next_pixel, total, done_pixels;
+    Rec *recs;
+    uint32_t nrec, caprec;
+    Assignment *asg;
+    uint32_t nasg, capasg;
+    SchedStats stats;
+};
+
+uint32_t sched_tail_static(uint32_t remaining, uint32_t seg, uint32_t clients, uint32_t min_pixels)
+{
+    (void)clients;
+    (void)min_pixels;
+    return seg < remaining ? seg : remaining;
+}
+
+uint32_t sched_tail_smart(uint32_t remaining, uint32_t seg, uint32_t clients, uint32_t min_pixels)
+{
+    (void)min_pixels;
+    /* segments left at full size; the last clients/2 of them are halved */
+    uint32_t left = (remaining + seg - 1) / seg;
+    uint32_t size = left <= clients / 2 && seg > 1 ? seg / 2 : seg;
+    return size < remaining ? size : remaining;
+}
+
+uint32_t sched_tail_adaptive(uint32_t remaining, uint32_t seg, uint32_t clients, uint32_t min_pixels)
+{
+    /* a fair share of what is left for every client, twice over (each holds two) */
+    uint32_t share = remaining / (2 * (clients ? clients : 1));
+    uint32_t size = share < seg ? share : seg;
+    if (size < min_pixels)
+        size = min_pixels;
+    if (size == 0)
+        size = 1;
+    return size < remaining ? size : remaining;
+}
+
+SchedTailRule sched_tail_by_name(const char *name)
+{
+    if (strcmp(name, "static") == 0)
+        return sched_tail_static;
+    if (strcmp(name, "smart") == 0)
+        return sched_tail_smart;
+    if (strcmp(name, "adaptive") == 0)
+        return sched_tail_adaptive;
+    return NULL;
+}
+
+Sched *sched_create(const SchedConfig *cfg)
+{
+    if (cfg->width < 1 || cfg->height < 1 || cfg->segment_lines < 1)
+        return NULL;
+    Sched *s = calloc(1, sizeof *s);
+    if (!s)
+        return NULL;
+    s->cfg = *cfg;
+    if (!s->cfg.tail)
+        s->cfg.tail = sched_tail_static;
+    s->total = cfg->width * cfg->height;
+    s->clients = 1;
+    return s;
+}
+
+void sched_destroy(Sched *s)
+{
+    if (!s)
+        return;
+    free(s->recs);
+    free(s->asg);
+    free(s);
+}
+
+void sched_begin_frame(Sched *s, uint32_t frame)
+{
+    s->frame = frame;
+    s->next_pixel = 0;
+    s->done_pixels = 0;
+    s->nrec = 0;
+    s->nasg = 0;
+}
+
+void sched_set_clients(Sched *s, uint32_t clients) { s->clients = clients ? clients : 1; }
+
+static int add_assignment(Sched *s, int client, uint32_t rec)
+{
+    if (s->nasg == s->capasg) {
+        uint32_t cap = s->capasg ? 2 * s->capasg : 64;
+        Assignment *p = realloc(s->asg, cap * sizeof *p);
+        if (!p)
+            return -1;
+        s->asg = p;
+        s->capasg = cap;
+    }
+    s->asg[s->nasg++] = (Assignment){client, rec};
+    s->recs[rec].holders++;
+    return 0;
+}
+
+static int holds(const Sched *s, int client, uint32_t rec)
+{
+    for (uint32_t i = 0; i < s->nasg; i++)
+        if (s->asg[i].client == client && s->asg[i].rec == rec)
+            return 1;
+    return 0;
+}
+
+int sched_assign(Sched *s, int client, Segment *out)
+{
+    if (s->next_pixel < s->total) {
+        uint32_t remaining = s->total - s->next_pixel;
+        uint32_t size = s->cfg.tail(remaining, s->cfg.segment_lines * s->cfg.width, s->clients, s->cfg.min_pixels);
+        if (size < 1)
+            size = 1;
+        if (size > remaining)
+            size = remaining;
+        if (s->nrec == s->caprec) {
+            uint32_t cap = s->caprec ? 2 * s->caprec : 256;
+            Rec *p = realloc(s->recs, cap * sizeof *p);
+            if (!p)
+                return 0;
+            s->recs = p;
+            s->caprec = cap;
+        }
+        Rec *r = &s->recs[s->nrec];
+        *r = (Rec){{s->next_pixel, size}, 0, 0};
+        if (add_assignment(s, client, s->nrec))
+            return 0;
+        s->nrec++;
+        s->next_pixel += size;
+        s->stats.segments++;
+        *out = r->seg;
+        return 1;
+    }
+    /* nothing new: the outstanding segment with the fewest holders, oldest first */
+    uint32_t best = UINT32_MAX;
+    for (uint32_t i = 0; i < s->nrec; i++) {
+        const Rec *r = &s->recs[i];
+        if (r->done || holds(s, client, i))
+            continue;
+        if (best == UINT32_MAX || r->holders < s->recs[best].holders)
+            best = i;
+    }
+    if (best == UINT32_MAX || add_assignment(s, client, best))
+        return 0;
+    s->stats.reissued++;
+    *out = s->recs[best].seg;
+    return 1;
+}
+
+SchedResult sched_complete(Sched *s, int client, uint32_t frame, Segment seg)
+{
+    if (frame != s->frame)
+        return SCHED_STALE;
+    for (uint32_t i = 0; i < s->nasg; i++) {
+        Assignment *a = &s->asg[i];
+        Rec *r = &s->recs[a->rec];
+        if (a->client != client || r->seg.first != seg.first || r->seg.count != seg.count)
+            continue;
+        r->holders--;
+        s->asg[i] = s->asg[--s->nasg];
+        if (r->done) {
+            s->stats.duplicate_pixels += seg.count;
+            return SCHED_DUPLICATE;
+        }
+        r->done = 1;
+        s->done_pixels += seg.count;
+        return SCHED_ACCEPT;
+    }
+    return SCHED_UNKNOWN;
+}
+
+void sched_release(Sched *s, int client)
+{
+    for (uint32_t i = 0; i < s->nasg;) {
+        if (s->asg[i].client == client) {
+            s->recs[s->asg[i].rec].holders--;
+            s->asg[i] = s->asg[--s->nasg];
+        } else {
+            i++;
+        }
+    }
+}
+
+int sched_frame_done(const Sched *s) { return s->done_pixels == s->total; }
+
+uint32_t sched_held(const Sched *s, int client)
+{
+    uint32_t n = 0;
+    for (uint32_t i = 0; i < s->nasg; i++)
+        n += s->asg[i].client == client;
+    return n;
+}
+
+uint32_t sched_frame(const Sched *s) { return s->frame; }
+const SchedConfig *sched_config(const Sched *s) { return &s->cfg; }
+SchedStats sched_stats(const Sched *s) { return s->stats; }

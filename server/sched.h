@@ -1,0 +1,67 @@
+/* sched.h - the segment scheduler: pure logic, no sockets or clocks.
+ *
+ * A frame is cut into segments (pixel ranges, normally n whole lines) as
+ * clients ask for work.  The size of each new segment comes from a tail
+ * rule, a function the caller may swap: static (always n lines), smart (the
+ * last n_clients/2 segments of a frame are cut in half, as in the original
+ * design) or adaptive (segments shrink as the frame runs out, down to parts
+ * of a line).  When no new pixels are left, segments still outstanding are
+ * handed again to clients that ask, and the first result for a segment wins.
+ * The server, the tests and the simulator all drive this module directly. */
+#ifndef LANRAY_SCHED_H
+#define LANRAY_SCHED_H
+
+#include <stdint.h>
+
+#include "proto.h"
+
+/* Size in pixels of the next segment, given the unassigned pixels left. */
+typedef uint32_t (*SchedTailRule)(uint32_t remaining, uint32_t segment_pixels, uint32_t clients, uint32_t min_pixels);
+
+uint32_t sched_tail_static(uint32_t remaining, uint32_t segment_pixels, uint32_t clients, uint32_t min_pixels);
+uint32_t sched_tail_smart(uint32_t remaining, uint32_t segment_pixels, uint32_t clients, uint32_t min_pixels);
+uint32_t sched_tail_adaptive(uint32_t remaining, uint32_t segment_pixels, uint32_t clients, uint32_t min_pixels);
+/* "static", "smart" or "adaptive"; NULL if unknown. */
+SchedTailRule sched_tail_by_name(const char *name);
+
+typedef struct {
+    uint32_t width, height;
+    uint32_t segment_lines; /* n */
+    SchedTailRule tail;
+    uint32_t min_pixels;    /* smallest segment the adaptive rule makes */
+} SchedConfig;
+
+typedef enum {
+    SCHED_ACCEPT = 0,  /* first result for this segment: use the pixels */
+    SCHED_DUPLICATE,   /* someone else delivered it first: drop */
+    SCHED_STALE,       /* result for an older frame: drop */
+    SCHED_UNKNOWN,     /* this client was never given this segment: a protocol violation */
+} SchedResult;
+
+typedef struct {
+    uint64_t segments, reissued, duplicate_pixels;
+} SchedStats;
+
+typedef struct Sched Sched;
+
+Sched *sched_create(const SchedConfig *cfg);
+void sched_destroy(Sched *s);
+/* Starts frame `frame` (all earlier assignments become stale). */
+void sched_begin_frame(Sched *s, uint32_t frame);
+/* The number of clients connected, for the tail rules. */
+void sched_set_clients(Sched *s, uint32_t clients);
+/* Gives client a segment: a new one while pixels are left, else one still
+ * outstanding that it does not hold (fewest holders first).  Returns 0 when
+ * there is nothing for it. */
+int sched_assign(Sched *s, int client, Segment *out);
+SchedResult sched_complete(Sched *s, int client, uint32_t frame, Segment seg);
+/* The client is gone: it holds nothing any more. */
+void sched_release(Sched *s, int client);
+int sched_frame_done(const Sched *s);
+/* Segments the client holds for the current frame. */
+uint32_t sched_held(const Sched *s, int client);
+uint32_t sched_frame(const Sched *s);
+const SchedConfig *sched_config(const Sched *s);
+SchedStats sched_stats(const Sched *s);
+
+#endif

@@ -1,0 +1,139 @@
+/* test_sched.c - the segment scheduler, driven directly as the server and simulator do. */
+#include "helpers.h"
+
+#include "sched.h"
+
+static Sched *make(uint32_t w, uint32_t h, uint32_t lines, SchedTailRule tail, uint32_t clients)
+{
+    SchedConfig cfg = {w, h, lines, tail, 8};
+    Sched *s = sched_create(&cfg);
+    assert_non_null(s);
+    sched_set_clients(s, clients);
+    sched_begin_frame(s, 1);
+    return s;
+}
+
+/* New segments tile the frame exactly, in order, whatever the rule. */
+static void segments_tile_the_frame(void **state)
+{
+    (void)state;
+    SchedTailRule rules[3] = {sched_tail_static, sched_tail_smart, sched_tail_adaptive};
+    for (int r = 0; r < 3; r++) {
+        Sched *s = make(37, 23, 4, rules[r], 5);
+        uint32_t next = 0;
+        Segment seg;
+        int client = 0;
+        while (next < 37 * 23) {
+            assert_true(sched_assign(s, client, &seg));
+            assert_int_equal(seg.first, next);
+            assert_true(seg.count >= 1 && seg.count <= 4 * 37);
+            next += seg.count;
+            assert_int_equal(sched_complete(s, client, 1, seg), SCHED_ACCEPT);
+            client = (client + 1) % 5;
+        }
+        assert_int_equal(next, 37 * 23);
+        assert_true(sched_frame_done(s));
+        assert_false(sched_assign(s, 0, &seg)); /* nothing left at all */
+        sched_destroy(s);
+    }
+}
+
+static void tail_rules_shrink_the_end(void **state)
+{
+    (void)state;
+    const uint32_t seg = 10 * 100;
+    /* static: always full size */
+    assert_int_equal(sched_tail_static(50000, seg, 8, 1), seg);
+    assert_int_equal(sched_tail_static(300, seg, 8, 1), 300);
+    /* smart with 8 clients: full size while more than 4 segments are left, then halves */
+    assert_int_equal(sched_tail_smart(5 * seg, seg, 8, 1), seg);
+    assert_int_equal(sched_tail_smart(4 * seg, seg, 8, 1), seg / 2);
+    assert_int_equal(sched_tail_smart(seg / 4, seg, 8, 1), seg / 4);
+    /* adaptive: a share of what is left, never below min_pixels, down to parts of a line */
+    assert_int_equal(sched_tail_adaptive(100 * seg, seg, 4, 1), seg);
+    assert_int_equal(sched_tail_adaptive(4000, seg, 4, 1), 500);
+    assert_int_equal(sched_tail_adaptive(800, seg, 4, 64), 100);
+    assert_int_equal(sched_tail_adaptive(300, seg, 4, 64), 64);
+    assert_int_equal(sched_tail_adaptive(30, seg, 4, 64), 30);
+    /* the frame's last segments really are smaller under smart splitting */
+    Sched *s = make(100, 100, 10, sched_tail_smart, 8);
+    Segment sg;
+    uint32_t last = 0, firstsize = 0;
+    while (sched_assign(s, 0, &sg)) {
+        if (!firstsize)
+            firstsize = sg.count;
+        last = sg.count;
+        sched_complete(s, 0, 1, sg);
+    }
+    assert_int_equal(firstsize, 1000);
+    assert_int_equal(last, 500);
+    sched_destroy(s);
+    assert_ptr_equal(sched_tail_by_name("adaptive"), sched_tail_adaptive);
+    assert_null(sched_tail_by_name("fastest"));
+}
+
+static void outstanding_segments_are_reissued_and_first_wins(void **state)
+{
+    (void)state;
+    Sched *s = make(10, 4, 1, sched_tail_static, 2);
+    Segment a[4];
+    /* client 0 takes two, client 1 takes two: the frame is all handed out */
+    assert_true(sched_assign(s, 0, &a[0]));
+    assert_true(sched_assign(s, 0, &a[1]));
+    assert_true(sched_assign(s, 1, &a[2]));
+    assert_true(sched_assign(s, 1, &a[3]));
+    assert_int_equal(sched_held(s, 0), 2);
+    /* client 1 finishes; client 0 stalls: client 1 gets client 0's segments again */
+    assert_int_equal(sched_complete(s, 1, 1, a[2]), SCHED_ACCEPT);
+    assert_int_equal(sched_complete(s, 1, 1, a[3]), SCHED_ACCEPT);
+    Segment r;
+    assert_true(sched_assign(s, 1, &r));
+    assert_true(r.first == a[0].first || r.first == a[1].first);
+    Segment r2;
+    assert_true(sched_assign(s, 1, &r2));
+    assert_true(r2.first != r.first);
+    assert_int_equal(sched_complete(s, 1, 1, r), SCHED_ACCEPT);
+    /* the stalled client wakes up: its copy of that segment is a duplicate */
+    assert_int_equal(sched_complete(s, 0, 1, r), SCHED_DUPLICATE);
+    assert_int_equal(sched_stats(s).duplicate_pixels, 10);
+    assert_false(sched_frame_done(s));
+    /* a segment nobody gave this client, and a result for another frame */
+    Segment forged = {3, 5};
+    assert_int_equal(sched_complete(s, 1, 1, forged), SCHED_UNKNOWN);
+    assert_int_equal(sched_complete(s, 1, 0, r), SCHED_STALE);
+    sched_destroy(s);
+}
+
+static void released_clients_hold_nothing(void **state)
+{
+    (void)state;
+    Sched *s = make(8, 8, 2, sched_tail_static, 3);
+    Segment a, b, c;
+    assert_true(sched_assign(s, 7, &a));
+    assert_true(sched_assign(s, 7, &b));
+    sched_release(s, 7);
+    assert_int_equal(sched_held(s, 7), 0);
+    assert_int_equal(sched_complete(s, 7, 1, a), SCHED_UNKNOWN); /* it may not deliver any more */
+    /* its segments go to the next client once new work runs out */
+    while (sched_assign(s, 8, &c))
+        assert_int_equal(sched_complete(s, 8, 1, c), SCHED_ACCEPT);
+    assert_true(sched_frame_done(s));
+    /* a new frame starts clean; the old frame's results are stale */
+    sched_begin_frame(s, 2);
+    assert_false(sched_frame_done(s));
+    assert_int_equal(sched_complete(s, 8, 1, c), SCHED_STALE);
+    assert_true(sched_assign(s, 8, &c));
+    assert_int_equal(c.first, 0);
+    sched_destroy(s);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(segments_tile_the_frame),
+        cmocka_unit_test(tail_rules_shrink_the_end),
+        cmocka_unit_test(outstanding_segments_are_reissued_and_first_wins),
+        cmocka_unit_test(released_clients_hold_nothing),
+    };
+    return cmocka_run_group_tests_name("sched", tests, NULL, NULL);
+}
