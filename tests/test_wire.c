@@ -1,0 +1,169 @@
+/* test_wire.c - scenes through the wire format and the asset cache. */
+#include "helpers.h"
+
+#include "render.h"
+#include "scene_default.h"
+#include "scene_parse.h"
+#include "wire.h"
+
+typedef struct {
+    Asset *models, *textures;
+    uint8_t *blob;
+    size_t len;
+} Encoded;
+
+static Encoded encode(const Scene *s)
+{
+    Encoded e;
+    e.models = calloc(s->model_count + 1, sizeof *e.models);
+    e.textures = calloc(s->texture_count + 1, sizeof *e.textures);
+    for (uint32_t i = 0; i < s->model_count; i++)
+        assert_int_equal(wire_asset_model(s->models[i], &e.models[i], NULL), 0);
+    for (uint32_t i = 0; i < s->texture_count; i++)
+        assert_int_equal(wire_asset_texture(s->textures[i], &e.textures[i], NULL), 0);
+    Sink sink = {0};
+    assert_int_equal(wire_encode_scene(s, e.models, e.textures, &sink, NULL), 0);
+    e.blob = sink.data;
+    e.len = sink.len;
+    return e;
+}
+
+static AssetCache *cache_of(const Scene *s, const Encoded *e)
+{
+    AssetCache *c = asset_cache_create();
+    for (uint32_t i = 0; i < s->model_count; i++)
+        assert_int_equal(asset_cache_add(c, ASSET_MODEL, e->models[i].hash, e->models[i].data, e->models[i].len, NULL), 0);
+    for (uint32_t i = 0; i < s->texture_count; i++)
+        assert_int_equal(asset_cache_add(c, ASSET_TEXTURE, e->textures[i].hash, e->textures[i].data, e->textures[i].len, NULL), 0);
+    return c;
+}
+
+static void free_encoded(const Scene *s, Encoded *e)
+{
+    for (uint32_t i = 0; i < s->model_count; i++)
+        wire_asset_free(&e->models[i]);
+    for (uint32_t i = 0; i < s->texture_count; i++)
+        wire_asset_free(&e->textures[i]);
+    free(e->models);
+    free(e->textures);
+    free(e->blob);
+}
+
+static void assert_same_pixels(const Scene *a, const Scene *b)
+{
+    RenderPool *p = render_pool_create(2, NULL);
+    enum { W = 64, H = 48 };
+    uint8_t pa[W * H * 3], pb[W * H * 3];
+    assert_int_equal(render_lines(p, a, W, H, 0, H, pa, NULL, NULL), 0);
+    assert_int_equal(render_lines(p, b, W, H, 0, H, pb, NULL, NULL), 0);
+    assert_memory_equal(pa, pb, sizeof pa);
+    render_pool_destroy(p);
+}
+
+static void scenes_round_trip(void **state)
+{
+    (void)state;
+    Scene *scenes[2];
+    BvhOptions opt = bvh_options_default(BVH_SAH);
+    Err err;
+    assert_int_equal(scene_default(&scenes[0], &opt, NULL), 0);
+    if (scene_load("models/example.scene", &opt, 0, &scenes[1], &err))
+        fail_msg("%s", err.msg);
+    for (int k = 0; k < 2; k++) {
+        Scene *s = scenes[k];
+        Encoded e = encode(s);
+        AssetCache *c = cache_of(s, &e);
+        Scene *back;
+        if (wire_decode_scene(e.blob, e.len, c, &back, &err))
+            fail_msg("%s", err.msg);
+        assert_true(back->borrowed_assets);
+        assert_int_equal(back->light_count, s->light_count);
+        assert_int_equal(back->features, s->features);
+        assert_same_pixels(s, back);
+        /* models travel as assets: the scene itself stays small */
+        assert_true(e.len < 4096);
+        scene_destroy(back);
+        asset_cache_destroy(c);
+        free_encoded(s, &e);
+        scene_destroy(s);
+    }
+}
+
+static void only_used_parts_travel(void **state)
+{
+    (void)state;
+    /* a spot light costs more bytes than a point light; an untextured triangle carries no uvs */
+    Scene *a = scene_create(), *b = scene_create();
+    Material m = material_default();
+    scene_add_material(a, m, NULL, NULL);
+    scene_add_material(b, m, NULL, NULL);
+    const vec3 p[3] = {v3(0, 0, 0), v3(1, 0, 0), v3(0, 1, 0)};
+    const real uv[6] = {0, 0, 1, 0, 0, 1};
+    scene_add_triangle(a, p, NULL, NULL, 0, NULL);
+    scene_add_triangle(b, p, NULL, uv, 0, NULL);
+    scene_add_light(a, light_point(v3(0, 5, 0), v3(1, 1, 1), 1, 0), NULL);
+    scene_add_light(b, light_spot(v3(0, 5, 0), v3(0, -1, 0), 30, 0, v3(1, 1, 1), 1, 0), NULL);
+    assert_int_equal(scene_prepare(a, NULL), 0);
+    assert_int_equal(scene_prepare(b, NULL), 0);
+    Sink sa = {0}, sb = {0};
+    assert_int_equal(wire_encode_scene(a, NULL, NULL, &sa, NULL), 0);
+    assert_int_equal(wire_encode_scene(b, NULL, NULL, &sb, NULL), 0);
+    assert_int_equal(sb.len - sa.len, 6 * 8 + 5 * 8); /* uv: 6 f64; spot: dir (3) + angle + soft */
+    sink_free(&sa);
+    sink_free(&sb);
+    scene_destroy(a);
+    scene_destroy(b);
+}
+
+static void malformed_scenes_and_assets_are_rejected(void **state)
+{
+    (void)state;
+    Scene *s;
+    BvhOptions opt = bvh_options_default(BVH_SAH);
+    assert_int_equal(scene_default(&s, &opt, NULL), 0);
+    Encoded e = encode(s);
+    AssetCache *c = cache_of(s, &e);
+    Scene *back;
+    for (size_t n = 0; n < e.len; n++) { /* every truncation */
+        Err err = {{0}};
+        assert_int_equal(wire_decode_scene(e.blob, n, c, &back, &err), -1);
+        assert_contains(err.msg, "scene");
+    }
+    Err err = {{0}};
+    uint8_t *bad = malloc(e.len + 1);
+    memcpy(bad, e.blob, e.len);
+    bad[e.len] = 0;
+    assert_int_equal(wire_decode_scene(bad, e.len + 1, c, &back, &err), -1);
+    assert_contains(err.msg, "trailing bytes");
+    uint32_t v = 0x04030201;
+    memcpy(bad + 8, &v, 4);
+    assert_int_equal(wire_decode_scene(bad, e.len, c, &back, &err), -1);
+    assert_contains(err.msg, "other byte order");
+    /* an empty cache: the assets were never sent */
+    AssetCache *empty = asset_cache_create();
+    assert_int_equal(wire_decode_scene(e.blob, e.len, empty, &back, &err), -1);
+    assert_contains(err.msg, "asset not received");
+    /* a payload that does not match its hash, and a malformed texture */
+    e.models[0].data[100] ^= 1;
+    assert_int_equal(asset_cache_add(empty, ASSET_MODEL, e.models[0].hash, e.models[0].data, e.models[0].len, &err), -1);
+    assert_contains(err.msg, "does not match its hash");
+    uint8_t tex[12] = {2, 0, 0, 0, 2, 0, 0, 0, 0, 0, 0, 0}, h[PROTO_HASH];
+    proto_hash(tex, sizeof tex, h);
+    assert_int_equal(asset_cache_add(empty, ASSET_TEXTURE, h, tex, sizeof tex, &err), -1);
+    assert_contains(err.msg, "texture payload");
+    asset_cache_destroy(empty);
+    free(bad);
+    asset_cache_destroy(c);
+    free_encoded(s, &e);
+    scene_destroy(s);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(scenes_round_trip),
+        cmocka_unit_test(only_used_parts_travel),
+        cmocka_unit_test(malformed_scenes_and_assets_are_rejected),
+    };
+    return cmocka_run_group_tests_name("wire", tests, NULL, NULL);
+}
