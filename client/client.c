@@ -1,0 +1,446 @@
+/* client.c - see client.h.
+ *
+ * Two threads: the network thread (the caller's) owns the socket, decodes
+ * UPDATEs and queues segments; the render thread renders them one at a time
+ * with render_span and hands finished pixels back through a pipe that wakes
+ * the network thread.  An UPDATE for a newer frame drops the queued segments
+ * of older frames and cancels the one being rendered. */
+#include "client.h"
+
+#include <errno.h>
+#include <netdb.h>
+#include <poll.h>
+#include <pthread.h>
+#include <stdarg.h>
+#include <stdatomic.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/socket.h>
+#include <time.h>
+#include <unistd.h>
+
+#include "proto.h"
+#include "render.h"
+#include "timer.h"
+#include "wire.h"
+
+#define MAX_QUEUE ((size_t)1 << 30)
+#define MAX_JOBS 64
+
+typedef struct {
+    Scene *scene;
+    uint32_t frame;
+    int width, height;
+    int refs;
+} SceneRef;
+
+typedef struct {
+    uint32_t frame;
+    Segment seg;
+    SceneRef *ref;
+    uint8_t *pixels; /* set when done */
+} Job;
+
+typedef struct {
+    pthread_mutex_t mu;
+    pthread_cond_t cv;
+    Job queue[MAX_JOBS];
+    int nqueue;
+    Job done[MAX_JOBS * 2];
+    int ndone;
+    uint32_t current_frame, running_frame;
+    int running, quit;
+    atomic_int cancel;
+    int wake[2];
+    RenderPool *pool;
+    uint64_t segments, pixels;
+} Worker;
+
+static void ref_drop(SceneRef *r)
+{
+    if (r && --r->refs == 0) {
+        scene_destroy(r->scene);
+        free(r);
+    }
+}
+
+static void *render_thread(void *arg)
+{
+    Worker *w = arg;
+    pthread_mutex_lock(&w->mu);
+    for (;;) {
+        while (!w->quit && w->nqueue == 0)
+            pthread_cond_wait(&w->cv, &w->mu);
+        if (w->quit)
+            break;
+        Job j = w->queue[0];
+        memmove(w->queue, w->queue + 1, (size_t)--w->nqueue * sizeof *w->queue);
+        if (j.frame != w->current_frame) {
+            ref_drop(j.ref);
+            continue;
+        }
+        w->running = 1;
+        w->running_frame = j.frame;
+        atomic_store(&w->cancel, 0);
+        pthread_mutex_unlock(&w->mu);
+        uint8_t *px = malloc((size_t)j.seg.count * 3);
+        Err err;
+        int rc = px ? render_span(w->pool, j.ref->scene, j.ref->width, j.ref->height, j.seg.first, j.seg.count, px,
+                                  NULL, &w->cancel, &err)
+                    : -1;
+        pthread_mutex_lock(&w->mu);
+        w->running = 0;
+        if (rc == 0 && j.frame == w->current_frame && w->ndone < MAX_JOBS * 2) {
+            j.pixels = px;
+            w->done[w->ndone++] = j;
+            w->segments++;
+            w->pixels += j.seg.count;
+            char b = 1;
+            if (write(w->wake[1], &b, 1) < 0) { /* the pipe is full: the network thread is awake anyway */
+            }
+        } else {
+            free(px);
+        }
+        ref_drop(j.ref);
+    }
+    pthread_mutex_unlock(&w->mu);
+    return NULL;
+}
+
+static int dial(const char *host, int port, Err *err)
+{
+    char ps[16];
+    snprintf(ps, sizeof ps, "%d", port);
+    struct addrinfo hints, *ai;
+    memset(&hints, 0, sizeof hints);
+    hints.ai_family = AF_UNSPEC;
+    hints.ai_socktype = SOCK_STREAM;
+    int rc = getaddrinfo(host, ps, &hints, &ai);
+    if (rc)
+        return err_set(err, "cannot resolve %s: %s", host, gai_strerror(rc));
+    int fd = -1;
+    for (struct addrinfo *a = ai; a; a = a->ai_next) {
+        fd = socket(a->ai_family, a->ai_socktype, a->ai_protocol);
+        if (fd >= 0 && connect(fd, a->ai_addr, a->ai_addrlen) == 0)
+            break;
+        if (fd >= 0)
+            close(fd);
+        fd = -1;
+    }
+    freeaddrinfo(ai);
+    if (fd < 0)
+        return err_set(err, "cannot connect to %s:%d: %s", host, port, strerror(errno));
+    proto_socket_setup(fd);
+    return fd;
+}
+
+/* Waits for one packet (handshake only), up to `seconds`. */
+static int read_packet(Conn *c, double seconds, Err *err)
+{
+    double end = timer_now() + seconds;
+    for (;;) {
+        int r = conn_read(c, err);
+        if (r != 0)
+            return r;
+        double left = end - timer_now();
+        if (left <= 0)
+            return err_set(err, "server did not answer in time");
+        struct pollfd p = {c->fd, POLLIN, 0};
+        poll(&p, 1, (int)(left * 1000) + 1);
+    }
+}
+
+static void logf_(const ClientConfig *cfg, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+static void logf_(const ClientConfig *cfg, const char *fmt, ...)
+{
+    if (cfg->quiet)
+        return;
+    va_list ap;
+    va_start(ap, fmt);
+    fprintf(stderr, "lanray-client: ");
+    vfprintf(stderr, fmt, ap);
+    fputc('\n', stderr);
+    va_end(ap);
+}
+
+enum { SESSION_ENDED = 0, SESSION_REFUSED = -1 };
+
+static void error_text(const Conn *c, char *text, size_t size)
+{
+    size_t n = c->body_size < size - 1 ? c->body_size : size - 1;
+    memcpy(text, c->body, n);
+    text[n] = 0;
+    for (size_t i = 0; i < n; i++)
+        if (text[i] < 32 || text[i] > 126)
+            text[i] = '?';
+}
+
+static int handshake(const ClientConfig *cfg, Conn *c, Err *err)
+{
+    if (read_packet(c, 10, err) < 0)
+        return SESSION_ENDED;
+    if (c->type == PKT_ERROR) {
+        char text[PROTO_MAX_ERROR_TEXT + 1];
+        error_text(c, text, sizeof text);
+        err_set(err, "server refused the connection: %s", text);
+        return SESSION_REFUSED;
+    }
+    uint32_t f[4];
+    if (c->type != PKT_SERVER_HELLO) {
+        err_set(err, "server sent %s instead of SERVER_HELLO", proto_type_name(c->type));
+        return SESSION_ENDED;
+    }
+    memcpy(f, c->body, sizeof f);
+    if (f[0] != PROTO_MAGIC) {
+        err_set(err, "not a lanray server (bad magic)");
+        return SESSION_REFUSED;
+    }
+    if (f[2] != PROTO_BOM) {
+        err_set(err, "server has the other byte order");
+        return SESSION_REFUSED;
+    }
+    if (f[1] != PROTO_VERSION) {
+        err_set(err, "server speaks protocol version %u, this client %u", f[1], PROTO_VERSION);
+        return SESSION_REFUSED;
+    }
+    if ((f[3] & HELLO_TOKEN_REQUIRED) && !cfg->token)
+        logf_(cfg, "server requires a token; none given (--token or LANRAY_TOKEN)");
+    uint8_t sn[PROTO_NONCE], body[20 + PROTO_NONCE + PROTO_PROOF];
+    memcpy(sn, c->body + 16, PROTO_NONCE);
+    uint32_t h[5] = {PROTO_MAGIC, PROTO_VERSION, PROTO_BOM, (uint32_t)cfg->threads, (uint32_t)sizeof(real)};
+    memcpy(body, h, 20);
+    proto_random(body + 20, PROTO_NONCE);
+    proto_proof(cfg->token ? cfg->token : "", sn, body + 20, body + 20 + PROTO_NONCE);
+    if (conn_send(c, PKT_HELLO, body, sizeof body, MAX_QUEUE, err) || conn_flush(c, err) < 0)
+        return SESSION_ENDED;
+    if (read_packet(c, 10, err) < 0)
+        return SESSION_ENDED;
+    if (c->type == PKT_ERROR) {
+        char text[PROTO_MAX_ERROR_TEXT + 1];
+        error_text(c, text, sizeof text);
+        err_set(err, "server refused the connection: %s", text);
+        return SESSION_REFUSED;
+    }
+    if (c->type != PKT_WELCOME) {
+        err_set(err, "server sent %s instead of WELCOME", proto_type_name(c->type));
+        return SESSION_ENDED;
+    }
+    return 1;
+}
+
+static void queue_job(Worker *w, uint32_t frame, Segment seg, SceneRef *ref)
+{
+    if (w->nqueue == MAX_JOBS)
+        return; /* the server never gives more than a few: a misbehaving server */
+    ref->refs++;
+    w->queue[w->nqueue++] = (Job){frame, seg, ref, NULL};
+    pthread_cond_signal(&w->cv);
+}
+
+/* Handles one packet from the server; returns -1 to end the session. */
+static int on_packet(const ClientConfig *cfg, Worker *w, Conn *c, AssetCache *cache, SceneRef **cur, Err *err)
+{
+    const uint8_t *b = c->body;
+    switch (c->type) {
+    case PKT_ASSET: {
+        uint32_t kind;
+        memcpy(&kind, b, 4);
+        if (asset_cache_add(cache, kind, b + 4, b + 4 + PROTO_HASH, c->body_size - 4 - PROTO_HASH, err))
+            return -1;
+        return 0;
+    }
+    case PKT_UPDATE: {
+        uint32_t h[4];
+        memcpy(h, b, 16);
+        uint32_t frame = h[0], width = h[1], height = h[2], nseg = h[3];
+        if (nseg > 2 || c->body_size < 16 + 8 * nseg || width < 1 || height < 1 || width > RENDER_MAX_SIDE ||
+            height > RENDER_MAX_SIDE)
+            return err_set(err, "malformed UPDATE");
+        Scene *scene;
+        if (wire_decode_scene(b + 16 + 8 * nseg, c->body_size - 16 - 8 * nseg, cache, &scene, err))
+            return -1;
+        SceneRef *ref = calloc(1, sizeof *ref);
+        if (!ref) {
+            scene_destroy(scene);
+            return err_set(err, "out of memory");
+        }
+        *ref = (SceneRef){scene, frame, (int)width, (int)height, 1};
+        pthread_mutex_lock(&w->mu);
+        w->current_frame = frame;
+        for (int i = 0; i < w->nqueue; i++)
+            ref_drop(w->queue[i].ref);
+        w->nqueue = 0;
+        if (w->running && w->running_frame != frame)
+            atomic_store(&w->cancel, 1);
+        ref_drop(*cur);
+        *cur = ref;
+        for (uint32_t i = 0; i < nseg; i++) {
+            Segment seg;
+            memcpy(&seg, b + 16 + 8 * i, 8);
+            if ((uint64_t)seg.first + seg.count > (uint64_t)width * height) {
+                pthread_mutex_unlock(&w->mu);
+                return err_set(err, "UPDATE segment outside the frame");
+            }
+            queue_job(w, frame, seg, ref);
+        }
+        pthread_mutex_unlock(&w->mu);
+        return 0;
+    }
+    case PKT_COMPUTE: {
+        uint32_t h[3];
+        memcpy(h, b, 12);
+        Segment seg = {h[1], h[2]};
+        pthread_mutex_lock(&w->mu);
+        if (*cur && h[0] == (*cur)->frame) {
+            if ((uint64_t)seg.first + seg.count > (uint64_t)(*cur)->width * (*cur)->height) {
+                pthread_mutex_unlock(&w->mu);
+                return err_set(err, "COMPUTE segment outside the frame");
+            }
+            queue_job(w, h[0], seg, *cur);
+        }
+        pthread_mutex_unlock(&w->mu);
+        return 0;
+    }
+    case PKT_ERROR: {
+        char text[PROTO_MAX_ERROR_TEXT + 1];
+        error_text(c, text, sizeof text);
+        return err_set(err, "server closed the connection: %s", text);
+    }
+    case PKT_BYE: return err_set(err, "server said goodbye");
+    default: return err_set(err, "unexpected %s packet from the server", proto_type_name(c->type));
+    }
+    (void)cfg;
+}
+
+static int session(const ClientConfig *cfg, Worker *w, AssetCache *cache, volatile sig_atomic_t *stop, Err *err)
+{
+    int fd = dial(cfg->host, cfg->port, err);
+    if (fd < 0)
+        return SESSION_ENDED;
+    Conn c;
+    conn_init(&c, fd);
+    int hs = handshake(cfg, &c, err);
+    if (hs <= 0) {
+        conn_close(&c);
+        return hs;
+    }
+    logf_(cfg, "connected to %s:%d with %d threads", cfg->host, cfg->port, cfg->threads);
+    SceneRef *cur = NULL;
+    int rc = SESSION_ENDED;
+    for (;;) {
+        if (*stop) {
+            err_set(err, "stopped");
+            conn_send(&c, PKT_BYE, NULL, 0, MAX_QUEUE, err);
+            conn_flush(&c, err);
+            break;
+        }
+        struct pollfd p[2] = {{c.fd, (short)(POLLIN | (conn_pending(&c) ? POLLOUT : 0)), 0}, {w->wake[0], POLLIN, 0}};
+        if (poll(p, 2, 200) < 0 && errno != EINTR) {
+            err_set(err, "poll failed: %s", strerror(errno));
+            break;
+        }
+        if (p[1].revents & POLLIN) {
+            char buf[256];
+            while (read(w->wake[0], buf, sizeof buf) > 0) {
+            }
+            pthread_mutex_lock(&w->mu);
+            Job done[MAX_JOBS * 2];
+            int n = w->ndone;
+            memcpy(done, w->done, (size_t)n * sizeof *done);
+            w->ndone = 0;
+            pthread_mutex_unlock(&w->mu);
+            int bad = 0;
+            for (int i = 0; i < n; i++) {
+                uint32_t h[3] = {done[i].frame, done[i].seg.first, done[i].seg.count};
+                if (!bad && conn_send2(&c, PKT_DATA, h, sizeof h, done[i].pixels, (size_t)done[i].seg.count * 3, MAX_QUEUE, err))
+                    bad = 1;
+                free(done[i].pixels);
+            }
+            if (bad)
+                break;
+        }
+        if (p[0].revents & (POLLIN | POLLHUP | POLLERR)) {
+            int got, bad = 0;
+            while ((got = conn_read(&c, err)) == 1)
+                if (on_packet(cfg, w, &c, cache, &cur, err)) {
+                    bad = 1;
+                    break;
+                }
+            if (bad || got < 0)
+                break;
+        }
+        if (conn_pending(&c) && conn_flush(&c, err) < 0)
+            break;
+    }
+    /* forget this server's work */
+    pthread_mutex_lock(&w->mu);
+    w->current_frame = 0;
+    for (int i = 0; i < w->nqueue; i++)
+        ref_drop(w->queue[i].ref);
+    w->nqueue = 0;
+    atomic_store(&w->cancel, 1);
+    for (int i = 0; i < w->ndone; i++)
+        free(w->done[i].pixels);
+    w->ndone = 0;
+    ref_drop(cur);
+    pthread_mutex_unlock(&w->mu);
+    conn_close(&c);
+    return rc;
+}
+
+int client_run(const ClientConfig *cfg, volatile sig_atomic_t *stop, Err *err)
+{
+    Worker w;
+    memset(&w, 0, sizeof w);
+    pthread_mutex_init(&w.mu, NULL);
+    pthread_cond_init(&w.cv, NULL);
+    if (pipe(w.wake) || proto_socket_setup(w.wake[0]) || proto_socket_setup(w.wake[1]))
+        return err_set(err, "cannot create a pipe: %s", strerror(errno));
+    w.pool = render_pool_create(cfg->threads, err);
+    AssetCache *cache = asset_cache_create();
+    pthread_t th;
+    if (!w.pool || !cache || pthread_create(&th, NULL, render_thread, &w)) {
+        render_pool_destroy(w.pool);
+        asset_cache_destroy(cache);
+        close(w.wake[0]);
+        close(w.wake[1]);
+        return w.pool ? err_set(err, "cannot start the render thread") : -1;
+    }
+    int rc = 0;
+    double backoff = 0.1;
+    while (!*stop) {
+        double start = timer_now();
+        Err e = {{0}};
+        int r = session(cfg, &w, cache, stop, &e);
+        if (r == SESSION_REFUSED) {
+            err_set(err, "%s", e.msg);
+            rc = -1;
+            break;
+        }
+        if (*stop || !cfg->reconnect)
+            break;
+        if (timer_now() - start > 2)
+            backoff = 0.1; /* the session worked for a while: start over gently */
+        logf_(cfg, "%s; reconnecting in %.1f s", e.msg, backoff);
+        struct timespec ts = {(time_t)backoff, (long)((backoff - (double)(time_t)backoff) * 1e9)};
+        nanosleep(&ts, NULL);
+        backoff = backoff * 2 < 5 ? backoff * 2 : 5;
+    }
+    pthread_mutex_lock(&w.mu);
+    w.quit = 1;
+    atomic_store(&w.cancel, 1);
+    pthread_cond_broadcast(&w.cv);
+    pthread_mutex_unlock(&w.mu);
+    pthread_join(th, NULL);
+    if (!cfg->quiet)
+        fprintf(stderr, "lanray-client: rendered %llu segments, %llu pixels\n", (unsigned long long)w.segments,
+                (unsigned long long)w.pixels);
+    render_pool_destroy(w.pool);
+    asset_cache_destroy(cache);
+    close(w.wake[0]);
+    close(w.wake[1]);
+    pthread_mutex_destroy(&w.mu);
+    pthread_cond_destroy(&w.cv);
+    return rc;
+}

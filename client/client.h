@@ -1,0 +1,25 @@
+/* client.h - the render client: connects to a server, renders the segments
+ * it is given with the core's thread pool, sends the pixels back, and
+ * reconnects with backoff when the server goes away. */
+#ifndef LANRAY_CLIENT_H
+#define LANRAY_CLIENT_H
+
+#include <signal.h>
+
+#include "err.h"
+
+typedef struct {
+    const char *host;
+    int port;
+    int threads;
+    const char *token;  /* NULL: none */
+    int quiet;
+    int reconnect;      /* 0: end after the first session */
+} ClientConfig;
+
+/* Runs until *stop becomes non-zero (or, without reconnect, the session
+ * ends).  Returns 0, or -1 when the server refused us (wrong token, protocol
+ * version, precision): retrying cannot help then. */
+int client_run(const ClientConfig *cfg, volatile sig_atomic_t *stop, Err *err);
+
+#endif

@@ -1,0 +1,515 @@
+/* server.c - see server.h.
+ *
+ * Per client: handshake (SERVER_HELLO -> HELLO -> WELCOME or ERROR), then the
+ * assets it lacks, then for every frame an UPDATE with two segments, and a
+ * COMPUTE after every DATA so that it always holds two.  Anything a client
+ * does wrong (garbage, a lying size, pixels for a segment it was not given,
+ * a failed proof) ends that client's connection with a logged reason; the
+ * others keep rendering and the scheduler hands its work to them. */
+#include "server.h"
+
+#include <arpa/inet.h>
+#include <errno.h>
+#include <netinet/in.h>
+#include <poll.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include "timer.h"
+#include "wire.h"
+
+#define MAX_CLIENTS 1024
+#define MAX_QUEUE ((size_t)1 << 30)
+
+typedef enum { CLIENT_HANDSHAKE, CLIENT_ACTIVE } ClientState;
+
+typedef struct {
+    int id;
+    Conn conn;
+    ClientState state;
+    char addr[64];
+    uint8_t nonce[PROTO_NONCE];
+    uint32_t threads;
+    double since, last_result;
+    uint32_t frame_sent; /* last frame it got an UPDATE for (0: none) */
+    uint8_t *asset_sent; /* per server asset */
+    uint64_t segments, pixels, duplicates;
+    double busy_since;
+    int closing;
+} Client;
+
+struct Server {
+    ServerConfig cfg;
+    Scene *scene;
+    int listen_fd, port;
+    Client *clients[MAX_CLIENTS];
+    uint32_t nclients;
+    int next_id;
+    Sched *sched;
+    uint32_t frame;   /* current frame id; 0 before the first */
+    int in_frame, paused, dirty;
+    uint8_t *pixels;
+    Asset *assets;    /* models then textures of the scene */
+    uint32_t nassets;
+    Sink blob;        /* the serialised scene of the current frame */
+    double frame_start;
+    /* finished clients' statistics, for the summary */
+    uint64_t gone_segments, gone_pixels, gone_bytes;
+};
+
+static void logf_(const Server *s, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+static void logf_(const Server *s, const char *fmt, ...)
+{
+    if (s->cfg.quiet)
+        return;
+    va_list ap;
+    va_start(ap, fmt);
+    fprintf(stderr, "lanray-server: ");
+    vfprintf(stderr, fmt, ap);
+    fputc('\n', stderr);
+    va_end(ap);
+}
+
+static int is_loopback(const char *addr)
+{
+    struct in_addr a;
+    return inet_pton(AF_INET, addr, &a) == 1 && (ntohl(a.s_addr) >> 24) == 127;
+}
+
+static int build_assets(Server *s, Err *err)
+{
+    for (uint32_t i = 0; i < s->nassets; i++)
+        wire_asset_free(&s->assets[i]);
+    free(s->assets);
+    s->nassets = s->scene->model_count + s->scene->texture_count;
+    s->assets = calloc(s->nassets + 1, sizeof *s->assets);
+    if (!s->assets)
+        return err_set(err, "out of memory");
+    for (uint32_t i = 0; i < s->scene->model_count; i++)
+        if (wire_asset_model(s->scene->models[i], &s->assets[i], err))
+            return -1;
+    for (uint32_t i = 0; i < s->scene->texture_count; i++)
+        if (wire_asset_texture(s->scene->textures[i], &s->assets[s->scene->model_count + i], err))
+            return -1;
+    return 0;
+}
+
+Server *server_create(const ServerConfig *cfg, Scene *scene, Err *err)
+{
+    const char *addr = cfg->listen_addr ? cfg->listen_addr : "127.0.0.1";
+    if (!is_loopback(addr) && !cfg->token && !cfg->insecure) {
+        err_set(err, "listening on %s (not loopback) needs --token (or LANRAY_TOKEN) or an explicit --insecure", addr);
+        return NULL;
+    }
+    Server *s = calloc(1, sizeof *s);
+    if (!s) {
+        err_set(err, "out of memory");
+        return NULL;
+    }
+    s->cfg = *cfg;
+    s->cfg.listen_addr = addr;
+    s->scene = scene;
+    s->listen_fd = -1;
+    s->next_id = 1;
+    SchedConfig sc = {(uint32_t)cfg->width, (uint32_t)cfg->height, cfg->segment_lines, cfg->tail,
+                      (uint32_t)(cfg->width / 4 > 0 ? cfg->width / 4 : 1)};
+    s->sched = sched_create(&sc);
+    s->pixels = calloc((size_t)cfg->width * cfg->height, 3);
+    if (!s->sched || !s->pixels || build_assets(s, err)) {
+        if (!s->sched || !s->pixels)
+            err_set(err, "out of memory or invalid frame size");
+        server_destroy(s);
+        return NULL;
+    }
+    struct sockaddr_in sa;
+    memset(&sa, 0, sizeof sa);
+    sa.sin_family = AF_INET;
+    sa.sin_port = htons((uint16_t)cfg->port);
+    if (inet_pton(AF_INET, addr, &sa.sin_addr) != 1) {
+        err_set(err, "cannot parse listen address '%s' (IPv4 expected)", addr);
+        server_destroy(s);
+        return NULL;
+    }
+    int one = 1;
+    s->listen_fd = socket(AF_INET, SOCK_STREAM, 0);
+    if (s->listen_fd < 0 || setsockopt(s->listen_fd, SOL_SOCKET, SO_REUSEADDR, &one, sizeof one) ||
+        bind(s->listen_fd, (struct sockaddr *)&sa, sizeof sa) || listen(s->listen_fd, 128) ||
+        proto_socket_setup(s->listen_fd)) {
+        err_set(err, "cannot listen on %s:%d: %s", addr, cfg->port, strerror(errno));
+        server_destroy(s);
+        return NULL;
+    }
+    socklen_t len = sizeof sa;
+    getsockname(s->listen_fd, (struct sockaddr *)&sa, &len);
+    s->port = ntohs(sa.sin_port);
+    s->dirty = 1;
+    return s;
+}
+
+static void client_free(Server *s, Client *c)
+{
+    s->gone_segments += c->segments;
+    s->gone_pixels += c->pixels;
+    s->gone_bytes += c->conn.bytes_in + c->conn.bytes_out;
+    conn_close(&c->conn);
+    free(c->asset_sent);
+    free(c);
+}
+
+void server_destroy(Server *s)
+{
+    if (!s)
+        return;
+    for (uint32_t i = 0; i < s->nclients; i++) {
+        Err e;
+        conn_send(&s->clients[i]->conn, PKT_BYE, NULL, 0, MAX_QUEUE, &e);
+        conn_flush(&s->clients[i]->conn, &e);
+        client_free(s, s->clients[i]);
+    }
+    if (s->listen_fd >= 0)
+        close(s->listen_fd);
+    for (uint32_t i = 0; i < s->nassets; i++)
+        wire_asset_free(&s->assets[i]);
+    free(s->assets);
+    sink_free(&s->blob);
+    sched_destroy(s->sched);
+    free(s->pixels);
+    free(s);
+}
+
+int server_port(const Server *s) { return s->port; }
+void server_scene_changed(Server *s) { s->dirty = 1; }
+void server_pause(Server *s, int paused) { s->paused = paused; }
+
+uint32_t server_client_count(const Server *s)
+{
+    uint32_t n = 0;
+    for (uint32_t i = 0; i < s->nclients; i++)
+        n += s->clients[i]->state == CLIENT_ACTIVE && !s->clients[i]->closing;
+    return n;
+}
+
+/* Ends a client's connection: an ERROR with the reason when there is one. */
+static void drop(Server *s, Client *c, const char *reason)
+{
+    if (c->closing)
+        return;
+    logf_(s, "client %d (%s) disconnected: %s", c->id, c->addr, reason);
+    if (reason && strcmp(reason, "said goodbye") != 0) {
+        Err e;
+        char text[PROTO_MAX_ERROR_TEXT];
+        int n = snprintf(text, sizeof text, "%s", reason);
+        conn_send(&c->conn, PKT_ERROR, text, (size_t)(n < (int)sizeof text ? n : (int)sizeof text - 1), MAX_QUEUE, &e);
+        conn_flush(&c->conn, &e);
+    }
+    c->closing = 1;
+    sched_release(s->sched, c->id);
+}
+
+static void send_or_drop(Server *s, Client *c, uint32_t type, const void *a, size_t alen, const void *b, size_t blen)
+{
+    Err e;
+    if (c->closing)
+        return;
+    if (conn_send2(&c->conn, type, a, alen, b, blen, MAX_QUEUE, &e))
+        drop(s, c, e.msg);
+}
+
+static void send_compute(Server *s, Client *c)
+{
+    Segment seg;
+    if (!sched_assign(s->sched, c->id, &seg))
+        return;
+    uint32_t body[3] = {s->frame, seg.first, seg.count};
+    send_or_drop(s, c, PKT_COMPUTE, body, sizeof body, NULL, 0);
+}
+
+/* The assets it lacks, then the scene and two segments. */
+static void send_update(Server *s, Client *c)
+{
+    for (uint32_t i = 0; i < s->nassets; i++)
+        if (!c->asset_sent[i]) {
+            uint8_t head[4 + PROTO_HASH];
+            memcpy(head, &s->assets[i].kind, 4);
+            memcpy(head + 4, s->assets[i].hash, PROTO_HASH);
+            send_or_drop(s, c, PKT_ASSET, head, sizeof head, s->assets[i].data, s->assets[i].len);
+            c->asset_sent[i] = 1;
+        }
+    uint32_t body[4 + 4] = {s->frame, (uint32_t)s->cfg.width, (uint32_t)s->cfg.height, 0};
+    for (int k = 0; k < 2; k++) {
+        Segment seg;
+        if (sched_assign(s->sched, c->id, &seg)) {
+            body[4 + 2 * body[3]] = seg.first;
+            body[5 + 2 * body[3]] = seg.count;
+            body[3]++;
+        }
+    }
+    send_or_drop(s, c, PKT_UPDATE, body, 16 + 8 * (size_t)body[3], s->blob.data, s->blob.len);
+    c->frame_sent = s->frame;
+    c->busy_since = timer_now();
+}
+
+static int start_frame(Server *s, Err *err)
+{
+    if (s->dirty) {
+        if (scene_prepare(s->scene, err))
+            return -1;
+        s->dirty = 0;
+    }
+    s->blob.len = 0;
+    if (wire_encode_scene(s->scene, s->assets, s->assets + s->scene->model_count, &s->blob, err))
+        return -1;
+    s->frame++;
+    s->in_frame = 1;
+    s->frame_start = timer_now();
+    sched_begin_frame(s->sched, s->frame);
+    sched_set_clients(s->sched, server_client_count(s));
+    for (uint32_t i = 0; i < s->nclients; i++)
+        if (s->clients[i]->state == CLIENT_ACTIVE && !s->clients[i]->closing)
+            send_update(s, s->clients[i]);
+    return 0;
+}
+
+static void accept_clients(Server *s)
+{
+    for (;;) {
+        struct sockaddr_in sa;
+        socklen_t len = sizeof sa;
+        int fd = accept(s->listen_fd, (struct sockaddr *)&sa, &len);
+        if (fd < 0)
+            return;
+        if (s->nclients >= MAX_CLIENTS || proto_socket_setup(fd)) {
+            close(fd);
+            logf_(s, "refused a connection: %s", s->nclients >= MAX_CLIENTS ? "too many clients" : "socket setup failed");
+            continue;
+        }
+        Client *c = calloc(1, sizeof *c);
+        if (c)
+            c->asset_sent = calloc(s->nassets + 1, 1);
+        if (!c || !c->asset_sent) {
+            free(c);
+            close(fd);
+            continue;
+        }
+        conn_init(&c->conn, fd);
+        c->id = s->next_id++;
+        c->state = CLIENT_HANDSHAKE;
+        c->since = timer_now();
+        snprintf(c->addr, sizeof c->addr, "%s:%d", inet_ntoa(sa.sin_addr), ntohs(sa.sin_port));
+        proto_random(c->nonce, sizeof c->nonce);
+        uint32_t hello[4] = {PROTO_MAGIC, PROTO_VERSION, PROTO_BOM, s->cfg.token ? HELLO_TOKEN_REQUIRED : 0};
+        uint8_t body[16 + PROTO_NONCE];
+        memcpy(body, hello, 16);
+        memcpy(body + 16, c->nonce, PROTO_NONCE);
+        s->clients[s->nclients++] = c;
+        send_or_drop(s, c, PKT_SERVER_HELLO, body, sizeof body, NULL, 0);
+    }
+}
+
+static void on_hello(Server *s, Client *c)
+{
+    const uint8_t *b = c->conn.body;
+    uint32_t f[5];
+    memcpy(f, b, sizeof f);
+    char why[256];
+    if (f[0] != PROTO_MAGIC) {
+        drop(s, c, "handshake: not a lanray client (bad magic)");
+        return;
+    }
+    if (f[2] != PROTO_BOM) {
+        drop(s, c, "handshake: byte order differs from the server's");
+        return;
+    }
+    if (f[1] != PROTO_VERSION) {
+        snprintf(why, sizeof why, "handshake: protocol version %u, the server speaks version %u", f[1], PROTO_VERSION);
+        drop(s, c, why);
+        return;
+    }
+    if (f[4] != sizeof(real)) {
+        snprintf(why, sizeof why, "handshake: client computes with %u-byte reals, the server with %zu (build both with the same PRECISION)",
+                 f[4], sizeof(real));
+        drop(s, c, why);
+        return;
+    }
+    if (f[3] < 1 || f[3] > 4096) {
+        drop(s, c, "handshake: implausible thread count");
+        return;
+    }
+    if (s->cfg.token && !proto_proof_ok(s->cfg.token, c->nonce, b + 20, b + 20 + PROTO_NONCE)) {
+        drop(s, c, "handshake: authentication failed (wrong or missing token)");
+        return;
+    }
+    c->threads = f[3];
+    c->state = CLIENT_ACTIVE;
+    c->last_result = timer_now();
+    uint32_t id = (uint32_t)c->id;
+    send_or_drop(s, c, PKT_WELCOME, &id, 4, NULL, 0);
+    logf_(s, "client %d (%s) joined with %u threads", c->id, c->addr, c->threads);
+    if (s->in_frame) {
+        sched_set_clients(s->sched, server_client_count(s));
+        send_update(s, c);
+    }
+}
+
+static void on_data(Server *s, Client *c)
+{
+    uint32_t h[3];
+    memcpy(h, c->conn.body, sizeof h);
+    Segment seg = {h[1], h[2]};
+    if ((uint64_t)c->conn.body_size != 12 + (uint64_t)seg.count * 3) {
+        drop(s, c, "DATA packet size does not match its segment");
+        return;
+    }
+    c->last_result = timer_now();
+    SchedResult r = sched_complete(s->sched, c->id, h[0], seg);
+    if (r == SCHED_UNKNOWN) {
+        char why[160];
+        snprintf(why, sizeof why, "pixels for segment %u+%u of frame %u, which it was not given", seg.first, seg.count, h[0]);
+        drop(s, c, why);
+        return;
+    }
+    if (r == SCHED_ACCEPT) {
+        memcpy(s->pixels + (size_t)seg.first * 3, c->conn.body + 12, (size_t)seg.count * 3);
+        c->segments++;
+        c->pixels += seg.count;
+    } else if (r == SCHED_DUPLICATE) {
+        c->duplicates += seg.count;
+    }
+    if (r != SCHED_STALE && s->in_frame)
+        send_compute(s, c);
+}
+
+static void on_packet(Server *s, Client *c)
+{
+    uint32_t t = c->conn.type;
+    if (c->state == CLIENT_HANDSHAKE) {
+        if (t == PKT_HELLO)
+            on_hello(s, c);
+        else {
+            char why[96];
+            snprintf(why, sizeof why, "handshake: expected HELLO, got %s", proto_type_name(t));
+            drop(s, c, why);
+        }
+        return;
+    }
+    switch (t) {
+    case PKT_DATA: on_data(s, c); break;
+    case PKT_BYE: drop(s, c, "said goodbye"); break;
+    case PKT_ERROR: {
+        char text[PROTO_MAX_ERROR_TEXT + 1];
+        size_t n = c->conn.body_size < PROTO_MAX_ERROR_TEXT ? c->conn.body_size : PROTO_MAX_ERROR_TEXT;
+        memcpy(text, c->conn.body, n);
+        text[n] = 0;
+        for (size_t i = 0; i < n; i++)
+            if (text[i] < 32 || text[i] > 126)
+                text[i] = '?';
+        char why[PROTO_MAX_ERROR_TEXT + 32];
+        snprintf(why, sizeof why, "client reported: %s", text);
+        drop(s, c, why);
+        break;
+    }
+    default: {
+        char why[96];
+        snprintf(why, sizeof why, "unexpected %s packet from a client", proto_type_name(t));
+        drop(s, c, why);
+    }
+    }
+}
+
+static void housekeeping(Server *s)
+{
+    double now = timer_now();
+    for (uint32_t i = 0; i < s->nclients; i++) {
+        Client *c = s->clients[i];
+        if (c->closing)
+            continue;
+        if (c->state == CLIENT_HANDSHAKE && now - c->since > s->cfg.handshake_timeout)
+            drop(s, c, "handshake not completed in time");
+        else if (c->state == CLIENT_ACTIVE && sched_held(s->sched, c->id) && now - c->last_result > s->cfg.stall_timeout)
+            drop(s, c, "stalled: no result in time");
+    }
+    /* idle clients take work again: segments released by a client that left,
+     * or still outstanding at the end of a frame, are handed out again */
+    for (uint32_t i = 0; s->in_frame && i < s->nclients; i++) {
+        Client *c = s->clients[i];
+        if (c->state == CLIENT_ACTIVE && !c->closing && c->frame_sent == s->frame)
+            while (sched_held(s->sched, c->id) < 2) {
+                uint32_t before = sched_held(s->sched, c->id);
+                send_compute(s, c);
+                if (sched_held(s->sched, c->id) == before || c->closing)
+                    break;
+            }
+    }
+    /* remove closed clients */
+    for (uint32_t i = 0; i < s->nclients;) {
+        if (s->clients[i]->closing) {
+            client_free(s, s->clients[i]);
+            s->clients[i] = s->clients[--s->nclients];
+        } else {
+            i++;
+        }
+    }
+}
+
+int server_step(Server *s, int timeout_ms, FrameDoneFn done, void *ctx, Err *err)
+{
+    if (!s->in_frame && !s->paused && server_client_count(s) > 0 && start_frame(s, err))
+        return -1;
+    struct pollfd pfd[MAX_CLIENTS + 1];
+    pfd[0] = (struct pollfd){s->listen_fd, POLLIN, 0};
+    uint32_t n = s->nclients;
+    for (uint32_t i = 0; i < n; i++)
+        pfd[i + 1] = (struct pollfd){s->clients[i]->conn.fd, (short)(POLLIN | (conn_pending(&s->clients[i]->conn) ? POLLOUT : 0)), 0};
+    int r = poll(pfd, n + 1, timeout_ms);
+    if (r < 0 && errno != EINTR)
+        return err_set(err, "poll failed: %s", strerror(errno));
+    if (r > 0 && (pfd[0].revents & POLLIN))
+        accept_clients(s);
+    for (uint32_t i = 0; r > 0 && i < n; i++) {
+        Client *c = s->clients[i];
+        if (c->closing || !pfd[i + 1].revents)
+            continue;
+        Err e;
+        if (pfd[i + 1].revents & (POLLIN | POLLHUP | POLLERR)) {
+            /* a bounded number of packets per client per round: fairness */
+            for (int k = 0; k < 64 && !c->closing; k++) {
+                int got = conn_read(&c->conn, &e);
+                if (got < 0) {
+                    drop(s, c, e.msg);
+                    break;
+                }
+                if (got == 0)
+                    break;
+                on_packet(s, c);
+            }
+        }
+        if (!c->closing && conn_pending(&c->conn) && conn_flush(&c->conn, &e) < 0)
+            drop(s, c, e.msg);
+    }
+    housekeeping(s);
+    if (s->in_frame && sched_frame_done(s->sched)) {
+        s->in_frame = 0;
+        if (done)
+            done(ctx, s->frame, s->pixels);
+    }
+    return 0;
+}
+
+void server_print_stats(const Server *s)
+{
+    printf("frames started %u; per client:\n", s->frame);
+    for (uint32_t i = 0; i < s->nclients; i++) {
+        const Client *c = s->clients[i];
+        double t = timer_now() - c->since;
+        printf("  client %d %s threads %u: %llu segments, %.1f lines/s, %llu duplicate pixels, %llu bytes in, %llu out\n",
+               c->id, c->addr, c->threads, (unsigned long long)c->segments,
+               t > 0 ? (double)c->pixels / s->cfg.width / t : 0.0, (unsigned long long)c->duplicates,
+               (unsigned long long)c->conn.bytes_in, (unsigned long long)c->conn.bytes_out);
+    }
+    printf("  clients gone: %llu segments, %llu pixels, %llu bytes\n", (unsigned long long)s->gone_segments,
+           (unsigned long long)s->gone_pixels, (unsigned long long)s->gone_bytes);
+}

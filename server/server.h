@@ -1,0 +1,48 @@
+/* server.h - the render server: one poll() event loop serving any number of
+ * clients, driving the scheduler and assembling frames.
+ *
+ * The caller owns the scene and the display; the server calls back when a
+ * frame is complete.  Nothing here blocks: server_step waits at most the
+ * given time for network events and returns, so a display loop can run
+ * between steps. */
+#ifndef LANRAY_SERVER_H
+#define LANRAY_SERVER_H
+
+#include <stdint.h>
+
+#include "sched.h"
+#include "scene.h"
+
+typedef struct {
+    const char *listen_addr; /* default 127.0.0.1 */
+    int port;
+    const char *token;       /* NULL: no authentication (loopback or --insecure) */
+    int insecure;            /* allow a non-loopback address without a token */
+    int width, height;
+    uint32_t segment_lines;
+    SchedTailRule tail;
+    double stall_timeout;     /* seconds without a result while holding work: disconnect */
+    double handshake_timeout; /* seconds to finish the handshake */
+    int quiet;
+} ServerConfig;
+
+typedef struct Server Server;
+
+/* Called with each completed frame (RGB8, width*height*3). */
+typedef void (*FrameDoneFn)(void *ctx, uint32_t frame, const uint8_t *pixels);
+
+Server *server_create(const ServerConfig *cfg, Scene *scene, Err *err);
+void server_destroy(Server *s);
+/* The scene changed (camera, animation): the next frame uses it. */
+void server_scene_changed(Server *s);
+/* One round of the event loop, waiting at most timeout_ms.  Starts a new frame
+ * when the previous one is done and clients are connected, unless paused. */
+int server_step(Server *s, int timeout_ms, FrameDoneFn done, void *ctx, Err *err);
+/* Frames stop being started (the current one still completes). */
+void server_pause(Server *s, int paused);
+int server_port(const Server *s);
+uint32_t server_client_count(const Server *s);
+/* Per-client statistics, one line each, to stdout. */
+void server_print_stats(const Server *s);
+
+#endif
