@@ -1,0 +1,85 @@
+#!/usr/bin/env python3
+"""A misbehaving lanray client for the integration tests.
+
+    fakeclient.py PORT MODE [TOKEN]
+
+MODE is one of:
+  garbage     send random bytes instead of a handshake
+  version     a correct handshake but protocol version 99
+  lie-size    a valid header that claims a 4 GiB packet
+  forge-data  complete the handshake, then send pixels for a segment never given
+  silent      connect and send nothing (prints nothing, just waits for the close)
+Prints the text of the server's ERROR packet, or 'closed' / 'no error'.
+"""
+import hashlib, hmac, os, socket, struct, sys
+
+MAGIC, VERSION, BOM = 0x5941524C, 1, 0x01020304
+SERVER_HELLO, HELLO, WELCOME, UPDATE, COMPUTE, DATA, ASSET, ERROR = 1, 2, 3, 4, 5, 6, 7, 8
+
+
+def read_packet(s):
+    head = b""
+    while len(head) < 8:
+        chunk = s.recv(8 - len(head))
+        if not chunk:
+            return None, None
+        head += chunk
+    ptype, size = struct.unpack("=II", head)
+    body = b""
+    while len(body) < size - 8:
+        chunk = s.recv(min(65536, size - 8 - len(body)))
+        if not chunk:
+            return None, None
+        body += chunk
+    return ptype, body
+
+
+def hello(nonce, token, version=VERSION):
+    cn = os.urandom(32)
+    key = hashlib.sha256(token.encode()).digest()
+    proof = hmac.new(key, b"lanray-auth-v1" + nonce + cn, hashlib.sha256).digest()
+    body = struct.pack("=IIIII", MAGIC, version, BOM, 1, 4) + cn + proof
+    return struct.pack("=II", HELLO, 8 + len(body)) + body
+
+
+def wait_error(s):
+    while True:
+        ptype, body = read_packet(s)
+        if ptype is None:
+            return "closed"
+        if ptype == ERROR:
+            return body.decode(errors="replace")
+
+
+def main():
+    port, mode = int(sys.argv[1]), sys.argv[2]
+    token = sys.argv[3] if len(sys.argv) > 3 else ""
+    s = socket.create_connection(("127.0.0.1", port), timeout=20)
+    ptype, body = read_packet(s)
+    assert ptype == SERVER_HELLO, ptype
+    nonce = body[16:48]
+    if mode == "garbage":
+        s.sendall(os.urandom(4096))
+    elif mode == "version":
+        s.sendall(hello(nonce, token, version=99))
+    elif mode == "lie-size":
+        s.sendall(struct.pack("=II", DATA, 0xFFFFFFFF))
+    elif mode == "forge-data":
+        s.sendall(hello(nonce, token))
+        while True:
+            ptype, body = read_packet(s)
+            if ptype is None:
+                print("closed")
+                return
+            if ptype == UPDATE:
+                frame = struct.unpack("=I", body[:4])[0]
+                # a segment at the end of the frame that nobody was given yet
+                body = struct.pack("=III", frame, 7, 3) + b"\xff" * 9
+                s.sendall(struct.pack("=II", DATA, 8 + len(body)) + body)
+                break
+    elif mode == "silent":
+        pass
+    print(wait_error(s))
+
+
+main()
