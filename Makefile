@@ -1,6 +1,7 @@
 # lanray - one Makefile for everything.
 #   make            build bin/lanray-render and bin/obj2tmd (float build)
 #   make deps       install the Debian packages the build needs (idempotent)
+#   make demo       server + two local clients: a window, or frames in demo-frames/
 #   make check      unit + CLI tests (after installing deps)
 #   make check-asan the same tests under AddressSanitizer + UBSan
 #   make bench      renderer benchmark against Embree (prints ratios)
@@ -43,7 +44,7 @@ TOOLS := $(BIN)/lanray-render $(BIN)/obj2tmd $(BIN)/lanray-imgdiff $(BIN)/lanray
 TEST_SRC := $(wildcard tests/test_*.c)
 TESTS := $(TEST_SRC:tests/%.c=$(BUILD)/tests/%)
 
-DEB_PACKAGES := gcc make pkg-config libsdl2-dev libnetpbm-dev libpng-dev libcmocka-dev libembree-dev libsodium-dev xvfb x11-apps
+DEB_PACKAGES := gcc make pkg-config libsdl2-dev libnetpbm-dev libpng-dev libcmocka-dev libembree-dev libsodium-dev xvfb x11-apps python3
 
 .PHONY: all deps check check-asan bench demo clean
 .SECONDARY:
@@ -108,7 +109,7 @@ bench: deps $(TOOLS) $(BUILD)/tools/embree_ref
 	@BIN=$(BIN) EMBREE_REF=$(BUILD)/tools/embree_ref bash tools/bench-render
 
 demo: deps $(TOOLS)
-	@$(BIN)/lanray-render -o lanray-demo.png
+	@BIN=$(BIN) bash tools/demo
 
 clean:
 	rm -rf build bin

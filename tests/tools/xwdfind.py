@@ -1,0 +1,61 @@
+#!/usr/bin/env python3
+"""Finds a PPM image, pixel for pixel, inside an X screen dump (xwd -root).
+
+    xwdfind.py screen.xwd frame.ppm
+
+Prints 'found at X,Y' and exits 0, or 'not found' and exits 1.
+"""
+import struct, sys
+
+
+def read_xwd(path):
+    d = open(path, "rb").read()
+    f = struct.unpack(">25I", d[:100])
+    header_size, fmt, depth, width, height = f[0], f[2], f[3], f[4], f[5]
+    byte_order, bpp, bpl = f[7], f[11], f[12]
+    red, green, blue, ncolors = f[14], f[15], f[16], f[19]
+    if fmt != 2 or bpp not in (24, 32):
+        sys.exit("unsupported xwd: format %d, %d bits per pixel" % (fmt, bpp))
+    data = d[header_size + 12 * ncolors:]
+    shift = lambda m: (m & -m).bit_length() - 1
+    rs, gs, bs = shift(red), shift(green), shift(blue)
+    step = bpp // 8
+    rows = []
+    for y in range(height):
+        line = data[y * bpl:y * bpl + width * step]
+        out = bytearray(width * 3)
+        for x in range(width):
+            px = line[x * step:(x + 1) * step]
+            v = int.from_bytes(px, "little" if byte_order == 0 else "big")
+            out[3 * x:3 * x + 3] = bytes(((v & red) >> rs, (v & green) >> gs, (v & blue) >> bs))
+        rows.append(bytes(out))
+    return width, height, rows
+
+
+def read_ppm(path):
+    d = open(path, "rb").read()
+    parts = d.split(maxsplit=4)
+    assert parts[0] == b"P6" and parts[3] == b"255"
+    w, h = int(parts[1]), int(parts[2])
+    pix = parts[4]
+    return w, h, [pix[y * w * 3:(y + 1) * w * 3] for y in range(h)]
+
+
+def main():
+    sw, sh, screen = read_xwd(sys.argv[1])
+    w, h, img = read_ppm(sys.argv[2])
+    for y in range(sh - h + 1):
+        start = 0
+        while True:
+            i = screen[y].find(img[0], start)
+            if i < 0:
+                break
+            if i % 3 == 0 and all(screen[y + k][i:i + 3 * w] == img[k] for k in range(h)):
+                print("found at %d,%d" % (i // 3, y))
+                return 0
+            start = i + 1
+    print("not found")
+    return 1
+
+
+sys.exit(main())
