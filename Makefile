@@ -41,8 +41,8 @@ COMMON_SRC := $(wildcard common/*.c) $(filter-out server/main.c,$(wildcard serve
 COMMON_OBJ := $(COMMON_SRC:%.c=$(BUILD)/%.o)
 LIB := $(BUILD)/liblanray.a
 TOOLS := $(BIN)/lanray-render $(BIN)/obj2tmd $(BIN)/lanray-imgdiff $(BIN)/lanray-server $(BIN)/lanray-client
-TEST_SRC := $(wildcard tests/test_*.c)
-TESTS := $(TEST_SRC:tests/%.c=$(BUILD)/tests/%)
+TEST_SRC := $(wildcard tests/test_*.c tests/stability/test_*.c)
+TESTS := $(TEST_SRC:%.c=$(BUILD)/%)
 
 DEB_PACKAGES := gcc make pkg-config libsdl2-dev libnetpbm-dev libpng-dev libcmocka-dev libembree-dev libsodium-dev xvfb x11-apps python3
 

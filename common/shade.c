@@ -61,7 +61,7 @@ vec3 shade_ray(const Scene *s, const Ray *r, RayStats *stats, uint64_t *key)
     int shadows = scene_has(s, FEAT_SHADOWS);
     vec3 origin = sf.p;
     if (shadows) /* every light ray leaves on the viewer's side: lights behind ng are skipped below */
-        origin = trace_offset_origin(sf.p, sf.ng);
+        origin = trace_offset_origin(sf.p, sf.ng, sf.err);
     uint32_t lit = 0;
     for (uint32_t i = 0; i < s->light_count; i++) {
         const Light *l = &s->lights[i];

@@ -129,6 +129,8 @@ void trace_surface(const Scene *s, const Ray *r, const Hit *h, Surface *out)
         out->ng = v3_norm(v3_sub(p, sp->centre));
         /* re-project onto the surface: removes the error of o + t*d */
         out->p = v3_madd(sp->centre, out->ng, sp->radius);
+        /* r * n carries the normalisation's error; adding the centre rounds once more */
+        out->err = real_gamma(6) * sp->radius + real_gamma(2) * real_max(v3_max_comp(v3_abs(sp->centre)), v3_max_comp(v3_abs(out->p)));
         out->ns = out->ng;
         out->mat = &s->materials[sp->material];
         out->object = h->index;
@@ -139,6 +141,7 @@ void trace_surface(const Scene *s, const Ray *r, const Hit *h, Surface *out)
         vec3 p = ray_at(r, h->t);
         /* project onto the plane for the same reason */
         out->p = v3_madd(p, pl->normal, v3_dot(v3_sub(pl->point, p), pl->normal));
+        out->err = real_gamma(4) * real_max(v3_max_comp(v3_abs(out->p)), v3_max_comp(v3_abs(pl->point)));
         out->ng = out->ns = pl->normal;
         out->mat = &s->materials[pl->material];
         out->object = s->sphere_count + h->index;
@@ -149,6 +152,7 @@ void trace_surface(const Scene *s, const Ray *r, const Hit *h, Surface *out)
         const TriAttr *a = &s->tri_attrs[h->index];
         vec3 v0 = tri_vertex(t, 0), v1 = tri_vertex(t, 1), v2 = tri_vertex(t, 2);
         out->p = bary(v0, v1, v2, h->b1, h->b2);
+        out->err = real_gamma(7) * v3_max_comp(v3_max(v3_abs(v0), v3_max(v3_abs(v1), v3_abs(v2))));
         out->ng = v3_norm(v3_cross(v3_sub(v1, v0), v3_sub(v2, v0)));
         out->ns = a->smooth ? v3_norm(bary(a->n[0], a->n[1], a->n[2], h->b1, h->b2)) : out->ng;
         if (a->textured) {
@@ -168,6 +172,12 @@ void trace_surface(const Scene *s, const Ray *r, const Hit *h, Surface *out)
         vec3 v0 = tri_vertex(t, 0), v1 = tri_vertex(t, 1), v2 = tri_vertex(t, 2);
         vec3 pm = bary(v0, v1, v2, h->b1, h->b2);
         out->p = v3_add(v3_scale(m3_apply(&in->rot, pm), in->scale), in->translate);
+        /* the model-space point's error carried through rotation and scale, plus
+         * the rounding of adding the translation (and of subtracting it again
+         * when a new ray goes back into model space) */
+        real vmax = v3_max_comp(v3_max(v3_abs(v0), v3_max(v3_abs(v1), v3_abs(v2))));
+        out->err = real_gamma(10) * R(3) * in->scale * vmax +
+                   real_gamma(2) * real_max(v3_max_comp(v3_abs(in->translate)), v3_max_comp(v3_abs(out->p)));
         /* uniform scale: normals transform by the rotation alone */
         out->ng = v3_norm(m3_apply(&in->rot, v3_cross(v3_sub(v1, v0), v3_sub(v2, v0))));
         if (m->normals) {
@@ -201,30 +211,16 @@ void trace_surface(const Scene *s, const Ray *r, const Hit *h, Surface *out)
         out->ns = v3_neg(out->ns);
 }
 
-#ifdef LANRAY_DOUBLE
-typedef int64_t offset_int;
-#define OFFSET_FLOAT_SCALE R(1.0 / 35184372088832.0) /* 2^-45: float's 2^-16 scaled by 2^-29 */
-#else
-typedef int32_t offset_int;
-#define OFFSET_FLOAT_SCALE R(1.0 / 65536.0)
-#endif
-#define OFFSET_ORIGIN R(1.0 / 32.0)
-#define OFFSET_INT_SCALE R(256.0)
-
-static real offset_ulps(real x, real n)
+vec3 trace_offset_origin(vec3 p, vec3 n, real err)
 {
-    offset_int i, of = (offset_int)(OFFSET_INT_SCALE * n);
-    memcpy(&i, &x, sizeof x);
-    i += x < R(0) ? -of : of;
-    real y;
-    memcpy(&y, &i, sizeof y);
-    return y;
-}
-
-vec3 trace_offset_origin(vec3 p, vec3 n)
-{
-    vec3 o;
-    for (int a = 0; a < 3; a++)
-        o.e[a] = fabs(p.e[a]) < OFFSET_ORIGIN ? p.e[a] + OFFSET_FLOAT_SCALE * n.e[a] : offset_ulps(p.e[a], n.e[a]);
+    /* distance along n that covers the error box of p: |n| . err (PBRT 3.9.5) */
+    real d = err * (fabs(n.x) + fabs(n.y) + fabs(n.z));
+    vec3 o = v3_madd(p, n, d);
+    for (int a = 0; a < 3; a++) {
+        if (n.e[a] > R(0))
+            o.e[a] = nextafter(o.e[a], REAL_INF);
+        else if (n.e[a] < R(0))
+            o.e[a] = nextafter(o.e[a], -REAL_INF);
+    }
     return o;
 }

@@ -22,17 +22,22 @@ typedef struct {
     int has_uv;
     const Material *mat;
     uint32_t object;  /* identifies the surface for adaptive anti-aliasing */
+    real err;         /* bound on the rounding error of each coordinate of p */
 } Surface;
 
 int trace_closest(const Scene *s, const Ray *r, Hit *hit);
 int trace_occluded(const Scene *s, const Ray *r, real tmax);
 void trace_surface(const Scene *s, const Ray *r, const Hit *hit, Surface *out);
 
-/* Moves p off the surface along n by an amount that scales with |p|
- * (Wächter & Binder, "A Fast and Robust Method for Avoiding
- * Self-Intersection", Ray Tracing Gems ch. 6): a fixed number of ulps far
- * from the origin, a small absolute step near it.  n points to the side the
- * new ray leaves on. */
-vec3 trace_offset_origin(vec3 p, vec3 n);
+/* Moves p off the surface along n (the side the new ray leaves on) by just
+ * more than the rounding error of p, so that the new ray cannot hit the
+ * surface it starts on, whatever the scale or position of the scene.  Like
+ * Wächter & Binder ("A Fast and Robust Method for Avoiding
+ * Self-Intersection", Ray Tracing Gems ch. 6) the offset grows with the
+ * magnitude of the numbers involved rather than being a fixed epsilon; its
+ * size is the error bound `err` of the primitive's hit point (PBRT 3.9), and
+ * each coordinate is then rounded away from the surface (nextafter) so the
+ * addition cannot land back on it. */
+vec3 trace_offset_origin(vec3 p, vec3 n, real err);
 
 #endif

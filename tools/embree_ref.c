@@ -52,7 +52,8 @@ static vec3 shade(Job *j, struct RTCIntersectContext *ctx, vec3 d, unsigned long
     if (v3_dot(n, d) > 0)
         n = v3_neg(n);
     vec3 col = v3_mul(s->ambient, j->kd), view = v3_neg(d);
-    vec3 origin = trace_offset_origin(p, n);
+    /* the same kind of offset as lanray's: just beyond the hit point's error */
+    vec3 origin = trace_offset_origin(p, n, real_gamma(7) * v3_max_comp(v3_abs(p)) * R(2));
     for (uint32_t i = 0; i < s->light_count; i++) {
         const Light *l = &s->lights[i];
         vec3 L = v3_sub(l->pos, p);
