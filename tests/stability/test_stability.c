@@ -187,11 +187,307 @@ static void no_acne_at_any_translation_or_scale(void **state)
     render_pool_destroy(pool);
 }
 
+
+/* ---- parallel and grazing rays ---- */
+
+static Tri tri3(vec3 a, vec3 b, vec3 c)
+{
+    Tri t;
+    for (int k = 0; k < 3; k++)
+        t.v[0][k] = a.e[k], t.v[1][k] = b.e[k], t.v[2][k] = c.e[k];
+    return t;
+}
+
+/* BVH answers equal brute force for rays that run along box faces and graze
+ * flat geometry, where the slab test meets 0 * inf.  Tolerance: exact
+ * agreement (same triangle test both ways). */
+static void check_brute(const Model *m, const Ray *r, int *hits)
+{
+    real best = REAL_INF;
+    for (uint32_t t = 0; t < m->tri_count; t++) {
+        real tt, b1, b2;
+        if (tri_intersect(r, &m->tris[t], best, &tt, &b1, &b2))
+            best = tt;
+    }
+    ModelHit h;
+    int got = model_intersect(m, r, REAL_INF, &h);
+    assert_int_equal(got, best < REAL_INF);
+    if (got)
+        assert_true(h.t == best);
+    *hits += got;
+}
+
+static void parallel_and_grazing_rays(void **state)
+{
+    (void)state;
+    /* a plane: parallel above it, inside it, and grazing at 1e-6 */
+    Ray r = ray_make(v3(0, 1, 0), v3(1, 0, 0), 0, REAL_INF);
+    real t;
+    assert_false(plane_intersect(&r, v3(0, 0, 0), v3(0, 1, 0), REAL_INF, &t));
+    r = ray_make(v3(0, 0, 0), v3(0, 0, 1), 0, REAL_INF);
+    assert_false(plane_intersect(&r, v3(0, 0, 0), v3(0, 1, 0), REAL_INF, &t));
+    r = ray_make(v3(0, 1, 0), v3(1, R(-1e-6), 0), 0, REAL_INF);
+    assert_true(plane_intersect(&r, v3(0, 0, 0), v3(0, 1, 0), REAL_INF, &t));
+    assert_float_equal(t / R(1e6), 1, R(1e-4));
+    /* a unit cube and a flat 16x16 grid at y = 0 */
+    Mesh mesh;
+    mesh_init(&mesh, 0, 0, 0, NULL);
+    vec3 c[8];
+    for (int i = 0; i < 8; i++)
+        c[i] = v3(i & 1 ? 1 : 0, i & 2 ? 1 : 0, i & 4 ? 1 : 0);
+    const int q[6][4] = {{0, 1, 3, 2}, {4, 6, 7, 5}, {0, 4, 5, 1}, {2, 3, 7, 6}, {0, 2, 6, 4}, {1, 5, 7, 3}};
+    for (int f = 0; f < 6; f++) {
+        mesh_add_indexed(&mesh, c, q[f][0], q[f][1], q[f][2]);
+        mesh_add_indexed(&mesh, c, q[f][0], q[f][2], q[f][3]);
+    }
+    for (int i = 0; i < 16; i++)
+        for (int j = 0; j < 16; j++) {
+            vec3 g[4] = {v3((real)i + 2, 0, (real)j), v3((real)i + 3, 0, (real)j), v3((real)i + 3, 0, (real)j + 1),
+                         v3((real)i + 2, 0, (real)j + 1)};
+            mesh_add_indexed(&mesh, g, 0, 1, 2);
+            mesh_add_indexed(&mesh, g, 0, 2, 3);
+        }
+    BvhOptions opt = bvh_options_default(BVH_SAH);
+    Model *m;
+    assert_int_equal(model_from_mesh(&m, &mesh, &opt, NULL), 0);
+    Rng rng = {99};
+    int hits = 0;
+    /* axis-parallel rays from lattice points, many exactly on face planes */
+    for (int n = 0; n < 30000; n++) {
+        vec3 o = v3((real)(int)rng_real(&rng, -2, 8) * R(0.25), (real)(int)rng_real(&rng, -2, 8) * R(0.25),
+                    (real)(int)rng_real(&rng, -2, 8) * R(0.25));
+        int axis = (int)(rng_next(&rng) % 3);
+        vec3 d = v3(0, 0, 0);
+        d.e[axis] = rng_next(&rng) & 1 ? 1 : -1;
+        r = ray_make(o, d, 0, REAL_INF);
+        check_brute(m, &r, &hits);
+    }
+    /* grazing rays over the grid */
+    for (int n = 0; n < 30000; n++) {
+        vec3 o = v3(rng_real(&rng, -5, 25), rng_real(&rng, R(1e-6), R(0.1)), rng_real(&rng, -5, 20));
+        vec3 d = v3_norm(v3(rng_real(&rng, -1, 1), -rng_real(&rng, 0, R(1e-3)), rng_real(&rng, -1, 1)));
+        r = ray_make(o, d, 0, REAL_INF);
+        check_brute(m, &r, &hits);
+    }
+    printf("parallel and grazing rays: %d of 60000 hit\n", hits);
+    assert_true(hits > 60000 / 10); /* enough of them reach geometry for the comparison to mean something */
+    model_destroy(m);
+    mesh_free(&mesh);
+}
+
+/* ---- degenerate, sliver and zero-area triangles ---- */
+
+/* Zero-area triangles are never hit; slivers are hit like any triangle and
+ * shade to finite colours.  Tolerance: exact (no NaN anywhere). */
+static void degenerate_and_sliver_triangles(void **state)
+{
+    (void)state;
+    real t, b1, b2;
+    Ray r = ray_make(v3(R(0.5), 0, 5), v3(0, 0, -1), 0, REAL_INF);
+    Tri point = tri3(v3(R(0.5), 0, 0), v3(R(0.5), 0, 0), v3(R(0.5), 0, 0));
+    Tri line = tri3(v3(0, 0, 0), v3(1, 0, 0), v3(2, 0, 0));
+    assert_false(tri_intersect(&r, &point, REAL_INF, &t, &b1, &b2));
+    assert_false(tri_intersect(&r, &line, REAL_INF, &t, &b1, &b2));
+    /* models may contain them too (built directly, without the OBJ filter) */
+    Scene *s = scene_create();
+    Material white = {v3(1, 1, 1), v3_splat(R(0.5)), 20, -1};
+    scene_add_material(s, white, NULL, NULL);
+    Mesh mesh;
+    mesh_init(&mesh, 0, 0, 0, NULL);
+    for (int i = 0; i < 50; i++) {
+        real x = (real)i * R(0.1);
+        vec3 sliver[3] = {v3(x, 0, 0), v3(x + R(1e-7), 0, 0), v3(x, 1, R(1e-7))};
+        vec3 flat[3] = {v3(x, 2, 0), v3(x, 2, 0), v3(x, 3, 0)};
+        mesh_add(&mesh, sliver, NULL, NULL, 0, NULL);
+        mesh_add(&mesh, flat, NULL, NULL, 0, NULL);
+    }
+    BvhOptions opt = bvh_options_default(BVH_SAH);
+    for (int k = 0; k < BVH_KIND_COUNT; k++) {
+        opt.kind = (BvhKind)k;
+        Model *m;
+        assert_int_equal(model_from_mesh(&m, &mesh, &opt, NULL), 0);
+        assert_int_equal(bvh_validate(&m->bvh, NULL, NULL), 0);
+        model_destroy(m);
+    }
+    Model *m;
+    assert_int_equal(model_from_mesh(&m, &mesh, &opt, NULL), 0);
+    uint32_t mid;
+    scene_add_model(s, m, &mid, NULL);
+    scene_add_instance(s, instance_make(mid, v3(0, 0, 0), v3(0, 0, 0), 1), NULL);
+    scene_add_light(s, light_point(v3(0, R(0.5), 3), v3(1, 1, 1), 1, 0), NULL);
+    assert_int_equal(scene_prepare(s, NULL), 0);
+    int hits = 0;
+    for (int i = 0; i < 50; i++)
+        for (int j = 0; j < 20; j++) {
+            /* aimed at the slivers, which are about 1e-7 wide: some hit */
+            real x = (real)i * R(0.1) + R(5e-8);
+            r = ray_make(v3(x, R(0.05) * (real)j, 3), v3_norm(v3(R(1e-9) * (real)j, 0, -1)), 0, REAL_INF);
+            RayStats st;
+            uint64_t key;
+            vec3 col = shade_ray(s, &r, &st, &key);
+            assert_true(v3_is_finite(col));
+            hits += key != UINT64_MAX;
+        }
+    assert_true(hits > 0);
+    mesh_free(&mesh);
+    scene_destroy(s);
+}
+
+/* ---- camera inside a sphere; frame sizes; light counts; fields of view ---- */
+
+static Scene *simple_scene(void)
+{
+    Scene *s = scene_create();
+    Material red = {v3(R(0.9), R(0.2), R(0.2)), v3_splat(R(0.4)), 20, -1};
+    scene_add_material(s, red, NULL, NULL);
+    scene_add_sphere(s, (Sphere){v3(0, 0, 0), 1, 0}, NULL);
+    scene_add_plane(s, (Plane){v3(0, -1, 0), v3(0, 1, 0), 0}, NULL);
+    camera_look_at(&s->camera, v3(0, R(0.5), 4), v3(0, 0, 0), 0, camera_zoom_for_fov(60));
+    return s;
+}
+
+static int count_background(const uint8_t *px, int n, const Scene *s)
+{
+    uint8_t bg[3];
+    for (int c = 0; c < 3; c++)
+        bg[c] = (uint8_t)(real_clamp(s->background.e[c], 0, 1) * 255 + R(0.5));
+    int k = 0;
+    for (int i = 0; i < n; i++)
+        k += memcmp(px + 3 * i, bg, 3) == 0;
+    return k;
+}
+
+/* From inside a sphere every ray hits it (surfaces are two-sided) and the
+ * light inside lights it.  Tolerance: no background pixel. */
+static void camera_inside_a_sphere(void **state)
+{
+    (void)state;
+    Scene *s = simple_scene();
+    s->spheres[0].radius = 5;
+    s->camera.pos = v3(R(0.3), R(-0.2), R(0.1));
+    scene_add_light(s, light_point(v3(0, 1, 0), v3(1, 1, 1), 1, 0), NULL);
+    s->planes[0].point = v3(0, -100, 0);
+    assert_int_equal(scene_prepare(s, NULL), 0);
+    RenderPool *p = render_pool_create(2, NULL);
+    enum { W = 64, H = 48 };
+    uint8_t px[W * H * 3];
+    assert_int_equal(render_lines(p, s, W, H, 0, H, px, NULL, NULL), 0);
+    assert_int_equal(count_background(px, W * H, s), 0);
+    int lit = 0;
+    for (int i = 0; i < W * H; i++)
+        lit += px[3 * i] > 60;
+    assert_true(lit > W * H / 2);
+    render_pool_destroy(p);
+    scene_destroy(s);
+}
+
+/* Sampled pixels of a frame equal the colour of their own camera ray. */
+static void check_pixels_match_rays(const uint8_t *px, int w, int h, const Scene *s)
+{
+    CameraFrame f = camera_frame(&s->camera, w, h);
+    Rng rng = {5};
+    for (int i = 0; i < 200; i++) {
+        int x = (int)(rng_next(&rng) % (uint64_t)w), y = (int)(rng_next(&rng) % (uint64_t)h);
+        Ray r = ray_make(f.org, v3_norm(camera_dir(&f, (real)x + R(0.5), (real)y + R(0.5))), 0, REAL_INF);
+        RayStats st;
+        vec3 c = shade_ray(s, &r, &st, NULL);
+        assert_true(v3_is_finite(c));
+        for (int ch = 0; ch < 3; ch++)
+            assert_int_equal(px[3 * ((size_t)y * w + x) + ch], (uint8_t)(real_clamp(c.e[ch], 0, 1) * 255 + R(0.5)));
+    }
+}
+
+/* 1x1 and 8192x8192 frames: pixels equal the colour of their own camera ray.
+ * Tolerance: exact. */
+static void one_pixel_and_8k_frames(void **state)
+{
+    (void)state;
+    Scene *s = simple_scene();
+    scene_add_light(s, light_point(v3(2, 5, 4), v3(1, 1, 1), 1, 0), NULL);
+    s->settings.shadows = 0;
+    assert_int_equal(scene_prepare(s, NULL), 0);
+    RenderPool *p = render_pool_create(2, NULL);
+    const int sizes[2] = {1, 8192};
+    for (int k = 0; k < 2; k++) {
+        int n = sizes[k];
+        uint8_t *px = malloc((size_t)n * n * 3);
+        assert_non_null(px);
+        assert_int_equal(render_lines(p, s, n, n, 0, n, px, NULL, NULL), 0);
+        check_pixels_match_rays(px, n, n, s);
+        if (n > 1)
+            assert_true(count_background(px, n * n, s) < n * n / 2);
+        free(px);
+    }
+    render_pool_destroy(p);
+    scene_destroy(s);
+}
+
+/* No lights: ambient times diffuse exactly.  1000 lights of intensity 1/1000
+ * at one place: the image of one light of intensity 1, within 1 level
+ * (summing 1000 terms rounds). */
+static void zero_and_a_thousand_lights(void **state)
+{
+    (void)state;
+    enum { W = 48, H = 36 };
+    RenderPool *p = render_pool_create(2, NULL);
+    uint8_t one[W * H * 3], many[W * H * 3];
+    Scene *s = simple_scene();
+    assert_int_equal(scene_prepare(s, NULL), 0);
+    assert_int_equal(render_lines(p, s, W, H, 0, H, one, NULL, NULL), 0);
+    uint8_t want = (uint8_t)(s->ambient.x * s->materials[0].kd.x * 255 + R(0.5));
+    assert_int_equal(one[3 * (H / 2 * W + W / 2)], want); /* the sphere's centre pixel */
+    scene_add_light(s, light_point(v3(2, 5, 4), v3(1, 1, 1), 1, 0), NULL);
+    assert_int_equal(scene_prepare(s, NULL), 0);
+    assert_int_equal(render_lines(p, s, W, H, 0, H, one, NULL, NULL), 0);
+    s->light_count = 0;
+    for (int i = 0; i < 1000; i++)
+        scene_add_light(s, light_point(v3(2, 5, 4), v3(1, 1, 1), R(0.001), 0), NULL);
+    assert_int_equal(scene_prepare(s, NULL), 0);
+    assert_int_equal(render_lines(p, s, W, H, 0, H, many, NULL, NULL), 0);
+    for (int i = 0; i < W * H * 3; i++)
+        assert_true(abs(one[i] - many[i]) <= 1);
+    render_pool_destroy(p);
+    scene_destroy(s);
+}
+
+/* Fields of view of 1 and 179 degrees: pixels equal their own rays' colours
+ * (exact), 1 degree sees nothing but the sphere's middle, 179 degrees sees
+ * sphere and floor below the horizon and sky above it. */
+static void extreme_fields_of_view(void **state)
+{
+    (void)state;
+    enum { W = 64, H = 48 };
+    RenderPool *p = render_pool_create(2, NULL);
+    uint8_t px[W * H * 3];
+    Scene *s = simple_scene();
+    scene_add_light(s, light_point(v3(2, 5, 4), v3(1, 1, 1), 1, 0), NULL);
+    const real fovs[2] = {1, 179};
+    for (int k = 0; k < 2; k++) {
+        s->camera.zoom = camera_zoom_for_fov(fovs[k]);
+        assert_int_equal(scene_prepare(s, NULL), 0);
+        assert_int_equal(render_lines(p, s, W, H, 0, H, px, NULL, NULL), 0);
+        check_pixels_match_rays(px, W, H, s);
+        int background = count_background(px, W * H, s);
+        if (k == 0)
+            assert_int_equal(background, 0);
+        else /* the horizon crosses the middle of a 179-degree view: about half is sky */
+            assert_true(background > W * H / 4 && background < 3 * W * H / 4);
+    }
+    render_pool_destroy(p);
+    scene_destroy(s);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(closed_meshes_do_not_leak),
         cmocka_unit_test(no_acne_at_any_translation_or_scale),
+        cmocka_unit_test(parallel_and_grazing_rays),
+        cmocka_unit_test(degenerate_and_sliver_triangles),
+        cmocka_unit_test(camera_inside_a_sphere),
+        cmocka_unit_test(one_pixel_and_8k_frames),
+        cmocka_unit_test(zero_and_a_thousand_lights),
+        cmocka_unit_test(extreme_fields_of_view),
     };
     return cmocka_run_group_tests_name("stability", tests, NULL, NULL);
 }
