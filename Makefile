@@ -29,7 +29,13 @@ else
   OPT := -O2
 endif
 
-BUILD := build/$(PRECISION)$(if $(SAN),-$(SAN))
+# FEATURES=minimal: every optional feature compiled out (for the feature-cost benchmark)
+ifeq ($(FEATURES),minimal)
+  PFLAGS += -DLANRAY_MINIMAL
+  BIN := $(BIN)/minimal
+endif
+
+BUILD := build/$(PRECISION)$(if $(SAN),-$(SAN))$(if $(FEATURES),-$(FEATURES))
 CFLAGS ?= $(OPT) -g
 CPPFLAGS := -D_POSIX_C_SOURCE=200809L $(PFLAGS) -Icommon -Iserver -Iclient
 ALL_CFLAGS := -std=c17 -Wall -Wextra -Werror -pthread -MMD -MP $(SANFLAGS) $(CPPFLAGS) $(CFLAGS)
@@ -106,7 +112,9 @@ $(BUILD)/tools/embree_ref: tools/embree_ref.c $(LIB)
 	$(CC) $(ALL_CFLAGS) -o $@ $< $(LIB) -lembree3 $(LDLIBS)
 
 bench: deps $(TOOLS) $(BUILD)/tools/embree_ref
+	@$(MAKE) --no-print-directory FEATURES=minimal $(BIN)/minimal/lanray-render
 	@BIN=$(BIN) EMBREE_REF=$(BUILD)/tools/embree_ref bash tools/bench-render
+	@BIN=$(BIN) bash tools/bench-features
 
 demo: deps $(TOOLS)
 	@BIN=$(BIN) bash tools/demo

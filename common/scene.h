@@ -135,4 +135,13 @@ uint64_t scene_triangle_count(const Scene *s);
 
 static inline int scene_has(const Scene *s, uint32_t feature) { return (s->features & feature) != 0; }
 
+/* What the inner loop asks before taking an optional path.  A LANRAY_MINIMAL
+ * build (make FEATURES=minimal) compiles every optional feature out, so that
+ * `make bench` can show that a scene not using them pays nothing for them. */
+#ifdef LANRAY_MINIMAL
+#define scene_uses(s, feature) ((void)(s), 0)
+#else
+#define scene_uses(s, feature) scene_has(s, feature)
+#endif
+
 #endif

@@ -9,7 +9,7 @@
 #include "shade.h"
 
 /* Light arriving at p: unit direction towards the light, distance, radiance. */
-static int light_at(const Light *l, vec3 p, vec3 *dir, real *dist, vec3 *radiance)
+static int light_at(const Scene *s, const Light *l, vec3 p, vec3 *dir, real *dist, vec3 *radiance)
 {
     real scale = l->intensity;
     if (l->kind == LIGHT_DIRECTIONAL) {
@@ -22,9 +22,9 @@ static int light_at(const Light *l, vec3 p, vec3 *dir, real *dist, vec3 *radianc
             return 0;
         *dist = sqrt(d2);
         *dir = v3_scale(d, R(1) / *dist);
-        if (l->attenuate)
+        if (scene_uses(s, FEAT_ATTENUATION) && l->attenuate)
             scale /= d2;
-        if (l->kind == LIGHT_SPOT) {
+        if (scene_uses(s, FEAT_SPOT) && l->kind == LIGHT_SPOT) {
             real c = -v3_dot(*dir, l->dir);
             if (c <= l->cos_outer)
                 return 0;
@@ -53,7 +53,7 @@ vec3 shade_ray(const Scene *s, const Ray *r, RayStats *stats, uint64_t *key)
     trace_surface(s, r, &hit, &sf);
     const Material *m = sf.mat;
     vec3 kd = m->kd;
-    if (m->texture >= 0 && sf.has_uv)
+    if (scene_uses(s, FEAT_TEXTURES) && m->texture >= 0 && sf.has_uv)
         kd = v3_mul(kd, texture_sample(s->textures[m->texture], sf.u, sf.v, s->settings.filter));
     vec3 col = v3_mul(s->ambient, kd);
     vec3 view = v3_neg(v3_norm(r->dir));
@@ -67,7 +67,7 @@ vec3 shade_ray(const Scene *s, const Ray *r, RayStats *stats, uint64_t *key)
         const Light *l = &s->lights[i];
         vec3 L, rad;
         real dist;
-        if (!light_at(l, sf.p, &L, &dist, &rad))
+        if (!light_at(s, l, sf.p, &L, &dist, &rad))
             continue;
         real ndotl = v3_dot(sf.ns, L);
         if (ndotl <= R(0) || v3_dot(sf.ng, L) <= R(0))

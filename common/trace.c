@@ -88,7 +88,7 @@ int trace_closest(const Scene *s, const Ray *r, Hit *hit)
 {
     hit->t = r->tmax;
     hit->kind = HIT_NONE;
-    if (scene_has(s, FEAT_PLANES))
+    if (scene_uses(s, FEAT_PLANES))
         for (uint32_t i = 0; i < s->plane_count; i++) {
             real t;
             if (plane_intersect(r, s->planes[i].point, s->planes[i].normal, hit->t, &t))
@@ -102,7 +102,7 @@ int trace_closest(const Scene *s, const Ray *r, Hit *hit)
 
 int trace_occluded(const Scene *s, const Ray *r, real tmax)
 {
-    if (scene_has(s, FEAT_PLANES))
+    if (scene_uses(s, FEAT_PLANES))
         for (uint32_t i = 0; i < s->plane_count; i++) {
             real t;
             if (plane_intersect(r, s->planes[i].point, s->planes[i].normal, tmax, &t))
@@ -154,8 +154,8 @@ void trace_surface(const Scene *s, const Ray *r, const Hit *h, Surface *out)
         out->p = bary(v0, v1, v2, h->b1, h->b2);
         out->err = real_gamma(7) * v3_max_comp(v3_max(v3_abs(v0), v3_max(v3_abs(v1), v3_abs(v2))));
         out->ng = v3_norm(v3_cross(v3_sub(v1, v0), v3_sub(v2, v0)));
-        out->ns = a->smooth ? v3_norm(bary(a->n[0], a->n[1], a->n[2], h->b1, h->b2)) : out->ng;
-        if (a->textured) {
+        out->ns = scene_uses(s, FEAT_SMOOTH) && a->smooth ? v3_norm(bary(a->n[0], a->n[1], a->n[2], h->b1, h->b2)) : out->ng;
+        if (scene_uses(s, FEAT_TEXTURES) && a->textured) {
             out->u = (R(1) - h->b1 - h->b2) * a->uv[0] + h->b1 * a->uv[2] + h->b2 * a->uv[4];
             out->v = (R(1) - h->b1 - h->b2) * a->uv[1] + h->b1 * a->uv[3] + h->b2 * a->uv[5];
             out->has_uv = 1;
@@ -180,13 +180,13 @@ void trace_surface(const Scene *s, const Ray *r, const Hit *h, Surface *out)
                    real_gamma(2) * real_max(v3_max_comp(v3_abs(in->translate)), v3_max_comp(v3_abs(out->p)));
         /* uniform scale: normals transform by the rotation alone */
         out->ng = v3_norm(m3_apply(&in->rot, v3_cross(v3_sub(v1, v0), v3_sub(v2, v0))));
-        if (m->normals) {
+        if (scene_uses(s, FEAT_SMOOTH) && m->normals) {
             const vec3 *n = &m->normals[3 * h->sub];
             out->ns = v3_norm(m3_apply(&in->rot, bary(n[0], n[1], n[2], h->b1, h->b2)));
         } else {
             out->ns = out->ng;
         }
-        if (m->uvs) {
+        if (scene_uses(s, FEAT_TEXTURES) && m->uvs) {
             const real *uv = &m->uvs[6 * h->sub];
             out->u = (R(1) - h->b1 - h->b2) * uv[0] + h->b1 * uv[2] + h->b2 * uv[4];
             out->v = (R(1) - h->b1 - h->b2) * uv[1] + h->b1 * uv[3] + h->b2 * uv[5];
