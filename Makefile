@@ -5,6 +5,7 @@
 #   make check      unit + CLI tests (after installing deps)
 #   make check-asan the same tests under AddressSanitizer + UBSan
 #   make bench      renderer benchmark against Embree (prints ratios)
+#   make tradeoff   quality knobs: time and error against a reference (docs/tradeoff.*)
 #   make PRECISION=double ...   double-precision build in build/double, bin/double
 PRECISION ?= float
 SAN ?=
@@ -52,7 +53,7 @@ TESTS := $(TEST_SRC:%.c=$(BUILD)/%)
 
 DEB_PACKAGES := gcc make pkg-config libsdl2-dev libnetpbm-dev libpng-dev libcmocka-dev libembree-dev libsodium-dev xvfb x11-apps python3
 
-.PHONY: all deps check check-asan bench demo clean
+.PHONY: all deps check check-asan bench demo clean tradeoff
 .SECONDARY:
 all: $(TOOLS)
 
@@ -115,6 +116,12 @@ bench: deps $(TOOLS) $(BUILD)/tools/embree_ref
 	@$(MAKE) --no-print-directory FEATURES=minimal $(BIN)/minimal/lanray-render
 	@BIN=$(BIN) EMBREE_REF=$(BUILD)/tools/embree_ref bash tools/bench-render
 	@BIN=$(BIN) bash tools/bench-features
+
+# the trade-off study: CSV and plot into docs/ (needs gnuplot, installed here)
+tradeoff: deps $(TOOLS)
+	@$(MAKE) --no-print-directory DEB_PACKAGES=gnuplot-nox deps
+	@$(MAKE) --no-print-directory PRECISION=double bin/double/lanray-render
+	@BIN=$(BIN) bash tools/tradeoff docs
 
 demo: deps $(TOOLS)
 	@BIN=$(BIN) bash tools/demo

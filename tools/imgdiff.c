@@ -1,20 +1,78 @@
 /* lanray-imgdiff - compares two PNG frames of the same size.
  *
- *   lanray-imgdiff a.png b.png
+ *   lanray-imgdiff [--csv] a.png b.png
  *
  * Prints the largest channel difference, the number of differing pixels,
- * RMSE (0..255 scale) and PSNR in dB.  Exit status 0 when the sizes match,
- * 1 on errors; the numbers are for the caller to judge. */
+ * RMSE (0..255 scale), PSNR in dB and SSIM (structural similarity, Wang et
+ * al. 2004, on luma in 8x8 windows: 1 = identical, a perceptual measure that
+ * weighs structure over uniform brightness errors).  --csv prints
+ * "max,differing,rmse,psnr,ssim".  Exit status 0 when the sizes match, 1 on
+ * errors; the numbers are for the caller to judge. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include "image.h"
 
+/* Mean SSIM over all 8x8 windows (step 1) of the luma channel. */
+static double ssim(const uint8_t *a, const uint8_t *b, int w, int h)
+{
+    enum { N = 8 };
+    if (w < N || h < N)
+        return 1.0;
+    double *ya = malloc(sizeof(double) * (size_t)w * h), *yb = malloc(sizeof(double) * (size_t)w * h);
+    if (!ya || !yb) {
+        free(ya);
+        free(yb);
+        return NAN;
+    }
+    for (size_t i = 0; i < (size_t)w * h; i++) {
+        ya[i] = 0.299 * a[3 * i] + 0.587 * a[3 * i + 1] + 0.114 * a[3 * i + 2];
+        yb[i] = 0.299 * b[3 * i] + 0.587 * b[3 * i + 1] + 0.114 * b[3 * i + 2];
+    }
+    const double c1 = (0.01 * 255) * (0.01 * 255), c2 = (0.03 * 255) * (0.03 * 255);
+    double sum = 0;
+    long windows = 0;
+    for (int y = 0; y + N <= h; y++)
+        for (int x = 0; x + N <= w; x++) {
+            double ma = 0, mb = 0, va = 0, vb = 0, cov = 0;
+            for (int j = 0; j < N; j++)
+                for (int i = 0; i < N; i++) {
+                    size_t k = (size_t)(y + j) * w + (x + i);
+                    ma += ya[k];
+                    mb += yb[k];
+                }
+            ma /= N * N;
+            mb /= N * N;
+            for (int j = 0; j < N; j++)
+                for (int i = 0; i < N; i++) {
+                    size_t k = (size_t)(y + j) * w + (x + i);
+                    double da = ya[k] - ma, db = yb[k] - mb;
+                    va += da * da;
+                    vb += db * db;
+                    cov += da * db;
+                }
+            va /= N * N - 1;
+            vb /= N * N - 1;
+            cov /= N * N - 1;
+            sum += ((2 * ma * mb + c1) * (2 * cov + c2)) / ((ma * ma + mb * mb + c1) * (va + vb + c2));
+            windows++;
+        }
+    free(ya);
+    free(yb);
+    return sum / (double)windows;
+}
+
 int main(int argc, char **argv)
 {
+    int csv = argc == 4 && strcmp(argv[1], "--csv") == 0;
+    if (csv) {
+        argv++;
+        argc--;
+    }
     if (argc != 3) {
-        fprintf(stderr, "usage: lanray-imgdiff a.png b.png\n");
+        fprintf(stderr, "usage: lanray-imgdiff [--csv] a.png b.png\n");
         return 2;
     }
     Err err;
@@ -52,7 +110,12 @@ int main(int argc, char **argv)
     }
     double rmse = sqrt(sq / (3.0 * (double)n));
     double psnr = rmse > 0 ? 20 * log10(255.0 / rmse) : INFINITY;
-    printf("max difference %d, differing pixels %zu of %zu, rmse %.4f, psnr %.2f dB\n", maxd, differing, n, rmse, psnr);
+    double s = ssim(a, b, wa, ha);
+    if (csv)
+        printf("%d,%zu,%.5f,%.3f,%.6f\n", maxd, differing, rmse, isinf(psnr) ? 999.0 : psnr, s);
+    else
+        printf("max difference %d, differing pixels %zu of %zu, rmse %.4f, psnr %.2f dB, ssim %.6f\n", maxd, differing, n,
+               rmse, psnr, s);
     free(a);
     free(b);
     return 0;

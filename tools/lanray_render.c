@@ -30,6 +30,7 @@ static void usage(FILE *f)
             "  --bvh sbt|mst|sah    BVH builder for models (default sah; forces a rebuild of .tmd models)\n"
             "  --shading phong|diffuse, --shadows on|off, --filter nearest|bilinear\n"
             "  --frames N           render N times, report the best and mean frame time\n"
+            "  --segment N          render the frame as segments of N lines, one after another\n"
             "  --quiet              print only the timing line\n");
 }
 
@@ -50,7 +51,7 @@ typedef struct {
 int main(int argc, char **argv)
 {
     const char *scene_path = NULL, *out = "lanray.png";
-    int width = 1024, height = 768, frames = 1, quiet = 0, force_bvh = 0;
+    int width = 1024, height = 768, frames = 1, quiet = 0, force_bvh = 0, segment = 0;
     int threads = (int)sysconf(_SC_NPROCESSORS_ONLN);
     if (threads < 1)
         threads = 1;
@@ -87,6 +88,8 @@ int main(int argc, char **argv)
             bad = parse_int(v, 1, RENDER_MAX_THREADS, &threads);
         } else if (strcmp(a, "--frames") == 0) {
             bad = parse_int(v, 1, 100000, &frames);
+        } else if (strcmp(a, "--segment") == 0) {
+            bad = parse_int(v, 1, RENDER_MAX_SIDE, &segment);
         } else if (strcmp(a, "--aa") == 0) {
             if (strncmp(v, "adaptive", 8) == 0) {
                 ov.adaptive = 1;
@@ -159,7 +162,15 @@ int main(int argc, char **argv)
     RayStats st = {0, 0};
     for (int f = 0; f < frames && rc == 0; f++) {
         double a = timer_now();
-        rc = render_lines(pool, scene, width, height, 0, height, pixels, &st, &err);
+        int seg = segment ? segment : height;
+        st = (RayStats){0, 0};
+        for (int y = 0; rc == 0 && y < height; y += seg) {
+            RayStats part;
+            rc = render_lines(pool, scene, width, height, y, y + seg <= height ? seg : height - y,
+                              pixels + (size_t)y * width * 3, &part, &err);
+            st.primary += part.primary;
+            st.shadow += part.shadow;
+        }
         double dt = timer_now() - a;
         sum += dt;
         if (dt < best)
