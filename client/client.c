@@ -40,6 +40,7 @@ typedef struct {
     Segment seg;
     SceneRef *ref;
     uint8_t *pixels; /* set when done */
+    uint32_t render_us;
 } Job;
 
 typedef struct {
@@ -86,13 +87,16 @@ static void *render_thread(void *arg)
         pthread_mutex_unlock(&w->mu);
         uint8_t *px = malloc((size_t)j.seg.count * 3);
         Err err;
+        double t0 = timer_now();
         int rc = px ? render_span(w->pool, j.ref->scene, j.ref->width, j.ref->height, j.seg.first, j.seg.count, px,
                                   NULL, &w->cancel, &err)
                     : -1;
+        double us = (timer_now() - t0) * 1e6;
         pthread_mutex_lock(&w->mu);
         w->running = 0;
         if (rc == 0 && j.frame == w->current_frame && w->ndone < MAX_JOBS * 2) {
             j.pixels = px;
+            j.render_us = us < 4e9 ? (uint32_t)us : UINT32_MAX;
             w->done[w->ndone++] = j;
             w->segments++;
             w->pixels += j.seg.count;
@@ -234,7 +238,7 @@ static void queue_job(Worker *w, uint32_t frame, Segment seg, SceneRef *ref)
     if (w->nqueue == MAX_JOBS)
         return; /* the server never gives more than a few: a misbehaving server */
     ref->refs++;
-    w->queue[w->nqueue++] = (Job){frame, seg, ref, NULL};
+    w->queue[w->nqueue++] = (Job){frame, seg, ref, NULL, 0};
     pthread_cond_signal(&w->cv);
 }
 
@@ -352,7 +356,7 @@ static int session(const ClientConfig *cfg, Worker *w, AssetCache *cache, volati
             pthread_mutex_unlock(&w->mu);
             int bad = 0;
             for (int i = 0; i < n; i++) {
-                uint32_t h[3] = {done[i].frame, done[i].seg.first, done[i].seg.count};
+                uint32_t h[4] = {done[i].frame, done[i].seg.first, done[i].seg.count, done[i].render_us};
                 if (!bad && conn_send2(&c, PKT_DATA, h, sizeof h, done[i].pixels, (size_t)done[i].seg.count * 3, MAX_QUEUE, err))
                     bad = 1;
                 free(done[i].pixels);

@@ -25,7 +25,7 @@ uint32_t proto_max_size(uint32_t type)
     case PKT_WELCOME: return PROTO_HEADER + 4;
     case PKT_UPDATE: return 64 * MIB;
     case PKT_COMPUTE: return PROTO_HEADER + 12;
-    case PKT_DATA: return PROTO_HEADER + 12 + 192 * MIB; /* a whole 8192x8192 frame */
+    case PKT_DATA: return PROTO_HEADER + 16 + 192 * MIB; /* a whole 8192x8192 frame */
     case PKT_ASSET: return 1024 * MIB;
     case PKT_ERROR: return PROTO_HEADER + PROTO_MAX_ERROR_TEXT;
     case PKT_BYE: return PROTO_HEADER;
@@ -41,7 +41,7 @@ uint32_t proto_min_size(uint32_t type)
     case PKT_WELCOME:
     case PKT_COMPUTE: return proto_max_size(type); /* fixed size */
     case PKT_UPDATE: return PROTO_HEADER + 16;
-    case PKT_DATA: return PROTO_HEADER + 12;
+    case PKT_DATA: return PROTO_HEADER + 16;
     case PKT_ASSET: return PROTO_HEADER + 4 + PROTO_HASH;
     default: return PROTO_HEADER;
     }

@@ -15,7 +15,7 @@
 #include "err.h"
 
 #define PROTO_MAGIC 0x5941524cu /* "LRAY" */
-#define PROTO_VERSION 1u
+#define PROTO_VERSION 2u
 #define PROTO_BOM 0x01020304u
 #define PROTO_HEADER 8u
 #define PROTO_NONCE 32u
@@ -30,7 +30,7 @@ typedef enum {
     PKT_WELCOME = 3,      /* server -> client: client id */
     PKT_UPDATE = 4,       /* server -> client: frame, size, up to 2 segments, serialised scene */
     PKT_COMPUTE = 5,      /* server -> client: frame, segment */
-    PKT_DATA = 6,         /* client -> server: frame, segment, RGB8 pixels */
+    PKT_DATA = 6,         /* client -> server: frame, segment, render time, RGB8 pixels */
     PKT_ASSET = 7,        /* server -> client: kind, content hash, payload */
     PKT_ERROR = 8,        /* either way: a reason, then the sender closes */
     PKT_BYE = 9,          /* either way: orderly goodbye */

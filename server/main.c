@@ -1,7 +1,7 @@
 /* lanray-server - holds the scene, hands out segments to clients, shows or writes frames.
  *
  *   lanray-server [scene] [--port P] [--listen ADDR] [--token T | --insecure]
- *                 [--width W] [--height H] [--segment LINES] [--tail static|smart|adaptive]
+ *                 [--width W] [--height H] [--segment LINES|auto] [--tail static|smart|adaptive]
  *                 [--bvh sbt|mst|sah] [--aa N|adaptive[:N]] [--rotate DEG]
  *                 [--headless] [--frames N] [--out DIR] [--stall-timeout S] [--quiet]
  *
@@ -70,7 +70,7 @@ static void on_frame(void *ctx, uint32_t frame, const uint8_t *pixels)
 static void usage(FILE *f)
 {
     fprintf(f, "usage: lanray-server [scene] [--port P] [--listen ADDR] [--token T | --insecure]\n"
-               "       [--width W] [--height H] [--segment LINES] [--tail static|smart|adaptive]\n"
+               "       [--width W] [--height H] [--segment LINES|auto] [--tail static|smart|adaptive]\n"
                "       [--bvh sbt|mst|sah] [--aa N|adaptive[:N]] [--rotate DEG]\n"
                "       [--headless] [--frames N] [--out DIR] [--stall-timeout S] [--quiet]\n");
 }
@@ -123,7 +123,7 @@ static void apply_input(App *a, const DisplayInput *in, const Camera *home, int 
 int main(int argc, char **argv)
 {
     const char *scene_path = NULL, *out_dir = "frames";
-    ServerConfig cfg = {NULL, PROTO_DEFAULT_PORT, getenv("LANRAY_TOKEN"), 0, 1024, 768, 16, sched_tail_smart, 30, 10, 0};
+    ServerConfig cfg = {NULL, PROTO_DEFAULT_PORT, getenv("LANRAY_TOKEN"), 0, 1024, 768, 0, sched_tail_smart, 30, 10, 0};
     if (cfg.token && !*cfg.token)
         cfg.token = NULL;
     BvhOptions bvh = bvh_options_default(BVH_SAH);
@@ -166,7 +166,10 @@ int main(int argc, char **argv)
             bad = parse_int(v, 1, 16384, &n);
             cfg.height = (int)n;
         } else if (strcmp(a, "--segment") == 0) {
-            bad = parse_int(v, 1, 16384, &n);
+            if (strcmp(v, "auto") == 0)
+                n = 0;
+            else
+                bad = parse_int(v, 1, 16384, &n);
             cfg.segment_lines = (uint32_t)n;
         } else if (strcmp(a, "--tail") == 0) {
             cfg.tail = sched_tail_by_name(v);
@@ -245,8 +248,13 @@ int main(int argc, char **argv)
     signal(SIGUSR1, on_stats);
     signal(SIGPIPE, SIG_IGN);
     /* the port line is what scripts wait for */
-    printf("lanray-server: listening on %s:%d (%dx%d, %u-line segments)\n", cfg.listen_addr ? cfg.listen_addr : "127.0.0.1",
-           server_port(app.server), cfg.width, cfg.height, cfg.segment_lines);
+    char segtext[32];
+    if (cfg.segment_lines)
+        snprintf(segtext, sizeof segtext, "%u-line", cfg.segment_lines);
+    else
+        snprintf(segtext, sizeof segtext, "automatic");
+    printf("lanray-server: listening on %s:%d (%dx%d, %s segments)\n", cfg.listen_addr ? cfg.listen_addr : "127.0.0.1",
+           server_port(app.server), cfg.width, cfg.height, segtext);
     fflush(stdout);
     Camera home = scene->camera;
     int animate = rotate != 0, rc = 0;
@@ -292,6 +300,7 @@ int main(int argc, char **argv)
         }
     }
     server_print_stats(app.server);
+    server_print_summary(app.server);
     server_destroy(app.server);
     display_close(app.display);
     scene_destroy(scene);

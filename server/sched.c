@@ -100,6 +100,8 @@ void sched_begin_frame(Sched *s, uint32_t frame)
 
 void sched_set_clients(Sched *s, uint32_t clients) { s->clients = clients ? clients : 1; }
 
+void sched_set_segment_lines(Sched *s, uint32_t lines) { s->cfg.segment_lines = lines ? lines : 1; }
+
 static int add_assignment(Sched *s, int client, uint32_t rec)
 {
     if (s->nasg == s->capasg) {

@@ -48,6 +48,8 @@ Sched *sched_create(const SchedConfig *cfg);
 void sched_destroy(Sched *s);
 /* Starts frame `frame` (all earlier assignments become stale). */
 void sched_begin_frame(Sched *s, uint32_t frame);
+/* Changes the segment size from the next frame on (automatic sizing). */
+void sched_set_segment_lines(Sched *s, uint32_t lines);
 /* The number of clients connected, for the tail rules. */
 void sched_set_clients(Sched *s, uint32_t clients);
 /* Gives client a segment: a new one while pixels are left, else one still

@@ -11,6 +11,7 @@
 #include <arpa/inet.h>
 #include <errno.h>
 #include <netinet/in.h>
+#include <math.h>
 #include <poll.h>
 #include <stdarg.h>
 #include <stdio.h>
@@ -38,6 +39,7 @@ typedef struct {
     uint32_t frame_sent; /* last frame it got an UPDATE for (0: none) */
     uint8_t *asset_sent; /* per server asset */
     uint64_t segments, pixels, duplicates;
+    uint64_t busy_us;
     double busy_since;
     int closing;
 } Client;
@@ -59,7 +61,41 @@ struct Server {
     double frame_start;
     /* finished clients' statistics, for the summary */
     uint64_t gone_segments, gone_pixels, gone_bytes;
+    /* for the summary line and the automatic segment size */
+    uint64_t frame_busy_us, total_busy_us, frame_pixels_us, frame_segments;
+    double first_frame_start, last_frame_end;
+    uint32_t frames_done, clients_seen_max;
+    int auto_segment;
+    uint64_t asset_bytes;
 };
+
+/* Automatic segment size.  A segment of render time tau costs a fixed
+ * overhead o (packets, scheduling, waking the client's thread pool) and, at
+ * the end of a frame, leaves clients idle for about tau while the last
+ * segments finish.  Per frame of work W on N clients that is o*W/(N*tau) +
+ * tau, smallest at tau = sqrt(o*W/N).  W and the time per line come from the
+ * render times the clients report; o is measured on loopback (about 0.3 ms
+ * per segment here, see docs/scaling.md).  The result is rounded to a power
+ * of two and kept to at most half a frame per client. */
+#define AUTO_OVERHEAD_US 300.0
+
+static uint32_t auto_lines(double work_us, uint32_t height, uint32_t clients)
+{
+    if (clients < 1)
+        clients = 1;
+    uint32_t most = height / (2 * clients) > 0 ? height / (2 * clients) : 1;
+    if (work_us <= 0) { /* nothing measured yet: a sixteenth of the frame per client */
+        uint32_t l = height / (16 * clients);
+        return l < 1 ? 1 : (l > most ? most : l);
+    }
+    double tau = sqrt(AUTO_OVERHEAD_US * work_us / clients);
+    double line_us = work_us / height;
+    double lines = tau / line_us;
+    uint32_t p = 1;
+    while (p * 2 <= most && (double)(p * 2) <= lines * 1.4142)
+        p *= 2;
+    return p;
+}
 
 static void logf_(const Server *s, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
 static void logf_(const Server *s, const char *fmt, ...)
@@ -115,7 +151,8 @@ Server *server_create(const ServerConfig *cfg, Scene *scene, Err *err)
     s->scene = scene;
     s->listen_fd = -1;
     s->next_id = 1;
-    SchedConfig sc = {(uint32_t)cfg->width, (uint32_t)cfg->height, cfg->segment_lines, cfg->tail,
+    s->auto_segment = cfg->segment_lines == 0;
+    SchedConfig sc = {(uint32_t)cfg->width, (uint32_t)cfg->height, cfg->segment_lines ? cfg->segment_lines : 1, cfg->tail,
                       (uint32_t)(cfg->width / 4 > 0 ? cfg->width / 4 : 1)};
     s->sched = sched_create(&sc);
     s->pixels = calloc((size_t)cfg->width * cfg->height, 3);
@@ -238,6 +275,7 @@ static void send_update(Server *s, Client *c)
             memcpy(head + 4, s->assets[i].hash, PROTO_HASH);
             send_or_drop(s, c, PKT_ASSET, head, sizeof head, s->assets[i].data, s->assets[i].len);
             c->asset_sent[i] = 1;
+            s->asset_bytes += PROTO_HEADER + sizeof head + s->assets[i].len;
         }
     uint32_t body[4 + 4] = {s->frame, (uint32_t)s->cfg.width, (uint32_t)s->cfg.height, 0};
     for (int k = 0; k < 2; k++) {
@@ -266,6 +304,14 @@ static int start_frame(Server *s, Err *err)
     s->frame++;
     s->in_frame = 1;
     s->frame_start = timer_now();
+    if (s->frames_done == 0)
+        s->first_frame_start = s->frame_start;
+    uint32_t n = server_client_count(s);
+    if (n > s->clients_seen_max)
+        s->clients_seen_max = n;
+    if (s->auto_segment)
+        sched_set_segment_lines(s->sched, auto_lines((double)s->frame_pixels_us, (uint32_t)s->cfg.height, n));
+    s->frame_busy_us = s->frame_pixels_us = s->frame_segments = 0;
     sched_begin_frame(s->sched, s->frame);
     sched_set_clients(s->sched, server_client_count(s));
     for (uint32_t i = 0; i < s->nclients; i++)
@@ -357,10 +403,10 @@ static void on_hello(Server *s, Client *c)
 
 static void on_data(Server *s, Client *c)
 {
-    uint32_t h[3];
+    uint32_t h[4];
     memcpy(h, c->conn.body, sizeof h);
     Segment seg = {h[1], h[2]};
-    if ((uint64_t)c->conn.body_size != 12 + (uint64_t)seg.count * 3) {
+    if ((uint64_t)c->conn.body_size != 16 + (uint64_t)seg.count * 3) {
         drop(s, c, "DATA packet size does not match its segment");
         return;
     }
@@ -372,10 +418,18 @@ static void on_data(Server *s, Client *c)
         drop(s, c, why);
         return;
     }
+    if (r != SCHED_STALE) {
+        /* time spent rendering counts whether or not this copy won */
+        c->busy_us += h[3];
+        s->frame_busy_us += h[3];
+        s->total_busy_us += h[3];
+    }
     if (r == SCHED_ACCEPT) {
-        memcpy(s->pixels + (size_t)seg.first * 3, c->conn.body + 12, (size_t)seg.count * 3);
+        memcpy(s->pixels + (size_t)seg.first * 3, c->conn.body + 16, (size_t)seg.count * 3);
         c->segments++;
         c->pixels += seg.count;
+        s->frame_pixels_us += h[3];
+        s->frame_segments++;
     } else if (r == SCHED_DUPLICATE) {
         c->duplicates += seg.count;
     }
@@ -493,10 +547,32 @@ int server_step(Server *s, int timeout_ms, FrameDoneFn done, void *ctx, Err *err
     housekeeping(s);
     if (s->in_frame && sched_frame_done(s->sched)) {
         s->in_frame = 0;
+        s->frames_done++;
+        s->last_frame_end = timer_now();
         if (done)
             done(ctx, s->frame, s->pixels);
     }
     return 0;
+}
+
+uint32_t server_segment_lines(const Server *s) { return sched_config(s->sched)->segment_lines; }
+
+void server_print_summary(const Server *s)
+{
+    uint64_t bytes = s->gone_bytes;
+    for (uint32_t i = 0; i < s->nclients; i++)
+        bytes += s->clients[i]->conn.bytes_in + s->clients[i]->conn.bytes_out;
+    double wall = s->frames_done ? s->last_frame_end - s->first_frame_start : 0;
+    double busy = (double)s->total_busy_us * 1e-6;
+    uint32_t n = s->clients_seen_max;
+    SchedStats st = sched_stats(s->sched);
+    double frames = s->frames_done ? s->frames_done : 1;
+    printf("summary frames=%u wall_s=%.4f fps=%.3f clients=%u busy_s=%.4f efficiency=%.4f idle_s=%.4f "
+           "dup_lines_per_frame=%.2f bytes_per_frame=%.0f segments_per_frame=%.1f segment_lines=%u\n",
+           s->frames_done, wall, wall > 0 ? s->frames_done / wall : 0.0, n, busy,
+           wall > 0 && n ? busy / (n * wall) : 0.0, n * wall - busy,
+           (double)st.duplicate_pixels / s->cfg.width / frames, (double)(bytes - s->asset_bytes) / frames,
+           (double)st.segments / frames, server_segment_lines(s));
 }
 
 void server_print_stats(const Server *s)

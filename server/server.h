@@ -19,7 +19,7 @@ typedef struct {
     const char *token;       /* NULL: no authentication (loopback or --insecure) */
     int insecure;            /* allow a non-loopback address without a token */
     int width, height;
-    uint32_t segment_lines;
+    uint32_t segment_lines;   /* 0: chosen automatically from client count and measured segment times */
     SchedTailRule tail;
     double stall_timeout;     /* seconds without a result while holding work: disconnect */
     double handshake_timeout; /* seconds to finish the handshake */
@@ -44,5 +44,12 @@ int server_port(const Server *s);
 uint32_t server_client_count(const Server *s);
 /* Per-client statistics, one line each, to stdout. */
 void server_print_stats(const Server *s);
+/* One machine-readable line for benchmarks: frames, wall time from the first
+ * frame's start to the last one's end, FPS, clients, their busy time and
+ * efficiency (busy / (clients x wall)), idle time, duplicated lines and bytes
+ * per frame, segment size. */
+void server_print_summary(const Server *s);
+/* The segment size the next frame will use. */
+uint32_t server_segment_lines(const Server *s);
 
 #endif

@@ -13,7 +13,7 @@ Prints the text of the server's ERROR packet, or 'closed' / 'no error'.
 """
 import hashlib, hmac, os, socket, struct, sys
 
-MAGIC, VERSION, BOM = 0x5941524C, 1, 0x01020304
+MAGIC, VERSION, BOM = 0x5941524C, 2, 0x01020304
 SERVER_HELLO, HELLO, WELCOME, UPDATE, COMPUTE, DATA, ASSET, ERROR = 1, 2, 3, 4, 5, 6, 7, 8
 
 
@@ -74,7 +74,7 @@ def main():
             if ptype == UPDATE:
                 frame = struct.unpack("=I", body[:4])[0]
                 # a segment at the end of the frame that nobody was given yet
-                body = struct.pack("=III", frame, 7, 3) + b"\xff" * 9
+                body = struct.pack("=IIII", frame, 7, 3, 100) + b"\xff" * 9
                 s.sendall(struct.pack("=II", DATA, 8 + len(body)) + body)
                 break
     elif mode == "silent":
