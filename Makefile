@@ -6,6 +6,7 @@
 #   make check-asan the same tests under AddressSanitizer + UBSan
 #   make bench      renderer benchmark against Embree (prints ratios)
 #   make tradeoff   quality knobs: time and error against a reference (docs/tradeoff.*)
+#   make bench-scaling  clients x segment size x tail rule, with schedsim (docs/scaling*)
 #   make PRECISION=double ...   double-precision build in build/double, bin/double
 PRECISION ?= float
 SAN ?=
@@ -47,13 +48,13 @@ LDFLAGS := $(SANFLAGS)
 COMMON_SRC := $(wildcard common/*.c) $(filter-out server/main.c,$(wildcard server/*.c)) $(filter-out client/main.c,$(wildcard client/*.c))
 COMMON_OBJ := $(COMMON_SRC:%.c=$(BUILD)/%.o)
 LIB := $(BUILD)/liblanray.a
-TOOLS := $(BIN)/lanray-render $(BIN)/obj2tmd $(BIN)/lanray-imgdiff $(BIN)/lanray-server $(BIN)/lanray-client
+TOOLS := $(BIN)/lanray-render $(BIN)/obj2tmd $(BIN)/lanray-imgdiff $(BIN)/lanray-server $(BIN)/lanray-client $(BIN)/schedsim
 TEST_SRC := $(wildcard tests/test_*.c tests/stability/test_*.c)
 TESTS := $(TEST_SRC:%.c=$(BUILD)/%)
 
 DEB_PACKAGES := gcc make pkg-config libsdl2-dev libnetpbm-dev libpng-dev libcmocka-dev libembree-dev libsodium-dev xvfb x11-apps python3
 
-.PHONY: all deps check check-asan bench demo clean tradeoff
+.PHONY: all deps check check-asan bench demo clean tradeoff bench-scaling
 .SECONDARY:
 all: $(TOOLS)
 
@@ -91,6 +92,10 @@ $(BIN)/lanray-client: $(BUILD)/client/main.o $(LIB)
 	@mkdir -p $(dir $@)
 	$(CC) $(LDFLAGS) -o $@ $^ $(LDLIBS)
 
+$(BIN)/schedsim: $(BUILD)/tools/schedsim.o $(LIB)
+	@mkdir -p $(dir $@)
+	$(CC) $(LDFLAGS) -o $@ $^ $(LDLIBS)
+
 $(BIN)/lanray-imgdiff: $(BUILD)/tools/imgdiff.o $(LIB)
 	@mkdir -p $(dir $@)
 	$(CC) $(LDFLAGS) -o $@ $^ $(LDLIBS)
@@ -122,6 +127,11 @@ tradeoff: deps $(TOOLS)
 	@$(MAKE) --no-print-directory DEB_PACKAGES=gnuplot-nox deps
 	@$(MAKE) --no-print-directory PRECISION=double bin/double/lanray-render
 	@BIN=$(BIN) bash tools/tradeoff docs
+
+# scaling by clients, segment size and tail rule, and the simulator beside it
+bench-scaling: deps $(TOOLS)
+	@$(MAKE) --no-print-directory DEB_PACKAGES="gnuplot-nox iproute2" deps
+	@BIN=$(BIN) bash tools/bench-scaling docs
 
 demo: deps $(TOOLS)
 	@BIN=$(BIN) bash tools/demo

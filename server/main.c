@@ -3,11 +3,13 @@
  *   lanray-server [scene] [--port P] [--listen ADDR] [--token T | --insecure]
  *                 [--width W] [--height H] [--segment LINES|auto] [--tail static|smart|adaptive]
  *                 [--bvh sbt|mst|sah] [--aa N|adaptive[:N]] [--rotate DEG]
- *                 [--headless] [--frames N] [--out DIR] [--stall-timeout S] [--quiet]
+ *                 [--headless] [--frames N] [--out DIR] [--discard] [--warmup N]
+ *                 [--stall-timeout S] [--quiet]
  *
  * Without a scene it serves the built-in default scene.  With a display it
  * opens a window (keys in server/display.c); with --headless, or when there
- * is no display, it writes DIR/frame-NNNNN.png.  SIGUSR1 prints per-client
+ * is no display, it writes DIR/frame-NNNNN.png (--discard: throws frames away,
+ * for benchmarks; --warmup N leaves the first N frames out of the summary).  SIGUSR1 prints per-client
  * statistics; they are printed at exit too. */
 #include <errno.h>
 #include <signal.h>
@@ -28,7 +30,7 @@ static void on_stop(int sig) { (void)sig; stop_flag = 1; }
 static void on_stats(int sig) { (void)sig; stats_flag = 1; }
 
 typedef struct {
-    const char *out_dir;
+    const char *out_dir; /* NULL: frames are discarded (benchmarks) */
     Display *display;
     Server *server;
     Scene *scene;
@@ -57,7 +59,7 @@ static void on_frame(void *ctx, uint32_t frame, const uint8_t *pixels)
                 fprintf(stderr, "lanray-server: saved %s\n", path);
             a->screenshot = 0;
         }
-    } else {
+    } else if (a->out_dir) {
         char path[4096];
         snprintf(path, sizeof path, "%s/frame-%05u.png", a->out_dir, a->frames_done);
         if (image_write(path, a->width, a->height, pixels, &err))
@@ -72,7 +74,7 @@ static void usage(FILE *f)
     fprintf(f, "usage: lanray-server [scene] [--port P] [--listen ADDR] [--token T | --insecure]\n"
                "       [--width W] [--height H] [--segment LINES|auto] [--tail static|smart|adaptive]\n"
                "       [--bvh sbt|mst|sah] [--aa N|adaptive[:N]] [--rotate DEG]\n"
-               "       [--headless] [--frames N] [--out DIR] [--stall-timeout S] [--quiet]\n");
+               "       [--headless] [--frames N] [--out DIR] [--discard] [--warmup N] [--stall-timeout S] [--quiet]\n");
 }
 
 static int parse_int(const char *s, long lo, long hi, long *out)
@@ -123,11 +125,11 @@ static void apply_input(App *a, const DisplayInput *in, const Camera *home, int 
 int main(int argc, char **argv)
 {
     const char *scene_path = NULL, *out_dir = "frames";
-    ServerConfig cfg = {NULL, PROTO_DEFAULT_PORT, getenv("LANRAY_TOKEN"), 0, 1024, 768, 0, sched_tail_smart, 30, 10, 0};
+    ServerConfig cfg = {NULL, PROTO_DEFAULT_PORT, getenv("LANRAY_TOKEN"), 0, 1024, 768, 0, sched_tail_smart, 30, 10, 0, 0};
     if (cfg.token && !*cfg.token)
         cfg.token = NULL;
     BvhOptions bvh = bvh_options_default(BVH_SAH);
-    int headless = 0, force_bvh = 0, aa = -1, adaptive = 0;
+    int headless = 0, force_bvh = 0, aa = -1, adaptive = 0, discard = 0;
     long frames = 0;
     double rotate = 0;
     for (int i = 1; i < argc; i++) {
@@ -139,6 +141,9 @@ int main(int argc, char **argv)
             return 0;
         } else if (strcmp(a, "--headless") == 0) {
             headless = 1;
+            continue;
+        } else if (strcmp(a, "--discard") == 0) {
+            headless = discard = 1;
             continue;
         } else if (strcmp(a, "--insecure") == 0) {
             cfg.insecure = 1;
@@ -189,6 +194,9 @@ int main(int argc, char **argv)
             char *end;
             rotate = strtod(v, &end);
             bad = *end != 0;
+        } else if (strcmp(a, "--warmup") == 0) {
+            bad = parse_int(v, 0, 1000000, &n);
+            cfg.warmup = (uint32_t)n;
         } else if (strcmp(a, "--stall-timeout") == 0) {
             bad = parse_int(v, 1, 86400, &n);
             cfg.stall_timeout = (double)n;
@@ -215,7 +223,7 @@ int main(int argc, char **argv)
     }
     App app;
     memset(&app, 0, sizeof app);
-    app.out_dir = out_dir;
+    app.out_dir = discard ? NULL : out_dir;
     app.scene = scene;
     app.width = cfg.width;
     app.height = cfg.height;
@@ -231,7 +239,7 @@ int main(int argc, char **argv)
             headless = 1;
         }
     }
-    if (headless && mkdir(out_dir, 0777) != 0 && errno != EEXIST) {
+    if (headless && !discard && mkdir(out_dir, 0777) != 0 && errno != EEXIST) {
         fprintf(stderr, "lanray-server: cannot create %s: %s\n", out_dir, strerror(errno));
         scene_destroy(scene);
         return 1;

@@ -41,6 +41,9 @@ typedef struct {
     uint64_t segments, pixels, duplicates;
     uint64_t busy_us;
     double busy_since;
+    double last_data;       /* when its previous result arrived */
+    uint32_t last_data_frame;
+    int was_full;           /* it held two segments when that result arrived */
     int closing;
 } Client;
 
@@ -66,7 +69,9 @@ struct Server {
     double first_frame_start, last_frame_end;
     uint32_t frames_done, clients_seen_max;
     int auto_segment;
-    uint64_t asset_bytes;
+    uint64_t asset_bytes, measured_bytes_base, dup_base, seg_base;
+    double overhead_us, gap_sum_us; /* per-segment overhead, for the automatic size */
+    uint32_t gap_samples;
 };
 
 /* Automatic segment size.  A segment of render time tau costs a fixed
@@ -74,12 +79,14 @@ struct Server {
  * the end of a frame, leaves clients idle for about tau while the last
  * segments finish.  Per frame of work W on N clients that is o*W/(N*tau) +
  * tau, smallest at tau = sqrt(o*W/N).  W and the time per line come from the
- * render times the clients report; o is measured on loopback (about 0.3 ms
- * per segment here, see docs/scaling.md).  The result is rounded to a power
- * of two and kept to at most half a frame per client. */
+ * render times the clients report; o is measured too: for a client that was
+ * kept busy, the time between two of its results minus the render time it
+ * reports (an average over the previous frame; AUTO_OVERHEAD_US until then).
+ * The result is rounded to a power of two and kept to at most half a frame
+ * per client. */
 #define AUTO_OVERHEAD_US 300.0
 
-static uint32_t auto_lines(double work_us, uint32_t height, uint32_t clients)
+static uint32_t auto_lines(double work_us, double overhead_us, uint32_t height, uint32_t clients)
 {
     if (clients < 1)
         clients = 1;
@@ -88,7 +95,7 @@ static uint32_t auto_lines(double work_us, uint32_t height, uint32_t clients)
         uint32_t l = height / (16 * clients);
         return l < 1 ? 1 : (l > most ? most : l);
     }
-    double tau = sqrt(AUTO_OVERHEAD_US * work_us / clients);
+    double tau = sqrt(overhead_us * work_us / clients);
     double line_us = work_us / height;
     double lines = tau / line_us;
     uint32_t p = 1;
@@ -304,14 +311,31 @@ static int start_frame(Server *s, Err *err)
     s->frame++;
     s->in_frame = 1;
     s->frame_start = timer_now();
-    if (s->frames_done == 0)
+    if (s->frames_done == s->cfg.warmup) {
+        /* the measured frames start here: statistics so far were warm-up */
         s->first_frame_start = s->frame_start;
+        s->total_busy_us = 0;
+        s->asset_bytes = 0;
+        s->measured_bytes_base = 0;
+        for (uint32_t i = 0; i < s->nclients; i++)
+            s->measured_bytes_base += s->clients[i]->conn.bytes_in + s->clients[i]->conn.bytes_out;
+        s->measured_bytes_base += s->gone_bytes;
+        s->dup_base = sched_stats(s->sched).duplicate_pixels;
+        s->seg_base = sched_stats(s->sched).segments;
+    }
     uint32_t n = server_client_count(s);
     if (n > s->clients_seen_max)
         s->clients_seen_max = n;
-    if (s->auto_segment)
-        sched_set_segment_lines(s->sched, auto_lines((double)s->frame_pixels_us, (uint32_t)s->cfg.height, n));
+    if (s->auto_segment) {
+        if (s->gap_samples >= 4) /* measured overhead, smoothed over frames */
+            s->overhead_us = s->overhead_us > 0 ? 0.5 * s->overhead_us + 0.5 * s->gap_sum_us / s->gap_samples
+                                                : s->gap_sum_us / s->gap_samples;
+        double o = s->overhead_us > 0 ? s->overhead_us : AUTO_OVERHEAD_US;
+        sched_set_segment_lines(s->sched, auto_lines((double)s->frame_pixels_us, o, (uint32_t)s->cfg.height, n));
+    }
     s->frame_busy_us = s->frame_pixels_us = s->frame_segments = 0;
+    s->gap_sum_us = 0;
+    s->gap_samples = 0;
     sched_begin_frame(s->sched, s->frame);
     sched_set_clients(s->sched, server_client_count(s));
     for (uint32_t i = 0; i < s->nclients; i++)
@@ -410,7 +434,19 @@ static void on_data(Server *s, Client *c)
         drop(s, c, "DATA packet size does not match its segment");
         return;
     }
-    c->last_result = timer_now();
+    double now = timer_now();
+    c->last_result = now;
+    /* overhead sample: a client that still held another segment went straight on to it */
+    if (c->was_full && c->last_data_frame == h[0] && h[0] == s->frame) {
+        double gap = (now - c->last_data) * 1e6 - h[3];
+        if (gap >= 0 && gap < 1e6) {
+            s->gap_sum_us += gap;
+            s->gap_samples++;
+        }
+    }
+    c->was_full = sched_held(s->sched, c->id) >= 2;
+    c->last_data = now;
+    c->last_data_frame = h[0];
     SchedResult r = sched_complete(s->sched, c->id, h[0], seg);
     if (r == SCHED_UNKNOWN) {
         char why[160];
@@ -562,17 +598,18 @@ void server_print_summary(const Server *s)
     uint64_t bytes = s->gone_bytes;
     for (uint32_t i = 0; i < s->nclients; i++)
         bytes += s->clients[i]->conn.bytes_in + s->clients[i]->conn.bytes_out;
-    double wall = s->frames_done ? s->last_frame_end - s->first_frame_start : 0;
+    uint32_t frames = s->frames_done > s->cfg.warmup ? s->frames_done - s->cfg.warmup : 0;
+    double wall = frames ? s->last_frame_end - s->first_frame_start : 0;
     double busy = (double)s->total_busy_us * 1e-6;
     uint32_t n = s->clients_seen_max;
     SchedStats st = sched_stats(s->sched);
-    double frames = s->frames_done ? s->frames_done : 1;
+    double fr = frames ? frames : 1;
     printf("summary frames=%u wall_s=%.4f fps=%.3f clients=%u busy_s=%.4f efficiency=%.4f idle_s=%.4f "
-           "dup_lines_per_frame=%.2f bytes_per_frame=%.0f segments_per_frame=%.1f segment_lines=%u\n",
-           s->frames_done, wall, wall > 0 ? s->frames_done / wall : 0.0, n, busy,
-           wall > 0 && n ? busy / (n * wall) : 0.0, n * wall - busy,
-           (double)st.duplicate_pixels / s->cfg.width / frames, (double)(bytes - s->asset_bytes) / frames,
-           (double)st.segments / frames, server_segment_lines(s));
+           "dup_lines_per_frame=%.2f bytes_per_frame=%.0f segments_per_frame=%.1f segment_lines=%u overhead_us=%.0f\n",
+           frames, wall, wall > 0 ? frames / wall : 0.0, n, busy, wall > 0 && n ? busy / (n * wall) : 0.0, n * wall - busy,
+           (double)(st.duplicate_pixels - s->dup_base) / s->cfg.width / fr,
+           (double)(bytes - s->measured_bytes_base - s->asset_bytes) / fr, (double)(st.segments - s->seg_base) / fr,
+           server_segment_lines(s), s->overhead_us);
 }
 
 void server_print_stats(const Server *s)

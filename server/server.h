@@ -24,6 +24,7 @@ typedef struct {
     double stall_timeout;     /* seconds without a result while holding work: disconnect */
     double handshake_timeout; /* seconds to finish the handshake */
     int quiet;
+    uint32_t warmup;          /* frames left out of the summary (the first carries the assets) */
 } ServerConfig;
 
 typedef struct Server Server;

@@ -31,6 +31,7 @@ static void usage(FILE *f)
             "  --shading phong|diffuse, --shadows on|off, --filter nearest|bilinear\n"
             "  --frames N           render N times, report the best and mean frame time\n"
             "  --segment N          render the frame as segments of N lines, one after another\n"
+            "  --profile FILE       also time every line alone and write 'line,microseconds' to FILE\n"
             "  --quiet              print only the timing line\n");
 }
 
@@ -50,7 +51,7 @@ typedef struct {
 
 int main(int argc, char **argv)
 {
-    const char *scene_path = NULL, *out = "lanray.png";
+    const char *scene_path = NULL, *out = "lanray.png", *profile = NULL;
     int width = 1024, height = 768, frames = 1, quiet = 0, force_bvh = 0, segment = 0;
     int threads = (int)sysconf(_SC_NPROCESSORS_ONLN);
     if (threads < 1)
@@ -80,6 +81,8 @@ int main(int argc, char **argv)
             return 2;
         } else if (strcmp(a, "-o") == 0) {
             out = v;
+        } else if (strcmp(a, "--profile") == 0) {
+            profile = v;
         } else if (strcmp(a, "--width") == 0) {
             bad = parse_int(v, 1, RENDER_MAX_SIDE, &width);
         } else if (strcmp(a, "--height") == 0) {
@@ -175,6 +178,19 @@ int main(int argc, char **argv)
         sum += dt;
         if (dt < best)
             best = dt;
+    }
+    if (rc == 0 && profile) {
+        /* per-line cost, for the scheduler simulator (tools/schedsim) */
+        FILE *pf = fopen(profile, "w");
+        if (!pf)
+            rc = err_set(&err, "%s: cannot write", profile);
+        for (int y = 0; pf && rc == 0 && y < height; y++) {
+            double a = timer_now();
+            rc = render_lines(pool, scene, width, height, y, 1, pixels + (size_t)y * width * 3, NULL, &err);
+            fprintf(pf, "%d,%.1f\n", y, (timer_now() - a) * 1e6);
+        }
+        if (pf && fclose(pf) != 0 && rc == 0)
+            rc = err_set(&err, "%s: write failed", profile);
     }
     if (rc == 0)
         rc = image_write(out, width, height, pixels, &err);

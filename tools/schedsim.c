@@ -1,0 +1,320 @@
+/* schedsim - discrete-event simulation of a lanray render farm, driving the
+ * real scheduler (server/sched.c) with simulated clients.
+ *
+ *   schedsim --profile lines.csv [--width W] [--clients N] [--threads T]
+ *            [--cores C] [--speeds a,b,...] [--segment LINES|auto] [--tail RULE]
+ *            [--latency-us L] [--bandwidth-mbit B] [--overhead-us O]
+ *            [--frames F] [--cost-scale K]
+ *
+ * The cost of a pixel comes from a real frame's profile (`lanray-render
+ * --profile`: microseconds per line on one thread); a client with T threads
+ * renders a segment in K * (its pixels' cost) / (T * speed * share) +
+ * O / (speed * share), where share < 1 when the clients together have more
+ * threads than there are cores C (the benchmark machine's clients share its
+ * cores; the per-segment overhead O is CPU work and stretches the same way).  Packets take
+ * the latency L plus their size over the server's link of B Mbit/s, one
+ * FIFO queue each way (DATA into the server, UPDATE/COMPUTE out of it).  The
+ * server behaves as the real one: an UPDATE with two segments per client at
+ * the start of a frame, a COMPUTE after every DATA, idle clients topped up
+ * (outstanding segments handed out again), the next frame as soon as the
+ * last pixels arrive.  Prints FPS, efficiency (busy / (clients x wall)),
+ * duplicated lines and bytes per frame. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "sched.h"
+
+#define MAXC 4096
+#define UPDATE_BYTES 900.0 /* header, two segments and the serialised benchmark scene */
+
+typedef enum { EV_ARRIVE_CLIENT, EV_DONE, EV_ARRIVE_SERVER } EvKind;
+
+typedef struct {
+    double t;
+    EvKind kind;
+    int client;
+    uint32_t frame;
+    Segment seg;
+    double busy_us;
+} Event;
+
+typedef struct {
+    Event *e;
+    int n, cap;
+} Heap;
+
+static void heap_push(Heap *h, Event ev)
+{
+    if (h->n == h->cap) {
+        h->cap = h->cap ? 2 * h->cap : 1024;
+        h->e = realloc(h->e, (size_t)h->cap * sizeof *h->e);
+        if (!h->e)
+            abort();
+    }
+    int i = h->n++;
+    while (i > 0 && h->e[(i - 1) / 2].t > ev.t) {
+        h->e[i] = h->e[(i - 1) / 2];
+        i = (i - 1) / 2;
+    }
+    h->e[i] = ev;
+}
+
+static Event heap_pop(Heap *h)
+{
+    Event top = h->e[0], last = h->e[--h->n];
+    int i = 0;
+    for (;;) {
+        int c = 2 * i + 1;
+        if (c >= h->n)
+            break;
+        if (c + 1 < h->n && h->e[c + 1].t < h->e[c].t)
+            c++;
+        if (h->e[c].t >= last.t)
+            break;
+        h->e[i] = h->e[c];
+        i = c;
+    }
+    h->e[i] = last;
+    return top;
+}
+
+typedef struct {
+    double speed;     /* threads x speed factor x core share */
+    double share;     /* core share x speed factor: how fast one thread runs */
+    Segment queue[64];
+    uint32_t qframe[64];
+    int nq;
+    int busy;
+    uint32_t cur_frame; /* the newest frame it knows */
+    double busy_us;
+} Client;
+
+typedef struct {
+    int width, height, clients, threads, frames;
+    double cores, latency_us, mbit, overhead_us, cost_scale;
+    uint32_t segment; /* 0: auto, as the server */
+    SchedTailRule tail;
+    double *line_us;  /* per line, one thread */
+    double *prefix;   /* cumulative cost per pixel, for segment costs */
+    double speeds[MAXC];
+    int nspeeds;
+} Sim;
+
+static double seg_cost(const Sim *s, Segment g) { return s->prefix[g.first + g.count] - s->prefix[g.first]; }
+
+/* time a packet of `bytes` leaves a FIFO link that is free at *free_at */
+static double link_send(double now, double *free_at, double bytes, double mbit)
+{
+    double start = now > *free_at ? now : *free_at;
+    double done = start + bytes * 8.0 / mbit; /* microseconds: bits / (Mbit/s) */
+    *free_at = done;
+    return done;
+}
+
+/* The server's rule (server.c's auto_lines), with the simulated per-segment
+ * overhead standing for the one the server measures. */
+static uint32_t auto_lines(double work_us, double overhead_us, uint32_t height, uint32_t clients)
+{
+    uint32_t most = height / (2 * clients) > 0 ? height / (2 * clients) : 1;
+    if (work_us <= 0) {
+        uint32_t l = height / (16 * clients);
+        return l < 1 ? 1 : (l > most ? most : l);
+    }
+    double tau = sqrt(overhead_us * work_us / clients), lines = tau / (work_us / height);
+    uint32_t p = 1;
+    while (p * 2 <= most && (double)(p * 2) <= lines * 1.4142)
+        p *= 2;
+    return p;
+}
+
+static void run(Sim *s)
+{
+    Client *cl = calloc((size_t)s->clients, sizeof *cl);
+    double total_threads = (double)s->clients * s->threads;
+    double share = total_threads > s->cores ? s->cores / total_threads : 1.0;
+    for (int i = 0; i < s->clients; i++) {
+        cl[i].share = share * (s->nspeeds ? s->speeds[i % s->nspeeds] : 1.0);
+        cl[i].speed = s->threads * cl[i].share;
+    }
+    SchedConfig cfg = {(uint32_t)s->width, (uint32_t)s->height, s->segment ? s->segment : 1, s->tail,
+                       (uint32_t)(s->width / 4 > 0 ? s->width / 4 : 1)};
+    Sched *sc = sched_create(&cfg);
+    sched_set_clients(sc, (uint32_t)s->clients);
+    Heap h = {0};
+    double now = 0, down_free = 0, up_free = 0, start = 0, bytes = 0, busy = 0, work = 0;
+    int frame = 0, measured = 0;
+    double t_first = 0;
+    for (; frame < s->frames + 1; frame++) { /* frame 0 is warm-up, as in the benchmark */
+        if (frame == 1) {
+            t_first = now;
+            bytes = busy = 0;
+        }
+        if (s->segment == 0)
+            sched_set_segment_lines(sc, auto_lines(work, s->overhead_us, (uint32_t)s->height, (uint32_t)s->clients));
+        sched_begin_frame(sc, (uint32_t)frame + 1);
+        work = 0;
+        start = now;
+        for (int i = 0; i < s->clients; i++) {
+            double t = link_send(now, &down_free, UPDATE_BYTES, s->mbit) + s->latency_us;
+            bytes += UPDATE_BYTES;
+            for (int k = 0; k < 2; k++) {
+                Segment g;
+                if (sched_assign(sc, i, &g))
+                    heap_push(&h, (Event){t, EV_ARRIVE_CLIENT, i, (uint32_t)frame + 1, g, 0});
+            }
+        }
+        while (!sched_frame_done(sc) && h.n) {
+            Event ev = heap_pop(&h);
+            now = ev.t;
+            Client *c = &cl[ev.client];
+            if (ev.kind == EV_ARRIVE_CLIENT) {
+                if (ev.frame > c->cur_frame) { /* newer UPDATE: drop older queued work */
+                    c->cur_frame = ev.frame;
+                    c->nq = 0;
+                }
+                if (ev.frame < c->cur_frame || c->nq == 64)
+                    continue;
+                c->queue[c->nq] = ev.seg;
+                c->qframe[c->nq++] = ev.frame;
+            } else if (ev.kind == EV_DONE) {
+                c->busy = 0;
+                if (ev.frame == c->cur_frame) {
+                    double size = 24.0 + 3.0 * ev.seg.count;
+                    double t = link_send(now, &up_free, size, s->mbit) + s->latency_us;
+                    heap_push(&h, (Event){t, EV_ARRIVE_SERVER, ev.client, ev.frame, ev.seg, ev.busy_us});
+                }
+            } else { /* DATA at the server */
+                bytes += 24.0 + 3.0 * ev.seg.count;
+                SchedResult r = sched_complete(sc, ev.client, ev.frame, ev.seg);
+                if (r != SCHED_STALE) {
+                    busy += ev.busy_us;
+                    if (r == SCHED_ACCEPT)
+                        work += ev.busy_us; /* the server sums the render times clients report */
+                }
+                if (r != SCHED_STALE && !sched_frame_done(sc)) {
+                    /* a COMPUTE after each DATA, and idle clients topped up */
+                    for (int i = 0; i < s->clients; i++) {
+                        if (i != ev.client && sched_held(sc, i) >= 2)
+                            continue;
+                        while (sched_held(sc, i) < 2) {
+                            Segment g;
+                            if (!sched_assign(sc, i, &g))
+                                break;
+                            double t = link_send(now, &down_free, 20, s->mbit) + s->latency_us;
+                            bytes += 20;
+                            heap_push(&h, (Event){t, EV_ARRIVE_CLIENT, i, ev.frame, g, 0});
+                        }
+                    }
+                }
+            }
+            /* idle clients start their next queued segment */
+            for (int i = 0; i < s->clients; i++) {
+                Client *d = &cl[i];
+                if (d->busy || d->nq == 0)
+                    continue;
+                Segment g = d->queue[0];
+                uint32_t f = d->qframe[0];
+                memmove(d->queue, d->queue + 1, (size_t)--d->nq * sizeof *d->queue);
+                memmove(d->qframe, d->qframe + 1, (size_t)d->nq * sizeof *d->qframe);
+                /* the per-segment overhead is CPU work too: it stretches with the core share */
+                double dt = seg_cost(s, g) / d->speed + s->overhead_us / d->share;
+                d->busy = 1;
+                heap_push(&h, (Event){now + dt, EV_DONE, i, f, g, dt});
+            }
+        }
+        if (frame >= 1)
+            measured++;
+    }
+    (void)start;
+    double wall = now - t_first;
+    SchedStats st = sched_stats(sc);
+    printf("%s fps=%.3f efficiency=%.4f dup_lines_per_frame=%.2f bytes_per_frame=%.0f segment_lines=%u\n",
+           "predicted", measured / (wall * 1e-6), busy / (s->clients * wall), (double)st.duplicate_pixels / s->width / (s->frames + 1),
+           bytes / measured, sched_config(sc)->segment_lines);
+    sched_destroy(sc);
+    free(h.e);
+    free(cl);
+}
+
+int main(int argc, char **argv)
+{
+    Sim s;
+    memset(&s, 0, sizeof s);
+    s.width = 1024;
+    s.clients = 1;
+    s.threads = 1;
+    s.frames = 3;
+    s.cores = 1e9;
+    s.latency_us = 50;
+    s.mbit = 10000;
+    s.overhead_us = 100;
+    s.segment = 16;
+    s.tail = sched_tail_smart;
+    s.cost_scale = 1;
+    const char *profile = NULL;
+    for (int i = 1; i < argc; i++) {
+        const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : "";
+        if (strcmp(a, "--profile") == 0) profile = v;
+        else if (strcmp(a, "--width") == 0) s.width = atoi(v);
+        else if (strcmp(a, "--clients") == 0) s.clients = atoi(v);
+        else if (strcmp(a, "--threads") == 0) s.threads = atoi(v);
+        else if (strcmp(a, "--cores") == 0) s.cores = atof(v);
+        else if (strcmp(a, "--latency-us") == 0) s.latency_us = atof(v);
+        else if (strcmp(a, "--bandwidth-mbit") == 0) s.mbit = atof(v);
+        else if (strcmp(a, "--overhead-us") == 0) s.overhead_us = atof(v);
+        else if (strcmp(a, "--frames") == 0) s.frames = atoi(v);
+        else if (strcmp(a, "--cost-scale") == 0) s.cost_scale = atof(v);
+        else if (strcmp(a, "--segment") == 0) s.segment = strcmp(v, "auto") == 0 ? 0 : (uint32_t)atoi(v);
+        else if (strcmp(a, "--tail") == 0) {
+            s.tail = sched_tail_by_name(v);
+            if (!s.tail) {
+                fprintf(stderr, "schedsim: unknown tail rule '%s'\n", v);
+                return 2;
+            }
+        } else if (strcmp(a, "--speeds") == 0) {
+            char *p = (char *)v;
+            while (*p && s.nspeeds < MAXC) {
+                s.speeds[s.nspeeds++] = strtod(p, &p);
+                if (*p == ',')
+                    p++;
+            }
+        } else {
+            fprintf(stderr, "schedsim: unknown option '%s'\n", a);
+            return 2;
+        }
+        i++;
+    }
+    if (!profile || s.width < 1 || s.clients < 1 || s.clients > MAXC || s.threads < 1 || s.frames < 1) {
+        fprintf(stderr, "usage: schedsim --profile lines.csv [--width W] [--clients N] [--threads T] [--cores C] ...\n");
+        return 2;
+    }
+    FILE *f = fopen(profile, "r");
+    if (!f) {
+        fprintf(stderr, "schedsim: cannot open %s\n", profile);
+        return 1;
+    }
+    int cap = 0, line;
+    double us;
+    while (fscanf(f, "%d,%lf", &line, &us) == 2) {
+        if (s.height == cap) {
+            cap = cap ? 2 * cap : 1024;
+            s.line_us = realloc(s.line_us, (size_t)cap * sizeof *s.line_us);
+        }
+        s.line_us[s.height++] = us;
+    }
+    fclose(f);
+    if (s.height < 1) {
+        fprintf(stderr, "schedsim: %s has no lines\n", profile);
+        return 1;
+    }
+    s.prefix = malloc(((size_t)s.width * s.height + 1) * sizeof *s.prefix);
+    s.prefix[0] = 0;
+    for (size_t p = 0; p < (size_t)s.width * s.height; p++)
+        s.prefix[p + 1] = s.prefix[p] + s.cost_scale * s.line_us[p / s.width] / s.width;
+    run(&s);
+    free(s.line_us);
+    free(s.prefix);
+    return 0;
+}
