@@ -3,7 +3,7 @@
  *
  *   schedsim --profile lines.csv [--width W] [--clients N] [--threads T]
  *            [--cores C] [--speeds a,b,...] [--segment LINES|auto] [--tail RULE]
- *            [--latency-us L] [--bandwidth-mbit B] [--overhead-us O]
+ *            [--latency-us L] [--bandwidth-mbit B] [--client-mbit B2] [--overhead-us O]
  *            [--frames F] [--cost-scale K]
  *
  * The cost of a pixel comes from a real frame's profile (`lanray-render
@@ -13,7 +13,8 @@
  * threads than there are cores C (the benchmark machine's clients share its
  * cores; the per-segment overhead O is CPU work and stretches the same way).  Packets take
  * the latency L plus their size over the server's link of B Mbit/s, one
- * FIFO queue each way (DATA into the server, UPDATE/COMPUTE out of it).  The
+ * FIFO queue each way (DATA into the server, UPDATE/COMPUTE out of it), and
+ * with --client-mbit through a link of that rate per client as well.  The
  * server behaves as the real one: an UPDATE with two segments per client at
  * the start of a frame, a COMPUTE after every DATA, idle clients topped up
  * (outstanding segments handed out again), the next frame as soon as the
@@ -81,6 +82,7 @@ static Event heap_pop(Heap *h)
 }
 
 typedef struct {
+    double up_free, down_free; /* its own link, when client_mbit > 0 */
     double speed;     /* threads x speed factor x core share */
     double share;     /* core share x speed factor: how fast one thread runs */
     Segment queue[64];
@@ -94,6 +96,7 @@ typedef struct {
 typedef struct {
     int width, height, clients, threads, frames;
     double cores, latency_us, mbit, overhead_us, cost_scale;
+    double client_mbit; /* > 0: every client also has its own link of this rate (namespaces behind veth pairs) */
     uint32_t segment; /* 0: auto, as the server */
     SchedTailRule tail;
     double *line_us;  /* per line, one thread */
@@ -111,6 +114,16 @@ static double link_send(double now, double *free_at, double bytes, double mbit)
     double done = start + bytes * 8.0 / mbit; /* microseconds: bits / (Mbit/s) */
     *free_at = done;
     return done;
+}
+
+/* A packet to or from client c: through the server's link, then (with
+ * per-client links) through the client's own. */
+static double send_via(const Sim *s, double now, double *server_free, double *client_free, double bytes)
+{
+    double t = link_send(now, server_free, bytes, s->mbit);
+    if (s->client_mbit > 0)
+        t = link_send(t, client_free, bytes, s->client_mbit);
+    return t + s->latency_us;
 }
 
 /* The server's rule (server.c's auto_lines), with the simulated per-segment
@@ -157,7 +170,7 @@ static void run(Sim *s)
         work = 0;
         start = now;
         for (int i = 0; i < s->clients; i++) {
-            double t = link_send(now, &down_free, UPDATE_BYTES, s->mbit) + s->latency_us;
+            double t = send_via(s, now, &down_free, &cl[i].down_free, UPDATE_BYTES);
             bytes += UPDATE_BYTES;
             for (int k = 0; k < 2; k++) {
                 Segment g;
@@ -182,7 +195,7 @@ static void run(Sim *s)
                 c->busy = 0;
                 if (ev.frame == c->cur_frame) {
                     double size = 24.0 + 3.0 * ev.seg.count;
-                    double t = link_send(now, &up_free, size, s->mbit) + s->latency_us;
+                    double t = send_via(s, now, &up_free, &c->up_free, size);
                     heap_push(&h, (Event){t, EV_ARRIVE_SERVER, ev.client, ev.frame, ev.seg, ev.busy_us});
                 }
             } else { /* DATA at the server */
@@ -202,7 +215,7 @@ static void run(Sim *s)
                             Segment g;
                             if (!sched_assign(sc, i, &g))
                                 break;
-                            double t = link_send(now, &down_free, 20, s->mbit) + s->latency_us;
+                            double t = send_via(s, now, &down_free, &cl[i].down_free, 20);
                             bytes += 20;
                             heap_push(&h, (Event){t, EV_ARRIVE_CLIENT, i, ev.frame, g, 0});
                         }
@@ -266,6 +279,7 @@ int main(int argc, char **argv)
         else if (strcmp(a, "--overhead-us") == 0) s.overhead_us = atof(v);
         else if (strcmp(a, "--frames") == 0) s.frames = atoi(v);
         else if (strcmp(a, "--cost-scale") == 0) s.cost_scale = atof(v);
+        else if (strcmp(a, "--client-mbit") == 0) s.client_mbit = atof(v);
         else if (strcmp(a, "--segment") == 0) s.segment = strcmp(v, "auto") == 0 ? 0 : (uint32_t)atoi(v);
         else if (strcmp(a, "--tail") == 0) {
             s.tail = sched_tail_by_name(v);
