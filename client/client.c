@@ -180,7 +180,9 @@ static void error_text(const Conn *c, char *text, size_t size)
             text[i] = '?';
 }
 
-static int handshake(const ClientConfig *cfg, Conn *c, Err *err)
+/* Waits for one handshake packet of the given type: 1 when it came, else
+ * SESSION_REFUSED (the server sent an ERROR) or SESSION_ENDED. */
+static int expect(Conn *c, uint32_t type, Err *err)
 {
     if (read_packet(c, 10, err) < 0)
         return SESSION_ENDED;
@@ -190,11 +192,19 @@ static int handshake(const ClientConfig *cfg, Conn *c, Err *err)
         err_set(err, "server refused the connection: %s", text);
         return SESSION_REFUSED;
     }
-    uint32_t f[4];
-    if (c->type != PKT_SERVER_HELLO) {
-        err_set(err, "server sent %s instead of SERVER_HELLO", proto_type_name(c->type));
+    if (c->type != type) {
+        err_set(err, "server sent %s instead of %s", proto_type_name(c->type), proto_type_name(type));
         return SESSION_ENDED;
     }
+    return 1;
+}
+
+static int handshake(const ClientConfig *cfg, Conn *c, Err *err)
+{
+    int got = expect(c, PKT_SERVER_HELLO, err);
+    if (got != 1)
+        return got;
+    uint32_t f[4];
     memcpy(f, c->body, sizeof f);
     if (f[0] != PROTO_MAGIC) {
         err_set(err, "not a lanray server (bad magic)");
@@ -218,19 +228,7 @@ static int handshake(const ClientConfig *cfg, Conn *c, Err *err)
     proto_proof(cfg->token ? cfg->token : "", sn, body + 20, body + 20 + PROTO_NONCE);
     if (conn_send(c, PKT_HELLO, body, sizeof body, MAX_QUEUE, err) || conn_flush(c, err) < 0)
         return SESSION_ENDED;
-    if (read_packet(c, 10, err) < 0)
-        return SESSION_ENDED;
-    if (c->type == PKT_ERROR) {
-        char text[PROTO_MAX_ERROR_TEXT + 1];
-        error_text(c, text, sizeof text);
-        err_set(err, "server refused the connection: %s", text);
-        return SESSION_REFUSED;
-    }
-    if (c->type != PKT_WELCOME) {
-        err_set(err, "server sent %s instead of WELCOME", proto_type_name(c->type));
-        return SESSION_ENDED;
-    }
-    return 1;
+    return expect(c, PKT_WELCOME, err);
 }
 
 static void queue_job(Worker *w, uint32_t frame, Segment seg, SceneRef *ref)
