@@ -4,6 +4,7 @@
 #   make demo       server + two local clients: a window, or frames in demo-frames/
 #   make check      unit + CLI tests (after installing deps)
 #   make check-asan the same tests under AddressSanitizer + UBSan
+#   make fuzz       libFuzzer on every parser of outside bytes (FUZZ_SECONDS each)
 #   make bench      renderer benchmark against Embree (prints ratios)
 #   make tradeoff   quality knobs: time and error against a reference (docs/tradeoff.*)
 #   make bench-scaling  clients x segment size x tail rule, with schedsim (docs/scaling*)
@@ -51,10 +52,13 @@ LIB := $(BUILD)/liblanray.a
 TOOLS := $(BIN)/lanray-render $(BIN)/obj2tmd $(BIN)/lanray-imgdiff $(BIN)/lanray-server $(BIN)/lanray-client $(BIN)/schedsim
 TEST_SRC := $(wildcard tests/test_*.c tests/stability/test_*.c)
 TESTS := $(TEST_SRC:%.c=$(BUILD)/%)
+# fuzz harnesses (tests/fuzz/fuzz_NAME.c): replayed over their corpus by make check
+FUZZ_NAMES := $(patsubst tests/fuzz/fuzz_%.c,%,$(wildcard tests/fuzz/fuzz_*.c))
+REPLAYS := $(FUZZ_NAMES:%=$(BUILD)/fuzz/replay_%)
 
-DEB_PACKAGES := gcc make pkg-config libsdl2-dev libnetpbm-dev libpng-dev libcmocka-dev libembree-dev libsodium-dev xvfb x11-apps python3
+DEB_PACKAGES := gcc make pkg-config libsdl2-dev libnetpbm-dev libpng-dev libcmocka-dev libembree-dev libsodium-dev xvfb x11-apps python3 clang libclang-rt-14-dev
 
-.PHONY: all deps check check-asan bench demo clean tradeoff bench-scaling
+.PHONY: all deps check check-asan bench demo clean tradeoff bench-scaling fuzz
 .SECONDARY:
 all: $(TOOLS)
 
@@ -110,8 +114,26 @@ check-asan: deps
 	@$(MAKE) --no-print-directory test-run SAN=asan
 
 .PHONY: test-run
-test-run: $(TESTS) $(TOOLS)
+test-run: $(TESTS) $(TOOLS) $(REPLAYS)
 	@BUILD=$(BUILD) BIN=$(BIN) bash tests/run.sh $(TESTS)
+
+$(BUILD)/fuzz/replay_%: tests/fuzz/fuzz_%.c tests/fuzz/replay.c $(LIB)
+	@mkdir -p $(dir $@)
+	$(CC) $(ALL_CFLAGS) -Itests/fuzz -o $@ tests/fuzz/fuzz_$*.c tests/fuzz/replay.c $(LIB) -lSDL2 $(LDLIBS)
+
+# make fuzz [FUZZ_SECONDS=600] [FUZZ_JOBS=2]: libFuzzer with ASan+UBSan (clang),
+# each harness for FUZZ_SECONDS, seeded from tests/fuzz/corpus/NAME; new
+# inputs go to build/fuzz-corpus/NAME, crashes to tests/fuzz/crashes/NAME-*
+# (commit them: make check replays them).
+FUZZ_SECONDS ?= 60
+FUZZ_JOBS ?= 2
+FUZZ_CFLAGS := -std=c17 -g -O1 -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=undefined $(CPPFLAGS) -Itests/fuzz
+FUZZERS := $(FUZZ_NAMES:%=build/fuzz/fuzz_%)
+build/fuzz/fuzz_%: tests/fuzz/fuzz_%.c $(COMMON_SRC)
+	@mkdir -p $(dir $@)
+	clang $(FUZZ_CFLAGS) -o $@ $< $(filter common/%.c,$(COMMON_SRC)) -lsodium -lnetpbm -lpng -lm -pthread
+fuzz: deps $(FUZZERS)
+	@BUILD_FUZZ=build/fuzz FUZZ_SECONDS=$(FUZZ_SECONDS) FUZZ_JOBS=$(FUZZ_JOBS) bash tests/fuzz/run-fuzzers $(FUZZ_NAMES)
 
 $(BUILD)/tools/embree_ref: tools/embree_ref.c $(LIB)
 	@mkdir -p $(dir $@)

@@ -158,6 +158,8 @@ int bvh_build_mst(Builder *b, Err *err)
         uint32_t q[3];
         for (int a = 0; a < 3; a++) {
             real t = ext.e[a] > R(0) ? (b->centres[i].e[a] - cb.min.e[a]) / ext.e[a] : R(0);
+            if (!(t >= R(0))) /* NaN from an overflowing extent */
+                t = R(0);
             q[a] = (uint32_t)real_clamp(t * R(1023), R(0), R(1023));
         }
         keys[i] = (Keyed){morton_spread(q[0]) | morton_spread(q[1]) << 1 | morton_spread(q[2]) << 2, i};

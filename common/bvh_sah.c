@@ -20,8 +20,11 @@ typedef struct {
 
 static int bin_of(real c, real lo, real scale)
 {
-    int i = (int)((c - lo) * scale);
-    return i < 0 ? 0 : (i >= BINS ? BINS - 1 : i);
+    /* extreme coordinates can make this inf * 0 = NaN: clamp before converting */
+    real f = (c - lo) * scale;
+    if (!(f >= R(0)))
+        return 0;
+    return f >= (real)BINS ? BINS - 1 : (int)f;
 }
 
 /* Finds the cheapest bucket boundary; returns its cost (inf if none). */

@@ -42,8 +42,8 @@ static int resolve(long idx, uint32_t count, int32_t *out)
         *out = (int32_t)(idx - 1);
         return 0;
     }
-    if (idx < 0 && (unsigned long)-idx <= count) {
-        *out = (int32_t)(count + idx);
+    if (idx < 0 && idx >= -(long)count) { /* no negation of idx: LONG_MIN has no positive twin */
+        *out = (int32_t)((long)count + idx);
         return 0;
     }
     return -1;

@@ -177,8 +177,11 @@ static vec3 sample_grid(const Frame *f, int px, int py, int n, RayStats *st)
 
 static void put_pixel(uint8_t *dst, vec3 c)
 {
-    for (int k = 0; k < 3; k++)
-        dst[k] = (uint8_t)(real_clamp(c.e[k], R(0), R(1)) * R(255) + R(0.5));
+    for (int k = 0; k < 3; k++) {
+        real v = c.e[k];
+        v = v > R(0) ? (v < R(1) ? v : R(1)) : R(0); /* NaN (inf * 0 from extreme scene values) becomes 0 */
+        dst[k] = (uint8_t)(v * R(255) + R(0.5));
+    }
 }
 
 /* [i0, i1): the chunk's pixels as offsets into a run of `total` */

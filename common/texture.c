@@ -9,6 +9,7 @@
 #include <errno.h>
 #include <netpbm/pam.h>
 #include <setjmp.h>
+#include <stddef.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -59,6 +60,14 @@ int texture_read_stream(FILE *f, const char *name, Texture **out, Err *err)
         initialised = 1;
     }
     *out = NULL;
+    /* only PBM/PGM/PPM (P1..P6): libnetpbm's PAM (P7) header parser leaks
+     * memory when it rejects a file, and textures do not need PAM */
+    int c0 = getc(f), c1 = getc(f);
+    if (c0 != 'P' || c1 < '1' || c1 > '6')
+        return err_set(err, "%s: not a valid PPM/PGM image: the file does not start with P1..P6", name);
+    if (ungetc(c1, f) == EOF || ungetc(c0, f) == EOF) /* only one push-back is guaranteed: re-open the stream's start */
+        if (fseek(f, 0, SEEK_SET) != 0)
+            return err_set(err, "%s: cannot rewind the stream", name);
     struct pam pam;
     Texture *volatile tex = NULL;
     tuple *volatile row = NULL;
@@ -72,7 +81,11 @@ int texture_read_stream(FILE *f, const char *name, Texture **out, Err *err)
         texture_destroy(tex);
         return err_set(err, "%s: not a valid PPM/PGM image: %s", name, pm_last_error[0] ? pm_last_error : "unknown error");
     }
-    pnm_readpaminit(f, &pam, PAM_STRUCT_SIZE(tuple_type));
+    /* the struct up to tuple_type, as PAM_STRUCT_SIZE(tuple_type) means but
+     * without its offset through a null pointer (UB); later fields (comments)
+     * would make netpbm allocate strings we do not want */
+    memset(&pam, 0, sizeof pam);
+    pnm_readpaminit(f, &pam, (int)(offsetof(struct pam, tuple_type) + sizeof pam.tuple_type));
     int rc = 0;
     if (pam.width < 1 || pam.height < 1 || (uint32_t)pam.width > TEXTURE_MAX_SIDE || (uint32_t)pam.height > TEXTURE_MAX_SIDE)
         rc = err_set(err, "%s: image is %dx%d, textures must be 1..%u pixels on a side", name, pam.width, pam.height,
@@ -81,6 +94,23 @@ int texture_read_stream(FILE *f, const char *name, Texture **out, Err *err)
         rc = err_set(err, "%s: image has %u channels, expected 1 (grey) or 3 (RGB)", name, pam.depth);
     else if (pam.maxval < 1)
         rc = err_set(err, "%s: maxval %lu is invalid", name, pam.maxval);
+    if (rc == 0) {
+        /* the header's size must be backed by bytes before anything is
+         * allocated: raw formats need their exact sample bytes, plain ones at
+         * least one character per sample (checked where the stream can seek) */
+        uint64_t samples = (uint64_t)pam.width * (uint64_t)pam.height * pam.depth;
+        uint64_t need = c1 == '4' ? (uint64_t)((pam.width + 7) / 8) * (uint64_t)pam.height
+                        : c1 >= '5' ? samples * (pam.maxval > 255 ? 2 : 1)
+                                    : samples;
+        long pos = ftell(f);
+        if (pos >= 0 && fseek(f, 0, SEEK_END) == 0) {
+            long end = ftell(f);
+            fseek(f, pos, SEEK_SET);
+            if (end >= pos && (uint64_t)(end - pos) < need)
+                rc = err_set(err, "%s: the header promises %dx%d pixels but only %ld bytes follow", name, pam.width,
+                             pam.height, end - pos);
+        }
+    }
     if (rc) {
         pm_setjmpbuf(saved);
         return rc;

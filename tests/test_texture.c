@@ -60,7 +60,13 @@ static void rejects_bad_images(void **state)
     expect_error("magic.ppm", "GIF89a", 6, "not a valid PPM/PGM image");
     expect_error("empty.ppm", "", 0, "not a valid PPM/PGM image");
     const char trunc[] = "P6\n4 4\n255\n\x01\x02\x03";
-    expect_error("trunc.ppm", trunc, sizeof trunc - 1, "not a valid PPM/PGM image");
+    expect_error("trunc.ppm", trunc, sizeof trunc - 1, "the header promises 4x4 pixels but only 3 bytes follow");
+    /* a tiny file claiming a huge image is refused before any pixel memory is allocated (found by fuzzing) */
+    const char claim[] = "P4 14060 14060 3\xc3";
+    expect_error("claim.pbm", claim, sizeof claim - 1, "the header promises 14060x14060 pixels");
+    /* PAM (P7) is not a texture format here */
+    const char pam[] = "P7\nWIDTH 1\nHEIGHT 1\nDEPTH 3\nMAXVAL 255\nTUPLTYPE RGB\nENDHDR\n\x01\x02\x03";
+    expect_error("img.pam", pam, sizeof pam - 1, "does not start with P1..P6");
     const char huge[] = "P6\n100000 100000\n255\n";
     expect_error("huge.ppm", huge, sizeof huge - 1, "textures must be 1..16384 pixels");
     const char bitmap[] = "P1\n1 1\n1\n";

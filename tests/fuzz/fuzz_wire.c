@@ -1,0 +1,61 @@
+/* fuzz_wire.c - what a client decodes from the server: ASSET payloads and
+ * serialised scenes.  The first byte picks: an asset (model or texture) added
+ * to a cache that already holds the default scene's assets, or a scene
+ * decoded against that cache and, when accepted, rendered. */
+#include <stdlib.h>
+
+#include "fuzz.h"
+#include "render.h"
+#include "scene_default.h"
+#include "wire.h"
+
+static AssetCache *cache;
+static RenderPool *pool;
+
+static void setup(void)
+{
+    Scene *s;
+    BvhOptions opt = bvh_options_default(BVH_SAH);
+    cache = asset_cache_create();
+    pool = render_pool_create(1, NULL);
+    if (!cache || !pool || scene_default(&s, &opt, NULL))
+        abort();
+    for (uint32_t i = 0; i < s->model_count; i++) {
+        Asset a;
+        wire_asset_model(s->models[i], &a, NULL);
+        asset_cache_add(cache, ASSET_MODEL, a.hash, a.data, a.len, NULL);
+        wire_asset_free(&a);
+    }
+    for (uint32_t i = 0; i < s->texture_count; i++) {
+        Asset a;
+        wire_asset_texture(s->textures[i], &a, NULL);
+        asset_cache_add(cache, ASSET_TEXTURE, a.hash, a.data, a.len, NULL);
+        wire_asset_free(&a);
+    }
+    scene_destroy(s);
+}
+
+int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
+{
+    if (!cache)
+        setup();
+    if (size < 1)
+        return 0;
+    if (data[0] < 32) {
+        /* an asset: the hash is computed, so the payload itself gets decoded */
+        AssetCache *c = asset_cache_create();
+        uint8_t hash[PROTO_HASH];
+        proto_hash(data + 1, size - 1, hash);
+        asset_cache_add(c, data[0] & 1 ? ASSET_MODEL : ASSET_TEXTURE, hash, data + 1, size - 1, NULL);
+        asset_cache_destroy(c);
+        return 0;
+    }
+    Scene *s;
+    if (wire_decode_scene(data + 1, size - 1, cache, &s, NULL) == 0) {
+        uint8_t px[8 * 6 * 3];
+        s->settings.aa = 1; /* bounded work per input */
+        render_lines(pool, s, 8, 6, 0, 6, px, NULL, NULL);
+        scene_destroy(s);
+    }
+    return 0;
+}
