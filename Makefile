@@ -4,6 +4,7 @@
 #   make demo       server + two local clients: a window, or frames in demo-frames/
 #   make check      unit + CLI tests (after installing deps)
 #   make check-asan the same tests under AddressSanitizer + UBSan
+#   make check-tsan the thread pool, client and server under ThreadSanitizer
 #   make fuzz       libFuzzer on every parser of outside bytes (FUZZ_SECONDS each)
 #   make bench      renderer benchmark against Embree (prints ratios)
 #   make tradeoff   quality knobs: time and error against a reference (docs/tradeoff.*)
@@ -27,6 +28,10 @@ ifeq ($(SAN),asan)
   SANFLAGS := -fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=all
   OPT := -O1
   BIN := $(BIN)/asan
+else ifeq ($(SAN),tsan)
+  SANFLAGS := -fsanitize=thread
+  OPT := -O1
+  BIN := $(BIN)/tsan
 else
   SANFLAGS :=
   OPT := -O2
@@ -113,7 +118,20 @@ check: deps
 check-asan: deps
 	@$(MAKE) --no-print-directory test-run SAN=asan
 
-.PHONY: test-run
+# ThreadSanitizer on what runs threads: the render pool (render, wire and
+# stability tests render with it) and the client's render thread against
+# the server (the integration test)
+check-tsan: deps
+	@$(MAKE) --no-print-directory SAN=tsan build/float-tsan/tests/test_render build/float-tsan/tests/test_wire $(subst bin/,bin/tsan/,$(TOOLS))
+	@TSAN_OPTIONS="halt_on_error=1" build/float-tsan/tests/test_render
+	@TSAN_OPTIONS="halt_on_error=1" build/float-tsan/tests/test_wire
+	@rm -f build/float-tsan/report.*
+	@TSAN_OPTIONS="halt_on_error=1 exitcode=66 log_path=$(CURDIR)/build/float-tsan/report" BIN=bin/tsan bash tests/cli/distributed.sh
+	@# a report from a client running in the background lands in a file: any file fails the run
+	@if ls build/float-tsan/report.* >/dev/null 2>&1; then cat build/float-tsan/report.*; exit 1; fi
+	@echo "[       OK ] distributed.sh under ThreadSanitizer, no reports"
+
+.PHONY: test-run check-tsan
 test-run: $(TESTS) $(TOOLS) $(REPLAYS)
 	@BUILD=$(BUILD) BIN=$(BIN) bash tests/run.sh $(TESTS)
 
