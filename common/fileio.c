@@ -64,6 +64,8 @@ int file_write_atomic(const char *path, file_write_fn fn, void *ctx, Err *err)
         return err_set(err, "%s: cannot open: %s", path, strerror(errno));
     }
     int rc = fn(f, ctx, err);
+    if (rc != 0)
+        err_prefix(err, "%s", path);
     if (rc == 0 && (fflush(f) != 0 || ferror(f) || fsync(fileno(f)) != 0))
         rc = err_set(err, "%s: write failed: %s", path, strerror(errno));
     if (fclose(f) != 0 && rc == 0)

@@ -1,6 +1,7 @@
 /* image.c - see image.h. */
 #include "image.h"
 
+#include <errno.h>
 #include <png.h>
 #include <stdlib.h>
 #include <string.h>
@@ -22,18 +23,33 @@ static int write_ppm(FILE *f, void *ctx, Err *err)
     return 0;
 }
 
+/* libpng reports through these instead of printing; the message ends up in the Err */
+static void png_error_fn(png_structp png, png_const_charp msg)
+{
+    err_set(png_get_error_ptr(png), "png: %s", msg);
+    png_longjmp(png, 1);
+}
+
+static void png_warning_fn(png_structp png, png_const_charp msg)
+{
+    (void)png;
+    (void)msg;
+}
+
 static int write_png(FILE *f, void *ctx, Err *err)
 {
     Frame *fr = ctx;
-    png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, NULL, NULL, NULL);
+    png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, err, png_error_fn, png_warning_fn);
     png_infop info = png ? png_create_info_struct(png) : NULL;
     if (!info) {
         png_destroy_write_struct(&png, NULL);
         return err_set(err, "png: out of memory");
     }
     if (setjmp(png_jmpbuf(png))) {
+        int e = errno;
         png_destroy_write_struct(&png, &info);
-        return err_set(err, "png: encoding failed");
+        /* a failed write (full disk, file size limit) says why */
+        return ferror(f) ? err_set(err, "write failed: %s", strerror(e)) : -1;
     }
     png_init_io(png, f);
     png_set_IHDR(png, info, (png_uint_32)fr->w, (png_uint_32)fr->h, 8, PNG_COLOR_TYPE_RGB, PNG_INTERLACE_NONE,

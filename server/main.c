@@ -4,7 +4,7 @@
  *                 [--width W] [--height H] [--segment LINES|auto] [--tail static|smart|adaptive]
  *                 [--bvh sbt|mst|sah] [--aa N|adaptive[:N]] [--rotate DEG]
  *                 [--headless] [--frames N] [--out DIR] [--discard] [--warmup N]
- *                 [--stall-timeout S] [--quiet]
+ *                 [--stall-timeout S] [--handshake-timeout S] [--quiet]
  *
  * Without a scene it serves the built-in default scene.  With a display it
  * opens a window (keys in server/display.c); with --headless, or when there
@@ -74,7 +74,8 @@ static void usage(FILE *f)
     fprintf(f, "usage: lanray-server [scene] [--port P] [--listen ADDR] [--token T | --insecure]\n"
                "       [--width W] [--height H] [--segment LINES|auto] [--tail static|smart|adaptive]\n"
                "       [--bvh sbt|mst|sah] [--aa N|adaptive[:N]] [--rotate DEG]\n"
-               "       [--headless] [--frames N] [--out DIR] [--discard] [--warmup N] [--stall-timeout S] [--quiet]\n");
+               "       [--headless] [--frames N] [--out DIR] [--discard] [--warmup N] [--stall-timeout S]\n"
+               "       [--handshake-timeout S] [--quiet]\n");
 }
 
 static int parse_int(const char *s, long lo, long hi, long *out)
@@ -197,6 +198,9 @@ int main(int argc, char **argv)
         } else if (strcmp(a, "--warmup") == 0) {
             bad = parse_int(v, 0, 1000000, &n);
             cfg.warmup = (uint32_t)n;
+        } else if (strcmp(a, "--handshake-timeout") == 0) {
+            bad = parse_int(v, 1, 3600, &n);
+            cfg.handshake_timeout = (double)n;
         } else if (strcmp(a, "--stall-timeout") == 0) {
             bad = parse_int(v, 1, 86400, &n);
             cfg.stall_timeout = (double)n;

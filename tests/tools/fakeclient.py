@@ -8,7 +8,9 @@ MODE is one of:
   version     a correct handshake but protocol version 99
   lie-size    a valid header that claims a 4 GiB packet
   forge-data  complete the handshake, then send pixels for a segment never given
-  silent      connect and send nothing (prints nothing, just waits for the close)
+  silent      connect and send nothing, wait for the server to close
+  slowloris   send a valid HELLO one byte every half second
+  storm N     open N connections at once, hold them silent, report how many the server closed
 Prints the text of the server's ERROR packet, or 'closed' / 'no error'.
 """
 import hashlib, hmac, os, socket, struct, sys
@@ -51,8 +53,23 @@ def wait_error(s):
             return body.decode(errors="replace")
 
 
+def storm(port, n):
+    socks = [socket.create_connection(("127.0.0.1", port), timeout=30) for _ in range(n)]
+    closed = 0
+    for s in socks:
+        while True:
+            ptype, _ = read_packet(s)
+            if ptype is None or ptype == ERROR:
+                closed += 1
+                break
+    print("closed %d of %d" % (closed, n))
+
+
 def main():
     port, mode = int(sys.argv[1]), sys.argv[2]
+    if mode == "storm":
+        storm(port, int(sys.argv[3]))
+        return
     token = sys.argv[3] if len(sys.argv) > 3 else ""
     s = socket.create_connection(("127.0.0.1", port), timeout=20)
     ptype, body = read_packet(s)
@@ -79,6 +96,14 @@ def main():
                 break
     elif mode == "silent":
         pass
+    elif mode == "slowloris":
+        import time
+        for b in hello(nonce, token):
+            try:
+                s.send(bytes([b]))
+            except OSError:
+                break
+            time.sleep(0.5)
     print(wait_error(s))
 
 
