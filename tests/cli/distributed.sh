@@ -8,30 +8,8 @@
 #  - a wrong token or protocol version is refused with a clear message;
 #  - clients survive a server restart.
 set -u
-BIN=${BIN:-bin}
-dir=$(mktemp -d)
-pids=()
-cleanup() {
-    for p in "${pids[@]}"; do kill -CONT "$p" 2>/dev/null; kill -9 "$p" 2>/dev/null; done
-    wait 2>/dev/null
-    rm -rf "$dir"
-}
-trap cleanup EXIT
-fail() { echo "FAIL: $*"; for f in "$dir"/*.log "$dir"/*.err; do [ -f "$f" ] && { echo "--- $f"; tail -20 "$f"; }; done; exit 1; }
+source tests/tools/server-lib.sh
 
-# start_server NAME ARGS...: runs lanray-server in the background, sets $port
-start_server() {
-    local name=$1; shift
-    "$BIN/lanray-server" --headless "$@" >"$dir/$name.log" 2>"$dir/$name.err" &
-    server_pid=$!
-    pids+=("$server_pid")
-    for _ in $(seq 100); do
-        port=$(sed -n 's/.*listening on [0-9.]*:\([0-9]*\).*/\1/p' "$dir/$name.log")
-        [ -n "$port" ] && return 0
-        sleep 0.05
-    done
-    fail "$name did not start"
-}
 client() { "$BIN/lanray-client" "127.0.0.1:$port" --threads 1 "$@" & pids+=($!); last_pid=$!; }
 wait_for() { for _ in $(seq "$2"); do [ -e "$1" ] && return 0; sleep 0.1; done; fail "timed out waiting for $1"; }
 wait_exit() { # wait_exit PID SECONDS

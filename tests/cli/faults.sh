@@ -4,31 +4,9 @@
 # Good clients keep rendering correct frames, the server's memory stays
 # bounded, the log names each cause, and no partial file is left behind.
 set -u
-BIN=${BIN:-bin}
-dir=$(mktemp -d)
-pids=()
+source tests/tools/server-lib.sh
 mounted=""
-cleanup() {
-    for p in "${pids[@]}"; do kill -9 "$p" 2>/dev/null; done
-    wait 2>/dev/null
-    [ -n "$mounted" ] && umount "$mounted" 2>/dev/null
-    rm -rf "$dir"
-}
-trap cleanup EXIT
-fail() { echo "FAIL: $*"; for f in "$dir"/*.err; do [ -f "$f" ] && { echo "--- $f"; tail -8 "$f"; }; done; exit 1; }
-run_full() { exec "$@"; } # how a program is run (the disk-full part may limit it); exec: $! is the program
-start_server() {
-    local name=$1; shift
-    run_full "$BIN/lanray-server" --headless "$@" >"$dir/$name.log" 2>"$dir/$name.err" &
-    server_pid=$!
-    pids+=("$server_pid")
-    for _ in $(seq 100); do
-        port=$(sed -n 's/.*listening on [0-9.]*:\([0-9]*\).*/\1/p' "$dir/$name.log")
-        [ -n "$port" ] && return 0
-        sleep 0.05
-    done
-    fail "$name did not start"
-}
+trap '[ -n "$mounted" ] && umount "$mounted" 2>/dev/null; lib_cleanup' EXIT
 W=160 H=120
 "$BIN/lanray-render" --width $W --height $H -o "$dir/ref.png" --quiet >/dev/null || fail "reference"
 
@@ -65,7 +43,7 @@ if mount -t tmpfs -o size=64k tmpfs "$full" 2>/dev/null; then
     how="a 64 KiB tmpfs"
 else # no mount privilege: a file-size limit gives EFBIG instead of ENOSPC
     how="ulimit -f"
-    run_full() { ulimit -f 8; trap "" XFSZ; exec "$@"; }
+    run_prog() { ulimit -f 8; trap "" XFSZ; exec "$@"; }
 fi
 start_server disk --port 0 --width $W --height $H --frames 12 --out "$full"
 "$BIN/lanray-client" "127.0.0.1:$port" --threads 1 --quiet 2>/dev/null & pids+=($!)
@@ -74,8 +52,8 @@ grep -q "write failed\|No space left\|File too large" "$dir/disk.err" || fail "n
 ls "$full" | grep -q '\.tmp\.' && fail "temporary frame left on the full disk"
 for f in "$full"/*.png; do [ -e "$f" ] || continue; "$BIN/lanray-imgdiff" "$dir/ref.png" "$f" >/dev/null || fail "$f is not a whole PNG"; done
 [ -n "$mounted" ] && rm -f "$full"/*.png
-err=$(run_full "$BIN/obj2tmd" ../shared/models/dragon.obj "$full/dragon.tmd" 2>&1 </dev/null)
-if [ ! -r ../shared/models/dragon.obj ]; then err=$(run_full "$BIN/obj2tmd" models/cube.obj "$full/cube.tmd" 2>&1); fi
+err=$(run_prog "$BIN/obj2tmd" ../shared/models/dragon.obj "$full/dragon.tmd" 2>&1 </dev/null)
+if [ ! -r ../shared/models/dragon.obj ]; then err=$(run_prog "$BIN/obj2tmd" models/cube.obj "$full/cube.tmd" 2>&1); fi
 [ $? -ne 0 ] || grep -q "write failed\|No space left\|File too large" <<<"$err" || fail "obj2tmd on a full disk: $err"
 grep -q "write failed\|No space left\|File too large" <<<"$err" || fail "obj2tmd message: $err"
 ls "$full" | grep -q 'tmd' && fail "partial .tmd left on the full disk: $(ls "$full")"
