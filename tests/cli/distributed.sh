@@ -29,6 +29,9 @@ start_server faults --port 0 --width $W --height $H --aa 2 --segment 4 --frames 
 client 2>"$dir/c1.err"; client 2>"$dir/c2.err"
 client 2>/dev/null; victim_kill=$last_pid
 client 2>/dev/null; victim_stop=$last_pid
+# all four must have joined before the faults, or a slow start (sanitizers) hides them
+for _ in $(seq 300); do [ "$(grep -c ' joined ' "$dir/faults.err")" -ge 4 ] && break; sleep 0.1; done
+[ "$(grep -c ' joined ' "$dir/faults.err")" -ge 4 ] || fail "the four clients did not all join"
 wait_for "$dir/f/frame-00001.png" 300
 kill -9 "$victim_kill"; wait "$victim_kill" 2>/dev/null
 kill -STOP "$victim_stop"
