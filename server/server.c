@@ -40,7 +40,6 @@ typedef struct {
     uint8_t *asset_sent; /* per server asset */
     uint64_t segments, pixels, duplicates;
     uint64_t busy_us;
-    double busy_since;
     double last_data;       /* when its previous result arrived */
     uint32_t last_data_frame;
     int was_full;           /* it held two segments when that result arrived */
@@ -61,11 +60,10 @@ struct Server {
     Asset *assets;    /* models then textures of the scene */
     uint32_t nassets;
     Sink blob;        /* the serialised scene of the current frame */
-    double frame_start;
     /* finished clients' statistics, for the summary */
     uint64_t gone_segments, gone_pixels, gone_bytes;
     /* for the summary line and the automatic segment size */
-    uint64_t frame_busy_us, total_busy_us, frame_pixels_us, frame_segments;
+    uint64_t total_busy_us, frame_pixels_us;
     double first_frame_start, last_frame_end;
     uint32_t frames_done, clients_seen_max;
     int auto_segment;
@@ -295,7 +293,6 @@ static void send_update(Server *s, Client *c)
     }
     send_or_drop(s, c, PKT_UPDATE, body, 16 + 8 * (size_t)body[3], s->blob.data, s->blob.len);
     c->frame_sent = s->frame;
-    c->busy_since = timer_now();
 }
 
 static int start_frame(Server *s, Err *err)
@@ -310,10 +307,9 @@ static int start_frame(Server *s, Err *err)
         return -1;
     s->frame++;
     s->in_frame = 1;
-    s->frame_start = timer_now();
     if (s->frames_done == s->cfg.warmup) {
         /* the measured frames start here: statistics so far were warm-up */
-        s->first_frame_start = s->frame_start;
+        s->first_frame_start = timer_now();
         s->total_busy_us = 0;
         s->asset_bytes = 0;
         s->measured_bytes_base = 0;
@@ -333,7 +329,7 @@ static int start_frame(Server *s, Err *err)
         double o = s->overhead_us > 0 ? s->overhead_us : AUTO_OVERHEAD_US;
         sched_set_segment_lines(s->sched, auto_lines((double)s->frame_pixels_us, o, (uint32_t)s->cfg.height, n));
     }
-    s->frame_busy_us = s->frame_pixels_us = s->frame_segments = 0;
+    s->frame_pixels_us = 0;
     s->gap_sum_us = 0;
     s->gap_samples = 0;
     sched_begin_frame(s->sched, s->frame);
@@ -457,7 +453,6 @@ static void on_data(Server *s, Client *c)
     if (r != SCHED_STALE) {
         /* time spent rendering counts whether or not this copy won */
         c->busy_us += h[3];
-        s->frame_busy_us += h[3];
         s->total_busy_us += h[3];
     }
     if (r == SCHED_ACCEPT) {
@@ -465,7 +460,6 @@ static void on_data(Server *s, Client *c)
         c->segments++;
         c->pixels += seg.count;
         s->frame_pixels_us += h[3];
-        s->frame_segments++;
     } else if (r == SCHED_DUPLICATE) {
         c->duplicates += seg.count;
     }

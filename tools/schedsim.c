@@ -156,7 +156,7 @@ static void run(Sim *s)
     Sched *sc = sched_create(&cfg);
     sched_set_clients(sc, (uint32_t)s->clients);
     Heap h = {0};
-    double now = 0, down_free = 0, up_free = 0, start = 0, bytes = 0, busy = 0, work = 0;
+    double now = 0, down_free = 0, up_free = 0, bytes = 0, busy = 0, work = 0;
     int frame = 0, measured = 0;
     double t_first = 0;
     for (; frame < s->frames + 1; frame++) { /* frame 0 is warm-up, as in the benchmark */
@@ -168,7 +168,6 @@ static void run(Sim *s)
             sched_set_segment_lines(sc, auto_lines(work, s->overhead_us, (uint32_t)s->height, (uint32_t)s->clients));
         sched_begin_frame(sc, (uint32_t)frame + 1);
         work = 0;
-        start = now;
         for (int i = 0; i < s->clients; i++) {
             double t = send_via(s, now, &down_free, &cl[i].down_free, UPDATE_BYTES);
             bytes += UPDATE_BYTES;
@@ -240,7 +239,6 @@ static void run(Sim *s)
         if (frame >= 1)
             measured++;
     }
-    (void)start;
     double wall = now - t_first;
     SchedStats st = sched_stats(sc);
     printf("%s fps=%.3f efficiency=%.4f dup_lines_per_frame=%.2f bytes_per_frame=%.0f segment_lines=%u\n",
