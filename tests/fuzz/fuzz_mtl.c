@@ -1,17 +1,12 @@
 /* fuzz_mtl.c - the MTL reader on arbitrary bytes. */
-#include <stdlib.h>
-#include <string.h>
-
 #include "fuzz.h"
 #include "mtl.h"
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
-    char *text = malloc(size + 1);
+    char *text = fuzz_text(data, size);
     if (!text)
         return 0;
-    memcpy(text, data, size);
-    text[size] = 0;
     MtlLib lib = {0};
     mtl_parse(&lib, text, size, "fuzz.mtl", NULL);
     if (lib.count)

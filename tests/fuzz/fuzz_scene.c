@@ -1,18 +1,13 @@
 /* fuzz_scene.c - the scene-file parser on arbitrary bytes; file references
  * point into a directory that does not exist, so they fail cleanly. */
-#include <stdlib.h>
-#include <string.h>
-
 #include "fuzz.h"
 #include "scene_parse.h"
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
-    char *text = malloc(size + 1);
+    char *text = fuzz_text(data, size);
     if (!text)
         return 0;
-    memcpy(text, data, size);
-    text[size] = 0;
     Scene *s;
     BvhOptions opt = bvh_options_default(BVH_SAH);
     if (scene_parse(text, size, "fuzz.scene", "/nonexistent-lanray-fuzz", &opt, 0, &s, NULL) == 0)
