@@ -9,6 +9,7 @@
 #   make bench      renderer benchmark against Embree (prints ratios)
 #   make tradeoff   quality knobs: time and error against a reference (docs/tradeoff.*)
 #   make bench-scaling  clients x segment size x tail rule, with schedsim (docs/scaling*)
+#   make loadtest   64 clients joining and leaving for 5 minutes, every frame verified
 #   make PRECISION=double ...   double-precision build in build/double, bin/double
 PRECISION ?= float
 SAN ?=
@@ -63,7 +64,7 @@ REPLAYS := $(FUZZ_NAMES:%=$(BUILD)/fuzz/replay_%)
 
 DEB_PACKAGES := gcc make pkg-config libsdl2-dev libnetpbm-dev libpng-dev libcmocka-dev libembree-dev libsodium-dev xvfb x11-apps python3 clang libclang-rt-14-dev
 
-.PHONY: all deps check check-asan bench demo clean tradeoff bench-scaling fuzz
+.PHONY: all deps check check-asan bench demo clean tradeoff bench-scaling fuzz loadtest
 .SECONDARY:
 all: $(TOOLS)
 
@@ -139,7 +140,7 @@ $(BUILD)/fuzz/replay_%: tests/fuzz/fuzz_%.c tests/fuzz/replay.c $(LIB)
 	@mkdir -p $(dir $@)
 	$(CC) $(ALL_CFLAGS) -Itests/fuzz -o $@ tests/fuzz/fuzz_$*.c tests/fuzz/replay.c $(LIB) -lSDL2 $(LDLIBS)
 
-# make fuzz [FUZZ_SECONDS=600] [FUZZ_JOBS=2]: libFuzzer with ASan+UBSan (clang),
+# make fuzz [FUZZ_SECONDS=600] [FUZZ_JOBS=2] [FUZZ_NAMES="server client"]: libFuzzer with ASan+UBSan (clang),
 # each harness for FUZZ_SECONDS, seeded from tests/fuzz/corpus/NAME; new
 # inputs go to build/fuzz-corpus/NAME, crashes to tests/fuzz/crashes/NAME-*
 # (commit them: make check replays them).
@@ -149,7 +150,7 @@ FUZZ_CFLAGS := -std=c17 -g -O1 -fsanitize=fuzzer,address,undefined -fno-sanitize
 FUZZERS := $(FUZZ_NAMES:%=build/fuzz/fuzz_%)
 build/fuzz/fuzz_%: tests/fuzz/fuzz_%.c $(COMMON_SRC)
 	@mkdir -p $(dir $@)
-	clang $(FUZZ_CFLAGS) -o $@ $< $(filter common/%.c,$(COMMON_SRC)) -lsodium -lnetpbm -lpng -lm -pthread
+	clang $(FUZZ_CFLAGS) -o $@ $< $(filter-out server/display.c,$(COMMON_SRC)) -lsodium -lnetpbm -lpng -lm -pthread
 fuzz: deps $(FUZZERS)
 	@BUILD_FUZZ=build/fuzz FUZZ_SECONDS=$(FUZZ_SECONDS) FUZZ_JOBS=$(FUZZ_JOBS) bash tests/fuzz/run-fuzzers $(FUZZ_NAMES)
 
@@ -172,6 +173,13 @@ tradeoff: deps $(TOOLS)
 bench-scaling: deps $(TOOLS)
 	@$(MAKE) --no-print-directory DEB_PACKAGES="gnuplot-nox iproute2" deps
 	@BIN=$(BIN) bash tools/bench-scaling docs
+
+# make loadtest [LOAD_SECONDS=300] [LOAD_CLIENTS=64]: one server, many clients
+# joining and leaving, every frame verified; server RSS and CPU in docs/loadtest.csv
+LOAD_SECONDS ?= 300
+LOAD_CLIENTS ?= 64
+loadtest: deps $(TOOLS)
+	@BIN=$(BIN) DURATION=$(LOAD_SECONDS) CLIENTS=$(LOAD_CLIENTS) bash tools/loadtest docs
 
 demo: deps $(TOOLS)
 	@BIN=$(BIN) bash tools/demo

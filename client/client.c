@@ -240,6 +240,18 @@ static void queue_job(Worker *w, uint32_t frame, Segment seg, SceneRef *ref)
     pthread_cond_signal(&w->cv);
 }
 
+/* A segment the server asks for must lie in the frame, and its pixels must
+ * fit in a DATA packet (the server would refuse a bigger one). */
+static int segment_ok(Segment seg, uint64_t width, uint64_t height, const char *packet, Err *err)
+{
+    if ((uint64_t)seg.first + seg.count > width * height)
+        return err_set(err, "%s segment %u+%u outside the %llux%llu frame", packet, seg.first, seg.count,
+                       (unsigned long long)width, (unsigned long long)height);
+    if (PROTO_HEADER + 16 + 3 * (uint64_t)seg.count > proto_max_size(PKT_DATA))
+        return err_set(err, "%s segment of %u pixels is larger than a DATA packet can carry", packet, seg.count);
+    return 0;
+}
+
 /* Handles one packet from the server; returns -1 to end the session. */
 static int on_packet(const ClientConfig *cfg, Worker *w, Conn *c, AssetCache *cache, SceneRef **cur, Err *err)
 {
@@ -280,9 +292,9 @@ static int on_packet(const ClientConfig *cfg, Worker *w, Conn *c, AssetCache *ca
         for (uint32_t i = 0; i < nseg; i++) {
             Segment seg;
             memcpy(&seg, b + 16 + 8 * i, 8);
-            if ((uint64_t)seg.first + seg.count > (uint64_t)width * height) {
+            if (segment_ok(seg, width, height, "UPDATE", err)) {
                 pthread_mutex_unlock(&w->mu);
-                return err_set(err, "UPDATE segment outside the frame");
+                return -1;
             }
             queue_job(w, frame, seg, ref);
         }
@@ -295,9 +307,9 @@ static int on_packet(const ClientConfig *cfg, Worker *w, Conn *c, AssetCache *ca
         Segment seg = {h[1], h[2]};
         pthread_mutex_lock(&w->mu);
         if (*cur && h[0] == (*cur)->frame) {
-            if ((uint64_t)seg.first + seg.count > (uint64_t)(*cur)->width * (*cur)->height) {
+            if (segment_ok(seg, (uint64_t)(*cur)->width, (uint64_t)(*cur)->height, "COMPUTE", err)) {
                 pthread_mutex_unlock(&w->mu);
-                return err_set(err, "COMPUTE segment outside the frame");
+                return -1;
             }
             queue_job(w, h[0], seg, *cur);
         }
@@ -315,9 +327,11 @@ static int on_packet(const ClientConfig *cfg, Worker *w, Conn *c, AssetCache *ca
     (void)cfg;
 }
 
-static int session(const ClientConfig *cfg, Worker *w, AssetCache *cache, volatile sig_atomic_t *stop, Err *err)
+/* One connection, from the handshake to its end; fd < 0: dial the server. */
+static int session(const ClientConfig *cfg, int fd, Worker *w, AssetCache *cache, volatile sig_atomic_t *stop, Err *err)
 {
-    int fd = dial(cfg->host, cfg->port, err);
+    if (fd < 0)
+        fd = dial(cfg->host, cfg->port, err);
     if (fd < 0)
         return SESSION_ENDED;
     Conn c;
@@ -391,30 +405,57 @@ static int session(const ClientConfig *cfg, Worker *w, AssetCache *cache, volati
     return rc;
 }
 
+static int worker_start(Worker *w, int threads, AssetCache **cache, pthread_t *th, Err *err)
+{
+    memset(w, 0, sizeof *w);
+    pthread_mutex_init(&w->mu, NULL);
+    pthread_cond_init(&w->cv, NULL);
+    if (pipe(w->wake) || proto_socket_setup(w->wake[0]) || proto_socket_setup(w->wake[1]))
+        return err_set(err, "cannot create a pipe: %s", strerror(errno));
+    w->pool = render_pool_create(threads, err);
+    *cache = asset_cache_create();
+    if (!w->pool || !*cache || pthread_create(th, NULL, render_thread, w)) {
+        render_pool_destroy(w->pool);
+        asset_cache_destroy(*cache);
+        close(w->wake[0]);
+        close(w->wake[1]);
+        return w->pool ? err_set(err, "cannot start the render thread") : -1;
+    }
+    return 0;
+}
+
+static void worker_stop(const ClientConfig *cfg, Worker *w, AssetCache *cache, pthread_t th)
+{
+    pthread_mutex_lock(&w->mu);
+    w->quit = 1;
+    atomic_store(&w->cancel, 1);
+    pthread_cond_broadcast(&w->cv);
+    pthread_mutex_unlock(&w->mu);
+    pthread_join(th, NULL);
+    if (!cfg->quiet)
+        fprintf(stderr, "lanray-client: rendered %llu segments, %llu pixels\n", (unsigned long long)w->segments,
+                (unsigned long long)w->pixels);
+    render_pool_destroy(w->pool);
+    asset_cache_destroy(cache);
+    close(w->wake[0]);
+    close(w->wake[1]);
+    pthread_mutex_destroy(&w->mu);
+    pthread_cond_destroy(&w->cv);
+}
+
 int client_run(const ClientConfig *cfg, volatile sig_atomic_t *stop, Err *err)
 {
     Worker w;
-    memset(&w, 0, sizeof w);
-    pthread_mutex_init(&w.mu, NULL);
-    pthread_cond_init(&w.cv, NULL);
-    if (pipe(w.wake) || proto_socket_setup(w.wake[0]) || proto_socket_setup(w.wake[1]))
-        return err_set(err, "cannot create a pipe: %s", strerror(errno));
-    w.pool = render_pool_create(cfg->threads, err);
-    AssetCache *cache = asset_cache_create();
+    AssetCache *cache;
     pthread_t th;
-    if (!w.pool || !cache || pthread_create(&th, NULL, render_thread, &w)) {
-        render_pool_destroy(w.pool);
-        asset_cache_destroy(cache);
-        close(w.wake[0]);
-        close(w.wake[1]);
-        return w.pool ? err_set(err, "cannot start the render thread") : -1;
-    }
+    if (worker_start(&w, cfg->threads, &cache, &th, err))
+        return -1;
     int rc = 0;
     double backoff = 0.1;
     while (!*stop) {
         double start = timer_now();
         Err e = {{0}};
-        int r = session(cfg, &w, cache, stop, &e);
+        int r = session(cfg, -1, &w, cache, stop, &e);
         if (r == SESSION_REFUSED) {
             err_set(err, "%s", e.msg);
             rc = -1;
@@ -429,20 +470,20 @@ int client_run(const ClientConfig *cfg, volatile sig_atomic_t *stop, Err *err)
         nanosleep(&ts, NULL);
         backoff = backoff * 2 < 5 ? backoff * 2 : 5;
     }
-    pthread_mutex_lock(&w.mu);
-    w.quit = 1;
-    atomic_store(&w.cancel, 1);
-    pthread_cond_broadcast(&w.cv);
-    pthread_mutex_unlock(&w.mu);
-    pthread_join(th, NULL);
-    if (!cfg->quiet)
-        fprintf(stderr, "lanray-client: rendered %llu segments, %llu pixels\n", (unsigned long long)w.segments,
-                (unsigned long long)w.pixels);
-    render_pool_destroy(w.pool);
-    asset_cache_destroy(cache);
-    close(w.wake[0]);
-    close(w.wake[1]);
-    pthread_mutex_destroy(&w.mu);
-    pthread_cond_destroy(&w.cv);
+    worker_stop(cfg, &w, cache, th);
     return rc;
+}
+
+int client_run_fd(const ClientConfig *cfg, int fd, volatile sig_atomic_t *stop, Err *err)
+{
+    Worker w;
+    AssetCache *cache;
+    pthread_t th;
+    if (worker_start(&w, cfg->threads, &cache, &th, err)) {
+        close(fd);
+        return -1;
+    }
+    int r = session(cfg, fd, &w, cache, stop, err);
+    worker_stop(cfg, &w, cache, th);
+    return r == SESSION_REFUSED ? -1 : 0;
 }

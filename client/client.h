@@ -22,4 +22,10 @@ typedef struct {
  * version, precision): retrying cannot help then. */
 int client_run(const ClientConfig *cfg, volatile sig_atomic_t *stop, Err *err);
 
+/* One session on an already connected socket (closed at the end): no
+ * dialing, no reconnecting.  The packet fuzzer and tests use it with one end
+ * of a socketpair.  Returns as client_run does; err says why the session
+ * ended. */
+int client_run_fd(const ClientConfig *cfg, int fd, volatile sig_atomic_t *stop, Err *err);
+
 #endif

@@ -40,7 +40,26 @@ typedef struct {
     uint32_t fps_frames;
     int screenshot;
     const char *progname;
+    /* --verify: every frame compared with a reference image */
+    const char *verify_path;
+    uint8_t *verify;
+    uint64_t wrong_frames, wrong_pixels;
 } App;
+
+/* Pixels of a frame that differ from the reference (--verify): a farm test
+ * (tests/cli/chaos.sh, tools/loadtest) checks every frame without writing it. */
+static void verify_frame(App *a, uint32_t frame, const uint8_t *pixels)
+{
+    uint64_t wrong = 0, n = (uint64_t)a->width * a->height;
+    for (uint64_t i = 0; i < n; i++)
+        wrong += memcmp(pixels + 3 * i, a->verify + 3 * i, 3) != 0;
+    if (wrong) {
+        a->wrong_frames++;
+        a->wrong_pixels += wrong;
+        fprintf(stderr, "lanray-server: frame %u: %llu pixels differ from %s\n", frame, (unsigned long long)wrong,
+                a->verify_path);
+    }
+}
 
 static void on_frame(void *ctx, uint32_t frame, const uint8_t *pixels)
 {
@@ -48,6 +67,8 @@ static void on_frame(void *ctx, uint32_t frame, const uint8_t *pixels)
     Err err;
     a->frames_done++;
     a->fps_frames++;
+    if (a->verify)
+        verify_frame(a, frame, pixels);
     if (a->display) {
         display_show(a->display, pixels);
         if (a->screenshot) {
@@ -75,7 +96,7 @@ static void usage(FILE *f)
                "       [--width W] [--height H] [--segment LINES|auto] [--tail static|smart|adaptive]\n"
                "       [--bvh sbt|mst|sah] [--aa N|adaptive[:N]] [--rotate DEG]\n"
                "       [--headless] [--frames N] [--out DIR] [--discard] [--warmup N] [--stall-timeout S]\n"
-               "       [--handshake-timeout S] [--quiet]\n");
+               "       [--handshake-timeout S] [--verify REF.png] [--quiet]\n");
 }
 
 static int parse_int(const char *s, long lo, long hi, long *out)
@@ -125,7 +146,7 @@ static void apply_input(App *a, const DisplayInput *in, const Camera *home, int 
 
 int main(int argc, char **argv)
 {
-    const char *scene_path = NULL, *out_dir = "frames";
+    const char *scene_path = NULL, *out_dir = "frames", *verify_path = NULL;
     ServerConfig cfg = {NULL, PROTO_DEFAULT_PORT, getenv("LANRAY_TOKEN"), 0, 1024, 768, 0, sched_tail_smart, 30, 10, 0, 0};
     if (cfg.token && !*cfg.token)
         cfg.token = NULL;
@@ -191,6 +212,8 @@ int main(int argc, char **argv)
             bad = parse_int(v, 0, 100000000, &frames);
         } else if (strcmp(a, "--out") == 0) {
             out_dir = v;
+        } else if (strcmp(a, "--verify") == 0) {
+            verify_path = v;
         } else if (strcmp(a, "--rotate") == 0) {
             char *end;
             rotate = strtod(v, &end);
@@ -232,6 +255,21 @@ int main(int argc, char **argv)
     app.width = cfg.width;
     app.height = cfg.height;
     app.frames_wanted = (uint32_t)frames;
+    if (verify_path) {
+        int vw, vh;
+        if (image_read_png(verify_path, &vw, &vh, &app.verify, &err)) {
+            fprintf(stderr, "lanray-server: %s\n", err.msg);
+            scene_destroy(scene);
+            return 1;
+        }
+        if (vw != cfg.width || vh != cfg.height) {
+            fprintf(stderr, "lanray-server: %s is %dx%d, the frames are %dx%d\n", verify_path, vw, vh, cfg.width, cfg.height);
+            free(app.verify);
+            scene_destroy(scene);
+            return 1;
+        }
+        app.verify_path = verify_path;
+    }
     if (!headless && !display_available()) {
         fprintf(stderr, "lanray-server: no display; writing frames to %s/\n", out_dir);
         headless = 1;
@@ -313,6 +351,13 @@ int main(int argc, char **argv)
     }
     server_print_stats(app.server);
     server_print_summary(app.server);
+    if (app.verify) {
+        printf("verify frames=%u wrong_frames=%llu wrong_pixels=%llu\n", app.frames_done,
+               (unsigned long long)app.wrong_frames, (unsigned long long)app.wrong_pixels);
+        if (app.wrong_frames)
+            rc = 3;
+        free(app.verify);
+    }
     server_destroy(app.server);
     display_close(app.display);
     scene_destroy(scene);

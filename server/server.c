@@ -340,6 +340,37 @@ static int start_frame(Server *s, Err *err)
     return 0;
 }
 
+int server_adopt(Server *s, int fd, const char *addr)
+{
+    if (s->nclients >= MAX_CLIENTS) {
+        close(fd);
+        logf_(s, "refused a connection from %s: too many clients", addr);
+        return -1;
+    }
+    Client *c = calloc(1, sizeof *c);
+    if (c)
+        c->asset_sent = calloc(s->nassets + 1, 1);
+    if (!c || !c->asset_sent) {
+        free(c);
+        close(fd);
+        logf_(s, "refused a connection from %s: out of memory", addr);
+        return -1;
+    }
+    conn_init(&c->conn, fd);
+    c->id = s->next_id++;
+    c->state = CLIENT_HANDSHAKE;
+    c->since = timer_now();
+    snprintf(c->addr, sizeof c->addr, "%s", addr);
+    proto_random(c->nonce, sizeof c->nonce);
+    uint32_t hello[4] = {PROTO_MAGIC, PROTO_VERSION, PROTO_BOM, s->cfg.token ? HELLO_TOKEN_REQUIRED : 0};
+    uint8_t body[16 + PROTO_NONCE];
+    memcpy(body, hello, 16);
+    memcpy(body + 16, c->nonce, PROTO_NONCE);
+    s->clients[s->nclients++] = c;
+    send_or_drop(s, c, PKT_SERVER_HELLO, body, sizeof body, NULL, 0);
+    return 0;
+}
+
 static void accept_clients(Server *s)
 {
     for (;;) {
@@ -348,31 +379,14 @@ static void accept_clients(Server *s)
         int fd = accept(s->listen_fd, (struct sockaddr *)&sa, &len);
         if (fd < 0)
             return;
-        if (s->nclients >= MAX_CLIENTS || proto_socket_setup(fd)) {
+        char addr[64];
+        snprintf(addr, sizeof addr, "%s:%d", inet_ntoa(sa.sin_addr), ntohs(sa.sin_port));
+        if (proto_socket_setup(fd)) {
             close(fd);
-            logf_(s, "refused a connection: %s", s->nclients >= MAX_CLIENTS ? "too many clients" : "socket setup failed");
+            logf_(s, "refused a connection from %s: socket setup failed", addr);
             continue;
         }
-        Client *c = calloc(1, sizeof *c);
-        if (c)
-            c->asset_sent = calloc(s->nassets + 1, 1);
-        if (!c || !c->asset_sent) {
-            free(c);
-            close(fd);
-            continue;
-        }
-        conn_init(&c->conn, fd);
-        c->id = s->next_id++;
-        c->state = CLIENT_HANDSHAKE;
-        c->since = timer_now();
-        snprintf(c->addr, sizeof c->addr, "%s:%d", inet_ntoa(sa.sin_addr), ntohs(sa.sin_port));
-        proto_random(c->nonce, sizeof c->nonce);
-        uint32_t hello[4] = {PROTO_MAGIC, PROTO_VERSION, PROTO_BOM, s->cfg.token ? HELLO_TOKEN_REQUIRED : 0};
-        uint8_t body[16 + PROTO_NONCE];
-        memcpy(body, hello, 16);
-        memcpy(body + 16, c->nonce, PROTO_NONCE);
-        s->clients[s->nclients++] = c;
-        send_or_drop(s, c, PKT_SERVER_HELLO, body, sizeof body, NULL, 0);
+        server_adopt(s, fd, addr);
     }
 }
 

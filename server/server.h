@@ -43,6 +43,11 @@ int server_step(Server *s, int timeout_ms, FrameDoneFn done, void *ctx, Err *err
 void server_pause(Server *s, int paused);
 int server_port(const Server *s);
 uint32_t server_client_count(const Server *s);
+/* Takes an already connected, non-blocking socket as a new client (accept()
+ * hands its sockets here; tests and the packet fuzzer hand it one end of a
+ * socketpair).  Returns 0, or -1 with the socket closed and the reason logged
+ * when the server is full or out of memory. */
+int server_adopt(Server *s, int fd, const char *addr);
 /* Per-client statistics, one line each, to stdout. */
 void server_print_stats(const Server *s);
 /* One machine-readable line for benchmarks: frames, wall time from the first

@@ -3,34 +3,43 @@
  *
  *   schedsim --profile lines.csv [--width W] [--clients N] [--threads T]
  *            [--cores C] [--speeds a,b,...] [--segment LINES|auto] [--tail RULE]
- *            [--latency-us L] [--bandwidth-mbit B] [--client-mbit B2] [--overhead-us O]
+ *            [--latency-us L] [--bandwidth-mbit B] [--client-mbit B2]
+ *            [--overhead-us O] [--overhead-cpu Q] [--slice-us S]
  *            [--frames F] [--cost-scale K]
+ *   schedsim --probe-slice C     (measures S on this machine's C cores)
  *
  * The cost of a pixel comes from a real frame's profile (`lanray-render
  * --profile`: microseconds per line on one thread); a client with T threads
- * renders a segment in K * (its pixels' cost) / (T * speed * share) +
- * O / (speed * share), where share < 1 when the clients together have more
- * threads than there are cores C (the benchmark machine's clients share its
- * cores; the per-segment overhead O is CPU work and stretches the same way).  Packets take
- * the latency L plus their size over the server's link of B Mbit/s, one
- * FIFO queue each way (DATA into the server, UPDATE/COMPUTE out of it), and
- * with --client-mbit through a link of that rate per client as well.  The
- * server behaves as the real one: an UPDATE with two segments per client at
- * the start of a frame, a COMPUTE after every DATA, idle clients topped up
- * (outstanding segments handed out again), the next frame as soon as the
- * last pixels arrive.  Prints FPS, efficiency (busy / (clients x wall)),
- * duplicated lines and bytes per frame. */
+ * has K * (its pixels' cost) / (T * speed) + Q * O / speed of CPU work for a
+ * segment, and the rest of the per-segment overhead, (1 - Q) * O, is waiting
+ * (thread wake-ups).  When the clients together have more threads than there
+ * are cores C (the benchmark machine's clients share its cores), the busy
+ * ones share the cores equally (processor sharing: a client's rate changes
+ * whenever another starts or stops), and a client that was idle waits for a
+ * core before it starts: one time slice S for every C threads already
+ * running or waiting, as the OS scheduler makes a woken thread queue.
+ * Packets take the latency L plus their size over the server's link of B
+ * Mbit/s, one FIFO queue each way (DATA into the server, UPDATE/COMPUTE out
+ * of it), and with --client-mbit through a link of that rate per client as
+ * well.  The server behaves as the real one: an UPDATE with two segments per
+ * client at the start of a frame, a COMPUTE after every DATA, idle clients
+ * topped up (outstanding segments handed out again), the next frame as soon
+ * as the last pixels arrive; a client cancels the render it is in when an
+ * UPDATE for a newer frame arrives, as the real one does.  Prints FPS,
+ * efficiency (busy / (clients x wall)), duplicated lines and bytes per frame. */
 #include <math.h>
+#include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 
 #include "sched.h"
 
 #define MAXC 4096
 #define UPDATE_BYTES 900.0 /* header, two segments and the serialised benchmark scene */
 
-typedef enum { EV_ARRIVE_CLIENT, EV_DONE, EV_ARRIVE_SERVER } EvKind;
+typedef enum { EV_ARRIVE_CLIENT, EV_DONE, EV_ARRIVE_SERVER, EV_WAKE, EV_LAGGED } EvKind;
 
 typedef struct {
     double t;
@@ -39,12 +48,19 @@ typedef struct {
     uint32_t frame;
     Segment seg;
     double busy_us;
+    uint32_t gen; /* EV_DONE: the client's render generation it ends */
+    uint64_t seq; /* push order: events at the same time pop first-in first-out */
 } Event;
 
 typedef struct {
     Event *e;
     int n, cap;
+    uint64_t pushed;
 } Heap;
+
+/* Ties in time keep push order, so that two segments sent in one packet
+ * arrive (and are queued) in the order they were sent. */
+static int ev_before(const Event *a, const Event *b) { return a->t < b->t || (a->t == b->t && a->seq < b->seq); }
 
 static void heap_push(Heap *h, Event ev)
 {
@@ -54,8 +70,9 @@ static void heap_push(Heap *h, Event ev)
         if (!h->e)
             abort();
     }
+    ev.seq = h->pushed++;
     int i = h->n++;
-    while (i > 0 && h->e[(i - 1) / 2].t > ev.t) {
+    while (i > 0 && ev_before(&ev, &h->e[(i - 1) / 2])) {
         h->e[i] = h->e[(i - 1) / 2];
         i = (i - 1) / 2;
     }
@@ -70,9 +87,9 @@ static Event heap_pop(Heap *h)
         int c = 2 * i + 1;
         if (c >= h->n)
             break;
-        if (c + 1 < h->n && h->e[c + 1].t < h->e[c].t)
+        if (c + 1 < h->n && ev_before(&h->e[c + 1], &h->e[c]))
             c++;
-        if (h->e[c].t >= last.t)
+        if (!ev_before(&h->e[c], &last))
             break;
         h->e[i] = h->e[c];
         i = c;
@@ -83,12 +100,21 @@ static Event heap_pop(Heap *h)
 
 typedef struct {
     double up_free, down_free; /* its own link, when client_mbit > 0 */
-    double speed;     /* threads x speed factor x core share */
-    double share;     /* core share x speed factor: how fast one thread runs */
+    double speed;     /* speed factor (--speeds) */
+    int group;        /* the core group it is pinned to */
+    double left;      /* work left in the current segment, microseconds at full rate */
+    double rate;      /* its current share of its group, <= 1 */
+    double since;     /* when left and rate were last brought up to date */
+    double started;   /* when the current segment started (render time is wall time) */
+    Segment seg;      /* the current segment */
+    uint32_t seg_frame;
     Segment queue[64];
     uint32_t qframe[64];
     int nq;
     int busy;
+    int waking;         /* idle, given work, waiting for a core (EV_WAKE) */
+    int lagging;        /* its segment taken, in the waiting part of the overhead (EV_LAGGED) */
+    uint32_t gen;       /* bumped when a render is cancelled: its EV_DONE is void */
     uint32_t cur_frame; /* the newest frame it knows */
     double busy_us;
 } Client;
@@ -96,6 +122,9 @@ typedef struct {
 typedef struct {
     int width, height, clients, threads, frames;
     double cores, latency_us, mbit, overhead_us, cost_scale;
+    double group_cores; /* cores in each group the clients are pinned to */
+    double overhead_cpu; /* the part of the per-segment overhead that is CPU work */
+    double slice_us;    /* the OS scheduler's time slice: what a woken client waits per round of others */
     double client_mbit; /* > 0: every client also has its own link of this rate (namespaces behind veth pairs) */
     uint32_t segment; /* 0: auto, as the server */
     SchedTailRule tail;
@@ -142,14 +171,52 @@ static uint32_t auto_lines(double work_us, double overhead_us, uint32_t height, 
     return p;
 }
 
-static void run(Sim *s)
+/* Threads in group g that want a core: the busy clients' and the waking ones'. */
+static double group_demand(const Sim *s, const Client *cl, int g)
+{
+    int n = 0;
+    for (int i = 0; i < s->clients; i++)
+        n += cl[i].group == g && (cl[i].busy || cl[i].waking);
+    return (double)n * s->threads;
+}
+
+/* The busy clients pinned to core group g share it equally: brings each one's
+ * work left up to `now`, gives it the new rate and schedules its EV_DONE
+ * again (the one scheduled before is voided through the generation). */
+static void group_share(const Sim *s, Client *cl, int g, double now, Heap *h)
+{
+    int busy = 0;
+    for (int i = 0; i < s->clients; i++)
+        busy += cl[i].group == g && cl[i].busy;
+    double want = (double)busy * s->threads, rate = want > s->group_cores ? s->group_cores / want : 1.0;
+    for (int i = 0; i < s->clients; i++) {
+        Client *c = &cl[i];
+        if (c->group != g || !c->busy)
+            continue;
+        c->left = fmax(c->left - (now - c->since) * c->rate, 0.0);
+        c->since = now;
+        if (c->rate == rate)
+            continue;
+        c->rate = rate;
+        c->gen++;
+        heap_push(h, (Event){now + c->left / rate, EV_DONE, i, c->seg_frame, c->seg, 0, c->gen, 0});
+    }
+}
+
+typedef struct {
+    double fps, efficiency, dup_lines, bytes;
+    uint32_t segment_lines;
+} Outcome;
+
+static Outcome run(Sim *s)
 {
     Client *cl = calloc((size_t)s->clients, sizeof *cl);
-    double total_threads = (double)s->clients * s->threads;
-    double share = total_threads > s->cores ? s->cores / total_threads : 1.0;
+    /* enough cores: every client has its own; too few: they share them all */
+    int groups = s->cores / s->threads >= s->clients ? s->clients : 1;
+    s->group_cores = s->cores / groups;
     for (int i = 0; i < s->clients; i++) {
-        cl[i].share = share * (s->nspeeds ? s->speeds[i % s->nspeeds] : 1.0);
-        cl[i].speed = s->threads * cl[i].share;
+        cl[i].speed = s->nspeeds ? s->speeds[i % s->nspeeds] : 1.0;
+        cl[i].group = i % groups;
     }
     SchedConfig cfg = {(uint32_t)s->width, (uint32_t)s->height, s->segment ? s->segment : 1, s->tail,
                        (uint32_t)(s->width / 4 > 0 ? s->width / 4 : 1)};
@@ -174,7 +241,7 @@ static void run(Sim *s)
             for (int k = 0; k < 2; k++) {
                 Segment g;
                 if (sched_assign(sc, i, &g))
-                    heap_push(&h, (Event){t, EV_ARRIVE_CLIENT, i, (uint32_t)frame + 1, g, 0});
+                    heap_push(&h, (Event){t, EV_ARRIVE_CLIENT, i, (uint32_t)frame + 1, g, 0, 0, 0});
             }
         }
         while (!sched_frame_done(sc) && h.n) {
@@ -182,22 +249,32 @@ static void run(Sim *s)
             now = ev.t;
             Client *c = &cl[ev.client];
             if (ev.kind == EV_ARRIVE_CLIENT) {
-                if (ev.frame > c->cur_frame) { /* newer UPDATE: drop older queued work */
+                if (ev.frame > c->cur_frame) { /* newer UPDATE: drop older work, cancel the render */
                     c->cur_frame = ev.frame;
                     c->nq = 0;
+                    if (c->busy || c->lagging) {
+                        c->busy = c->lagging = 0;
+                        c->gen++;
+                        group_share(s, cl, c->group, now, &h);
+                    }
                 }
                 if (ev.frame < c->cur_frame || c->nq == 64)
                     continue;
                 c->queue[c->nq] = ev.seg;
                 c->qframe[c->nq++] = ev.frame;
             } else if (ev.kind == EV_DONE) {
+                if (ev.gen != c->gen)
+                    continue; /* cancelled, or rescheduled at another rate */
                 c->busy = 0;
+                c->rate = 0;
+                ev.busy_us = now - c->started;
+                group_share(s, cl, c->group, now, &h);
                 if (ev.frame == c->cur_frame) {
                     double size = 24.0 + 3.0 * ev.seg.count;
                     double t = send_via(s, now, &up_free, &c->up_free, size);
-                    heap_push(&h, (Event){t, EV_ARRIVE_SERVER, ev.client, ev.frame, ev.seg, ev.busy_us});
+                    heap_push(&h, (Event){t, EV_ARRIVE_SERVER, ev.client, ev.frame, ev.seg, ev.busy_us, 0, 0});
                 }
-            } else { /* DATA at the server */
+            } else if (ev.kind == EV_ARRIVE_SERVER) { /* DATA at the server */
                 bytes += 24.0 + 3.0 * ev.seg.count;
                 SchedResult r = sched_complete(sc, ev.client, ev.frame, ev.seg);
                 if (r != SCHED_STALE) {
@@ -216,24 +293,53 @@ static void run(Sim *s)
                                 break;
                             double t = send_via(s, now, &down_free, &cl[i].down_free, 20);
                             bytes += 20;
-                            heap_push(&h, (Event){t, EV_ARRIVE_CLIENT, i, ev.frame, g, 0});
+                            heap_push(&h, (Event){t, EV_ARRIVE_CLIENT, i, ev.frame, g, 0, 0, 0});
                         }
                     }
                 }
             }
-            /* idle clients start their next queued segment */
+            if (ev.kind == EV_WAKE)
+                c->waking = 0;
+            if (ev.kind == EV_LAGGED && ev.gen == c->gen && c->lagging) {
+                c->lagging = 0; /* waited: now the CPU work */
+                c->busy = 1;
+                group_share(s, cl, c->group, now, &h);
+            }
+            /* idle clients start their next queued segment; one that was
+             * idle (not going straight on from its own last segment) first
+             * waits for a core when its group is oversubscribed */
             for (int i = 0; i < s->clients; i++) {
                 Client *d = &cl[i];
-                if (d->busy || d->nq == 0)
+                if (d->busy || d->waking || d->lagging || d->nq == 0)
                     continue;
+                int woke = ev.kind == EV_WAKE && ev.client == i;
+                if (!woke && !(ev.kind == EV_DONE && ev.client == i) && s->slice_us > 0) {
+                    double delay = s->slice_us * floor(group_demand(s, cl, d->group) / s->group_cores);
+                    if (delay > 0) {
+                        d->waking = 1;
+                        heap_push(&h, (Event){now + delay, EV_WAKE, i, 0, {0, 0}, 0, 0, 0});
+                        continue;
+                    }
+                }
                 Segment g = d->queue[0];
                 uint32_t f = d->qframe[0];
                 memmove(d->queue, d->queue + 1, (size_t)--d->nq * sizeof *d->queue);
                 memmove(d->qframe, d->qframe + 1, (size_t)d->nq * sizeof *d->qframe);
-                /* the per-segment overhead is CPU work too: it stretches with the core share */
-                double dt = seg_cost(s, g) / d->speed + s->overhead_us / d->share;
+                /* the CPU part of the per-segment overhead stretches with the
+                 * core share; the waiting part comes first and takes no core */
+                d->left = (seg_cost(s, g) / (s->threads * d->speed) + s->overhead_cpu * s->overhead_us / d->speed);
+                d->seg = g;
+                d->seg_frame = f;
+                d->started = d->since = now;
+                d->rate = 0;
+                double lag = (1 - s->overhead_cpu) * s->overhead_us;
+                if (lag > 0) {
+                    d->lagging = 1;
+                    heap_push(&h, (Event){now + lag, EV_LAGGED, i, 0, {0, 0}, 0, d->gen, 0});
+                    continue;
+                }
                 d->busy = 1;
-                heap_push(&h, (Event){now + dt, EV_DONE, i, f, g, dt});
+                group_share(s, cl, d->group, now, &h);
             }
         }
         if (frame >= 1)
@@ -241,16 +347,79 @@ static void run(Sim *s)
     }
     double wall = now - t_first;
     SchedStats st = sched_stats(sc);
-    printf("%s fps=%.3f efficiency=%.4f dup_lines_per_frame=%.2f bytes_per_frame=%.0f segment_lines=%u\n",
-           "predicted", measured / (wall * 1e-6), busy / (s->clients * wall), (double)st.duplicate_pixels / s->width / (s->frames + 1),
-           bytes / measured, sched_config(sc)->segment_lines);
+    Outcome o = {measured / (wall * 1e-6), busy / (s->clients * wall),
+                 (double)st.duplicate_pixels / s->width / (s->frames + 1), bytes / measured,
+                 sched_config(sc)->segment_lines};
     sched_destroy(sc);
     free(h.e);
     free(cl);
+    return o;
+}
+
+/* --probe-slice: how long a runnable thread waits for a core on this
+ * machine.  cores + 1 threads spin for a second reading the clock; a gap in
+ * one thread's readings is time it was not running.  The median gap is what
+ * a client woken on oversubscribed cores waits per round (one time slice). */
+typedef struct {
+    double gaps[4096];
+    int n;
+} Probe;
+
+static double now_us(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return ts.tv_sec * 1e6 + ts.tv_nsec * 1e-3;
+}
+
+static void *probe_spin(void *arg)
+{
+    Probe *p = arg;
+    double start = now_us(), last = start;
+    while (last - start < 1e6) {
+        double t = now_us();
+        if (t - last > 200 && p->n < 4096)
+            p->gaps[p->n++] = t - last;
+        last = t;
+    }
+    return NULL;
+}
+
+static int cmp_double(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+static int probe_slice(int cores)
+{
+    int n = cores + 1;
+    Probe *p = calloc((size_t)n, sizeof *p);
+    pthread_t *th = calloc((size_t)n, sizeof *th);
+    if (!p || !th)
+        return 1;
+    for (int i = 0; i < n; i++)
+        pthread_create(&th[i], NULL, probe_spin, &p[i]);
+    double *all = NULL;
+    int total = 0;
+    for (int i = 0; i < n; i++) {
+        pthread_join(th[i], NULL);
+        all = realloc(all, (size_t)(total + p[i].n + 1) * sizeof *all);
+        memcpy(all + total, p[i].gaps, (size_t)p[i].n * sizeof *all);
+        total += p[i].n;
+    }
+    qsort(all, (size_t)total, sizeof *all, cmp_double);
+    printf("slice_us=%.0f gaps=%d\n", total ? all[total / 2] : 0.0, total);
+    free(all);
+    free(p);
+    free(th);
+    return 0;
 }
 
 int main(int argc, char **argv)
 {
+    if (argc == 3 && strcmp(argv[1], "--probe-slice") == 0)
+        return probe_slice(atoi(argv[2]) > 0 ? atoi(argv[2]) : 1);
     Sim s;
     memset(&s, 0, sizeof s);
     s.width = 1024;
@@ -264,6 +433,7 @@ int main(int argc, char **argv)
     s.segment = 16;
     s.tail = sched_tail_smart;
     s.cost_scale = 1;
+    s.overhead_cpu = 1;
     const char *profile = NULL;
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : "";
@@ -278,6 +448,8 @@ int main(int argc, char **argv)
         else if (strcmp(a, "--frames") == 0) s.frames = atoi(v);
         else if (strcmp(a, "--cost-scale") == 0) s.cost_scale = atof(v);
         else if (strcmp(a, "--client-mbit") == 0) s.client_mbit = atof(v);
+        else if (strcmp(a, "--slice-us") == 0) s.slice_us = atof(v);
+        else if (strcmp(a, "--overhead-cpu") == 0) s.overhead_cpu = atof(v);
         else if (strcmp(a, "--segment") == 0) s.segment = strcmp(v, "auto") == 0 ? 0 : (uint32_t)atoi(v);
         else if (strcmp(a, "--tail") == 0) {
             s.tail = sched_tail_by_name(v);
@@ -325,7 +497,9 @@ int main(int argc, char **argv)
     s.prefix[0] = 0;
     for (size_t p = 0; p < (size_t)s.width * s.height; p++)
         s.prefix[p + 1] = s.prefix[p] + s.cost_scale * s.line_us[p / s.width] / s.width;
-    run(&s);
+    Outcome o = run(&s);
+    printf("predicted fps=%.3f efficiency=%.4f dup_lines_per_frame=%.2f bytes_per_frame=%.0f segment_lines=%u\n", o.fps,
+           o.efficiency, o.dup_lines, o.bytes, o.segment_lines);
     free(s.line_us);
     free(s.prefix);
     return 0;

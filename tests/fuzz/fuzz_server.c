@@ -1,0 +1,101 @@
+/* fuzz_server.c - the server's packet parser: every byte one client sends.
+ *
+ * Each input is a client's whole stream to a fresh server (a small scene
+ * without assets, a 16x8 frame, 2-line segments, no token) through one end
+ * of a socketpair.  When the first byte is odd the harness sends a valid
+ * HELLO first and steps the server until frame 1 has started (its segments
+ * are 0+32 and 32+32), so that the rest lands in an active session (DATA,
+ * BYE, ERROR and whatever else); otherwise the rest is the stream from its
+ * first byte (the handshake itself).  The server steps until it has read
+ * everything and closed the connection; what it sends back is dropped. */
+#include <fcntl.h>
+#include <stdio.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include "fuzz.h"
+#include "real.h"
+#include "scene_parse.h"
+#include "server.h"
+
+static Scene *scene;
+
+static void send_all(int fd, const uint8_t *p, size_t n)
+{
+    while (n > 0) {
+        ssize_t w = send(fd, p, n, MSG_NOSIGNAL);
+        if (w <= 0)
+            return; /* the server closed early: the rest does not matter */
+        p += w;
+        n -= (size_t)w;
+    }
+}
+
+int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
+{
+    if (!scene) {
+        /* no models or textures: a server serialises its assets when it is created */
+        char text[] = "camera position 0 1 4 lookat 0 0.5 0 fov 50\n"
+                      "material red diffuse 0.8 0.2 0.1 specular 0.5 0.5 0.5 shininess 30\n"
+                      "plane point 0 0 0 normal 0 1 0 material red\n"
+                      "sphere centre 0 0.5 0 radius 0.5 material red\n"
+                      "light point position 2 4 3 intensity 1\n";
+        BvhOptions opt = bvh_options_default(BVH_SAH);
+        if (scene_parse(text, sizeof text - 1, "fuzz.scene", ".", &opt, 0, &scene, NULL) || scene_prepare(scene, NULL))
+            abort();
+    }
+    if (size < 1 || size > 1 << 20)
+        return 0;
+    ServerConfig cfg = {0};
+    cfg.width = 16;
+    cfg.height = 8;
+    cfg.segment_lines = 2;
+    cfg.tail = sched_tail_static;
+    cfg.stall_timeout = 60;
+    cfg.handshake_timeout = 60;
+    cfg.quiet = 1;
+    Err err;
+    Server *s = server_create(&cfg, scene, &err);
+    int fds[2];
+    if (!s || socketpair(AF_UNIX, SOCK_STREAM, 0, fds))
+        abort();
+    fcntl(fds[0], F_SETFL, O_NONBLOCK);
+    fcntl(fds[1], F_SETFL, O_NONBLOCK);
+    server_adopt(s, fds[0], "fuzz");
+    uint8_t sink[65536];
+    if (data[0] & 1) {
+        uint8_t hello[8 + 20 + 64] = {0};
+        uint32_t h[7] = {PKT_HELLO, sizeof hello, PROTO_MAGIC, PROTO_VERSION, PROTO_BOM, 1, sizeof(real)};
+        memcpy(hello, h, sizeof h);
+        send_all(fds[1], hello, sizeof hello);
+        /* the server welcomes the client and starts frame 1: its UPDATE goes out */
+        for (int k = 0; k < 4; k++) {
+            if (server_step(s, 0, NULL, NULL, &err))
+                abort();
+            while (read(fds[1], sink, sizeof sink) > 0) {
+            }
+        }
+    }
+    size_t off = 1;
+    for (int round = 0; round < 100000; round++) {
+        if (off < size) {
+            ssize_t w = send(fds[1], data + off, size - off, MSG_NOSIGNAL);
+            if (w > 0)
+                off += (size_t)w;
+            if (off == size)
+                shutdown(fds[1], SHUT_WR);
+        } else if (size == 1 && round == 0) {
+            shutdown(fds[1], SHUT_WR);
+        }
+        if (server_step(s, 0, NULL, NULL, &err))
+            break;
+        ssize_t r;
+        while ((r = read(fds[1], sink, sizeof sink)) > 0) {
+        }
+        if (r == 0)
+            break; /* the server closed the connection */
+    }
+    close(fds[1]);
+    server_destroy(s);
+    return 0;
+}
