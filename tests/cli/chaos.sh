@@ -8,7 +8,12 @@ set -u
 BIN=${BIN:-bin}
 dir=$(mktemp -d)
 trap 'rm -rf "$dir"' EXIT
-out=$(CLIENTS=6 DURATION=20 CHURN=0.25 W=160 H=120 BIN="$BIN" tools/loadtest "$dir" 2>&1)
+# Under AddressSanitizer freed memory sits in its quarantine (up to 256 MB),
+# so the server's RSS grows by design there; LeakSanitizer checks for leaks
+# at exit instead, and the memory check is the normal build's.
+rss_check=1
+case "$BIN" in *asan*) rss_check=0 ;; esac
+out=$(CLIENTS=6 DURATION=20 CHURN=0.25 W=160 H=120 BIN="$BIN" RSS_CHECK=$rss_check tools/loadtest "$dir" 2>&1)
 rc=$?
 echo "$out"
 [ "$rc" = 0 ] || { echo "FAIL: chaos"; exit 1; }
