@@ -13,6 +13,7 @@ typedef struct {
 typedef struct {
     int client;
     uint32_t rec;
+    uint64_t seq; /* assignment order: a client renders what it holds in this order */
 } Assignment;
 
 struct Sched {
@@ -23,6 +24,7 @@ struct Sched {
     uint32_t nrec, caprec;
     Assignment *asg;
     uint32_t nasg, capasg;
+    uint64_t seq;
     SchedStats stats;
 };
 
@@ -112,7 +114,7 @@ static int add_assignment(Sched *s, int client, uint32_t rec)
         s->asg = p;
         s->capasg = cap;
     }
-    s->asg[s->nasg++] = (Assignment){client, rec};
+    s->asg[s->nasg++] = (Assignment){client, rec, s->seq++};
     s->recs[rec].holders++;
     return 0;
 }
@@ -123,6 +125,25 @@ static int holds(const Sched *s, int client, uint32_t rec)
         if (s->asg[i].client == client && s->asg[i].rec == rec)
             return 1;
     return 0;
+}
+
+/* Every holder of rec still has an earlier-assigned segment of this frame to
+ * render first (a segment nobody holds is not queued anywhere). */
+static int queued(const Sched *s, uint32_t rec)
+{
+    int any = 0;
+    for (uint32_t i = 0; i < s->nasg; i++) {
+        const Assignment *a = &s->asg[i];
+        if (a->rec != rec)
+            continue;
+        int behind = 0;
+        for (uint32_t j = 0; j < s->nasg && !behind; j++)
+            behind = s->asg[j].client == a->client && s->asg[j].seq < a->seq && !s->recs[s->asg[j].rec].done;
+        if (!behind)
+            return 0;
+        any = 1;
+    }
+    return any;
 }
 
 int sched_assign(Sched *s, int client, Segment *out)
@@ -152,14 +173,22 @@ int sched_assign(Sched *s, int client, Segment *out)
         *out = r->seg;
         return 1;
     }
-    /* nothing new: the outstanding segment with the fewest holders, oldest first */
+    /* Nothing new: an outstanding segment again, the one with the fewest
+     * holders; among those, one that waits in its holders' queues behind
+     * another of their segments (it will be the last to come back), else
+     * the newest. */
     uint32_t best = UINT32_MAX;
+    int best_queued = 0;
     for (uint32_t i = 0; i < s->nrec; i++) {
         const Rec *r = &s->recs[i];
         if (r->done || holds(s, client, i))
             continue;
-        if (best == UINT32_MAX || r->holders < s->recs[best].holders)
+        int q = queued(s, i);
+        if (best == UINT32_MAX || r->holders < s->recs[best].holders ||
+            (r->holders == s->recs[best].holders && q >= best_queued)) {
             best = i;
+            best_queued = q;
+        }
     }
     if (best == UINT32_MAX || add_assignment(s, client, best))
         return 0;

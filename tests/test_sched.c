@@ -104,6 +104,32 @@ static void outstanding_segments_are_reissued_and_first_wins(void **state)
     sched_destroy(s);
 }
 
+static void queued_segments_are_reissued_first(void **state)
+{
+    (void)state;
+    Sched *s = make(10, 6, 1, sched_tail_static, 2);
+    Segment a[6];
+    /* clients 0, 1, 2 take two each: each renders its first, the second waits */
+    for (int i = 0; i < 6; i++)
+        assert_true(sched_assign(s, i / 2, &a[i]));
+    /* client 2 finishes both; clients 0 and 1 are still on their first */
+    assert_int_equal(sched_complete(s, 2, 1, a[4]), SCHED_ACCEPT);
+    assert_int_equal(sched_complete(s, 2, 1, a[5]), SCHED_ACCEPT);
+    /* it is given a segment that waits behind another, not one in progress
+     * (it would come back last); the newest of those first */
+    Segment r;
+    assert_true(sched_assign(s, 2, &r));
+    assert_int_equal(r.first, a[3].first);
+    assert_true(sched_assign(s, 2, &r));
+    assert_int_equal(r.first, a[1].first);
+    /* then the ones in progress, newest first */
+    assert_true(sched_assign(s, 2, &r));
+    assert_int_equal(r.first, a[2].first);
+    /* client 0 finishes its first: its second is no longer queued */
+    assert_int_equal(sched_complete(s, 0, 1, a[0]), SCHED_ACCEPT);
+    sched_destroy(s);
+}
+
 static void released_clients_hold_nothing(void **state)
 {
     (void)state;
@@ -133,6 +159,7 @@ int main(void)
         cmocka_unit_test(segments_tile_the_frame),
         cmocka_unit_test(tail_rules_shrink_the_end),
         cmocka_unit_test(outstanding_segments_are_reissued_and_first_wins),
+        cmocka_unit_test(queued_segments_are_reissued_first),
         cmocka_unit_test(released_clients_hold_nothing),
     };
     return cmocka_run_group_tests_name("sched", tests, NULL, NULL);
