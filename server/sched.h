@@ -53,7 +53,8 @@ void sched_set_segment_lines(Sched *s, uint32_t lines);
 /* The number of clients connected, for the tail rules. */
 void sched_set_clients(Sched *s, uint32_t clients);
 /* Gives client a segment: a new one while pixels are left, else one still
- * outstanding that it does not hold (fewest holders first).  Returns 0 when
+ * outstanding that it does not hold (fewest holders first; then one queued
+ * behind another segment at its holders; then the newest).  Returns 0 when
  * there is nothing for it. */
 int sched_assign(Sched *s, int client, Segment *out);
 SchedResult sched_complete(Sched *s, int client, uint32_t frame, Segment seg);
