@@ -11,7 +11,6 @@
 #include <netdb.h>
 #include <poll.h>
 #include <pthread.h>
-#include <stdarg.h>
 #include <stdatomic.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -22,6 +21,7 @@
 
 #include "proto.h"
 #include "render.h"
+#include "log.h"
 #include "timer.h"
 #include "wire.h"
 
@@ -155,19 +155,6 @@ static int read_packet(Conn *c, double seconds, Err *err)
     }
 }
 
-static void logf_(const ClientConfig *cfg, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
-static void logf_(const ClientConfig *cfg, const char *fmt, ...)
-{
-    if (cfg->quiet)
-        return;
-    va_list ap;
-    va_start(ap, fmt);
-    fprintf(stderr, "lanray-client: ");
-    vfprintf(stderr, fmt, ap);
-    fputc('\n', stderr);
-    va_end(ap);
-}
-
 enum { SESSION_ENDED = 0, SESSION_REFUSED = -1 };
 
 static void error_text(const Conn *c, char *text, size_t size)
@@ -219,7 +206,7 @@ static int handshake(const ClientConfig *cfg, Conn *c, Err *err)
         return SESSION_REFUSED;
     }
     if ((f[3] & HELLO_TOKEN_REQUIRED) && !cfg->token)
-        logf_(cfg, "server requires a token; none given (--token or LANRAY_TOKEN)");
+        log_line(cfg->quiet, "lanray-client", "server requires a token; none given (--token or LANRAY_TOKEN)");
     uint8_t sn[PROTO_NONCE], body[20 + PROTO_NONCE + PROTO_PROOF];
     memcpy(sn, c->body + 16, PROTO_NONCE);
     uint32_t h[5] = {PROTO_MAGIC, PROTO_VERSION, PROTO_BOM, (uint32_t)cfg->threads, (uint32_t)sizeof(real)};
@@ -341,7 +328,7 @@ static int session(const ClientConfig *cfg, int fd, Worker *w, AssetCache *cache
         conn_close(&c);
         return hs;
     }
-    logf_(cfg, "connected to %s:%d with %d threads", cfg->host, cfg->port, cfg->threads);
+    log_line(cfg->quiet, "lanray-client", "connected to %s:%d with %d threads", cfg->host, cfg->port, cfg->threads);
     SceneRef *cur = NULL;
     int rc = SESSION_ENDED;
     for (;;) {
@@ -465,7 +452,7 @@ int client_run(const ClientConfig *cfg, volatile sig_atomic_t *stop, Err *err)
             break;
         if (timer_now() - start > 2)
             backoff = 0.1; /* the session worked for a while: start over gently */
-        logf_(cfg, "%s; reconnecting in %.1f s", e.msg, backoff);
+        log_line(cfg->quiet, "lanray-client", "%s; reconnecting in %.1f s", e.msg, backoff);
         struct timespec ts = {(time_t)backoff, (long)((backoff - (double)(time_t)backoff) * 1e9)};
         nanosleep(&ts, NULL);
         backoff = backoff * 2 < 5 ? backoff * 2 : 5;

@@ -13,13 +13,13 @@
 #include <netinet/in.h>
 #include <math.h>
 #include <poll.h>
-#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/socket.h>
 #include <unistd.h>
 
+#include "log.h"
 #include "timer.h"
 #include "wire.h"
 
@@ -100,19 +100,6 @@ static uint32_t auto_lines(double work_us, double overhead_us, uint32_t height, 
     while (p * 2 <= most && (double)(p * 2) <= lines * 1.4142)
         p *= 2;
     return p;
-}
-
-static void logf_(const Server *s, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
-static void logf_(const Server *s, const char *fmt, ...)
-{
-    if (s->cfg.quiet)
-        return;
-    va_list ap;
-    va_start(ap, fmt);
-    fprintf(stderr, "lanray-server: ");
-    vfprintf(stderr, fmt, ap);
-    fputc('\n', stderr);
-    va_end(ap);
 }
 
 static int is_loopback(const char *addr)
@@ -240,7 +227,7 @@ static void drop(Server *s, Client *c, const char *reason)
 {
     if (c->closing)
         return;
-    logf_(s, "client %d (%s) disconnected: %s", c->id, c->addr, reason);
+    log_line(s->cfg.quiet, "lanray-server", "client %d (%s) disconnected: %s", c->id, c->addr, reason);
     if (reason && strcmp(reason, "said goodbye") != 0) {
         Err e;
         char text[PROTO_MAX_ERROR_TEXT];
@@ -344,7 +331,7 @@ int server_adopt(Server *s, int fd, const char *addr)
 {
     if (s->nclients >= MAX_CLIENTS) {
         close(fd);
-        logf_(s, "refused a connection from %s: too many clients", addr);
+        log_line(s->cfg.quiet, "lanray-server", "refused a connection from %s: too many clients", addr);
         return -1;
     }
     Client *c = calloc(1, sizeof *c);
@@ -353,7 +340,7 @@ int server_adopt(Server *s, int fd, const char *addr)
     if (!c || !c->asset_sent) {
         free(c);
         close(fd);
-        logf_(s, "refused a connection from %s: out of memory", addr);
+        log_line(s->cfg.quiet, "lanray-server", "refused a connection from %s: out of memory", addr);
         return -1;
     }
     conn_init(&c->conn, fd);
@@ -383,7 +370,7 @@ static void accept_clients(Server *s)
         snprintf(addr, sizeof addr, "%s:%d", inet_ntoa(sa.sin_addr), ntohs(sa.sin_port));
         if (proto_socket_setup(fd)) {
             close(fd);
-            logf_(s, "refused a connection from %s: socket setup failed", addr);
+            log_line(s->cfg.quiet, "lanray-server", "refused a connection from %s: socket setup failed", addr);
             continue;
         }
         server_adopt(s, fd, addr);
@@ -428,7 +415,7 @@ static void on_hello(Server *s, Client *c)
     c->last_result = timer_now();
     uint32_t id = (uint32_t)c->id;
     send_or_drop(s, c, PKT_WELCOME, &id, 4, NULL, 0);
-    logf_(s, "client %d (%s) joined with %u threads", c->id, c->addr, c->threads);
+    log_line(s->cfg.quiet, "lanray-server", "client %d (%s) joined with %u threads", c->id, c->addr, c->threads);
     if (s->in_frame) {
         sched_set_clients(s->sched, server_client_count(s));
         send_update(s, c);
