@@ -32,9 +32,9 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
 #include "sched.h"
+#include "timer.h"
 
 #define MAXC 4096
 #define UPDATE_BYTES 900.0 /* header, two segments and the serialised benchmark scene */
@@ -101,7 +101,7 @@ static Event heap_pop(Heap *h)
 typedef struct {
     double up_free, down_free; /* its own link, when client_mbit > 0 */
     double speed;     /* speed factor (--speeds) */
-    int group;        /* the core group it is pinned to */
+    int group;        /* the cores it shares: its own, or all of them (group 0) */
     double left;      /* work left in the current segment, microseconds at full rate */
     double rate;      /* its current share of its group, <= 1 */
     double since;     /* when left and rate were last brought up to date */
@@ -116,13 +116,12 @@ typedef struct {
     int lagging;        /* its segment taken, in the waiting part of the overhead (EV_LAGGED) */
     uint32_t gen;       /* bumped when a render is cancelled: its EV_DONE is void */
     uint32_t cur_frame; /* the newest frame it knows */
-    double busy_us;
 } Client;
 
 typedef struct {
     int width, height, clients, threads, frames;
     double cores, latency_us, mbit, overhead_us, cost_scale;
-    double group_cores; /* cores in each group the clients are pinned to */
+    double group_cores; /* cores in each group of clients sharing them */
     double overhead_cpu; /* the part of the per-segment overhead that is CPU work */
     double slice_us;    /* the OS scheduler's time slice: what a woken client waits per round of others */
     double client_mbit; /* > 0: every client also has its own link of this rate (namespaces behind veth pairs) */
@@ -180,7 +179,7 @@ static double group_demand(const Sim *s, const Client *cl, int g)
     return (double)n * s->threads;
 }
 
-/* The busy clients pinned to core group g share it equally: brings each one's
+/* The busy clients of core group g share its cores equally: brings each one's
  * work left up to `now`, gives it the new rate and schedules its EV_DONE
  * again (the one scheduled before is voided through the generation). */
 static void group_share(const Sim *s, Client *cl, int g, double now, Heap *h)
@@ -203,12 +202,7 @@ static void group_share(const Sim *s, Client *cl, int g, double now, Heap *h)
     }
 }
 
-typedef struct {
-    double fps, efficiency, dup_lines, bytes;
-    uint32_t segment_lines;
-} Outcome;
-
-static Outcome run(Sim *s)
+static void run(Sim *s)
 {
     Client *cl = calloc((size_t)s->clients, sizeof *cl);
     /* enough cores: every client has its own; too few: they share them all */
@@ -347,13 +341,12 @@ static Outcome run(Sim *s)
     }
     double wall = now - t_first;
     SchedStats st = sched_stats(sc);
-    Outcome o = {measured / (wall * 1e-6), busy / (s->clients * wall),
-                 (double)st.duplicate_pixels / s->width / (s->frames + 1), bytes / measured,
-                 sched_config(sc)->segment_lines};
+    printf("predicted fps=%.3f efficiency=%.4f dup_lines_per_frame=%.2f bytes_per_frame=%.0f segment_lines=%u\n",
+           measured / (wall * 1e-6), busy / (s->clients * wall), (double)st.duplicate_pixels / s->width / (s->frames + 1),
+           bytes / measured, sched_config(sc)->segment_lines);
     sched_destroy(sc);
     free(h.e);
     free(cl);
-    return o;
 }
 
 /* --probe-slice: how long a runnable thread waits for a core on this
@@ -365,19 +358,12 @@ typedef struct {
     int n;
 } Probe;
 
-static double now_us(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return ts.tv_sec * 1e6 + ts.tv_nsec * 1e-3;
-}
-
 static void *probe_spin(void *arg)
 {
     Probe *p = arg;
-    double start = now_us(), last = start;
+    double start = timer_now() * 1e6, last = start;
     while (last - start < 1e6) {
-        double t = now_us();
+        double t = timer_now() * 1e6;
         if (t - last > 200 && p->n < 4096)
             p->gaps[p->n++] = t - last;
         last = t;
@@ -404,7 +390,10 @@ static int probe_slice(int cores)
     int total = 0;
     for (int i = 0; i < n; i++) {
         pthread_join(th[i], NULL);
-        all = realloc(all, (size_t)(total + p[i].n + 1) * sizeof *all);
+        double *grown = realloc(all, (size_t)(total + p[i].n + 1) * sizeof *all);
+        if (!grown)
+            abort();
+        all = grown;
         memcpy(all + total, p[i].gaps, (size_t)p[i].n * sizeof *all);
         total += p[i].n;
     }
@@ -497,9 +486,7 @@ int main(int argc, char **argv)
     s.prefix[0] = 0;
     for (size_t p = 0; p < (size_t)s.width * s.height; p++)
         s.prefix[p + 1] = s.prefix[p] + s.cost_scale * s.line_us[p / s.width] / s.width;
-    Outcome o = run(&s);
-    printf("predicted fps=%.3f efficiency=%.4f dup_lines_per_frame=%.2f bytes_per_frame=%.0f segment_lines=%u\n", o.fps,
-           o.efficiency, o.dup_lines, o.bytes, o.segment_lines);
+    run(&s);
     free(s.line_us);
     free(s.prefix);
     return 0;

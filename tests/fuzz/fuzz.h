@@ -8,6 +8,7 @@
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/socket.h>
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 
@@ -21,6 +22,19 @@ static inline char *fuzz_text(const uint8_t *data, size_t size)
         text[size] = 0;
     }
     return text;
+}
+
+/* Writes all of p to a socket (the packet harnesses' side of a socketpair);
+ * stops quietly when the peer has hung up, since the rest no longer matters. */
+static inline void fuzz_send_all(int fd, const uint8_t *p, size_t n)
+{
+    while (n > 0) {
+        ssize_t w = send(fd, p, n, MSG_NOSIGNAL);
+        if (w <= 0)
+            return;
+        p += w;
+        n -= (size_t)w;
+    }
 }
 
 #endif

@@ -17,17 +17,6 @@
 #include "fuzz.h"
 #include "proto.h"
 
-static void send_all(int fd, const uint8_t *p, size_t n)
-{
-    while (n > 0) {
-        ssize_t w = send(fd, p, n, MSG_NOSIGNAL);
-        if (w <= 0)
-            return; /* the client hung up early: the rest does not matter */
-        p += w;
-        n -= (size_t)w;
-    }
-}
-
 typedef struct {
     int fd;
     const uint8_t *data;
@@ -43,11 +32,11 @@ static void *serve(void *arg)
         uint8_t hello[8 + 16 + PROTO_NONCE] = {0};
         uint32_t h[6] = {PKT_SERVER_HELLO, sizeof hello, PROTO_MAGIC, PROTO_VERSION, PROTO_BOM, 0};
         memcpy(hello, h, sizeof h);
-        send_all(st->fd, hello, sizeof hello);
+        fuzz_send_all(st->fd, hello, sizeof hello);
         uint32_t welcome[3] = {PKT_WELCOME, 12, 1};
-        send_all(st->fd, (const uint8_t *)welcome, sizeof welcome);
+        fuzz_send_all(st->fd, (const uint8_t *)welcome, sizeof welcome);
     }
-    send_all(st->fd, st->data + 1, st->size - 1);
+    fuzz_send_all(st->fd, st->data + 1, st->size - 1);
     shutdown(st->fd, SHUT_WR);
     return NULL;
 }

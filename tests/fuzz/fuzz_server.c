@@ -20,17 +20,6 @@
 
 static Scene *scene;
 
-static void send_all(int fd, const uint8_t *p, size_t n)
-{
-    while (n > 0) {
-        ssize_t w = send(fd, p, n, MSG_NOSIGNAL);
-        if (w <= 0)
-            return; /* the server closed early: the rest does not matter */
-        p += w;
-        n -= (size_t)w;
-    }
-}
-
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
     if (!scene) {
@@ -67,7 +56,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         uint8_t hello[8 + 20 + 64] = {0};
         uint32_t h[7] = {PKT_HELLO, sizeof hello, PROTO_MAGIC, PROTO_VERSION, PROTO_BOM, 1, sizeof(real)};
         memcpy(hello, h, sizeof h);
-        send_all(fds[1], hello, sizeof hello);
+        fuzz_send_all(fds[1], hello, sizeof hello);
         /* the server welcomes the client and starts frame 1: its UPDATE goes out */
         for (int k = 0; k < 4; k++) {
             if (server_step(s, 0, NULL, NULL, &err))
