@@ -419,9 +419,8 @@ static void worker_stop(const ClientConfig *cfg, Worker *w, AssetCache *cache, p
     pthread_cond_broadcast(&w->cv);
     pthread_mutex_unlock(&w->mu);
     pthread_join(th, NULL);
-    if (!cfg->quiet)
-        fprintf(stderr, "lanray-client: rendered %llu segments, %llu pixels\n", (unsigned long long)w->segments,
-                (unsigned long long)w->pixels);
+    log_line(cfg->quiet, "lanray-client", "rendered %llu segments, %llu pixels", (unsigned long long)w->segments,
+             (unsigned long long)w->pixels);
     render_pool_destroy(w->pool);
     asset_cache_destroy(cache);
     close(w->wake[0]);
