@@ -8,6 +8,7 @@
 #include "client.h"
 
 #include <errno.h>
+#include <math.h>
 #include <netdb.h>
 #include <poll.h>
 #include <pthread.h>
@@ -66,11 +67,21 @@ static void ref_drop(SceneRef *r)
     }
 }
 
+/* The render time a DATA reports is the segment's render, plus, when the
+ * thread went straight on from its previous segment, the time between the
+ * two that it spent waiting for a core rather than running (wall time less
+ * its own CPU time).  The server takes "gap between two results less render
+ * time" as the per-segment overhead; when clients share cores, the handing
+ * back of a result wakes the network thread, the render thread loses its
+ * turn, and its wait (a slice of other clients' rendering, not lost time)
+ * would otherwise read as milliseconds of overhead. */
 static void *render_thread(void *arg)
 {
     Worker *w = arg;
+    double last_end = 0, last_end_cpu = 0;
     pthread_mutex_lock(&w->mu);
     for (;;) {
+        int straight = last_end > 0 && w->nqueue > 0;
         while (!w->quit && w->nqueue == 0)
             pthread_cond_wait(&w->cv, &w->mu);
         if (w->quit)
@@ -87,11 +98,15 @@ static void *render_thread(void *arg)
         pthread_mutex_unlock(&w->mu);
         uint8_t *px = malloc((size_t)j.seg.count * 3);
         Err err;
-        double t0 = timer_now();
+        double t0 = timer_now(), waited = 0;
+        if (straight)
+            waited = fmax((t0 - last_end) - (timer_thread_cpu() - last_end_cpu), 0.0);
         int rc = px ? render_span(w->pool, j.ref->scene, j.ref->width, j.ref->height, j.seg.first, j.seg.count, px,
                                   NULL, &w->cancel, &err)
                     : -1;
-        double us = (timer_now() - t0) * 1e6;
+        last_end = timer_now();
+        last_end_cpu = timer_thread_cpu();
+        double us = (last_end - t0 + waited) * 1e6;
         pthread_mutex_lock(&w->mu);
         w->running = 0;
         if (rc == 0 && j.frame == w->current_frame && w->ndone < MAX_JOBS * 2) {

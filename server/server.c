@@ -69,7 +69,11 @@ struct Server {
     int auto_segment;
     uint64_t asset_bytes, measured_bytes_base, dup_base, seg_base;
     double overhead_us, gap_sum_us; /* per-segment overhead, for the automatic size */
+    int overhead_known;             /* overhead_us has been measured */
     uint32_t gap_samples;
+    /* this thread's CPU time per DATA packet handled (and its COMPUTE) */
+    double frame_cpu, packet_cpu_us, measured_cpu;
+    uint64_t frame_packets, measured_packets;
 };
 
 /* Automatic segment size.  A segment of render time tau costs a fixed
@@ -79,9 +83,14 @@ struct Server {
  * tau, smallest at tau = sqrt(o*W/N).  W and the time per line come from the
  * render times the clients report; o is measured too: for a client that was
  * kept busy, the time between two of its results minus the render time it
- * reports (an average over the previous frame; AUTO_OVERHEAD_US until then).
- * The result is rounded to a power of two and kept to at most half a frame
- * per client. */
+ * reports (an average over the previous frame; AUTO_OVERHEAD_US until then),
+ * plus the CPU that moving a segment's packets costs: the server's own, and
+ * as much again for the client's network thread, the mirror image of it (one
+ * packet in, one out; measured 33 us against the server's 22 us on a 2-core
+ * VM).  That CPU is taken from rendering wherever all cores are busy, which
+ * is where the segment size matters, and the gap does not show it: it lands
+ * in render times.  The result is rounded to a power of two and kept to at
+ * most half a frame per client. */
 #define AUTO_OVERHEAD_US 300.0
 
 static uint32_t auto_lines(double work_us, double overhead_us, uint32_t height, uint32_t clients)
@@ -310,10 +319,14 @@ static int start_frame(Server *s, Err *err)
     if (n > s->clients_seen_max)
         s->clients_seen_max = n;
     if (s->auto_segment) {
-        if (s->gap_samples >= 4) /* measured overhead, smoothed over frames */
-            s->overhead_us = s->overhead_us > 0 ? 0.5 * s->overhead_us + 0.5 * s->gap_sum_us / s->gap_samples
-                                                : s->gap_sum_us / s->gap_samples;
-        double o = s->overhead_us > 0 ? s->overhead_us : AUTO_OVERHEAD_US;
+        if (s->gap_samples >= 4) { /* measured overhead, smoothed over frames */
+            double m = s->gap_sum_us / s->gap_samples;
+            s->overhead_us = s->overhead_known ? 0.5 * s->overhead_us + 0.5 * m : m;
+            s->overhead_known = 1;
+        }
+        double o = s->overhead_known ? fmax(s->overhead_us, 0.0) + 2 * s->packet_cpu_us : AUTO_OVERHEAD_US;
+        if (o < 1)
+            o = 1;
         sched_set_segment_lines(s->sched, auto_lines((double)s->frame_pixels_us, o, (uint32_t)s->cfg.height, n));
     }
     s->frame_pixels_us = 0;
@@ -436,11 +449,14 @@ static void on_data(Server *s, Client *c)
     /* overhead sample: a client that still held another segment went straight on to it */
     if (c->was_full && c->last_data_frame == h[0] && h[0] == s->frame) {
         double gap = (now - c->last_data) * 1e6 - h[3];
-        if (gap >= 0 && gap < 1e6) {
+        /* negative too: a result sent late makes one gap longer and the
+         * next one shorter by as much, and the mean stays right */
+        if (fabs(gap) < 1e6) {
             s->gap_sum_us += gap;
             s->gap_samples++;
         }
     }
+    s->frame_packets++;
     c->was_full = sched_held(s->sched, c->id) >= 2;
     c->last_data = now;
     c->last_data_frame = h[0];
@@ -554,6 +570,9 @@ int server_step(Server *s, int timeout_ms, FrameDoneFn done, void *ctx, Err *err
         return err_set(err, "poll failed: %s", strerror(errno));
     if (r > 0 && (pfd[0].revents & POLLIN))
         accept_clients(s);
+    /* the CPU of reading, handling and answering packets (not of waiting in
+     * poll, nor of starting frames): per DATA packet, for the automatic size */
+    double cpu0 = timer_thread_cpu();
     for (uint32_t i = 0; r > 0 && i < n; i++) {
         Client *c = s->clients[i];
         if (c->closing || !pfd[i + 1].revents)
@@ -576,10 +595,21 @@ int server_step(Server *s, int timeout_ms, FrameDoneFn done, void *ctx, Err *err
             drop(s, c, e.msg);
     }
     housekeeping(s);
+    s->frame_cpu += timer_thread_cpu() - cpu0;
     if (s->in_frame && sched_frame_done(s->sched)) {
         s->in_frame = 0;
         s->frames_done++;
         s->last_frame_end = timer_now();
+        if (s->frame_packets) { /* smoothed over frames, as the overhead */
+            double per = s->frame_cpu * 1e6 / (double)s->frame_packets;
+            s->packet_cpu_us = s->packet_cpu_us > 0 ? 0.5 * s->packet_cpu_us + 0.5 * per : per;
+        }
+        if (s->frames_done > s->cfg.warmup) {
+            s->measured_cpu += s->frame_cpu;
+            s->measured_packets += s->frame_packets;
+        }
+        s->frame_cpu = 0;
+        s->frame_packets = 0;
         if (done)
             done(ctx, s->frame, s->pixels);
     }
@@ -600,11 +630,12 @@ void server_print_summary(const Server *s)
     SchedStats st = sched_stats(s->sched);
     double fr = frames ? frames : 1;
     printf("summary frames=%u wall_s=%.4f fps=%.3f clients=%u busy_s=%.4f efficiency=%.4f idle_s=%.4f "
-           "dup_lines_per_frame=%.2f bytes_per_frame=%.0f segments_per_frame=%.1f segment_lines=%u overhead_us=%.0f\n",
+           "dup_lines_per_frame=%.2f bytes_per_frame=%.0f segments_per_frame=%.1f segment_lines=%u overhead_us=%.0f packet_cpu_us=%.1f\n",
            frames, wall, wall > 0 ? frames / wall : 0.0, n, busy, wall > 0 && n ? busy / (n * wall) : 0.0, n * wall - busy,
            (double)(st.duplicate_pixels - s->dup_base) / s->cfg.width / fr,
            (double)(bytes - s->measured_bytes_base - s->asset_bytes) / fr, (double)(st.segments - s->seg_base) / fr,
-           server_segment_lines(s), s->overhead_us);
+           server_segment_lines(s), s->overhead_us,
+           s->measured_packets ? s->measured_cpu * 1e6 / (double)s->measured_packets : 0.0);
 }
 
 void server_print_stats(const Server *s)

@@ -182,30 +182,38 @@ int main(int argc, char **argv)
     }
     if (rc == 0 && profile) {
         /* Per-line cost, for the scheduler simulator (tools/schedsim): the
-         * pure rendering work.  A call into the pool costs a hand-off (a
-         * worker's wake-up) that is about as large as a cheap line; the
-         * simulator models it as the per-segment overhead, so it is measured
-         * here on a one-pixel call and taken off.  Each line is the fastest
-         * of PROFILE_REPEAT, because interference only ever adds time. */
-        enum { PROFILE_REPEAT = 3, PROFILE_CALLS = 64 };
+         * pure rendering work of every line.  The frame is rendered line by
+         * line, top to bottom, PROFILE_PASSES times; each line keeps its
+         * fastest pass, because interference only ever adds time.  Passes
+         * run in frame order, as a client renders a segment: timing one line
+         * several times in a row would find its geometry in the cache and
+         * make the costly lines look cheaper than they are inside a segment.
+         * A call into the pool costs a hand-off when the pool has worker
+         * threads; the simulator models it as the per-segment overhead, so
+         * it is measured on a one-pixel call and taken off. */
+        enum { PROFILE_PASSES = 3, PROFILE_CALLS = 64 };
         FILE *pf = fopen(profile, "w");
+        double *line = calloc((size_t)height, sizeof *line);
         if (!pf)
             rc = err_set(&err, "%s: cannot write", profile);
+        else if (!line)
+            rc = err_set(&err, "out of memory for the profile");
         double call = 1e30;
         for (int k = 0; pf && rc == 0 && k < PROFILE_CALLS; k++) {
             double a = timer_now();
             rc = render_span(pool, scene, width, height, 0, 1, pixels, NULL, NULL, &err);
             call = fmin(call, timer_now() - a);
         }
-        for (int y = 0; pf && rc == 0 && y < height; y++) {
-            double line = 1e30;
-            for (int k = 0; rc == 0 && k < PROFILE_REPEAT; k++) {
+        for (int k = 0; pf && rc == 0 && k < PROFILE_PASSES; k++)
+            for (int y = 0; rc == 0 && y < height; y++) {
                 double a = timer_now();
                 rc = render_lines(pool, scene, width, height, y, 1, pixels + (size_t)y * width * 3, NULL, &err);
-                line = fmin(line, timer_now() - a);
+                double t = timer_now() - a;
+                line[y] = k == 0 ? t : fmin(line[y], t);
             }
-            fprintf(pf, "%d,%.1f\n", y, fmax(line - call, 0.0) * 1e6);
-        }
+        for (int y = 0; pf && rc == 0 && y < height; y++)
+            fprintf(pf, "%d,%.1f\n", y, fmax(line[y] - call, 0.0) * 1e6);
+        free(line);
         if (pf && fclose(pf) != 0 && rc == 0)
             rc = err_set(&err, "%s: write failed", profile);
     }

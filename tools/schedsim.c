@@ -4,7 +4,7 @@
  *   schedsim --profile lines.csv [--width W] [--clients N] [--threads T]
  *            [--cores C] [--speeds a,b,...] [--segment LINES|auto] [--tail RULE]
  *            [--latency-us L] [--bandwidth-mbit B] [--client-mbit B2]
- *            [--overhead-us O] [--overhead-cpu Q] [--slice-us S]
+ *            [--overhead-us O] [--overhead-cpu Q] [--bg-cpu-us G] [--slice-us S]
  *            [--frames F] [--cost-scale K]
  *   schedsim --probe-slice C     (measures S on this machine's C cores)
  *
@@ -18,6 +18,8 @@
  * whenever another starts or stops), and a client that was idle waits for a
  * core before it starts: one time slice S for every C threads already
  * running or waiting, as the OS scheduler makes a woken thread queue.
+ * Moving a segment's packets costs G of CPU in the server and the client's
+ * network thread; on shared cores that work runs first, on one core.
  * Packets take the latency L plus their size over the server's link of B
  * Mbit/s, one FIFO queue each way (DATA into the server, UPDATE/COMPUTE out
  * of it), and with --client-mbit through a link of that rate per client as
@@ -39,7 +41,7 @@
 #define MAXC 4096
 #define UPDATE_BYTES 900.0 /* header, two segments and the serialised benchmark scene */
 
-typedef enum { EV_ARRIVE_CLIENT, EV_DONE, EV_ARRIVE_SERVER, EV_WAKE, EV_LAGGED } EvKind;
+typedef enum { EV_ARRIVE_CLIENT, EV_DONE, EV_ARRIVE_SERVER, EV_WAKE, EV_LAGGED, EV_BG_IDLE } EvKind;
 
 typedef struct {
     double t;
@@ -125,6 +127,10 @@ typedef struct {
     double overhead_cpu; /* the part of the per-segment overhead that is CPU work */
     double slice_us;    /* the OS scheduler's time slice: what a woken client waits per round of others */
     double client_mbit; /* > 0: every client also has its own link of this rate (namespaces behind veth pairs) */
+    double bg_cpu_us;   /* CPU per segment outside the render threads (server, network threads) */
+    int shared;         /* the clients share one group of cores, with the server */
+    double bg_left, bg_since; /* background CPU work waiting, as of bg_since */
+    uint32_t bg_gen;
     uint32_t segment; /* 0: auto, as the server */
     SchedTailRule tail;
     double *line_us;  /* per line, one thread */
@@ -155,7 +161,8 @@ static double send_via(const Sim *s, double now, double *server_free, double *cl
 }
 
 /* The server's rule (server.c's auto_lines), with the simulated per-segment
- * overhead standing for the one the server measures. */
+ * overhead and CPU outside the render threads standing for what the server
+ * measures (the gap between results, and its own CPU per packet twice over). */
 static uint32_t auto_lines(double work_us, double overhead_us, uint32_t height, uint32_t clients)
 {
     uint32_t most = height / (2 * clients) > 0 ? height / (2 * clients) : 1;
@@ -187,7 +194,9 @@ static void group_share(const Sim *s, Client *cl, int g, double now, Heap *h)
     int busy = 0;
     for (int i = 0; i < s->clients; i++)
         busy += cl[i].group == g && cl[i].busy;
-    double want = (double)busy * s->threads, rate = want > s->group_cores ? s->group_cores / want : 1.0;
+    /* background work (packets) runs first, on one core of a shared group */
+    double cap = s->shared && s->bg_left > 0 ? fmax(s->group_cores - 1, 0.0) : s->group_cores;
+    double want = (double)busy * s->threads, rate = want > cap ? cap / want : 1.0;
     for (int i = 0; i < s->clients; i++) {
         Client *c = &cl[i];
         if (c->group != g || !c->busy)
@@ -202,11 +211,29 @@ static void group_share(const Sim *s, Client *cl, int g, double now, Heap *h)
     }
 }
 
+/* A segment's packets cost bg_cpu_us of CPU in the server and the client's
+ * network thread.  Those threads sleep between packets, so the OS runs them
+ * as soon as they wake: on shared cores they take one core from the clients
+ * until their work is done (on clients' own machines they cost nothing here). */
+static void bg_add(Sim *s, Client *cl, double now, Heap *h)
+{
+    if (s->bg_cpu_us <= 0 || !s->shared)
+        return;
+    int was_idle = s->bg_left <= 0;
+    s->bg_left = fmax(s->bg_left - (now - s->bg_since), 0.0) + s->bg_cpu_us;
+    s->bg_since = now;
+    heap_push(h, (Event){now + s->bg_left, EV_BG_IDLE, 0, 0, {0, 0}, 0, ++s->bg_gen, 0});
+    if (was_idle)
+        group_share(s, cl, 0, now, h);
+}
+
 static void run(Sim *s)
 {
     Client *cl = calloc((size_t)s->clients, sizeof *cl);
-    /* enough cores: every client has its own; too few: they share them all */
-    int groups = s->cores / s->threads >= s->clients ? s->clients : 1;
+    /* --cores: the clients (and the server) share that many cores; without
+     * it every client has its own machine */
+    s->shared = s->cores < 1e6;
+    int groups = s->shared ? 1 : s->clients;
     s->group_cores = s->cores / groups;
     for (int i = 0; i < s->clients; i++) {
         cl[i].speed = s->nspeeds ? s->speeds[i % s->nspeeds] : 1.0;
@@ -226,7 +253,7 @@ static void run(Sim *s)
             bytes = busy = 0;
         }
         if (s->segment == 0)
-            sched_set_segment_lines(sc, auto_lines(work, s->overhead_us, (uint32_t)s->height, (uint32_t)s->clients));
+            sched_set_segment_lines(sc, auto_lines(work, s->overhead_us + s->bg_cpu_us, (uint32_t)s->height, (uint32_t)s->clients));
         sched_begin_frame(sc, (uint32_t)frame + 1);
         work = 0;
         for (int i = 0; i < s->clients; i++) {
@@ -270,6 +297,7 @@ static void run(Sim *s)
                 }
             } else if (ev.kind == EV_ARRIVE_SERVER) { /* DATA at the server */
                 bytes += 24.0 + 3.0 * ev.seg.count;
+                bg_add(s, cl, now, &h);
                 SchedResult r = sched_complete(sc, ev.client, ev.frame, ev.seg);
                 if (r != SCHED_STALE) {
                     busy += ev.busy_us;
@@ -291,6 +319,11 @@ static void run(Sim *s)
                         }
                     }
                 }
+            }
+            if (ev.kind == EV_BG_IDLE && ev.gen == s->bg_gen) {
+                s->bg_left = 0; /* the background work is done: the core is the clients' again */
+                s->bg_since = now;
+                group_share(s, cl, 0, now, &h);
             }
             if (ev.kind == EV_WAKE)
                 c->waking = 0;
@@ -439,6 +472,7 @@ int main(int argc, char **argv)
         else if (strcmp(a, "--client-mbit") == 0) s.client_mbit = atof(v);
         else if (strcmp(a, "--slice-us") == 0) s.slice_us = atof(v);
         else if (strcmp(a, "--overhead-cpu") == 0) s.overhead_cpu = atof(v);
+        else if (strcmp(a, "--bg-cpu-us") == 0) s.bg_cpu_us = atof(v);
         else if (strcmp(a, "--segment") == 0) s.segment = strcmp(v, "auto") == 0 ? 0 : (uint32_t)atoi(v);
         else if (strcmp(a, "--tail") == 0) {
             s.tail = sched_tail_by_name(v);

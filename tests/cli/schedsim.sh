@@ -29,6 +29,14 @@ near "$f" 50 0.02 || fail "1 client with 100 us overhead per line: $f FPS, expec
 a=$(sim --clients 4 --cores 2 --segment 1 --tail static --overhead-us 100 --overhead-cpu 1)
 b=$(sim --clients 4 --cores 2 --segment 1 --tail static --overhead-us 100 --overhead-cpu 0)
 awk -v a="$a" -v b="$b" 'BEGIN{exit !(b > a * 1.3)}' || fail "overhead as waiting ($b FPS) should beat overhead as CPU ($a FPS) on shared cores"
+# background CPU (packets in the server and network threads), 100 us per
+# segment: on 2 shared cores the frame costs 10 ms of rendering and 100 x
+# 0.1 ms of packets, 20 ms of CPU, 10 ms on 2 cores: 100 FPS ...
+f=$(sim --clients 4 --cores 2 --segment 1 --tail static --bg-cpu-us 100)
+near "$f" 100 0.05 || fail "4 clients on 2 cores, 100 us background per segment: $f FPS, expected 100"
+# ... and nothing when every client has its own machine
+f=$(sim --clients 2 --segment 1 --tail static --bg-cpu-us 100)
+near "$f" 200 0.03 || fail "2 clients on their own cores with background work: $f FPS, expected 200"
 # a woken client waits for a time slice on oversubscribed cores: slower frames
 a=$(sim --clients 8 --cores 2 --segment 10 --tail static)
 b=$(sim --clients 8 --cores 2 --segment 10 --tail static --slice-us 2000)
