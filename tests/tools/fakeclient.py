@@ -83,17 +83,21 @@ def main():
         s.sendall(struct.pack("=II", DATA, 0xFFFFFFFF))
     elif mode == "forge-data":
         s.sendall(hello(nonce, token))
+        # forged pixels for every frame: if the frame ended before they
+        # arrived, the server drops them as stale, and the next frame's try counts
         while True:
             ptype, body = read_packet(s)
             if ptype is None:
                 print("closed")
+                return
+            if ptype == ERROR:
+                print(body.decode(errors="replace"))
                 return
             if ptype == UPDATE:
                 frame = struct.unpack("=I", body[:4])[0]
                 # a segment at the end of the frame that nobody was given yet
                 body = struct.pack("=IIII", frame, 7, 3, 100) + b"\xff" * 9
                 s.sendall(struct.pack("=II", DATA, 8 + len(body)) + body)
-                break
     elif mode == "silent":
         pass
     elif mode == "slowloris":
