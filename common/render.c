@@ -130,11 +130,6 @@ static RayStats pool_run(RenderPool *p, JobFn fn, void *ctx, uint32_t chunks)
 {
     RayStats mine = {0, 0};
     uint32_t c;
-    if (p->n == 0) {
-        for (c = 0; c < chunks; c++)
-            fn(ctx, c, &mine);
-        return mine;
-    }
     pthread_mutex_lock(&p->mu);
     p->fn = fn;
     p->ctx = ctx;

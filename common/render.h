@@ -1,7 +1,8 @@
-/* render.h - rendering lines of a frame with a pool of worker threads.
+/* render.h - rendering lines of a frame with a pool of threads.
  *
  * render_lines is the one entry point both the standalone renderer and the
- * network client use: workers take chunks of CHUNK pixels through an atomic
+ * network client use: the calling thread and the pool's workers (one fewer
+ * than the pool's size) take chunks of CHUNK pixels through an atomic
  * counter, so lines of very different cost still balance.  Results do not
  * depend on the thread count or on how a frame is cut into segments: every
  * pixel is a pure function of the scene and its coordinates. */

@@ -5,19 +5,16 @@
 
 #include <time.h>
 
-static inline double timer_now(void)
+static inline double timer_seconds(clockid_t clock)
 {
     struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
+    clock_gettime(clock, &ts);
     return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
 }
 
+static inline double timer_now(void) { return timer_seconds(CLOCK_MONOTONIC); }
+
 /* CPU seconds the calling thread has run. */
-static inline double timer_thread_cpu(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
-    return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
-}
+static inline double timer_thread_cpu(void) { return timer_seconds(CLOCK_THREAD_CPUTIME_ID); }
 
 #endif
