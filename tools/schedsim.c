@@ -5,7 +5,7 @@
  *            [--cores C] [--speeds a,b,...] [--segment LINES|auto] [--tail RULE]
  *            [--latency-us L] [--bandwidth-mbit B] [--client-mbit B2]
  *            [--overhead-us O] [--overhead-cpu Q] [--bg-cpu-us G] [--slice-us S]
- *            [--frames F] [--cost-scale K]
+ *            [--turnaround-us R] [--frames F] [--cost-scale K]
  *   schedsim --probe-slice C     (measures S on this machine's C cores)
  *
  * The cost of a pixel comes from a real frame's profile (`lanray-render
@@ -26,7 +26,9 @@
  * well.  The server behaves as the real one: an UPDATE with two segments per
  * client at the start of a frame, a COMPUTE after every DATA, idle clients
  * topped up (outstanding segments handed out again), the next frame as soon
- * as the last pixels arrive; a client cancels the render it is in when an
+ * as the last pixels arrive, its UPDATE at a client no sooner than the
+ * measured turnaround R after that (the server encoding and sending the
+ * scene, the client decoding it: about 0.3 ms); a client cancels the render it is in when an
  * UPDATE for a newer frame arrives, as the real one does.  Prints FPS,
  * efficiency (busy / (clients x wall)), duplicated lines and bytes per frame. */
 #include <math.h>
@@ -128,6 +130,7 @@ typedef struct {
     double slice_us;    /* the OS scheduler's time slice: what a woken client waits per round of others */
     double client_mbit; /* > 0: every client also has its own link of this rate (namespaces behind veth pairs) */
     double bg_cpu_us;   /* CPU per segment outside the render threads (server, network threads) */
+    double turnaround_us; /* from a frame's last pixels to a client starting the next frame */
     int shared;         /* the clients share one group of cores, with the server */
     double bg_left, bg_since; /* background CPU work waiting, as of bg_since */
     uint32_t bg_gen;
@@ -257,7 +260,7 @@ static void run(Sim *s)
         sched_begin_frame(sc, (uint32_t)frame + 1);
         work = 0;
         for (int i = 0; i < s->clients; i++) {
-            double t = send_via(s, now, &down_free, &cl[i].down_free, UPDATE_BYTES);
+            double t = fmax(send_via(s, now, &down_free, &cl[i].down_free, UPDATE_BYTES), now + s->turnaround_us);
             bytes += UPDATE_BYTES;
             for (int k = 0; k < 2; k++) {
                 Segment g;
@@ -473,6 +476,7 @@ int main(int argc, char **argv)
         else if (strcmp(a, "--slice-us") == 0) s.slice_us = atof(v);
         else if (strcmp(a, "--overhead-cpu") == 0) s.overhead_cpu = atof(v);
         else if (strcmp(a, "--bg-cpu-us") == 0) s.bg_cpu_us = atof(v);
+        else if (strcmp(a, "--turnaround-us") == 0) s.turnaround_us = atof(v);
         else if (strcmp(a, "--segment") == 0) s.segment = strcmp(v, "auto") == 0 ? 0 : (uint32_t)atoi(v);
         else if (strcmp(a, "--tail") == 0) {
             s.tail = sched_tail_by_name(v);

@@ -37,6 +37,13 @@ near "$f" 100 0.05 || fail "4 clients on 2 cores, 100 us background per segment:
 # ... and nothing when every client has its own machine
 f=$(sim --clients 2 --segment 1 --tail static --bg-cpu-us 100)
 near "$f" 200 0.03 || fail "2 clients on their own cores with background work: $f FPS, expected 200"
+# a 10 ms turnaround between frames (scene out, decoded) on a 10 ms frame
+# halves the frame rate; with 4 clients it is as long and the frame a
+# quarter: 400 FPS becomes 1 / (2.5 + 10 ms) = 80
+f=$(sim --clients 1 --segment 10 --tail static --turnaround-us 10000)
+near "$f" 50 0.02 || fail "1 client, 10 ms turnaround: $f FPS, expected 50"
+f=$(sim --clients 4 --segment 1 --tail static --turnaround-us 10000)
+near "$f" 80 0.03 || fail "4 clients, 10 ms turnaround: $f FPS, expected 80"
 # a woken client waits for a time slice on oversubscribed cores: slower frames
 a=$(sim --clients 8 --cores 2 --segment 10 --tail static)
 b=$(sim --clients 8 --cores 2 --segment 10 --tail static --slice-us 2000)
