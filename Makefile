@@ -169,10 +169,12 @@ tradeoff: deps $(TOOLS)
 	@$(MAKE) --no-print-directory PRECISION=double bin/double/lanray-render
 	@BIN=$(BIN) bash tools/tradeoff docs
 
-# scaling by clients, segment size and tail rule, and the simulator beside it
+# scaling by clients, segment size and tail rule, and the simulator beside it;
+# docs/scaling.log keeps the run's output, which REPLAY=docs/scaling.log
+# tools/bench-scaling predicts again after a simulator change
 bench-scaling: deps $(TOOLS)
 	@$(MAKE) --no-print-directory DEB_PACKAGES="gnuplot-nox iproute2" deps
-	@BIN=$(BIN) bash tools/bench-scaling docs
+	@BIN=$(BIN) bash -c 'set -o pipefail; tools/bench-scaling docs | tee docs/scaling.log.tmp' && mv docs/scaling.log.tmp docs/scaling.log
 
 # make loadtest [LOAD_SECONDS=300] [LOAD_CLIENTS=64]: one server, many clients
 # joining and leaving, every frame verified; server RSS and CPU in docs/loadtest.csv

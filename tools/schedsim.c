@@ -5,7 +5,7 @@
  *            [--cores C] [--speeds a,b,...] [--segment LINES|auto] [--tail RULE]
  *            [--latency-us L] [--bandwidth-mbit B] [--client-mbit B2]
  *            [--overhead-us O] [--overhead-cpu Q] [--bg-cpu-us G] [--slice-us S]
- *            [--turnaround-us R] [--frames F] [--cost-scale K]
+ *            [--turnaround-us R] [--server-us P] [--frames F] [--cost-scale K]
  *   schedsim --probe-slice C     (measures S on this machine's C cores)
  *
  * The cost of a pixel comes from a real frame's profile (`lanray-render
@@ -19,7 +19,9 @@
  * core before it starts: one time slice S for every C threads already
  * running or waiting, as the OS scheduler makes a woken thread queue.
  * Moving a segment's packets costs G of CPU in the server and the client's
- * network thread; on shared cores that work runs first, on one core.
+ * network thread; on shared cores that work runs first, on one core.  The
+ * server is one thread: it handles DATA packets one at a time, P each (its
+ * measured CPU per packet), so at high packet rates results queue for it.
  * Packets take the latency L plus their size over the server's link of B
  * Mbit/s, one FIFO queue each way (DATA into the server, UPDATE/COMPUTE out
  * of it), and with --client-mbit through a link of that rate per client as
@@ -52,7 +54,7 @@ typedef struct {
     uint32_t frame;
     Segment seg;
     double busy_us;
-    uint32_t gen; /* EV_DONE: the client's render generation it ends */
+    uint32_t gen; /* EV_DONE: the client's render generation it ends; EV_ARRIVE_SERVER: 1 once handled */
     uint64_t seq; /* push order: events at the same time pop first-in first-out */
 } Event;
 
@@ -131,6 +133,7 @@ typedef struct {
     double client_mbit; /* > 0: every client also has its own link of this rate (namespaces behind veth pairs) */
     double bg_cpu_us;   /* CPU per segment outside the render threads (server, network threads) */
     double turnaround_us; /* from a frame's last pixels to a client starting the next frame */
+    double server_us;   /* the server thread's time per DATA packet (and the COMPUTE it sends) */
     int shared;         /* the clients share one group of cores, with the server */
     double bg_left, bg_since; /* background CPU work waiting, as of bg_since */
     uint32_t bg_gen;
@@ -247,7 +250,7 @@ static void run(Sim *s)
     Sched *sc = sched_create(&cfg);
     sched_set_clients(sc, (uint32_t)s->clients);
     Heap h = {0};
-    double now = 0, down_free = 0, up_free = 0, bytes = 0, busy = 0, work = 0;
+    double now = 0, down_free = 0, up_free = 0, bytes = 0, busy = 0, work = 0, server_free = 0;
     int frame = 0, measured = 0;
     double t_first = 0;
     for (; frame < s->frames + 1; frame++) { /* frame 0 is warm-up, as in the benchmark */
@@ -299,6 +302,13 @@ static void run(Sim *s)
                     heap_push(&h, (Event){t, EV_ARRIVE_SERVER, ev.client, ev.frame, ev.seg, ev.busy_us, 0, 0});
                 }
             } else if (ev.kind == EV_ARRIVE_SERVER) { /* DATA at the server */
+                if (s->server_us > 0 && !ev.gen) { /* its one thread takes packets in turn */
+                    server_free = fmax(now, server_free) + s->server_us;
+                    ev.t = server_free;
+                    ev.gen = 1;
+                    heap_push(&h, ev);
+                    continue;
+                }
                 bytes += 24.0 + 3.0 * ev.seg.count;
                 bg_add(s, cl, now, &h);
                 SchedResult r = sched_complete(sc, ev.client, ev.frame, ev.seg);
@@ -477,6 +487,7 @@ int main(int argc, char **argv)
         else if (strcmp(a, "--overhead-cpu") == 0) s.overhead_cpu = atof(v);
         else if (strcmp(a, "--bg-cpu-us") == 0) s.bg_cpu_us = atof(v);
         else if (strcmp(a, "--turnaround-us") == 0) s.turnaround_us = atof(v);
+        else if (strcmp(a, "--server-us") == 0) s.server_us = atof(v);
         else if (strcmp(a, "--segment") == 0) s.segment = strcmp(v, "auto") == 0 ? 0 : (uint32_t)atoi(v);
         else if (strcmp(a, "--tail") == 0) {
             s.tail = sched_tail_by_name(v);

@@ -44,6 +44,15 @@ f=$(sim --clients 1 --segment 10 --tail static --turnaround-us 10000)
 near "$f" 50 0.02 || fail "1 client, 10 ms turnaround: $f FPS, expected 50"
 f=$(sim --clients 4 --segment 1 --tail static --turnaround-us 10000)
 near "$f" 80 0.03 || fail "4 clients, 10 ms turnaround: $f FPS, expected 80"
+# the server's one thread at 100 us per packet: one client keeps rendering
+# while its result is handled (it holds two segments), but 2 clients with
+# 1-line (100 us) segments send 2 packets per 100 us and the server takes
+# one: the first line, then 100 packets one after another, 10.1 ms, 99 FPS
+# instead of 200
+f=$(sim --clients 1 --segment 1 --tail static --server-us 100)
+near "$f" 100 0.02 || fail "1 client, 100 us per packet at the server: $f FPS, expected 100"
+f=$(sim --clients 2 --segment 1 --tail static --server-us 100)
+near "$f" 99 0.02 || fail "2 clients, 100 us per packet at the server: $f FPS, expected 99"
 # a woken client waits for a time slice on oversubscribed cores: slower frames
 a=$(sim --clients 8 --cores 2 --segment 10 --tail static)
 b=$(sim --clients 8 --cores 2 --segment 10 --tail static --slice-us 2000)
