@@ -3,7 +3,7 @@
  *
  *   schedsim --profile lines.csv [--width W] [--clients N] [--threads T]
  *            [--cores C] [--speeds a,b,...] [--segment LINES|auto] [--tail RULE]
- *            [--latency-us L] [--bandwidth-mbit B] [--client-mbit B2]
+ *            [--latency-us L] [--bandwidth-mbit B] [--client-mbit B2 [--client-burst-kb K]]
  *            [--overhead-us O] [--overhead-cpu Q] [--bg-cpu-us G] [--slice-us S]
  *            [--turnaround-us R] [--server-us P] [--frames F] [--cost-scale K]
  *   schedsim --probe-slice C     (measures S on this machine's C cores)
@@ -25,7 +25,8 @@
  * Packets take the latency L plus their size over the server's link of B
  * Mbit/s, one FIFO queue each way (DATA into the server, UPDATE/COMPUTE out
  * of it), and with --client-mbit through a link of that rate per client as
- * well.  The server behaves as the real one: an UPDATE with two segments per
+ * well, a token bucket of K kilobytes as tc's tbf (a link idle for a while
+ * passes the next K kB at once).  The server behaves as the real one: an UPDATE with two segments per
  * client at the start of a frame, a COMPUTE after every DATA, idle clients
  * topped up (outstanding segments handed out again), the next frame as soon
  * as the last pixels arrive, its UPDATE at a client no sooner than the
@@ -104,8 +105,16 @@ static Event heap_pop(Heap *h)
     return top;
 }
 
+/* A client's own link, as tc's tbf shapes it: FIFO, tokens (bytes) filling
+ * at its rate up to the burst size, a packet leaving once there are enough. */
 typedef struct {
-    double up_free, down_free; /* its own link, when client_mbit > 0 */
+    double free_at; /* the last packet's departure */
+    double tokens;  /* as of `at` */
+    double at;
+} Link;
+
+typedef struct {
+    Link up, down;    /* its own link, when client_mbit > 0 */
     double speed;     /* speed factor (--speeds) */
     int group;        /* the cores it shares: its own, or all of them (group 0) */
     double left;      /* work left in the current segment, microseconds at full rate */
@@ -131,6 +140,7 @@ typedef struct {
     double overhead_cpu; /* the part of the per-segment overhead that is CPU work */
     double slice_us;    /* the OS scheduler's time slice: what a woken client waits per round of others */
     double client_mbit; /* > 0: every client also has its own link of this rate (namespaces behind veth pairs) */
+    double client_burst; /* bytes: the token bucket of each client's link */
     double bg_cpu_us;   /* CPU per segment outside the render threads (server, network threads) */
     double turnaround_us; /* from a frame's last pixels to a client starting the next frame */
     double server_us;   /* the server thread's time per DATA packet (and the COMPUTE it sends) */
@@ -156,13 +166,26 @@ static double link_send(double now, double *free_at, double bytes, double mbit)
     return done;
 }
 
+/* time a packet of `bytes` leaves a token-bucket link (burst 0: a plain
+ * FIFO at the rate) */
+static double bucket_send(double now, Link *l, double bytes, double mbit, double burst)
+{
+    double rate = mbit / 8.0; /* bytes per microsecond */
+    double start = now > l->free_at ? now : l->free_at;
+    double tokens = fmin(burst, l->tokens + (start - l->at) * rate);
+    double done = tokens >= bytes ? start : start + (bytes - tokens) / rate;
+    l->tokens = tokens >= bytes ? tokens - bytes : 0;
+    l->at = l->free_at = done;
+    return done;
+}
+
 /* A packet to or from client c: through the server's link, then (with
  * per-client links) through the client's own. */
-static double send_via(const Sim *s, double now, double *server_free, double *client_free, double bytes)
+static double send_via(const Sim *s, double now, double *server_free, Link *client, double bytes)
 {
     double t = link_send(now, server_free, bytes, s->mbit);
     if (s->client_mbit > 0)
-        t = link_send(t, client_free, bytes, s->client_mbit);
+        t = bucket_send(t, client, bytes, s->client_mbit, s->client_burst);
     return t + s->latency_us;
 }
 
@@ -243,6 +266,7 @@ static void run(Sim *s)
     s->group_cores = s->cores / groups;
     for (int i = 0; i < s->clients; i++) {
         cl[i].speed = s->nspeeds ? s->speeds[i % s->nspeeds] : 1.0;
+        cl[i].up.tokens = cl[i].down.tokens = s->client_burst; /* tbf starts full */
         cl[i].group = i % groups;
     }
     SchedConfig cfg = {(uint32_t)s->width, (uint32_t)s->height, s->segment ? s->segment : 1, s->tail,
@@ -263,7 +287,7 @@ static void run(Sim *s)
         sched_begin_frame(sc, (uint32_t)frame + 1);
         work = 0;
         for (int i = 0; i < s->clients; i++) {
-            double t = fmax(send_via(s, now, &down_free, &cl[i].down_free, UPDATE_BYTES), now + s->turnaround_us);
+            double t = fmax(send_via(s, now, &down_free, &cl[i].down, UPDATE_BYTES), now + s->turnaround_us);
             bytes += UPDATE_BYTES;
             for (int k = 0; k < 2; k++) {
                 Segment g;
@@ -298,7 +322,7 @@ static void run(Sim *s)
                 group_share(s, cl, c->group, now, &h);
                 if (ev.frame == c->cur_frame) {
                     double size = 24.0 + 3.0 * ev.seg.count;
-                    double t = send_via(s, now, &up_free, &c->up_free, size);
+                    double t = send_via(s, now, &up_free, &c->up, size);
                     heap_push(&h, (Event){t, EV_ARRIVE_SERVER, ev.client, ev.frame, ev.seg, ev.busy_us, 0, 0});
                 }
             } else if (ev.kind == EV_ARRIVE_SERVER) { /* DATA at the server */
@@ -326,7 +350,7 @@ static void run(Sim *s)
                             Segment g;
                             if (!sched_assign(sc, i, &g))
                                 break;
-                            double t = send_via(s, now, &down_free, &cl[i].down_free, 20);
+                            double t = send_via(s, now, &down_free, &cl[i].down, 20);
                             bytes += 20;
                             heap_push(&h, (Event){t, EV_ARRIVE_CLIENT, i, ev.frame, g, 0, 0, 0});
                         }
@@ -483,6 +507,7 @@ int main(int argc, char **argv)
         else if (strcmp(a, "--frames") == 0) s.frames = atoi(v);
         else if (strcmp(a, "--cost-scale") == 0) s.cost_scale = atof(v);
         else if (strcmp(a, "--client-mbit") == 0) s.client_mbit = atof(v);
+        else if (strcmp(a, "--client-burst-kb") == 0) s.client_burst = atof(v) * 1024;
         else if (strcmp(a, "--slice-us") == 0) s.slice_us = atof(v);
         else if (strcmp(a, "--overhead-cpu") == 0) s.overhead_cpu = atof(v);
         else if (strcmp(a, "--bg-cpu-us") == 0) s.bg_cpu_us = atof(v);

@@ -53,6 +53,15 @@ f=$(sim --clients 1 --segment 1 --tail static --server-us 100)
 near "$f" 100 0.02 || fail "1 client, 100 us per packet at the server: $f FPS, expected 100"
 f=$(sim --clients 2 --segment 1 --tail static --server-us 100)
 near "$f" 99 0.02 || fail "2 clients, 100 us per packet at the server: $f FPS, expected 99"
+# a client link of 2.4192 Mbit/s (0.3024 bytes/us): the frame as one
+# segment (3024 bytes of DATA) takes 10 ms to send and the 900-byte UPDATE
+# 3 ms, so a frame takes 3 + 10 + 10 ms (43.5 FPS); with a 4 kB token
+# bucket, as tc tbf gives, both pass at once, the bucket refilling while
+# the client renders, and the frame is its 10 ms of rendering (100 FPS)
+f=$(sim --clients 1 --segment 100 --tail static --client-mbit 2.4192)
+near "$f" 43.5 0.01 || fail "1 client behind a 2.4 Mbit/s link: $f FPS, expected 43.5"
+f=$(sim --clients 1 --segment 100 --tail static --client-mbit 2.4192 --client-burst-kb 4)
+near "$f" 100 0.01 || fail "1 client behind a 2.4 Mbit/s link with a 4 kB bucket: $f FPS, expected 100"
 # a woken client waits for a time slice on oversubscribed cores: slower frames
 a=$(sim --clients 8 --cores 2 --segment 10 --tail static)
 b=$(sim --clients 8 --cores 2 --segment 10 --tail static --slice-us 2000)
