@@ -34,6 +34,11 @@ awk -v a="$a" -v b="$b" 'BEGIN{exit !(b > a * 1.3)}' || fail "overhead as waitin
 # 0.1 ms of packets, 20 ms of CPU, 10 ms on 2 cores: 100 FPS ...
 f=$(sim --clients 4 --cores 2 --segment 1 --tail static --bg-cpu-us 100)
 near "$f" 100 0.05 || fail "4 clients on 2 cores, 100 us background per segment: $f FPS, expected 100"
+# ... and each client's share runs on a core of its own: 4 clients on 4
+# cores, 10 ms of rendering and 10 ms of packets on 4 cores is 5 ms, 200 FPS
+# (not 100, as if all the packets took turns on one core)
+f=$(sim --clients 4 --cores 4 --segment 1 --tail static --bg-cpu-us 100)
+near "$f" 200 0.03 || fail "4 clients on 4 cores, 100 us background per segment: $f FPS, expected 200"
 # ... and nothing when every client has its own machine
 f=$(sim --clients 2 --segment 1 --tail static --bg-cpu-us 100)
 near "$f" 200 0.03 || fail "2 clients on their own cores with background work: $f FPS, expected 200"
