@@ -27,14 +27,15 @@
  * Mbit/s, one FIFO queue each way (DATA into the server, UPDATE/COMPUTE out
  * of it), and with --client-mbit through a link of that rate per client as
  * well, a token bucket of K kilobytes as tc's tbf (a link idle for a while
- * passes the next K kB at once).  The server behaves as the real one: an UPDATE with two segments per
- * client at the start of a frame, a COMPUTE after every DATA, idle clients
- * topped up (outstanding segments handed out again), the next frame as soon
- * as the last pixels arrive, its UPDATE at a client no sooner than the
- * measured turnaround R after that (the server encoding and sending the
- * scene, the client decoding it: about 0.3 ms); a client cancels the render it is in when an
- * UPDATE for a newer frame arrives, as the real one does.  Prints FPS,
- * efficiency (busy / (clients x wall)), duplicated lines and bytes per frame. */
+ * passes the next K kB at once).  The server behaves as the real one: an
+ * UPDATE with two segments per client at the start of a frame, a COMPUTE
+ * after every DATA, idle clients topped up (outstanding segments handed out
+ * again), the next frame as soon as the last pixels arrive, its UPDATE at a
+ * client no sooner than the measured turnaround R after that (the server
+ * encoding and sending the scene, the client decoding it: about 0.3 ms); a
+ * client cancels the render it is in when an UPDATE for a newer frame
+ * arrives, as the real one does.  Prints FPS, efficiency (busy / (clients x
+ * wall)), duplicated lines and bytes per frame. */
 #include <math.h>
 #include <pthread.h>
 #include <stdio.h>
@@ -106,8 +107,9 @@ static Event heap_pop(Heap *h)
     return top;
 }
 
-/* A client's own link, as tc's tbf shapes it: FIFO, tokens (bytes) filling
- * at its rate up to the burst size, a packet leaving once there are enough. */
+/* A link: FIFO, and shaped as tc's tbf shapes a client's, tokens (bytes)
+ * filling at its rate up to the burst size, a packet leaving once there are
+ * enough (burst 0, the server's: a plain FIFO at the rate). */
 typedef struct {
     double free_at; /* the last packet's departure */
     double tokens;  /* as of `at` */
@@ -159,18 +161,9 @@ typedef struct {
 
 static double seg_cost(const Sim *s, Segment g) { return s->prefix[g.first + g.count] - s->prefix[g.first]; }
 
-/* time a packet of `bytes` leaves a FIFO link that is free at *free_at */
-static double link_send(double now, double *free_at, double bytes, double mbit)
-{
-    double start = now > *free_at ? now : *free_at;
-    double done = start + bytes * 8.0 / mbit; /* microseconds: bits / (Mbit/s) */
-    *free_at = done;
-    return done;
-}
-
-/* time a packet of `bytes` leaves a token-bucket link (burst 0: a plain
- * FIFO at the rate) */
-static double bucket_send(double now, Link *l, double bytes, double mbit, double burst)
+/* time a packet of `bytes` leaves a link of `mbit` Mbit/s (bytes per
+ * microsecond: mbit / 8) with a token bucket of `burst` bytes */
+static double link_send(double now, Link *l, double bytes, double mbit, double burst)
 {
     double rate = mbit / 8.0; /* bytes per microsecond */
     double start = now > l->free_at ? now : l->free_at;
@@ -183,11 +176,11 @@ static double bucket_send(double now, Link *l, double bytes, double mbit, double
 
 /* A packet to or from client c: through the server's link, then (with
  * per-client links) through the client's own. */
-static double send_via(const Sim *s, double now, double *server_free, Link *client, double bytes)
+static double send_via(const Sim *s, double now, Link *server, Link *client, double bytes)
 {
-    double t = link_send(now, server_free, bytes, s->mbit);
+    double t = link_send(now, server, bytes, s->mbit, 0);
     if (s->client_mbit > 0)
-        t = bucket_send(t, client, bytes, s->client_mbit, s->client_burst);
+        t = link_send(t, client, bytes, s->client_mbit, s->client_burst);
     return t + s->latency_us;
 }
 
@@ -217,6 +210,15 @@ static double group_demand(const Sim *s, const Client *cl, int g)
     return (double)n * s->threads;
 }
 
+/* Clients whose network thread has packet work waiting (bg_add). */
+static int bg_pending(const Sim *s, const Client *cl)
+{
+    int n = 0;
+    for (int i = 0; i < s->clients; i++)
+        n += cl[i].bg_left > 0;
+    return n;
+}
+
 /* The busy clients of core group g share its cores equally: brings each one's
  * work left up to `now`, gives it the new rate and schedules its EV_DONE
  * again (the one scheduled before is voided through the generation). */
@@ -227,13 +229,7 @@ static void group_share(const Sim *s, Client *cl, int g, double now, Heap *h)
         busy += cl[i].group == g && cl[i].busy;
     /* background work (packets) runs first, on shared cores: a core for
      * each client with some */
-    double cap = s->group_cores;
-    if (s->shared) {
-        int pending = 0;
-        for (int i = 0; i < s->clients; i++)
-            pending += cl[i].bg_left > 0;
-        cap = fmax(cap - pending, 0.0);
-    }
+    double cap = s->shared ? fmax(s->group_cores - bg_pending(s, cl), 0.0) : s->group_cores;
     double want = (double)busy * s->threads, rate = want > cap ? cap / want : 1.0;
     for (int i = 0; i < s->clients; i++) {
         Client *c = &cl[i];
@@ -255,12 +251,11 @@ static void group_share(const Sim *s, Client *cl, int g, double now, Heap *h)
  * render threads until its work is done, and when more have work than there
  * are cores they share them (one core for all of them, as a first version
  * had it, fitted a 16-CPU machine's runs a little worse: 89, 101 and 81 of
- * 112 within 15% against 91, 101 and 82).  On clients' own machines they cost nothing here. */
+ * 112 within 15% against 91, 101 and 82).  On clients' own machines they
+ * cost nothing here. */
 static void bg_share(const Sim *s, Client *cl, double now, Heap *h)
 {
-    int pending = 0;
-    for (int i = 0; i < s->clients; i++)
-        pending += cl[i].bg_left > 0;
+    int pending = bg_pending(s, cl);
     double rate = pending > s->group_cores ? s->group_cores / pending : 1.0;
     for (int i = 0; i < s->clients; i++) {
         Client *c = &cl[i];
@@ -311,7 +306,8 @@ static void run(Sim *s)
     Sched *sc = sched_create(&cfg);
     sched_set_clients(sc, (uint32_t)s->clients);
     Heap h = {0};
-    double now = 0, down_free = 0, up_free = 0, bytes = 0, busy = 0, work = 0, server_free = 0;
+    Link down = {0}, up = {0}; /* the server's link, each way */
+    double now = 0, bytes = 0, busy = 0, work = 0, server_free = 0;
     int frame = 0, measured = 0;
     double t_first = 0;
     for (; frame < s->frames + 1; frame++) { /* frame 0 is warm-up, as in the benchmark */
@@ -324,7 +320,7 @@ static void run(Sim *s)
         sched_begin_frame(sc, (uint32_t)frame + 1);
         work = 0;
         for (int i = 0; i < s->clients; i++) {
-            double t = fmax(send_via(s, now, &down_free, &cl[i].down, UPDATE_BYTES), now + s->turnaround_us);
+            double t = fmax(send_via(s, now, &down, &cl[i].down, UPDATE_BYTES), now + s->turnaround_us);
             bytes += UPDATE_BYTES;
             for (int k = 0; k < 2; k++) {
                 Segment g;
@@ -359,7 +355,7 @@ static void run(Sim *s)
                 group_share(s, cl, c->group, now, &h);
                 if (ev.frame == c->cur_frame) {
                     double size = 24.0 + 3.0 * ev.seg.count;
-                    double t = send_via(s, now, &up_free, &c->up, size);
+                    double t = send_via(s, now, &up, &c->up, size);
                     heap_push(&h, (Event){t, EV_ARRIVE_SERVER, ev.client, ev.frame, ev.seg, ev.busy_us, 0, 0});
                 }
             } else if (ev.kind == EV_ARRIVE_SERVER) { /* DATA at the server */
@@ -387,7 +383,7 @@ static void run(Sim *s)
                             Segment g;
                             if (!sched_assign(sc, i, &g))
                                 break;
-                            double t = send_via(s, now, &down_free, &cl[i].down, 20);
+                            double t = send_via(s, now, &down, &cl[i].down, 20);
                             bytes += 20;
                             heap_push(&h, (Event){t, EV_ARRIVE_CLIENT, i, ev.frame, g, 0, 0, 0});
                         }
