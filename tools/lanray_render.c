@@ -191,7 +191,7 @@ int main(int argc, char **argv)
          * A call into the pool costs a hand-off when the pool has worker
          * threads; the simulator models it as the per-segment overhead, so
          * it is measured on a one-pixel call and taken off. */
-        enum { PROFILE_PASSES = 3, PROFILE_CALLS = 64 };
+        enum { PROFILE_PASSES = 15, PROFILE_CALLS = 64 };
         FILE *pf = fopen(profile, "w");
         double *line = calloc((size_t)height, sizeof *line);
         if (!pf)
