@@ -133,7 +133,7 @@ check-tsan: deps
 	@echo "[       OK ] distributed.sh under ThreadSanitizer, no reports"
 
 .PHONY: test-run check-tsan
-test-run: $(TESTS) $(TOOLS) $(REPLAYS)
+test-run: $(TESTS) $(TOOLS) $(REPLAYS) $(BUILD)/tools/embree_ref
 	@BUILD=$(BUILD) BIN=$(BIN) bash tests/run.sh $(TESTS)
 
 $(BUILD)/fuzz/replay_%: tests/fuzz/fuzz_%.c tests/fuzz/replay.c $(LIB)
