@@ -67,7 +67,7 @@ typedef enum { SHADE_PHONG = 0, SHADE_DIFFUSE = 1 } ShadeModel;
 /* Quality knobs: the scene file sets defaults, the command line may override. */
 typedef struct {
     int aa;            /* samples per pixel side: aa*aa per pixel (1..AA_MAX) */
-    int adaptive;      /* 1: one sample, aa*aa only where neighbours differ */
+    int adaptive;      /* 1: one sample, aa*aa only where neighbours differ (surface, lights or colour) */
     ShadeModel shading;
     int shadows;
     TextureFilter filter;

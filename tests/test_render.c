@@ -244,6 +244,52 @@ static void adaptive_refines_only_edges(void **state)
     scene_destroy(s);
 }
 
+/* A texture's edges show in no key (one triangle, no lights): adaptive
+ * sampling finds them by the contrast of neighbouring samples, and comes
+ * out far nearer the full 4x4 image than one sample does.  Without the
+ * contrast rule it refines nothing here and equals the 1-sample image. */
+static void adaptive_refines_texture_edges(void **state)
+{
+    (void)state;
+    Scene *s = empty_scene();
+    s->ambient = v3_splat(1); /* colour = texture */
+    const uint8_t checker[12] = {0, 0, 0, 255, 255, 255, 255, 255, 255, 0, 0, 0};
+    uint32_t tex, mat;
+    assert_int_equal(scene_add_texture(s, texture_from_rgb8(2, 2, checker), &tex, NULL), 0);
+    Material m = {v3(1, 1, 1), v3(0, 0, 0), 1, (int32_t)tex};
+    assert_int_equal(scene_add_material(s, m, &mat, NULL), 0);
+    /* one triangle filling the view, the checker turned and repeated on it */
+    const vec3 p3[3] = {v3(-10, -10, 0), v3(10, -10, 0), v3(-10, 10, 0)};
+    const real uv[6] = {0, 0, R(7.3), R(2.1), R(-2.1), R(7.3)};
+    assert_int_equal(scene_add_triangle(s, p3, NULL, uv, mat, NULL), 0);
+    s->settings.filter = FILTER_NEAREST; /* hard texel edges */
+    assert_int_equal(camera_look_at(&s->camera, v3(0, 0, 4), v3(0, 0, 0), 0, 1), 0);
+    prepare(s);
+    RenderPool *p = render_pool_create(2, NULL);
+    const int W = 96, H = 72;
+    uint8_t *one = malloc(W * H * 3), *ad = malloc(W * H * 3), *full = malloc(W * H * 3);
+    RayStats st_one, st_ad, st_full;
+    assert_int_equal(render_lines(p, s, W, H, 0, H, one, &st_one, NULL), 0);
+    s->settings.aa = 4;
+    assert_int_equal(render_lines(p, s, W, H, 0, H, full, &st_full, NULL), 0);
+    s->settings.adaptive = 1;
+    assert_int_equal(render_lines(p, s, W, H, 0, H, ad, &st_ad, NULL), 0);
+    double e_one = 0, e_ad = 0;
+    for (int i = 0; i < W * H * 3; i++) {
+        e_one += (double)(one[i] - full[i]) * (one[i] - full[i]);
+        e_ad += (double)(ad[i] - full[i]) * (ad[i] - full[i]);
+    }
+    assert_true(e_one > 0);                      /* the edges are there to find */
+    assert_true(st_ad.primary > st_one.primary); /* some pixels were refined ... */
+    assert_true(st_ad.primary < st_full.primary / 2); /* ... not all */
+    assert_true(e_ad < e_one / 10);
+    free(one);
+    free(ad);
+    free(full);
+    render_pool_destroy(p);
+    scene_destroy(s);
+}
+
 static void frame_sizes_and_bad_requests(void **state)
 {
     (void)state;
@@ -274,6 +320,7 @@ int main(void)
         cmocka_unit_test(pixels_do_not_depend_on_threads_or_segments),
         cmocka_unit_test(partial_line_spans_and_cancel),
         cmocka_unit_test(adaptive_refines_only_edges),
+        cmocka_unit_test(adaptive_refines_texture_edges),
         cmocka_unit_test(frame_sizes_and_bad_requests),
     };
     return cmocka_run_group_tests_name("render", tests, NULL, NULL);
