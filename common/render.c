@@ -230,7 +230,9 @@ static void job_keys(void *ctx, uint32_t chunk, RayStats *st)
     chunk_range(chunk, (uint64_t)f->width * (uint64_t)f->key_lines, &i0, &i1);
     for (uint64_t i = i0; i < i1; i++) {
         int px = (int)(i % (uint64_t)f->width), py = f->key_first + (int)(i / (uint64_t)f->width);
-        f->colors[i] = sample(f, (real)px + R(0.5), (real)py + R(0.5), st, &f->keys[i]);
+        /* kept as displayed (put_pixel clamps the same way), for the contrast test */
+        vec3 c = sample(f, (real)px + R(0.5), (real)py + R(0.5), st, &f->keys[i]);
+        f->colors[i] = v3_max(v3_splat(R(0)), v3_min(v3_splat(R(1)), c));
     }
 }
 
@@ -246,11 +248,9 @@ static void job_keys(void *ctx, uint32_t chunk, RayStats *st)
 
 static int contrasts(vec3 a, vec3 b)
 {
-    for (int k = 0; k < 3; k++) {
-        real x = real_max(R(0), real_min(R(1), a.e[k])), y = real_max(R(0), real_min(R(1), b.e[k]));
-        if (x - y > ADAPTIVE_CONTRAST || y - x > ADAPTIVE_CONTRAST)
+    for (int k = 0; k < 3; k++)
+        if (a.e[k] - b.e[k] > ADAPTIVE_CONTRAST || b.e[k] - a.e[k] > ADAPTIVE_CONTRAST)
             return 1;
-    }
     return 0;
 }
 

@@ -116,6 +116,12 @@ static vec3 bary(vec3 a, vec3 b, vec3 c, real b1, real b2)
     return v3_add(v3_add(v3_scale(a, R(1) - b1 - b2), v3_scale(b, b1)), v3_scale(c, b2));
 }
 
+vec3 trace_triangle_point(vec3 v0, vec3 v1, vec3 v2, real b1, real b2, real *err)
+{
+    *err = real_gamma(7) * v3_max_comp(v3_max(v3_abs(v0), v3_max(v3_abs(v1), v3_abs(v2))));
+    return bary(v0, v1, v2, b1, b2);
+}
+
 static const Material fallback_material = {{{R(0.8), R(0.8), R(0.8)}}, {{0, 0, 0}}, R(1), -1};
 
 void trace_surface(const Scene *s, const Ray *r, const Hit *h, Surface *out)
@@ -151,8 +157,7 @@ void trace_surface(const Scene *s, const Ray *r, const Hit *h, Surface *out)
         const Tri *t = &s->tris[h->index];
         const TriAttr *a = &s->tri_attrs[h->index];
         vec3 v0 = tri_vertex(t, 0), v1 = tri_vertex(t, 1), v2 = tri_vertex(t, 2);
-        out->p = bary(v0, v1, v2, h->b1, h->b2);
-        out->err = real_gamma(7) * v3_max_comp(v3_max(v3_abs(v0), v3_max(v3_abs(v1), v3_abs(v2))));
+        out->p = trace_triangle_point(v0, v1, v2, h->b1, h->b2, &out->err);
         out->ng = v3_norm(v3_cross(v3_sub(v1, v0), v3_sub(v2, v0)));
         out->ns = scene_uses(s, FEAT_SMOOTH) && a->smooth ? v3_norm(bary(a->n[0], a->n[1], a->n[2], h->b1, h->b2)) : out->ng;
         if (scene_uses(s, FEAT_TEXTURES) && a->textured) {

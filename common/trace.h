@@ -26,6 +26,10 @@ typedef struct {
 } Surface;
 
 int trace_closest(const Scene *s, const Ray *r, Hit *hit);
+/* The point at barycentrics (b1, b2) of triangle v0 v1 v2, as trace_surface
+ * computes a scene triangle's hit point, and the bound on the rounding error
+ * of each of its coordinates (for trace_offset_origin). */
+vec3 trace_triangle_point(vec3 v0, vec3 v1, vec3 v2, real b1, real b2, real *err);
 int trace_occluded(const Scene *s, const Ray *r, real tmax);
 void trace_surface(const Scene *s, const Ray *r, const Hit *hit, Surface *out);
 

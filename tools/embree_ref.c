@@ -48,16 +48,13 @@ static vec3 shade(Job *j, struct RTCIntersectContext *ctx, vec3 d, unsigned long
     rtcIntersect1(j->scene, ctx, &rh);
     if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID)
         return s->background;
-    /* the hit point from its barycentrics on the triangle, as lanray's
-     * trace.c has it: o + t*d carries the error of t times the ray's
-     * length, which an offset sized for the triangle's own error does not
-     * cover (isolated shadow acne: 97 dark pixels in the bunny that lanray
-     * has lit) */
+    /* the hit point from its barycentrics on the triangle, as lanray has
+     * it: o + t*d carries the error of t times the ray's length, which an
+     * offset sized for the triangle's own error does not cover (isolated
+     * shadow acne: 97 dark pixels in the bunny that lanray has lit) */
     const float *f = j->vb + 9 * (size_t)rh.hit.primID;
-    vec3 v0 = v3(f[0], f[1], f[2]), v1 = v3(f[3], f[4], f[5]), v2 = v3(f[6], f[7], f[8]);
-    real b1 = rh.hit.u, b2 = rh.hit.v;
-    vec3 p = v3_add(v3_add(v3_scale(v0, R(1) - b1 - b2), v3_scale(v1, b1)), v3_scale(v2, b2));
-    real err = real_gamma(7) * v3_max_comp(v3_max(v3_abs(v0), v3_max(v3_abs(v1), v3_abs(v2))));
+    real err;
+    vec3 p = trace_triangle_point(v3(f[0], f[1], f[2]), v3(f[3], f[4], f[5]), v3(f[6], f[7], f[8]), rh.hit.u, rh.hit.v, &err);
     vec3 n = v3_norm(v3(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z));
     if (v3_dot(n, d) > 0)
         n = v3_neg(n);
