@@ -135,6 +135,16 @@ int scene_add_light(Scene *s, Light l, Err *err)
     return 0;
 }
 
+Plane plane_make(vec3 point, vec3 normal, uint32_t material)
+{
+    Plane p;
+    memset(&p, 0, sizeof p);
+    p.point = point;
+    p.normal = normal;
+    p.material = material;
+    return p;
+}
+
 Light light_point(vec3 pos, vec3 color, real intensity, int attenuate)
 {
     Light l;
@@ -230,7 +240,7 @@ int scene_prepare(Scene *s, Err *err)
         Plane *p = &s->planes[i];
         if (!(v3_len(p->normal) > R(0)) || !v3_is_finite(p->point) || !v3_is_finite(p->normal))
             return err_set(err, "scene: plane %u needs a finite point and a non-zero normal", i);
-        p->normal = v3_norm(p->normal);
+        p->unit = v3_norm(p->normal);
         if (check_material(s, p->material, "plane", i, err))
             return -1;
         f |= FEAT_PLANES;
@@ -276,7 +286,7 @@ int scene_prepare(Scene *s, Err *err)
         if (l->kind != LIGHT_POINT) {
             if (!(v3_len(l->dir) > R(0)) || !v3_is_finite(l->dir))
                 return err_set(err, "scene: light %u needs a non-zero direction", i);
-            l->dir = v3_norm(l->dir);
+            l->axis = v3_norm(l->dir);
         }
         if (l->kind == LIGHT_SPOT) {
             if (!(l->angle > R(0) && l->angle < R(180)) || !(l->soft >= R(0)))

@@ -25,9 +25,14 @@ typedef struct {
     uint32_t material;
 } Sphere;
 
+/* Scene items keep the values they were given (a file, the wire); what
+ * scene_prepare derives from them goes into fields of their own, so that
+ * preparing a scene twice, or once on each side of the wire, gives the same
+ * bits: a direction normalised again can move by an ulp. */
 typedef struct {
-    vec3 point, normal; /* normal is unit length after scene_prepare */
+    vec3 point, normal; /* as given: normal need not be unit length */
     uint32_t material;
+    vec3 unit;          /* derived: the unit normal */
 } Plane;
 
 /* Shading attributes of a scene-level triangle (positions live in Scene.tris). */
@@ -54,12 +59,14 @@ typedef enum { LIGHT_POINT = 0, LIGHT_SPOT = 1, LIGHT_DIRECTIONAL = 2 } LightKin
 typedef struct {
     LightKind kind;
     vec3 pos;          /* point, spot */
-    vec3 dir;          /* spot: beam axis; directional: direction light travels; unit length */
+    vec3 dir;          /* spot: beam axis; directional: direction light travels; as given */
     vec3 color;
     real intensity;
     int attenuate;     /* point, spot: divide by distance squared */
     real angle, soft;  /* spot: full beam angle and soft edge width, degrees */
-    real cos_outer, cos_inner; /* derived */
+    /* derived */
+    vec3 axis;         /* dir, unit length */
+    real cos_outer, cos_inner;
 } Light;
 
 typedef enum { SHADE_PHONG = 0, SHADE_DIFFUSE = 1 } ShadeModel;
@@ -121,6 +128,7 @@ int scene_add_model(Scene *s, Model *m, uint32_t *id, Err *err);
 int scene_add_instance(Scene *s, Instance in, Err *err);
 int scene_add_light(Scene *s, Light l, Err *err);
 
+Plane plane_make(vec3 point, vec3 normal, uint32_t material);
 Light light_point(vec3 pos, vec3 color, real intensity, int attenuate);
 Light light_spot(vec3 pos, vec3 dir, real angle, real soft, vec3 color, real intensity, int attenuate);
 Light light_directional(vec3 dir, vec3 color, real intensity);

@@ -107,7 +107,7 @@ int scene_default(Scene **out, const BvhOptions *opt, Err *err)
     rc = rc ? rc : scene_add_material(s, mat(R(0.2), R(0.75), R(0.25), R(0.3), 10), &green, err);
     rc = rc ? rc : scene_add_material(s, mat(R(0.9), R(0.65), R(0.2), R(0.8), 60), &gold, err);
     rc = rc ? rc : scene_add_material(s, picture, &pic, err);
-    rc = rc ? rc : scene_add_plane(s, (Plane){v3(0, 0, 0), v3(0, 1, 0), floor}, err);
+    rc = rc ? rc : scene_add_plane(s, plane_make(v3(0, 0, 0), v3(0, 1, 0), floor), err);
     rc = rc ? rc : scene_add_sphere(s, (Sphere){v3(R(-1.9), R(0.75), R(0.4)), R(0.75), red}, err);
     rc = rc ? rc : scene_add_sphere(s, (Sphere){v3(R(1.9), R(0.55), R(0.9)), R(0.55), blue}, err);
     rc = rc ? rc : scene_add_sphere(s, (Sphere){v3(R(-0.3), R(0.3), R(2.0)), R(0.3), green}, err);

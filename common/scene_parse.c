@@ -306,7 +306,7 @@ static int do_plane(Ctx *c, const Tokens *t)
     KeyVals kv;
     if (read_keys(c, t, 1, "plane", spec, &kv))
         return -1;
-    Plane p = {kv_vec(&kv, 0), kv_vec(&kv, 1), 0};
+    Plane p = plane_make(kv_vec(&kv, 0), kv_vec(&kv, 1), 0);
     if (!(v3_len(p.normal) > R(0)))
         return fail(c, "'normal' of plane must not be zero");
     return lookup_material(c, &kv, 2, &p.material) || scene_add_plane(c->s, p, c->err) ? -1 : 0;

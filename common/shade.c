@@ -13,7 +13,7 @@ static int light_at(const Scene *s, const Light *l, vec3 p, vec3 *dir, real *dis
 {
     real scale = l->intensity;
     if (l->kind == LIGHT_DIRECTIONAL) {
-        *dir = v3_neg(l->dir);
+        *dir = v3_neg(l->axis);
         *dist = REAL_INF;
     } else {
         vec3 d = v3_sub(l->pos, p);
@@ -25,7 +25,7 @@ static int light_at(const Scene *s, const Light *l, vec3 p, vec3 *dir, real *dis
         if (scene_uses(s, FEAT_ATTENUATION) && l->attenuate)
             scale /= d2;
         if (scene_uses(s, FEAT_SPOT) && l->kind == LIGHT_SPOT) {
-            real c = -v3_dot(*dir, l->dir);
+            real c = -v3_dot(*dir, l->axis);
             if (c <= l->cos_outer)
                 return 0;
             if (c < l->cos_inner) { /* soft edge: smoothstep across the rim */

@@ -20,11 +20,23 @@ static float f32_up(real x)
     return (real)f < x ? nextafterf(f, INFINITY) : f;
 }
 
-int tmd_encode(const Model *m, void **data, size_t *len, Err *err)
+/* One number as float32, or as float64 when wide; dir rounds a narrowed
+ * box bound outward (-1 down, +1 up, 0 nearest). */
+static void put_real(Sink *s, real x, int wide, int dir)
+{
+    if (wide) {
+        double d = (double)x;
+        sink_put(s, &d, sizeof d);
+    } else {
+        sink_f32(s, dir < 0 ? f32_down(x) : dir > 0 ? f32_up(x) : (float)x);
+    }
+}
+
+int tmd_encode(const Model *m, int wide, void **data, size_t *len, Err *err)
 {
     Sink s = {0};
     uint32_t flags = (m->normals ? TMD_HAS_NORMALS : 0) | (m->uvs ? TMD_HAS_UVS : 0) |
-                     (m->mat_ids ? TMD_HAS_MATERIALS : 0);
+                     (m->mat_ids ? TMD_HAS_MATERIALS : 0) | (wide ? TMD_WIDE : 0);
     char magic[8] = TMD_MAGIC;
     sink_put(&s, magic, 8);
     uint32_t head[14] = {TMD_VERSION, TMD_BOM, TMD_HEADER_BYTES, flags, (uint32_t)m->bvh.kind, m->bvh.node_count,
@@ -33,31 +45,31 @@ int tmd_encode(const Model *m, void **data, size_t *len, Err *err)
     for (uint32_t i = 0; i < m->bvh.node_count; i++) {
         const BvhNode *n = &m->bvh.nodes[i];
         for (int a = 0; a < 3; a++)
-            sink_f32(&s, f32_down(n->bmin[a]));
+            put_real(&s, n->bmin[a], wide, -1);
         sink_u32(&s, n->first);
         for (int a = 0; a < 3; a++)
-            sink_f32(&s, f32_up(n->bmax[a]));
+            put_real(&s, n->bmax[a], wide, 1);
         sink_u32(&s, n->count);
     }
     for (uint32_t i = 0; i < m->tri_count; i++)
         for (int k = 0; k < 3; k++)
             for (int a = 0; a < 3; a++)
-                sink_f32(&s, (float)m->tris[i].v[k][a]);
+                put_real(&s, m->tris[i].v[k][a], wide, 0);
     if (m->normals)
         for (uint32_t i = 0; i < 3 * m->tri_count; i++)
             for (int a = 0; a < 3; a++)
-                sink_f32(&s, (float)m->normals[i].e[a]);
+                put_real(&s, m->normals[i].e[a], wide, 0);
     if (m->uvs)
         for (uint32_t i = 0; i < 6 * m->tri_count; i++)
-            sink_f32(&s, (float)m->uvs[i]);
+            put_real(&s, m->uvs[i], wide, 0);
     if (m->mat_ids) {
         for (uint32_t i = 0; i < m->material_count; i++) {
             const Material *mt = &m->materials[i];
             for (int a = 0; a < 3; a++)
-                sink_f32(&s, (float)mt->kd.e[a]);
+                put_real(&s, mt->kd.e[a], wide, 0);
             for (int a = 0; a < 3; a++)
-                sink_f32(&s, (float)mt->ks.e[a]);
-            sink_f32(&s, (float)mt->shininess);
+                put_real(&s, mt->ks.e[a], wide, 0);
+            put_real(&s, mt->shininess, wide, 0);
         }
         sink_put(&s, m->mat_ids, m->tri_count * sizeof *m->mat_ids);
     }
@@ -74,20 +86,33 @@ int tmd_write(const char *path, const Model *m, Err *err)
 {
     void *data;
     size_t len;
-    if (tmd_encode(m, &data, &len, err))
+    if (tmd_encode(m, 0, &data, &len, err))
         return err_prefix(err, "%s", path);
     int rc = file_write_bytes(path, data, len, err);
     free(data);
     return rc;
 }
 
-static int read_reals(Cursor *c, real *dst, size_t n)
+/* n numbers, float32 or (wide) float64; a float build narrows a wide
+ * box bound outward (dir as in put_real) so that the tree stays conservative. */
+static int read_reals(Cursor *c, int wide, int dir, real *dst, size_t n)
 {
     for (size_t i = 0; i < n; i++) {
-        float f = cursor_f32(c);
-        if (!isfinite(f))
+        double d = 0;
+        if (wide)
+            cursor_get(c, &d, sizeof d);
+        else
+            d = cursor_f32(c);
+        if (!isfinite(d))
             return -1;
-        dst[i] = f;
+        real r = (real)d;
+        if (dir < 0 && (double)r > d)
+            r = nextafter(r, -REAL_INF);
+        else if (dir > 0 && (double)r < d)
+            r = nextafter(r, REAL_INF);
+        if (!isfinite(r))
+            return -1;
+        dst[i] = r;
     }
     return c->failed ? -1 : 0;
 }
@@ -109,7 +134,7 @@ int tmd_decode(const void *data, size_t len, const char *name, Model **out, Err 
     uint32_t flags = h[3], kind = h[4], nodes = h[5], tris = h[6], mats = h[7], depth = h[8];
     if (h[2] != TMD_HEADER_BYTES)
         return err_set(err, "%s: header size %u, expected %u", name, h[2], TMD_HEADER_BYTES);
-    if (flags & ~(TMD_HAS_NORMALS | TMD_HAS_UVS | TMD_HAS_MATERIALS))
+    if (flags & ~(TMD_HAS_NORMALS | TMD_HAS_UVS | TMD_HAS_MATERIALS | TMD_WIDE))
         return err_set(err, "%s: unknown flags 0x%x", name, flags);
     if (kind >= BVH_KIND_COUNT)
         return err_set(err, "%s: unknown BVH kind %u", name, kind);
@@ -120,13 +145,15 @@ int tmd_decode(const void *data, size_t len, const char *name, Model **out, Err 
     if (depth > BVH_MAX_DEPTH)
         return err_set(err, "%s: tree depth %u exceeds %u", name, depth, BVH_MAX_DEPTH);
     /* the exact size follows from the header: check it before allocating anything */
-    uint64_t want = TMD_HEADER_BYTES + (uint64_t)nodes * 32 + (uint64_t)tris * 36;
+    int wide = (flags & TMD_WIDE) != 0;
+    uint64_t w = wide ? 8 : 4; /* bytes per number */
+    uint64_t want = TMD_HEADER_BYTES + (uint64_t)nodes * (6 * w + 8) + (uint64_t)tris * 9 * w;
     if (flags & TMD_HAS_NORMALS)
-        want += (uint64_t)tris * 36;
+        want += (uint64_t)tris * 9 * w;
     if (flags & TMD_HAS_UVS)
-        want += (uint64_t)tris * 24;
+        want += (uint64_t)tris * 6 * w;
     if (flags & TMD_HAS_MATERIALS)
-        want += (uint64_t)mats * 28 + (uint64_t)tris * 4;
+        want += (uint64_t)mats * 7 * w + (uint64_t)tris * 4;
     if (want != len)
         return err_set(err, "%s: header promises %llu bytes but the file has %zu", name, (unsigned long long)want, len);
     Model *m = model_alloc(tris, nodes, mats, flags & TMD_HAS_NORMALS, flags & TMD_HAS_UVS, flags & TMD_HAS_MATERIALS);
@@ -137,25 +164,26 @@ int tmd_decode(const void *data, size_t len, const char *name, Model **out, Err 
     const char *bad = NULL;
     for (uint32_t i = 0; i < nodes && !bad; i++) {
         BvhNode *n = &m->bvh.nodes[i];
-        if (read_reals(&c, n->bmin, 3))
+        if (read_reals(&c, wide, -1, n->bmin, 3))
             bad = "node box";
         n->first = cursor_u32(&c);
-        if (read_reals(&c, n->bmax, 3))
+        if (read_reals(&c, wide, 1, n->bmax, 3))
             bad = "node box";
         n->count = cursor_u32(&c);
     }
     for (uint32_t i = 0; i < tris && !bad; i++)
-        if (read_reals(&c, &m->tris[i].v[0][0], 9))
+        if (read_reals(&c, wide, 0, &m->tris[i].v[0][0], 9))
             bad = "triangle vertex";
     for (uint32_t i = 0; m->normals && i < 3 * tris && !bad; i++)
-        if (read_reals(&c, m->normals[i].e, 3))
+        if (read_reals(&c, wide, 0, m->normals[i].e, 3))
             bad = "normal";
-    if (m->uvs && !bad && read_reals(&c, m->uvs, (size_t)6 * tris))
+    if (m->uvs && !bad && read_reals(&c, wide, 0, m->uvs, (size_t)6 * tris))
         bad = "texture coordinate";
     for (uint32_t i = 0; i < mats && !bad; i++) {
         Material *mt = &m->materials[i];
         *mt = material_default();
-        if (read_reals(&c, mt->kd.e, 3) || read_reals(&c, mt->ks.e, 3) || read_reals(&c, &mt->shininess, 1))
+        if (read_reals(&c, wide, 0, mt->kd.e, 3) || read_reals(&c, wide, 0, mt->ks.e, 3) ||
+            read_reals(&c, wide, 0, &mt->shininess, 1))
             bad = "material";
     }
     if (m->mat_ids && !bad && cursor_get(&c, m->mat_ids, (size_t)tris * 4) == 0)

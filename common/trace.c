@@ -91,7 +91,7 @@ int trace_closest(const Scene *s, const Ray *r, Hit *hit)
     if (scene_uses(s, FEAT_PLANES))
         for (uint32_t i = 0; i < s->plane_count; i++) {
             real t;
-            if (plane_intersect(r, s->planes[i].point, s->planes[i].normal, hit->t, &t))
+            if (plane_intersect(r, s->planes[i].point, s->planes[i].unit, hit->t, &t))
                 *hit = (Hit){t, 0, 0, HIT_PLANE, i, 0};
         }
     ClosestCtx c = {s, hit};
@@ -105,7 +105,7 @@ int trace_occluded(const Scene *s, const Ray *r, real tmax)
     if (scene_uses(s, FEAT_PLANES))
         for (uint32_t i = 0; i < s->plane_count; i++) {
             real t;
-            if (plane_intersect(r, s->planes[i].point, s->planes[i].normal, tmax, &t))
+            if (plane_intersect(r, s->planes[i].point, s->planes[i].unit, tmax, &t))
                 return 1;
         }
     return bvh_any(&s->top, r, tmax, top_leaf_any, s);
@@ -146,9 +146,9 @@ void trace_surface(const Scene *s, const Ray *r, const Hit *h, Surface *out)
         const Plane *pl = &s->planes[h->index];
         vec3 p = ray_at(r, h->t);
         /* project onto the plane for the same reason */
-        out->p = v3_madd(p, pl->normal, v3_dot(v3_sub(pl->point, p), pl->normal));
+        out->p = v3_madd(p, pl->unit, v3_dot(v3_sub(pl->point, p), pl->unit));
         out->err = real_gamma(4) * real_max(v3_max_comp(v3_abs(out->p)), v3_max_comp(v3_abs(pl->point)));
-        out->ng = out->ns = pl->normal;
+        out->ng = out->ns = pl->unit;
         out->mat = &s->materials[pl->material];
         out->object = s->sphere_count + h->index;
         break;

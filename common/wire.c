@@ -211,7 +211,8 @@ int wire_asset_model(const Model *m, Asset *out, Err *err)
     memset(out, 0, sizeof *out);
     out->kind = ASSET_MODEL;
     void *data;
-    if (tmd_encode(m, &data, &out->len, err))
+    /* the model's own numbers: float64 in a double build, which float32 would round */
+    if (tmd_encode(m, sizeof(real) > sizeof(float), &data, &out->len, err))
         return -1;
     out->data = data;
     proto_hash(out->data, out->len, out->hash);
@@ -309,10 +310,8 @@ int wire_decode_scene(const void *data, size_t len, const AssetCache *cache, Sce
         rc = scene_add_sphere(s, sp, err);
     }
     for (uint32_t i = 0; !bad && rc == 0 && i < n[3]; i++) {
-        Plane p;
-        p.point = get_vec(&c);
-        p.normal = get_vec(&c);
-        p.material = cursor_u32(&c);
+        vec3 point = get_vec(&c), normal = get_vec(&c);
+        Plane p = plane_make(point, normal, cursor_u32(&c));
         rc = scene_add_plane(s, p, err);
     }
     for (uint32_t i = 0; !bad && rc == 0 && i < n[4]; i++) {

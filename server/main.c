@@ -152,6 +152,7 @@ int main(int argc, char **argv)
         cfg.token = NULL;
     BvhOptions bvh = bvh_options_default(BVH_SAH);
     int headless = 0, force_bvh = 0, aa = -1, adaptive = 0, discard = 0;
+    long wait_clients = 0;
     long frames = 0;
     double rotate = 0;
     for (int i = 1; i < argc; i++) {
@@ -218,6 +219,8 @@ int main(int argc, char **argv)
             char *end;
             rotate = strtod(v, &end);
             bad = *end != 0;
+        } else if (strcmp(a, "--wait-clients") == 0) {
+            bad = parse_int(v, 0, 4096, &wait_clients);
         } else if (strcmp(a, "--warmup") == 0) {
             bad = parse_int(v, 0, 1000000, &n);
             cfg.warmup = (uint32_t)n;
@@ -310,7 +313,13 @@ int main(int argc, char **argv)
     int animate = rotate != 0, rc = 0;
     uint32_t seen = 0;
     app.fps_t0 = timer_now();
+    /* --wait-clients: no frame starts before that many clients have joined */
+    server_pause(app.server, wait_clients > 0);
     while (!stop_flag) {
+        if (wait_clients > 0 && server_client_count(app.server) >= (uint32_t)wait_clients) {
+            server_pause(app.server, 0);
+            wait_clients = 0;
+        }
         if (server_step(app.server, app.display ? 5 : 50, on_frame, &app, &err)) {
             fprintf(stderr, "lanray-server: %s\n", err.msg);
             rc = 1;

@@ -57,7 +57,7 @@ static void shadows_attenuation_and_spot_cone(void **state)
 {
     (void)state;
     Scene *s = empty_scene();
-    assert_int_equal(scene_add_plane(s, (Plane){v3(0, 0, 0), v3(0, 1, 0), 0}, NULL), 0);
+    assert_int_equal(scene_add_plane(s, plane_make(v3(0, 0, 0), v3(0, 1, 0), 0), NULL), 0);
     assert_int_equal(scene_add_sphere(s, (Sphere){v3(0, 2, 0), R(0.5), 0}, NULL), 0);
     assert_int_equal(scene_add_light(s, light_point(v3(0, 4, 0), v3(1, 1, 1), 16, 1), NULL), 0);
     prepare(s);

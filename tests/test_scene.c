@@ -54,10 +54,12 @@ static void full_scene(void **state)
     assert_int_equal(s->settings.shading, SHADE_DIFFUSE);
     assert_int_equal(s->settings.shadows, 0);
     assert_int_equal(s->settings.filter, FILTER_NEAREST);
-    assert_float_equal(s->planes[0].normal.y, 1, R(1e-6)); /* normalised */
+    assert_float_equal(s->planes[0].normal.y, 2, 0); /* as given */
+    assert_float_equal(s->planes[0].unit.y, 1, R(1e-6)); /* derived */
     assert_float_equal(s->spheres[0].radius, 1, 0);
     assert_int_equal(s->instances[0].material, 1);
-    assert_float_equal(s->lights[1].dir.y, -1, R(1e-6));
+    assert_float_equal(s->lights[1].dir.y, -5, 0); /* target - position, as given */
+    assert_float_equal(s->lights[1].axis.y, -1, R(1e-6));
     assert_true(s->lights[0].attenuate);
     assert_true(scene_has(s, FEAT_TEXTURES) && scene_has(s, FEAT_SMOOTH) && scene_has(s, FEAT_SPOT) &&
                 scene_has(s, FEAT_ATTENUATION) && scene_has(s, FEAT_PLANES) && !scene_has(s, FEAT_SHADOWS));

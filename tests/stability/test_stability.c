@@ -81,7 +81,7 @@ static Scene *acne_scene(real S, vec3 T)
     scene_add_material(s, red, NULL, NULL);
     scene_add_material(s, blue, NULL, NULL);
 #define P(x, y, z) v3_add(T, v3_scale(v3(x, y, z), S))
-    scene_add_plane(s, (Plane){P(0, 0, 0), v3(0, 1, 0), 0}, NULL);
+    scene_add_plane(s, plane_make(P(0, 0, 0), v3(0, 1, 0), 0), NULL);
     scene_add_sphere(s, (Sphere){P(0, R(1.2), 0), S, 1}, NULL);
     uint32_t mid;
     scene_add_model(s, icosphere_model(), &mid, NULL);
@@ -341,7 +341,7 @@ static Scene *simple_scene(void)
     Material red = {v3(R(0.9), R(0.2), R(0.2)), v3_splat(R(0.4)), 20, -1};
     scene_add_material(s, red, NULL, NULL);
     scene_add_sphere(s, (Sphere){v3(0, 0, 0), 1, 0}, NULL);
-    scene_add_plane(s, (Plane){v3(0, -1, 0), v3(0, 1, 0), 0}, NULL);
+    scene_add_plane(s, plane_make(v3(0, -1, 0), v3(0, 1, 0), 0), NULL);
     camera_look_at(&s->camera, v3(0, R(0.5), 4), v3(0, 0, 0), 0, camera_zoom_for_fov(60));
     return s;
 }

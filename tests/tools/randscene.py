@@ -1,0 +1,218 @@
+#!/usr/bin/env python3
+"""randscene.py - random scene files drawn from the whole grammar of docs/scene.md.
+
+    randscene.py SEED DIR      writes DIR/scene-SEED.scene (and the textures and
+                               models it names, once, into DIR)
+
+Every directive and key of the format appears with some probability: camera
+by lookat or by angles, with zoom or fov and roll; ambient, background; every
+settings key and value; textures (PPM P3/P6, PGM P2/P5); materials with and
+without specular and textures; spheres, planes and triangles (with normals
+and uv); models from OBJ (with and without smooth, each builder) and from
+.tmd (converted by the caller as DIR/mesh.tmd); instances with transforms and
+material overrides; point, spot and directional lights with position,
+target, direction, soft, attenuate, colour and intensity.  Numbers are drawn
+with many digits, so that values that are normalised, converted or derived
+differ in their last bits when they take another path.
+
+The property test (tests/cli/randscene.sh) renders each scene standalone
+and through a server with two clients, and compares the frames bit for bit.
+"""
+import os
+import random
+import sys
+
+
+def num(r, lo, hi):
+    """A number with up to 9 significant digits, or a short one."""
+    v = r.uniform(lo, hi)
+    # half of them short, as people write them (whole numbers, one decimal)
+    short = round(v, r.choice([0, 1]))
+    if r.random() < 0.5 and lo <= short <= hi and (lo < 0 or short > 0):
+        v = short
+    return "%.9g" % v
+
+
+def vec(r, lo, hi):
+    return " ".join(num(r, lo, hi) for _ in range(3))
+
+
+def colour(r, hi=1.0):
+    return vec(r, 0.0, hi)
+
+
+def direction(r):
+    """A non-zero direction, not normalised (as people write them)."""
+    while True:
+        v = [float(num(r, -2, 2)) for _ in range(3)]
+        if sum(x * x for x in v) > 0.05:
+            return " ".join("%.9g" % x for x in v)
+
+
+def write_assets(d):
+    """Textures and models every scene may name; written once per directory."""
+    rng = random.Random(12345)
+    if not os.path.exists(os.path.join(d, "t6.ppm")):
+        with open(os.path.join(d, "t6.ppm"), "wb") as f:
+            f.write(b"P6\n7 5\n255\n" + bytes(rng.randrange(256) for _ in range(7 * 5 * 3)))
+        with open(os.path.join(d, "t3.ppm"), "w") as f:
+            f.write("P3\n3 4\n15\n" + " ".join(str(rng.randrange(16)) for _ in range(3 * 4 * 3)) + "\n")
+        with open(os.path.join(d, "t5.pgm"), "wb") as f:
+            f.write(b"P5\n4 4\n255\n" + bytes(rng.randrange(256) for _ in range(16)))
+        with open(os.path.join(d, "t2.pgm"), "w") as f:
+            f.write("P2\n2 3\n9\n" + " ".join(str(rng.randrange(10)) for _ in range(6)) + "\n")
+    if not os.path.exists(os.path.join(d, "mesh.obj")):
+        # a bumpy 6x6 grid with texture coordinates, two materials, normals on one half
+        n = 6
+        lines = ["mtllib mesh.mtl"]
+        for j in range(n + 1):
+            for i in range(n + 1):
+                lines.append("v %.9g %.9g %.9g" % (i / n - 0.5, rng.uniform(-0.15, 0.15), j / n - 0.5))
+                lines.append("vt %.9g %.9g" % (i / n * 2, j / n * 2))
+                lines.append("vn %.9g 1 %.9g" % (rng.uniform(-0.3, 0.3), rng.uniform(-0.3, 0.3)))
+        for j in range(n):
+            lines.append("usemtl %s" % ("shiny" if j < n // 2 else "matte"))
+            for i in range(n):
+                a = j * (n + 1) + i + 1
+                b, c, e = a + 1, a + n + 2, a + n + 1
+                if i < n // 2:
+                    lines.append("f %d/%d/%d %d/%d/%d %d/%d/%d" % (a, a, a, b, b, b, c, c, c))
+                    lines.append("f %d/%d/%d %d/%d/%d %d/%d/%d" % (a, a, a, c, c, c, e, e, e))
+                else:
+                    lines.append("f %d/%d %d/%d %d/%d %d/%d" % (a, a, b, b, c, c, e, e))
+        with open(os.path.join(d, "mesh.obj"), "w") as f:
+            f.write("\n".join(lines) + "\n")
+        with open(os.path.join(d, "mesh.mtl"), "w") as f:
+            f.write("newmtl shiny\nKd 0.7 0.6 0.2\nKs 0.5 0.5 0.5\nNs 33\nnewmtl matte\nKd 0.2 0.5 0.7\n")
+
+
+def scene(seed):
+    r = random.Random(seed)
+    out = ["# random scene, seed %d (tests/tools/randscene.py)" % seed]
+    cam = ["camera position", vec(r, -6, 6)]
+    if r.random() < 0.6:
+        cam += ["lookat", vec(r, -1, 1)]
+    else:
+        cam += ["yaw", num(r, -180, 180), "pitch", num(r, -60, 60)]
+    if r.random() < 0.4:
+        cam += ["roll", num(r, -45, 45)]
+    z = r.random()
+    if z < 0.35:
+        cam += ["fov", num(r, 20, 120)]
+    elif z < 0.7:
+        cam += ["zoom", num(r, 0.5, 3)]
+    out.append(" ".join(cam))
+    if r.random() < 0.7:
+        out.append("ambient " + colour(r, 0.3))
+    if r.random() < 0.7:
+        out.append("background " + colour(r, 0.5))
+    st = []
+    if r.random() < 0.5:
+        st += [r.choice(["aa", "adaptive"]), str(r.choice([1, 2, 3]))]
+    if r.random() < 0.4:
+        st += ["shading", r.choice(["phong", "diffuse"])]
+    if r.random() < 0.4:
+        st += ["shadows", r.choice(["on", "off"])]
+    if r.random() < 0.4:
+        st += ["filter", r.choice(["nearest", "bilinear"])]
+    if st:
+        out.append("settings " + " ".join(st))
+
+    textures = []
+    for i in range(r.choice([0, 0, 1, 2])):
+        name = "tex%d" % i
+        out.append("texture %s %s" % (name, r.choice(["t6.ppm", "t3.ppm", "t5.pgm", "t2.pgm"])))
+        textures.append(name)
+    materials = ["default"]
+    for i in range(r.randrange(0, 4)):
+        name = "m%d" % i
+        m = ["material", name]
+        if r.random() < 0.8:
+            m += ["diffuse", colour(r)]
+        if r.random() < 0.5:
+            m += ["specular", colour(r), "shininess", num(r, 0, 120)]
+        if textures and r.random() < 0.6:
+            m += ["texture", r.choice(textures)]
+        out.append(" ".join(m))
+        materials.append(name)
+
+    def mat():
+        return ["material", r.choice(materials)] if r.random() < 0.8 else []
+
+    for _ in range(r.randrange(0, 4)):
+        out.append(" ".join(["sphere centre", vec(r, -2, 2), "radius", num(r, 0.1, 1.2)] + mat()))
+    for _ in range(r.choice([0, 1, 1, 2])):
+        out.append(" ".join(["plane point", vec(r, -1.5, 0), "normal", direction(r)] + mat()))
+    for _ in range(r.randrange(0, 4)):
+        t = ["triangle vertices", " ".join(vec(r, -2, 2) for _ in range(3))]
+        if r.random() < 0.4:
+            t += ["normals", " ".join(direction(r) for _ in range(3))]
+        if r.random() < 0.5:
+            t += ["uv", " ".join(num(r, -1, 2) for _ in range(6))]
+        out.append(" ".join(t + mat()))
+    models = []
+    for i in range(r.choice([0, 0, 1, 2])):
+        name = "mod%d" % i
+        if r.random() < 0.3:
+            m = ["model", name, "mesh.tmd"]
+            if r.random() < 0.5:
+                m += ["bvh", r.choice(["sbt", "mst", "sah"])]
+        else:
+            m = ["model", name, "mesh.obj"]
+            if r.random() < 0.7:
+                m += ["bvh", r.choice(["sbt", "mst", "sah"])]
+            if r.random() < 0.5:
+                m += ["smooth"]
+        out.append(" ".join(m))
+        models.append(name)
+    for name in models:
+        for _ in range(r.randrange(1, 3)):
+            ins = ["instance", name]
+            if r.random() < 0.8:
+                ins += ["translate", vec(r, -1.5, 1.5)]
+            if r.random() < 0.6:
+                ins += ["rotate", vec(r, -180, 180)]
+            if r.random() < 0.6:
+                ins += ["scale", num(r, 0.3, 2.5)]
+            if r.random() < 0.3:
+                ins += mat()
+            out.append(" ".join(ins))
+
+    for _ in range(r.randrange(0, 4)):
+        kind = r.choice(["point", "spot", "directional"])
+        l = ["light", kind]
+        if kind != "directional":
+            l += ["position", vec(r, -5, 5)]
+        if kind == "spot":
+            if r.random() < 0.5:
+                l += ["target", vec(r, -1.5, 1.5)]
+            else:
+                l += ["direction", direction(r)]
+            l += ["angle", num(r, 5, 120)]
+            if r.random() < 0.7:
+                l += ["soft", num(r, 0, 20)]
+        if kind == "directional":
+            l += ["direction", direction(r)]
+        if kind != "directional" and r.random() < 0.4:
+            l += ["attenuate"]
+        if r.random() < 0.5:
+            l += ["color", colour(r)]
+        if r.random() < 0.6:
+            l += ["intensity", num(r, 0.1, 3 if "attenuate" not in l else 30)]
+        out.append(" ".join(l))
+    return "\n".join(out) + "\n"
+
+
+def main():
+    if len(sys.argv) != 3:
+        sys.exit("usage: randscene.py SEED DIR")
+    seed, d = int(sys.argv[1]), sys.argv[2]
+    write_assets(d)
+    path = os.path.join(d, "scene-%d.scene" % seed)
+    with open(path, "w") as f:
+        f.write(scene(seed))
+    print(path)
+
+
+if __name__ == "__main__":
+    main()
