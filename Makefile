@@ -10,6 +10,7 @@
 #   make tradeoff   quality knobs: time and error against a reference (docs/tradeoff.*)
 #   make bench-scaling  clients x segment size x tail rule, with schedsim (docs/scaling*)
 #   make loadtest   64 clients joining and leaving for 5 minutes, every frame verified
+#   make tools-doc  docs/tools.md from every tool's --help
 #   make PRECISION=double ...   double-precision build in build/double, bin/double
 PRECISION ?= float
 SAN ?=
@@ -64,7 +65,7 @@ REPLAYS := $(FUZZ_NAMES:%=$(BUILD)/fuzz/replay_%)
 
 DEB_PACKAGES := gcc make pkg-config libsdl2-dev libnetpbm-dev libpng-dev libcmocka-dev libembree-dev libsodium-dev xvfb x11-apps python3 clang libclang-rt-14-dev
 
-.PHONY: all deps check check-asan bench demo clean tradeoff bench-scaling fuzz loadtest
+.PHONY: all deps check check-asan bench demo clean tradeoff bench-scaling fuzz loadtest tools-doc
 .SECONDARY:
 all: $(TOOLS)
 
@@ -77,6 +78,18 @@ deps:
 	  SUDO=""; [ "$$(id -u)" = 0 ] || SUDO=sudo; \
 	  $$SUDO apt-get update -qq && DEBIAN_FRONTEND=noninteractive $$SUDO apt-get install -y -qq $$missing >/dev/null; \
 	else echo "make deps: all packages present"; fi
+
+# Before anything compiles: the libraries' headers are there, or one line
+# says what to do (instead of a compiler error per file).  The targets that
+# run `make deps` first are not held back by it.
+LIB_HEADERS ?= /usr/include/SDL2/SDL.h /usr/include/netpbm/pam.h /usr/include/png.h /usr/include/sodium.h /usr/include/cmocka.h
+INSTALLING_GOALS := deps check check-asan check-tsan demo bench tradeoff bench-scaling fuzz loadtest clean
+ifeq ($(filter $(INSTALLING_GOALS),$(MAKECMDGOALS)),)
+  MISSING_HEADERS := $(filter-out $(wildcard $(LIB_HEADERS)),$(LIB_HEADERS))
+  ifneq ($(MISSING_HEADERS),)
+    $(error lanray: the libraries are not installed (no $(MISSING_HEADERS)): run 'make deps' first)
+  endif
+endif
 
 $(BUILD)/%.o: %.c
 	@mkdir -p $(dir $@)
@@ -182,6 +195,10 @@ LOAD_SECONDS ?= 300
 LOAD_CLIENTS ?= 64
 loadtest: deps $(TOOLS)
 	@BIN=$(BIN) DURATION=$(LOAD_SECONDS) CLIENTS=$(LOAD_CLIENTS) bash tools/loadtest docs
+
+# docs/tools.md from the tools' --help (tests/cli/docs.sh checks they agree)
+tools-doc: $(TOOLS)
+	@bash tools/tools-doc $(BIN)
 
 demo: deps $(TOOLS)
 	@BIN=$(BIN) bash tools/demo

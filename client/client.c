@@ -9,7 +9,6 @@
 
 #include <errno.h>
 #include <math.h>
-#include <netdb.h>
 #include <poll.h>
 #include <pthread.h>
 #include <stdatomic.h>
@@ -23,6 +22,7 @@
 #include "proto.h"
 #include "render.h"
 #include "log.h"
+#include "net.h"
 #include "timer.h"
 #include "wire.h"
 
@@ -127,33 +127,6 @@ static void *render_thread(void *arg)
     return NULL;
 }
 
-static int dial(const char *host, int port, Err *err)
-{
-    char ps[16];
-    snprintf(ps, sizeof ps, "%d", port);
-    struct addrinfo hints, *ai;
-    memset(&hints, 0, sizeof hints);
-    hints.ai_family = AF_UNSPEC;
-    hints.ai_socktype = SOCK_STREAM;
-    int rc = getaddrinfo(host, ps, &hints, &ai);
-    if (rc)
-        return err_set(err, "cannot resolve %s: %s", host, gai_strerror(rc));
-    int fd = -1;
-    for (struct addrinfo *a = ai; a; a = a->ai_next) {
-        fd = socket(a->ai_family, a->ai_socktype, a->ai_protocol);
-        if (fd >= 0 && connect(fd, a->ai_addr, a->ai_addrlen) == 0)
-            break;
-        if (fd >= 0)
-            close(fd);
-        fd = -1;
-    }
-    freeaddrinfo(ai);
-    if (fd < 0)
-        return err_set(err, "cannot connect to %s:%d: %s", host, port, strerror(errno));
-    proto_socket_setup(fd);
-    return fd;
-}
-
 /* Waits for one packet (handshake only), up to `seconds`. */
 static int read_packet(Conn *c, double seconds, Err *err)
 {
@@ -170,7 +143,9 @@ static int read_packet(Conn *c, double seconds, Err *err)
     }
 }
 
-enum { SESSION_ENDED = 0, SESSION_REFUSED = -1 };
+/* How a session ended: after the handshake, refused by the server, or
+ * before the handshake got through (no connection, no answer). */
+enum { SESSION_ENDED = 0, SESSION_REFUSED = -1, SESSION_FAILED = -2 };
 
 static void error_text(const Conn *c, char *text, size_t size)
 {
@@ -187,7 +162,7 @@ static void error_text(const Conn *c, char *text, size_t size)
 static int expect(Conn *c, uint32_t type, Err *err)
 {
     if (read_packet(c, 10, err) < 0)
-        return SESSION_ENDED;
+        return SESSION_FAILED;
     if (c->type == PKT_ERROR) {
         char text[PROTO_MAX_ERROR_TEXT + 1];
         error_text(c, text, sizeof text);
@@ -196,7 +171,7 @@ static int expect(Conn *c, uint32_t type, Err *err)
     }
     if (c->type != type) {
         err_set(err, "server sent %s instead of %s", proto_type_name(c->type), proto_type_name(type));
-        return SESSION_ENDED;
+        return SESSION_FAILED;
     }
     return 1;
 }
@@ -229,7 +204,7 @@ static int handshake(const ClientConfig *cfg, Conn *c, Err *err)
     proto_random(body + 20, PROTO_NONCE);
     proto_proof(cfg->token ? cfg->token : "", sn, body + 20, body + 20 + PROTO_NONCE);
     if (conn_send(c, PKT_HELLO, body, sizeof body, MAX_QUEUE, err) || conn_flush(c, err) < 0)
-        return SESSION_ENDED;
+        return SESSION_FAILED;
     return expect(c, PKT_WELCOME, err);
 }
 
@@ -333,9 +308,9 @@ static int on_packet(const ClientConfig *cfg, Worker *w, Conn *c, AssetCache *ca
 static int session(const ClientConfig *cfg, int fd, Worker *w, AssetCache *cache, volatile sig_atomic_t *stop, Err *err)
 {
     if (fd < 0)
-        fd = dial(cfg->host, cfg->port, err);
+        fd = net_dial(cfg->host, cfg->port, err);
     if (fd < 0)
-        return SESSION_ENDED;
+        return SESSION_FAILED;
     Conn c;
     conn_init(&c, fd);
     int hs = handshake(cfg, &c, err);
@@ -412,7 +387,7 @@ static int worker_start(Worker *w, int threads, AssetCache **cache, pthread_t *t
     memset(w, 0, sizeof *w);
     pthread_mutex_init(&w->mu, NULL);
     pthread_cond_init(&w->cv, NULL);
-    if (pipe(w->wake) || proto_socket_setup(w->wake[0]) || proto_socket_setup(w->wake[1]))
+    if (pipe(w->wake) || net_setup(w->wake[0]) || net_setup(w->wake[1]))
         return err_set(err, "cannot create a pipe: %s", strerror(errno));
     w->pool = render_pool_create(threads, err);
     *cache = asset_cache_create();
@@ -426,7 +401,7 @@ static int worker_start(Worker *w, int threads, AssetCache **cache, pthread_t *t
     return 0;
 }
 
-static void worker_stop(const ClientConfig *cfg, Worker *w, AssetCache *cache, pthread_t th)
+static void worker_stop(Worker *w, AssetCache *cache, pthread_t th, ClientStats *stats, uint32_t sessions)
 {
     pthread_mutex_lock(&w->mu);
     w->quit = 1;
@@ -434,8 +409,8 @@ static void worker_stop(const ClientConfig *cfg, Worker *w, AssetCache *cache, p
     pthread_cond_broadcast(&w->cv);
     pthread_mutex_unlock(&w->mu);
     pthread_join(th, NULL);
-    log_line(cfg->quiet, "lanray-client", "rendered %llu segments, %llu pixels", (unsigned long long)w->segments,
-             (unsigned long long)w->pixels);
+    if (stats)
+        *stats = (ClientStats){w->segments, w->pixels, sessions};
     render_pool_destroy(w->pool);
     asset_cache_destroy(cache);
     close(w->wake[0]);
@@ -444,20 +419,24 @@ static void worker_stop(const ClientConfig *cfg, Worker *w, AssetCache *cache, p
     pthread_cond_destroy(&w->cv);
 }
 
-int client_run(const ClientConfig *cfg, volatile sig_atomic_t *stop, Err *err)
+int client_run(const ClientConfig *cfg, volatile sig_atomic_t *stop, ClientStats *stats, Err *err)
 {
     Worker w;
     AssetCache *cache;
     pthread_t th;
+    if (stats)
+        memset(stats, 0, sizeof *stats);
     if (worker_start(&w, cfg->threads, &cache, &th, err))
         return -1;
     int rc = 0;
+    uint32_t sessions = 0;
     double backoff = 0.1;
     while (!*stop) {
         double start = timer_now();
         Err e = {{0}};
         int r = session(cfg, -1, &w, cache, stop, &e);
-        if (r == SESSION_REFUSED) {
+        sessions += r == SESSION_ENDED;
+        if (r == SESSION_REFUSED || (r == SESSION_FAILED && !cfg->reconnect && !*stop)) {
             err_set(err, "%s", e.msg);
             rc = -1;
             break;
@@ -471,20 +450,22 @@ int client_run(const ClientConfig *cfg, volatile sig_atomic_t *stop, Err *err)
         nanosleep(&ts, NULL);
         backoff = backoff * 2 < 5 ? backoff * 2 : 5;
     }
-    worker_stop(cfg, &w, cache, th);
+    worker_stop(&w, cache, th, stats, sessions);
     return rc;
 }
 
-int client_run_fd(const ClientConfig *cfg, int fd, volatile sig_atomic_t *stop, Err *err)
+int client_run_fd(const ClientConfig *cfg, int fd, volatile sig_atomic_t *stop, ClientStats *stats, Err *err)
 {
     Worker w;
     AssetCache *cache;
     pthread_t th;
+    if (stats)
+        memset(stats, 0, sizeof *stats);
     if (worker_start(&w, cfg->threads, &cache, &th, err)) {
         close(fd);
         return -1;
     }
     int r = session(cfg, fd, &w, cache, stop, err);
-    worker_stop(cfg, &w, cache, th);
-    return r == SESSION_REFUSED ? -1 : 0;
+    worker_stop(&w, cache, th, stats, r == SESSION_ENDED);
+    return r == SESSION_ENDED ? 0 : -1;
 }

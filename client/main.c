@@ -1,9 +1,7 @@
-/* lanray-client - renders segments for a lanray-server.
- *
- *   lanray-client HOST[:PORT] [--threads T] [--token T] [--once] [--quiet]
+/* lanray-client - renders segments for a lanray-server (options: --help).
  *
  * The token may also come from LANRAY_TOKEN.  Reconnects with backoff when
- * the server goes away (unless --once); exits 1 when the server refuses it. */
+ * the server goes away (unless --once). */
 #include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -11,65 +9,99 @@
 #include <unistd.h>
 
 #include "client.h"
+#include "log.h"
+#include "opt.h"
 #include "proto.h"
 
 static volatile sig_atomic_t stop_flag;
 static void on_stop(int sig) { (void)sig; stop_flag = 1; }
 
+/* HOST, HOST:PORT, an IPv6 address alone or [ADDRESS]:PORT. */
+static int split_host(const char *arg, char *host, size_t size, int *port, Err *err)
+{
+    const char *colon = strrchr(arg, ':');
+    const char *h = arg;
+    size_t len = strlen(arg);
+    if (arg[0] == '[') {
+        const char *close = strchr(arg, ']');
+        if (!close || (close[1] && close[1] != ':'))
+            return err_set(err, "bad address '%s' (an IPv6 address with a port is written [ADDRESS]:PORT)", arg);
+        h = arg + 1;
+        len = (size_t)(close - h);
+        colon = close[1] ? close + 1 : NULL;
+    } else if (colon && strchr(arg, ':') != colon) {
+        colon = NULL; /* an IPv6 address without a port */
+    } else if (colon) {
+        len = (size_t)(colon - arg);
+    }
+    if (len == 0 || len >= size)
+        return err_set(err, "bad host in '%s'", arg);
+    memcpy(host, h, len);
+    host[len] = 0;
+    if (colon) {
+        char *end;
+        long p = strtol(colon + 1, &end, 10);
+        if (end == colon + 1 || *end || p < 1 || p > 65535)
+            return err_set(err, "bad port in '%s' (1..65535)", arg);
+        *port = (int)p;
+    }
+    return 0;
+}
+
 int main(int argc, char **argv)
 {
-    ClientConfig cfg = {NULL, PROTO_DEFAULT_PORT, (int)sysconf(_SC_NPROCESSORS_ONLN), getenv("LANRAY_TOKEN"), 0, 1};
-    if (cfg.threads < 1)
-        cfg.threads = 1;
-    if (cfg.token && !*cfg.token)
-        cfg.token = NULL;
-    static char host[256];
-    for (int i = 1; i < argc; i++) {
-        const char *a = argv[i];
-        if (strcmp(a, "--threads") == 0 && i + 1 < argc) {
-            char *end;
-            long t = strtol(argv[++i], &end, 10);
-            if (*end || t < 1 || t > 1024) {
-                fprintf(stderr, "lanray-client: --threads wants 1..1024\n");
-                return 2;
-            }
-            cfg.threads = (int)t;
-        } else if (strcmp(a, "--token") == 0 && i + 1 < argc) {
-            cfg.token = argv[++i];
-        } else if (strcmp(a, "--once") == 0) {
-            cfg.reconnect = 0;
-        } else if (strcmp(a, "--quiet") == 0) {
-            cfg.quiet = 1;
-        } else if (a[0] != '-' && !cfg.host) {
-            snprintf(host, sizeof host, "%s", a);
-            char *colon = strrchr(host, ':');
-            if (colon) {
-                *colon = 0;
-                char *end;
-                long p = strtol(colon + 1, &end, 10);
-                if (*end || p < 1 || p > 65535) {
-                    fprintf(stderr, "lanray-client: bad port in '%s'\n", a);
-                    return 2;
-                }
-                cfg.port = (int)p;
-            }
-            cfg.host = host;
-        } else {
-            fprintf(stderr, "usage: lanray-client HOST[:PORT] [--threads T] [--token T] [--once] [--quiet]\n");
-            return 2;
-        }
+    ClientConfig cfg = {NULL, PROTO_DEFAULT_PORT, 0, getenv("LANRAY_TOKEN"), 0, 1};
+    int once = 0;
+    const Opt opts[] = {
+        {.name = "--threads", .kind = OPT_INT, .dst = &cfg.threads, .arg = "T", .lo = 0, .hi = 1024,
+         .help = "render threads, 0 = one per core", .def = "0: all cores"},
+        {.name = "--token", .kind = OPT_STRING, .dst = &cfg.token, .arg = "T",
+         .help = "the server's token (or LANRAY_TOKEN in the environment)", .def = "none"},
+        {.name = "--once", .kind = OPT_FLAG, .dst = &once,
+         .help = "end when the session ends instead of reconnecting; fail if no session starts"},
+        {.name = "--quiet", .kind = OPT_FLAG, .dst = &cfg.quiet, .help = "print errors only"},
+        {0},
+    };
+    const char *args[1];
+    OptSpec spec = {"lanray-client", "HOST[:PORT] [options]",
+                    "Renders line segments for a lanray-server.  HOST is a name or an address (IPv6: [ADDRESS]:PORT);\n"
+                    "the port defaults to 7878.  Without --once it reconnects (0.1 s doubling to 5 s) when the server\n"
+                    "goes away or is not there yet.",
+                    opts, args, 1, 0,
+                    "  0  the session ended (the server finished or said goodbye), or SIGINT/SIGTERM\n"
+                    "  1  the server refused this client (token, version, precision), or with --once no session started\n"
+                    "  2  bad command line\n"};
+    Err err = {{0}};
+    int r = opt_parse(&spec, argc, argv, &err);
+    if (r == OPT_HELP || r == OPT_VERSION) {
+        (r == OPT_HELP ? opt_usage : opt_version)(&spec, stdout);
+        return 0;
     }
-    if (!cfg.host) {
-        fprintf(stderr, "usage: lanray-client HOST[:PORT] [--threads T] [--token T] [--once] [--quiet]\n");
+    static char host[256];
+    if (r == 0 && spec.nargs == 0)
+        r = err_set(&err, "which server? (usage: %s %s)", spec.prog, spec.synopsis);
+    if (r == 0)
+        r = split_host(args[0], host, sizeof host, &cfg.port, &err);
+    if (r) {
+        fprintf(stderr, "lanray-client: %s\n", err.msg);
         return 2;
     }
+    cfg.host = host;
+    cfg.reconnect = !once;
+    if (cfg.threads == 0)
+        cfg.threads = sysconf(_SC_NPROCESSORS_ONLN) > 0 ? (int)sysconf(_SC_NPROCESSORS_ONLN) : 1;
+    if (cfg.token && !*cfg.token)
+        cfg.token = NULL;
     signal(SIGINT, on_stop);
     signal(SIGTERM, on_stop);
     signal(SIGPIPE, SIG_IGN);
-    Err err = {{0}};
-    if (client_run(&cfg, &stop_flag, &err)) {
+    ClientStats st;
+    int rc = client_run(&cfg, &stop_flag, &st, &err);
+    /* the reason first; what was done after it, when anything was */
+    if (rc)
         fprintf(stderr, "lanray-client: %s\n", err.msg);
-        return 1;
-    }
-    return 0;
+    if (st.sessions)
+        log_line(cfg.quiet, "lanray-client", "rendered %llu segments, %llu pixels", (unsigned long long)st.segments,
+                 (unsigned long long)st.pixels);
+    return rc ? 1 : 0;
 }

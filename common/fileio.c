@@ -43,45 +43,83 @@ int file_read_all(const char *path, size_t max_bytes, char **data, size_t *len, 
     return 0;
 }
 
-int file_write_atomic(const char *path, file_write_fn fn, void *ctx, Err *err)
+int file_atomic_open(AtomicFile *a, const char *path, Err *err)
 {
+    memset(a, 0, sizeof a[0]);
+    a->path = path;
     size_t n = strlen(path);
-    char *tmp = malloc(n + 16);
-    if (!tmp)
+    a->tmp = malloc(n + 16);
+    if (!a->tmp)
         return err_set(err, "%s: out of memory", path);
-    snprintf(tmp, n + 16, "%s.tmp.XXXXXX", path);
-    int fd = mkstemp(tmp);
+    snprintf(a->tmp, n + 16, "%s.tmp.XXXXXX", path);
+    int fd = mkstemp(a->tmp);
     if (fd < 0) {
-        err_set(err, "%s: cannot create a temporary file: %s", path, strerror(errno));
-        free(tmp);
+        char dir[4096];
+        file_dirname(path, dir, sizeof dir);
+        if (errno == ENOENT || errno == ENOTDIR)
+            err_set(err, "%s: cannot write: the directory %s does not exist", path, dir);
+        else
+            err_set(err, "%s: cannot write in %s: %s", path, dir, strerror(errno));
+        free(a->tmp);
+        a->tmp = NULL;
         return -1;
     }
-    FILE *f = fdopen(fd, "wb");
-    if (!f) {
+    a->f = fdopen(fd, "wb");
+    if (!a->f) {
+        int e = errno;
         close(fd);
-        unlink(tmp);
-        free(tmp);
-        return err_set(err, "%s: cannot open: %s", path, strerror(errno));
+        file_atomic_abort(a);
+        return err_set(err, "%s: cannot open: %s", path, strerror(e));
     }
-    int rc = fn(f, ctx, err);
-    if (rc != 0)
-        err_prefix(err, "%s", path);
-    if (rc == 0 && (fflush(f) != 0 || ferror(f) || fsync(fileno(f)) != 0))
-        rc = err_set(err, "%s: write failed: %s", path, strerror(errno));
-    if (fclose(f) != 0 && rc == 0)
-        rc = err_set(err, "%s: write failed: %s", path, strerror(errno));
+    return 0;
+}
+
+void file_atomic_abort(AtomicFile *a)
+{
+    if (a->f)
+        fclose(a->f);
+    if (a->tmp) {
+        unlink(a->tmp);
+        free(a->tmp);
+    }
+    a->f = NULL;
+    a->tmp = NULL;
+}
+
+int file_atomic_commit(AtomicFile *a, Err *err)
+{
+    int rc = 0;
+    if (fflush(a->f) != 0 || ferror(a->f) || fsync(fileno(a->f)) != 0)
+        rc = err_set(err, "%s: write failed: %s", a->path, strerror(errno));
+    if (fclose(a->f) != 0 && rc == 0)
+        rc = err_set(err, "%s: write failed: %s", a->path, strerror(errno));
+    a->f = NULL;
     /* mkstemp creates 0600; outputs are ordinary files */
     if (rc == 0) {
         mode_t mask = umask(0);
         umask(mask);
-        chmod(tmp, 0666 & ~mask);
+        chmod(a->tmp, 0666 & ~mask);
     }
-    if (rc == 0 && rename(tmp, path) != 0)
-        rc = err_set(err, "%s: cannot rename into place: %s", path, strerror(errno));
+    if (rc == 0 && rename(a->tmp, a->path) != 0)
+        rc = err_set(err, "%s: cannot rename into place: %s", a->path, strerror(errno));
     if (rc != 0)
-        unlink(tmp);
-    free(tmp);
+        unlink(a->tmp);
+    free(a->tmp);
+    a->tmp = NULL;
     return rc;
+}
+
+int file_write_atomic(const char *path, file_write_fn fn, void *ctx, Err *err)
+{
+    AtomicFile a;
+    if (file_atomic_open(&a, path, err))
+        return -1;
+    if (fn(a.f, ctx, err) != 0) {
+        err_prefix(err, "%s", path);
+        file_atomic_abort(&a);
+        return -1;
+    }
+    return file_atomic_commit(&a, err);
 }
 
 typedef struct {

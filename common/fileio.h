@@ -13,6 +13,19 @@
 /* Reads all of path into a malloc'd buffer (NUL-terminated for text parsers). */
 int file_read_all(const char *path, size_t max_bytes, char **data, size_t *len, Err *err);
 
+/* A file being written under a temporary name beside its target: commit
+ * flushes, syncs and renames it into place; abort (or a failed commit)
+ * removes it.  Opening first also checks, before any work, that the
+ * directory exists and is writable. */
+typedef struct {
+    FILE *f;
+    char *tmp;
+    const char *path;
+} AtomicFile;
+int file_atomic_open(AtomicFile *a, const char *path, Err *err);
+int file_atomic_commit(AtomicFile *a, Err *err);
+void file_atomic_abort(AtomicFile *a);
+
 /* Atomic write through a callback that writes to the open temporary FILE. */
 typedef int (*file_write_fn)(FILE *f, void *ctx, Err *err);
 int file_write_atomic(const char *path, file_write_fn fn, void *ctx, Err *err);

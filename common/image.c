@@ -9,19 +9,12 @@
 
 #include "fileio.h"
 
-typedef struct {
-    int w, h;
-    const uint8_t *rgb;
-} Frame;
-
-static int write_ppm(FILE *f, void *ctx, Err *err)
-{
-    Frame *fr = ctx;
-    (void)err;
-    fprintf(f, "P6\n%d %d\n255\n", fr->w, fr->h);
-    fwrite(fr->rgb, 3, (size_t)fr->w * (size_t)fr->h, f);
-    return 0;
-}
+struct ImageWriter {
+    AtomicFile file;
+    int w, h, rows, png;
+    png_structp ps;
+    png_infop info;
+};
 
 /* libpng reports through these instead of printing; the message ends up in the Err */
 static void png_error_fn(png_structp png, png_const_charp msg)
@@ -36,47 +29,128 @@ static void png_warning_fn(png_structp png, png_const_charp msg)
     (void)msg;
 }
 
-static int write_png(FILE *f, void *ctx, Err *err)
-{
-    Frame *fr = ctx;
-    png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, err, png_error_fn, png_warning_fn);
-    png_infop info = png ? png_create_info_struct(png) : NULL;
-    if (!info) {
-        png_destroy_write_struct(&png, NULL);
-        return err_set(err, "png: out of memory");
-    }
-    if (setjmp(png_jmpbuf(png))) {
-        int e = errno;
-        png_destroy_write_struct(&png, &info);
-        /* a failed write (full disk, file size limit) says why */
-        return ferror(f) ? err_set(err, "write failed: %s", strerror(e)) : -1;
-    }
-    png_init_io(png, f);
-    png_set_IHDR(png, info, (png_uint_32)fr->w, (png_uint_32)fr->h, 8, PNG_COLOR_TYPE_RGB, PNG_INTERLACE_NONE,
-                 PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
-    png_set_compression_level(png, 3); /* frames are written often: favour speed */
-    png_write_info(png, info);
-    for (int y = 0; y < fr->h; y++)
-        png_write_row(png, fr->rgb + (size_t)y * (size_t)fr->w * 3);
-    png_write_end(png, NULL);
-    png_destroy_write_struct(&png, &info);
-    return 0;
-}
-
 static int has_ext(const char *path, const char *ext)
 {
     size_t n = strlen(path), e = strlen(ext);
     return n >= e && strcasecmp(path + n - e, ext) == 0;
 }
 
-int image_write(const char *path, int width, int height, const uint8_t *rgb, Err *err)
+int image_check_name(const char *path, Err *err)
 {
-    Frame fr = {width, height, rgb};
-    if (has_ext(path, ".png"))
-        return file_write_atomic(path, write_png, &fr, err);
-    if (has_ext(path, ".ppm"))
-        return file_write_atomic(path, write_ppm, &fr, err);
-    return err_set(err, "%s: unknown image format (use .png or .ppm)", path);
+    if (!has_ext(path, ".png") && !has_ext(path, ".ppm"))
+        return err_set(err, "%s: unknown image format (use .png or .ppm)", path);
+    return 0;
+}
+
+void image_writer_abort(ImageWriter *wr)
+{
+    if (!wr)
+        return;
+    if (wr->ps)
+        png_destroy_write_struct(&wr->ps, &wr->info);
+    file_atomic_abort(&wr->file);
+    free(wr);
+}
+
+/* A failed write (full disk, file size limit) says why. */
+static int write_failed(ImageWriter *wr, Err *err)
+{
+    int e = errno;
+    int rc = ferror(wr->file.f) ? err_set(err, "%s: write failed: %s", wr->file.path, strerror(e)) : err_prefix(err, "%s", wr->file.path);
+    image_writer_abort(wr);
+    return rc;
+}
+
+int image_writer_open(const char *path, int width, int height, ImageEncoding enc, ImageWriter **out, Err *err)
+{
+    *out = NULL;
+    if (image_check_name(path, err))
+        return -1;
+    if (width < 1 || height < 1)
+        return err_set(err, "%s: image of %dx%d pixels", path, width, height);
+    ImageWriter *wr = calloc(1, sizeof *wr);
+    if (!wr)
+        return err_set(err, "%s: out of memory", path);
+    wr->w = width;
+    wr->h = height;
+    wr->png = has_ext(path, ".png");
+    if (file_atomic_open(&wr->file, path, err)) {
+        free(wr);
+        return -1;
+    }
+    if (!wr->png) {
+        fprintf(wr->file.f, "P6\n%d %d\n255\n", width, height);
+        *out = wr;
+        return 0;
+    }
+    wr->ps = png_create_write_struct(PNG_LIBPNG_VER_STRING, err, png_error_fn, png_warning_fn);
+    wr->info = wr->ps ? png_create_info_struct(wr->ps) : NULL;
+    if (!wr->info) {
+        image_writer_abort(wr);
+        return err_set(err, "%s: png: out of memory", path);
+    }
+    if (setjmp(png_jmpbuf(wr->ps)))
+        return write_failed(wr, err);
+    png_init_io(wr->ps, wr->file.f);
+    png_set_IHDR(wr->ps, wr->info, (png_uint_32)width, (png_uint_32)height, 8, PNG_COLOR_TYPE_RGB, PNG_INTERLACE_NONE,
+                 PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
+    /* what the numbers mean, so that viewers show them right: sRGB (with
+     * its gAMA and cHRM for readers that know no sRGB chunk), or linear */
+    if (enc == IMAGE_SRGB)
+        png_set_sRGB_gAMA_and_cHRM(wr->ps, wr->info, PNG_sRGB_INTENT_PERCEPTUAL);
+    else
+        png_set_gAMA(wr->ps, wr->info, 1.0);
+    png_set_compression_level(wr->ps, 3); /* frames are written often: favour speed */
+    png_write_info(wr->ps, wr->info);
+    *out = wr;
+    return 0;
+}
+
+int image_writer_rows(ImageWriter *wr, const uint8_t *rgb, int rows, Err *err)
+{
+    if (rows < 0 || rows > wr->h - wr->rows) {
+        err_set(err, "%s: %d rows more than the image's %d", wr->file.path, wr->rows + rows, wr->h);
+        image_writer_abort(wr);
+        return -1;
+    }
+    size_t stride = (size_t)wr->w * 3;
+    if (!wr->png) {
+        if (fwrite(rgb, stride, (size_t)rows, wr->file.f) != (size_t)rows)
+            return write_failed(wr, err);
+    } else {
+        if (setjmp(png_jmpbuf(wr->ps)))
+            return write_failed(wr, err);
+        for (int y = 0; y < rows; y++)
+            png_write_row(wr->ps, rgb + (size_t)y * stride);
+    }
+    wr->rows += rows;
+    return 0;
+}
+
+int image_writer_close(ImageWriter *wr, Err *err)
+{
+    if (wr->rows != wr->h) {
+        err_set(err, "%s: %d of %d rows written", wr->file.path, wr->rows, wr->h);
+        image_writer_abort(wr);
+        return -1;
+    }
+    if (wr->png) {
+        if (setjmp(png_jmpbuf(wr->ps)))
+            return write_failed(wr, err);
+        png_write_end(wr->ps, NULL);
+        png_destroy_write_struct(&wr->ps, &wr->info);
+    }
+    int rc = file_atomic_commit(&wr->file, err);
+    free(wr);
+    return rc;
+}
+
+int image_write(const char *path, int width, int height, const uint8_t *rgb, ImageEncoding enc, Err *err)
+{
+    ImageWriter *wr;
+    if (image_writer_open(path, width, height, enc, &wr, err) || image_writer_rows(wr, rgb, height, err))
+        return -1;
+    return image_writer_close(wr, err);
 }
 
 int image_read_png(const char *path, int *width, int *height, uint8_t **rgb, Err *err)

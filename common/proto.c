@@ -2,9 +2,6 @@
 #include "proto.h"
 
 #include <errno.h>
-#include <fcntl.h>
-#include <netinet/in.h>
-#include <netinet/tcp.h>
 #include <sodium.h>
 #include <stdlib.h>
 #include <string.h>
@@ -206,11 +203,3 @@ void proto_random(void *buf, size_t len)
 }
 
 void proto_hash(const void *data, size_t len, uint8_t hash[PROTO_HASH]) { crypto_hash_sha256(hash, data, len); }
-
-int proto_socket_setup(int fd)
-{
-    int one = 1;
-    setsockopt(fd, IPPROTO_TCP, TCP_NODELAY, &one, sizeof one);
-    int fl = fcntl(fd, F_GETFL, 0);
-    return fl < 0 || fcntl(fd, F_SETFL, fl | O_NONBLOCK) < 0 ? -1 : 0;
-}

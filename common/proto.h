@@ -87,7 +87,5 @@ int proto_proof_ok(const char *token, const uint8_t server_nonce[PROTO_NONCE], c
                    const uint8_t proof[PROTO_PROOF]);
 void proto_random(void *buf, size_t len);
 void proto_hash(const void *data, size_t len, uint8_t hash[PROTO_HASH]);
-/* Sets a socket non-blocking with TCP_NODELAY. */
-int proto_socket_setup(int fd);
 
 #endif

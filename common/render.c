@@ -35,6 +35,7 @@ struct RenderPool {
     uint32_t chunks;
     atomic_uint next;
     PaddedStats *stats;
+    RenderProgress *progress;
 };
 
 typedef struct {
@@ -124,6 +125,7 @@ void render_pool_destroy(RenderPool *p)
 }
 
 int render_pool_threads(const RenderPool *p) { return p->n + 1; }
+void render_pool_watch(RenderPool *p, RenderProgress *progress) { p->progress = progress; }
 
 /* Runs fn over chunks [0, chunks) on the caller and all workers and waits;
  * returns summed stats. */
@@ -162,6 +164,7 @@ typedef struct {
     uint64_t first, count; /* the span, in pixels */
     uint8_t *pixels;
     const atomic_int *cancel;
+    RenderProgress *progress;
     /* adaptive mode: keys and centre colours of whole lines key_first .. key_first + key_lines - 1 */
     int key_first, key_lines;
     uint64_t *keys;
@@ -196,6 +199,15 @@ static void put_pixel(uint8_t *dst, vec3 c)
     }
 }
 
+/* A chunk done: its finished pixels and the rays it took (since `before`). */
+static void count_progress(const Frame *f, uint64_t pixels, const RayStats *st, uint64_t before)
+{
+    if (!f->progress)
+        return;
+    atomic_fetch_add_explicit(&f->progress->pixels, pixels, memory_order_relaxed);
+    atomic_fetch_add_explicit(&f->progress->rays, st->primary + st->shadow - before, memory_order_relaxed);
+}
+
 /* [i0, i1): the chunk's pixels as offsets into a run of `total` */
 static void chunk_range(uint32_t chunk, uint64_t total, uint64_t *i0, uint64_t *i1)
 {
@@ -212,12 +224,14 @@ static void job_grid(void *ctx, uint32_t chunk, RayStats *st)
     uint64_t i0, i1;
     chunk_range(chunk, f->count, &i0, &i1);
     int n = f->s->settings.aa;
+    uint64_t before = st->primary + st->shadow;
     for (uint64_t i = i0; i < i1; i++) {
         uint64_t g = f->first + i;
         int px = (int)(g % (uint64_t)f->width), py = (int)(g / (uint64_t)f->width);
         vec3 c = n == 1 ? sample(f, (real)px + R(0.5), (real)py + R(0.5), st, NULL) : sample_grid(f, px, py, n, st);
         put_pixel(&f->pixels[3 * i], c);
     }
+    count_progress(f, i1 - i0, st, before);
 }
 
 /* adaptive pass 1: one centre sample per pixel of the key lines, keeping its key */
@@ -228,12 +242,14 @@ static void job_keys(void *ctx, uint32_t chunk, RayStats *st)
         return;
     uint64_t i0, i1;
     chunk_range(chunk, (uint64_t)f->width * (uint64_t)f->key_lines, &i0, &i1);
+    uint64_t before = st->primary + st->shadow;
     for (uint64_t i = i0; i < i1; i++) {
         int px = (int)(i % (uint64_t)f->width), py = f->key_first + (int)(i / (uint64_t)f->width);
         /* kept as displayed (put_pixel clamps the same way), for the contrast test */
         vec3 c = sample(f, (real)px + R(0.5), (real)py + R(0.5), st, &f->keys[i]);
         f->colors[i] = v3_max(v3_splat(R(0)), v3_min(v3_splat(R(1)), c));
     }
+    count_progress(f, 0, st, before);
 }
 
 /* Adaptive sampling also refines where two neighbouring centre samples, as
@@ -263,6 +279,7 @@ static void job_refine(void *ctx, uint32_t chunk, RayStats *st)
     uint64_t i0, i1;
     chunk_range(chunk, f->count, &i0, &i1);
     int last_line = f->key_first + f->key_lines - 1;
+    uint64_t before = st->primary + st->shadow;
     for (uint64_t i = i0; i < i1; i++) {
         uint64_t g = f->first + i;
         int px = (int)(g % (uint64_t)f->width), py = (int)(g / (uint64_t)f->width);
@@ -281,6 +298,7 @@ static void job_refine(void *ctx, uint32_t chunk, RayStats *st)
         vec3 c = edge ? sample_grid(f, px, py, f->s->settings.aa, st) : col[0];
         put_pixel(&f->pixels[3 * i], c);
     }
+    count_progress(f, i1 - i0, st, before);
 }
 
 static uint32_t chunks_of(uint64_t n) { return (uint32_t)((n + CHUNK - 1) / CHUNK); }
@@ -311,6 +329,7 @@ int render_span(RenderPool *p, const Scene *s, int width, int height, uint64_t f
     f.count = count;
     f.pixels = pixels;
     f.cancel = cancel;
+    f.progress = p->progress;
     RayStats st;
     if (!s->settings.adaptive || s->settings.aa == 1) {
         st = pool_run(p, job_grid, &f, chunks_of(count));

@@ -19,7 +19,15 @@
 
 typedef struct RenderPool RenderPool;
 
+/* Pixels finished and rays traced so far, for a progress line that another
+ * thread reads while the pool renders (relaxed atomics: a rough count). */
+typedef struct {
+    atomic_uint_fast64_t pixels, rays;
+} RenderProgress;
+
 RenderPool *render_pool_create(int threads, Err *err);
+/* Counts every later render into progress (NULL: stop counting). */
+void render_pool_watch(RenderPool *p, RenderProgress *progress);
 void render_pool_destroy(RenderPool *p);
 int render_pool_threads(const RenderPool *p);
 

@@ -41,7 +41,7 @@ void scene_destroy(Scene *s)
 
 RenderSettings render_settings_default(void)
 {
-    RenderSettings r = {1, 0, SHADE_PHONG, 1, FILTER_BILINEAR};
+    RenderSettings r = {1, 0, SHADE_PHONG, 1, FILTER_BILINEAR, 0, 0, 0};
     return r;
 }
 

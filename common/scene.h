@@ -18,6 +18,7 @@
 #define SCENE_MAX_ITEMS (1u << 24)
 #define SCENE_MAX_LIGHTS 65536u
 #define AA_MAX 16
+#define SCENE_MAX_SIDE 65536 /* settings width/height */
 
 typedef struct {
     vec3 centre;
@@ -78,6 +79,10 @@ typedef struct {
     ShadeModel shading;
     int shadows;
     TextureFilter filter;
+    /* what the scene file asked for, for the programs' defaults; not on the
+     * wire (an UPDATE carries the frame's size, the samples are above) */
+    int width, height;  /* 0: not given */
+    int sampling_given; /* the file set aa or adaptive */
 } RenderSettings;
 
 enum {

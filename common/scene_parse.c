@@ -10,8 +10,7 @@
 
 #include "fileio.h"
 #include "lex.h"
-#include "obj.h"
-#include "tmd.h"
+#include "model_load.h"
 
 #define SCENE_MAX_BYTES ((size_t)256 << 20)
 #define NAME_MAX_LEN 64
@@ -206,7 +205,8 @@ static int do_colour(Ctx *c, const Tokens *t, vec3 *out)
 static int do_settings(Ctx *c, const Tokens *t)
 {
     static const KeySpec spec[] = {{"aa", ARG_NUM, 1, 0},       {"adaptive", ARG_NUM, 1, 0}, {"shading", ARG_WORD, 0, 0},
-                                   {"shadows", ARG_WORD, 0, 0}, {"filter", ARG_WORD, 0, 0},  {0, 0, 0, 0}};
+                                   {"shadows", ARG_WORD, 0, 0}, {"filter", ARG_WORD, 0, 0},  {"width", ARG_NUM, 1, 0},
+                                   {"height", ARG_NUM, 1, 0},   {0, 0, 0, 0}};
     KeyVals kv;
     if (read_keys(c, t, 1, "settings", spec, &kv))
         return -1;
@@ -218,6 +218,16 @@ static int do_settings(Ctx *c, const Tokens *t)
                 return fail(c, "'%s' of settings must be a whole number from 1 to 16", spec[k].key);
             rs->aa = (int)n;
             rs->adaptive = k == 1;
+            rs->sampling_given = 1;
+        }
+    if (kv.present[0] && kv.present[1])
+        return fail(c, "settings takes either 'aa' or 'adaptive', not both");
+    for (int k = 5; k < 7; k++)
+        if (kv.present[k]) {
+            real n = kv.num[k][0];
+            if (!(n >= 1 && n <= SCENE_MAX_SIDE && n == floor(n)))
+                return fail(c, "'%s' of settings must be a whole number from 1 to %d", spec[k].key, SCENE_MAX_SIDE);
+            *(k == 5 ? &rs->width : &rs->height) = (int)n;
         }
     if (kv.present[2]) {
         if (strcmp(kv.word[2], "phong") == 0)
@@ -334,12 +344,6 @@ static int do_triangle(Ctx *c, const Tokens *t)
     return scene_add_triangle(c->s, p, kv.present[1] ? n : NULL, kv.present[2] ? kv.num[2] : NULL, mat, c->err);
 }
 
-static int ends_with(const char *s, const char *suffix)
-{
-    size_t n = strlen(s), m = strlen(suffix);
-    return n >= m && strcmp(s + n - m, suffix) == 0;
-}
-
 static int do_model(Ctx *c, const Tokens *t)
 {
     static const KeySpec spec[] = {{"bvh", ARG_WORD, 0, 0}, {"smooth", ARG_FLAG, 0, 0}, {0, 0, 0, 0}};
@@ -354,28 +358,11 @@ static int do_model(Ctx *c, const Tokens *t)
     char path[4096];
     if (file_join(c->dir, t->tok[2], path, sizeof path))
         return fail(c, "model file name '%s' is too long", t->tok[2]);
-    Model *m = NULL;
-    if (ends_with(path, ".obj")) {
-        Mesh mesh;
-        ObjOptions oo = {kv.present[1]};
-        if (obj_read(path, &oo, &mesh, NULL, c->err))
-            return err_prefix(c->err, "%s:%d", c->file, c->line);
-        int rc = model_from_mesh(&m, &mesh, &opt, c->err);
-        mesh_free(&mesh);
-        if (rc)
-            return err_prefix(c->err, "%s:%d: %s", c->file, c->line, path);
-    } else if (ends_with(path, ".tmd")) {
-        if (kv.present[1])
-            return fail(c, "'smooth' applies to OBJ models; convert with obj2tmd --smooth");
-        if (tmd_read(path, &m, c->err))
-            return err_prefix(c->err, "%s:%d", c->file, c->line);
-        if ((c->force || kv.present[0]) && model_rebuild(m, &opt, c->err)) {
-            model_destroy(m);
-            return err_prefix(c->err, "%s:%d", c->file, c->line);
-        }
-    } else {
+    if (!model_load_knows(path))
         return fail(c, "model file '%s' must end in .tmd or .obj", t->tok[2]);
-    }
+    Model *m = NULL;
+    if (model_load(path, &opt, c->force || kv.present[0], kv.present[1], &m, c->err))
+        return err_prefix(c->err, "%s:%d", c->file, c->line);
     uint32_t id;
     if (scene_add_model(c->s, m, &id, c->err))
         return -1;

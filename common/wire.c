@@ -282,7 +282,7 @@ int wire_decode_scene(const void *data, size_t len, const AssetCache *cache, Sce
     else if (set[0] < 1 || set[0] > AA_MAX || set[1] > 1 || set[2] > SHADE_DIFFUSE || set[3] > 1 || set[4] > FILTER_BILINEAR)
         bad = "invalid settings";
     if (!bad) {
-        s->settings = (RenderSettings){(int)set[0], (int)set[1], (ShadeModel)set[2], (int)set[3], (TextureFilter)set[4]};
+        s->settings = (RenderSettings){(int)set[0], (int)set[1], (ShadeModel)set[2], (int)set[3], (TextureFilter)set[4], 0, 0, 0};
     }
     int rc = 0;
     for (uint32_t i = 0; !bad && rc == 0 && i < n[0]; i++) {

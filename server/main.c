@@ -1,27 +1,21 @@
-/* lanray-server - holds the scene, hands out segments to clients, shows or writes frames.
- *
- *   lanray-server [scene] [--port P] [--listen ADDR] [--token T | --insecure]
- *                 [--width W] [--height H] [--segment LINES|auto] [--tail static|smart|adaptive]
- *                 [--bvh sbt|mst|sah] [--aa N|adaptive[:N]] [--rotate DEG]
- *                 [--headless] [--frames N] [--out DIR] [--discard] [--warmup N]
- *                 [--stall-timeout S] [--handshake-timeout S] [--quiet]
+/* lanray-server - holds the scene, hands out segments to clients, shows or
+ * writes frames.  Its options and exit statuses are in the table in main
+ * (lanray-server --help prints them; docs/tools.md has the same text).
  *
  * Without a scene it serves the built-in default scene.  With a display it
  * opens a window (keys in server/display.c); with --headless, or when there
- * is no display, it writes DIR/frame-NNNNN.png (--discard: throws frames away,
- * for benchmarks; --warmup N leaves the first N frames out of the summary).  SIGUSR1 prints per-client
+ * is no display, it writes DIR/frame-NNNNN.png.  SIGUSR1 prints per-client
  * statistics; they are printed at exit too. */
-#include <errno.h>
 #include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/stat.h>
 
+#include "cli.h"
 #include "display.h"
 #include "image.h"
-#include "scene_default.h"
-#include "scene_parse.h"
+#include "opt.h"
+#include "render.h"
 #include "server.h"
 #include "timer.h"
 
@@ -44,6 +38,7 @@ typedef struct {
     const char *verify_path;
     uint8_t *verify;
     uint64_t wrong_frames, wrong_pixels;
+    uint64_t write_failures;
 } App;
 
 /* Pixels of a frame that differ from the reference (--verify): a farm test
@@ -74,7 +69,7 @@ static void on_frame(void *ctx, uint32_t frame, const uint8_t *pixels)
         if (a->screenshot) {
             char path[512];
             snprintf(path, sizeof path, "lanray-screenshot-%05u.png", frame);
-            if (image_write(path, a->width, a->height, pixels, &err))
+            if (image_write(path, a->width, a->height, pixels, IMAGE_SRGB, &err))
                 fprintf(stderr, "lanray-server: %s\n", err.msg);
             else
                 fprintf(stderr, "lanray-server: saved %s\n", path);
@@ -83,30 +78,13 @@ static void on_frame(void *ctx, uint32_t frame, const uint8_t *pixels)
     } else if (a->out_dir) {
         char path[4096];
         snprintf(path, sizeof path, "%s/frame-%05u.png", a->out_dir, a->frames_done);
-        if (image_write(path, a->width, a->height, pixels, &err))
+        if (image_write(path, a->width, a->height, pixels, IMAGE_SRGB, &err)) {
             fprintf(stderr, "lanray-server: %s\n", err.msg);
+            a->write_failures++;
+        }
     }
     if (a->frames_wanted && a->frames_done >= a->frames_wanted)
         stop_flag = 1;
-}
-
-static void usage(FILE *f)
-{
-    fprintf(f, "usage: lanray-server [scene] [--port P] [--listen ADDR] [--token T | --insecure]\n"
-               "       [--width W] [--height H] [--segment LINES|auto] [--tail static|smart|adaptive]\n"
-               "       [--bvh sbt|mst|sah] [--aa N|adaptive[:N]] [--rotate DEG]\n"
-               "       [--headless] [--frames N] [--out DIR] [--discard] [--warmup N] [--stall-timeout S]\n"
-               "       [--handshake-timeout S] [--verify REF.png] [--quiet]\n");
-}
-
-static int parse_int(const char *s, long lo, long hi, long *out)
-{
-    char *end;
-    long v = strtol(s, &end, 10);
-    if (end == s || *end || v < lo || v > hi)
-        return -1;
-    *out = v;
-    return 0;
 }
 
 /* Camera moves and animation from the window, applied before the next frame. */
@@ -144,113 +122,132 @@ static void apply_input(App *a, const DisplayInput *in, const Camera *home, int 
         server_scene_changed(a->server);
 }
 
+static int parse_segment(const char *v, void *dst, Err *err)
+{
+    (void)err;
+    char *end;
+    long n = strcmp(v, "auto") == 0 ? 0 : strtol(v, &end, 10);
+    if (strcmp(v, "auto") != 0 && (end == v || *end || n < 1 || n > SERVER_MAX_SIDE))
+        return -1;
+    *(uint32_t *)dst = (uint32_t)n;
+    return 0;
+}
+
+static const char *const tail_names[] = {"static", "smart", "adaptive", NULL};
+
 int main(int argc, char **argv)
 {
-    const char *scene_path = NULL, *out_dir = "frames", *verify_path = NULL;
-    ServerConfig cfg = {NULL, PROTO_DEFAULT_PORT, getenv("LANRAY_TOKEN"), 0, 1024, 768, 0, sched_tail_smart, 30, 10, 0, 0};
+    const char *out_dir = "frames", *verify_path = NULL;
+    ServerConfig cfg = {"127.0.0.1", PROTO_DEFAULT_PORT, getenv("LANRAY_TOKEN"), 0, 1024, 768, 0, sched_tail_smart, 30, 10, 0, 0};
+    BvhOptions bvh = bvh_options_default(BVH_SAH);
+    int headless = 0, force_bvh = 0, discard = 0, frames = 0, wait_clients = 0, tail = 1, bvh_kind = BVH_SAH;
+    int width_given = 0, height_given = 0, warmup = 0, stall = 30, handshake = 10, machine_summary = 0;
+    CliAa aa = {1, 0, 0};
+    double rotate = 0;
+    const Opt opts[] = {
+        {.name = "--port", .kind = OPT_INT, .dst = &cfg.port, .arg = "P", .lo = 0, .hi = 65535,
+         .help = "TCP port, 0 = any free one (the 'listening on' line says which)"},
+        {.name = "--listen", .kind = OPT_STRING, .dst = &cfg.listen_addr, .arg = "ADDR",
+         .help = "address to listen on: a name or an IPv4/IPv6 address; not loopback needs --token or --insecure"},
+        {.name = "--token", .kind = OPT_STRING, .dst = &cfg.token, .arg = "T",
+         .help = "shared secret clients must prove (or LANRAY_TOKEN in the environment)", .def = "none"},
+        {.name = "--insecure", .kind = OPT_FLAG, .dst = &cfg.insecure, .help = "allow a non-loopback address without a token"},
+        {.name = "--width", .kind = OPT_INT, .dst = &cfg.width, .arg = "W", .lo = 1, .hi = SERVER_MAX_SIDE,
+         .help = "frame width in pixels", .def = "the scene's, else 1024", .seen = &width_given},
+        {.name = "--height", .kind = OPT_INT, .dst = &cfg.height, .arg = "H", .lo = 1, .hi = SERVER_MAX_SIDE,
+         .help = "frame height in pixels", .def = "the scene's, else 768", .seen = &height_given},
+        {.name = "--segment", .kind = OPT_CUSTOM, .dst = &cfg.segment_lines, .arg = "LINES|auto", .parse = parse_segment,
+         .range = "1..16384 or auto", .help = "lines per segment handed to a client", .def = "auto"},
+        {.name = "--tail", .kind = OPT_CHOICE, .dst = &tail, .choices = tail_names,
+         .help = "how the last segments of a frame are cut and shared (docs/scaling.md)"},
+        {.name = "--bvh", .kind = OPT_CHOICE, .dst = &bvh_kind, .choices = cli_bvh_names, .seen = &force_bvh,
+         .help = "BVH builder for models; given, it rebuilds .tmd models too"},
+        {.name = "--aa", .kind = OPT_CUSTOM, .dst = &aa, .arg = "N|adaptive[:N]", .parse = cli_parse_aa, .range = CLI_AA_RANGE,
+         .help = "anti-aliasing", .def = "the scene's, else 1"},
+        {.name = "--rotate", .kind = OPT_REAL, .dst = &rotate, .arg = "DEG",
+         .help = "turn every model instance by DEG about y after each frame (Space toggles it in the window)"},
+        {.name = "--headless", .kind = OPT_FLAG, .dst = &headless, .help = "no window: write frames to --out"},
+        {.name = "--frames", .kind = OPT_INT, .dst = &frames, .arg = "N", .lo = 0, .hi = 100000000,
+         .help = "stop after N frames, 0 = run until stopped"},
+        {.name = "--out", .kind = OPT_STRING, .dst = &out_dir, .arg = "DIR",
+         .help = "headless: write DIR/frame-NNNNN.png (DIR and its parents are created)"},
+        {.name = "--discard", .kind = OPT_FLAG, .dst = &discard, .help = "headless, and throw frames away (benchmarks)"},
+        {.name = "--verify", .kind = OPT_STRING, .dst = &verify_path, .arg = "REF.png",
+         .help = "compare every frame with a reference; exit 3 if any pixel differs"},
+        {.name = "--wait-clients", .kind = OPT_INT, .dst = &wait_clients, .arg = "N", .lo = 0, .hi = 4096,
+         .help = "start the first frame only once N clients have joined"},
+        {.name = "--warmup", .kind = OPT_INT, .dst = &warmup, .arg = "N", .lo = 0, .hi = 1000000,
+         .help = "leave the first N frames out of the summary (the first carries the assets)"},
+        {.name = "--stall-timeout", .kind = OPT_INT, .dst = &stall, .arg = "S", .lo = 1, .hi = 86400,
+         .help = "seconds a client may hold work without a result before it is dropped"},
+        {.name = "--handshake-timeout", .kind = OPT_INT, .dst = &handshake, .arg = "S", .lo = 1, .hi = 3600,
+         .help = "seconds a new connection has to finish the handshake"},
+        {.name = "--quiet", .kind = OPT_FLAG, .dst = &cfg.quiet, .help = "print errors and the listening line only"},
+        {.name = "--machine-summary", .kind = OPT_FLAG, .dst = &machine_summary,
+         .help = "end with one 'summary key=value ...' line for scripts (tools/bench-scaling)"},
+        {0},
+    };
+    const char *args[1] = {NULL};
+    OptSpec spec = {"lanray-server", "[scene | model.obj | model.tmd] [options]",
+                    "Holds the scene (the built-in one without an argument; a model alone gets a preview scene),\n"
+                    "hands out segments of each frame to lanray-client processes and shows the frames in a window,\n"
+                    "or writes them when headless or without a display.  In the window: W/S A/D R/F move, the mouse or\n"
+                    "the arrows look, +/- zoom, Space toggles --rotate, P saves a screenshot, Home resets, Esc quits.\n"
+                    "SIGUSR1 prints per-client statistics.",
+                    opts, args, 1, 0,
+                    "  0  every requested frame was written (--frames N), or stopped by the window, SIGINT or SIGTERM\n"
+                    "     when no count was asked\n"
+                    "  1  an error: the scene, the address, memory, a frame that could not be written\n"
+                    "  2  bad command line\n"
+                    "  3  --verify: a frame differed from the reference\n"
+                    "  4  stopped (SIGINT, SIGTERM, the window) before the requested frames were done\n"};
+    Err err = {{0}};
+    int r = opt_parse(&spec, argc, argv, &err);
+    if (r == OPT_HELP || r == OPT_VERSION) {
+        (r == OPT_HELP ? opt_usage : opt_version)(&spec, stdout);
+        return 0;
+    }
+    if (r) {
+        fprintf(stderr, "lanray-server: %s\n", err.msg);
+        return 2;
+    }
+    const char *scene_path = args[0];
     if (cfg.token && !*cfg.token)
         cfg.token = NULL;
-    BvhOptions bvh = bvh_options_default(BVH_SAH);
-    int headless = 0, force_bvh = 0, aa = -1, adaptive = 0, discard = 0;
-    long wait_clients = 0;
-    long frames = 0;
-    double rotate = 0;
-    for (int i = 1; i < argc; i++) {
-        const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
-        long n;
-        int bad = 0;
-        if (strcmp(a, "-h") == 0 || strcmp(a, "--help") == 0) {
-            usage(stdout);
-            return 0;
-        } else if (strcmp(a, "--headless") == 0) {
-            headless = 1;
-            continue;
-        } else if (strcmp(a, "--discard") == 0) {
-            headless = discard = 1;
-            continue;
-        } else if (strcmp(a, "--insecure") == 0) {
-            cfg.insecure = 1;
-            continue;
-        } else if (strcmp(a, "--quiet") == 0) {
-            cfg.quiet = 1;
-            continue;
-        } else if (a[0] != '-') {
-            scene_path = a;
-            continue;
-        } else if (!v) {
-            fprintf(stderr, "lanray-server: option '%s' needs a value\n", a);
-            return 2;
-        } else if (strcmp(a, "--port") == 0) {
-            bad = parse_int(v, 0, 65535, &n);
-            cfg.port = (int)n;
-        } else if (strcmp(a, "--listen") == 0) {
-            cfg.listen_addr = v;
-        } else if (strcmp(a, "--token") == 0) {
-            cfg.token = v;
-        } else if (strcmp(a, "--width") == 0) {
-            bad = parse_int(v, 1, 16384, &n);
-            cfg.width = (int)n;
-        } else if (strcmp(a, "--height") == 0) {
-            bad = parse_int(v, 1, 16384, &n);
-            cfg.height = (int)n;
-        } else if (strcmp(a, "--segment") == 0) {
-            if (strcmp(v, "auto") == 0)
-                n = 0;
-            else
-                bad = parse_int(v, 1, 16384, &n);
-            cfg.segment_lines = (uint32_t)n;
-        } else if (strcmp(a, "--tail") == 0) {
-            cfg.tail = sched_tail_by_name(v);
-            bad = cfg.tail == NULL;
-        } else if (strcmp(a, "--bvh") == 0) {
-            bad = bvh_kind_parse(v, &bvh.kind);
-            force_bvh = 1;
-        } else if (strcmp(a, "--aa") == 0) {
-            adaptive = strncmp(v, "adaptive", 8) == 0;
-            bad = adaptive ? (v[8] == ':' ? parse_int(v + 9, 1, AA_MAX, &n) : (n = 4, v[8] != 0)) : parse_int(v, 1, AA_MAX, &n);
-            aa = (int)n;
-        } else if (strcmp(a, "--frames") == 0) {
-            bad = parse_int(v, 0, 100000000, &frames);
-        } else if (strcmp(a, "--out") == 0) {
-            out_dir = v;
-        } else if (strcmp(a, "--verify") == 0) {
-            verify_path = v;
-        } else if (strcmp(a, "--rotate") == 0) {
-            char *end;
-            rotate = strtod(v, &end);
-            bad = *end != 0;
-        } else if (strcmp(a, "--wait-clients") == 0) {
-            bad = parse_int(v, 0, 4096, &wait_clients);
-        } else if (strcmp(a, "--warmup") == 0) {
-            bad = parse_int(v, 0, 1000000, &n);
-            cfg.warmup = (uint32_t)n;
-        } else if (strcmp(a, "--handshake-timeout") == 0) {
-            bad = parse_int(v, 1, 3600, &n);
-            cfg.handshake_timeout = (double)n;
-        } else if (strcmp(a, "--stall-timeout") == 0) {
-            bad = parse_int(v, 1, 86400, &n);
-            cfg.stall_timeout = (double)n;
-        } else {
-            fprintf(stderr, "lanray-server: unknown option '%s'\n", a);
-            usage(stderr);
-            return 2;
-        }
-        if (bad) {
-            fprintf(stderr, "lanray-server: bad value '%s' for %s\n", v, a);
-            return 2;
-        }
-        i++;
-    }
-    Err err;
+    cfg.tail = sched_tail_by_name(tail_names[tail]);
+    cfg.warmup = (uint32_t)warmup;
+    cfg.stall_timeout = stall;
+    cfg.handshake_timeout = handshake;
+    bvh.kind = (BvhKind)bvh_kind;
+    headless |= discard;
     Scene *scene;
-    if (scene_path ? scene_load(scene_path, &bvh, force_bvh, &scene, &err) : scene_default(&scene, &bvh, &err)) {
+    if (cli_open_scene(scene_path, &bvh, force_bvh, &scene, &err)) {
         fprintf(stderr, "lanray-server: %s\n", err.msg);
         return 1;
     }
-    if (aa > 0) {
-        scene->settings.aa = aa;
-        scene->settings.adaptive = adaptive;
+    if (aa.given) {
+        scene->settings.aa = aa.aa;
+        scene->settings.adaptive = aa.adaptive;
     }
+    if (!width_given && scene->settings.width)
+        cfg.width = scene->settings.width;
+    if (!height_given && scene->settings.height)
+        cfg.height = scene->settings.height;
+    if (cfg.width > SERVER_MAX_SIDE || cfg.height > SERVER_MAX_SIDE) {
+        fprintf(stderr, "lanray-server: the scene asks for %dx%d; a server frame is at most %dx%d (lanray-render renders larger ones)\n",
+                cfg.width, cfg.height, SERVER_MAX_SIDE, SERVER_MAX_SIDE);
+        scene_destroy(scene);
+        return 1;
+    }
+    /* the frame being assembled, and a reference to compare with */
+    if (cli_check_memory((uint64_t)cfg.width * cfg.height * 3 * (verify_path ? 2 : 1), "the frame", &err)) {
+        fprintf(stderr, "lanray-server: %dx%d: %s\n", cfg.width, cfg.height, err.msg);
+        scene_destroy(scene);
+        return 1;
+    }
+    if (scene->light_count == 0)
+        fprintf(stderr, "lanray-server: warning: the scene has no light; only its ambient light (%g %g %g) shows it\n",
+                (double)scene->ambient.x, (double)scene->ambient.y, (double)scene->ambient.z);
     App app;
     memset(&app, 0, sizeof app);
     app.out_dir = discard ? NULL : out_dir;
@@ -284,14 +281,17 @@ int main(int argc, char **argv)
             headless = 1;
         }
     }
-    if (headless && !discard && mkdir(out_dir, 0777) != 0 && errno != EEXIST) {
-        fprintf(stderr, "lanray-server: cannot create %s: %s\n", out_dir, strerror(errno));
+    if (headless && !discard && cli_make_dirs(out_dir, &err)) {
+        fprintf(stderr, "lanray-server: %s\n", err.msg);
+        free(app.verify);
+        display_close(app.display);
         scene_destroy(scene);
         return 1;
     }
     app.server = server_create(&cfg, scene, &err);
     if (!app.server) {
         fprintf(stderr, "lanray-server: %s\n", err.msg);
+        free(app.verify);
         display_close(app.display);
         scene_destroy(scene);
         return 1;
@@ -306,13 +306,15 @@ int main(int argc, char **argv)
         snprintf(segtext, sizeof segtext, "%u-line", cfg.segment_lines);
     else
         snprintf(segtext, sizeof segtext, "automatic");
-    printf("lanray-server: listening on %s:%d (%dx%d, %s segments)\n", cfg.listen_addr ? cfg.listen_addr : "127.0.0.1",
-           server_port(app.server), cfg.width, cfg.height, segtext);
+    printf("lanray-server: listening on %s (%dx%d, %s segments)\n", server_address(app.server), cfg.width, cfg.height,
+           segtext);
     fflush(stdout);
     Camera home = scene->camera;
     int animate = rotate != 0, rc = 0;
     uint32_t seen = 0;
     app.fps_t0 = timer_now();
+    double status_t = app.fps_t0;
+    uint32_t status_frames = 0;
     /* --wait-clients: no frame starts before that many clients have joined */
     server_pause(app.server, wait_clients > 0);
     while (!stop_flag) {
@@ -352,6 +354,17 @@ int main(int argc, char **argv)
                 app.fps_frames = 0;
             }
         }
+        /* headless: one line a second at most, to see it is alive */
+        double now = timer_now();
+        if (!app.display && !cfg.quiet && now - status_t >= 1) {
+            uint32_t n = server_client_count(app.server);
+            if (app.frames_done != status_frames || n == 0)
+                fprintf(stderr, "lanray-server: %u frames, %.1f fps, %u client%s%s\n", app.frames_done,
+                        (app.frames_done - status_frames) / (now - status_t), n, n == 1 ? "" : "s",
+                        n ? "" : " (waiting for clients)");
+            status_t = now;
+            status_frames = app.frames_done;
+        }
         if (stats_flag) {
             stats_flag = 0;
             server_print_stats(app.server);
@@ -359,11 +372,19 @@ int main(int argc, char **argv)
         }
     }
     server_print_stats(app.server);
-    server_print_summary(app.server);
+    server_print_summary(app.server, machine_summary);
+    if (app.write_failures) {
+        fprintf(stderr, "lanray-server: %llu frames could not be written\n", (unsigned long long)app.write_failures);
+        rc = 1;
+    }
+    if (rc == 0 && frames && app.frames_done < (uint32_t)frames) {
+        fprintf(stderr, "lanray-server: stopped after %u of %d frames\n", app.frames_done, frames);
+        rc = 4;
+    }
     if (app.verify) {
         printf("verify frames=%u wrong_frames=%llu wrong_pixels=%llu\n", app.frames_done,
                (unsigned long long)app.wrong_frames, (unsigned long long)app.wrong_pixels);
-        if (app.wrong_frames)
+        if (app.wrong_frames && rc == 0)
             rc = 3;
         free(app.verify);
     }

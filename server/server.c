@@ -8,9 +8,7 @@
  * others keep rendering and the scheduler hands its work to them. */
 #include "server.h"
 
-#include <arpa/inet.h>
 #include <errno.h>
-#include <netinet/in.h>
 #include <math.h>
 #include <poll.h>
 #include <stdio.h>
@@ -20,6 +18,7 @@
 #include <unistd.h>
 
 #include "log.h"
+#include "net.h"
 #include "timer.h"
 #include "wire.h"
 
@@ -50,6 +49,7 @@ struct Server {
     ServerConfig cfg;
     Scene *scene;
     int listen_fd, port;
+    char address[80]; /* as net_listen shows it */
     Client *clients[MAX_CLIENTS];
     uint32_t nclients;
     int next_id;
@@ -117,12 +117,6 @@ static uint32_t auto_lines(double work_us, double overhead_us, uint32_t height, 
     return p;
 }
 
-static int is_loopback(const char *addr)
-{
-    struct in_addr a;
-    return inet_pton(AF_INET, addr, &a) == 1 && (ntohl(a.s_addr) >> 24) == 127;
-}
-
 static int build_assets(Server *s, Err *err)
 {
     for (uint32_t i = 0; i < s->nassets; i++)
@@ -144,7 +138,7 @@ static int build_assets(Server *s, Err *err)
 Server *server_create(const ServerConfig *cfg, Scene *scene, Err *err)
 {
     const char *addr = cfg->listen_addr ? cfg->listen_addr : "127.0.0.1";
-    if (!is_loopback(addr) && !cfg->token && !cfg->insecure) {
+    if (!net_is_loopback(addr) && !cfg->token && !cfg->insecure) {
         err_set(err, "listening on %s (not loopback) needs --token (or LANRAY_TOKEN) or an explicit --insecure", addr);
         return NULL;
     }
@@ -169,27 +163,14 @@ Server *server_create(const ServerConfig *cfg, Scene *scene, Err *err)
         server_destroy(s);
         return NULL;
     }
-    struct sockaddr_in sa;
-    memset(&sa, 0, sizeof sa);
-    sa.sin_family = AF_INET;
-    sa.sin_port = htons((uint16_t)cfg->port);
-    if (inet_pton(AF_INET, addr, &sa.sin_addr) != 1) {
-        err_set(err, "cannot parse listen address '%s' (IPv4 expected)", addr);
+    NetListener l;
+    if (net_listen(addr, cfg->port, &l, err)) {
         server_destroy(s);
         return NULL;
     }
-    int one = 1;
-    s->listen_fd = socket(AF_INET, SOCK_STREAM, 0);
-    if (s->listen_fd < 0 || setsockopt(s->listen_fd, SOL_SOCKET, SO_REUSEADDR, &one, sizeof one) ||
-        bind(s->listen_fd, (struct sockaddr *)&sa, sizeof sa) || listen(s->listen_fd, 128) ||
-        proto_socket_setup(s->listen_fd)) {
-        err_set(err, "cannot listen on %s:%d: %s", addr, cfg->port, strerror(errno));
-        server_destroy(s);
-        return NULL;
-    }
-    socklen_t len = sizeof sa;
-    getsockname(s->listen_fd, (struct sockaddr *)&sa, &len);
-    s->port = ntohs(sa.sin_port);
+    s->listen_fd = l.fd;
+    s->port = l.port;
+    snprintf(s->address, sizeof s->address, "%s", l.shown);
     s->dirty = 1;
     return s;
 }
@@ -226,6 +207,7 @@ void server_destroy(Server *s)
 }
 
 int server_port(const Server *s) { return s->port; }
+const char *server_address(const Server *s) { return s->address; }
 void server_scene_changed(Server *s) { s->dirty = 1; }
 void server_pause(Server *s, int paused) { s->paused = paused; }
 
@@ -381,18 +363,10 @@ int server_adopt(Server *s, int fd, const char *addr)
 static void accept_clients(Server *s)
 {
     for (;;) {
-        struct sockaddr_in sa;
-        socklen_t len = sizeof sa;
-        int fd = accept(s->listen_fd, (struct sockaddr *)&sa, &len);
+        char addr[64];
+        int fd = net_accept(s->listen_fd, addr, sizeof addr);
         if (fd < 0)
             return;
-        char addr[64];
-        snprintf(addr, sizeof addr, "%s:%d", inet_ntoa(sa.sin_addr), ntohs(sa.sin_port));
-        if (proto_socket_setup(fd)) {
-            close(fd);
-            log_line(s->cfg.quiet, "lanray-server", "refused a connection from %s: socket setup failed", addr);
-            continue;
-        }
         server_adopt(s, fd, addr);
     }
 }
@@ -643,7 +617,7 @@ int server_step(Server *s, int timeout_ms, FrameDoneFn done, void *ctx, Err *err
 
 uint32_t server_segment_lines(const Server *s) { return sched_config(s->sched)->segment_lines; }
 
-void server_print_summary(const Server *s)
+void server_print_summary(const Server *s, int machine)
 {
     uint64_t bytes = s->gone_bytes;
     for (uint32_t i = 0; i < s->nclients; i++)
@@ -654,28 +628,40 @@ void server_print_summary(const Server *s)
     uint32_t n = s->clients_seen_max;
     SchedStats st = sched_stats(s->sched);
     double fr = frames ? frames : 1;
+    double dup = (double)(st.duplicate_pixels - s->dup_base) / s->cfg.width / fr;
+    double per_frame = (double)(bytes - s->measured_bytes_base - s->asset_bytes) / fr;
+    double segs = (double)(st.segments - s->seg_base) / fr;
+    printf("%u frames%s in %.3f s: %.2f fps with %u client%s (busy %.0f%% of their time)\n", frames,
+           s->cfg.warmup ? " after the warm-up" : "", wall, wall > 0 ? frames / wall : 0.0, n, n == 1 ? "" : "s",
+           wall > 0 && n ? 100 * busy / (n * wall) : 0.0);
+    printf("a frame: %.1f segments of %u lines, %.1f lines rendered twice, %.2f MB on the network\n", segs,
+           server_segment_lines(s), dup, per_frame / 1e6);
+    if (!machine)
+        return;
     printf("summary frames=%u wall_s=%.4f fps=%.3f clients=%u busy_s=%.4f efficiency=%.4f idle_s=%.4f "
            "dup_lines_per_frame=%.2f bytes_per_frame=%.0f segments_per_frame=%.1f segment_lines=%u overhead_us=%.0f packet_cpu_us=%.1f "
            "turnaround_us=%.0f\n",
            frames, wall, wall > 0 ? frames / wall : 0.0, n, busy, wall > 0 && n ? busy / (n * wall) : 0.0, n * wall - busy,
-           (double)(st.duplicate_pixels - s->dup_base) / s->cfg.width / fr,
-           (double)(bytes - s->measured_bytes_base - s->asset_bytes) / fr, (double)(st.segments - s->seg_base) / fr,
-           server_segment_lines(s), s->overhead_us,
+           dup, per_frame, segs, server_segment_lines(s), s->overhead_us,
            s->measured_packets ? s->measured_cpu * 1e6 / (double)s->measured_packets : 0.0,
            s->turn_samples ? s->turn_sum_us / (double)s->turn_samples : 0.0);
 }
 
 void server_print_stats(const Server *s)
 {
-    printf("frames started %u; per client:\n", s->frame);
+    printf("frames started %u; %u client%s connected\n", s->frame, s->nclients, s->nclients == 1 ? "" : "s");
+    if (s->nclients)
+        printf("  %-6s %-24s %7s %9s %9s %9s %11s %11s\n", "client", "address", "threads", "segments", "lines/s",
+               "dup px", "bytes in", "bytes out");
     for (uint32_t i = 0; i < s->nclients; i++) {
         const Client *c = s->clients[i];
         double t = timer_now() - c->since;
-        printf("  client %d %s threads %u: %llu segments, %.1f lines/s, %llu duplicate pixels, %llu bytes in, %llu out\n",
-               c->id, c->addr, c->threads, (unsigned long long)c->segments,
-               t > 0 ? (double)c->pixels / s->cfg.width / t : 0.0, (unsigned long long)c->duplicates,
-               (unsigned long long)c->conn.bytes_in, (unsigned long long)c->conn.bytes_out);
+        printf("  %-6d %-24s %7u %9llu %9.1f %9llu %11llu %11llu\n", c->id, c->addr, c->threads,
+               (unsigned long long)c->segments, t > 0 ? (double)c->pixels / s->cfg.width / t : 0.0,
+               (unsigned long long)c->duplicates, (unsigned long long)c->conn.bytes_in,
+               (unsigned long long)c->conn.bytes_out);
     }
-    printf("  clients gone: %llu segments, %llu pixels, %llu bytes\n", (unsigned long long)s->gone_segments,
-           (unsigned long long)s->gone_pixels, (unsigned long long)s->gone_bytes);
+    if (s->gone_segments || s->gone_bytes)
+        printf("  clients gone: %llu segments, %llu pixels, %llu bytes\n", (unsigned long long)s->gone_segments,
+               (unsigned long long)s->gone_pixels, (unsigned long long)s->gone_bytes);
 }

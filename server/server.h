@@ -13,6 +13,9 @@
 #include "sched.h"
 #include "scene.h"
 
+/* The largest frame side a server assembles (lanray-render goes further). */
+#define SERVER_MAX_SIDE 16384
+
 typedef struct {
     const char *listen_addr; /* default 127.0.0.1 */
     int port;
@@ -42,19 +45,22 @@ int server_step(Server *s, int timeout_ms, FrameDoneFn done, void *ctx, Err *err
 /* Frames stop being started (the current one still completes). */
 void server_pause(Server *s, int paused);
 int server_port(const Server *s);
+/* The address and port listened on, as "127.0.0.1:7878" or "[::1]:7878". */
+const char *server_address(const Server *s);
 uint32_t server_client_count(const Server *s);
 /* Takes an already connected, non-blocking socket as a new client (accept()
  * hands its sockets here; tests and the packet fuzzer hand it one end of a
  * socketpair).  Returns 0, or -1 with the socket closed and the reason logged
  * when the server is full or out of memory. */
 int server_adopt(Server *s, int fd, const char *addr);
-/* Per-client statistics, one line each, to stdout. */
+/* Per-client statistics as a table, to stdout. */
 void server_print_stats(const Server *s);
-/* One machine-readable line for benchmarks: frames, wall time from the first
- * frame's start to the last one's end, FPS, clients, their busy time and
- * efficiency (busy / (clients x wall)), idle time, duplicated lines and bytes
- * per frame, segment size. */
-void server_print_summary(const Server *s);
+/* Frames, rate and what a frame cost, in two lines to stdout; with
+ * `machine`, also one "summary key=value ..." line for benchmarks: frames,
+ * wall time from the first frame's start to the last one's end, FPS,
+ * clients, their busy time and efficiency (busy / (clients x wall)), idle
+ * time, duplicated lines and bytes per frame, segment size, overheads. */
+void server_print_summary(const Server *s, int machine);
 /* The segment size the next frame will use. */
 uint32_t server_segment_lines(const Server *s);
 

@@ -1,7 +1,7 @@
 /* embree_ref - reference renderer on Intel Embree (Debian's libembree3), for
  * the renderer benchmark (tools/bench-render).
  *
- *   embree_ref SCENE [--width W] [--height H] [--threads T] [--frames N] [-o out.png]
+ *   embree_ref SCENE [--width W] [--height H] [--threads T] [--repeat N] [-o out.png]
  *
  * It reads the same scene file with lanray's parser, flattens every model
  * instance into one world-space triangle mesh, and traces exactly lanray's
@@ -20,6 +20,7 @@
 
 #include "camera.h"
 #include "image.h"
+#include "opt.h"
 #include "scene_parse.h"
 #include "timer.h"
 #include "trace.h"
@@ -110,30 +111,35 @@ static void *worker(void *arg)
 
 int main(int argc, char **argv)
 {
-    const char *scene_path = NULL, *out = NULL;
-    int width = 1024, height = 768, threads = 2, frames = 1;
-    for (int i = 1; i < argc; i++) {
-        if (strcmp(argv[i], "--width") == 0 && i + 1 < argc)
-            width = atoi(argv[++i]);
-        else if (strcmp(argv[i], "--height") == 0 && i + 1 < argc)
-            height = atoi(argv[++i]);
-        else if (strcmp(argv[i], "--threads") == 0 && i + 1 < argc)
-            threads = atoi(argv[++i]);
-        else if (strcmp(argv[i], "--frames") == 0 && i + 1 < argc)
-            frames = atoi(argv[++i]);
-        else if (strcmp(argv[i], "-o") == 0 && i + 1 < argc)
-            out = argv[++i];
-        else if (!scene_path)
-            scene_path = argv[i];
-        else {
-            fprintf(stderr, "usage: embree_ref SCENE [--width W] [--height H] [--threads T] [--frames N] [-o out.png]\n");
-            return 2;
-        }
+    const char *out = NULL;
+    int width = 1024, height = 768, threads = 2, repeat = 1;
+    const Opt opts[] = {
+        {.name = "--output", .alias = "-o", .kind = OPT_STRING, .dst = &out, .arg = "FILE", .help = "write the image", .def = "none"},
+        {.name = "--width", .kind = OPT_INT, .dst = &width, .arg = "W", .lo = 1, .hi = 16384, .help = "frame width"},
+        {.name = "--height", .kind = OPT_INT, .dst = &height, .arg = "H", .lo = 1, .hi = 16384, .help = "frame height"},
+        {.name = "--threads", .kind = OPT_INT, .dst = &threads, .arg = "T", .lo = 1, .hi = 256, .help = "render threads"},
+        {.name = "--repeat", .kind = OPT_INT, .dst = &repeat, .arg = "N", .lo = 1, .hi = 100000,
+         .help = "render N times, report the best time"},
+        {0},
+    };
+    const char *args[1];
+    OptSpec spec = {"embree_ref", "SCENE [options]",
+                    "Renders a mesh-only scene (model instances, point lights) on Intel Embree with lanray's camera\n"
+                    "rays and shading, for make bench and tests/cli/embree.sh.",
+                    opts, args, 1, 0, "  0  rendered\n  1  an error, or a scene it does not support\n  2  bad command line\n"};
+    Err oerr = {{0}};
+    int r = opt_parse(&spec, argc, argv, &oerr);
+    if (r == OPT_HELP || r == OPT_VERSION) {
+        (r == OPT_HELP ? opt_usage : opt_version)(&spec, stdout);
+        return 0;
     }
-    if (!scene_path || width < 1 || height < 1 || threads < 1 || threads > 256 || frames < 1) {
-        fprintf(stderr, "usage: embree_ref SCENE [--width W] [--height H] [--threads T] [--frames N] [-o out.png]\n");
+    if (r == 0 && spec.nargs != 1)
+        r = err_set(&oerr, "needs a scene (usage: %s %s)", spec.prog, spec.synopsis);
+    if (r) {
+        fprintf(stderr, "embree_ref: %s\n", oerr.msg);
         return 2;
     }
+    const char *scene_path = args[0];
     Err err;
     Scene *s;
     BvhOptions opt = bvh_options_default(BVH_SAH);
@@ -186,7 +192,7 @@ int main(int argc, char **argv)
     double best = 1e30;
     unsigned long long prim = 0, shad = 0;
     pthread_t th[256];
-    for (int f = 0; f < frames; f++) {
+    for (int f = 0; f < repeat; f++) {
         atomic_store(&j.next_line, 0);
         atomic_store(&j.primary, 0);
         atomic_store(&j.shadow, 0);
@@ -205,7 +211,7 @@ int main(int argc, char **argv)
            rtcGetDeviceProperty(dev, RTC_DEVICE_PROPERTY_VERSION) ? "3" : "?", (unsigned long long)ntri, build, width,
            height, threads, best, (double)(prim + shad) / best * 1e-6, prim, shad);
     int rc = 0;
-    if (out && image_write(out, width, height, j.pixels, &err)) {
+    if (out && image_write(out, width, height, j.pixels, IMAGE_SRGB, &err)) {
         fprintf(stderr, "embree_ref: %s\n", err.msg);
         rc = 1;
     }

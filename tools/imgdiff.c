@@ -1,6 +1,6 @@
 /* lanray-imgdiff - compares two PNG frames of the same size.
  *
- *   lanray-imgdiff [--csv] a.png b.png
+ *   lanray-imgdiff [--csv] a.png b.png   (--help lists the options and exit statuses)
  *
  * Prints the largest channel difference, the number of differing pixels,
  * RMSE (0..255 scale), PSNR in dB and SSIM (structural similarity, Wang et
@@ -14,6 +14,7 @@
 #include <string.h>
 
 #include "image.h"
+#include "opt.h"
 
 /* Mean SSIM over all 8x8 windows (step 1) of the luma channel. */
 static double ssim(const uint8_t *a, const uint8_t *b, int w, int h)
@@ -66,23 +67,39 @@ static double ssim(const uint8_t *a, const uint8_t *b, int w, int h)
 
 int main(int argc, char **argv)
 {
-    int csv = argc == 4 && strcmp(argv[1], "--csv") == 0;
-    if (csv) {
-        argv++;
-        argc--;
+    int csv = 0;
+    const Opt opts[] = {
+        {.name = "--csv", .kind = OPT_FLAG, .dst = &csv, .help = "print max,differing,rmse,psnr,ssim on one line"},
+        {0},
+    };
+    const char *args[2];
+    OptSpec spec = {"lanray-imgdiff", "[--csv] a.png b.png",
+                    "Compares two images of the same size: the largest channel difference, the pixels that differ,\n"
+                    "RMSE (0..255), PSNR in dB and SSIM (luma, 8x8 windows; 1 = identical).  The numbers are for the\n"
+                    "caller to judge.",
+                    opts, args, 2, 0,
+                    "  0  compared (whatever the differences)\n"
+                    "  1  an image could not be read, or the sizes differ\n"
+                    "  2  bad command line\n"};
+    Err err = {{0}};
+    int r = opt_parse(&spec, argc, argv, &err);
+    if (r == OPT_HELP || r == OPT_VERSION) {
+        (r == OPT_HELP ? opt_usage : opt_version)(&spec, stdout);
+        return 0;
     }
-    if (argc != 3) {
-        fprintf(stderr, "usage: lanray-imgdiff [--csv] a.png b.png\n");
+    if (r == 0 && spec.nargs != 2)
+        r = err_set(&err, "needs two images (usage: %s %s)", spec.prog, spec.synopsis);
+    if (r) {
+        fprintf(stderr, "lanray-imgdiff: %s\n", err.msg);
         return 2;
     }
-    Err err;
     int wa, ha, wb, hb;
     uint8_t *a, *b;
-    if (image_read_png(argv[1], &wa, &ha, &a, &err)) {
+    if (image_read_png(args[0], &wa, &ha, &a, &err)) {
         fprintf(stderr, "lanray-imgdiff: %s\n", err.msg);
         return 1;
     }
-    if (image_read_png(argv[2], &wb, &hb, &b, &err)) {
+    if (image_read_png(args[1], &wb, &hb, &b, &err)) {
         fprintf(stderr, "lanray-imgdiff: %s\n", err.msg);
         free(a);
         return 1;

@@ -1,158 +1,210 @@
-/* lanray-render - the standalone renderer.
+/* lanray-render - the standalone renderer: one frame of a scene to an image.
+ * Its options and exit statuses are in the table in main (lanray-render
+ * --help prints them; docs/tools.md has the same text).
  *
- *   lanray-render [scene] [-o out.png|out.ppm] [--width W] [--height H]
- *                 [--aa N | --aa adaptive[:N]] [--threads T] [--bvh sbt|mst|sah]
- *                 [--shading phong|diffuse] [--shadows on|off]
- *                 [--filter nearest|bilinear] [--frames N] [--quiet]
- *
- * Without a scene file it renders the built-in default scene.  Prints the
- * frame time and rays per second (camera rays plus shadow rays). */
+ * Without a scene it renders the built-in default scene; a model alone
+ * (.obj, .tmd) gets a preview scene.  The output file is created before
+ * rendering starts, so a bad name or directory fails at once; a frame too
+ * large to hold in memory is rendered in bands, each written to the file as
+ * it finishes.  Prints the frame time and rays per second (camera rays plus
+ * shadow rays). */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
 
+#include "cli.h"
 #include "image.h"
+#include "opt.h"
+#include "progress.h"
 #include "render.h"
-#include "scene_default.h"
-#include "scene_parse.h"
 #include "timer.h"
 
-static void usage(FILE *f)
-{
-    fprintf(f,
-            "usage: lanray-render [scene] [options]\n"
-            "  -o FILE              output image, .png or .ppm (default lanray.png)\n"
-            "  --width W --height H frame size (default 1024x768)\n"
-            "  --aa N               N x N samples per pixel, N = 1..16\n"
-            "  --aa adaptive[:N]    one sample, N x N (default 4) where neighbours differ\n"
-            "  --threads T          worker threads (default: all cores)\n"
-            "  --bvh sbt|mst|sah    BVH builder for models (default sah; forces a rebuild of .tmd models)\n"
-            "  --shading phong|diffuse, --shadows on|off, --filter nearest|bilinear\n"
-            "  --frames N           render N times, report the best and mean frame time\n"
-            "  --segment N          render the frame as segments of N lines, one after another\n"
-            "  --profile FILE       also time every line alone and write 'line,microseconds' to FILE\n"
-            "  --quiet              print only the timing line\n");
-}
+/* Frames above this are rendered in bands of BAND_BYTES, written as they finish. */
+#define WHOLE_FRAME_BYTES ((uint64_t)256 << 20)
+#define BAND_BYTES ((uint64_t)32 << 20)
 
-static int parse_int(const char *s, int lo, int hi, int *out)
-{
-    char *end;
-    long v = strtol(s, &end, 10);
-    if (end == s || *end || v < lo || v > hi)
-        return -1;
-    *out = (int)v;
-    return 0;
-}
+static const char *const shading_names[] = {"phong", "diffuse", NULL};
+static const char *const onoff_names[] = {"off", "on", NULL};
+static const char *const filter_names[] = {"nearest", "bilinear", NULL};
 
 typedef struct {
-    int aa, adaptive, shading, shadows, filter; /* -1: keep the scene's value */
-} Overrides;
+    RenderProgress counts;
+    uint64_t pixels; /* of the whole job */
+    int width;
+} Watch;
+
+static void show_progress(void *ctx, double elapsed, char *line, size_t size)
+{
+    Watch *w = ctx;
+    uint64_t done = atomic_load_explicit(&w->counts.pixels, memory_order_relaxed);
+    uint64_t rays = atomic_load_explicit(&w->counts.rays, memory_order_relaxed);
+    double f = w->pixels ? (double)done / (double)w->pixels : 0;
+    char left[32];
+    progress_duration(f > 0 ? elapsed * (1 - f) / f : -1, left, sizeof left);
+    snprintf(line, size, "%llu of %llu lines (%.0f%%), %.2f Mrays/s, %s left",
+             (unsigned long long)(done / (uint64_t)w->width), (unsigned long long)(w->pixels / (uint64_t)w->width),
+             100 * f, (double)rays / elapsed * 1e-6, left);
+}
+
+/* Per-line cost, for the scheduler simulator (tools/schedsim): the pure
+ * rendering work of every line.  The frame is rendered line by line, top to
+ * bottom, PROFILE_PASSES times; each line keeps its fastest pass, because
+ * interference only ever adds time.  Passes run in frame order, as a client
+ * renders a segment: timing one line several times in a row would find its
+ * geometry in the cache and make the costly lines look cheaper than they are
+ * inside a segment.  A call into the pool costs a hand-off when the pool has
+ * worker threads; the simulator models it as the per-segment overhead, so it
+ * is measured on a one-pixel call and taken off. */
+static int write_profile(RenderPool *pool, const Scene *scene, int width, int height, uint8_t *pixels,
+                         const char *profile, Err *err)
+{
+    enum { PROFILE_PASSES = 15, PROFILE_CALLS = 64 };
+    FILE *pf = fopen(profile, "w");
+    double *line = calloc((size_t)height, sizeof *line);
+    int rc = 0;
+    if (!pf)
+        rc = err_set(err, "%s: cannot write", profile);
+    else if (!line)
+        rc = err_set(err, "out of memory for the profile");
+    double call = 1e30;
+    for (int k = 0; rc == 0 && k < PROFILE_CALLS; k++) {
+        double a = timer_now();
+        rc = render_span(pool, scene, width, height, 0, 1, pixels, NULL, NULL, err);
+        call = fmin(call, timer_now() - a);
+    }
+    for (int k = 0; rc == 0 && k < PROFILE_PASSES; k++)
+        for (int y = 0; rc == 0 && y < height; y++) {
+            double a = timer_now();
+            rc = render_lines(pool, scene, width, height, y, 1, pixels + (size_t)y * width * 3, NULL, err);
+            double t = timer_now() - a;
+            line[y] = k == 0 ? t : fmin(line[y], t);
+        }
+    for (int y = 0; rc == 0 && y < height; y++)
+        fprintf(pf, "%d,%.1f\n", y, fmax(line[y] - call, 0.0) * 1e6);
+    free(line);
+    if (pf && fclose(pf) != 0 && rc == 0)
+        rc = err_set(err, "%s: write failed", profile);
+    return rc;
+}
 
 int main(int argc, char **argv)
 {
-    const char *scene_path = NULL, *out = "lanray.png", *profile = NULL;
-    int width = 1024, height = 768, frames = 1, quiet = 0, force_bvh = 0, segment = 0;
-    int threads = (int)sysconf(_SC_NPROCESSORS_ONLN);
-    if (threads < 1)
-        threads = 1;
-    BvhOptions bvh = bvh_options_default(BVH_SAH);
-    Overrides ov = {-1, -1, -1, -1, -1};
-    for (int i = 1; i < argc; i++) {
-        const char *a = argv[i];
-        const char *v = i + 1 < argc ? argv[i + 1] : NULL;
-        int bad = 0;
-        if (strcmp(a, "-h") == 0 || strcmp(a, "--help") == 0) {
-            usage(stdout);
-            return 0;
-        } else if (strcmp(a, "--quiet") == 0) {
-            quiet = 1;
-            continue;
-        } else if (a[0] != '-') {
-            if (scene_path) {
-                fprintf(stderr, "lanray-render: more than one scene given ('%s' and '%s')\n", scene_path, a);
-                return 2;
-            }
-            scene_path = a;
-            continue;
-        } else if (!v) {
-            fprintf(stderr, "lanray-render: option '%s' needs a value\n", a);
-            usage(stderr);
-            return 2;
-        } else if (strcmp(a, "-o") == 0) {
-            out = v;
-        } else if (strcmp(a, "--profile") == 0) {
-            profile = v;
-        } else if (strcmp(a, "--width") == 0) {
-            bad = parse_int(v, 1, RENDER_MAX_SIDE, &width);
-        } else if (strcmp(a, "--height") == 0) {
-            bad = parse_int(v, 1, RENDER_MAX_SIDE, &height);
-        } else if (strcmp(a, "--threads") == 0) {
-            bad = parse_int(v, 1, RENDER_MAX_THREADS, &threads);
-        } else if (strcmp(a, "--frames") == 0) {
-            bad = parse_int(v, 1, 100000, &frames);
-        } else if (strcmp(a, "--segment") == 0) {
-            bad = parse_int(v, 1, RENDER_MAX_SIDE, &segment);
-        } else if (strcmp(a, "--aa") == 0) {
-            if (strncmp(v, "adaptive", 8) == 0) {
-                ov.adaptive = 1;
-                ov.aa = 4;
-                bad = v[8] == ':' ? parse_int(v + 9, 1, AA_MAX, &ov.aa) : v[8] != 0;
-            } else {
-                ov.adaptive = 0;
-                bad = parse_int(v, 1, AA_MAX, &ov.aa);
-            }
-        } else if (strcmp(a, "--bvh") == 0) {
-            bad = bvh_kind_parse(v, &bvh.kind);
-            force_bvh = 1;
-        } else if (strcmp(a, "--shading") == 0) {
-            ov.shading = strcmp(v, "phong") == 0 ? SHADE_PHONG : strcmp(v, "diffuse") == 0 ? SHADE_DIFFUSE : -2;
-            bad = ov.shading == -2;
-        } else if (strcmp(a, "--shadows") == 0) {
-            ov.shadows = strcmp(v, "on") == 0 ? 1 : strcmp(v, "off") == 0 ? 0 : -2;
-            bad = ov.shadows == -2;
-        } else if (strcmp(a, "--filter") == 0) {
-            ov.filter = strcmp(v, "nearest") == 0 ? FILTER_NEAREST : strcmp(v, "bilinear") == 0 ? FILTER_BILINEAR : -2;
-            bad = ov.filter == -2;
-        } else {
-            fprintf(stderr, "lanray-render: unknown option '%s'\n", a);
-            usage(stderr);
-            return 2;
-        }
-        if (bad) {
-            fprintf(stderr, "lanray-render: bad value '%s' for %s\n", v, a);
-            return 2;
-        }
-        i++;
-    }
+    const char *out = "lanray.png", *profile = NULL;
+    int width = 1024, height = 768, repeat = 1, quiet = 0, segment = 0, threads = 0, linear = 0;
+    int width_given = 0, height_given = 0, force_bvh = 0, bvh_kind = BVH_SAH, band_lines = 0;
+    int shading = SHADE_PHONG, shadows = 1, filter = FILTER_BILINEAR, shading_given = 0, shadows_given = 0, filter_given = 0;
+    CliAa aa = {4, 1, 0};
+    const Opt opts[] = {
+        {.name = "--output", .alias = "-o", .kind = OPT_STRING, .dst = &out, .arg = "FILE",
+         .help = "the image: .png (tagged sRGB, or linear with --linear) or .ppm"},
+        {.name = "--width", .kind = OPT_INT, .dst = &width, .arg = "W", .lo = 1, .hi = RENDER_MAX_SIDE,
+         .help = "frame width in pixels", .def = "the scene's, else 1024", .seen = &width_given},
+        {.name = "--height", .kind = OPT_INT, .dst = &height, .arg = "H", .lo = 1, .hi = RENDER_MAX_SIDE,
+         .help = "frame height in pixels", .def = "the scene's, else 768", .seen = &height_given},
+        {.name = "--aa", .kind = OPT_CUSTOM, .dst = &aa, .arg = "N|adaptive[:N]", .parse = cli_parse_aa, .range = CLI_AA_RANGE,
+         .help = "anti-aliasing: N x N samples, or one and N x N where neighbours differ",
+         .def = "the scene's, else adaptive:4"},
+        {.name = "--threads", .kind = OPT_INT, .dst = &threads, .arg = "T", .lo = 0, .hi = RENDER_MAX_THREADS,
+         .help = "render threads, 0 = one per core", .def = "0: all cores"},
+        {.name = "--bvh", .kind = OPT_CHOICE, .dst = &bvh_kind, .choices = cli_bvh_names, .seen = &force_bvh,
+         .help = "BVH builder for models; given, it rebuilds .tmd models too"},
+        {.name = "--shading", .kind = OPT_CHOICE, .dst = &shading, .choices = shading_names, .seen = &shading_given,
+         .help = "Phong, or diffuse only", .def = "the scene's, else phong"},
+        {.name = "--shadows", .kind = OPT_CHOICE, .dst = &shadows, .choices = onoff_names, .seen = &shadows_given,
+         .help = "shadow rays", .def = "the scene's, else on"},
+        {.name = "--filter", .kind = OPT_CHOICE, .dst = &filter, .choices = filter_names, .seen = &filter_given,
+         .help = "texture filtering", .def = "the scene's, else bilinear"},
+        {.name = "--linear", .kind = OPT_FLAG, .dst = &linear,
+         .help = "write linear light (PNG tagged gAMA 1.0) instead of sRGB"},
+        {.name = "--repeat", .kind = OPT_INT, .dst = &repeat, .arg = "N", .lo = 1, .hi = 100000,
+         .help = "render the frame N times, report the best and mean time (benchmarks)"},
+        {.name = "--segment", .kind = OPT_INT, .dst = &segment, .arg = "LINES", .lo = 0, .hi = RENDER_MAX_SIDE,
+         .help = "render as segments of LINES lines one after another, as clients do; 0 = whole frame"},
+        {.name = "--band", .kind = OPT_INT, .dst = &band_lines, .arg = "LINES", .lo = 0, .hi = RENDER_MAX_SIDE,
+         .help = "hold only LINES lines in memory, writing each band as it is done; 0 = the whole frame up to 256 MB, "
+                 "bands of 32 MB above"},
+        {.name = "--profile", .kind = OPT_STRING, .dst = &profile, .arg = "FILE",
+         .help = "also time every line alone, write 'line,microseconds' to FILE (for tools/schedsim)"},
+        {.name = "--quiet", .kind = OPT_FLAG, .dst = &quiet, .help = "print only the timing line: no scene line, no progress"},
+        {0},
+    };
+    const char *args[1] = {NULL};
+    OptSpec spec = {"lanray-render", "[scene | model.obj | model.tmd] [options]",
+                    "Renders one frame: the built-in scene without an argument, a scene file (docs/scene.md), or a\n"
+                    "preview of one model (camera framed on it, two lights).  On a terminal, a render longer than\n"
+                    "a second shows its progress.  Frames over 256 MB are rendered in bands written as they finish.",
+                    opts, args, 1, 0,
+                    "  0  the image was written\n"
+                    "  1  an error: the scene, the output file or its directory, memory; nothing is left behind\n"
+                    "  2  bad command line\n"};
     Err err = {{0}};
+    int r = opt_parse(&spec, argc, argv, &err);
+    if (r == OPT_HELP || r == OPT_VERSION) {
+        (r == OPT_HELP ? opt_usage : opt_version)(&spec, stdout);
+        return 0;
+    }
+    if (r) {
+        fprintf(stderr, "lanray-render: %s\n", err.msg);
+        return 2;
+    }
+    /* a wrong output name fails before the scene is even loaded */
+    if (image_check_name(out, &err)) {
+        fprintf(stderr, "lanray-render: %s\n", err.msg);
+        return 1;
+    }
+    threads = cli_threads(threads);
+    BvhOptions bvh = bvh_options_default((BvhKind)bvh_kind);
     Scene *scene;
     double t0 = timer_now();
-    int rc = scene_path ? scene_load(scene_path, &bvh, force_bvh, &scene, &err) : scene_default(&scene, &bvh, &err);
-    if (rc) {
+    if (cli_open_scene(args[0], &bvh, force_bvh, &scene, &err)) {
         fprintf(stderr, "lanray-render: %s\n", err.msg);
         return 1;
     }
     RenderSettings *rs = &scene->settings;
-    if (ov.aa >= 0)
-        rs->aa = ov.aa, rs->adaptive = ov.adaptive;
-    if (ov.shading >= 0)
-        rs->shading = (ShadeModel)ov.shading;
-    if (ov.shadows >= 0)
-        rs->shadows = ov.shadows;
-    if (ov.filter >= 0)
-        rs->filter = (TextureFilter)ov.filter;
+    if (aa.given || !rs->sampling_given) /* a still image is anti-aliased unless the scene or the user says */
+        rs->aa = aa.aa, rs->adaptive = aa.adaptive;
+    if (shading_given)
+        rs->shading = (ShadeModel)shading;
+    if (shadows_given)
+        rs->shadows = shadows;
+    if (filter_given)
+        rs->filter = (TextureFilter)filter;
+    if (!width_given && rs->width)
+        width = rs->width;
+    if (!height_given && rs->height)
+        height = rs->height;
     if (scene_prepare(scene, &err)) {
         fprintf(stderr, "lanray-render: %s\n", err.msg);
         scene_destroy(scene);
         return 1;
     }
     double t1 = timer_now();
-    RenderPool *pool = render_pool_create(threads, &err);
-    uint8_t *pixels = malloc((size_t)width * (size_t)height * 3);
-    if (!pool || !pixels) {
-        fprintf(stderr, "lanray-render: %s\n", pool ? "out of memory for the frame" : err.msg);
+    if (scene->light_count == 0)
+        fprintf(stderr, "lanray-render: warning: the scene has no light; only its ambient light (%g %g %g) shows it\n",
+                (double)scene->ambient.x, (double)scene->ambient.y, (double)scene->ambient.z);
+    uint64_t frame_bytes = (uint64_t)width * (uint64_t)height * 3;
+    int banded = band_lines ? band_lines < height : frame_bytes > WHOLE_FRAME_BYTES;
+    int band = !banded ? height : band_lines ? band_lines : (int)(BAND_BYTES / ((uint64_t)width * 3));
+    if (band < 1)
+        band = 1;
+    int rc = 0;
+    if (banded && (repeat > 1 || profile))
+        rc = err_set(&err, "%dx%d is rendered in bands (%.1f GB whole); --repeat and --profile need the whole frame",
+                     width, height, (double)frame_bytes / 1e9);
+    else
+        rc = cli_check_memory((uint64_t)width * (uint64_t)band * 3, banded ? "a band of the frame" : "the frame", &err);
+    ImageWriter *wr = NULL;
+    if (rc == 0) /* the file exists, under a temporary name, before any rendering */
+        rc = image_writer_open(out, width, height, linear ? IMAGE_LINEAR : IMAGE_SRGB, &wr, &err);
+    RenderPool *pool = rc ? NULL : render_pool_create(threads, &err);
+    uint8_t *pixels = pool ? malloc((size_t)width * (size_t)band * 3) : NULL;
+    if (rc == 0 && (!pool || !pixels))
+        rc = pool ? err_set(&err, "out of memory for %d lines of %d pixels", band, width) : -1;
+    if (rc) {
+        fprintf(stderr, "lanray-render: %s\n", err.msg);
+        image_writer_abort(wr);
         free(pixels);
         render_pool_destroy(pool);
         scene_destroy(scene);
@@ -160,65 +212,45 @@ int main(int argc, char **argv)
     }
     if (!quiet)
         printf("scene: %s, %llu triangles, %u spheres, %u planes, %u lights; loaded in %.3f s\n",
-               scene_path ? scene_path : "built-in default", (unsigned long long)scene_triangle_count(scene),
+               args[0] ? args[0] : "built-in default", (unsigned long long)scene_triangle_count(scene),
                scene->sphere_count, scene->plane_count, scene->light_count, t1 - t0);
+    fflush(stdout);
+    Watch watch;
+    memset(&watch, 0, sizeof watch);
+    watch.pixels = frame_bytes / 3 * (uint64_t)repeat;
+    watch.width = width;
+    render_pool_watch(pool, &watch.counts);
+    Progress *prog = progress_start("lanray-render", !quiet, show_progress, &watch);
     double best = 1e30, sum = 0;
     RayStats st = {0, 0};
-    for (int f = 0; f < frames && rc == 0; f++) {
+    int seg = segment && segment < band ? segment : band; /* a band holds a segment */
+    for (int f = 0; f < repeat && rc == 0; f++) {
         double a = timer_now();
-        int seg = segment ? segment : height;
         st = (RayStats){0, 0};
         for (int y = 0; rc == 0 && y < height; y += seg) {
             RayStats part;
-            rc = render_lines(pool, scene, width, height, y, y + seg <= height ? seg : height - y,
-                              pixels + (size_t)y * width * 3, &part, &err);
+            int n = y + seg <= height ? seg : height - y;
+            uint8_t *dst = pixels + (banded ? 0 : (size_t)y * width * 3);
+            rc = render_lines(pool, scene, width, height, y, n, dst, &part, &err);
             st.primary += part.primary;
             st.shadow += part.shadow;
+            if (rc == 0 && banded)
+                rc = image_writer_rows(wr, pixels, n, &err) ? (wr = NULL, -1) : 0;
         }
         double dt = timer_now() - a;
         sum += dt;
-        if (dt < best)
-            best = dt;
+        best = fmin(best, dt);
     }
-    if (rc == 0 && profile) {
-        /* Per-line cost, for the scheduler simulator (tools/schedsim): the
-         * pure rendering work of every line.  The frame is rendered line by
-         * line, top to bottom, PROFILE_PASSES times; each line keeps its
-         * fastest pass, because interference only ever adds time.  Passes
-         * run in frame order, as a client renders a segment: timing one line
-         * several times in a row would find its geometry in the cache and
-         * make the costly lines look cheaper than they are inside a segment.
-         * A call into the pool costs a hand-off when the pool has worker
-         * threads; the simulator models it as the per-segment overhead, so
-         * it is measured on a one-pixel call and taken off. */
-        enum { PROFILE_PASSES = 15, PROFILE_CALLS = 64 };
-        FILE *pf = fopen(profile, "w");
-        double *line = calloc((size_t)height, sizeof *line);
-        if (!pf)
-            rc = err_set(&err, "%s: cannot write", profile);
-        else if (!line)
-            rc = err_set(&err, "out of memory for the profile");
-        double call = 1e30;
-        for (int k = 0; pf && rc == 0 && k < PROFILE_CALLS; k++) {
-            double a = timer_now();
-            rc = render_span(pool, scene, width, height, 0, 1, pixels, NULL, NULL, &err);
-            call = fmin(call, timer_now() - a);
-        }
-        for (int k = 0; pf && rc == 0 && k < PROFILE_PASSES; k++)
-            for (int y = 0; rc == 0 && y < height; y++) {
-                double a = timer_now();
-                rc = render_lines(pool, scene, width, height, y, 1, pixels + (size_t)y * width * 3, NULL, &err);
-                double t = timer_now() - a;
-                line[y] = k == 0 ? t : fmin(line[y], t);
-            }
-        for (int y = 0; pf && rc == 0 && y < height; y++)
-            fprintf(pf, "%d,%.1f\n", y, fmax(line[y] - call, 0.0) * 1e6);
-        free(line);
-        if (pf && fclose(pf) != 0 && rc == 0)
-            rc = err_set(&err, "%s: write failed", profile);
-    }
+    progress_stop(prog);
+    render_pool_watch(pool, NULL);
+    if (rc == 0 && profile)
+        rc = write_profile(pool, scene, width, height, pixels, profile, &err);
+    if (rc == 0 && !banded)
+        rc = image_writer_rows(wr, pixels, height, &err) ? (wr = NULL, -1) : 0;
     if (rc == 0)
-        rc = image_write(out, width, height, pixels, &err);
+        rc = image_writer_close(wr, &err);
+    else
+        image_writer_abort(wr);
     if (rc)
         fprintf(stderr, "lanray-render: %s\n", err.msg);
     else {
@@ -226,7 +258,7 @@ int main(int argc, char **argv)
         printf("%dx%d aa %d%s %s shadows %s bvh %s threads %d (%s): frame %.4f s (mean %.4f s over %d), "
                "%.2f Mrays/s (%llu camera + %llu shadow rays)\n",
                width, height, rs->aa, rs->adaptive ? " adaptive" : "", rs->shading == SHADE_PHONG ? "phong" : "diffuse",
-               rs->shadows ? "on" : "off", bvh_kind_name(bvh.kind), threads, REAL_NAME, best, sum / frames, frames,
+               rs->shadows ? "on" : "off", bvh_kind_name(bvh.kind), threads, REAL_NAME, best, sum / repeat, repeat,
                rays / best * 1e-6, (unsigned long long)st.primary, (unsigned long long)st.shadow);
         if (!quiet)
             printf("wrote %s\n", out);

@@ -1,111 +1,150 @@
-/* obj2tmd - converts a Wavefront OBJ model into a .tmd file (a serialised BVH).
- *
- *   obj2tmd [--bvh sbt|mst|sah] [--leaf N] [--axis longest|alternate] [--smooth] in.obj out.tmd
+/* obj2tmd - converts a Wavefront OBJ model into a .tmd file (a serialised
+ * BVH).  Its options and exit statuses are in the table in main (obj2tmd
+ * --help prints them; docs/tools.md has the same text).
  *
  * Prints a summary; on any error prints it with file and line, exits 1 and
- * leaves no output file. */
+ * leaves no output file.  The output is checked before the work: it must
+ * not be the input (by file, not by name), and its directory must take a
+ * file. */
+#include <stdatomic.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
+#include "cli.h"
+#include "fileio.h"
 #include "obj.h"
+#include "opt.h"
+#include "progress.h"
 #include "timer.h"
 #include "tmd.h"
 
-static void usage(FILE *f)
+static const char *const axis_names[] = {"longest", "alternate", NULL};
+
+/* What the progress line says: the step under way (set by main, read by
+ * the progress thread). */
+typedef struct {
+    _Atomic(const char *) step, file;
+} Step;
+
+static void show_step(void *ctx, double elapsed, char *line, size_t size)
 {
-    fprintf(f, "usage: obj2tmd [--bvh sbt|mst|sah] [--leaf N] [--axis longest|alternate] [--smooth] in.obj out.tmd\n"
-               "  --bvh     BVH builder: sbt (spatial median), mst (bottom-up, smallest merged box), sah (default)\n"
-               "  --leaf    most triangles per leaf, 1..255 (default 4)\n"
-               "  --axis    SBT split axis: longest (default) or alternate (x, y, z in turn)\n"
-               "  --smooth  compute smooth vertex normals where the OBJ has none\n");
+    Step *s = ctx;
+    char t[32];
+    progress_duration(elapsed, t, sizeof t);
+    snprintf(line, size, "%s %s (%s)", atomic_load(&s->step), atomic_load(&s->file), t);
+}
+
+/* The same file, whatever the names: one device and inode. */
+static int same_file(const char *a, const char *b)
+{
+    struct stat sa, sb;
+    return stat(a, &sa) == 0 && stat(b, &sb) == 0 && sa.st_dev == sb.st_dev && sa.st_ino == sb.st_ino;
 }
 
 int main(int argc, char **argv)
 {
-    BvhOptions bo = bvh_options_default(BVH_SAH);
-    ObjOptions oo = {0};
-    const char *in = NULL, *out = NULL;
-    for (int i = 1; i < argc; i++) {
-        const char *a = argv[i];
-        if (strcmp(a, "--bvh") == 0 && i + 1 < argc) {
-            if (bvh_kind_parse(argv[++i], &bo.kind)) {
-                fprintf(stderr, "obj2tmd: unknown BVH kind '%s' (sbt, mst or sah)\n", argv[i]);
-                return 2;
-            }
-        } else if (strcmp(a, "--leaf") == 0 && i + 1 < argc) {
-            char *end;
-            long v = strtol(argv[++i], &end, 10);
-            if (*end || v < 1 || v > 255) {
-                fprintf(stderr, "obj2tmd: --leaf wants 1..255, got '%s'\n", argv[i]);
-                return 2;
-            }
-            bo.max_leaf = (uint32_t)v;
-        } else if (strcmp(a, "--axis") == 0 && i + 1 < argc) {
-            i++;
-            if (strcmp(argv[i], "alternate") == 0)
-                bo.sbt_alternate = 1;
-            else if (strcmp(argv[i], "longest") != 0) {
-                fprintf(stderr, "obj2tmd: --axis wants longest or alternate, got '%s'\n", argv[i]);
-                return 2;
-            }
-        } else if (strcmp(a, "--smooth") == 0) {
-            oo.smooth = 1;
-        } else if (strcmp(a, "-h") == 0 || strcmp(a, "--help") == 0) {
-            usage(stdout);
-            return 0;
-        } else if (a[0] == '-' && a[1]) {
-            fprintf(stderr, "obj2tmd: unknown option '%s'\n", a);
-            usage(stderr);
-            return 2;
-        } else if (!in) {
-            in = a;
-        } else if (!out) {
-            out = a;
-        } else {
-            usage(stderr);
-            return 2;
-        }
+    int bvh_kind = BVH_SAH, leaf = 4, axis = 0, smooth = 0, quiet = 0;
+    const Opt opts[] = {
+        {.name = "--bvh", .kind = OPT_CHOICE, .dst = &bvh_kind, .choices = cli_bvh_names,
+         .help = "builder: sbt (spatial median), mst (bottom-up, smallest merged box), sah (surface area)"},
+        {.name = "--leaf", .kind = OPT_INT, .dst = &leaf, .arg = "N", .lo = 1, .hi = 255,
+         .help = "most triangles per leaf"},
+        {.name = "--axis", .kind = OPT_CHOICE, .dst = &axis, .choices = axis_names,
+         .help = "SBT split axis: the box's longest, or x, y, z in turn"},
+        {.name = "--smooth", .kind = OPT_FLAG, .dst = &smooth, .help = "compute smooth vertex normals where the OBJ has none"},
+        {.name = "--quiet", .kind = OPT_FLAG, .dst = &quiet, .help = "print errors only: no summary, no progress"},
+        {0},
+    };
+    const char *args[2] = {NULL, NULL};
+    OptSpec spec = {"obj2tmd", "[options] in.obj out.tmd",
+                    "Converts a Wavefront OBJ model (with its MTL materials) into a .tmd file: the triangles in\n"
+                    "the order of a bounding volume hierarchy, ready to render (docs/tmd.md).  On a terminal, a\n"
+                    "conversion longer than a second shows the step under way.",
+                    opts, args, 2, 0,
+                    "  0  converted\n"
+                    "  1  an error in the OBJ (file and line named), no usable triangle, an unwritable output, or the\n"
+                    "     output is the input; no output file is left\n"
+                    "  2  bad command line\n"};
+    Err err = {{0}};
+    int r = opt_parse(&spec, argc, argv, &err);
+    if (r == OPT_HELP || r == OPT_VERSION) {
+        (r == OPT_HELP ? opt_usage : opt_version)(&spec, stdout);
+        return 0;
     }
-    if (!in || !out) {
-        usage(stderr);
+    if (r == 0 && spec.nargs != 2)
+        r = err_set(&err, "needs an input and an output (usage: %s %s)", spec.prog, spec.synopsis);
+    if (r) {
+        fprintf(stderr, "obj2tmd: %s\n", err.msg);
         return 2;
     }
-    Err err = {{0}};
+    const char *in = args[0], *out = args[1];
+    if (same_file(in, out)) {
+        fprintf(stderr, "obj2tmd: %s is the input file %s; name another output\n", out, in);
+        return 1;
+    }
+    BvhOptions bo = bvh_options_default((BvhKind)bvh_kind);
+    bo.max_leaf = (uint32_t)leaf;
+    bo.sbt_alternate = axis == 1;
+    ObjOptions oo = {smooth};
+    /* the output's directory takes a file: checked before the work */
+    AtomicFile probe;
+    if (file_atomic_open(&probe, out, &err)) {
+        fprintf(stderr, "obj2tmd: %s\n", err.msg);
+        return 1;
+    }
+    file_atomic_abort(&probe);
+    Step step;
+    atomic_init(&step.step, "reading");
+    atomic_init(&step.file, in);
+    Progress *prog = progress_start("obj2tmd", !quiet, show_step, &step);
     Mesh mesh;
     ObjStats st;
     double t0 = timer_now();
     if (obj_read(in, &oo, &mesh, &st, &err)) {
+        progress_stop(prog);
         fprintf(stderr, "obj2tmd: %s\n", err.msg);
         return 1;
     }
     double t1 = timer_now();
     if (mesh.tri_count == 0) {
+        progress_stop(prog);
         fprintf(stderr, "obj2tmd: %s: no usable triangles (%lu faces, %lu degenerate)\n", in, st.faces, st.degenerate);
         mesh_free(&mesh);
         return 1;
     }
+    atomic_store(&step.step, bo.kind == BVH_MST   ? "building the MST tree of"
+                             : bo.kind == BVH_SBT ? "building the SBT tree of"
+                                                  : "building the SAH tree of");
     Model *model;
     int rc = model_from_mesh(&model, &mesh, &bo, &err);
     double t2 = timer_now();
     mesh_free(&mesh);
     if (rc) {
+        progress_stop(prog);
         fprintf(stderr, "obj2tmd: %s: %s\n", in, err.msg);
         return 1;
     }
-    if (tmd_write(out, model, &err)) {
+    atomic_store(&step.step, "writing");
+    atomic_store(&step.file, out);
+    rc = tmd_write(out, model, &err);
+    progress_stop(prog);
+    if (rc) {
         fprintf(stderr, "obj2tmd: %s\n", err.msg);
         model_destroy(model);
         return 1;
     }
-    printf("%s -> %s\n", in, out);
-    printf("  vertices %lu, faces %lu, triangles %u, degenerate dropped %lu\n", st.vertices, st.faces,
-           model->tri_count, st.degenerate);
-    printf("  attributes: %s%s%s\n", model->normals ? "normals " : "", model->uvs ? "uvs " : "",
-           model->mat_ids ? "materials" : (model->normals || model->uvs ? "" : "positions only"));
-    printf("  bvh %s: %u nodes, depth %u, SAH cost %.2f\n", bvh_kind_name(bo.kind), model->bvh.node_count,
-           model->bvh.depth, bvh_sah_cost(&model->bvh));
-    printf("  parse %.3f s, build %.3f s\n", t1 - t0, t2 - t1);
+    if (!quiet) {
+        printf("%s -> %s\n", in, out);
+        printf("  vertices %lu, faces %lu, triangles %u, degenerate dropped %lu\n", st.vertices, st.faces,
+               model->tri_count, st.degenerate);
+        printf("  attributes: %s%s%s\n", model->normals ? "normals " : "", model->uvs ? "uvs " : "",
+               model->mat_ids ? "materials" : (model->normals || model->uvs ? "" : "positions only"));
+        printf("  bvh %s: %u nodes, depth %u, SAH cost %.2f\n", bvh_kind_name(bo.kind), model->bvh.node_count,
+               model->bvh.depth, bvh_sah_cost(&model->bvh));
+        printf("  parse %.3f s, build %.3f s\n", t1 - t0, t2 - t1);
+    }
     model_destroy(model);
     return 0;
 }

@@ -6,7 +6,7 @@
  *            [--latency-us L] [--bandwidth-mbit B] [--client-mbit B2 [--client-burst-kb K]]
  *            [--overhead-us O] [--overhead-cpu Q] [--bg-cpu-us G] [--slice-us S]
  *            [--turnaround-us R] [--server-us P] [--frames F] [--cost-scale K]
- *   schedsim --probe-slice C     (measures S on this machine's C cores)
+ *   schedsim --probe-slice C     (measures S on this machine's C cores; --help lists every option)
  *
  * The cost of a pixel comes from a real frame's profile (`lanray-render
  * --profile`: microseconds per line on one thread); a client with T threads
@@ -42,6 +42,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "opt.h"
 #include "sched.h"
 #include "timer.h"
 
@@ -508,10 +509,40 @@ static int probe_slice(int cores)
     return 0;
 }
 
+static int parse_speeds(const char *v, void *dst, Err *err)
+{
+    (void)err;
+    Sim *s = dst;
+    s->nspeeds = 0;
+    const char *p = v;
+    while (*p) {
+        char *end;
+        double d = strtod(p, &end);
+        if (end == p || !(d > 0) || s->nspeeds >= MAXC)
+            return -1;
+        s->speeds[s->nspeeds++] = d;
+        p = *end == ',' ? end + 1 : end;
+        if (*end && *end != ',')
+            return -1;
+    }
+    return s->nspeeds ? 0 : -1;
+}
+
+static int parse_segment(const char *v, void *dst, Err *err)
+{
+    (void)err;
+    char *end;
+    long n = strcmp(v, "auto") == 0 ? 0 : strtol(v, &end, 10);
+    if (strcmp(v, "auto") != 0 && (end == v || *end || n < 1 || n > 65536))
+        return -1;
+    *(uint32_t *)dst = (uint32_t)n;
+    return 0;
+}
+
+static const char *const tail_names[] = {"static", "smart", "adaptive", NULL};
+
 int main(int argc, char **argv)
 {
-    if (argc == 3 && strcmp(argv[1], "--probe-slice") == 0)
-        return probe_slice(atoi(argv[2]) > 0 ? atoi(argv[2]) : 1);
     Sim s;
     memset(&s, 0, sizeof s);
     s.width = 1024;
@@ -523,53 +554,60 @@ int main(int argc, char **argv)
     s.mbit = 10000;
     s.overhead_us = 100;
     s.segment = 16;
-    s.tail = sched_tail_smart;
     s.cost_scale = 1;
     s.overhead_cpu = 1;
     const char *profile = NULL;
-    for (int i = 1; i < argc; i++) {
-        const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : "";
-        if (strcmp(a, "--profile") == 0) profile = v;
-        else if (strcmp(a, "--width") == 0) s.width = atoi(v);
-        else if (strcmp(a, "--clients") == 0) s.clients = atoi(v);
-        else if (strcmp(a, "--threads") == 0) s.threads = atoi(v);
-        else if (strcmp(a, "--cores") == 0) s.cores = atof(v);
-        else if (strcmp(a, "--latency-us") == 0) s.latency_us = atof(v);
-        else if (strcmp(a, "--bandwidth-mbit") == 0) s.mbit = atof(v);
-        else if (strcmp(a, "--overhead-us") == 0) s.overhead_us = atof(v);
-        else if (strcmp(a, "--frames") == 0) s.frames = atoi(v);
-        else if (strcmp(a, "--cost-scale") == 0) s.cost_scale = atof(v);
-        else if (strcmp(a, "--client-mbit") == 0) s.client_mbit = atof(v);
-        else if (strcmp(a, "--client-burst-kb") == 0) s.client_burst = atof(v) * 1024;
-        else if (strcmp(a, "--slice-us") == 0) s.slice_us = atof(v);
-        else if (strcmp(a, "--overhead-cpu") == 0) s.overhead_cpu = atof(v);
-        else if (strcmp(a, "--bg-cpu-us") == 0) s.bg_cpu_us = atof(v);
-        else if (strcmp(a, "--turnaround-us") == 0) s.turnaround_us = atof(v);
-        else if (strcmp(a, "--server-us") == 0) s.server_us = atof(v);
-        else if (strcmp(a, "--segment") == 0) s.segment = strcmp(v, "auto") == 0 ? 0 : (uint32_t)atoi(v);
-        else if (strcmp(a, "--tail") == 0) {
-            s.tail = sched_tail_by_name(v);
-            if (!s.tail) {
-                fprintf(stderr, "schedsim: unknown tail rule '%s'\n", v);
-                return 2;
-            }
-        } else if (strcmp(a, "--speeds") == 0) {
-            char *p = (char *)v;
-            while (*p && s.nspeeds < MAXC) {
-                s.speeds[s.nspeeds++] = strtod(p, &p);
-                if (*p == ',')
-                    p++;
-            }
-        } else {
-            fprintf(stderr, "schedsim: unknown option '%s'\n", a);
-            return 2;
-        }
-        i++;
+    int tail = 1, probe = 0;
+    double burst_kb = 0;
+    const Opt opts[] = {
+        {.name = "--profile", .kind = OPT_STRING, .dst = &profile, .arg = "FILE",
+         .help = "per-line cost, 'line,microseconds' (lanray-render --profile); required"},
+        {.name = "--width", .kind = OPT_INT, .dst = &s.width, .arg = "W", .lo = 1, .hi = 65536, .help = "frame width"},
+        {.name = "--clients", .kind = OPT_INT, .dst = &s.clients, .arg = "N", .lo = 1, .hi = MAXC, .help = "clients"},
+        {.name = "--threads", .kind = OPT_INT, .dst = &s.threads, .arg = "T", .lo = 1, .hi = 1024, .help = "threads per client"},
+        {.name = "--cores", .kind = OPT_REAL, .dst = &s.cores, .arg = "C", .help = "cores the clients share", .def = "unlimited"},
+        {.name = "--speeds", .kind = OPT_CUSTOM, .dst = &s, .arg = "a,b,...", .parse = parse_speeds,
+         .range = "positive numbers separated by commas", .help = "speed factor of each client", .def = "all 1"},
+        {.name = "--segment", .kind = OPT_CUSTOM, .dst = &s.segment, .arg = "LINES|auto", .parse = parse_segment,
+         .range = "1..65536 or auto", .help = "lines per segment", .def = "16"},
+        {.name = "--tail", .kind = OPT_CHOICE, .dst = &tail, .choices = tail_names, .help = "tail rule"},
+        {.name = "--frames", .kind = OPT_INT, .dst = &s.frames, .arg = "F", .lo = 1, .hi = 100000, .help = "frames to simulate"},
+        {.name = "--latency-us", .kind = OPT_REAL, .dst = &s.latency_us, .arg = "L", .help = "one-way packet latency"},
+        {.name = "--bandwidth-mbit", .kind = OPT_REAL, .dst = &s.mbit, .arg = "B", .help = "the server's link"},
+        {.name = "--client-mbit", .kind = OPT_REAL, .dst = &s.client_mbit, .arg = "B2", .help = "each client's own link, 0 = none"},
+        {.name = "--client-burst-kb", .kind = OPT_REAL, .dst = &burst_kb, .arg = "K", .help = "token bucket of a client's link"},
+        {.name = "--overhead-us", .kind = OPT_REAL, .dst = &s.overhead_us, .arg = "O", .help = "per-segment overhead"},
+        {.name = "--overhead-cpu", .kind = OPT_REAL, .dst = &s.overhead_cpu, .arg = "Q", .rlo = 0, .rhi = 1,
+         .help = "part of the overhead that is CPU work"},
+        {.name = "--bg-cpu-us", .kind = OPT_REAL, .dst = &s.bg_cpu_us, .arg = "G", .help = "CPU per segment outside the render threads"},
+        {.name = "--slice-us", .kind = OPT_REAL, .dst = &s.slice_us, .arg = "S", .help = "the OS scheduler's time slice"},
+        {.name = "--turnaround-us", .kind = OPT_REAL, .dst = &s.turnaround_us, .arg = "R", .help = "frame end to next UPDATE"},
+        {.name = "--server-us", .kind = OPT_REAL, .dst = &s.server_us, .arg = "P", .help = "server CPU per DATA packet"},
+        {.name = "--cost-scale", .kind = OPT_REAL, .dst = &s.cost_scale, .arg = "K", .help = "multiplies the profile's costs"},
+        {.name = "--probe-slice", .kind = OPT_INT, .dst = &probe, .arg = "C", .lo = 1, .hi = 4096,
+         .help = "instead: measure the time slice S on C cores of this machine", .def = "off"},
+        {0},
+    };
+    OptSpec spec = {"schedsim", "--profile lines.csv [options]",
+                    "Discrete-event simulation of a render farm driving the real scheduler (server/sched.c); see the\n"
+                    "comment at the top of tools/schedsim.c and docs/scaling.md for the model.",
+                    opts, NULL, 0, 0, "  0  simulated\n  1  the profile could not be read\n  2  bad command line\n"};
+    Err err = {{0}};
+    int r = opt_parse(&spec, argc, argv, &err);
+    if (r == OPT_HELP || r == OPT_VERSION) {
+        (r == OPT_HELP ? opt_usage : opt_version)(&spec, stdout);
+        return 0;
     }
-    if (!profile || s.width < 1 || s.clients < 1 || s.clients > MAXC || s.threads < 1 || s.frames < 1) {
-        fprintf(stderr, "usage: schedsim --profile lines.csv [--width W] [--clients N] [--threads T] [--cores C] ...\n");
+    if (r == 0 && probe)
+        return probe_slice(probe);
+    if (r == 0 && !profile)
+        r = err_set(&err, "needs --profile FILE");
+    if (r) {
+        fprintf(stderr, "schedsim: %s\n", err.msg);
         return 2;
     }
+    s.tail = sched_tail_by_name(tail_names[tail]);
+    s.client_burst = burst_kb * 1024;
     FILE *f = fopen(profile, "r");
     if (!f) {
         fprintf(stderr, "schedsim: cannot open %s\n", profile);

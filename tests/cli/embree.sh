@@ -31,7 +31,7 @@ model blob blob.tmd
 instance blob scale 0.05 material clay
 light point position 2 3 4 intensity 0.9
 SCENE
-"$BIN/lanray-render" "$dir/blob.scene" --width 320 --height 240 --threads 2 -o "$dir/ours.png" --quiet >/dev/null || fail "lanray-render"
+"$BIN/lanray-render" "$dir/blob.scene" --width 320 --height 240 --threads 2 --aa 1 -o "$dir/ours.png" --quiet >/dev/null || fail "lanray-render"
 "$EMBREE_REF" "$dir/blob.scene" --width 320 --height 240 --threads 2 -o "$dir/embree.png" >/dev/null || fail "embree_ref"
 IFS=, read -r maxd differ rmse psnr ssim < <("$BIN/lanray-imgdiff" --csv "$dir/ours.png" "$dir/embree.png")
 echo "lanray against Embree: $differ of 76800 pixels differ (max $maxd), SSIM $ssim"

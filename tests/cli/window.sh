@@ -11,7 +11,7 @@ fail() { echo "FAIL: $*"; tail -5 "$dir"/*.err 2>/dev/null; exit 1; }
 command -v Xvfb >/dev/null && command -v xwd >/dev/null || fail "Xvfb and xwd are needed (make deps installs them)"
 
 W=240 H=160
-"$BIN/lanray-render" --width $W --height $H -o "$dir/ref.ppm" --quiet >/dev/null || fail "reference render"
+"$BIN/lanray-render" --width $W --height $H --aa 1 -o "$dir/ref.ppm" --quiet >/dev/null || fail "reference render"
 # -displayfd: Xvfb picks a free display number and tells us
 Xvfb -displayfd 3 -screen 0 640x480x24 -nolisten tcp 3>"$dir/display" 2>"$dir/xvfb.err" &
 pids+=($!)
@@ -20,7 +20,7 @@ for _ in $(seq 100); do [ -s "$dir/display" ] && break; sleep 0.05; done
 export DISPLAY=":$(head -1 "$dir/display")"
 "$BIN/lanray-server" --port 0 --width $W --height $H --frames 0 >"$dir/server.log" 2>"$dir/server.err" &
 pids+=($!)
-for _ in $(seq 100); do port=$(sed -n 's/.*listening on [0-9.]*:\([0-9]*\).*/\1/p' "$dir/server.log"); [ -n "$port" ] && break; sleep 0.05; done
+for _ in $(seq 100); do port=$(sed -n 's/.*listening on .*:\([0-9]*\) (.*/\1/p' "$dir/server.log"); [ -n "$port" ] && break; sleep 0.05; done
 [ -n "$port" ] || fail "server did not start"
 grep -q "no display\|cannot open a window" "$dir/server.err" && fail "the server did not open a window"
 "$BIN/lanray-client" "127.0.0.1:$port" --threads 2 2>"$dir/client.err" &

@@ -55,7 +55,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     ClientConfig cfg = {"fuzz", 0, 1, NULL, 1, 0};
     volatile sig_atomic_t stop = 0;
     Err err;
-    client_run_fd(&cfg, fds[0], &stop, &err);
+    client_run_fd(&cfg, fds[0], &stop, NULL, &err);
     pthread_join(th, NULL);
     close(fds[1]);
     return 0;

@@ -22,7 +22,7 @@ start_server() {
     server_pid=$!
     pids+=("$server_pid")
     for _ in $(seq 100); do
-        port=$(sed -n 's/.*listening on [0-9.]*:\([0-9]*\).*/\1/p' "$dir/$name.log")
+        port=$(sed -n 's/.*listening on .*:\([0-9]*\) (.*/\1/p' "$dir/$name.log")
         [ -n "$port" ] && return 0
         sleep 0.05
     done

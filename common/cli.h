@@ -1,0 +1,41 @@
+/* cli.h - what the programs share on their command lines: option values
+ * with the same meaning in every tool (--aa, --bvh, --threads), opening a
+ * scene argument, making output directories and checking that a frame fits
+ * in memory before anything is rendered. */
+#ifndef LANRAY_CLI_H
+#define LANRAY_CLI_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "scene.h"
+
+/* --aa N | adaptive[:N]: N x N samples everywhere, or one and N x N where
+ * neighbours differ.  `given` is set once the option is parsed. */
+typedef struct {
+    int aa, adaptive, given;
+} CliAa;
+int cli_parse_aa(const char *value, void *dst, Err *err);
+#define CLI_AA_RANGE "1..16, adaptive or adaptive:1..16"
+
+extern const char *const cli_bvh_names[]; /* sbt, mst, sah: BvhKind order */
+
+/* --threads: 0 means one per core. */
+int cli_threads(int requested);
+
+/* The scene a program was given: NULL for the built-in scene, a scene file,
+ * or an .obj/.tmd model, which gets a preview scene (camera framed on its
+ * bounding box, two lights).  force: rebuild .tmd models with bvh. */
+int cli_open_scene(const char *path, const BvhOptions *bvh, int force, Scene **out, Err *err);
+
+/* Creates dir and its parents (mkdir -p). */
+int cli_make_dirs(const char *dir, Err *err);
+
+/* Fails, saying how much is needed and how much there is, when `bytes` for
+ * `what` cannot fit in the memory this machine has available. */
+int cli_check_memory(uint64_t bytes, const char *what, Err *err);
+/* MemAvailable from /proc/meminfo, or the address-space limit when that is
+ * lower (0 when neither is known). */
+uint64_t cli_available_memory(void);
+
+#endif

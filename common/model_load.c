@@ -1,0 +1,41 @@
+/* model_load.c - see model_load.h. */
+#include "model_load.h"
+
+#include <string.h>
+
+#include "obj.h"
+#include "tmd.h"
+
+static int ends_with(const char *s, const char *suffix)
+{
+    size_t n = strlen(s), m = strlen(suffix);
+    return n >= m && strcmp(s + n - m, suffix) == 0;
+}
+
+int model_load_knows(const char *path) { return ends_with(path, ".obj") || ends_with(path, ".tmd"); }
+
+int model_load(const char *path, const BvhOptions *opt, int rebuild, int smooth, Model **out, Err *err)
+{
+    *out = NULL;
+    if (ends_with(path, ".obj")) {
+        Mesh mesh;
+        ObjOptions oo = {smooth};
+        if (obj_read(path, &oo, &mesh, NULL, err))
+            return -1;
+        int rc = model_from_mesh(out, &mesh, opt, err);
+        mesh_free(&mesh);
+        return rc ? err_prefix(err, "%s", path) : 0;
+    }
+    if (!ends_with(path, ".tmd"))
+        return err_set(err, "model file '%s' must end in .tmd or .obj", path);
+    if (smooth)
+        return err_set(err, "%s: 'smooth' applies to OBJ models; convert with obj2tmd --smooth", path);
+    if (tmd_read(path, out, err))
+        return -1;
+    if (rebuild && model_rebuild(*out, opt, err)) {
+        model_destroy(*out);
+        *out = NULL;
+        return err_prefix(err, "%s", path);
+    }
+    return 0;
+}
