@@ -24,9 +24,14 @@ typedef struct {
     int truncated; /* the line had more than LEX_MAX_TOKENS tokens */
 } Tokens;
 
+/* A UTF-8 byte-order mark at the start (editors on Windows write one) is
+ * not part of the first line: skipped, or the first directive or vertex
+ * would not be recognised. */
 static inline Lexer lex_make(char *text, size_t len)
 {
     Lexer l = {text, text + len, 0};
+    if (len >= 3 && (unsigned char)text[0] == 0xEF && (unsigned char)text[1] == 0xBB && (unsigned char)text[2] == 0xBF)
+        l.p += 3;
     return l;
 }
 

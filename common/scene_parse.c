@@ -97,6 +97,16 @@ static void key_list(const KeySpec *spec, char *buf, size_t size)
     }
 }
 
+/* Both spellings are taken; the tables use one of each. */
+static const char *key_spelling(const char *key)
+{
+    if (strcmp(key, "center") == 0)
+        return "centre";
+    if (strcmp(key, "colour") == 0)
+        return "color";
+    return key;
+}
+
 /* Reads keyword/value pairs from tokens [start, n) against spec. */
 static int read_keys(Ctx *c, const Tokens *t, int start, const char *directive, const KeySpec *spec, KeyVals *kv)
 {
@@ -105,7 +115,7 @@ static int read_keys(Ctx *c, const Tokens *t, int start, const char *directive, 
     key_list(spec, keys, sizeof keys);
     for (int i = start; i < t->n;) {
         int k = 0;
-        while (spec[k].key && strcmp(spec[k].key, t->tok[i]) != 0)
+        while (spec[k].key && strcmp(spec[k].key, key_spelling(t->tok[i])) != 0)
             k++;
         if (!spec[k].key) {
             err_set(c->err, "%s:%d: unknown keyword '%s' for %s (expected one of: %s)", c->file, c->line, t->tok[i],

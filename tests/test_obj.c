@@ -46,6 +46,22 @@ static void index_forms_and_negative_indices(void **state)
     mesh_free(&m);
 }
 
+/* A UTF-8 byte-order mark is not part of the first line: with it, the
+ * first vertex was skipped and every index shifted. */
+static void byte_order_mark_is_skipped(void **state)
+{
+    (void)state;
+    Mesh m;
+    ObjStats st;
+    Err err;
+    if (parse("\xEF\xBB\xBF" "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", &m, &st, &err, 0))
+        fail_msg("%s", err.msg);
+    assert_int_equal(st.vertices, 3);
+    assert_int_equal(m.tri_count, 1);
+    assert_float_equal(m.pos[1].x, 1, 0);
+    mesh_free(&m);
+}
+
 static void polygons_are_triangulated_and_degenerates_dropped(void **state)
 {
     (void)state;
@@ -154,6 +170,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(index_forms_and_negative_indices),
+        cmocka_unit_test(byte_order_mark_is_skipped),
         cmocka_unit_test(polygons_are_triangulated_and_degenerates_dropped),
         cmocka_unit_test(materials_from_mtllib),
         cmocka_unit_test(smooth_normals_average_faces),

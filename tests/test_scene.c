@@ -78,6 +78,26 @@ static void features_reflect_what_is_used(void **state)
     scene_destroy(s);
 }
 
+/* A UTF-8 byte-order mark before the first directive is skipped, and both
+ * spellings of centre/center and colour/color are taken. */
+static void byte_order_mark_and_spellings(void **state)
+{
+    (void)state;
+    Scene *s;
+    Err err;
+    if (parse("\xEF\xBB\xBF" "camera position 0 0 5 lookat 0 0 0\n"
+              "sphere center 0 1 0 radius 1\nlight point position 0 5 0 colour 1 0.5 0.25\n", &s, &err))
+        fail_msg("%s", err.msg);
+    assert_float_equal(s->camera.pos.z, 5, 0);
+    assert_float_equal(s->spheres[0].centre.y, 1, 0);
+    assert_float_equal(s->lights[0].color.z, R(0.25), 0);
+    scene_destroy(s);
+    /* only at the start: elsewhere it is an unknown word */
+    Scene *bad = NULL;
+    assert_int_equal(parse("camera position 0 0 5 lookat 0 0 0\n\xEF\xBB\xBF" "sphere centre 0 0 0 radius 1\n", &bad, &err), -1);
+    assert_contains(err.msg, "t.scene:2: unknown directive");
+}
+
 static void expect_error(const char *text, const char *what)
 {
     Scene *s = NULL;
@@ -125,6 +145,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(full_scene),
         cmocka_unit_test(features_reflect_what_is_used),
+        cmocka_unit_test(byte_order_mark_and_spellings),
         cmocka_unit_test(errors_name_file_line_and_expectation),
     };
     return cmocka_run_group_tests_name("scene", tests, NULL, NULL);
