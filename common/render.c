@@ -5,10 +5,12 @@
 
 #include <pthread.h>
 #include <stdatomic.h>
+#include <stddef.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "camera.h"
+#include "srgb.h"
 
 #define CHUNK 32 /* pixels per work item */
 
@@ -165,10 +167,11 @@ typedef struct {
     uint8_t *pixels;
     const atomic_int *cancel;
     RenderProgress *progress;
-    /* adaptive mode: keys and centre colours of whole lines key_first .. key_first + key_lines - 1 */
+    int linear; /* write linear codes instead of sRGB (--linear) */
+    /* adaptive mode: keys and centre colours, as written, of whole lines key_first .. key_first + key_lines - 1 */
     int key_first, key_lines;
     uint64_t *keys;
-    vec3 *colors;
+    uint8_t *colors; /* 3 per pixel */
 } Frame;
 
 static int cancelled(const Frame *f) { return f->cancel && atomic_load_explicit(f->cancel, memory_order_relaxed); }
@@ -190,13 +193,12 @@ static vec3 sample_grid(const Frame *f, int px, int py, int n, RayStats *st)
     return v3_scale(sum, inv * inv);
 }
 
-static void put_pixel(uint8_t *dst, vec3 c)
+/* Linear light to the pixel's codes: sRGB unless the scene asks for linear
+ * output (srgb.h: both clamp, and NaN becomes 0). */
+static void put_pixel(const Frame *f, uint8_t *dst, vec3 c)
 {
-    for (int k = 0; k < 3; k++) {
-        real v = c.e[k];
-        v = v > R(0) ? (v < R(1) ? v : R(1)) : R(0); /* NaN (inf * 0 from extreme scene values) becomes 0 */
-        dst[k] = (uint8_t)(v * R(255) + R(0.5));
-    }
+    for (int k = 0; k < 3; k++)
+        dst[k] = f->linear ? linear_encode8(c.e[k]) : srgb_encode8(c.e[k]);
 }
 
 /* A chunk done: its finished pixels and the rays it took (since `before`). */
@@ -229,7 +231,7 @@ static void job_grid(void *ctx, uint32_t chunk, RayStats *st)
         uint64_t g = f->first + i;
         int px = (int)(g % (uint64_t)f->width), py = (int)(g / (uint64_t)f->width);
         vec3 c = n == 1 ? sample(f, (real)px + R(0.5), (real)py + R(0.5), st, NULL) : sample_grid(f, px, py, n, st);
-        put_pixel(&f->pixels[3 * i], c);
+        put_pixel(f, &f->pixels[3 * i], c);
     }
     count_progress(f, i1 - i0, st, before);
 }
@@ -245,27 +247,29 @@ static void job_keys(void *ctx, uint32_t chunk, RayStats *st)
     uint64_t before = st->primary + st->shadow;
     for (uint64_t i = i0; i < i1; i++) {
         int px = (int)(i % (uint64_t)f->width), py = f->key_first + (int)(i / (uint64_t)f->width);
-        /* kept as displayed (put_pixel clamps the same way), for the contrast test */
+        /* kept as written: the contrast test compares what a viewer sees, and
+         * a pixel without an edge is this sample */
         vec3 c = sample(f, (real)px + R(0.5), (real)py + R(0.5), st, &f->keys[i]);
-        f->colors[i] = v3_max(v3_splat(R(0)), v3_min(v3_splat(R(1)), c));
+        put_pixel(f, &f->colors[3 * i], c);
     }
     count_progress(f, 0, st, before);
 }
 
 /* Adaptive sampling also refines where two neighbouring centre samples, as
- * displayed, differ by more than this in a channel (15 of 255 levels): the
+ * written, differ by more than this many of 255 levels in a channel: the
  * edges a key does not see, a texture's, a highlight's, a spot light's soft
  * edge.  Measured at 512x384 against the 16x16 double reference (docs/
- * tradeoff.md): the textured scene's RMSE falls from 0.51 to 0.27 (4x4
- * everywhere: 0.20) for 33% more time, the default scene's from 0.70 to
- * 0.63 (0.61) for 26%; 0.12 bought a quarter of that, 0.03 little more
- * for twice the time in the textured scene. */
-#define ADAPTIVE_CONTRAST R(0.06)
+ * tradeoff.md, with linear output then): the textured scene's RMSE falls
+ * from 0.51 to 0.27 (4x4 everywhere: 0.20) for 33% more time, the default
+ * scene's from 0.70 to 0.63 (0.61) for 26%; a threshold of 30 levels bought
+ * a quarter of that, 8 little more for twice the time in the textured
+ * scene. */
+#define ADAPTIVE_CONTRAST 15
 
-static int contrasts(vec3 a, vec3 b)
+static int contrasts(const uint8_t *a, const uint8_t *b)
 {
     for (int k = 0; k < 3; k++)
-        if (a.e[k] - b.e[k] > ADAPTIVE_CONTRAST || b.e[k] - a.e[k] > ADAPTIVE_CONTRAST)
+        if (a[k] - b[k] > ADAPTIVE_CONTRAST || b[k] - a[k] > ADAPTIVE_CONTRAST)
             return 1;
     return 0;
 }
@@ -285,18 +289,21 @@ static void job_refine(void *ctx, uint32_t chunk, RayStats *st)
         int px = (int)(g % (uint64_t)f->width), py = (int)(g / (uint64_t)f->width);
         size_t at = (size_t)(py - f->key_first) * (size_t)f->width + (size_t)px;
         const uint64_t *key = &f->keys[at];
-        const vec3 *col = &f->colors[at];
+        const uint8_t *col = &f->colors[3 * at];
+        ptrdiff_t row = 3 * (ptrdiff_t)f->width;
         int edge = 0;
         if (px > 0)
-            edge |= key[-1] != key[0] || contrasts(col[-1], col[0]);
+            edge |= key[-1] != key[0] || contrasts(col - 3, col);
         if (px + 1 < f->width)
-            edge |= key[1] != key[0] || contrasts(col[1], col[0]);
+            edge |= key[1] != key[0] || contrasts(col + 3, col);
         if (py > f->key_first)
-            edge |= key[-f->width] != key[0] || contrasts(col[-f->width], col[0]);
+            edge |= key[-f->width] != key[0] || contrasts(col - row, col);
         if (py < last_line)
-            edge |= key[f->width] != key[0] || contrasts(col[f->width], col[0]);
-        vec3 c = edge ? sample_grid(f, px, py, f->s->settings.aa, st) : col[0];
-        put_pixel(&f->pixels[3 * i], c);
+            edge |= key[f->width] != key[0] || contrasts(col + row, col);
+        if (edge)
+            put_pixel(f, &f->pixels[3 * i], sample_grid(f, px, py, f->s->settings.aa, st));
+        else
+            memcpy(&f->pixels[3 * i], col, 3);
     }
     count_progress(f, i1 - i0, st, before);
 }
@@ -330,6 +337,7 @@ int render_span(RenderPool *p, const Scene *s, int width, int height, uint64_t f
     f.pixels = pixels;
     f.cancel = cancel;
     f.progress = p->progress;
+    f.linear = s->settings.linear;
     RayStats st;
     if (!s->settings.adaptive || s->settings.aa == 1) {
         st = pool_run(p, job_grid, &f, chunks_of(count));
@@ -339,7 +347,7 @@ int render_span(RenderPool *p, const Scene *s, int width, int height, uint64_t f
         f.key_first = l0 > 0 ? l0 - 1 : 0;
         f.key_lines = (l1 + 1 < height ? l1 + 1 : l1) - f.key_first + 1;
         f.keys = malloc((size_t)width * (size_t)f.key_lines * sizeof *f.keys);
-        f.colors = malloc((size_t)width * (size_t)f.key_lines * sizeof *f.colors);
+        f.colors = malloc((size_t)width * (size_t)f.key_lines * 3);
         if (!f.keys || !f.colors) {
             free(f.keys);
             free(f.colors);

@@ -41,7 +41,7 @@ void scene_destroy(Scene *s)
 
 RenderSettings render_settings_default(void)
 {
-    RenderSettings r = {1, 0, SHADE_PHONG, 1, FILTER_BILINEAR, 0, 0, 0};
+    RenderSettings r = {1, 0, SHADE_PHONG, 1, FILTER_BILINEAR, 0, 0, 0, 0};
     return r;
 }
 
@@ -142,6 +142,7 @@ Plane plane_make(vec3 point, vec3 normal, uint32_t material)
     p.point = point;
     p.normal = normal;
     p.material = material;
+    p.uv_scale = R(1);
     return p;
 }
 
@@ -201,6 +202,19 @@ static Aabb instance_world_box(const Instance *in, Aabb b)
     return w;
 }
 
+/* Planar mapping: u along the world x axis laid onto the plane (z for a
+ * plane facing x), v = n x u, both turned by uv_rotate about the normal and
+ * divided by uv_scale.  A floor (normal +y) has u along +x and v along -z. */
+static void plane_axes(Plane *p)
+{
+    vec3 n = p->unit, a = fabs(n.x) < R(0.9) ? v3(1, 0, 0) : v3(0, 0, 1);
+    vec3 u = v3_norm(v3_sub(a, v3_scale(n, v3_dot(a, n))));
+    vec3 v = v3_cross(n, u);
+    real r = p->uv_rotate * REAL_PI / R(180), c = cos(r), s = sin(r), k = R(1) / p->uv_scale;
+    p->tu = v3_scale(v3_add(v3_scale(u, c), v3_scale(v, s)), k);
+    p->tv = v3_scale(v3_sub(v3_scale(v, c), v3_scale(u, s)), k);
+}
+
 static int check_material(const Scene *s, uint32_t m, const char *what, uint32_t i, Err *err)
 {
     if (m >= s->material_count)
@@ -240,7 +254,10 @@ int scene_prepare(Scene *s, Err *err)
         Plane *p = &s->planes[i];
         if (!(v3_len(p->normal) > R(0)) || !v3_is_finite(p->point) || !v3_is_finite(p->normal))
             return err_set(err, "scene: plane %u needs a finite point and a non-zero normal", i);
+        if (!(p->uv_scale > R(0)) || !isfinite(p->uv_scale) || !isfinite(p->uv_rotate))
+            return err_set(err, "scene: plane %u needs a positive texture scale and a finite texture rotation", i);
         p->unit = v3_norm(p->normal);
+        plane_axes(p);
         if (check_material(s, p->material, "plane", i, err))
             return -1;
         f |= FEAT_PLANES;

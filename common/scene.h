@@ -33,7 +33,11 @@ typedef struct {
 typedef struct {
     vec3 point, normal; /* as given: normal need not be unit length */
     uint32_t material;
-    vec3 unit;          /* derived: the unit normal */
+    real uv_scale;      /* planar texture mapping: world units per repeat (> 0) */
+    real uv_rotate;     /* and its turn about the normal, degrees */
+    /* derived */
+    vec3 unit;          /* the unit normal */
+    vec3 tu, tv;        /* texture coordinates of p: ((p - point).tu, (p - point).tv) */
 } Plane;
 
 /* Shading attributes of a scene-level triangle (positions live in Scene.tris). */
@@ -79,6 +83,7 @@ typedef struct {
     ShadeModel shading;
     int shadows;
     TextureFilter filter;
+    int linear;        /* pixels are written as linear codes (--linear), not sRGB */
     /* what the scene file asked for, for the programs' defaults; not on the
      * wire (an UPDATE carries the frame's size, the samples are above) */
     int width, height;  /* 0: not given */

@@ -81,6 +81,8 @@ static Material mat(real r, real g, real b, real spec, real shininess)
     return m;
 }
 
+/* Colours are linear light (the values of sRGB colours decoded: the red
+ * sphere's 0.69 0.019 0.01 is sRGB 0.85 0.15 0.1). */
 int scene_default(Scene **out, const BvhOptions *opt, Err *err)
 {
     *out = NULL;
@@ -88,8 +90,8 @@ int scene_default(Scene **out, const BvhOptions *opt, Err *err)
     if (!s)
         return err_set(err, "out of memory");
     camera_look_at(&s->camera, v3(0, R(2.4), R(7)), v3(0, R(0.8), 0), 0, camera_zoom_for_fov(55));
-    s->ambient = v3_splat(R(0.12));
-    s->background = v3(R(0.08), R(0.1), R(0.16));
+    s->ambient = v3_splat(R(0.015));
+    s->background = v3(R(0.007), R(0.01), R(0.022));
     uint32_t floor, red, blue, green, gold, pic, tex;
     Texture *t = default_texture();
     if (!t) {
@@ -101,11 +103,11 @@ int scene_default(Scene **out, const BvhOptions *opt, Err *err)
     int rc = scene_add_texture(s, t, &tex, err);
     Material picture = mat(1, 1, 1, R(0.1), 8);
     picture.texture = (int32_t)tex;
-    rc = rc ? rc : scene_add_material(s, mat(R(0.75), R(0.75), R(0.72), 0, 1), &floor, err);
-    rc = rc ? rc : scene_add_material(s, mat(R(0.85), R(0.15), R(0.1), R(0.6), 40), &red, err);
-    rc = rc ? rc : scene_add_material(s, mat(R(0.15), R(0.3), R(0.9), R(0.4), 20), &blue, err);
-    rc = rc ? rc : scene_add_material(s, mat(R(0.2), R(0.75), R(0.25), R(0.3), 10), &green, err);
-    rc = rc ? rc : scene_add_material(s, mat(R(0.9), R(0.65), R(0.2), R(0.8), 60), &gold, err);
+    rc = rc ? rc : scene_add_material(s, mat(R(0.52), R(0.52), R(0.48), 0, 1), &floor, err);
+    rc = rc ? rc : scene_add_material(s, mat(R(0.69), R(0.019), R(0.01), R(0.6), 40), &red, err);
+    rc = rc ? rc : scene_add_material(s, mat(R(0.019), R(0.073), R(0.79), R(0.4), 20), &blue, err);
+    rc = rc ? rc : scene_add_material(s, mat(R(0.033), R(0.52), R(0.051), R(0.3), 10), &green, err);
+    rc = rc ? rc : scene_add_material(s, mat(R(0.79), R(0.38), R(0.033), R(0.8), 60), &gold, err);
     rc = rc ? rc : scene_add_material(s, picture, &pic, err);
     rc = rc ? rc : scene_add_plane(s, plane_make(v3(0, 0, 0), v3(0, 1, 0), floor), err);
     rc = rc ? rc : scene_add_sphere(s, (Sphere){v3(R(-1.9), R(0.75), R(0.4)), R(0.75), red}, err);

@@ -322,13 +322,19 @@ static int do_sphere(Ctx *c, const Tokens *t)
 
 static int do_plane(Ctx *c, const Tokens *t)
 {
-    static const KeySpec spec[] = {{"point", ARG_NUM, 3, 1}, {"normal", ARG_NUM, 3, 1}, {"material", ARG_WORD, 0, 0}, {0, 0, 0, 0}};
+    static const KeySpec spec[] = {{"point", ARG_NUM, 3, 1},    {"normal", ARG_NUM, 3, 1},   {"material", ARG_WORD, 0, 0},
+                                   {"uvscale", ARG_NUM, 1, 0}, {"uvrotate", ARG_NUM, 1, 0}, {0, 0, 0, 0}};
     KeyVals kv;
     if (read_keys(c, t, 1, "plane", spec, &kv))
         return -1;
     Plane p = plane_make(kv_vec(&kv, 0), kv_vec(&kv, 1), 0);
     if (!(v3_len(p.normal) > R(0)))
         return fail(c, "'normal' of plane must not be zero");
+    if (kv.present[3] && positive(c, kv.num[3][0], "uvscale", "plane"))
+        return -1;
+    if (kv.present[3])
+        p.uv_scale = kv.num[3][0];
+    p.uv_rotate = kv.num[4][0];
     return lookup_material(c, &kv, 2, &p.material) || scene_add_plane(c->s, p, c->err) ? -1 : 0;
 }
 

@@ -13,6 +13,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "srgb.h"
+
 static char pm_last_error[256];
 
 static void capture_pm_error(const char *msg)
@@ -38,7 +40,7 @@ Texture *texture_from_rgb8(uint32_t w, uint32_t h, const uint8_t *rgb)
         return NULL;
     }
     for (size_t i = 0; i < (size_t)w * h * 3; i++)
-        t->rgb[i] = rgb[i] / 255.0f;
+        t->rgb[i] = srgb_decode8[rgb[i]];
     return t;
 }
 
@@ -127,13 +129,18 @@ int texture_read_stream(FILE *f, const char *name, Texture **out, Err *err)
         return err_set(err, "%s: out of memory for a %dx%d texture", name, pam.width, pam.height);
     }
     row = pnm_allocpamrow(&pam);
-    float scale = 1.0f / (float)pam.maxval;
     for (uint32_t y = 0; y < tex->h; y++) {
         pnm_readpamrow(&pam, row);
         float *dst = &tex->rgb[(size_t)y * tex->w * 3];
         for (uint32_t x = 0; x < tex->w; x++)
-            for (int c = 0; c < 3; c++)
-                dst[3 * x + c] = fminf(1.0f, (float)row[x][pam.depth == 3 ? c : 0] * scale);
+            for (int c = 0; c < 3; c++) {
+                sample v = row[x][pam.depth == 3 ? c : 0];
+                /* stored sRGB-encoded (as PPM and PNG images are): decoded to
+                 * linear light, by the table for 8 bits, else the formula */
+                dst[3 * x + c] = v >= pam.maxval       ? 1.0f
+                                 : pam.maxval == 255 ? srgb_decode8[v]
+                                                     : (float)srgb_decode((double)v / (double)pam.maxval);
+            }
     }
     pnm_freepamrow(row);
     pm_setjmpbuf(saved);

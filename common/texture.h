@@ -1,6 +1,8 @@
 /* texture.h - RGB images for texture mapping, read from PPM/PGM through libnetpbm.
  *
- * Texels are stored as float RGB in [0,1].  Texture coordinates wrap (repeat);
+ * Texels are stored as float RGB in [0,1], linear light: images store
+ * sRGB-encoded values, which are decoded on load (srgb.h), so that filtering
+ * and shading work on light.  Texture coordinates wrap (repeat);
  * v = 0 is the bottom row, as in OBJ. */
 #ifndef LANRAY_TEXTURE_H
 #define LANRAY_TEXTURE_H

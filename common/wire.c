@@ -8,6 +8,7 @@
 #include "tmd.h"
 
 enum { TRI_SMOOTH = 1, TRI_UV = 2 };
+enum { PLANE_MAPPED = 1 };
 
 static void put_f64(Sink *s, real v)
 {
@@ -35,7 +36,8 @@ int wire_encode_scene(const Scene *s, const Asset *model_assets, const Asset *te
     put_vec(o, s->ambient);
     put_vec(o, s->background);
     const RenderSettings *rs = &s->settings;
-    uint32_t set[5] = {(uint32_t)rs->aa, (uint32_t)rs->adaptive, (uint32_t)rs->shading, (uint32_t)rs->shadows, (uint32_t)rs->filter};
+    uint32_t set[6] = {(uint32_t)rs->aa,      (uint32_t)rs->adaptive, (uint32_t)rs->shading,
+                       (uint32_t)rs->shadows, (uint32_t)rs->filter,   (uint32_t)rs->linear};
     sink_put(o, set, sizeof set);
     uint32_t counts[8] = {s->texture_count, s->material_count, s->sphere_count, s->plane_count,
                           s->tri_count,     s->model_count,    s->instance_count, s->light_count};
@@ -55,9 +57,17 @@ int wire_encode_scene(const Scene *s, const Asset *model_assets, const Asset *te
         sink_u32(o, s->spheres[i].material);
     }
     for (uint32_t i = 0; i < s->plane_count; i++) {
-        put_vec(o, s->planes[i].point);
-        put_vec(o, s->planes[i].normal);
-        sink_u32(o, s->planes[i].material);
+        const Plane *p = &s->planes[i];
+        put_vec(o, p->point);
+        put_vec(o, p->normal);
+        sink_u32(o, p->material);
+        /* the texture mapping only when it is not the default */
+        int mapped = p->uv_scale != R(1) || p->uv_rotate != R(0);
+        sink_u32(o, mapped ? PLANE_MAPPED : 0);
+        if (mapped) {
+            put_f64(o, p->uv_scale);
+            put_f64(o, p->uv_rotate);
+        }
     }
     for (uint32_t i = 0; i < s->tri_count; i++) {
         const TriAttr *a = &s->tri_attrs[i];
@@ -242,7 +252,7 @@ void wire_asset_free(Asset *a)
 }
 
 /* Smallest encoded size of one item of each section, to bound counts by the bytes left. */
-enum { MIN_TEXTURE = 32, MIN_MATERIAL = 60, MIN_SPHERE = 36, MIN_PLANE = 52, MIN_TRI = 80, MIN_MODEL = 32,
+enum { MIN_TEXTURE = 32, MIN_MATERIAL = 60, MIN_SPHERE = 36, MIN_PLANE = 56, MIN_TRI = 80, MIN_MODEL = 32,
        MIN_INSTANCE = 64, MIN_LIGHT = 36 };
 
 int wire_decode_scene(const void *data, size_t len, const AssetCache *cache, Scene **out, Err *err)
@@ -267,7 +277,7 @@ int wire_decode_scene(const void *data, size_t len, const AssetCache *cache, Sce
     s->camera = camera_from_angles(pos, yaw, pitch, roll, zoom);
     s->ambient = get_vec(&c);
     s->background = get_vec(&c);
-    uint32_t set[5], n[8];
+    uint32_t set[6], n[8];
     cursor_get(&c, set, sizeof set);
     cursor_get(&c, n, sizeof n);
     const char *bad = NULL;
@@ -279,10 +289,12 @@ int wire_decode_scene(const void *data, size_t len, const AssetCache *cache, Sce
         bad = "truncated header";
     else if (need > c.left)
         bad = "counts larger than the data";
-    else if (set[0] < 1 || set[0] > AA_MAX || set[1] > 1 || set[2] > SHADE_DIFFUSE || set[3] > 1 || set[4] > FILTER_BILINEAR)
+    else if (set[0] < 1 || set[0] > AA_MAX || set[1] > 1 || set[2] > SHADE_DIFFUSE || set[3] > 1 || set[4] > FILTER_BILINEAR ||
+             set[5] > 1)
         bad = "invalid settings";
     if (!bad) {
-        s->settings = (RenderSettings){(int)set[0], (int)set[1], (ShadeModel)set[2], (int)set[3], (TextureFilter)set[4], 0, 0, 0};
+        s->settings = (RenderSettings){(int)set[0], (int)set[1], (ShadeModel)set[2], (int)set[3], (TextureFilter)set[4],
+                                       (int)set[5], 0, 0, 0};
     }
     int rc = 0;
     for (uint32_t i = 0; !bad && rc == 0 && i < n[0]; i++) {
@@ -312,6 +324,15 @@ int wire_decode_scene(const void *data, size_t len, const AssetCache *cache, Sce
     for (uint32_t i = 0; !bad && rc == 0 && i < n[3]; i++) {
         vec3 point = get_vec(&c), normal = get_vec(&c);
         Plane p = plane_make(point, normal, cursor_u32(&c));
+        uint32_t flags = cursor_u32(&c);
+        if (flags & ~(uint32_t)PLANE_MAPPED) {
+            bad = "unknown plane flags";
+            break;
+        }
+        if (flags & PLANE_MAPPED) {
+            p.uv_scale = get_f64(&c);
+            p.uv_rotate = get_f64(&c);
+        }
         rc = scene_add_plane(s, p, err);
     }
     for (uint32_t i = 0; !bad && rc == 0 && i < n[4]; i++) {

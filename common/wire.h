@@ -13,7 +13,7 @@
 #include "scene.h"
 
 #define WIRE_MAGIC 0x4353524cu /* "LRSC" */
-#define WIRE_VERSION 1u
+#define WIRE_VERSION 2u /* 2: the output encoding (linear or sRGB), a plane's texture mapping */
 
 typedef struct {
     uint32_t kind; /* ASSET_MODEL or ASSET_TEXTURE */

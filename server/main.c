@@ -69,7 +69,7 @@ static void on_frame(void *ctx, uint32_t frame, const uint8_t *pixels)
         if (a->screenshot) {
             char path[512];
             snprintf(path, sizeof path, "lanray-screenshot-%05u.png", frame);
-            if (image_write(path, a->width, a->height, pixels, IMAGE_SRGB, &err))
+            if (image_write(path, a->width, a->height, pixels, a->scene->settings.linear ? IMAGE_LINEAR : IMAGE_SRGB, &err))
                 fprintf(stderr, "lanray-server: %s\n", err.msg);
             else
                 fprintf(stderr, "lanray-server: saved %s\n", path);
@@ -78,7 +78,7 @@ static void on_frame(void *ctx, uint32_t frame, const uint8_t *pixels)
     } else if (a->out_dir) {
         char path[4096];
         snprintf(path, sizeof path, "%s/frame-%05u.png", a->out_dir, a->frames_done);
-        if (image_write(path, a->width, a->height, pixels, IMAGE_SRGB, &err)) {
+        if (image_write(path, a->width, a->height, pixels, a->scene->settings.linear ? IMAGE_LINEAR : IMAGE_SRGB, &err)) {
             fprintf(stderr, "lanray-server: %s\n", err.msg);
             a->write_failures++;
         }
@@ -141,7 +141,7 @@ int main(int argc, char **argv)
     ServerConfig cfg = {"127.0.0.1", PROTO_DEFAULT_PORT, getenv("LANRAY_TOKEN"), 0, 1024, 768, 0, sched_tail_smart, 30, 10, 0, 0};
     BvhOptions bvh = bvh_options_default(BVH_SAH);
     int headless = 0, force_bvh = 0, discard = 0, frames = 0, wait_clients = 0, tail = 1, bvh_kind = BVH_SAH;
-    int width_given = 0, height_given = 0, warmup = 0, stall = 30, handshake = 10, machine_summary = 0;
+    int width_given = 0, height_given = 0, warmup = 0, stall = 30, handshake = 10, machine_summary = 0, linear = 0;
     CliAa aa = {1, 0, 0};
     double rotate = 0;
     const Opt opts[] = {
@@ -166,6 +166,8 @@ int main(int argc, char **argv)
          .help = "anti-aliasing", .def = "the scene's, else 1"},
         {.name = "--rotate", .kind = OPT_REAL, .dst = &rotate, .arg = "DEG",
          .help = "turn every model instance by DEG about y after each frame (Space toggles it in the window)"},
+        {.name = "--linear", .kind = OPT_FLAG, .dst = &linear,
+         .help = "frames in linear light (PNG tagged gAMA 1.0) instead of sRGB"},
         {.name = "--headless", .kind = OPT_FLAG, .dst = &headless, .help = "no window: write frames to --out"},
         {.name = "--frames", .kind = OPT_INT, .dst = &frames, .arg = "N", .lo = 0, .hi = 100000000,
          .help = "stop after N frames, 0 = run until stopped"},
@@ -229,6 +231,7 @@ int main(int argc, char **argv)
         scene->settings.aa = aa.aa;
         scene->settings.adaptive = aa.adaptive;
     }
+    scene->settings.linear = linear;
     if (!width_given && scene->settings.width)
         cfg.width = scene->settings.width;
     if (!height_given && scene->settings.height)

@@ -10,7 +10,7 @@
 
 #include <stdint.h>
 
-#include "sched.h"
+#include "scheduler.h"
 #include "scene.h"
 
 /* The largest frame side a server assembles (lanray-render goes further). */

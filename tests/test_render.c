@@ -2,7 +2,10 @@
  * depend on threads or on how the frame is cut into segments. */
 #include "helpers.h"
 
+#include <math.h>
+
 #include "render.h"
+#include "srgb.h"
 #include "scene_default.h"
 
 static Scene *empty_scene(void)
@@ -84,6 +87,110 @@ static void shadows_attenuation_and_spot_cone(void **state)
     real soft = look(s, eye, v3(R(2.2), 0, 0)).x;
     assert_true(soft > 0 && soft < inside);
     assert_float_equal(look(s, eye, v3(R(0.5), 0, 0)).x, v3_dot(v3(0, 1, 0), v3_norm(v3(R(-0.5), 4, 0))), R(1e-4));
+    scene_destroy(s);
+}
+
+/* The colour of every pixel of a small frame that shows one surface only. */
+static void render_codes(const Scene *s, uint8_t out[16 * 3])
+{
+    RenderPool *pool = render_pool_create(1, NULL);
+    assert_int_equal(render_lines(pool, s, 4, 4, 0, 4, out, NULL, NULL), 0);
+    render_pool_destroy(pool);
+}
+
+static double srgb_formula(double v) { return v <= 0.0031308 ? 12.92 * v : 1.055 * pow(v, 1 / 2.4) - 0.055; }
+
+/* Shading is linear light, the pixel its sRGB code: a wall whose colour is
+ * exactly kd (ambient 1, nothing else) comes out as the standard's encoding
+ * of kd, or as kd * 255 with linear output; and a texture's codes, decoded
+ * on load, come out as stored. */
+static void pixels_are_srgb_unless_linear(void **state)
+{
+    (void)state;
+    Scene *s = empty_scene();
+    s->ambient = v3_splat(1);
+    assert_int_equal(scene_add_plane(s, plane_make(v3(0, 0, 0), v3(0, 0, 1), 0), NULL), 0);
+    const real kd[] = {R(0.001), R(0.0031), R(0.05), R(0.2), R(0.5), R(0.9), R(1)};
+    for (size_t i = 0; i < sizeof kd / sizeof kd[0]; i++)
+        for (int linear = 0; linear < 2; linear++) {
+            s->materials[0].kd = v3(kd[i], kd[i] * R(0.5), R(0));
+            s->settings.linear = linear;
+            prepare(s);
+            uint8_t px[16 * 3];
+            render_codes(s, px);
+            for (int c = 0; c < 2; c++) {
+                double v = (double)s->materials[0].kd.e[c];
+                int want = (int)floor((linear ? v : srgb_formula(v)) * 255 + 0.5);
+                for (int k = 0; k < 16; k++)
+                    assert_int_equal(px[3 * k + c], want);
+            }
+        }
+    /* a 1x1 texture of each code, drawn at full light, comes out as that code */
+    uint32_t tex;
+    uint8_t code[3] = {0, 0, 0};
+    assert_int_equal(scene_add_texture(s, texture_from_rgb8(1, 1, code), &tex, NULL), 0);
+    s->materials[0] = (Material){v3(1, 1, 1), v3(0, 0, 0), 1, (int32_t)tex};
+    s->planes[0].uv_scale = 1;
+    s->settings.linear = 0;
+    for (int k = 0; k < 256; k++) {
+        float *t = s->textures[tex]->rgb;
+        t[0] = t[1] = t[2] = srgb_decode8[k];
+        prepare(s);
+        uint8_t px[16 * 3];
+        render_codes(s, px);
+        for (int j = 0; j < 16 * 3; j++)
+            assert_int_equal(px[j], k);
+    }
+    scene_destroy(s);
+}
+
+/* Planes and spheres take textures: a plane by planar mapping (u along x
+ * laid on the plane, v = n x u, scaled and turned), a sphere by spherical
+ * mapping (longitude and latitude). */
+static void plane_and_sphere_texture_coordinates(void **state)
+{
+    (void)state;
+    Scene *s = empty_scene();
+    const uint8_t px[3] = {255, 255, 255};
+    uint32_t tex;
+    assert_int_equal(scene_add_texture(s, texture_from_rgb8(1, 1, px), &tex, NULL), 0);
+    s->materials[0].texture = (int32_t)tex;
+    Plane floor = plane_make(v3(1, 0, 1), v3(0, 2, 0), 0);
+    floor.uv_scale = 2;
+    floor.uv_rotate = 90;
+    assert_int_equal(scene_add_plane(s, floor, NULL), 0);
+    assert_int_equal(scene_add_sphere(s, (Sphere){v3(0, 5, 0), 1, 0}, NULL), 0);
+    prepare(s);
+    Ray r = ray_make(v3(4, 3, -2), v3(0, -1, 0), 0, REAL_INF);
+    Hit h;
+    Surface sf;
+    assert_true(trace_closest(s, &r, &h));
+    trace_surface(s, &r, &h, &sf);
+    assert_true(sf.has_uv);
+    /* unturned: u = x / 2, v = -z / 2 from the point (1, 0, 1); turned 90
+     * degrees, u takes v's axis and v takes -u's */
+    assert_float_equal(sf.u, R(1.5), R(1e-6));
+    assert_float_equal(sf.v, R(-1.5), R(1e-6));
+    s->planes[0].uv_rotate = 0;
+    prepare(s);
+    trace_surface(s, &r, &h, &sf);
+    assert_float_equal(sf.u, R(1.5), R(1e-6));
+    assert_float_equal(sf.v, R(1.5), R(1e-6));
+    /* the sphere: its front (+z) is the middle of the texture, its top v = 1,
+     * a quarter turn towards +x is u = 0.75 */
+    const vec3 at[3] = {v3(0, 0, 1), v3(0, 1, 0), v3(1, 0, 0)};
+    const real want[3][2] = {{R(0.5), R(0.5)}, {-1, 1}, {R(0.75), R(0.5)}};
+    for (int k = 0; k < 3; k++) {
+        vec3 o = v3_add(v3(0, 5, 0), v3_scale(at[k], 3));
+        r = ray_make(o, v3_neg(at[k]), 0, REAL_INF);
+        assert_true(trace_closest(s, &r, &h));
+        assert_int_equal(h.kind, HIT_SPHERE);
+        trace_surface(s, &r, &h, &sf);
+        assert_true(sf.has_uv);
+        if (want[k][0] >= 0)
+            assert_float_equal(sf.u, want[k][0], R(1e-5));
+        assert_float_equal(sf.v, want[k][1], R(1e-5));
+    }
     scene_destroy(s);
 }
 
@@ -316,6 +423,8 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(diffuse_and_phong_match_the_formula),
         cmocka_unit_test(shadows_attenuation_and_spot_cone),
+        cmocka_unit_test(pixels_are_srgb_unless_linear),
+        cmocka_unit_test(plane_and_sphere_texture_coordinates),
         cmocka_unit_test(textured_triangle_and_instances),
         cmocka_unit_test(pixels_do_not_depend_on_threads_or_segments),
         cmocka_unit_test(partial_line_spans_and_cancel),

@@ -1,7 +1,7 @@
 /* test_sched.c - the segment scheduler, driven directly as the server and simulator do. */
 #include "helpers.h"
 
-#include "sched.h"
+#include "scheduler.h"
 
 static Sched *make(uint32_t w, uint32_t h, uint32_t lines, SchedTailRule tail, uint32_t clients)
 {

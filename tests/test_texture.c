@@ -1,6 +1,8 @@
 /* test_texture.c - PPM/PGM loading through libnetpbm and texture filtering. */
 #include "helpers.h"
 
+#include <math.h>
+
 #include "texture.h"
 
 static const char *write_bytes(const char *name, const void *data, size_t len)
@@ -33,14 +35,15 @@ static void reads_ppm_and_pgm(void **state)
     if (texture_read(write_bytes("b.ppm", p3, strlen(p3)), &t, &err))
         fail_msg("%s", err.msg);
     assert_int_equal(t->h, 2);
-    assert_float_equal(t->rgb[1], R(0.5), R(1e-6));
+    /* stored sRGB-encoded, read as linear light: 2 of 4 is the decoding of 0.5 */
+    assert_float_equal(t->rgb[1], pow((0.5 + 0.055) / 1.055, 2.4), R(1e-6));
     texture_destroy(t);
     /* grey PGM becomes grey RGB */
     const unsigned char p5[] = "P5\n1 1\n255\n\x80";
     if (texture_read(write_bytes("c.pgm", p5, sizeof p5 - 1), &t, &err))
         fail_msg("%s", err.msg);
     assert_float_equal(t->rgb[0], t->rgb[2], 0);
-    assert_float_equal(t->rgb[0], R(128.0 / 255.0), R(1e-6));
+    assert_float_equal(t->rgb[0], pow((128.0 / 255 + 0.055) / 1.055, 2.4), R(1e-6));
     texture_destroy(t);
 }
 

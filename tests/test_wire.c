@@ -71,6 +71,7 @@ static void assert_scenes_identical(const Scene *a, const Scene *b)
     SAME(a->camera, b->camera);
     SAME(a->ambient, b->ambient);
     SAME(a->background, b->background);
+    assert_int_equal(a->settings.linear, b->settings.linear);
     assert_int_equal(a->features, b->features);
     assert_int_equal(a->material_count, b->material_count);
     for (uint32_t i = 0; i < a->material_count; i++) {
@@ -84,6 +85,10 @@ static void assert_scenes_identical(const Scene *a, const Scene *b)
         SAME(a->planes[i].point, b->planes[i].point);
         SAME(a->planes[i].normal, b->planes[i].normal);
         SAME(a->planes[i].unit, b->planes[i].unit);
+        SAME(a->planes[i].uv_scale, b->planes[i].uv_scale);
+        SAME(a->planes[i].uv_rotate, b->planes[i].uv_rotate);
+        SAME(a->planes[i].tu, b->planes[i].tu);
+        SAME(a->planes[i].tv, b->planes[i].tv);
     }
     assert_int_equal(a->sphere_count, b->sphere_count);
     for (uint32_t i = 0; i < a->sphere_count; i++) {

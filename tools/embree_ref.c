@@ -21,6 +21,7 @@
 #include "camera.h"
 #include "image.h"
 #include "opt.h"
+#include "srgb.h"
 #include "scene_parse.h"
 #include "timer.h"
 #include "trace.h"
@@ -101,7 +102,7 @@ static void *worker(void *arg)
             np++;
             uint8_t *px = &j->pixels[3 * ((size_t)y * j->cam.width + x)];
             for (int k = 0; k < 3; k++)
-                px[k] = (uint8_t)(real_clamp(c.e[k], 0, 1) * 255 + R(0.5));
+                px[k] = srgb_encode8(c.e[k]);
         }
     }
     atomic_fetch_add(&j->primary, np);

@@ -171,6 +171,7 @@ int main(int argc, char **argv)
         rs->shadows = shadows;
     if (filter_given)
         rs->filter = (TextureFilter)filter;
+    rs->linear = linear;
     if (!width_given && rs->width)
         width = rs->width;
     if (!height_given && rs->height)

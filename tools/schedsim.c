@@ -1,5 +1,5 @@
 /* schedsim - discrete-event simulation of a lanray render farm, driving the
- * real scheduler (server/sched.c) with simulated clients.
+ * real scheduler (server/scheduler.c) with simulated clients.
  *
  *   schedsim --profile lines.csv [--width W] [--clients N] [--threads T]
  *            [--cores C] [--speeds a,b,...] [--segment LINES|auto] [--tail RULE]
@@ -43,7 +43,7 @@
 #include <string.h>
 
 #include "opt.h"
-#include "sched.h"
+#include "scheduler.h"
 #include "timer.h"
 
 #define MAXC 4096
@@ -589,7 +589,7 @@ int main(int argc, char **argv)
         {0},
     };
     OptSpec spec = {"schedsim", "--profile lines.csv [options]",
-                    "Discrete-event simulation of a render farm driving the real scheduler (server/sched.c); see the\n"
+                    "Discrete-event simulation of a render farm driving the real scheduler (server/scheduler.c); see the\n"
                     "comment at the top of tools/schedsim.c and docs/scaling.md for the model.",
                     opts, NULL, 0, 0, "  0  simulated\n  1  the profile could not be read\n  2  bad command line\n"};
     Err err = {{0}};

@@ -168,4 +168,17 @@ out=$(env -u MAKEFLAGS -u MAKELEVEL make --no-print-directory LIB_HEADERS=/nonex
 [ $rc -ne 0 ] || fail "make without the libraries succeeded"
 [ "$(wc -l <<<"$out")" -eq 1 ] || fail "make without the libraries printed more than one line: $out"
 grep -q "run 'make deps' first" <<<"$out" || fail "make without the libraries: $out"
+# 11. no header of ours has the name of one that the system headers we use include: with -Iserver, a
+# server/sched.h was taken for <sched.h> inside <pthread.h>, and gcc -MMD then left every header
+# reached from it out of the dependency files, so changing them rebuilt nothing
+used=$(gcc -std=c17 -M -D_POSIX_C_SOURCE=200809L -Icommon -Iserver -Iclient common/*.c server/*.c client/*.c tools/*.c tests/*.c \
+    2>/dev/null | tr ' \\' '\n\n' | grep '^/' | sort -u)
+[ -n "$used" ] || fail "gcc -M listed no system headers"
+sys=$(grep -hoE '^\s*#\s*include\s*<[^>]+>' $used | sed -E 's/.*<([^>]+)>.*/\1/' | sort -u)
+for h in common/*.h server/*.h client/*.h; do
+    grep -qx "$(basename "$h")" <<<"$sys" && fail "$h has the name of a system header that system headers include"
+done
+grep -q "common/proto.h" build/float/client/client.d 2>/dev/null || [ ! -e build/float/client/client.d ] ||
+    fail "build/float/client/client.d lacks common/proto.h: header changes would not rebuild the client"
+
 echo "cli: help, version, ranges, exit statuses, early checks, bands, addresses and progress as documented"

@@ -12,6 +12,21 @@ out=$(cd "$dir" && "$root/$BIN/lanray-render" --threads 2) || fail "default rend
 [ "$(head -c 8 "$dir/lanray.png" | od -An -tx1 | tr -d ' \n')" = 89504e470d0a1a0a ] || fail "lanray.png is not a PNG"
 grep -q "1024x768 .* Mrays/s" <<<"$out" || fail "no timing line: $out"
 
+# what the PNG's numbers are: sRGB (sRGB chunk, with gAMA 45455 for older readers), or linear with --linear
+chunks() { python3 -c '
+import struct, sys
+d = open(sys.argv[1], "rb").read()
+i = 8
+while i < len(d):
+    n, t = struct.unpack(">I4s", d[i:i + 8])
+    body = d[i + 8:i + 8 + n]
+    if t in (b"sRGB", b"gAMA"):
+        print(t.decode(), int.from_bytes(body, "big"))
+    i += 12 + n' "$1" | tr '\n' ' '; }
+[ "$(chunks "$dir/lanray.png")" = "gAMA 45455 sRGB 0 " ] || fail "default PNG chunks: $(chunks "$dir/lanray.png")"
+"$BIN/lanray-render" --width 8 --height 8 --linear -o "$dir/lin.png" --quiet >/dev/null || fail "--linear render"
+[ "$(chunks "$dir/lin.png")" = "gAMA 100000 " ] || fail "linear PNG chunks: $(chunks "$dir/lin.png")"
+
 # a scene file to PPM at a given size: exact size of header plus pixels
 "$BIN/lanray-render" models/example.scene -o "$dir/ex.ppm" --width 33 --height 17 --aa 2 --quiet >/dev/null || fail "scene render"
 head -c 15 "$dir/ex.ppm" | grep -q "P6" || fail "not a PPM"

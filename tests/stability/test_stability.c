@@ -6,6 +6,7 @@
 
 #include "meshes.h"
 #include "render.h"
+#include "srgb.h"
 
 /* ---- leaks: closed meshes shot at their edges and vertices ---- */
 
@@ -350,7 +351,7 @@ static int count_background(const uint8_t *px, int n, const Scene *s)
 {
     uint8_t bg[3];
     for (int c = 0; c < 3; c++)
-        bg[c] = (uint8_t)(real_clamp(s->background.e[c], 0, 1) * 255 + R(0.5));
+        bg[c] = srgb_encode8(s->background.e[c]);
     int k = 0;
     for (int i = 0; i < n; i++)
         k += memcmp(px + 3 * i, bg, 3) == 0;
@@ -393,7 +394,7 @@ static void check_pixels_match_rays(const uint8_t *px, int w, int h, const Scene
         vec3 c = shade_ray(s, &r, &st, NULL);
         assert_true(v3_is_finite(c));
         for (int ch = 0; ch < 3; ch++)
-            assert_int_equal(px[3 * ((size_t)y * w + x) + ch], (uint8_t)(real_clamp(c.e[ch], 0, 1) * 255 + R(0.5)));
+            assert_int_equal(px[3 * ((size_t)y * w + x) + ch], srgb_encode8(c.e[ch]));
     }
 }
 
@@ -434,7 +435,7 @@ static void zero_and_a_thousand_lights(void **state)
     Scene *s = simple_scene();
     assert_int_equal(scene_prepare(s, NULL), 0);
     assert_int_equal(render_lines(p, s, W, H, 0, H, one, NULL, NULL), 0);
-    uint8_t want = (uint8_t)(s->ambient.x * s->materials[0].kd.x * 255 + R(0.5));
+    uint8_t want = srgb_encode8(s->ambient.x * s->materials[0].kd.x);
     assert_int_equal(one[3 * (H / 2 * W + W / 2)], want); /* the sphere's centre pixel */
     scene_add_light(s, light_point(v3(2, 5, 4), v3(1, 1, 1), 1, 0), NULL);
     assert_int_equal(scene_prepare(s, NULL), 0);

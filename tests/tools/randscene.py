@@ -142,7 +142,12 @@ def scene(seed):
     for _ in range(r.randrange(0, 4)):
         out.append(" ".join(["sphere centre", vec(r, -2, 2), "radius", num(r, 0.1, 1.2)] + mat()))
     for _ in range(r.choice([0, 1, 1, 2])):
-        out.append(" ".join(["plane point", vec(r, -1.5, 0), "normal", direction(r)] + mat()))
+        pl = ["plane point", vec(r, -1.5, 0), "normal", direction(r)]
+        if r.random() < 0.4:
+            pl += ["uvscale", num(r, 0.2, 3)]
+        if r.random() < 0.4:
+            pl += ["uvrotate", num(r, -90, 90)]
+        out.append(" ".join(pl + mat()))
     for _ in range(r.randrange(0, 4)):
         t = ["triangle vertices", " ".join(vec(r, -2, 2) for _ in range(3))]
         if r.random() < 0.4:

@@ -1,4 +1,4 @@
-/* sched.h - the segment scheduler: pure logic, no sockets or clocks.
+/* scheduler.h - the segment scheduler: pure logic, no sockets or clocks.
  *
  * A frame is cut into segments (pixel ranges, normally n whole lines) as
  * clients ask for work.  The size of each new segment comes from a tail

@@ -1,0 +1,64 @@
+/* test_srgb.c - the sRGB tables against the standard's formulas
+ * (IEC 61966-2-1), computed here in double precision. */
+#include "helpers.h"
+
+#include <math.h>
+
+#include "srgb.h"
+
+static double encode_formula(double v) { return v <= 0.0031308 ? 12.92 * v : 1.055 * pow(v, 1 / 2.4) - 0.055; }
+static double decode_formula(double s) { return s <= 0.04045 ? s / 12.92 : pow((s + 0.055) / 1.055, 2.4); }
+
+/* Every linear value gets the code nearest its sRGB value: checked on a
+ * million values spread over 0..1 (dense in the dark end, where the curve
+ * is steep) and on values just either side of each threshold. */
+static void encoding_rounds_to_the_nearest_code(void **state)
+{
+    (void)state;
+    Rng rng = {3};
+    for (int i = 0; i < 1000000; i++) {
+        double v = rng_real(&rng, 0, 1);
+        v = i % 2 ? v * v * v : v;
+        real r = (real)v;
+        double exact = encode_formula((double)r) * 255;
+        if (fabs(exact - floor(exact) - 0.5) < 1e-6) /* a tie to the last bits: either code is right */
+            continue;
+        assert_int_equal(srgb_encode8(r), (int)floor(exact + 0.5));
+    }
+    for (int k = 1; k < 256; k++) {
+        real t = (real)srgb_threshold[k - 1];
+        assert_int_equal(srgb_encode8(nextafter(t, R(0))), k - 1 + ((double)nextafter(t, R(0)) >= srgb_threshold[k - 1]));
+        assert_int_equal(srgb_encode8(nextafter(t, R(2))), k);
+        assert_float_equal(srgb_threshold[k - 1], decode_formula((k - 0.5) / 255), 1e-12);
+    }
+    /* out of range and not a number */
+    assert_int_equal(srgb_encode8(R(-1)), 0);
+    assert_int_equal(srgb_encode8(R(7)), 255);
+    assert_int_equal(srgb_encode8(REAL_INF), 255);
+    assert_int_equal(srgb_encode8((real)NAN), 0);
+    assert_int_equal(srgb_encode8(R(0.5)), 188); /* the mid-grey every viewer shows as 188 */
+    assert_int_equal(linear_encode8(R(0.5)), 128);
+}
+
+/* Decoding a code and encoding it again gives the code back: a texture
+ * drawn at full light comes out as stored. */
+static void decoding_is_exact_and_round_trips(void **state)
+{
+    (void)state;
+    for (int k = 0; k < 256; k++) {
+        assert_float_equal(srgb_decode8[k], decode_formula(k / 255.0), 1e-7);
+        assert_int_equal(srgb_encode8((real)srgb_decode8[k]), k);
+        assert_float_equal(srgb_decode(k / 255.0), decode_formula(k / 255.0), 1e-15);
+    }
+    assert_float_equal(srgb_decode(-1), 0, 0);
+    assert_float_equal(srgb_decode(2), 1, 0);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(encoding_rounds_to_the_nearest_code),
+        cmocka_unit_test(decoding_is_exact_and_round_trips),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
