@@ -60,8 +60,9 @@ vec3 shade_ray(const Scene *s, const Ray *r, RayStats *stats, uint64_t *key)
     int phong = s->settings.shading == SHADE_PHONG && v3_max_comp(m->ks) > R(0);
     int shadows = scene_has(s, FEAT_SHADOWS);
     vec3 origin = sf.p;
-    if (shadows) /* every light ray leaves on the viewer's side: lights behind ng are skipped below */
-        origin = trace_offset_origin(sf.p, sf.ng, sf.err);
+    if (shadows) /* every light ray leaves on the viewer's side, a smooth triangle's from its
+                  * point lifted onto the curved surface (trace_terminator_point) */
+        origin = trace_offset_origin(sf.ps, sf.ng, sf.ps_err);
     uint32_t lit = 0;
     for (uint32_t i = 0; i < s->light_count; i++) {
         const Light *l = &s->lights[i];
@@ -69,8 +70,16 @@ vec3 shade_ray(const Scene *s, const Ray *r, RayStats *stats, uint64_t *key)
         real dist;
         if (!light_at(s, l, sf.p, &L, &dist, &rad))
             continue;
+        /* The shading normal decides.  On a flat surface it is the geometric
+         * one, so a light behind the surface is skipped.  On a smooth
+         * triangle near the boundary between light and dark, a light may be
+         * behind the flat facet but in front of the curved surface its
+         * normals describe: it lights the point, and the shadow ray from the
+         * lifted point says whether anything is in the way.  (Skipping lights
+         * behind the facet cut triangle-shaped dark patches into coarse
+         * smooth meshes: tests/test_render.c, the shadow terminator.) */
         real ndotl = v3_dot(sf.ns, L);
-        if (ndotl <= R(0) || v3_dot(sf.ng, L) <= R(0))
+        if (ndotl <= R(0))
             continue;
         if (shadows) {
             /* stop just short of the light so that it does not shadow itself */

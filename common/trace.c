@@ -124,10 +124,33 @@ vec3 trace_triangle_point(vec3 v0, vec3 v1, vec3 v2, real b1, real b2, real *err
 
 static const Material fallback_material = {{{R(0.8), R(0.8), R(0.8)}}, {{0, 0, 0}}, R(1), -1};
 
+vec3 trace_terminator_point(vec3 p, const vec3 v[3], const vec3 n[3], real b1, real b2, real *err)
+{
+    const real w[3] = {R(1) - b1 - b2, b1, b2};
+    vec3 lift = v3_splat(0);
+    real mag = v3_max_comp(v3_abs(p));
+    for (int i = 0; i < 3; i++) {
+        vec3 ni = v3_norm(n[i]);
+        real d = v3_dot(v3_sub(p, v[i]), ni);
+        if (d < R(0)) /* below the vertex's tangent plane: up onto it */
+            lift = v3_madd(lift, ni, -d * w[i]);
+        mag = real_max(mag, v3_max_comp(v3_abs(v[i])));
+    }
+    vec3 q = v3_add(p, lift);
+    /* the differences p - v_i, their dot products and the weighted sum each
+     * round: a bound of the same form as a hit point's, on the larger numbers */
+    *err += real_gamma(16) * (mag + v3_max_comp(v3_abs(lift))) + real_gamma(2) * v3_max_comp(v3_abs(q));
+    return q;
+}
+
 void trace_surface(const Scene *s, const Ray *r, const Hit *h, Surface *out)
 {
     memset(out, 0, sizeof *out);
     out->mat = &fallback_material;
+    /* a smooth triangle's corners and vertex normals, for the terminator
+     * point (model space for an instance) */
+    vec3 tv[3], tn[3];
+    const Instance *inst = NULL;
     switch (h->kind) {
     case HIT_SPHERE: {
         const Sphere *sp = &s->spheres[h->index];
@@ -173,7 +196,13 @@ void trace_surface(const Scene *s, const Ray *r, const Hit *h, Surface *out)
         vec3 v0 = tri_vertex(t, 0), v1 = tri_vertex(t, 1), v2 = tri_vertex(t, 2);
         out->p = trace_triangle_point(v0, v1, v2, h->b1, h->b2, &out->err);
         out->ng = v3_norm(v3_cross(v3_sub(v1, v0), v3_sub(v2, v0)));
-        out->ns = scene_uses(s, FEAT_SMOOTH) && a->smooth ? v3_norm(bary(a->n[0], a->n[1], a->n[2], h->b1, h->b2)) : out->ng;
+        out->ns = out->ng;
+        if (scene_uses(s, FEAT_SMOOTH) && a->smooth) {
+            out->ns = v3_norm(bary(a->n[0], a->n[1], a->n[2], h->b1, h->b2));
+            out->smooth = 1;
+            tv[0] = v0, tv[1] = v1, tv[2] = v2;
+            memcpy(tn, a->n, sizeof tn);
+        }
         if (scene_uses(s, FEAT_TEXTURES) && a->textured) {
             out->u = (R(1) - h->b1 - h->b2) * a->uv[0] + h->b1 * a->uv[2] + h->b2 * a->uv[4];
             out->v = (R(1) - h->b1 - h->b2) * a->uv[1] + h->b1 * a->uv[3] + h->b2 * a->uv[5];
@@ -202,6 +231,10 @@ void trace_surface(const Scene *s, const Ray *r, const Hit *h, Surface *out)
         if (scene_uses(s, FEAT_SMOOTH) && m->normals) {
             const vec3 *n = &m->normals[3 * h->sub];
             out->ns = v3_norm(m3_apply(&in->rot, bary(n[0], n[1], n[2], h->b1, h->b2)));
+            out->smooth = 1;
+            tv[0] = v0, tv[1] = v1, tv[2] = v2;
+            memcpy(tn, n, sizeof tn);
+            inst = in;
         } else {
             out->ns = out->ng;
         }
@@ -226,8 +259,27 @@ void trace_surface(const Scene *s, const Ray *r, const Hit *h, Surface *out)
     /* face the viewer: all surfaces are two-sided */
     if (v3_dot(out->ng, r->dir) > R(0))
         out->ng = v3_neg(out->ng);
-    if (v3_dot(out->ns, out->ng) < R(0))
+    int flip = v3_dot(out->ns, out->ng) < R(0);
+    if (flip)
         out->ns = v3_neg(out->ns);
+    out->ps = out->p;
+    out->ps_err = out->err;
+    if (!out->smooth)
+        return;
+    /* the vertex normals face the side shading (and shadow rays) use */
+    for (int i = 0; i < 3 && flip; i++)
+        tn[i] = v3_neg(tn[i]);
+    if (!inst) {
+        out->ps = trace_terminator_point(out->p, tv, tn, h->b1, h->b2, &out->ps_err);
+        return;
+    }
+    /* an instance: lifted in model space, carried to the world as p is */
+    real e = 0;
+    vec3 pm = trace_terminator_point(bary(tv[0], tv[1], tv[2], h->b1, h->b2), tv, tn, h->b1, h->b2, &e);
+    out->ps = v3_add(v3_scale(m3_apply(&inst->rot, pm), inst->scale), inst->translate);
+    out->ps_err = out->err + e * inst->scale * (R(1) + real_gamma(8)) +
+                  real_gamma(10) * R(3) * inst->scale * v3_max_comp(v3_abs(pm)) +
+                  real_gamma(2) * v3_max_comp(v3_abs(out->ps));
 }
 
 vec3 trace_offset_origin(vec3 p, vec3 n, real err)

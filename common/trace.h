@@ -23,6 +23,11 @@ typedef struct {
     const Material *mat;
     uint32_t object;  /* identifies the surface for adaptive anti-aliasing */
     real err;         /* bound on the rounding error of each coordinate of p */
+    vec3 ps;          /* where shadow rays start (before trace_offset_origin): p,
+                       * or on a smooth triangle the point lifted onto the surface
+                       * its vertex normals describe (trace_terminator_point) */
+    real ps_err;      /* the same bound for ps */
+    int smooth;       /* ns comes from vertex normals */
 } Surface;
 
 int trace_closest(const Scene *s, const Ray *r, Hit *hit);
@@ -43,5 +48,17 @@ void trace_surface(const Scene *s, const Ray *r, const Hit *hit, Surface *out);
  * each coordinate is then rounded away from the surface (nextafter) so the
  * addition cannot land back on it. */
 vec3 trace_offset_origin(vec3 p, vec3 n, real err);
+
+/* The shadow terminator (Hanika, "Hacking the Shadow Terminator", Ray
+ * Tracing Gems II ch. 4, 2021): a coarse mesh with smooth vertex normals is
+ * shaded as a curved surface but shadows itself as the flat triangles it is,
+ * so near the boundary between light and dark the triangles' own neighbours
+ * cut triangle-shaped dark patches into what the normals light.  A shadow
+ * ray starts instead from p moved onto the curved surface the normals
+ * describe: p is projected onto the tangent plane of each vertex that it
+ * lies below (p - min(0, (p - v_i).n_i) n_i), and the three results are
+ * blended with the barycentrics (b0, b1, b2).  n must face the side the
+ * shadow rays leave on.  *err grows by the rounding of the lift. */
+vec3 trace_terminator_point(vec3 p, const vec3 v[3], const vec3 n[3], real b1, real b2, real *err);
 
 #endif

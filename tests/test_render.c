@@ -194,6 +194,94 @@ static void plane_and_sphere_texture_coordinates(void **state)
     scene_destroy(s);
 }
 
+/* A coarse UV sphere (16 x 8 quads, each two triangles) with the true
+ * sphere's normals at its vertices, as a modeller exports a smooth ball. */
+static Model *coarse_sphere(void)
+{
+    enum { SEG = 16, RINGS = 8 };
+    Mesh m;
+    assert_int_equal(mesh_init(&m, 1, 0, 0, NULL), 0);
+    for (int j = 0; j < RINGS; j++)
+        for (int i = 0; i < SEG; i++) {
+            vec3 v[4];
+            for (int k = 0; k < 4; k++) {
+                real th = REAL_PI * (real)(j + (k >= 2)) / RINGS, ph = R(2) * REAL_PI * (real)(i + (k == 1 || k == 2)) / SEG;
+                v[k] = v3(sin(th) * cos(ph), cos(th), sin(th) * sin(ph));
+            }
+            const vec3 t1[3] = {v[0], v[1], v[2]}, t2[3] = {v[0], v[2], v[3]};
+            if (!mesh_tri_is_degenerate(t1))
+                assert_int_equal(mesh_add(&m, t1, t1, NULL, 0, NULL), 0);
+            if (!mesh_tri_is_degenerate(t2))
+                assert_int_equal(mesh_add(&m, t2, t2, NULL, 0, NULL), 0);
+        }
+    Model *model;
+    BvhOptions opt = bvh_options_default(BVH_SAH);
+    assert_int_equal(model_from_mesh(&model, &m, &opt, NULL), 0);
+    mesh_free(&m);
+    return model;
+}
+
+/* The shadow terminator: where smooth normals face a grazing light, the
+ * flat triangles of a coarse mesh shade and shadow themselves, and
+ * triangle-shaped dark patches appear along the boundary between light and
+ * dark.  Seen from the front, lit from three grazing directions, every
+ * pixel whose ray hits both the mesh and the true unit sphere is compared
+ * with the true sphere's diffuse shading max(0, n.L) at its own hit point.
+ * Tolerances: no pixel that the true sphere shows lit at 0.05 or more is
+ * black (a dark patch); shadow rays change no pixel at all (a convex body
+ * cannot shadow itself, so the image equals the one rendered without
+ * shadows); no pixel differs from the true sphere by more than 0.15, the
+ * error of interpolating 16 x 8 vertex normals (and of the facets lying
+ * inside the sphere), which rendering without shadows shows as well.
+ * Before the fix: 123 dark pixels with the first light. */
+static void smooth_mesh_has_no_shadow_terminator(void **state)
+{
+    (void)state;
+    Scene *s = empty_scene();
+    s->background = v3_splat(-1); /* a miss is told from black */
+    uint32_t id;
+    assert_int_equal(scene_add_model(s, coarse_sphere(), &id, NULL), 0);
+    assert_int_equal(scene_add_instance(s, instance_make(id, v3_splat(0), v3_splat(0), 1), NULL), 0);
+    const vec3 lights[3] = {v3(-1, R(-0.1), R(-0.05)), v3(-1, R(-0.5), R(0.2)), v3(R(-0.3), R(-1), R(0.1))};
+    for (int li = 0; li < 3; li++) {
+        s->light_count = 0;
+        assert_int_equal(scene_add_light(s, light_directional(lights[li], v3_splat(1), 1), NULL), 0);
+        enum { N = 160 };
+        int dark = 0, compared = 0, changed = 0;
+        real worst = 0;
+        for (int y = 0; y < N; y++)
+            for (int x = 0; x < N; x++) {
+                vec3 eye = v3(0, 0, 6), target = v3(R(2.4) * ((real)x + R(0.5)) / N - R(1.2), R(1.2) - R(2.4) * ((real)y + R(0.5)) / N, 0);
+                vec3 d = v3_norm(v3_sub(target, eye));
+                /* the true sphere: |eye + t d| = 1 */
+                real b = v3_dot(eye, d), c = v3_dot(eye, eye) - 1, disc = b * b - c;
+                if (disc < R(0.02)) /* misses, or grazes its rim where the mesh's outline differs */
+                    continue;
+                vec3 p = v3_madd(eye, d, -b - sqrt(disc));
+                real want = real_max(0, v3_dot(p, v3_neg(v3_norm(lights[li]))));
+                s->settings.shadows = 1;
+                prepare(s);
+                vec3 got = look(s, eye, target);
+                s->settings.shadows = 0;
+                prepare(s);
+                vec3 unshadowed = look(s, eye, target);
+                if (got.x < 0)
+                    continue; /* the mesh's outline is inside the sphere's */
+                compared++;
+                dark += want >= R(0.05) && got.x == 0;
+                changed += got.x != unshadowed.x;
+                worst = real_max(worst, fabs(got.x - want));
+            }
+        print_message("terminator, light %d: %d pixels compared, %d dark patches, %d changed by shadow rays, largest "
+                      "error %.3f\n", li, compared, dark, changed, (double)worst);
+        assert_true(compared > N * N / 2);
+        assert_int_equal(dark, 0);
+        assert_int_equal(changed, 0);
+        assert_true(worst <= R(0.15));
+    }
+    scene_destroy(s);
+}
+
 static void textured_triangle_and_instances(void **state)
 {
     (void)state;
@@ -425,6 +513,7 @@ int main(void)
         cmocka_unit_test(shadows_attenuation_and_spot_cone),
         cmocka_unit_test(pixels_are_srgb_unless_linear),
         cmocka_unit_test(plane_and_sphere_texture_coordinates),
+        cmocka_unit_test(smooth_mesh_has_no_shadow_terminator),
         cmocka_unit_test(textured_triangle_and_instances),
         cmocka_unit_test(pixels_do_not_depend_on_threads_or_segments),
         cmocka_unit_test(partial_line_spans_and_cancel),
