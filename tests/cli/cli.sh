@@ -168,6 +168,43 @@ out=$(env -u MAKEFLAGS -u MAKELEVEL make --no-print-directory LIB_HEADERS=/nonex
 [ $rc -ne 0 ] || fail "make without the libraries succeeded"
 [ "$(wc -l <<<"$out")" -eq 1 ] || fail "make without the libraries printed more than one line: $out"
 grep -q "run 'make deps' first" <<<"$out" || fail "make without the libraries: $out"
+# 12. defaults: a still image is anti-aliased (adaptive) unless the scene or the user says; a
+# server stays at one sample; a scene without light is warned about; the scene may set the size
+printf 'camera position 0 0 4 lookat 0 0 0\nsphere centre 0 0 0 radius 1\n' >"$dir/dark.scene"
+out=$("$BIN/lanray-render" "$dir/dark.scene" --width 32 --height 24 -o "$dir/dark.png" 2>&1) || fail "dark scene: $out"
+grep -q "32x24 aa 4 adaptive" <<<"$out" || fail "lanray-render is not adaptive by default: $out"
+grep -q "warning: the scene has no light" <<<"$out" || fail "no warning for a scene without light: $out"
+printf 'settings aa 2 width 40 height 30\ncamera position 0 0 4 lookat 0 0 0\nsphere centre 0 0 0 radius 1\nlight point position 0 5 5\n' >"$dir/sized.scene"
+out=$("$BIN/lanray-render" "$dir/sized.scene" -o "$dir/sized.png" 2>&1) || fail "sized scene: $out"
+grep -q "^40x30 aa 2 phong" <<<"$out" || fail "the scene's size and samples were not used: $out"
+grep -q "warning" <<<"$out" && fail "a warning for a scene with a light: $out"
+start_server sized "$dir/sized.scene" --port 0 --frames 1 --out "$dir/sz"
+"$BIN/lanray-client" "127.0.0.1:$port" --threads 1 --once --quiet 2>/dev/null
+wait "$server_pid" || fail "sized server"
+grep -q "listening on .* (40x30," "$dir/sized.log" || fail "the server did not take the scene's size: $(cat "$dir/sized.log")"
+grep -q "^max difference 0," <<<"$("$BIN/lanray-imgdiff" "$dir/sized.png" "$dir/sz/frame-00001.png")" || fail "server frame differs"
+start_server plain --port 0 --width 48 --height 32 --frames 1 --out "$dir/pl"
+"$BIN/lanray-client" "127.0.0.1:$port" --threads 1 --once --quiet 2>/dev/null
+wait "$server_pid" || fail "plain server"
+"$BIN/lanray-render" --width 48 --height 32 --aa 1 -o "$dir/pl1.png" --quiet >/dev/null
+grep -q "^max difference 0," <<<"$("$BIN/lanray-imgdiff" "$dir/pl1.png" "$dir/pl/frame-00001.png")" ||
+    fail "a server's default is not one sample per pixel"
+# a model alone: a preview with the camera framed on it (all of it in the frame, filling a good part)
+out=$("$BIN/lanray-render" models/cube.obj --width 80 --height 60 --aa 1 -o "$dir/cube.ppm" 2>&1) || fail "preview: $out"
+python3 - "$dir/cube.ppm" <<'PY' || fail "the preview does not frame the model"
+import sys
+d = open(sys.argv[1], "rb").read()
+w, h = 80, 60
+px = d[len(d) - w * h * 3:]
+bg = px[0:3]
+fg = [(i % w, i // w) for i in range(w * h) if px[3 * i:3 * i + 3] != bg]
+xs, ys = [x for x, _ in fg], [y for _, y in fg]
+share = len(fg) / (w * h)
+ok = 0.1 < share < 0.8 and min(xs) > 0 and max(xs) < w - 1 and min(ys) > 0 and max(ys) < h - 1
+print("preview covers %.0f%%, x %d..%d, y %d..%d" % (100 * share, min(xs), max(xs), min(ys), max(ys)))
+sys.exit(0 if ok else 1)
+PY
+
 # 11. no header of ours has the name of one that the system headers we use include: with -Iserver, a
 # server/sched.h was taken for <sched.h> inside <pthread.h>, and gcc -MMD then left every header
 # reached from it out of the dependency files, so changing them rebuilt nothing
