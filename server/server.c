@@ -409,7 +409,8 @@ static void on_hello(Server *s, Client *c)
     c->last_result = timer_now();
     uint32_t id = (uint32_t)c->id;
     send_or_drop(s, c, PKT_WELCOME, &id, 4, NULL, 0);
-    log_line(s->cfg.quiet, "lanray-server", "client %d (%s) joined with %u threads", c->id, c->addr, c->threads);
+    log_line(s->cfg.quiet, "lanray-server", "client %d (%s) joined with %u thread%s", c->id, c->addr, c->threads,
+             c->threads == 1 ? "" : "s");
     if (s->in_frame) {
         sched_set_clients(s->sched, server_client_count(s));
         send_update(s, c);

@@ -205,6 +205,13 @@ print("preview covers %.0f%%, x %d..%d, y %d..%d" % (100 * share, min(xs), max(x
 sys.exit(0 if ok else 1)
 PY
 
+# 13. the demo's log reads in order: the listening line before the first join, the table at the end
+out=$(DISPLAY= WAYLAND_DISPLAY= FRAMES=2 OUT="$dir/demo" BIN="$BIN" bash tools/demo 2>&1) || fail "demo: $out"
+l=$(grep -n "listening on" <<<"$out" | head -1 | cut -d: -f1)
+j=$(grep -n " joined with 1 thread$" <<<"$out" | head -1 | cut -d: -f1)
+t=$(grep -n "frames started" <<<"$out" | head -1 | cut -d: -f1)
+[ -n "$l" ] && [ -n "$j" ] && [ -n "$t" ] && [ "$l" -lt "$j" ] && [ "$j" -lt "$t" ] || fail "demo log out of order: $out"
+
 # 11. no header of ours has the name of one that the system headers we use include: with -Iserver, a
 # server/sched.h was taken for <sched.h> inside <pthread.h>, and gcc -MMD then left every header
 # reached from it out of the dependency files, so changing them rebuilt nothing
