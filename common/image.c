@@ -153,26 +153,88 @@ int image_write(const char *path, int width, int height, const uint8_t *rgb, Ima
     return image_writer_close(wr, err);
 }
 
+/* The low-level reader, not png_image: the simplified API converts what a
+ * gAMA chunk says to sRGB, and a frame must come back with the codes it was
+ * written with (a --linear frame compared with its reference). */
+typedef struct {
+    FILE *f;
+    png_structp png;
+    png_infop info;
+    uint8_t *buf;
+    png_bytep *rows;
+} PngRead;
+
+/* Frees what the reader holds, and the reader (heap, so that what libpng's
+ * longjmp leaves is in memory, not in registers setjmp does not restore). */
+static void png_read_free(PngRead *r, int keep_pixels)
+{
+    if (r->png)
+        png_destroy_read_struct(&r->png, r->info ? &r->info : NULL, NULL);
+    if (r->f)
+        fclose(r->f);
+    free(r->rows);
+    if (!keep_pixels)
+        free(r->buf);
+    free(r);
+}
+
 int image_read_png(const char *path, int *width, int *height, uint8_t **rgb, Err *err)
 {
-    png_image img;
-    memset(&img, 0, sizeof img);
-    img.version = PNG_IMAGE_VERSION;
-    if (!png_image_begin_read_from_file(&img, path))
-        return err_set(err, "%s: %s", path, img.message);
-    img.format = PNG_FORMAT_RGB;
-    size_t size = PNG_IMAGE_SIZE(img);
-    uint8_t *buf = malloc(size);
-    if (!buf) {
-        png_image_free(&img);
+    FILE *f = fopen(path, "rb");
+    if (!f)
+        return err_set(err, "%s: cannot open: %s", path, strerror(errno));
+    return image_read_png_stream(f, path, width, height, rgb, err);
+}
+
+int image_read_png_stream(FILE *f, const char *path, int *width, int *height, uint8_t **rgb, Err *err)
+{
+    PngRead *r = calloc(1, sizeof *r);
+    if (!r) {
+        fclose(f);
         return err_set(err, "%s: out of memory", path);
     }
-    if (!png_image_finish_read(&img, NULL, buf, 0, NULL)) {
-        free(buf);
-        return err_set(err, "%s: %s", path, img.message);
+    r->f = f;
+    uint8_t sig[8];
+    if (fread(sig, 1, 8, r->f) != 8 || png_sig_cmp(sig, 0, 8) != 0) {
+        png_read_free(r, 0);
+        return err_set(err, "%s: not a PNG file", path);
     }
-    *width = (int)img.width;
-    *height = (int)img.height;
-    *rgb = buf;
+    r->png = png_create_read_struct(PNG_LIBPNG_VER_STRING, err, png_error_fn, png_warning_fn);
+    r->info = r->png ? png_create_info_struct(r->png) : NULL;
+    if (!r->info) {
+        png_read_free(r, 0);
+        return err_set(err, "%s: png: out of memory", path);
+    }
+    if (setjmp(png_jmpbuf(r->png))) {
+        png_read_free(r, 0);
+        return err_prefix(err, "%s", path);
+    }
+    png_init_io(r->png, r->f);
+    png_set_sig_bytes(r->png, 8);
+    png_read_info(r->png, r->info);
+    png_uint_32 w = png_get_image_width(r->png, r->info), h = png_get_image_height(r->png, r->info);
+    /* a size from outside: checked before the pixels are allocated */
+    if (w < 1 || h < 1 || w > 65536 || h > 65536 || (uint64_t)w * h > ((uint64_t)1 << 30))
+        png_error(r->png, "image size out of range");
+    /* any PNG to 8-bit RGB, values as stored */
+    png_set_expand(r->png);
+    png_set_strip_16(r->png);
+    png_set_strip_alpha(r->png);
+    png_set_gray_to_rgb(r->png);
+    png_read_update_info(r->png, r->info);
+    if (png_get_rowbytes(r->png, r->info) != (size_t)w * 3)
+        png_error(r->png, "unexpected row layout");
+    r->buf = malloc((size_t)w * h * 3);
+    r->rows = malloc(h * sizeof *r->rows);
+    if (!r->buf || !r->rows)
+        png_error(r->png, "out of memory");
+    for (png_uint_32 y = 0; y < h; y++)
+        r->rows[y] = r->buf + (size_t)y * w * 3;
+    png_read_image(r->png, r->rows);
+    png_read_end(r->png, NULL);
+    *width = (int)w;
+    *height = (int)h;
+    *rgb = r->buf;
+    png_read_free(r, 1);
     return 0;
 }

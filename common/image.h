@@ -4,6 +4,7 @@
 #define LANRAY_IMAGE_H
 
 #include <stdint.h>
+#include <stdio.h>
 
 #include "err.h"
 
@@ -25,7 +26,10 @@ int image_writer_open(const char *path, int width, int height, ImageEncoding enc
 int image_writer_rows(ImageWriter *wr, const uint8_t *rgb, int rows, Err *err);
 int image_writer_close(ImageWriter *wr, Err *err);
 void image_writer_abort(ImageWriter *wr);
-/* Reads a PNG written by image_write (8-bit RGB) into a malloc'd buffer. */
+/* Reads a PNG into a malloc'd 8-bit RGB buffer, with the values as stored
+ * (no gamma conversion: a linear frame keeps its codes). */
 int image_read_png(const char *path, int *width, int *height, uint8_t **rgb, Err *err);
+/* The same from an open stream, which it closes; `name` labels errors. */
+int image_read_png_stream(FILE *f, const char *name, int *width, int *height, uint8_t **rgb, Err *err);
 
 #endif

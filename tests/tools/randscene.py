@@ -4,11 +4,12 @@
     randscene.py SEED DIR      writes DIR/scene-SEED.scene (and the textures and
                                models it names, once, into DIR)
 
-Every directive and key of the format appears with some probability: camera
+Every directive and key of the format appears with some probability (both
+spellings of centre/center and colour/color, a byte-order mark): camera
 by lookat or by angles, with zoom or fov and roll; ambient, background; every
 settings key and value; textures (PPM P3/P6, PGM P2/P5); materials with and
-without specular and textures; spheres, planes and triangles (with normals
-and uv); models from OBJ (with and without smooth, each builder) and from
+without specular and textures, on any primitive; spheres, planes (with and
+without their texture mapping keys) and triangles (with normals and uv); models from OBJ (with and without smooth, each builder) and from
 .tmd (converted by the caller as DIR/mesh.tmd); instances with transforms and
 material overrides; point, spot and directional lights with position,
 target, direction, soft, attenuate, colour and intensity.  Numbers are drawn
@@ -115,6 +116,8 @@ def scene(seed):
         st += ["shadows", r.choice(["on", "off"])]
     if r.random() < 0.4:
         st += ["filter", r.choice(["nearest", "bilinear"])]
+    if r.random() < 0.3:  # the programs' --width/--height override these
+        st += ["width", str(r.randrange(1, 2000)), "height", str(r.randrange(1, 2000))]
     if st:
         out.append("settings " + " ".join(st))
 
@@ -140,7 +143,7 @@ def scene(seed):
         return ["material", r.choice(materials)] if r.random() < 0.8 else []
 
     for _ in range(r.randrange(0, 4)):
-        out.append(" ".join(["sphere centre", vec(r, -2, 2), "radius", num(r, 0.1, 1.2)] + mat()))
+        out.append(" ".join(["sphere", r.choice(["centre", "center"]), vec(r, -2, 2), "radius", num(r, 0.1, 1.2)] + mat()))
     for _ in range(r.choice([0, 1, 1, 2])):
         pl = ["plane point", vec(r, -1.5, 0), "normal", direction(r)]
         if r.random() < 0.4:
@@ -201,11 +204,13 @@ def scene(seed):
         if kind != "directional" and r.random() < 0.4:
             l += ["attenuate"]
         if r.random() < 0.5:
-            l += ["color", colour(r)]
+            l += [r.choice(["color", "colour"]), colour(r)]
         if r.random() < 0.6:
             l += ["intensity", num(r, 0.1, 3 if "attenuate" not in l else 30)]
         out.append(" ".join(l))
-    return "\n".join(out) + "\n"
+    text = "\n".join(out) + "\n"
+    # a byte-order mark, as editors on Windows write one
+    return ("\ufeff" if r.random() < 0.1 else "") + text
 
 
 def main():
@@ -214,7 +219,7 @@ def main():
     seed, d = int(sys.argv[1]), sys.argv[2]
     write_assets(d)
     path = os.path.join(d, "scene-%d.scene" % seed)
-    with open(path, "w") as f:
+    with open(path, "w", encoding="utf-8") as f:
         f.write(scene(seed))
     print(path)
 
