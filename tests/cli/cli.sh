@@ -211,6 +211,8 @@ l=$(grep -n "listening on" <<<"$out" | head -1 | cut -d: -f1)
 j=$(grep -n " joined with 1 thread$" <<<"$out" | head -1 | cut -d: -f1)
 t=$(grep -n "frames started" <<<"$out" | head -1 | cut -d: -f1)
 [ -n "$l" ] && [ -n "$j" ] && [ -n "$t" ] && [ "$l" -lt "$j" ] && [ "$j" -lt "$t" ] || fail "demo log out of order: $out"
+grep -q "^  client address  *threads  *segments  *lines/s  *dup px  *bytes in  *bytes out$" <<<"$out" || fail "no statistics table: $out"
+grep -q "^2 frames in [0-9.]* s: [0-9.]* fps with 2 clients" <<<"$out" || fail "no summary line: $out"
 
 # 11. no header of ours has the name of one that the system headers we use include: with -Iserver, a
 # server/sched.h was taken for <sched.h> inside <pthread.h>, and gcc -MMD then left every header
