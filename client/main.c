@@ -63,26 +63,20 @@ int main(int argc, char **argv)
         {0},
     };
     const char *args[1];
-    OptSpec spec = {"lanray-client", "HOST[:PORT] [options]",
-                    "Renders line segments for a lanray-server.  HOST is a name or an address (IPv6: [ADDRESS]:PORT);\n"
+    OptSpec spec = {.prog = "lanray-client", .synopsis = "HOST[:PORT] [options]",
+                    .about = "Renders line segments for a lanray-server.  HOST is a name or an address (IPv6: [ADDRESS]:PORT);\n"
                     "the port defaults to 7878.  Without --once it reconnects (0.1 s doubling to 5 s) when the server\n"
                     "goes away or is not there yet.",
-                    opts, args, 1, 0,
-                    "  0  the session ended (the server finished or said goodbye), or SIGINT/SIGTERM\n"
+                    .opts = opts, .args = args, .min_args = 1, .max_args = 1, .missing = "which server?",
+                    .exits = "  0  the session ended (the server finished or said goodbye), or SIGINT/SIGTERM\n"
                     "  1  the server refused this client (token, version, precision), or with --once no session started\n"
                     "  2  bad command line\n"};
-    Err err = {{0}};
-    int r = opt_parse(&spec, argc, argv, &err);
-    if (r == OPT_HELP || r == OPT_VERSION) {
-        (r == OPT_HELP ? opt_usage : opt_version)(&spec, stdout);
-        return 0;
-    }
+    int go = opt_run(&spec, argc, argv);
+    if (go != OPT_GO)
+        return go;
     static char host[256];
-    if (r == 0 && spec.nargs == 0)
-        r = err_set(&err, "which server? (usage: %s %s)", spec.prog, spec.synopsis);
-    if (r == 0)
-        r = split_host(args[0], host, sizeof host, &cfg.port, &err);
-    if (r) {
+    Err err = {{0}};
+    if (split_host(args[0], host, sizeof host, &cfg.port, &err)) {
         fprintf(stderr, "lanray-client: %s\n", err.msg);
         return 2;
     }

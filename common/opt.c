@@ -135,6 +135,23 @@ int opt_parse(OptSpec *spec, int argc, char **argv, Err *err)
     return OPT_OK;
 }
 
+int opt_run(OptSpec *spec, int argc, char **argv)
+{
+    Err err = {{0}};
+    int r = opt_parse(spec, argc, argv, &err);
+    if (r == OPT_HELP || r == OPT_VERSION) {
+        (r == OPT_HELP ? opt_usage : opt_version)(spec, stdout);
+        return 0;
+    }
+    if (r == OPT_OK && spec->nargs < spec->min_args)
+        r = err_set(&err, "%s (usage: %s %s)", spec->missing ? spec->missing : "an argument is missing", spec->prog,
+                    spec->synopsis);
+    if (r == OPT_OK)
+        return OPT_GO;
+    fprintf(stderr, "%s: %s\n", spec->prog, err.msg);
+    return 2;
+}
+
 /* The default as the help shows it, or "" for none. */
 static void default_text(const Opt *o, char *buf, size_t size)
 {

@@ -48,7 +48,8 @@ typedef struct {
     const char *about;    /* one paragraph */
     const Opt *opts;      /* ends with an entry whose name is NULL */
     const char **args;    /* where the words that are not options go */
-    int max_args, nargs;
+    int min_args, max_args, nargs;
+    const char *missing;  /* what to say when fewer than min_args are given: "which server?" */
     const char *exits;    /* the exit statuses, one per line: "0  written" */
 } OptSpec;
 
@@ -59,6 +60,12 @@ enum { OPT_OK = 0, OPT_HELP = 1, OPT_VERSION = 2 };
  * parsed, so the variables still hold their defaults for opt_usage: print
  * it or opt_version and exit 0); or -1 with the reason in err (exit 2). */
 int opt_parse(OptSpec *spec, int argc, char **argv, Err *err);
+/* A program's start: parses, prints --help or --version to standard output
+ * and a bad command line (with the usage) to standard error.  Returns
+ * OPT_GO when the program should go on, else the exit status to return at
+ * once: 0 after --help or --version, 2 after a bad command line. */
+#define OPT_GO (-1)
+int opt_run(OptSpec *spec, int argc, char **argv);
 /* Usage, every option with its range and default, the exit statuses. */
 void opt_usage(const OptSpec *spec, FILE *f);
 void opt_version(const OptSpec *spec, FILE *f);

@@ -12,8 +12,9 @@ Scene *scene_create(void)
     if (!s)
         return NULL;
     camera_look_at(&s->camera, v3(0, 1, 5), v3(0, 0, 0), 0, camera_zoom_for_fov(60));
-    s->ambient = v3_splat(R(0.1));
-    s->background = v3(R(0.05), R(0.05), R(0.08));
+    /* linear light: what shows as 0.1 and 0.25-0.3 on screen */
+    s->ambient = v3_splat(R(0.01));
+    s->background = v3(R(0.004), R(0.004), R(0.007));
     s->settings = render_settings_default();
     return s;
 }

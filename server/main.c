@@ -190,29 +190,23 @@ int main(int argc, char **argv)
         {0},
     };
     const char *args[1] = {NULL};
-    OptSpec spec = {"lanray-server", "[scene | model.obj | model.tmd] [options]",
-                    "Holds the scene (the built-in one without an argument; a model alone gets a preview scene),\n"
+    OptSpec spec = {.prog = "lanray-server", .synopsis = "[scene | model.obj | model.tmd] [options]",
+                    .about = "Holds the scene (the built-in one without an argument; a model alone gets a preview scene),\n"
                     "hands out segments of each frame to lanray-client processes and shows the frames in a window,\n"
                     "or writes them when headless or without a display.  In the window: W/S A/D R/F move, the mouse or\n"
                     "the arrows look, +/- zoom, Space toggles --rotate, P saves a screenshot, Home resets, Esc quits.\n"
                     "SIGUSR1 prints per-client statistics.",
-                    opts, args, 1, 0,
-                    "  0  every requested frame was written (--frames N), or stopped by the window, SIGINT or SIGTERM\n"
+                    .opts = opts, .args = args, .max_args = 1,
+                    .exits = "  0  every requested frame was written (--frames N), or stopped by the window, SIGINT or SIGTERM\n"
                     "     when no count was asked\n"
                     "  1  an error: the scene, the address, memory, a frame that could not be written\n"
                     "  2  bad command line\n"
                     "  3  --verify: a frame differed from the reference\n"
                     "  4  stopped (SIGINT, SIGTERM, the window) before the requested frames were done\n"};
+    int go = opt_run(&spec, argc, argv);
+    if (go != OPT_GO)
+        return go;
     Err err = {{0}};
-    int r = opt_parse(&spec, argc, argv, &err);
-    if (r == OPT_HELP || r == OPT_VERSION) {
-        (r == OPT_HELP ? opt_usage : opt_version)(&spec, stdout);
-        return 0;
-    }
-    if (r) {
-        fprintf(stderr, "lanray-server: %s\n", err.msg);
-        return 2;
-    }
     const char *scene_path = args[0];
     if (cfg.token && !*cfg.token)
         cfg.token = NULL;

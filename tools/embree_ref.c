@@ -124,22 +124,14 @@ int main(int argc, char **argv)
         {0},
     };
     const char *args[1];
-    OptSpec spec = {"embree_ref", "SCENE [options]",
-                    "Renders a mesh-only scene (model instances, point lights) on Intel Embree with lanray's camera\n"
+    OptSpec spec = {.prog = "embree_ref", .synopsis = "SCENE [options]",
+                    .about = "Renders a mesh-only scene (model instances, point lights) on Intel Embree with lanray's camera\n"
                     "rays and shading, for make bench and tests/cli/embree.sh.",
-                    opts, args, 1, 0, "  0  rendered\n  1  an error, or a scene it does not support\n  2  bad command line\n"};
-    Err oerr = {{0}};
-    int r = opt_parse(&spec, argc, argv, &oerr);
-    if (r == OPT_HELP || r == OPT_VERSION) {
-        (r == OPT_HELP ? opt_usage : opt_version)(&spec, stdout);
-        return 0;
-    }
-    if (r == 0 && spec.nargs != 1)
-        r = err_set(&oerr, "needs a scene (usage: %s %s)", spec.prog, spec.synopsis);
-    if (r) {
-        fprintf(stderr, "embree_ref: %s\n", oerr.msg);
-        return 2;
-    }
+                    .opts = opts, .args = args, .min_args = 1, .max_args = 1, .missing = "needs a scene",
+                    .exits = "  0  rendered\n  1  an error, or a scene it does not support\n  2  bad command line\n"};
+    int go = opt_run(&spec, argc, argv);
+    if (go != OPT_GO)
+        return go;
     const char *scene_path = args[0];
     Err err;
     Scene *s;

@@ -73,26 +73,18 @@ int main(int argc, char **argv)
         {0},
     };
     const char *args[2];
-    OptSpec spec = {"lanray-imgdiff", "[--csv] a.png b.png",
-                    "Compares two images of the same size: the largest channel difference, the pixels that differ,\n"
+    OptSpec spec = {.prog = "lanray-imgdiff", .synopsis = "[--csv] a.png b.png",
+                    .about = "Compares two images of the same size: the largest channel difference, the pixels that differ,\n"
                     "RMSE (0..255), PSNR in dB and SSIM (luma, 8x8 windows; 1 = identical).  The numbers are for the\n"
                     "caller to judge.",
-                    opts, args, 2, 0,
-                    "  0  compared (whatever the differences)\n"
+                    .opts = opts, .args = args, .min_args = 2, .max_args = 2, .missing = "needs two images",
+                    .exits = "  0  compared (whatever the differences)\n"
                     "  1  an image could not be read, or the sizes differ\n"
                     "  2  bad command line\n"};
+    int go = opt_run(&spec, argc, argv);
+    if (go != OPT_GO)
+        return go;
     Err err = {{0}};
-    int r = opt_parse(&spec, argc, argv, &err);
-    if (r == OPT_HELP || r == OPT_VERSION) {
-        (r == OPT_HELP ? opt_usage : opt_version)(&spec, stdout);
-        return 0;
-    }
-    if (r == 0 && spec.nargs != 2)
-        r = err_set(&err, "needs two images (usage: %s %s)", spec.prog, spec.synopsis);
-    if (r) {
-        fprintf(stderr, "lanray-imgdiff: %s\n", err.msg);
-        return 2;
-    }
     int wa, ha, wb, hb;
     uint8_t *a, *b;
     if (image_read_png(args[0], &wa, &ha, &a, &err)) {

@@ -131,24 +131,18 @@ int main(int argc, char **argv)
         {0},
     };
     const char *args[1] = {NULL};
-    OptSpec spec = {"lanray-render", "[scene | model.obj | model.tmd] [options]",
-                    "Renders one frame: the built-in scene without an argument, a scene file (docs/scene.md), or a\n"
+    OptSpec spec = {.prog = "lanray-render", .synopsis = "[scene | model.obj | model.tmd] [options]",
+                    .about = "Renders one frame: the built-in scene without an argument, a scene file (docs/scene.md), or a\n"
                     "preview of one model (camera framed on it, two lights).  On a terminal, a render longer than\n"
                     "a second shows its progress.  Frames over 256 MB are rendered in bands written as they finish.",
-                    opts, args, 1, 0,
-                    "  0  the image was written\n"
+                    .opts = opts, .args = args, .max_args = 1,
+                    .exits = "  0  the image was written\n"
                     "  1  an error: the scene, the output file or its directory, memory; nothing is left behind\n"
                     "  2  bad command line\n"};
+    int go = opt_run(&spec, argc, argv);
+    if (go != OPT_GO)
+        return go;
     Err err = {{0}};
-    int r = opt_parse(&spec, argc, argv, &err);
-    if (r == OPT_HELP || r == OPT_VERSION) {
-        (r == OPT_HELP ? opt_usage : opt_version)(&spec, stdout);
-        return 0;
-    }
-    if (r) {
-        fprintf(stderr, "lanray-render: %s\n", err.msg);
-        return 2;
-    }
     /* a wrong output name fails before the scene is even loaded */
     if (image_check_name(out, &err)) {
         fprintf(stderr, "lanray-render: %s\n", err.msg);

@@ -58,27 +58,19 @@ int main(int argc, char **argv)
         {0},
     };
     const char *args[2] = {NULL, NULL};
-    OptSpec spec = {"obj2tmd", "[options] in.obj out.tmd",
-                    "Converts a Wavefront OBJ model (with its MTL materials) into a .tmd file: the triangles in\n"
+    OptSpec spec = {.prog = "obj2tmd", .synopsis = "[options] in.obj out.tmd",
+                    .about = "Converts a Wavefront OBJ model (with its MTL materials) into a .tmd file: the triangles in\n"
                     "the order of a bounding volume hierarchy, ready to render (docs/tmd.md).  On a terminal, a\n"
                     "conversion longer than a second shows the step under way.",
-                    opts, args, 2, 0,
-                    "  0  converted\n"
+                    .opts = opts, .args = args, .min_args = 2, .max_args = 2, .missing = "needs an input and an output",
+                    .exits = "  0  converted\n"
                     "  1  an error in the OBJ (file and line named), no usable triangle, an unwritable output, or the\n"
                     "     output is the input; no output file is left\n"
                     "  2  bad command line\n"};
+    int go = opt_run(&spec, argc, argv);
+    if (go != OPT_GO)
+        return go;
     Err err = {{0}};
-    int r = opt_parse(&spec, argc, argv, &err);
-    if (r == OPT_HELP || r == OPT_VERSION) {
-        (r == OPT_HELP ? opt_usage : opt_version)(&spec, stdout);
-        return 0;
-    }
-    if (r == 0 && spec.nargs != 2)
-        r = err_set(&err, "needs an input and an output (usage: %s %s)", spec.prog, spec.synopsis);
-    if (r) {
-        fprintf(stderr, "obj2tmd: %s\n", err.msg);
-        return 2;
-    }
     const char *in = args[0], *out = args[1];
     if (same_file(in, out)) {
         fprintf(stderr, "obj2tmd: %s is the input file %s; name another output\n", out, in);

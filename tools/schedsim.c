@@ -588,22 +588,18 @@ int main(int argc, char **argv)
          .help = "instead: measure the time slice S on C cores of this machine", .def = "off"},
         {0},
     };
-    OptSpec spec = {"schedsim", "--profile lines.csv [options]",
-                    "Discrete-event simulation of a render farm driving the real scheduler (server/scheduler.c); see the\n"
+    OptSpec spec = {.prog = "schedsim", .synopsis = "--profile lines.csv [options]",
+                    .about = "Discrete-event simulation of a render farm driving the real scheduler (server/scheduler.c); see the\n"
                     "comment at the top of tools/schedsim.c and docs/scaling.md for the model.",
-                    opts, NULL, 0, 0, "  0  simulated\n  1  the profile could not be read\n  2  bad command line\n"};
-    Err err = {{0}};
-    int r = opt_parse(&spec, argc, argv, &err);
-    if (r == OPT_HELP || r == OPT_VERSION) {
-        (r == OPT_HELP ? opt_usage : opt_version)(&spec, stdout);
-        return 0;
-    }
-    if (r == 0 && probe)
+                    .opts = opts,
+                    .exits = "  0  simulated\n  1  the profile could not be read\n  2  bad command line\n"};
+    int go = opt_run(&spec, argc, argv);
+    if (go != OPT_GO)
+        return go;
+    if (probe)
         return probe_slice(probe);
-    if (r == 0 && !profile)
-        r = err_set(&err, "needs --profile FILE");
-    if (r) {
-        fprintf(stderr, "schedsim: %s\n", err.msg);
+    if (!profile) {
+        fprintf(stderr, "schedsim: needs --profile FILE (usage: %s %s)\n", spec.prog, spec.synopsis);
         return 2;
     }
     s.tail = sched_tail_by_name(tail_names[tail]);
