@@ -264,7 +264,9 @@ static void job_keys(void *ctx, uint32_t chunk, RayStats *st)
  * scene's from 0.70 to 0.63 (0.61) for 26%; a threshold of 30 levels bought
  * a quarter of that, 8 little more for twice the time in the textured
  * scene. */
+#ifndef ADAPTIVE_CONTRAST /* a compile-time knob for the threshold sweep in docs/tradeoff.md */
 #define ADAPTIVE_CONTRAST 15
+#endif
 
 static int contrasts(const uint8_t *a, const uint8_t *b)
 {
