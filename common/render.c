@@ -256,14 +256,13 @@ static void job_keys(void *ctx, uint32_t chunk, RayStats *st)
 }
 
 /* Adaptive sampling also refines where two neighbouring centre samples, as
- * written, differ by more than this many of 255 levels in a channel: the
- * edges a key does not see, a texture's, a highlight's, a spot light's soft
- * edge.  Measured at 512x384 against the 16x16 double reference (docs/
- * tradeoff.md, with linear output then): the textured scene's RMSE falls
- * from 0.51 to 0.27 (4x4 everywhere: 0.20) for 33% more time, the default
- * scene's from 0.70 to 0.63 (0.61) for 26%; a threshold of 30 levels bought
- * a quarter of that, 8 little more for twice the time in the textured
- * scene. */
+ * written, differ by more than this many codes in a channel: the edges a
+ * key does not see, a texture's, a highlight's, a spot light's soft edge.
+ * Measured at 512x384 against the 16x16 double reference (docs/
+ * tradeoff.md, sRGB output): the textured scene's RMSE falls from 0.81 (no
+ * colour test) to 0.37 (4x4 everywhere: 0.31) for twice the time, the
+ * default scene's from 1.01 to 0.89 (0.85); 30 codes bought half of that in
+ * the textured scene, 8 little more for 40% more time. */
 #ifndef ADAPTIVE_CONTRAST /* a compile-time knob for the threshold sweep in docs/tradeoff.md */
 #define ADAPTIVE_CONTRAST 15
 #endif
