@@ -14,6 +14,11 @@ dir=$(mktemp -d)
 trap 'rm -rf "$dir"' EXIT
 fail() { echo "FAIL: $*"; exit 1; }
 [ -x "$EMBREE_REF" ] || fail "$EMBREE_REF not built"
+# Embree computes in float: a double build's tighter error bounds do not
+# cover its hit points, so its image shows acne that says nothing of lanray's
+case "$("$BIN/lanray-render" --version)" in
+*double*) echo "embree: a double-precision build; Embree is float, nothing to compare"; exit 0 ;;
+esac
 awk 'BEGIN { pi = 3.14159265358979; U = 96; V = 48
     for (j = 0; j <= V; j++) for (i = 0; i < U; i++) {
         th = pi * j / V; ph = 2 * pi * i / U; r = 1 + 0.12 * sin(5 * th) * sin(4 * ph) + 0.05 * sin(11 * ph)

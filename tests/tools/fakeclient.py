@@ -40,7 +40,8 @@ def hello(nonce, token, version=VERSION):
     cn = os.urandom(32)
     key = hashlib.sha256(token.encode()).digest()
     proof = hmac.new(key, b"lanray-auth-v1" + nonce + cn, hashlib.sha256).digest()
-    body = struct.pack("=IIIII", MAGIC, version, BOM, 1, 4) + cn + proof
+    # the server's precision: 4 (float build) unless LANRAY_REAL_SIZE says 8
+    body = struct.pack("=IIIII", MAGIC, version, BOM, 1, int(os.environ.get("LANRAY_REAL_SIZE", "4"))) + cn + proof
     return struct.pack("=II", HELLO, 8 + len(body)) + body
 
 

@@ -12,6 +12,8 @@ lib_cleanup() {
     rm -rf "$dir"
 }
 trap lib_cleanup EXIT
+# the precision of the build under test, for tests/tools/fakeclient.py's handshake
+case "$("$BIN/lanray-server" --version)" in *double*) export LANRAY_REAL_SIZE=8 ;; *) export LANRAY_REAL_SIZE=4 ;; esac
 fail() { echo "FAIL: $*"; for f in "$dir"/*.log "$dir"/*.err; do [ -f "$f" ] && { echo "--- $f"; tail -20 "$f"; }; done; exit 1; }
 # exec: in the background the function runs in a subshell, which becomes the program, so $! is its pid
 run_prog() { exec "$@"; }
