@@ -42,6 +42,21 @@ int cli_parse_aa(const char *v, void *dst, Err *err)
     return 0;
 }
 
+int cli_parse_segment(const char *v, void *dst, Err *err)
+{
+    (void)err;
+    if (strcmp(v, "auto") == 0) {
+        *(uint32_t *)dst = 0;
+        return 0;
+    }
+    char *end;
+    long n = strtol(v, &end, 10);
+    if (end == v || *end || n < 1 || n > CLI_MAX_SEGMENT)
+        return -1;
+    *(uint32_t *)dst = (uint32_t)n;
+    return 0;
+}
+
 int cli_threads(int requested)
 {
     if (requested > 0)
@@ -57,6 +72,13 @@ int cli_open_scene(const char *path, const BvhOptions *bvh, int force, Scene **o
     if (model_load_knows(path))
         return scene_preview(path, bvh, force, out, err);
     return scene_load(path, bvh, force, out, err);
+}
+
+void cli_warn_scene(const char *prog, const Scene *s)
+{
+    if (s->light_count == 0)
+        fprintf(stderr, "%s: warning: the scene has no light; only its ambient light (%g %g %g) shows it\n", prog,
+                (double)s->ambient.x, (double)s->ambient.y, (double)s->ambient.z);
 }
 
 int cli_make_dirs(const char *dir, Err *err)

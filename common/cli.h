@@ -20,6 +20,12 @@ int cli_parse_aa(const char *value, void *dst, Err *err);
 
 extern const char *const cli_bvh_names[]; /* sbt, mst, sah: BvhKind order */
 
+/* --segment LINES|auto: lines per segment into a uint32_t, 0 for auto; at
+ * most the tallest frame a server takes. */
+#define CLI_MAX_SEGMENT 16384
+#define CLI_SEGMENT_RANGE "1..16384 or auto"
+int cli_parse_segment(const char *value, void *dst, Err *err);
+
 /* --threads: 0 means one per core. */
 int cli_threads(int requested);
 
@@ -27,6 +33,10 @@ int cli_threads(int requested);
  * or an .obj/.tmd model, which gets a preview scene (camera framed on its
  * bounding box, two lights).  force: rebuild .tmd models with bvh. */
 int cli_open_scene(const char *path, const BvhOptions *bvh, int force, Scene **out, Err *err);
+
+/* Warns on standard error about what a user would not want in a scene:
+ * no light (only the ambient colour would show it). */
+void cli_warn_scene(const char *prog, const Scene *s);
 
 /* Creates dir and its parents (mkdir -p). */
 int cli_make_dirs(const char *dir, Err *err);

@@ -103,7 +103,6 @@ int net_listen(const char *addr, int port, NetListener *out, Err *err)
     struct sockaddr_storage ss;
     socklen_t len = sizeof ss;
     getsockname(out->fd, (struct sockaddr *)&ss, &len);
-    out->loopback = sockaddr_is_loopback((struct sockaddr *)&ss);
     out->port = ss.ss_family == AF_INET6 ? ntohs(((struct sockaddr_in6 *)&ss)->sin6_port)
                                          : ntohs(((struct sockaddr_in *)&ss)->sin_port);
     sockaddr_text((struct sockaddr *)&ss, out->shown, sizeof out->shown);

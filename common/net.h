@@ -12,7 +12,6 @@
 typedef struct {
     int fd;
     int port;         /* the port bound (the one the system chose for port 0) */
-    int loopback;     /* only this machine can connect */
     char shown[80];   /* the address as logs and scripts read it: 127.0.0.1:7878, [::1]:7878 */
 } NetListener;
 

@@ -149,7 +149,7 @@ void trace_surface(const Scene *s, const Ray *r, const Hit *h, Surface *out)
     out->mat = &fallback_material;
     /* a smooth triangle's corners and vertex normals, for the terminator
      * point (model space for an instance) */
-    vec3 tv[3], tn[3];
+    vec3 tv[3], tn[3], pm = v3_splat(0);
     const Instance *inst = NULL;
     switch (h->kind) {
     case HIT_SPHERE: {
@@ -218,7 +218,7 @@ void trace_surface(const Scene *s, const Ray *r, const Hit *h, Surface *out)
         const Model *m = s->models[in->model];
         const Tri *t = &m->tris[h->sub];
         vec3 v0 = tri_vertex(t, 0), v1 = tri_vertex(t, 1), v2 = tri_vertex(t, 2);
-        vec3 pm = bary(v0, v1, v2, h->b1, h->b2);
+        pm = bary(v0, v1, v2, h->b1, h->b2);
         out->p = v3_add(v3_scale(m3_apply(&in->rot, pm), in->scale), in->translate);
         /* the model-space point's error carried through rotation and scale, plus
          * the rounding of adding the translation (and of subtracting it again
@@ -275,10 +275,10 @@ void trace_surface(const Scene *s, const Ray *r, const Hit *h, Surface *out)
     }
     /* an instance: lifted in model space, carried to the world as p is */
     real e = 0;
-    vec3 pm = trace_terminator_point(bary(tv[0], tv[1], tv[2], h->b1, h->b2), tv, tn, h->b1, h->b2, &e);
-    out->ps = v3_add(v3_scale(m3_apply(&inst->rot, pm), inst->scale), inst->translate);
+    vec3 lifted = trace_terminator_point(pm, tv, tn, h->b1, h->b2, &e);
+    out->ps = v3_add(v3_scale(m3_apply(&inst->rot, lifted), inst->scale), inst->translate);
     out->ps_err = out->err + e * inst->scale * (R(1) + real_gamma(8)) +
-                  real_gamma(10) * R(3) * inst->scale * v3_max_comp(v3_abs(pm)) +
+                  real_gamma(10) * R(3) * inst->scale * v3_max_comp(v3_abs(lifted)) +
                   real_gamma(2) * v3_max_comp(v3_abs(out->ps));
 }
 

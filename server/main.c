@@ -122,18 +122,8 @@ static void apply_input(App *a, const DisplayInput *in, const Camera *home, int 
         server_scene_changed(a->server);
 }
 
-static int parse_segment(const char *v, void *dst, Err *err)
-{
-    (void)err;
-    char *end;
-    long n = strcmp(v, "auto") == 0 ? 0 : strtol(v, &end, 10);
-    if (strcmp(v, "auto") != 0 && (end == v || *end || n < 1 || n > SERVER_MAX_SIDE))
-        return -1;
-    *(uint32_t *)dst = (uint32_t)n;
-    return 0;
-}
 
-static const char *const tail_names[] = {"static", "smart", "adaptive", NULL};
+_Static_assert(CLI_MAX_SEGMENT == SERVER_MAX_SIDE, "a segment is at most the tallest frame");
 
 int main(int argc, char **argv)
 {
@@ -156,9 +146,9 @@ int main(int argc, char **argv)
          .help = "frame width in pixels", .def = "the scene's, else 1024", .seen = &width_given},
         {.name = "--height", .kind = OPT_INT, .dst = &cfg.height, .arg = "H", .lo = 1, .hi = SERVER_MAX_SIDE,
          .help = "frame height in pixels", .def = "the scene's, else 768", .seen = &height_given},
-        {.name = "--segment", .kind = OPT_CUSTOM, .dst = &cfg.segment_lines, .arg = "LINES|auto", .parse = parse_segment,
-         .range = "1..16384 or auto", .help = "lines per segment handed to a client", .def = "auto"},
-        {.name = "--tail", .kind = OPT_CHOICE, .dst = &tail, .choices = tail_names,
+        {.name = "--segment", .kind = OPT_CUSTOM, .dst = &cfg.segment_lines, .arg = "LINES|auto", .parse = cli_parse_segment,
+         .range = CLI_SEGMENT_RANGE, .help = "lines per segment handed to a client", .def = "auto"},
+        {.name = "--tail", .kind = OPT_CHOICE, .dst = &tail, .choices = sched_tail_names,
          .help = "how the last segments of a frame are cut and shared (docs/scaling.md)"},
         {.name = "--bvh", .kind = OPT_CHOICE, .dst = &bvh_kind, .choices = cli_bvh_names, .seen = &force_bvh,
          .help = "BVH builder for models; given, it rebuilds .tmd models too"},
@@ -210,7 +200,7 @@ int main(int argc, char **argv)
     const char *scene_path = args[0];
     if (cfg.token && !*cfg.token)
         cfg.token = NULL;
-    cfg.tail = sched_tail_by_name(tail_names[tail]);
+    cfg.tail = sched_tail_rules[tail];
     cfg.warmup = (uint32_t)warmup;
     cfg.stall_timeout = stall;
     cfg.handshake_timeout = handshake;
@@ -242,9 +232,7 @@ int main(int argc, char **argv)
         scene_destroy(scene);
         return 1;
     }
-    if (scene->light_count == 0)
-        fprintf(stderr, "lanray-server: warning: the scene has no light; only its ambient light (%g %g %g) shows it\n",
-                (double)scene->ambient.x, (double)scene->ambient.y, (double)scene->ambient.z);
+    cli_warn_scene("lanray-server", scene);
     App app;
     memset(&app, 0, sizeof app);
     app.out_dir = discard ? NULL : out_dir;

@@ -56,14 +56,14 @@ uint32_t sched_tail_adaptive(uint32_t remaining, uint32_t seg, uint32_t clients,
     return size < remaining ? size : remaining;
 }
 
+const char *const sched_tail_names[] = {"static", "smart", "adaptive", NULL};
+const SchedTailRule sched_tail_rules[] = {sched_tail_static, sched_tail_smart, sched_tail_adaptive};
+
 SchedTailRule sched_tail_by_name(const char *name)
 {
-    if (strcmp(name, "static") == 0)
-        return sched_tail_static;
-    if (strcmp(name, "smart") == 0)
-        return sched_tail_smart;
-    if (strcmp(name, "adaptive") == 0)
-        return sched_tail_adaptive;
+    for (int i = 0; sched_tail_names[i]; i++)
+        if (strcmp(name, sched_tail_names[i]) == 0)
+            return sched_tail_rules[i];
     return NULL;
 }
 

@@ -21,7 +21,11 @@ typedef uint32_t (*SchedTailRule)(uint32_t remaining, uint32_t segment_pixels, u
 uint32_t sched_tail_static(uint32_t remaining, uint32_t segment_pixels, uint32_t clients, uint32_t min_pixels);
 uint32_t sched_tail_smart(uint32_t remaining, uint32_t segment_pixels, uint32_t clients, uint32_t min_pixels);
 uint32_t sched_tail_adaptive(uint32_t remaining, uint32_t segment_pixels, uint32_t clients, uint32_t min_pixels);
-/* "static", "smart" or "adaptive"; NULL if unknown. */
+/* The rules by name: sched_tail_names[i] is sched_tail_rules[i] ("static",
+ * "smart", "adaptive"); the names end with NULL, as command-line choices do. */
+extern const char *const sched_tail_names[];
+extern const SchedTailRule sched_tail_rules[];
+/* The rule of that name; NULL if unknown. */
 SchedTailRule sched_tail_by_name(const char *name);
 
 typedef struct {

@@ -176,9 +176,7 @@ int main(int argc, char **argv)
         return 1;
     }
     double t1 = timer_now();
-    if (scene->light_count == 0)
-        fprintf(stderr, "lanray-render: warning: the scene has no light; only its ambient light (%g %g %g) shows it\n",
-                (double)scene->ambient.x, (double)scene->ambient.y, (double)scene->ambient.z);
+    cli_warn_scene("lanray-render", scene);
     uint64_t frame_bytes = (uint64_t)width * (uint64_t)height * 3;
     int banded = band_lines ? band_lines < height : frame_bytes > WHOLE_FRAME_BYTES;
     int band = !banded ? height : band_lines ? band_lines : (int)(BAND_BYTES / ((uint64_t)width * 3));

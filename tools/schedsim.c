@@ -42,6 +42,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "cli.h"
 #include "opt.h"
 #include "scheduler.h"
 #include "timer.h"
@@ -528,18 +529,6 @@ static int parse_speeds(const char *v, void *dst, Err *err)
     return s->nspeeds ? 0 : -1;
 }
 
-static int parse_segment(const char *v, void *dst, Err *err)
-{
-    (void)err;
-    char *end;
-    long n = strcmp(v, "auto") == 0 ? 0 : strtol(v, &end, 10);
-    if (strcmp(v, "auto") != 0 && (end == v || *end || n < 1 || n > 65536))
-        return -1;
-    *(uint32_t *)dst = (uint32_t)n;
-    return 0;
-}
-
-static const char *const tail_names[] = {"static", "smart", "adaptive", NULL};
 
 int main(int argc, char **argv)
 {
@@ -568,9 +557,9 @@ int main(int argc, char **argv)
         {.name = "--cores", .kind = OPT_REAL, .dst = &s.cores, .arg = "C", .help = "cores the clients share", .def = "unlimited"},
         {.name = "--speeds", .kind = OPT_CUSTOM, .dst = &s, .arg = "a,b,...", .parse = parse_speeds,
          .range = "positive numbers separated by commas", .help = "speed factor of each client", .def = "all 1"},
-        {.name = "--segment", .kind = OPT_CUSTOM, .dst = &s.segment, .arg = "LINES|auto", .parse = parse_segment,
-         .range = "1..65536 or auto", .help = "lines per segment", .def = "16"},
-        {.name = "--tail", .kind = OPT_CHOICE, .dst = &tail, .choices = tail_names, .help = "tail rule"},
+        {.name = "--segment", .kind = OPT_CUSTOM, .dst = &s.segment, .arg = "LINES|auto", .parse = cli_parse_segment,
+         .range = CLI_SEGMENT_RANGE, .help = "lines per segment", .def = "16"},
+        {.name = "--tail", .kind = OPT_CHOICE, .dst = &tail, .choices = sched_tail_names, .help = "tail rule"},
         {.name = "--frames", .kind = OPT_INT, .dst = &s.frames, .arg = "F", .lo = 1, .hi = 100000, .help = "frames to simulate"},
         {.name = "--latency-us", .kind = OPT_REAL, .dst = &s.latency_us, .arg = "L", .help = "one-way packet latency"},
         {.name = "--bandwidth-mbit", .kind = OPT_REAL, .dst = &s.mbit, .arg = "B", .help = "the server's link"},
@@ -602,7 +591,7 @@ int main(int argc, char **argv)
         fprintf(stderr, "schedsim: needs --profile FILE (usage: %s %s)\n", spec.prog, spec.synopsis);
         return 2;
     }
-    s.tail = sched_tail_by_name(tail_names[tail]);
+    s.tail = sched_tail_rules[tail];
     s.client_burst = burst_kb * 1024;
     FILE *f = fopen(profile, "r");
     if (!f) {
