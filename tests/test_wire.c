@@ -250,6 +250,36 @@ static void malformed_scenes_and_assets_are_rejected(void **state)
     asset_cache_destroy(c);
     free_encoded(s, &e);
     scene_destroy(s);
+    /* a plane's flags word and the output encoding: unknown values are refused.
+     * Layout (docs/protocol.md): a 12-byte header, camera 56, colours 48,
+     * settings 24 (linear is the sixth u32, at 136), counts 32, one material
+     * 60, then the plane: point and normal 48, material 4, flags at 284. */
+    Scene *one = scene_create();
+    assert_int_equal(scene_add_material(one, material_default(), NULL, NULL), 0);
+    assert_int_equal(scene_add_plane(one, plane_make(v3(0, 0, 0), v3(0, 1, 0), 0), NULL), 0);
+    assert_int_equal(scene_prepare(one, NULL), 0);
+    Sink sk = {0};
+    assert_int_equal(wire_encode_scene(one, NULL, NULL, &sk, NULL), 0);
+    assert_int_equal(sk.len, 288);
+    assert_int_equal(wire_decode_scene(sk.data, sk.len, c = asset_cache_create(), &back, &err), 0);
+    scene_destroy(back);
+    uint32_t word = 2;
+    memcpy(sk.data + 136, &word, 4);
+    assert_int_equal(wire_decode_scene(sk.data, sk.len, c, &back, &err), -1);
+    assert_contains(err.msg, "invalid settings");
+    word = 0;
+    memcpy(sk.data + 136, &word, 4);
+    word = 2;
+    memcpy(sk.data + 284, &word, 4);
+    assert_int_equal(wire_decode_scene(sk.data, sk.len, c, &back, &err), -1);
+    assert_contains(err.msg, "unknown plane flags");
+    word = 1; /* mapped, but its two numbers are missing */
+    memcpy(sk.data + 284, &word, 4);
+    assert_int_equal(wire_decode_scene(sk.data, sk.len, c, &back, &err), -1);
+    assert_contains(err.msg, "truncated");
+    asset_cache_destroy(c);
+    sink_free(&sk);
+    scene_destroy(one);
 }
 
 int main(void)
