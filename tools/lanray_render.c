@@ -183,9 +183,9 @@ int main(int argc, char **argv)
     if (band < 1)
         band = 1;
     int rc = 0;
-    if (banded && (repeat > 1 || profile))
-        rc = err_set(&err, "%dx%d is rendered in bands (%.1f GB whole); --repeat and --profile need the whole frame",
-                     width, height, (double)frame_bytes / 1e9);
+    if (banded && profile)
+        rc = err_set(&err, "%dx%d is rendered in bands (%.1f GB whole); --profile needs the whole frame", width, height,
+                     (double)frame_bytes / 1e9);
     else
         rc = cli_check_memory((uint64_t)width * (uint64_t)band * 3, banded ? "a band of the frame" : "the frame", &err);
     ImageWriter *wr = NULL;
@@ -227,7 +227,7 @@ int main(int argc, char **argv)
             rc = render_lines(pool, scene, width, height, y, n, dst, &part, &err);
             st.primary += part.primary;
             st.shadow += part.shadow;
-            if (rc == 0 && banded)
+            if (rc == 0 && banded && f == repeat - 1) /* in bands, the last pass writes */
                 rc = image_writer_rows(wr, pixels, n, &err) ? (wr = NULL, -1) : 0;
         }
         double dt = timer_now() - a;
