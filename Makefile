@@ -48,7 +48,7 @@ endif
 BUILD := build/$(PRECISION)$(if $(SAN),-$(SAN))$(if $(FEATURES),-$(FEATURES))
 CFLAGS ?= $(OPT) -g
 CPPFLAGS := -D_POSIX_C_SOURCE=200809L $(PFLAGS) -Icommon -Iserver -Iclient
-ALL_CFLAGS := -std=c17 -Wall -Wextra -Werror -pthread -MMD -MP $(SANFLAGS) $(CPPFLAGS) $(CFLAGS)
+ALL_CFLAGS := -std=c17 -ffp-contract=off -Wall -Wextra -Werror -pthread -MMD -MP $(SANFLAGS) $(CPPFLAGS) $(CFLAGS)
 LDLIBS := -lsodium -lnetpbm -lpng -lm -pthread
 LDFLAGS := $(SANFLAGS)
 
@@ -94,6 +94,9 @@ endif
 $(BUILD)/%.o: %.c
 	@mkdir -p $(dir $@)
 	$(CC) $(ALL_CFLAGS) -c $< -o $@
+
+# the AVX2 kernel only (simd.c calls it when the CPU has AVX2); never -mfma
+$(BUILD)/common/wide_avx2.o: ALL_CFLAGS += -mavx2
 
 $(LIB): $(COMMON_OBJ)
 	@rm -f $@

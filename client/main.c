@@ -8,6 +8,7 @@
 #include <string.h>
 #include <unistd.h>
 
+#include "cli.h"
 #include "client.h"
 #include "log.h"
 #include "opt.h"
@@ -51,8 +52,10 @@ static int split_host(const char *arg, char *host, size_t size, int *port, Err *
 int main(int argc, char **argv)
 {
     ClientConfig cfg = {NULL, PROTO_DEFAULT_PORT, 0, getenv("LANRAY_TOKEN"), 0, 1};
-    int once = 0;
+    int once = 0, simd_given = 0;
     const Opt opts[] = {
+        {.name = "--simd", .kind = OPT_CUSTOM, .parse = cli_parse_simd, .arg = "PATH", .range = CLI_SIMD_RANGE,
+         .seen = &simd_given, .help = "traversal path (every path gives the same pixels)", .def = CLI_SIMD_DEFAULT},
         {.name = "--threads", .kind = OPT_INT, .dst = &cfg.threads, .arg = "T", .lo = 0, .hi = 1024,
          .help = "render threads, 0 = one per core", .def = "0: all cores"},
         {.name = "--token", .kind = OPT_STRING, .dst = &cfg.token, .arg = "T",
@@ -76,6 +79,10 @@ int main(int argc, char **argv)
         return go;
     static char host[256];
     Err err = {{0}};
+    if (!simd_given && cli_simd_env(&err)) {
+        fprintf(stderr, "lanray-client: %s\n", err.msg);
+        return 2;
+    }
     if (split_host(args[0], host, sizeof host, &cfg.port, &err)) {
         fprintf(stderr, "lanray-client: %s\n", err.msg);
         return 2;

@@ -1,5 +1,6 @@
 /* cli.c - see cli.h. */
 #include "cli.h"
+#include "simd.h"
 
 #include <errno.h>
 #include <stdio.h>
@@ -23,6 +24,24 @@ static int parse_n(const char *s, int *out)
     if (end == s || *end || v < 1 || v > AA_MAX)
         return -1;
     *out = (int)v;
+    return 0;
+}
+
+int cli_parse_simd(const char *v, void *dst, Err *err)
+{
+    (void)dst;
+    char msg[160];
+    if (simd_select(v, msg, sizeof msg))
+        return err_set(err, "%s", msg);
+    return 0;
+}
+
+int cli_simd_env(Err *err)
+{
+    const char *env = getenv("LANRAY_SIMD");
+    char msg[160];
+    if (env && simd_select(env, msg, sizeof msg))
+        return err_set(err, "LANRAY_SIMD: %s", msg);
     return 0;
 }
 

@@ -26,6 +26,13 @@ extern const char *const cli_bvh_names[]; /* sbt, mst, sah: BvhKind order */
 #define CLI_SEGMENT_RANGE "1..16384 or auto"
 int cli_parse_segment(const char *value, void *dst, Err *err);
 
+/* --simd PATH: forces a traversal path (simd.h) at once; dst is unused.
+ * cli_simd_env checks LANRAY_SIMD the same way (0, or -1 with the reason). */
+int cli_parse_simd(const char *value, void *dst, Err *err);
+int cli_simd_env(Err *err);
+#define CLI_SIMD_RANGE "scalar, sse, avx2 or auto"
+#define CLI_SIMD_DEFAULT "auto: the CPU's best, or LANRAY_SIMD"
+
 /* --threads: 0 means one per core. */
 int cli_threads(int requested);
 

@@ -21,8 +21,10 @@ static inline vec3 tri_vertex(const Tri *t, int i) { return v3(t->v[i][0], t->v[
  * frame for every triangle sharing an edge: a ray through a shared edge or
  * vertex hits at least one of the triangles, never none.  Edge functions that
  * come out exactly zero are recomputed in double, as the paper prescribes.
- * On a hit, *b1 and *b2 are the barycentric weights of vertices 1 and 2. */
-static inline __attribute__((always_inline)) int tri_intersect(const Ray *r, const Tri *tri, real tmax, real *t_out, real *b1, real *b2)
+ * tri_solve gives the hit beyond r->tmin with no far limit; on a hit, *b1
+ * and *b2 are the barycentric weights of vertices 1 and 2.  The wide
+ * kernels (wide_kernel.h) repeat these operations lane by lane. */
+static inline __attribute__((always_inline)) int tri_solve(const Ray *r, const Tri *tri, real *t_out, real *b1, real *b2)
 {
     const int kx = r->kx, ky = r->ky, kz = r->kz;
     const real ax = tri->v[0][kx] - r->org.e[kx], ay = tri->v[0][ky] - r->org.e[ky], az = tri->v[0][kz] - r->org.e[kz];
@@ -52,12 +54,18 @@ static inline __attribute__((always_inline)) int tri_intersect(const Ray *r, con
      * depend on the order the triangles are visited */
     const real inv = R(1) / det;
     const real t = T * inv;
-    if (!(t > r->tmin && t < tmax))
+    if (!(t > r->tmin))
         return 0;
     *t_out = t;
     *b1 = V * inv;
     *b2 = W * inv;
     return 1;
+}
+
+/* The hit with r->tmin < t < tmax, if any. */
+static inline __attribute__((always_inline)) int tri_intersect(const Ray *r, const Tri *tri, real tmax, real *t_out, real *b1, real *b2)
+{
+    return tri_solve(r, tri, t_out, b1, b2) && *t_out < tmax;
 }
 
 /* Sphere test in the numerically careful form of Haines et al., "Precision

@@ -4,6 +4,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "simd.h"
+
 Model *model_alloc(uint32_t tri_count, uint32_t node_count, uint32_t material_count, int normals, int uvs, int mat_ids)
 {
     Model *m = calloc(1, sizeof *m);
@@ -34,6 +36,7 @@ void model_destroy(Model *m)
     if (!m)
         return;
     bvh_destroy(&m->bvh);
+    wide_destroy(m->wide);
     free(m->tris);
     free(m->normals);
     free(m->uvs);
@@ -137,4 +140,22 @@ int model_from_mesh(Model **out, const Mesh *mesh, const BvhOptions *opt, Err *e
     return 0;
 }
 
-int model_rebuild(Model *m, const BvhOptions *opt, Err *err) { return model_build_bvh(m, opt, err); }
+int model_rebuild(Model *m, const BvhOptions *opt, Err *err)
+{
+    wide_destroy(m->wide);
+    m->wide = NULL;
+    return model_build_bvh(m, opt, err);
+}
+
+int model_prepare_simd(Model *m, Err *err)
+{
+    SimdPath p = simd_path();
+    if (m->wide && m->wide_path == (int)p)
+        return 0;
+    wide_destroy(m->wide);
+    m->wide = NULL;
+    m->wide_path = (int)p;
+    if (p == SIMD_SCALAR)
+        return 0;
+    return wide_build(&m->wide, &m->bvh, m->tris, (int)p, err);
+}

@@ -10,6 +10,7 @@
 #include "bvh.h"
 #include "intersect.h"
 #include "mesh.h"
+#include "wide.h"
 
 typedef struct {
     Bvh bvh;
@@ -21,6 +22,8 @@ typedef struct {
     Material *materials;
     uint32_t material_count;
     Aabb bounds;
+    Wide *wide;         /* the tree collapsed for the SIMD path, or NULL: binary traversal */
+    int wide_path;      /* the SimdPath it was built for */
 } Model;
 
 typedef struct {
@@ -36,7 +39,12 @@ void model_destroy(Model *m);
 /* Allocates a model with room for the given counts and attributes (used by the .tmd reader). */
 Model *model_alloc(uint32_t tri_count, uint32_t node_count, uint32_t material_count, int normals, int uvs, int mat_ids);
 
-/* Closest hit nearer than tmax in model space. */
+/* Builds (or drops) the wide tree for the SIMD path in use; called by
+ * scene_prepare, before any thread traces. */
+int model_prepare_simd(Model *m, Err *err);
+
+/* Closest hit nearer than tmax in model space: the smallest t, and of equal
+ * t the smallest triangle index, whatever the path (see wide.h). */
 int model_intersect(const Model *m, const Ray *r, real tmax, ModelHit *hit);
 /* Any hit nearer than tmax: shadow rays stop at the first occluder. */
 int model_occluded(const Model *m, const Ray *r, real tmax);

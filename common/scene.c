@@ -297,6 +297,9 @@ int scene_prepare(Scene *s, Err *err)
                 f |= FEAT_SPECULAR;
         in->world_box = m->tri_count ? instance_world_box(in, m->bounds) : aabb_empty();
     }
+    for (uint32_t i = 0; i < s->model_count; i++)
+        if (model_prepare_simd(s->models[i], err))
+            return err_prefix(err, "scene");
     for (uint32_t i = 0; i < s->light_count; i++) {
         Light *l = &s->lights[i];
         if (!v3_is_finite(l->pos) || !v3_is_finite(l->color) || !(l->intensity >= R(0)) || !isfinite(l->intensity))

@@ -2,6 +2,7 @@
 #include "helpers.h"
 
 #include "model.h"
+#include "simd.h"
 
 static void random_mesh(Mesh *m, Rng *rng, uint32_t n, int clustered)
 {
@@ -52,8 +53,10 @@ static void check_structure(const Model *m)
     }
 }
 
-/* Closest hit and any hit agree with testing every triangle. */
-static void check_against_brute_force(const Model *m, Rng *rng, int rays)
+/* Closest hit and any hit agree with testing every triangle, on the binary
+ * tree and on the wide tree of every SIMD path this machine has: the same
+ * t, barycentrics and triangle (of equal t, the smallest index: wide.h). */
+static void check_rays(const Model *m, Rng *rng, int rays)
 {
     Aabb b = m->bounds;
     vec3 c = aabb_centre(b);
@@ -66,25 +69,48 @@ static void check_against_brute_force(const Model *m, Rng *rng, int rays)
             const Tri *t = &m->tris[rng_next(rng) % m->tri_count];
             target = v3_scale(v3_add(v3_add(tri_vertex(t, 0), tri_vertex(t, 1)), tri_vertex(t, 2)), R(1) / 3);
         }
+        if (i % 7 == 3) /* and some through a vertex, shared by its neighbours */
+            target = tri_vertex(&m->tris[rng_next(rng) % m->tri_count], (int)(rng_next(rng) % 3));
         Ray r = ray_make(org, v3_sub(target, org), 0, REAL_INF);
-        real best = REAL_INF;
+        real best = REAL_INF, bb1 = 0, bb2 = 0;
+        uint32_t best_tri = 0;
         for (uint32_t t = 0; t < m->tri_count; t++) {
             real tt, b1, b2;
-            if (tri_intersect(&r, &m->tris[t], best, &tt, &b1, &b2))
-                best = tt;
+            if (tri_solve(&r, &m->tris[t], &tt, &b1, &b2) && tt < best)
+                best = tt, best_tri = t, bb1 = b1, bb2 = b2; /* ascending t: the first of equal t stays */
         }
         ModelHit h;
         int got = model_intersect(m, &r, REAL_INF, &h);
         assert_int_equal(got, best < REAL_INF);
         if (got) {
-            if (h.t != best)
-                fail_msg("closest hit %.9g, brute force %.9g (ray %d)", (double)h.t, (double)best, i);
+            if (h.t != best || h.tri != best_tri || h.b1 != bb1 || h.b2 != bb2)
+                fail_msg("%s: closest hit %.9g on %u, brute force %.9g on %u (ray %d)",
+                         m->wide ? (m->wide->width == 8 ? "avx2" : "sse") : "scalar", (double)h.t, h.tri,
+                         (double)best, best_tri, i);
             hits++;
         }
         assert_int_equal(model_occluded(m, &r, REAL_INF), best < REAL_INF);
         assert_int_equal(model_occluded(m, &r, best * R(0.999)), 0);
     }
     assert_true(hits > rays / 4); /* the rays do reach the geometry */
+}
+
+static void check_against_brute_force(Model *m, Rng *rng, int rays)
+{
+    Rng start = *rng;
+    for (int p = 0; p < SIMD_PATH_COUNT; p++) {
+        if (!simd_available((SimdPath)p))
+            continue;
+        Err err;
+        if (p != SIMD_SCALAR && wide_build(&m->wide, &m->bvh, m->tris, p, &err))
+            fail_msg("wide bvh: %s", err.msg);
+        if (p != SIMD_SCALAR && WIDE_COMPILED)
+            assert_non_null(m->wide);
+        *rng = start; /* every path sees the same rays */
+        check_rays(m, rng, rays);
+        wide_destroy(m->wide);
+        m->wide = NULL;
+    }
 }
 
 static void each_builder(Mesh *mesh, Rng *rng, int rays)

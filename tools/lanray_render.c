@@ -19,6 +19,7 @@
 #include "opt.h"
 #include "progress.h"
 #include "render.h"
+#include "simd.h"
 #include "timer.h"
 
 /* Frames above this are rendered in bands of BAND_BYTES, written as they finish. */
@@ -92,7 +93,7 @@ static int write_profile(RenderPool *pool, const Scene *scene, int width, int he
 int main(int argc, char **argv)
 {
     const char *out = "lanray.png", *profile = NULL;
-    int width = 1024, height = 768, repeat = 1, quiet = 0, segment = 0, threads = 0, linear = 0;
+    int width = 1024, height = 768, repeat = 1, quiet = 0, segment = 0, threads = 0, linear = 0, simd_given = 0;
     int width_given = 0, height_given = 0, force_bvh = 0, bvh_kind = BVH_SAH, band_lines = 0;
     int shading = SHADE_PHONG, shadows = 1, filter = FILTER_BILINEAR, shading_given = 0, shadows_given = 0, filter_given = 0;
     CliAa aa = {4, 1, 0};
@@ -127,6 +128,8 @@ int main(int argc, char **argv)
                  "bands of 32 MB above"},
         {.name = "--profile", .kind = OPT_STRING, .dst = &profile, .arg = "FILE",
          .help = "also time every line alone, write 'line,microseconds' to FILE (for tools/schedsim)"},
+        {.name = "--simd", .kind = OPT_CUSTOM, .parse = cli_parse_simd, .arg = "PATH", .range = CLI_SIMD_RANGE,
+         .seen = &simd_given, .help = "traversal path (every path gives the same pixels)", .def = CLI_SIMD_DEFAULT},
         {.name = "--quiet", .kind = OPT_FLAG, .dst = &quiet, .help = "print only the timing line: no scene line, no progress"},
         {0},
     };
@@ -143,6 +146,10 @@ int main(int argc, char **argv)
     if (go != OPT_GO)
         return go;
     Err err = {{0}};
+    if (!simd_given && cli_simd_env(&err)) {
+        fprintf(stderr, "lanray-render: %s\n", err.msg);
+        return 2;
+    }
     /* a wrong output name fails before the scene is even loaded */
     if (image_check_name(out, &err)) {
         fprintf(stderr, "lanray-render: %s\n", err.msg);
@@ -248,10 +255,10 @@ int main(int argc, char **argv)
         fprintf(stderr, "lanray-render: %s\n", err.msg);
     else {
         double rays = (double)(st.primary + st.shadow);
-        printf("%dx%d aa %d%s %s shadows %s bvh %s threads %d (%s): frame %.4f s (mean %.4f s over %d), "
+        printf("%dx%d aa %d%s %s shadows %s bvh %s threads %d simd %s (%s): frame %.4f s (mean %.4f s over %d), "
                "%.2f Mrays/s (%llu camera + %llu shadow rays)\n",
                width, height, rs->aa, rs->adaptive ? " adaptive" : "", rs->shading == SHADE_PHONG ? "phong" : "diffuse",
-               rs->shadows ? "on" : "off", bvh_kind_name(bvh.kind), threads, REAL_NAME, best, sum / repeat, repeat,
+               rs->shadows ? "on" : "off", bvh_kind_name(bvh.kind), threads, simd_name(simd_path()), REAL_NAME, best, sum / repeat, repeat,
                rays / best * 1e-6, (unsigned long long)st.primary, (unsigned long long)st.shadow);
         if (!quiet)
             printf("wrote %s\n", out);

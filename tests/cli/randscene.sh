@@ -2,8 +2,9 @@
 # Property: a frame rendered by a server and two clients is bit-identical to
 # lanray-render's, for scenes drawn at random from the whole scene grammar
 # (tests/tools/randscene.py).  Each seed is rendered standalone, then served
-# with `--verify` to two clients (segment size and tail rule drawn from the
-# seed too); any differing pixel fails, naming the seed and its scene file.
+# with `--verify` to two clients (segment size, tail rule and each client's
+# SIMD path drawn from the seed too); any differing pixel fails, naming the
+# seed and its scene file.
 # SEEDS=N sets how many (default 60; 20 under the sanitizers, which are slow).
 set -u
 source tests/tools/server-lib.sh
@@ -14,6 +15,10 @@ mkdir -p "$dir/s"
 python3 tests/tools/randscene.py 0 "$dir/s" >/dev/null || fail "randscene.py"
 "$BIN/obj2tmd" "$dir/s/mesh.obj" "$dir/s/mesh.tmd" >/dev/null || fail "obj2tmd mesh.obj"
 W=${W:-160} H=${H:-120}
+simd=(auto) # the paths this build and CPU have
+for p in scalar sse avx2; do
+    "$BIN/lanray-render" --simd "$p" --width 1 --height 1 -o "$dir/probe.png" --quiet >/dev/null 2>&1 && simd+=("$p")
+done
 bad=0
 for seed in $(seq "$FIRST_SEED" $((FIRST_SEED + SEEDS - 1))); do
     scene=$(python3 tests/tools/randscene.py "$seed" "$dir/s") || fail "randscene.py $seed"
@@ -28,9 +33,11 @@ for seed in $(seq "$FIRST_SEED" $((FIRST_SEED + SEEDS - 1))); do
         { cat "$dir/render.log"; fail "seed $seed: lanray-render failed"; }
     start_server "seed-$seed" "$scene" "${linear[@]}" --port 0 --width $W --height $H --frames 1 --wait-clients 2 --segment "$seg" --tail "$tail" \
         --verify "$ref" --out "$dir/f"
-    "$BIN/lanray-client" "127.0.0.1:$port" --threads 2 --once --quiet 2>/dev/null &
+    # the two clients as two CPUs: each takes another traversal path (simd.h)
+    s1=${simd[$((seed % ${#simd[@]}))]} s2=${simd[$(((seed + 1) % ${#simd[@]}))]}
+    "$BIN/lanray-client" "127.0.0.1:$port" --threads 2 --once --quiet --simd "$s1" 2>/dev/null &
     c1=$!
-    "$BIN/lanray-client" "127.0.0.1:$port" --threads 1 --once --quiet 2>/dev/null &
+    "$BIN/lanray-client" "127.0.0.1:$port" --threads 1 --once --quiet --simd "$s2" 2>/dev/null &
     c2=$!
     pids+=("$c1" "$c2")
     for _ in $(seq 600); do kill -0 "$server_pid" 2>/dev/null || break; sleep 0.05; done

@@ -1,0 +1,18 @@
+/* wide_avx2.c - 8-wide BVH traversal with AVX2.  Built with -mavx2 (and
+ * never -mfma: a contracted multiply-add would round differently from the
+ * other paths); only called when the CPU reports AVX2 (simd.c). */
+#if defined(__x86_64__) && !defined(LANRAY_DOUBLE)
+#define NW 8
+#define VN __m256
+#define VN_SET1 _mm256_set1_ps
+#define VN_LOAD _mm256_load_ps
+#define VN_STORE _mm256_storeu_ps
+#define VN_MIN _mm256_min_ps
+#define VN_MAX _mm256_max_ps
+#define VN_LE_MASK(a, b) _mm256_movemask_ps(_mm256_cmp_ps(a, b, _CMP_LE_OQ))
+#define KERNEL_CLOSEST wide8_closest_avx2
+#define KERNEL_ANY wide8_any_avx2
+#include "wide_kernel.h"
+#else
+typedef int wide_avx2_unused; /* no AVX2 kernel in double or non-x86 builds */
+#endif

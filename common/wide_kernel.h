@@ -1,0 +1,243 @@
+/* wide_kernel.h - the wide-BVH traversal, written once for every node width.
+ *
+ * Included by wide_sse.c (4-wide nodes, SSE) and wide_avx2.c (8-wide nodes,
+ * AVX2) after they define:
+ *   NW                   children per node
+ *   VN                   a vector of NW floats, and VN_SET1, VN_LOAD, VN_STORE,
+ *                        VN_MIN, VN_MAX, VN_LE_MASK (a <= b as a bit mask)
+ *   KERNEL_CLOSEST, KERNEL_ANY   the names of the two entry points
+ * The triangle blocks are always 4 wide (SSE; VEX-encoded in the AVX2 file).
+ *
+ * Every operation of the triangle test is the scalar tri_intersect's, in
+ * the same order, so every lane gives the scalar path's t, b1 and b2 to the
+ * bit; see wide.h for why the visiting order does not matter. */
+#include <immintrin.h>
+
+#include "wide.h"
+
+#ifndef WIDE_KERNEL_COMMON
+#define WIDE_KERNEL_COMMON
+
+typedef struct {
+    uint32_t id, blocks;
+    float t;
+} WideEntry;
+
+/* A ray's constants for the triangle test, splatted. */
+typedef struct {
+    int kx, ky, kz;
+    __m128 ox, oy, oz; /* origin in the sheared frame's axis order */
+    __m128 sx, sy, sz, tmin;
+} WideRay;
+
+static inline __attribute__((always_inline)) void wide_ray_setup(WideRay *k, const Ray *r)
+{
+    k->kx = r->kx, k->ky = r->ky, k->kz = r->kz;
+    k->ox = _mm_set1_ps(r->org.e[r->kx]);
+    k->oy = _mm_set1_ps(r->org.e[r->ky]);
+    k->oz = _mm_set1_ps(r->org.e[r->kz]);
+    k->sx = _mm_set1_ps(r->sx);
+    k->sy = _mm_set1_ps(r->sy);
+    k->sz = _mm_set1_ps(r->sz);
+    k->tmin = _mm_set1_ps(r->tmin);
+}
+
+/* Four triangles at once: the lanes that hit with tmin < t and t < tmax
+ * (t <= tmax when `upto`), as a bit mask; their t, V, W and 1/det. */
+static inline __attribute__((always_inline)) int wide_tris_hit(const WideTris *b, const WideRay *k, float tmax, int upto,
+                                                               __m128 *t_out, __m128 *v_out, __m128 *w_out,
+                                                               __m128 *inv_out)
+{
+    const __m128 ax = _mm_load_ps(b->v[0][k->kx]) - k->ox, ay = _mm_load_ps(b->v[0][k->ky]) - k->oy,
+                 az = _mm_load_ps(b->v[0][k->kz]) - k->oz;
+    const __m128 bx = _mm_load_ps(b->v[1][k->kx]) - k->ox, by = _mm_load_ps(b->v[1][k->ky]) - k->oy,
+                 bz = _mm_load_ps(b->v[1][k->kz]) - k->oz;
+    const __m128 cx = _mm_load_ps(b->v[2][k->kx]) - k->ox, cy = _mm_load_ps(b->v[2][k->ky]) - k->oy,
+                 cz = _mm_load_ps(b->v[2][k->kz]) - k->oz;
+    const __m128 Ax = ax - k->sx * az, Ay = ay - k->sy * az;
+    const __m128 Bx = bx - k->sx * bz, By = by - k->sy * bz;
+    const __m128 Cx = cx - k->sx * cz, Cy = cy - k->sy * cz;
+    __m128 U = Cx * By - Cy * Bx;
+    __m128 V = Ax * Cy - Ay * Cx;
+    __m128 W = Bx * Ay - By * Ax;
+    const __m128 zero = _mm_setzero_ps();
+    int z = _mm_movemask_ps(_mm_or_ps(_mm_or_ps(_mm_cmpeq_ps(U, zero), _mm_cmpeq_ps(V, zero)), _mm_cmpeq_ps(W, zero)));
+    if (__builtin_expect(z != 0, 0)) { /* an edge through the ray: redo those lanes in double, as the scalar test does */
+        float fa[6][4], fu[3][4];
+        _mm_storeu_ps(fa[0], Ax), _mm_storeu_ps(fa[1], Ay), _mm_storeu_ps(fa[2], Bx);
+        _mm_storeu_ps(fa[3], By), _mm_storeu_ps(fa[4], Cx), _mm_storeu_ps(fa[5], Cy);
+        _mm_storeu_ps(fu[0], U), _mm_storeu_ps(fu[1], V), _mm_storeu_ps(fu[2], W);
+        for (int l = 0; l < 4; l++)
+            if (z >> l & 1) {
+                double xa = fa[0][l], ya = fa[1][l], xb = fa[2][l], yb = fa[3][l], xc = fa[4][l], yc = fa[5][l];
+                fu[0][l] = (float)(xc * yb - yc * xb);
+                fu[1][l] = (float)(xa * yc - ya * xc);
+                fu[2][l] = (float)(xb * ya - yb * xa);
+            }
+        U = _mm_loadu_ps(fu[0]), V = _mm_loadu_ps(fu[1]), W = _mm_loadu_ps(fu[2]);
+    }
+    const __m128 neg = _mm_or_ps(_mm_or_ps(_mm_cmplt_ps(U, zero), _mm_cmplt_ps(V, zero)), _mm_cmplt_ps(W, zero));
+    const __m128 pos = _mm_or_ps(_mm_or_ps(_mm_cmpgt_ps(U, zero), _mm_cmpgt_ps(V, zero)), _mm_cmpgt_ps(W, zero));
+    const __m128 det = U + V + W;
+    const __m128 T = U * (k->sz * az) + V * (k->sz * bz) + W * (k->sz * cz);
+    const __m128 inv = _mm_set1_ps(1.0f) / det;
+    const __m128 t = T * inv;
+    const __m128 vt = _mm_set1_ps(tmax);
+    __m128 ok = _mm_and_ps(_mm_cmpgt_ps(t, k->tmin), upto ? _mm_cmple_ps(t, vt) : _mm_cmplt_ps(t, vt));
+    ok = _mm_andnot_ps(_mm_or_ps(_mm_and_ps(neg, pos), _mm_cmpeq_ps(det, zero)), ok);
+    *t_out = t, *v_out = V, *w_out = W, *inv_out = inv;
+    return _mm_movemask_ps(ok);
+}
+
+#endif
+
+/* Per-ray node constants: the row of each axis's entry and exit bound. */
+#define WIDE_NODE_SETUP()                                                                                         \
+    const VN ox = VN_SET1(r->org.x), oy = VN_SET1(r->org.y), oz = VN_SET1(r->org.z);                              \
+    const VN ix = VN_SET1(r->inv.x), iy = VN_SET1(r->inv.y), iz = VN_SET1(r->inv.z);                              \
+    const VN vtmin = VN_SET1(r->tmin), fudge = VN_SET1(BVH_FUDGE);                                                \
+    const int n0 = (r->inv.x >= 0 ? 0 : 3) * NW, n1 = (r->inv.y >= 0 ? 1 : 4) * NW,                               \
+              n2 = (r->inv.z >= 0 ? 2 : 5) * NW;                                                                  \
+    const int f0 = (r->inv.x >= 0 ? 3 : 0) * NW, f1 = (r->inv.y >= 0 ? 4 : 1) * NW,                               \
+              f2 = (r->inv.z >= 0 ? 5 : 2) * NW
+
+/* Slab test of a node's children against (tmin, tmax]; the mask of those
+ * hit and their entry distances.  Conservative as bvh_node_hit: a NaN
+ * (0 * inf) leaves the bound as it was, and far distances are enlarged. */
+#define WIDE_NODE_TEST(box, tmax, lo_out, mask_out)                                                               \
+    do {                                                                                                          \
+        const VN t0x = (VN_LOAD((box) + n0) - ox) * ix, t1x = (VN_LOAD((box) + f0) - ox) * ix;                    \
+        const VN t0y = (VN_LOAD((box) + n1) - oy) * iy, t1y = (VN_LOAD((box) + f1) - oy) * iy;                    \
+        const VN t0z = (VN_LOAD((box) + n2) - oz) * iz, t1z = (VN_LOAD((box) + f2) - oz) * iz;                    \
+        lo_out = VN_MAX(t0z, VN_MAX(t0y, VN_MAX(t0x, vtmin)));                                                    \
+        const VN hi_ = VN_MIN(t1z, VN_MIN(t1y, VN_MIN(t1x, VN_SET1(tmax))));                                      \
+        mask_out = VN_LE_MASK(lo_out, hi_ * fudge);                                                               \
+    } while (0)
+
+#define WIDE_NODE(w, i) ((const float *)(const void *)((const char *)(w)->nodes + (size_t)(i) * (w)->node_bytes))
+#define WIDE_STACK (BVH_MAX_DEPTH * (NW - 1) + NW)
+
+/* Children hit, nearest last: all but the last go on the stack. */
+static inline __attribute__((always_inline)) WideEntry wide_sort_push(const float *node, int mask, VN lo,
+                                                                     WideEntry *stack, uint32_t *sp)
+{
+    const uint32_t *child = (const uint32_t *)(const void *)(node + WIDE_BOX_FLOATS(NW));
+    const uint8_t *blocks = (const uint8_t *)node + WIDE_BLOCKS_OFFSET(NW);
+    float tn[NW];
+    VN_STORE(tn, lo);
+    WideEntry e[NW];
+    int n = 0;
+    while (mask) {
+        int i = __builtin_ctz((unsigned)mask);
+        mask &= mask - 1;
+        WideEntry x = {child[i], blocks[i], tn[i]};
+        int j = n++;
+        while (j > 0 && e[j - 1].t < x.t) { /* farthest first */
+            e[j] = e[j - 1];
+            j--;
+        }
+        e[j] = x;
+    }
+    for (int j = 0; j < n - 1; j++)
+        stack[(*sp)++] = e[j];
+    return e[n - 1];
+}
+
+int KERNEL_CLOSEST(const Wide *w, const Ray *r, real tmax, WideHit *hit)
+{
+    WideRay k;
+    wide_ray_setup(&k, r);
+    WIDE_NODE_SETUP();
+    WideEntry stack[WIDE_STACK];
+    uint32_t sp = 0, cur = w->root, cur_blocks = w->root_blocks;
+    float best = tmax;
+    uint32_t best_idx = 0; /* with best = tmax: a hit exactly at tmax is not taken */
+    int found = 0;
+    for (;;) {
+        if (cur_blocks == 0) {
+            const float *box = WIDE_NODE(w, cur);
+            VN lo;
+            int mask;
+            WIDE_NODE_TEST(box, best, lo, mask);
+            if (mask) {
+                if ((mask & (mask - 1)) == 0) {
+                    int i = __builtin_ctz((unsigned)mask);
+                    cur = ((const uint32_t *)(const void *)(box + WIDE_BOX_FLOATS(NW)))[i];
+                    cur_blocks = ((const uint8_t *)box + WIDE_BLOCKS_OFFSET(NW))[i];
+                } else {
+                    WideEntry e = wide_sort_push(box, mask, lo, stack, &sp);
+                    cur = e.id, cur_blocks = e.blocks;
+                }
+                continue;
+            }
+        } else {
+            for (uint32_t b = 0; b < cur_blocks; b++) {
+                const WideTris *blk = &w->tris[cur + b];
+                __m128 t, v, ww, inv;
+                int m = wide_tris_hit(blk, &k, best, 1, &t, &v, &ww, &inv);
+                if (!m)
+                    continue;
+                float ts[4], vs[4], ws[4], is[4];
+                _mm_storeu_ps(ts, t), _mm_storeu_ps(vs, v), _mm_storeu_ps(ws, ww), _mm_storeu_ps(is, inv);
+                while (m) {
+                    int l = __builtin_ctz((unsigned)m);
+                    m &= m - 1;
+                    uint32_t id = blk->idx[l];
+                    if (ts[l] < best || (ts[l] == best && id < best_idx)) {
+                        best = ts[l];
+                        best_idx = id;
+                        hit->t = ts[l];
+                        hit->b1 = vs[l] * is[l];
+                        hit->b2 = ws[l] * is[l];
+                        hit->tri = id;
+                        found = 1;
+                    }
+                }
+            }
+        }
+        do {
+            if (sp == 0)
+                return found;
+            --sp;
+        } while (stack[sp].t > best * BVH_FUDGE);
+        cur = stack[sp].id, cur_blocks = stack[sp].blocks;
+    }
+}
+
+int KERNEL_ANY(const Wide *w, const Ray *r, real tmax)
+{
+    WideRay k;
+    wide_ray_setup(&k, r);
+    WIDE_NODE_SETUP();
+    WideEntry stack[WIDE_STACK];
+    uint32_t sp = 0, cur = w->root, cur_blocks = w->root_blocks;
+    for (;;) {
+        if (cur_blocks == 0) {
+            const float *box = WIDE_NODE(w, cur);
+            VN lo;
+            int mask;
+            WIDE_NODE_TEST(box, tmax, lo, mask);
+            if (mask) {
+                if ((mask & (mask - 1)) == 0) {
+                    int i = __builtin_ctz((unsigned)mask);
+                    cur = ((const uint32_t *)(const void *)(box + WIDE_BOX_FLOATS(NW)))[i];
+                    cur_blocks = ((const uint8_t *)box + WIDE_BLOCKS_OFFSET(NW))[i];
+                } else {
+                    WideEntry e = wide_sort_push(box, mask, lo, stack, &sp);
+                    cur = e.id, cur_blocks = e.blocks;
+                }
+                continue;
+            }
+        } else {
+            for (uint32_t b = 0; b < cur_blocks; b++) {
+                __m128 t, v, ww, inv;
+                if (wide_tris_hit(&w->tris[cur + b], &k, tmax, 0, &t, &v, &ww, &inv))
+                    return 1;
+            }
+        }
+        if (sp == 0)
+            return 0;
+        --sp;
+        cur = stack[sp].id, cur_blocks = stack[sp].blocks;
+    }
+}
