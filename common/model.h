@@ -44,10 +44,17 @@ Model *model_alloc(uint32_t tri_count, uint32_t node_count, uint32_t material_co
 int model_prepare_simd(Model *m, Err *err);
 
 /* Closest hit nearer than tmax in model space: the smallest t, and of equal
- * t the smallest triangle index, whatever the path (see wide.h). */
-int model_intersect(const Model *m, const Ray *r, real tmax, ModelHit *hit);
+ * t the smallest triangle index, whatever the path (see wide.h).  With
+ * `at_tmax`, a hit at exactly tmax counts too (the scene's tie rule, trace.c). */
+int model_intersect(const Model *m, const Ray *r, real tmax, int at_tmax, ModelHit *hit);
 /* Any hit nearer than tmax: shadow rays stop at the first occluder. */
 int model_occluded(const Model *m, const Ray *r, real tmax);
+/* The same for n <= WIDE_PACKET rays at once (a packet where the SIMD path
+ * has one): the mask of the rays that hit; each ray's answer is what the
+ * single-ray call gives. */
+uint32_t model_intersect_packet(const Model *m, const Ray *const *rays, int n, const real *tmax, const int *at_tmax,
+                                ModelHit *hits);
+uint32_t model_occluded_packet(const Model *m, const Ray *const *rays, int n, const real *tmax);
 /* Geometric (flat) normal of triangle i, not normalised. */
 static inline vec3 model_face_normal(const Model *m, uint32_t i)
 {

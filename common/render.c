@@ -176,21 +176,54 @@ typedef struct {
 
 static int cancelled(const Frame *f) { return f->cancel && atomic_load_explicit(f->cancel, memory_order_relaxed); }
 
-static vec3 sample(const Frame *f, real x, real y, RayStats *st, uint64_t *key)
+/* The colours of n <= TRACE_PACKET sample positions, traced as one packet
+ * (shade_packet: each colour is what the ray gives alone). */
+static void sample_packet(const Frame *f, const real *xs, const real *ys, int n, vec3 *out, RayStats *st,
+                          uint64_t *keys)
 {
-    vec3 d = v3_norm(camera_dir(&f->cam, x, y));
-    Ray r = ray_make(f->cam.org, d, R(0), REAL_INF);
-    return shade_ray(f->s, &r, st, key);
+    Ray rays[TRACE_PACKET];
+    for (int i = 0; i < n; i++)
+        rays[i] = ray_make(f->cam.org, v3_norm(camera_dir(&f->cam, xs[i], ys[i])), R(0), REAL_INF);
+    shade_packet(f->s, rays, n, out, st, keys);
 }
 
+/* n x n sub-samples, in packets, summed in the same order as ever */
 static vec3 sample_grid(const Frame *f, int px, int py, int n, RayStats *st)
 {
     vec3 sum = v3_splat(0);
     real inv = R(1) / (real)n;
+    real xs[TRACE_PACKET], ys[TRACE_PACKET];
+    vec3 c[TRACE_PACKET];
+    int k = 0;
     for (int j = 0; j < n; j++)
-        for (int i = 0; i < n; i++)
-            sum = v3_add(sum, sample(f, (real)px + ((real)i + R(0.5)) * inv, (real)py + ((real)j + R(0.5)) * inv, st, NULL));
+        for (int i = 0; i < n; i++) {
+            xs[k] = (real)px + ((real)i + R(0.5)) * inv;
+            ys[k++] = (real)py + ((real)j + R(0.5)) * inv;
+            if (k == TRACE_PACKET || (j == n - 1 && i == n - 1)) {
+                sample_packet(f, xs, ys, k, c, st, NULL);
+                for (int q = 0; q < k; q++)
+                    sum = v3_add(sum, c[q]);
+                k = 0;
+            }
+        }
     return v3_scale(sum, inv * inv);
+}
+
+/* Pixel centres i0.. of a run of `width`-wide lines starting at line offset
+ * `g0`: how many (at most TRACE_PACKET) lie on the first one's line, with
+ * their positions.  Packets follow lines, so a segment of one line, or of
+ * part of one, still gets them. */
+static int line_packet(uint64_t g0, uint64_t left, int width, real *xs, real *ys)
+{
+    int px = (int)(g0 % (uint64_t)width), py = (int)(g0 / (uint64_t)width);
+    int n = width - px < TRACE_PACKET ? width - px : TRACE_PACKET;
+    if ((uint64_t)n > left)
+        n = (int)left;
+    for (int k = 0; k < n; k++) {
+        xs[k] = (real)(px + k) + R(0.5);
+        ys[k] = (real)py + R(0.5);
+    }
+    return n;
 }
 
 /* Linear light to the pixel's codes: sRGB unless the scene asks for linear
@@ -227,11 +260,21 @@ static void job_grid(void *ctx, uint32_t chunk, RayStats *st)
     chunk_range(chunk, f->count, &i0, &i1);
     int n = f->s->settings.aa;
     uint64_t before = st->primary + st->shadow;
-    for (uint64_t i = i0; i < i1; i++) {
+    for (uint64_t i = i0; i < i1;) {
         uint64_t g = f->first + i;
+        if (n == 1) {
+            real xs[TRACE_PACKET], ys[TRACE_PACKET];
+            vec3 c[TRACE_PACKET];
+            int k = line_packet(g, i1 - i, f->width, xs, ys);
+            sample_packet(f, xs, ys, k, c, st, NULL);
+            for (int q = 0; q < k; q++)
+                put_pixel(f, &f->pixels[3 * (i + (uint64_t)q)], c[q]);
+            i += (uint64_t)k;
+            continue;
+        }
         int px = (int)(g % (uint64_t)f->width), py = (int)(g / (uint64_t)f->width);
-        vec3 c = n == 1 ? sample(f, (real)px + R(0.5), (real)py + R(0.5), st, NULL) : sample_grid(f, px, py, n, st);
-        put_pixel(f, &f->pixels[3 * i], c);
+        put_pixel(f, &f->pixels[3 * i], sample_grid(f, px, py, n, st));
+        i++;
     }
     count_progress(f, i1 - i0, st, before);
 }
@@ -245,12 +288,18 @@ static void job_keys(void *ctx, uint32_t chunk, RayStats *st)
     uint64_t i0, i1;
     chunk_range(chunk, (uint64_t)f->width * (uint64_t)f->key_lines, &i0, &i1);
     uint64_t before = st->primary + st->shadow;
-    for (uint64_t i = i0; i < i1; i++) {
-        int px = (int)(i % (uint64_t)f->width), py = f->key_first + (int)(i / (uint64_t)f->width);
+    for (uint64_t i = i0; i < i1;) {
+        real xs[TRACE_PACKET], ys[TRACE_PACKET];
+        vec3 c[TRACE_PACKET];
+        int k = line_packet(i, i1 - i, f->width, xs, ys);
+        for (int q = 0; q < k; q++)
+            ys[q] += (real)f->key_first;
+        sample_packet(f, xs, ys, k, c, st, &f->keys[i]);
         /* kept as written: the contrast test compares what a viewer sees, and
          * a pixel without an edge is this sample */
-        vec3 c = sample(f, (real)px + R(0.5), (real)py + R(0.5), st, &f->keys[i]);
-        put_pixel(f, &f->colors[3 * i], c);
+        for (int q = 0; q < k; q++)
+            put_pixel(f, &f->colors[3 * (i + (uint64_t)q)], c[q]);
+        i += (uint64_t)k;
     }
     count_progress(f, 0, st, before);
 }

@@ -40,63 +40,116 @@ static int light_at(const Scene *s, const Light *l, vec3 p, vec3 *dir, real *dis
     return 1;
 }
 
+/* What one camera ray's shading carries from light to light. */
+typedef struct {
+    Surface sf;
+    vec3 kd, col, view, origin;
+    int phong;
+    uint32_t lit;
+} Shading;
+
+/* Light l's contribution to ray sh, already known to reach it. */
+static void add_light(Shading *sh, vec3 L, vec3 rad, real ndotl, uint32_t i)
+{
+    sh->lit |= i < 16 ? 1u << i : 0;
+    sh->col = v3_add(sh->col, v3_scale(v3_mul(sh->kd, rad), ndotl));
+    if (sh->phong) {
+        real rv = v3_dot(v3_reflect(v3_neg(L), sh->sf.ns), sh->view);
+        if (rv > R(0))
+            sh->col = v3_add(sh->col, v3_scale(v3_mul(sh->sf.mat->ks, rad), pow(rv, sh->sf.mat->shininess)));
+    }
+}
+
+static void shade_start(const Scene *s, const Ray *r, const Hit *hit, Shading *sh)
+{
+    trace_surface(s, r, hit, &sh->sf);
+    const Material *m = sh->sf.mat;
+    sh->kd = m->kd;
+    if (scene_uses(s, FEAT_TEXTURES) && m->texture >= 0 && sh->sf.has_uv)
+        sh->kd = v3_mul(sh->kd, texture_sample(s->textures[m->texture], sh->sf.u, sh->sf.v, s->settings.filter));
+    sh->col = v3_mul(s->ambient, sh->kd);
+    sh->view = v3_neg(v3_norm(r->dir));
+    sh->phong = s->settings.shading == SHADE_PHONG && v3_max_comp(m->ks) > R(0);
+    sh->origin = sh->sf.p;
+    if (scene_has(s, FEAT_SHADOWS)) /* every light ray leaves on the viewer's side, a smooth triangle's from its
+                                     * point lifted onto the curved surface (trace_terminator_point) */
+        sh->origin = trace_offset_origin(sh->sf.ps, sh->sf.ng, sh->sf.ps_err);
+    sh->lit = 0;
+}
+
+void shade_packet(const Scene *s, const Ray *rays, int n, vec3 *out, RayStats *stats, uint64_t *keys)
+{
+    Hit hits[TRACE_PACKET];
+    Shading sh[TRACE_PACKET];
+    int live[TRACE_PACKET], nl = 0;
+    if (n == 1)
+        trace_closest(s, &rays[0], &hits[0]);
+    else
+        trace_closest_packet(s, rays, n, hits);
+    stats->primary += (uint64_t)n;
+    for (int i = 0; i < n; i++) {
+        if (hits[i].kind == HIT_NONE) {
+            out[i] = s->background;
+            if (keys)
+                keys[i] = UINT64_MAX;
+            continue;
+        }
+        shade_start(s, &rays[i], &hits[i], &sh[i]);
+        live[nl++] = i;
+    }
+    const int shadows = scene_has(s, FEAT_SHADOWS);
+    for (uint32_t li = 0; li < s->light_count; li++) {
+        const Light *l = &s->lights[li];
+        Ray sr[TRACE_PACKET];
+        real tmax[TRACE_PACKET];
+        vec3 L[TRACE_PACKET], rad[TRACE_PACKET];
+        real ndotl[TRACE_PACKET];
+        int who[TRACE_PACKET], m = 0;
+        for (int k = 0; k < nl; k++) {
+            Shading *h = &sh[live[k]];
+            real dist;
+            if (!light_at(s, l, h->sf.p, &L[m], &dist, &rad[m]))
+                continue;
+            /* The shading normal decides.  On a flat surface it is the
+             * geometric one, so a light behind the surface is skipped.  On a
+             * smooth triangle near the boundary between light and dark, a
+             * light may be behind the flat facet but in front of the curved
+             * surface its normals describe: it lights the point, and the
+             * shadow ray from the lifted point says whether anything is in
+             * the way.  (Skipping lights behind the facet cut triangle-shaped
+             * dark patches into coarse smooth meshes: tests/test_render.c,
+             * the shadow terminator.) */
+            ndotl[m] = v3_dot(h->sf.ns, L[m]);
+            if (ndotl[m] <= R(0))
+                continue;
+            if (!shadows) {
+                add_light(h, L[m], rad[m], ndotl[m], li);
+                continue;
+            }
+            /* stop just short of the light so that it does not shadow itself */
+            tmax[m] = isfinite(dist) ? dist * (R(1) - R(64) * REAL_EPS) : REAL_MAX;
+            sr[m] = ray_make(h->origin, L[m], R(0), tmax[m]);
+            who[m++] = live[k];
+        }
+        if (m == 0)
+            continue;
+        stats->shadow += (uint64_t)m;
+        uint32_t blocked = m == 1 ? (uint32_t)trace_occluded(s, &sr[0], tmax[0]) : trace_occluded_packet(s, sr, m, tmax);
+        for (int k = 0; k < m; k++)
+            if (!(blocked >> k & 1))
+                add_light(&sh[who[k]], L[k], rad[k], ndotl[k], li);
+    }
+    for (int k = 0; k < nl; k++) {
+        int i = live[k];
+        out[i] = sh[i].col;
+        if (keys)
+            keys[i] = (uint64_t)sh[i].sf.object << 16 | sh[i].lit;
+    }
+}
+
 vec3 shade_ray(const Scene *s, const Ray *r, RayStats *stats, uint64_t *key)
 {
-    Hit hit;
-    stats->primary++;
-    if (!trace_closest(s, r, &hit)) {
-        if (key)
-            *key = UINT64_MAX;
-        return s->background;
-    }
-    Surface sf;
-    trace_surface(s, r, &hit, &sf);
-    const Material *m = sf.mat;
-    vec3 kd = m->kd;
-    if (scene_uses(s, FEAT_TEXTURES) && m->texture >= 0 && sf.has_uv)
-        kd = v3_mul(kd, texture_sample(s->textures[m->texture], sf.u, sf.v, s->settings.filter));
-    vec3 col = v3_mul(s->ambient, kd);
-    vec3 view = v3_neg(v3_norm(r->dir));
-    int phong = s->settings.shading == SHADE_PHONG && v3_max_comp(m->ks) > R(0);
-    int shadows = scene_has(s, FEAT_SHADOWS);
-    vec3 origin = sf.p;
-    if (shadows) /* every light ray leaves on the viewer's side, a smooth triangle's from its
-                  * point lifted onto the curved surface (trace_terminator_point) */
-        origin = trace_offset_origin(sf.ps, sf.ng, sf.ps_err);
-    uint32_t lit = 0;
-    for (uint32_t i = 0; i < s->light_count; i++) {
-        const Light *l = &s->lights[i];
-        vec3 L, rad;
-        real dist;
-        if (!light_at(s, l, sf.p, &L, &dist, &rad))
-            continue;
-        /* The shading normal decides.  On a flat surface it is the geometric
-         * one, so a light behind the surface is skipped.  On a smooth
-         * triangle near the boundary between light and dark, a light may be
-         * behind the flat facet but in front of the curved surface its
-         * normals describe: it lights the point, and the shadow ray from the
-         * lifted point says whether anything is in the way.  (Skipping lights
-         * behind the facet cut triangle-shaped dark patches into coarse
-         * smooth meshes: tests/test_render.c, the shadow terminator.) */
-        real ndotl = v3_dot(sf.ns, L);
-        if (ndotl <= R(0))
-            continue;
-        if (shadows) {
-            /* stop just short of the light so that it does not shadow itself */
-            Ray sr = ray_make(origin, L, R(0), isfinite(dist) ? dist * (R(1) - R(64) * REAL_EPS) : REAL_MAX);
-            stats->shadow++;
-            if (trace_occluded(s, &sr, sr.tmax))
-                continue;
-        }
-        lit |= i < 16 ? 1u << i : 0;
-        col = v3_add(col, v3_scale(v3_mul(kd, rad), ndotl));
-        if (phong) {
-            real rv = v3_dot(v3_reflect(v3_neg(L), sf.ns), view);
-            if (rv > R(0))
-                col = v3_add(col, v3_scale(v3_mul(m->ks, rad), pow(rv, m->shininess)));
-        }
-    }
-    if (key)
-        *key = (uint64_t)sf.object << 16 | lit;
-    return col;
+    vec3 c;
+    shade_packet(s, r, 1, &c, stats, key);
+    return c;
 }

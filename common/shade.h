@@ -15,5 +15,9 @@ typedef struct {
  * of what the ray saw, for adaptive anti-aliasing: the surface and which of
  * the first 16 lights reached it. */
 vec3 shade_ray(const Scene *s, const Ray *r, RayStats *stats, uint64_t *key);
+/* n <= TRACE_PACKET rays at once, camera rays and shadow rays traced as
+ * packets: out[i] (and keys[i], when keys is not NULL) is what shade_ray
+ * gives for rays[i], to the bit. */
+void shade_packet(const Scene *s, const Ray *rays, int n, vec3 *out, RayStats *stats, uint64_t *keys);
 
 #endif

@@ -15,21 +15,40 @@ static Ray instance_ray(const Instance *in, const Ray *r)
     return ray_make(o, d, r->tmin, r->tmax);
 }
 
-static int leaf_closest(const Scene *s, uint32_t p, const Ray *r, Hit *hit)
+/* The scene's closest hit does not depend on the order its parts are
+ * visited in, so that a packet of rays (visiting leaves in the packet's
+ * order) gives each ray the hit it finds alone: the smallest t; of equal t
+ * a plane (tested first, in index order), then the top-level primitive of
+ * smallest index (spheres, scene triangles, instances: its position in the
+ * top tree's primitive numbering), then inside a model the triangle of
+ * smallest index (model.h).  `key` is 0 while the hit is none or a plane,
+ * else the primitive's number + 1; a tie is taken when the new key is lower. */
+typedef struct {
+    Hit *hit;
+    uint32_t key;
+} Best;
+
+static int takes(const Best *b, real t, uint32_t key) { return t < b->hit->t || (t == b->hit->t && key < b->key); }
+
+static int leaf_closest(const Scene *s, uint32_t p, const Ray *r, Best *b)
 {
     real t, b1 = 0, b2 = 0;
+    const uint32_t key = p + 1;
     if (p < s->sphere_count) {
         const Sphere *sp = &s->spheres[p];
-        if (!sphere_intersect(r, sp->centre, sp->radius, hit->t, &t))
+        /* the nearest root beyond tmin, then the rule (a tie at hit->t counts) */
+        if (!sphere_intersect(r, sp->centre, sp->radius, REAL_INF, &t) || !takes(b, t, key))
             return 0;
-        *hit = (Hit){t, 0, 0, HIT_SPHERE, p, 0};
+        *b->hit = (Hit){t, 0, 0, HIT_SPHERE, p, 0};
+        b->key = key;
         return 1;
     }
     p -= s->sphere_count;
     if (p < s->tri_count) {
-        if (!tri_intersect(r, &s->tris[p], hit->t, &t, &b1, &b2))
+        if (!tri_solve(r, &s->tris[p], &t, &b1, &b2) || !takes(b, t, key))
             return 0;
-        *hit = (Hit){t, b1, b2, HIT_TRIANGLE, p, 0};
+        *b->hit = (Hit){t, b1, b2, HIT_TRIANGLE, p, 0};
+        b->key = key;
         return 1;
     }
     p -= s->tri_count;
@@ -37,9 +56,10 @@ static int leaf_closest(const Scene *s, uint32_t p, const Ray *r, Hit *hit)
     Ray mr;
     const Ray *rr = in->identity ? r : (mr = instance_ray(in, r), &mr);
     ModelHit mh;
-    if (!model_intersect(s->models[in->model], rr, hit->t, &mh))
+    if (!model_intersect(s->models[in->model], rr, b->hit->t, key < b->key, &mh))
         return 0;
-    *hit = (Hit){mh.t, mh.b1, mh.b2, HIT_INSTANCE, p, mh.tri};
+    *b->hit = (Hit){mh.t, mh.b1, mh.b2, HIT_INSTANCE, p, mh.tri};
+    b->key = key;
     return 1;
 }
 
@@ -60,7 +80,7 @@ static int leaf_occluded(const Scene *s, uint32_t p, const Ray *r, real tmax)
 
 typedef struct {
     const Scene *s;
-    Hit *hit;
+    Best *best;
 } ClosestCtx;
 
 static inline __attribute__((always_inline)) int top_leaf_closest(void *vctx, uint32_t first, uint32_t count,
@@ -69,8 +89,8 @@ static inline __attribute__((always_inline)) int top_leaf_closest(void *vctx, ui
     ClosestCtx *c = vctx;
     int found = 0;
     for (uint32_t i = 0; i < count; i++)
-        found |= leaf_closest(c->s, c->s->top.prims[first + i], r, c->hit);
-    *tmax = c->hit->t;
+        found |= leaf_closest(c->s, c->s->top.prims[first + i], r, c->best);
+    *tmax = c->best->hit->t;
     return found;
 }
 
@@ -84,7 +104,7 @@ static inline __attribute__((always_inline)) int top_leaf_any(const void *vctx, 
     return 0;
 }
 
-int trace_closest(const Scene *s, const Ray *r, Hit *hit)
+static void closest_planes(const Scene *s, const Ray *r, Hit *hit)
 {
     hit->t = r->tmax;
     hit->kind = HIT_NONE;
@@ -94,13 +114,9 @@ int trace_closest(const Scene *s, const Ray *r, Hit *hit)
             if (plane_intersect(r, s->planes[i].point, s->planes[i].unit, hit->t, &t))
                 *hit = (Hit){t, 0, 0, HIT_PLANE, i, 0};
         }
-    ClosestCtx c = {s, hit};
-    real tmax = hit->t;
-    bvh_closest(&s->top, r, &tmax, top_leaf_closest, &c);
-    return hit->kind != HIT_NONE;
 }
 
-int trace_occluded(const Scene *s, const Ray *r, real tmax)
+static int occluded_planes(const Scene *s, const Ray *r, real tmax)
 {
     if (scene_uses(s, FEAT_PLANES))
         for (uint32_t i = 0; i < s->plane_count; i++) {
@@ -108,7 +124,170 @@ int trace_occluded(const Scene *s, const Ray *r, real tmax)
             if (plane_intersect(r, s->planes[i].point, s->planes[i].unit, tmax, &t))
                 return 1;
         }
-    return bvh_any(&s->top, r, tmax, top_leaf_any, s);
+    return 0;
+}
+
+int trace_closest(const Scene *s, const Ray *r, Hit *hit)
+{
+    closest_planes(s, r, hit);
+    Best b = {hit, 0};
+    ClosestCtx c = {s, &b};
+    real tmax = hit->t;
+    bvh_closest(&s->top, r, &tmax, top_leaf_closest, &c);
+    return hit->kind != HIT_NONE;
+}
+
+int trace_occluded(const Scene *s, const Ray *r, real tmax)
+{
+    return occluded_planes(s, r, tmax) || bvh_any(&s->top, r, tmax, top_leaf_any, s);
+}
+
+/* The rays of `mask` whose slab test enters node n (each with its own far limit). */
+static uint32_t node_rays(const BvhNode *n, const Ray *rays, uint32_t mask, const real *tmax)
+{
+    uint32_t in = 0;
+    while (mask) {
+        int i = __builtin_ctz(mask);
+        mask &= mask - 1;
+        real tn;
+        if (bvh_node_hit(n, &rays[i], tmax[i], &tn))
+            in |= 1u << i;
+    }
+    return in;
+}
+
+/* Instance p of the top tree against the rays of `mask`, as one packet in model space. */
+static uint32_t instance_packet(const Scene *s, uint32_t p, const Ray *rays, uint32_t mask, Best *best, int closest,
+                                const real *tmax)
+{
+    const Instance *in = &s->instances[p - s->sphere_count - s->tri_count];
+    Ray mr[TRACE_PACKET];
+    const Ray *rr[TRACE_PACKET];
+    real tm[TRACE_PACKET];
+    int at[TRACE_PACKET], which[TRACE_PACKET], n = 0;
+    for (uint32_t m = mask; m; m &= m - 1) {
+        int i = __builtin_ctz(m);
+        if (in->identity)
+            rr[n] = &rays[i];
+        else
+            mr[n] = instance_ray(in, &rays[i]), rr[n] = &mr[n];
+        tm[n] = closest ? best[i].hit->t : tmax[i];
+        at[n] = closest && p + 1 < best[i].key;
+        which[n++] = i;
+    }
+    const Model *m = s->models[in->model];
+    uint32_t got = 0;
+    if (closest) {
+        ModelHit mh[TRACE_PACKET];
+        uint32_t found = model_intersect_packet(m, rr, n, tm, at, mh);
+        for (int k = 0; k < n; k++)
+            if (found >> k & 1) {
+                Best *b = &best[which[k]];
+                *b->hit = (Hit){mh[k].t, mh[k].b1, mh[k].b2, HIT_INSTANCE, p - s->sphere_count - s->tri_count, mh[k].tri};
+                b->key = p + 1;
+            }
+    } else {
+        uint32_t hit = model_occluded_packet(m, rr, n, tm);
+        for (int k = 0; k < n; k++)
+            if (hit >> k & 1)
+                got |= 1u << which[k];
+    }
+    return got;
+}
+
+/* The top tree for a packet: depth first, each node with the rays that
+ * enter it; leaves ray by ray, except instances, which take the packet to
+ * their model.  Closest hits follow the rule above, so the order is free. */
+static uint32_t top_packet(const Scene *s, const Ray *rays, int n, Best *best, const real *tmax)
+{
+    const int closest = best != NULL;
+    uint32_t done = 0; /* occlusion: the rays already blocked */
+    const uint32_t all = (1u << n) - 1;
+    real far[TRACE_PACKET];
+    if (s->top.node_count == 0)
+        return 0;
+    struct {
+        uint32_t node, rays;
+    } stack[BVH_MAX_DEPTH + 1];
+    int sp = 0;
+    for (int i = 0; i < n; i++)
+        far[i] = closest ? best[i].hit->t : tmax[i];
+    uint32_t idx = 0, rs = node_rays(&s->top.nodes[0], rays, all, far);
+    for (;;) {
+        const BvhNode *nd = &s->top.nodes[idx];
+        if (rs && nd->count == 0) {
+            uint32_t r0 = node_rays(&s->top.nodes[nd->first], rays, rs, far);
+            uint32_t r1 = node_rays(&s->top.nodes[nd->first + 1], rays, rs, far);
+            if (r0 && r1)
+                stack[sp].node = nd->first + 1, stack[sp++].rays = r1;
+            idx = r0 ? nd->first : nd->first + 1;
+            rs = r0 ? r0 : r1;
+            if (rs)
+                continue;
+        } else if (rs) {
+            for (uint32_t k = 0; k < nd->count && rs; k++) {
+                uint32_t p = s->top.prims[nd->first + k];
+                if (p >= s->sphere_count + s->tri_count) {
+                    done |= instance_packet(s, p, rays, rs, best, closest, tmax);
+                } else {
+                    for (uint32_t m = rs; m; m &= m - 1) {
+                        int i = __builtin_ctz(m);
+                        if (closest)
+                            leaf_closest(s, p, &rays[i], &best[i]);
+                        else if (leaf_occluded(s, p, &rays[i], tmax[i]))
+                            done |= 1u << i;
+                    }
+                }
+                rs &= ~done;
+            }
+            if (closest)
+                for (int i = 0; i < n; i++)
+                    far[i] = best[i].hit->t;
+        }
+        /* a popped node's rays: drop those blocked since, and those whose
+         * hit is now nearer than the node (tested again against it) */
+        do {
+            if (sp == 0)
+                return done;
+            --sp;
+            idx = stack[sp].node;
+            rs = node_rays(&s->top.nodes[idx], rays, stack[sp].rays & ~done, far);
+        } while (!rs);
+    }
+}
+
+void trace_closest_packet(const Scene *s, const Ray *rays, int n, Hit *hits)
+{
+    Best best[TRACE_PACKET];
+    for (int i = 0; i < n; i++) {
+        closest_planes(s, &rays[i], &hits[i]);
+        best[i] = (Best){&hits[i], 0};
+    }
+    top_packet(s, rays, n, best, NULL);
+}
+
+uint32_t trace_occluded_packet(const Scene *s, const Ray *rays, int n, const real *tmax)
+{
+    uint32_t blocked = 0;
+    for (int i = 0; i < n; i++)
+        if (occluded_planes(s, &rays[i], tmax[i]))
+            blocked |= 1u << i;
+    uint32_t rest = ((1u << n) - 1) & ~blocked;
+    if (!rest)
+        return blocked;
+    /* the unblocked rays, packed */
+    Ray rr[TRACE_PACKET];
+    real tm[TRACE_PACKET];
+    int which[TRACE_PACKET], m = 0;
+    for (uint32_t k = rest; k; k &= k - 1) {
+        int i = __builtin_ctz(k);
+        rr[m] = rays[i], tm[m] = tmax[i], which[m++] = i;
+    }
+    uint32_t got = top_packet(s, rr, m, NULL, tm);
+    for (int k = 0; k < m; k++)
+        if (got >> k & 1)
+            blocked |= 1u << which[k];
+    return blocked;
 }
 
 static vec3 bary(vec3 a, vec3 b, vec3 c, real b1, real b2)

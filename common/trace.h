@@ -30,7 +30,16 @@ typedef struct {
     int smooth;       /* ns comes from vertex normals */
 } Surface;
 
+/* The closest hit: the smallest t, ties decided by a fixed rule (trace.c),
+ * so that every traversal order and every SIMD path finds the same one. */
 int trace_closest(const Scene *s, const Ray *r, Hit *hit);
+/* n <= TRACE_PACKET rays at once: each gets exactly trace_closest's hit
+ * (kind HIT_NONE for a miss); coherent rays (a line of pixels, the
+ * sub-samples of a pixel) share the walk down the trees. */
+#define TRACE_PACKET 8
+void trace_closest_packet(const Scene *s, const Ray *rays, int n, Hit *hits);
+/* The mask of the n rays that are blocked before their tmax (trace_occluded each). */
+uint32_t trace_occluded_packet(const Scene *s, const Ray *rays, int n, const real *tmax);
 /* The point at barycentrics (b1, b2) of triangle v0 v1 v2, as trace_surface
  * computes a scene triangle's hit point, and the bound on the rounding error
  * of each of its coordinates (for trace_offset_origin). */

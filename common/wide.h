@@ -24,7 +24,8 @@
 #include "err.h"
 #include "intersect.h"
 
-#define WIDE_TRIS 4 /* triangles per leaf block */
+#define WIDE_TRIS 4   /* triangles per leaf block */
+#define WIDE_PACKET 8 /* most rays in a packet */
 
 /* The SIMD kernels exist in float builds on x86-64 only. */
 #if defined(__x86_64__) && !defined(LANRAY_DOUBLE)
@@ -57,8 +58,14 @@ struct Wide {
     uint32_t root;      /* root: a node, or a leaf when root_blocks > 0 */
     uint32_t root_blocks;
     uint32_t depth;     /* nodes on the longest path (for the stack bound) */
-    int (*closest)(const Wide *w, const Ray *r, real tmax, WideHit *hit);
+    /* tie: a hit at exactly tmax is taken when its triangle index is below
+     * tie (0: never; UINT32_MAX: always) */
+    int (*closest)(const Wide *w, const Ray *r, real tmax, uint32_t tie, WideHit *hit);
     int (*any)(const Wide *w, const Ray *r, real tmax);
+    /* n <= WIDE_PACKET rays at once; the mask of rays hit */
+    uint32_t (*closest_packet)(const Wide *w, const Ray *const *rays, int n, const real *tmax, const uint32_t *tie,
+                               WideHit *hits);
+    uint32_t (*any_packet)(const Wide *w, const Ray *const *rays, int n, const real *tmax);
 };
 
 /* Node layout for width W, at byte 0 of a node:
@@ -78,9 +85,15 @@ void wide_destroy(Wide *w);
 size_t wide_bytes(const Wide *w);
 
 /* The traversal kernels (wide_sse.c, wide_avx2.c). */
-int wide4_closest_sse(const Wide *w, const Ray *r, real tmax, WideHit *hit);
+int wide4_closest_sse(const Wide *w, const Ray *r, real tmax, uint32_t tie, WideHit *hit);
 int wide4_any_sse(const Wide *w, const Ray *r, real tmax);
-int wide8_closest_avx2(const Wide *w, const Ray *r, real tmax, WideHit *hit);
+uint32_t wide4_closest_packet_sse(const Wide *w, const Ray *const *rays, int n, const real *tmax, const uint32_t *tie,
+                                  WideHit *hits);
+uint32_t wide4_any_packet_sse(const Wide *w, const Ray *const *rays, int n, const real *tmax);
+int wide8_closest_avx2(const Wide *w, const Ray *r, real tmax, uint32_t tie, WideHit *hit);
 int wide8_any_avx2(const Wide *w, const Ray *r, real tmax);
+uint32_t wide8_closest_packet_avx2(const Wide *w, const Ray *const *rays, int n, const real *tmax, const uint32_t *tie,
+                                   WideHit *hits);
+uint32_t wide8_any_packet_avx2(const Wide *w, const Ray *const *rays, int n, const real *tmax);
 
 #endif

@@ -5,7 +5,8 @@
  *   NW                   children per node
  *   VN                   a vector of NW floats, and VN_SET1, VN_LOAD, VN_STORE,
  *                        VN_MIN, VN_MAX, VN_LE_MASK (a <= b as a bit mask)
- *   KERNEL_CLOSEST, KERNEL_ANY   the names of the two entry points
+ *   KERNEL_CLOSEST, KERNEL_ANY   the names of the single-ray entry points
+ *   KERNEL_CLOSEST_PACKET, KERNEL_ANY_PACKET   and of the packet ones
  * The triangle blocks are always 4 wide (SSE; VEX-encoded in the AVX2 file).
  *
  * Every operation of the triangle test is the scalar tri_intersect's, in
@@ -21,6 +22,7 @@
 typedef struct {
     uint32_t id, blocks;
     float t;
+    uint32_t rays; /* packets: the rays that may hit it (a leaf's rays are tested one by one) */
 } WideEntry;
 
 /* A ray's constants for the triangle test, splatted. */
@@ -130,7 +132,7 @@ static inline __attribute__((always_inline)) WideEntry wide_sort_push(const floa
     while (mask) {
         int i = __builtin_ctz((unsigned)mask);
         mask &= mask - 1;
-        WideEntry x = {child[i], blocks[i], tn[i]};
+        WideEntry x = {child[i], blocks[i], tn[i], 0};
         int j = n++;
         while (j > 0 && e[j - 1].t < x.t) { /* farthest first */
             e[j] = e[j - 1];
@@ -143,7 +145,7 @@ static inline __attribute__((always_inline)) WideEntry wide_sort_push(const floa
     return e[n - 1];
 }
 
-int KERNEL_CLOSEST(const Wide *w, const Ray *r, real tmax, WideHit *hit)
+int KERNEL_CLOSEST(const Wide *w, const Ray *r, real tmax, uint32_t tie, WideHit *hit)
 {
     WideRay k;
     wide_ray_setup(&k, r);
@@ -151,7 +153,7 @@ int KERNEL_CLOSEST(const Wide *w, const Ray *r, real tmax, WideHit *hit)
     WideEntry stack[WIDE_STACK];
     uint32_t sp = 0, cur = w->root, cur_blocks = w->root_blocks;
     float best = tmax;
-    uint32_t best_idx = 0; /* with best = tmax: a hit exactly at tmax is not taken */
+    uint32_t best_idx = tie; /* a hit exactly at tmax is taken if its index is below tie */
     int found = 0;
     for (;;) {
         if (cur_blocks == 0) {
@@ -239,5 +241,269 @@ int KERNEL_ANY(const Wide *w, const Ray *r, real tmax)
             return 0;
         --sp;
         cur = stack[sp].id, cur_blocks = stack[sp].blocks;
+    }
+}
+
+/* ---- packets: up to WIDE_PACKET rays down the tree together ----
+ *
+ * A node is tested once for the whole packet, with interval arithmetic: a
+ * lower bound of every ray's entry distance and an upper bound of every
+ * ray's exit distance, from the least and greatest origin and inverse
+ * direction on each axis.  Rounding is monotonic, so the bounds enclose
+ * each ray's own computed distances and the test is at least as
+ * conservative as each ray's: it never drops a box a ray would enter.  This
+ * needs every ray's direction to have the same signs and no zero component;
+ * other packets (and packets of one ray) go ray by ray.  A leaf is tested
+ * ray by ray, each ray with the single-ray triangle test, so each ray ends
+ * with the hit it would have found alone. */
+
+typedef struct {
+    VN o_near[3], o_far[3]; /* the origin bound giving the least entry / greatest exit, per axis */
+    VN ilo[3], ihi[3];
+    VN tmin;
+    int n[3], f[3];         /* rows of the entry and exit bounds */
+} WidePacket;
+
+/* Fills the packet bounds; 0 when the rays are not coherent enough. */
+static inline __attribute__((always_inline)) int wide_packet_setup(WidePacket *p, const Ray *const *rays, int n)
+{
+    float olo[3], ohi[3], ilo[3], ihi[3], tmin = rays[0]->tmin;
+    for (int a = 0; a < 3; a++) {
+        olo[a] = ohi[a] = rays[0]->org.e[a];
+        ilo[a] = ihi[a] = rays[0]->inv.e[a];
+        if (!(rays[0]->dir.e[a] != 0) || !isfinite(ilo[a]))
+            return 0;
+    }
+    for (int i = 1; i < n; i++) {
+        const Ray *r = rays[i];
+        for (int a = 0; a < 3; a++) {
+            float inv = r->inv.e[a];
+            if (!(r->dir.e[a] != 0) || !isfinite(inv) || (inv > 0) != (ilo[a] > 0))
+                return 0;
+            const float o = r->org.e[a];
+            olo[a] = o < olo[a] ? o : olo[a], ohi[a] = o > ohi[a] ? o : ohi[a];
+            ilo[a] = inv < ilo[a] ? inv : ilo[a], ihi[a] = inv > ihi[a] ? inv : ihi[a];
+        }
+        tmin = r->tmin < tmin ? r->tmin : tmin;
+    }
+    for (int a = 0; a < 3; a++) {
+        int pos = ilo[a] > 0;
+        /* (bound - o) * inv: with inv > 0 it grows with the bound minus o,
+         * so the least entry takes the greatest origin and the greatest exit
+         * the least; with inv < 0 the other way round */
+        p->o_near[a] = VN_SET1(pos ? ohi[a] : olo[a]);
+        p->o_far[a] = VN_SET1(pos ? olo[a] : ohi[a]);
+        p->ilo[a] = VN_SET1(ilo[a]);
+        p->ihi[a] = VN_SET1(ihi[a]);
+        p->n[a] = (pos ? a : a + 3) * NW;
+        p->f[a] = (pos ? a + 3 : a) * NW;
+    }
+    p->tmin = VN_SET1(tmin);
+    return 1;
+}
+
+static inline __attribute__((always_inline)) int wide_packet_node(const WidePacket *p, const float *box, float tmax,
+                                                                  VN *lo_out)
+{
+    VN lo = p->tmin, hi = VN_SET1(tmax);
+    for (int a = 0; a < 3; a++) {
+        const VN dn = VN_LOAD(box + p->n[a]) - p->o_near[a];
+        const VN df = VN_LOAD(box + p->f[a]) - p->o_far[a];
+        lo = VN_MAX(VN_MIN(dn * p->ilo[a], dn * p->ihi[a]), lo);
+        hi = VN_MIN(VN_MAX(df * p->ilo[a], df * p->ihi[a]), hi);
+    }
+    *lo_out = lo;
+    return VN_LE_MASK(lo, hi * VN_SET1(BVH_FUDGE));
+}
+
+/* The rays of `rays` whose own slab test enters child k of a node. */
+static inline __attribute__((always_inline)) uint32_t wide_packet_rays(const float *box, int k, const Ray *const *rays,
+                                                                       uint32_t active, const float *tmax)
+{
+    uint32_t hit = 0;
+    while (active) {
+        int i = __builtin_ctz(active);
+        active &= active - 1;
+        const Ray *r = rays[i];
+        float lo = r->tmin, hi = tmax[i];
+        for (int a = 0; a < 3; a++) {
+            const int pos = r->inv.e[a] >= 0;
+            float t0 = (box[(pos ? a : a + 3) * NW + k] - r->org.e[a]) * r->inv.e[a];
+            float t1 = (box[(pos ? a + 3 : a) * NW + k] - r->org.e[a]) * r->inv.e[a];
+            lo = t0 > lo ? t0 : lo;
+            hi = t1 < hi ? t1 : hi;
+        }
+        if (lo <= hi * BVH_FUDGE)
+            hit |= 1u << i;
+    }
+    return hit;
+}
+
+/* Pushes the children hit (farthest first) and returns the nearest; leaf
+ * children carry the rays that enter them. */
+static inline __attribute__((always_inline)) WideEntry wide_packet_push(const float *box, int mask, VN lo,
+                                                                       const Ray *const *rays, uint32_t active,
+                                                                       const float *tmax, WideEntry *stack,
+                                                                       uint32_t *sp)
+{
+    const uint32_t *child = (const uint32_t *)(const void *)(box + WIDE_BOX_FLOATS(NW));
+    const uint8_t *blocks = (const uint8_t *)box + WIDE_BLOCKS_OFFSET(NW);
+    float tn[NW];
+    VN_STORE(tn, lo);
+    WideEntry e[NW];
+    int n = 0;
+    while (mask) {
+        int i = __builtin_ctz((unsigned)mask);
+        mask &= mask - 1;
+        uint32_t rs = blocks[i] ? wide_packet_rays(box, i, rays, active, tmax) : active;
+        if (!rs)
+            continue;
+        WideEntry x = {child[i], blocks[i], tn[i], rs};
+        int j = n++;
+        while (j > 0 && e[j - 1].t < x.t) {
+            e[j] = e[j - 1];
+            j--;
+        }
+        e[j] = x;
+    }
+    if (n == 0)
+        return (WideEntry){0, 0, 0, 0};
+    for (int j = 0; j < n - 1; j++)
+        stack[(*sp)++] = e[j];
+    return e[n - 1];
+}
+
+static inline float wide_max_of(const float *v, uint32_t mask)
+{
+    float m = -INFINITY;
+    while (mask) {
+        int i = __builtin_ctz(mask);
+        mask &= mask - 1;
+        m = v[i] > m ? v[i] : m;
+    }
+    return m;
+}
+
+uint32_t KERNEL_CLOSEST_PACKET(const Wide *w, const Ray *const *rays, int n, const real *tmax, const uint32_t *tie,
+                               WideHit *hits)
+{
+    WidePacket p;
+    uint32_t found = 0;
+    if (n < 2 || !wide_packet_setup(&p, rays, n)) {
+        for (int i = 0; i < n; i++)
+            found |= (uint32_t)KERNEL_CLOSEST(w, rays[i], tmax[i], tie[i], &hits[i]) << i;
+        return found;
+    }
+    const uint32_t all = n == 32 ? ~0u : (1u << n) - 1;
+    WideRay k[WIDE_PACKET];
+    float best[WIDE_PACKET];
+    uint32_t best_idx[WIDE_PACKET];
+    for (int i = 0; i < n; i++) {
+        wide_ray_setup(&k[i], rays[i]);
+        best[i] = tmax[i];
+        best_idx[i] = tie[i];
+    }
+    float far = wide_max_of(best, all);
+    WideEntry stack[WIDE_STACK];
+    uint32_t sp = 0;
+    WideEntry cur = {w->root, w->root_blocks, 0, all};
+    for (;;) {
+        if (cur.blocks == 0) {
+            const float *box = WIDE_NODE(w, cur.id);
+            VN lo;
+            int mask = wide_packet_node(&p, box, far, &lo);
+            if (mask) {
+                cur = wide_packet_push(box, mask, lo, rays, all, best, stack, &sp);
+                if (cur.rays)
+                    continue;
+            }
+        } else {
+            uint32_t rs = cur.rays;
+            while (rs) {
+                int i = __builtin_ctz(rs);
+                rs &= rs - 1;
+                for (uint32_t b = 0; b < cur.blocks; b++) {
+                    const WideTris *blk = &w->tris[cur.id + b];
+                    __m128 t, v, ww, inv;
+                    int m = wide_tris_hit(blk, &k[i], best[i], 1, &t, &v, &ww, &inv);
+                    if (!m)
+                        continue;
+                    float ts[4], vs[4], ws[4], is[4];
+                    _mm_storeu_ps(ts, t), _mm_storeu_ps(vs, v), _mm_storeu_ps(ws, ww), _mm_storeu_ps(is, inv);
+                    while (m) {
+                        int l = __builtin_ctz((unsigned)m);
+                        m &= m - 1;
+                        uint32_t id = blk->idx[l];
+                        if (ts[l] < best[i] || (ts[l] == best[i] && id < best_idx[i])) {
+                            best[i] = ts[l];
+                            best_idx[i] = id;
+                            hits[i] = (WideHit){ts[l], vs[l] * is[l], ws[l] * is[l], id};
+                            found |= 1u << i;
+                        }
+                    }
+                }
+            }
+            far = wide_max_of(best, all);
+        }
+        do {
+            if (sp == 0)
+                return found;
+            --sp;
+        } while (stack[sp].t > far * BVH_FUDGE);
+        cur = stack[sp];
+    }
+}
+
+uint32_t KERNEL_ANY_PACKET(const Wide *w, const Ray *const *rays, int n, const real *tmax)
+{
+    WidePacket p;
+    uint32_t hit = 0;
+    if (n < 2 || !wide_packet_setup(&p, rays, n)) {
+        for (int i = 0; i < n; i++)
+            hit |= (uint32_t)KERNEL_ANY(w, rays[i], tmax[i]) << i;
+        return hit;
+    }
+    const uint32_t all = n == 32 ? ~0u : (1u << n) - 1;
+    WideRay k[WIDE_PACKET];
+    float tm[WIDE_PACKET];
+    for (int i = 0; i < n; i++) {
+        wide_ray_setup(&k[i], rays[i]);
+        tm[i] = tmax[i];
+    }
+    float far = wide_max_of(tm, all);
+    WideEntry stack[WIDE_STACK];
+    uint32_t sp = 0;
+    WideEntry cur = {w->root, w->root_blocks, 0, all};
+    for (;;) {
+        const uint32_t active = all & ~hit;
+        if (cur.blocks == 0) {
+            const float *box = WIDE_NODE(w, cur.id);
+            VN lo;
+            int mask = wide_packet_node(&p, box, far, &lo);
+            if (mask) {
+                cur = wide_packet_push(box, mask, lo, rays, active, tm, stack, &sp);
+                if (cur.rays)
+                    continue;
+            }
+        } else {
+            uint32_t rs = cur.rays & active;
+            while (rs) {
+                int i = __builtin_ctz(rs);
+                rs &= rs - 1;
+                for (uint32_t b = 0; b < cur.blocks; b++) {
+                    __m128 t, v, ww, inv;
+                    if (wide_tris_hit(&w->tris[cur.id + b], &k[i], tm[i], 0, &t, &v, &ww, &inv)) {
+                        hit |= 1u << i;
+                        break;
+                    }
+                }
+            }
+            if (hit == all)
+                return hit;
+            far = wide_max_of(tm, all & ~hit);
+        }
+        if (sp == 0)
+            return hit;
+        cur = stack[--sp];
     }
 }

@@ -80,7 +80,7 @@ static void check_rays(const Model *m, Rng *rng, int rays)
                 best = tt, best_tri = t, bb1 = b1, bb2 = b2; /* ascending t: the first of equal t stays */
         }
         ModelHit h;
-        int got = model_intersect(m, &r, REAL_INF, &h);
+        int got = model_intersect(m, &r, REAL_INF, 0, &h);
         assert_int_equal(got, best < REAL_INF);
         if (got) {
             if (h.t != best || h.tri != best_tri || h.b1 != bb1 || h.b2 != bb2)
@@ -93,6 +93,48 @@ static void check_rays(const Model *m, Rng *rng, int rays)
         assert_int_equal(model_occluded(m, &r, best * R(0.999)), 0);
     }
     assert_true(hits > rays / 4); /* the rays do reach the geometry */
+}
+
+/* Packets of 8 coherent rays (one origin, directions fanned around a
+ * triangle, as a line of pixels) and of 8 scattered ones: each ray's answer
+ * is the one it gets alone, hit or miss, closest or any. */
+static void check_packets(const Model *m, Rng *rng, int packets)
+{
+    Aabb b = m->bounds;
+    vec3 c = aabb_centre(b);
+    real radius = v3_len(aabb_extent(b));
+    for (int pk = 0; pk < packets; pk++) {
+        Ray rays[WIDE_PACKET];
+        const Ray *rp[WIDE_PACKET];
+        real tmax[WIDE_PACKET], shadow[WIDE_PACKET];
+        int at[WIDE_PACKET];
+        vec3 org = v3_add(c, v3_scale(rng_dir(rng), radius * rng_real(rng, R(0.3), R(1.5))));
+        const Tri *t = &m->tris[rng_next(rng) % m->tri_count];
+        vec3 target = v3_scale(v3_add(v3_add(tri_vertex(t, 0), tri_vertex(t, 1)), tri_vertex(t, 2)), R(1) / 3);
+        real spread = radius * (pk % 3 == 0 ? R(0.001) : pk % 3 == 1 ? R(0.02) : R(0.3));
+        int n = 2 + (int)(rng_next(rng) % (WIDE_PACKET - 1));
+        for (int i = 0; i < n; i++) {
+            vec3 o = pk % 4 == 3 ? v3_add(org, v3_scale(rng_dir(rng), spread)) : org; /* shadow rays: many origins */
+            rays[i] = ray_make(o, v3_sub(v3_add(target, v3_scale(rng_vec(rng, -1, 1), spread)), o), 0, REAL_INF);
+            rp[i] = &rays[i];
+            tmax[i] = pk % 5 == 4 ? radius * rng_real(rng, R(0.2), R(2)) : REAL_INF;
+            at[i] = (int)(rng_next(rng) % 2);
+        }
+        ModelHit hits[WIDE_PACKET];
+        uint32_t found = model_intersect_packet(m, rp, n, tmax, at, hits);
+        for (int i = 0; i < n; i++) {
+            ModelHit h;
+            int got = model_intersect(m, &rays[i], tmax[i], at[i], &h);
+            assert_int_equal((int)(found >> i & 1), got);
+            if (got && (h.t != hits[i].t || h.tri != hits[i].tri || h.b1 != hits[i].b1 || h.b2 != hits[i].b2))
+                fail_msg("packet %d ray %d: %.9g on %u, alone %.9g on %u", pk, i, (double)hits[i].t, hits[i].tri,
+                         (double)h.t, h.tri);
+            shadow[i] = got && pk % 2 ? h.t * R(0.999) : tmax[i];
+        }
+        uint32_t blocked = model_occluded_packet(m, rp, n, shadow);
+        for (int i = 0; i < n; i++)
+            assert_int_equal((int)(blocked >> i & 1), model_occluded(m, &rays[i], shadow[i]));
+    }
 }
 
 static void check_against_brute_force(Model *m, Rng *rng, int rays)
@@ -108,6 +150,7 @@ static void check_against_brute_force(Model *m, Rng *rng, int rays)
             assert_non_null(m->wide);
         *rng = start; /* every path sees the same rays */
         check_rays(m, rng, rays);
+        check_packets(m, rng, rays / 4);
         wide_destroy(m->wide);
         m->wide = NULL;
     }

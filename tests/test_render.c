@@ -7,6 +7,7 @@
 #include "render.h"
 #include "srgb.h"
 #include "scene_default.h"
+#include "simd.h"
 
 static Scene *empty_scene(void)
 {
@@ -329,6 +330,118 @@ static void textured_triangle_and_instances(void **state)
     scene_destroy(s);
 }
 
+/* The coarse sphere with one more small triangle far in front of it: the
+ * same triangles, so hits on the sphere tie exactly with the plain model's,
+ * but a box that a ray from +z enters first. */
+static Model *sphere_with_fin(void)
+{
+    Model *plain = coarse_sphere();
+    Mesh m;
+    assert_int_equal(mesh_init(&m, 1, 0, 0, NULL), 0);
+    for (uint32_t i = 0; i < plain->tri_count; i++) {
+        vec3 p[3], n[3];
+        for (int k = 0; k < 3; k++)
+            p[k] = tri_vertex(&plain->tris[i], k), n[k] = plain->normals[3 * i + k];
+        assert_int_equal(mesh_add(&m, p, n, NULL, 0, NULL), 0);
+    }
+    const vec3 fin[3] = {v3(-3, -3, 6), v3(R(-2.9), -3, 6), v3(-3, R(-2.9), 6)};
+    assert_int_equal(mesh_add(&m, fin, fin, NULL, 0, NULL), 0);
+    model_destroy(plain);
+    Model *model;
+    BvhOptions opt = bvh_options_default(BVH_SAH);
+    assert_int_equal(model_from_mesh(&model, &m, &opt, NULL), 0);
+    mesh_free(&m);
+    return model;
+}
+
+/* Packets give every ray the hit, the colour and the shadow answer it gets
+ * alone, on every SIMD path, in scenes built for ties: the coarse sphere
+ * twice at one place, as a plain model and with a fin that makes a single
+ * ray visit it first (instances added in both orders: the lower index must
+ * win either way), a third instance turned and scaled, a sphere through the
+ * model, a triangle lying in a plane (ties with the plane), and a light. */
+static void packets_equal_single_rays(void **state)
+{
+    (void)state;
+    int ties = 0, packets = 0;
+    for (int order = 0; order < 2; order++) {
+        Scene *s = empty_scene();
+        Material red = {v3(1, R(0.2), R(0.2)), v3(R(0.5), R(0.5), R(0.5)), 20, -1};
+        uint32_t mat;
+        assert_int_equal(scene_add_material(s, red, &mat, NULL), 0);
+        assert_int_equal(scene_add_plane(s, plane_make(v3(0, -1, 0), v3(0, 1, 0), 0), NULL), 0);
+        const vec3 flat[3] = {v3(-2, -1, -2), v3(2, -1, -2), v3(0, -1, 2)};
+        assert_int_equal(scene_add_triangle(s, flat, NULL, NULL, mat, NULL), 0);
+        assert_int_equal(scene_add_sphere(s, (Sphere){v3(R(0.7), R(0.3), 0), R(0.5), mat}, NULL), 0);
+        uint32_t plain, fin;
+        assert_int_equal(scene_add_model(s, coarse_sphere(), &plain, NULL), 0);
+        assert_int_equal(scene_add_model(s, sphere_with_fin(), &fin, NULL), 0);
+        assert_int_equal(scene_add_instance(s, instance_make(order ? fin : plain, v3(0, 0, 0), v3(0, 0, 0), 1), NULL), 0);
+        assert_int_equal(scene_add_instance(s, instance_make(order ? plain : fin, v3(0, 0, 0), v3(0, 0, 0), 1), NULL), 0);
+        assert_int_equal(
+            scene_add_instance(s, instance_make(plain, v3(R(1.5), R(0.2), R(-1)), v3(10, 35, 0), R(0.7)), NULL), 0);
+        assert_int_equal(scene_add_light(s, light_point(v3(3, 4, 5), v3(1, 1, 1), 1, 0), NULL), 0);
+        for (int path = 0; path < SIMD_PATH_COUNT; path++) {
+            if (simd_force((SimdPath)path))
+                continue;
+            prepare(s);
+            const vec3 eyes[3] = {v3(0, R(0.5), 4), v3(R(3.5), 2, R(-0.5)), v3(R(0.01), 5, R(0.02))};
+            for (int e = 0; e < 3; e++)
+                for (int y = 0; y < 40; y++)
+                    for (int x0 = 0; x0 < 40; x0 += TRACE_PACKET) {
+                        Ray rays[TRACE_PACKET];
+                        int n = 1 + (x0 / TRACE_PACKET + y) % TRACE_PACKET; /* every packet size */
+                        for (int i = 0; i < n; i++) {
+                            vec3 target = v3(R(-2) + R(0.1) * (real)(x0 + i), R(1.5) - R(0.1) * (real)y, 0);
+                            rays[i] = ray_make(eyes[e], v3_norm(v3_sub(target, eyes[e])), 0, REAL_INF);
+                        }
+                        Hit hp[TRACE_PACKET];
+                        trace_closest_packet(s, rays, n, hp);
+                        vec3 cp[TRACE_PACKET];
+                        uint64_t kp[TRACE_PACKET];
+                        RayStats st = {0, 0};
+                        shade_packet(s, rays, n, cp, &st, kp);
+                        real tm[TRACE_PACKET];
+                        for (int i = 0; i < n; i++)
+                            tm[i] = hp[i].kind ? hp[i].t * R(0.5) : R(100);
+                        uint32_t blocked = trace_occluded_packet(s, rays, n, tm);
+                        for (int i = 0; i < n; i++) {
+                            Hit h;
+                            int got = trace_closest(s, &rays[i], &h);
+                            assert_int_equal(got, hp[i].kind != HIT_NONE);
+                            if (got && (h.kind != hp[i].kind || h.index != hp[i].index || h.sub != hp[i].sub ||
+                                        h.t != hp[i].t || h.b1 != hp[i].b1 || h.b2 != hp[i].b2))
+                                fail_msg("%s, order %d: eye %d ray (%d,%d): packet kind %d #%u/%u t %.9g, alone kind "
+                                         "%d #%u/%u t %.9g",
+                                         simd_name((SimdPath)path), order, e, x0 + i, y, hp[i].kind, hp[i].index,
+                                         hp[i].sub, (double)hp[i].t, h.kind, h.index, h.sub, (double)h.t);
+                            /* the two instances at one place tie on the sphere: the first wins */
+                            ModelHit first;
+                            if (got && h.kind == HIT_INSTANCE && h.index == 1 &&
+                                model_intersect(s->models[s->instances[0].model], &rays[i], REAL_INF, 0, &first) &&
+                                first.t == h.t)
+                                fail_msg("%s, order %d: ray (%d,%d) took the second of two tied instances",
+                                         simd_name((SimdPath)path), order, x0 + i, y);
+                            ties += got && h.kind == HIT_INSTANCE && h.index == 0;
+                            uint64_t key;
+                            RayStats st1 = {0, 0};
+                            vec3 c = shade_ray(s, &rays[i], &st1, &key);
+                            if (memcmp(&c, &cp[i], sizeof c) != 0 || key != kp[i])
+                                fail_msg("%s: ray (%d,%d): packet colour differs", simd_name((SimdPath)path), x0 + i, y);
+                            assert_int_equal((int)(blocked >> i & 1), trace_occluded(s, &rays[i], tm[i]));
+                        }
+                        packets++;
+                    }
+        }
+        scene_destroy(s);
+    }
+    assert_true(ties > 100);
+    assert_true(packets > 100);
+    SimdPath best;
+    simd_parse("auto", &best);
+    simd_force(best);
+}
+
 static uint8_t *render_all(RenderPool *p, const Scene *s, int w, int h, int segment)
 {
     uint8_t *px = malloc((size_t)w * h * 3);
@@ -510,6 +623,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(diffuse_and_phong_match_the_formula),
+        cmocka_unit_test(packets_equal_single_rays),
         cmocka_unit_test(shadows_attenuation_and_spot_cone),
         cmocka_unit_test(pixels_are_srgb_unless_linear),
         cmocka_unit_test(plane_and_sphere_texture_coordinates),

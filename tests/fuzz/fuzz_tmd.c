@@ -12,7 +12,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         vec3 o = v3((real)(i % 4) - R(1.5), (real)(i / 4) - R(1.5), -10);
         Ray r = ray_make(o, v3(R(0.01) * (real)i, R(0.02), 1), 0, REAL_INF);
         ModelHit h;
-        model_intersect(m, &r, REAL_INF, &h);
+        model_intersect(m, &r, REAL_INF, 0, &h);
         model_occluded(m, &r, REAL_INF);
     }
     model_destroy(m);

@@ -31,7 +31,7 @@ static int count_leaks(const Model *m, InsideFn inside, real kmax, int rays, uin
         vec3 o = v3_add(e, v3_scale(v3_sub(e, q), rng_real(&rng, R(0.05), kmax)));
         Ray r = ray_make(o, v3_sub(q, o), 0, REAL_INF);
         ModelHit h;
-        int hit = model_intersect(m, &r, REAL_INF, &h);
+        int hit = model_intersect(m, &r, REAL_INF, 0, &h);
         leaks += !hit || !model_occluded(m, &r, REAL_INF);
     }
     return leaks;
@@ -211,7 +211,7 @@ static void check_brute(const Model *m, const Ray *r, int *hits)
             best = tt;
     }
     ModelHit h;
-    int got = model_intersect(m, r, REAL_INF, &h);
+    int got = model_intersect(m, r, REAL_INF, 0, &h);
     assert_int_equal(got, best < REAL_INF);
     if (got)
         assert_true(h.t == best);
