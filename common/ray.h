@@ -16,14 +16,14 @@ typedef struct {
     real sx, sy, sz; /* shear that maps the ray onto +z */
 } Ray;
 
-static inline Ray ray_make(vec3 org, vec3 dir, real tmin, real tmax)
+/* A ray whose inverse direction the caller computed (1/dir.x, ... exactly;
+ * ray_make and the camera's packets, which divide eight at a time). */
+static inline Ray ray_make_inv(vec3 org, vec3 dir, vec3 inv, real tmin, real tmax)
 {
     Ray r;
     r.org = org;
     r.dir = dir;
-    /* 1/0 gives +-inf, which the slab test handles: a ray parallel to a slab
-     * is either inside it for all t or never. */
-    r.inv = v3(R(1) / dir.x, R(1) / dir.y, R(1) / dir.z);
+    r.inv = inv;
     r.tmin = tmin;
     r.tmax = tmax;
     for (int a = 0; a < 3; a++) { /* a node is bmin[3], first, bmax[3], count: bmax starts at real 4 */
@@ -47,6 +47,13 @@ static inline Ray ray_make(vec3 org, vec3 dir, real tmin, real tmax)
     r.sx = dir.e[kx] * r.sz;
     r.sy = dir.e[ky] * r.sz;
     return r;
+}
+
+static inline Ray ray_make(vec3 org, vec3 dir, real tmin, real tmax)
+{
+    /* 1/0 gives +-inf, which the slab test handles: a ray parallel to a slab
+     * is either inside it for all t or never. */
+    return ray_make_inv(org, dir, v3(R(1) / dir.x, R(1) / dir.y, R(1) / dir.z), tmin, tmax);
 }
 
 static inline vec3 ray_at(const Ray *r, real t) { return v3_madd(r->org, r->dir, t); }

@@ -181,9 +181,30 @@ static int cancelled(const Frame *f) { return f->cancel && atomic_load_explicit(
 static void sample_packet(const Frame *f, const real *xs, const real *ys, int n, vec3 *out, RayStats *st,
                           uint64_t *keys)
 {
+    /* ray_make(org, v3_norm(camera_dir(x, y))) for all eight lanes at once,
+     * operation for operation, in arrays the compiler turns into vector
+     * code: the square roots and divisions of one ray would otherwise wait
+     * on each other */
+    real dx[TRACE_PACKET], dy[TRACE_PACKET], dz[TRACE_PACKET], ix[TRACE_PACKET], iy[TRACE_PACKET], iz[TRACE_PACKET];
+    real len[TRACE_PACKET]; /* zero: a degenerate camera, done as ray_make does it */
+    const CameraFrame *c = &f->cam;
+    real px[TRACE_PACKET], py[TRACE_PACKET];
+    for (int i = 0; i < TRACE_PACKET; i++)
+        px[i] = xs[i < n ? i : 0], py[i] = ys[i < n ? i : 0];
+    const real ux = c->u.x, uy = c->u.y, uz = c->u.z, vx = c->v.x, vy = c->v.y, vz = c->v.z;
+    const real kx = c->k.x, ky = c->k.y, kz = c->k.z;
+    for (int i = 0; i < TRACE_PACKET; i++) {
+        real ax = ux * px[i] + vx * py[i] + kx, ay = uy * px[i] + vy * py[i] + ky, az = uz * px[i] + vz * py[i] + kz;
+        real l = sqrt(ax * ax + ay * ay + az * az);
+        real inv = R(1) / l;
+        len[i] = l;
+        dx[i] = ax * inv, dy[i] = ay * inv, dz[i] = az * inv;
+        ix[i] = R(1) / dx[i], iy[i] = R(1) / dy[i], iz[i] = R(1) / dz[i];
+    }
     Ray rays[TRACE_PACKET];
     for (int i = 0; i < n; i++)
-        rays[i] = ray_make(f->cam.org, v3_norm(camera_dir(&f->cam, xs[i], ys[i])), R(0), REAL_INF);
+        rays[i] = len[i] > R(0) ? ray_make_inv(c->org, v3(dx[i], dy[i], dz[i]), v3(ix[i], iy[i], iz[i]), R(0), REAL_INF)
+                                : ray_make(c->org, v3_norm(camera_dir(c, px[i], py[i])), R(0), REAL_INF);
     shade_packet(f->s, rays, n, out, st, keys);
 }
 
