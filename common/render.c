@@ -202,9 +202,12 @@ static void sample_packet(const Frame *f, const real *xs, const real *ys, int n,
         ix[i] = R(1) / dx[i], iy[i] = R(1) / dy[i], iz[i] = R(1) / dz[i];
     }
     Ray rays[TRACE_PACKET];
-    for (int i = 0; i < n; i++)
-        rays[i] = len[i] > R(0) ? ray_make_inv(c->org, v3(dx[i], dy[i], dz[i]), v3(ix[i], iy[i], iz[i]), R(0), REAL_INF)
-                                : ray_make(c->org, v3_norm(camera_dir(c, px[i], py[i])), R(0), REAL_INF);
+    for (int i = 0; i < n; i++) {
+        if (len[i] > R(0))
+            ray_set(&rays[i], c->org, v3(dx[i], dy[i], dz[i]), v3(ix[i], iy[i], iz[i]), R(0), REAL_INF);
+        else
+            rays[i] = ray_make(c->org, v3_norm(camera_dir(c, px[i], py[i])), R(0), REAL_INF);
+    }
     shade_packet(f->s, rays, n, out, st, keys);
 }
 

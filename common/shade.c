@@ -128,7 +128,7 @@ void shade_packet(const Scene *s, const Ray *rays, int n, vec3 *out, RayStats *s
             }
             /* stop just short of the light so that it does not shadow itself */
             tmax[m] = isfinite(dist) ? dist * (R(1) - R(64) * REAL_EPS) : REAL_MAX;
-            sr[m] = ray_make(h->origin, L[m], R(0), tmax[m]);
+            ray_set(&sr[m], h->origin, L[m], v3(R(1) / L[m].x, R(1) / L[m].y, R(1) / L[m].z), R(0), tmax[m]);
             who[m++] = live[k];
         }
         if (m == 0)
