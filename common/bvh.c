@@ -22,7 +22,7 @@ int bvh_kind_parse(const char *s, BvhKind *out)
 
 BvhOptions bvh_options_default(BvhKind kind)
 {
-    BvhOptions o = {kind, 4, 0};
+    BvhOptions o = {kind, 8, 0}; /* two blocks of four (bvh.h): measured in docs/renderer.md */
     return o;
 }
 

@@ -155,14 +155,14 @@ int bvh_flatten(const Builder *b, Bvh *out, Err *err)
         if (bn->left < 0) {
             height[i] = 1;
             nprims[i] = bn->count;
-            cost[i] = area * bn->count;
+            cost[i] = area * bvh_leaf_blocks(bn->count);
         } else {
             uint32_t l = (uint32_t)bn->left, r = (uint32_t)bn->right;
             height[i] = 1 + (height[l] > height[r] ? height[l] : height[r]);
             nprims[i] = nprims[l] + nprims[r];
             cost[i] = area + cost[l] + cost[r];
-            if (b->collapse && nprims[i] <= b->opt->max_leaf && area * nprims[i] <= cost[i]) {
-                cost[i] = area * nprims[i];
+            if (b->collapse && nprims[i] <= b->opt->max_leaf && area * bvh_leaf_blocks(nprims[i]) <= cost[i]) {
+                cost[i] = area * bvh_leaf_blocks(nprims[i]);
                 height[i] = 1;
             }
         }

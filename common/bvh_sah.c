@@ -4,7 +4,8 @@
  * hierarchies", 2007): centres are dropped into BINS buckets per axis and
  * every bucket boundary is costed with one sweep from each side.  A node
  * becomes a leaf when splitting would cost more than intersecting all its
- * primitives and it holds at most max_leaf of them. */
+ * primitives and it holds at most max_leaf of them; primitives cost by the
+ * block of four (bvh.h, BVH_LEAF_BLOCK). */
 #include <stdlib.h>
 
 #include "bvh_build.h"
@@ -62,7 +63,8 @@ static real best_split(const Builder *b, const BuildNode *node, Aabb cbox, int *
             cnt += bins[i].count;
             if (cnt == 0 || right_count[i + 1] == 0)
                 continue;
-            real c = aabb_half_area(acc) * (real)cnt + right_area[i + 1] * (real)right_count[i + 1];
+            real c = aabb_half_area(acc) * (real)bvh_leaf_blocks(cnt) +
+                     right_area[i + 1] * (real)bvh_leaf_blocks(right_count[i + 1]);
             if (c < best) {
                 best = c;
                 *axis_out = axis;
@@ -92,7 +94,7 @@ int bvh_build_sah(Builder *b, Err *err)
         builder_bounds(b, node.first, node.count, &box, &cbox);
         int axis = 0, bin = 0;
         real split_cost = best_split(b, &node, cbox, &axis, &bin);
-        real leaf_cost = COST_INTERSECT * (real)node.count;
+        real leaf_cost = COST_INTERSECT * (real)bvh_leaf_blocks(node.count);
         uint32_t nl;
         if (split_cost < REAL_INF && (split_cost < leaf_cost || node.count > b->opt->max_leaf)) {
             real lo = cbox.min.e[axis], scale = (real)BINS / aabb_extent(cbox).e[axis];

@@ -45,7 +45,7 @@ static int same_file(const char *a, const char *b)
 
 int main(int argc, char **argv)
 {
-    int bvh_kind = BVH_SAH, leaf = 4, axis = 0, smooth = 0, quiet = 0;
+    int bvh_kind = BVH_SAH, leaf = (int)bvh_options_default(BVH_SAH).max_leaf, axis = 0, smooth = 0, quiet = 0;
     const Opt opts[] = {
         {.name = "--bvh", .kind = OPT_CHOICE, .dst = &bvh_kind, .choices = cli_bvh_names,
          .help = "builder: sbt (spatial median), mst (bottom-up, smallest merged box), sah (surface area)"},
