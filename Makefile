@@ -136,10 +136,11 @@ check-asan: deps
 	@$(MAKE) --no-print-directory test-run SAN=asan
 
 # ThreadSanitizer on what runs threads: the render pool (render, wire and
-# stability tests render with it) and the client's render thread against
-# the server (the integration test)
+# stability tests render with it), the builders' workers (bvh), and the
+# client's render thread against the server (the integration test)
 check-tsan: deps
-	@$(MAKE) --no-print-directory SAN=tsan build/float-tsan/tests/test_render build/float-tsan/tests/test_wire $(subst bin/,bin/tsan/,$(TOOLS))
+	@$(MAKE) --no-print-directory SAN=tsan build/float-tsan/tests/test_render build/float-tsan/tests/test_wire build/float-tsan/tests/test_bvh $(subst bin/,bin/tsan/,$(TOOLS))
+	@TSAN_OPTIONS="halt_on_error=1" build/float-tsan/tests/test_bvh
 	@TSAN_OPTIONS="halt_on_error=1" build/float-tsan/tests/test_render
 	@TSAN_OPTIONS="halt_on_error=1" build/float-tsan/tests/test_wire
 	@rm -f build/float-tsan/report.*

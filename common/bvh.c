@@ -2,6 +2,8 @@
 #include "bvh.h"
 
 #include <stdlib.h>
+
+#include "bigmem.h"
 #include <string.h>
 
 #include "bvh_build.h"
@@ -22,7 +24,7 @@ int bvh_kind_parse(const char *s, BvhKind *out)
 
 BvhOptions bvh_options_default(BvhKind kind)
 {
-    BvhOptions o = {kind, 8, 0}; /* two blocks of four (bvh.h): measured in docs/renderer.md */
+    BvhOptions o = {kind, 8, 0, 1}; /* leaves: two blocks of four (bvh.h), measured in docs/renderer.md */
     return o;
 }
 
@@ -67,8 +69,8 @@ int bvh_build(Bvh *out, const Aabb *boxes, uint32_t n, const BvhOptions *opt, Er
     b.boxes = boxes;
     b.n = n;
     b.opt = opt;
-    b.centres = malloc(n * sizeof *b.centres);
-    b.perm = malloc(n * sizeof *b.perm);
+    b.centres = bigmem_alloc(n * sizeof *b.centres);
+    b.perm = bigmem_alloc(n * sizeof *b.perm);
     int rc = -1;
     if (!b.centres || !b.perm) {
         err_set(err, "bvh: out of memory for %u primitives", n);

@@ -42,6 +42,7 @@ typedef struct {
     BvhKind kind;
     uint32_t max_leaf;     /* most primitives per leaf (the MST and SAH may use fewer) */
     int sbt_alternate;     /* SBT: split axes in turn x, y, z instead of the longest */
+    int threads;           /* builder threads (1 by default; obj2tmd: one per core) */
 } BvhOptions;
 
 typedef struct {

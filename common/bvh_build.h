@@ -23,10 +23,25 @@ typedef struct {
     uint32_t root;
     const BvhOptions *opt;
     int collapse; /* let bvh_flatten merge small subtrees into leaves by SAH */
+    const void *aux; /* a builder's own per-primitive data */
 } Builder;
 
-/* Appends a node, returns its index or -1 when out of memory. */
+/* Appends a node, returns its index or -1 when out of memory (one thread only). */
 int32_t builder_add(Builder *b, BuildNode node);
+
+/* Top-down builders run as tasks: a task is a node whose primitives are
+ * perm[first, first+count), with the box of their boxes and of their
+ * centres.  `step` makes it a leaf (returns 0) or splits its range in two,
+ * fills kids[0..1] (boxes and ranges) and returns 2; builder_run allocates
+ * the children's nodes and links them.  Subtrees go to opt->threads
+ * workers; each task touches only its own range of perm, so the tree is the
+ * same whatever the number of threads and their timing. */
+typedef struct {
+    uint32_t node, first, count, depth;
+    Aabb box, cbox;
+} BuildTask;
+typedef int (*BuildStep)(const Builder *b, const BuildTask *t, BuildTask kids[2]);
+int builder_run(Builder *b, BuildStep step, Err *err);
 /* Bounds of the primitive boxes and of their centres over perm[first, first+count). */
 void builder_bounds(const Builder *b, uint32_t first, uint32_t count, Aabb *box, Aabb *cbox);
 

@@ -10,6 +10,8 @@
  *    overflows whatever the input (spatial medians and agglomerative trees
  *    can both degenerate into long chains). */
 #include <stdlib.h>
+
+#include "bigmem.h"
 #include <string.h>
 
 #include "bvh_build.h"
@@ -120,18 +122,18 @@ static uint32_t collect_prims(const Builder *b, uint32_t root, uint32_t *out, ui
 int bvh_flatten(const Builder *b, Bvh *out, Err *err)
 {
     uint32_t bn_count = b->node_count;
-    uint32_t *order = malloc(bn_count * sizeof *order);   /* pre-order */
-    uint32_t *stack = malloc(bn_count * sizeof *stack);
-    uint32_t *height = malloc(bn_count * sizeof *height);
-    uint32_t *nprims = malloc(bn_count * sizeof *nprims);
-    double *cost = malloc(bn_count * sizeof *cost);
-    uint32_t *tmp = malloc(b->n * sizeof *tmp);
-    uint32_t (*work)[3] = malloc(bn_count * sizeof *work); /* build node, flat slot, depth */
+    uint32_t *order = bigmem_alloc(bn_count * sizeof *order);   /* pre-order */
+    uint32_t *stack = bigmem_alloc(bn_count * sizeof *stack);
+    uint32_t *height = bigmem_alloc(bn_count * sizeof *height);
+    uint32_t *nprims = bigmem_alloc(bn_count * sizeof *nprims);
+    double *cost = bigmem_alloc(bn_count * sizeof *cost);
+    uint32_t *tmp = bigmem_alloc(b->n * sizeof *tmp);
+    uint32_t (*work)[3] = bigmem_alloc(bn_count * sizeof *work); /* build node, flat slot, depth */
     Flat f = {b, NULL, 0, 2 * b->n, NULL, 0, 0};
     Bvh nodes_owner = {0};
     if (bvh_alloc_nodes(&nodes_owner, f.node_cap) == 0)
         f.nodes = nodes_owner.nodes;
-    f.prims = malloc(b->n * sizeof *f.prims);
+    f.prims = bigmem_alloc(b->n * sizeof *f.prims);
     int rc = -1;
     if (!order || !stack || !height || !nprims || !cost || !tmp || !work || !f.nodes || !f.prims) {
         err_set(err, "bvh: out of memory flattening %u nodes", bn_count);

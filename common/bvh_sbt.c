@@ -9,7 +9,7 @@
 #include "bvh_build.h"
 
 /* Moves primitives with centre[axis] < split to the front; returns their count. */
-static uint32_t partition(Builder *b, uint32_t first, uint32_t count, int axis, real split)
+static uint32_t partition(const Builder *b, uint32_t first, uint32_t count, int axis, real split)
 {
     uint32_t i = first, j = first + count;
     while (i < j) {
@@ -24,56 +24,28 @@ static uint32_t partition(Builder *b, uint32_t first, uint32_t count, int axis, 
     return i - first;
 }
 
-typedef struct {
-    int32_t node;
-    uint32_t depth;
-} Task;
-
-int bvh_build_sbt(Builder *b, Err *err)
+static int sbt_step(const Builder *b, const BuildTask *t, BuildTask kids[2])
 {
-    Task *tasks = malloc(b->n * sizeof *tasks + sizeof *tasks);
-    if (!tasks)
-        return err_set(err, "bvh: out of memory");
-    Aabb box, cbox;
-    builder_bounds(b, 0, b->n, &box, &cbox);
-    BuildNode root = {box, -1, -1, 0, b->n};
-    int32_t r = builder_add(b, root);
-    uint32_t nt = 0;
-    tasks[nt++] = (Task){r, 0};
-    while (nt && r >= 0) {
-        Task t = tasks[--nt];
-        BuildNode node = b->nodes[t.node];
-        if (node.count <= b->opt->max_leaf)
+    if (t->count <= b->opt->max_leaf)
+        return 0;
+    vec3 ext = aabb_extent(t->cbox);
+    int axis = b->opt->sbt_alternate ? (int)((t->depth - 1) % 3) : v3_max_axis(ext);
+    uint32_t nl = 0;
+    for (int tries = 0; tries < 3; tries++, axis = (axis + 1) % 3) {
+        if (ext.e[axis] <= R(0))
             continue;
-        builder_bounds(b, node.first, node.count, &box, &cbox);
-        vec3 ext = aabb_extent(cbox);
-        int axis = b->opt->sbt_alternate ? (int)(t.depth % 3) : v3_max_axis(ext);
-        uint32_t nl = 0;
-        for (int tries = 0; tries < 3; tries++, axis = (axis + 1) % 3) {
-            if (ext.e[axis] <= R(0))
-                continue;
-            real split = cbox.min.e[axis] + ext.e[axis] * R(0.5);
-            nl = partition(b, node.first, node.count, axis, split);
-            if (nl > 0 && nl < node.count)
-                break;
-        }
-        if (nl == 0 || nl == node.count) /* all centres coincide: split by count */
-            nl = node.count / 2;
-        Aabb lb, rb;
-        builder_bounds(b, node.first, nl, &lb, NULL);
-        builder_bounds(b, node.first + nl, node.count - nl, &rb, NULL);
-        int32_t l = builder_add(b, (BuildNode){lb, -1, -1, node.first, nl});
-        r = l < 0 ? -1 : builder_add(b, (BuildNode){rb, -1, -1, node.first + nl, node.count - nl});
-        if (r < 0)
+        real split = t->cbox.min.e[axis] + ext.e[axis] * R(0.5);
+        nl = partition(b, t->first, t->count, axis, split);
+        if (nl > 0 && nl < t->count)
             break;
-        b->nodes[t.node].left = l;
-        b->nodes[t.node].right = r;
-        tasks[nt++] = (Task){l, t.depth + 1};
-        tasks[nt++] = (Task){r, t.depth + 1};
     }
-    free(tasks);
-    if (r < 0)
-        return err_set(err, "bvh: out of memory");
-    b->root = 0;
-    return 0;
+    if (nl == 0 || nl == t->count) /* all centres coincide: split by count */
+        nl = t->count / 2;
+    kids[0].first = t->first, kids[0].count = nl;
+    kids[1].first = t->first + nl, kids[1].count = t->count - nl;
+    for (int k = 0; k < 2; k++)
+        builder_bounds(b, kids[k].first, kids[k].count, &kids[k].box, &kids[k].cbox);
+    return 2;
 }
+
+int bvh_build_sbt(Builder *b, Err *err) { return builder_run(b, sbt_step, err); }

@@ -2,6 +2,8 @@
 #include "model.h"
 
 #include <stdlib.h>
+
+#include "bigmem.h"
 #include <string.h>
 
 #include "simd.h"
@@ -13,7 +15,7 @@ Model *model_alloc(uint32_t tri_count, uint32_t node_count, uint32_t material_co
         return NULL;
     size_t tc = tri_count ? tri_count : 1;
     m->tri_count = tri_count;
-    m->tris = malloc(tc * sizeof *m->tris);
+    m->tris = bigmem_alloc(tc * sizeof *m->tris);
     m->normals = normals ? malloc(tc * 3 * sizeof *m->normals) : NULL;
     m->uvs = uvs ? malloc(tc * 6 * sizeof *m->uvs) : NULL;
     m->mat_ids = mat_ids ? malloc(tc * sizeof *m->mat_ids) : NULL;
@@ -57,7 +59,7 @@ static Aabb tri_box(const Tri *t)
 static int model_build_bvh(Model *m, const BvhOptions *opt, Err *err)
 {
     uint32_t n = m->tri_count;
-    Aabb *boxes = calloc(n ? n : 1, sizeof *boxes);
+    Aabb *boxes = bigmem_alloc((n ? n : 1) * sizeof *boxes);
     if (!boxes)
         return err_set(err, "model: out of memory");
     m->bounds = aabb_empty();
@@ -70,7 +72,7 @@ static int model_build_bvh(Model *m, const BvhOptions *opt, Err *err)
     free(boxes);
     if (rc)
         return rc;
-    Tri *tris = malloc((n ? n : 1) * sizeof *tris);
+    Tri *tris = bigmem_alloc((n ? n : 1) * sizeof *tris);
     vec3 *nrm = m->normals ? malloc(n * 3 * sizeof *nrm) : NULL;
     real *uvs = m->uvs ? malloc(n * 6 * sizeof *uvs) : NULL;
     uint32_t *mids = m->mat_ids ? malloc(n * sizeof *mids) : NULL;

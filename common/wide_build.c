@@ -10,6 +10,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "bigmem.h"
 #include "simd.h"
 
 static real node_area(const BvhNode *n)
@@ -67,8 +68,8 @@ int wide_build(Wide **out, const Bvh *bvh, const Tri *tris, int path, Err *err)
     w->width = width;
     w->node_bytes = width == 8 ? 256 : 128;
     size_t node_cap = bvh->node_count / 2 + 1;
-    w->nodes = aligned_alloc(64, node_cap * w->node_bytes);
-    w->tris = aligned_alloc(64, ((blocks_cap * sizeof(WideTris) + 63) / 64) * 64);
+    w->nodes = bigmem_alloc(node_cap * w->node_bytes);
+    w->tris = bigmem_alloc((size_t)blocks_cap * sizeof(WideTris));
     if (!w->nodes || !w->tris) {
         free(work);
         wide_destroy(w);

@@ -186,6 +186,30 @@ static void builders_on_random_triangles(void **state)
     mesh_free(&mesh);
 }
 
+/* Builders on several threads make the very tree they make on one: the
+ * subtrees are handed out by timing, the layout comes from the shape alone. */
+static void threads_do_not_change_the_tree(void **state)
+{
+    (void)state;
+    Rng rng = {99};
+    Mesh mesh;
+    random_mesh(&mesh, &rng, 20000, 1); /* big enough for subtrees to change hands (bvh_tasks.c) */
+    for (int k = 0; k < BVH_KIND_COUNT; k++) {
+        Model *one = NULL, *many = NULL;
+        BvhOptions opt = bvh_options_default((BvhKind)k);
+        assert_int_equal(model_from_mesh(&one, &mesh, &opt, NULL), 0);
+        opt.threads = 4;
+        assert_int_equal(model_from_mesh(&many, &mesh, &opt, NULL), 0);
+        assert_int_equal(one->bvh.node_count, many->bvh.node_count);
+        assert_int_equal(one->bvh.depth, many->bvh.depth);
+        assert_memory_equal(one->bvh.nodes, many->bvh.nodes, one->bvh.node_count * sizeof(BvhNode));
+        assert_memory_equal(one->tris, many->tris, one->tri_count * sizeof(Tri));
+        model_destroy(one);
+        model_destroy(many);
+    }
+    mesh_free(&mesh);
+}
+
 static void builders_on_tiny_and_coincident_input(void **state)
 {
     (void)state;
@@ -290,6 +314,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(builders_on_random_triangles),
+        cmocka_unit_test(threads_do_not_change_the_tree),
         cmocka_unit_test(builders_on_tiny_and_coincident_input),
         cmocka_unit_test(depth_is_bounded_on_adversarial_input),
         cmocka_unit_test(mst_equals_naive_greedy),

@@ -45,7 +45,8 @@ static int same_file(const char *a, const char *b)
 
 int main(int argc, char **argv)
 {
-    int bvh_kind = BVH_SAH, leaf = (int)bvh_options_default(BVH_SAH).max_leaf, axis = 0, smooth = 0, quiet = 0;
+    int bvh_kind = BVH_SAH, leaf = (int)bvh_options_default(BVH_SAH).max_leaf, axis = 0, smooth = 0, quiet = 0,
+        threads = 0;
     const Opt opts[] = {
         {.name = "--bvh", .kind = OPT_CHOICE, .dst = &bvh_kind, .choices = cli_bvh_names,
          .help = "builder: sbt (spatial median), mst (bottom-up, smallest merged box), sah (surface area)"},
@@ -53,6 +54,8 @@ int main(int argc, char **argv)
          .help = "most triangles per leaf"},
         {.name = "--axis", .kind = OPT_CHOICE, .dst = &axis, .choices = axis_names,
          .help = "SBT split axis: the box's longest, or x, y, z in turn"},
+        {.name = "--threads", .kind = OPT_INT, .dst = &threads, .arg = "T", .lo = 0, .hi = 64,
+         .help = "builder threads, 0 = one per core (the tree is the same for any number)", .def = "0: all cores"},
         {.name = "--smooth", .kind = OPT_FLAG, .dst = &smooth, .help = "compute smooth vertex normals where the OBJ has none"},
         {.name = "--quiet", .kind = OPT_FLAG, .dst = &quiet, .help = "print errors only: no summary, no progress"},
         {0},
@@ -79,6 +82,7 @@ int main(int argc, char **argv)
     BvhOptions bo = bvh_options_default((BvhKind)bvh_kind);
     bo.max_leaf = (uint32_t)leaf;
     bo.sbt_alternate = axis == 1;
+    bo.threads = cli_threads(threads);
     ObjOptions oo = {smooth};
     /* the output's directory takes a file: checked before the work */
     AtomicFile probe;
