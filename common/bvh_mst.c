@@ -24,11 +24,17 @@
 
 #include "bvh_build.h"
 
+/* Per search-tree node, in one 32-byte record (one cache line per visit):
+ * lo = the largest box minimum of the clusters below, hi = the smallest box
+ * maximum, per axis. */
+typedef struct {
+    _Alignas(4 * sizeof(real)) real lo[4];
+    real hi[4];
+} Bound;
+
 typedef struct {
     uint32_t n_slots; /* power of two */
-    real (*lo)[3];    /* per tree node: max over clusters of box.min */
-    real (*hi)[3];    /* per tree node: min over clusters of box.max */
-    uint32_t *count;  /* live clusters below the node */
+    Bound *bd;        /* per tree node */
     int32_t *slot_cluster;
     uint32_t *cluster_slot;
     Aabb *cbox;       /* cluster boxes, id < 2n-1 */
@@ -56,68 +62,93 @@ static int keyed_cmp(const void *a, const void *b)
     return x->id < y->id ? -1 : (x->id > y->id);
 }
 
+static void mst_leaf(Mst *m, uint32_t k, int32_t c)
+{
+    for (int a = 0; a < 3; a++) {
+        m->bd[k].lo[a] = c >= 0 ? m->cbox[c].min.e[a] : -REAL_INF;
+        m->bd[k].hi[a] = c >= 0 ? m->cbox[c].max.e[a] : REAL_INF;
+    }
+    m->bd[k].lo[3] = m->bd[k].hi[3] = 0;
+}
+
+static void mst_join(Mst *m, uint32_t k)
+{
+    const Bound *l = &m->bd[2 * k], *r = &m->bd[2 * k + 1];
+    for (int a = 0; a < 4; a++) {
+        m->bd[k].lo[a] = real_max(l->lo[a], r->lo[a]);
+        m->bd[k].hi[a] = real_min(l->hi[a], r->hi[a]);
+    }
+}
+
 static void mst_refit(Mst *m, uint32_t slot)
 {
     uint32_t k = m->n_slots + slot;
     int32_t c = m->slot_cluster[slot];
-    for (int a = 0; a < 3; a++) {
-        m->lo[k][a] = c >= 0 ? m->cbox[c].min.e[a] : -REAL_INF;
-        m->hi[k][a] = c >= 0 ? m->cbox[c].max.e[a] : REAL_INF;
-    }
-    m->count[k] = c >= 0;
-    for (k >>= 1; k >= 1; k >>= 1) {
-        uint32_t l = 2 * k, r = l + 1;
-        for (int a = 0; a < 3; a++) {
-            m->lo[k][a] = real_max(m->lo[l][a], m->lo[r][a]);
-            m->hi[k][a] = real_min(m->hi[l][a], m->hi[r][a]);
-        }
-        m->count[k] = m->count[l] + m->count[r];
-    }
+    mst_leaf(m, k, c);
+    for (k >>= 1; k >= 1; k >>= 1)
+        mst_join(m, k);
 }
 
 static real union_area(Aabb a, Aabb b) { return aabb_half_area(aabb_union(a, b)); }
 
-static real node_bound(const Mst *m, uint32_t k, Aabb q)
+/* A lower bound on area(box(q u C)) for every cluster C below node k:
+ * C.max >= hi and C.min <= lo on each axis. */
+static inline real node_bound(const Bound *n, const Bound *q)
 {
-    real e[3];
-    for (int a = 0; a < 3; a++)
-        e[a] = real_max(q.max.e[a], m->hi[k][a]) - real_min(q.min.e[a], m->lo[k][a]);
+    real e[4];
+    for (int a = 0; a < 4; a++)
+        e[a] = real_max(q->hi[a], n->hi[a]) - real_min(q->lo[a], n->lo[a]);
     return e[0] * e[1] + e[1] * e[2] + e[2] * e[0];
 }
 
-/* Nearest live cluster to q (excluding q); ties go to the smaller id. */
-static int32_t mst_nearest(const Mst *m, int32_t q, real *dist)
+/* Nearest live cluster to q (excluding q); ties go to the smaller id.
+ * Subtrees wait on the stack with their bound, dropped when a nearer
+ * cluster has been found since. */
+static int32_t mst_nearest(const Mst *m, int32_t q, real *dist, int32_t known)
 {
-    Aabb qb = m->cbox[q];
-    real best = REAL_INF;
-    int32_t best_id = -1;
-    uint32_t stack[2 * 32 + 2], sp = 0;
-    stack[sp++] = 1;
+    Aabb qa = m->cbox[q];
+    Bound qb = {{qa.min.x, qa.min.y, qa.min.z, 0}, {qa.max.x, qa.max.y, qa.max.z, 0}};
+    /* a cluster already known (the chain's previous link) bounds the search from the start */
+    real best = known >= 0 ? union_area(qa, m->cbox[known]) : REAL_INF;
+    int32_t best_id = known;
+    struct {
+        uint32_t k;
+        real bound;
+    } stack[2 * 32 + 2];
+    uint32_t sp = 0;
+    stack[sp].k = 1, stack[sp++].bound = 0;
     while (sp) {
-        uint32_t k = stack[--sp];
-        if (m->count[k] == 0 || node_bound(m, k, qb) > best)
+        --sp;
+        uint32_t k = stack[sp].k;
+        if (stack[sp].bound > best)
             continue;
         if (k >= m->n_slots) {
             int32_t c = m->slot_cluster[k - m->n_slots];
-            if (c == q)
+            if (c == q || c < 0)
                 continue;
-            real d = union_area(qb, m->cbox[c]);
+            real d = union_area(qa, m->cbox[c]);
             if (d < best || (d == best && c < best_id)) {
                 best = d;
                 best_id = c;
             }
             continue;
         }
+        /* an empty subtree's bound is infinite (lo -inf, hi +inf): it is
+         * only ever entered before any cluster is found, and then only
+         * after its live sibling, which ends in a cluster */
         uint32_t l = 2 * k, r = l + 1;
-        real bl = m->count[l] ? node_bound(m, l, qb) : REAL_INF;
-        real br = m->count[r] ? node_bound(m, r, qb) : REAL_INF;
+        real bl = node_bound(&m->bd[l], &qb), br = node_bound(&m->bd[r], &qb);
         /* visit the more promising child first: push it last */
         if (bl <= br) {
-            stack[sp++] = r;
-            stack[sp++] = l;
+            if (br <= best)
+                stack[sp].k = r, stack[sp++].bound = br;
+            if (bl <= best)
+                stack[sp].k = l, stack[sp++].bound = bl;
         } else {
-            stack[sp++] = l;
-            stack[sp++] = r;
+            if (bl <= best)
+                stack[sp].k = l, stack[sp++].bound = bl;
+            if (br <= best)
+                stack[sp].k = r, stack[sp++].bound = br;
         }
     }
     *dist = best;
@@ -131,16 +162,14 @@ int bvh_build_mst(Builder *b, Err *err)
     m.n_slots = 1;
     while (m.n_slots < n)
         m.n_slots <<= 1;
-    m.lo = malloc(2 * m.n_slots * sizeof *m.lo);
-    m.hi = malloc(2 * m.n_slots * sizeof *m.hi);
-    m.count = calloc(2 * m.n_slots, sizeof *m.count);
+    m.bd = aligned_alloc(64, 2 * (size_t)m.n_slots * sizeof *m.bd);
     m.slot_cluster = malloc(m.n_slots * sizeof *m.slot_cluster);
     m.cluster_slot = malloc(total * sizeof *m.cluster_slot);
     m.cbox = malloc(total * sizeof *m.cbox);
     Keyed *keys = malloc(n * sizeof *keys);
     int32_t *chain = malloc(n * sizeof *chain);
     int rc = -1;
-    if (!m.lo || !m.hi || !m.count || !m.slot_cluster || !m.cluster_slot || !m.cbox || !keys || !chain) {
+    if (!m.bd || !m.slot_cluster || !m.cluster_slot || !m.cbox || !keys || !chain) {
         err_set(err, "bvh: out of memory for the MST of %u primitives", n);
         goto done;
     }
@@ -172,21 +201,10 @@ int bvh_build_mst(Builder *b, Err *err)
         m.slot_cluster[s] = c;
         if (c >= 0)
             m.cluster_slot[c] = s;
-        uint32_t k = m.n_slots + s;
-        for (int a = 0; a < 3; a++) {
-            m.lo[k][a] = c >= 0 ? m.cbox[c].min.e[a] : -REAL_INF;
-            m.hi[k][a] = c >= 0 ? m.cbox[c].max.e[a] : REAL_INF;
-        }
-        m.count[k] = c >= 0;
+        mst_leaf(&m, m.n_slots + s, c);
     }
-    for (uint32_t k = m.n_slots - 1; k >= 1; k--) {
-        uint32_t l = 2 * k, r = l + 1;
-        for (int a = 0; a < 3; a++) {
-            m.lo[k][a] = real_max(m.lo[l][a], m.lo[r][a]);
-            m.hi[k][a] = real_min(m.hi[l][a], m.hi[r][a]);
-        }
-        m.count[k] = m.count[l] + m.count[r];
-    }
+    for (uint32_t k = m.n_slots - 1; k >= 1; k--)
+        mst_join(&m, k);
     uint32_t next_id = n, seed = 0, len = 0;
     while (next_id < total) {
         if (len == 0) {
@@ -196,12 +214,10 @@ int bvh_build_mst(Builder *b, Err *err)
         }
         int32_t c = chain[len - 1];
         real d;
-        int32_t nn = mst_nearest(&m, c, &d);
-        if (len >= 2) {
-            int32_t prev = chain[len - 2];
-            if (union_area(m.cbox[c], m.cbox[prev]) <= d)
-                nn = prev; /* on a tie keep the chain's previous link: no cycles */
-        }
+        int32_t prev = len >= 2 ? chain[len - 2] : -1;
+        int32_t nn = mst_nearest(&m, c, &d, prev);
+        if (prev >= 0 && union_area(m.cbox[c], m.cbox[prev]) <= d)
+            nn = prev; /* on a tie keep the chain's previous link: no cycles */
         if (len < 2 || nn != chain[len - 2]) {
             chain[len++] = nn;
             continue;
@@ -223,9 +239,7 @@ int bvh_build_mst(Builder *b, Err *err)
     b->collapse = 1;
     rc = 0;
 done:
-    free(m.lo);
-    free(m.hi);
-    free(m.count);
+    free(m.bd);
     free(m.slot_cluster);
     free(m.cluster_slot);
     free(m.cbox);

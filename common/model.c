@@ -149,6 +149,18 @@ int model_rebuild(Model *m, const BvhOptions *opt, Err *err)
     return model_build_bvh(m, opt, err);
 }
 
+ModelBytes model_bytes(const Model *m)
+{
+    ModelBytes b;
+    b.tris = (size_t)m->tri_count * sizeof *m->tris;
+    b.tree = (size_t)m->bvh.node_count * sizeof(BvhNode) + (m->bvh.prims ? (size_t)m->bvh.prim_count * 4 : 0);
+    b.wide = wide_bytes(m->wide);
+    b.attributes = (size_t)m->tri_count * ((m->normals ? 3 * sizeof(vec3) : 0) + (m->uvs ? 6 * sizeof(real) : 0) +
+                                           (m->mat_ids ? sizeof(uint32_t) : 0)) +
+                   (size_t)m->material_count * sizeof(Material);
+    return b;
+}
+
 int model_prepare_simd(Model *m, Err *err)
 {
     SimdPath p = simd_path();

@@ -39,6 +39,12 @@ void model_destroy(Model *m);
 /* Allocates a model with room for the given counts and attributes (used by the .tmd reader). */
 Model *model_alloc(uint32_t tri_count, uint32_t node_count, uint32_t material_count, int normals, int uvs, int mat_ids);
 
+/* What a loaded model holds, in bytes (make bench compares it with Embree's). */
+typedef struct {
+    size_t tris, tree, wide, attributes;
+} ModelBytes;
+ModelBytes model_bytes(const Model *m);
+
 /* Builds (or drops) the wide tree for the SIMD path in use; called by
  * scene_prepare, before any thread traces. */
 int model_prepare_simd(Model *m, Err *err);

@@ -90,10 +90,30 @@ static int write_profile(RenderPool *pool, const Scene *scene, int width, int he
     return rc;
 }
 
+/* --stats: what the scene's models hold, per triangle */
+static void print_memory(const Scene *s)
+{
+    ModelBytes sum = {0, 0, 0, 0};
+    uint64_t tris = 0;
+    for (uint32_t i = 0; i < s->model_count; i++) {
+        ModelBytes b = model_bytes(s->models[i]);
+        sum.tris += b.tris, sum.tree += b.tree, sum.wide += b.wide, sum.attributes += b.attributes;
+        tris += s->models[i]->tri_count;
+    }
+    if (tris == 0)
+        return;
+    double n = (double)tris, all = (double)(sum.tris + sum.tree + sum.wide + sum.attributes);
+    printf("memory: %llu model triangles, %.1f bytes/triangle (triangles %.1f + tree %.1f + wide tree %.1f + "
+           "attributes %.1f)\n",
+           (unsigned long long)tris, all / n, (double)sum.tris / n, (double)sum.tree / n, (double)sum.wide / n,
+           (double)sum.attributes / n);
+}
+
 int main(int argc, char **argv)
 {
     const char *out = "lanray.png", *profile = NULL;
-    int width = 1024, height = 768, repeat = 1, quiet = 0, segment = 0, threads = 0, linear = 0, simd_given = 0;
+    int width = 1024, height = 768, repeat = 1, quiet = 0, segment = 0, threads = 0, linear = 0, simd_given = 0,
+        stats = 0;
     int width_given = 0, height_given = 0, force_bvh = 0, bvh_kind = BVH_SAH, band_lines = 0;
     int shading = SHADE_PHONG, shadows = 1, filter = FILTER_BILINEAR, shading_given = 0, shadows_given = 0, filter_given = 0;
     CliAa aa = {4, 1, 0};
@@ -130,6 +150,8 @@ int main(int argc, char **argv)
          .help = "also time every line alone, write 'line,microseconds' to FILE (for tools/schedsim)"},
         {.name = "--simd", .kind = OPT_CUSTOM, .parse = cli_parse_simd, .arg = "PATH", .range = CLI_SIMD_RANGE,
          .seen = &simd_given, .help = "traversal path (every path gives the same pixels)", .def = CLI_SIMD_DEFAULT},
+        {.name = "--stats", .kind = OPT_FLAG, .dst = &stats,
+         .help = "print the models' memory per triangle (triangles, tree, wide tree, attributes)"},
         {.name = "--quiet", .kind = OPT_FLAG, .dst = &quiet, .help = "print only the timing line: no scene line, no progress"},
         {0},
     };
@@ -260,6 +282,8 @@ int main(int argc, char **argv)
                width, height, rs->aa, rs->adaptive ? " adaptive" : "", rs->shading == SHADE_PHONG ? "phong" : "diffuse",
                rs->shadows ? "on" : "off", bvh_kind_name(bvh.kind), threads, simd_name(simd_path()), REAL_NAME, best, sum / repeat, repeat,
                rays / best * 1e-6, (unsigned long long)st.primary, (unsigned long long)st.shadow);
+        if (stats)
+            print_memory(scene);
         if (!quiet)
             printf("wrote %s\n", out);
     }
