@@ -105,7 +105,15 @@ static void bin_prims(const Box4 *refs, uint32_t first, uint32_t count, const re
 #if defined(__x86_64__) && !defined(LANRAY_DOUBLE)
     const __m128 lov = _mm_setr_ps(lo[0], lo[1], lo[2], 0), scv = _mm_setr_ps(scale[0], scale[1], scale[2], 0);
     const __m128 half = _mm_set1_ps(0.5f), zero = _mm_setzero_ps(), last = _mm_set1_ps((float)(BINS - 1));
+    /* two sets of bins, for even and odd primitives, merged at the end:
+     * neighbours (sorted by the partitions above) often share a bin, and
+     * one set makes every update wait for the last one's store */
+    Bin odd[3][BINS];
+    for (int a = 0; a < 3; a++)
+        for (int i = 0; i < BINS; i++)
+            odd[a][i] = (Bin){box4_empty, 0};
     for (uint32_t i = first; i < first + count; i++) {
+        Bin(*set)[BINS] = (i - first) & 1 ? odd : bins;
         const __m128 l = _mm_load_ps(refs[i].lo), h = _mm_load_ps(refs[i].hi);
         __m128 f = _mm_mul_ps(_mm_sub_ps(_mm_mul_ps(_mm_add_ps(l, h), half), lov), scv);
         /* bin_of: NaN or below 0 -> 0; 31 or more -> 31 (truncating min(f, 31) is the same) */
@@ -113,7 +121,7 @@ static void bin_prims(const Box4 *refs, uint32_t first, uint32_t count, const re
         const __m128i k = _mm_cvttps_epi32(f);
         const int k0 = _mm_cvtsi128_si32(k), k1 = _mm_cvtsi128_si32(_mm_shuffle_epi32(k, 1)),
                   k2 = _mm_cvtsi128_si32(_mm_shuffle_epi32(k, 2));
-        Bin *b0 = &bins[0][k0], *b1 = &bins[1][k1], *b2 = &bins[2][k2];
+        Bin *b0 = &set[0][k0], *b1 = &set[1][k1], *b2 = &set[2][k2];
         _mm_store_ps(b0->box.lo, _mm_min_ps(l, _mm_load_ps(b0->box.lo)));
         _mm_store_ps(b0->box.hi, _mm_max_ps(h, _mm_load_ps(b0->box.hi)));
         b0->count++;
@@ -124,6 +132,11 @@ static void bin_prims(const Box4 *refs, uint32_t first, uint32_t count, const re
         _mm_store_ps(b2->box.hi, _mm_max_ps(h, _mm_load_ps(b2->box.hi)));
         b2->count++;
     }
+    for (int a = 0; a < 3; a++)
+        for (int i = 0; i < BINS; i++) {
+            box4_grow(&bins[a][i].box, &odd[a][i].box);
+            bins[a][i].count += odd[a][i].count;
+        }
 #else
     for (uint32_t i = first; i < first + count; i++) {
         const vec3 c = ref_centre(&refs[i]);
@@ -257,15 +270,18 @@ static int sah_step(const Builder *b, const BuildTask *t, BuildTask kids[2])
     uint32_t nl;
     if (split_cost < REAL_INF && (split_cost < leaf_cost || t->count > b->opt->max_leaf)) {
         /* partition, growing each side's centre box on the way */
-        Aabb cl = aabb_empty(), cr = aabb_empty();
+        Box4 cl = box4_empty, cr = box4_empty;
         uint32_t i = t->first, j = t->first + t->count;
         while (i < j) {
-            vec3 c = ref_centre(&refs[i]);
-            if (bin_of(c.e[axis], lo[axis], scale[axis]) <= split) {
-                aabb_grow(&cl, c);
+            Box4 c;
+            vec3 cv = ref_centre(&refs[i]);
+            for (int k = 0; k < 4; k++)
+                c.lo[k] = c.hi[k] = k < 3 ? cv.e[k] : R(0);
+            if (bin_of(cv.e[axis], lo[axis], scale[axis]) <= split) {
+                box4_grow(&cl, &c);
                 i++;
             } else {
-                aabb_grow(&cr, c);
+                box4_grow(&cr, &c);
                 Box4 tmp = refs[i];
                 refs[i] = refs[--j];
                 refs[j] = tmp;
@@ -275,8 +291,8 @@ static int sah_step(const Builder *b, const BuildTask *t, BuildTask kids[2])
         Box4 bl = box4_empty, br = box4_empty;
         for (int k = 0; k < BINS; k++)
             box4_grow(k > split ? &br : &bl, &bins[axis][k].box);
-        kids[0].box = box4_aabb(&bl), kids[0].cbox = cl;
-        kids[1].box = box4_aabb(&br), kids[1].cbox = cr;
+        kids[0].box = box4_aabb(&bl), kids[0].cbox = box4_aabb(&cl);
+        kids[1].box = box4_aabb(&br), kids[1].cbox = box4_aabb(&cr);
     } else if (t->count > b->opt->max_leaf) {
         nl = t->count / 2; /* coincident centres: split by count */
         refs_bounds(refs, t->first, nl, &kids[0]);

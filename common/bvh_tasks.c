@@ -3,9 +3,10 @@
  * Each worker goes depth first through its own stack; a subtree big enough
  * to be worth a hand-over goes to the shared queue while another worker is
  * waiting for work.  Nodes come from an array sized for the largest binary
- * tree (2n - 1 nodes), allocated in sibling pairs by an atomic counter, so
- * their indices depend on timing, but not the tree: children are linked by
- * index and bvh_flatten lays the tree out from the root by its shape. */
+ * tree (2n - 1 nodes, and a chunk per worker), each worker taking chunks of
+ * slots from an atomic counter, so their indices depend on timing, but not
+ * the tree: children are linked by index and bvh_flatten lays the tree out
+ * from the root by its shape (unused slots are never reached). */
 #include <pthread.h>
 #include <stdlib.h>
 
@@ -14,6 +15,7 @@
 #include "bvh_build.h"
 
 #define SHARE_MIN 4096 /* primitives: smaller subtrees stay with their worker */
+#define NODE_CHUNK 256 /* node slots a worker takes at a time: its nodes share no cache line with another's */
 
 typedef struct {
     Builder *b;
@@ -61,7 +63,7 @@ static void *run_worker(void *arg)
 {
     Run *r = arg;
     Builder *b = r->b;
-    uint32_t cap = 256, sp = 0;
+    uint32_t cap = 256, sp = 0, next = 0, end = 0;
     BuildTask *stack = malloc(cap * sizeof *stack), t;
     while (stack && run_take(r, &t)) {
         stack[sp++] = t;
@@ -70,7 +72,12 @@ static void *run_worker(void *arg)
             BuildTask kids[2];
             if (r->step(b, &cur, kids) != 2)
                 continue;
-            uint32_t c = __atomic_fetch_add(&b->node_count, 2, __ATOMIC_RELAXED);
+            if (next == end) {
+                next = __atomic_fetch_add(&b->node_count, NODE_CHUNK, __ATOMIC_RELAXED);
+                end = next + NODE_CHUNK;
+            }
+            uint32_t c = next;
+            next += 2;
             for (int k = 0; k < 2; k++) {
                 kids[k].node = c + (uint32_t)k;
                 kids[k].depth = cur.depth + 1;
@@ -107,9 +114,12 @@ static void *run_worker(void *arg)
 
 int builder_run(Builder *b, BuildStep step, Err *err)
 {
-    uint32_t cap = 2 * b->n;
+    /* a binary tree over n primitives has at most 2n - 1 nodes; each
+     * worker may leave part of its last chunk unused */
+    const int workers = b->opt->threads > 1 ? b->opt->threads : 1;
+    uint32_t cap = 2 * b->n + (uint32_t)(workers + 1) * NODE_CHUNK;
     b->nodes = bigmem_alloc(cap * sizeof *b->nodes);
-    Run r = {.b = b, .step = step, .workers = b->opt->threads > 1 ? b->opt->threads : 1};
+    Run r = {.b = b, .step = step, .workers = workers};
     r.queue = malloc(cap * sizeof *r.queue);
     if (!b->nodes || !r.queue) {
         free(r.queue);
