@@ -87,6 +87,11 @@ void shade_packet(const Scene *s, const Ray *rays, int n, vec3 *out, RayStats *s
     else
         trace_closest_packet(s, rays, n, hits);
     stats->primary += (uint64_t)n;
+    /* the hit triangles' vertices, for every ray at once: on a big model
+     * each is a cache miss, and waiting for them one by one showed */
+    for (int i = 0; i < n; i++)
+        if (hits[i].kind == HIT_INSTANCE)
+            __builtin_prefetch(&s->models[s->instances[hits[i].index].model]->tris[hits[i].sub]);
     for (int i = 0; i < n; i++) {
         if (hits[i].kind == HIT_NONE) {
             out[i] = s->background;

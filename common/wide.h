@@ -58,6 +58,8 @@ struct Wide {
     uint32_t root;      /* root: a node, or a leaf when root_blocks > 0 */
     uint32_t root_blocks;
     uint32_t depth;     /* nodes on the longest path (for the stack bound) */
+    float leaf_size;    /* mean largest extent of a leaf's box: packets of shadow rays
+                         * whose origins spread wider go ray by ray (wide_kernel.h) */
     /* tie: a hit at exactly tmax is taken when its triangle index is below
      * tie (0: never; UINT32_MAX: always) */
     int (*closest)(const Wide *w, const Ray *r, real tmax, uint32_t tie, WideHit *hit);

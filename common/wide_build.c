@@ -23,6 +23,8 @@ typedef struct {
     Wide *w;
     const Bvh *bvh;
     const Tri *tris;
+    double leaf_size_sum;
+    uint32_t leaves;
 } Collapse;
 
 static float *node_box(const Wide *w, uint32_t i) { return (float *)((char *)w->nodes + (size_t)i * w->node_bytes); }
@@ -34,6 +36,11 @@ static uint32_t add_leaf(Collapse *c, const BvhNode *n, uint8_t *blocks)
 {
     Wide *w = c->w;
     uint32_t first = w->block_count, nb = (n->count + WIDE_TRIS - 1) / WIDE_TRIS;
+    real ext = 0;
+    for (int a = 0; a < 3; a++)
+        ext = real_max(ext, n->bmax[a] - n->bmin[a]);
+    c->leaf_size_sum += (double)ext;
+    c->leaves++;
     for (uint32_t b = 0; b < nb; b++) {
         WideTris *blk = &w->tris[w->block_count++];
         for (uint32_t l = 0; l < WIDE_TRIS; l++) {
@@ -88,13 +95,14 @@ int wide_build(Wide **out, const Bvh *bvh, const Tri *tris, int path, Err *err)
         w->any_packet = wide4_any_packet_sse;
     }
 #endif
-    Collapse c = {w, bvh, tris};
+    Collapse c = {w, bvh, tris, 0, 0};
     const BvhNode *bn = bvh->nodes;
     if (bn[0].count) {
         uint8_t nb;
         w->root = add_leaf(&c, &bn[0], &nb);
         w->root_blocks = nb;
         w->depth = 1;
+        w->leaf_size = (float)(c.leaf_size_sum / c.leaves);
         free(work);
         *out = w;
         return 0;
@@ -148,6 +156,7 @@ int wide_build(Wide **out, const Bvh *bvh, const Tri *tris, int path, Err *err)
         }
     }
     free(work);
+    w->leaf_size = c.leaves ? (float)(c.leaf_size_sum / c.leaves) : 0;
     *out = w;
     return 0;
 }
