@@ -202,7 +202,13 @@ static void threads_do_not_change_the_tree(void **state)
         assert_int_equal(model_from_mesh(&many, &mesh, &opt, NULL), 0);
         assert_int_equal(one->bvh.node_count, many->bvh.node_count);
         assert_int_equal(one->bvh.depth, many->bvh.depth);
-        assert_memory_equal(one->bvh.nodes, many->bvh.nodes, one->bvh.node_count * sizeof(BvhNode));
+        for (uint32_t i = 0; i < one->bvh.node_count; i++) { /* field by field: a double build's nodes have padding */
+            const BvhNode *a = &one->bvh.nodes[i], *c = &many->bvh.nodes[i];
+            assert_memory_equal(a->bmin, c->bmin, sizeof a->bmin);
+            assert_memory_equal(a->bmax, c->bmax, sizeof a->bmax);
+            assert_int_equal(a->first, c->first);
+            assert_int_equal(a->count, c->count);
+        }
         assert_memory_equal(one->tris, many->tris, one->tri_count * sizeof(Tri));
         model_destroy(one);
         model_destroy(many);
