@@ -95,9 +95,6 @@ $(BUILD)/%.o: %.c
 	@mkdir -p $(dir $@)
 	$(CC) $(ALL_CFLAGS) -c $< -o $@
 
-# the AVX2 kernel only (simd.c calls it when the CPU has AVX2); never -mfma
-$(BUILD)/common/wide_avx2.o: ALL_CFLAGS += -mavx2
-
 $(LIB): $(COMMON_OBJ)
 	@rm -f $@
 	ar rcs $@ $^
