@@ -35,5 +35,7 @@ int file_write_bytes(const char *path, const void *data, size_t len, Err *err);
 void file_dirname(const char *path, char *buf, size_t size);
 /* Joins dir and a relative name; absolute names are kept as they are. */
 int file_join(const char *dir, const char *name, char *buf, size_t size);
+/* Whether path names a regular file this process can read. */
+int file_exists(const char *path);
 
 #endif

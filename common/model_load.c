@@ -19,7 +19,7 @@ int model_load(const char *path, const BvhOptions *opt, int rebuild, int smooth,
     *out = NULL;
     if (ends_with(path, ".obj")) {
         Mesh mesh;
-        ObjOptions oo = {smooth};
+        ObjOptions oo = {.smooth = smooth};
         if (obj_read(path, &oo, &mesh, NULL, err))
             return -1;
         int rc = model_from_mesh(out, &mesh, opt, err);

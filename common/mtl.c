@@ -1,5 +1,7 @@
 /* mtl.c - reads the subset of MTL that Phong shading uses; other statements
- * (illum, map_*, Ni, d, ...) are accepted and ignored. */
+ * (illum, map_*, Ni, d, ...) are accepted and ignored.  Material names are
+ * the rest of the newmtl line (exporters write names with spaces, and
+ * empty ones); UTF-16 files are decoded first (textenc.h). */
 #include "mtl.h"
 
 #include <stdlib.h>
@@ -7,6 +9,7 @@
 
 #include "fileio.h"
 #include "lex.h"
+#include "textenc.h"
 
 #define MTL_MAX_BYTES ((size_t)64 << 20)
 #define MTL_MAX_MATERIALS 65536u
@@ -46,17 +49,32 @@ int mtl_parse(MtlLib *lib, char *text, size_t len, const char *name, Err *err)
     Lexer lx = lex_make(text, len);
     Tokens t;
     Material *cur = NULL;
-    while (lex_next_line(&lx, &t)) {
+    char *line;
+    while ((line = lex_next_raw(&lx))) {
+        char *s = line;
+        while (*s == ' ' || *s == '\t')
+            s++;
+        if (strncmp(s, "newmtl", 6) == 0 && (s[6] == 0 || s[6] == ' ' || s[6] == '\t' || s[6] == '\r')) {
+            /* the name is the rest of the line, blanks and all, up to a comment */
+            char *n = s + 6;
+            while (*n == ' ' || *n == '\t')
+                n++;
+            char *hash = strchr(n, '#');
+            if (hash)
+                *hash = 0;
+            char *e = n + strlen(n);
+            while (e > n && (e[-1] == ' ' || e[-1] == '\t' || e[-1] == '\r'))
+                *--e = 0;
+            if (add(lib, n))
+                return err_set(err, "%s:%d: too many materials or out of memory", name, lx.line);
+            cur = &lib->mats[lib->count - 1];
+            continue;
+        }
+        lex_split(line, &t);
         if (t.n == 0)
             continue;
         const char *k = t.tok[0];
-        if (strcmp(k, "newmtl") == 0) {
-            if (t.n != 2)
-                return err_set(err, "%s:%d: expected one material name after newmtl", name, lx.line);
-            if (add(lib, t.tok[1]))
-                return err_set(err, "%s:%d: too many materials or out of memory", name, lx.line);
-            cur = &lib->mats[lib->count - 1];
-        } else if (strcmp(k, "Kd") == 0 || strcmp(k, "Ks") == 0) {
+        if (strcmp(k, "Kd") == 0 || strcmp(k, "Ks") == 0) {
             if (!cur)
                 return err_set(err, "%s:%d: %s before any newmtl", name, lx.line, k);
             vec3 v;
@@ -84,6 +102,10 @@ int mtl_read(MtlLib *lib, const char *path, Err *err)
     size_t len;
     if (file_read_all(path, MTL_MAX_BYTES, &text, &len, err))
         return -1;
+    if (text_to_utf8(&text, &len, path, err)) {
+        free(text);
+        return -1;
+    }
     int rc = mtl_parse(lib, text, len, path, err);
     free(text);
     return rc;
@@ -92,7 +114,7 @@ int mtl_read(MtlLib *lib, const char *path, Err *err)
 int mtl_find(const MtlLib *lib, const char *name)
 {
     for (unsigned i = 0; i < lib->count; i++)
-        if (strncmp(lib->names[i], name, MTL_NAME_MAX - 1) == 0)
+        if (strncmp(lib->names[i], name, MTL_NAME_MAX - 1) == 0 && (*name || !lib->names[i][0]))
             return (int)i;
     return -1;
 }

@@ -2,6 +2,8 @@
  * assembled at the end, once it is known which attributes are really used. */
 #include "obj.h"
 
+#include <stdarg.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -9,6 +11,7 @@
 #include "fileio.h"
 #include "lex.h"
 #include "mtl.h"
+#include "textenc.h"
 
 #define OBJ_MAX_BYTES ((size_t)1 << 31)
 #define OBJ_MAX_ITEMS (1u << 26)
@@ -47,6 +50,80 @@ static int resolve(long idx, uint32_t count, int32_t *out)
         return 0;
     }
     return -1;
+}
+
+static const char *const skip_names[OBJ_SKIP_KINDS] = {
+    "lines (l)", "points (p)", "free-form curves and surfaces", "smoothing groups (s)", "merging groups (mg)",
+    "level of detail (lod)", "display attributes", "unknown statements",
+};
+
+const char *obj_skip_name(ObjSkip k) { return (unsigned)k < OBJ_SKIP_KINDS ? skip_names[k] : "?"; }
+
+/* Keywords a triangle renderer reads past, by kind. */
+static ObjSkip skip_kind(const char *k)
+{
+    static const char *const freeform[] = {"vp", "cstype", "deg", "bmat", "step", "curv", "curv2", "surf", "parm",
+                                           "trim", "hole", "scrv", "sp", "end", "con", "ctech", "stech", NULL};
+    static const char *const display[] = {"usemap", "maplib", "shadow_obj", "trace_obj", "bevel", "c_interp",
+                                          "d_interp", "call", "csh", NULL};
+    if (strcmp(k, "l") == 0)
+        return OBJ_SKIP_LINE;
+    if (strcmp(k, "p") == 0)
+        return OBJ_SKIP_POINT;
+    if (strcmp(k, "s") == 0)
+        return OBJ_SKIP_SMOOTHING;
+    if (strcmp(k, "mg") == 0)
+        return OBJ_SKIP_MERGING;
+    if (strcmp(k, "lod") == 0)
+        return OBJ_SKIP_LOD;
+    for (int i = 0; freeform[i]; i++)
+        if (strcmp(k, freeform[i]) == 0)
+            return OBJ_SKIP_FREEFORM;
+    for (int i = 0; display[i]; i++)
+        if (strcmp(k, display[i]) == 0)
+            return OBJ_SKIP_DISPLAY;
+    return OBJ_SKIP_UNKNOWN;
+}
+
+typedef struct {
+    const ObjOptions *opt;
+    ObjStats *st;
+    const char *name;
+    Err *err;
+} Warner;
+
+/* One warning: counted, handed to the caller's callback; with `strict` an
+ * error instead (returns -1 with the message in err). */
+static int warn(Warner *w, int line, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
+static int warn(Warner *w, int line, const char *fmt, ...)
+{
+    char what[512], msg[1024];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(what, sizeof what, fmt, ap);
+    va_end(ap);
+    snprintf(msg, sizeof msg, "%s:%d: %s", w->name, line, what);
+    if (w->opt && w->opt->strict)
+        return err_set(w->err, "%s (an error with --strict)", msg);
+    w->st->warnings++;
+    if (w->opt && w->opt->warn)
+        w->opt->warn(w->opt->warn_ctx, msg);
+    return 0;
+}
+
+/* The rest of a line after its keyword, without surrounding blanks and any
+ * comment: material names may hold spaces. */
+static char *rest_of_line(char *s, size_t keyword_len)
+{
+    while (*s == ' ' || *s == '\t')
+        s++;
+    s += keyword_len;
+    while (*s == ' ' || *s == '\t')
+        s++;
+    char *e = s + strlen(s);
+    while (e > s && (e[-1] == ' ' || e[-1] == '\t' || e[-1] == '\r'))
+        *--e = 0;
+    return s;
 }
 
 /* Parses one face corner "v", "v/t", "v//n" or "v/t/n". */
@@ -182,6 +259,54 @@ static int obj_assemble(Obj *o, const ObjOptions *opt, Mesh *out, ObjStats *st, 
     return rc;
 }
 
+/* One library, or several separated by blanks; '\' as a separator is read
+ * as '/'.  A library that is missing or unreadable is a warning (its
+ * materials will be undefined, hence default); one that is there but
+ * malformed is an error. */
+static int mtl_one(Obj *o, char *file, const char *dir, Warner *w, int line)
+{
+    for (char *q = file; *q; q++)
+        if (*q == '\\')
+            *q = '/';
+    char path[4096];
+    if (!dir || file_join(dir, file, path, sizeof path)) {
+        w->st->missing_mtllib++;
+        return warn(w, line, "material library '%s' cannot be looked up here: default materials", file);
+    }
+    if (!file_exists(path)) {
+        w->st->missing_mtllib++;
+        return warn(w, line, "material library '%s' not found: default materials", path);
+    }
+    if (mtl_read(&o->lib, path, w->err)) {
+        err_prefix(w->err, "%s:%d: mtllib", w->name, line);
+        return -1;
+    }
+    return 0;
+}
+
+static int obj_mtllib(Obj *o, char *rest, const char *dir, Warner *w, int line)
+{
+    if (!*rest)
+        return warn(w, line, "mtllib without a file name: skipped");
+    char path[4096];
+    /* the whole rest of the line first: a file name with spaces */
+    if (dir && strchr(rest, ' ') && file_join(dir, rest, path, sizeof path) == 0) {
+        char whole[4096];
+        snprintf(whole, sizeof whole, "%s", rest);
+        for (char *q = whole; *q; q++)
+            if (*q == '\\')
+                *q = '/';
+        if (file_join(dir, whole, path, sizeof path) == 0 && file_exists(path))
+            return mtl_one(o, whole, dir, w, line);
+    }
+    Tokens t;
+    lex_split(rest, &t);
+    for (int i = 0; i < t.n; i++)
+        if (mtl_one(o, t.tok[i], dir, w, line))
+            return -1;
+    return 0;
+}
+
 int obj_parse(char *text, size_t len, const char *name, const char *dir, const ObjOptions *opt, Mesh *out,
               ObjStats *st, Err *err)
 {
@@ -194,9 +319,26 @@ int obj_parse(char *text, size_t len, const char *name, const char *dir, const O
     Lexer lx = lex_make(text, len);
     Tokens t;
     int32_t mat = -1;
-    int rc = -1;
+    int rc = -1, warned_kind[OBJ_SKIP_KINDS] = {0}, warned_colour = 0;
+    Warner w = {opt, st, name, err};
     char *line;
     while ((line = lex_next_raw(&lx))) {
+        /* a '\' at the end continues the line: the lines are adjacent in
+         * the buffer, so the terminators between them become blanks */
+        for (;;) {
+            char *e = line + strlen(line);
+            while (e > line && (e[-1] == ' ' || e[-1] == '\t' || e[-1] == '\r'))
+                e--;
+            if (e == line || e[-1] != '\\')
+                break;
+            char *next = lex_next_raw(&lx);
+            if (!next)
+                break;
+            e[-1] = ' ';
+            for (char *q = e; q < next; q++)
+                if (*q == 0)
+                    *q = ' ';
+        }
         /* faces may have any number of corners: split them without the token limit */
         char *s = line;
         while (*s == ' ' || *s == '\t')
@@ -251,15 +393,39 @@ int obj_parse(char *text, size_t len, const char *name, const char *dir, const O
             }
             continue;
         }
+        /* usemtl and mtllib take the rest of the line (names and paths may
+         * hold spaces), copied before the split cuts the line up */
+        char rest[4096] = "";
+        if ((strncmp(s, "usemtl", 6) == 0 || strncmp(s, "mtllib", 6) == 0) &&
+            (s[6] == 0 || s[6] == ' ' || s[6] == '\t' || s[6] == '\r')) {
+            char *r = rest_of_line(s, 6);
+            char *hash = strchr(r, '#');
+            if (hash) {
+                *hash = 0;
+                r = rest_of_line(r, 0);
+            }
+            snprintf(rest, sizeof rest, "%s", r);
+        }
         lex_split(line, &t);
         if (t.n == 0)
             continue;
         const char *k = t.tok[0];
         if (strcmp(k, "v") == 0) {
-            real v[3];
-            if (read_reals(&t, 1, 3, 1, v)) { /* an optional w is allowed and ignored */
-                err_set(err, "%s:%d: expected 3 finite numbers after 'v'", name, lx.line);
+            real v[3], extra;
+            /* x y z, x y z w, and x y z r g b (or w r g b) as many exporters write vertex colours */
+            int nums = t.n - 1;
+            if (!(nums == 3 || nums == 4 || nums == 6 || nums == 7) || lex_real(t.tok[1], &v[0]) ||
+                lex_real(t.tok[2], &v[1]) || lex_real(t.tok[3], &v[2]) ||
+                (nums > 3 && lex_real(t.tok[4], &extra)) ||
+                (nums > 4 && (lex_real(t.tok[5], &extra) || lex_real(t.tok[6], &extra) ||
+                              (nums == 7 && lex_real(t.tok[7], &extra))))) {
+                err_set(err, "%s:%d: expected 3 finite numbers after 'v' (and a w, colours, or both)", name, lx.line);
                 goto done;
+            }
+            if (nums >= 6) {
+                st->coloured++;
+                if (!warned_colour++ && warn(&w, lx.line, "vertex colours read past (the model takes its colours from materials)"))
+                    goto done;
             }
             if (grow((void **)&o.v, &o.cv, o.nv + 1, sizeof *o.v)) {
                 err_set(err, "%s:%d: too many vertices or out of memory", name, lx.line);
@@ -293,33 +459,26 @@ int obj_parse(char *text, size_t len, const char *name, const char *dir, const O
         } else if (strcmp(k, "o") == 0 || strcmp(k, "g") == 0) {
             st->groups++;
         } else if (strcmp(k, "mtllib") == 0) {
-            if (t.n < 2) {
-                err_set(err, "%s:%d: expected a file name after 'mtllib'", name, lx.line);
+            if (obj_mtllib(&o, rest, dir, &w, lx.line))
                 goto done;
-            }
-            for (int i = 1; i < t.n; i++) {
-                char path[4096];
-                if (!dir || file_join(dir, t.tok[i], path, sizeof path)) {
-                    err_set(err, "%s:%d: cannot resolve material library '%s'", name, lx.line, t.tok[i]);
-                    goto done;
-                }
-                if (mtl_read(&o.lib, path, err)) {
-                    err_prefix(err, "%s:%d: mtllib", name, lx.line);
-                    goto done;
-                }
-            }
         } else if (strcmp(k, "usemtl") == 0) {
-            if (t.n != 2) {
-                err_set(err, "%s:%d: expected one material name after 'usemtl'", name, lx.line);
+            mat = mtl_find(&o.lib, rest);
+            if (mat < 0)
+                st->undefined_mtl++;
+            if (mat < 0 && *rest &&
+                warn(&w, lx.line, "material '%s' is not defined by any material library: the default material", rest))
                 goto done;
-            }
-            mat = mtl_find(&o.lib, t.tok[1]);
-            if (mat < 0) {
-                err_set(err, "%s:%d: material '%s' is not defined by any mtllib", name, lx.line, t.tok[1]);
+            if (!*rest && warn(&w, lx.line, "usemtl without a name: %s",
+                               mat < 0 ? "the default material" : "the library's unnamed material"))
                 goto done;
-            }
+        } else {
+            /* s, l, p, curves and the rest do not describe triangles: skipped, counted, one warning per kind */
+            ObjSkip kind = skip_kind(k);
+            st->skipped[kind]++;
+            if (!warned_kind[kind]++ &&
+                warn(&w, lx.line, "'%s' skipped (%s: a triangle renderer does not draw them)", k, obj_skip_name(kind)))
+                goto done;
         }
-        /* s, l, p, curves and the rest do not describe triangles: ignored */
     }
     st->vertices = o.nv;
     rc = obj_assemble(&o, opt, out, st, name, err);
@@ -334,6 +493,10 @@ int obj_read(const char *path, const ObjOptions *opt, Mesh *out, ObjStats *stats
     size_t len;
     if (file_read_all(path, OBJ_MAX_BYTES, &text, &len, err))
         return -1;
+    if (text_to_utf8(&text, &len, path, err)) {
+        free(text);
+        return -1;
+    }
     char dir[4096];
     file_dirname(path, dir, sizeof dir);
     int rc = obj_parse(text, len, path, dir, opt, out, stats, err);

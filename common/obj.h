@@ -3,7 +3,20 @@
  * Supports v, vt, vn, f in all four index forms (v, v/t, v//n, v/t/n) with
  * negative (relative) indices, polygons (fan-triangulated), o/g, mtllib and
  * usemtl.  Keeps only attributes the faces use; zero-area faces are dropped
- * and counted. */
+ * and counted.
+ *
+ * Lenient where exporters are sloppy, strict where the data is wrong.  With
+ * a warning naming file and line (and a count in ObjStats): a usemtl of an
+ * undefined material or without a name (the default material), a missing
+ * material library (default materials), vertex colours (read past), and
+ * the elements a triangle renderer cannot use (lines, points, free-form
+ * curves and surfaces, smoothing and merging groups, level of detail,
+ * display attributes, unknown keywords: skipped, counted by kind; one
+ * warning per kind).  Also read: UTF-8 and UTF-16 files with a byte-order
+ * mark, CRLF, tabs, '\' line continuations, '\' in paths, names with spaces.
+ * Errors, with file and line: an index of 0 or out of range, a face of
+ * fewer than 3 corners, a number that is not one.  `strict` makes every
+ * warning an error. */
 #ifndef LANRAY_OBJ_H
 #define LANRAY_OBJ_H
 
@@ -13,10 +26,33 @@
 
 typedef struct {
     int smooth; /* compute area-weighted vertex normals where the file has none */
+    int strict; /* every warning is an error */
+    /* where warnings go, one line each ("file:line: what"), or NULL */
+    void (*warn)(void *ctx, const char *msg);
+    void *warn_ctx;
 } ObjOptions;
+
+/* What a reader skips, by kind (obj_skip_name). */
+typedef enum {
+    OBJ_SKIP_LINE,      /* l */
+    OBJ_SKIP_POINT,     /* p */
+    OBJ_SKIP_FREEFORM,  /* vp, cstype, deg, curv, surf, ... */
+    OBJ_SKIP_SMOOTHING, /* s */
+    OBJ_SKIP_MERGING,   /* mg */
+    OBJ_SKIP_LOD,       /* lod */
+    OBJ_SKIP_DISPLAY,   /* usemap, maplib, shadow_obj, trace_obj, ... */
+    OBJ_SKIP_UNKNOWN,   /* anything else */
+    OBJ_SKIP_KINDS
+} ObjSkip;
+const char *obj_skip_name(ObjSkip k);
 
 typedef struct {
     unsigned long vertices, faces, triangles, degenerate, groups;
+    unsigned long warnings;
+    unsigned long skipped[OBJ_SKIP_KINDS];
+    unsigned long coloured;          /* vertices with colours (read past) */
+    unsigned long undefined_mtl;     /* usemtl of a material no library defines, or of none */
+    unsigned long missing_mtllib;    /* material libraries that could not be read */
 } ObjStats;
 
 /* Parses OBJ text (NUL-terminated, modified in place).  `name` labels errors;

@@ -6,7 +6,7 @@
 static int parse(const char *text, Mesh *m, ObjStats *st, Err *err, int smooth)
 {
     char *buf = strdup(text);
-    ObjOptions opt = {smooth};
+    ObjOptions opt = {.smooth = smooth};
     int rc = obj_parse(buf, strlen(buf), "t.obj", test_tmpdir(), &opt, m, st, err);
     free(buf);
     return rc;
@@ -158,18 +158,146 @@ static void malformed_input_names_file_and_line(void **state)
     expect_error("v 1e999 0 0\n", "t.obj:1: expected 3 finite numbers after 'v'");
     expect_error("vn 0 nan 1\n", "t.obj:1: expected 3 finite numbers after 'vn'");
     expect_error("vt\n", "t.obj:1: expected 1 to 3 finite numbers after 'vt'");
-    expect_error("\n\nusemtl nothing\n", "t.obj:3: material 'nothing' is not defined");
-    expect_error("mtllib missing.mtl\n", "t.obj:1: mtllib");
+    /* an undefined material and a missing library are warnings now
+     * (exporters_habits_convert_with_warnings); a malformed library is not */
     char path[256];
     snprintf(path, sizeof path, "%s/bad.mtl", test_tmpdir());
     test_write_file(path, "newmtl a\nKd 1 0\n");
     expect_error("mtllib bad.mtl\n", "bad.mtl:2: expected 3 non-negative numbers after Kd");
 }
 
+/* The habits of real exporters (tests/data/obj): each file converts, with
+ * the warnings the reader counts, and its materials land where they should. */
+typedef struct {
+    int lines;
+    char last[1024];
+} Heard;
+
+static void hear(void *ctx, const char *msg)
+{
+    Heard *h = ctx;
+    h->lines++;
+    snprintf(h->last, sizeof h->last, "%s", msg);
+}
+
+static void read_file(const char *name, Mesh *m, ObjStats *st, Heard *h, int strict, int expect_rc)
+{
+    char path[256];
+    snprintf(path, sizeof path, "tests/data/obj/%s", name);
+    ObjOptions opt = {.strict = strict, .warn = hear, .warn_ctx = h};
+    Err err = {{0}};
+    memset(h, 0, sizeof *h);
+    int rc = obj_read(path, &opt, m, st, &err);
+    if ((rc == 0) != (expect_rc == 0))
+        fail_msg("%s: rc %d, expected %d (%s)", name, rc, expect_rc, err.msg);
+    if (rc)
+        snprintf(h->last, sizeof h->last, "%s", err.msg);
+}
+
+static void exporters_habits_convert_with_warnings(void **state)
+{
+    (void)state;
+    Mesh m;
+    ObjStats st;
+    Heard h;
+    /* usemtl Default and no library: the default material, one warning naming the line */
+    read_file("undefined-usemtl.obj", &m, &st, &h, 0, 0);
+    assert_int_equal(m.tri_count, 2);
+    assert_int_equal(st.undefined_mtl, 1);
+    assert_int_equal(h.lines, 1);
+    assert_non_null(strstr(h.last, "undefined-usemtl.obj:6:"));
+    mesh_free(&m);
+    read_file("missing-mtllib.obj", &m, &st, &h, 0, 0);
+    assert_int_equal(st.missing_mtllib, 1);
+    assert_int_equal(st.undefined_mtl, 1);
+    assert_int_equal(st.warnings, 2);
+    mesh_free(&m);
+    /* a library whose file name and material names hold spaces, and an unnamed material */
+    read_file("spaces.obj", &m, &st, &h, 0, 0);
+    assert_int_equal(m.tri_count, 2);
+    assert_non_null(m.mat);
+    assert_int_equal(m.material_count, 2);
+    assert_float_equal(m.materials[m.mat[0]].kd.x, 1, 0); /* "red paint" */
+    assert_float_equal(m.materials[m.mat[1]].kd.z, 1, 0); /* the unnamed one: blue */
+    assert_int_equal(st.warnings, 1);                       /* usemtl without a name */
+    mesh_free(&m);
+    /* vertex colours: read past, one warning */
+    read_file("colours.obj", &m, &st, &h, 0, 0);
+    assert_int_equal(m.tri_count, 2);
+    assert_int_equal(st.coloured, 4);
+    assert_int_equal(st.warnings, 1);
+    mesh_free(&m);
+    /* CRLF, tabs, a 100000-byte line, a continued face, a backslash path, no final newline */
+    read_file("habits.obj", &m, &st, &h, 0, 0);
+    assert_int_equal(m.tri_count, 2);
+    assert_int_equal(st.warnings, 0);
+    assert_non_null(m.mat);
+    assert_float_equal(m.materials[0].kd.y, 1, 0); /* green, from sub\habit.mtl */
+    mesh_free(&m);
+    /* UTF-16, both byte orders, the library too */
+    for (int be = 0; be < 2; be++) {
+        read_file(be ? "utf16be.obj" : "utf16le.obj", &m, &st, &h, 0, 0);
+        assert_int_equal(m.tri_count, 2);
+        assert_int_equal(st.warnings, 0);
+        assert_float_equal(m.materials[0].kd.z, 1, 0);
+        mesh_free(&m);
+    }
+    /* what a triangle renderer cannot use: skipped, counted by kind, one warning per kind */
+    read_file("skipped.obj", &m, &st, &h, 0, 0);
+    assert_int_equal(m.tri_count, 1);
+    assert_int_equal(st.skipped[OBJ_SKIP_SMOOTHING], 2);
+    assert_int_equal(st.skipped[OBJ_SKIP_LINE], 1);
+    assert_int_equal(st.skipped[OBJ_SKIP_POINT], 1);
+    assert_int_equal(st.skipped[OBJ_SKIP_FREEFORM], 5);
+    assert_int_equal(st.skipped[OBJ_SKIP_MERGING], 1);
+    assert_int_equal(st.skipped[OBJ_SKIP_LOD], 1);
+    assert_int_equal(st.skipped[OBJ_SKIP_DISPLAY], 1);
+    assert_int_equal(st.skipped[OBJ_SKIP_UNKNOWN], 1);
+    assert_int_equal(h.lines, 8);
+    mesh_free(&m);
+}
+
+static void wrong_data_stays_an_error(void **state)
+{
+    (void)state;
+    Mesh m;
+    ObjStats st;
+    Heard h;
+    const struct {
+        const char *file, *says;
+    } cases[] = {
+        {"index-zero.obj", "index-zero.obj:5: bad vertex index"},
+        {"index-range.obj", "index-range.obj:5: bad vertex index"},
+        {"two-corners.obj", "two-corners.obj:5: a face needs at least 3 corners"},
+        {"not-a-number.obj", "not-a-number.obj:2: expected 3 finite numbers"},
+    };
+    for (size_t i = 0; i < sizeof cases / sizeof *cases; i++) {
+        read_file(cases[i].file, &m, &st, &h, 0, -1);
+        if (!strstr(h.last, cases[i].says))
+            fail_msg("%s: '%s' does not say '%s'", cases[i].file, h.last, cases[i].says);
+    }
+    /* lines and points only, or nothing: it reads, with no triangle (obj2tmd refuses it) */
+    read_file("lines-only.obj", &m, &st, &h, 0, 0);
+    assert_int_equal(m.tri_count, 0);
+    mesh_free(&m);
+    read_file("empty.obj", &m, &st, &h, 0, 0);
+    assert_int_equal(m.tri_count, 0);
+    mesh_free(&m);
+    /* --strict: the first warning is an error naming file and line */
+    read_file("undefined-usemtl.obj", &m, &st, &h, 1, -1);
+    assert_non_null(strstr(h.last, "undefined-usemtl.obj:6: material 'Default'"));
+    read_file("skipped.obj", &m, &st, &h, 1, -1);
+    assert_non_null(strstr(h.last, "skipped.obj:5: 's' skipped"));
+    read_file("habits.obj", &m, &st, &h, 1, 0); /* nothing to warn about */
+    mesh_free(&m);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(index_forms_and_negative_indices),
+        cmocka_unit_test(exporters_habits_convert_with_warnings),
+        cmocka_unit_test(wrong_data_stays_an_error),
         cmocka_unit_test(byte_order_mark_is_skipped),
         cmocka_unit_test(polygons_are_triangulated_and_degenerates_dropped),
         cmocka_unit_test(materials_from_mtllib),

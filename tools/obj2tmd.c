@@ -36,6 +36,21 @@ static void show_step(void *ctx, double elapsed, char *line, size_t size)
     snprintf(line, size, "%s %s (%s)", atomic_load(&s->step), atomic_load(&s->file), t);
 }
 
+/* Warnings go to standard error as they come, up to WARN_SHOWN; the
+ * summary counts them all. */
+#define WARN_SHOWN 20
+static unsigned long warnings_shown;
+
+static void show_warning(void *ctx, const char *msg)
+{
+    (void)ctx;
+    if (warnings_shown < WARN_SHOWN)
+        fprintf(stderr, "obj2tmd: warning: %s\n", msg);
+    else if (warnings_shown == WARN_SHOWN)
+        fprintf(stderr, "obj2tmd: further warnings are counted in the summary\n");
+    warnings_shown++;
+}
+
 /* The same file, whatever the names: one device and inode. */
 static int same_file(const char *a, const char *b)
 {
@@ -46,7 +61,7 @@ static int same_file(const char *a, const char *b)
 int main(int argc, char **argv)
 {
     int bvh_kind = BVH_SAH, leaf = (int)bvh_options_default(BVH_SAH).max_leaf, axis = 0, smooth = 0, quiet = 0,
-        threads = 0;
+        threads = 0, strict = 0;
     const Opt opts[] = {
         {.name = "--bvh", .kind = OPT_CHOICE, .dst = &bvh_kind, .choices = cli_bvh_names,
          .help = "builder: sbt (spatial median), mst (bottom-up, smallest merged box), sah (surface area)"},
@@ -57,6 +72,8 @@ int main(int argc, char **argv)
         {.name = "--threads", .kind = OPT_INT, .dst = &threads, .arg = "T", .lo = 0, .hi = 64,
          .help = "builder threads, 0 = one per core (the tree is the same for any number)", .def = "0: all cores"},
         {.name = "--smooth", .kind = OPT_FLAG, .dst = &smooth, .help = "compute smooth vertex normals where the OBJ has none"},
+        {.name = "--strict", .kind = OPT_FLAG, .dst = &strict,
+         .help = "make every warning an error (an undefined material, a missing library, skipped elements, ...)"},
         {.name = "--quiet", .kind = OPT_FLAG, .dst = &quiet, .help = "print errors only: no summary, no progress"},
         {0},
     };
@@ -83,7 +100,7 @@ int main(int argc, char **argv)
     bo.max_leaf = (uint32_t)leaf;
     bo.sbt_alternate = axis == 1;
     bo.threads = cli_threads(threads);
-    ObjOptions oo = {smooth};
+    ObjOptions oo = {.smooth = smooth, .strict = strict, .warn = quiet ? NULL : show_warning};
     /* the output's directory takes a file: checked before the work */
     AtomicFile probe;
     if (file_atomic_open(&probe, out, &err)) {
@@ -140,6 +157,18 @@ int main(int argc, char **argv)
         printf("  bvh %s: %u nodes, depth %u, SAH cost %.2f\n", bvh_kind_name(bo.kind), model->bvh.node_count,
                model->bvh.depth, bvh_sah_cost(&model->bvh));
         printf("  parse %.3f s, build %.3f s\n", t1 - t0, t2 - t1);
+        struct stat sb;
+        if (stat(in, &sb) == 0 && t1 > t0)
+            printf("  read %.1f MB at %.1f MB/s\n", (double)sb.st_size / 1e6, (double)sb.st_size / 1e6 / (t1 - t0));
+        if (st.warnings)
+            printf("  warnings %lu: undefined materials %lu, missing material libraries %lu, coloured vertices %lu\n",
+                   st.warnings, st.undefined_mtl, st.missing_mtllib, st.coloured);
+        int any = 0;
+        for (int k = 0; k < OBJ_SKIP_KINDS; k++)
+            if (st.skipped[k])
+                printf("%s %lu %s", any++ ? "," : "  skipped:", st.skipped[k], obj_skip_name((ObjSkip)k));
+        if (any)
+            printf("\n");
     }
     model_destroy(model);
     return 0;

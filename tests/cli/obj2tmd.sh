@@ -35,4 +35,31 @@ grep -q "missing.obj: cannot open" <<<"$err" || fail "missing message: $err"
 err=$("$BIN/obj2tmd" models/cube.obj /nonexistent-dir/x.tmd 2>&1); [ $? -eq 1 ] || fail "unwritable output should exit 1"
 grep -q "/nonexistent-dir/x.tmd" <<<"$err" || fail "unwritable message: $err"
 [ ! -e "$dir/x.tmd" ] || fail "output written despite bad options"
+
+# exporters' habits (tests/data/obj): converted, each with a warning naming file and line, counted in the summary
+D=tests/data/obj
+out=$("$BIN/obj2tmd" "$D/undefined-usemtl.obj" "$dir/u.tmd" 2>"$dir/u.err") || fail "undefined usemtl should convert: $(cat "$dir/u.err")"
+grep -q "obj2tmd: warning: $D/undefined-usemtl.obj:6: material 'Default' is not defined" "$dir/u.err" || fail "undefined usemtl warning: $(cat "$dir/u.err")"
+grep -q "warnings 1: undefined materials 1" <<<"$out" || fail "undefined usemtl summary: $out"
+out=$("$BIN/obj2tmd" "$D/skipped.obj" "$dir/s.tmd" 2>"$dir/s.err") || fail "skipped elements should convert"
+grep -q "skipped: 1 lines (l), 1 points (p), 5 free-form curves and surfaces, 2 smoothing groups (s), 1 merging groups (mg), 1 level of detail (lod), 1 display attributes, 1 unknown statements" <<<"$out" ||
+    fail "skipped summary: $out"
+[ "$(grep -c "obj2tmd: warning: $D/skipped.obj:[0-9]*: '" "$dir/s.err")" -eq 8 ] || fail "one warning per skipped kind: $(cat "$dir/s.err")"
+for f in missing-mtllib spaces colours habits utf16le utf16be; do
+    "$BIN/obj2tmd" "$D/$f.obj" "$dir/$f.tmd" >/dev/null 2>&1 || fail "$f.obj should convert"
+    [ -s "$dir/$f.tmd" ] || fail "$f.obj: no output"
+done
+# --strict: the first warning is an error, exit 1, no output
+err=$("$BIN/obj2tmd" --strict "$D/undefined-usemtl.obj" "$dir/strict.tmd" 2>&1); [ $? -eq 1 ] || fail "--strict should exit 1"
+grep -q "undefined-usemtl.obj:6: material 'Default'.*(an error with --strict)" <<<"$err" || fail "--strict message: $err"
+[ ! -e "$dir/strict.tmd" ] || fail "--strict left an output"
+"$BIN/obj2tmd" --strict "$D/habits.obj" "$dir/h.tmd" >/dev/null 2>&1 || fail "--strict refused a file with nothing to warn about"
+# wrong data stays an error: exit 1, file and line, no output
+for c in "index-zero:5: bad vertex index" "index-range:5: bad vertex index" "two-corners:5: a face needs at least 3" \
+    "not-a-number:2: expected 3 finite numbers" "lines-only: no usable triangles" "empty: no usable triangles"; do
+    f=${c%%:*}
+    err=$("$BIN/obj2tmd" "$D/$f.obj" "$dir/$f.tmd" 2>&1); [ $? -eq 1 ] || fail "$f.obj should exit 1"
+    grep -q "$D/$f.obj${c#"$f"}" <<<"$err" || fail "$f.obj message: $err"
+    [ ! -e "$dir/$f.tmd" ] || fail "$f.obj left an output"
+done
 exit 0
