@@ -14,6 +14,7 @@
 
 #include "cli.h"
 #include "fileio.h"
+#include "import.h"
 #include "obj.h"
 #include "opt.h"
 #include "progress.h"
@@ -78,10 +79,11 @@ int main(int argc, char **argv)
         {0},
     };
     const char *args[2] = {NULL, NULL};
-    OptSpec spec = {.prog = "obj2tmd", .synopsis = "[options] in.obj out.tmd",
+    OptSpec spec = {.prog = "obj2tmd", .synopsis = "[options] in.obj|in.ply|in.stl|in.gltf|in.glb|... out.tmd",
                     .about = "Converts a Wavefront OBJ model (with its MTL materials) into a .tmd file: the triangles in\n"
-                    "the order of a bounding volume hierarchy, ready to render (docs/tmd.md).  On a terminal, a\n"
-                    "conversion longer than a second shows the step under way.",
+                    "the order of a bounding volume hierarchy, ready to render (docs/tmd.md).  PLY, STL, glTF 2.0\n"
+                    "and other formats are read through Assimp, chosen by the extension (docs/models.md).  On a\n"
+                    "terminal, a conversion longer than a second shows the step under way.",
                     .opts = opts, .args = args, .min_args = 2, .max_args = 2, .missing = "needs an input and an output",
                     .exits = "  0  converted\n"
                     "  1  an error in the OBJ (file and line named), no usable triangle, an unwritable output, or the\n"
@@ -114,8 +116,23 @@ int main(int argc, char **argv)
     Progress *prog = progress_start("obj2tmd", !quiet, show_step, &step);
     Mesh mesh;
     ObjStats st;
+    memset(&st, 0, sizeof st);
+    /* OBJ by its own reader; PLY, STL, glTF and the rest through Assimp (import.h) */
+    const int imported = import_knows(in);
     double t0 = timer_now();
-    if (obj_read(in, &oo, &mesh, &st, &err)) {
+    if (imported) {
+        ImportStats is;
+        if (smooth) {
+            progress_stop(prog);
+            fprintf(stderr, "obj2tmd: --smooth applies to OBJ input\n");
+            return 2;
+        }
+        if (import_read(in, &mesh, &is, &err) == 0) {
+            st.vertices = is.vertices, st.faces = is.triangles + is.degenerate, st.degenerate = is.degenerate;
+            st.skipped[OBJ_SKIP_LINE] = is.lines, st.skipped[OBJ_SKIP_POINT] = is.points;
+        }
+    }
+    if (imported ? err.msg[0] != 0 : obj_read(in, &oo, &mesh, &st, &err) != 0) {
         progress_stop(prog);
         fprintf(stderr, "obj2tmd: %s\n", err.msg);
         return 1;

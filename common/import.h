@@ -1,0 +1,30 @@
+/* import.h - models in the formats other tools write (PLY, STL, glTF 2.0,
+ * and whatever else Assimp reads), through Assimp's C API, into a Mesh.
+ *
+ * OBJ keeps its own reader (obj.h): faster, and its errors name the line.
+ * Every node's transform is applied (a glTF scene's hierarchy becomes one
+ * triangle list); polygons are triangulated; points and lines are skipped
+ * and counted.  Normals and texture coordinates come along where the file
+ * has them, except STL's facet normals (STL has no other kind: such a model
+ * is flat, and its geometric normals are the ones lanray computes), and
+ * each material's diffuse and specular colour and shininess. */
+#ifndef LANRAY_IMPORT_H
+#define LANRAY_IMPORT_H
+
+#include <stddef.h>
+
+#include "mesh.h"
+
+typedef struct {
+    unsigned long meshes, triangles, degenerate, points, lines, vertices;
+} ImportStats;
+
+/* Whether the name's extension is one the importer takes (not .obj or .tmd). */
+int import_knows(const char *path);
+int import_read(const char *path, Mesh *out, ImportStats *stats, Err *err);
+/* The same from bytes in memory; `hint` is the format's extension without
+ * the dot ("ply", "stl", "glb", ...); `name` labels errors. */
+int import_read_memory(const void *data, size_t len, const char *hint, const char *name, Mesh *out,
+                       ImportStats *stats, Err *err);
+
+#endif
