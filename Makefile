@@ -49,7 +49,7 @@ BUILD := build/$(PRECISION)$(if $(SAN),-$(SAN))$(if $(FEATURES),-$(FEATURES))
 CFLAGS ?= $(OPT) -g
 CPPFLAGS := -D_POSIX_C_SOURCE=200809L $(PFLAGS) -Icommon -Iserver -Iclient
 ALL_CFLAGS := -std=c17 -ffp-contract=off -fno-math-errno -Wall -Wextra -Werror -pthread -MMD -MP $(SANFLAGS) $(CPPFLAGS) $(CFLAGS)
-LDLIBS := -lassimp -lsodium -lnetpbm -lpng -lm -pthread
+LDLIBS := -lassimp -lsodium -lnetpbm -lpng -ljpeg -lm -pthread
 LDFLAGS := $(SANFLAGS)
 
 # everything but the programs' main files goes into the library the tests link
@@ -63,7 +63,7 @@ TESTS := $(TEST_SRC:%.c=$(BUILD)/%)
 FUZZ_NAMES := $(patsubst tests/fuzz/fuzz_%.c,%,$(wildcard tests/fuzz/fuzz_*.c))
 REPLAYS := $(FUZZ_NAMES:%=$(BUILD)/fuzz/replay_%)
 
-DEB_PACKAGES := gcc make pkg-config libsdl2-dev libnetpbm-dev libpng-dev libassimp-dev libcmocka-dev libembree-dev libsodium-dev xvfb x11-apps python3 clang libclang-rt-14-dev
+DEB_PACKAGES := gcc make pkg-config libsdl2-dev libnetpbm-dev libpng-dev libjpeg62-turbo-dev libassimp-dev libcmocka-dev libembree-dev libsodium-dev xvfb x11-apps python3 clang libclang-rt-14-dev
 
 .PHONY: all deps check check-asan bench demo clean tradeoff bench-scaling fuzz loadtest tools-doc
 .SECONDARY:
@@ -82,7 +82,7 @@ deps:
 # Before anything compiles: the libraries' headers are there, or one line
 # says what to do (instead of a compiler error per file).  The targets that
 # run `make deps` first are not held back by it.
-LIB_HEADERS ?= /usr/include/SDL2/SDL.h /usr/include/netpbm/pam.h /usr/include/png.h /usr/include/sodium.h /usr/include/cmocka.h /usr/include/assimp/cimport.h
+LIB_HEADERS ?= /usr/include/SDL2/SDL.h /usr/include/netpbm/pam.h /usr/include/png.h /usr/include/sodium.h /usr/include/cmocka.h /usr/include/assimp/cimport.h /usr/include/jpeglib.h
 INSTALLING_GOALS := deps check check-asan check-tsan demo bench tradeoff bench-scaling fuzz loadtest clean
 ifeq ($(filter $(INSTALLING_GOALS),$(MAKECMDGOALS)),)
   MISSING_HEADERS := $(filter-out $(wildcard $(LIB_HEADERS)),$(LIB_HEADERS))
@@ -164,7 +164,7 @@ FUZZ_CFLAGS := -std=c17 -g -O1 -fsanitize=fuzzer,address,undefined -fno-sanitize
 FUZZERS := $(FUZZ_NAMES:%=build/fuzz/fuzz_%)
 build/fuzz/fuzz_%: tests/fuzz/fuzz_%.c $(COMMON_SRC)
 	@mkdir -p $(dir $@)
-	clang $(FUZZ_CFLAGS) -o $@ $< $(filter-out server/display.c,$(COMMON_SRC)) -lassimp -lsodium -lnetpbm -lpng -lm -pthread
+	clang $(FUZZ_CFLAGS) -o $@ $< $(filter-out server/display.c,$(COMMON_SRC)) -lassimp -lsodium -lnetpbm -lpng -ljpeg -lm -pthread
 fuzz: deps $(FUZZERS)
 	@BUILD_FUZZ=build/fuzz FUZZ_SECONDS=$(FUZZ_SECONDS) FUZZ_JOBS=$(FUZZ_JOBS) bash tests/fuzz/run-fuzzers $(FUZZ_NAMES)
 

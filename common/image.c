@@ -188,6 +188,12 @@ int image_read_png(const char *path, int *width, int *height, uint8_t **rgb, Err
 
 int image_read_png_stream(FILE *f, const char *path, int *width, int *height, uint8_t **rgb, Err *err)
 {
+    return image_read_png_limited(f, path, 65536, width, height, rgb, err);
+}
+
+int image_read_png_limited(FILE *f, const char *path, uint32_t max_side, int *width, int *height, uint8_t **rgb,
+                           Err *err)
+{
     PngRead *r = calloc(1, sizeof *r);
     if (!r) {
         fclose(f);
@@ -214,7 +220,7 @@ int image_read_png_stream(FILE *f, const char *path, int *width, int *height, ui
     png_read_info(r->png, r->info);
     png_uint_32 w = png_get_image_width(r->png, r->info), h = png_get_image_height(r->png, r->info);
     /* a size from outside: checked before the pixels are allocated */
-    if (w < 1 || h < 1 || w > 65536 || h > 65536 || (uint64_t)w * h > ((uint64_t)1 << 30))
+    if (w < 1 || h < 1 || w > max_side || h > max_side || (uint64_t)w * h > ((uint64_t)1 << 30))
         png_error(r->png, "image size out of range");
     /* any PNG to 8-bit RGB, values as stored */
     png_set_expand(r->png);

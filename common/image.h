@@ -31,5 +31,8 @@ void image_writer_abort(ImageWriter *wr);
 int image_read_png(const char *path, int *width, int *height, uint8_t **rgb, Err *err);
 /* The same from an open stream, which it closes; `name` labels errors. */
 int image_read_png_stream(FILE *f, const char *name, int *width, int *height, uint8_t **rgb, Err *err);
+/* The same, refusing (before allocating) an image wider or taller than max_side. */
+int image_read_png_limited(FILE *f, const char *name, uint32_t max_side, int *width, int *height, uint8_t **rgb,
+                           Err *err);
 
 #endif

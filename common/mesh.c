@@ -28,7 +28,27 @@ void mesh_free(Mesh *m)
     free(m->uv);
     free(m->mat);
     free(m->materials);
+    for (uint32_t i = 0; i < m->texture_count; i++)
+        texture_destroy(m->textures[i]);
+    free(m->textures);
     memset(m, 0, sizeof *m);
+}
+
+int mesh_add_texture(Mesh *m, Texture *t, uint32_t *id, Err *err)
+{
+    if (m->texture_count >= 65536) {
+        texture_destroy(t);
+        return err_set(err, "mesh: more than 65536 textures");
+    }
+    Texture **p = realloc(m->textures, (m->texture_count + 1) * sizeof *p);
+    if (!p) {
+        texture_destroy(t);
+        return err_set(err, "mesh: out of memory");
+    }
+    m->textures = p;
+    *id = m->texture_count;
+    p[m->texture_count++] = t;
+    return 0;
 }
 
 static int grow(void **p, size_t elem, uint32_t cap)

@@ -8,6 +8,7 @@
 
 #include "err.h"
 #include "material.h"
+#include "texture.h"
 
 typedef struct {
     uint32_t tri_count, cap;
@@ -17,6 +18,8 @@ typedef struct {
     uint32_t *mat;  /* 1 per triangle, or NULL */
     Material *materials;
     uint32_t material_count;
+    Texture **textures;    /* what materials' `texture` indexes (owned), or NULL */
+    uint32_t texture_count;
 } Mesh;
 
 /* Starts an empty mesh; the attribute arrays exist only for the kinds asked for. */
@@ -25,6 +28,8 @@ void mesh_free(Mesh *m);
 /* Appends one triangle; nrm, uv may be NULL when the mesh has no such array. */
 int mesh_add(Mesh *m, const vec3 pos[3], const vec3 *nrm, const real *uv, uint32_t mat, Err *err);
 int mesh_add_material(Mesh *m, Material mat, Err *err);
+/* Takes ownership of t; its index into textures in *id. */
+int mesh_add_texture(Mesh *m, Texture *t, uint32_t *id, Err *err);
 /* Drops attribute arrays the caller found unused. */
 void mesh_trim(Mesh *m, int keep_normals, int keep_uvs, int keep_materials);
 /* Twice the area is zero or not finite: a triangle that can never be hit. */

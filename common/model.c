@@ -44,6 +44,9 @@ void model_destroy(Model *m)
     free(m->uvs);
     free(m->mat_ids);
     free(m->materials);
+    for (uint32_t i = 0; i < m->texture_count; i++)
+        texture_destroy(m->textures[i]);
+    free(m->textures);
     free(m);
 }
 
@@ -134,6 +137,16 @@ int model_from_mesh(Model **out, const Mesh *mesh, const BvhOptions *opt, Err *e
         }
     if (mesh->material_count)
         memcpy(m->materials, mesh->materials, mesh->material_count * sizeof *m->materials);
+    if (mesh->texture_count) {
+        m->textures = calloc(mesh->texture_count, sizeof *m->textures);
+        for (uint32_t i = 0; m->textures && i < mesh->texture_count; i++, m->texture_count++)
+            if (!(m->textures[i] = texture_copy(mesh->textures[i])))
+                break;
+        if (m->texture_count != mesh->texture_count) {
+            model_destroy(m);
+            return err_set(err, "model: out of memory for textures");
+        }
+    }
     if (model_build_bvh(m, opt, err)) {
         model_destroy(m);
         return -1;

@@ -21,6 +21,8 @@ typedef struct {
     uint32_t *mat_ids;  /* 1 per triangle, or NULL (one material for all) */
     Material *materials;
     uint32_t material_count;
+    Texture **textures;  /* the materials' textures (MTL map_Kd), or NULL */
+    uint32_t texture_count;
     Aabb bounds;
     Wide *wide;         /* the tree collapsed for the SIMD path, or NULL: binary traversal */
     int wide_path;      /* the SimdPath it was built for */
@@ -31,7 +33,7 @@ typedef struct {
     uint32_t tri;
 } ModelHit;
 
-/* Builds a model from a mesh (the mesh is not modified). */
+/* Builds a model from a mesh (the mesh is not modified; its textures are copied). */
 int model_from_mesh(Model **out, const Mesh *mesh, const BvhOptions *opt, Err *err);
 /* Replaces the BVH with one of another kind, keeping the triangles. */
 int model_rebuild(Model *m, const BvhOptions *opt, Err *err);

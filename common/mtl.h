@@ -1,4 +1,5 @@
-/* mtl.h - Wavefront MTL material libraries (Kd, Ks, Ns per newmtl). */
+/* mtl.h - Wavefront MTL material libraries: Kd, Ks, Ns and map_Kd per newmtl
+ * (Ka, Ni, d, Tr, illum and the other maps are checked and read past). */
 #ifndef LANRAY_MTL_H
 #define LANRAY_MTL_H
 
@@ -8,10 +9,21 @@
 #include "material.h"
 
 #define MTL_NAME_MAX 128
+#define MTL_PATH_MAX 1024
+
+/* A material's diffuse texture (map_Kd): the file, relative to the
+ * directory of its library and already joined to it, and the options that
+ * place it (-s scale and -o offset of u and v; -clamp on). */
+typedef struct {
+    char file[MTL_PATH_MAX]; /* empty: none */
+    real s[2], o[2];
+    int clamp;
+} MtlMap;
 
 typedef struct {
     char (*names)[MTL_NAME_MAX];
     Material *mats;
+    MtlMap *maps;
     unsigned count;
 } MtlLib;
 

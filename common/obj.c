@@ -102,7 +102,10 @@ static int warn(Warner *w, int line, const char *fmt, ...)
     va_start(ap, fmt);
     vsnprintf(what, sizeof what, fmt, ap);
     va_end(ap);
-    snprintf(msg, sizeof msg, "%s:%d: %s", w->name, line, what);
+    if (line > 0)
+        snprintf(msg, sizeof msg, "%s:%d: %s", w->name, line, what);
+    else
+        snprintf(msg, sizeof msg, "%s: %s", w->name, what);
     if (w->opt && w->opt->strict)
         return err_set(w->err, "%s (an error with --strict)", msg);
     w->st->warnings++;
@@ -179,6 +182,40 @@ static void obj_free(Obj *o)
     mtl_free(&o->lib);
 }
 
+/* The diffuse textures of the materials faces use (map_Kd), each file read
+ * once; a texture that cannot be read is a warning and leaves its material
+ * untextured. */
+static int obj_textures(Obj *o, const int32_t *remap, Mesh *out, Warner *w)
+{
+    for (uint32_t k = 0; k < o->lib.count; k++) {
+        const MtlMap *map = &o->lib.maps[k];
+        if (remap[k] < 0 || !map->file[0])
+            continue;
+        int32_t id = -1;
+        for (uint32_t j = 0; j < k && id < 0; j++) /* the same file for another material */
+            if (remap[j] >= 0 && strcmp(o->lib.maps[j].file, map->file) == 0 &&
+                o->lib.maps[j].clamp == map->clamp)
+                id = out->materials[remap[j]].texture;
+        if (id < 0) {
+            Texture *t;
+            Err terr;
+            if (texture_read(map->file, &t, &terr)) {
+                w->st->missing_textures++;
+                if (warn(w, 0, "material '%s': texture not read (%s): untextured", o->lib.names[k], terr.msg))
+                    return -1;
+                continue;
+            }
+            t->clamp = map->clamp;
+            uint32_t tid;
+            if (mesh_add_texture(out, t, &tid, w->err))
+                return -1;
+            id = (int32_t)tid;
+        }
+        out->materials[remap[k]].texture = id;
+    }
+    return 0;
+}
+
 /* Builds the Mesh from the indexed triangles, keeping only used attributes. */
 static int obj_assemble(Obj *o, const ObjOptions *opt, Mesh *out, ObjStats *st, const char *name, Err *err)
 {
@@ -226,6 +263,9 @@ static int obj_assemble(Obj *o, const ObjOptions *opt, Mesh *out, ObjStats *st, 
         for (uint32_t k = 0; k <= o->lib.count; k++)
             if (remap[k] >= 0 && k < o->lib.count)
                 out->materials[remap[k]] = o->lib.mats[k];
+    Warner w = {opt, st, name, err};
+    if (rc == 0 && has_m && has_t)
+        rc = obj_textures(o, remap, out, &w);
     for (uint32_t i = 0; rc == 0 && i < o->ntri; i++) {
         const ObjTri *t = &o->tris[i];
         vec3 p[3], n[3];
@@ -245,6 +285,11 @@ static int obj_assemble(Obj *o, const ObjOptions *opt, Mesh *out, ObjStats *st, 
             if (t->t[k] >= 0) {
                 uv[2 * k] = o->vt[2 * t->t[k]];
                 uv[2 * k + 1] = o->vt[2 * t->t[k] + 1];
+                if (t->mat >= 0 && o->lib.maps[t->mat].file[0]) { /* map_Kd -s and -o place the texture */
+                    const MtlMap *map = &o->lib.maps[t->mat];
+                    uv[2 * k] = uv[2 * k] * map->s[0] + map->o[0];
+                    uv[2 * k + 1] = uv[2 * k + 1] * map->s[1] + map->o[1];
+                }
             }
         }
         uint32_t mat = has_m ? (uint32_t)remap[t->mat < 0 ? o->lib.count : (uint32_t)t->mat] : 0;

@@ -53,6 +53,7 @@ typedef struct {
     unsigned long coloured;          /* vertices with colours (read past) */
     unsigned long undefined_mtl;     /* usemtl of a material no library defines, or of none */
     unsigned long missing_mtllib;    /* material libraries that could not be read */
+    unsigned long missing_textures;  /* map_Kd files that could not be read */
 } ObjStats;
 
 /* Parses OBJ text (NUL-terminated, modified in place).  `name` labels errors;

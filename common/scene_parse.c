@@ -375,7 +375,7 @@ static int do_model(Ctx *c, const Tokens *t)
     if (file_join(c->dir, t->tok[2], path, sizeof path))
         return fail(c, "model file name '%s' is too long", t->tok[2]);
     if (!model_load_knows(path))
-        return fail(c, "model file '%s' must end in .tmd or .obj", t->tok[2]);
+        return fail(c, "model file '%s' must end in .tmd, .obj, or a format the importer reads (.ply, .stl, .gltf, .glb, ...)", t->tok[2]);
     Model *m = NULL;
     if (model_load(path, &opt, c->force || kv.present[0], kv.present[1], &m, c->err))
         return err_prefix(c->err, "%s:%d", c->file, c->line);

@@ -65,8 +65,8 @@ static void shade_start(const Scene *s, const Ray *r, const Hit *hit, Shading *s
     trace_surface(s, r, hit, &sh->sf);
     const Material *m = sh->sf.mat;
     sh->kd = m->kd;
-    if (scene_uses(s, FEAT_TEXTURES) && m->texture >= 0 && sh->sf.has_uv)
-        sh->kd = v3_mul(sh->kd, texture_sample(s->textures[m->texture], sh->sf.u, sh->sf.v, s->settings.filter));
+    if (scene_uses(s, FEAT_TEXTURES) && sh->sf.tex && sh->sf.has_uv)
+        sh->kd = v3_mul(sh->kd, texture_sample(sh->sf.tex, sh->sf.u, sh->sf.v, s->settings.filter));
     sh->col = v3_mul(s->ambient, sh->kd);
     sh->view = v3_neg(v3_norm(r->dir));
     sh->phong = s->settings.shading == SHADE_PHONG && v3_max_comp(m->ks) > R(0);

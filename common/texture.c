@@ -44,6 +44,21 @@ Texture *texture_from_rgb8(uint32_t w, uint32_t h, const uint8_t *rgb)
     return t;
 }
 
+Texture *texture_copy(const Texture *t)
+{
+    Texture *c = calloc(1, sizeof *c);
+    if (!c)
+        return NULL;
+    *c = *t;
+    c->rgb = malloc((size_t)t->w * t->h * 3 * sizeof *c->rgb);
+    if (!c->rgb) {
+        free(c);
+        return NULL;
+    }
+    memcpy(c->rgb, t->rgb, (size_t)t->w * t->h * 3 * sizeof *c->rgb);
+    return c;
+}
+
 void texture_destroy(Texture *t)
 {
     if (!t)
@@ -148,12 +163,3 @@ int texture_read_stream(FILE *f, const char *name, Texture **out, Err *err)
     return 0;
 }
 
-int texture_read(const char *path, Texture **out, Err *err)
-{
-    FILE *f = fopen(path, "rb");
-    if (!f)
-        return err_set(err, "%s: cannot open: %s", path, strerror(errno));
-    int rc = texture_read_stream(f, path, out, err);
-    fclose(f);
-    return rc;
-}

@@ -1,4 +1,4 @@
-/* texture.h - RGB images for texture mapping, read from PPM/PGM through libnetpbm.
+/* texture.h - RGB images for texture mapping, read from PNG, JPEG, PPM or PGM.
  *
  * Texels are stored as float RGB in [0,1], linear light: images store
  * sRGB-encoded values, which are decoded on load (srgb.h), so that filtering
@@ -18,16 +18,19 @@
 typedef struct {
     uint32_t w, h;
     float *rgb; /* 3 per texel, row-major, top row first */
+    int clamp;  /* coordinates clamp to the edge instead of wrapping (MTL -clamp on) */
 } Texture;
 
 typedef enum { FILTER_NEAREST = 0, FILTER_BILINEAR = 1 } TextureFilter;
 
 /* Reads a PPM (P3/P6) or PGM (P2/P5, replicated to grey RGB); `name` labels errors. */
 int texture_read_stream(FILE *f, const char *name, Texture **out, Err *err);
+/* Reads a texture file by its extension: .png, .jpg/.jpeg, else PPM/PGM (texture_file.c). */
 int texture_read(const char *path, Texture **out, Err *err);
 /* A texture of w x h from 8-bit RGB pixels (copied). */
 Texture *texture_from_rgb8(uint32_t w, uint32_t h, const uint8_t *rgb);
 void texture_destroy(Texture *t);
+Texture *texture_copy(const Texture *t);
 
 static inline vec3 texture_texel(const Texture *t, uint32_t x, uint32_t y)
 {
@@ -44,10 +47,13 @@ static inline real texture_wrap(real u)
     return u >= R(1) ? R(0) : u;
 }
 
+/* Clamps a coordinate into [0,1]; NaN maps to 0. */
+static inline real texture_clamp01(real u) { return u > R(0) ? (u < R(1) ? u : R(1)) : R(0); }
+
 static inline vec3 texture_sample(const Texture *t, real u, real v, TextureFilter filter)
 {
-    u = texture_wrap(u);
-    v = R(1) - texture_wrap(v); /* v = 0 at the bottom */
+    u = t->clamp ? texture_clamp01(u) : texture_wrap(u);
+    v = R(1) - (t->clamp ? texture_clamp01(v) : texture_wrap(v)); /* v = 0 at the bottom */
     if (filter == FILTER_NEAREST) {
         uint32_t x = (uint32_t)(u * (real)t->w), y = (uint32_t)(v * (real)t->h);
         return texture_texel(t, x < t->w ? x : t->w - 1, y < t->h ? y : t->h - 1);

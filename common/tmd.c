@@ -35,12 +35,15 @@ static void put_real(Sink *s, real x, int wide, int dir)
 int tmd_encode(const Model *m, int wide, void **data, size_t *len, Err *err)
 {
     Sink s = {0};
+    const int textured = m->mat_ids && m->texture_count > 0;
     uint32_t flags = (m->normals ? TMD_HAS_NORMALS : 0) | (m->uvs ? TMD_HAS_UVS : 0) |
-                     (m->mat_ids ? TMD_HAS_MATERIALS : 0) | (wide ? TMD_WIDE : 0);
+                     (m->mat_ids ? TMD_HAS_MATERIALS : 0) | (wide ? TMD_WIDE : 0) | (textured ? TMD_HAS_TEXTURES : 0);
     char magic[8] = TMD_MAGIC;
     sink_put(&s, magic, 8);
-    uint32_t head[14] = {TMD_VERSION, TMD_BOM, TMD_HEADER_BYTES, flags, (uint32_t)m->bvh.kind, m->bvh.node_count,
-                         m->tri_count, m->mat_ids ? m->material_count : 0, m->bvh.depth, 0, 0, 0, 0, 0};
+    /* version 2 only where it is needed: a model without textures stays readable by version-1 readers */
+    uint32_t head[14] = {textured ? TMD_VERSION : TMD_VERSION_PLAIN, TMD_BOM, TMD_HEADER_BYTES, flags,
+                         (uint32_t)m->bvh.kind, m->bvh.node_count, m->tri_count, m->mat_ids ? m->material_count : 0,
+                         m->bvh.depth, textured ? m->texture_count : 0, 0, 0, 0, 0};
     sink_put(&s, head, sizeof head);
     for (uint32_t i = 0; i < m->bvh.node_count; i++) {
         const BvhNode *n = &m->bvh.nodes[i];
@@ -70,8 +73,18 @@ int tmd_encode(const Model *m, int wide, void **data, size_t *len, Err *err)
             for (int a = 0; a < 3; a++)
                 put_real(&s, mt->ks.e[a], wide, 0);
             put_real(&s, mt->shininess, wide, 0);
+            if (textured)
+                sink_u32(&s, (uint32_t)mt->texture);
         }
         sink_put(&s, m->mat_ids, m->tri_count * sizeof *m->mat_ids);
+    }
+    for (uint32_t i = 0; textured && i < m->texture_count; i++) {
+        const Texture *t = m->textures[i];
+        sink_u32(&s, t->w);
+        sink_u32(&s, t->h);
+        sink_u32(&s, t->clamp ? 1 : 0);
+        for (size_t k = 0; k < (size_t)t->w * t->h * 3; k++)
+            sink_f32(&s, t->rgb[k]);
     }
     if (s.failed) {
         sink_free(&s);
@@ -117,6 +130,40 @@ static int read_reals(Cursor *c, int wide, int dir, real *dst, size_t n)
     return c->failed ? -1 : 0;
 }
 
+/* The textures at the end of a version-2 file: each size checked against
+ * the bytes left before anything is allocated; the file ends with them. */
+static int tmd_read_textures(Cursor *c, uint32_t texs, Model *m, const char *name, Err *err)
+{
+    m->textures = calloc(texs, sizeof *m->textures);
+    if (!m->textures)
+        return err_set(err, "%s: out of memory for %u textures", name, texs);
+    for (uint32_t i = 0; i < texs; i++) {
+        uint32_t tw = cursor_u32(c), th = cursor_u32(c), tf = cursor_u32(c);
+        if (c->failed || tw < 1 || th < 1 || tw > TEXTURE_MAX_SIDE || th > TEXTURE_MAX_SIDE || tf > 1 ||
+            (uint64_t)tw * th * 12 > c->left)
+            return err_set(err, "%s: texture %u: implausible size %ux%u or flags %u", name, i, tw, th, tf);
+        uint8_t black[3] = {0, 0, 0};
+        Texture *t = texture_from_rgb8(1, 1, black);
+        float *px = t ? malloc((size_t)tw * th * 12) : NULL;
+        if (!px) {
+            texture_destroy(t);
+            return err_set(err, "%s: out of memory for a %ux%u texture", name, tw, th);
+        }
+        free(t->rgb);
+        t->rgb = px, t->w = tw, t->h = th, t->clamp = (int)tf;
+        m->textures[m->texture_count++] = t;
+        for (size_t k = 0; k < (size_t)tw * th * 3; k++) {
+            float v = cursor_f32(c);
+            if (!(v >= 0 && v <= 1)) /* texels are linear light in [0,1]; NaN fails too */
+                return err_set(err, "%s: texture %u: a texel value out of range", name, i);
+            px[k] = v;
+        }
+    }
+    if (c->left != 0)
+        return err_set(err, "%s: %zu bytes after the last texture", name, c->left);
+    return 0;
+}
+
 int tmd_decode(const void *data, size_t len, const char *name, Model **out, Err *err)
 {
     *out = NULL;
@@ -129,13 +176,18 @@ int tmd_decode(const void *data, size_t len, const char *name, Model **out, Err 
         return err_set(err, "%s: not a .tmd file (bad magic)", name);
     if (h[1] != TMD_BOM)
         return err_set(err, "%s: byte-order mark 0x%08x: written on a machine of the other byte order", name, h[1]);
-    if (h[0] != TMD_VERSION)
-        return err_set(err, "%s: format version %u, this build reads version %u", name, h[0], TMD_VERSION);
-    uint32_t flags = h[3], kind = h[4], nodes = h[5], tris = h[6], mats = h[7], depth = h[8];
+    if (h[0] != TMD_VERSION && h[0] != TMD_VERSION_PLAIN)
+        return err_set(err, "%s: format version %u, this build reads versions %u and %u", name, h[0], TMD_VERSION_PLAIN,
+                       TMD_VERSION);
+    uint32_t flags = h[3], kind = h[4], nodes = h[5], tris = h[6], mats = h[7], depth = h[8], texs = h[9];
     if (h[2] != TMD_HEADER_BYTES)
         return err_set(err, "%s: header size %u, expected %u", name, h[2], TMD_HEADER_BYTES);
-    if (flags & ~(TMD_HAS_NORMALS | TMD_HAS_UVS | TMD_HAS_MATERIALS | TMD_WIDE))
+    if (flags & ~(TMD_HAS_NORMALS | TMD_HAS_UVS | TMD_HAS_MATERIALS | TMD_WIDE | TMD_HAS_TEXTURES) ||
+        ((flags & TMD_HAS_TEXTURES) && h[0] < 2))
         return err_set(err, "%s: unknown flags 0x%x", name, flags);
+    const int textured = (flags & TMD_HAS_TEXTURES) != 0;
+    if (textured != (texs > 0) || texs > 65536 || (textured && !(flags & TMD_HAS_MATERIALS)))
+        return err_set(err, "%s: implausible texture count %u", name, texs);
     if (kind >= BVH_KIND_COUNT)
         return err_set(err, "%s: unknown BVH kind %u", name, kind);
     if (tris > BVH_MAX_PRIMS || nodes > 2 * tris || (tris > 0) != (nodes > 0))
@@ -153,8 +205,9 @@ int tmd_decode(const void *data, size_t len, const char *name, Model **out, Err 
     if (flags & TMD_HAS_UVS)
         want += (uint64_t)tris * 6 * w;
     if (flags & TMD_HAS_MATERIALS)
-        want += (uint64_t)mats * 7 * w + (uint64_t)tris * 4;
-    if (want != len)
+        want += (uint64_t)mats * (7 * w + (textured ? 4 : 0)) + (uint64_t)tris * 4;
+    /* textures follow, each with its own size: at least their 12-byte headers */
+    if (textured ? want + (uint64_t)texs * 12 > len : want != len)
         return err_set(err, "%s: header promises %llu bytes but the file has %zu", name, (unsigned long long)want, len);
     Model *m = model_alloc(tris, nodes, mats, flags & TMD_HAS_NORMALS, flags & TMD_HAS_UVS, flags & TMD_HAS_MATERIALS);
     if (!m)
@@ -185,6 +238,14 @@ int tmd_decode(const void *data, size_t len, const char *name, Model **out, Err 
         if (read_reals(&c, wide, 0, mt->kd.e, 3) || read_reals(&c, wide, 0, mt->ks.e, 3) ||
             read_reals(&c, wide, 0, &mt->shininess, 1))
             bad = "material";
+        if (textured && !bad) {
+            int32_t t = (int32_t)cursor_u32(&c);
+            if (t < -1 || t >= (int32_t)texs) {
+                model_destroy(m);
+                return err_set(err, "%s: material %u uses texture %d of %u", name, i, t, texs);
+            }
+            mt->texture = t;
+        }
     }
     if (m->mat_ids && !bad && cursor_get(&c, m->mat_ids, (size_t)tris * 4) == 0)
         for (uint32_t i = 0; i < tris; i++)
@@ -196,6 +257,10 @@ int tmd_decode(const void *data, size_t len, const char *name, Model **out, Err 
     if (bad || c.failed) {
         model_destroy(m);
         return err_set(err, "%s: %s is not a finite number", name, bad ? bad : "data");
+    }
+    if (textured && tmd_read_textures(&c, texs, m, name, err)) {
+        model_destroy(m);
+        return -1;
     }
     if (bvh_validate(&m->bvh, &m->bvh.depth, err)) {
         model_destroy(m);

@@ -13,13 +13,15 @@
 #include "model.h"
 
 #define TMD_MAGIC "LRAYTMD"
-#define TMD_VERSION 1u
+#define TMD_VERSION 2u          /* written when a model has textures; 1 otherwise (old readers take it) */
+#define TMD_VERSION_PLAIN 1u
 #define TMD_BOM 0x01020304u
 #define TMD_HEADER_BYTES 64u
 #define TMD_HAS_NORMALS 1u
 #define TMD_HAS_UVS 2u
 #define TMD_HAS_MATERIALS 4u
 #define TMD_WIDE 8u /* numbers are float64 */
+#define TMD_HAS_TEXTURES 16u /* version 2: materials name textures carried at the end of the file */
 #define TMD_MAX_FILE_BYTES ((size_t)1 << 31)
 
 int tmd_write(const char *path, const Model *m, Err *err);

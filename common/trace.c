@@ -330,6 +330,7 @@ void trace_surface(const Scene *s, const Ray *r, const Hit *h, Surface *out)
      * point (model space for an instance) */
     vec3 tv[3], tn[3], pm = v3_splat(0);
     const Instance *inst = NULL;
+    int model_tex = 0;
     switch (h->kind) {
     case HIT_SPHERE: {
         const Sphere *sp = &s->spheres[h->index];
@@ -425,9 +426,12 @@ void trace_surface(const Scene *s, const Ray *r, const Hit *h, Surface *out)
         }
         if (in->material >= 0)
             out->mat = &s->materials[in->material];
-        else if (m->mat_ids)
+        else if (m->mat_ids) {
             out->mat = &m->materials[m->mat_ids[h->sub]];
-        else if (s->material_count)
+            /* a model's own material names the model's own texture */
+            out->tex = out->mat->texture >= 0 ? m->textures[out->mat->texture] : NULL;
+            model_tex = 1;
+        } else if (s->material_count)
             out->mat = &s->materials[0];
         out->object = s->sphere_count + s->plane_count + s->material_count + h->index;
         break;
@@ -435,6 +439,8 @@ void trace_surface(const Scene *s, const Ray *r, const Hit *h, Surface *out)
     default:
         break;
     }
+    if (!model_tex)
+        out->tex = out->mat->texture >= 0 ? s->textures[out->mat->texture] : NULL;
     /* face the viewer: all surfaces are two-sided */
     if (v3_dot(out->ng, r->dir) > R(0))
         out->ng = v3_neg(out->ng);

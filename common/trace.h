@@ -21,6 +21,7 @@ typedef struct {
     real u, v;        /* texture coordinates (when has_uv) */
     int has_uv;
     const Material *mat;
+    const Texture *tex; /* the material's texture (the scene's, or a model's own), or NULL */
     uint32_t object;  /* identifies the surface for adaptive anti-aliasing */
     real err;         /* bound on the rounding error of each coordinate of p */
     vec3 ps;          /* where shadow rays start (before trace_offset_origin): p,

@@ -135,7 +135,8 @@ static void errors_name_file_line_and_expectation(void **state)
     expect_error("ambient 1 1\n", "ambient expects 3 finite numbers");
     expect_error("instance nothing\n", "unknown model 'nothing'");
     expect_error("model m missing.tmd\n", "t.scene:1:");
-    expect_error("model m thing.stl\n", "must end in .tmd or .obj");
+    expect_error("model m thing.xyz\n", "must end in .tmd, .obj, or a format the importer reads");
+    expect_error("model m thing.stl\n", "thing.stl: Unable to open file"); /* a format Assimp reads: its error, with the name */
     expect_error("texture t missing.ppm\n", "t.scene:1:");
     expect_error("sphere centre 0 0 1e999 radius 1\n", "expects 3 finite numbers, got '1e999'");
 }

@@ -3,6 +3,7 @@
 # its harness (gcc build; under make check-asan with sanitizers).
 set -u
 BUILD=${BUILD:-build/float}
+export LSAN_OPTIONS="suppressions=$PWD/tests/fuzz/lsan.supp${LSAN_OPTIONS:+:$LSAN_OPTIONS}"
 fail=0
 for h in tests/fuzz/fuzz_*.c; do
     name=$(basename "$h" .c); name=${name#fuzz_}

@@ -8,7 +8,8 @@ Every directive and key of the format appears with some probability (both
 spellings of centre/center and colour/color, a byte-order mark): camera
 by lookat or by angles, with zoom or fov and roll; ambient, background; every
 settings key and value; textures (PPM P3/P6, PGM P2/P5); materials with and
-without specular and textures, on any primitive; spheres, planes (with and
+without specular and textures, on any primitive; a model whose MTL gives
+one material a texture (map_Kd with -s and -o); spheres, planes (with and
 without their texture mapping keys) and triangles (with normals and uv); models from OBJ (with and without smooth, each builder) and from
 .tmd (converted by the caller as DIR/mesh.tmd); instances with transforms and
 material overrides; point, spot and directional lights with position,
@@ -84,7 +85,9 @@ def write_assets(d):
         with open(os.path.join(d, "mesh.obj"), "w") as f:
             f.write("\n".join(lines) + "\n")
         with open(os.path.join(d, "mesh.mtl"), "w") as f:
-            f.write("newmtl shiny\nKd 0.7 0.6 0.2\nKs 0.5 0.5 0.5\nNs 33\nnewmtl matte\nKd 0.2 0.5 0.7\n")
+            # the model's own texture (MTL map_Kd, carried in its .tmd), placed by -s and -o
+            f.write("newmtl shiny\nKd 0.7 0.6 0.2\nKs 0.5 0.5 0.5\nNs 33\nnewmtl matte\nKd 0.2 0.5 0.7\n"
+                    "map_Kd -s 0.75 1.5 1 -o 0.1 0.2 t6.ppm\n")
 
 
 def scene(seed):

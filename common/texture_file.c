@@ -1,0 +1,104 @@
+/* texture_file.c - texture images by file type: PNG (libpng, through
+ * image.c's reader), JPEG (libjpeg-turbo) and PPM/PGM (libnetpbm, in
+ * texture.c).  Every reader checks the image's size against
+ * TEXTURE_MAX_SIDE before it allocates the pixels. */
+#include <ctype.h>
+#include <errno.h>
+#include <setjmp.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <jpeglib.h>
+
+#include "image.h"
+#include "texture.h"
+
+static int has_extension(const char *path, const char *ext)
+{
+    size_t n = strlen(path), m = strlen(ext);
+    if (n < m)
+        return 0;
+    for (size_t i = 0; i < m; i++)
+        if (tolower((unsigned char)path[n - m + i]) != ext[i])
+            return 0;
+    return 1;
+}
+
+typedef struct {
+    struct jpeg_error_mgr pub;
+    jmp_buf jump;
+    char msg[JMSG_LENGTH_MAX];
+} JpegErr;
+
+static void jpeg_fail(j_common_ptr c)
+{
+    JpegErr *e = (JpegErr *)c->err;
+    (*c->err->format_message)(c, e->msg);
+    longjmp(e->jump, 1);
+}
+
+static void jpeg_quiet(j_common_ptr c, int level) { (void)c, (void)level; }
+
+/* libjpeg reports errors by longjmp: everything it owns is released on the way out */
+static int read_jpeg(FILE *f, const char *name, Texture **out, Err *err)
+{
+    struct jpeg_decompress_struct cinfo;
+    JpegErr je;
+    uint8_t *volatile rgb = NULL;
+    cinfo.err = jpeg_std_error(&je.pub);
+    je.pub.error_exit = jpeg_fail;
+    je.pub.emit_message = jpeg_quiet;
+    if (setjmp(je.jump)) {
+        jpeg_destroy_decompress(&cinfo);
+        free(rgb);
+        return err_set(err, "%s: not a JPEG image lanray can read: %s", name, je.msg);
+    }
+    jpeg_create_decompress(&cinfo);
+    jpeg_stdio_src(&cinfo, f);
+    jpeg_read_header(&cinfo, TRUE);
+    if (cinfo.image_width < 1 || cinfo.image_height < 1 || cinfo.image_width > TEXTURE_MAX_SIDE ||
+        cinfo.image_height > TEXTURE_MAX_SIDE) {
+        uint32_t w = cinfo.image_width, h = cinfo.image_height;
+        jpeg_destroy_decompress(&cinfo);
+        return err_set(err, "%s: a %ux%u image exceeds the texture limit of %u on a side", name, w, h, TEXTURE_MAX_SIDE);
+    }
+    cinfo.out_color_space = JCS_RGB; /* grey and YCbCr alike come out as RGB */
+    jpeg_start_decompress(&cinfo);
+    uint32_t w = cinfo.output_width, h = cinfo.output_height;
+    rgb = malloc((size_t)w * h * 3);
+    if (!rgb) {
+        jpeg_destroy_decompress(&cinfo);
+        return err_set(err, "%s: out of memory for a %ux%u texture", name, w, h);
+    }
+    while (cinfo.output_scanline < h) {
+        JSAMPROW row = rgb + (size_t)cinfo.output_scanline * w * 3;
+        jpeg_read_scanlines(&cinfo, &row, 1);
+    }
+    jpeg_finish_decompress(&cinfo);
+    jpeg_destroy_decompress(&cinfo);
+    *out = texture_from_rgb8(w, h, rgb);
+    free(rgb);
+    return *out ? 0 : err_set(err, "%s: out of memory for a %ux%u texture", name, w, h);
+}
+
+int texture_read(const char *path, Texture **out, Err *err)
+{
+    *out = NULL;
+    FILE *f = fopen(path, "rb");
+    if (!f)
+        return err_set(err, "%s: cannot open: %s", path, strerror(errno));
+    if (has_extension(path, ".png")) {
+        int w, h;
+        uint8_t *rgb;
+        if (image_read_png_limited(f, path, TEXTURE_MAX_SIDE, &w, &h, &rgb, err)) /* closes f */
+            return -1;
+        *out = texture_from_rgb8((uint32_t)w, (uint32_t)h, rgb);
+        free(rgb);
+        return *out ? 0 : err_set(err, "%s: out of memory for a %dx%d texture", path, w, h);
+    }
+    int rc = has_extension(path, ".jpg") || has_extension(path, ".jpeg") ? read_jpeg(f, path, out, err)
+                                                                         : texture_read_stream(f, path, out, err);
+    fclose(f);
+    return rc;
+}
