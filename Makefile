@@ -172,10 +172,15 @@ $(BUILD)/tools/embree_ref: tools/embree_ref.c $(LIB)
 	@mkdir -p $(dir $@)
 	$(CC) $(ALL_CFLAGS) -o $@ $< $(LIB) -lembree3 $(LDLIBS)
 
-bench: deps $(TOOLS) $(BUILD)/tools/embree_ref
+$(BUILD)/tools/import_bench: tools/import_bench.c $(LIB)
+	@mkdir -p $(dir $@)
+	$(CC) $(ALL_CFLAGS) -o $@ $< $(LIB) $(LDLIBS)
+
+bench: deps $(TOOLS) $(BUILD)/tools/embree_ref $(BUILD)/tools/import_bench
 	@$(MAKE) --no-print-directory FEATURES=minimal $(BIN)/minimal/lanray-render
 	@BIN=$(BIN) EMBREE_REF=$(BUILD)/tools/embree_ref bash tools/bench-render
 	@BIN=$(BIN) bash tools/bench-features
+	@IMPORT_BENCH=$(BUILD)/tools/import_bench bash tools/bench-import
 
 # the trade-off study: CSV and plot into docs/ (needs gnuplot, installed here)
 tradeoff: deps $(TOOLS)

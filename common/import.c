@@ -7,6 +7,7 @@
 #include <assimp/scene.h>
 #include <ctype.h>
 #include <stdint.h>
+#include <stdio.h>
 #include <string.h>
 
 #define IMPORT_MAX_TRIANGLES (1u << 26) /* BVH_MAX_PRIMS */
@@ -53,6 +54,57 @@ static Material import_material(const struct aiMaterial *am)
     return m;
 }
 
+/* Assimp 5.2.5's PLY reader spins on some malformed headers (an element
+ * line cut short kept fuzz_import busy past its timeout), so a PLY header
+ * is checked here first: it ends with end_header within the first 64 KiB,
+ * and every element line is "element NAME COUNT" with a count that the
+ * file's size could hold (at least one byte per element). */
+#define PLY_HEADER_MAX 65536
+
+static int ply_header_check(const char *head, size_t n, uint64_t file_size, const char *name, Err *err)
+{
+    if (n < 4 || memcmp(head, "ply", 3) != 0 || (head[3] != '\n' && head[3] != '\r'))
+        return err_set(err, "%s: not a PLY file (no 'ply' line)", name);
+    size_t i = 0;
+    uint64_t elements = 0;
+    while (i < n) {
+        size_t e = i;
+        while (e < n && head[e] != '\n')
+            e++;
+        if (e == n)
+            break;
+        char line[256];
+        size_t len = e - i < sizeof line - 1 ? e - i : sizeof line - 1;
+        memcpy(line, head + i, len);
+        line[len] = 0;
+        if (len && line[len - 1] == '\r')
+            line[--len] = 0;
+        i = e + 1;
+        if (strcmp(line, "end_header") == 0)
+            return elements > file_size ? err_set(err, "%s: PLY header claims %llu elements in a file of %llu bytes", name,
+                                                  (unsigned long long)elements, (unsigned long long)file_size)
+                                        : 0;
+        if (strncmp(line, "element", 7) == 0) {
+            char ename[128];
+            unsigned long long count;
+            char extra;
+            if (sscanf(line, "element %127s %llu %c", ename, &count, &extra) != 2)
+                return err_set(err, "%s: PLY header: malformed line '%s'", name, line);
+            elements += count;
+            if (elements > file_size)
+                return err_set(err, "%s: PLY header claims %llu elements in a file of %llu bytes", name,
+                               (unsigned long long)elements, (unsigned long long)file_size);
+        }
+    }
+    return err_set(err, "%s: PLY header without end_header in its first %d bytes", name, PLY_HEADER_MAX);
+}
+
+static int is_ply(const char *path)
+{
+    const char *e = extension(path);
+    return strcmp(e, ".ply") == 0 || strcmp(e, ".PLY") == 0;
+}
+
 #define IMPORT_FLAGS (aiProcess_Triangulate | aiProcess_PreTransformVertices | aiProcess_SortByPType | aiProcess_ValidateDataStructure)
 
 static int import_scene(const struct aiScene *sc, const char *path, int stl, Mesh *out, ImportStats *st, Err *err);
@@ -66,6 +118,18 @@ int import_read(const char *path, Mesh *out, ImportStats *st, Err *err)
     memset(out, 0, sizeof *out);
     if (!import_knows(path))
         return err_set(err, "%s: not a format the importer reads (PLY, STL, glTF, ...)", path);
+    if (is_ply(path)) {
+        FILE *f = fopen(path, "rb");
+        if (!f)
+            return err_set(err, "%s: cannot open", path);
+        char head[PLY_HEADER_MAX];
+        size_t n = fread(head, 1, sizeof head, f);
+        int seek = fseek(f, 0, SEEK_END);
+        long size = seek == 0 ? ftell(f) : -1;
+        fclose(f);
+        if (size < 0 || ply_header_check(head, n, (uint64_t)size, path, err))
+            return size < 0 ? err_set(err, "%s: cannot read", path) : -1;
+    }
     const struct aiScene *sc = aiImportFile(path, IMPORT_FLAGS);
     if (!sc)
         return err_set(err, "%s: %s", path, aiGetErrorString());
@@ -85,6 +149,9 @@ int import_read_memory(const void *data, size_t len, const char *hint, const cha
     memset(out, 0, sizeof *out);
     if (len > UINT32_MAX)
         return err_set(err, "%s: too large", name);
+    if (strcmp(hint, "ply") == 0 &&
+        ply_header_check(data, len < PLY_HEADER_MAX ? len : PLY_HEADER_MAX, (uint64_t)len, name, err))
+        return -1;
     const struct aiScene *sc = aiImportFileFromMemory(data, (unsigned)len, IMPORT_FLAGS, hint);
     if (!sc)
         return err_set(err, "%s: %s", name, aiGetErrorString());

@@ -41,7 +41,7 @@ static void jpeg_fail(j_common_ptr c)
 static void jpeg_quiet(j_common_ptr c, int level) { (void)c, (void)level; }
 
 /* libjpeg reports errors by longjmp: everything it owns is released on the way out */
-static int read_jpeg(FILE *f, const char *name, Texture **out, Err *err)
+int texture_read_jpeg_stream(FILE *f, const char *name, Texture **out, Err *err)
 {
     struct jpeg_decompress_struct cinfo;
     JpegErr je;
@@ -97,7 +97,7 @@ int texture_read(const char *path, Texture **out, Err *err)
         free(rgb);
         return *out ? 0 : err_set(err, "%s: out of memory for a %dx%d texture", path, w, h);
     }
-    int rc = has_extension(path, ".jpg") || has_extension(path, ".jpeg") ? read_jpeg(f, path, out, err)
+    int rc = has_extension(path, ".jpg") || has_extension(path, ".jpeg") ? texture_read_jpeg_stream(f, path, out, err)
                                                                          : texture_read_stream(f, path, out, err);
     fclose(f);
     return rc;

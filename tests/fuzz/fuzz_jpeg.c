@@ -1,0 +1,22 @@
+/* fuzz_jpeg.c - JPEG textures (libjpeg-turbo, texture_file.c) on arbitrary
+ * bytes: the size check before allocation, and libjpeg's longjmp errors. */
+#include <stdio.h>
+#include <stdlib.h>
+
+#include "fuzz.h"
+#include "texture.h"
+
+int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
+{
+    if (size == 0)
+        return 0;
+    FILE *f = fmemopen((void *)data, size, "rb");
+    if (!f)
+        return 0;
+    Texture *t;
+    Err err;
+    if (texture_read_jpeg_stream(f, "fuzz.jpg", &t, &err) == 0)
+        texture_destroy(t);
+    fclose(f);
+    return 0;
+}
