@@ -6,9 +6,16 @@
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
 #include <ctype.h>
+#include <errno.h>
+#include <signal.h>
 #include <stdint.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include "cursor.h"
 
 #define IMPORT_MAX_TRIANGLES (1u << 26) /* BVH_MAX_PRIMS */
 
@@ -109,7 +116,8 @@ static int is_ply(const char *path)
 
 static int import_scene(const struct aiScene *sc, const char *path, int stl, Mesh *out, ImportStats *st, Err *err);
 
-int import_read(const char *path, Mesh *out, ImportStats *st, Err *err)
+/* In this process: what the child of import_read runs. */
+static int import_read_direct(const char *path, Mesh *out, ImportStats *st, Err *err)
 {
     ImportStats local;
     if (!st)
@@ -139,8 +147,8 @@ int import_read(const char *path, Mesh *out, ImportStats *st, Err *err)
     return rc;
 }
 
-int import_read_memory(const void *data, size_t len, const char *hint, const char *name, Mesh *out,
-                       ImportStats *st, Err *err)
+static int import_read_memory_direct(const void *data, size_t len, const char *hint, const char *name, Mesh *out,
+                                     ImportStats *st, Err *err)
 {
     ImportStats local;
     if (!st)
@@ -253,4 +261,196 @@ static int import_scene(const struct aiScene *sc, const char *path, int stl, Mes
     }
     st->triangles = out->tri_count;
     return 0;
+}
+
+/* ---- isolation: Assimp runs in a child process ----
+ *
+ * Assimp 5.2.5 crashes on some malformed files (fuzz_import found a SIGBUS
+ * in its post-processing of a mutated PLY): a crash in a library we do not
+ * own must not take obj2tmd, lanray-render or a server down.  The child
+ * imports and sends the Mesh back through a pipe; the parent reads it with
+ * every size checked.  A child that dies, or sends less than a whole
+ * answer, is an error naming the file. */
+#define IMPORT_MAX_REPLY ((size_t)4 << 30)
+
+static void send_mesh(int fd, int rc, const Mesh *m, const ImportStats *st, const Err *err)
+{
+    Sink o = {0};
+    sink_u32(&o, (uint32_t)(rc == 0));
+    if (rc) {
+        sink_put(&o, err->msg, sizeof err->msg);
+    } else {
+        sink_put(&o, st, sizeof *st);
+        uint32_t head[5] = {m->tri_count, m->nrm != NULL, m->uv != NULL, m->mat != NULL, m->material_count};
+        sink_put(&o, head, sizeof head);
+        sink_put(&o, m->pos, (size_t)m->tri_count * 3 * sizeof *m->pos);
+        if (m->nrm)
+            sink_put(&o, m->nrm, (size_t)m->tri_count * 3 * sizeof *m->nrm);
+        if (m->uv)
+            sink_put(&o, m->uv, (size_t)m->tri_count * 6 * sizeof *m->uv);
+        if (m->mat)
+            sink_put(&o, m->mat, (size_t)m->tri_count * sizeof *m->mat);
+        sink_put(&o, m->materials, (size_t)m->material_count * sizeof *m->materials);
+    }
+    const uint8_t *p = o.data;
+    size_t left = o.failed ? 0 : o.len;
+    while (left) {
+        ssize_t n = write(fd, p, left);
+        if (n < 0 && errno == EINTR)
+            continue;
+        if (n <= 0)
+            break;
+        p += n, left -= (size_t)n;
+    }
+    sink_free(&o);
+}
+
+static int receive_mesh(const uint8_t *data, size_t len, const char *name, Mesh *out, ImportStats *st, Err *err)
+{
+    Cursor c = cursor_make(data, len);
+    uint32_t ok = cursor_u32(&c);
+    if (c.failed)
+        return err_set(err, "%s: the importer sent nothing", name);
+    if (!ok) {
+        Err child;
+        if (cursor_get(&c, child.msg, sizeof child.msg))
+            return err_set(err, "%s: the importer failed", name);
+        child.msg[sizeof child.msg - 1] = 0;
+        return err_set(err, "%s", child.msg);
+    }
+    uint32_t head[5];
+    if (cursor_get(&c, st, sizeof *st) || cursor_get(&c, head, sizeof head))
+        return err_set(err, "%s: the importer's answer is cut short", name);
+    uint32_t n = head[0];
+    if (n > IMPORT_MAX_TRIANGLES || head[4] > 65536 || (head[3] && !head[4]))
+        return err_set(err, "%s: the importer's answer is implausible", name);
+    size_t need = (size_t)n * (3 * sizeof(vec3) + (head[1] ? 3 * sizeof(vec3) : 0) + (head[2] ? 6 * sizeof(real) : 0) +
+                               (head[3] ? sizeof(uint32_t) : 0)) +
+                  (size_t)head[4] * sizeof(Material);
+    if (need != c.left)
+        return err_set(err, "%s: the importer's answer is cut short", name);
+    if (mesh_init(out, (int)head[1], (int)head[2], (int)head[3], err))
+        return -1;
+    /* triangles one by one through mesh_add, which owns the arrays' growth */
+    const uint8_t *pos = c.p, *nrm = pos + (size_t)n * 3 * sizeof(vec3);
+    const uint8_t *uv = nrm + (head[1] ? (size_t)n * 3 * sizeof(vec3) : 0);
+    const uint8_t *mat = uv + (head[2] ? (size_t)n * 6 * sizeof(real) : 0);
+    const uint8_t *mats = mat + (head[3] ? (size_t)n * sizeof(uint32_t) : 0);
+    for (uint32_t i = 0; i < head[4]; i++) {
+        Material mt;
+        memcpy(&mt, mats + (size_t)i * sizeof mt, sizeof mt);
+        mt.texture = -1;
+        if (mesh_add_material(out, mt, err)) {
+            mesh_free(out);
+            return -1;
+        }
+    }
+    for (uint32_t i = 0; i < n; i++) {
+        vec3 p[3], q[3];
+        real u[6];
+        uint32_t id = 0;
+        memcpy(p, pos + (size_t)i * sizeof p, sizeof p);
+        if (head[1])
+            memcpy(q, nrm + (size_t)i * sizeof q, sizeof q);
+        if (head[2])
+            memcpy(u, uv + (size_t)i * sizeof u, sizeof u);
+        if (head[3])
+            memcpy(&id, mat + (size_t)i * sizeof id, sizeof id);
+        if (id >= (head[4] ? head[4] : 1)) {
+            mesh_free(out);
+            return err_set(err, "%s: the importer's answer is implausible", name);
+        }
+        if (mesh_add(out, p, head[1] ? q : NULL, head[2] ? u : NULL, id, err)) {
+            mesh_free(out);
+            return -1;
+        }
+    }
+    return 0;
+}
+
+typedef struct {
+    const char *path;
+    const void *data;
+    size_t len;
+    const char *hint;
+} Job;
+
+static int isolated(const Job *job, const char *name, Mesh *out, ImportStats *st, Err *err)
+{
+    memset(out, 0, sizeof *out);
+    memset(st, 0, sizeof *st);
+    int fds[2];
+    if (pipe(fds))
+        return err_set(err, "%s: cannot start the importer: %s", name, strerror(errno));
+    fflush(NULL);
+    pid_t pid = fork();
+    if (pid < 0) {
+        close(fds[0]), close(fds[1]);
+        return err_set(err, "%s: cannot start the importer: %s", name, strerror(errno));
+    }
+    if (pid == 0) {
+        close(fds[0]);
+        Mesh m;
+        ImportStats cs;
+        Err cerr = {{0}};
+        int rc = job->path ? import_read_direct(job->path, &m, &cs, &cerr)
+                           : import_read_memory_direct(job->data, job->len, job->hint, name, &m, &cs, &cerr);
+        send_mesh(fds[1], rc, &m, &cs, &cerr);
+        _exit(0);
+    }
+    close(fds[1]);
+    uint8_t *buf = NULL;
+    size_t len = 0, cap = 0;
+    int rc = 0;
+    for (;;) {
+        if (len == cap) {
+            size_t ncap = cap ? 2 * cap : 65536;
+            uint8_t *nb = ncap <= IMPORT_MAX_REPLY ? realloc(buf, ncap) : NULL;
+            if (!nb) {
+                rc = err_set(err, "%s: the importer's answer is too large", name);
+                kill(pid, SIGKILL);
+                break;
+            }
+            buf = nb, cap = ncap;
+        }
+        ssize_t n = read(fds[0], buf + len, cap - len);
+        if (n < 0 && errno == EINTR)
+            continue;
+        if (n <= 0)
+            break;
+        len += (size_t)n;
+    }
+    close(fds[0]);
+    int status = 0;
+    while (waitpid(pid, &status, 0) < 0 && errno == EINTR)
+        ;
+    if (rc == 0 && WIFSIGNALED(status))
+        rc = err_set(err, "%s: the importer (Assimp) crashed on this file (signal %d): it is malformed", name,
+                     WTERMSIG(status));
+    else if (rc == 0 && (!WIFEXITED(status) || WEXITSTATUS(status) != 0))
+        rc = err_set(err, "%s: the importer (Assimp) failed on this file (exit %d): it is malformed", name,
+                     WIFEXITED(status) ? WEXITSTATUS(status) : -1);
+    if (rc == 0)
+        rc = receive_mesh(buf, len, name, out, st, err);
+    free(buf);
+    return rc;
+}
+
+int import_read(const char *path, Mesh *out, ImportStats *st, Err *err)
+{
+    ImportStats local;
+    Job job = {path, NULL, 0, NULL};
+    if (!import_knows(path)) {
+        memset(out, 0, sizeof *out);
+        return err_set(err, "%s: not a format the importer reads (PLY, STL, glTF, ...)", path);
+    }
+    return isolated(&job, path, out, st ? st : &local, err);
+}
+
+int import_read_memory(const void *data, size_t len, const char *hint, const char *name, Mesh *out,
+                       ImportStats *st, Err *err)
+{
+    ImportStats local;
+    Job job = {NULL, data, len, hint};
+    return isolated(&job, name, out, st ? st : &local, err);
 }

@@ -7,7 +7,10 @@
  * and counted.  Normals and texture coordinates come along where the file
  * has them, except STL's facet normals (STL has no other kind: such a model
  * is flat, and its geometric normals are the ones lanray computes), and
- * each material's diffuse and specular colour and shininess. */
+ * each material's diffuse and specular colour and shininess.
+ *
+ * Assimp runs in a child process (fork): it crashes on some malformed
+ * files, and a crash there becomes an error naming the file. */
 #ifndef LANRAY_IMPORT_H
 #define LANRAY_IMPORT_H
 
