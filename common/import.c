@@ -375,6 +375,24 @@ typedef struct {
     const char *hint;
 } Job;
 
+/* Sanitizer builds let a death callback run when they stop a process
+ * (libFuzzer's writes a crash file): the child's death is the parent's
+ * error, not a finding of its own.  Weak: absent in ordinary builds. */
+void __sanitizer_set_death_callback(void (*callback)(void)) __attribute__((weak));
+
+static void child_die(void) { _exit(3); }
+
+/* The child dies of a crash by the default action, whatever handlers its
+ * parent had installed (a fuzzer's, a sanitizer's). */
+static void child_defaults(void)
+{
+    static const int fatal[] = {SIGSEGV, SIGBUS, SIGILL, SIGFPE, SIGABRT};
+    for (size_t i = 0; i < sizeof fatal / sizeof *fatal; i++)
+        signal(fatal[i], SIG_DFL);
+    if (__sanitizer_set_death_callback)
+        __sanitizer_set_death_callback(child_die);
+}
+
 static int isolated(const Job *job, const char *name, Mesh *out, ImportStats *st, Err *err)
 {
     memset(out, 0, sizeof *out);
@@ -390,6 +408,7 @@ static int isolated(const Job *job, const char *name, Mesh *out, ImportStats *st
     }
     if (pid == 0) {
         close(fds[0]);
+        child_defaults();
         Mesh m;
         ImportStats cs;
         Err cerr = {{0}};
