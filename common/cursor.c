@@ -24,7 +24,8 @@ int sink_put(Sink *s, const void *src, size_t n)
         s->data = p;
         s->cap = cap;
     }
-    memcpy(s->data + s->len, src, n);
+    if (n) /* an empty array may come as NULL, which memcpy may not be given */
+        memcpy(s->data + s->len, src, n);
     s->len += n;
     return 0;
 }
