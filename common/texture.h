@@ -27,8 +27,8 @@ typedef enum { FILTER_NEAREST = 0, FILTER_BILINEAR = 1 } TextureFilter;
 int texture_read_stream(FILE *f, const char *name, Texture **out, Err *err);
 /* Reads a texture file by its extension: .png, .jpg/.jpeg, else PPM/PGM (texture_file.c). */
 int texture_read(const char *path, Texture **out, Err *err);
-/* A JPEG from an open stream (not closed); `name` labels errors. */
-int texture_read_jpeg_stream(FILE *f, const char *name, Texture **out, Err *err);
+/* A JPEG from an open stream (not closed) of `bytes` bytes; `name` labels errors. */
+int texture_read_jpeg_stream(FILE *f, const char *name, size_t bytes, Texture **out, Err *err);
 /* A texture of w x h from 8-bit RGB pixels (copied). */
 Texture *texture_from_rgb8(uint32_t w, uint32_t h, const uint8_t *rgb);
 void texture_destroy(Texture *t);

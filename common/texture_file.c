@@ -8,6 +8,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 #include <jpeglib.h>
 
@@ -41,7 +42,15 @@ static void jpeg_fail(j_common_ptr c)
 static void jpeg_quiet(j_common_ptr c, int level) { (void)c, (void)level; }
 
 /* libjpeg reports errors by longjmp: everything it owns is released on the way out */
-int texture_read_jpeg_stream(FILE *f, const char *name, Texture **out, Err *err)
+/* A JPEG decoder fills what a stream lacks with grey and goes on, so a
+ * 251-byte file claiming 16384x8192 texels took ten seconds (fuzz_jpeg):
+ * the texels claimed must be backed by the file's bytes, with a margin far
+ * above what real images need (a flat colour compresses to about 128 texels
+ * a byte; this allows 4096). */
+#define JPEG_TEXELS_PER_BYTE 4096u
+#define JPEG_TEXELS_FREE 65536u
+
+int texture_read_jpeg_stream(FILE *f, const char *name, size_t bytes, Texture **out, Err *err)
 {
     struct jpeg_decompress_struct cinfo;
     JpegErr je;
@@ -62,6 +71,11 @@ int texture_read_jpeg_stream(FILE *f, const char *name, Texture **out, Err *err)
         uint32_t w = cinfo.image_width, h = cinfo.image_height;
         jpeg_destroy_decompress(&cinfo);
         return err_set(err, "%s: a %ux%u image exceeds the texture limit of %u on a side", name, w, h, TEXTURE_MAX_SIDE);
+    }
+    if ((uint64_t)cinfo.image_width * cinfo.image_height > (uint64_t)JPEG_TEXELS_PER_BYTE * bytes + JPEG_TEXELS_FREE) {
+        uint32_t w = cinfo.image_width, h = cinfo.image_height;
+        jpeg_destroy_decompress(&cinfo);
+        return err_set(err, "%s: %zu bytes cannot hold a %ux%u image: the file is cut short or corrupt", name, bytes, w, h);
     }
     cinfo.out_color_space = JCS_RGB; /* grey and YCbCr alike come out as RGB */
     jpeg_start_decompress(&cinfo);
@@ -97,8 +111,14 @@ int texture_read(const char *path, Texture **out, Err *err)
         free(rgb);
         return *out ? 0 : err_set(err, "%s: out of memory for a %dx%d texture", path, w, h);
     }
-    int rc = has_extension(path, ".jpg") || has_extension(path, ".jpeg") ? texture_read_jpeg_stream(f, path, out, err)
-                                                                         : texture_read_stream(f, path, out, err);
+    int rc;
+    if (has_extension(path, ".jpg") || has_extension(path, ".jpeg")) {
+        struct stat sb;
+        rc = fstat(fileno(f), &sb) == 0 ? texture_read_jpeg_stream(f, path, (size_t)sb.st_size, out, err)
+                                        : err_set(err, "%s: cannot stat: %s", path, strerror(errno));
+    } else {
+        rc = texture_read_stream(f, path, out, err);
+    }
     fclose(f);
     return rc;
 }

@@ -15,7 +15,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         return 0;
     Texture *t;
     Err err;
-    if (texture_read_jpeg_stream(f, "fuzz.jpg", &t, &err) == 0)
+    if (texture_read_jpeg_stream(f, "fuzz.jpg", size, &t, &err) == 0)
         texture_destroy(t);
     fclose(f);
     return 0;
