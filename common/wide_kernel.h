@@ -91,6 +91,29 @@ static inline __attribute__((always_inline)) int wide_tris_hit(const WideTris *b
     return _mm_movemask_ps(ok);
 }
 
+/* The lanes of mask, in lane order, against the hit so far: the smaller t,
+ * and of equal t the smaller triangle index (wide.h), so the order leaves
+ * come in does not matter.  Returns 1 when one was taken. */
+static inline __attribute__((always_inline)) int wide_take(const WideTris *blk, int mask, __m128 t, __m128 v, __m128 w,
+                                                           __m128 inv, float *best, uint32_t *best_idx, WideHit *hit)
+{
+    float ts[4], vs[4], ws[4], is[4];
+    _mm_storeu_ps(ts, t), _mm_storeu_ps(vs, v), _mm_storeu_ps(ws, w), _mm_storeu_ps(is, inv);
+    int took = 0;
+    while (mask) {
+        int l = __builtin_ctz((unsigned)mask);
+        mask &= mask - 1;
+        uint32_t id = blk->idx[l];
+        if (ts[l] < *best || (ts[l] == *best && id < *best_idx)) {
+            *best = ts[l];
+            *best_idx = id;
+            *hit = (WideHit){ts[l], vs[l] * is[l], ws[l] * is[l], id};
+            took = 1;
+        }
+    }
+    return took;
+}
+
 #endif
 
 /* Per-ray node constants: the row of each axis's entry and exit bound. */
@@ -145,6 +168,21 @@ static inline __attribute__((always_inline)) WideEntry wide_sort_push(const floa
     return e[n - 1];
 }
 
+/* The next node of a single ray: the only child hit, or the nearest of
+ * several with the others pushed. */
+static inline __attribute__((always_inline)) void wide_descend(const float *box, int mask, VN lo, WideEntry *stack,
+                                                              uint32_t *sp, uint32_t *cur, uint32_t *cur_blocks)
+{
+    if ((mask & (mask - 1)) == 0) {
+        int i = __builtin_ctz((unsigned)mask);
+        *cur = ((const uint32_t *)(const void *)(box + WIDE_BOX_FLOATS(NW)))[i];
+        *cur_blocks = ((const uint8_t *)box + WIDE_BLOCKS_OFFSET(NW))[i];
+    } else {
+        WideEntry e = wide_sort_push(box, mask, lo, stack, sp);
+        *cur = e.id, *cur_blocks = e.blocks;
+    }
+}
+
 int KERNEL_CLOSEST(const Wide *w, const Ray *r, real tmax, uint32_t tie, WideHit *hit)
 {
     WideRay k;
@@ -162,14 +200,7 @@ int KERNEL_CLOSEST(const Wide *w, const Ray *r, real tmax, uint32_t tie, WideHit
             int mask;
             WIDE_NODE_TEST(box, best, lo, mask);
             if (mask) {
-                if ((mask & (mask - 1)) == 0) {
-                    int i = __builtin_ctz((unsigned)mask);
-                    cur = ((const uint32_t *)(const void *)(box + WIDE_BOX_FLOATS(NW)))[i];
-                    cur_blocks = ((const uint8_t *)box + WIDE_BLOCKS_OFFSET(NW))[i];
-                } else {
-                    WideEntry e = wide_sort_push(box, mask, lo, stack, &sp);
-                    cur = e.id, cur_blocks = e.blocks;
-                }
+                wide_descend(box, mask, lo, stack, &sp, &cur, &cur_blocks);
                 continue;
             }
         } else {
@@ -179,22 +210,7 @@ int KERNEL_CLOSEST(const Wide *w, const Ray *r, real tmax, uint32_t tie, WideHit
                 int m = wide_tris_hit(blk, &k, best, 1, &t, &v, &ww, &inv);
                 if (!m)
                     continue;
-                float ts[4], vs[4], ws[4], is[4];
-                _mm_storeu_ps(ts, t), _mm_storeu_ps(vs, v), _mm_storeu_ps(ws, ww), _mm_storeu_ps(is, inv);
-                while (m) {
-                    int l = __builtin_ctz((unsigned)m);
-                    m &= m - 1;
-                    uint32_t id = blk->idx[l];
-                    if (ts[l] < best || (ts[l] == best && id < best_idx)) {
-                        best = ts[l];
-                        best_idx = id;
-                        hit->t = ts[l];
-                        hit->b1 = vs[l] * is[l];
-                        hit->b2 = ws[l] * is[l];
-                        hit->tri = id;
-                        found = 1;
-                    }
-                }
+                found |= wide_take(blk, m, t, v, ww, inv, &best, &best_idx, hit);
             }
         }
         do {
@@ -220,14 +236,7 @@ int KERNEL_ANY(const Wide *w, const Ray *r, real tmax)
             int mask;
             WIDE_NODE_TEST(box, tmax, lo, mask);
             if (mask) {
-                if ((mask & (mask - 1)) == 0) {
-                    int i = __builtin_ctz((unsigned)mask);
-                    cur = ((const uint32_t *)(const void *)(box + WIDE_BOX_FLOATS(NW)))[i];
-                    cur_blocks = ((const uint8_t *)box + WIDE_BLOCKS_OFFSET(NW))[i];
-                } else {
-                    WideEntry e = wide_sort_push(box, mask, lo, stack, &sp);
-                    cur = e.id, cur_blocks = e.blocks;
-                }
+                wide_descend(box, mask, lo, stack, &sp, &cur, &cur_blocks);
                 continue;
             }
         } else {
@@ -428,19 +437,8 @@ uint32_t KERNEL_CLOSEST_PACKET(const Wide *w, const Ray *const *rays, int n, con
                     int m = wide_tris_hit(blk, &k[i], best[i], 1, &t, &v, &ww, &inv);
                     if (!m)
                         continue;
-                    float ts[4], vs[4], ws[4], is[4];
-                    _mm_storeu_ps(ts, t), _mm_storeu_ps(vs, v), _mm_storeu_ps(ws, ww), _mm_storeu_ps(is, inv);
-                    while (m) {
-                        int l = __builtin_ctz((unsigned)m);
-                        m &= m - 1;
-                        uint32_t id = blk->idx[l];
-                        if (ts[l] < best[i] || (ts[l] == best[i] && id < best_idx[i])) {
-                            best[i] = ts[l];
-                            best_idx[i] = id;
-                            hits[i] = (WideHit){ts[l], vs[l] * is[l], ws[l] * is[l], id};
-                            found |= 1u << i;
-                        }
-                    }
+                    if (wide_take(blk, m, t, v, ww, inv, &best[i], &best_idx[i], &hits[i]))
+                        found |= 1u << i;
                 }
             }
             far = wide_max_of(best, all);
