@@ -2,6 +2,8 @@
 #define _POSIX_C_SOURCE 200809L
 #include "fileio.h"
 
+#include "bigmem.h"
+
 #include <errno.h>
 #include <stdlib.h>
 #include <string.h>
@@ -25,7 +27,8 @@ int file_read_all(const char *path, size_t max_bytes, char **data, size_t *len, 
         return err_set(err, "%s: %lld bytes exceed the limit of %zu", path, (long long)st.st_size, max_bytes);
     }
     size_t n = (size_t)st.st_size;
-    char *buf = malloc(n + 1);
+    /* a big model's text on huge pages: a page fault per 2 MiB, not per 4 KiB */
+    char *buf = bigmem_alloc(n + 1);
     if (!buf) {
         fclose(f);
         return err_set(err, "%s: out of memory for %zu bytes", path, n);

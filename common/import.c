@@ -171,7 +171,7 @@ static int import_read_memory_direct(const void *data, size_t len, const char *h
 /* The triangles of an imported scene into *out (stats counted). */
 static int import_scene(const struct aiScene *sc, const char *path, int stl, Mesh *out, ImportStats *st, Err *err)
 {
-    int has_n = 0, has_t = 0;
+    int has_n = 0, has_t = 0, has_c = 0;
     unsigned long faces = 0;
     for (unsigned i = 0; i < sc->mNumMeshes; i++) {
         const struct aiMesh *am = sc->mMeshes[i];
@@ -179,6 +179,8 @@ static int import_scene(const struct aiScene *sc, const char *path, int stl, Mes
             continue;
         has_n |= am->mNormals != NULL && !stl;
         has_t |= am->mTextureCoords[0] != NULL;
+        has_c |= am->mColors[0] != NULL;
+        st->coloured += am->mColors[0] ? am->mNumVertices : 0;
         faces += am->mNumFaces;
     }
     int rc = 0;
@@ -193,8 +195,16 @@ static int import_scene(const struct aiScene *sc, const char *path, int stl, Mes
         has_m = aiGetMaterialString(sc->mMaterials[0], AI_MATKEY_NAME, &name) == aiReturn_SUCCESS && name.length &&
                 strcmp(name.data, AI_DEFAULT_MATERIAL_NAME) != 0;
     }
+    /* vertex colours (scanners write them in PLY) where the model has no
+     * material colour, as the OBJ reader keeps them */
+    if (has_c && has_m) {
+        st->colours_ignored = 1;
+        has_c = 0;
+    }
     if (rc == 0)
-        rc = mesh_init(out, has_n, has_t, has_m, err);
+        rc = mesh_init(out, (has_n ? MESH_NORMALS : 0u) | (has_t ? MESH_UVS : 0u) | (has_m ? MESH_MATERIALS : 0u) |
+                                (has_c ? MESH_COLOURS : 0u),
+                       err);
     for (unsigned i = 0; rc == 0 && has_m && i < sc->mNumMaterials; i++)
         rc = mesh_add_material(out, import_material(sc->mMaterials[i]), err);
     for (unsigned i = 0; rc == 0 && i < sc->mNumMeshes; i++) {
@@ -213,7 +223,7 @@ static int import_scene(const struct aiScene *sc, const char *path, int stl, Mes
             }
             if (fc->mNumIndices != 3)
                 continue; /* Triangulate leaves none */
-            vec3 p[3], n[3];
+            vec3 p[3], n[3], col[3];
             real uv[6] = {0};
             int bad = 0;
             for (int k = 0; k < 3; k++) {
@@ -230,6 +240,16 @@ static int import_scene(const struct aiScene *sc, const char *path, int stl, Mes
                     uv[2 * k] = am->mTextureCoords[0][v].x;
                     uv[2 * k + 1] = am->mTextureCoords[0][v].y;
                 }
+                if (has_c) { /* a mesh without colours beside ones with: the default diffuse colour */
+                    const struct aiColor4D *c = am->mColors[0];
+                    col[k] = c ? v3(c[v].r, c[v].g, c[v].b) : material_default().kd;
+                    if (!v3_is_finite(col[k]) || col[k].x < 0 || col[k].y < 0 || col[k].z < 0)
+                        bad = 2;
+                }
+            }
+            if (bad == 2) {
+                rc = err_set(err, "%s: mesh %u face %u: a vertex colour that is negative or not a finite number", path, i, f);
+                break;
             }
             if (bad) {
                 rc = err_set(err, "%s: mesh %u face %u: vertex index out of range", path, i, f);
@@ -252,7 +272,7 @@ static int import_scene(const struct aiScene *sc, const char *path, int stl, Mes
                 }
             }
             uint32_t mat = has_m && am->mMaterialIndex < sc->mNumMaterials ? am->mMaterialIndex : 0;
-            rc = mesh_add(out, p, has_n ? n : NULL, has_t ? uv : NULL, mat, err);
+            rc = mesh_add(out, p, has_n ? n : NULL, has_t ? uv : NULL, has_c ? col : NULL, mat, err);
         }
     }
     if (rc) {
@@ -281,7 +301,7 @@ static void send_mesh(int fd, int rc, const Mesh *m, const ImportStats *st, cons
         sink_put(&o, err->msg, sizeof err->msg);
     } else {
         sink_put(&o, st, sizeof *st);
-        uint32_t head[5] = {m->tri_count, m->nrm != NULL, m->uv != NULL, m->mat != NULL, m->material_count};
+        uint32_t head[5] = {m->tri_count, mesh_attrs(m), m->material_count, 0, 0};
         sink_put(&o, head, sizeof head);
         sink_put(&o, m->pos, (size_t)m->tri_count * 3 * sizeof *m->pos);
         if (m->nrm)
@@ -290,6 +310,8 @@ static void send_mesh(int fd, int rc, const Mesh *m, const ImportStats *st, cons
             sink_put(&o, m->uv, (size_t)m->tri_count * 6 * sizeof *m->uv);
         if (m->mat)
             sink_put(&o, m->mat, (size_t)m->tri_count * sizeof *m->mat);
+        if (m->col)
+            sink_put(&o, m->col, (size_t)m->tri_count * 3 * sizeof *m->col);
         sink_put(&o, m->materials, (size_t)m->material_count * sizeof *m->materials);
     }
     const uint8_t *p = o.data;
@@ -321,22 +343,25 @@ static int receive_mesh(const uint8_t *data, size_t len, const char *name, Mesh 
     uint32_t head[5];
     if (cursor_get(&c, st, sizeof *st) || cursor_get(&c, head, sizeof head))
         return err_set(err, "%s: the importer's answer is cut short", name);
-    uint32_t n = head[0];
-    if (n > IMPORT_MAX_TRIANGLES || head[4] > 65536 || (head[3] && !head[4]))
+    uint32_t n = head[0], attrs = head[1], nmat = head[2];
+    int has_n = attrs & MESH_NORMALS, has_t = attrs & MESH_UVS, has_m = attrs & MESH_MATERIALS,
+        has_c = attrs & MESH_COLOURS;
+    if (n > IMPORT_MAX_TRIANGLES || nmat > 65536 || (has_m && !nmat) || attrs > 15 || head[3] || head[4])
         return err_set(err, "%s: the importer's answer is implausible", name);
-    size_t need = (size_t)n * (3 * sizeof(vec3) + (head[1] ? 3 * sizeof(vec3) : 0) + (head[2] ? 6 * sizeof(real) : 0) +
-                               (head[3] ? sizeof(uint32_t) : 0)) +
-                  (size_t)head[4] * sizeof(Material);
+    size_t need = (size_t)n * (3 * sizeof(vec3) + (has_n ? 3 * sizeof(vec3) : 0) + (has_t ? 6 * sizeof(real) : 0) +
+                               (has_m ? sizeof(uint32_t) : 0) + (has_c ? 3 * sizeof(vec3) : 0)) +
+                  (size_t)nmat * sizeof(Material);
     if (need != c.left)
         return err_set(err, "%s: the importer's answer is cut short", name);
-    if (mesh_init(out, (int)head[1], (int)head[2], (int)head[3], err))
+    if (mesh_init(out, attrs, err))
         return -1;
     /* triangles one by one through mesh_add, which owns the arrays' growth */
     const uint8_t *pos = c.p, *nrm = pos + (size_t)n * 3 * sizeof(vec3);
-    const uint8_t *uv = nrm + (head[1] ? (size_t)n * 3 * sizeof(vec3) : 0);
-    const uint8_t *mat = uv + (head[2] ? (size_t)n * 6 * sizeof(real) : 0);
-    const uint8_t *mats = mat + (head[3] ? (size_t)n * sizeof(uint32_t) : 0);
-    for (uint32_t i = 0; i < head[4]; i++) {
+    const uint8_t *uv = nrm + (has_n ? (size_t)n * 3 * sizeof(vec3) : 0);
+    const uint8_t *mat = uv + (has_t ? (size_t)n * 6 * sizeof(real) : 0);
+    const uint8_t *col = mat + (has_m ? (size_t)n * sizeof(uint32_t) : 0);
+    const uint8_t *mats = col + (has_c ? (size_t)n * 3 * sizeof(vec3) : 0);
+    for (uint32_t i = 0; i < nmat; i++) {
         Material mt;
         memcpy(&mt, mats + (size_t)i * sizeof mt, sizeof mt);
         mt.texture = -1;
@@ -346,21 +371,23 @@ static int receive_mesh(const uint8_t *data, size_t len, const char *name, Mesh 
         }
     }
     for (uint32_t i = 0; i < n; i++) {
-        vec3 p[3], q[3];
+        vec3 p[3], q[3], k[3];
         real u[6];
         uint32_t id = 0;
         memcpy(p, pos + (size_t)i * sizeof p, sizeof p);
-        if (head[1])
+        if (has_n)
             memcpy(q, nrm + (size_t)i * sizeof q, sizeof q);
-        if (head[2])
+        if (has_t)
             memcpy(u, uv + (size_t)i * sizeof u, sizeof u);
-        if (head[3])
+        if (has_m)
             memcpy(&id, mat + (size_t)i * sizeof id, sizeof id);
-        if (id >= (head[4] ? head[4] : 1)) {
+        if (has_c)
+            memcpy(k, col + (size_t)i * sizeof k, sizeof k);
+        if (id >= (nmat ? nmat : 1)) {
             mesh_free(out);
             return err_set(err, "%s: the importer's answer is implausible", name);
         }
-        if (mesh_add(out, p, head[1] ? q : NULL, head[2] ? u : NULL, id, err)) {
+        if (mesh_add(out, p, has_n ? q : NULL, has_t ? u : NULL, has_c ? k : NULL, id, err)) {
             mesh_free(out);
             return -1;
         }

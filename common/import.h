@@ -7,7 +7,9 @@
  * and counted.  Normals and texture coordinates come along where the file
  * has them, except STL's facet normals (STL has no other kind: such a model
  * is flat, and its geometric normals are the ones lanray computes), and
- * each material's diffuse and specular colour and shininess.
+ * each material's diffuse and specular colour and shininess.  Vertex
+ * colours (the first set) are kept where the file has no materials, as the
+ * OBJ reader keeps them; otherwise they are dropped and counted.
  *
  * Assimp runs in a child process (fork): it crashes on some malformed
  * files, and a crash there becomes an error naming the file. */
@@ -20,6 +22,8 @@
 
 typedef struct {
     unsigned long meshes, triangles, degenerate, points, lines, vertices;
+    unsigned long coloured; /* vertices with a colour */
+    int colours_ignored; /* the file had vertex colours and materials: the materials win */
 } ImportStats;
 
 /* Whether the name's extension is one the importer takes (not .obj or .tmd). */

@@ -4,17 +4,20 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "bigmem.h"
+
 #define MESH_MAX_TRIS (1u << 26)
 
-int mesh_init(Mesh *m, int with_normals, int with_uvs, int with_materials, Err *err)
+int mesh_init(Mesh *m, unsigned attrs, Err *err)
 {
     memset(m, 0, sizeof *m);
     m->cap = 1024;
     m->pos = malloc(m->cap * 3 * sizeof *m->pos);
-    m->nrm = with_normals ? malloc(m->cap * 3 * sizeof *m->nrm) : NULL;
-    m->uv = with_uvs ? malloc(m->cap * 6 * sizeof *m->uv) : NULL;
-    m->mat = with_materials ? malloc(m->cap * sizeof *m->mat) : NULL;
-    if (!m->pos || (with_normals && !m->nrm) || (with_uvs && !m->uv) || (with_materials && !m->mat)) {
+    m->nrm = attrs & MESH_NORMALS ? malloc(m->cap * 3 * sizeof *m->nrm) : NULL;
+    m->uv = attrs & MESH_UVS ? malloc(m->cap * 6 * sizeof *m->uv) : NULL;
+    m->mat = attrs & MESH_MATERIALS ? malloc(m->cap * sizeof *m->mat) : NULL;
+    m->col = attrs & MESH_COLOURS ? malloc(m->cap * 3 * sizeof *m->col) : NULL;
+    if (!m->pos || mesh_attrs(m) != attrs) {
         mesh_free(m);
         return err_set(err, "mesh: out of memory");
     }
@@ -27,11 +30,41 @@ void mesh_free(Mesh *m)
     free(m->nrm);
     free(m->uv);
     free(m->mat);
+    free(m->col);
     free(m->materials);
     for (uint32_t i = 0; i < m->texture_count; i++)
         texture_destroy(m->textures[i]);
     free(m->textures);
     memset(m, 0, sizeof *m);
+}
+
+/* *p replaced by a block of cap elements holding its first n */
+static int move_to(void **p, size_t elem, uint32_t n, uint32_t cap)
+{
+    if (!*p)
+        return 0;
+    void *q = bigmem_alloc((size_t)cap * elem);
+    if (!q)
+        return -1;
+    memcpy(q, *p, (size_t)n * elem);
+    free(*p);
+    *p = q;
+    return 0;
+}
+
+int mesh_reserve(Mesh *m, uint32_t tris, Err *err)
+{
+    if (tris <= m->cap)
+        return 0;
+    if (tris > MESH_MAX_TRIS)
+        return err_set(err, "mesh: more than %u triangles", MESH_MAX_TRIS);
+    uint32_t n = m->tri_count;
+    if (move_to((void **)&m->pos, 3 * sizeof *m->pos, n, tris) || move_to((void **)&m->nrm, 3 * sizeof *m->nrm, n, tris) ||
+        move_to((void **)&m->uv, 6 * sizeof *m->uv, n, tris) || move_to((void **)&m->mat, sizeof *m->mat, n, tris) ||
+        move_to((void **)&m->col, 3 * sizeof *m->col, n, tris))
+        return err_set(err, "mesh: out of memory for %u triangles", tris);
+    m->cap = tris;
+    return 0;
 }
 
 int mesh_add_texture(Mesh *m, Texture *t, uint32_t *id, Err *err)
@@ -62,14 +95,21 @@ static int grow(void **p, size_t elem, uint32_t cap)
     return 0;
 }
 
-int mesh_add(Mesh *m, const vec3 pos[3], const vec3 *nrm, const real *uv, uint32_t mat, Err *err)
+unsigned mesh_attrs(const Mesh *m)
+{
+    return (m->nrm ? MESH_NORMALS : 0u) | (m->uv ? MESH_UVS : 0u) | (m->mat ? MESH_MATERIALS : 0u) |
+           (m->col ? MESH_COLOURS : 0u);
+}
+
+int mesh_add(Mesh *m, const vec3 pos[3], const vec3 *nrm, const real *uv, const vec3 *col, uint32_t mat, Err *err)
 {
     if (m->tri_count == m->cap) {
         if (m->cap >= MESH_MAX_TRIS)
             return err_set(err, "mesh: more than %u triangles", MESH_MAX_TRIS);
         uint32_t cap = m->cap * 2;
         if (grow((void **)&m->pos, 3 * sizeof *m->pos, cap) || grow((void **)&m->nrm, 3 * sizeof *m->nrm, cap) ||
-            grow((void **)&m->uv, 6 * sizeof *m->uv, cap) || grow((void **)&m->mat, sizeof *m->mat, cap))
+            grow((void **)&m->uv, 6 * sizeof *m->uv, cap) || grow((void **)&m->mat, sizeof *m->mat, cap) ||
+            grow((void **)&m->col, 3 * sizeof *m->col, cap))
             return err_set(err, "mesh: out of memory at %u triangles", m->tri_count);
         m->cap = cap;
     }
@@ -81,6 +121,8 @@ int mesh_add(Mesh *m, const vec3 pos[3], const vec3 *nrm, const real *uv, uint32
         memcpy(&m->uv[6 * i], uv, 6 * sizeof *uv);
     if (m->mat)
         m->mat[i] = mat;
+    if (m->col)
+        memcpy(&m->col[3 * i], col, 3 * sizeof *col);
     return 0;
 }
 
@@ -94,25 +136,6 @@ int mesh_add_material(Mesh *m, Material mat, Err *err)
     m->materials = p;
     p[m->material_count++] = mat;
     return 0;
-}
-
-void mesh_trim(Mesh *m, int keep_normals, int keep_uvs, int keep_materials)
-{
-    if (!keep_normals) {
-        free(m->nrm);
-        m->nrm = NULL;
-    }
-    if (!keep_uvs) {
-        free(m->uv);
-        m->uv = NULL;
-    }
-    if (!keep_materials) {
-        free(m->mat);
-        m->mat = NULL;
-        free(m->materials);
-        m->materials = NULL;
-        m->material_count = 0;
-    }
 }
 
 int mesh_tri_is_degenerate(const vec3 p[3])

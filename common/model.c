@@ -8,8 +8,10 @@
 
 #include "simd.h"
 
-Model *model_alloc(uint32_t tri_count, uint32_t node_count, uint32_t material_count, int normals, int uvs, int mat_ids)
+Model *model_alloc(uint32_t tri_count, uint32_t node_count, uint32_t material_count, unsigned attrs)
 {
+    const int normals = attrs & MESH_NORMALS, uvs = attrs & MESH_UVS, mat_ids = attrs & MESH_MATERIALS,
+              colours = attrs & MESH_COLOURS;
     Model *m = calloc(1, sizeof *m);
     if (!m)
         return NULL;
@@ -19,6 +21,7 @@ Model *model_alloc(uint32_t tri_count, uint32_t node_count, uint32_t material_co
     m->normals = normals ? malloc(tc * 3 * sizeof *m->normals) : NULL;
     m->uvs = uvs ? malloc(tc * 6 * sizeof *m->uvs) : NULL;
     m->mat_ids = mat_ids ? malloc(tc * sizeof *m->mat_ids) : NULL;
+    m->colours = colours ? malloc(tc * 3 * sizeof *m->colours) : NULL;
     m->material_count = material_count;
     m->materials = material_count ? malloc(material_count * sizeof *m->materials) : NULL;
     m->bvh.node_count = node_count;
@@ -26,7 +29,7 @@ Model *model_alloc(uint32_t tri_count, uint32_t node_count, uint32_t material_co
     if (node_count && bvh_alloc_nodes(&m->bvh, node_count))
         m->bvh.nodes = NULL;
     if (!m->tris || (normals && !m->normals) || (uvs && !m->uvs) || (mat_ids && !m->mat_ids) ||
-        (material_count && !m->materials) || (node_count && !m->bvh.nodes)) {
+        (colours && !m->colours) || (material_count && !m->materials) || (node_count && !m->bvh.nodes)) {
         model_destroy(m);
         return NULL;
     }
@@ -43,6 +46,7 @@ void model_destroy(Model *m)
     free(m->normals);
     free(m->uvs);
     free(m->mat_ids);
+    free(m->colours);
     free(m->materials);
     for (uint32_t i = 0; i < m->texture_count; i++)
         texture_destroy(m->textures[i]);
@@ -79,11 +83,13 @@ static int model_build_bvh(Model *m, const BvhOptions *opt, Err *err)
     vec3 *nrm = m->normals ? malloc(n * 3 * sizeof *nrm) : NULL;
     real *uvs = m->uvs ? malloc(n * 6 * sizeof *uvs) : NULL;
     uint32_t *mids = m->mat_ids ? malloc(n * sizeof *mids) : NULL;
-    if (!tris || (m->normals && !nrm) || (m->uvs && !uvs) || (m->mat_ids && !mids)) {
+    vec3 *cols = m->colours ? malloc(n * 3 * sizeof *cols) : NULL;
+    if (!tris || (m->normals && !nrm) || (m->uvs && !uvs) || (m->mat_ids && !mids) || (m->colours && !cols)) {
         free(tris);
         free(nrm);
         free(uvs);
         free(mids);
+        free(cols);
         bvh_destroy(&bvh);
         return err_set(err, "model: out of memory");
     }
@@ -96,15 +102,19 @@ static int model_build_bvh(Model *m, const BvhOptions *opt, Err *err)
             memcpy(&uvs[6 * i], &m->uvs[6 * p], 6 * sizeof *uvs);
         if (mids)
             mids[i] = m->mat_ids[p];
+        if (cols)
+            memcpy(&cols[3 * i], &m->colours[3 * p], 3 * sizeof *cols);
     }
     free(m->tris);
     free(m->normals);
     free(m->uvs);
     free(m->mat_ids);
+    free(m->colours);
     m->tris = tris;
     m->normals = nrm;
     m->uvs = uvs;
     m->mat_ids = mids;
+    m->colours = cols;
     free(bvh.prims);
     bvh.prims = NULL;
     bvh_destroy(&m->bvh);
@@ -116,7 +126,7 @@ int model_from_mesh(Model **out, const Mesh *mesh, const BvhOptions *opt, Err *e
 {
     *out = NULL;
     uint32_t n = mesh->tri_count;
-    Model *m = model_alloc(n, 0, mesh->material_count, mesh->nrm != NULL, mesh->uv != NULL, mesh->mat != NULL);
+    Model *m = model_alloc(n, 0, mesh->material_count, mesh_attrs(mesh));
     if (!m)
         return err_set(err, "model: out of memory for %u triangles", n);
     for (uint32_t i = 0; i < n; i++)
@@ -127,6 +137,8 @@ int model_from_mesh(Model **out, const Mesh *mesh, const BvhOptions *opt, Err *e
         memcpy(m->normals, mesh->nrm, n * 3 * sizeof *m->normals);
     if (m->uvs)
         memcpy(m->uvs, mesh->uv, n * 6 * sizeof *m->uvs);
+    if (m->colours)
+        memcpy(m->colours, mesh->col, n * 3 * sizeof *m->colours);
     if (m->mat_ids)
         for (uint32_t i = 0; i < n; i++) {
             if (mesh->mat[i] >= mesh->material_count) {
@@ -169,7 +181,8 @@ ModelBytes model_bytes(const Model *m)
     b.tree = (size_t)m->bvh.node_count * sizeof(BvhNode) + (m->bvh.prims ? (size_t)m->bvh.prim_count * 4 : 0);
     b.wide = wide_bytes(m->wide);
     b.attributes = (size_t)m->tri_count * ((m->normals ? 3 * sizeof(vec3) : 0) + (m->uvs ? 6 * sizeof(real) : 0) +
-                                           (m->mat_ids ? sizeof(uint32_t) : 0)) +
+                                           (m->mat_ids ? sizeof(uint32_t) : 0) +
+                                           (m->colours ? 3 * sizeof(vec3) : 0)) +
                    (size_t)m->material_count * sizeof(Material);
     return b;
 }

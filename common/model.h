@@ -19,6 +19,8 @@ typedef struct {
     vec3 *normals;      /* 3 per triangle, or NULL (flat shading) */
     real *uvs;          /* 6 per triangle, or NULL */
     uint32_t *mat_ids;  /* 1 per triangle, or NULL (one material for all) */
+    vec3 *colours;      /* 3 per triangle: vertex colours, the diffuse colour
+                         * where the model's material applies; or NULL */
     Material *materials;
     uint32_t material_count;
     Texture **textures;  /* the materials' textures (MTL map_Kd), or NULL */
@@ -38,8 +40,9 @@ int model_from_mesh(Model **out, const Mesh *mesh, const BvhOptions *opt, Err *e
 /* Replaces the BVH with one of another kind, keeping the triangles. */
 int model_rebuild(Model *m, const BvhOptions *opt, Err *err);
 void model_destroy(Model *m);
-/* Allocates a model with room for the given counts and attributes (used by the .tmd reader). */
-Model *model_alloc(uint32_t tri_count, uint32_t node_count, uint32_t material_count, int normals, int uvs, int mat_ids);
+/* Allocates a model with room for the given counts and attributes (MESH_*
+ * flags; used by the .tmd reader). */
+Model *model_alloc(uint32_t tri_count, uint32_t node_count, uint32_t material_count, unsigned attrs);
 
 /* What a loaded model holds, in bytes (make bench compares it with Embree's). */
 typedef struct {

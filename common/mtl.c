@@ -1,5 +1,7 @@
-/* mtl.c - reads the subset of MTL that Phong shading uses; other statements
- * (illum, map_*, Ni, d, ...) are accepted and ignored.  Material names are
+/* mtl.c - reads the MTL statements of materials: the Phong terms and map_Kd
+ * that lanray draws, and Ka, Ke, Ni, d, Tr and illum, checked and kept
+ * (mtl.h); other statements (the other maps, ...) are accepted and ignored.
+ * Material names are
  * the rest of the newmtl line (exporters write names with spaces, and
  * empty ones); UTF-16 files are decoded first (textenc.h). */
 #include "mtl.h"
@@ -14,7 +16,7 @@
 #define MTL_MAX_BYTES ((size_t)64 << 20)
 #define MTL_MAX_MATERIALS 65536u
 
-static int add(MtlLib *lib, const char *name)
+static int add(MtlLib *lib, const char *name, int line)
 {
     if (lib->count >= MTL_MAX_MATERIALS)
         return -1;
@@ -30,6 +32,11 @@ static int add(MtlLib *lib, const char *name)
     if (!mp)
         return -1;
     lib->maps = mp;
+    void *x = realloc(lib->extra, (lib->count + 1) * sizeof *lib->extra);
+    if (!x)
+        return -1;
+    lib->extra = x;
+    lib->extra[lib->count] = (MtlExtra){v3_splat(0), v3_splat(0), R(0), R(1), -1, line, lib->file_count - 1};
     lib->maps[lib->count] = (MtlMap){"", {R(1), R(1)}, {R(0), R(0)}, 0};
     snprintf(lib->names[lib->count], MTL_NAME_MAX, "%s", name);
     lib->mats[lib->count] = material_default();
@@ -101,11 +108,25 @@ static int read_map(const Tokens *t, const char *lib_path, MtlMap *m)
     return 0;
 }
 
+/* One number after the keyword (after `-halo` for d) in [lo, hi]. */
+static int read_one(const Tokens *t, real lo, real hi, real *out)
+{
+    int i = t->n == 3 && strcmp(t->tok[1], "-halo") == 0 ? 2 : 1;
+    if (t->n != i + 1 || lex_real(t->tok[i], out) || *out < lo || *out > hi)
+        return -1;
+    return 0;
+}
+
 int mtl_parse(MtlLib *lib, char *text, size_t len, const char *name, Err *err)
 {
     Lexer lx = lex_make(text, len);
     Tokens t;
     Material *cur = NULL;
+    void *f = realloc(lib->files, (lib->file_count + 1) * sizeof *lib->files);
+    if (!f)
+        return err_set(err, "%s: out of memory", name);
+    lib->files = f;
+    snprintf(lib->files[lib->file_count++], MTL_PATH_MAX, "%s", name);
     char *line;
     while ((line = lex_next_raw(&lx))) {
         char *s = line;
@@ -122,7 +143,7 @@ int mtl_parse(MtlLib *lib, char *text, size_t len, const char *name, Err *err)
             char *e = n + strlen(n);
             while (e > n && (e[-1] == ' ' || e[-1] == '\t' || e[-1] == '\r'))
                 *--e = 0;
-            if (add(lib, n))
+            if (add(lib, n, lx.line))
                 return err_set(err, "%s:%d: too many materials or out of memory", name, lx.line);
             cur = &lib->mats[lib->count - 1];
             continue;
@@ -131,7 +152,8 @@ int mtl_parse(MtlLib *lib, char *text, size_t len, const char *name, Err *err)
         if (t.n == 0)
             continue;
         const char *k = t.tok[0];
-        if (strcmp(k, "Kd") == 0 || strcmp(k, "Ks") == 0) {
+        MtlExtra *x = cur ? &lib->extra[lib->count - 1] : NULL;
+        if (strcmp(k, "Kd") == 0 || strcmp(k, "Ks") == 0 || strcmp(k, "Ka") == 0 || strcmp(k, "Ke") == 0) {
             if (!cur)
                 return err_set(err, "%s:%d: %s before any newmtl", name, lx.line, k);
             vec3 v;
@@ -139,8 +161,32 @@ int mtl_parse(MtlLib *lib, char *text, size_t len, const char *name, Err *err)
                 return err_set(err, "%s:%d: expected 3 non-negative numbers after %s", name, lx.line, k);
             if (k[1] == 'd')
                 cur->kd = v;
-            else
+            else if (k[1] == 's')
                 cur->ks = v;
+            else if (k[1] == 'a')
+                x->ka = v;
+            else
+                x->ke = v;
+        } else if (strcmp(k, "Ni") == 0 || strcmp(k, "d") == 0 || strcmp(k, "Tr") == 0) {
+            if (!cur)
+                return err_set(err, "%s:%d: %s before any newmtl", name, lx.line, k);
+            real v;
+            /* Ni 0 is what several exporters write for "not set" */
+            if (k[0] == 'N' ? read_one(&t, R(0), R(100), &v) : read_one(&t, R(0), R(1), &v))
+                return err_set(err, "%s:%d: expected %s after %s", name, lx.line,
+                               k[0] == 'N' ? "one number from 0 to 100" : "one number from 0 to 1", k);
+            if (k[0] == 'N')
+                x->ni = v;
+            else
+                x->d = k[0] == 'd' ? v : R(1) - v;
+        } else if (strcmp(k, "illum") == 0) {
+            if (!cur)
+                return err_set(err, "%s:%d: illum before any newmtl", name, lx.line);
+            char *end;
+            long v = t.n == 2 ? strtol(t.tok[1], &end, 10) : -1;
+            if (t.n != 2 || *end || v < 0 || v > 10)
+                return err_set(err, "%s:%d: expected a whole number from 0 to 10 after illum", name, lx.line);
+            x->illum = (int)v;
         } else if (strcmp(k, "map_Kd") == 0) {
             if (!cur)
                 return err_set(err, "%s:%d: map_Kd before any newmtl", name, lx.line);
@@ -173,6 +219,25 @@ int mtl_read(MtlLib *lib, const char *path, Err *err)
     return rc;
 }
 
+int mtl_undrawn(const MtlExtra *x, char *buf, size_t size)
+{
+    size_t used = 0;
+    buf[0] = 0;
+#define SAY(...) (used += (size_t)snprintf(buf + used, used < size ? size - used : 0, __VA_ARGS__))
+    if (x->d < R(1))
+        SAY("%stransparency (d %g)", used ? ", " : "", (double)x->d);
+    if ((x->illum == 4 || x->illum == 6 || x->illum == 7 || x->illum == 9) && x->ni > R(0))
+        SAY("%sglass (illum %d, Ni %g)", used ? ", " : "", x->illum, (double)x->ni);
+    else if (x->illum == 4 || x->illum == 6 || x->illum == 7 || x->illum == 9)
+        SAY("%sglass (illum %d)", used ? ", " : "", x->illum);
+    else if (x->illum == 3 || x->illum == 5 || x->illum == 8)
+        SAY("%sreflection (illum %d)", used ? ", " : "", x->illum);
+    if (v3_max_comp(x->ke) > R(0))
+        SAY("%semission (Ke %g %g %g)", used ? ", " : "", (double)x->ke.x, (double)x->ke.y, (double)x->ke.z);
+#undef SAY
+    return used > 0;
+}
+
 int mtl_find(const MtlLib *lib, const char *name)
 {
     for (unsigned i = 0; i < lib->count; i++)
@@ -186,5 +251,7 @@ void mtl_free(MtlLib *lib)
     free(lib->names);
     free(lib->mats);
     free(lib->maps);
+    free(lib->extra);
+    free(lib->files);
     memset(lib, 0, sizeof *lib);
 }

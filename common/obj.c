@@ -8,6 +8,7 @@
 #include <string.h>
 
 #include "array.h"
+#include "bigmem.h"
 #include "fileio.h"
 #include "lex.h"
 #include "mtl.h"
@@ -23,11 +24,15 @@ typedef struct {
 
 typedef struct {
     vec3 *v;
+    vec3 *vc; /* vertex colours, beside v from the first coloured vertex on (NULL before) */
     real *vt; /* 2 per entry */
     vec3 *vn;
     ObjTri *tris;
     uint32_t nv, nvt, nvn, ntri;
-    uint32_t cv, cvt, cvn, ctri;
+    uint32_t cv, cvc, cvt, cvn, ctri;
+    int colour_line; /* the first coloured vertex's line */
+    int colour_ints; /* every colour number so far a whole number (0..255 exporters) */
+    real colour_max;
     int32_t (*corner)[3];
     uint32_t ccorner;
     MtlLib lib;
@@ -92,26 +97,45 @@ typedef struct {
     Err *err;
 } Warner;
 
-/* One warning: counted, handed to the caller's callback; with `strict` an
- * error instead (returns -1 with the message in err). */
-static int warn(Warner *w, int line, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
-static int warn(Warner *w, int line, const char *fmt, ...)
+/* One warning about `file` (line 0: the file as a whole): counted, handed
+ * to the caller's callback; with `strict` an error instead (returns -1 with
+ * the message in err). */
+static int vwarn(Warner *w, const char *file, int line, const char *fmt, va_list ap)
 {
-    char what[512], msg[1024];
-    va_list ap;
-    va_start(ap, fmt);
+    char what[512], msg[1024 + MTL_PATH_MAX];
     vsnprintf(what, sizeof what, fmt, ap);
-    va_end(ap);
     if (line > 0)
-        snprintf(msg, sizeof msg, "%s:%d: %s", w->name, line, what);
+        snprintf(msg, sizeof msg, "%s:%d: %s", file, line, what);
     else
-        snprintf(msg, sizeof msg, "%s: %s", w->name, what);
+        snprintf(msg, sizeof msg, "%s: %s", file, what);
     if (w->opt && w->opt->strict)
         return err_set(w->err, "%s (an error with --strict)", msg);
     w->st->warnings++;
     if (w->opt && w->opt->warn)
         w->opt->warn(w->opt->warn_ctx, msg);
     return 0;
+}
+
+/* A warning about the OBJ file itself. */
+static int warn(Warner *w, int line, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
+static int warn(Warner *w, int line, const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    int rc = vwarn(w, w->name, line, fmt, ap);
+    va_end(ap);
+    return rc;
+}
+
+/* A warning about a line of another file (a material library). */
+static int warn_in(Warner *w, const char *file, int line, const char *fmt, ...) __attribute__((format(printf, 4, 5)));
+static int warn_in(Warner *w, const char *file, int line, const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    int rc = vwarn(w, file, line, fmt, ap);
+    va_end(ap);
+    return rc;
 }
 
 /* The rest of a line after its keyword, without surrounding blanks and any
@@ -172,9 +196,50 @@ static int read_reals(const Tokens *t, int first, int want, int allow_extra, rea
     return 0;
 }
 
+/* A first pass over the text counts the lines of vertices, texture
+ * coordinates, normals and faces, so that each array is allocated once, at
+ * its size and on huge pages, instead of grown by doubling: a big model
+ * then takes a page fault per 2 MiB rather than per 4 KiB, and no copies
+ * (measured: tools/bench-import).  The counts only size the arrays; a face
+ * with more corners, or a line that turns out not to be a vertex, is
+ * handled by the growth that remains. */
+static void obj_presize(Obj *o, const char *text, size_t len)
+{
+    uint32_t n[4] = {0, 0, 0, 0}; /* v, vt, vn, f */
+    const char *p = text, *end = text + len;
+    while (p < end) {
+        while (p < end && (*p == ' ' || *p == '\t'))
+            p++;
+        if (end - p >= 2) {
+            int blank = p[1] == ' ' || p[1] == '\t';
+            if (p[0] == 'v')
+                n[0] += blank, n[1] += p[1] == 't', n[2] += p[1] == 'n';
+            else if (p[0] == 'f')
+                n[3] += blank;
+        }
+        const char *nl = memchr(p, '\n', (size_t)(end - p));
+        if (!nl)
+            break;
+        p = nl + 1;
+    }
+    void **arr[4] = {(void **)&o->v, (void **)&o->vt, (void **)&o->vn, (void **)&o->tris};
+    uint32_t *cap[4] = {&o->cv, &o->cvt, &o->cvn, &o->ctri};
+    const size_t elem[4] = {sizeof *o->v, 2 * sizeof *o->vt, sizeof *o->vn, sizeof *o->tris};
+    for (int k = 0; k < 4; k++) {
+        if (n[k] < 4096 || n[k] > OBJ_MAX_ITEMS)
+            continue; /* small arrays grow cheaply; a count past the limit fails where it is met */
+        void *a = bigmem_alloc((size_t)n[k] * elem[k]);
+        if (a) {
+            *arr[k] = a;
+            *cap[k] = n[k];
+        }
+    }
+}
+
 static void obj_free(Obj *o)
 {
     free(o->v);
+    free(o->vc);
     free(o->vt);
     free(o->vn);
     free(o->tris);
@@ -256,22 +321,54 @@ static int obj_assemble(Obj *o, const ObjOptions *opt, Mesh *out, ObjStats *st, 
                 smooth[t->p[k]] = v3_add(smooth[t->p[k]], fn);
         }
     }
-    int rc = mesh_init(out, has_n, has_t, has_m, err);
+    /* vertex colours: the diffuse colour of a model without materials of its own */
+    Warner w = {opt, st, name, err};
+    int has_c = o->vc != NULL, rc = 0;
+    real cscale = R(1);
+    if (has_c && has_m) {
+        has_c = 0;
+        st->colours_ignored = 1;
+        rc = warn(&w, o->colour_line, "vertex colours ignored: the model's materials (usemtl) give its colours");
+    } else if (has_c && o->colour_ints && o->colour_max > R(1) && o->colour_max <= R(255)) {
+        cscale = R(1) / R(255);
+        rc = warn(&w, o->colour_line, "vertex colours are whole numbers up to %g: read as 0..255",
+                  (double)o->colour_max);
+    }
+    st->colours = has_c;
+    if (rc == 0)
+        rc = mesh_init(out, (has_n ? MESH_NORMALS : 0u) | (has_t ? MESH_UVS : 0u) | (has_m ? MESH_MATERIALS : 0u) |
+                                (has_c ? MESH_COLOURS : 0u),
+                       err);
+    if (rc == 0)
+        rc = mesh_reserve(out, o->ntri, err);
     for (uint32_t i = 0; rc == 0 && i < nmat; i++)
         rc = mesh_add_material(out, material_default(), err);
     if (rc == 0 && has_m)
         for (uint32_t k = 0; k <= o->lib.count; k++)
             if (remap[k] >= 0 && k < o->lib.count)
                 out->materials[remap[k]] = o->lib.mats[k];
-    Warner w = {opt, st, name, err};
+    /* what the used materials ask for that is not drawn: one warning each, at its newmtl */
+    for (uint32_t k = 0; rc == 0 && has_m && k < o->lib.count; k++) {
+        char what[256];
+        const MtlExtra *x = &o->lib.extra[k];
+        if (remap[k] >= 0 && mtl_undrawn(x, what, sizeof what)) {
+            st->undrawn_mtl++;
+            rc = warn_in(&w, o->lib.files[x->file], x->line,
+                         "material '%s' asks for %s, which lanray does not draw: Phong terms only", o->lib.names[k],
+                         what);
+        }
+    }
     if (rc == 0 && has_m && has_t)
         rc = obj_textures(o, remap, out, &w);
     for (uint32_t i = 0; rc == 0 && i < o->ntri; i++) {
         const ObjTri *t = &o->tris[i];
-        vec3 p[3], n[3];
+        vec3 p[3], n[3], col[3];
         real uv[6] = {0};
-        for (int k = 0; k < 3; k++)
+        for (int k = 0; k < 3; k++) {
             p[k] = o->v[t->p[k]];
+            if (has_c)
+                col[k] = o->vc[t->p[k]].x < R(0) ? material_default().kd : v3_scale(o->vc[t->p[k]], cscale);
+        }
         if (mesh_tri_is_degenerate(p)) {
             st->degenerate++;
             continue;
@@ -293,7 +390,7 @@ static int obj_assemble(Obj *o, const ObjOptions *opt, Mesh *out, ObjStats *st, 
             }
         }
         uint32_t mat = has_m ? (uint32_t)remap[t->mat < 0 ? o->lib.count : (uint32_t)t->mat] : 0;
-        rc = mesh_add(out, p, n, uv, mat, err);
+        rc = mesh_add(out, p, n, uv, col, mat, err);
     }
     free(remap);
     free(smooth);
@@ -361,10 +458,11 @@ int obj_parse(char *text, size_t len, const char *name, const char *dir, const O
         st = &local;
     memset(st, 0, sizeof *st);
     memset(out, 0, sizeof *out);
+    obj_presize(&o, text, len);
     Lexer lx = lex_make(text, len);
     Tokens t;
     int32_t mat = -1;
-    int rc = -1, warned_kind[OBJ_SKIP_KINDS] = {0}, warned_colour = 0;
+    int rc = -1, warned_kind[OBJ_SKIP_KINDS] = {0};
     Warner w = {opt, st, name, err};
     char *line;
     while ((line = lex_next_raw(&lx))) {
@@ -456,25 +554,42 @@ int obj_parse(char *text, size_t len, const char *name, const char *dir, const O
             continue;
         const char *k = t.tok[0];
         if (strcmp(k, "v") == 0) {
-            real v[3], extra;
             /* x y z, x y z w, and x y z r g b (or w r g b) as many exporters write vertex colours */
-            int nums = t.n - 1;
+            real v[3], w, c[3] = {-1, -1, -1};
+            int nums = t.n - 1, rgb = nums == 6 ? 4 : 5;
             if (!(nums == 3 || nums == 4 || nums == 6 || nums == 7) || lex_real(t.tok[1], &v[0]) ||
                 lex_real(t.tok[2], &v[1]) || lex_real(t.tok[3], &v[2]) ||
-                (nums > 3 && lex_real(t.tok[4], &extra)) ||
-                (nums > 4 && (lex_real(t.tok[5], &extra) || lex_real(t.tok[6], &extra) ||
-                              (nums == 7 && lex_real(t.tok[7], &extra))))) {
+                ((nums == 4 || nums == 7) && lex_real(t.tok[4], &w)) ||
+                (nums >= 6 && (lex_real(t.tok[rgb], &c[0]) || lex_real(t.tok[rgb + 1], &c[1]) ||
+                               lex_real(t.tok[rgb + 2], &c[2])))) {
                 err_set(err, "%s:%d: expected 3 finite numbers after 'v' (and a w, colours, or both)", name, lx.line);
                 goto done;
             }
-            if (nums >= 6) {
-                st->coloured++;
-                if (!warned_colour++ && warn(&w, lx.line, "vertex colours read past (the model takes its colours from materials)"))
-                    goto done;
+            if (nums >= 6 && !(c[0] >= R(0) && c[1] >= R(0) && c[2] >= R(0))) {
+                err_set(err, "%s:%d: a vertex colour below 0", name, lx.line);
+                goto done;
             }
             if (grow((void **)&o.v, &o.cv, o.nv + 1, sizeof *o.v)) {
                 err_set(err, "%s:%d: too many vertices or out of memory", name, lx.line);
                 goto done;
+            }
+            if (nums >= 6 || o.vc) {
+                if (nums >= 6 && !st->coloured++) {
+                    o.colour_line = lx.line;
+                    o.colour_ints = 1;
+                }
+                int first = o.vc == NULL;
+                if (grow((void **)&o.vc, &o.cvc, o.nv + 1, sizeof *o.vc)) {
+                    err_set(err, "%s:%d: too many vertices or out of memory", name, lx.line);
+                    goto done;
+                }
+                for (uint32_t i = 0; first && i < o.nv; i++) /* uncoloured so far: marked, given the default later */
+                    o.vc[i] = v3(-1, -1, -1);
+                o.vc[o.nv] = v3(c[0], c[1], c[2]);
+                for (int i = 0; i < 3 && nums >= 6; i++) {
+                    o.colour_max = real_max(o.colour_max, c[i]);
+                    o.colour_ints &= c[i] == floor(c[i]);
+                }
             }
             o.v[o.nv++] = v3(v[0], v[1], v[2]);
         } else if (strcmp(k, "vt") == 0) {

@@ -1,14 +1,20 @@
 /* obj.h - Wavefront OBJ reader producing a Mesh.
  *
- * Supports v, vt, vn, f in all four index forms (v, v/t, v//n, v/t/n) with
+ * Supports v (with or without w and r g b vertex colours), vt, vn, f in all four index forms (v, v/t, v//n, v/t/n) with
  * negative (relative) indices, polygons (fan-triangulated), o/g, mtllib and
  * usemtl.  Keeps only attributes the faces use; zero-area faces are dropped
- * and counted.
+ * and counted.  Vertex colours become the mesh's per-vertex diffuse colour
+ * when no face uses a material (vertices without one get the default
+ * material's); colours below 0 are an error.
  *
  * Lenient where exporters are sloppy, strict where the data is wrong.  With
  * a warning naming file and line (and a count in ObjStats): a usemtl of an
  * undefined material or without a name (the default material), a missing
- * material library (default materials), vertex colours (read past), and
+ * material library (default materials), a material asking for
+ * transparency, glass, reflection or emission (drawn opaque with its Phong
+ * terms; the warning names the MTL file and line), vertex colours where faces use
+ * materials (ignored: the materials win) or given as whole numbers up to 255
+ * (read as 0..255), and
  * the elements a triangle renderer cannot use (lines, points, free-form
  * curves and surfaces, smoothing and merging groups, level of detail,
  * display attributes, unknown keywords: skipped, counted by kind; one
@@ -50,10 +56,13 @@ typedef struct {
     unsigned long vertices, faces, triangles, degenerate, groups;
     unsigned long warnings;
     unsigned long skipped[OBJ_SKIP_KINDS];
-    unsigned long coloured;          /* vertices with colours (read past) */
+    unsigned long coloured;          /* vertices with colours */
+    int colours;                     /* the mesh keeps them (a model without materials) */
+    int colours_ignored;             /* they were dropped: the model has materials */
     unsigned long undefined_mtl;     /* usemtl of a material no library defines, or of none */
     unsigned long missing_mtllib;    /* material libraries that could not be read */
     unsigned long missing_textures;  /* map_Kd files that could not be read */
+    unsigned long undrawn_mtl;       /* used materials asking for transparency, glass, reflection or emission */
 } ObjStats;
 
 /* Parses OBJ text (NUL-terminated, modified in place).  `name` labels errors;

@@ -292,6 +292,8 @@ int scene_prepare(Scene *s, Err *err)
             f |= FEAT_SMOOTH;
         if (m->uvs)
             f |= FEAT_TEXTURES;
+        if (m->colours && in->material < 0)
+            f |= FEAT_COLOURS;
         for (uint32_t k = 0; k < m->material_count; k++)
             if (v3_max_comp(m->materials[k].ks) > R(0))
                 f |= FEAT_SPECULAR;

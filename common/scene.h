@@ -98,6 +98,7 @@ enum {
     FEAT_PLANES = 1 << 4,
     FEAT_SHADOWS = 1 << 5,
     FEAT_SPECULAR = 1 << 6,
+    FEAT_COLOURS = 1 << 7, /* an instance shows its model's vertex colours */
 };
 
 typedef struct {

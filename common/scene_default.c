@@ -7,7 +7,7 @@
 
 int mesh_torus_knot(Mesh *m, int segments, int sides, Err *err)
 {
-    if (mesh_init(m, 1, 0, 0, err))
+    if (mesh_init(m, MESH_NORMALS, err))
         return -1;
     const int P = 2, Q = 3;
     const real tube = R(0.35);
@@ -47,7 +47,7 @@ int mesh_torus_knot(Mesh *m, int segments, int sides, Err *err)
                     nn[k] = ring[2 * q[tris[t][k]] + 1];
                 }
                 if (!mesh_tri_is_degenerate(p))
-                    rc = mesh_add(m, p, nn, NULL, 0, err);
+                    rc = mesh_add(m, p, nn, NULL, NULL, 0, err);
             }
         }
     free(ring);

@@ -3,7 +3,9 @@
  *   colour = ambient*kd + sum over lights reaching the point of
  *            radiance * (kd * max(0, N.L) + ks * max(0, R.V)^shininess)
  *
- * kd is multiplied by the texture where the material has one; the specular
+ * kd is a model's interpolated vertex colour where it has them (and the
+ * instance keeps the model's material), and is multiplied by the texture
+ * where the material has one; the specular
  * term is skipped in diffuse-only mode and for materials without ks.  One
  * shadow ray per light stops at the first occluder (any-hit). */
 #include "shade.h"
@@ -64,7 +66,7 @@ static void shade_start(const Scene *s, const Ray *r, const Hit *hit, Shading *s
 {
     trace_surface(s, r, hit, &sh->sf);
     const Material *m = sh->sf.mat;
-    sh->kd = m->kd;
+    sh->kd = scene_uses(s, FEAT_COLOURS) && sh->sf.has_colour ? sh->sf.colour : m->kd;
     if (scene_uses(s, FEAT_TEXTURES) && sh->sf.tex && sh->sf.has_uv)
         sh->kd = v3_mul(sh->kd, texture_sample(sh->sf.tex, sh->sf.u, sh->sf.v, s->settings.filter));
     sh->col = v3_mul(s->ambient, sh->kd);

@@ -37,11 +37,12 @@ int tmd_encode(const Model *m, int wide, void **data, size_t *len, Err *err)
     Sink s = {0};
     const int textured = m->mat_ids && m->texture_count > 0;
     uint32_t flags = (m->normals ? TMD_HAS_NORMALS : 0) | (m->uvs ? TMD_HAS_UVS : 0) |
-                     (m->mat_ids ? TMD_HAS_MATERIALS : 0) | (wide ? TMD_WIDE : 0) | (textured ? TMD_HAS_TEXTURES : 0);
+                     (m->mat_ids ? TMD_HAS_MATERIALS : 0) | (wide ? TMD_WIDE : 0) | (textured ? TMD_HAS_TEXTURES : 0) |
+                     (m->colours ? TMD_HAS_COLOURS : 0);
     char magic[8] = TMD_MAGIC;
     sink_put(&s, magic, 8);
-    /* version 2 only where it is needed: a model without textures stays readable by version-1 readers */
-    uint32_t head[14] = {textured ? TMD_VERSION : TMD_VERSION_PLAIN, TMD_BOM, TMD_HEADER_BYTES, flags,
+    uint32_t version = m->colours ? TMD_VERSION : textured ? TMD_VERSION_TEXTURES : TMD_VERSION_PLAIN;
+    uint32_t head[14] = {version, TMD_BOM, TMD_HEADER_BYTES, flags,
                          (uint32_t)m->bvh.kind, m->bvh.node_count, m->tri_count, m->mat_ids ? m->material_count : 0,
                          m->bvh.depth, textured ? m->texture_count : 0, 0, 0, 0, 0};
     sink_put(&s, head, sizeof head);
@@ -78,6 +79,10 @@ int tmd_encode(const Model *m, int wide, void **data, size_t *len, Err *err)
         }
         sink_put(&s, m->mat_ids, m->tri_count * sizeof *m->mat_ids);
     }
+    if (m->colours)
+        for (uint32_t i = 0; i < 3 * m->tri_count; i++)
+            for (int a = 0; a < 3; a++)
+                put_real(&s, m->colours[i].e[a], wide, 0);
     for (uint32_t i = 0; textured && i < m->texture_count; i++) {
         const Texture *t = m->textures[i];
         sink_u32(&s, t->w);
@@ -176,14 +181,14 @@ int tmd_decode(const void *data, size_t len, const char *name, Model **out, Err 
         return err_set(err, "%s: not a .tmd file (bad magic)", name);
     if (h[1] != TMD_BOM)
         return err_set(err, "%s: byte-order mark 0x%08x: written on a machine of the other byte order", name, h[1]);
-    if (h[0] != TMD_VERSION && h[0] != TMD_VERSION_PLAIN)
-        return err_set(err, "%s: format version %u, this build reads versions %u and %u", name, h[0], TMD_VERSION_PLAIN,
+    if (h[0] < TMD_VERSION_PLAIN || h[0] > TMD_VERSION)
+        return err_set(err, "%s: format version %u, this build reads versions %u to %u", name, h[0], TMD_VERSION_PLAIN,
                        TMD_VERSION);
     uint32_t flags = h[3], kind = h[4], nodes = h[5], tris = h[6], mats = h[7], depth = h[8], texs = h[9];
     if (h[2] != TMD_HEADER_BYTES)
         return err_set(err, "%s: header size %u, expected %u", name, h[2], TMD_HEADER_BYTES);
-    if (flags & ~(TMD_HAS_NORMALS | TMD_HAS_UVS | TMD_HAS_MATERIALS | TMD_WIDE | TMD_HAS_TEXTURES) ||
-        ((flags & TMD_HAS_TEXTURES) && h[0] < 2))
+    if (flags & ~(TMD_HAS_NORMALS | TMD_HAS_UVS | TMD_HAS_MATERIALS | TMD_WIDE | TMD_HAS_TEXTURES | TMD_HAS_COLOURS) ||
+        ((flags & TMD_HAS_TEXTURES) && h[0] < TMD_VERSION_TEXTURES) || ((flags & TMD_HAS_COLOURS) && h[0] < TMD_VERSION))
         return err_set(err, "%s: unknown flags 0x%x", name, flags);
     const int textured = (flags & TMD_HAS_TEXTURES) != 0;
     if (textured != (texs > 0) || texs > 65536 || (textured && !(flags & TMD_HAS_MATERIALS)))
@@ -206,10 +211,15 @@ int tmd_decode(const void *data, size_t len, const char *name, Model **out, Err 
         want += (uint64_t)tris * 6 * w;
     if (flags & TMD_HAS_MATERIALS)
         want += (uint64_t)mats * (7 * w + (textured ? 4 : 0)) + (uint64_t)tris * 4;
+    if (flags & TMD_HAS_COLOURS)
+        want += (uint64_t)tris * 9 * w;
     /* textures follow, each with its own size: at least their 12-byte headers */
     if (textured ? want + (uint64_t)texs * 12 > len : want != len)
         return err_set(err, "%s: header promises %llu bytes but the file has %zu", name, (unsigned long long)want, len);
-    Model *m = model_alloc(tris, nodes, mats, flags & TMD_HAS_NORMALS, flags & TMD_HAS_UVS, flags & TMD_HAS_MATERIALS);
+    Model *m = model_alloc(tris, nodes, mats,
+                           (flags & TMD_HAS_NORMALS ? MESH_NORMALS : 0u) | (flags & TMD_HAS_UVS ? MESH_UVS : 0u) |
+                               (flags & TMD_HAS_MATERIALS ? MESH_MATERIALS : 0u) |
+                               (flags & TMD_HAS_COLOURS ? MESH_COLOURS : 0u));
     if (!m)
         return err_set(err, "%s: out of memory for %u triangles", name, tris);
     m->bvh.kind = (BvhKind)kind;
@@ -254,6 +264,14 @@ int tmd_decode(const void *data, size_t len, const char *name, Model **out, Err 
                 model_destroy(m);
                 return err_set(err, "%s: triangle %u uses material %u of %u", name, i, bad_id, mats);
             }
+    for (uint32_t i = 0; m->colours && i < 3 * tris && !bad; i++) {
+        if (read_reals(&c, wide, 0, m->colours[i].e, 3))
+            bad = "vertex colour";
+        else if (m->colours[i].x < R(0) || m->colours[i].y < R(0) || m->colours[i].z < R(0)) {
+            model_destroy(m);
+            return err_set(err, "%s: triangle %u: a negative vertex colour", name, i / 3);
+        }
+    }
     if (bad || c.failed) {
         model_destroy(m);
         return err_set(err, "%s: %s is not a finite number", name, bad ? bad : "data");

@@ -424,6 +424,11 @@ void trace_surface(const Scene *s, const Ray *r, const Hit *h, Surface *out)
             out->v = (R(1) - h->b1 - h->b2) * uv[1] + h->b1 * uv[3] + h->b2 * uv[5];
             out->has_uv = 1;
         }
+        if (scene_uses(s, FEAT_COLOURS) && m->colours && in->material < 0) {
+            const vec3 *c = &m->colours[3 * h->sub];
+            out->colour = bary(c[0], c[1], c[2], h->b1, h->b2);
+            out->has_colour = 1;
+        }
         if (in->material >= 0)
             out->mat = &s->materials[in->material];
         else if (m->mat_ids) {

@@ -22,6 +22,8 @@ typedef struct {
     int has_uv;
     const Material *mat;
     const Texture *tex; /* the material's texture (the scene's, or a model's own), or NULL */
+    vec3 colour;      /* a model's vertex colour here, the diffuse colour in place of mat->kd (when has_colour) */
+    int has_colour;
     uint32_t object;  /* identifies the surface for adaptive anti-aliasing */
     real err;         /* bound on the rounding error of each coordinate of p */
     vec3 ps;          /* where shadow rays start (before trace_offset_origin): p,

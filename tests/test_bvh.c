@@ -6,7 +6,7 @@
 
 static void random_mesh(Mesh *m, Rng *rng, uint32_t n, int clustered)
 {
-    assert_int_equal(mesh_init(m, 0, 0, 0, NULL), 0);
+    assert_int_equal(mesh_init(m, 0, NULL), 0);
     for (uint32_t i = 0; i < n; i++) {
         /* clustered: most triangles in a few dense blobs, as in scanned models */
         vec3 c = clustered && i % 10 ? v3_scale(rng_vec(rng, -1, 1), R(0.05)) : rng_vec(rng, -10, 10);
@@ -19,7 +19,7 @@ static void random_mesh(Mesh *m, Rng *rng, uint32_t n, int clustered)
             i--;
             continue;
         }
-        assert_int_equal(mesh_add(m, p, NULL, NULL, 0, NULL), 0);
+        assert_int_equal(mesh_add(m, p, NULL, NULL, NULL, 0, NULL), 0);
     }
 }
 
@@ -228,10 +228,10 @@ static void builders_on_tiny_and_coincident_input(void **state)
     }
     /* 500 copies of one triangle: centres coincide, splits must fall back to counts */
     Mesh mesh;
-    assert_int_equal(mesh_init(&mesh, 0, 0, 0, NULL), 0);
+    assert_int_equal(mesh_init(&mesh, 0, NULL), 0);
     vec3 p[3] = {v3(0, 0, 0), v3(1, 0, 0), v3(0, 1, 0)};
     for (int i = 0; i < 500; i++)
-        assert_int_equal(mesh_add(&mesh, p, NULL, NULL, 0, NULL), 0);
+        assert_int_equal(mesh_add(&mesh, p, NULL, NULL, NULL, 0, NULL), 0);
     each_builder(&mesh, &rng, 200);
     mesh_free(&mesh);
 }
@@ -242,11 +242,11 @@ static void depth_is_bounded_on_adversarial_input(void **state)
 {
     (void)state;
     Mesh mesh;
-    assert_int_equal(mesh_init(&mesh, 0, 0, 0, NULL), 0);
+    assert_int_equal(mesh_init(&mesh, 0, NULL), 0);
     real x = 1;
     for (int i = 0; i < 120; i++, x *= R(0.5)) {
         vec3 p[3] = {v3(x, 0, 0), v3(x, 1, 0), v3(x, 0, 1)};
-        assert_int_equal(mesh_add(&mesh, p, NULL, NULL, 0, NULL), 0);
+        assert_int_equal(mesh_add(&mesh, p, NULL, NULL, NULL, 0, NULL), 0);
     }
     Rng rng = {5};
     for (int k = 0; k < BVH_KIND_COUNT; k++) {

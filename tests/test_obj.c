@@ -1,6 +1,7 @@
 /* test_obj.c - the OBJ/MTL reader on good and malformed input. */
 #include "helpers.h"
 
+#include "mtl.h"
 #include "obj.h"
 
 static int parse(const char *text, Mesh *m, ObjStats *st, Err *err, int smooth)
@@ -221,11 +222,38 @@ static void exporters_habits_convert_with_warnings(void **state)
     assert_float_equal(m.materials[m.mat[1]].kd.z, 1, 0); /* the unnamed one: blue */
     assert_int_equal(st.warnings, 1);                       /* usemtl without a name */
     mesh_free(&m);
-    /* vertex colours: read past, one warning */
+    /* vertex colours in a model without materials: kept, per corner, no warning (x y z r g b and x y z w r g b) */
     read_file("colours.obj", &m, &st, &h, 0, 0);
     assert_int_equal(m.tri_count, 2);
     assert_int_equal(st.coloured, 4);
+    assert_int_equal(st.warnings, 0);
+    assert_true(st.colours);
+    assert_non_null(m.col);
+    assert_null(m.mat);
+    assert_true(m.col[0].x == 1 && m.col[0].y == 0 && m.col[1].y == 1 && m.col[2].z == 1); /* fan 1 2 3 */
+    assert_true(m.col[5].x == 1 && m.col[5].y == 1 && m.col[5].z == 1);                    /* fan 1 3 4: the w form */
+    assert_float_equal(m.pos[5].y, 1, 0);
+    mesh_free(&m);
+    /* beside materials: ignored, one warning naming the first coloured vertex */
+    read_file("colours-mtl.obj", &m, &st, &h, 0, 0);
+    assert_null(m.col);
+    assert_true(st.colours_ignored);
     assert_int_equal(st.warnings, 1);
+    assert_non_null(strstr(h.last, "colours-mtl.obj:2: vertex colours ignored"));
+    mesh_free(&m);
+    /* whole numbers up to 255: read as 0..255, with a warning */
+    read_file("colours-255.obj", &m, &st, &h, 0, 0);
+    assert_int_equal(st.warnings, 1);
+    assert_non_null(strstr(h.last, "colours-255.obj:2: vertex colours are whole numbers up to 255"));
+    assert_true(m.col[0].x == 1 && m.col[1].y == 1);
+    assert_float_equal(m.col[2].z, R(0.2), 1e-6);
+    mesh_free(&m);
+    /* some vertices without a colour: the default material's diffuse colour */
+    read_file("colours-partial.obj", &m, &st, &h, 0, 0);
+    assert_int_equal(st.warnings, 0);
+    assert_int_equal(st.coloured, 2);
+    assert_true(m.col[0].x == material_default().kd.x && m.col[1].y == 1 && m.col[1].x == 0);
+    assert_true(m.col[5].x == R(0.5) && m.col[5].y == R(0.25));
     mesh_free(&m);
     /* CRLF, tabs, a 100000-byte line, a continued face, a backslash path, no final newline */
     read_file("habits.obj", &m, &st, &h, 0, 0);
@@ -257,6 +285,68 @@ static void exporters_habits_convert_with_warnings(void **state)
     mesh_free(&m);
 }
 
+/* Ka, Ke, Ni, d, Tr and illum: read, checked and kept; a used material
+ * asking for what lanray does not draw is one warning at its newmtl line. */
+static void material_extras_are_kept_and_warned(void **state)
+{
+    (void)state;
+    MtlLib lib = {0};
+    Err err;
+    if (mtl_read(&lib, "tests/data/obj/effects.mtl", &err))
+        fail_msg("%s", err.msg);
+    assert_int_equal(lib.count, 5);
+    const MtlExtra *plain = &lib.extra[0], *glass = &lib.extra[1], *mirror = &lib.extra[2], *lamp = &lib.extra[3],
+                   *unused = &lib.extra[4];
+    assert_float_equal(plain->ka.y, R(0.1), 1e-6);
+    assert_float_equal(plain->ni, R(1.45), 1e-6);
+    assert_true(plain->d == 1 && plain->illum == 2 && plain->line == 2);
+    assert_true(glass->d == R(0.4) && glass->illum == 7 && glass->ni == R(1.5));
+    assert_true(mirror->d == 1 && mirror->illum == 3); /* Tr 0: opaque */
+    assert_true(lamp->ke.x == 1 && lamp->ke.z == R(0.25) && lamp->d == 1 && lamp->illum == -1);
+    assert_true(unused->d == R(0.5) && unused->illum == 4);
+    assert_string_equal(lib.files[unused->file], "tests/data/obj/effects.mtl");
+    char what[256];
+    assert_int_equal(mtl_undrawn(plain, what, sizeof what), 0);
+    assert_int_equal(mtl_undrawn(glass, what, sizeof what), 1);
+    assert_string_equal(what, "transparency (d 0.4), glass (illum 7, Ni 1.5)");
+    mtl_free(&lib);
+
+    Mesh m;
+    ObjStats st;
+    Heard h;
+    read_file("effects.obj", &m, &st, &h, 0, 0);
+    assert_int_equal(m.material_count, 4);
+    assert_int_equal(st.undrawn_mtl, 3); /* glass, mirror, lamp; not the unused one */
+    assert_int_equal(h.lines, 3);
+    assert_non_null(strstr(h.last, "effects.mtl:20: material 'lamp' asks for emission (Ke 1 0.5 0.25)"));
+    mesh_free(&m);
+    read_file("effects.obj", &m, &st, &h, 1, -1);
+    assert_non_null(strstr(h.last, "effects.mtl:9: material 'glass' asks for transparency"));
+
+    const struct {
+        const char *text, *says;
+    } bad[] = {
+        {"newmtl a\nd 1.5\n", "t.mtl:2: expected one number from 0 to 1 after d"},
+        {"newmtl a\nTr x\n", "t.mtl:2: expected one number from 0 to 1 after Tr"},
+        {"newmtl a\nNi -1\n", "t.mtl:2: expected one number from 0 to 100 after Ni"},
+        {"newmtl a\nillum 11\n", "t.mtl:2: expected a whole number from 0 to 10 after illum"},
+        {"newmtl a\nillum 2.5\n", "t.mtl:2: expected a whole number from 0 to 10 after illum"},
+        {"newmtl a\nKa -1 0 0\n", "t.mtl:2: expected 3 non-negative numbers after Ka"},
+        {"newmtl a\nKe 1 nan 0\n", "t.mtl:2: expected 3 non-negative numbers after Ke"},
+        {"d 0.5\n", "t.mtl:1: d before any newmtl"},
+    };
+    for (size_t i = 0; i < sizeof bad / sizeof *bad; i++) {
+        char text[64];
+        snprintf(text, sizeof text, "%s", bad[i].text);
+        MtlLib l = {0};
+        Err e = {{0}};
+        assert_int_equal(mtl_parse(&l, text, strlen(text), "t.mtl", &e), -1);
+        if (!strstr(e.msg, bad[i].says))
+            fail_msg("'%s' gives '%s', not '%s'", bad[i].text, e.msg, bad[i].says);
+        mtl_free(&l);
+    }
+}
+
 static void wrong_data_stays_an_error(void **state)
 {
     (void)state;
@@ -270,6 +360,7 @@ static void wrong_data_stays_an_error(void **state)
         {"index-range.obj", "index-range.obj:5: bad vertex index"},
         {"two-corners.obj", "two-corners.obj:5: a face needs at least 3 corners"},
         {"not-a-number.obj", "not-a-number.obj:2: expected 3 finite numbers"},
+        {"colours-negative.obj", "colours-negative.obj:2: a vertex colour below 0"},
     };
     for (size_t i = 0; i < sizeof cases / sizeof *cases; i++) {
         read_file(cases[i].file, &m, &st, &h, 0, -1);
@@ -290,6 +381,10 @@ static void wrong_data_stays_an_error(void **state)
     assert_non_null(strstr(h.last, "skipped.obj:5: 's' skipped"));
     read_file("habits.obj", &m, &st, &h, 1, 0); /* nothing to warn about */
     mesh_free(&m);
+    read_file("colours.obj", &m, &st, &h, 1, 0); /* kept colours are no warning */
+    mesh_free(&m);
+    read_file("colours-mtl.obj", &m, &st, &h, 1, -1);
+    assert_non_null(strstr(h.last, "colours-mtl.obj:2: vertex colours ignored"));
 }
 
 int main(void)
@@ -301,6 +396,7 @@ int main(void)
         cmocka_unit_test(byte_order_mark_is_skipped),
         cmocka_unit_test(polygons_are_triangulated_and_degenerates_dropped),
         cmocka_unit_test(materials_from_mtllib),
+        cmocka_unit_test(material_extras_are_kept_and_warned),
         cmocka_unit_test(smooth_normals_average_faces),
         cmocka_unit_test(malformed_input_names_file_and_line),
     };

@@ -201,7 +201,7 @@ static Model *coarse_sphere(void)
 {
     enum { SEG = 16, RINGS = 8 };
     Mesh m;
-    assert_int_equal(mesh_init(&m, 1, 0, 0, NULL), 0);
+    assert_int_equal(mesh_init(&m, MESH_NORMALS, NULL), 0);
     for (int j = 0; j < RINGS; j++)
         for (int i = 0; i < SEG; i++) {
             vec3 v[4];
@@ -211,9 +211,9 @@ static Model *coarse_sphere(void)
             }
             const vec3 t1[3] = {v[0], v[1], v[2]}, t2[3] = {v[0], v[2], v[3]};
             if (!mesh_tri_is_degenerate(t1))
-                assert_int_equal(mesh_add(&m, t1, t1, NULL, 0, NULL), 0);
+                assert_int_equal(mesh_add(&m, t1, t1, NULL, NULL, 0, NULL), 0);
             if (!mesh_tri_is_degenerate(t2))
-                assert_int_equal(mesh_add(&m, t2, t2, NULL, 0, NULL), 0);
+                assert_int_equal(mesh_add(&m, t2, t2, NULL, NULL, 0, NULL), 0);
         }
     Model *model;
     BvhOptions opt = bvh_options_default(BVH_SAH);
@@ -304,9 +304,9 @@ static void textured_triangle_and_instances(void **state)
     assert_float_equal(c.x, 0, 0);
     /* an instance: a unit triangle model scaled by 3, turned 90 degrees about y, moved to x = 10 */
     Mesh mesh;
-    assert_int_equal(mesh_init(&mesh, 0, 0, 0, NULL), 0);
+    assert_int_equal(mesh_init(&mesh, 0, NULL), 0);
     const vec3 q[3] = {v3(0, 0, 0), v3(1, 0, 0), v3(0, 1, 0)};
-    assert_int_equal(mesh_add(&mesh, q, NULL, NULL, 0, NULL), 0);
+    assert_int_equal(mesh_add(&mesh, q, NULL, NULL, NULL, 0, NULL), 0);
     Model *model;
     BvhOptions opt = bvh_options_default(BVH_SAH);
     assert_int_equal(model_from_mesh(&model, &mesh, &opt, NULL), 0);
@@ -337,15 +337,15 @@ static Model *sphere_with_fin(void)
 {
     Model *plain = coarse_sphere();
     Mesh m;
-    assert_int_equal(mesh_init(&m, 1, 0, 0, NULL), 0);
+    assert_int_equal(mesh_init(&m, MESH_NORMALS, NULL), 0);
     for (uint32_t i = 0; i < plain->tri_count; i++) {
         vec3 p[3], n[3];
         for (int k = 0; k < 3; k++)
             p[k] = tri_vertex(&plain->tris[i], k), n[k] = plain->normals[3 * i + k];
-        assert_int_equal(mesh_add(&m, p, n, NULL, 0, NULL), 0);
+        assert_int_equal(mesh_add(&m, p, n, NULL, NULL, 0, NULL), 0);
     }
     const vec3 fin[3] = {v3(-3, -3, 6), v3(R(-2.9), -3, 6), v3(-3, R(-2.9), 6)};
-    assert_int_equal(mesh_add(&m, fin, fin, NULL, 0, NULL), 0);
+    assert_int_equal(mesh_add(&m, fin, fin, NULL, NULL, 0, NULL), 0);
     model_destroy(plain);
     Model *model;
     BvhOptions opt = bvh_options_default(BVH_SAH);

@@ -6,12 +6,13 @@
 #include "scene_default.h"
 #include "tmd.h"
 
-static Model *sample_model(int normals, int uvs, int materials)
+/* attrs: the MESH_* arrays the model has */
+static Model *sample_model(unsigned attrs)
 {
     Mesh mesh;
-    assert_int_equal(mesh_init(&mesh, normals, uvs, materials, NULL), 0);
+    assert_int_equal(mesh_init(&mesh, attrs, NULL), 0);
     Rng rng = {11};
-    if (materials) {
+    if (attrs & MESH_MATERIALS) {
         Material a = {v3(1, 0, 0), v3(R(0.5), R(0.5), R(0.5)), 20, -1}, b = {v3(0, 0, 1), v3(0, 0, 0), 1, -1};
         assert_int_equal(mesh_add_material(&mesh, a, NULL), 0);
         assert_int_equal(mesh_add_material(&mesh, b, NULL), 0);
@@ -27,7 +28,8 @@ static Model *sample_model(int normals, int uvs, int materials)
         real uv[6];
         for (int k = 0; k < 6; k++)
             uv[k] = rng_real(&rng, 0, 1);
-        assert_int_equal(mesh_add(&mesh, p, n, uv, i % 2, NULL), 0);
+        vec3 col[3] = {rng_vec(&rng, 0, 1), rng_vec(&rng, 0, 1), rng_vec(&rng, 0, 1)};
+        assert_int_equal(mesh_add(&mesh, p, n, uv, col, i % 2, NULL), 0);
     }
     Model *m;
     BvhOptions opt = bvh_options_default(BVH_SAH);
@@ -53,6 +55,9 @@ static void assert_models_equal(const Model *a, const Model *b)
     assert_int_equal(a->normals != NULL, b->normals != NULL);
     assert_int_equal(a->uvs != NULL, b->uvs != NULL);
     assert_int_equal(a->mat_ids != NULL, b->mat_ids != NULL);
+    assert_int_equal(a->colours != NULL, b->colours != NULL);
+    if (a->colours)
+        assert_memory_equal(a->colours, b->colours, 3 * a->tri_count * sizeof *a->colours);
     if (a->normals)
         assert_memory_equal(a->normals, b->normals, 3 * a->tri_count * sizeof *a->normals);
     if (a->uvs)
@@ -72,8 +77,8 @@ static void round_trip_through_a_file(void **state)
     (void)state;
     char path[256];
     snprintf(path, sizeof path, "%s/model.tmd", test_tmpdir());
-    for (int mask = 0; mask < 8; mask++) {
-        Model *m = sample_model(mask & 1, mask & 2, mask & 4), *back;
+    for (unsigned mask = 0; mask < 16; mask++) {
+        Model *m = sample_model(mask), *back;
         Err err;
         if (tmd_write(path, m, &err) || tmd_read(path, &back, &err))
             fail_msg("%s", err.msg);
@@ -84,7 +89,6 @@ static void round_trip_through_a_file(void **state)
         assert_int_equal(tmd_encode(back, 0, &b, &blen, NULL), 0);
         assert_int_equal(alen, blen);
         assert_memory_equal(a, b, alen);
-        free(a);
         free(b);
 #ifndef LANRAY_DOUBLE
         /* the float build stores what it computes: the model itself comes back exactly */
@@ -102,7 +106,14 @@ static void round_trip_through_a_file(void **state)
             want += 24 * (size_t)m->tri_count;
         if (mask & 4)
             want += 2 * 28 + 4 * (size_t)m->tri_count;
+        if (mask & 8)
+            want += 36 * (size_t)m->tri_count;
         assert_int_equal((size_t)st.st_size, want);
+        /* the lowest version that holds the model: old readers take every file they can */
+        uint32_t version;
+        memcpy(&version, (const char *)a + 8, 4);
+        assert_int_equal(version, mask & 8 ? TMD_VERSION : TMD_VERSION_PLAIN);
+        free(a);
         model_destroy(m);
         model_destroy(back);
     }
@@ -114,8 +125,8 @@ static void round_trip_through_a_file(void **state)
 static void wide_form_is_exact(void **state)
 {
     (void)state;
-    for (int mask = 0; mask < 8; mask++) {
-        Model *m = sample_model(mask & 1, mask & 2, mask & 4), *back = NULL;
+    for (unsigned mask = 0; mask < 16; mask++) {
+        Model *m = sample_model(mask), *back = NULL;
         void *data;
         size_t len;
         Err err;
@@ -135,7 +146,7 @@ static void wide_form_is_exact(void **state)
 static void truncated_files_are_rejected(void **state)
 {
     (void)state;
-    Model *m = sample_model(1, 1, 1);
+    Model *m = sample_model(MESH_NORMALS | MESH_UVS | MESH_MATERIALS | MESH_COLOURS);
     void *data;
     size_t len;
     assert_int_equal(tmd_encode(m, 0, &data, &len, NULL), 0);
@@ -162,7 +173,7 @@ static void expect_error(const uint8_t *data, size_t len, const char *what)
 static void corrupted_fields_are_rejected(void **state)
 {
     (void)state;
-    Model *m = sample_model(0, 0, 1);
+    Model *m = sample_model(MESH_MATERIALS);
     uint8_t *data;
     size_t len;
     assert_int_equal(tmd_encode(m, 0, (void **)&data, &len, NULL), 0);
@@ -207,10 +218,33 @@ static void corrupted_fields_are_rejected(void **state)
     model_destroy(m);
 }
 
+/* Vertex colours: version 3 only, finite, not negative. */
+static void corrupted_colours_are_rejected(void **state)
+{
+    (void)state;
+    Model *m = sample_model(MESH_COLOURS);
+    uint8_t *data;
+    size_t len;
+    assert_int_equal(tmd_encode(m, 0, (void **)&data, &len, NULL), 0);
+    uint32_t v = TMD_VERSION_TEXTURES;
+    memcpy(data + 8, &v, 4);
+    expect_error(data, len, "unknown flags");
+    v = TMD_VERSION;
+    memcpy(data + 8, &v, 4);
+    float f = -0.5f;
+    memcpy(data + len - 4, &f, 4);
+    expect_error(data, len, "negative vertex colour");
+    f = INFINITY;
+    memcpy(data + len - 8, &f, 4);
+    expect_error(data, len, "vertex colour is not a finite number");
+    free(data);
+    model_destroy(m);
+}
+
 static void unwritable_destination_leaves_nothing(void **state)
 {
     (void)state;
-    Model *m = sample_model(0, 0, 0);
+    Model *m = sample_model(0);
     Err err = {{0}};
     assert_int_equal(tmd_write("/nonexistent-dir/x.tmd", m, &err), -1);
     assert_contains(err.msg, "/nonexistent-dir/x.tmd");
@@ -227,6 +261,7 @@ int main(void)
         cmocka_unit_test(wide_form_is_exact),
         cmocka_unit_test(truncated_files_are_rejected),
         cmocka_unit_test(corrupted_fields_are_rejected),
+        cmocka_unit_test(corrupted_colours_are_rejected),
         cmocka_unit_test(unwritable_destination_leaves_nothing),
     };
     return cmocka_run_group_tests_name("tmd", tests, NULL, NULL);

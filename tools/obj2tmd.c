@@ -130,6 +130,19 @@ int main(int argc, char **argv)
         if (import_read(in, &mesh, &is, &err) == 0) {
             st.vertices = is.vertices, st.faces = is.triangles + is.degenerate, st.degenerate = is.degenerate;
             st.skipped[OBJ_SKIP_LINE] = is.lines, st.skipped[OBJ_SKIP_POINT] = is.points;
+            st.coloured = is.coloured, st.colours = mesh.col != NULL, st.colours_ignored = is.colours_ignored;
+            if (is.colours_ignored) {
+                char msg[4200];
+                snprintf(msg, sizeof msg, "%s: vertex colours ignored: the model's materials give its colours", in);
+                if (strict) {
+                    mesh_free(&mesh);
+                    err_set(&err, "%s (an error with --strict)", msg);
+                } else {
+                    st.warnings++;
+                    if (!quiet)
+                        show_warning(NULL, msg);
+                }
+            }
         }
     }
     if (imported ? err.msg[0] != 0 : obj_read(in, &oo, &mesh, &st, &err) != 0) {
@@ -169,8 +182,9 @@ int main(int argc, char **argv)
         printf("%s -> %s\n", in, out);
         printf("  vertices %lu, faces %lu, triangles %u, degenerate dropped %lu\n", st.vertices, st.faces,
                model->tri_count, st.degenerate);
-        printf("  attributes: %s%s%s\n", model->normals ? "normals " : "", model->uvs ? "uvs " : "",
-               model->mat_ids ? "materials" : (model->normals || model->uvs ? "" : "positions only"));
+        printf("  attributes: %s%s%s%s\n", model->normals ? "normals " : "", model->uvs ? "uvs " : "",
+               model->colours ? "vertex-colours " : "",
+               model->mat_ids ? "materials" : (model->normals || model->uvs || model->colours ? "" : "positions only"));
         printf("  bvh %s: %u nodes, depth %u, SAH cost %.2f\n", bvh_kind_name(bo.kind), model->bvh.node_count,
                model->bvh.depth, bvh_sah_cost(&model->bvh));
         printf("  parse %.3f s, build %.3f s\n", t1 - t0, t2 - t1);
@@ -178,8 +192,13 @@ int main(int argc, char **argv)
         if (stat(in, &sb) == 0 && t1 > t0)
             printf("  read %.1f MB at %.1f MB/s\n", (double)sb.st_size / 1e6, (double)sb.st_size / 1e6 / (t1 - t0));
         if (st.warnings)
-            printf("  warnings %lu: undefined materials %lu, missing material libraries %lu, coloured vertices %lu\n",
-                   st.warnings, st.undefined_mtl, st.missing_mtllib, st.coloured);
+            printf("  warnings %lu: undefined materials %lu, missing material libraries %lu, missing textures %lu, "
+                   "effects not drawn %lu%s\n",
+                   st.warnings, st.undefined_mtl, st.missing_mtllib, st.missing_textures, st.undrawn_mtl,
+                   st.colours_ignored ? ", vertex colours ignored" : "");
+        if (st.coloured)
+            printf("  vertex colours: %lu coloured vertices, %s\n", st.coloured,
+                   st.colours ? "kept as the diffuse colour" : "ignored (the model has materials)");
         int any = 0;
         for (int k = 0; k < OBJ_SKIP_KINDS; k++)
             if (st.skipped[k])

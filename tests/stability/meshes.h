@@ -12,7 +12,7 @@ static inline void mesh_add_indexed(Mesh *m, const vec3 *v, int a, int b, int c)
 {
     vec3 p[3] = {v[a], v[b], v[c]};
     if (!mesh_tri_is_degenerate(p))
-        mesh_add(m, p, NULL, NULL, 0, NULL);
+        mesh_add(m, p, NULL, NULL, NULL, 0, NULL);
 }
 
 /* Icosphere of the given radius: an icosahedron subdivided `levels` times. */
@@ -66,7 +66,7 @@ static inline void mesh_icosphere(Mesh *m, real radius, int levels)
     }
     for (int i = 0; i < nv; i++)
         v[i] = v3_scale(v[i], radius);
-    mesh_init(m, 0, 0, 0, NULL);
+    mesh_init(m, 0, NULL);
     for (int i = 0; i < nf; i++)
         mesh_add_indexed(m, v, f[i][0], f[i][1], f[i][2]);
     free(v);
@@ -83,7 +83,7 @@ static inline void mesh_torus(Mesh *m, real big, real small, int nu, int nv)
             real r = big + small * cos(b);
             v[i * nv + j] = v3(r * cos(a), small * sin(b), r * sin(a));
         }
-    mesh_init(m, 0, 0, 0, NULL);
+    mesh_init(m, 0, NULL);
     for (int i = 0; i < nu; i++)
         for (int j = 0; j < nv; j++) {
             int i1 = (i + 1) % nu, j1 = (j + 1) % nv;

@@ -232,7 +232,7 @@ static void parallel_and_grazing_rays(void **state)
     assert_float_equal(t / R(1e6), 1, R(1e-4));
     /* a unit cube and a flat 16x16 grid at y = 0 */
     Mesh mesh;
-    mesh_init(&mesh, 0, 0, 0, NULL);
+    mesh_init(&mesh, 0, NULL);
     vec3 c[8];
     for (int i = 0; i < 8; i++)
         c[i] = v3(i & 1 ? 1 : 0, i & 2 ? 1 : 0, i & 4 ? 1 : 0);
@@ -294,13 +294,13 @@ static void degenerate_and_sliver_triangles(void **state)
     Material white = {v3(1, 1, 1), v3_splat(R(0.5)), 20, -1};
     scene_add_material(s, white, NULL, NULL);
     Mesh mesh;
-    mesh_init(&mesh, 0, 0, 0, NULL);
+    mesh_init(&mesh, 0, NULL);
     for (int i = 0; i < 50; i++) {
         real x = (real)i * R(0.1);
         vec3 sliver[3] = {v3(x, 0, 0), v3(x + R(1e-7), 0, 0), v3(x, 1, R(1e-7))};
         vec3 flat[3] = {v3(x, 2, 0), v3(x, 2, 0), v3(x, 3, 0)};
-        mesh_add(&mesh, sliver, NULL, NULL, 0, NULL);
-        mesh_add(&mesh, flat, NULL, NULL, 0, NULL);
+        mesh_add(&mesh, sliver, NULL, NULL, NULL, 0, NULL);
+        mesh_add(&mesh, flat, NULL, NULL, NULL, 0, NULL);
     }
     BvhOptions opt = bvh_options_default(BVH_SAH);
     for (int k = 0; k < BVH_KIND_COUNT; k++) {

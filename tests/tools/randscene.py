@@ -9,7 +9,8 @@ spellings of centre/center and colour/color, a byte-order mark): camera
 by lookat or by angles, with zoom or fov and roll; ambient, background; every
 settings key and value; textures (PPM P3/P6, PGM P2/P5); materials with and
 without specular and textures, on any primitive; a model whose MTL gives
-one material a texture (map_Kd with -s and -o); spheres, planes (with and
+one material a texture (map_Kd with -s and -o) and one with vertex colours
+and no materials; spheres, planes (with and
 without their texture mapping keys) and triangles (with normals and uv); models from OBJ (with and without smooth, each builder) and from
 .tmd (converted by the caller as DIR/mesh.tmd); instances with transforms and
 material overrides; point, spot and directional lights with position,
@@ -88,6 +89,21 @@ def write_assets(d):
             # the model's own texture (MTL map_Kd, carried in its .tmd), placed by -s and -o
             f.write("newmtl shiny\nKd 0.7 0.6 0.2\nKs 0.5 0.5 0.5\nNs 33\nnewmtl matte\nKd 0.2 0.5 0.7\n"
                     "map_Kd -s 0.75 1.5 1 -o 0.1 0.2 t6.ppm\n")
+    if not os.path.exists(os.path.join(d, "painted.obj")):
+        # a bumpy 5x5 grid with vertex colours and no materials (some in the x y z w r g b form)
+        n = 5
+        lines = []
+        for j in range(n + 1):
+            for i in range(n + 1):
+                w = " 1" if (i + j) % 3 == 0 else ""
+                lines.append("v %.9g %.9g %.9g%s %.6g %.6g %.6g" % (i / n - 0.5, rng.uniform(-0.2, 0.2), j / n - 0.5, w,
+                                                                   rng.random(), rng.random(), rng.random()))
+        for j in range(n):
+            for i in range(n):
+                a = j * (n + 1) + i + 1
+                lines.append("f %d %d %d %d" % (a, a + 1, a + n + 2, a + n + 1))
+        with open(os.path.join(d, "painted.obj"), "w") as f:
+            f.write("\n".join(lines) + "\n")
 
 
 def scene(seed):
@@ -164,7 +180,11 @@ def scene(seed):
     models = []
     for i in range(r.choice([0, 0, 1, 2])):
         name = "mod%d" % i
-        if r.random() < 0.3:
+        if r.random() < 0.2:
+            m = ["model", name, "painted.obj"]
+            if r.random() < 0.5:
+                m += ["smooth"]
+        elif r.random() < 0.3:
             m = ["model", name, "mesh.tmd"]
             if r.random() < 0.5:
                 m += ["bvh", r.choice(["sbt", "mst", "sah"])]

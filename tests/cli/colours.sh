@@ -1,0 +1,53 @@
+#!/usr/bin/env bash
+# Vertex colours: an OBJ whose vertices carry colours (and no materials)
+# renders them as the diffuse colour, interpolated across each triangle,
+# checked pixel by pixel against the colours and the sRGB curve; the same
+# model as a PLY with byte colours (through Assimp) renders the same bytes;
+# the .tmd is version 3; an instance with a material of its own shows that
+# material instead; a distributed frame is bit-identical to lanray-render's
+# (the colours travel inside the model asset).
+set -u
+source tests/tools/server-lib.sh
+D=tests/data/colours
+cp "$D/view.scene" "$dir/"
+render() { "$BIN/lanray-render" "$dir/$1" --width 64 --height 64 -o "$dir/$2" --quiet >/dev/null 2>&1 || fail "render $2"; }
+"$BIN/obj2tmd" "$D/quads.obj" "$dir/quads.tmd" >"$dir/obj.log" 2>"$dir/obj.err" || fail "obj2tmd: $(cat "$dir/obj.err")"
+grep -q "vertex colours: 16 coloured vertices, kept as the diffuse colour" "$dir/obj.log" || fail "summary: $(cat "$dir/obj.log")"
+[ -s "$dir/obj.err" ] && fail "warnings for a model whose colours are kept: $(cat "$dir/obj.err")"
+python3 -c "import struct,sys; print(struct.unpack_from('<I', open(sys.argv[1],'rb').read(), 8)[0])" "$dir/quads.tmd" | grep -qx 3 ||
+    fail "a .tmd with vertex colours is not version 3"
+render view.scene obj.png
+# expected codes: the quadrants' colours; along the bottom right quadrant's
+# middle row the colour runs from 0 at x = 32 to 1 at x = 64 (pixel centres)
+python3 - "$dir/obj.png" <<'PY' || fail "vertex colours not where expected"
+import subprocess, sys
+xs = [34, 40, 48, 56, 62]
+pts = [(16, 16), (48, 16), (16, 48)] + [(x, 48) for x in xs]
+out = subprocess.run(["python3", "tests/tools/pngpixel.py", sys.argv[1]] + [str(c) for p in pts for c in p],
+                     capture_output=True, text=True, check=True).stdout.split("\n")
+got = [tuple(int(v) for v in line.split()) for line in out if line.strip()]
+def srgb(c):
+    c = min(max(c, 0.0), 1.0)
+    return round(255 * (12.92 * c if c <= 0.0031308 else 1.055 * c ** (1 / 2.4) - 0.055))
+want = [(255, 0, 0), (0, 255, 0), (0, 0, 255)] + [(srgb(((x + 0.5) / 64 - 0.5) / 0.5),) * 3 for x in xs]
+bad = [(p, g, w) for p, g, w in zip(pts, got, want) if any(abs(a - b) > 1 for a, b in zip(g, w))]
+for p, g, w in bad:
+    print("pixel %s: %s, expected %s" % (p, g, w))
+sys.exit(1 if bad or len(got) != len(want) else 0)
+PY
+# the PLY a scanner would write: byte colours through Assimp, the same picture
+"$BIN/obj2tmd" "$D/quads.ply" "$dir/quads.tmd" >"$dir/ply.log" 2>"$dir/ply.err" || fail "obj2tmd ply: $(cat "$dir/ply.err")"
+render view.scene ply.png
+cmp -s "$dir/obj.png" "$dir/ply.png" || fail "the PLY with vertex colours renders differently from the OBJ"
+# an instance's own material replaces the model's colours
+sed 's/^instance quads$/material teal diffuse 0 0.5 0.5\ninstance quads material teal/' "$dir/view.scene" >"$dir/teal.scene"
+render teal.scene teal.png
+got=$(python3 tests/tools/pngpixel.py "$dir/teal.png" 16 16 48 48 | tr '\n' '|')
+[ "$got" = "0 188 188|0 188 188|" ] || fail "instance material over vertex colours: $got"
+# distributed: the coloured model through a server and a client, bit for bit
+start_server col "$dir/view.scene" --port 0 --width 64 --height 64 --frames 1 --wait-clients 1 --verify "$dir/obj.png" --out "$dir/f"
+"$BIN/lanray-client" "127.0.0.1:$port" --threads 2 --once --quiet 2>/dev/null &
+pids+=("$!")
+for _ in $(seq 300); do kill -0 "$server_pid" 2>/dev/null || break; sleep 0.05; done
+wait "$server_pid" || fail "the distributed frame with vertex colours differs from lanray-render's (server exit $?): $(tail -3 "$dir/col.err")"
+echo "colours: vertex colours from OBJ and PLY, interpolated, overridden by an instance material, local and distributed"
