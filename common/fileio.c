@@ -4,9 +4,11 @@
 
 #include "bigmem.h"
 
+#include <dirent.h>
 #include <errno.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -165,4 +167,25 @@ int file_exists(const char *path)
 {
     struct stat st;
     return stat(path, &st) == 0 && S_ISREG(st.st_mode) && access(path, R_OK) == 0;
+}
+
+FileFound file_find_near(const char *dir, const char *name, char *buf, size_t size)
+{
+    if (file_join(dir, name, buf, size) == 0 && file_exists(buf))
+        return FILE_AS_WRITTEN;
+    char written[4096];
+    snprintf(written, sizeof written, "%s", buf);
+    const char *slash = strrchr(name, '/'), *base = slash ? slash + 1 : name;
+    if (*base && base != name && file_join(dir, base, buf, size) == 0 && file_exists(buf))
+        return FILE_BY_NAME;
+    DIR *d = *base ? opendir(dir) : NULL;
+    FileFound how = FILE_NOT_FOUND;
+    for (struct dirent *e; d && how == FILE_NOT_FOUND && (e = readdir(d));)
+        if (strcasecmp(e->d_name, base) == 0 && file_join(dir, e->d_name, buf, size) == 0 && file_exists(buf))
+            how = FILE_BY_NAME_CASE;
+    if (d)
+        closedir(d);
+    if (how == FILE_NOT_FOUND)
+        snprintf(buf, size, "%s", written);
+    return how;
 }

@@ -37,7 +37,7 @@ static int add(MtlLib *lib, const char *name, int line)
         return -1;
     lib->extra = x;
     lib->extra[lib->count] = (MtlExtra){v3_splat(0), v3_splat(0), R(0), R(1), -1, line, lib->file_count - 1};
-    lib->maps[lib->count] = (MtlMap){"", {R(1), R(1)}, {R(0), R(0)}, 0};
+    lib->maps[lib->count] = (MtlMap){"", {R(1), R(1)}, {R(0), R(0)}, 0, FILE_AS_WRITTEN};
     snprintf(lib->names[lib->count], MTL_NAME_MAX, "%s", name);
     lib->mats[lib->count] = material_default();
     lib->count++;
@@ -103,8 +103,7 @@ static int read_map(const Tokens *t, const char *lib_path, MtlMap *m)
             *q = '/';
     char dir[MTL_PATH_MAX];
     file_dirname(lib_path, dir, sizeof dir);
-    if (file_join(dir, file, m->file, sizeof m->file))
-        return -1;
+    m->found = (int)file_find_near(dir, file, m->file, sizeof m->file);
     return 0;
 }
 

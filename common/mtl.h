@@ -13,12 +13,14 @@
 #define MTL_PATH_MAX 1024
 
 /* A material's diffuse texture (map_Kd): the file, relative to the
- * directory of its library and already joined to it, and the options that
+ * directory of its library and already joined to it (or, where it is not
+ * there as written, the file file_find_near finds), and the options that
  * place it (-s scale and -o offset of u and v; -clamp on). */
 typedef struct {
     char file[MTL_PATH_MAX]; /* empty: none */
     real s[2], o[2];
     int clamp;
+    int found;               /* how file was found (FileFound, fileio.h) */
 } MtlMap;
 
 /* What a material says beyond the Phong terms: read, checked and kept, so

@@ -261,6 +261,11 @@ static int obj_textures(Obj *o, const int32_t *remap, Mesh *out, Warner *w)
             if (remap[j] >= 0 && strcmp(o->lib.maps[j].file, map->file) == 0 &&
                 o->lib.maps[j].clamp == map->clamp)
                 id = out->materials[remap[j]].texture;
+        w->st->found_elsewhere += id < 0 && (map->found == FILE_BY_NAME || map->found == FILE_BY_NAME_CASE);
+        if (id < 0 && (map->found == FILE_BY_NAME || map->found == FILE_BY_NAME_CASE) &&
+            warn(w, 0, "material '%s': texture not where the library says; using %s (%s)", o->lib.names[k], map->file,
+                 map->found == FILE_BY_NAME ? "its file name beside the library" : "its file name in another case"))
+            return -1;
         if (id < 0) {
             Texture *t;
             Err terr;
@@ -411,14 +416,20 @@ static int mtl_one(Obj *o, char *file, const char *dir, Warner *w, int line)
         if (*q == '\\')
             *q = '/';
     char path[4096];
-    if (!dir || file_join(dir, file, path, sizeof path)) {
+    if (!dir) {
         w->st->missing_mtllib++;
         return warn(w, line, "material library '%s' cannot be looked up here: default materials", file);
     }
-    if (!file_exists(path)) {
+    FileFound how = file_find_near(dir, file, path, sizeof path);
+    if (how == FILE_NOT_FOUND) {
         w->st->missing_mtllib++;
         return warn(w, line, "material library '%s' not found: default materials", path);
     }
+    w->st->found_elsewhere += how != FILE_AS_WRITTEN;
+    if (how != FILE_AS_WRITTEN && warn(w, line, "material library '%s' not where the file says; using %s (%s)", file,
+                                       path, how == FILE_BY_NAME ? "its file name beside the model"
+                                                                 : "its file name in another case"))
+        return -1;
     if (mtl_read(&o->lib, path, w->err)) {
         err_prefix(w->err, "%s:%d: mtllib", w->name, line);
         return -1;
@@ -438,7 +449,7 @@ static int obj_mtllib(Obj *o, char *rest, const char *dir, Warner *w, int line)
         for (char *q = whole; *q; q++)
             if (*q == '\\')
                 *q = '/';
-        if (file_join(dir, whole, path, sizeof path) == 0 && file_exists(path))
+        if (file_find_near(dir, whole, path, sizeof path) != FILE_NOT_FOUND)
             return mtl_one(o, whole, dir, w, line);
     }
     Tokens t;

@@ -10,7 +10,9 @@
  * Lenient where exporters are sloppy, strict where the data is wrong.  With
  * a warning naming file and line (and a count in ObjStats): a usemtl of an
  * undefined material or without a name (the default material), a missing
- * material library (default materials), a material asking for
+ * material library (default materials), a library or texture that is
+ * not where the file says but is found by its file name (file_find_near:
+ * models moved from the machine that wrote them), a material asking for
  * transparency, glass, reflection or emission (drawn opaque with its Phong
  * terms; the warning names the MTL file and line), vertex colours where faces use
  * materials (ignored: the materials win) or given as whole numbers up to 255
@@ -62,6 +64,7 @@ typedef struct {
     unsigned long undefined_mtl;     /* usemtl of a material no library defines, or of none */
     unsigned long missing_mtllib;    /* material libraries that could not be read */
     unsigned long missing_textures;  /* map_Kd files that could not be read */
+    unsigned long found_elsewhere;   /* libraries and textures found by file name, not where written */
     unsigned long undrawn_mtl;       /* used materials asking for transparency, glass, reflection or emission */
 } ObjStats;
 

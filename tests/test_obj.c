@@ -1,6 +1,9 @@
 /* test_obj.c - the OBJ/MTL reader on good and malformed input. */
 #include "helpers.h"
 
+#include <sys/stat.h>
+
+#include "fileio.h"
 #include "mtl.h"
 #include "obj.h"
 
@@ -347,6 +350,27 @@ static void material_extras_are_kept_and_warned(void **state)
     }
 }
 
+/* Files a model names, found as written, by their last component, or by it in another case. */
+static void named_files_are_found_near(void **state)
+{
+    (void)state;
+    char dir[256], path[512], buf[512];
+    snprintf(dir, sizeof dir, "%s/near", test_tmpdir());
+    mkdir(dir, 0700);
+    snprintf(path, sizeof path, "%s/wood.png", dir);
+    test_write_file(path, "x");
+    assert_int_equal(file_find_near(dir, "wood.png", buf, sizeof buf), FILE_AS_WRITTEN);
+    assert_string_equal(buf, path);
+    assert_int_equal(file_find_near(dir, "C:/Users/a/wood.png", buf, sizeof buf), FILE_BY_NAME);
+    assert_string_equal(buf, path);
+    assert_int_equal(file_find_near(dir, "tex/WOOD.PNG", buf, sizeof buf), FILE_BY_NAME_CASE);
+    assert_string_equal(buf, path);
+    assert_int_equal(file_find_near(dir, "tex/stone.png", buf, sizeof buf), FILE_NOT_FOUND);
+    snprintf(path, sizeof path, "%s/tex/stone.png", dir);
+    assert_string_equal(buf, path); /* as written, for the message */
+    assert_int_equal(file_find_near(dir, "tex/", buf, sizeof buf), FILE_NOT_FOUND);
+}
+
 static void wrong_data_stays_an_error(void **state)
 {
     (void)state;
@@ -393,6 +417,7 @@ int main(void)
         cmocka_unit_test(index_forms_and_negative_indices),
         cmocka_unit_test(exporters_habits_convert_with_warnings),
         cmocka_unit_test(wrong_data_stays_an_error),
+        cmocka_unit_test(named_files_are_found_near),
         cmocka_unit_test(byte_order_mark_is_skipped),
         cmocka_unit_test(polygons_are_triangulated_and_degenerates_dropped),
         cmocka_unit_test(materials_from_mtllib),

@@ -30,6 +30,13 @@ check jpg "255 0 0|0 255 0|0 0 255|255 255 255|" 2 # JPEG is lossy: a code or tw
 check placed "0 255 0|0 255 0|255 255 255|255 255 255|" 0 # -s 0.5 1 -o 0.5 0: the right half
 check missing "255 255 255|255 255 255|255 255 255|255 255 255|" 0
 grep -q "obj2tmd: warning: $D/quad-missing.obj: material 'tex': texture not read" "$dir/missing.err" || fail "missing texture warning: $(cat "$dir/missing.err")"
+# a model moved from the machine that wrote it: absolute Windows paths to its
+# library and texture, names in another case; found by file name, textured
+"$BIN/obj2tmd" tests/data/moved/crate.obj "$dir/quad.tmd" >"$dir/moved.log" 2>"$dir/moved.err" || fail "obj2tmd moved: $(cat "$dir/moved.err")"
+grep -q "crate.obj:2: material library 'C:/Users/artist/My Models/Crate.MTL' not where the file says; using tests/data/moved/crate.mtl" "$dir/moved.err" &&
+    grep -q "texture not where the library says; using tests/data/moved/quadrants.png" "$dir/moved.err" || fail "moved model warnings: $(cat "$dir/moved.err")"
+"$BIN/lanray-render" "$dir/view.scene" --width 64 --height 64 -o "$dir/moved.png" --quiet >/dev/null 2>&1 || fail "render moved"
+near "$(px "$dir/moved.png")" "255 0 0|0 255 0|0 0 255|255 255 255|" 0 || fail "moved model: quadrants $(px "$dir/moved.png")"
 "$BIN/obj2tmd" --strict "$D/quad-missing.obj" "$dir/strict.tmd" >/dev/null 2>&1 && fail "--strict converted a model whose texture is missing"
 # version 2 with textures, version 1 without
 python3 -c "import struct,sys; print(struct.unpack_from('<I', open(sys.argv[1],'rb').read(), 8)[0])" "$dir/quad-png.tmd" | grep -qx 2 || fail "a textured .tmd is not version 2"
