@@ -19,8 +19,15 @@
 
 typedef struct {
     int32_t p[3], t[3], n[3];
-    int32_t mat;
+    int32_t mat; /* index into Obj.used while parsing, into Obj.lib after obj_resolve; -1: none */
 } ObjTri;
+
+/* A material name a usemtl gave, resolved once the whole file is read: a
+ * library may come after the faces that use its materials. */
+typedef struct {
+    char name[MTL_NAME_MAX];
+    int line; /* its first usemtl */
+} ObjUse;
 
 typedef struct {
     vec3 *v;
@@ -36,6 +43,8 @@ typedef struct {
     int32_t (*corner)[3];
     uint32_t ccorner;
     MtlLib lib;
+    ObjUse *used;
+    uint32_t nused, cused;
 } Obj;
 
 static int grow(void **p, uint32_t *cap, uint32_t need, size_t elem)
@@ -244,6 +253,7 @@ static void obj_free(Obj *o)
     free(o->vn);
     free(o->tris);
     free(o->corner);
+    free(o->used);
     mtl_free(&o->lib);
 }
 
@@ -284,6 +294,35 @@ static int obj_textures(Obj *o, const int32_t *remap, Mesh *out, Warner *w)
         out->materials[remap[k]].texture = id;
     }
     return 0;
+}
+
+/* The usemtl names against the libraries (all read by now): faces get
+ * library indices; an undefined name is the default material, one warning
+ * at its first usemtl; an empty name is the library's unnamed material if
+ * it has one. */
+static int obj_resolve(Obj *o, Warner *w)
+{
+    int32_t *to = malloc((o->nused ? o->nused : 1) * sizeof *to);
+    if (!to)
+        return err_set(w->err, "%s: out of memory", w->name);
+    int rc = 0;
+    for (uint32_t i = 0; i < o->nused && rc == 0; i++) {
+        const ObjUse *u = &o->used[i];
+        to[i] = mtl_find(&o->lib, u->name);
+        if (to[i] < 0)
+            w->st->undefined_mtl++;
+        if (!u->name[0])
+            rc = warn(w, u->line, "usemtl without a name: %s",
+                      to[i] < 0 ? "the default material" : "the library's unnamed material");
+        else if (to[i] < 0)
+            rc = warn(w, u->line, "material '%s' is not defined by any material library: the default material",
+                      u->name);
+    }
+    for (uint32_t i = 0; i < o->ntri && rc == 0; i++)
+        if (o->tris[i].mat >= 0)
+            o->tris[i].mat = to[o->tris[i].mat];
+    free(to);
+    return rc;
 }
 
 /* Builds the Mesh from the indexed triangles, keeping only used attributes. */
@@ -633,15 +672,20 @@ int obj_parse(char *text, size_t len, const char *name, const char *dir, const O
             if (obj_mtllib(&o, rest, dir, &w, lx.line))
                 goto done;
         } else if (strcmp(k, "usemtl") == 0) {
-            mat = mtl_find(&o.lib, rest);
-            if (mat < 0)
-                st->undefined_mtl++;
-            if (mat < 0 && *rest &&
-                warn(&w, lx.line, "material '%s' is not defined by any material library: the default material", rest))
-                goto done;
-            if (!*rest && warn(&w, lx.line, "usemtl without a name: %s",
-                               mat < 0 ? "the default material" : "the library's unnamed material"))
-                goto done;
+            /* by name; the names are resolved against the libraries at the end */
+            mat = -1;
+            for (uint32_t i = o.nused; i-- > 0 && mat < 0;)
+                if (strncmp(o.used[i].name, rest, MTL_NAME_MAX - 1) == 0)
+                    mat = (int32_t)i;
+            if (mat < 0) {
+                if (grow((void **)&o.used, &o.cused, o.nused + 1, sizeof *o.used)) {
+                    err_set(err, "%s:%d: too many materials or out of memory", name, lx.line);
+                    goto done;
+                }
+                snprintf(o.used[o.nused].name, MTL_NAME_MAX, "%s", rest);
+                o.used[o.nused].line = lx.line;
+                mat = (int32_t)o.nused++;
+            }
         } else {
             /* s, l, p, curves and the rest do not describe triangles: skipped, counted, one warning per kind */
             ObjSkip kind = skip_kind(k);
@@ -652,6 +696,8 @@ int obj_parse(char *text, size_t len, const char *name, const char *dir, const O
         }
     }
     st->vertices = o.nv;
+    if (obj_resolve(&o, &w))
+        goto done;
     rc = obj_assemble(&o, opt, out, st, name, err);
 done:
     obj_free(&o);

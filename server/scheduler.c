@@ -1,6 +1,7 @@
 /* scheduler.c - see scheduler.h. */
 #include "scheduler.h"
 
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -244,3 +245,28 @@ uint32_t sched_held(const Sched *s, int client)
 uint32_t sched_frame(const Sched *s) { return s->frame; }
 const SchedConfig *sched_config(const Sched *s) { return &s->cfg; }
 SchedStats sched_stats(const Sched *s) { return s->stats; }
+
+/* A segment of render time tau costs a fixed overhead o (packets,
+ * scheduling, waking the client's thread pool) and, at the end of a frame,
+ * leaves clients idle for about tau while the last segments finish.  Per
+ * frame of work W on N clients that is o*W/(N*tau) + tau, smallest at
+ * tau = sqrt(o*W/N).  The result is rounded to a power of two and kept to
+ * at most half a frame per client; before anything is measured it is a
+ * sixteenth of the frame per client. */
+uint32_t sched_auto_lines(double work_us, double overhead_us, uint32_t height, uint32_t clients)
+{
+    if (clients < 1)
+        clients = 1;
+    uint32_t most = height / (2 * clients) > 0 ? height / (2 * clients) : 1;
+    if (work_us <= 0) {
+        uint32_t l = height / (16 * clients);
+        return l < 1 ? 1 : (l > most ? most : l);
+    }
+    double tau = sqrt(overhead_us * work_us / clients);
+    double line_us = work_us / height;
+    double lines = tau / line_us;
+    uint32_t p = 1;
+    while (p * 2 <= most && (double)(p * 2) <= lines * 1.4142)
+        p *= 2;
+    return p;
+}

@@ -54,6 +54,13 @@ void sched_destroy(Sched *s);
 void sched_begin_frame(Sched *s, uint32_t frame);
 /* Changes the segment size from the next frame on (automatic sizing). */
 void sched_set_segment_lines(Sched *s, uint32_t lines);
+
+/* The automatic segment size, in lines, for a frame of `work_us` of render
+ * time (0: nothing measured yet) on `clients` clients, where one segment
+ * costs `overhead_us` besides its rendering (scheduler.c says why this
+ * size); the server calls it with what it measures, the simulator with
+ * what it simulates. */
+uint32_t sched_auto_lines(double work_us, double overhead_us, uint32_t height, uint32_t clients);
 /* The number of clients connected, for the tail rules. */
 void sched_set_clients(Sched *s, uint32_t clients);
 /* Gives client a segment: a new one while pixels are left, else one still

@@ -82,40 +82,16 @@ struct Server {
     uint64_t turn_samples;
 };
 
-/* Automatic segment size.  A segment of render time tau costs a fixed
- * overhead o (packets, scheduling, waking the client's thread pool) and, at
- * the end of a frame, leaves clients idle for about tau while the last
- * segments finish.  Per frame of work W on N clients that is o*W/(N*tau) +
- * tau, smallest at tau = sqrt(o*W/N).  W and the time per line come from the
- * render times the clients report; o is measured too: for a client that was
- * kept busy, the time between two of its results minus the render time it
- * reports (an average over the previous frame; AUTO_OVERHEAD_US until then),
- * plus the CPU that moving a segment's packets costs: the server's own, and
- * as much again for the client's network thread, the mirror image of it (one
- * packet in, one out; measured 33 us against the server's 22 us on a 2-core
- * VM).  That CPU is taken from rendering wherever all cores are busy, which
- * is where the segment size matters, and the gap does not show it: it lands
- * in render times.  The result is rounded to a power of two and kept to at
- * most half a frame per client. */
+/* The per-segment overhead that sched_auto_lines sizes segments by is
+ * measured: for a client that was kept busy, the time between two of its
+ * results minus the render time it reports (an average over the previous
+ * frame; AUTO_OVERHEAD_US until there is one), plus the CPU that moving a
+ * segment's packets costs: the server's own, and as much again for the
+ * client's network thread, the mirror image of it (one packet in, one out;
+ * measured 33 us against the server's 22 us on a 2-core VM).  That CPU is taken from rendering wherever all cores are
+ * busy, which is where the segment size matters, and the gap does not show
+ * it: it lands in render times. */
 #define AUTO_OVERHEAD_US 300.0
-
-static uint32_t auto_lines(double work_us, double overhead_us, uint32_t height, uint32_t clients)
-{
-    if (clients < 1)
-        clients = 1;
-    uint32_t most = height / (2 * clients) > 0 ? height / (2 * clients) : 1;
-    if (work_us <= 0) { /* nothing measured yet: a sixteenth of the frame per client */
-        uint32_t l = height / (16 * clients);
-        return l < 1 ? 1 : (l > most ? most : l);
-    }
-    double tau = sqrt(overhead_us * work_us / clients);
-    double line_us = work_us / height;
-    double lines = tau / line_us;
-    uint32_t p = 1;
-    while (p * 2 <= most && (double)(p * 2) <= lines * 1.4142)
-        p *= 2;
-    return p;
-}
 
 static int build_assets(Server *s, Err *err)
 {
@@ -316,7 +292,7 @@ static int start_frame(Server *s, Err *err)
         double o = s->overhead_known ? fmax(s->overhead_us, 0.0) + 2 * s->packet_cpu_us : AUTO_OVERHEAD_US;
         if (o < 1)
             o = 1;
-        sched_set_segment_lines(s->sched, auto_lines((double)s->frame_pixels_us, o, (uint32_t)s->cfg.height, n));
+        sched_set_segment_lines(s->sched, sched_auto_lines((double)s->frame_pixels_us, o, (uint32_t)s->cfg.height, n));
     }
     s->frame_pixels_us = 0;
     s->gap_sum_us = 0;

@@ -265,6 +265,12 @@ static void exporters_habits_convert_with_warnings(void **state)
     assert_non_null(m.mat);
     assert_float_equal(m.materials[0].kd.y, 1, 0); /* green, from sub\habit.mtl */
     mesh_free(&m);
+    /* a library after the faces that use its materials: resolved at the end, no warning */
+    read_file("late-mtllib.obj", &m, &st, &h, 1, 0);
+    assert_int_equal(m.tri_count, 2);
+    assert_int_equal(m.material_count, 1);
+    assert_float_equal(m.materials[m.mat[1]].kd.y, 1, 0); /* green */
+    mesh_free(&m);
     /* UTF-16, both byte orders, the library too */
     for (int be = 0; be < 2; be++) {
         read_file(be ? "utf16be.obj" : "utf16le.obj", &m, &st, &h, 0, 0);

@@ -153,6 +153,21 @@ static void released_clients_hold_nothing(void **state)
     sched_destroy(s);
 }
 
+/* The automatic segment size against hand-worked answers: tau =
+ * sqrt(o W / N) of render time, in lines, rounded down to a power of two
+ * within a factor sqrt(2), at most half a frame per client. */
+static void auto_lines_follow_the_rule(void **state)
+{
+    (void)state;
+    assert_int_equal(sched_auto_lines(0, 300, 768, 2), 24);  /* nothing measured: 768 / (16 * 2) */
+    assert_int_equal(sched_auto_lines(0, 300, 10, 4), 1);    /* at least a line */
+    assert_int_equal(sched_auto_lines(1e6, 100, 1000, 1), 8); /* tau 10000 us = 10 lines of 1000 us: 8 <= 14.1 */
+    assert_int_equal(sched_auto_lines(1e6, 100, 1000, 4), 4); /* tau 5000 us = 5 lines: 4 <= 7.07 < 8 */
+    assert_int_equal(sched_auto_lines(1e6, 1e8, 1000, 1), 256); /* 10000 lines wanted, half a frame is 500 */
+    assert_int_equal(sched_auto_lines(1e6, 1e8, 1000, 0), 256); /* no clients counts as one */
+    assert_int_equal(sched_auto_lines(1e6, 1e-6, 1000, 1), 1);  /* almost free segments: one line */
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -161,6 +176,7 @@ int main(void)
         cmocka_unit_test(outstanding_segments_are_reissued_and_first_wins),
         cmocka_unit_test(queued_segments_are_reissued_first),
         cmocka_unit_test(released_clients_hold_nothing),
+        cmocka_unit_test(auto_lines_follow_the_rule),
     };
     return cmocka_run_group_tests_name("sched", tests, NULL, NULL);
 }

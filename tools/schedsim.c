@@ -186,23 +186,6 @@ static double send_via(const Sim *s, double now, Link *server, Link *client, dou
     return t + s->latency_us;
 }
 
-/* The server's rule (server.c's auto_lines), with the simulated per-segment
- * overhead and CPU outside the render threads standing for what the server
- * measures (the gap between results, and its own CPU per packet twice over). */
-static uint32_t auto_lines(double work_us, double overhead_us, uint32_t height, uint32_t clients)
-{
-    uint32_t most = height / (2 * clients) > 0 ? height / (2 * clients) : 1;
-    if (work_us <= 0) {
-        uint32_t l = height / (16 * clients);
-        return l < 1 ? 1 : (l > most ? most : l);
-    }
-    double tau = sqrt(overhead_us * work_us / clients), lines = tau / (work_us / height);
-    uint32_t p = 1;
-    while (p * 2 <= most && (double)(p * 2) <= lines * 1.4142)
-        p *= 2;
-    return p;
-}
-
 /* Threads in group g that want a core: the busy clients' and the waking ones'. */
 static double group_demand(const Sim *s, const Client *cl, int g)
 {
@@ -317,8 +300,12 @@ static void run(Sim *s)
             t_first = now;
             bytes = busy = 0;
         }
+        /* the server's rule, with the simulated per-segment overhead and CPU
+         * outside the render threads standing for what the server measures
+         * (the gap between results, and its own CPU per packet twice over) */
         if (s->segment == 0)
-            sched_set_segment_lines(sc, auto_lines(work, s->overhead_us + s->bg_cpu_us, (uint32_t)s->height, (uint32_t)s->clients));
+            sched_set_segment_lines(sc, sched_auto_lines(work, s->overhead_us + s->bg_cpu_us, (uint32_t)s->height,
+                                                         (uint32_t)s->clients));
         sched_begin_frame(sc, (uint32_t)frame + 1);
         work = 0;
         for (int i = 0; i < s->clients; i++) {
