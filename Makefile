@@ -48,7 +48,7 @@ endif
 BUILD := build/$(PRECISION)$(if $(SAN),-$(SAN))$(if $(FEATURES),-$(FEATURES))
 CFLAGS ?= $(OPT) -g
 CPPFLAGS := -D_POSIX_C_SOURCE=200809L $(PFLAGS) -Icommon -Iserver -Iclient
-ALL_CFLAGS := -std=c17 -ffp-contract=off -fno-math-errno -Wall -Wextra -Werror -pthread -MMD -MP $(SANFLAGS) $(CPPFLAGS) $(CFLAGS)
+ALL_CFLAGS := -std=c17 -ffp-contract=off -fno-math-errno -Wall -Wextra -Wshadow -Wdouble-promotion -Wmissing-prototypes -Werror -pthread -MMD -MP $(SANFLAGS) $(CPPFLAGS) $(CFLAGS)
 LDLIBS := -lassimp -lsodium -lnetpbm -lpng -ljpeg -lm -pthread
 LDFLAGS := $(SANFLAGS)
 

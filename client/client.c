@@ -19,7 +19,8 @@
 #include <time.h>
 #include <unistd.h>
 
-#include "proto.h"
+#include "auth.h"
+#include "conn.h"
 #include "render.h"
 #include "log.h"
 #include "net.h"
@@ -147,16 +148,6 @@ static int read_packet(Conn *c, double seconds, Err *err)
  * before the handshake got through (no connection, no answer). */
 enum { SESSION_ENDED = 0, SESSION_REFUSED = -1, SESSION_FAILED = -2 };
 
-static void error_text(const Conn *c, char *text, size_t size)
-{
-    size_t n = c->body_size < size - 1 ? c->body_size : size - 1;
-    memcpy(text, c->body, n);
-    text[n] = 0;
-    for (size_t i = 0; i < n; i++)
-        if (text[i] < 32 || text[i] > 126)
-            text[i] = '?';
-}
-
 /* Waits for one handshake packet of the given type: 1 when it came, else
  * SESSION_REFUSED (the server sent an ERROR) or SESSION_ENDED. */
 static int expect(Conn *c, uint32_t type, Err *err)
@@ -165,12 +156,13 @@ static int expect(Conn *c, uint32_t type, Err *err)
         return SESSION_FAILED;
     if (c->type == PKT_ERROR) {
         char text[PROTO_MAX_ERROR_TEXT + 1];
-        error_text(c, text, sizeof text);
+        if (msg_decode_error(c->body, c->body_size, text, err))
+            return SESSION_FAILED;
         err_set(err, "server refused the connection: %s", text);
         return SESSION_REFUSED;
     }
     if (c->type != type) {
-        err_set(err, "server sent %s instead of %s", proto_type_name(c->type), proto_type_name(type));
+        err_set(err, "server sent %s instead of %s", msg_type_name(c->type), msg_type_name(type));
         return SESSION_FAILED;
     }
     return 1;
@@ -181,29 +173,29 @@ static int handshake(const ClientConfig *cfg, Conn *c, Err *err)
     int got = expect(c, PKT_SERVER_HELLO, err);
     if (got != 1)
         return got;
-    uint32_t f[4];
-    memcpy(f, c->body, sizeof f);
-    if (f[0] != PROTO_MAGIC) {
+    MsgServerHello sh;
+    if (msg_decode_server_hello(c->body, c->body_size, &sh, err))
+        return SESSION_FAILED;
+    if (sh.magic != PROTO_MAGIC) {
         err_set(err, "not a lanray server (bad magic)");
         return SESSION_REFUSED;
     }
-    if (f[2] != PROTO_BOM) {
+    if (sh.bom != PROTO_BOM) {
         err_set(err, "server has the other byte order");
         return SESSION_REFUSED;
     }
-    if (f[1] != PROTO_VERSION) {
-        err_set(err, "server speaks protocol version %u, this client %u", f[1], PROTO_VERSION);
+    if (sh.version != PROTO_VERSION) {
+        err_set(err, "server speaks protocol version %u, this client %u", sh.version, PROTO_VERSION);
         return SESSION_REFUSED;
     }
-    if ((f[3] & HELLO_TOKEN_REQUIRED) && !cfg->token)
+    if ((sh.flags & HELLO_TOKEN_REQUIRED) && !cfg->token)
         log_line(cfg->quiet, "lanray-client", "server requires a token; none given (--token or LANRAY_TOKEN)");
-    uint8_t sn[PROTO_NONCE], body[20 + PROTO_NONCE + PROTO_PROOF];
-    memcpy(sn, c->body + 16, PROTO_NONCE);
-    uint32_t h[5] = {PROTO_MAGIC, PROTO_VERSION, PROTO_BOM, (uint32_t)cfg->threads, (uint32_t)sizeof(real)};
-    memcpy(body, h, 20);
-    proto_random(body + 20, PROTO_NONCE);
-    proto_proof(cfg->token ? cfg->token : "", sn, body + 20, body + 20 + PROTO_NONCE);
-    if (conn_send(c, PKT_HELLO, body, sizeof body, MAX_QUEUE, err) || conn_flush(c, err) < 0)
+    MsgHello h = {PROTO_MAGIC, PROTO_VERSION, PROTO_BOM, (uint32_t)cfg->threads, (uint32_t)sizeof(real), {0}, {0}};
+    auth_random(h.nonce, PROTO_NONCE);
+    auth_proof(cfg->token ? cfg->token : "", sh.nonce, h.nonce, h.proof);
+    MsgOut out;
+    msg_encode_hello(&h, &out);
+    if (conn_send_msg(c, &out, MAX_QUEUE, err) || conn_flush(c, err) < 0)
         return SESSION_FAILED;
     return expect(c, PKT_WELCOME, err);
 }
@@ -224,7 +216,7 @@ static int segment_ok(Segment seg, uint64_t width, uint64_t height, const char *
     if ((uint64_t)seg.first + seg.count > width * height)
         return err_set(err, "%s segment %u+%u outside the %llux%llu frame", packet, seg.first, seg.count,
                        (unsigned long long)width, (unsigned long long)height);
-    if (PROTO_HEADER + 16 + 3 * (uint64_t)seg.count > proto_max_size(PKT_DATA))
+    if (msg_min_size(PKT_DATA) + 3 * (uint64_t)seg.count > msg_max_size(PKT_DATA))
         return err_set(err, "%s segment of %u pixels is larger than a DATA packet can carry", packet, seg.count);
     return 0;
 }
@@ -232,24 +224,23 @@ static int segment_ok(Segment seg, uint64_t width, uint64_t height, const char *
 /* Handles one packet from the server; returns -1 to end the session. */
 static int on_packet(const ClientConfig *cfg, Worker *w, Conn *c, AssetCache *cache, SceneRef **cur, Err *err)
 {
-    const uint8_t *b = c->body;
     switch (c->type) {
     case PKT_ASSET: {
-        uint32_t kind;
-        memcpy(&kind, b, 4);
-        if (asset_cache_add(cache, kind, b + 4, b + 4 + PROTO_HASH, c->body_size - 4 - PROTO_HASH, err))
+        MsgAsset a;
+        if (msg_decode_asset(c->body, c->body_size, &a, err) ||
+            asset_cache_add(cache, a.kind, a.hash, a.data, a.len, err))
             return -1;
         return 0;
     }
     case PKT_UPDATE: {
-        uint32_t h[4];
-        memcpy(h, b, 16);
-        uint32_t frame = h[0], width = h[1], height = h[2], nseg = h[3];
-        if (nseg > 2 || c->body_size < 16 + 8 * nseg || width < 1 || height < 1 || width > RENDER_MAX_SIDE ||
-            height > RENDER_MAX_SIDE)
+        MsgUpdate u;
+        if (msg_decode_update(c->body, c->body_size, &u, err))
+            return -1;
+        uint32_t frame = u.frame, width = u.width, height = u.height, nseg = u.nseg;
+        if (width < 1 || height < 1 || width > RENDER_MAX_SIDE || height > RENDER_MAX_SIDE)
             return err_set(err, "malformed UPDATE");
         Scene *scene;
-        if (wire_decode_scene(b + 16 + 8 * nseg, c->body_size - 16 - 8 * nseg, cache, &scene, err))
+        if (wire_decode_scene(u.scene, u.scene_len, cache, &scene, err))
             return -1;
         SceneRef *ref = calloc(1, sizeof *ref);
         if (!ref) {
@@ -267,8 +258,7 @@ static int on_packet(const ClientConfig *cfg, Worker *w, Conn *c, AssetCache *ca
         ref_drop(*cur);
         *cur = ref;
         for (uint32_t i = 0; i < nseg; i++) {
-            Segment seg;
-            memcpy(&seg, b + 16 + 8 * i, 8);
+            Segment seg = u.seg[i];
             if (segment_ok(seg, width, height, "UPDATE", err)) {
                 pthread_mutex_unlock(&w->mu);
                 return -1;
@@ -279,27 +269,29 @@ static int on_packet(const ClientConfig *cfg, Worker *w, Conn *c, AssetCache *ca
         return 0;
     }
     case PKT_COMPUTE: {
-        uint32_t h[3];
-        memcpy(h, b, 12);
-        Segment seg = {h[1], h[2]};
+        MsgCompute m;
+        if (msg_decode_compute(c->body, c->body_size, &m, err))
+            return -1;
+        Segment seg = m.seg;
         pthread_mutex_lock(&w->mu);
-        if (*cur && h[0] == (*cur)->frame) {
+        if (*cur && m.frame == (*cur)->frame) {
             if (segment_ok(seg, (uint64_t)(*cur)->width, (uint64_t)(*cur)->height, "COMPUTE", err)) {
                 pthread_mutex_unlock(&w->mu);
                 return -1;
             }
-            queue_job(w, h[0], seg, *cur);
+            queue_job(w, m.frame, seg, *cur);
         }
         pthread_mutex_unlock(&w->mu);
         return 0;
     }
     case PKT_ERROR: {
         char text[PROTO_MAX_ERROR_TEXT + 1];
-        error_text(c, text, sizeof text);
+        if (msg_decode_error(c->body, c->body_size, text, err))
+            return -1;
         return err_set(err, "server closed the connection: %s", text);
     }
     case PKT_BYE: return err_set(err, "server said goodbye");
-    default: return err_set(err, "unexpected %s packet from the server", proto_type_name(c->type));
+    default: return err_set(err, "unexpected %s packet from the server", msg_type_name(c->type));
     }
     (void)cfg;
 }
@@ -324,7 +316,9 @@ static int session(const ClientConfig *cfg, int fd, Worker *w, AssetCache *cache
     for (;;) {
         if (*stop) {
             err_set(err, "stopped");
-            conn_send(&c, PKT_BYE, NULL, 0, MAX_QUEUE, err);
+            MsgOut bye;
+            msg_encode_bye(&bye);
+            conn_send_msg(&c, &bye, MAX_QUEUE, err);
             conn_flush(&c, err);
             break;
         }
@@ -345,8 +339,9 @@ static int session(const ClientConfig *cfg, int fd, Worker *w, AssetCache *cache
             pthread_mutex_unlock(&w->mu);
             int bad = 0;
             for (int i = 0; i < n; i++) {
-                uint32_t h[4] = {done[i].frame, done[i].seg.first, done[i].seg.count, done[i].render_us};
-                if (!bad && conn_send2(&c, PKT_DATA, h, sizeof h, done[i].pixels, (size_t)done[i].seg.count * 3, MAX_QUEUE, err))
+                MsgOut out;
+                msg_encode_data(&(MsgData){done[i].frame, done[i].seg, done[i].render_us, done[i].pixels}, &out);
+                if (!bad && conn_send_msg(&c, &out, MAX_QUEUE, err))
                     bad = 1;
                 free(done[i].pixels);
             }

@@ -12,7 +12,7 @@
 #include "client.h"
 #include "log.h"
 #include "opt.h"
-#include "proto.h"
+#include "msg.h"
 
 static volatile sig_atomic_t stop_flag;
 static void on_stop(int sig) { (void)sig; stop_flag = 1; }

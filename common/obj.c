@@ -605,11 +605,11 @@ int obj_parse(char *text, size_t len, const char *name, const char *dir, const O
         const char *k = t.tok[0];
         if (strcmp(k, "v") == 0) {
             /* x y z, x y z w, and x y z r g b (or w r g b) as many exporters write vertex colours */
-            real v[3], w, c[3] = {-1, -1, -1};
+            real v[3], vw, c[3] = {-1, -1, -1};
             int nums = t.n - 1, rgb = nums == 6 ? 4 : 5;
             if (!(nums == 3 || nums == 4 || nums == 6 || nums == 7) || lex_real(t.tok[1], &v[0]) ||
                 lex_real(t.tok[2], &v[1]) || lex_real(t.tok[3], &v[2]) ||
-                ((nums == 4 || nums == 7) && lex_real(t.tok[4], &w)) ||
+                ((nums == 4 || nums == 7) && lex_real(t.tok[4], &vw)) ||
                 (nums >= 6 && (lex_real(t.tok[rgb], &c[0]) || lex_real(t.tok[rgb + 1], &c[1]) ||
                                lex_real(t.tok[rgb + 2], &c[2])))) {
                 err_set(err, "%s:%d: expected 3 finite numbers after 'v' (and a w, colours, or both)", name, lx.line);

@@ -5,6 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "auth.h"
 #include "tmd.h"
 
 enum { TRI_SMOOTH = 1, TRI_UV = 2 };
@@ -164,7 +165,7 @@ int asset_cache_has(const AssetCache *c, const uint8_t hash[PROTO_HASH]) { retur
 int asset_cache_add(AssetCache *c, uint32_t kind, const uint8_t hash[PROTO_HASH], const void *data, size_t len, Err *err)
 {
     uint8_t h[PROTO_HASH];
-    proto_hash(data, len, h);
+    auth_hash(data, len, h);
     if (memcmp(h, hash, PROTO_HASH) != 0)
         return err_set(err, "asset: payload does not match its hash");
     if (cache_find(c, hash, kind))
@@ -225,7 +226,7 @@ int wire_asset_model(const Model *m, Asset *out, Err *err)
     if (tmd_encode(m, sizeof(real) > sizeof(float), &data, &out->len, err))
         return -1;
     out->data = data;
-    proto_hash(out->data, out->len, out->hash);
+    auth_hash(out->data, out->len, out->hash);
     return 0;
 }
 
@@ -241,7 +242,7 @@ int wire_asset_texture(const Texture *t, Asset *out, Err *err)
     memcpy(out->data, &t->w, 4);
     memcpy(out->data + 4, &t->h, 4);
     memcpy(out->data + 8, t->rgb, px);
-    proto_hash(out->data, out->len, out->hash);
+    auth_hash(out->data, out->len, out->hash);
     return 0;
 }
 

@@ -9,7 +9,7 @@
 #define LANRAY_WIRE_H
 
 #include "cursor.h"
-#include "proto.h"
+#include "msg.h"
 #include "scene.h"
 
 #define WIRE_MAGIC 0x4353524cu /* "LRSC" */

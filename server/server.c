@@ -17,6 +17,8 @@
 #include <sys/socket.h>
 #include <unistd.h>
 
+#include "auth.h"
+#include "conn.h"
 #include "log.h"
 #include "net.h"
 #include "timer.h"
@@ -167,7 +169,9 @@ void server_destroy(Server *s)
         return;
     for (uint32_t i = 0; i < s->nclients; i++) {
         Err e;
-        conn_send(&s->clients[i]->conn, PKT_BYE, NULL, 0, MAX_QUEUE, &e);
+        MsgOut bye;
+        msg_encode_bye(&bye);
+        conn_send_msg(&s->clients[i]->conn, &bye, MAX_QUEUE, &e);
         conn_flush(&s->clients[i]->conn, &e);
         client_free(s, s->clients[i]);
     }
@@ -195,39 +199,46 @@ uint32_t server_client_count(const Server *s)
     return n;
 }
 
-/* Ends a client's connection: an ERROR with the reason when there is one. */
-static void drop(Server *s, Client *c, const char *reason)
+/* Why a connection ends: whether the client is told (an ERROR with the
+ * reason) or already knows. */
+typedef enum { DROP_TELL, DROP_GOODBYE } DropKind;
+
+/* Ends a client's connection, logged with the reason. */
+static void drop_as(Server *s, Client *c, DropKind kind, const char *reason)
 {
     if (c->closing)
         return;
     log_line(s->cfg.quiet, "lanray-server", "client %d (%s) disconnected: %s", c->id, c->addr, reason);
-    if (reason && strcmp(reason, "said goodbye") != 0) {
+    if (kind == DROP_TELL) {
         Err e;
-        char text[PROTO_MAX_ERROR_TEXT];
-        int n = snprintf(text, sizeof text, "%s", reason);
-        conn_send(&c->conn, PKT_ERROR, text, (size_t)(n < (int)sizeof text ? n : (int)sizeof text - 1), MAX_QUEUE, &e);
+        MsgOut m;
+        msg_encode_error(&(MsgError){reason, strlen(reason)}, &m);
+        conn_send_msg(&c->conn, &m, MAX_QUEUE, &e);
         conn_flush(&c->conn, &e);
     }
     c->closing = 1;
     sched_release(s->sched, c->id);
 }
 
-static void send_or_drop(Server *s, Client *c, uint32_t type, const void *a, size_t alen, const void *b, size_t blen)
+static void drop(Server *s, Client *c, const char *reason) { drop_as(s, c, DROP_TELL, reason); }
+
+static void send_or_drop(Server *s, Client *c, const MsgOut *m)
 {
     Err e;
     if (c->closing)
         return;
-    if (conn_send2(&c->conn, type, a, alen, b, blen, MAX_QUEUE, &e))
+    if (conn_send_msg(&c->conn, m, MAX_QUEUE, &e))
         drop(s, c, e.msg);
 }
 
 static void send_compute(Server *s, Client *c)
 {
-    Segment seg;
-    if (!sched_assign(s->sched, c->id, &seg))
+    MsgCompute m = {s->frame, {0, 0}};
+    if (!sched_assign(s->sched, c->id, &m.seg))
         return;
-    uint32_t body[3] = {s->frame, seg.first, seg.count};
-    send_or_drop(s, c, PKT_COMPUTE, body, sizeof body, NULL, 0);
+    MsgOut out;
+    msg_encode_compute(&m, &out);
+    send_or_drop(s, c, &out);
 }
 
 /* The assets it lacks, then the scene and two segments. */
@@ -235,24 +246,22 @@ static void send_update(Server *s, Client *c)
 {
     for (uint32_t i = 0; i < s->nassets; i++)
         if (!c->asset_sent[i]) {
-            uint8_t head[4 + PROTO_HASH];
-            memcpy(head, &s->assets[i].kind, 4);
-            memcpy(head + 4, s->assets[i].hash, PROTO_HASH);
-            send_or_drop(s, c, PKT_ASSET, head, sizeof head, s->assets[i].data, s->assets[i].len);
+            MsgAsset a = {s->assets[i].kind, {0}, s->assets[i].data, s->assets[i].len};
+            memcpy(a.hash, s->assets[i].hash, PROTO_HASH);
+            MsgOut out;
+            msg_encode_asset(&a, &out);
+            send_or_drop(s, c, &out);
             c->asset_sent[i] = 1;
             s->frame_sent_assets = 1;
-            s->asset_bytes += PROTO_HEADER + sizeof head + s->assets[i].len;
+            s->asset_bytes += PROTO_HEADER + out.head_len + out.tail_len;
         }
-    uint32_t body[4 + 4] = {s->frame, (uint32_t)s->cfg.width, (uint32_t)s->cfg.height, 0};
-    for (int k = 0; k < 2; k++) {
-        Segment seg;
-        if (sched_assign(s->sched, c->id, &seg)) {
-            body[4 + 2 * body[3]] = seg.first;
-            body[5 + 2 * body[3]] = seg.count;
-            body[3]++;
-        }
-    }
-    send_or_drop(s, c, PKT_UPDATE, body, 16 + 8 * (size_t)body[3], s->blob.data, s->blob.len);
+    MsgUpdate u = {s->frame, (uint32_t)s->cfg.width, (uint32_t)s->cfg.height, 0, {{0, 0}}, s->blob.data, s->blob.len};
+    for (int k = 0; k < 2; k++)
+        if (sched_assign(s->sched, c->id, &u.seg[u.nseg]))
+            u.nseg++;
+    MsgOut out;
+    msg_encode_update(&u, &out);
+    send_or_drop(s, c, &out);
     c->frame_sent = s->frame;
 }
 
@@ -326,13 +335,13 @@ int server_adopt(Server *s, int fd, const char *addr)
     c->state = CLIENT_HANDSHAKE;
     c->since = timer_now();
     snprintf(c->addr, sizeof c->addr, "%s", addr);
-    proto_random(c->nonce, sizeof c->nonce);
-    uint32_t hello[4] = {PROTO_MAGIC, PROTO_VERSION, PROTO_BOM, s->cfg.token ? HELLO_TOKEN_REQUIRED : 0};
-    uint8_t body[16 + PROTO_NONCE];
-    memcpy(body, hello, 16);
-    memcpy(body + 16, c->nonce, PROTO_NONCE);
+    auth_random(c->nonce, sizeof c->nonce);
+    MsgServerHello h = {PROTO_MAGIC, PROTO_VERSION, PROTO_BOM, s->cfg.token ? HELLO_TOKEN_REQUIRED : 0, {0}};
+    memcpy(h.nonce, c->nonce, PROTO_NONCE);
     s->clients[s->nclients++] = c;
-    send_or_drop(s, c, PKT_SERVER_HELLO, body, sizeof body, NULL, 0);
+    MsgOut out;
+    msg_encode_server_hello(&h, &out);
+    send_or_drop(s, c, &out);
     return 0;
 }
 
@@ -349,42 +358,47 @@ static void accept_clients(Server *s)
 
 static void on_hello(Server *s, Client *c)
 {
-    const uint8_t *b = c->conn.body;
-    uint32_t f[5];
-    memcpy(f, b, sizeof f);
+    MsgHello h;
+    Err e;
+    if (msg_decode_hello(c->conn.body, c->conn.body_size, &h, &e)) {
+        drop(s, c, e.msg);
+        return;
+    }
     char why[256];
-    if (f[0] != PROTO_MAGIC) {
+    if (h.magic != PROTO_MAGIC) {
         drop(s, c, "handshake: not a lanray client (bad magic)");
         return;
     }
-    if (f[2] != PROTO_BOM) {
+    if (h.bom != PROTO_BOM) {
         drop(s, c, "handshake: byte order differs from the server's");
         return;
     }
-    if (f[1] != PROTO_VERSION) {
-        snprintf(why, sizeof why, "handshake: protocol version %u, the server speaks version %u", f[1], PROTO_VERSION);
+    if (h.version != PROTO_VERSION) {
+        snprintf(why, sizeof why, "handshake: protocol version %u, the server speaks version %u", h.version,
+                 PROTO_VERSION);
         drop(s, c, why);
         return;
     }
-    if (f[4] != sizeof(real)) {
+    if (h.real_size != sizeof(real)) {
         snprintf(why, sizeof why, "handshake: client computes with %u-byte reals, the server with %zu (build both with the same PRECISION)",
-                 f[4], sizeof(real));
+                 h.real_size, sizeof(real));
         drop(s, c, why);
         return;
     }
-    if (f[3] < 1 || f[3] > 4096) {
+    if (h.threads < 1 || h.threads > 4096) {
         drop(s, c, "handshake: implausible thread count");
         return;
     }
-    if (s->cfg.token && !proto_proof_ok(s->cfg.token, c->nonce, b + 20, b + 20 + PROTO_NONCE)) {
+    if (s->cfg.token && !auth_proof_ok(s->cfg.token, c->nonce, h.nonce, h.proof)) {
         drop(s, c, "handshake: authentication failed (wrong or missing token)");
         return;
     }
-    c->threads = f[3];
+    c->threads = h.threads;
     c->state = CLIENT_ACTIVE;
     c->last_result = timer_now();
-    uint32_t id = (uint32_t)c->id;
-    send_or_drop(s, c, PKT_WELCOME, &id, 4, NULL, 0);
+    MsgOut out;
+    msg_encode_welcome(&(MsgWelcome){(uint32_t)c->id}, &out);
+    send_or_drop(s, c, &out);
     log_line(s->cfg.quiet, "lanray-server", "client %d (%s) joined with %u thread%s", c->id, c->addr, c->threads,
              c->threads == 1 ? "" : "s");
     if (s->in_frame) {
@@ -395,18 +409,19 @@ static void on_hello(Server *s, Client *c)
 
 static void on_data(Server *s, Client *c)
 {
-    uint32_t h[4];
-    memcpy(h, c->conn.body, sizeof h);
-    Segment seg = {h[1], h[2]};
-    if ((uint64_t)c->conn.body_size != 16 + (uint64_t)seg.count * 3) {
-        drop(s, c, "DATA packet size does not match its segment");
+    MsgData d;
+    Err e;
+    if (msg_decode_data(c->conn.body, c->conn.body_size, &d, &e)) {
+        drop(s, c, e.msg);
         return;
     }
+    Segment seg = d.seg;
+    const uint32_t frame = d.frame, render_us = d.render_us;
     double now = timer_now();
     c->last_result = now;
     /* overhead sample: a client that still held another segment went straight on to it */
-    if (c->was_full && c->last_data_frame == h[0] && h[0] == s->frame) {
-        double gap = (now - c->last_data) * 1e6 - h[3];
+    if (c->was_full && c->last_data_frame == frame && frame == s->frame) {
+        double gap = (now - c->last_data) * 1e6 - render_us;
         /* negative too: a result sent late makes one gap longer and the
          * next one shorter by as much, and the mean stays right */
         if (fabs(gap) < 1e6) {
@@ -415,10 +430,10 @@ static void on_data(Server *s, Client *c)
         }
     }
     /* turnaround sample: the client's first result of a measured frame,
-     * which it began rendering h[3] us ago */
-    if (c->last_data_frame != h[0] && h[0] == s->frame && s->frames_done >= s->cfg.warmup &&
+     * which it began rendering render_us us ago */
+    if (c->last_data_frame != frame && frame == s->frame && s->frames_done >= s->cfg.warmup &&
         s->frames_done > 0 && !s->frame_sent_assets) {
-        double turn = (now - s->last_frame_end) * 1e6 - h[3];
+        double turn = (now - s->last_frame_end) * 1e6 - render_us;
         if (turn >= 0 && turn < 1e6) {
             s->turn_sum_us += turn;
             s->turn_samples++;
@@ -427,24 +442,24 @@ static void on_data(Server *s, Client *c)
     s->frame_packets++;
     c->was_full = sched_held(s->sched, c->id) >= 2;
     c->last_data = now;
-    c->last_data_frame = h[0];
-    SchedResult r = sched_complete(s->sched, c->id, h[0], seg);
+    c->last_data_frame = frame;
+    SchedResult r = sched_complete(s->sched, c->id, frame, seg);
     if (r == SCHED_UNKNOWN) {
         char why[160];
-        snprintf(why, sizeof why, "pixels for segment %u+%u of frame %u, which it was not given", seg.first, seg.count, h[0]);
+        snprintf(why, sizeof why, "pixels for segment %u+%u of frame %u, which it was not given", seg.first, seg.count, frame);
         drop(s, c, why);
         return;
     }
     if (r != SCHED_STALE) {
         /* time spent rendering counts whether or not this copy won */
-        c->busy_us += h[3];
-        s->total_busy_us += h[3];
+        c->busy_us += render_us;
+        s->total_busy_us += render_us;
     }
     if (r == SCHED_ACCEPT) {
-        memcpy(s->pixels + (size_t)seg.first * 3, c->conn.body + 16, (size_t)seg.count * 3);
+        memcpy(s->pixels + (size_t)seg.first * 3, d.pixels, (size_t)seg.count * 3);
         c->segments++;
         c->pixels += seg.count;
-        s->frame_pixels_us += h[3];
+        s->frame_pixels_us += render_us;
     } else if (r == SCHED_DUPLICATE) {
         c->duplicates += seg.count;
     }
@@ -460,22 +475,21 @@ static void on_packet(Server *s, Client *c)
             on_hello(s, c);
         else {
             char why[96];
-            snprintf(why, sizeof why, "handshake: expected HELLO, got %s", proto_type_name(t));
+            snprintf(why, sizeof why, "handshake: expected HELLO, got %s", msg_type_name(t));
             drop(s, c, why);
         }
         return;
     }
     switch (t) {
     case PKT_DATA: on_data(s, c); break;
-    case PKT_BYE: drop(s, c, "said goodbye"); break;
+    case PKT_BYE: drop_as(s, c, DROP_GOODBYE, "said goodbye"); break;
     case PKT_ERROR: {
         char text[PROTO_MAX_ERROR_TEXT + 1];
-        size_t n = c->conn.body_size < PROTO_MAX_ERROR_TEXT ? c->conn.body_size : PROTO_MAX_ERROR_TEXT;
-        memcpy(text, c->conn.body, n);
-        text[n] = 0;
-        for (size_t i = 0; i < n; i++)
-            if (text[i] < 32 || text[i] > 126)
-                text[i] = '?';
+        Err e;
+        if (msg_decode_error(c->conn.body, c->conn.body_size, text, &e)) {
+            drop(s, c, e.msg);
+            break;
+        }
         char why[PROTO_MAX_ERROR_TEXT + 32];
         snprintf(why, sizeof why, "client reported: %s", text);
         drop(s, c, why);
@@ -483,7 +497,7 @@ static void on_packet(Server *s, Client *c)
     }
     default: {
         char why[96];
-        snprintf(why, sizeof why, "unexpected %s packet from a client", proto_type_name(t));
+        snprintf(why, sizeof why, "unexpected %s packet from a client", msg_type_name(t));
         drop(s, c, why);
     }
     }

@@ -1,6 +1,7 @@
 /* test_wire.c - scenes through the wire format and the asset cache. */
 #include "helpers.h"
 
+#include "auth.h"
 #include "render.h"
 #include "scene_default.h"
 #include "scene_parse.h"
@@ -242,7 +243,7 @@ static void malformed_scenes_and_assets_are_rejected(void **state)
     assert_int_equal(asset_cache_add(empty, ASSET_MODEL, e.models[0].hash, e.models[0].data, e.models[0].len, &err), -1);
     assert_contains(err.msg, "does not match its hash");
     uint8_t tex[12] = {2, 0, 0, 0, 2, 0, 0, 0, 0, 0, 0, 0}, h[PROTO_HASH];
-    proto_hash(tex, sizeof tex, h);
+    auth_hash(tex, sizeof tex, h);
     assert_int_equal(asset_cache_add(empty, ASSET_TEXTURE, h, tex, sizeof tex, &err), -1);
     assert_contains(err.msg, "texture payload");
     asset_cache_destroy(empty);

@@ -212,7 +212,7 @@ int main(int argc, char **argv)
     double builds[BUILDS + 1];
     RTCScene rs = NULL;
     size_t tree_bytes = 0;
-    for (int k = 0; k <= BUILDS; k++) {
+    for (int b = 0; b <= BUILDS; b++) {
         if (rs)
             rtcReleaseScene(rs);
         rs = rtcNewScene(dev);
@@ -222,7 +222,7 @@ int main(int argc, char **argv)
         long before = atomic_load(&device_bytes);
         double t0 = timer_now();
         rtcCommitScene(rs);
-        builds[k] = timer_now() - t0;
+        builds[b] = timer_now() - t0;
         tree_bytes = (size_t)(atomic_load(&device_bytes) - before);
     }
     rtcReleaseGeometry(g);

@@ -118,7 +118,7 @@ int main(int argc, char **argv)
         differing += px != 0;
     }
     double rmse = sqrt(sq / (3.0 * (double)n));
-    double psnr = rmse > 0 ? 20 * log10(255.0 / rmse) : INFINITY;
+    double psnr = rmse > 0 ? 20 * log10(255.0 / rmse) : (double)INFINITY;
     double s = ssim(a, b, wa, ha);
     if (csv)
         printf("%d,%zu,%.5f,%.3f,%.6f\n", maxd, differing, rmse, isinf(psnr) ? 999.0 : psnr, s);

@@ -224,7 +224,7 @@ sys=$(grep -hoE '^\s*#\s*include\s*<[^>]+>' $used | sed -E 's/.*<([^>]+)>.*/\1/'
 for h in common/*.h server/*.h client/*.h; do
     grep -qx "$(basename "$h")" <<<"$sys" && fail "$h has the name of a system header that system headers include"
 done
-grep -q "common/proto.h" build/float/client/client.d 2>/dev/null || [ ! -e build/float/client/client.d ] ||
-    fail "build/float/client/client.d lacks common/proto.h: header changes would not rebuild the client"
+grep -q "common/conn.h" build/float/client/client.d 2>/dev/null || [ ! -e build/float/client/client.d ] ||
+    fail "build/float/client/client.d lacks common/conn.h: header changes would not rebuild the client"
 
 echo "cli: help, version, ranges, exit statuses, early checks, bands, addresses and progress as documented"

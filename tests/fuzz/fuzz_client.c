@@ -15,7 +15,7 @@
 
 #include "client.h"
 #include "fuzz.h"
-#include "proto.h"
+#include "msg.h"
 
 typedef struct {
     int fd;

@@ -5,6 +5,7 @@
 #include <stdlib.h>
 
 #include "fuzz.h"
+#include "auth.h"
 #include "render.h"
 #include "scene_default.h"
 #include "wire.h"
@@ -45,7 +46,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         /* an asset: the hash is computed, so the payload itself gets decoded */
         AssetCache *c = asset_cache_create();
         uint8_t hash[PROTO_HASH];
-        proto_hash(data + 1, size - 1, hash);
+        auth_hash(data + 1, size - 1, hash);
         asset_cache_add(c, data[0] & 1 ? ASSET_MODEL : ASSET_TEXTURE, hash, data + 1, size - 1, NULL);
         asset_cache_destroy(c);
         return 0;

@@ -1,0 +1,197 @@
+/* test_msg.c - the packet codec (msg.h): every packet survives encode then
+ * decode field for field, decoders refuse bodies that do not fit their
+ * layout, and docs/protocol.md shows the layouts and size limits the codec
+ * has (its generated table is compared line for line). */
+#include "helpers.h"
+
+#include "fileio.h"
+#include "msg.h"
+
+/* head + tail, as the wire carries the body */
+static size_t body_of(const MsgOut *o, uint8_t *buf)
+{
+    memcpy(buf, o->head, o->head_len);
+    if (o->tail_len)
+        memcpy(buf + o->head_len, o->tail, o->tail_len);
+    return o->head_len + o->tail_len;
+}
+
+static void packets_round_trip(void **state)
+{
+    (void)state;
+    static uint8_t buf[4096];
+    MsgOut o;
+    Err err;
+    size_t n;
+
+    MsgServerHello sh = {PROTO_MAGIC, PROTO_VERSION, PROTO_BOM, HELLO_TOKEN_REQUIRED, {0}}, sh2;
+    for (int i = 0; i < (int)PROTO_NONCE; i++)
+        sh.nonce[i] = (uint8_t)(i * 7 + 1);
+    msg_encode_server_hello(&sh, &o);
+    n = body_of(&o, buf);
+    assert_int_equal(o.type, PKT_SERVER_HELLO);
+    assert_int_equal(n + PROTO_HEADER, msg_max_size(PKT_SERVER_HELLO));
+    assert_int_equal(msg_decode_server_hello(buf, n, &sh2, &err), 0);
+    assert_memory_equal(&sh, &sh2, sizeof sh);
+
+    MsgHello h = {PROTO_MAGIC, PROTO_VERSION, PROTO_BOM, 16, 4, {0}, {0}}, h2;
+    for (int i = 0; i < (int)PROTO_NONCE; i++)
+        h.nonce[i] = (uint8_t)i, h.proof[i] = (uint8_t)(255 - i);
+    msg_encode_hello(&h, &o);
+    n = body_of(&o, buf);
+    assert_int_equal(msg_decode_hello(buf, n, &h2, &err), 0);
+    assert_memory_equal(&h, &h2, sizeof h);
+    uint32_t first;
+    memcpy(&first, buf, 4);
+    assert_int_equal(first, PROTO_MAGIC); /* the magic leads, as the docs say */
+
+    MsgWelcome w = {42}, w2;
+    msg_encode_welcome(&w, &o);
+    n = body_of(&o, buf);
+    assert_int_equal(msg_decode_welcome(buf, n, &w2, &err), 0);
+    assert_int_equal(w2.id, 42);
+
+    const uint8_t scene[5] = {1, 2, 3, 4, 5};
+    for (uint32_t nseg = 0; nseg <= 2; nseg++) {
+        MsgUpdate u = {7, 640, 480, nseg, {{10, 20}, {30, 40}}, scene, sizeof scene}, u2;
+        msg_encode_update(&u, &o);
+        n = body_of(&o, buf);
+        assert_int_equal(n, 16 + 8 * nseg + sizeof scene);
+        assert_int_equal(msg_decode_update(buf, n, &u2, &err), 0);
+        assert_true(u2.frame == 7 && u2.width == 640 && u2.height == 480 && u2.nseg == nseg);
+        for (uint32_t k = 0; k < nseg; k++)
+            assert_memory_equal(&u2.seg[k], &u.seg[k], sizeof(Segment));
+        assert_int_equal(u2.scene_len, sizeof scene);
+        assert_memory_equal(u2.scene, scene, sizeof scene);
+    }
+
+    MsgCompute c = {9, {100, 200}}, c2;
+    msg_encode_compute(&c, &o);
+    n = body_of(&o, buf);
+    assert_int_equal(msg_decode_compute(buf, n, &c2, &err), 0);
+    assert_memory_equal(&c, &c2, sizeof c);
+
+    const uint8_t px[6] = {1, 2, 3, 4, 5, 6};
+    MsgData d = {3, {5, 2}, 1234, px}, d2;
+    msg_encode_data(&d, &o);
+    n = body_of(&o, buf);
+    assert_int_equal(n, 16 + 6);
+    assert_int_equal(msg_decode_data(buf, n, &d2, &err), 0);
+    assert_true(d2.frame == 3 && d2.seg.first == 5 && d2.seg.count == 2 && d2.render_us == 1234);
+    assert_memory_equal(d2.pixels, px, 6);
+
+    MsgAsset a = {ASSET_TEXTURE, {0}, px, sizeof px}, a2;
+    a.hash[0] = 0xab, a.hash[31] = 0xcd;
+    msg_encode_asset(&a, &o);
+    n = body_of(&o, buf);
+    assert_int_equal(msg_decode_asset(buf, n, &a2, &err), 0);
+    assert_true(a2.kind == ASSET_TEXTURE && a2.len == sizeof px && a2.hash[0] == 0xab && a2.hash[31] == 0xcd);
+    assert_memory_equal(a2.data, px, sizeof px);
+
+    char text[PROTO_MAX_ERROR_TEXT + 1];
+    msg_encode_error(&(MsgError){"bad\nthing", 9}, &o);
+    n = body_of(&o, buf);
+    assert_int_equal(msg_decode_error(buf, n, text, &err), 0);
+    assert_string_equal(text, "bad?thing"); /* made printable */
+    char longer[2000];
+    memset(longer, 'x', sizeof longer);
+    msg_encode_error(&(MsgError){longer, sizeof longer}, &o);
+    assert_int_equal(o.tail_len, PROTO_MAX_ERROR_TEXT); /* cut to what the packet may carry */
+
+    msg_encode_bye(&o);
+    assert_true(o.type == PKT_BYE && o.head_len == 0 && o.tail_len == 0);
+}
+
+static void bodies_that_do_not_fit_are_refused(void **state)
+{
+    (void)state;
+    uint8_t buf[256] = {0};
+    Err err;
+    MsgHello h;
+    assert_int_equal(msg_decode_hello(buf, 83, &h, &err), -1);
+    assert_non_null(strstr(err.msg, "HELLO packet of 83 bytes is too short"));
+    assert_int_equal(msg_decode_hello(buf, 85, &h, &err), -1);
+    assert_non_null(strstr(err.msg, "HELLO packet of 85 bytes, its layout has 84"));
+    MsgUpdate u;
+    uint32_t three[4] = {1, 2, 3, 3};
+    memcpy(buf, three, sizeof three);
+    assert_int_equal(msg_decode_update(buf, 200, &u, &err), -1);
+    assert_non_null(strstr(err.msg, "UPDATE packet with 3 segments"));
+    uint32_t two[4] = {1, 2, 3, 2};
+    memcpy(buf, two, sizeof two);
+    assert_int_equal(msg_decode_update(buf, 16 + 15, &u, &err), -1);
+    assert_non_null(strstr(err.msg, "too short for its segments"));
+    MsgData d;
+    uint32_t data[4] = {1, 0, 10, 5}; /* 10 pixels claimed */
+    memcpy(buf, data, sizeof data);
+    assert_int_equal(msg_decode_data(buf, 16 + 29, &d, &err), -1);
+    assert_non_null(strstr(err.msg, "DATA packet size does not match its segment"));
+    assert_int_equal(msg_decode_data(buf, 16 + 30, &d, &err), 0);
+    MsgAsset a;
+    assert_int_equal(msg_decode_asset(buf, 35, &a, &err), -1);
+    assert_int_equal(msg_type_name(99)[0], 'u'); /* "unknown" */
+    assert_int_equal(msg_max_size(99), 0);
+}
+
+typedef struct {
+    char text[8192];
+    size_t len;
+} Text;
+
+static void add_row(void *ctx, const char *line)
+{
+    Text *t = ctx;
+    char type[32], off[32], size[32], name[32];
+    assert_int_equal(sscanf(line, "%31s %31s %31s %31s", type, off, size, name), 4);
+    t->len += (size_t)snprintf(t->text + t->len, sizeof t->text - t->len, "| %s | %s | %s | %s |\n", type, off, size, name);
+}
+
+/* docs/protocol.md holds the table msg_layout gives, between two markers,
+ * and the size limits msg_min_size and msg_max_size give. */
+static void protocol_doc_matches_the_codec(void **state)
+{
+    (void)state;
+    Text want = {"| packet | offset | size | field |\n|---|---|---|---|\n", 0};
+    want.len = strlen(want.text);
+    msg_layout(add_row, &want);
+    char *doc;
+    size_t len;
+    Err err;
+    if (file_read_all("docs/protocol.md", 1 << 20, &doc, &len, &err))
+        fail_msg("%s", err.msg);
+    const char *begin = strstr(doc, "<!-- msg_layout: generated from common/msg.c, checked by tests/test_msg.c -->\n");
+    const char *end = begin ? strstr(begin, "<!-- end msg_layout -->") : NULL;
+    if (!begin || !end)
+        fail_msg("docs/protocol.md has no msg_layout block");
+    begin = strchr(begin, '\n') + 1;
+    if ((size_t)(end - begin) != want.len || memcmp(begin, want.text, want.len) != 0)
+        fail_msg("docs/protocol.md's layout table differs from the codec's; it should read:\n%s", want.text);
+    for (uint32_t type = 1; type < PKT_TYPE_END; type++) {
+        char row[128];
+        uint32_t lo = msg_min_size(type), hi = msg_max_size(type);
+        snprintf(row, sizeof row, "| %u | %s | ", type, msg_type_name(type));
+        const char *r = strstr(doc, row);
+        if (!r)
+            fail_msg("docs/protocol.md has no size row for %s", msg_type_name(type));
+        char limit[64];
+        if (lo == hi)
+            snprintf(limit, sizeof limit, "| exactly %u |", lo);
+        else
+            snprintf(limit, sizeof limit, "| %u .. ", lo);
+        const char *eol = strchr(r, '\n');
+        const char *l = strstr(r, limit);
+        if (!l || l > eol)
+            fail_msg("docs/protocol.md: %s's size limits do not start '%s'", msg_type_name(type), limit);
+    }
+    free(doc);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(packets_round_trip),
+        cmocka_unit_test(bodies_that_do_not_fit_are_refused),
+        cmocka_unit_test(protocol_doc_matches_the_codec),
+    };
+    return cmocka_run_group_tests_name("msg", tests, NULL, NULL);
+}
