@@ -52,8 +52,10 @@ ALL_CFLAGS := -std=c17 -ffp-contract=off -fno-math-errno -Wall -Wextra -Wshadow 
 LDLIBS := -lassimp -lsodium -lnetpbm -lpng -ljpeg -lm -pthread
 LDFLAGS := $(SANFLAGS)
 
-# everything but the programs' main files goes into the library the tests link
-COMMON_SRC := $(wildcard common/*.c) $(filter-out server/main.c,$(wildcard server/*.c)) $(filter-out client/main.c,$(wildcard client/*.c))
+# everything but the programs' main files and the server's SDL window goes
+# into the library the tests link: no test links SDL
+DISPLAY_SRC := server/display.c
+COMMON_SRC := $(wildcard common/*.c) $(filter-out server/main.c $(DISPLAY_SRC),$(wildcard server/*.c)) $(filter-out client/main.c,$(wildcard client/*.c))
 COMMON_OBJ := $(COMMON_SRC:%.c=$(BUILD)/%.o)
 LIB := $(BUILD)/liblanray.a
 TOOLS := $(BIN)/lanray-render $(BIN)/obj2tmd $(BIN)/lanray-imgdiff $(BIN)/lanray-server $(BIN)/lanray-client $(BIN)/schedsim
@@ -107,7 +109,7 @@ $(BIN)/obj2tmd: $(BUILD)/tools/obj2tmd.o $(LIB)
 	@mkdir -p $(dir $@)
 	$(CC) $(LDFLAGS) -o $@ $^ $(LDLIBS)
 
-$(BIN)/lanray-server: $(BUILD)/server/main.o $(LIB)
+$(BIN)/lanray-server: $(BUILD)/server/main.o $(DISPLAY_SRC:%.c=$(BUILD)/%.o) $(LIB)
 	@mkdir -p $(dir $@)
 	$(CC) $(LDFLAGS) -o $@ $^ -lSDL2 $(LDLIBS)
 
@@ -124,7 +126,7 @@ $(BIN)/lanray-imgdiff: $(BUILD)/tools/imgdiff.o $(LIB)
 	$(CC) $(LDFLAGS) -o $@ $^ $(LDLIBS)
 
 $(BUILD)/tests/%: $(BUILD)/tests/%.o $(LIB)
-	$(CC) $(LDFLAGS) -o $@ $^ -lcmocka -lSDL2 $(LDLIBS)
+	$(CC) $(LDFLAGS) -o $@ $^ -lcmocka $(LDLIBS)
 
 # The unit tests, then the command-line tests against the built tools.
 check: deps
@@ -152,7 +154,7 @@ test-run: $(TESTS) $(TOOLS) $(REPLAYS) $(BUILD)/tools/embree_ref
 
 $(BUILD)/fuzz/replay_%: tests/fuzz/fuzz_%.c tests/fuzz/replay.c $(LIB)
 	@mkdir -p $(dir $@)
-	$(CC) $(ALL_CFLAGS) -Itests/fuzz -o $@ tests/fuzz/fuzz_$*.c tests/fuzz/replay.c $(LIB) -lSDL2 $(LDLIBS)
+	$(CC) $(ALL_CFLAGS) -Itests/fuzz -o $@ tests/fuzz/fuzz_$*.c tests/fuzz/replay.c $(LIB) $(LDLIBS)
 
 # make fuzz [FUZZ_SECONDS=600] [FUZZ_JOBS=2] [FUZZ_NAMES="server client"]: libFuzzer with ASan+UBSan (clang),
 # each harness for FUZZ_SECONDS, seeded from tests/fuzz/corpus/NAME; new
@@ -164,7 +166,7 @@ FUZZ_CFLAGS := -std=c17 -g -O1 -fsanitize=fuzzer,address,undefined -fno-sanitize
 FUZZERS := $(FUZZ_NAMES:%=build/fuzz/fuzz_%)
 build/fuzz/fuzz_%: tests/fuzz/fuzz_%.c $(COMMON_SRC)
 	@mkdir -p $(dir $@)
-	clang $(FUZZ_CFLAGS) -o $@ $< $(filter-out server/display.c,$(COMMON_SRC)) -lassimp -lsodium -lnetpbm -lpng -ljpeg -lm -pthread
+	clang $(FUZZ_CFLAGS) -o $@ $< $(COMMON_SRC) -lassimp -lsodium -lnetpbm -lpng -ljpeg -lm -pthread
 fuzz: deps $(FUZZERS)
 	@BUILD_FUZZ=build/fuzz FUZZ_SECONDS=$(FUZZ_SECONDS) FUZZ_JOBS=$(FUZZ_JOBS) bash tests/fuzz/run-fuzzers $(FUZZ_NAMES)
 

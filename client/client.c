@@ -27,7 +27,6 @@
 #include "timer.h"
 #include "wire.h"
 
-#define MAX_QUEUE ((size_t)1 << 30)
 #define MAX_JOBS 64
 
 typedef struct {
@@ -195,7 +194,7 @@ static int handshake(const ClientConfig *cfg, Conn *c, Err *err)
     auth_proof(cfg->token ? cfg->token : "", sh.nonce, h.nonce, h.proof);
     MsgOut out;
     msg_encode_hello(&h, &out);
-    if (conn_send_msg(c, &out, MAX_QUEUE, err) || conn_flush(c, err) < 0)
+    if (conn_send_msg(c, &out, CONN_MAX_QUEUE, err) || conn_flush(c, err) < 0)
         return SESSION_FAILED;
     return expect(c, PKT_WELCOME, err);
 }
@@ -318,7 +317,7 @@ static int session(const ClientConfig *cfg, int fd, Worker *w, AssetCache *cache
             err_set(err, "stopped");
             MsgOut bye;
             msg_encode_bye(&bye);
-            conn_send_msg(&c, &bye, MAX_QUEUE, err);
+            conn_send_msg(&c, &bye, CONN_MAX_QUEUE, err);
             conn_flush(&c, err);
             break;
         }
@@ -341,7 +340,7 @@ static int session(const ClientConfig *cfg, int fd, Worker *w, AssetCache *cache
             for (int i = 0; i < n; i++) {
                 MsgOut out;
                 msg_encode_data(&(MsgData){done[i].frame, done[i].seg, done[i].render_us, done[i].pixels}, &out);
-                if (!bad && conn_send_msg(&c, &out, MAX_QUEUE, err))
+                if (!bad && conn_send_msg(&c, &out, CONN_MAX_QUEUE, err))
                     bad = 1;
                 free(done[i].pixels);
             }

@@ -10,6 +10,8 @@
 #ifndef LANRAY_BVH_TRAVERSE_H
 #define LANRAY_BVH_TRAVERSE_H
 
+#include <assert.h>
+
 #include "bvh.h"
 
 /* Tests primitives [first, first+count); on a hit nearer than *tmax, lowers
@@ -44,6 +46,7 @@ static inline __attribute__((always_inline)) int bvh_closest(const Bvh *b, const
             int h1 = bvh_node_hit(&nodes[c + 1], r, *tmax, &t1);
             if (h0 && h1) {
                 idx = t1 < t0 ? c + 1 : c;
+                assert(sp < BVH_MAX_DEPTH); /* bvh_validate keeps trees to this depth */
                 stack[sp++] = t1 < t0 ? (BvhStackEntry){c, t0} : (BvhStackEntry){c + 1, t1};
                 continue;
             }
@@ -82,6 +85,7 @@ static inline __attribute__((always_inline)) int bvh_any(const Bvh *b, const Ray
             int h1 = bvh_node_hit(&nodes[c + 1], r, tmax, &t1);
             if (h0 && h1) { /* order still pays: the nearer child more likely occludes */
                 idx = t1 < t0 ? c + 1 : c;
+                assert(sp < BVH_MAX_DEPTH);
                 stack[sp++] = t1 < t0 ? c : c + 1;
                 continue;
             }

@@ -36,6 +36,10 @@ void conn_close(Conn *c);
  * error or end of stream (with a reason in err).  Call again after using the
  * packet: the next call starts on the following one. */
 int conn_read(Conn *c, Err *err);
+/* What may wait in a connection's output queue: past it, the peer is not
+ * reading, and the connection is dropped rather than the memory grown. */
+#define CONN_MAX_QUEUE ((size_t)1 << 30)
+
 /* Queues an encoded packet (msg.h; the header added here, its tail copied
  * into the queue); fails if the queue would exceed max_queue. */
 int conn_send_msg(Conn *c, const MsgOut *m, size_t max_queue, Err *err);

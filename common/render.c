@@ -1,15 +1,15 @@
-/* render.c - the thread pool and the per-pixel sampling (regular N x N grid,
- * or adaptive: one sample, then N x N where a 4-neighbour saw another key or
- * a contrasting colour). */
+/* render.c - the per-pixel sampling (regular N x N grid, or adaptive: one
+ * sample, then N x N where a 4-neighbour saw another key or a contrasting
+ * colour), run over chunks of pixels on a thread pool (pool.h). */
 #include "render.h"
 
-#include <pthread.h>
 #include <stdatomic.h>
 #include <stddef.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "camera.h"
+#include "pool.h"
 #include "srgb.h"
 
 #define CHUNK 32 /* pixels per work item */
@@ -18,62 +18,15 @@ typedef void (*JobFn)(void *ctx, uint32_t chunk, RayStats *stats);
 
 typedef struct {
     RayStats s;
-    char pad[64 - sizeof(RayStats)]; /* one cache line per worker: no false sharing */
+    char pad[64 - sizeof(RayStats)]; /* one cache line per thread: no false sharing */
 } PaddedStats;
 
-/* A pool of T threads is the caller of pool_run plus T - 1 workers: the
- * caller takes chunks too, so a one-thread pool renders inline with no
- * hand-off (two thread wake-ups, about 80 us on a shared VM, which was a
- * third of the cost of a one-line segment). */
+/* The threads (pool.h), each thread's ray counts, and who watches them. */
 struct RenderPool {
-    int n;       /* worker threads: the pool's size less the caller */
-    pthread_t *threads;
-    pthread_mutex_t mu;
-    pthread_cond_t go, done;
-    uint64_t generation;
-    int running, quit;
-    JobFn fn;
-    void *ctx;
-    uint32_t chunks;
-    atomic_uint next;
+    Pool *pool;
     PaddedStats *stats;
     RenderProgress *progress;
 };
-
-typedef struct {
-    RenderPool *pool;
-    int id;
-} WorkerArg;
-
-static void *worker(void *arg)
-{
-    WorkerArg *wa = arg;
-    RenderPool *p = wa->pool;
-    int id = wa->id;
-    free(wa);
-    uint64_t seen = 0;
-    for (;;) {
-        pthread_mutex_lock(&p->mu);
-        while (p->generation == seen && !p->quit)
-            pthread_cond_wait(&p->go, &p->mu);
-        if (p->quit) {
-            pthread_mutex_unlock(&p->mu);
-            return NULL;
-        }
-        seen = p->generation;
-        pthread_mutex_unlock(&p->mu);
-        RayStats local = {0, 0};
-        uint32_t c;
-        while ((c = atomic_fetch_add(&p->next, 1)) < p->chunks)
-            p->fn(p->ctx, c, &local);
-        pthread_mutex_lock(&p->mu);
-        p->stats[id].s.primary += local.primary;
-        p->stats[id].s.shadow += local.shadow;
-        if (--p->running == 0)
-            pthread_cond_signal(&p->done);
-        pthread_mutex_unlock(&p->mu);
-    }
-}
 
 RenderPool *render_pool_create(int threads, Err *err)
 {
@@ -82,28 +35,15 @@ RenderPool *render_pool_create(int threads, Err *err)
         return NULL;
     }
     RenderPool *p = calloc(1, sizeof *p);
-    if (!p || !(p->threads = calloc((size_t)threads, sizeof *p->threads)) ||
-        !(p->stats = aligned_alloc(64, (size_t)threads * sizeof *p->stats))) {
-        if (p)
-            free(p->threads);
+    if (!p || !(p->stats = aligned_alloc(64, (size_t)threads * sizeof *p->stats))) {
         free(p);
         err_set(err, "render: out of memory");
         return NULL;
     }
-    memset(p->stats, 0, (size_t)threads * sizeof *p->stats);
-    pthread_mutex_init(&p->mu, NULL);
-    pthread_cond_init(&p->go, NULL);
-    pthread_cond_init(&p->done, NULL);
-    for (int i = 0; i < threads - 1; i++) {
-        WorkerArg *wa = malloc(sizeof *wa);
-        if (!wa || pthread_create(&p->threads[i], NULL, worker, (wa->pool = p, wa->id = i, wa)) != 0) {
-            free(wa);
-            p->n = i;
-            render_pool_destroy(p);
-            err_set(err, "render: cannot start worker thread %d", i);
-            return NULL;
-        }
-        p->n = i + 1;
+    if (!(p->pool = pool_create(threads, err))) {
+        free(p->stats);
+        free(p);
+        return NULL;
     }
     return p;
 }
@@ -112,50 +52,38 @@ void render_pool_destroy(RenderPool *p)
 {
     if (!p)
         return;
-    pthread_mutex_lock(&p->mu);
-    p->quit = 1;
-    pthread_cond_broadcast(&p->go);
-    pthread_mutex_unlock(&p->mu);
-    for (int i = 0; i < p->n; i++)
-        pthread_join(p->threads[i], NULL);
-    pthread_mutex_destroy(&p->mu);
-    pthread_cond_destroy(&p->go);
-    pthread_cond_destroy(&p->done);
-    free(p->threads);
+    pool_destroy(p->pool);
     free(p->stats);
     free(p);
 }
 
-int render_pool_threads(const RenderPool *p) { return p->n + 1; }
+int render_pool_threads(const RenderPool *p) { return pool_threads(p->pool); }
 void render_pool_watch(RenderPool *p, RenderProgress *progress) { p->progress = progress; }
 
-/* Runs fn over chunks [0, chunks) on the caller and all workers and waits;
- * returns summed stats. */
-static RayStats pool_run(RenderPool *p, JobFn fn, void *ctx, uint32_t chunks)
+typedef struct {
+    JobFn fn;
+    void *ctx;
+    PaddedStats *stats;
+} Counted;
+
+static void counted_job(void *ctx, uint32_t chunk, int thread)
 {
-    RayStats mine = {0, 0};
-    uint32_t c;
-    pthread_mutex_lock(&p->mu);
-    p->fn = fn;
-    p->ctx = ctx;
-    p->chunks = chunks;
-    atomic_store(&p->next, 0);
-    memset(p->stats, 0, (size_t)p->n * sizeof *p->stats);
-    p->running = p->n;
-    p->generation++;
-    pthread_cond_broadcast(&p->go);
-    pthread_mutex_unlock(&p->mu);
-    while ((c = atomic_fetch_add(&p->next, 1)) < chunks)
-        fn(ctx, c, &mine);
-    pthread_mutex_lock(&p->mu);
-    while (p->running > 0)
-        pthread_cond_wait(&p->done, &p->mu);
-    RayStats total = mine;
-    for (int i = 0; i < p->n; i++) {
+    Counted *c = ctx;
+    c->fn(c->ctx, chunk, &c->stats[thread].s);
+}
+
+/* Runs fn over chunks [0, chunks) on the pool; returns the summed stats. */
+static RayStats pool_run_counted(RenderPool *p, JobFn fn, void *ctx, uint32_t chunks)
+{
+    int n = pool_threads(p->pool);
+    memset(p->stats, 0, (size_t)n * sizeof *p->stats);
+    Counted c = {fn, ctx, p->stats};
+    pool_run(p->pool, counted_job, &c, chunks);
+    RayStats total = {0, 0};
+    for (int i = 0; i < n; i++) {
         total.primary += p->stats[i].s.primary;
         total.shadow += p->stats[i].s.shadow;
     }
-    pthread_mutex_unlock(&p->mu);
     return total;
 }
 
@@ -414,7 +342,7 @@ int render_span(RenderPool *p, const Scene *s, int width, int height, uint64_t f
     f.linear = s->settings.linear;
     RayStats st;
     if (!s->settings.adaptive || s->settings.aa == 1) {
-        st = pool_run(p, job_grid, &f, chunks_of(count));
+        st = pool_run_counted(p, job_grid, &f, chunks_of(count));
     } else {
         /* keys for the span's lines and the lines just above and below */
         int l0 = (int)(first / (uint64_t)width), l1 = (int)((first + count - 1) / (uint64_t)width);
@@ -427,8 +355,8 @@ int render_span(RenderPool *p, const Scene *s, int width, int height, uint64_t f
             free(f.colors);
             return err_set(err, "render: out of memory for adaptive sampling of %llu pixels", (unsigned long long)count);
         }
-        st = pool_run(p, job_keys, &f, chunks_of((uint64_t)width * (uint64_t)f.key_lines));
-        RayStats st2 = pool_run(p, job_refine, &f, chunks_of(count));
+        st = pool_run_counted(p, job_keys, &f, chunks_of((uint64_t)width * (uint64_t)f.key_lines));
+        RayStats st2 = pool_run_counted(p, job_refine, &f, chunks_of(count));
         st.primary += st2.primary;
         st.shadow += st2.shadow;
         free(f.keys);

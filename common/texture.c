@@ -27,18 +27,54 @@ static void capture_pm_error(const char *msg)
 
 static void quiet_pm_message(const char *msg) { (void)msg; }
 
-Texture *texture_from_rgb8(uint32_t w, uint32_t h, const uint8_t *rgb)
+Texture *texture_alloc(uint32_t w, uint32_t h)
 {
     Texture *t = calloc(1, sizeof *t);
     if (!t)
         return NULL;
     t->w = w;
     t->h = h;
-    t->rgb = malloc((size_t)w * h * 3 * sizeof *t->rgb);
+    t->rgb = malloc((size_t)w * h * 3 * sizeof *t->rgb + (w == 0 || h == 0));
     if (!t->rgb) {
         free(t);
         return NULL;
     }
+    return t;
+}
+
+int texture_encode(const Texture *t, Sink *out)
+{
+    sink_u32(out, t->w);
+    sink_u32(out, t->h);
+    return sink_put(out, t->rgb, (size_t)t->w * t->h * 3 * sizeof *t->rgb);
+}
+
+int texture_decode(const void *data, size_t len, const char *name, Texture **out, Err *err)
+{
+    *out = NULL;
+    Cursor cur = cursor_make(data, len);
+    uint32_t w = cursor_u32(&cur), h = cursor_u32(&cur);
+    if (cur.failed || w < 1 || h < 1 || w > TEXTURE_MAX_SIDE || h > TEXTURE_MAX_SIDE ||
+        cur.left != (size_t)w * h * 3 * sizeof(float))
+        return err_set(err, "%s: texture payload of %zu bytes is malformed", name, len);
+    Texture *t = texture_alloc(w, h);
+    if (!t)
+        return err_set(err, "%s: out of memory for a %ux%u texture", name, w, h);
+    memcpy(t->rgb, cur.p, cur.left);
+    for (size_t i = 0; i < (size_t)w * h * 3; i++)
+        if (!(t->rgb[i] >= 0.0f && t->rgb[i] <= 1.0f)) { /* NaN fails too */
+            texture_destroy(t);
+            return err_set(err, "%s: texture value out of range", name);
+        }
+    *out = t;
+    return 0;
+}
+
+Texture *texture_from_rgb8(uint32_t w, uint32_t h, const uint8_t *rgb)
+{
+    Texture *t = texture_alloc(w, h);
+    if (!t)
+        return NULL;
     for (size_t i = 0; i < (size_t)w * h * 3; i++)
         t->rgb[i] = srgb_decode8[rgb[i]];
     return t;
@@ -46,15 +82,10 @@ Texture *texture_from_rgb8(uint32_t w, uint32_t h, const uint8_t *rgb)
 
 Texture *texture_copy(const Texture *t)
 {
-    Texture *c = calloc(1, sizeof *c);
+    Texture *c = texture_alloc(t->w, t->h);
     if (!c)
         return NULL;
-    *c = *t;
-    c->rgb = malloc((size_t)t->w * t->h * 3 * sizeof *c->rgb);
-    if (!c->rgb) {
-        free(c);
-        return NULL;
-    }
+    c->clamp = t->clamp;
     memcpy(c->rgb, t->rgb, (size_t)t->w * t->h * 3 * sizeof *c->rgb);
     return c;
 }

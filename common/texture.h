@@ -10,6 +10,7 @@
 #include <stdint.h>
 #include <stdio.h>
 
+#include "cursor.h"
 #include "err.h"
 #include "vec.h"
 
@@ -29,6 +30,13 @@ int texture_read_stream(FILE *f, const char *name, Texture **out, Err *err);
 int texture_read(const char *path, Texture **out, Err *err);
 /* A JPEG from an open stream (not closed) of `bytes` bytes; `name` labels errors. */
 int texture_read_jpeg_stream(FILE *f, const char *name, size_t bytes, Texture **out, Err *err);
+/* A w x h texture whose texels the caller fills, or NULL. */
+Texture *texture_alloc(uint32_t w, uint32_t h);
+/* The texture's byte form, what an ASSET carries (docs/protocol.md): u32
+ * w, u32 h, f32 rgb[3 w h] as stored (linear light, top row first). */
+int texture_encode(const Texture *t, Sink *out);
+/* Reads that form with every size and value checked; `name` labels errors. */
+int texture_decode(const void *data, size_t len, const char *name, Texture **out, Err *err);
 /* A texture of w x h from 8-bit RGB pixels (copied). */
 Texture *texture_from_rgb8(uint32_t w, uint32_t h, const uint8_t *rgb);
 void texture_destroy(Texture *t);

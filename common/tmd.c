@@ -147,15 +147,11 @@ static int tmd_read_textures(Cursor *c, uint32_t texs, Model *m, const char *nam
         if (c->failed || tw < 1 || th < 1 || tw > TEXTURE_MAX_SIDE || th > TEXTURE_MAX_SIDE || tf > 1 ||
             (uint64_t)tw * th * 12 > c->left)
             return err_set(err, "%s: texture %u: implausible size %ux%u or flags %u", name, i, tw, th, tf);
-        uint8_t black[3] = {0, 0, 0};
-        Texture *t = texture_from_rgb8(1, 1, black);
-        float *px = t ? malloc((size_t)tw * th * 12) : NULL;
-        if (!px) {
-            texture_destroy(t);
+        Texture *t = texture_alloc(tw, th);
+        if (!t)
             return err_set(err, "%s: out of memory for a %ux%u texture", name, tw, th);
-        }
-        free(t->rgb);
-        t->rgb = px, t->w = tw, t->h = th, t->clamp = (int)tf;
+        float *px = t->rgb;
+        t->clamp = (int)tf;
         m->textures[m->texture_count++] = t;
         for (size_t k = 0; k < (size_t)tw * th * 3; k++) {
             float v = cursor_f32(c);

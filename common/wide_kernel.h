@@ -12,6 +12,7 @@
  * Every operation of the triangle test is the scalar tri_intersect's, in
  * the same order, so every lane gives the scalar path's t, b1 and b2 to the
  * bit; see wide.h for why the visiting order does not matter. */
+#include <assert.h>
 #include <immintrin.h>
 
 #include "wide.h"
@@ -163,6 +164,8 @@ static inline __attribute__((always_inline)) WideEntry wide_sort_push(const floa
         }
         e[j] = x;
     }
+    /* a tree of depth <= BVH_MAX_DEPTH (bvh_validate) pushes at most NW - 1 a level */
+    assert(*sp + (uint32_t)n <= WIDE_STACK + 1);
     for (int j = 0; j < n - 1; j++)
         stack[(*sp)++] = e[j];
     return e[n - 1];
@@ -377,6 +380,7 @@ static inline __attribute__((always_inline)) WideEntry wide_packet_push(const fl
     }
     if (n == 0)
         return (WideEntry){0, 0, 0, 0};
+    assert(*sp + (uint32_t)n <= WIDE_STACK + 1);
     for (int j = 0; j < n - 1; j++)
         stack[(*sp)++] = e[j];
     return e[n - 1];

@@ -5,9 +5,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "auth.h"
-#include "tmd.h"
-
 enum { TRI_SMOOTH = 1, TRI_UV = 2 };
 enum { PLANE_MAPPED = 1 };
 
@@ -122,136 +119,6 @@ static vec3 get_vec(Cursor *c)
     return v3(x, y, get_f64(c));
 }
 
-/* ---- asset cache ---- */
-
-typedef struct {
-    uint8_t hash[PROTO_HASH];
-    uint32_t kind;
-    Model *model;
-    Texture *texture;
-} CacheEntry;
-
-struct AssetCache {
-    CacheEntry *e;
-    uint32_t n, cap;
-};
-
-AssetCache *asset_cache_create(void) { return calloc(1, sizeof(AssetCache)); }
-
-void asset_cache_destroy(AssetCache *c)
-{
-    if (!c)
-        return;
-    for (uint32_t i = 0; i < c->n; i++) {
-        model_destroy(c->e[i].model);
-        texture_destroy(c->e[i].texture);
-    }
-    free(c->e);
-    free(c);
-}
-
-static const CacheEntry *cache_find(const AssetCache *c, const uint8_t hash[PROTO_HASH], uint32_t kind)
-{
-    for (uint32_t i = 0; i < c->n; i++)
-        if (memcmp(c->e[i].hash, hash, PROTO_HASH) == 0 && (kind == 0 || c->e[i].kind == kind))
-            return &c->e[i];
-    return NULL;
-}
-
-int asset_cache_has(const AssetCache *c, const uint8_t hash[PROTO_HASH]) { return cache_find(c, hash, 0) != NULL; }
-
-#define ASSET_CACHE_MAX 4096u
-
-int asset_cache_add(AssetCache *c, uint32_t kind, const uint8_t hash[PROTO_HASH], const void *data, size_t len, Err *err)
-{
-    uint8_t h[PROTO_HASH];
-    auth_hash(data, len, h);
-    if (memcmp(h, hash, PROTO_HASH) != 0)
-        return err_set(err, "asset: payload does not match its hash");
-    if (cache_find(c, hash, kind))
-        return 0;
-    if (c->n >= ASSET_CACHE_MAX)
-        return err_set(err, "asset: more than %u assets", ASSET_CACHE_MAX);
-    CacheEntry e;
-    memset(&e, 0, sizeof e);
-    memcpy(e.hash, hash, PROTO_HASH);
-    e.kind = kind;
-    if (kind == ASSET_MODEL) {
-        if (tmd_decode(data, len, "model asset", &e.model, err))
-            return -1;
-    } else if (kind == ASSET_TEXTURE) {
-        Cursor cur = cursor_make(data, len);
-        uint32_t w = cursor_u32(&cur), hgt = cursor_u32(&cur);
-        if (cur.failed || w < 1 || hgt < 1 || w > TEXTURE_MAX_SIDE || hgt > TEXTURE_MAX_SIDE ||
-            cur.left != (size_t)w * hgt * 3 * sizeof(float))
-            return err_set(err, "asset: texture payload of %zu bytes is malformed", len);
-        uint8_t dummy[3] = {0, 0, 0};
-        e.texture = texture_from_rgb8(1, 1, dummy);
-        float *px = e.texture ? malloc(cur.left) : NULL;
-        if (!px) {
-            texture_destroy(e.texture);
-            return err_set(err, "asset: out of memory for a %ux%u texture", w, hgt);
-        }
-        memcpy(px, cur.p, cur.left);
-        for (size_t i = 0; i < (size_t)w * hgt * 3; i++)
-            if (!(px[i] >= 0.0f && px[i] <= 1.0f)) {
-                free(px);
-                texture_destroy(e.texture);
-                return err_set(err, "asset: texture value out of range");
-            }
-        free(e.texture->rgb);
-        e.texture->rgb = px;
-        e.texture->w = w;
-        e.texture->h = hgt;
-    } else {
-        return err_set(err, "asset: unknown kind %u", kind);
-    }
-    CacheEntry *p = realloc(c->e, (c->n + 1) * sizeof *p);
-    if (!p) {
-        model_destroy(e.model);
-        texture_destroy(e.texture);
-        return err_set(err, "asset: out of memory");
-    }
-    c->e = p;
-    c->e[c->n++] = e;
-    return 0;
-}
-
-int wire_asset_model(const Model *m, Asset *out, Err *err)
-{
-    memset(out, 0, sizeof *out);
-    out->kind = ASSET_MODEL;
-    void *data;
-    /* the model's own numbers: float64 in a double build, which float32 would round */
-    if (tmd_encode(m, sizeof(real) > sizeof(float), &data, &out->len, err))
-        return -1;
-    out->data = data;
-    auth_hash(out->data, out->len, out->hash);
-    return 0;
-}
-
-int wire_asset_texture(const Texture *t, Asset *out, Err *err)
-{
-    memset(out, 0, sizeof *out);
-    out->kind = ASSET_TEXTURE;
-    size_t px = (size_t)t->w * t->h * 3 * sizeof(float);
-    out->len = 8 + px;
-    out->data = malloc(out->len);
-    if (!out->data)
-        return err_set(err, "asset: out of memory");
-    memcpy(out->data, &t->w, 4);
-    memcpy(out->data + 4, &t->h, 4);
-    memcpy(out->data + 8, t->rgb, px);
-    auth_hash(out->data, out->len, out->hash);
-    return 0;
-}
-
-void wire_asset_free(Asset *a)
-{
-    free(a->data);
-    memset(a, 0, sizeof *a);
-}
-
 /* Smallest encoded size of one item of each section, to bound counts by the bytes left. */
 enum { MIN_TEXTURE = 32, MIN_MATERIAL = 60, MIN_SPHERE = 36, MIN_PLANE = 56, MIN_TRI = 80, MIN_MODEL = 32,
        MIN_INSTANCE = 64, MIN_LIGHT = 36 };
@@ -301,11 +168,11 @@ int wire_decode_scene(const void *data, size_t len, const AssetCache *cache, Sce
     for (uint32_t i = 0; !bad && rc == 0 && i < n[0]; i++) {
         uint8_t h[PROTO_HASH];
         cursor_get(&c, h, PROTO_HASH);
-        const CacheEntry *e = cache_find(cache, h, ASSET_TEXTURE);
-        if (!e)
+        Texture *t = asset_cache_texture(cache, h);
+        if (!t)
             bad = "texture asset not received";
         else
-            rc = scene_add_texture(s, e->texture, NULL, err);
+            rc = scene_add_texture(s, t, NULL, err);
     }
     for (uint32_t i = 0; !bad && rc == 0 && i < n[1]; i++) {
         Material m;
@@ -355,11 +222,11 @@ int wire_decode_scene(const void *data, size_t len, const AssetCache *cache, Sce
     for (uint32_t i = 0; !bad && rc == 0 && i < n[5]; i++) {
         uint8_t h[PROTO_HASH];
         cursor_get(&c, h, PROTO_HASH);
-        const CacheEntry *e = cache_find(cache, h, ASSET_MODEL);
-        if (!e)
+        Model *m = asset_cache_model(cache, h);
+        if (!m)
             bad = "model asset not received";
         else
-            rc = scene_add_model(s, e->model, NULL, err);
+            rc = scene_add_model(s, m, NULL, err);
     }
     for (uint32_t i = 0; !bad && rc == 0 && i < n[6]; i++) {
         uint32_t model = cursor_u32(&c);

@@ -25,7 +25,6 @@
 #include "wire.h"
 
 #define MAX_CLIENTS 1024
-#define MAX_QUEUE ((size_t)1 << 30)
 
 typedef enum { CLIENT_HANDSHAKE, CLIENT_ACTIVE } ClientState;
 
@@ -98,17 +97,17 @@ struct Server {
 static int build_assets(Server *s, Err *err)
 {
     for (uint32_t i = 0; i < s->nassets; i++)
-        wire_asset_free(&s->assets[i]);
+        asset_free(&s->assets[i]);
     free(s->assets);
     s->nassets = s->scene->model_count + s->scene->texture_count;
     s->assets = calloc(s->nassets + 1, sizeof *s->assets);
     if (!s->assets)
         return err_set(err, "out of memory");
     for (uint32_t i = 0; i < s->scene->model_count; i++)
-        if (wire_asset_model(s->scene->models[i], &s->assets[i], err))
+        if (asset_make_model(s->scene->models[i], &s->assets[i], err))
             return -1;
     for (uint32_t i = 0; i < s->scene->texture_count; i++)
-        if (wire_asset_texture(s->scene->textures[i], &s->assets[s->scene->model_count + i], err))
+        if (asset_make_texture(s->scene->textures[i], &s->assets[s->scene->model_count + i], err))
             return -1;
     return 0;
 }
@@ -171,14 +170,14 @@ void server_destroy(Server *s)
         Err e;
         MsgOut bye;
         msg_encode_bye(&bye);
-        conn_send_msg(&s->clients[i]->conn, &bye, MAX_QUEUE, &e);
+        conn_send_msg(&s->clients[i]->conn, &bye, CONN_MAX_QUEUE, &e);
         conn_flush(&s->clients[i]->conn, &e);
         client_free(s, s->clients[i]);
     }
     if (s->listen_fd >= 0)
         close(s->listen_fd);
     for (uint32_t i = 0; i < s->nassets; i++)
-        wire_asset_free(&s->assets[i]);
+        asset_free(&s->assets[i]);
     free(s->assets);
     sink_free(&s->blob);
     sched_destroy(s->sched);
@@ -213,7 +212,7 @@ static void drop_as(Server *s, Client *c, DropKind kind, const char *reason)
         Err e;
         MsgOut m;
         msg_encode_error(&(MsgError){reason, strlen(reason)}, &m);
-        conn_send_msg(&c->conn, &m, MAX_QUEUE, &e);
+        conn_send_msg(&c->conn, &m, CONN_MAX_QUEUE, &e);
         conn_flush(&c->conn, &e);
     }
     c->closing = 1;
@@ -227,7 +226,7 @@ static void send_or_drop(Server *s, Client *c, const MsgOut *m)
     Err e;
     if (c->closing)
         return;
-    if (conn_send_msg(&c->conn, m, MAX_QUEUE, &e))
+    if (conn_send_msg(&c->conn, m, CONN_MAX_QUEUE, &e))
         drop(s, c, e.msg);
 }
 

@@ -20,9 +20,9 @@ static Encoded encode(const Scene *s)
     e.models = calloc(s->model_count + 1, sizeof *e.models);
     e.textures = calloc(s->texture_count + 1, sizeof *e.textures);
     for (uint32_t i = 0; i < s->model_count; i++)
-        assert_int_equal(wire_asset_model(s->models[i], &e.models[i], NULL), 0);
+        assert_int_equal(asset_make_model(s->models[i], &e.models[i], NULL), 0);
     for (uint32_t i = 0; i < s->texture_count; i++)
-        assert_int_equal(wire_asset_texture(s->textures[i], &e.textures[i], NULL), 0);
+        assert_int_equal(asset_make_texture(s->textures[i], &e.textures[i], NULL), 0);
     Sink sink = {0};
     assert_int_equal(wire_encode_scene(s, e.models, e.textures, &sink, NULL), 0);
     e.blob = sink.data;
@@ -43,9 +43,9 @@ static AssetCache *cache_of(const Scene *s, const Encoded *e)
 static void free_encoded(const Scene *s, Encoded *e)
 {
     for (uint32_t i = 0; i < s->model_count; i++)
-        wire_asset_free(&e->models[i]);
+        asset_free(&e->models[i]);
     for (uint32_t i = 0; i < s->texture_count; i++)
-        wire_asset_free(&e->textures[i]);
+        asset_free(&e->textures[i]);
     free(e->models);
     free(e->textures);
     free(e->blob);

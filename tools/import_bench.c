@@ -23,8 +23,9 @@ int main(int argc, char **argv)
         fprintf(stderr, "usage: import_bench FILE.obj [ROUNDS]\n");
         return 2;
     }
-    int rounds = argc > 2 ? atoi(argv[2]) : 3;
-    if (rounds < 1 || rounds > 100) {
+    char *end = NULL;
+    long rounds = argc > 2 ? strtol(argv[2], &end, 10) : 3;
+    if (rounds < 1 || rounds > 100 || (end && *end)) {
         fprintf(stderr, "import_bench: ROUNDS wants 1..100, got '%s'\n", argv[2]);
         return 2;
     }

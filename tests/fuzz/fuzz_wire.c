@@ -23,15 +23,15 @@ static void setup(void)
         abort();
     for (uint32_t i = 0; i < s->model_count; i++) {
         Asset a;
-        wire_asset_model(s->models[i], &a, NULL);
+        asset_make_model(s->models[i], &a, NULL);
         asset_cache_add(cache, ASSET_MODEL, a.hash, a.data, a.len, NULL);
-        wire_asset_free(&a);
+        asset_free(&a);
     }
     for (uint32_t i = 0; i < s->texture_count; i++) {
         Asset a;
-        wire_asset_texture(s->textures[i], &a, NULL);
+        asset_make_texture(s->textures[i], &a, NULL);
         asset_cache_add(cache, ASSET_TEXTURE, a.hash, a.data, a.len, NULL);
-        wire_asset_free(&a);
+        asset_free(&a);
     }
     scene_destroy(s);
 }
