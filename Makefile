@@ -11,6 +11,7 @@
 #   make bench-scaling  clients x segment size x tail rule, with schedsim (docs/scaling*)
 #   make loadtest   64 clients joining and leaving for 5 minutes, every frame verified
 #   make tools-doc  docs/tools.md from every tool's --help
+#   make architecture  docs/architecture.dot and .svg from the #include graph (graphviz)
 #   make PRECISION=double ...   double-precision build in build/double, bin/double
 PRECISION ?= float
 SAN ?=
@@ -55,7 +56,7 @@ LDFLAGS := $(SANFLAGS)
 # everything but the programs' main files and the server's SDL window goes
 # into the library the tests link: no test links SDL
 DISPLAY_SRC := server/display.c
-COMMON_SRC := $(wildcard common/*.c) $(filter-out server/main.c $(DISPLAY_SRC),$(wildcard server/*.c)) $(filter-out client/main.c,$(wildcard client/*.c))
+COMMON_SRC := $(wildcard common/*/*.c) $(filter-out server/main.c $(DISPLAY_SRC),$(wildcard server/*.c)) $(filter-out client/main.c,$(wildcard client/*.c))
 COMMON_OBJ := $(COMMON_SRC:%.c=$(BUILD)/%.o)
 LIB := $(BUILD)/liblanray.a
 TOOLS := $(BIN)/lanray-render $(BIN)/obj2tmd $(BIN)/lanray-imgdiff $(BIN)/lanray-server $(BIN)/lanray-client $(BIN)/schedsim
@@ -67,7 +68,7 @@ REPLAYS := $(FUZZ_NAMES:%=$(BUILD)/fuzz/replay_%)
 
 DEB_PACKAGES := gcc make pkg-config libsdl2-dev libnetpbm-dev libpng-dev libjpeg62-turbo-dev libassimp-dev libcmocka-dev libembree-dev libsodium-dev xvfb x11-apps python3 clang libclang-rt-14-dev
 
-.PHONY: all deps check check-asan bench demo clean tradeoff bench-scaling fuzz loadtest tools-doc
+.PHONY: all deps check check-asan bench demo clean tradeoff bench-scaling fuzz loadtest tools-doc architecture
 .SECONDARY:
 all: $(TOOLS)
 
@@ -85,7 +86,7 @@ deps:
 # says what to do (instead of a compiler error per file).  The targets that
 # run `make deps` first are not held back by it.
 LIB_HEADERS ?= /usr/include/SDL2/SDL.h /usr/include/netpbm/pam.h /usr/include/png.h /usr/include/sodium.h /usr/include/cmocka.h /usr/include/assimp/cimport.h /usr/include/jpeglib.h
-INSTALLING_GOALS := deps check check-asan check-tsan demo bench tradeoff bench-scaling fuzz loadtest clean
+INSTALLING_GOALS := deps check check-asan check-tsan demo bench tradeoff bench-scaling fuzz loadtest clean architecture
 ifeq ($(filter $(INSTALLING_GOALS),$(MAKECMDGOALS)),)
   MISSING_HEADERS := $(filter-out $(wildcard $(LIB_HEADERS)),$(LIB_HEADERS))
   ifneq ($(MISSING_HEADERS),)
@@ -215,3 +216,11 @@ clean:
 	rm -rf build bin
 
 -include $(shell find build -name '*.d' 2>/dev/null)
+
+# the layers as a picture, made from the code's #include lines (tests/tools/layers.py;
+# tests/cli/layers.sh checks that docs/architecture.dot is current)
+architecture: deps
+	@$(MAKE) --no-print-directory DEB_PACKAGES=graphviz deps
+	@python3 tests/tools/layers.py --dot > docs/architecture.dot.tmp && mv docs/architecture.dot.tmp docs/architecture.dot
+	@tred docs/architecture.dot | dot -Tsvg -o docs/architecture.svg.tmp && mv docs/architecture.svg.tmp docs/architecture.svg
+	@echo "docs/architecture.dot, docs/architecture.svg"

@@ -19,13 +19,13 @@
 #include <time.h>
 #include <unistd.h>
 
-#include "auth.h"
-#include "conn.h"
-#include "render.h"
-#include "log.h"
-#include "net.h"
-#include "timer.h"
-#include "wire.h"
+#include "net/auth.h"
+#include "net/conn.h"
+#include "render/render.h"
+#include "base/log.h"
+#include "net/net.h"
+#include "base/timer.h"
+#include "net/wire.h"
 
 #define MAX_JOBS 64
 

@@ -7,7 +7,7 @@
 #include <signal.h>
 #include <stdint.h>
 
-#include "err.h"
+#include "base/err.h"
 
 typedef struct {
     const char *host;

@@ -8,11 +8,11 @@
 #include <string.h>
 #include <unistd.h>
 
-#include "cli.h"
+#include "app/cli.h"
 #include "client.h"
-#include "log.h"
-#include "opt.h"
-#include "msg.h"
+#include "base/log.h"
+#include "base/opt.h"
+#include "net/msg.h"
 
 static volatile sig_atomic_t stop_flag;
 static void on_stop(int sig) { (void)sig; stop_flag = 1; }

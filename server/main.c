@@ -11,13 +11,13 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "cli.h"
+#include "app/cli.h"
 #include "display.h"
-#include "image.h"
-#include "opt.h"
-#include "render.h"
+#include "model/image.h"
+#include "base/opt.h"
+#include "render/render.h"
 #include "server.h"
-#include "timer.h"
+#include "base/timer.h"
 
 static volatile sig_atomic_t stop_flag, stats_flag;
 static void on_stop(int sig) { (void)sig; stop_flag = 1; }

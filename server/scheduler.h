@@ -13,7 +13,7 @@
 
 #include <stdint.h>
 
-#include "msg.h"
+#include "net/msg.h"
 
 /* Size in pixels of the next segment, given the unassigned pixels left. */
 typedef uint32_t (*SchedTailRule)(uint32_t remaining, uint32_t segment_pixels, uint32_t clients, uint32_t min_pixels);

@@ -17,12 +17,12 @@
 #include <sys/socket.h>
 #include <unistd.h>
 
-#include "auth.h"
-#include "conn.h"
-#include "log.h"
-#include "net.h"
-#include "timer.h"
-#include "wire.h"
+#include "net/auth.h"
+#include "net/conn.h"
+#include "base/log.h"
+#include "net/net.h"
+#include "base/timer.h"
+#include "net/wire.h"
 
 #define MAX_CLIENTS 1024
 

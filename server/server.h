@@ -11,7 +11,7 @@
 #include <stdint.h>
 
 #include "scheduler.h"
-#include "scene.h"
+#include "scene/scene.h"
 
 /* The largest frame side a server assembles (lanray-render goes further). */
 #define SERVER_MAX_SIDE 16384

@@ -13,7 +13,7 @@
 
 #include <cmocka.h>
 
-#include "vec.h"
+#include "base/vec.h"
 
 /* Deterministic xorshift generator: tests must be repeatable. */
 typedef struct {

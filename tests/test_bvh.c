@@ -1,8 +1,8 @@
 /* test_bvh.c - every builder: structure, enclosure, and the same answers as brute force. */
 #include "helpers.h"
 
-#include "model.h"
-#include "simd.h"
+#include "model/model.h"
+#include "base/simd.h"
 
 static void random_mesh(Mesh *m, Rng *rng, uint32_t n, int clustered)
 {

@@ -1,7 +1,7 @@
 /* test_camera.c - both camera forms (angles and look-at) and the per-frame ray constants. */
 #include "helpers.h"
 
-#include "camera.h"
+#include "geom/camera.h"
 
 static const real EPS = R(1e-5);
 

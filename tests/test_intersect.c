@@ -1,8 +1,8 @@
 /* test_intersect.c - every intersection routine against analytic answers. */
 #include "helpers.h"
 
-#include "bvh.h"
-#include "intersect.h"
+#include "bvh/bvh.h"
+#include "geom/intersect.h"
 
 static const real EPS = R(1e-5);
 

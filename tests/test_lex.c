@@ -6,7 +6,7 @@
 #include <errno.h>
 #include <math.h>
 
-#include "lex.h"
+#include "base/lex.h"
 
 /* lex_double against strtod on one string: the same verdict, the same bits */
 static void agrees(const char *s)

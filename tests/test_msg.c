@@ -4,8 +4,8 @@
  * has (its generated table is compared line for line). */
 #include "helpers.h"
 
-#include "fileio.h"
-#include "msg.h"
+#include "base/fileio.h"
+#include "net/msg.h"
 
 /* head + tail, as the wire carries the body */
 static size_t body_of(const MsgOut *o, uint8_t *buf)
@@ -159,7 +159,7 @@ static void protocol_doc_matches_the_codec(void **state)
     Err err;
     if (file_read_all("docs/protocol.md", 1 << 20, &doc, &len, &err))
         fail_msg("%s", err.msg);
-    const char *begin = strstr(doc, "<!-- msg_layout: generated from common/msg.c, checked by tests/test_msg.c -->\n");
+    const char *begin = strstr(doc, "<!-- msg_layout: generated from common/net/msg.c, checked by tests/test_msg.c -->\n");
     const char *end = begin ? strstr(begin, "<!-- end msg_layout -->") : NULL;
     if (!begin || !end)
         fail_msg("docs/protocol.md has no msg_layout block");

@@ -3,9 +3,9 @@
 
 #include <sys/stat.h>
 
-#include "fileio.h"
-#include "mtl.h"
-#include "obj.h"
+#include "base/fileio.h"
+#include "model/mtl.h"
+#include "model/obj.h"
 
 static int parse(const char *text, Mesh *m, ObjStats *st, Err *err, int smooth)
 {

@@ -4,10 +4,10 @@
 
 #include <math.h>
 
-#include "render.h"
-#include "srgb.h"
-#include "scene_default.h"
-#include "simd.h"
+#include "render/render.h"
+#include "base/srgb.h"
+#include "scene/scene_default.h"
+#include "base/simd.h"
 
 static Scene *empty_scene(void)
 {

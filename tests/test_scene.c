@@ -1,7 +1,7 @@
 /* test_scene.c - the scene-file parser: a full scene, and every kind of error with file and line. */
 #include "helpers.h"
 
-#include "scene_parse.h"
+#include "scene/scene_parse.h"
 
 static int parse(const char *text, Scene **s, Err *err)
 {

@@ -4,7 +4,7 @@
 
 #include <math.h>
 
-#include "srgb.h"
+#include "base/srgb.h"
 
 static double encode_formula(double v) { return v <= 0.0031308 ? 12.92 * v : 1.055 * pow(v, 1 / 2.4) - 0.055; }
 static double decode_formula(double s) { return s <= 0.04045 ? s / 12.92 : pow((s + 0.055) / 1.055, 2.4); }

@@ -3,7 +3,7 @@
 
 #include <math.h>
 
-#include "texture.h"
+#include "model/texture.h"
 
 static const char *write_bytes(const char *name, const void *data, size_t len)
 {

@@ -3,8 +3,8 @@
 
 #include <sys/stat.h>
 
-#include "scene_default.h"
-#include "tmd.h"
+#include "scene/scene_default.h"
+#include "model/tmd.h"
 
 /* attrs: the MESH_* arrays the model has */
 static Model *sample_model(unsigned attrs)

@@ -1,12 +1,12 @@
 /* test_wire.c - scenes through the wire format and the asset cache. */
 #include "helpers.h"
 
-#include "auth.h"
-#include "render.h"
-#include "scene_default.h"
-#include "scene_parse.h"
-#include "tmd.h"
-#include "wire.h"
+#include "net/auth.h"
+#include "render/render.h"
+#include "scene/scene_default.h"
+#include "scene/scene_parse.h"
+#include "model/tmd.h"
+#include "net/wire.h"
 
 typedef struct {
     Asset *models, *textures;

@@ -26,13 +26,13 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "camera.h"
-#include "image.h"
-#include "opt.h"
-#include "srgb.h"
-#include "scene_parse.h"
-#include "timer.h"
-#include "trace.h"
+#include "geom/camera.h"
+#include "model/image.h"
+#include "base/opt.h"
+#include "base/srgb.h"
+#include "scene/scene_parse.h"
+#include "base/timer.h"
+#include "scene/trace.h"
 
 typedef struct {
     RTCScene scene;

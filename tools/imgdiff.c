@@ -13,8 +13,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "image.h"
-#include "opt.h"
+#include "model/image.h"
+#include "base/opt.h"
 
 /* Mean SSIM over all 8x8 windows (step 1) of the luma channel. */
 static double ssim(const uint8_t *a, const uint8_t *b, int w, int h)

@@ -14,8 +14,8 @@
 #include <stdlib.h>
 #include <sys/stat.h>
 
-#include "obj.h"
-#include "timer.h"
+#include "model/obj.h"
+#include "base/timer.h"
 
 int main(int argc, char **argv)
 {

@@ -14,13 +14,13 @@
 #include <string.h>
 #include <unistd.h>
 
-#include "cli.h"
-#include "image.h"
-#include "opt.h"
-#include "progress.h"
-#include "render.h"
-#include "simd.h"
-#include "timer.h"
+#include "app/cli.h"
+#include "model/image.h"
+#include "base/opt.h"
+#include "base/progress.h"
+#include "render/render.h"
+#include "base/simd.h"
+#include "base/timer.h"
 
 /* Frames above this are rendered in bands of BAND_BYTES, written as they finish. */
 #define WHOLE_FRAME_BYTES ((uint64_t)256 << 20)

@@ -12,14 +12,14 @@
 #include <string.h>
 #include <sys/stat.h>
 
-#include "cli.h"
-#include "fileio.h"
-#include "import.h"
-#include "obj.h"
-#include "opt.h"
-#include "progress.h"
-#include "timer.h"
-#include "tmd.h"
+#include "app/cli.h"
+#include "base/fileio.h"
+#include "model/import.h"
+#include "model/obj.h"
+#include "base/opt.h"
+#include "base/progress.h"
+#include "base/timer.h"
+#include "model/tmd.h"
 
 static const char *const axis_names[] = {"longest", "alternate", NULL};
 

@@ -42,10 +42,10 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "cli.h"
-#include "opt.h"
+#include "app/cli.h"
+#include "base/opt.h"
 #include "scheduler.h"
-#include "timer.h"
+#include "base/timer.h"
 
 #define MAXC 4096
 #define UPDATE_BYTES 900.0 /* header, two segments and the serialised benchmark scene */

@@ -217,14 +217,17 @@ grep -q "^2 frames in [0-9.]* s: [0-9.]* fps with 2 clients" <<<"$out" || fail "
 # 11. no header of ours has the name of one that the system headers we use include: with -Iserver, a
 # server/sched.h was taken for <sched.h> inside <pthread.h>, and gcc -MMD then left every header
 # reached from it out of the dependency files, so changing them rebuilt nothing
-used=$(gcc -std=c17 -M -D_POSIX_C_SOURCE=200809L -Icommon -Iserver -Iclient common/*.c server/*.c client/*.c tools/*.c tests/*.c \
+used=$(gcc -std=c17 -M -D_POSIX_C_SOURCE=200809L -Icommon -Iserver -Iclient common/*/*.c server/*.c client/*.c tools/*.c tests/*.c \
     2>/dev/null | tr ' \\' '\n\n' | grep '^/' | sort -u)
 [ -n "$used" ] || fail "gcc -M listed no system headers"
 sys=$(grep -hoE '^\s*#\s*include\s*<[^>]+>' $used | sed -E 's/.*<([^>]+)>.*/\1/' | sort -u)
-for h in common/*.h server/*.h client/*.h; do
-    grep -qx "$(basename "$h")" <<<"$sys" && fail "$h has the name of a system header that system headers include"
+# (common's headers are included as FOLDER/NAME.h, -Icommon: that is the name to compare)
+for h in common/*/*.h server/*.h client/*.h; do
+    name=$(basename "$h")
+    case "$h" in common/*) name=${h#common/} ;; esac
+    grep -qx "$name" <<<"$sys" && fail "$h has the name of a system header that system headers include"
 done
-grep -q "common/conn.h" build/float/client/client.d 2>/dev/null || [ ! -e build/float/client/client.d ] ||
-    fail "build/float/client/client.d lacks common/conn.h: header changes would not rebuild the client"
+grep -q "common/net/conn.h" build/float/client/client.d 2>/dev/null || [ ! -e build/float/client/client.d ] ||
+    fail "build/float/client/client.d lacks common/net/conn.h: header changes would not rebuild the client"
 
 echo "cli: help, version, ranges, exit statuses, early checks, bands, addresses and progress as documented"

@@ -15,7 +15,7 @@
 
 #include "client.h"
 #include "fuzz.h"
-#include "msg.h"
+#include "net/msg.h"
 
 typedef struct {
     int fd;

@@ -1,7 +1,7 @@
 /* fuzz_import.c - the Assimp path (import.c) on arbitrary bytes: the first
  * byte picks the format (PLY, STL, glTF binary), the rest is the file. */
 #include "fuzz.h"
-#include "import.h"
+#include "model/import.h"
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {

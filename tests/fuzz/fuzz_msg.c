@@ -2,7 +2,7 @@
  * byte choosing the packet type; a body a decoder accepts must encode back
  * to the very same bytes (the codec has one layout, read and written). */
 #include "fuzz.h"
-#include "msg.h"
+#include "net/msg.h"
 
 static void same(const MsgOut *o, const uint8_t *body, size_t len)
 {

@@ -1,8 +1,8 @@
 /* fuzz_mtl.c - the MTL reader on arbitrary bytes, decoded from UTF-16
  * first when they start with its byte-order mark, as mtl_read does. */
 #include "fuzz.h"
-#include "mtl.h"
-#include "textenc.h"
+#include "model/mtl.h"
+#include "base/textenc.h"
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {

@@ -2,8 +2,8 @@
  * decoded from UTF-16 first when the bytes start with its byte-order mark,
  * as obj_read does. */
 #include "fuzz.h"
-#include "obj.h"
-#include "textenc.h"
+#include "model/obj.h"
+#include "base/textenc.h"
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {

@@ -1,7 +1,7 @@
 /* fuzz_scene.c - the scene-file parser on arbitrary bytes; file references
  * point into a directory that does not exist, so they fail cleanly. */
 #include "fuzz.h"
-#include "scene_parse.h"
+#include "scene/scene_parse.h"
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {

@@ -14,8 +14,8 @@
 #include <unistd.h>
 
 #include "fuzz.h"
-#include "real.h"
-#include "scene_parse.h"
+#include "base/real.h"
+#include "scene/scene_parse.h"
 #include "server.h"
 
 static Scene *scene;

@@ -1,7 +1,7 @@
 /* fuzz_tmd.c - the .tmd reader on arbitrary bytes; an accepted model is
  * traced, so that whatever passes validation is also safe to traverse. */
 #include "fuzz.h"
-#include "tmd.h"
+#include "model/tmd.h"
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {

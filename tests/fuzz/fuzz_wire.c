@@ -5,10 +5,10 @@
 #include <stdlib.h>
 
 #include "fuzz.h"
-#include "auth.h"
-#include "render.h"
-#include "scene_default.h"
-#include "wire.h"
+#include "net/auth.h"
+#include "render/render.h"
+#include "scene/scene_default.h"
+#include "net/wire.h"
 
 static AssetCache *cache;
 static RenderPool *pool;

@@ -5,7 +5,7 @@
 
 #include <stdlib.h>
 
-#include "mesh.h"
+#include "model/mesh.h"
 
 /* Adds triangle (a, b, c) of an indexed vertex list. */
 static inline void mesh_add_indexed(Mesh *m, const vec3 *v, int a, int b, int c)

@@ -5,8 +5,8 @@
 #include "../helpers.h"
 
 #include "meshes.h"
-#include "render.h"
-#include "srgb.h"
+#include "render/render.h"
+#include "base/srgb.h"
 
 /* ---- leaks: closed meshes shot at their edges and vertices ---- */
 

@@ -1,0 +1,162 @@
+/* cli.c - see cli.h. */
+#include "app/cli.h"
+#include "base/simd.h"
+
+#include <errno.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/resource.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include "model/model_load.h"
+#include "scene/scene_default.h"
+#include "scene/scene_parse.h"
+#include "scene/scene_preview.h"
+
+const char *const cli_bvh_names[] = {"sbt", "mst", "sah", NULL};
+
+static int parse_n(const char *s, int *out)
+{
+    char *end;
+    long v = strtol(s, &end, 10);
+    if (end == s || *end || v < 1 || v > AA_MAX)
+        return -1;
+    *out = (int)v;
+    return 0;
+}
+
+int cli_parse_simd(const char *v, void *dst, Err *err)
+{
+    (void)dst;
+    char msg[160];
+    if (simd_select(v, msg, sizeof msg))
+        return err_set(err, "%s", msg);
+    return 0;
+}
+
+int cli_simd_env(Err *err)
+{
+    const char *env = getenv("LANRAY_SIMD");
+    char msg[160];
+    if (env && simd_select(env, msg, sizeof msg))
+        return err_set(err, "LANRAY_SIMD: %s", msg);
+    return 0;
+}
+
+int cli_parse_aa(const char *v, void *dst, Err *err)
+{
+    (void)err;
+    CliAa *a = dst, r = {4, 1, 1};
+    if (strncmp(v, "adaptive", 8) == 0) {
+        if (v[8] == ':' ? parse_n(v + 9, &r.aa) : v[8] != 0)
+            return -1;
+    } else {
+        r.adaptive = 0;
+        if (parse_n(v, &r.aa))
+            return -1;
+    }
+    *a = r;
+    return 0;
+}
+
+int cli_parse_segment(const char *v, void *dst, Err *err)
+{
+    (void)err;
+    if (strcmp(v, "auto") == 0) {
+        *(uint32_t *)dst = 0;
+        return 0;
+    }
+    char *end;
+    long n = strtol(v, &end, 10);
+    if (end == v || *end || n < 1 || n > CLI_MAX_SEGMENT)
+        return -1;
+    *(uint32_t *)dst = (uint32_t)n;
+    return 0;
+}
+
+int cli_threads(int requested)
+{
+    if (requested > 0)
+        return requested;
+    long n = sysconf(_SC_NPROCESSORS_ONLN);
+    return n > 0 ? (int)n : 1;
+}
+
+int cli_open_scene(const char *path, const BvhOptions *bvh, int force, Scene **out, Err *err)
+{
+    if (!path)
+        return scene_default(out, bvh, err);
+    if (model_load_knows(path))
+        return scene_preview(path, bvh, force, out, err);
+    return scene_load(path, bvh, force, out, err);
+}
+
+void cli_warn_scene(const char *prog, const Scene *s)
+{
+    if (s->light_count == 0)
+        fprintf(stderr, "%s: warning: the scene has no light; only its ambient light (%g %g %g) shows it\n", prog,
+                (double)s->ambient.x, (double)s->ambient.y, (double)s->ambient.z);
+}
+
+int cli_make_dirs(const char *dir, Err *err)
+{
+    char p[4096];
+    if (snprintf(p, sizeof p, "%s", dir) >= (int)sizeof p)
+        return err_set(err, "%s: directory name too long", dir);
+    for (char *s = p + 1;; s++) {
+        if (*s != '/' && *s != 0)
+            continue;
+        char c = *s;
+        *s = 0;
+        struct stat st;
+        if (mkdir(p, 0777) != 0 && errno != EEXIST)
+            return err_set(err, "cannot create directory %s: %s", p, strerror(errno));
+        if (stat(p, &st) != 0 || !S_ISDIR(st.st_mode))
+            return err_set(err, "%s is not a directory", p);
+        *s = c;
+        if (!c)
+            return 0;
+    }
+}
+
+uint64_t cli_available_memory(void)
+{
+    unsigned long long kb = 0;
+    FILE *f = fopen("/proc/meminfo", "r");
+    if (f) {
+        char line[256];
+        while (fgets(line, sizeof line, f))
+            if (sscanf(line, "MemAvailable: %llu kB", &kb) == 1)
+                break;
+        fclose(f);
+    }
+    uint64_t have = (uint64_t)kb * 1024;
+    /* a limit on the address space (ulimit -v) is as binding as the RAM */
+    struct rlimit rl;
+    if (getrlimit(RLIMIT_AS, &rl) == 0 && rl.rlim_cur != RLIM_INFINITY && (have == 0 || (uint64_t)rl.rlim_cur < have))
+        have = (uint64_t)rl.rlim_cur;
+    return have;
+}
+
+/* "201 MB", "12.9 GB" */
+static void bytes_text(uint64_t b, char *buf, size_t size)
+{
+    if (b < (uint64_t)10 << 30)
+        snprintf(buf, size, "%.0f MB", (double)b / 1e6);
+    else
+        snprintf(buf, size, "%.1f GB", (double)b / 1e9);
+}
+
+int cli_check_memory(uint64_t bytes, const char *what, Err *err)
+{
+    uint64_t have = cli_available_memory();
+    if (have && bytes > have) {
+        char need[32], got[32];
+        bytes_text(bytes, need, sizeof need);
+        bytes_text(have, got, sizeof got);
+        return err_set(err, "%s needs %s of memory; this machine has %s available", what, need, got);
+    }
+    return 0;
+}

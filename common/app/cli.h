@@ -1,0 +1,58 @@
+/* cli.h - what the programs share on their command lines: option values
+ * with the same meaning in every tool (--aa, --bvh, --threads), opening a
+ * scene argument, making output directories and checking that a frame fits
+ * in memory before anything is rendered. */
+#ifndef LANRAY_CLI_H
+#define LANRAY_CLI_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "scene/scene.h"
+
+/* --aa N | adaptive[:N]: N x N samples everywhere, or one and N x N where
+ * neighbours differ.  `given` is set once the option is parsed. */
+typedef struct {
+    int aa, adaptive, given;
+} CliAa;
+int cli_parse_aa(const char *value, void *dst, Err *err);
+#define CLI_AA_RANGE "1..16, adaptive or adaptive:1..16"
+
+extern const char *const cli_bvh_names[]; /* sbt, mst, sah: BvhKind order */
+
+/* --segment LINES|auto: lines per segment into a uint32_t, 0 for auto; at
+ * most the tallest frame a server takes. */
+#define CLI_MAX_SEGMENT 16384
+#define CLI_SEGMENT_RANGE "1..16384 or auto"
+int cli_parse_segment(const char *value, void *dst, Err *err);
+
+/* --simd PATH: forces a traversal path (simd.h) at once; dst is unused.
+ * cli_simd_env checks LANRAY_SIMD the same way (0, or -1 with the reason). */
+int cli_parse_simd(const char *value, void *dst, Err *err);
+int cli_simd_env(Err *err);
+#define CLI_SIMD_RANGE "scalar, sse, avx2 or auto"
+#define CLI_SIMD_DEFAULT "auto: the CPU's best, or LANRAY_SIMD"
+
+/* --threads: 0 means one per core. */
+int cli_threads(int requested);
+
+/* The scene a program was given: NULL for the built-in scene, a scene file,
+ * or an .obj/.tmd model, which gets a preview scene (camera framed on its
+ * bounding box, two lights).  force: rebuild .tmd models with bvh. */
+int cli_open_scene(const char *path, const BvhOptions *bvh, int force, Scene **out, Err *err);
+
+/* Warns on standard error about what a user would not want in a scene:
+ * no light (only the ambient colour would show it). */
+void cli_warn_scene(const char *prog, const Scene *s);
+
+/* Creates dir and its parents (mkdir -p). */
+int cli_make_dirs(const char *dir, Err *err);
+
+/* Fails, saying how much is needed and how much there is, when `bytes` for
+ * `what` cannot fit in the memory this machine has available. */
+int cli_check_memory(uint64_t bytes, const char *what, Err *err);
+/* MemAvailable from /proc/meminfo, or the address-space limit when that is
+ * lower (0 when neither is known). */
+uint64_t cli_available_memory(void);
+
+#endif

@@ -1,0 +1,191 @@
+/* fileio.c - see fileio.h. */
+#define _POSIX_C_SOURCE 200809L
+#include "base/fileio.h"
+
+#include "base/bigmem.h"
+
+#include <dirent.h>
+#include <errno.h>
+#include <stdlib.h>
+#include <string.h>
+#include <strings.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+int file_read_all(const char *path, size_t max_bytes, char **data, size_t *len, Err *err)
+{
+    *data = NULL;
+    *len = 0;
+    FILE *f = fopen(path, "rb");
+    if (!f)
+        return err_set(err, "%s: cannot open: %s", path, strerror(errno));
+    struct stat st;
+    if (fstat(fileno(f), &st) != 0 || !S_ISREG(st.st_mode)) {
+        fclose(f);
+        return err_set(err, "%s: not a regular file", path);
+    }
+    if ((unsigned long long)st.st_size > max_bytes) {
+        fclose(f);
+        return err_set(err, "%s: %lld bytes exceed the limit of %zu", path, (long long)st.st_size, max_bytes);
+    }
+    size_t n = (size_t)st.st_size;
+    /* a big model's text on huge pages: a page fault per 2 MiB, not per 4 KiB */
+    char *buf = bigmem_alloc(n + 1);
+    if (!buf) {
+        fclose(f);
+        return err_set(err, "%s: out of memory for %zu bytes", path, n);
+    }
+    size_t got = fread(buf, 1, n, f);
+    int bad = ferror(f) || got != n;
+    fclose(f);
+    if (bad) {
+        free(buf);
+        return err_set(err, "%s: read error", path);
+    }
+    buf[n] = 0;
+    *data = buf;
+    *len = n;
+    return 0;
+}
+
+int file_atomic_open(AtomicFile *a, const char *path, Err *err)
+{
+    memset(a, 0, sizeof a[0]);
+    a->path = path;
+    size_t n = strlen(path);
+    a->tmp = malloc(n + 16);
+    if (!a->tmp)
+        return err_set(err, "%s: out of memory", path);
+    snprintf(a->tmp, n + 16, "%s.tmp.XXXXXX", path);
+    int fd = mkstemp(a->tmp);
+    if (fd < 0) {
+        char dir[4096];
+        file_dirname(path, dir, sizeof dir);
+        if (errno == ENOENT || errno == ENOTDIR)
+            err_set(err, "%s: cannot write: the directory %s does not exist", path, dir);
+        else
+            err_set(err, "%s: cannot write in %s: %s", path, dir, strerror(errno));
+        free(a->tmp);
+        a->tmp = NULL;
+        return -1;
+    }
+    a->f = fdopen(fd, "wb");
+    if (!a->f) {
+        int e = errno;
+        close(fd);
+        file_atomic_abort(a);
+        return err_set(err, "%s: cannot open: %s", path, strerror(e));
+    }
+    return 0;
+}
+
+void file_atomic_abort(AtomicFile *a)
+{
+    if (a->f)
+        fclose(a->f);
+    if (a->tmp) {
+        unlink(a->tmp);
+        free(a->tmp);
+    }
+    a->f = NULL;
+    a->tmp = NULL;
+}
+
+int file_atomic_commit(AtomicFile *a, Err *err)
+{
+    int rc = 0;
+    if (fflush(a->f) != 0 || ferror(a->f) || fsync(fileno(a->f)) != 0)
+        rc = err_set(err, "%s: write failed: %s", a->path, strerror(errno));
+    if (fclose(a->f) != 0 && rc == 0)
+        rc = err_set(err, "%s: write failed: %s", a->path, strerror(errno));
+    a->f = NULL;
+    /* mkstemp creates 0600; outputs are ordinary files */
+    if (rc == 0) {
+        mode_t mask = umask(0);
+        umask(mask);
+        chmod(a->tmp, 0666 & ~mask);
+    }
+    if (rc == 0 && rename(a->tmp, a->path) != 0)
+        rc = err_set(err, "%s: cannot rename into place: %s", a->path, strerror(errno));
+    if (rc != 0)
+        unlink(a->tmp);
+    free(a->tmp);
+    a->tmp = NULL;
+    return rc;
+}
+
+int file_write_atomic(const char *path, file_write_fn fn, void *ctx, Err *err)
+{
+    AtomicFile a;
+    if (file_atomic_open(&a, path, err))
+        return -1;
+    if (fn(a.f, ctx, err) != 0) {
+        err_prefix(err, "%s", path);
+        file_atomic_abort(&a);
+        return -1;
+    }
+    return file_atomic_commit(&a, err);
+}
+
+typedef struct {
+    const void *data;
+    size_t len;
+} Bytes;
+
+static int write_bytes(FILE *f, void *ctx, Err *err)
+{
+    Bytes *b = ctx;
+    (void)err;
+    fwrite(b->data, 1, b->len, f);
+    return 0; /* ferror is checked by the caller */
+}
+
+int file_write_bytes(const char *path, const void *data, size_t len, Err *err)
+{
+    Bytes b = {data, len};
+    return file_write_atomic(path, write_bytes, &b, err);
+}
+
+void file_dirname(const char *path, char *buf, size_t size)
+{
+    const char *slash = strrchr(path, '/');
+    if (!slash)
+        snprintf(buf, size, ".");
+    else if (slash == path)
+        snprintf(buf, size, "/");
+    else
+        snprintf(buf, size, "%.*s", (int)(slash - path), path);
+}
+
+int file_join(const char *dir, const char *name, char *buf, size_t size)
+{
+    int n = name[0] == '/' ? snprintf(buf, size, "%s", name) : snprintf(buf, size, "%s/%s", dir, name);
+    return n < 0 || (size_t)n >= size ? -1 : 0;
+}
+
+int file_exists(const char *path)
+{
+    struct stat st;
+    return stat(path, &st) == 0 && S_ISREG(st.st_mode) && access(path, R_OK) == 0;
+}
+
+FileFound file_find_near(const char *dir, const char *name, char *buf, size_t size)
+{
+    if (file_join(dir, name, buf, size) == 0 && file_exists(buf))
+        return FILE_AS_WRITTEN;
+    char written[4096];
+    snprintf(written, sizeof written, "%s", buf);
+    const char *slash = strrchr(name, '/'), *base = slash ? slash + 1 : name;
+    if (*base && base != name && file_join(dir, base, buf, size) == 0 && file_exists(buf))
+        return FILE_BY_NAME;
+    DIR *d = *base ? opendir(dir) : NULL;
+    FileFound how = FILE_NOT_FOUND;
+    for (struct dirent *e; d && how == FILE_NOT_FOUND && (e = readdir(d));)
+        if (strcasecmp(e->d_name, base) == 0 && file_join(dir, e->d_name, buf, size) == 0 && file_exists(buf))
+            how = FILE_BY_NAME_CASE;
+    if (d)
+        closedir(d);
+    if (how == FILE_NOT_FOUND)
+        snprintf(buf, size, "%s", written);
+    return how;
+}

@@ -1,0 +1,55 @@
+/* fileio.h - whole-file reads with a size limit, and atomic writes.
+ *
+ * Outputs are written to a temporary name beside the target and renamed into
+ * place, so a crash, a full disk or an error never leaves a partial file. */
+#ifndef LANRAY_FILEIO_H
+#define LANRAY_FILEIO_H
+
+#include <stddef.h>
+#include <stdio.h>
+
+#include "base/err.h"
+
+/* Reads all of path into a malloc'd buffer (NUL-terminated for text parsers). */
+int file_read_all(const char *path, size_t max_bytes, char **data, size_t *len, Err *err);
+
+/* A file being written under a temporary name beside its target: commit
+ * flushes, syncs and renames it into place; abort (or a failed commit)
+ * removes it.  Opening first also checks, before any work, that the
+ * directory exists and is writable. */
+typedef struct {
+    FILE *f;
+    char *tmp;
+    const char *path;
+} AtomicFile;
+int file_atomic_open(AtomicFile *a, const char *path, Err *err);
+int file_atomic_commit(AtomicFile *a, Err *err);
+void file_atomic_abort(AtomicFile *a);
+
+/* Atomic write through a callback that writes to the open temporary FILE. */
+typedef int (*file_write_fn)(FILE *f, void *ctx, Err *err);
+int file_write_atomic(const char *path, file_write_fn fn, void *ctx, Err *err);
+int file_write_bytes(const char *path, const void *data, size_t len, Err *err);
+
+/* Directory part of path ("." when none) into buf. */
+void file_dirname(const char *path, char *buf, size_t size);
+/* Joins dir and a relative name; absolute names are kept as they are. */
+int file_join(const char *dir, const char *name, char *buf, size_t size);
+/* Whether path names a regular file this process can read. */
+int file_exists(const char *path);
+
+/* Where a file that another file names is (a texture an MTL names, an MTL
+ * an OBJ names): as written, relative to dir; else, as viewers do for
+ * models moved from the machine that wrote them ("C:\Users\...\wood.png"),
+ * its last component in dir; else a file in dir whose name differs from it
+ * only in case (names written on Windows).  The path found goes to buf (as
+ * written when none is). */
+typedef enum {
+    FILE_NOT_FOUND = -1,
+    FILE_AS_WRITTEN = 0,
+    FILE_BY_NAME = 1,      /* the last component, in dir */
+    FILE_BY_NAME_CASE = 2, /* the last component in another case, in dir */
+} FileFound;
+FileFound file_find_near(const char *dir, const char *name, char *buf, size_t size);
+
+#endif

@@ -1,0 +1,85 @@
+/* simd.c - picking the traversal path at run time. */
+#include "base/simd.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+static const char *const names[SIMD_PATH_COUNT] = {"scalar", "sse", "avx2"};
+static int chosen = -1; /* set before the render threads start, read-only after */
+
+int simd_available(SimdPath p)
+{
+    switch (p) {
+    case SIMD_SCALAR:
+        return 1;
+#if defined(__x86_64__) && !defined(LANRAY_DOUBLE)
+    case SIMD_SSE:
+        return 1; /* SSE2 is part of x86-64 */
+    case SIMD_AVX2:
+        __builtin_cpu_init();
+        return __builtin_cpu_supports("avx2");
+#endif
+    default:
+        return 0;
+    }
+}
+
+static SimdPath simd_best(void)
+{
+    for (int p = SIMD_PATH_COUNT - 1; p > 0; p--)
+        if (simd_available((SimdPath)p))
+            return (SimdPath)p;
+    return SIMD_SCALAR;
+}
+
+const char *simd_name(SimdPath p) { return (unsigned)p < SIMD_PATH_COUNT ? names[p] : "?"; }
+
+int simd_parse(const char *s, SimdPath *out)
+{
+    if (strcmp(s, "auto") == 0) {
+        *out = simd_best();
+        return 0;
+    }
+    for (int i = 0; i < SIMD_PATH_COUNT; i++)
+        if (strcmp(s, names[i]) == 0) {
+            *out = (SimdPath)i;
+            return 0;
+        }
+    return -1;
+}
+
+int simd_force(SimdPath p)
+{
+    if (!simd_available(p))
+        return -1;
+    chosen = (int)p;
+    return 0;
+}
+
+int simd_select(const char *name, char *msg, unsigned msg_size)
+{
+    SimdPath p;
+    if (simd_parse(name, &p)) {
+        snprintf(msg, msg_size, "unknown SIMD path '%s' (scalar, sse, avx2 or auto)", name);
+        return -1;
+    }
+    if (simd_force(p)) {
+        snprintf(msg, msg_size, "SIMD path '%s' is not available on this %s", name,
+                 p == SIMD_AVX2 ? "CPU or build" : "build");
+        return -1;
+    }
+    return 0;
+}
+
+SimdPath simd_path(void)
+{
+    if (chosen < 0) {
+        /* an unusable LANRAY_SIMD falls back to the best path: the tools
+         * check the variable themselves and say so (cli_simd) */
+        const char *env = getenv("LANRAY_SIMD");
+        SimdPath p;
+        chosen = env && simd_parse(env, &p) == 0 && simd_available(p) ? (int)p : (int)simd_best();
+    }
+    return (SimdPath)chosen;
+}

@@ -1,0 +1,67 @@
+/* srgb.h - from linear light to the 8-bit codes of an image, and back.
+ *
+ * lanray shades in linear light: colours in scene files, textures after
+ * decoding and every sum of light are linear.  A pixel is written as sRGB
+ * (IEC 61966-2-1), what screens and viewers expect, unless the user asks
+ * for linear output (--linear).  Both directions go through constant tables
+ * (srgb_tables.c, made by tools/srgb-tables), not pow(): maths libraries
+ * differ in their last bits, and a client on another machine must write the
+ * same codes as lanray-render. */
+#ifndef LANRAY_SRGB_H
+#define LANRAY_SRGB_H
+
+#include <stdint.h>
+#include <string.h>
+
+#include "base/real.h"
+
+/* The linear value at which the sRGB code becomes k + 1 (k = 0..254). */
+extern const double srgb_threshold[255];
+/* The linear value of sRGB code k. */
+extern const float srgb_decode8[256];
+
+/* A first guess of the code by a float's top bits (sign, exponent and 8
+ * bits of mantissa, bits >> 15, less SRGB_START_BASE): never above the
+ * code of any value with those bits, at most one below. */
+#define SRGB_START_BASE (114 << 8) /* 2^-13, below the first threshold */
+extern const uint8_t srgb_start[13 * 256];
+
+/* The sRGB code of linear v: round to nearest in sRGB terms, clamped to
+ * 0..255; NaN (inf * 0 from extreme scene values) becomes 0.  A table
+ * lookup by the value's top bits, then at most one comparison more with
+ * the exact thresholds: every pixel channel goes through here, and a
+ * binary search over the thresholds cost a cheap scene a fifth of its
+ * time. */
+static inline uint8_t srgb_encode8(real v)
+{
+    double d = (double)v;
+    if (!(d >= srgb_threshold[0])) /* also NaN */
+        return 0;
+    if (d >= srgb_threshold[254])
+        return 255;
+    float f = (float)d;
+    if ((double)f > d) /* rounded up: the bucket's guess must not pass d's code */
+        f = nextafterf(f, 0.0f);
+    uint32_t bits;
+    memcpy(&bits, &f, sizeof bits);
+    uint32_t i = (bits >> 15) - SRGB_START_BASE; /* in range for d in [threshold 0, threshold 254) */
+    int code = srgb_start[i < sizeof srgb_start ? i : sizeof srgb_start - 1];
+    while (d >= srgb_threshold[code])
+        code++;
+    return (uint8_t)code;
+}
+
+/* Linear output (--linear): v * 255 rounded, clamped; NaN becomes 0.  In
+ * double, where a float's product with 255 is exact: in float, 0.9f * 255
+ * rounded up to 229.5 and the code to 230. */
+static inline uint8_t linear_encode8(real v)
+{
+    double d = v > R(0) ? (v < R(1) ? (double)v : 1.0) : 0.0;
+    return (uint8_t)(d * 255 + 0.5);
+}
+
+/* The linear value of an sRGB-encoded fraction s in [0, 1] (for images that
+ * are not 8 bits deep; 8-bit codes use srgb_decode8). */
+double srgb_decode(double s);
+
+#endif

@@ -1,0 +1,327 @@
+/* bvh_sah.c - top-down builder that minimises the surface area heuristic.
+ *
+ * Binned SAH (Wald, "On fast construction of SAH-based bounding volume
+ * hierarchies", 2007): centres are dropped into BINS buckets per axis and
+ * every bucket boundary is costed with one sweep from each side.  A node
+ * becomes a leaf when splitting would cost more than intersecting all its
+ * primitives and it holds at most max_leaf of them; primitives cost by the
+ * block of four (bvh.h, BVH_LEAF_BLOCK).
+ *
+ * One pass over a node's primitives bins all three axes and keeps, per bin,
+ * the box of the boxes and of the centres, so the chosen split's two
+ * children get their boxes from the bins: no pass just for bounds.  Nodes
+ * run as tasks on opt->threads workers (bvh_tasks.c). */
+#include <stdlib.h>
+#include <string.h>
+#if defined(__x86_64__) && !defined(LANRAY_DOUBLE)
+#include <immintrin.h>
+#endif
+
+#include "base/bigmem.h"
+
+#include "bvh/bvh_build.h"
+
+#define BINS 32
+#define COST_TRAVERSE R(1)
+#define COST_INTERSECT R(1)
+
+/* Boxes as two rows of four, so that growing one is a vector min and max.
+ * A primitive's own box (its "reference") carries its index in the fourth
+ * lane of hi, which bin boxes never read: the builder moves references
+ * rather than indices into other arrays, so each level reads its nodes'
+ * primitives in order instead of at random. */
+typedef struct {
+    _Alignas(4 * sizeof(real)) real lo[4];
+    real hi[4];
+} Box4;
+
+static uint32_t ref_id(const Box4 *r)
+{
+    uint32_t id;
+    memcpy(&id, &r->hi[3], sizeof id); /* the bits, not a value: any index fits */
+    return id;
+}
+static vec3 ref_centre(const Box4 *r)
+{
+    /* aabb_centre's arithmetic, so the bins are the ones it gives */
+    return v3((r->lo[0] + r->hi[0]) * R(0.5), (r->lo[1] + r->hi[1]) * R(0.5), (r->lo[2] + r->hi[2]) * R(0.5));
+}
+
+typedef struct {
+    Box4 box;
+    uint32_t count;
+} Bin;
+
+static int bin_of(real c, real lo, real scale)
+{
+    /* extreme coordinates can make this inf * 0 = NaN: clamp before converting */
+    real f = (c - lo) * scale;
+    if (!(f >= R(0)))
+        return 0;
+    return f >= (real)BINS ? BINS - 1 : (int)f;
+}
+
+static inline void box4_grow(Box4 *b, const Box4 *x)
+{
+    for (int k = 0; k < 4; k++) { /* lane 3 too: one vector op; bins never read it */
+        b->lo[k] = x->lo[k] < b->lo[k] ? x->lo[k] : b->lo[k];
+        b->hi[k] = x->hi[k] > b->hi[k] ? x->hi[k] : b->hi[k];
+    }
+}
+
+static const Box4 box4_empty = {{REAL_INF, REAL_INF, REAL_INF, 0}, {-REAL_INF, -REAL_INF, -REAL_INF, 0}};
+
+static Aabb box4_aabb(const Box4 *b)
+{
+    return (Aabb){v3(b->lo[0], b->lo[1], b->lo[2]), v3(b->hi[0], b->hi[1], b->hi[2])};
+}
+
+/* aabb_half_area of a box that is not empty (the sweeps only ever add
+ * primitives and non-empty bins), without the emptiness test */
+static inline real box4_half_area(const Box4 *b)
+{
+    real ex = b->hi[0] - b->lo[0], ey = b->hi[1] - b->lo[1], ez = b->hi[2] - b->lo[2];
+    return ex * ey + ey * ez + ez * ex;
+}
+
+static void refs_bounds(const Box4 *refs, uint32_t first, uint32_t count, BuildTask *kid)
+{
+    Box4 box = box4_empty;
+    Aabb cbox = aabb_empty();
+    for (uint32_t i = first; i < first + count; i++) {
+        box4_grow(&box, &refs[i]);
+        aabb_grow(&cbox, ref_centre(&refs[i]));
+    }
+    kid->box = box4_aabb(&box);
+    kid->cbox = cbox;
+}
+
+/* Drops each primitive's centre into a bin per axis (bin_of), growing the
+ * bins' boxes.  The hot loop of the build: on x86-64 float builds the three
+ * axes go at once in SSE, with the same arithmetic, so the same bins. */
+static void bin_prims(const Box4 *refs, uint32_t first, uint32_t count, const real lo[3], const real scale[3],
+                      Bin bins[3][BINS])
+{
+#if defined(__x86_64__) && !defined(LANRAY_DOUBLE)
+    const __m128 lov = _mm_setr_ps(lo[0], lo[1], lo[2], 0), scv = _mm_setr_ps(scale[0], scale[1], scale[2], 0);
+    const __m128 half = _mm_set1_ps(0.5f), zero = _mm_setzero_ps(), last = _mm_set1_ps((float)(BINS - 1));
+    /* two sets of bins, for even and odd primitives, merged at the end:
+     * neighbours (sorted by the partitions above) often share a bin, and
+     * one set makes every update wait for the last one's store */
+    Bin odd[3][BINS];
+    for (int a = 0; a < 3; a++)
+        for (int i = 0; i < BINS; i++)
+            odd[a][i] = (Bin){box4_empty, 0};
+    for (uint32_t i = first; i < first + count; i++) {
+        Bin(*set)[BINS] = (i - first) & 1 ? odd : bins;
+        const __m128 l = _mm_load_ps(refs[i].lo), h = _mm_load_ps(refs[i].hi);
+        __m128 f = _mm_mul_ps(_mm_sub_ps(_mm_mul_ps(_mm_add_ps(l, h), half), lov), scv);
+        /* bin_of: NaN or below 0 -> 0; 31 or more -> 31 (truncating min(f, 31) is the same) */
+        f = _mm_min_ps(_mm_and_ps(f, _mm_cmpge_ps(f, zero)), last);
+        const __m128i k = _mm_cvttps_epi32(f);
+        const int k0 = _mm_cvtsi128_si32(k), k1 = _mm_cvtsi128_si32(_mm_shuffle_epi32(k, 1)),
+                  k2 = _mm_cvtsi128_si32(_mm_shuffle_epi32(k, 2));
+        Bin *b0 = &set[0][k0], *b1 = &set[1][k1], *b2 = &set[2][k2];
+        _mm_store_ps(b0->box.lo, _mm_min_ps(l, _mm_load_ps(b0->box.lo)));
+        _mm_store_ps(b0->box.hi, _mm_max_ps(h, _mm_load_ps(b0->box.hi)));
+        b0->count++;
+        _mm_store_ps(b1->box.lo, _mm_min_ps(l, _mm_load_ps(b1->box.lo)));
+        _mm_store_ps(b1->box.hi, _mm_max_ps(h, _mm_load_ps(b1->box.hi)));
+        b1->count++;
+        _mm_store_ps(b2->box.lo, _mm_min_ps(l, _mm_load_ps(b2->box.lo)));
+        _mm_store_ps(b2->box.hi, _mm_max_ps(h, _mm_load_ps(b2->box.hi)));
+        b2->count++;
+    }
+    for (int a = 0; a < 3; a++)
+        for (int i = 0; i < BINS; i++) {
+            box4_grow(&bins[a][i].box, &odd[a][i].box);
+            bins[a][i].count += odd[a][i].count;
+        }
+#else
+    for (uint32_t i = first; i < first + count; i++) {
+        const vec3 c = ref_centre(&refs[i]);
+        for (int a = 0; a < 3; a++) {
+            Bin *bin = &bins[a][bin_of(c.e[a], lo[a], scale[a])];
+            box4_grow(&bin->box, &refs[i]);
+            bin->count++;
+        }
+    }
+#endif
+}
+
+/* Small nodes: the exact SAH over every split position of the centres
+ * sorted on each axis.  Cheaper than filling 96 bins for a handful of
+ * primitives (clearing the bins was a fifth of the build), and better:
+ * binning can only approximate these splits. */
+#define SWEEP_MAX 32
+
+static int sah_sweep(const Builder *b, const BuildTask *t, BuildTask kids[2])
+{
+    Box4 *refs = (Box4 *)b->aux + t->first;
+    const uint32_t n = t->count;
+    uint8_t order[3][SWEEP_MAX];
+    real key[SWEEP_MAX];
+    real best = REAL_INF;
+    int axis = -1;
+    uint32_t split = 0;
+    for (int a = 0; a < 3; a++) {
+        /* insertion sort by centre, stable: equal centres keep their order */
+        for (uint32_t i = 0; i < n; i++) {
+            real c = refs[i].lo[a] + refs[i].hi[a];
+            uint32_t j = i;
+            while (j > 0 && key[j - 1] > c) {
+                key[j] = key[j - 1];
+                order[a][j] = order[a][j - 1];
+                j--;
+            }
+            key[j] = c;
+            order[a][j] = (uint8_t)i;
+        }
+        real right_area[SWEEP_MAX];
+        Box4 acc = box4_empty;
+        for (uint32_t j = n - 1; j > 0; j--) {
+            box4_grow(&acc, &refs[order[a][j]]);
+            right_area[j] = box4_half_area(&acc);
+        }
+        acc = box4_empty;
+        for (uint32_t j = 0; j + 1 < n; j++) {
+            box4_grow(&acc, &refs[order[a][j]]);
+            real c = box4_half_area(&acc) * (real)bvh_leaf_blocks(j + 1) +
+                     right_area[j + 1] * (real)bvh_leaf_blocks(n - j - 1);
+            if (c < best) {
+                best = c;
+                axis = a;
+                split = j + 1;
+            }
+        }
+    }
+    real area = aabb_half_area(t->box);
+    real split_cost = area > R(0) ? COST_TRAVERSE + COST_INTERSECT * best / area : COST_TRAVERSE;
+    if (!(split_cost < COST_INTERSECT * (real)bvh_leaf_blocks(n)) && n <= b->opt->max_leaf)
+        return 0;
+    Box4 sorted[SWEEP_MAX];
+    for (uint32_t j = 0; j < n; j++)
+        sorted[j] = refs[order[axis][j]];
+    memcpy(refs, sorted, n * sizeof *refs);
+    kids[0].first = t->first, kids[0].count = split;
+    kids[1].first = t->first + split, kids[1].count = n - split;
+    refs_bounds(b->aux, kids[0].first, kids[0].count, &kids[0]);
+    refs_bounds(b->aux, kids[1].first, kids[1].count, &kids[1]);
+    return 2;
+}
+
+static int sah_step(const Builder *b, const BuildTask *t, BuildTask kids[2])
+{
+    if (t->count == 1)
+        return 0;
+    if (t->count <= SWEEP_MAX)
+        return sah_sweep(b, t, kids);
+    Box4 *refs = (Box4 *)b->aux;
+    Bin bins[3][BINS];
+    real lo[3], scale[3];
+    vec3 ext = aabb_extent(t->cbox);
+    for (int a = 0; a < 3; a++) {
+        lo[a] = t->cbox.min.e[a];
+        scale[a] = ext.e[a] > R(0) ? (real)BINS / ext.e[a] : R(0);
+        for (int i = 0; i < BINS; i++)
+            bins[a][i] = (Bin){box4_empty, 0};
+    }
+    bin_prims(refs, t->first, t->count, lo, scale, bins);
+    real best = REAL_INF;
+    int axis = -1, split = 0;
+    for (int a = 0; a < 3; a++) {
+        if (ext.e[a] <= R(0))
+            continue;
+        /* only the bins that hold something: a boundary inside a run of
+         * empty bins cuts the same way and costs the same as the first
+         * boundary of the run, which is the one a sweep over every bin
+         * keeps (strictly smaller wins) */
+        int used[BINS], m = 0;
+        for (int i = 0; i < BINS; i++)
+            if (bins[a][i].count)
+                used[m++] = i;
+        real right_area[BINS];
+        uint32_t right_count[BINS];
+        Box4 acc = box4_empty;
+        uint32_t cnt = 0;
+        for (int j = m - 1; j > 0; j--) {
+            box4_grow(&acc, &bins[a][used[j]].box);
+            cnt += bins[a][used[j]].count;
+            right_area[j] = box4_half_area(&acc);
+            right_count[j] = cnt;
+        }
+        acc = box4_empty;
+        cnt = 0;
+        for (int j = 0; j < m - 1; j++) {
+            box4_grow(&acc, &bins[a][used[j]].box);
+            cnt += bins[a][used[j]].count;
+            real c = box4_half_area(&acc) * (real)bvh_leaf_blocks(cnt) +
+                     right_area[j + 1] * (real)bvh_leaf_blocks(right_count[j + 1]);
+            if (c < best) {
+                best = c;
+                axis = a;
+                split = used[j];
+            }
+        }
+    }
+    real area = aabb_half_area(t->box);
+    real split_cost = area > R(0) ? COST_TRAVERSE + COST_INTERSECT * best / area : (best < REAL_INF ? COST_TRAVERSE : REAL_INF);
+    real leaf_cost = COST_INTERSECT * (real)bvh_leaf_blocks(t->count);
+    uint32_t nl;
+    if (split_cost < REAL_INF && (split_cost < leaf_cost || t->count > b->opt->max_leaf)) {
+        /* partition, growing each side's centre box on the way */
+        Box4 cl = box4_empty, cr = box4_empty;
+        uint32_t i = t->first, j = t->first + t->count;
+        while (i < j) {
+            Box4 c;
+            vec3 cv = ref_centre(&refs[i]);
+            for (int k = 0; k < 4; k++)
+                c.lo[k] = c.hi[k] = k < 3 ? cv.e[k] : R(0);
+            if (bin_of(cv.e[axis], lo[axis], scale[axis]) <= split) {
+                box4_grow(&cl, &c);
+                i++;
+            } else {
+                box4_grow(&cr, &c);
+                Box4 tmp = refs[i];
+                refs[i] = refs[--j];
+                refs[j] = tmp;
+            }
+        }
+        nl = i - t->first;
+        Box4 bl = box4_empty, br = box4_empty;
+        for (int k = 0; k < BINS; k++)
+            box4_grow(k > split ? &br : &bl, &bins[axis][k].box);
+        kids[0].box = box4_aabb(&bl), kids[0].cbox = box4_aabb(&cl);
+        kids[1].box = box4_aabb(&br), kids[1].cbox = box4_aabb(&cr);
+    } else if (t->count > b->opt->max_leaf) {
+        nl = t->count / 2; /* coincident centres: split by count */
+        refs_bounds(refs, t->first, nl, &kids[0]);
+        refs_bounds(refs, t->first + nl, t->count - nl, &kids[1]);
+    } else {
+        return 0;
+    }
+    kids[0].first = t->first, kids[0].count = nl;
+    kids[1].first = t->first + nl, kids[1].count = t->count - nl;
+    return 2;
+}
+
+int bvh_build_sah(Builder *b, Err *err)
+{
+    Box4 *refs = bigmem_alloc((size_t)b->n * sizeof *refs);
+    if (!refs)
+        return err_set(err, "bvh: out of memory for %u primitives", b->n);
+    for (uint32_t i = 0; i < b->n; i++) {
+        for (int k = 0; k < 4; k++) {
+            refs[i].lo[k] = k < 3 ? b->boxes[i].min.e[k] : R(0);
+            refs[i].hi[k] = k < 3 ? b->boxes[i].max.e[k] : R(0);
+        }
+        memcpy(&refs[i].hi[3], &i, sizeof i);
+    }
+    b->aux = refs;
+    int rc = builder_run(b, sah_step, err);
+    for (uint32_t i = 0; rc == 0 && i < b->n; i++)
+        b->perm[i] = ref_id(&refs[i]);
+    free(refs);
+    b->aux = NULL;
+    return rc;
+}

@@ -1,0 +1,33 @@
+/* wide_avx2.c - 8-wide BVH traversal with AVX2.  This file alone is
+ * compiled for AVX2 (the pragmas below, for GCC and for Clang, which the
+ * fuzz build uses), and never with FMA: a contracted multiply-add would
+ * round differently from the other paths.  Only called when the CPU reports
+ * AVX2 (simd.c). */
+#if defined(__x86_64__) && !defined(LANRAY_DOUBLE)
+#if defined(__clang__)
+#pragma clang attribute push(__attribute__((target("avx2"))), apply_to = function)
+#else
+#pragma GCC push_options
+#pragma GCC target("avx2")
+#endif
+#define NW 8
+#define VN __m256
+#define VN_SET1 _mm256_set1_ps
+#define VN_LOAD _mm256_load_ps
+#define VN_STORE _mm256_storeu_ps
+#define VN_MIN _mm256_min_ps
+#define VN_MAX _mm256_max_ps
+#define VN_LE_MASK(a, b) _mm256_movemask_ps(_mm256_cmp_ps(a, b, _CMP_LE_OQ))
+#define KERNEL_CLOSEST wide8_closest_avx2
+#define KERNEL_ANY wide8_any_avx2
+#define KERNEL_CLOSEST_PACKET wide8_closest_packet_avx2
+#define KERNEL_ANY_PACKET wide8_any_packet_avx2
+#include "bvh/wide_kernel.h"
+#if defined(__clang__)
+#pragma clang attribute pop
+#else
+#pragma GCC pop_options
+#endif
+#else
+typedef int wide_avx2_unused; /* no AVX2 kernel in double or non-x86 builds */
+#endif

@@ -1,0 +1,502 @@
+/* import.c - see import.h. */
+#include "model/import.h"
+
+#include <assimp/cimport.h>
+#include <assimp/material.h>
+#include <assimp/postprocess.h>
+#include <assimp/scene.h>
+#include <ctype.h>
+#include <errno.h>
+#include <signal.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include "base/cursor.h"
+
+#define IMPORT_MAX_TRIANGLES (1u << 26) /* BVH_MAX_PRIMS */
+
+static const char *const formats[] = {".ply", ".stl", ".gltf", ".glb", ".fbx", ".dae", ".3ds", ".off", ".lwo", ".x", NULL};
+
+static const char *extension(const char *path)
+{
+    const char *dot = strrchr(path, '.'), *slash = strrchr(path, '/');
+    return dot && (!slash || dot > slash) ? dot : "";
+}
+
+int import_knows(const char *path)
+{
+    const char *e = extension(path);
+    char low[16];
+    size_t n = strlen(e);
+    if (n == 0 || n >= sizeof low)
+        return 0;
+    for (size_t i = 0; i <= n; i++)
+        low[i] = (char)tolower((unsigned char)e[i]);
+    for (int i = 0; formats[i]; i++)
+        if (strcmp(low, formats[i]) == 0)
+            return 1;
+    return 0;
+}
+
+static Material import_material(const struct aiMaterial *am)
+{
+    Material m = material_default();
+    struct aiColor4D c;
+    if (aiGetMaterialColor(am, AI_MATKEY_COLOR_DIFFUSE, &c) == aiReturn_SUCCESS)
+        m.kd = v3(c.r, c.g, c.b);
+    if (aiGetMaterialColor(am, AI_MATKEY_COLOR_SPECULAR, &c) == aiReturn_SUCCESS)
+        m.ks = v3(c.r, c.g, c.b);
+    ai_real s;
+    if (aiGetMaterialFloat(am, AI_MATKEY_SHININESS, &s) == aiReturn_SUCCESS && s >= 0)
+        m.shininess = s;
+    for (int k = 0; k < 3; k++) /* files can hold anything: keep what shading accepts */
+        if (!(m.kd.e[k] >= 0) || !isfinite(m.kd.e[k]) || !(m.ks.e[k] >= 0) || !isfinite(m.ks.e[k]))
+            return material_default();
+    if (!isfinite(m.shininess))
+        m.shininess = 1;
+    return m;
+}
+
+/* Assimp 5.2.5's PLY reader spins on some malformed headers (an element
+ * line cut short kept fuzz_import busy past its timeout), so a PLY header
+ * is checked here first: it ends with end_header within the first 64 KiB,
+ * and every element line is "element NAME COUNT" with a count that the
+ * file's size could hold (at least one byte per element). */
+#define PLY_HEADER_MAX 65536
+
+static int ply_header_check(const char *head, size_t n, uint64_t file_size, const char *name, Err *err)
+{
+    if (n < 4 || memcmp(head, "ply", 3) != 0 || (head[3] != '\n' && head[3] != '\r'))
+        return err_set(err, "%s: not a PLY file (no 'ply' line)", name);
+    size_t i = 0;
+    uint64_t elements = 0;
+    while (i < n) {
+        size_t e = i;
+        while (e < n && head[e] != '\n')
+            e++;
+        if (e == n)
+            break;
+        char line[256];
+        size_t len = e - i < sizeof line - 1 ? e - i : sizeof line - 1;
+        memcpy(line, head + i, len);
+        line[len] = 0;
+        if (len && line[len - 1] == '\r')
+            line[--len] = 0;
+        i = e + 1;
+        if (strcmp(line, "end_header") == 0)
+            return elements > file_size ? err_set(err, "%s: PLY header claims %llu elements in a file of %llu bytes", name,
+                                                  (unsigned long long)elements, (unsigned long long)file_size)
+                                        : 0;
+        if (strncmp(line, "element", 7) == 0) {
+            char ename[128];
+            unsigned long long count;
+            char extra;
+            if (sscanf(line, "element %127s %llu %c", ename, &count, &extra) != 2)
+                return err_set(err, "%s: PLY header: malformed line '%s'", name, line);
+            elements += count;
+            if (elements > file_size)
+                return err_set(err, "%s: PLY header claims %llu elements in a file of %llu bytes", name,
+                               (unsigned long long)elements, (unsigned long long)file_size);
+        }
+    }
+    return err_set(err, "%s: PLY header without end_header in its first %d bytes", name, PLY_HEADER_MAX);
+}
+
+static int is_ply(const char *path)
+{
+    const char *e = extension(path);
+    return strcmp(e, ".ply") == 0 || strcmp(e, ".PLY") == 0;
+}
+
+#define IMPORT_FLAGS (aiProcess_Triangulate | aiProcess_PreTransformVertices | aiProcess_SortByPType | aiProcess_ValidateDataStructure)
+
+static int import_scene(const struct aiScene *sc, const char *path, int stl, Mesh *out, ImportStats *st, Err *err);
+
+/* In this process: what the child of import_read runs. */
+static int import_read_direct(const char *path, Mesh *out, ImportStats *st, Err *err)
+{
+    ImportStats local;
+    if (!st)
+        st = &local;
+    memset(st, 0, sizeof *st);
+    memset(out, 0, sizeof *out);
+    if (!import_knows(path))
+        return err_set(err, "%s: not a format the importer reads (PLY, STL, glTF, ...)", path);
+    if (is_ply(path)) {
+        FILE *f = fopen(path, "rb");
+        if (!f)
+            return err_set(err, "%s: cannot open", path);
+        char head[PLY_HEADER_MAX];
+        size_t n = fread(head, 1, sizeof head, f);
+        int seek = fseek(f, 0, SEEK_END);
+        long size = seek == 0 ? ftell(f) : -1;
+        fclose(f);
+        if (size < 0 || ply_header_check(head, n, (uint64_t)size, path, err))
+            return size < 0 ? err_set(err, "%s: cannot read", path) : -1;
+    }
+    const struct aiScene *sc = aiImportFile(path, IMPORT_FLAGS);
+    if (!sc)
+        return err_set(err, "%s: %s", path, aiGetErrorString());
+    const char *e = extension(path);
+    int rc = import_scene(sc, path, strcmp(e, ".stl") == 0 || strcmp(e, ".STL") == 0, out, st, err);
+    aiReleaseImport(sc);
+    return rc;
+}
+
+static int import_read_memory_direct(const void *data, size_t len, const char *hint, const char *name, Mesh *out,
+                                     ImportStats *st, Err *err)
+{
+    ImportStats local;
+    if (!st)
+        st = &local;
+    memset(st, 0, sizeof *st);
+    memset(out, 0, sizeof *out);
+    if (len > UINT32_MAX)
+        return err_set(err, "%s: too large", name);
+    if (strcmp(hint, "ply") == 0 &&
+        ply_header_check(data, len < PLY_HEADER_MAX ? len : PLY_HEADER_MAX, (uint64_t)len, name, err))
+        return -1;
+    const struct aiScene *sc = aiImportFileFromMemory(data, (unsigned)len, IMPORT_FLAGS, hint);
+    if (!sc)
+        return err_set(err, "%s: %s", name, aiGetErrorString());
+    int rc = import_scene(sc, name, strcmp(hint, "stl") == 0, out, st, err);
+    aiReleaseImport(sc);
+    return rc;
+}
+
+/* The triangles of an imported scene into *out (stats counted). */
+static int import_scene(const struct aiScene *sc, const char *path, int stl, Mesh *out, ImportStats *st, Err *err)
+{
+    int has_n = 0, has_t = 0, has_c = 0;
+    unsigned long faces = 0;
+    for (unsigned i = 0; i < sc->mNumMeshes; i++) {
+        const struct aiMesh *am = sc->mMeshes[i];
+        if (!(am->mPrimitiveTypes & aiPrimitiveType_TRIANGLE))
+            continue;
+        has_n |= am->mNormals != NULL && !stl;
+        has_t |= am->mTextureCoords[0] != NULL;
+        has_c |= am->mColors[0] != NULL;
+        st->coloured += am->mColors[0] ? am->mNumVertices : 0;
+        faces += am->mNumFaces;
+    }
+    int rc = 0;
+    if (faces > IMPORT_MAX_TRIANGLES)
+        rc = err_set(err, "%s: %lu triangles exceed the limit of %u", path, faces, IMPORT_MAX_TRIANGLES);
+    /* a file without materials gets one that Assimp makes up, unnamed (PLY,
+     * glTF) or "DefaultMaterial" (STL): no material then, as an OBJ
+     * without usemtl, so the scene's default applies */
+    int has_m = sc->mNumMaterials > 1;
+    if (sc->mNumMaterials == 1) {
+        struct aiString name;
+        has_m = aiGetMaterialString(sc->mMaterials[0], AI_MATKEY_NAME, &name) == aiReturn_SUCCESS && name.length &&
+                strcmp(name.data, AI_DEFAULT_MATERIAL_NAME) != 0;
+    }
+    /* vertex colours (scanners write them in PLY) where the model has no
+     * material colour, as the OBJ reader keeps them */
+    if (has_c && has_m) {
+        st->colours_ignored = 1;
+        has_c = 0;
+    }
+    if (rc == 0)
+        rc = mesh_init(out, (has_n ? MESH_NORMALS : 0u) | (has_t ? MESH_UVS : 0u) | (has_m ? MESH_MATERIALS : 0u) |
+                                (has_c ? MESH_COLOURS : 0u),
+                       err);
+    for (unsigned i = 0; rc == 0 && has_m && i < sc->mNumMaterials; i++)
+        rc = mesh_add_material(out, import_material(sc->mMaterials[i]), err);
+    for (unsigned i = 0; rc == 0 && i < sc->mNumMeshes; i++) {
+        const struct aiMesh *am = sc->mMeshes[i];
+        st->meshes++;
+        st->vertices += am->mNumVertices;
+        for (unsigned f = 0; rc == 0 && f < am->mNumFaces; f++) {
+            const struct aiFace *fc = &am->mFaces[f];
+            if (fc->mNumIndices == 1) {
+                st->points++;
+                continue;
+            }
+            if (fc->mNumIndices == 2) {
+                st->lines++;
+                continue;
+            }
+            if (fc->mNumIndices != 3)
+                continue; /* Triangulate leaves none */
+            vec3 p[3], n[3], col[3];
+            real uv[6] = {0};
+            int bad = 0;
+            for (int k = 0; k < 3; k++) {
+                unsigned v = fc->mIndices[k];
+                if (v >= am->mNumVertices) {
+                    bad = 1;
+                    break;
+                }
+                p[k] = v3(am->mVertices[v].x, am->mVertices[v].y, am->mVertices[v].z);
+                if (has_n)
+                    n[k] = am->mNormals && !stl ? v3(am->mNormals[v].x, am->mNormals[v].y, am->mNormals[v].z)
+                                                : v3(0, 0, 0);
+                if (has_t && am->mTextureCoords[0]) {
+                    uv[2 * k] = am->mTextureCoords[0][v].x;
+                    uv[2 * k + 1] = am->mTextureCoords[0][v].y;
+                }
+                if (has_c) { /* a mesh without colours beside ones with: the default diffuse colour */
+                    const struct aiColor4D *c = am->mColors[0];
+                    col[k] = c ? v3(c[v].r, c[v].g, c[v].b) : material_default().kd;
+                    if (!v3_is_finite(col[k]) || col[k].x < 0 || col[k].y < 0 || col[k].z < 0)
+                        bad = 2;
+                }
+            }
+            if (bad == 2) {
+                rc = err_set(err, "%s: mesh %u face %u: a vertex colour that is negative or not a finite number", path, i, f);
+                break;
+            }
+            if (bad) {
+                rc = err_set(err, "%s: mesh %u face %u: vertex index out of range", path, i, f);
+                break;
+            }
+            if (!v3_is_finite(p[0]) || !v3_is_finite(p[1]) || !v3_is_finite(p[2])) {
+                rc = err_set(err, "%s: mesh %u face %u: a coordinate that is not a finite number", path, i, f);
+                break;
+            }
+            if (mesh_tri_is_degenerate(p)) {
+                st->degenerate++;
+                continue;
+            }
+            if (has_n) { /* a face without usable normals gets its geometric one, as the OBJ reader does */
+                vec3 fn = v3_norm(v3_cross(v3_sub(p[1], p[0]), v3_sub(p[2], p[0])));
+                for (int k = 0; k < 3; k++) {
+                    n[k] = v3_norm(n[k]);
+                    if (!(v3_dot(n[k], n[k]) > R(0.5)))
+                        n[k] = fn;
+                }
+            }
+            uint32_t mat = has_m && am->mMaterialIndex < sc->mNumMaterials ? am->mMaterialIndex : 0;
+            rc = mesh_add(out, p, has_n ? n : NULL, has_t ? uv : NULL, has_c ? col : NULL, mat, err);
+        }
+    }
+    if (rc) {
+        mesh_free(out);
+        return -1;
+    }
+    st->triangles = out->tri_count;
+    return 0;
+}
+
+/* ---- isolation: Assimp runs in a child process ----
+ *
+ * Assimp 5.2.5 crashes on some malformed files (fuzz_import found a SIGBUS
+ * in its post-processing of a mutated PLY): a crash in a library we do not
+ * own must not take obj2tmd, lanray-render or a server down.  The child
+ * imports and sends the Mesh back through a pipe; the parent reads it with
+ * every size checked.  A child that dies, or sends less than a whole
+ * answer, is an error naming the file. */
+#define IMPORT_MAX_REPLY ((size_t)4 << 30)
+
+static void send_mesh(int fd, int rc, const Mesh *m, const ImportStats *st, const Err *err)
+{
+    Sink o = {0};
+    sink_u32(&o, (uint32_t)(rc == 0));
+    if (rc) {
+        sink_put(&o, err->msg, sizeof err->msg);
+    } else {
+        sink_put(&o, st, sizeof *st);
+        uint32_t head[5] = {m->tri_count, mesh_attrs(m), m->material_count, 0, 0};
+        sink_put(&o, head, sizeof head);
+        sink_put(&o, m->pos, (size_t)m->tri_count * 3 * sizeof *m->pos);
+        if (m->nrm)
+            sink_put(&o, m->nrm, (size_t)m->tri_count * 3 * sizeof *m->nrm);
+        if (m->uv)
+            sink_put(&o, m->uv, (size_t)m->tri_count * 6 * sizeof *m->uv);
+        if (m->mat)
+            sink_put(&o, m->mat, (size_t)m->tri_count * sizeof *m->mat);
+        if (m->col)
+            sink_put(&o, m->col, (size_t)m->tri_count * 3 * sizeof *m->col);
+        sink_put(&o, m->materials, (size_t)m->material_count * sizeof *m->materials);
+    }
+    const uint8_t *p = o.data;
+    size_t left = o.failed ? 0 : o.len;
+    while (left) {
+        ssize_t n = write(fd, p, left);
+        if (n < 0 && errno == EINTR)
+            continue;
+        if (n <= 0)
+            break;
+        p += n, left -= (size_t)n;
+    }
+    sink_free(&o);
+}
+
+static int receive_mesh(const uint8_t *data, size_t len, const char *name, Mesh *out, ImportStats *st, Err *err)
+{
+    Cursor c = cursor_make(data, len);
+    uint32_t ok = cursor_u32(&c);
+    if (c.failed)
+        return err_set(err, "%s: the importer sent nothing", name);
+    if (!ok) {
+        Err child;
+        if (cursor_get(&c, child.msg, sizeof child.msg))
+            return err_set(err, "%s: the importer failed", name);
+        child.msg[sizeof child.msg - 1] = 0;
+        return err_set(err, "%s", child.msg);
+    }
+    uint32_t head[5];
+    if (cursor_get(&c, st, sizeof *st) || cursor_get(&c, head, sizeof head))
+        return err_set(err, "%s: the importer's answer is cut short", name);
+    uint32_t n = head[0], attrs = head[1], nmat = head[2];
+    int has_n = attrs & MESH_NORMALS, has_t = attrs & MESH_UVS, has_m = attrs & MESH_MATERIALS,
+        has_c = attrs & MESH_COLOURS;
+    if (n > IMPORT_MAX_TRIANGLES || nmat > 65536 || (has_m && !nmat) || attrs > 15 || head[3] || head[4])
+        return err_set(err, "%s: the importer's answer is implausible", name);
+    size_t need = (size_t)n * (3 * sizeof(vec3) + (has_n ? 3 * sizeof(vec3) : 0) + (has_t ? 6 * sizeof(real) : 0) +
+                               (has_m ? sizeof(uint32_t) : 0) + (has_c ? 3 * sizeof(vec3) : 0)) +
+                  (size_t)nmat * sizeof(Material);
+    if (need != c.left)
+        return err_set(err, "%s: the importer's answer is cut short", name);
+    if (mesh_init(out, attrs, err))
+        return -1;
+    /* triangles one by one through mesh_add, which owns the arrays' growth */
+    const uint8_t *pos = c.p, *nrm = pos + (size_t)n * 3 * sizeof(vec3);
+    const uint8_t *uv = nrm + (has_n ? (size_t)n * 3 * sizeof(vec3) : 0);
+    const uint8_t *mat = uv + (has_t ? (size_t)n * 6 * sizeof(real) : 0);
+    const uint8_t *col = mat + (has_m ? (size_t)n * sizeof(uint32_t) : 0);
+    const uint8_t *mats = col + (has_c ? (size_t)n * 3 * sizeof(vec3) : 0);
+    for (uint32_t i = 0; i < nmat; i++) {
+        Material mt;
+        memcpy(&mt, mats + (size_t)i * sizeof mt, sizeof mt);
+        mt.texture = -1;
+        if (mesh_add_material(out, mt, err)) {
+            mesh_free(out);
+            return -1;
+        }
+    }
+    for (uint32_t i = 0; i < n; i++) {
+        vec3 p[3], q[3], k[3];
+        real u[6];
+        uint32_t id = 0;
+        memcpy(p, pos + (size_t)i * sizeof p, sizeof p);
+        if (has_n)
+            memcpy(q, nrm + (size_t)i * sizeof q, sizeof q);
+        if (has_t)
+            memcpy(u, uv + (size_t)i * sizeof u, sizeof u);
+        if (has_m)
+            memcpy(&id, mat + (size_t)i * sizeof id, sizeof id);
+        if (has_c)
+            memcpy(k, col + (size_t)i * sizeof k, sizeof k);
+        if (id >= (nmat ? nmat : 1)) {
+            mesh_free(out);
+            return err_set(err, "%s: the importer's answer is implausible", name);
+        }
+        if (mesh_add(out, p, has_n ? q : NULL, has_t ? u : NULL, has_c ? k : NULL, id, err)) {
+            mesh_free(out);
+            return -1;
+        }
+    }
+    return 0;
+}
+
+typedef struct {
+    const char *path;
+    const void *data;
+    size_t len;
+    const char *hint;
+} Job;
+
+/* Sanitizer builds let a death callback run when they stop a process
+ * (libFuzzer's writes a crash file): the child's death is the parent's
+ * error, not a finding of its own.  Weak: absent in ordinary builds. */
+void __sanitizer_set_death_callback(void (*callback)(void)) __attribute__((weak));
+
+static void child_die(void) { _exit(3); }
+
+/* The child dies of a crash by the default action, whatever handlers its
+ * parent had installed (a fuzzer's, a sanitizer's). */
+static void child_defaults(void)
+{
+    static const int fatal[] = {SIGSEGV, SIGBUS, SIGILL, SIGFPE, SIGABRT};
+    for (size_t i = 0; i < sizeof fatal / sizeof *fatal; i++)
+        signal(fatal[i], SIG_DFL);
+    if (__sanitizer_set_death_callback)
+        __sanitizer_set_death_callback(child_die);
+}
+
+static int isolated(const Job *job, const char *name, Mesh *out, ImportStats *st, Err *err)
+{
+    memset(out, 0, sizeof *out);
+    memset(st, 0, sizeof *st);
+    int fds[2];
+    if (pipe(fds))
+        return err_set(err, "%s: cannot start the importer: %s", name, strerror(errno));
+    fflush(NULL);
+    pid_t pid = fork();
+    if (pid < 0) {
+        close(fds[0]), close(fds[1]);
+        return err_set(err, "%s: cannot start the importer: %s", name, strerror(errno));
+    }
+    if (pid == 0) {
+        close(fds[0]);
+        child_defaults();
+        Mesh m;
+        ImportStats cs;
+        Err cerr = {{0}};
+        int rc = job->path ? import_read_direct(job->path, &m, &cs, &cerr)
+                           : import_read_memory_direct(job->data, job->len, job->hint, name, &m, &cs, &cerr);
+        send_mesh(fds[1], rc, &m, &cs, &cerr);
+        _exit(0);
+    }
+    close(fds[1]);
+    uint8_t *buf = NULL;
+    size_t len = 0, cap = 0;
+    int rc = 0;
+    for (;;) {
+        if (len == cap) {
+            size_t ncap = cap ? 2 * cap : 65536;
+            uint8_t *nb = ncap <= IMPORT_MAX_REPLY ? realloc(buf, ncap) : NULL;
+            if (!nb) {
+                rc = err_set(err, "%s: the importer's answer is too large", name);
+                kill(pid, SIGKILL);
+                break;
+            }
+            buf = nb, cap = ncap;
+        }
+        ssize_t n = read(fds[0], buf + len, cap - len);
+        if (n < 0 && errno == EINTR)
+            continue;
+        if (n <= 0)
+            break;
+        len += (size_t)n;
+    }
+    close(fds[0]);
+    int status = 0;
+    while (waitpid(pid, &status, 0) < 0 && errno == EINTR)
+        ;
+    if (rc == 0 && WIFSIGNALED(status))
+        rc = err_set(err, "%s: the importer (Assimp) crashed on this file (signal %d): it is malformed", name,
+                     WTERMSIG(status));
+    else if (rc == 0 && (!WIFEXITED(status) || WEXITSTATUS(status) != 0))
+        rc = err_set(err, "%s: the importer (Assimp) failed on this file (exit %d): it is malformed", name,
+                     WIFEXITED(status) ? WEXITSTATUS(status) : -1);
+    if (rc == 0)
+        rc = receive_mesh(buf, len, name, out, st, err);
+    free(buf);
+    return rc;
+}
+
+int import_read(const char *path, Mesh *out, ImportStats *st, Err *err)
+{
+    ImportStats local;
+    Job job = {path, NULL, 0, NULL};
+    if (!import_knows(path)) {
+        memset(out, 0, sizeof *out);
+        return err_set(err, "%s: not a format the importer reads (PLY, STL, glTF, ...)", path);
+    }
+    return isolated(&job, path, out, st ? st : &local, err);
+}
+
+int import_read_memory(const void *data, size_t len, const char *hint, const char *name, Mesh *out,
+                       ImportStats *st, Err *err)
+{
+    ImportStats local;
+    Job job = {NULL, data, len, hint};
+    return isolated(&job, name, out, st ? st : &local, err);
+}

@@ -1,0 +1,37 @@
+/* import.h - models in the formats other tools write (PLY, STL, glTF 2.0,
+ * and whatever else Assimp reads), through Assimp's C API, into a Mesh.
+ *
+ * OBJ keeps its own reader (obj.h): faster, and its errors name the line.
+ * Every node's transform is applied (a glTF scene's hierarchy becomes one
+ * triangle list); polygons are triangulated; points and lines are skipped
+ * and counted.  Normals and texture coordinates come along where the file
+ * has them, except STL's facet normals (STL has no other kind: such a model
+ * is flat, and its geometric normals are the ones lanray computes), and
+ * each material's diffuse and specular colour and shininess.  Vertex
+ * colours (the first set) are kept where the file has no materials, as the
+ * OBJ reader keeps them; otherwise they are dropped and counted.
+ *
+ * Assimp runs in a child process (fork): it crashes on some malformed
+ * files, and a crash there becomes an error naming the file. */
+#ifndef LANRAY_IMPORT_H
+#define LANRAY_IMPORT_H
+
+#include <stddef.h>
+
+#include "model/mesh.h"
+
+typedef struct {
+    unsigned long meshes, triangles, degenerate, points, lines, vertices;
+    unsigned long coloured; /* vertices with a colour */
+    int colours_ignored; /* the file had vertex colours and materials: the materials win */
+} ImportStats;
+
+/* Whether the name's extension is one the importer takes (not .obj or .tmd). */
+int import_knows(const char *path);
+int import_read(const char *path, Mesh *out, ImportStats *stats, Err *err);
+/* The same from bytes in memory; `hint` is the format's extension without
+ * the dot ("ply", "stl", "glb", ...); `name` labels errors. */
+int import_read_memory(const void *data, size_t len, const char *hint, const char *name, Mesh *out,
+                       ImportStats *stats, Err *err);
+
+#endif

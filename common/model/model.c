@@ -1,0 +1,201 @@
+/* model.c - building models from meshes and reordering them into leaf order. */
+#include "model/model.h"
+
+#include <stdlib.h>
+
+#include "base/bigmem.h"
+#include <string.h>
+
+#include "base/simd.h"
+
+Model *model_alloc(uint32_t tri_count, uint32_t node_count, uint32_t material_count, unsigned attrs)
+{
+    const int normals = attrs & MESH_NORMALS, uvs = attrs & MESH_UVS, mat_ids = attrs & MESH_MATERIALS,
+              colours = attrs & MESH_COLOURS;
+    Model *m = calloc(1, sizeof *m);
+    if (!m)
+        return NULL;
+    size_t tc = tri_count ? tri_count : 1;
+    m->tri_count = tri_count;
+    m->tris = bigmem_alloc(tc * sizeof *m->tris);
+    m->normals = normals ? malloc(tc * 3 * sizeof *m->normals) : NULL;
+    m->uvs = uvs ? malloc(tc * 6 * sizeof *m->uvs) : NULL;
+    m->mat_ids = mat_ids ? malloc(tc * sizeof *m->mat_ids) : NULL;
+    m->colours = colours ? malloc(tc * 3 * sizeof *m->colours) : NULL;
+    m->material_count = material_count;
+    m->materials = material_count ? malloc(material_count * sizeof *m->materials) : NULL;
+    m->bvh.node_count = node_count;
+    m->bvh.prim_count = tri_count;
+    if (node_count && bvh_alloc_nodes(&m->bvh, node_count))
+        m->bvh.nodes = NULL;
+    if (!m->tris || (normals && !m->normals) || (uvs && !m->uvs) || (mat_ids && !m->mat_ids) ||
+        (colours && !m->colours) || (material_count && !m->materials) || (node_count && !m->bvh.nodes)) {
+        model_destroy(m);
+        return NULL;
+    }
+    return m;
+}
+
+void model_destroy(Model *m)
+{
+    if (!m)
+        return;
+    bvh_destroy(&m->bvh);
+    wide_destroy(m->wide);
+    free(m->tris);
+    free(m->normals);
+    free(m->uvs);
+    free(m->mat_ids);
+    free(m->colours);
+    free(m->materials);
+    for (uint32_t i = 0; i < m->texture_count; i++)
+        texture_destroy(m->textures[i]);
+    free(m->textures);
+    free(m);
+}
+
+static Aabb tri_box(const Tri *t)
+{
+    Aabb b = aabb_point(tri_vertex(t, 0));
+    aabb_grow(&b, tri_vertex(t, 1));
+    aabb_grow(&b, tri_vertex(t, 2));
+    return b;
+}
+
+/* Builds the BVH over m's triangles and permutes every per-triangle array into leaf order. */
+static int model_build_bvh(Model *m, const BvhOptions *opt, Err *err)
+{
+    uint32_t n = m->tri_count;
+    Aabb *boxes = bigmem_alloc((n ? n : 1) * sizeof *boxes);
+    if (!boxes)
+        return err_set(err, "model: out of memory");
+    m->bounds = aabb_empty();
+    for (uint32_t i = 0; i < n; i++) {
+        boxes[i] = tri_box(&m->tris[i]);
+        m->bounds = aabb_union(m->bounds, boxes[i]);
+    }
+    Bvh bvh;
+    int rc = bvh_build(&bvh, boxes, n, opt, err);
+    free(boxes);
+    if (rc)
+        return rc;
+    Tri *tris = bigmem_alloc((n ? n : 1) * sizeof *tris);
+    vec3 *nrm = m->normals ? malloc(n * 3 * sizeof *nrm) : NULL;
+    real *uvs = m->uvs ? malloc(n * 6 * sizeof *uvs) : NULL;
+    uint32_t *mids = m->mat_ids ? malloc(n * sizeof *mids) : NULL;
+    vec3 *cols = m->colours ? malloc(n * 3 * sizeof *cols) : NULL;
+    if (!tris || (m->normals && !nrm) || (m->uvs && !uvs) || (m->mat_ids && !mids) || (m->colours && !cols)) {
+        free(tris);
+        free(nrm);
+        free(uvs);
+        free(mids);
+        free(cols);
+        bvh_destroy(&bvh);
+        return err_set(err, "model: out of memory");
+    }
+    for (uint32_t i = 0; i < n; i++) {
+        uint32_t p = bvh.prims[i];
+        tris[i] = m->tris[p];
+        if (nrm)
+            memcpy(&nrm[3 * i], &m->normals[3 * p], 3 * sizeof *nrm);
+        if (uvs)
+            memcpy(&uvs[6 * i], &m->uvs[6 * p], 6 * sizeof *uvs);
+        if (mids)
+            mids[i] = m->mat_ids[p];
+        if (cols)
+            memcpy(&cols[3 * i], &m->colours[3 * p], 3 * sizeof *cols);
+    }
+    free(m->tris);
+    free(m->normals);
+    free(m->uvs);
+    free(m->mat_ids);
+    free(m->colours);
+    m->tris = tris;
+    m->normals = nrm;
+    m->uvs = uvs;
+    m->mat_ids = mids;
+    m->colours = cols;
+    free(bvh.prims);
+    bvh.prims = NULL;
+    bvh_destroy(&m->bvh);
+    m->bvh = bvh;
+    return 0;
+}
+
+int model_from_mesh(Model **out, const Mesh *mesh, const BvhOptions *opt, Err *err)
+{
+    *out = NULL;
+    uint32_t n = mesh->tri_count;
+    Model *m = model_alloc(n, 0, mesh->material_count, mesh_attrs(mesh));
+    if (!m)
+        return err_set(err, "model: out of memory for %u triangles", n);
+    for (uint32_t i = 0; i < n; i++)
+        for (int k = 0; k < 3; k++)
+            for (int a = 0; a < 3; a++)
+                m->tris[i].v[k][a] = mesh->pos[3 * i + k].e[a];
+    if (m->normals)
+        memcpy(m->normals, mesh->nrm, n * 3 * sizeof *m->normals);
+    if (m->uvs)
+        memcpy(m->uvs, mesh->uv, n * 6 * sizeof *m->uvs);
+    if (m->colours)
+        memcpy(m->colours, mesh->col, n * 3 * sizeof *m->colours);
+    if (m->mat_ids)
+        for (uint32_t i = 0; i < n; i++) {
+            if (mesh->mat[i] >= mesh->material_count) {
+                model_destroy(m);
+                return err_set(err, "model: triangle %u uses material %u of %u", i, mesh->mat[i], mesh->material_count);
+            }
+            m->mat_ids[i] = mesh->mat[i];
+        }
+    if (mesh->material_count)
+        memcpy(m->materials, mesh->materials, mesh->material_count * sizeof *m->materials);
+    if (mesh->texture_count) {
+        m->textures = calloc(mesh->texture_count, sizeof *m->textures);
+        for (uint32_t i = 0; m->textures && i < mesh->texture_count; i++, m->texture_count++)
+            if (!(m->textures[i] = texture_copy(mesh->textures[i])))
+                break;
+        if (m->texture_count != mesh->texture_count) {
+            model_destroy(m);
+            return err_set(err, "model: out of memory for textures");
+        }
+    }
+    if (model_build_bvh(m, opt, err)) {
+        model_destroy(m);
+        return -1;
+    }
+    *out = m;
+    return 0;
+}
+
+int model_rebuild(Model *m, const BvhOptions *opt, Err *err)
+{
+    wide_destroy(m->wide);
+    m->wide = NULL;
+    return model_build_bvh(m, opt, err);
+}
+
+ModelBytes model_bytes(const Model *m)
+{
+    ModelBytes b;
+    b.tris = (size_t)m->tri_count * sizeof *m->tris;
+    b.tree = (size_t)m->bvh.node_count * sizeof(BvhNode) + (m->bvh.prims ? (size_t)m->bvh.prim_count * 4 : 0);
+    b.wide = wide_bytes(m->wide);
+    b.attributes = (size_t)m->tri_count * ((m->normals ? 3 * sizeof(vec3) : 0) + (m->uvs ? 6 * sizeof(real) : 0) +
+                                           (m->mat_ids ? sizeof(uint32_t) : 0) +
+                                           (m->colours ? 3 * sizeof(vec3) : 0)) +
+                   (size_t)m->material_count * sizeof(Material);
+    return b;
+}
+
+int model_prepare_simd(Model *m, Err *err)
+{
+    SimdPath p = simd_path();
+    if (m->wide && m->wide_path == (int)p)
+        return 0;
+    wide_destroy(m->wide);
+    m->wide = NULL;
+    m->wide_path = (int)p;
+    if (p == SIMD_SCALAR)
+        return 0;
+    return wide_build(&m->wide, &m->bvh, m->tris, (int)p, err);
+}

@@ -1,0 +1,77 @@
+/* model.h - a triangle model with its own BVH: what a .tmd file holds.
+ *
+ * Triangles are stored in BVH leaf order, so a leaf's range indexes the
+ * triangle arrays directly (bvh.prims is NULL).  Optional attributes exist
+ * only when the model uses them: a flat, untextured, single-material model
+ * carries nothing but positions and the tree. */
+#ifndef LANRAY_MODEL_H
+#define LANRAY_MODEL_H
+
+#include "bvh/bvh.h"
+#include "geom/intersect.h"
+#include "model/mesh.h"
+#include "bvh/wide.h"
+
+typedef struct {
+    Bvh bvh;
+    Tri *tris;
+    uint32_t tri_count;
+    vec3 *normals;      /* 3 per triangle, or NULL (flat shading) */
+    real *uvs;          /* 6 per triangle, or NULL */
+    uint32_t *mat_ids;  /* 1 per triangle, or NULL (one material for all) */
+    vec3 *colours;      /* 3 per triangle: vertex colours, the diffuse colour
+                         * where the model's material applies; or NULL */
+    Material *materials;
+    uint32_t material_count;
+    Texture **textures;  /* the materials' textures (MTL map_Kd), or NULL */
+    uint32_t texture_count;
+    Aabb bounds;
+    Wide *wide;         /* the tree collapsed for the SIMD path, or NULL: binary traversal */
+    int wide_path;      /* the SimdPath it was built for */
+} Model;
+
+typedef struct {
+    real t, b1, b2;
+    uint32_t tri;
+} ModelHit;
+
+/* Builds a model from a mesh (the mesh is not modified; its textures are copied). */
+int model_from_mesh(Model **out, const Mesh *mesh, const BvhOptions *opt, Err *err);
+/* Replaces the BVH with one of another kind, keeping the triangles. */
+int model_rebuild(Model *m, const BvhOptions *opt, Err *err);
+void model_destroy(Model *m);
+/* Allocates a model with room for the given counts and attributes (MESH_*
+ * flags; used by the .tmd reader). */
+Model *model_alloc(uint32_t tri_count, uint32_t node_count, uint32_t material_count, unsigned attrs);
+
+/* What a loaded model holds, in bytes (make bench compares it with Embree's). */
+typedef struct {
+    size_t tris, tree, wide, attributes;
+} ModelBytes;
+ModelBytes model_bytes(const Model *m);
+
+/* Builds (or drops) the wide tree for the SIMD path in use; called by
+ * scene_prepare, before any thread traces. */
+int model_prepare_simd(Model *m, Err *err);
+
+/* Closest hit nearer than tmax in model space: the smallest t, and of equal
+ * t the smallest triangle index, whatever the path (see wide.h).  With
+ * `at_tmax`, a hit at exactly tmax counts too (the scene's tie rule, trace.c). */
+int model_intersect(const Model *m, const Ray *r, real tmax, int at_tmax, ModelHit *hit);
+/* Any hit nearer than tmax: shadow rays stop at the first occluder. */
+int model_occluded(const Model *m, const Ray *r, real tmax);
+/* The same for n <= WIDE_PACKET rays at once (a packet where the SIMD path
+ * has one): the mask of the rays that hit; each ray's answer is what the
+ * single-ray call gives. */
+uint32_t model_intersect_packet(const Model *m, const Ray *const *rays, int n, const real *tmax, const int *at_tmax,
+                                ModelHit *hits);
+uint32_t model_occluded_packet(const Model *m, const Ray *const *rays, int n, const real *tmax);
+/* Geometric (flat) normal of triangle i, not normalised. */
+static inline vec3 model_face_normal(const Model *m, uint32_t i)
+{
+    const Tri *t = &m->tris[i];
+    vec3 a = tri_vertex(t, 0);
+    return v3_cross(v3_sub(tri_vertex(t, 1), a), v3_sub(tri_vertex(t, 2), a));
+}
+
+#endif

@@ -1,0 +1,16 @@
+/* model_load.h - a model from a file: an OBJ (parsed, its BVH built) or a
+ * .tmd (read as stored, or rebuilt).  The scene parser and the model
+ * preview (lanray-render model.obj) load models through it. */
+#ifndef LANRAY_MODEL_LOAD_H
+#define LANRAY_MODEL_LOAD_H
+
+#include "model/model.h"
+
+/* The file's name decides: .obj or .tmd.  opt builds an OBJ's tree; with
+ * rebuild, a .tmd's tree is built again with it.  smooth: vertex normals
+ * for an OBJ without them (refused for a .tmd). */
+int model_load(const char *path, const BvhOptions *opt, int rebuild, int smooth, Model **out, Err *err);
+/* Whether model_load takes this file name. */
+int model_load_knows(const char *path);
+
+#endif

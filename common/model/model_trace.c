@@ -1,0 +1,93 @@
+/* model_trace.c - rays against a model's triangles: the renderer's hottest
+ * loop (the traversal itself is in bvh_traverse.h). */
+#include "bvh/bvh_traverse.h"
+#include "model/model.h"
+
+typedef struct {
+    const Model *m;
+    ModelHit *hit;
+    uint32_t best; /* triangle of the hit so far; at first 0 (a hit at exactly tmax is not taken) or UINT32_MAX */
+} ClosestCtx;
+
+static inline __attribute__((always_inline)) int leaf_closest(void *vctx, uint32_t first, uint32_t count,
+                                                              const Ray *r, real *tmax)
+{
+    ClosestCtx *c = vctx;
+    const Tri *tri = &c->m->tris[first];
+    int found = 0;
+    for (uint32_t i = 0; i < count; i++) {
+        real t, b1, b2;
+        /* ties go to the smaller index, so the wide kernels, visiting in
+         * another order, find the same triangle */
+        if (tri_solve(r, &tri[i], &t, &b1, &b2) && (t < *tmax || (t == *tmax && first + i < c->best))) {
+            *tmax = t;
+            *c->hit = (ModelHit){t, b1, b2, first + i};
+            c->best = first + i;
+            found = 1;
+        }
+    }
+    return found;
+}
+
+static inline __attribute__((always_inline)) int leaf_any(const void *vctx, uint32_t first, uint32_t count,
+                                                          const Ray *r, real tmax)
+{
+    const Tri *tri = &((const Model *)vctx)->tris[first];
+    for (uint32_t i = 0; i < count; i++) {
+        real t, b1, b2;
+        if (tri_intersect(r, &tri[i], tmax, &t, &b1, &b2))
+            return 1;
+    }
+    return 0;
+}
+
+int model_intersect(const Model *m, const Ray *r, real tmax, int at_tmax, ModelHit *hit)
+{
+    uint32_t tie = at_tmax ? UINT32_MAX : 0;
+    if (m->wide) {
+        WideHit wh;
+        if (!m->wide->closest(m->wide, r, tmax, tie, &wh))
+            return 0;
+        *hit = (ModelHit){wh.t, wh.b1, wh.b2, wh.tri};
+        return 1;
+    }
+    ClosestCtx c = {m, hit, tie};
+    return bvh_closest(&m->bvh, r, &tmax, leaf_closest, &c);
+}
+
+int model_occluded(const Model *m, const Ray *r, real tmax)
+{
+    if (m->wide)
+        return m->wide->any(m->wide, r, tmax);
+    return bvh_any(&m->bvh, r, tmax, leaf_any, m);
+}
+
+uint32_t model_intersect_packet(const Model *m, const Ray *const *rays, int n, const real *tmax, const int *at_tmax,
+                                ModelHit *hits)
+{
+    uint32_t found = 0;
+    if (!m->wide || n < 2) {
+        for (int i = 0; i < n; i++)
+            found |= (uint32_t)model_intersect(m, rays[i], tmax[i], at_tmax[i], &hits[i]) << i;
+        return found;
+    }
+    uint32_t tie[WIDE_PACKET];
+    WideHit wh[WIDE_PACKET];
+    for (int i = 0; i < n; i++)
+        tie[i] = at_tmax[i] ? UINT32_MAX : 0;
+    found = m->wide->closest_packet(m->wide, rays, n, tmax, tie, wh);
+    for (int i = 0; i < n; i++)
+        if (found >> i & 1)
+            hits[i] = (ModelHit){wh[i].t, wh[i].b1, wh[i].b2, wh[i].tri};
+    return found;
+}
+
+uint32_t model_occluded_packet(const Model *m, const Ray *const *rays, int n, const real *tmax)
+{
+    if (m->wide && n >= 2)
+        return m->wide->any_packet(m->wide, rays, n, tmax);
+    uint32_t hit = 0;
+    for (int i = 0; i < n; i++)
+        hit |= (uint32_t)model_occluded(m, rays[i], tmax[i]) << i;
+    return hit;
+}

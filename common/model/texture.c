@@ -1,0 +1,196 @@
+/* texture.c - PPM/PGM loading through libnetpbm.
+ *
+ * libnetpbm reports errors by calling pm_error(), which exits the process by
+ * default.  We install a jump buffer (pm_setjmpbuf) and a message hook so
+ * that a bad file becomes an error message instead; the size is checked
+ * against TEXTURE_MAX_SIDE before any pixel memory is allocated. */
+#include "model/texture.h"
+
+#include <errno.h>
+#include <netpbm/pam.h>
+#include <setjmp.h>
+#include <stddef.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "base/srgb.h"
+
+static char pm_last_error[256];
+
+static void capture_pm_error(const char *msg)
+{
+    snprintf(pm_last_error, sizeof pm_last_error, "%s", msg);
+    size_t n = strlen(pm_last_error);
+    while (n && (pm_last_error[n - 1] == '\n' || pm_last_error[n - 1] == ' '))
+        pm_last_error[--n] = 0;
+}
+
+static void quiet_pm_message(const char *msg) { (void)msg; }
+
+Texture *texture_alloc(uint32_t w, uint32_t h)
+{
+    Texture *t = calloc(1, sizeof *t);
+    if (!t)
+        return NULL;
+    t->w = w;
+    t->h = h;
+    t->rgb = malloc((size_t)w * h * 3 * sizeof *t->rgb + (w == 0 || h == 0));
+    if (!t->rgb) {
+        free(t);
+        return NULL;
+    }
+    return t;
+}
+
+int texture_encode(const Texture *t, Sink *out)
+{
+    sink_u32(out, t->w);
+    sink_u32(out, t->h);
+    return sink_put(out, t->rgb, (size_t)t->w * t->h * 3 * sizeof *t->rgb);
+}
+
+int texture_decode(const void *data, size_t len, const char *name, Texture **out, Err *err)
+{
+    *out = NULL;
+    Cursor cur = cursor_make(data, len);
+    uint32_t w = cursor_u32(&cur), h = cursor_u32(&cur);
+    if (cur.failed || w < 1 || h < 1 || w > TEXTURE_MAX_SIDE || h > TEXTURE_MAX_SIDE ||
+        cur.left != (size_t)w * h * 3 * sizeof(float))
+        return err_set(err, "%s: texture payload of %zu bytes is malformed", name, len);
+    Texture *t = texture_alloc(w, h);
+    if (!t)
+        return err_set(err, "%s: out of memory for a %ux%u texture", name, w, h);
+    memcpy(t->rgb, cur.p, cur.left);
+    for (size_t i = 0; i < (size_t)w * h * 3; i++)
+        if (!(t->rgb[i] >= 0.0f && t->rgb[i] <= 1.0f)) { /* NaN fails too */
+            texture_destroy(t);
+            return err_set(err, "%s: texture value out of range", name);
+        }
+    *out = t;
+    return 0;
+}
+
+Texture *texture_from_rgb8(uint32_t w, uint32_t h, const uint8_t *rgb)
+{
+    Texture *t = texture_alloc(w, h);
+    if (!t)
+        return NULL;
+    for (size_t i = 0; i < (size_t)w * h * 3; i++)
+        t->rgb[i] = srgb_decode8[rgb[i]];
+    return t;
+}
+
+Texture *texture_copy(const Texture *t)
+{
+    Texture *c = texture_alloc(t->w, t->h);
+    if (!c)
+        return NULL;
+    c->clamp = t->clamp;
+    memcpy(c->rgb, t->rgb, (size_t)t->w * t->h * 3 * sizeof *c->rgb);
+    return c;
+}
+
+void texture_destroy(Texture *t)
+{
+    if (!t)
+        return;
+    free(t->rgb);
+    free(t);
+}
+
+int texture_read_stream(FILE *f, const char *name, Texture **out, Err *err)
+{
+    static int initialised;
+    if (!initialised) {
+        pm_init("lanray", 0);
+        pm_setusererrormsgfn(capture_pm_error);
+        pm_setusermessagefn(quiet_pm_message);
+        initialised = 1;
+    }
+    *out = NULL;
+    /* only PBM/PGM/PPM (P1..P6): libnetpbm's PAM (P7) header parser leaks
+     * memory when it rejects a file, and textures do not need PAM */
+    int c0 = getc(f), c1 = getc(f);
+    if (c0 != 'P' || c1 < '1' || c1 > '6')
+        return err_set(err, "%s: not a valid PPM/PGM image: the file does not start with P1..P6", name);
+    if (ungetc(c1, f) == EOF || ungetc(c0, f) == EOF) /* only one push-back is guaranteed: re-open the stream's start */
+        if (fseek(f, 0, SEEK_SET) != 0)
+            return err_set(err, "%s: cannot rewind the stream", name);
+    struct pam pam;
+    Texture *volatile tex = NULL;
+    tuple *volatile row = NULL;
+    jmp_buf jb, *saved;
+    pm_last_error[0] = 0;
+    pm_setjmpbufsave(&jb, &saved);
+    if (setjmp(jb) != 0) {
+        pm_setjmpbuf(saved);
+        if (row)
+            pnm_freepamrow(row);
+        texture_destroy(tex);
+        return err_set(err, "%s: not a valid PPM/PGM image: %s", name, pm_last_error[0] ? pm_last_error : "unknown error");
+    }
+    /* the struct up to tuple_type, as PAM_STRUCT_SIZE(tuple_type) means but
+     * without its offset through a null pointer (UB); later fields (comments)
+     * would make netpbm allocate strings we do not want */
+    memset(&pam, 0, sizeof pam);
+    pnm_readpaminit(f, &pam, (int)(offsetof(struct pam, tuple_type) + sizeof pam.tuple_type));
+    int rc = 0;
+    if (pam.width < 1 || pam.height < 1 || (uint32_t)pam.width > TEXTURE_MAX_SIDE || (uint32_t)pam.height > TEXTURE_MAX_SIDE)
+        rc = err_set(err, "%s: image is %dx%d, textures must be 1..%u pixels on a side", name, pam.width, pam.height,
+                     TEXTURE_MAX_SIDE);
+    else if (pam.depth != 1 && pam.depth != 3)
+        rc = err_set(err, "%s: image has %u channels, expected 1 (grey) or 3 (RGB)", name, pam.depth);
+    else if (pam.maxval < 1)
+        rc = err_set(err, "%s: maxval %lu is invalid", name, pam.maxval);
+    if (rc == 0) {
+        /* the header's size must be backed by bytes before anything is
+         * allocated: raw formats need their exact sample bytes, plain ones at
+         * least one character per sample (checked where the stream can seek) */
+        uint64_t samples = (uint64_t)pam.width * (uint64_t)pam.height * pam.depth;
+        uint64_t need = c1 == '4' ? (uint64_t)((pam.width + 7) / 8) * (uint64_t)pam.height
+                        : c1 >= '5' ? samples * (pam.maxval > 255 ? 2 : 1)
+                                    : samples;
+        long pos = ftell(f);
+        if (pos >= 0 && fseek(f, 0, SEEK_END) == 0) {
+            long end = ftell(f);
+            fseek(f, pos, SEEK_SET);
+            if (end >= pos && (uint64_t)(end - pos) < need)
+                rc = err_set(err, "%s: the header promises %dx%d pixels but only %ld bytes follow", name, pam.width,
+                             pam.height, end - pos);
+        }
+    }
+    if (rc) {
+        pm_setjmpbuf(saved);
+        return rc;
+    }
+    tex = calloc(1, sizeof *tex);
+    if (tex) {
+        tex->w = (uint32_t)pam.width;
+        tex->h = (uint32_t)pam.height;
+        tex->rgb = malloc((size_t)tex->w * tex->h * 3 * sizeof *tex->rgb);
+    }
+    if (!tex || !tex->rgb) {
+        pm_setjmpbuf(saved);
+        texture_destroy(tex);
+        return err_set(err, "%s: out of memory for a %dx%d texture", name, pam.width, pam.height);
+    }
+    row = pnm_allocpamrow(&pam);
+    for (uint32_t y = 0; y < tex->h; y++) {
+        pnm_readpamrow(&pam, row);
+        float *dst = &tex->rgb[(size_t)y * tex->w * 3];
+        for (uint32_t x = 0; x < tex->w; x++)
+            for (int c = 0; c < 3; c++) {
+                sample v = row[x][pam.depth == 3 ? c : 0];
+                /* stored sRGB-encoded (as PPM and PNG images are): decoded to
+                 * linear light, by the table for 8 bits, else the formula */
+                dst[3 * x + c] = v >= pam.maxval       ? 1.0f
+                                 : pam.maxval == 255 ? srgb_decode8[v]
+                                                     : (float)srgb_decode((double)v / (double)pam.maxval);
+            }
+    }
+    pnm_freepamrow(row);
+    pm_setjmpbuf(saved);
+    *out = tex;
+    return 0;
+}
+

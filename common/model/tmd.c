@@ -1,0 +1,297 @@
+/* tmd.c - reading and writing .tmd files; the reader trusts nothing. */
+#include "model/tmd.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+#include "base/cursor.h"
+#include "base/fileio.h"
+
+/* float32 on disk in every build; bounds are rounded outward so that a
+ * double-precision tree stays conservative after the narrowing. */
+static float f32_down(real x)
+{
+    float f = (float)x;
+    return (real)f > x ? nextafterf(f, -INFINITY) : f;
+}
+static float f32_up(real x)
+{
+    float f = (float)x;
+    return (real)f < x ? nextafterf(f, INFINITY) : f;
+}
+
+/* One number as float32, or as float64 when wide; dir rounds a narrowed
+ * box bound outward (-1 down, +1 up, 0 nearest). */
+static void put_real(Sink *s, real x, int wide, int dir)
+{
+    if (wide) {
+        double d = (double)x;
+        sink_put(s, &d, sizeof d);
+    } else {
+        sink_f32(s, dir < 0 ? f32_down(x) : dir > 0 ? f32_up(x) : (float)x);
+    }
+}
+
+int tmd_encode(const Model *m, int wide, void **data, size_t *len, Err *err)
+{
+    Sink s = {0};
+    const int textured = m->mat_ids && m->texture_count > 0;
+    uint32_t flags = (m->normals ? TMD_HAS_NORMALS : 0) | (m->uvs ? TMD_HAS_UVS : 0) |
+                     (m->mat_ids ? TMD_HAS_MATERIALS : 0) | (wide ? TMD_WIDE : 0) | (textured ? TMD_HAS_TEXTURES : 0) |
+                     (m->colours ? TMD_HAS_COLOURS : 0);
+    char magic[8] = TMD_MAGIC;
+    sink_put(&s, magic, 8);
+    uint32_t version = m->colours ? TMD_VERSION : textured ? TMD_VERSION_TEXTURES : TMD_VERSION_PLAIN;
+    uint32_t head[14] = {version, TMD_BOM, TMD_HEADER_BYTES, flags,
+                         (uint32_t)m->bvh.kind, m->bvh.node_count, m->tri_count, m->mat_ids ? m->material_count : 0,
+                         m->bvh.depth, textured ? m->texture_count : 0, 0, 0, 0, 0};
+    sink_put(&s, head, sizeof head);
+    for (uint32_t i = 0; i < m->bvh.node_count; i++) {
+        const BvhNode *n = &m->bvh.nodes[i];
+        for (int a = 0; a < 3; a++)
+            put_real(&s, n->bmin[a], wide, -1);
+        sink_u32(&s, n->first);
+        for (int a = 0; a < 3; a++)
+            put_real(&s, n->bmax[a], wide, 1);
+        sink_u32(&s, n->count);
+    }
+    for (uint32_t i = 0; i < m->tri_count; i++)
+        for (int k = 0; k < 3; k++)
+            for (int a = 0; a < 3; a++)
+                put_real(&s, m->tris[i].v[k][a], wide, 0);
+    if (m->normals)
+        for (uint32_t i = 0; i < 3 * m->tri_count; i++)
+            for (int a = 0; a < 3; a++)
+                put_real(&s, m->normals[i].e[a], wide, 0);
+    if (m->uvs)
+        for (uint32_t i = 0; i < 6 * m->tri_count; i++)
+            put_real(&s, m->uvs[i], wide, 0);
+    if (m->mat_ids) {
+        for (uint32_t i = 0; i < m->material_count; i++) {
+            const Material *mt = &m->materials[i];
+            for (int a = 0; a < 3; a++)
+                put_real(&s, mt->kd.e[a], wide, 0);
+            for (int a = 0; a < 3; a++)
+                put_real(&s, mt->ks.e[a], wide, 0);
+            put_real(&s, mt->shininess, wide, 0);
+            if (textured)
+                sink_u32(&s, (uint32_t)mt->texture);
+        }
+        sink_put(&s, m->mat_ids, m->tri_count * sizeof *m->mat_ids);
+    }
+    if (m->colours)
+        for (uint32_t i = 0; i < 3 * m->tri_count; i++)
+            for (int a = 0; a < 3; a++)
+                put_real(&s, m->colours[i].e[a], wide, 0);
+    for (uint32_t i = 0; textured && i < m->texture_count; i++) {
+        const Texture *t = m->textures[i];
+        sink_u32(&s, t->w);
+        sink_u32(&s, t->h);
+        sink_u32(&s, t->clamp ? 1 : 0);
+        for (size_t k = 0; k < (size_t)t->w * t->h * 3; k++)
+            sink_f32(&s, t->rgb[k]);
+    }
+    if (s.failed) {
+        sink_free(&s);
+        return err_set(err, "tmd: out of memory encoding %u triangles", m->tri_count);
+    }
+    *data = s.data;
+    *len = s.len;
+    return 0;
+}
+
+int tmd_write(const char *path, const Model *m, Err *err)
+{
+    void *data;
+    size_t len;
+    if (tmd_encode(m, 0, &data, &len, err))
+        return err_prefix(err, "%s", path);
+    int rc = file_write_bytes(path, data, len, err);
+    free(data);
+    return rc;
+}
+
+/* n numbers, float32 or (wide) float64; a float build narrows a wide
+ * box bound outward (dir as in put_real) so that the tree stays conservative. */
+static int read_reals(Cursor *c, int wide, int dir, real *dst, size_t n)
+{
+    for (size_t i = 0; i < n; i++) {
+        double d = 0;
+        if (wide)
+            cursor_get(c, &d, sizeof d);
+        else
+            d = cursor_f32(c);
+        if (!isfinite(d))
+            return -1;
+        real r = (real)d;
+        if (dir < 0 && (double)r > d)
+            r = nextafter(r, -REAL_INF);
+        else if (dir > 0 && (double)r < d)
+            r = nextafter(r, REAL_INF);
+        if (!isfinite(r))
+            return -1;
+        dst[i] = r;
+    }
+    return c->failed ? -1 : 0;
+}
+
+/* The textures at the end of a version-2 file: each size checked against
+ * the bytes left before anything is allocated; the file ends with them. */
+static int tmd_read_textures(Cursor *c, uint32_t texs, Model *m, const char *name, Err *err)
+{
+    m->textures = calloc(texs, sizeof *m->textures);
+    if (!m->textures)
+        return err_set(err, "%s: out of memory for %u textures", name, texs);
+    for (uint32_t i = 0; i < texs; i++) {
+        uint32_t tw = cursor_u32(c), th = cursor_u32(c), tf = cursor_u32(c);
+        if (c->failed || tw < 1 || th < 1 || tw > TEXTURE_MAX_SIDE || th > TEXTURE_MAX_SIDE || tf > 1 ||
+            (uint64_t)tw * th * 12 > c->left)
+            return err_set(err, "%s: texture %u: implausible size %ux%u or flags %u", name, i, tw, th, tf);
+        Texture *t = texture_alloc(tw, th);
+        if (!t)
+            return err_set(err, "%s: out of memory for a %ux%u texture", name, tw, th);
+        float *px = t->rgb;
+        t->clamp = (int)tf;
+        m->textures[m->texture_count++] = t;
+        for (size_t k = 0; k < (size_t)tw * th * 3; k++) {
+            float v = cursor_f32(c);
+            if (!(v >= 0 && v <= 1)) /* texels are linear light in [0,1]; NaN fails too */
+                return err_set(err, "%s: texture %u: a texel value out of range", name, i);
+            px[k] = v;
+        }
+    }
+    if (c->left != 0)
+        return err_set(err, "%s: %zu bytes after the last texture", name, c->left);
+    return 0;
+}
+
+int tmd_decode(const void *data, size_t len, const char *name, Model **out, Err *err)
+{
+    *out = NULL;
+    Cursor c = cursor_make(data, len);
+    char magic[8];
+    uint32_t h[14];
+    if (cursor_get(&c, magic, 8) || cursor_get(&c, h, sizeof h))
+        return err_set(err, "%s: %zu bytes is too short for a .tmd header (64 bytes)", name, len);
+    if (memcmp(magic, TMD_MAGIC, 8) != 0)
+        return err_set(err, "%s: not a .tmd file (bad magic)", name);
+    if (h[1] != TMD_BOM)
+        return err_set(err, "%s: byte-order mark 0x%08x: written on a machine of the other byte order", name, h[1]);
+    if (h[0] < TMD_VERSION_PLAIN || h[0] > TMD_VERSION)
+        return err_set(err, "%s: format version %u, this build reads versions %u to %u", name, h[0], TMD_VERSION_PLAIN,
+                       TMD_VERSION);
+    uint32_t flags = h[3], kind = h[4], nodes = h[5], tris = h[6], mats = h[7], depth = h[8], texs = h[9];
+    if (h[2] != TMD_HEADER_BYTES)
+        return err_set(err, "%s: header size %u, expected %u", name, h[2], TMD_HEADER_BYTES);
+    if (flags & ~(TMD_HAS_NORMALS | TMD_HAS_UVS | TMD_HAS_MATERIALS | TMD_WIDE | TMD_HAS_TEXTURES | TMD_HAS_COLOURS) ||
+        ((flags & TMD_HAS_TEXTURES) && h[0] < TMD_VERSION_TEXTURES) || ((flags & TMD_HAS_COLOURS) && h[0] < TMD_VERSION))
+        return err_set(err, "%s: unknown flags 0x%x", name, flags);
+    const int textured = (flags & TMD_HAS_TEXTURES) != 0;
+    if (textured != (texs > 0) || texs > 65536 || (textured && !(flags & TMD_HAS_MATERIALS)))
+        return err_set(err, "%s: implausible texture count %u", name, texs);
+    if (kind >= BVH_KIND_COUNT)
+        return err_set(err, "%s: unknown BVH kind %u", name, kind);
+    if (tris > BVH_MAX_PRIMS || nodes > 2 * tris || (tris > 0) != (nodes > 0))
+        return err_set(err, "%s: implausible counts (%u nodes, %u triangles)", name, nodes, tris);
+    if (mats > 65536 || ((flags & TMD_HAS_MATERIALS) != 0) != (mats > 0))
+        return err_set(err, "%s: implausible material count %u", name, mats);
+    if (depth > BVH_MAX_DEPTH)
+        return err_set(err, "%s: tree depth %u exceeds %u", name, depth, BVH_MAX_DEPTH);
+    /* the exact size follows from the header: check it before allocating anything */
+    int wide = (flags & TMD_WIDE) != 0;
+    uint64_t w = wide ? 8 : 4; /* bytes per number */
+    uint64_t want = TMD_HEADER_BYTES + (uint64_t)nodes * (6 * w + 8) + (uint64_t)tris * 9 * w;
+    if (flags & TMD_HAS_NORMALS)
+        want += (uint64_t)tris * 9 * w;
+    if (flags & TMD_HAS_UVS)
+        want += (uint64_t)tris * 6 * w;
+    if (flags & TMD_HAS_MATERIALS)
+        want += (uint64_t)mats * (7 * w + (textured ? 4 : 0)) + (uint64_t)tris * 4;
+    if (flags & TMD_HAS_COLOURS)
+        want += (uint64_t)tris * 9 * w;
+    /* textures follow, each with its own size: at least their 12-byte headers */
+    if (textured ? want + (uint64_t)texs * 12 > len : want != len)
+        return err_set(err, "%s: header promises %llu bytes but the file has %zu", name, (unsigned long long)want, len);
+    Model *m = model_alloc(tris, nodes, mats,
+                           (flags & TMD_HAS_NORMALS ? MESH_NORMALS : 0u) | (flags & TMD_HAS_UVS ? MESH_UVS : 0u) |
+                               (flags & TMD_HAS_MATERIALS ? MESH_MATERIALS : 0u) |
+                               (flags & TMD_HAS_COLOURS ? MESH_COLOURS : 0u));
+    if (!m)
+        return err_set(err, "%s: out of memory for %u triangles", name, tris);
+    m->bvh.kind = (BvhKind)kind;
+    m->bvh.depth = depth;
+    const char *bad = NULL;
+    for (uint32_t i = 0; i < nodes && !bad; i++) {
+        BvhNode *n = &m->bvh.nodes[i];
+        if (read_reals(&c, wide, -1, n->bmin, 3))
+            bad = "node box";
+        n->first = cursor_u32(&c);
+        if (read_reals(&c, wide, 1, n->bmax, 3))
+            bad = "node box";
+        n->count = cursor_u32(&c);
+    }
+    for (uint32_t i = 0; i < tris && !bad; i++)
+        if (read_reals(&c, wide, 0, &m->tris[i].v[0][0], 9))
+            bad = "triangle vertex";
+    for (uint32_t i = 0; m->normals && i < 3 * tris && !bad; i++)
+        if (read_reals(&c, wide, 0, m->normals[i].e, 3))
+            bad = "normal";
+    if (m->uvs && !bad && read_reals(&c, wide, 0, m->uvs, (size_t)6 * tris))
+        bad = "texture coordinate";
+    for (uint32_t i = 0; i < mats && !bad; i++) {
+        Material *mt = &m->materials[i];
+        *mt = material_default();
+        if (read_reals(&c, wide, 0, mt->kd.e, 3) || read_reals(&c, wide, 0, mt->ks.e, 3) ||
+            read_reals(&c, wide, 0, &mt->shininess, 1))
+            bad = "material";
+        if (textured && !bad) {
+            int32_t t = (int32_t)cursor_u32(&c);
+            if (t < -1 || t >= (int32_t)texs) {
+                model_destroy(m);
+                return err_set(err, "%s: material %u uses texture %d of %u", name, i, t, texs);
+            }
+            mt->texture = t;
+        }
+    }
+    if (m->mat_ids && !bad && cursor_get(&c, m->mat_ids, (size_t)tris * 4) == 0)
+        for (uint32_t i = 0; i < tris; i++)
+            if (m->mat_ids[i] >= mats) {
+                uint32_t bad_id = m->mat_ids[i];
+                model_destroy(m);
+                return err_set(err, "%s: triangle %u uses material %u of %u", name, i, bad_id, mats);
+            }
+    for (uint32_t i = 0; m->colours && i < 3 * tris && !bad; i++) {
+        if (read_reals(&c, wide, 0, m->colours[i].e, 3))
+            bad = "vertex colour";
+        else if (m->colours[i].x < R(0) || m->colours[i].y < R(0) || m->colours[i].z < R(0)) {
+            model_destroy(m);
+            return err_set(err, "%s: triangle %u: a negative vertex colour", name, i / 3);
+        }
+    }
+    if (bad || c.failed) {
+        model_destroy(m);
+        return err_set(err, "%s: %s is not a finite number", name, bad ? bad : "data");
+    }
+    if (textured && tmd_read_textures(&c, texs, m, name, err)) {
+        model_destroy(m);
+        return -1;
+    }
+    if (bvh_validate(&m->bvh, &m->bvh.depth, err)) {
+        model_destroy(m);
+        return err_prefix(err, "%s", name);
+    }
+    m->bounds = nodes ? bvh_node_box(&m->bvh.nodes[0]) : aabb_empty();
+    *out = m;
+    return 0;
+}
+
+int tmd_read(const char *path, Model **out, Err *err)
+{
+    char *data;
+    size_t len;
+    if (file_read_all(path, TMD_MAX_FILE_BYTES, &data, &len, err))
+        return -1;
+    int rc = tmd_decode(data, len, path, out, err);
+    free(data);
+    return rc;
+}

@@ -1,0 +1,133 @@
+/* conn.c - see conn.h. */
+#include "net/conn.h"
+
+#include <errno.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+void conn_init(Conn *c, int fd)
+{
+    memset(c, 0, sizeof *c);
+    c->fd = fd;
+}
+
+void conn_close(Conn *c)
+{
+    if (c->fd >= 0)
+        close(c->fd);
+    free(c->body);
+    free(c->out);
+    memset(c, 0, sizeof *c);
+    c->fd = -1;
+}
+
+int conn_read(Conn *c, Err *err)
+{
+    /* a packet handed out last time is finished: start the next one */
+    if (c->head_got == PROTO_HEADER && c->body_got == c->body_size) {
+        c->head_got = 0;
+        c->body_got = c->body_size = 0;
+    }
+    for (;;) {
+        if (c->head_got < PROTO_HEADER) {
+            ssize_t n = recv(c->fd, c->head + c->head_got, PROTO_HEADER - c->head_got, 0);
+            if (n == 0)
+                return err_set(err, "connection closed by peer");
+            if (n < 0)
+                return errno == EAGAIN || errno == EWOULDBLOCK ? 0 : (errno == EINTR ? 0 : err_set(err, "receive failed: %s", strerror(errno)));
+            c->head_got += (uint32_t)n;
+            c->bytes_in += (uint64_t)n;
+            if (c->head_got < PROTO_HEADER)
+                continue;
+            uint32_t size;
+            memcpy(&c->type, c->head, 4);
+            memcpy(&size, c->head + 4, 4);
+            uint32_t max = msg_max_size(c->type);
+            if (max == 0)
+                return err_set(err, "packet of unknown type %u", c->type);
+            if (size < msg_min_size(c->type) || size > max)
+                return err_set(err, "%s packet claims %u bytes, allowed %u..%u", msg_type_name(c->type), size,
+                               msg_min_size(c->type), max);
+            c->body_size = size - PROTO_HEADER;
+            c->body_got = 0;
+            if (c->body_size > c->body_cap) {
+                uint8_t *p = realloc(c->body, c->body_size);
+                if (!p)
+                    return err_set(err, "out of memory for a %u-byte packet", size);
+                c->body = p;
+                c->body_cap = c->body_size;
+            }
+        }
+        if (c->body_got < c->body_size) {
+            ssize_t n = recv(c->fd, c->body + c->body_got, c->body_size - c->body_got, 0);
+            if (n == 0)
+                return err_set(err, "connection closed by peer in the middle of a %s packet", msg_type_name(c->type));
+            if (n < 0)
+                return errno == EAGAIN || errno == EWOULDBLOCK || errno == EINTR ? 0 : err_set(err, "receive failed: %s", strerror(errno));
+            c->body_got += (uint32_t)n;
+            c->bytes_in += (uint64_t)n;
+        }
+        if (c->body_got == c->body_size)
+            return 1;
+    }
+}
+
+static int queue(Conn *c, const void *p, size_t n)
+{
+    if (n > c->out_cap - c->out_len) {
+        /* drop what was sent before growing */
+        if (c->out_sent) {
+            memmove(c->out, c->out + c->out_sent, c->out_len - c->out_sent);
+            c->out_len -= c->out_sent;
+            c->out_sent = 0;
+        }
+        if (n > c->out_cap - c->out_len) {
+            size_t cap = c->out_cap ? c->out_cap : 65536;
+            while (cap - c->out_len < n)
+                cap *= 2;
+            uint8_t *q = realloc(c->out, cap);
+            if (!q)
+                return -1;
+            c->out = q;
+            c->out_cap = cap;
+        }
+    }
+    memcpy(c->out + c->out_len, p, n);
+    c->out_len += n;
+    return 0;
+}
+
+int conn_send_msg(Conn *c, const MsgOut *m, size_t max_queue, Err *err)
+{
+    uint32_t type = m->type;
+    const void *a = m->head, *b = m->tail;
+    size_t alen = m->head_len, blen = m->tail_len;
+    size_t total = PROTO_HEADER + alen + blen;
+    if (total > msg_max_size(type))
+        return err_set(err, "%s packet of %zu bytes exceeds the limit of %u", msg_type_name(type), total, msg_max_size(type));
+    if (conn_pending(c) + total > max_queue)
+        return err_set(err, "peer is not reading: %zu bytes already queued", conn_pending(c));
+    uint32_t head[2] = {type, (uint32_t)total};
+    if (queue(c, head, sizeof head) || (alen && queue(c, a, alen)) || (blen && queue(c, b, blen)))
+        return err_set(err, "out of memory queueing a %s packet", msg_type_name(type));
+    return 0;
+}
+
+long conn_flush(Conn *c, Err *err)
+{
+    while (c->out_sent < c->out_len) {
+        ssize_t n = send(c->fd, c->out + c->out_sent, c->out_len - c->out_sent, MSG_NOSIGNAL);
+        if (n < 0) {
+            if (errno == EAGAIN || errno == EWOULDBLOCK || errno == EINTR)
+                break;
+            return err_set(err, "send failed: %s", strerror(errno));
+        }
+        c->out_sent += (size_t)n;
+        c->bytes_out += (uint64_t)n;
+    }
+    if (c->out_sent == c->out_len)
+        c->out_sent = c->out_len = 0;
+    return (long)conn_pending(c);
+}

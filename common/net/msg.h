@@ -1,0 +1,139 @@
+/* msg.h - the packets' bodies: one struct per packet type and an
+ * encode/decode pair for it, the only code that knows a layout.
+ *
+ * Every packet is an 8-byte header (u32 type, u32 total size, host byte
+ * order; conn.h frames them) and a body laid out as below, all numbers
+ * u32.  docs/protocol.md shows the same tables; tests/test_msg.c checks
+ * them against msg_layout().  A body's big part (the scene, the
+ * pixels, an asset's bytes, an error's text) is not copied: the encoder
+ * points at it and the decoder points into the body it was given. */
+#ifndef LANRAY_MSG_H
+#define LANRAY_MSG_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "base/err.h"
+
+#define PROTO_MAGIC 0x5941524cu /* "LRAY" */
+#define PROTO_VERSION 3u
+#define PROTO_BOM 0x01020304u
+#define PROTO_HEADER 8u
+#define PROTO_NONCE 32u
+#define PROTO_PROOF 32u
+#define PROTO_HASH 32u
+#define PROTO_DEFAULT_PORT 7878
+#define PROTO_MAX_ERROR_TEXT 1024u
+
+typedef enum {
+    PKT_SERVER_HELLO = 1, /* server -> client: magic, version, bom, flags, nonce */
+    PKT_HELLO = 2,        /* client -> server: magic, version, bom, threads, real size, nonce, proof */
+    PKT_WELCOME = 3,      /* server -> client: client id */
+    PKT_UPDATE = 4,       /* server -> client: frame, size, up to 2 segments, serialised scene */
+    PKT_COMPUTE = 5,      /* server -> client: frame, segment */
+    PKT_DATA = 6,         /* client -> server: frame, segment, render time, RGB8 pixels */
+    PKT_ASSET = 7,        /* server -> client: kind, content hash, payload */
+    PKT_ERROR = 8,        /* either way: a reason, then the sender closes */
+    PKT_BYE = 9,          /* either way: orderly goodbye */
+    PKT_TYPE_END
+} PacketType;
+
+enum { ASSET_MODEL = 1, ASSET_TEXTURE = 2 };
+enum { HELLO_TOKEN_REQUIRED = 1 };
+
+/* A segment: pixels [first, first + count) of a frame, in row-major order. */
+typedef struct {
+    uint32_t first, count;
+} Segment;
+
+typedef struct {
+    uint32_t magic, version, bom, flags; /* flags: HELLO_TOKEN_REQUIRED */
+    uint8_t nonce[PROTO_NONCE];
+} MsgServerHello;
+
+typedef struct {
+    uint32_t magic, version, bom, threads, real_size;
+    uint8_t nonce[PROTO_NONCE], proof[PROTO_PROOF];
+} MsgHello;
+
+typedef struct {
+    uint32_t id;
+} MsgWelcome;
+
+typedef struct {
+    uint32_t frame, width, height, nseg; /* nseg <= 2 */
+    Segment seg[2];
+    const uint8_t *scene; /* the serialised scene (wire.h) */
+    size_t scene_len;
+} MsgUpdate;
+
+typedef struct {
+    uint32_t frame;
+    Segment seg;
+} MsgCompute;
+
+typedef struct {
+    uint32_t frame;
+    Segment seg;
+    uint32_t render_us;
+    const uint8_t *pixels; /* 3 * seg.count bytes, RGB8 */
+} MsgData;
+
+typedef struct {
+    uint32_t kind; /* ASSET_MODEL or ASSET_TEXTURE */
+    uint8_t hash[PROTO_HASH];
+    const uint8_t *data;
+    size_t len;
+} MsgAsset;
+
+typedef struct {
+    const char *text; /* encoding: up to PROTO_MAX_ERROR_TEXT bytes of it are sent */
+    size_t len;
+} MsgError;
+
+/* A packet ready to queue: its type, the fixed part encoded, and the big
+ * part it points at (conn.h's conn_send_msg sends both). */
+#define MSG_HEAD_MAX 96u
+typedef struct {
+    uint32_t type;
+    uint8_t head[MSG_HEAD_MAX];
+    size_t head_len;
+    const void *tail;
+    size_t tail_len;
+} MsgOut;
+
+void msg_encode_server_hello(const MsgServerHello *m, MsgOut *out);
+void msg_encode_hello(const MsgHello *m, MsgOut *out);
+void msg_encode_welcome(const MsgWelcome *m, MsgOut *out);
+void msg_encode_update(const MsgUpdate *m, MsgOut *out);
+void msg_encode_compute(const MsgCompute *m, MsgOut *out);
+void msg_encode_data(const MsgData *m, MsgOut *out);
+void msg_encode_asset(const MsgAsset *m, MsgOut *out);
+void msg_encode_error(const MsgError *m, MsgOut *out);
+void msg_encode_bye(MsgOut *out);
+
+/* Decoders take a body (without the header) and check its size against
+ * the layout: -1 with the packet named in err when it does not fit.  What
+ * the fields mean (a version, a segment inside the frame) is the caller's
+ * to check. */
+int msg_decode_server_hello(const uint8_t *body, size_t len, MsgServerHello *m, Err *err);
+int msg_decode_hello(const uint8_t *body, size_t len, MsgHello *m, Err *err);
+int msg_decode_welcome(const uint8_t *body, size_t len, MsgWelcome *m, Err *err);
+int msg_decode_update(const uint8_t *body, size_t len, MsgUpdate *m, Err *err);
+int msg_decode_compute(const uint8_t *body, size_t len, MsgCompute *m, Err *err);
+int msg_decode_data(const uint8_t *body, size_t len, MsgData *m, Err *err);
+int msg_decode_asset(const uint8_t *body, size_t len, MsgAsset *m, Err *err);
+/* The text made printable (other bytes become '?') and NUL-terminated. */
+int msg_decode_error(const uint8_t *body, size_t len, char text[PROTO_MAX_ERROR_TEXT + 1], Err *err);
+
+const char *msg_type_name(uint32_t type);
+/* Largest and smallest total size (header included) of a packet type; 0 if unknown. */
+uint32_t msg_max_size(uint32_t type);
+uint32_t msg_min_size(uint32_t type);
+
+/* The layouts as text, one line per field: "TYPE OFFSET SIZE NAME" (SIZE
+ * "rest" for the rest of the body, "8*nseg" for an UPDATE's segments);
+ * docs/protocol.md is checked against it. */
+void msg_layout(void (*line)(void *ctx, const char *text), void *ctx);
+
+#endif

@@ -1,0 +1,27 @@
+/* wire.h - the scene on the wire.
+ *
+ * A scene is serialised once per frame (docs/protocol.md): header with magic,
+ * version and byte-order mark, then only what the scene has.  Models and
+ * textures are not inside: the scene names them by the SHA-256 of their
+ * ASSET payload, which a client receives once per connection and caches, so
+ * an UPDATE for a scene with millions of triangles stays small. */
+#ifndef LANRAY_WIRE_H
+#define LANRAY_WIRE_H
+
+#include "net/asset.h"
+#include "base/cursor.h"
+#include "net/msg.h"
+#include "scene/scene.h"
+
+#define WIRE_MAGIC 0x4353524cu /* "LRSC" */
+#define WIRE_VERSION 2u /* 2: the output encoding (linear or sRGB), a plane's texture mapping */
+
+/* Serialises s; model_assets[i] / texture_assets[i] are the assets of
+ * s->models[i] / s->textures[i]. */
+int wire_encode_scene(const Scene *s, const Asset *model_assets, const Asset *texture_assets, Sink *out, Err *err);
+
+/* Decodes a scene whose models and textures are in the cache; the scene
+ * borrows them and comes back prepared. */
+int wire_decode_scene(const void *data, size_t len, const AssetCache *cache, Scene **out, Err *err);
+
+#endif

@@ -1,0 +1,378 @@
+/* scene.c - scene construction, validation and the top-level BVH. */
+#include "scene/scene.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+#include "base/array.h"
+
+Scene *scene_create(void)
+{
+    Scene *s = calloc(1, sizeof *s);
+    if (!s)
+        return NULL;
+    camera_look_at(&s->camera, v3(0, 1, 5), v3(0, 0, 0), 0, camera_zoom_for_fov(60));
+    /* linear light: what shows as 0.1 and 0.25-0.3 on screen */
+    s->ambient = v3_splat(R(0.01));
+    s->background = v3(R(0.004), R(0.004), R(0.007));
+    s->settings = render_settings_default();
+    return s;
+}
+
+void scene_destroy(Scene *s)
+{
+    if (!s)
+        return;
+    for (uint32_t i = 0; i < s->texture_count && !s->borrowed_assets; i++)
+        texture_destroy(s->textures[i]);
+    for (uint32_t i = 0; i < s->model_count && !s->borrowed_assets; i++)
+        model_destroy(s->models[i]);
+    free(s->materials);
+    free(s->textures);
+    free(s->spheres);
+    free(s->planes);
+    free(s->tris);
+    free(s->tri_attrs);
+    free(s->models);
+    free(s->instances);
+    free(s->lights);
+    bvh_destroy(&s->top);
+    free(s);
+}
+
+RenderSettings render_settings_default(void)
+{
+    RenderSettings r = {1, 0, SHADE_PHONG, 1, FILTER_BILINEAR, 0, 0, 0, 0};
+    return r;
+}
+
+#define PUSH(s, arr, count, cap, limit, value, what)                                                   \
+    do {                                                                                               \
+        if (array_reserve((void **)&(s)->arr, &(s)->cap, (s)->count + 1, sizeof *(s)->arr, (limit)))  \
+            return err_set(err, "scene: too many %s (limit %u) or out of memory", what, (limit));      \
+        (s)->arr[(s)->count++] = (value);                                                              \
+        (s)->prepared = 0;                                                                             \
+    } while (0)
+
+int scene_add_material(Scene *s, Material m, uint32_t *id, Err *err)
+{
+    PUSH(s, materials, material_count, material_cap, SCENE_MAX_ITEMS, m, "materials");
+    if (id)
+        *id = s->material_count - 1;
+    return 0;
+}
+
+int scene_add_texture(Scene *s, Texture *t, uint32_t *id, Err *err)
+{
+    if (array_reserve((void **)&s->textures, &s->texture_cap, s->texture_count + 1, sizeof *s->textures, 65536)) {
+        if (!s->borrowed_assets)
+            texture_destroy(t);
+        return err_set(err, "scene: too many textures or out of memory");
+    }
+    s->textures[s->texture_count++] = t;
+    if (id)
+        *id = s->texture_count - 1;
+    return 0;
+}
+
+int scene_add_sphere(Scene *s, Sphere sp, Err *err)
+{
+    PUSH(s, spheres, sphere_count, sphere_cap, SCENE_MAX_ITEMS, sp, "spheres");
+    return 0;
+}
+
+int scene_add_plane(Scene *s, Plane p, Err *err)
+{
+    PUSH(s, planes, plane_count, plane_cap, 4096, p, "planes");
+    return 0;
+}
+
+int scene_add_triangle(Scene *s, const vec3 p[3], const vec3 *n, const real *uv, uint32_t material, Err *err)
+{
+    if (array_reserve((void **)&s->tri_attrs, &s->tri_attr_cap, s->tri_count + 1, sizeof *s->tri_attrs, SCENE_MAX_ITEMS))
+        return err_set(err, "scene: too many triangles or out of memory");
+    TriAttr a;
+    memset(&a, 0, sizeof a);
+    a.material = material;
+    if (n) {
+        memcpy(a.n, n, sizeof a.n);
+        a.smooth = 1;
+    }
+    if (uv) {
+        memcpy(a.uv, uv, sizeof a.uv);
+        a.textured = 1;
+    }
+    Tri t;
+    for (int k = 0; k < 3; k++)
+        for (int c = 0; c < 3; c++)
+            t.v[k][c] = p[k].e[c];
+    s->tri_attrs[s->tri_count] = a;
+    PUSH(s, tris, tri_count, tri_cap, SCENE_MAX_ITEMS, t, "triangles");
+    return 0;
+}
+
+int scene_add_model(Scene *s, Model *m, uint32_t *id, Err *err)
+{
+    if (array_reserve((void **)&s->models, &s->model_cap, s->model_count + 1, sizeof *s->models, 65536)) {
+        if (!s->borrowed_assets)
+            model_destroy(m);
+        return err_set(err, "scene: too many models or out of memory");
+    }
+    s->models[s->model_count++] = m;
+    if (id)
+        *id = s->model_count - 1;
+    return 0;
+}
+
+int scene_add_instance(Scene *s, Instance in, Err *err)
+{
+    PUSH(s, instances, instance_count, instance_cap, SCENE_MAX_ITEMS, in, "instances");
+    return 0;
+}
+
+int scene_add_light(Scene *s, Light l, Err *err)
+{
+    PUSH(s, lights, light_count, light_cap, SCENE_MAX_LIGHTS, l, "lights");
+    return 0;
+}
+
+Plane plane_make(vec3 point, vec3 normal, uint32_t material)
+{
+    Plane p;
+    memset(&p, 0, sizeof p);
+    p.point = point;
+    p.normal = normal;
+    p.material = material;
+    p.uv_scale = R(1);
+    return p;
+}
+
+Light light_point(vec3 pos, vec3 color, real intensity, int attenuate)
+{
+    Light l;
+    memset(&l, 0, sizeof l);
+    l.kind = LIGHT_POINT;
+    l.pos = pos;
+    l.color = color;
+    l.intensity = intensity;
+    l.attenuate = attenuate;
+    return l;
+}
+
+Light light_spot(vec3 pos, vec3 dir, real angle, real soft, vec3 color, real intensity, int attenuate)
+{
+    Light l = light_point(pos, color, intensity, attenuate);
+    l.kind = LIGHT_SPOT;
+    l.dir = dir;
+    l.angle = angle;
+    l.soft = soft;
+    return l;
+}
+
+Light light_directional(vec3 dir, vec3 color, real intensity)
+{
+    Light l = light_point(v3_splat(0), color, intensity, 0);
+    l.kind = LIGHT_DIRECTIONAL;
+    l.dir = dir;
+    return l;
+}
+
+Instance instance_make(uint32_t model, vec3 translate, vec3 rotate, real scale)
+{
+    Instance in;
+    memset(&in, 0, sizeof in);
+    in.model = model;
+    in.translate = translate;
+    in.rotate = rotate;
+    in.scale = scale;
+    in.material = -1;
+    return in;
+}
+
+static Aabb instance_world_box(const Instance *in, Aabb b)
+{
+    Aabb w = aabb_empty();
+    for (int c = 0; c < 8; c++) {
+        vec3 p = v3(c & 1 ? b.max.x : b.min.x, c & 2 ? b.max.y : b.min.y, c & 4 ? b.max.z : b.min.z);
+        aabb_grow(&w, v3_add(v3_scale(m3_apply(&in->rot, p), in->scale), in->translate));
+    }
+    /* pad by the rounding of the transform so that the box stays conservative */
+    vec3 pad = v3_scale(v3_max(v3_abs(w.min), v3_abs(w.max)), real_gamma(8));
+    w.min = v3_sub(w.min, pad);
+    w.max = v3_add(w.max, pad);
+    return w;
+}
+
+/* Planar mapping: u along the world x axis laid onto the plane (z for a
+ * plane facing x), v = n x u, both turned by uv_rotate about the normal and
+ * divided by uv_scale.  A floor (normal +y) has u along +x and v along -z. */
+static void plane_axes(Plane *p)
+{
+    vec3 n = p->unit, a = fabs(n.x) < R(0.9) ? v3(1, 0, 0) : v3(0, 0, 1);
+    vec3 u = v3_norm(v3_sub(a, v3_scale(n, v3_dot(a, n))));
+    vec3 v = v3_cross(n, u);
+    real r = p->uv_rotate * REAL_PI / R(180), c = cos(r), s = sin(r), k = R(1) / p->uv_scale;
+    p->tu = v3_scale(v3_add(v3_scale(u, c), v3_scale(v, s)), k);
+    p->tv = v3_scale(v3_sub(v3_scale(v, c), v3_scale(u, s)), k);
+}
+
+static int check_material(const Scene *s, uint32_t m, const char *what, uint32_t i, Err *err)
+{
+    if (m >= s->material_count)
+        return err_set(err, "scene: %s %u uses material %u but the scene has %u", what, i, m, s->material_count);
+    return 0;
+}
+
+int scene_prepare(Scene *s, Err *err)
+{
+    uint32_t f = 0;
+    if (s->settings.aa < 1 || s->settings.aa > AA_MAX)
+        return err_set(err, "scene: anti-aliasing %d out of range 1..%d", s->settings.aa, AA_MAX);
+    const Camera *cam = &s->camera;
+    if (!(cam->zoom > R(0)) || !isfinite(cam->zoom) || !v3_is_finite(cam->pos) || !isfinite(cam->yaw) ||
+        !isfinite(cam->pitch) || !isfinite(cam->roll))
+        return err_set(err, "scene: camera needs a finite position and angles and a positive zoom");
+    if (!v3_is_finite(s->ambient) || !v3_is_finite(s->background))
+        return err_set(err, "scene: ambient and background colours must be finite");
+    for (uint32_t i = 0; i < s->material_count; i++) {
+        const Material *m = &s->materials[i];
+        if (!v3_is_finite(m->kd) || !v3_is_finite(m->ks) || !(m->shininess >= R(0)) || !isfinite(m->shininess))
+            return err_set(err, "scene: material %u needs finite colours and a non-negative shininess", i);
+        if (m->texture >= (int32_t)s->texture_count)
+            return err_set(err, "scene: material %u uses texture %d but the scene has %u", i, m->texture, s->texture_count);
+        if (m->texture >= 0)
+            f |= FEAT_TEXTURES;
+        if (v3_max_comp(m->ks) > R(0))
+            f |= FEAT_SPECULAR;
+    }
+    for (uint32_t i = 0; i < s->sphere_count; i++) {
+        if (!(s->spheres[i].radius > R(0)) || !v3_is_finite(s->spheres[i].centre))
+            return err_set(err, "scene: sphere %u needs a finite centre and a positive radius", i);
+        if (check_material(s, s->spheres[i].material, "sphere", i, err))
+            return -1;
+    }
+    for (uint32_t i = 0; i < s->plane_count; i++) {
+        Plane *p = &s->planes[i];
+        if (!(v3_len(p->normal) > R(0)) || !v3_is_finite(p->point) || !v3_is_finite(p->normal))
+            return err_set(err, "scene: plane %u needs a finite point and a non-zero normal", i);
+        if (!(p->uv_scale > R(0)) || !isfinite(p->uv_scale) || !isfinite(p->uv_rotate))
+            return err_set(err, "scene: plane %u needs a positive texture scale and a finite texture rotation", i);
+        p->unit = v3_norm(p->normal);
+        plane_axes(p);
+        if (check_material(s, p->material, "plane", i, err))
+            return -1;
+        f |= FEAT_PLANES;
+    }
+    Aabb *boxes = NULL;
+    uint32_t nb = s->sphere_count + s->tri_count + s->instance_count;
+    for (uint32_t i = 0; i < s->tri_count; i++) {
+        vec3 p[3];
+        for (int k = 0; k < 3; k++)
+            p[k] = tri_vertex(&s->tris[i], k);
+        if (!v3_is_finite(p[0]) || !v3_is_finite(p[1]) || !v3_is_finite(p[2]))
+            return err_set(err, "scene: triangle %u has a non-finite vertex", i);
+        if (check_material(s, s->tri_attrs[i].material, "triangle", i, err))
+            return -1;
+        if (s->tri_attrs[i].smooth)
+            f |= FEAT_SMOOTH;
+    }
+    for (uint32_t i = 0; i < s->instance_count; i++) {
+        Instance *in = &s->instances[i];
+        if (in->model >= s->model_count)
+            return err_set(err, "scene: instance %u uses model %u but the scene has %u", i, in->model, s->model_count);
+        if (!(in->scale > R(0)) || !isfinite(in->scale) || !v3_is_finite(in->translate) || !v3_is_finite(in->rotate))
+            return err_set(err, "scene: instance %u needs a finite transform with positive scale", i);
+        if (in->material >= 0 && check_material(s, (uint32_t)in->material, "instance", i, err))
+            return -1;
+        in->rot = m3_rotation_xyz(in->rotate);
+        in->identity = in->scale == R(1) && in->rotate.x == R(0) && in->rotate.y == R(0) && in->rotate.z == R(0) &&
+                       in->translate.x == R(0) && in->translate.y == R(0) && in->translate.z == R(0);
+        const Model *m = s->models[in->model];
+        if (m->normals)
+            f |= FEAT_SMOOTH;
+        if (m->uvs)
+            f |= FEAT_TEXTURES;
+        if (m->colours && in->material < 0)
+            f |= FEAT_COLOURS;
+        for (uint32_t k = 0; k < m->material_count; k++)
+            if (v3_max_comp(m->materials[k].ks) > R(0))
+                f |= FEAT_SPECULAR;
+        in->world_box = m->tri_count ? instance_world_box(in, m->bounds) : aabb_empty();
+    }
+    for (uint32_t i = 0; i < s->model_count; i++)
+        if (model_prepare_simd(s->models[i], err))
+            return err_prefix(err, "scene");
+    for (uint32_t i = 0; i < s->light_count; i++) {
+        Light *l = &s->lights[i];
+        if (!v3_is_finite(l->pos) || !v3_is_finite(l->color) || !(l->intensity >= R(0)) || !isfinite(l->intensity))
+            return err_set(err, "scene: light %u needs a finite position and colour and a non-negative intensity", i);
+        if (l->kind != LIGHT_POINT) {
+            if (!(v3_len(l->dir) > R(0)) || !v3_is_finite(l->dir))
+                return err_set(err, "scene: light %u needs a non-zero direction", i);
+            l->axis = v3_norm(l->dir);
+        }
+        if (l->kind == LIGHT_SPOT) {
+            if (!(l->angle > R(0) && l->angle < R(180)) || !(l->soft >= R(0)))
+                return err_set(err, "scene: spot light %u needs 0 < angle < 180 and soft >= 0", i);
+            real half = l->angle * R(0.5) * REAL_PI / R(180);
+            real inner = real_max(R(0), l->angle * R(0.5) - l->soft) * REAL_PI / R(180);
+            l->cos_outer = cos(half);
+            l->cos_inner = cos(inner);
+            f |= FEAT_SPOT;
+        }
+        if (l->attenuate && l->kind != LIGHT_DIRECTIONAL)
+            f |= FEAT_ATTENUATION;
+    }
+    if (s->settings.shadows && s->light_count)
+        f |= FEAT_SHADOWS;
+    /* the top-level BVH: one box per sphere, scene triangle and instance */
+    bvh_destroy(&s->top);
+    if (nb) {
+        boxes = malloc(nb * sizeof *boxes);
+        if (!boxes)
+            return err_set(err, "scene: out of memory");
+        uint32_t k = 0;
+        for (uint32_t i = 0; i < s->sphere_count; i++) {
+            const Sphere *sp = &s->spheres[i];
+            vec3 r = v3_splat(sp->radius * (R(1) + real_gamma(4)));
+            boxes[k++] = (Aabb){v3_sub(sp->centre, r), v3_add(sp->centre, r)};
+        }
+        for (uint32_t i = 0; i < s->tri_count; i++) {
+            Aabb b = aabb_point(tri_vertex(&s->tris[i], 0));
+            aabb_grow(&b, tri_vertex(&s->tris[i], 1));
+            aabb_grow(&b, tri_vertex(&s->tris[i], 2));
+            boxes[k++] = b;
+        }
+        for (uint32_t i = 0; i < s->instance_count; i++) {
+            Aabb b = s->instances[i].world_box;
+            /* an empty model still needs a valid box: a point at its position */
+            boxes[k++] = aabb_is_empty(b) ? aabb_point(s->instances[i].translate) : b;
+        }
+        BvhOptions opt = bvh_options_default(BVH_SAH);
+        opt.max_leaf = 2;
+        int rc = bvh_build(&s->top, boxes, nb, &opt, err);
+        free(boxes);
+        if (rc)
+            return err_prefix(err, "scene");
+    }
+    s->features = f;
+    s->prepared = 1;
+    return 0;
+}
+
+int scene_rebuild_models(Scene *s, const BvhOptions *opt, Err *err)
+{
+    for (uint32_t i = 0; i < s->model_count; i++)
+        if (model_rebuild(s->models[i], opt, err))
+            return -1;
+    s->prepared = 0;
+    return 0;
+}
+
+uint64_t scene_triangle_count(const Scene *s)
+{
+    uint64_t n = s->tri_count;
+    for (uint32_t i = 0; i < s->instance_count; i++)
+        n += s->models[s->instances[i].model]->tri_count;
+    return n;
+}

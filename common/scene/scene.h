@@ -1,0 +1,166 @@
+/* scene.h - everything a frame is rendered from.
+ *
+ * A Scene is filled through the scene_add_* calls (by the scene-file parser,
+ * the built-in default scene or, later, the wire decoder), then
+ * scene_prepare() derives what rendering needs: instance transforms, the
+ * top-level BVH over spheres, triangles and model instances (planes are
+ * unbounded and tested apart), and the feature flags that let the inner loop
+ * skip what the scene does not use. */
+#ifndef LANRAY_SCENE_H
+#define LANRAY_SCENE_H
+
+#include <stdint.h>
+
+#include "geom/camera.h"
+#include "model/model.h"
+#include "model/texture.h"
+
+#define SCENE_MAX_ITEMS (1u << 24)
+#define SCENE_MAX_LIGHTS 65536u
+#define AA_MAX 16
+#define SCENE_MAX_SIDE 65536 /* settings width/height */
+
+typedef struct {
+    vec3 centre;
+    real radius;
+    uint32_t material;
+} Sphere;
+
+/* Scene items keep the values they were given (a file, the wire); what
+ * scene_prepare derives from them goes into fields of their own, so that
+ * preparing a scene twice, or once on each side of the wire, gives the same
+ * bits: a direction normalised again can move by an ulp. */
+typedef struct {
+    vec3 point, normal; /* as given: normal need not be unit length */
+    uint32_t material;
+    real uv_scale;      /* planar texture mapping: world units per repeat (> 0) */
+    real uv_rotate;     /* and its turn about the normal, degrees */
+    /* derived */
+    vec3 unit;          /* the unit normal */
+    vec3 tu, tv;        /* texture coordinates of p: ((p - point).tu, (p - point).tv) */
+} Plane;
+
+/* Shading attributes of a scene-level triangle (positions live in Scene.tris). */
+typedef struct {
+    vec3 n[3];
+    real uv[6];
+    uint32_t material;
+    uint8_t smooth, textured;
+} TriAttr;
+
+typedef struct {
+    uint32_t model;
+    vec3 translate, rotate; /* rotate: degrees about x, y, z */
+    real scale;             /* uniform, > 0 */
+    int32_t material;       /* scene material overriding the model's, or -1 */
+    /* derived by scene_prepare */
+    mat3 rot;               /* model -> world rotation */
+    int identity;           /* no rotation, scale 1, no translation: rays need no transform */
+    Aabb world_box;
+} Instance;
+
+typedef enum { LIGHT_POINT = 0, LIGHT_SPOT = 1, LIGHT_DIRECTIONAL = 2 } LightKind;
+
+typedef struct {
+    LightKind kind;
+    vec3 pos;          /* point, spot */
+    vec3 dir;          /* spot: beam axis; directional: direction light travels; as given */
+    vec3 color;
+    real intensity;
+    int attenuate;     /* point, spot: divide by distance squared */
+    real angle, soft;  /* spot: full beam angle and soft edge width, degrees */
+    /* derived */
+    vec3 axis;         /* dir, unit length */
+    real cos_outer, cos_inner;
+} Light;
+
+typedef enum { SHADE_PHONG = 0, SHADE_DIFFUSE = 1 } ShadeModel;
+
+/* Quality knobs: the scene file sets defaults, the command line may override. */
+typedef struct {
+    int aa;            /* samples per pixel side: aa*aa per pixel (1..AA_MAX) */
+    int adaptive;      /* 1: one sample, aa*aa only where neighbours differ (surface, lights or colour) */
+    ShadeModel shading;
+    int shadows;
+    TextureFilter filter;
+    int linear;        /* pixels are written as linear codes (--linear), not sRGB */
+    /* what the scene file asked for, for the programs' defaults; not on the
+     * wire (an UPDATE carries the frame's size, the samples are above) */
+    int width, height;  /* 0: not given */
+    int sampling_given; /* the file set aa or adaptive */
+} RenderSettings;
+
+enum {
+    FEAT_TEXTURES = 1 << 0,
+    FEAT_SMOOTH = 1 << 1,
+    FEAT_SPOT = 1 << 2,
+    FEAT_ATTENUATION = 1 << 3,
+    FEAT_PLANES = 1 << 4,
+    FEAT_SHADOWS = 1 << 5,
+    FEAT_SPECULAR = 1 << 6,
+    FEAT_COLOURS = 1 << 7, /* an instance shows its model's vertex colours */
+};
+
+typedef struct {
+    Camera camera;
+    vec3 ambient, background;
+    RenderSettings settings;
+
+    Material *materials;   uint32_t material_count, material_cap;
+    Texture **textures;    uint32_t texture_count, texture_cap;
+    Sphere *spheres;       uint32_t sphere_count, sphere_cap;
+    Plane *planes;         uint32_t plane_count, plane_cap;
+    Tri *tris;             uint32_t tri_count, tri_cap;
+    TriAttr *tri_attrs;    uint32_t tri_attr_cap;
+    Model **models;        uint32_t model_count, model_cap;
+    Instance *instances;   uint32_t instance_count, instance_cap;
+    Light *lights;         uint32_t light_count, light_cap;
+
+    int borrowed_assets;   /* models and textures belong to someone else (a client's asset cache) */
+
+    /* derived by scene_prepare */
+    Bvh top;               /* prims index spheres, then triangles, then instances */
+    uint32_t features;
+    int prepared;
+} Scene;
+
+Scene *scene_create(void);
+void scene_destroy(Scene *s);
+
+int scene_add_material(Scene *s, Material m, uint32_t *id, Err *err);
+/* Takes ownership of t, also on failure (unless borrowed_assets). */
+int scene_add_texture(Scene *s, Texture *t, uint32_t *id, Err *err);
+int scene_add_sphere(Scene *s, Sphere sp, Err *err);
+int scene_add_plane(Scene *s, Plane p, Err *err);
+/* n (3 normals) and uv (6 numbers) may be NULL. */
+int scene_add_triangle(Scene *s, const vec3 p[3], const vec3 *n, const real *uv, uint32_t material, Err *err);
+/* Takes ownership of m, also on failure (unless borrowed_assets). */
+int scene_add_model(Scene *s, Model *m, uint32_t *id, Err *err);
+int scene_add_instance(Scene *s, Instance in, Err *err);
+int scene_add_light(Scene *s, Light l, Err *err);
+
+Plane plane_make(vec3 point, vec3 normal, uint32_t material);
+Light light_point(vec3 pos, vec3 color, real intensity, int attenuate);
+Light light_spot(vec3 pos, vec3 dir, real angle, real soft, vec3 color, real intensity, int attenuate);
+Light light_directional(vec3 dir, vec3 color, real intensity);
+Instance instance_make(uint32_t model, vec3 translate, vec3 rotate, real scale);
+RenderSettings render_settings_default(void);
+
+/* Checks references and values, derives transforms, builds the top-level BVH. */
+int scene_prepare(Scene *s, Err *err);
+/* Rebuilds every model's BVH with another builder (then call scene_prepare). */
+int scene_rebuild_models(Scene *s, const BvhOptions *opt, Err *err);
+uint64_t scene_triangle_count(const Scene *s);
+
+static inline int scene_has(const Scene *s, uint32_t feature) { return (s->features & feature) != 0; }
+
+/* What the inner loop asks before taking an optional path.  A LANRAY_MINIMAL
+ * build (make FEATURES=minimal) compiles every optional feature out, so that
+ * `make bench` can show that a scene not using them pays nothing for them. */
+#ifdef LANRAY_MINIMAL
+#define scene_uses(s, feature) ((void)(s), 0)
+#else
+#define scene_uses(s, feature) scene_has(s, feature)
+#endif
+
+#endif

@@ -1,0 +1,49 @@
+/* scene_preview.c - see scene_preview.h. */
+#include "scene/scene_preview.h"
+
+#include "model/model_load.h"
+
+int scene_preview(const char *model_path, const BvhOptions *bvh, int rebuild, Scene **out, Err *err)
+{
+    *out = NULL;
+    Model *m;
+    if (model_load(model_path, bvh, rebuild, 0, &m, err))
+        return -1;
+    Scene *s = scene_create();
+    uint32_t id = 0;
+    if (!s) {
+        model_destroy(m);
+        return err_set(err, "out of memory");
+    }
+    int rc = scene_add_material(s, material_default(), NULL, err);
+    rc = rc ? rc : scene_add_model(s, m, &id, err);
+    rc = rc ? rc : scene_add_instance(s, instance_make(id, v3_splat(0), v3_splat(0), R(1)), err);
+    if (rc == 0 && m->tri_count == 0)
+        rc = err_set(err, "%s: the model has no triangles", model_path);
+    if (rc == 0) {
+        Aabb b = m->bounds;
+        vec3 c = v3_scale(v3_add(b.min, b.max), R(0.5));
+        real r = R(0.5) * v3_len(v3_sub(b.max, b.min));
+        if (!(r > R(0)))
+            r = R(1);
+        /* a 40 degree lens: the bounding sphere fits the shorter (vertical,
+         * at 4:3) side with a margin */
+        real fov = R(40), half_v = atan(tan(fov * R(0.5) * REAL_PI / R(180)) * R(0.75));
+        vec3 dir = v3_norm(v3(R(0.55), R(0.4), R(1)));
+        vec3 eye = v3_madd(c, dir, r * R(1.1) / sin(half_v));
+        if (camera_look_at(&s->camera, eye, c, 0, camera_zoom_for_fov(fov)))
+            rc = err_set(err, "%s: cannot frame the model", model_path);
+        vec3 key = v3_madd(c, v3_norm(v3(R(-0.6), R(1), R(0.8))), R(4) * r);
+        rc = rc ? rc : scene_add_light(s, light_point(key, v3_splat(1), R(0.85), 0), err);
+        rc = rc ? rc : scene_add_light(s, light_directional(v3(R(-0.7), R(-0.2), R(-0.4)), v3(R(0.8), R(0.85), R(1)), R(0.25)), err);
+        s->ambient = v3_splat(R(0.12));
+        s->background = v3(R(0.16), R(0.17), R(0.2));
+    }
+    rc = rc ? rc : scene_prepare(s, err);
+    if (rc) {
+        scene_destroy(s);
+        return -1;
+    }
+    *out = s;
+    return 0;
+}

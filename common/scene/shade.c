@@ -1,0 +1,162 @@
+/* shade.c - local illumination.
+ *
+ *   colour = ambient*kd + sum over lights reaching the point of
+ *            radiance * (kd * max(0, N.L) + ks * max(0, R.V)^shininess)
+ *
+ * kd is a model's interpolated vertex colour where it has them (and the
+ * instance keeps the model's material), and is multiplied by the texture
+ * where the material has one; the specular
+ * term is skipped in diffuse-only mode and for materials without ks.  One
+ * shadow ray per light stops at the first occluder (any-hit). */
+#include "scene/shade.h"
+
+/* Light arriving at p: unit direction towards the light, distance, radiance. */
+static int light_at(const Scene *s, const Light *l, vec3 p, vec3 *dir, real *dist, vec3 *radiance)
+{
+    real scale = l->intensity;
+    if (l->kind == LIGHT_DIRECTIONAL) {
+        *dir = v3_neg(l->axis);
+        *dist = REAL_INF;
+    } else {
+        vec3 d = v3_sub(l->pos, p);
+        real d2 = v3_dot(d, d);
+        if (!(d2 > R(0)))
+            return 0;
+        *dist = sqrt(d2);
+        *dir = v3_scale(d, R(1) / *dist);
+        if (scene_uses(s, FEAT_ATTENUATION) && l->attenuate)
+            scale /= d2;
+        if (scene_uses(s, FEAT_SPOT) && l->kind == LIGHT_SPOT) {
+            real c = -v3_dot(*dir, l->axis);
+            if (c <= l->cos_outer)
+                return 0;
+            if (c < l->cos_inner) { /* soft edge: smoothstep across the rim */
+                real t = (c - l->cos_outer) / (l->cos_inner - l->cos_outer);
+                scale *= t * t * (R(3) - R(2) * t);
+            }
+        }
+    }
+    if (!(scale > R(0)))
+        return 0;
+    *radiance = v3_scale(l->color, scale);
+    return 1;
+}
+
+/* What one camera ray's shading carries from light to light. */
+typedef struct {
+    Surface sf;
+    vec3 kd, col, view, origin;
+    int phong;
+    uint32_t lit;
+} Shading;
+
+/* Light l's contribution to ray sh, already known to reach it. */
+static void add_light(Shading *sh, vec3 L, vec3 rad, real ndotl, uint32_t i)
+{
+    sh->lit |= i < 16 ? 1u << i : 0;
+    sh->col = v3_add(sh->col, v3_scale(v3_mul(sh->kd, rad), ndotl));
+    if (sh->phong) {
+        real rv = v3_dot(v3_reflect(v3_neg(L), sh->sf.ns), sh->view);
+        if (rv > R(0))
+            sh->col = v3_add(sh->col, v3_scale(v3_mul(sh->sf.mat->ks, rad), pow(rv, sh->sf.mat->shininess)));
+    }
+}
+
+static void shade_start(const Scene *s, const Ray *r, const Hit *hit, Shading *sh)
+{
+    trace_surface(s, r, hit, &sh->sf);
+    const Material *m = sh->sf.mat;
+    sh->kd = scene_uses(s, FEAT_COLOURS) && sh->sf.has_colour ? sh->sf.colour : m->kd;
+    if (scene_uses(s, FEAT_TEXTURES) && sh->sf.tex && sh->sf.has_uv)
+        sh->kd = v3_mul(sh->kd, texture_sample(sh->sf.tex, sh->sf.u, sh->sf.v, s->settings.filter));
+    sh->col = v3_mul(s->ambient, sh->kd);
+    sh->view = v3_neg(v3_norm(r->dir));
+    sh->phong = s->settings.shading == SHADE_PHONG && v3_max_comp(m->ks) > R(0);
+    sh->origin = sh->sf.p;
+    if (scene_has(s, FEAT_SHADOWS)) /* every light ray leaves on the viewer's side, a smooth triangle's from its
+                                     * point lifted onto the curved surface (trace_terminator_point) */
+        sh->origin = trace_offset_origin(sh->sf.ps, sh->sf.ng, sh->sf.ps_err);
+    sh->lit = 0;
+}
+
+void shade_packet(const Scene *s, const Ray *rays, int n, vec3 *out, RayStats *stats, uint64_t *keys)
+{
+    Hit hits[TRACE_PACKET];
+    Shading sh[TRACE_PACKET];
+    int live[TRACE_PACKET], nl = 0;
+    if (n == 1)
+        trace_closest(s, &rays[0], &hits[0]);
+    else
+        trace_closest_packet(s, rays, n, hits);
+    stats->primary += (uint64_t)n;
+    /* the hit triangles' vertices, for every ray at once: on a big model
+     * each is a cache miss, and waiting for them one by one showed */
+    for (int i = 0; i < n; i++)
+        if (hits[i].kind == HIT_INSTANCE)
+            __builtin_prefetch(&s->models[s->instances[hits[i].index].model]->tris[hits[i].sub]);
+    for (int i = 0; i < n; i++) {
+        if (hits[i].kind == HIT_NONE) {
+            out[i] = s->background;
+            if (keys)
+                keys[i] = UINT64_MAX;
+            continue;
+        }
+        shade_start(s, &rays[i], &hits[i], &sh[i]);
+        live[nl++] = i;
+    }
+    const int shadows = scene_has(s, FEAT_SHADOWS);
+    for (uint32_t li = 0; li < s->light_count; li++) {
+        const Light *l = &s->lights[li];
+        Ray sr[TRACE_PACKET];
+        real tmax[TRACE_PACKET];
+        vec3 L[TRACE_PACKET], rad[TRACE_PACKET];
+        real ndotl[TRACE_PACKET];
+        int who[TRACE_PACKET], m = 0;
+        for (int k = 0; k < nl; k++) {
+            Shading *h = &sh[live[k]];
+            real dist;
+            if (!light_at(s, l, h->sf.p, &L[m], &dist, &rad[m]))
+                continue;
+            /* The shading normal decides.  On a flat surface it is the
+             * geometric one, so a light behind the surface is skipped.  On a
+             * smooth triangle near the boundary between light and dark, a
+             * light may be behind the flat facet but in front of the curved
+             * surface its normals describe: it lights the point, and the
+             * shadow ray from the lifted point says whether anything is in
+             * the way.  (Skipping lights behind the facet cut triangle-shaped
+             * dark patches into coarse smooth meshes: tests/test_render.c,
+             * the shadow terminator.) */
+            ndotl[m] = v3_dot(h->sf.ns, L[m]);
+            if (ndotl[m] <= R(0))
+                continue;
+            if (!shadows) {
+                add_light(h, L[m], rad[m], ndotl[m], li);
+                continue;
+            }
+            /* stop just short of the light so that it does not shadow itself */
+            tmax[m] = isfinite(dist) ? dist * (R(1) - R(64) * REAL_EPS) : REAL_MAX;
+            ray_set(&sr[m], h->origin, L[m], v3(R(1) / L[m].x, R(1) / L[m].y, R(1) / L[m].z), R(0), tmax[m]);
+            who[m++] = live[k];
+        }
+        if (m == 0)
+            continue;
+        stats->shadow += (uint64_t)m;
+        uint32_t blocked = m == 1 ? (uint32_t)trace_occluded(s, &sr[0], tmax[0]) : trace_occluded_packet(s, sr, m, tmax);
+        for (int k = 0; k < m; k++)
+            if (!(blocked >> k & 1))
+                add_light(&sh[who[k]], L[k], rad[k], ndotl[k], li);
+    }
+    for (int k = 0; k < nl; k++) {
+        int i = live[k];
+        out[i] = sh[i].col;
+        if (keys)
+            keys[i] = (uint64_t)sh[i].sf.object << 16 | sh[i].lit;
+    }
+}
+
+vec3 shade_ray(const Scene *s, const Ray *r, RayStats *stats, uint64_t *key)
+{
+    vec3 c;
+    shade_packet(s, r, 1, &c, stats, key);
+    return c;
+}

@@ -1,0 +1,23 @@
+/* shade.h - colour of a camera ray: Phong or diffuse-only shading with
+ * point, spot and directional lights and hard shadows. */
+#ifndef LANRAY_SHADE_H
+#define LANRAY_SHADE_H
+
+#include <stdint.h>
+
+#include "scene/trace.h"
+
+typedef struct {
+    uint64_t primary, shadow;
+} RayStats;
+
+/* Traces r and returns its colour.  *key (may be NULL) receives an identifier
+ * of what the ray saw, for adaptive anti-aliasing: the surface and which of
+ * the first 16 lights reached it. */
+vec3 shade_ray(const Scene *s, const Ray *r, RayStats *stats, uint64_t *key);
+/* n <= TRACE_PACKET rays at once, camera rays and shadow rays traced as
+ * packets: out[i] (and keys[i], when keys is not NULL) is what shade_ray
+ * gives for rays[i], to the bit. */
+void shade_packet(const Scene *s, const Ray *rays, int n, vec3 *out, RayStats *stats, uint64_t *keys);
+
+#endif

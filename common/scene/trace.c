@@ -1,0 +1,487 @@
+/* trace.c - the top level of traversal: scene BVH, planes, model instances. */
+#include "scene/trace.h"
+
+#include "bvh/bvh_traverse.h"
+
+#include <string.h>
+
+/* Ray in an instance's model space.  The map x -> R^T (x - T) / s is affine,
+ * so distances t along the ray are the same in both spaces. */
+static Ray instance_ray(const Instance *in, const Ray *r)
+{
+    real inv = R(1) / in->scale;
+    vec3 o = v3_scale(m3_apply_t(&in->rot, v3_sub(r->org, in->translate)), inv);
+    vec3 d = v3_scale(m3_apply_t(&in->rot, r->dir), inv);
+    return ray_make(o, d, r->tmin, r->tmax);
+}
+
+/* The scene's closest hit does not depend on the order its parts are
+ * visited in, so that a packet of rays (visiting leaves in the packet's
+ * order) gives each ray the hit it finds alone: the smallest t; of equal t
+ * a plane (tested first, in index order), then the top-level primitive of
+ * smallest index (spheres, scene triangles, instances: its position in the
+ * top tree's primitive numbering), then inside a model the triangle of
+ * smallest index (model.h).  `key` is 0 while the hit is none or a plane,
+ * else the primitive's number + 1; a tie is taken when the new key is lower. */
+typedef struct {
+    Hit *hit;
+    uint32_t key;
+} Best;
+
+static int takes(const Best *b, real t, uint32_t key) { return t < b->hit->t || (t == b->hit->t && key < b->key); }
+
+static int leaf_closest(const Scene *s, uint32_t p, const Ray *r, Best *b)
+{
+    real t, b1 = 0, b2 = 0;
+    const uint32_t key = p + 1;
+    if (p < s->sphere_count) {
+        const Sphere *sp = &s->spheres[p];
+        /* the nearest root beyond tmin, then the rule (a tie at hit->t counts) */
+        if (!sphere_intersect(r, sp->centre, sp->radius, REAL_INF, &t) || !takes(b, t, key))
+            return 0;
+        *b->hit = (Hit){t, 0, 0, HIT_SPHERE, p, 0};
+        b->key = key;
+        return 1;
+    }
+    p -= s->sphere_count;
+    if (p < s->tri_count) {
+        if (!tri_solve(r, &s->tris[p], &t, &b1, &b2) || !takes(b, t, key))
+            return 0;
+        *b->hit = (Hit){t, b1, b2, HIT_TRIANGLE, p, 0};
+        b->key = key;
+        return 1;
+    }
+    p -= s->tri_count;
+    const Instance *in = &s->instances[p];
+    Ray mr;
+    const Ray *rr = in->identity ? r : (mr = instance_ray(in, r), &mr);
+    ModelHit mh;
+    if (!model_intersect(s->models[in->model], rr, b->hit->t, key < b->key, &mh))
+        return 0;
+    *b->hit = (Hit){mh.t, mh.b1, mh.b2, HIT_INSTANCE, p, mh.tri};
+    b->key = key;
+    return 1;
+}
+
+static int leaf_occluded(const Scene *s, uint32_t p, const Ray *r, real tmax)
+{
+    real t, b1, b2;
+    if (p < s->sphere_count)
+        return sphere_intersect(r, s->spheres[p].centre, s->spheres[p].radius, tmax, &t);
+    p -= s->sphere_count;
+    if (p < s->tri_count)
+        return tri_intersect(r, &s->tris[p], tmax, &t, &b1, &b2);
+    p -= s->tri_count;
+    const Instance *in = &s->instances[p];
+    Ray mr;
+    const Ray *rr = in->identity ? r : (mr = instance_ray(in, r), &mr);
+    return model_occluded(s->models[in->model], rr, tmax);
+}
+
+typedef struct {
+    const Scene *s;
+    Best *best;
+} ClosestCtx;
+
+static inline __attribute__((always_inline)) int top_leaf_closest(void *vctx, uint32_t first, uint32_t count,
+                                                                  const Ray *r, real *tmax)
+{
+    ClosestCtx *c = vctx;
+    int found = 0;
+    for (uint32_t i = 0; i < count; i++)
+        found |= leaf_closest(c->s, c->s->top.prims[first + i], r, c->best);
+    *tmax = c->best->hit->t;
+    return found;
+}
+
+static inline __attribute__((always_inline)) int top_leaf_any(const void *vctx, uint32_t first, uint32_t count,
+                                                              const Ray *r, real tmax)
+{
+    const Scene *s = vctx;
+    for (uint32_t i = 0; i < count; i++)
+        if (leaf_occluded(s, s->top.prims[first + i], r, tmax))
+            return 1;
+    return 0;
+}
+
+static void closest_planes(const Scene *s, const Ray *r, Hit *hit)
+{
+    hit->t = r->tmax;
+    hit->kind = HIT_NONE;
+    if (scene_uses(s, FEAT_PLANES))
+        for (uint32_t i = 0; i < s->plane_count; i++) {
+            real t;
+            if (plane_intersect(r, s->planes[i].point, s->planes[i].unit, hit->t, &t))
+                *hit = (Hit){t, 0, 0, HIT_PLANE, i, 0};
+        }
+}
+
+static int occluded_planes(const Scene *s, const Ray *r, real tmax)
+{
+    if (scene_uses(s, FEAT_PLANES))
+        for (uint32_t i = 0; i < s->plane_count; i++) {
+            real t;
+            if (plane_intersect(r, s->planes[i].point, s->planes[i].unit, tmax, &t))
+                return 1;
+        }
+    return 0;
+}
+
+int trace_closest(const Scene *s, const Ray *r, Hit *hit)
+{
+    closest_planes(s, r, hit);
+    Best b = {hit, 0};
+    ClosestCtx c = {s, &b};
+    real tmax = hit->t;
+    bvh_closest(&s->top, r, &tmax, top_leaf_closest, &c);
+    return hit->kind != HIT_NONE;
+}
+
+int trace_occluded(const Scene *s, const Ray *r, real tmax)
+{
+    return occluded_planes(s, r, tmax) || bvh_any(&s->top, r, tmax, top_leaf_any, s);
+}
+
+/* The rays of `mask` whose slab test enters node n (each with its own far limit). */
+static uint32_t node_rays(const BvhNode *n, const Ray *rays, uint32_t mask, const real *tmax)
+{
+    uint32_t in = 0;
+    while (mask) {
+        int i = __builtin_ctz(mask);
+        mask &= mask - 1;
+        real tn;
+        if (bvh_node_hit(n, &rays[i], tmax[i], &tn))
+            in |= 1u << i;
+    }
+    return in;
+}
+
+/* Instance p of the top tree against the rays of `mask`, as one packet in model space. */
+static uint32_t instance_packet(const Scene *s, uint32_t p, const Ray *rays, uint32_t mask, Best *best, int closest,
+                                const real *tmax)
+{
+    const Instance *in = &s->instances[p - s->sphere_count - s->tri_count];
+    Ray mr[TRACE_PACKET];
+    const Ray *rr[TRACE_PACKET];
+    real tm[TRACE_PACKET];
+    int at[TRACE_PACKET], which[TRACE_PACKET], n = 0;
+    for (uint32_t m = mask; m; m &= m - 1) {
+        int i = __builtin_ctz(m);
+        if (in->identity)
+            rr[n] = &rays[i];
+        else
+            mr[n] = instance_ray(in, &rays[i]), rr[n] = &mr[n];
+        tm[n] = closest ? best[i].hit->t : tmax[i];
+        at[n] = closest && p + 1 < best[i].key;
+        which[n++] = i;
+    }
+    const Model *m = s->models[in->model];
+    uint32_t got = 0;
+    if (closest) {
+        ModelHit mh[TRACE_PACKET];
+        uint32_t found = model_intersect_packet(m, rr, n, tm, at, mh);
+        for (int k = 0; k < n; k++)
+            if (found >> k & 1) {
+                Best *b = &best[which[k]];
+                *b->hit = (Hit){mh[k].t, mh[k].b1, mh[k].b2, HIT_INSTANCE, p - s->sphere_count - s->tri_count, mh[k].tri};
+                b->key = p + 1;
+            }
+    } else {
+        uint32_t hit = model_occluded_packet(m, rr, n, tm);
+        for (int k = 0; k < n; k++)
+            if (hit >> k & 1)
+                got |= 1u << which[k];
+    }
+    return got;
+}
+
+/* The top tree for a packet: depth first, each node with the rays that
+ * enter it; leaves ray by ray, except instances, which take the packet to
+ * their model.  Closest hits follow the rule above, so the order is free. */
+static uint32_t top_packet(const Scene *s, const Ray *rays, int n, Best *best, const real *tmax)
+{
+    const int closest = best != NULL;
+    uint32_t done = 0; /* occlusion: the rays already blocked */
+    const uint32_t all = (1u << n) - 1;
+    real far[TRACE_PACKET];
+    if (s->top.node_count == 0)
+        return 0;
+    struct {
+        uint32_t node, rays;
+    } stack[BVH_MAX_DEPTH + 1];
+    int sp = 0;
+    for (int i = 0; i < n; i++)
+        far[i] = closest ? best[i].hit->t : tmax[i];
+    uint32_t idx = 0, rs = node_rays(&s->top.nodes[0], rays, all, far);
+    for (;;) {
+        const BvhNode *nd = &s->top.nodes[idx];
+        if (rs && nd->count == 0) {
+            uint32_t r0 = node_rays(&s->top.nodes[nd->first], rays, rs, far);
+            uint32_t r1 = node_rays(&s->top.nodes[nd->first + 1], rays, rs, far);
+            if (r0 && r1)
+                stack[sp].node = nd->first + 1, stack[sp++].rays = r1;
+            idx = r0 ? nd->first : nd->first + 1;
+            rs = r0 ? r0 : r1;
+            if (rs)
+                continue;
+        } else if (rs) {
+            for (uint32_t k = 0; k < nd->count && rs; k++) {
+                uint32_t p = s->top.prims[nd->first + k];
+                if (p >= s->sphere_count + s->tri_count) {
+                    done |= instance_packet(s, p, rays, rs, best, closest, tmax);
+                } else {
+                    for (uint32_t m = rs; m; m &= m - 1) {
+                        int i = __builtin_ctz(m);
+                        if (closest)
+                            leaf_closest(s, p, &rays[i], &best[i]);
+                        else if (leaf_occluded(s, p, &rays[i], tmax[i]))
+                            done |= 1u << i;
+                    }
+                }
+                rs &= ~done;
+            }
+            if (closest)
+                for (int i = 0; i < n; i++)
+                    far[i] = best[i].hit->t;
+        }
+        /* a popped node's rays: drop those blocked since, and those whose
+         * hit is now nearer than the node (tested again against it) */
+        do {
+            if (sp == 0)
+                return done;
+            --sp;
+            idx = stack[sp].node;
+            rs = node_rays(&s->top.nodes[idx], rays, stack[sp].rays & ~done, far);
+        } while (!rs);
+    }
+}
+
+void trace_closest_packet(const Scene *s, const Ray *rays, int n, Hit *hits)
+{
+    Best best[TRACE_PACKET];
+    for (int i = 0; i < n; i++) {
+        closest_planes(s, &rays[i], &hits[i]);
+        best[i] = (Best){&hits[i], 0};
+    }
+    top_packet(s, rays, n, best, NULL);
+}
+
+uint32_t trace_occluded_packet(const Scene *s, const Ray *rays, int n, const real *tmax)
+{
+    uint32_t blocked = 0;
+    for (int i = 0; i < n; i++)
+        if (occluded_planes(s, &rays[i], tmax[i]))
+            blocked |= 1u << i;
+    uint32_t rest = ((1u << n) - 1) & ~blocked;
+    if (!rest)
+        return blocked;
+    /* the unblocked rays, packed */
+    Ray rr[TRACE_PACKET];
+    real tm[TRACE_PACKET];
+    int which[TRACE_PACKET], m = 0;
+    for (uint32_t k = rest; k; k &= k - 1) {
+        int i = __builtin_ctz(k);
+        rr[m] = rays[i], tm[m] = tmax[i], which[m++] = i;
+    }
+    uint32_t got = top_packet(s, rr, m, NULL, tm);
+    for (int k = 0; k < m; k++)
+        if (got >> k & 1)
+            blocked |= 1u << which[k];
+    return blocked;
+}
+
+static vec3 bary(vec3 a, vec3 b, vec3 c, real b1, real b2)
+{
+    return v3_add(v3_add(v3_scale(a, R(1) - b1 - b2), v3_scale(b, b1)), v3_scale(c, b2));
+}
+
+vec3 trace_triangle_point(vec3 v0, vec3 v1, vec3 v2, real b1, real b2, real *err)
+{
+    *err = real_gamma(7) * v3_max_comp(v3_max(v3_abs(v0), v3_max(v3_abs(v1), v3_abs(v2))));
+    return bary(v0, v1, v2, b1, b2);
+}
+
+static const Material fallback_material = {{{R(0.8), R(0.8), R(0.8)}}, {{0, 0, 0}}, R(1), -1};
+
+vec3 trace_terminator_point(vec3 p, const vec3 v[3], const vec3 n[3], real b1, real b2, real *err)
+{
+    const real w[3] = {R(1) - b1 - b2, b1, b2};
+    vec3 lift = v3_splat(0);
+    real mag = v3_max_comp(v3_abs(p));
+    for (int i = 0; i < 3; i++) {
+        vec3 ni = v3_norm(n[i]);
+        real d = v3_dot(v3_sub(p, v[i]), ni);
+        if (d < R(0)) /* below the vertex's tangent plane: up onto it */
+            lift = v3_madd(lift, ni, -d * w[i]);
+        mag = real_max(mag, v3_max_comp(v3_abs(v[i])));
+    }
+    vec3 q = v3_add(p, lift);
+    /* the differences p - v_i, their dot products and the weighted sum each
+     * round: a bound of the same form as a hit point's, on the larger numbers */
+    *err += real_gamma(16) * (mag + v3_max_comp(v3_abs(lift))) + real_gamma(2) * v3_max_comp(v3_abs(q));
+    return q;
+}
+
+void trace_surface(const Scene *s, const Ray *r, const Hit *h, Surface *out)
+{
+    memset(out, 0, sizeof *out);
+    out->mat = &fallback_material;
+    /* a smooth triangle's corners and vertex normals, for the terminator
+     * point (model space for an instance) */
+    vec3 tv[3], tn[3], pm = v3_splat(0);
+    const Instance *inst = NULL;
+    int model_tex = 0;
+    switch (h->kind) {
+    case HIT_SPHERE: {
+        const Sphere *sp = &s->spheres[h->index];
+        vec3 p = ray_at(r, h->t);
+        out->ng = v3_norm(v3_sub(p, sp->centre));
+        /* re-project onto the surface: removes the error of o + t*d */
+        out->p = v3_madd(sp->centre, out->ng, sp->radius);
+        /* r * n carries the normalisation's error; adding the centre rounds once more */
+        out->err = real_gamma(6) * sp->radius + real_gamma(2) * real_max(v3_max_comp(v3_abs(sp->centre)), v3_max_comp(v3_abs(out->p)));
+        out->ns = out->ng;
+        if (scene_uses(s, FEAT_TEXTURES)) {
+            /* spherical mapping: u the longitude from +z towards +x, v the
+             * latitude from the bottom pole (0) to the top (1) */
+            vec3 n = out->ng;
+            out->u = R(0.5) + atan2(n.x, n.z) / (R(2) * REAL_PI);
+            out->v = R(0.5) + asin(real_clamp(n.y, R(-1), R(1))) / REAL_PI;
+            out->has_uv = 1;
+        }
+        out->mat = &s->materials[sp->material];
+        out->object = h->index;
+        break;
+    }
+    case HIT_PLANE: {
+        const Plane *pl = &s->planes[h->index];
+        vec3 p = ray_at(r, h->t);
+        /* project onto the plane for the same reason */
+        out->p = v3_madd(p, pl->unit, v3_dot(v3_sub(pl->point, p), pl->unit));
+        out->err = real_gamma(4) * real_max(v3_max_comp(v3_abs(out->p)), v3_max_comp(v3_abs(pl->point)));
+        out->ng = out->ns = pl->unit;
+        if (scene_uses(s, FEAT_TEXTURES)) {
+            vec3 d = v3_sub(out->p, pl->point);
+            out->u = v3_dot(d, pl->tu);
+            out->v = v3_dot(d, pl->tv);
+            out->has_uv = 1;
+        }
+        out->mat = &s->materials[pl->material];
+        out->object = s->sphere_count + h->index;
+        break;
+    }
+    case HIT_TRIANGLE: {
+        const Tri *t = &s->tris[h->index];
+        const TriAttr *a = &s->tri_attrs[h->index];
+        vec3 v0 = tri_vertex(t, 0), v1 = tri_vertex(t, 1), v2 = tri_vertex(t, 2);
+        out->p = trace_triangle_point(v0, v1, v2, h->b1, h->b2, &out->err);
+        out->ng = v3_norm(v3_cross(v3_sub(v1, v0), v3_sub(v2, v0)));
+        out->ns = out->ng;
+        if (scene_uses(s, FEAT_SMOOTH) && a->smooth) {
+            out->ns = v3_norm(bary(a->n[0], a->n[1], a->n[2], h->b1, h->b2));
+            out->smooth = 1;
+            tv[0] = v0, tv[1] = v1, tv[2] = v2;
+            memcpy(tn, a->n, sizeof tn);
+        }
+        if (scene_uses(s, FEAT_TEXTURES) && a->textured) {
+            out->u = (R(1) - h->b1 - h->b2) * a->uv[0] + h->b1 * a->uv[2] + h->b2 * a->uv[4];
+            out->v = (R(1) - h->b1 - h->b2) * a->uv[1] + h->b1 * a->uv[3] + h->b2 * a->uv[5];
+            out->has_uv = 1;
+        }
+        out->mat = &s->materials[a->material];
+        /* scene triangles of one material form one surface (a quad is two triangles) */
+        out->object = s->sphere_count + s->plane_count + a->material;
+        break;
+    }
+    case HIT_INSTANCE: {
+        const Instance *in = &s->instances[h->index];
+        const Model *m = s->models[in->model];
+        const Tri *t = &m->tris[h->sub];
+        vec3 v0 = tri_vertex(t, 0), v1 = tri_vertex(t, 1), v2 = tri_vertex(t, 2);
+        pm = bary(v0, v1, v2, h->b1, h->b2);
+        out->p = v3_add(v3_scale(m3_apply(&in->rot, pm), in->scale), in->translate);
+        /* the model-space point's error carried through rotation and scale, plus
+         * the rounding of adding the translation (and of subtracting it again
+         * when a new ray goes back into model space) */
+        real vmax = v3_max_comp(v3_max(v3_abs(v0), v3_max(v3_abs(v1), v3_abs(v2))));
+        out->err = real_gamma(10) * R(3) * in->scale * vmax +
+                   real_gamma(2) * real_max(v3_max_comp(v3_abs(in->translate)), v3_max_comp(v3_abs(out->p)));
+        /* uniform scale: normals transform by the rotation alone */
+        out->ng = v3_norm(m3_apply(&in->rot, v3_cross(v3_sub(v1, v0), v3_sub(v2, v0))));
+        if (scene_uses(s, FEAT_SMOOTH) && m->normals) {
+            const vec3 *n = &m->normals[3 * h->sub];
+            out->ns = v3_norm(m3_apply(&in->rot, bary(n[0], n[1], n[2], h->b1, h->b2)));
+            out->smooth = 1;
+            tv[0] = v0, tv[1] = v1, tv[2] = v2;
+            memcpy(tn, n, sizeof tn);
+            inst = in;
+        } else {
+            out->ns = out->ng;
+        }
+        if (scene_uses(s, FEAT_TEXTURES) && m->uvs) {
+            const real *uv = &m->uvs[6 * h->sub];
+            out->u = (R(1) - h->b1 - h->b2) * uv[0] + h->b1 * uv[2] + h->b2 * uv[4];
+            out->v = (R(1) - h->b1 - h->b2) * uv[1] + h->b1 * uv[3] + h->b2 * uv[5];
+            out->has_uv = 1;
+        }
+        if (scene_uses(s, FEAT_COLOURS) && m->colours && in->material < 0) {
+            const vec3 *c = &m->colours[3 * h->sub];
+            out->colour = bary(c[0], c[1], c[2], h->b1, h->b2);
+            out->has_colour = 1;
+        }
+        if (in->material >= 0)
+            out->mat = &s->materials[in->material];
+        else if (m->mat_ids) {
+            out->mat = &m->materials[m->mat_ids[h->sub]];
+            /* a model's own material names the model's own texture */
+            out->tex = out->mat->texture >= 0 ? m->textures[out->mat->texture] : NULL;
+            model_tex = 1;
+        } else if (s->material_count)
+            out->mat = &s->materials[0];
+        out->object = s->sphere_count + s->plane_count + s->material_count + h->index;
+        break;
+    }
+    default:
+        break;
+    }
+    if (!model_tex)
+        out->tex = out->mat->texture >= 0 ? s->textures[out->mat->texture] : NULL;
+    /* face the viewer: all surfaces are two-sided */
+    if (v3_dot(out->ng, r->dir) > R(0))
+        out->ng = v3_neg(out->ng);
+    int flip = v3_dot(out->ns, out->ng) < R(0);
+    if (flip)
+        out->ns = v3_neg(out->ns);
+    out->ps = out->p;
+    out->ps_err = out->err;
+    if (!out->smooth)
+        return;
+    /* the vertex normals face the side shading (and shadow rays) use */
+    for (int i = 0; i < 3 && flip; i++)
+        tn[i] = v3_neg(tn[i]);
+    if (!inst) {
+        out->ps = trace_terminator_point(out->p, tv, tn, h->b1, h->b2, &out->ps_err);
+        return;
+    }
+    /* an instance: lifted in model space, carried to the world as p is */
+    real e = 0;
+    vec3 lifted = trace_terminator_point(pm, tv, tn, h->b1, h->b2, &e);
+    out->ps = v3_add(v3_scale(m3_apply(&inst->rot, lifted), inst->scale), inst->translate);
+    out->ps_err = out->err + e * inst->scale * (R(1) + real_gamma(8)) +
+                  real_gamma(10) * R(3) * inst->scale * v3_max_comp(v3_abs(lifted)) +
+                  real_gamma(2) * v3_max_comp(v3_abs(out->ps));
+}
+
+vec3 trace_offset_origin(vec3 p, vec3 n, real err)
+{
+    /* distance along n that covers the error box of p: |n| . err (PBRT 3.9.5) */
+    real d = err * (fabs(n.x) + fabs(n.y) + fabs(n.z));
+    vec3 o = v3_madd(p, n, d);
+    for (int a = 0; a < 3; a++) {
+        if (n.e[a] > R(0))
+            o.e[a] = nextafter(o.e[a], REAL_INF);
+        else if (n.e[a] < R(0))
+            o.e[a] = nextafter(o.e[a], -REAL_INF);
+    }
+    return o;
+}

@@ -1,0 +1,76 @@
+/* trace.h - rays against a whole prepared scene: closest hit, any hit, and
+ * the surface (point, normals, texture coordinates, material) at a hit. */
+#ifndef LANRAY_TRACE_H
+#define LANRAY_TRACE_H
+
+#include "scene/scene.h"
+
+typedef enum { HIT_NONE = 0, HIT_SPHERE, HIT_PLANE, HIT_TRIANGLE, HIT_INSTANCE } HitKind;
+
+typedef struct {
+    real t, b1, b2;   /* distance; barycentrics of vertices 1 and 2 for triangles */
+    HitKind kind;
+    uint32_t index;   /* sphere, plane, scene triangle or instance */
+    uint32_t sub;     /* triangle inside the instance's model */
+} Hit;
+
+typedef struct {
+    vec3 p;           /* hit point */
+    vec3 ng;          /* geometric normal, unit, facing the incoming ray */
+    vec3 ns;          /* shading normal, unit, same side as ng */
+    real u, v;        /* texture coordinates (when has_uv) */
+    int has_uv;
+    const Material *mat;
+    const Texture *tex; /* the material's texture (the scene's, or a model's own), or NULL */
+    vec3 colour;      /* a model's vertex colour here, the diffuse colour in place of mat->kd (when has_colour) */
+    int has_colour;
+    uint32_t object;  /* identifies the surface for adaptive anti-aliasing */
+    real err;         /* bound on the rounding error of each coordinate of p */
+    vec3 ps;          /* where shadow rays start (before trace_offset_origin): p,
+                       * or on a smooth triangle the point lifted onto the surface
+                       * its vertex normals describe (trace_terminator_point) */
+    real ps_err;      /* the same bound for ps */
+    int smooth;       /* ns comes from vertex normals */
+} Surface;
+
+/* The closest hit: the smallest t, ties decided by a fixed rule (trace.c),
+ * so that every traversal order and every SIMD path finds the same one. */
+int trace_closest(const Scene *s, const Ray *r, Hit *hit);
+/* n <= TRACE_PACKET rays at once: each gets exactly trace_closest's hit
+ * (kind HIT_NONE for a miss); coherent rays (a line of pixels, the
+ * sub-samples of a pixel) share the walk down the trees. */
+#define TRACE_PACKET 8
+void trace_closest_packet(const Scene *s, const Ray *rays, int n, Hit *hits);
+/* The mask of the n rays that are blocked before their tmax (trace_occluded each). */
+uint32_t trace_occluded_packet(const Scene *s, const Ray *rays, int n, const real *tmax);
+/* The point at barycentrics (b1, b2) of triangle v0 v1 v2, as trace_surface
+ * computes a scene triangle's hit point, and the bound on the rounding error
+ * of each of its coordinates (for trace_offset_origin). */
+vec3 trace_triangle_point(vec3 v0, vec3 v1, vec3 v2, real b1, real b2, real *err);
+int trace_occluded(const Scene *s, const Ray *r, real tmax);
+void trace_surface(const Scene *s, const Ray *r, const Hit *hit, Surface *out);
+
+/* Moves p off the surface along n (the side the new ray leaves on) by just
+ * more than the rounding error of p, so that the new ray cannot hit the
+ * surface it starts on, whatever the scale or position of the scene.  Like
+ * Wächter & Binder ("A Fast and Robust Method for Avoiding
+ * Self-Intersection", Ray Tracing Gems ch. 6) the offset grows with the
+ * magnitude of the numbers involved rather than being a fixed epsilon; its
+ * size is the error bound `err` of the primitive's hit point (PBRT 3.9), and
+ * each coordinate is then rounded away from the surface (nextafter) so the
+ * addition cannot land back on it. */
+vec3 trace_offset_origin(vec3 p, vec3 n, real err);
+
+/* The shadow terminator (Hanika, "Hacking the Shadow Terminator", Ray
+ * Tracing Gems II ch. 4, 2021): a coarse mesh with smooth vertex normals is
+ * shaded as a curved surface but shadows itself as the flat triangles it is,
+ * so near the boundary between light and dark the triangles' own neighbours
+ * cut triangle-shaped dark patches into what the normals light.  A shadow
+ * ray starts instead from p moved onto the curved surface the normals
+ * describe: p is projected onto the tangent plane of each vertex that it
+ * lies below (p - min(0, (p - v_i).n_i) n_i), and the three results are
+ * blended with the barycentrics (b0, b1, b2).  n must face the side the
+ * shadow rays leave on.  *err grows by the rounding of the lift. */
+vec3 trace_terminator_point(vec3 p, const vec3 v[3], const vec3 n[3], real b1, real b2, real *err);
+
+#endif
