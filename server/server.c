@@ -24,6 +24,8 @@
 #include "base/timer.h"
 #include "net/wire.h"
 
+#include "measure.h"
+
 #define MAX_CLIENTS 1024
 
 typedef enum { CLIENT_HANDSHAKE, CLIENT_ACTIVE } ClientState;
@@ -40,9 +42,7 @@ typedef struct {
     uint8_t *asset_sent; /* per server asset */
     uint64_t segments, pixels, duplicates;
     uint64_t busy_us;
-    double last_data;       /* when its previous result arrived */
-    uint32_t last_data_frame;
-    int was_full;           /* it held two segments when that result arrived */
+    MeasureClient mc;       /* its results' timing, for the segment overhead */
     int closing;
 } Client;
 
@@ -63,36 +63,19 @@ struct Server {
     Sink blob;        /* the serialised scene of the current frame */
     /* finished clients' statistics, for the summary */
     uint64_t gone_segments, gone_pixels, gone_bytes;
-    /* for the summary line and the automatic segment size */
-    uint64_t total_busy_us, frame_pixels_us;
-    double first_frame_start, last_frame_end;
-    uint32_t frames_done, clients_seen_max;
     int auto_segment;
-    uint64_t asset_bytes, measured_bytes_base, dup_base, seg_base;
-    double overhead_us, gap_sum_us; /* per-segment overhead, for the automatic size */
-    int overhead_known;             /* overhead_us has been measured */
-    uint32_t gap_samples;
-    /* this thread's CPU time per DATA packet handled (and its COMPUTE) */
-    double frame_cpu, packet_cpu_us, measured_cpu;
-    int frame_sent_assets; /* this frame's CPU includes sending assets */
-    uint64_t frame_packets, measured_packets;
-    /* a frame's turnaround: from the end of the one before to a client
-     * starting to render it (the server encoding and sending the scene, the
-     * client decoding it); per client, over the measured frames */
-    double turn_sum_us;
-    uint64_t turn_samples;
+    Measure m; /* for the summary line and the automatic segment size */
 };
 
 /* The per-segment overhead that sched_auto_lines sizes segments by is
- * measured: for a client that was kept busy, the time between two of its
- * results minus the render time it reports (an average over the previous
- * frame; AUTO_OVERHEAD_US until there is one), plus the CPU that moving a
- * segment's packets costs: the server's own, and as much again for the
- * client's network thread, the mirror image of it (one packet in, one out;
- * measured 33 us against the server's 22 us on a 2-core VM).  That CPU is taken from rendering wherever all cores are
- * busy, which is where the segment size matters, and the gap does not show
- * it: it lands in render times. */
-#define AUTO_OVERHEAD_US 300.0
+ * measured (measure.h): for a client that was kept busy, the time between
+ * two of its results minus the render time it reports, plus the CPU that
+ * moving a segment's packets costs: the server's own, and as much again for
+ * the client's network thread, the mirror image of it (one packet in, one
+ * out; measured 33 us against the server's 22 us on a 2-core VM).  That CPU
+ * is taken from rendering wherever all cores are busy, which is where the
+ * segment size matters, and the gap does not show it: it lands in render
+ * times. */
 
 static int build_assets(Server *s, Err *err)
 {
@@ -130,6 +113,7 @@ Server *server_create(const ServerConfig *cfg, Scene *scene, Err *err)
     s->listen_fd = -1;
     s->next_id = 1;
     s->auto_segment = cfg->segment_lines == 0;
+    s->m.warmup = cfg->warmup;
     SchedConfig sc = {(uint32_t)cfg->width, (uint32_t)cfg->height, cfg->segment_lines ? cfg->segment_lines : 1, cfg->tail,
                       (uint32_t)(cfg->width / 4 > 0 ? cfg->width / 4 : 1)};
     s->sched = sched_create(&sc);
@@ -251,8 +235,7 @@ static void send_update(Server *s, Client *c)
             msg_encode_asset(&a, &out);
             send_or_drop(s, c, &out);
             c->asset_sent[i] = 1;
-            s->frame_sent_assets = 1;
-            s->asset_bytes += PROTO_HEADER + out.head_len + out.tail_len;
+            measure_asset_sent(&s->m, PROTO_HEADER + out.head_len + out.tail_len);
         }
     MsgUpdate u = {s->frame, (uint32_t)s->cfg.width, (uint32_t)s->cfg.height, 0, {{0, 0}}, s->blob.data, s->blob.len};
     for (int k = 0; k < 2; k++)
@@ -262,6 +245,15 @@ static void send_update(Server *s, Client *c)
     msg_encode_update(&u, &out);
     send_or_drop(s, c, &out);
     c->frame_sent = s->frame;
+}
+
+/* Bytes in and out over every connection so far, closed ones included. */
+static uint64_t server_bytes(const Server *s)
+{
+    uint64_t bytes = s->gone_bytes;
+    for (uint32_t i = 0; i < s->nclients; i++)
+        bytes += s->clients[i]->conn.bytes_in + s->clients[i]->conn.bytes_out;
+    return bytes;
 }
 
 static int start_frame(Server *s, Err *err)
@@ -276,35 +268,12 @@ static int start_frame(Server *s, Err *err)
         return -1;
     s->frame++;
     s->in_frame = 1;
-    if (s->frames_done == s->cfg.warmup) {
-        /* the measured frames start here: statistics so far were warm-up */
-        s->first_frame_start = timer_now();
-        s->total_busy_us = 0;
-        s->asset_bytes = 0;
-        s->measured_bytes_base = 0;
-        for (uint32_t i = 0; i < s->nclients; i++)
-            s->measured_bytes_base += s->clients[i]->conn.bytes_in + s->clients[i]->conn.bytes_out;
-        s->measured_bytes_base += s->gone_bytes;
-        s->dup_base = sched_stats(s->sched).duplicate_pixels;
-        s->seg_base = sched_stats(s->sched).segments;
-    }
     uint32_t n = server_client_count(s);
-    if (n > s->clients_seen_max)
-        s->clients_seen_max = n;
-    if (s->auto_segment) {
-        if (s->gap_samples >= 4) { /* measured overhead, smoothed over frames */
-            double m = s->gap_sum_us / s->gap_samples;
-            s->overhead_us = s->overhead_known ? 0.5 * s->overhead_us + 0.5 * m : m;
-            s->overhead_known = 1;
-        }
-        double o = s->overhead_known ? fmax(s->overhead_us, 0.0) + 2 * s->packet_cpu_us : AUTO_OVERHEAD_US;
-        if (o < 1)
-            o = 1;
-        sched_set_segment_lines(s->sched, sched_auto_lines((double)s->frame_pixels_us, o, (uint32_t)s->cfg.height, n));
-    }
-    s->frame_pixels_us = 0;
-    s->gap_sum_us = 0;
-    s->gap_samples = 0;
+    double work;
+    double o = measure_frame_start(&s->m, timer_now(), n, server_bytes(s), sched_stats(s->sched).duplicate_pixels,
+                                   sched_stats(s->sched).segments, s->auto_segment, &work);
+    if (s->auto_segment)
+        sched_set_segment_lines(s->sched, sched_auto_lines(work, o, (uint32_t)s->cfg.height, n));
     sched_begin_frame(s->sched, s->frame);
     sched_set_clients(s->sched, server_client_count(s));
     for (uint32_t i = 0; i < s->nclients; i++)
@@ -418,30 +387,7 @@ static void on_data(Server *s, Client *c)
     const uint32_t frame = d.frame, render_us = d.render_us;
     double now = timer_now();
     c->last_result = now;
-    /* overhead sample: a client that still held another segment went straight on to it */
-    if (c->was_full && c->last_data_frame == frame && frame == s->frame) {
-        double gap = (now - c->last_data) * 1e6 - render_us;
-        /* negative too: a result sent late makes one gap longer and the
-         * next one shorter by as much, and the mean stays right */
-        if (fabs(gap) < 1e6) {
-            s->gap_sum_us += gap;
-            s->gap_samples++;
-        }
-    }
-    /* turnaround sample: the client's first result of a measured frame,
-     * which it began rendering render_us us ago */
-    if (c->last_data_frame != frame && frame == s->frame && s->frames_done >= s->cfg.warmup &&
-        s->frames_done > 0 && !s->frame_sent_assets) {
-        double turn = (now - s->last_frame_end) * 1e6 - render_us;
-        if (turn >= 0 && turn < 1e6) {
-            s->turn_sum_us += turn;
-            s->turn_samples++;
-        }
-    }
-    s->frame_packets++;
-    c->was_full = sched_held(s->sched, c->id) >= 2;
-    c->last_data = now;
-    c->last_data_frame = frame;
+    measure_data(&s->m, &c->mc, now, frame, s->frame, render_us, sched_held(s->sched, c->id));
     SchedResult r = sched_complete(s->sched, c->id, frame, seg);
     if (r == SCHED_UNKNOWN) {
         char why[160];
@@ -449,16 +395,13 @@ static void on_data(Server *s, Client *c)
         drop(s, c, why);
         return;
     }
-    if (r != SCHED_STALE) {
-        /* time spent rendering counts whether or not this copy won */
+    measure_result(&s->m, render_us, r != SCHED_STALE, r == SCHED_ACCEPT);
+    if (r != SCHED_STALE) /* time spent rendering counts whether or not this copy won */
         c->busy_us += render_us;
-        s->total_busy_us += render_us;
-    }
     if (r == SCHED_ACCEPT) {
         memcpy(s->pixels + (size_t)seg.first * 3, d.pixels, (size_t)seg.count * 3);
         c->segments++;
         c->pixels += seg.count;
-        s->frame_pixels_us += render_us;
     } else if (r == SCHED_DUPLICATE) {
         c->duplicates += seg.count;
     }
@@ -576,29 +519,10 @@ int server_step(Server *s, int timeout_ms, FrameDoneFn done, void *ctx, Err *err
             drop(s, c, e.msg);
     }
     housekeeping(s);
-    s->frame_cpu += timer_thread_cpu() - cpu0;
+    measure_cpu(&s->m, timer_thread_cpu() - cpu0);
     if (s->in_frame && sched_frame_done(s->sched)) {
         s->in_frame = 0;
-        s->frames_done++;
-        s->last_frame_end = timer_now();
-        /* smoothed over frames, as the overhead; not from a frame that sent
-         * assets, whose encoding and copying (12 ms per packet with 8 new
-         * clients) would take the smoothing most of a benchmark to forget;
-         * its gaps go too (clients still loading them: -1.4 ms on average) */
-        if (s->frame_sent_assets) {
-            s->gap_sum_us = 0;
-            s->gap_samples = 0;
-        } else if (s->frame_packets) {
-            double per = s->frame_cpu * 1e6 / (double)s->frame_packets;
-            s->packet_cpu_us = s->packet_cpu_us > 0 ? 0.5 * s->packet_cpu_us + 0.5 * per : per;
-        }
-        if (s->frames_done > s->cfg.warmup) {
-            s->measured_cpu += s->frame_cpu;
-            s->measured_packets += s->frame_packets;
-        }
-        s->frame_cpu = 0;
-        s->frame_packets = 0;
-        s->frame_sent_assets = 0;
+        measure_frame_end(&s->m, timer_now());
         if (done)
             done(ctx, s->frame, s->pixels);
     }
@@ -609,18 +533,17 @@ uint32_t server_segment_lines(const Server *s) { return sched_config(s->sched)->
 
 void server_print_summary(const Server *s, int machine)
 {
-    uint64_t bytes = s->gone_bytes;
-    for (uint32_t i = 0; i < s->nclients; i++)
-        bytes += s->clients[i]->conn.bytes_in + s->clients[i]->conn.bytes_out;
-    uint32_t frames = s->frames_done > s->cfg.warmup ? s->frames_done - s->cfg.warmup : 0;
-    double wall = frames ? s->last_frame_end - s->first_frame_start : 0;
-    double busy = (double)s->total_busy_us * 1e-6;
-    uint32_t n = s->clients_seen_max;
+    const Measure *m = &s->m;
+    uint64_t bytes = server_bytes(s);
+    uint32_t frames = m->frames_done > s->cfg.warmup ? m->frames_done - s->cfg.warmup : 0;
+    double wall = frames ? m->last_frame_end - m->first_frame_start : 0;
+    double busy = (double)m->total_busy_us * 1e-6;
+    uint32_t n = m->clients_seen_max;
     SchedStats st = sched_stats(s->sched);
     double fr = frames ? frames : 1;
-    double dup = (double)(st.duplicate_pixels - s->dup_base) / s->cfg.width / fr;
-    double per_frame = (double)(bytes - s->measured_bytes_base - s->asset_bytes) / fr;
-    double segs = (double)(st.segments - s->seg_base) / fr;
+    double dup = (double)(st.duplicate_pixels - m->dup_base) / s->cfg.width / fr;
+    double per_frame = (double)(bytes - m->measured_bytes_base - m->asset_bytes) / fr;
+    double segs = (double)(st.segments - m->seg_base) / fr;
     printf("%u frames%s in %.3f s: %.2f fps with %u client%s (busy %.0f%% of their time)\n", frames,
            s->cfg.warmup ? " after the warm-up" : "", wall, wall > 0 ? frames / wall : 0.0, n, n == 1 ? "" : "s",
            wall > 0 && n ? 100 * busy / (n * wall) : 0.0);
@@ -632,9 +555,9 @@ void server_print_summary(const Server *s, int machine)
            "dup_lines_per_frame=%.2f bytes_per_frame=%.0f segments_per_frame=%.1f segment_lines=%u overhead_us=%.0f packet_cpu_us=%.1f "
            "turnaround_us=%.0f\n",
            frames, wall, wall > 0 ? frames / wall : 0.0, n, busy, wall > 0 && n ? busy / (n * wall) : 0.0, n * wall - busy,
-           dup, per_frame, segs, server_segment_lines(s), s->overhead_us,
-           s->measured_packets ? s->measured_cpu * 1e6 / (double)s->measured_packets : 0.0,
-           s->turn_samples ? s->turn_sum_us / (double)s->turn_samples : 0.0);
+           dup, per_frame, segs, server_segment_lines(s), m->overhead_us,
+           m->measured_packets ? m->measured_cpu * 1e6 / (double)m->measured_packets : 0.0,
+           m->turn_samples ? m->turn_sum_us / (double)m->turn_samples : 0.0);
 }
 
 void server_print_stats(const Server *s)

@@ -1,7 +1,8 @@
 /* cursor.h - bounds-checked reading and growable writing of binary data.
  *
- * Every parser of outside bytes (.tmd files, later packets and serialised
- * scenes) reads through a Cursor: each get checks the bytes left first, and
+ * The binary parsers of outside bytes (.tmd files, serialised scenes,
+ * texture assets, the importer's answer) read through a Cursor; packet
+ * bodies go through msg.c's field tables.  Each get checks the bytes left first, and
  * after the first failure every further get fails too, so a parser may read a
  * whole record and test `cur.failed` once.  Values are in host byte order;
  * the formats carry a byte-order mark to detect foreign files. */

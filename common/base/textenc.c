@@ -1,6 +1,8 @@
 /* textenc.c - see textenc.h. */
 #include "base/textenc.h"
 
+#include "base/fileio.h"
+
 #include <stdint.h>
 #include <stdlib.h>
 
@@ -71,5 +73,17 @@ int text_to_utf8(char **data, size_t *len, const char *name, Err *err)
     free(*data);
     *data = (char *)out;
     *len = o;
+    return 0;
+}
+
+int text_read_file(const char *path, size_t max_bytes, char **data, size_t *len, Err *err)
+{
+    if (file_read_all(path, max_bytes, data, len, err))
+        return -1;
+    if (text_to_utf8(data, len, path, err)) {
+        free(*data);
+        *data = NULL;
+        return -1;
+    }
     return 0;
 }

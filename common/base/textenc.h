@@ -20,4 +20,8 @@ TextEncoding text_encoding(const char *data, size_t len);
  * U+FFFD and an odd last byte is dropped.  `name` labels errors. */
 int text_to_utf8(char **data, size_t *len, const char *name, Err *err);
 
+/* A whole text file (at most max_bytes), decoded to UTF-8 as above,
+ * NUL-terminated, into *data (the caller frees it). */
+int text_read_file(const char *path, size_t max_bytes, char **data, size_t *len, Err *err);
+
 #endif

@@ -207,12 +207,8 @@ int mtl_read(MtlLib *lib, const char *path, Err *err)
 {
     char *text;
     size_t len;
-    if (file_read_all(path, MTL_MAX_BYTES, &text, &len, err))
+    if (text_read_file(path, MTL_MAX_BYTES, &text, &len, err))
         return -1;
-    if (text_to_utf8(&text, &len, path, err)) {
-        free(text);
-        return -1;
-    }
     int rc = mtl_parse(lib, text, len, path, err);
     free(text);
     return rc;

@@ -682,7 +682,9 @@ int obj_parse(char *text, size_t len, const char *name, const char *dir, const O
                     err_set(err, "%s:%d: too many materials or out of memory", name, lx.line);
                     goto done;
                 }
-                snprintf(o.used[o.nused].name, MTL_NAME_MAX, "%s", rest);
+                size_t nlen = strnlen(rest, MTL_NAME_MAX - 1); /* longer names are cut, as the library's */
+                memcpy(o.used[o.nused].name, rest, nlen);
+                o.used[o.nused].name[nlen] = 0;
                 o.used[o.nused].line = lx.line;
                 mat = (int32_t)o.nused++;
             }
@@ -708,12 +710,8 @@ int obj_read(const char *path, const ObjOptions *opt, Mesh *out, ObjStats *stats
 {
     char *text;
     size_t len;
-    if (file_read_all(path, OBJ_MAX_BYTES, &text, &len, err))
+    if (text_read_file(path, OBJ_MAX_BYTES, &text, &len, err))
         return -1;
-    if (text_to_utf8(&text, &len, path, err)) {
-        free(text);
-        return -1;
-    }
     char dir[4096];
     file_dirname(path, dir, sizeof dir);
     int rc = obj_parse(text, len, path, dir, opt, out, stats, err);

@@ -1,7 +1,7 @@
 /* scene.h - everything a frame is rendered from.
  *
  * A Scene is filled through the scene_add_* calls (by the scene-file parser,
- * the built-in default scene or, later, the wire decoder), then
+ * the built-in default scene or the wire decoder), then
  * scene_prepare() derives what rendering needs: instance transforms, the
  * top-level BVH over spheres, triangles and model instances (planes are
  * unbounded and tested apart), and the feature flags that let the inner loop

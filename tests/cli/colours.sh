@@ -45,9 +45,5 @@ render teal.scene teal.png
 got=$(python3 tests/tools/pngpixel.py "$dir/teal.png" 16 16 48 48 | tr '\n' '|')
 [ "$got" = "0 188 188|0 188 188|" ] || fail "instance material over vertex colours: $got"
 # distributed: the coloured model through a server and a client, bit for bit
-start_server col "$dir/view.scene" --port 0 --width 64 --height 64 --frames 1 --wait-clients 1 --verify "$dir/obj.png" --out "$dir/f"
-"$BIN/lanray-client" "127.0.0.1:$port" --threads 2 --once --quiet 2>/dev/null &
-pids+=("$!")
-for _ in $(seq 300); do kill -0 "$server_pid" 2>/dev/null || break; sleep 0.05; done
-wait "$server_pid" || fail "the distributed frame with vertex colours differs from lanray-render's (server exit $?): $(tail -3 "$dir/col.err")"
+verify_distributed col "$dir/view.scene" "$dir/obj.png" "with vertex colours"
 echo "colours: vertex colours from OBJ and PLY, interpolated, overridden by an instance material, local and distributed"

@@ -51,9 +51,5 @@ grep -q "format version 4, this build reads versions 1 to 3" <<<"$err" || fail "
 # distributed: the textured model through a server and a client, bit for bit
 cp "$dir/quad-png.tmd" "$dir/quad.tmd"
 "$BIN/lanray-render" "$dir/view.scene" --width 64 --height 64 -o "$dir/ref.png" --quiet >/dev/null 2>&1 || fail "reference render"
-start_server tex "$dir/view.scene" --port 0 --width 64 --height 64 --frames 1 --wait-clients 1 --verify "$dir/ref.png" --out "$dir/f"
-"$BIN/lanray-client" "127.0.0.1:$port" --threads 2 --once --quiet 2>/dev/null &
-pids+=("$!")
-for _ in $(seq 300); do kill -0 "$server_pid" 2>/dev/null || break; sleep 0.05; done
-wait "$server_pid" || fail "the distributed textured frame differs from lanray-render's (server exit $?): $(tail -3 "$dir/tex.err")"
+verify_distributed tex "$dir/view.scene" "$dir/ref.png" "of the textured model"
 echo "textured: PNG and JPEG textures in .tmd models, placed and missing, local and distributed"

@@ -1,8 +1,9 @@
 # server-lib.sh - helpers for the integration tests that run real servers
-# and clients (sourced by tests/cli/distributed.sh and faults.sh).
+# and clients (sourced by tests/cli/*.sh).
 # Provides: $dir (a scratch directory), pids (killed on exit), fail,
 # start_server NAME ARGS (sets $port and $server_pid), run_prog (how
-# start_server runs the server; a test may redefine it).
+# start_server runs the server; a test may redefine it), verify_distributed
+# (one frame through a server and a client, checked against a reference).
 BIN=${BIN:-bin}
 dir=$(mktemp -d)
 pids=()
@@ -29,4 +30,15 @@ start_server() {
         sleep 0.05
     done
     fail "$name did not start"
+}
+# verify_distributed NAME SCENE REF.png WHAT: a server with one client renders
+# one frame of SCENE (64x64) and checks it against REF.png bit for bit; fails
+# naming WHAT when it differs
+verify_distributed() {
+    local name=$1 scene=$2 ref=$3 what=$4
+    start_server "$name" "$scene" --port 0 --width 64 --height 64 --frames 1 --wait-clients 1 --verify "$ref" --out "$dir/f-$name"
+    "$BIN/lanray-client" "127.0.0.1:$port" --threads 2 --once --quiet 2>/dev/null &
+    pids+=("$!")
+    for _ in $(seq 300); do kill -0 "$server_pid" 2>/dev/null || break; sleep 0.05; done
+    wait "$server_pid" || fail "the distributed frame $what differs from lanray-render's (server exit $?): $(tail -3 "$dir/$name.err")"
 }
