@@ -13,6 +13,12 @@
 
 #include <cmocka.h>
 
+/* cmocka's macro casts its arguments unparenthesised, so (float)a / b
+ * promotes back to double in a double build (-Wdouble-promotion) */
+#undef assert_float_equal
+#define assert_float_equal(a, b, epsilon) \
+    _assert_float_equal((float)(a), (float)(b), (float)(epsilon), __FILE__, __LINE__)
+
 #include "base/vec.h"
 
 /* Deterministic xorshift generator: tests must be repeatable. */

@@ -311,7 +311,7 @@ static void mst_equals_naive_greedy(void **state)
         qsort(naive, N - 1, sizeof *naive, cmp_real);
         qsort(ours, N - 1, sizeof *ours, cmp_real);
         for (int i = 0; i < N - 1; i++)
-            assert_float_equal(ours[i], naive[i], R(1e-4) * naive[i]);
+            assert_float_equal(ours[i], naive[i], (R(1e-4) * naive[i]));
         bvh_destroy(&bvh);
     }
 }

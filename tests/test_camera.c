@@ -90,7 +90,7 @@ static void frame_rays_span_the_field_of_view(void **state)
     /* top row is up, bottom row is down; square pixels: vertical extent is 480/640 of horizontal */
     vec3 top = camera_dir(&fr, 320, 0), bottom = camera_dir(&fr, 320, 480);
     assert_true(v3_dot(top, u) > 0 && v3_dot(bottom, u) < 0);
-    assert_float_equal(v3_dot(top, u) / v3_dot(camera_dir(&fr, 640, 240), r), R(480.0 / 640.0), EPS);
+    assert_float_equal((v3_dot(top, u) / v3_dot(camera_dir(&fr, 640, 240), r)), R(480.0 / 640.0), EPS);
     /* 1x1 frames work: the single pixel centre looks straight ahead */
     CameraFrame one = camera_frame(&c, 1, 1);
     assert_vec_near(v3_norm(camera_dir(&one, R(0.5), R(0.5))), f, EPS);

@@ -229,7 +229,7 @@ static void parallel_and_grazing_rays(void **state)
     assert_false(plane_intersect(&r, v3(0, 0, 0), v3(0, 1, 0), REAL_INF, &t));
     r = ray_make(v3(0, 1, 0), v3(1, R(-1e-6), 0), 0, REAL_INF);
     assert_true(plane_intersect(&r, v3(0, 0, 0), v3(0, 1, 0), REAL_INF, &t));
-    assert_float_equal(t / R(1e6), 1, R(1e-4));
+    assert_float_equal((t / R(1e6)), 1, R(1e-4));
     /* a unit cube and a flat 16x16 grid at y = 0 */
     Mesh mesh;
     mesh_init(&mesh, 0, NULL);
