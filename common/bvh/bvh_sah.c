@@ -52,7 +52,7 @@ typedef struct {
     uint32_t count;
 } Bin;
 
-static int bin_of(real c, real lo, real scale)
+static inline int bin_of(real c, real lo, real scale)
 {
     /* extreme coordinates can make this inf * 0 = NaN: clamp before converting */
     real f = (c - lo) * scale;
@@ -147,6 +147,57 @@ static void bin_prims(const Box4 *refs, uint32_t first, uint32_t count, const re
         }
     }
 #endif
+}
+
+/* Moves the references of [first, first + count) whose centre falls in a
+ * bin up to `split` of `axis` before the others, growing cl and cr by the
+ * centres of each side; returns where the second side starts.  In SSE on
+ * x86-64 float builds, with bin_prims' arithmetic: the same bins, so the
+ * same partition. */
+static uint32_t partition(Box4 *refs, uint32_t first, uint32_t count, int axis, const real lo[3], const real scale[3],
+                          int split, Box4 *cl, Box4 *cr)
+{
+    uint32_t i = first, j = first + count;
+#if defined(__x86_64__) && !defined(LANRAY_DOUBLE)
+    const __m128 lov = _mm_setr_ps(lo[0], lo[1], lo[2], 0), scv = _mm_setr_ps(scale[0], scale[1], scale[2], 0);
+    const __m128 half = _mm_set1_ps(0.5f), zero = _mm_setzero_ps(), last = _mm_set1_ps((float)(BINS - 1));
+    __m128 llo = _mm_load_ps(cl->lo), lhi = _mm_load_ps(cl->hi), rlo = _mm_load_ps(cr->lo), rhi = _mm_load_ps(cr->hi);
+    while (i < j) {
+        /* lane 3 holds the index bits, halved: garbage that only lane 3 of the boxes sees */
+        const __m128 c = _mm_mul_ps(_mm_add_ps(_mm_load_ps(refs[i].lo), _mm_load_ps(refs[i].hi)), half);
+        __m128 f = _mm_mul_ps(_mm_sub_ps(c, lov), scv);
+        f = _mm_min_ps(_mm_and_ps(f, _mm_cmpge_ps(f, zero)), last);
+        _Alignas(16) int k[4];
+        _mm_store_si128((__m128i *)k, _mm_cvttps_epi32(f));
+        if (k[axis] <= split) {
+            llo = _mm_min_ps(llo, c), lhi = _mm_max_ps(lhi, c);
+            i++;
+        } else {
+            rlo = _mm_min_ps(rlo, c), rhi = _mm_max_ps(rhi, c);
+            Box4 tmp = refs[i];
+            refs[i] = refs[--j];
+            refs[j] = tmp;
+        }
+    }
+    _mm_store_ps(cl->lo, llo), _mm_store_ps(cl->hi, lhi), _mm_store_ps(cr->lo, rlo), _mm_store_ps(cr->hi, rhi);
+#else
+    while (i < j) {
+        Box4 c;
+        vec3 cv = ref_centre(&refs[i]);
+        for (int k = 0; k < 4; k++)
+            c.lo[k] = c.hi[k] = k < 3 ? cv.e[k] : R(0);
+        if (bin_of(cv.e[axis], lo[axis], scale[axis]) <= split) {
+            box4_grow(cl, &c);
+            i++;
+        } else {
+            box4_grow(cr, &c);
+            Box4 tmp = refs[i];
+            refs[i] = refs[--j];
+            refs[j] = tmp;
+        }
+    }
+#endif
+    return i;
 }
 
 /* Small nodes: the exact SAH over every split position of the centres
@@ -271,22 +322,7 @@ static int sah_step(const Builder *b, const BuildTask *t, BuildTask kids[2])
     if (split_cost < REAL_INF && (split_cost < leaf_cost || t->count > b->opt->max_leaf)) {
         /* partition, growing each side's centre box on the way */
         Box4 cl = box4_empty, cr = box4_empty;
-        uint32_t i = t->first, j = t->first + t->count;
-        while (i < j) {
-            Box4 c;
-            vec3 cv = ref_centre(&refs[i]);
-            for (int k = 0; k < 4; k++)
-                c.lo[k] = c.hi[k] = k < 3 ? cv.e[k] : R(0);
-            if (bin_of(cv.e[axis], lo[axis], scale[axis]) <= split) {
-                box4_grow(&cl, &c);
-                i++;
-            } else {
-                box4_grow(&cr, &c);
-                Box4 tmp = refs[i];
-                refs[i] = refs[--j];
-                refs[j] = tmp;
-            }
-        }
+        uint32_t i = partition(refs, t->first, t->count, axis, lo, scale, split, &cl, &cr);
         nl = i - t->first;
         Box4 bl = box4_empty, br = box4_empty;
         for (int k = 0; k < BINS; k++)
