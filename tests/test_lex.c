@@ -1,6 +1,7 @@
 /* test_lex.c - the number readers of the text formats: lex_double's fast
  * path gives exactly strtod's double (bit for bit) on every form a file may
- * hold, and refuses what strtod refuses; lex_long likewise. */
+ * hold, and refuses what strtod refuses; lex_long and lex_strtol10 give
+ * strtol's answers. */
 #include "helpers.h"
 
 #include <errno.h>
@@ -79,11 +80,46 @@ static void long_matches_strtol(void **state)
     }
 }
 
+/* lex_strtol10 against strtol: the same value and the same end, on the
+ * corner forms of OBJ faces and on what strtol treats specially */
+static void strtol10_matches_strtol(void **state)
+{
+    (void)state;
+    const char *fixed[] = {"1", "12/7/12", "-3//-3", "+5", "0", "-0", "007", "", "-", "+", "/2", " 12", "\t-4",
+                           "+-1", "123456789012345678/1", "1234567890123456789", "99999999999999999999",
+                           "-9223372036854775808", "-9223372036854775809", "9223372036854775807x", "1e5", "0x1f"};
+    for (size_t i = 0; i < sizeof fixed / sizeof *fixed; i++) {
+        char *e1, *e2;
+        long a = strtol(fixed[i], &e1, 10), b = lex_strtol10(fixed[i], &e2);
+        if (a != b || e1 != e2)
+            fail_msg("'%s': strtol %ld (end +%td), lex_strtol10 %ld (end +%td)", fixed[i], a, e1 - fixed[i], b,
+                     e2 - fixed[i]);
+    }
+    Rng rng = {77};
+    char buf[64];
+    for (int i = 0; i < 200000; i++) {
+        uint64_t r = rng_next(&rng);
+        int n = 0, digits = (int)(r % 22);
+        if ((r >> 8) % 3 == 0)
+            buf[n++] = (r >> 10) & 1 ? '-' : '+';
+        for (int k = 0; k < digits; k++)
+            buf[n++] = (char)('0' + rng_next(&rng) % 10);
+        if ((r >> 12) & 1)
+            buf[n++] = '/';
+        buf[n] = 0;
+        char *e1, *e2;
+        long a = strtol(buf, &e1, 10), b = lex_strtol10(buf, &e2);
+        if (a != b || e1 != e2)
+            fail_msg("'%s': strtol %ld, lex_strtol10 %ld", buf, a, b);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(numbers_match_strtod),
         cmocka_unit_test(long_matches_strtol),
+        cmocka_unit_test(strtol10_matches_strtol),
     };
     return cmocka_run_group_tests_name("lex", tests, NULL, NULL);
 }

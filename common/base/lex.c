@@ -148,3 +148,22 @@ int lex_long(const char *s, long *out)
     *out = v;
     return 0;
 }
+
+long lex_strtol10(const char *s, char **end)
+{
+    const char *p = s;
+    int neg = *p == '-';
+    if (*p == '-' || *p == '+')
+        p++;
+    if ((unsigned)(*p - '0') >= 10)
+        return strtol(s, end, 10); /* blanks, no digits: strtol's rules */
+    long v = 0;
+    int n = 0;
+    for (; (unsigned)(*p - '0') < 10; p++)
+        if (++n > 18)
+            return strtol(s, end, 10); /* may overflow: strtol clamps and sets errno */
+        else
+            v = v * 10 + (*p - '0');
+    *end = (char *)p;
+    return neg ? -v : v;
+}

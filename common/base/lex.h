@@ -46,4 +46,10 @@ int lex_real(const char *s, real *out);
 int lex_double(const char *s, double *out);
 int lex_long(const char *s, long *out);
 
+/* strtol(s, end, 10), with a fast path for the short decimal integers of
+ * OBJ face corners ("12/7/12"): a sign and up to 18 digits are read here,
+ * anything else (blanks first, more digits) by strtol itself, so the
+ * result and *end are always strtol's. */
+long lex_strtol10(const char *s, char **end);
+
 #endif

@@ -167,7 +167,7 @@ static int parse_corner(const char *s, const Obj *o, int32_t c[3], const char **
 {
     c[0] = c[1] = c[2] = -1;
     char *end;
-    long v = strtol(s, &end, 10);
+    long v = lex_strtol10(s, &end);
     *what = "vertex index";
     if (end == s || resolve(v, o->nv, &c[0]))
         return -1;
@@ -178,7 +178,7 @@ static int parse_corner(const char *s, const Obj *o, int32_t c[3], const char **
     s = end + 1;
     if (*s != '/') {
         *what = "texture coordinate index";
-        long t = strtol(s, &end, 10);
+        long t = lex_strtol10(s, &end);
         if (end == s || resolve(t, o->nvt, &c[1]))
             return -1;
         if (*end == 0)
@@ -189,7 +189,7 @@ static int parse_corner(const char *s, const Obj *o, int32_t c[3], const char **
     }
     s++;
     *what = "normal index";
-    long n = strtol(s, &end, 10);
+    long n = lex_strtol10(s, &end);
     if (end == s || *end != 0 || resolve(n, o->nvn, &c[2]))
         return -1;
     return 0;
