@@ -82,6 +82,40 @@ static void rejects_bad_images(void **state)
     assert_contains(err.msg, "cannot open");
 }
 
+/* The byte form an ASSET carries (and whose texels a .tmd carries): a
+ * texture comes back exactly; a wrong size, a texel out of [0, 1] or NaN
+ * is refused with the name and nothing is returned. */
+static void byte_form_round_trips_and_refuses_bad_texels(void **state)
+{
+    (void)state;
+    const uint8_t px[2 * 2 * 3] = {0, 64, 128, 255, 1, 2, 3, 4, 5, 250, 251, 252};
+    Texture *t = texture_from_rgb8(2, 2, px), *back;
+    Sink s = {0};
+    assert_int_equal(texture_encode(t, &s), 0);
+    assert_int_equal(s.len, 8 + 12 * sizeof(float));
+    Err err = {{0}};
+    assert_int_equal(texture_decode(s.data, s.len, "asset", &back, &err), 0);
+    assert_int_equal(back->w, 2);
+    assert_int_equal(back->h, 2);
+    assert_memory_equal(back->rgb, t->rgb, 12 * sizeof(float));
+    texture_destroy(back);
+    assert_int_equal(texture_decode(s.data, s.len - 1, "asset", &back, &err), -1);
+    assert_null(back);
+    assert_non_null(strstr(err.msg, "asset: texture payload of 55 bytes is malformed"));
+    const float bad[] = {NAN, 1.5f, -0.25f};
+    for (size_t i = 0; i < sizeof bad / sizeof *bad; i++) {
+        memcpy(s.data + 8 + 5 * sizeof(float), &bad[i], sizeof(float));
+        assert_int_equal(texture_decode(s.data, s.len, "asset", &back, &err), -1);
+        assert_null(back);
+        assert_non_null(strstr(err.msg, "asset: a texel value out of range"));
+    }
+    uint32_t big = TEXTURE_MAX_SIDE + 1;
+    memcpy(s.data, &big, 4);
+    assert_int_equal(texture_decode(s.data, s.len, "asset", &back, &err), -1);
+    sink_free(&s);
+    texture_destroy(t);
+}
+
 static void nearest_and_bilinear_sampling(void **state)
 {
     (void)state;
@@ -118,6 +152,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(reads_ppm_and_pgm),
         cmocka_unit_test(rejects_bad_images),
+        cmocka_unit_test(byte_form_round_trips_and_refuses_bad_texels),
         cmocka_unit_test(nearest_and_bilinear_sampling),
     };
     return cmocka_run_group_tests_name("texture", tests, NULL, NULL);

@@ -49,25 +49,34 @@ int texture_encode(const Texture *t, Sink *out)
     return sink_put(out, t->rgb, (size_t)t->w * t->h * 3 * sizeof *t->rgb);
 }
 
+int texture_read_texels(Cursor *c, uint32_t w, uint32_t h, const char *name, Texture **out, Err *err)
+{
+    *out = NULL;
+    size_t n = (size_t)w * h * 3;
+    Texture *t = texture_alloc(w, h);
+    if (!t)
+        return err_set(err, "%s: out of memory for a %ux%u texture", name, w, h);
+    if (cursor_get(c, t->rgb, n * sizeof *t->rgb)) {
+        texture_destroy(t);
+        return err_set(err, "%s: the %ux%u texture's texels are cut short", name, w, h);
+    }
+    for (size_t i = 0; i < n; i++)
+        if (!(t->rgb[i] >= 0.0f && t->rgb[i] <= 1.0f)) { /* NaN fails too */
+            texture_destroy(t);
+            return err_set(err, "%s: a texel value out of range", name);
+        }
+    *out = t;
+    return 0;
+}
+
 int texture_decode(const void *data, size_t len, const char *name, Texture **out, Err *err)
 {
     *out = NULL;
     Cursor cur = cursor_make(data, len);
     uint32_t w = cursor_u32(&cur), h = cursor_u32(&cur);
-    if (cur.failed || w < 1 || h < 1 || w > TEXTURE_MAX_SIDE || h > TEXTURE_MAX_SIDE ||
-        cur.left != (size_t)w * h * 3 * sizeof(float))
+    if (cur.failed || !texture_size_ok(w, h) || cur.left != (size_t)w * h * 3 * sizeof(float))
         return err_set(err, "%s: texture payload of %zu bytes is malformed", name, len);
-    Texture *t = texture_alloc(w, h);
-    if (!t)
-        return err_set(err, "%s: out of memory for a %ux%u texture", name, w, h);
-    memcpy(t->rgb, cur.p, cur.left);
-    for (size_t i = 0; i < (size_t)w * h * 3; i++)
-        if (!(t->rgb[i] >= 0.0f && t->rgb[i] <= 1.0f)) { /* NaN fails too */
-            texture_destroy(t);
-            return err_set(err, "%s: texture value out of range", name);
-        }
-    *out = t;
-    return 0;
+    return texture_read_texels(&cur, w, h, name, out, err);
 }
 
 Texture *texture_from_rgb8(uint32_t w, uint32_t h, const uint8_t *rgb)

@@ -37,6 +37,15 @@ Texture *texture_alloc(uint32_t w, uint32_t h);
 int texture_encode(const Texture *t, Sink *out);
 /* Reads that form with every size and value checked; `name` labels errors. */
 int texture_decode(const void *data, size_t len, const char *name, Texture **out, Err *err);
+/* Whether w x h is a size a texture may have (1..TEXTURE_MAX_SIDE a side). */
+static inline int texture_size_ok(uint32_t w, uint32_t h)
+{
+    return w >= 1 && h >= 1 && w <= TEXTURE_MAX_SIDE && h <= TEXTURE_MAX_SIDE;
+}
+/* The texels of a w x h texture as stored in both byte forms (the ASSET's
+ * and the .tmd's): f32 rgb, linear light, each in [0, 1]; the caller has
+ * checked the size and that the cursor holds them. */
+int texture_read_texels(Cursor *c, uint32_t w, uint32_t h, const char *name, Texture **out, Err *err);
 /* A texture of w x h from 8-bit RGB pixels (copied). */
 Texture *texture_from_rgb8(uint32_t w, uint32_t h, const uint8_t *rgb);
 void texture_destroy(Texture *t);

@@ -1,6 +1,7 @@
 /* tmd.c - reading and writing .tmd files; the reader trusts nothing. */
 #include "model/tmd.h"
 
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -144,21 +145,15 @@ static int tmd_read_textures(Cursor *c, uint32_t texs, Model *m, const char *nam
         return err_set(err, "%s: out of memory for %u textures", name, texs);
     for (uint32_t i = 0; i < texs; i++) {
         uint32_t tw = cursor_u32(c), th = cursor_u32(c), tf = cursor_u32(c);
-        if (c->failed || tw < 1 || th < 1 || tw > TEXTURE_MAX_SIDE || th > TEXTURE_MAX_SIDE || tf > 1 ||
-            (uint64_t)tw * th * 12 > c->left)
+        if (c->failed || !texture_size_ok(tw, th) || tf > 1 || (uint64_t)tw * th * 12 > c->left)
             return err_set(err, "%s: texture %u: implausible size %ux%u or flags %u", name, i, tw, th, tf);
-        Texture *t = texture_alloc(tw, th);
-        if (!t)
-            return err_set(err, "%s: out of memory for a %ux%u texture", name, tw, th);
-        float *px = t->rgb;
+        char label[1100];
+        snprintf(label, sizeof label, "%s: texture %u", name, i);
+        Texture *t;
+        if (texture_read_texels(c, tw, th, label, &t, err))
+            return -1;
         t->clamp = (int)tf;
         m->textures[m->texture_count++] = t;
-        for (size_t k = 0; k < (size_t)tw * th * 3; k++) {
-            float v = cursor_f32(c);
-            if (!(v >= 0 && v <= 1)) /* texels are linear light in [0,1]; NaN fails too */
-                return err_set(err, "%s: texture %u: a texel value out of range", name, i);
-            px[k] = v;
-        }
     }
     if (c->left != 0)
         return err_set(err, "%s: %zu bytes after the last texture", name, c->left);

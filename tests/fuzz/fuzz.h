@@ -6,6 +6,7 @@
 
 #include <stddef.h>
 #include <stdint.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/socket.h>
@@ -22,6 +23,14 @@ static inline char *fuzz_text(const uint8_t *data, size_t size)
         text[size] = 0;
     }
     return text;
+}
+
+/* The stream readers (images, textures) read a FILE: the input as one in
+ * memory, or NULL when it is empty or cannot be opened (the caller, or the
+ * reader, closes it). */
+static inline FILE *fuzz_file(const uint8_t *data, size_t size)
+{
+    return size ? fmemopen((void *)data, size, "rb") : NULL;
 }
 
 /* Writes all of p to a socket (the packet harnesses' side of a socketpair);

@@ -8,9 +8,7 @@
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
-    if (size == 0)
-        return 0;
-    FILE *f = fmemopen((void *)data, size, "rb");
+    FILE *f = fuzz_file(data, size);
     if (!f)
         return 0;
     Texture *t;
