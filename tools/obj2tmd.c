@@ -127,22 +127,11 @@ int main(int argc, char **argv)
             fprintf(stderr, "obj2tmd: --smooth applies to OBJ input\n");
             return 2;
         }
-        if (import_read(in, &mesh, &is, &err) == 0) {
+        if (import_read(in, &oo, &mesh, &is, &err) == 0) {
             st.vertices = is.vertices, st.faces = is.triangles + is.degenerate, st.degenerate = is.degenerate;
             st.skipped[OBJ_SKIP_LINE] = is.lines, st.skipped[OBJ_SKIP_POINT] = is.points;
             st.coloured = is.coloured, st.colours = mesh.col != NULL, st.colours_ignored = is.colours_ignored;
-            if (is.colours_ignored) {
-                char msg[4200];
-                snprintf(msg, sizeof msg, "%s: vertex colours ignored: the model's materials give its colours", in);
-                if (strict) {
-                    mesh_free(&mesh);
-                    err_set(&err, "%s (an error with --strict)", msg);
-                } else {
-                    st.warnings++;
-                    if (!quiet)
-                        show_warning(NULL, msg);
-                }
-            }
+            st.warnings = is.warnings;
         }
     }
     if (imported ? err.msg[0] != 0 : obj_read(in, &oo, &mesh, &st, &err) != 0) {

@@ -482,21 +482,42 @@ static int isolated(const Job *job, const char *name, Mesh *out, ImportStats *st
     return rc;
 }
 
-int import_read(const char *path, Mesh *out, ImportStats *st, Err *err)
+/* The parent's own warnings about what the child reported. */
+static int import_warnings(const ObjOptions *opt, const char *name, Mesh *out, ImportStats *st, Err *err)
+{
+    if (!st->colours_ignored)
+        return 0;
+    char msg[4200];
+    snprintf(msg, sizeof msg, "%s: vertex colours ignored: the model's materials give its colours", name);
+    if (obj_warning(opt, &st->warnings, err, msg) == 0)
+        return 0;
+    mesh_free(out);
+    return -1;
+}
+
+int import_read(const char *path, const ObjOptions *opt, Mesh *out, ImportStats *st, Err *err)
 {
     ImportStats local;
     Job job = {path, NULL, 0, NULL};
+    if (!st)
+        st = &local;
     if (!import_knows(path)) {
         memset(out, 0, sizeof *out);
         return err_set(err, "%s: not a format the importer reads (PLY, STL, glTF, ...)", path);
     }
-    return isolated(&job, path, out, st ? st : &local, err);
+    if (isolated(&job, path, out, st, err))
+        return -1;
+    return import_warnings(opt, path, out, st, err);
 }
 
-int import_read_memory(const void *data, size_t len, const char *hint, const char *name, Mesh *out,
-                       ImportStats *st, Err *err)
+int import_read_memory(const void *data, size_t len, const char *hint, const char *name, const ObjOptions *opt,
+                       Mesh *out, ImportStats *st, Err *err)
 {
     ImportStats local;
     Job job = {NULL, data, len, hint};
-    return isolated(&job, name, out, st ? st : &local, err);
+    if (!st)
+        st = &local;
+    if (isolated(&job, name, out, st, err))
+        return -1;
+    return import_warnings(opt, name, out, st, err);
 }

@@ -19,19 +19,23 @@
 #include <stddef.h>
 
 #include "model/mesh.h"
+#include "model/obj.h"
 
 typedef struct {
     unsigned long meshes, triangles, degenerate, points, lines, vertices;
     unsigned long coloured; /* vertices with a colour */
-    int colours_ignored; /* the file had vertex colours and materials: the materials win */
+    int colours_ignored; /* the file had vertex colours and materials: the materials win (a warning) */
+    unsigned long warnings;
 } ImportStats;
 
 /* Whether the name's extension is one the importer takes (not .obj or .tmd). */
 int import_knows(const char *path);
-int import_read(const char *path, Mesh *out, ImportStats *stats, Err *err);
+/* Warnings go through opt as the OBJ reader's do (obj_warning: with
+ * `strict` they are errors); opt may be NULL. */
+int import_read(const char *path, const ObjOptions *opt, Mesh *out, ImportStats *stats, Err *err);
 /* The same from bytes in memory; `hint` is the format's extension without
  * the dot ("ply", "stl", "glb", ...); `name` labels errors. */
-int import_read_memory(const void *data, size_t len, const char *hint, const char *name, Mesh *out,
-                       ImportStats *stats, Err *err);
+int import_read_memory(const void *data, size_t len, const char *hint, const char *name, const ObjOptions *opt,
+                       Mesh *out, ImportStats *stats, Err *err);
 
 #endif

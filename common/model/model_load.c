@@ -34,7 +34,7 @@ int model_load(const char *path, const BvhOptions *opt, int rebuild, int smooth,
         Mesh mesh;
         if (smooth)
             return err_set(err, "%s: 'smooth' applies to OBJ models", path);
-        if (import_read(path, &mesh, NULL, err))
+        if (import_read(path, NULL, &mesh, NULL, err))
             return -1;
         int rc = model_from_mesh(out, &mesh, opt, err);
         mesh_free(&mesh);

@@ -117,11 +117,16 @@ static int vwarn(Warner *w, const char *file, int line, const char *fmt, va_list
         snprintf(msg, sizeof msg, "%s:%d: %s", file, line, what);
     else
         snprintf(msg, sizeof msg, "%s: %s", file, what);
-    if (w->opt && w->opt->strict)
-        return err_set(w->err, "%s (an error with --strict)", msg);
-    w->st->warnings++;
-    if (w->opt && w->opt->warn)
-        w->opt->warn(w->opt->warn_ctx, msg);
+    return obj_warning(w->opt, &w->st->warnings, w->err, msg);
+}
+
+int obj_warning(const ObjOptions *opt, unsigned long *count, Err *err, const char *msg)
+{
+    if (opt && opt->strict)
+        return err_set(err, "%s (an error with --strict)", msg);
+    (*count)++;
+    if (opt && opt->warn)
+        opt->warn(opt->warn_ctx, msg);
     return 0;
 }
 

@@ -68,6 +68,12 @@ typedef struct {
     unsigned long undrawn_mtl;       /* used materials asking for transparency, glass, reflection or emission */
 } ObjStats;
 
+/* One warning under these options, for every reader that takes them (the
+ * importer too): with `strict` an error in err ("... (an error with
+ * --strict)"), returning -1; else counted in *count and handed to the
+ * callback. */
+int obj_warning(const ObjOptions *opt, unsigned long *count, Err *err, const char *msg);
+
 /* Parses OBJ text (NUL-terminated, modified in place).  `name` labels errors;
  * `dir` is where mtllib files are looked up (NULL: mtllib is an error). */
 int obj_parse(char *text, size_t len, const char *name, const char *dir, const ObjOptions *opt, Mesh *out,

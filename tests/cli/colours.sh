@@ -3,7 +3,8 @@
 # renders them as the diffuse colour, interpolated across each triangle,
 # checked pixel by pixel against the colours and the sRGB curve; the same
 # model as a PLY with byte colours (through Assimp) renders the same bytes;
-# the .tmd is version 3; an instance with a material of its own shows that
+# the .tmd is version 3; colours beside a material through the importer
+# are a warning (an error with --strict); an instance with a material of its own shows that
 # material instead; a distributed frame is bit-identical to lanray-render's
 # (the colours travel inside the model asset).
 set -u
@@ -39,6 +40,28 @@ PY
 "$BIN/obj2tmd" "$D/quads.ply" "$dir/quads.tmd" >"$dir/ply.log" 2>"$dir/ply.err" || fail "obj2tmd ply: $(cat "$dir/ply.err")"
 render view.scene ply.png
 cmp -s "$dir/obj.png" "$dir/ply.png" || fail "the PLY with vertex colours renders differently from the OBJ"
+# through the importer, colours beside a material (a glTF with COLOR_0 and
+# a named material): ignored with a warning, an error with --strict, no output
+python3 - "$dir/painted.gltf" <<'PY' || fail "writing painted.gltf"
+import base64, json, struct, sys
+blob = struct.pack("<9f", 0, 0, 0, 1, 0, 0, 0, 1, 0) + struct.pack("<9f", 1, 0, 0, 0, 1, 0, 0, 0, 1)
+doc = {"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}],
+       "materials": [{"name": "paint", "pbrMetallicRoughness": {"baseColorFactor": [0.2, 0.4, 0.6, 1]}}],
+       "meshes": [{"primitives": [{"attributes": {"POSITION": 0, "COLOR_0": 1}, "material": 0}]}],
+       "buffers": [{"byteLength": len(blob), "uri": "data:application/octet-stream;base64," + base64.b64encode(blob).decode()}],
+       "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 36}, {"buffer": 0, "byteOffset": 36, "byteLength": 36}],
+       "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3", "min": [0, 0, 0], "max": [1, 1, 0]},
+                     {"bufferView": 1, "componentType": 5126, "count": 3, "type": "VEC3"}]}
+json.dump(doc, open(sys.argv[1], "w"))
+PY
+"$BIN/obj2tmd" "$dir/painted.gltf" "$dir/painted.tmd" >"$dir/painted.log" 2>"$dir/painted.err" || fail "obj2tmd painted.gltf: $(cat "$dir/painted.err")"
+grep -q "obj2tmd: warning: $dir/painted.gltf: vertex colours ignored: the model's materials give its colours" "$dir/painted.err" ||
+    fail "no warning for colours beside a material: $(cat "$dir/painted.err")"
+grep -q "warnings 1: .*vertex colours ignored" "$dir/painted.log" || fail "summary: $(cat "$dir/painted.log")"
+"$BIN/obj2tmd" --strict "$dir/painted.gltf" "$dir/strict.tmd" >/dev/null 2>"$dir/strict.err" && fail "--strict converted colours beside a material"
+grep -q "vertex colours ignored: the model's materials give its colours (an error with --strict)" "$dir/strict.err" ||
+    fail "--strict message: $(cat "$dir/strict.err")"
+[ -e "$dir/strict.tmd" ] && fail "--strict left an output file"
 # an instance's own material replaces the model's colours
 sed 's/^instance quads$/material teal diffuse 0 0.5 0.5\ninstance quads material teal/' "$dir/view.scene" >"$dir/teal.scene"
 render teal.scene teal.png

@@ -10,7 +10,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         return 0;
     Mesh m;
     Err err;
-    if (import_read_memory(data + 1, size - 1, hints[data[0] % 4], "fuzz", &m, NULL, &err) == 0)
+    if (import_read_memory(data + 1, size - 1, hints[data[0] % 4], "fuzz", NULL, &m, NULL, &err) == 0)
         mesh_free(&m);
     return 0;
 }
