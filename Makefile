@@ -192,11 +192,11 @@ tradeoff: deps $(TOOLS)
 	@BIN=$(BIN) bash tools/tradeoff docs
 
 # scaling by clients, segment size and tail rule, and the simulator beside it;
-# docs/scaling.log keeps the run's output, which REPLAY=docs/scaling.log
-# tools/bench-scaling predicts again after a simulator change
+# docs/scaling-runs.csv keeps one row per run, which REPLAY=docs/scaling-runs.csv
+# tools/bench-scaling analyses again after a simulator change
 bench-scaling: deps $(TOOLS)
 	@$(MAKE) --no-print-directory DEB_PACKAGES="gnuplot-nox iproute2" deps
-	@BIN=$(BIN) bash -c 'set -o pipefail; tools/bench-scaling docs | tee docs/scaling.log.tmp' && mv docs/scaling.log.tmp docs/scaling.log
+	@BIN=$(BIN) tools/bench-scaling docs
 
 # make loadtest [LOAD_SECONDS=300] [LOAD_CLIENTS=64]: one server, many clients
 # joining and leaving, every frame verified; server RSS and CPU in docs/loadtest.csv
