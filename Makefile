@@ -53,12 +53,21 @@ ALL_CFLAGS := -std=c17 -ffp-contract=off -fno-math-errno -Wall -Wextra -Wshadow 
 LDLIBS := -lassimp -lsodium -lnetpbm -lpng -ljpeg -lm -pthread
 LDFLAGS := $(SANFLAGS)
 
-# everything but the programs' main files and the server's SDL window goes
-# into the library the tests link: no test links SDL
+# one archive per layer of programs: the library every program shares
+# (common/), the server's loop, scheduler and measurements, the client's
+# session.  The server's SDL window is in none of them, so no test links
+# SDL, and a test links the server's or the client's archive only when it
+# tests them.
 DISPLAY_SRC := server/display.c
-COMMON_SRC := $(wildcard common/*/*.c) $(filter-out server/main.c $(DISPLAY_SRC),$(wildcard server/*.c)) $(filter-out client/main.c,$(wildcard client/*.c))
-COMMON_OBJ := $(COMMON_SRC:%.c=$(BUILD)/%.o)
+COMMON_SRC := $(wildcard common/*/*.c)
+SERVER_SRC := $(filter-out server/main.c $(DISPLAY_SRC),$(wildcard server/*.c))
+CLIENT_SRC := $(filter-out client/main.c,$(wildcard client/*.c))
 LIB := $(BUILD)/liblanray.a
+SERVER_LIB := $(BUILD)/liblanray-server.a
+CLIENT_LIB := $(BUILD)/liblanray-client.a
+# a link line: the objects, the archives above the shared library, then it
+# (a static archive only serves the ones named before it)
+LINK_INPUTS = $(filter %.o,$^) $(filter-out $(LIB),$(filter %.a,$^)) $(LIB)
 TOOLS := $(BIN)/lanray-render $(BIN)/obj2tmd $(BIN)/lanray-imgdiff $(BIN)/lanray-server $(BIN)/lanray-client $(BIN)/schedsim
 TEST_SRC := $(wildcard tests/test_*.c tests/stability/test_*.c)
 TESTS := $(TEST_SRC:%.c=$(BUILD)/%)
@@ -98,7 +107,13 @@ $(BUILD)/%.o: %.c
 	@mkdir -p $(dir $@)
 	$(CC) $(ALL_CFLAGS) -c $< -o $@
 
-$(LIB): $(COMMON_OBJ)
+$(LIB): $(COMMON_SRC:%.c=$(BUILD)/%.o)
+	@rm -f $@
+	ar rcs $@ $^
+$(SERVER_LIB): $(SERVER_SRC:%.c=$(BUILD)/%.o)
+	@rm -f $@
+	ar rcs $@ $^
+$(CLIENT_LIB): $(CLIENT_SRC:%.c=$(BUILD)/%.o)
 	@rm -f $@
 	ar rcs $@ $^
 
@@ -110,24 +125,28 @@ $(BIN)/obj2tmd: $(BUILD)/tools/obj2tmd.o $(LIB)
 	@mkdir -p $(dir $@)
 	$(CC) $(LDFLAGS) -o $@ $^ $(LDLIBS)
 
-$(BIN)/lanray-server: $(BUILD)/server/main.o $(DISPLAY_SRC:%.c=$(BUILD)/%.o) $(LIB)
+$(BIN)/lanray-server: $(BUILD)/server/main.o $(DISPLAY_SRC:%.c=$(BUILD)/%.o) $(SERVER_LIB) $(LIB)
 	@mkdir -p $(dir $@)
-	$(CC) $(LDFLAGS) -o $@ $^ -lSDL2 $(LDLIBS)
+	$(CC) $(LDFLAGS) -o $@ $(LINK_INPUTS) -lSDL2 $(LDLIBS)
 
-$(BIN)/lanray-client: $(BUILD)/client/main.o $(LIB)
+$(BIN)/lanray-client: $(BUILD)/client/main.o $(CLIENT_LIB) $(LIB)
 	@mkdir -p $(dir $@)
-	$(CC) $(LDFLAGS) -o $@ $^ $(LDLIBS)
+	$(CC) $(LDFLAGS) -o $@ $(LINK_INPUTS) $(LDLIBS)
 
-$(BIN)/schedsim: $(BUILD)/tools/schedsim.o $(LIB)
+$(BIN)/schedsim: $(BUILD)/tools/schedsim.o $(SERVER_LIB) $(LIB)
 	@mkdir -p $(dir $@)
-	$(CC) $(LDFLAGS) -o $@ $^ $(LDLIBS)
+	$(CC) $(LDFLAGS) -o $@ $(LINK_INPUTS) $(LDLIBS)
 
 $(BIN)/lanray-imgdiff: $(BUILD)/tools/imgdiff.o $(LIB)
 	@mkdir -p $(dir $@)
 	$(CC) $(LDFLAGS) -o $@ $^ $(LDLIBS)
 
 $(BUILD)/tests/%: $(BUILD)/tests/%.o $(LIB)
-	$(CC) $(LDFLAGS) -o $@ $^ -lcmocka $(LDLIBS)
+	$(CC) $(LDFLAGS) -o $@ $(LINK_INPUTS) -lcmocka $(LDLIBS)
+# the tests of the server's scheduler and measurements, and the packet
+# handlers' fuzz harnesses, link the archive they test
+$(BUILD)/tests/test_sched $(BUILD)/tests/test_measure $(BUILD)/fuzz/replay_server: $(SERVER_LIB)
+$(BUILD)/fuzz/replay_client: $(CLIENT_LIB)
 
 # The unit tests, then the command-line tests against the built tools.
 check: deps
@@ -150,12 +169,12 @@ check-tsan: deps
 	@echo "[       OK ] distributed.sh under ThreadSanitizer, no reports"
 
 .PHONY: test-run check-tsan
-test-run: $(TESTS) $(TOOLS) $(REPLAYS) $(BUILD)/tools/embree_ref
+test-run: $(TESTS) $(TOOLS) $(REPLAYS) $(BUILD)/tools/bench/embree_ref
 	@BUILD=$(BUILD) BIN=$(BIN) bash tests/run.sh $(TESTS)
 
 $(BUILD)/fuzz/replay_%: tests/fuzz/fuzz_%.c tests/fuzz/replay.c $(LIB)
 	@mkdir -p $(dir $@)
-	$(CC) $(ALL_CFLAGS) -Itests/fuzz -o $@ tests/fuzz/fuzz_$*.c tests/fuzz/replay.c $(LIB) $(LDLIBS)
+	$(CC) $(ALL_CFLAGS) -Itests/fuzz -o $@ tests/fuzz/fuzz_$*.c tests/fuzz/replay.c $(filter-out $(LIB),$(filter %.a,$^)) $(LIB) $(LDLIBS)
 
 # make fuzz [FUZZ_SECONDS=600] [FUZZ_JOBS=2] [FUZZ_NAMES="server client"]: libFuzzer with ASan+UBSan (clang),
 # each harness for FUZZ_SECONDS, seeded from tests/fuzz/corpus/NAME; new
@@ -165,45 +184,45 @@ FUZZ_SECONDS ?= 60
 FUZZ_JOBS ?= 2
 FUZZ_CFLAGS := -std=c17 -g -O1 -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=undefined $(CPPFLAGS) -Itests/fuzz
 FUZZERS := $(FUZZ_NAMES:%=build/fuzz/fuzz_%)
-build/fuzz/fuzz_%: tests/fuzz/fuzz_%.c $(COMMON_SRC)
+build/fuzz/fuzz_%: tests/fuzz/fuzz_%.c $(COMMON_SRC) $(SERVER_SRC) $(CLIENT_SRC)
 	@mkdir -p $(dir $@)
-	clang $(FUZZ_CFLAGS) -o $@ $< $(COMMON_SRC) -lassimp -lsodium -lnetpbm -lpng -ljpeg -lm -pthread
+	clang $(FUZZ_CFLAGS) -o $@ $< $(COMMON_SRC) $(SERVER_SRC) $(CLIENT_SRC) -lassimp -lsodium -lnetpbm -lpng -ljpeg -lm -pthread
 fuzz: deps $(FUZZERS)
 	@BUILD_FUZZ=build/fuzz FUZZ_SECONDS=$(FUZZ_SECONDS) FUZZ_JOBS=$(FUZZ_JOBS) bash tests/fuzz/run-fuzzers $(FUZZ_NAMES)
 
-$(BUILD)/tools/embree_ref: tools/embree_ref.c $(LIB)
+$(BUILD)/tools/bench/embree_ref: tools/bench/embree_ref.c $(LIB)
 	@mkdir -p $(dir $@)
 	$(CC) $(ALL_CFLAGS) -o $@ $< $(LIB) -lembree3 $(LDLIBS)
 
-$(BUILD)/tools/import_bench: tools/import_bench.c $(LIB)
+$(BUILD)/tools/bench/import_bench: tools/bench/import_bench.c $(LIB)
 	@mkdir -p $(dir $@)
 	$(CC) $(ALL_CFLAGS) -o $@ $< $(LIB) $(LDLIBS)
 
-bench: deps $(TOOLS) $(BUILD)/tools/embree_ref $(BUILD)/tools/import_bench
+bench: deps $(TOOLS) $(BUILD)/tools/bench/embree_ref $(BUILD)/tools/bench/import_bench
 	@$(MAKE) --no-print-directory FEATURES=minimal $(BIN)/minimal/lanray-render
-	@BIN=$(BIN) EMBREE_REF=$(BUILD)/tools/embree_ref bash tools/bench-render
-	@BIN=$(BIN) bash tools/bench-features
-	@IMPORT_BENCH=$(BUILD)/tools/import_bench bash tools/bench-import
+	@BIN=$(BIN) EMBREE_REF=$(BUILD)/tools/bench/embree_ref bash tools/bench/bench-render
+	@BIN=$(BIN) bash tools/bench/bench-features
+	@IMPORT_BENCH=$(BUILD)/tools/bench/import_bench bash tools/bench/bench-import
 
 # the trade-off study: CSV and plot into docs/ (needs gnuplot, installed here)
 tradeoff: deps $(TOOLS)
 	@$(MAKE) --no-print-directory DEB_PACKAGES=gnuplot-nox deps
 	@$(MAKE) --no-print-directory PRECISION=double bin/double/lanray-render
-	@BIN=$(BIN) bash tools/tradeoff docs
+	@BIN=$(BIN) bash tools/bench/tradeoff docs
 
 # scaling by clients, segment size and tail rule, and the simulator beside it;
 # docs/scaling-runs.csv keeps one row per run, which REPLAY=docs/scaling-runs.csv
-# tools/bench-scaling analyses again after a simulator change
+# tools/bench/bench-scaling analyses again after a simulator change
 bench-scaling: deps $(TOOLS)
 	@$(MAKE) --no-print-directory DEB_PACKAGES="gnuplot-nox iproute2" deps
-	@BIN=$(BIN) tools/bench-scaling docs
+	@BIN=$(BIN) tools/bench/bench-scaling docs
 
 # make loadtest [LOAD_SECONDS=300] [LOAD_CLIENTS=64]: one server, many clients
 # joining and leaving, every frame verified; server RSS and CPU in docs/loadtest.csv
 LOAD_SECONDS ?= 300
 LOAD_CLIENTS ?= 64
 loadtest: deps $(TOOLS)
-	@BIN=$(BIN) DURATION=$(LOAD_SECONDS) CLIENTS=$(LOAD_CLIENTS) bash tools/loadtest docs
+	@BIN=$(BIN) DURATION=$(LOAD_SECONDS) CLIENTS=$(LOAD_CLIENTS) bash tools/bench/loadtest docs
 
 # docs/tools.md from the tools' --help (tests/cli/docs.sh checks they agree)
 tools-doc: $(TOOLS)

@@ -42,7 +42,7 @@ typedef struct {
 } App;
 
 /* Pixels of a frame that differ from the reference (--verify): a farm test
- * (tests/cli/chaos.sh, tools/loadtest) checks every frame without writing it. */
+ * (tests/cli/chaos.sh, tools/bench/loadtest) checks every frame without writing it. */
 static void verify_frame(App *a, uint32_t frame, const uint8_t *pixels)
 {
     uint64_t wrong = 0, n = (uint64_t)a->width * a->height;
@@ -176,7 +176,7 @@ int main(int argc, char **argv)
          .help = "seconds a new connection has to finish the handshake"},
         {.name = "--quiet", .kind = OPT_FLAG, .dst = &cfg.quiet, .help = "print errors and the listening line only"},
         {.name = "--machine-summary", .kind = OPT_FLAG, .dst = &machine_summary,
-         .help = "end with one 'summary key=value ...' line for scripts (tools/bench-scaling)"},
+         .help = "end with one 'summary key=value ...' line for scripts (tools/bench/bench-scaling)"},
         {0},
     };
     const char *args[1] = {NULL};

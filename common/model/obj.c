@@ -214,7 +214,7 @@ static int read_reals(const Tokens *t, int first, int want, int allow_extra, rea
  * coordinates, normals and faces, so that each array is allocated once, at
  * its size and on huge pages, instead of grown by doubling: a big model
  * then takes a page fault per 2 MiB rather than per 4 KiB, and no copies
- * (measured: tools/bench-import).  The counts only size the arrays; a face
+ * (measured: tools/bench/bench-import).  The counts only size the arrays; a face
  * with more corners, or a line that turns out not to be a vertex, is
  * handled by the growth that remains. */
 static void obj_presize(Obj *o, const char *text, size_t len)

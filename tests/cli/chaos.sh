@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Clients killed at random moments over many frames: tools/loadtest, short.
+# Clients killed at random moments over many frames: tools/bench/loadtest, short.
 # Six single-thread clients; every quarter second one leaves (SIGKILL at a
 # random moment, or SIGTERM) and the one before joins again, for 20 s.  The
 # server checks every frame against lanray-render's (--verify); the test
@@ -13,7 +13,7 @@ trap 'rm -rf "$dir"' EXIT
 # at exit instead, and the memory check is the normal build's.
 rss_check=1
 case "$BIN" in *asan*) rss_check=0 ;; esac
-out=$(CLIENTS=6 DURATION=20 CHURN=0.25 W=160 H=120 BIN="$BIN" RSS_CHECK=$rss_check tools/loadtest "$dir" 2>&1)
+out=$(CLIENTS=6 DURATION=20 CHURN=0.25 W=160 H=120 BIN="$BIN" RSS_CHECK=$rss_check tools/bench/loadtest "$dir" 2>&1)
 rc=$?
 echo "$out"
 [ "$rc" = 0 ] || { echo "FAIL: chaos"; exit 1; }

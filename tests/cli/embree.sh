@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# lanray against an independent tracer: tools/embree_ref traces the same
+# lanray against an independent tracer: tools/bench/embree_ref traces the same
 # camera and shadow rays through Intel Embree and shades them alike, so the
 # two images may differ only where a ray grazes a shared edge or the shadow
 # terminator.  The scene is an extreme one for shadow-ray offsets: a bumpy
@@ -9,7 +9,7 @@
 # showed acne on 12% of the pixels, and so would lanray with it.
 set -u
 BIN=${BIN:-bin}
-EMBREE_REF=${EMBREE_REF:-${BUILD:-build/float}/tools/embree_ref}
+EMBREE_REF=${EMBREE_REF:-${BUILD:-build/float}/tools/bench/embree_ref}
 dir=$(mktemp -d)
 trap 'rm -rf "$dir"' EXIT
 fail() { echo "FAIL: $*"; exit 1; }

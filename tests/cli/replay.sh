@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# tools/bench-scaling REPLAY=RUNS.csv: a saved runs table is analysed again
-# (tools/scaling-analysis): each configuration comes back with its fastest
+# tools/bench/bench-scaling REPLAY=RUNS.csv: a saved runs table is analysed again
+# (tools/bench/scaling-analysis): each configuration comes back with its fastest
 # pass, the simulator predicts every one of them, the automatic size's
 # check is the median of its runs, and a file that is not such a table is
 # refused, naming the file and line, with nothing written.  The table is
@@ -13,7 +13,7 @@ trap 'rm -rf "$dir"' EXIT
 fail() { echo "FAIL: $*"; exit 1; }
 runs=tests/data/scaling-small-runs.csv
 for i in $(seq 0 767); do echo "$i,200"; done >"$dir/flat.csv"
-replay() { REPLAY=$1 PROFILE="$dir/flat.csv" PLAN=0 BIN=$BIN LANRAY_MODELS="$dir/none" tools/bench-scaling "$2" >"$dir/out.txt" 2>&1; }
+replay() { REPLAY=$1 PROFILE="$dir/flat.csv" PLAN=0 BIN=$BIN LANRAY_MODELS="$dir/none" tools/bench/bench-scaling "$2" >"$dir/out.txt" 2>&1; }
 # col NAME: the column's number in the runs table (by header, as the analysis reads it)
 col() { head -1 "$runs" | tr , '\n' | grep -nx "$1" | cut -d: -f1; }
 K=$(col kind) N=$(col clients) T=$(col tail) S=$(col segment) F=$(col fps) W=$(col wall_s)

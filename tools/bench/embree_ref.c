@@ -1,5 +1,5 @@
 /* embree_ref - reference renderer on Intel Embree (Debian's libembree3), for
- * the renderer benchmark (tools/bench-render).
+ * the renderer benchmark (tools/bench/bench-render).
  *
  *   embree_ref SCENE [--width W] [--height H] [--threads T] [--repeat N] [-o out.png]
  *

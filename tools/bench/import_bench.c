@@ -1,5 +1,5 @@
 /* import_bench - lanray's OBJ reader against Assimp's OBJ importer on the
- * same file, side by side (make bench, tools/bench-import).
+ * same file, side by side (make bench, tools/bench/bench-import).
  *
  *   import_bench FILE.obj [ROUNDS]
  *
