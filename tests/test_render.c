@@ -15,7 +15,7 @@ static Scene *empty_scene(void)
     assert_non_null(s);
     s->ambient = v3_splat(0);
     s->background = v3_splat(0);
-    Material white = {v3(1, 1, 1), v3(0, 0, 0), 1, -1};
+    Material white = {.kd = v3(1, 1, 1), .ks = v3(0, 0, 0), .shininess = 1, .texture = -1};
     assert_int_equal(scene_add_material(s, white, NULL, NULL), 0);
     return s;
 }
@@ -31,7 +31,7 @@ static void prepare(Scene *s)
 static vec3 look(const Scene *s, vec3 eye, vec3 p)
 {
     Ray r = ray_make(eye, v3_norm(v3_sub(p, eye)), 0, REAL_INF);
-    RayStats st = {0, 0};
+    RayStats st = {0, 0, 0};
     return shade_ray(s, &r, &st, NULL);
 }
 
@@ -130,7 +130,7 @@ static void pixels_are_srgb_unless_linear(void **state)
     uint32_t tex;
     uint8_t code[3] = {0, 0, 0};
     assert_int_equal(scene_add_texture(s, texture_from_rgb8(1, 1, code), &tex, NULL), 0);
-    s->materials[0] = (Material){v3(1, 1, 1), v3(0, 0, 0), 1, (int32_t)tex};
+    s->materials[0] = (Material){.kd = v3(1, 1, 1), .ks = v3(0, 0, 0), .shininess = 1, .texture = (int32_t)tex};
     s->planes[0].uv_scale = 1;
     s->settings.linear = 0;
     for (int k = 0; k < 256; k++) {
@@ -291,7 +291,7 @@ static void textured_triangle_and_instances(void **state)
     const uint8_t px[12] = {255, 0, 0, 0, 255, 0, 0, 0, 255, 255, 255, 255};
     uint32_t tex, mat;
     assert_int_equal(scene_add_texture(s, texture_from_rgb8(2, 2, px), &tex, NULL), 0);
-    Material m = {v3(1, 1, 1), v3(0, 0, 0), 1, (int32_t)tex};
+    Material m = {.kd = v3(1, 1, 1), .ks = v3(0, 0, 0), .shininess = 1, .texture = (int32_t)tex};
     assert_int_equal(scene_add_material(s, m, &mat, NULL), 0);
     const vec3 p[3] = {v3(0, 0, 0), v3(2, 0, 0), v3(0, 2, 0)};
     const real uv[6] = {0, 0, 1, 0, 0, 1};
@@ -366,7 +366,7 @@ static void packets_equal_single_rays(void **state)
     int ties = 0, packets = 0;
     for (int order = 0; order < 2; order++) {
         Scene *s = empty_scene();
-        Material red = {v3(1, R(0.2), R(0.2)), v3(R(0.5), R(0.5), R(0.5)), 20, -1};
+        Material red = {.kd = v3(1, R(0.2), R(0.2)), .ks = v3(R(0.5), R(0.5), R(0.5)), .shininess = 20, .texture = -1};
         uint32_t mat;
         assert_int_equal(scene_add_material(s, red, &mat, NULL), 0);
         assert_int_equal(scene_add_plane(s, plane_make(v3(0, -1, 0), v3(0, 1, 0), 0), NULL), 0);
@@ -399,7 +399,7 @@ static void packets_equal_single_rays(void **state)
                         trace_closest_packet(s, rays, n, hp);
                         vec3 cp[TRACE_PACKET];
                         uint64_t kp[TRACE_PACKET];
-                        RayStats st = {0, 0};
+                        RayStats st = {0, 0, 0};
                         shade_packet(s, rays, n, cp, &st, kp);
                         real tm[TRACE_PACKET];
                         for (int i = 0; i < n; i++)
@@ -424,7 +424,7 @@ static void packets_equal_single_rays(void **state)
                                          simd_name((SimdPath)path), order, x0 + i, y);
                             ties += got && h.kind == HIT_INSTANCE && h.index == 0;
                             uint64_t key;
-                            RayStats st1 = {0, 0};
+                            RayStats st1 = {0, 0, 0};
                             vec3 c = shade_ray(s, &rays[i], &st1, &key);
                             if (memcmp(&c, &cp[i], sizeof c) != 0 || key != kp[i])
                                 fail_msg("%s: ray (%d,%d): packet colour differs", simd_name((SimdPath)path), x0 + i, y);
@@ -564,7 +564,7 @@ static void adaptive_refines_texture_edges(void **state)
     const uint8_t checker[12] = {0, 0, 0, 255, 255, 255, 255, 255, 255, 0, 0, 0};
     uint32_t tex, mat;
     assert_int_equal(scene_add_texture(s, texture_from_rgb8(2, 2, checker), &tex, NULL), 0);
-    Material m = {v3(1, 1, 1), v3(0, 0, 0), 1, (int32_t)tex};
+    Material m = {.kd = v3(1, 1, 1), .ks = v3(0, 0, 0), .shininess = 1, .texture = (int32_t)tex};
     assert_int_equal(scene_add_material(s, m, &mat, NULL), 0);
     /* one triangle filling the view, the checker turned and repeated on it */
     const vec3 p3[3] = {v3(-10, -10, 0), v3(10, -10, 0), v3(-10, 10, 0)};

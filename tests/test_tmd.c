@@ -13,7 +13,7 @@ static Model *sample_model(unsigned attrs)
     assert_int_equal(mesh_init(&mesh, attrs, NULL), 0);
     Rng rng = {11};
     if (attrs & MESH_MATERIALS) {
-        Material a = {v3(1, 0, 0), v3(R(0.5), R(0.5), R(0.5)), 20, -1}, b = {v3(0, 0, 1), v3(0, 0, 0), 1, -1};
+        Material a = {.kd = v3(1, 0, 0), .ks = v3(R(0.5), R(0.5), R(0.5)), .shininess = 20, .texture = -1}, b = {.kd = v3(0, 0, 1), .ks = v3(0, 0, 0), .shininess = 1, .texture = -1};
         assert_int_equal(mesh_add_material(&mesh, a, NULL), 0);
         assert_int_equal(mesh_add_material(&mesh, b, NULL), 0);
     }

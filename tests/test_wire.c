@@ -251,17 +251,18 @@ static void malformed_scenes_and_assets_are_rejected(void **state)
     asset_cache_destroy(c);
     free_encoded(s, &e);
     scene_destroy(s);
-    /* a plane's flags word and the output encoding: unknown values are refused.
-     * Layout (docs/protocol.md): a 12-byte header, camera 56, colours 48,
-     * settings 24 (linear is the sixth u32, at 136), counts 32, one material
-     * 60, then the plane: point and normal 48, material 4, flags at 284. */
+    /* a plane's flags word, the output encoding and the extras word:
+     * unknown values are refused.  Layout (docs/protocol.md): a 12-byte
+     * header, camera 56, colours 48, settings 24 (linear is the sixth u32,
+     * at 136), the extras word at 140, counts 32, one material 60, then the
+     * plane: point and normal 48, material 4, flags at 288. */
     Scene *one = scene_create();
     assert_int_equal(scene_add_material(one, material_default(), NULL, NULL), 0);
     assert_int_equal(scene_add_plane(one, plane_make(v3(0, 0, 0), v3(0, 1, 0), 0), NULL), 0);
     assert_int_equal(scene_prepare(one, NULL), 0);
     Sink sk = {0};
     assert_int_equal(wire_encode_scene(one, NULL, NULL, &sk, NULL), 0);
-    assert_int_equal(sk.len, 288);
+    assert_int_equal(sk.len, 292);
     assert_int_equal(wire_decode_scene(sk.data, sk.len, c = asset_cache_create(), &back, &err), 0);
     scene_destroy(back);
     uint32_t word = 2;
@@ -271,13 +272,53 @@ static void malformed_scenes_and_assets_are_rejected(void **state)
     word = 0;
     memcpy(sk.data + 136, &word, 4);
     word = 2;
-    memcpy(sk.data + 284, &word, 4);
+    memcpy(sk.data + 140, &word, 4);
+    assert_int_equal(wire_decode_scene(sk.data, sk.len, c, &back, &err), -1);
+    assert_contains(err.msg, "unknown extras");
+    word = 0;
+    memcpy(sk.data + 140, &word, 4);
+    word = 2;
+    memcpy(sk.data + 288, &word, 4);
     assert_int_equal(wire_decode_scene(sk.data, sk.len, c, &back, &err), -1);
     assert_contains(err.msg, "unknown plane flags");
     word = 1; /* mapped, but its two numbers are missing */
-    memcpy(sk.data + 284, &word, 4);
+    memcpy(sk.data + 288, &word, 4);
     assert_int_equal(wire_decode_scene(sk.data, sk.len, c, &back, &err), -1);
     assert_contains(err.msg, "truncated");
+    sink_free(&sk);
+    /* with a mirror: the settings of secondary rays follow the extras word
+     * (depth at 144, cutoff 148, Fresnel 156, glass shadows 160), the counts
+     * move to 164, and the material's flags word follows its texture (at
+     * 256), its reflectance after it (at 260) */
+    one->materials[0].kr = v3_splat(R(0.5));
+    assert_int_equal(scene_prepare(one, NULL), 0);
+    sk = (Sink){0};
+    assert_int_equal(wire_encode_scene(one, NULL, NULL, &sk, NULL), 0);
+    assert_int_equal(sk.len, 292 + 20 + 4 + 24);
+    assert_int_equal(wire_decode_scene(sk.data, sk.len, c, &back, &err), 0);
+    assert_true(back->materials[0].kr.y == R(0.5) && back->settings.depth == one->settings.depth);
+    scene_destroy(back);
+    const struct {
+        size_t at;
+        uint32_t word;
+        const char *why;
+    } bad_optics[] = {{144, SCENE_MAX_DEPTH + 1, "secondary-ray settings"},
+                      {156, 2, "secondary-ray settings"},
+                      {160, 2, "secondary-ray settings"},
+                      {256, 8, "unknown material flags"}};
+    for (size_t i = 0; i < sizeof bad_optics / sizeof bad_optics[0]; i++) {
+        uint32_t was;
+        memcpy(&was, sk.data + bad_optics[i].at, 4);
+        memcpy(sk.data + bad_optics[i].at, &bad_optics[i].word, 4);
+        assert_int_equal(wire_decode_scene(sk.data, sk.len, c, &back, &err), -1);
+        assert_contains(err.msg, bad_optics[i].why);
+        memcpy(sk.data + bad_optics[i].at, &was, 4);
+    }
+    /* a mirror's reflectance must not be negative: the scene's own checks */
+    double neg = -1;
+    memcpy(sk.data + 260, &neg, 8);
+    assert_int_equal(wire_decode_scene(sk.data, sk.len, c, &back, &err), -1);
+    assert_contains(err.msg, "must not be negative");
     asset_cache_destroy(c);
     sink_free(&sk);
     scene_destroy(one);

@@ -29,6 +29,8 @@
 static const char *const shading_names[] = {"phong", "diffuse", NULL};
 static const char *const onoff_names[] = {"off", "on", NULL};
 static const char *const filter_names[] = {"nearest", "bilinear", NULL};
+static const char *const fresnel_names[] = {"exact", "schlick", NULL};
+static const char *const glass_names[] = {"opaque", "tinted", NULL};
 
 typedef struct {
     RenderProgress counts;
@@ -116,6 +118,8 @@ int main(int argc, char **argv)
         stats = 0;
     int width_given = 0, height_given = 0, force_bvh = 0, bvh_kind = BVH_SAH, band_lines = 0;
     int shading = SHADE_PHONG, shadows = 1, filter = FILTER_BILINEAR, shading_given = 0, shadows_given = 0, filter_given = 0;
+    int depth = 5, fresnel = FRESNEL_EXACT, glass = 1, depth_given = 0, cutoff_given = 0, fresnel_given = 0, glass_given = 0;
+    double cutoff = 0.01;
     CliAa aa = {4, 1, 0};
     const Opt opts[] = {
         {.name = "--output", .alias = "-o", .kind = OPT_STRING, .dst = &out, .arg = "FILE",
@@ -137,6 +141,15 @@ int main(int argc, char **argv)
          .help = "shadow rays", .def = "the scene's, else on"},
         {.name = "--filter", .kind = OPT_CHOICE, .dst = &filter, .choices = filter_names, .seen = &filter_given,
          .help = "texture filtering", .def = "the scene's, else bilinear"},
+        {.name = "--depth", .kind = OPT_INT, .dst = &depth, .arg = "N", .lo = 0, .hi = SCENE_MAX_DEPTH, .seen = &depth_given,
+         .help = "bounces of reflected and refracted rays after the camera ray", .def = "the scene's, else 5"},
+        {.name = "--cutoff", .kind = OPT_REAL, .dst = &cutoff, .arg = "W", .rlo = 0, .rhi = 0.999, .seen = &cutoff_given,
+         .help = "skip a secondary ray that can add less than W to the pixel", .def = "the scene's, else 0.01"},
+        {.name = "--fresnel", .kind = OPT_CHOICE, .dst = &fresnel, .choices = fresnel_names, .seen = &fresnel_given,
+         .help = "a dielectric's reflectance: Fresnel's equations or Schlick's approximation",
+         .def = "the scene's, else exact"},
+        {.name = "--glass-shadows", .kind = OPT_CHOICE, .dst = &glass, .choices = glass_names, .seen = &glass_given,
+         .help = "shadow rays through dielectrics: stopped, or tinted by their colour", .def = "the scene's, else tinted"},
         {.name = "--linear", .kind = OPT_FLAG, .dst = &linear,
          .help = "write linear light (PNG tagged gAMA 1.0) instead of sRGB"},
         {.name = "--repeat", .kind = OPT_INT, .dst = &repeat, .arg = "N", .lo = 1, .hi = 100000,
@@ -194,6 +207,14 @@ int main(int argc, char **argv)
         rs->shadows = shadows;
     if (filter_given)
         rs->filter = (TextureFilter)filter;
+    if (depth_given)
+        rs->depth = depth;
+    if (cutoff_given)
+        rs->cutoff = (real)cutoff;
+    if (fresnel_given)
+        rs->fresnel = (FresnelModel)fresnel;
+    if (glass_given)
+        rs->glass_shadows = glass;
     rs->linear = linear;
     if (!width_given && rs->width)
         width = rs->width;
@@ -244,11 +265,11 @@ int main(int argc, char **argv)
     render_pool_watch(pool, &watch.counts);
     Progress *prog = progress_start("lanray-render", !quiet, show_progress, &watch);
     double best = 1e30, sum = 0;
-    RayStats st = {0, 0};
+    RayStats st = {0, 0, 0};
     int seg = segment && segment < band ? segment : band; /* a band holds a segment */
     for (int f = 0; f < repeat && rc == 0; f++) {
         double a = timer_now();
-        st = (RayStats){0, 0};
+        st = (RayStats){0, 0, 0};
         for (int y = 0; rc == 0 && y < height; y += seg) {
             RayStats part;
             int n = y + seg <= height ? seg : height - y;
@@ -256,6 +277,7 @@ int main(int argc, char **argv)
             rc = render_lines(pool, scene, width, height, y, n, dst, &part, &err);
             st.primary += part.primary;
             st.shadow += part.shadow;
+            st.secondary += part.secondary;
             if (rc == 0 && banded && f == repeat - 1) /* in bands, the last pass writes */
                 rc = image_writer_rows(wr, pixels, n, &err) ? (wr = NULL, -1) : 0;
         }
@@ -276,12 +298,15 @@ int main(int argc, char **argv)
     if (rc)
         fprintf(stderr, "lanray-render: %s\n", err.msg);
     else {
-        double rays = (double)(st.primary + st.shadow);
+        double rays = (double)ray_stats_total(&st);
+        char second[64] = "";
+        if (st.secondary) /* a scene with mirrors or glass */
+            snprintf(second, sizeof second, " + %llu secondary", (unsigned long long)st.secondary);
         printf("%dx%d aa %d%s %s shadows %s bvh %s threads %d simd %s (%s): frame %.4f s (mean %.4f s over %d), "
-               "%.2f Mrays/s (%llu camera + %llu shadow rays)\n",
+               "%.2f Mrays/s (%llu camera + %llu shadow%s rays)\n",
                width, height, rs->aa, rs->adaptive ? " adaptive" : "", rs->shading == SHADE_PHONG ? "phong" : "diffuse",
                rs->shadows ? "on" : "off", bvh_kind_name(bvh.kind), threads, simd_name(simd_path()), REAL_NAME, best, sum / repeat, repeat,
-               rays / best * 1e-6, (unsigned long long)st.primary, (unsigned long long)st.shadow);
+               rays / best * 1e-6, (unsigned long long)st.primary, (unsigned long long)st.shadow, second);
         if (stats)
             print_memory(scene);
         if (!quiet)

@@ -34,6 +34,7 @@ static inline vec3 v3_min(vec3 a, vec3 b) { return v3(real_min(a.x, b.x), real_m
 static inline vec3 v3_max(vec3 a, vec3 b) { return v3(real_max(a.x, b.x), real_max(a.y, b.y), real_max(a.z, b.z)); }
 static inline vec3 v3_abs(vec3 a) { return v3(fabs(a.x), fabs(a.y), fabs(a.z)); }
 static inline real v3_max_comp(vec3 a) { return real_max(a.x, real_max(a.y, a.z)); }
+static inline real v3_min_comp(vec3 a) { return real_min(a.x, real_min(a.y, a.z)); }
 static inline int v3_is_finite(vec3 a) { return isfinite(a.x) && isfinite(a.y) && isfinite(a.z); }
 static inline vec3 v3_lerp(vec3 a, vec3 b, real t) { return v3_madd(a, v3_sub(b, a), t); }
 /* mirror d about n (n unit length) */

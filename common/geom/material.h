@@ -11,11 +11,26 @@ typedef struct {
     vec3 ks;        /* specular colour (Phong) */
     real shininess; /* Phong exponent */
     int32_t texture; /* index into the scene's textures, -1 for none; multiplies kd */
+    /* what a ray does at the surface beyond local shading; all zero (as
+     * the initialisers that leave them out give) for a plain surface */
+    vec3 kr;         /* mirror reflectance: the colour of a metal */
+    real ior;        /* > 0: a dielectric (glass) of this index of refraction,
+                      * reflecting by Fresnel and transmitting the rest */
+    vec3 kt;         /* a dielectric's transmitted colour (1 1 1: clear) */
+    vec3 absorb;     /* a dielectric's absorption per unit length inside (Beer-Lambert) */
+    vec3 ke;         /* emitted radiance, seen and reflected */
 } Material;
+
+#define MATERIAL_IOR_MIN R(0.0625)
+#define MATERIAL_IOR_MAX R(16)
+
+static inline int material_reflects(const Material *m) { return m->kr.x > R(0) || m->kr.y > R(0) || m->kr.z > R(0); }
+static inline int material_dielectric(const Material *m) { return m->ior > R(0); }
+static inline int material_emits(const Material *m) { return m->ke.x > R(0) || m->ke.y > R(0) || m->ke.z > R(0); }
 
 static inline Material material_default(void)
 {
-    Material m = {v3(R(0.8), R(0.8), R(0.8)), v3(R(0), R(0), R(0)), R(1), -1};
+    Material m = {.kd = v3(R(0.8), R(0.8), R(0.8)), .ks = v3(R(0), R(0), R(0)), .shininess = R(1), .texture = -1};
     return m;
 }
 

@@ -7,6 +7,17 @@
 
 enum { TRI_SMOOTH = 1, TRI_UV = 2 };
 enum { PLANE_MAPPED = 1 };
+/* The extras word: what only some scenes carry.  WIRE_OPTICS: a material
+ * reflects, refracts or emits; the settings of secondary rays follow, and
+ * every material carries a word of MAT_* flags and the fields they name. */
+enum { WIRE_OPTICS = 1 };
+enum { MAT_REFLECT = 1, MAT_DIELECTRIC = 2, MAT_EMIT = 4 };
+
+static uint32_t material_optics(const Material *m)
+{
+    return (material_reflects(m) ? MAT_REFLECT : 0u) | (material_dielectric(m) ? MAT_DIELECTRIC : 0u) |
+           (material_emits(m) ? MAT_EMIT : 0u);
+}
 
 static void put_f64(Sink *s, real v)
 {
@@ -37,6 +48,17 @@ int wire_encode_scene(const Scene *s, const Asset *model_assets, const Asset *te
     uint32_t set[6] = {(uint32_t)rs->aa,      (uint32_t)rs->adaptive, (uint32_t)rs->shading,
                        (uint32_t)rs->shadows, (uint32_t)rs->filter,   (uint32_t)rs->linear};
     sink_put(o, set, sizeof set);
+    uint32_t extras = 0;
+    for (uint32_t i = 0; i < s->material_count; i++)
+        if (material_optics(&s->materials[i]))
+            extras |= WIRE_OPTICS;
+    sink_u32(o, extras);
+    if (extras & WIRE_OPTICS) {
+        sink_u32(o, (uint32_t)rs->depth);
+        put_f64(o, rs->cutoff);
+        sink_u32(o, (uint32_t)rs->fresnel);
+        sink_u32(o, (uint32_t)rs->glass_shadows);
+    }
     uint32_t counts[8] = {s->texture_count, s->material_count, s->sphere_count, s->plane_count,
                           s->tri_count,     s->model_count,    s->instance_count, s->light_count};
     sink_put(o, counts, sizeof counts);
@@ -48,6 +70,19 @@ int wire_encode_scene(const Scene *s, const Asset *model_assets, const Asset *te
         put_vec(o, m->ks);
         put_f64(o, m->shininess);
         sink_u32(o, (uint32_t)m->texture);
+        if (!(extras & WIRE_OPTICS))
+            continue;
+        uint32_t opt = material_optics(m);
+        sink_u32(o, opt);
+        if (opt & MAT_REFLECT)
+            put_vec(o, m->kr);
+        if (opt & MAT_DIELECTRIC) {
+            put_f64(o, m->ior);
+            put_vec(o, m->kt);
+            put_vec(o, m->absorb);
+        }
+        if (opt & MAT_EMIT)
+            put_vec(o, m->ke);
     }
     for (uint32_t i = 0; i < s->sphere_count; i++) {
         put_vec(o, s->spheres[i].centre);
@@ -145,8 +180,16 @@ int wire_decode_scene(const void *data, size_t len, const AssetCache *cache, Sce
     s->camera = camera_from_angles(pos, yaw, pitch, roll, zoom);
     s->ambient = get_vec(&c);
     s->background = get_vec(&c);
-    uint32_t set[6], n[8];
+    uint32_t set[6], n[8], extras = 0, optics[3] = {0, 0, 0};
+    real cutoff = R(0);
     cursor_get(&c, set, sizeof set);
+    extras = cursor_u32(&c);
+    if (extras & WIRE_OPTICS) {
+        optics[0] = cursor_u32(&c);
+        cutoff = get_f64(&c);
+        optics[1] = cursor_u32(&c);
+        optics[2] = cursor_u32(&c);
+    }
     cursor_get(&c, n, sizeof n);
     const char *bad = NULL;
     static const uint32_t min_size[8] = {MIN_TEXTURE, MIN_MATERIAL, MIN_SPHERE, MIN_PLANE, MIN_TRI, MIN_MODEL, MIN_INSTANCE, MIN_LIGHT};
@@ -160,9 +203,25 @@ int wire_decode_scene(const void *data, size_t len, const AssetCache *cache, Sce
     else if (set[0] < 1 || set[0] > AA_MAX || set[1] > 1 || set[2] > SHADE_DIFFUSE || set[3] > 1 || set[4] > FILTER_BILINEAR ||
              set[5] > 1)
         bad = "invalid settings";
+    else if (extras & ~(uint32_t)WIRE_OPTICS)
+        bad = "unknown extras";
+    else if (optics[0] > SCENE_MAX_DEPTH || !(cutoff >= R(0) && cutoff < R(1)) || optics[1] > FRESNEL_SCHLICK ||
+             optics[2] > 1)
+        bad = "invalid secondary-ray settings";
     if (!bad) {
-        s->settings = (RenderSettings){(int)set[0], (int)set[1], (ShadeModel)set[2], (int)set[3], (TextureFilter)set[4],
-                                       (int)set[5], 0, 0, 0};
+        RenderSettings *rs = &s->settings;
+        rs->aa = (int)set[0];
+        rs->adaptive = (int)set[1];
+        rs->shading = (ShadeModel)set[2];
+        rs->shadows = (int)set[3];
+        rs->filter = (TextureFilter)set[4];
+        rs->linear = (int)set[5];
+        if (extras & WIRE_OPTICS) {
+            rs->depth = (int)optics[0];
+            rs->cutoff = cutoff;
+            rs->fresnel = (FresnelModel)optics[1];
+            rs->glass_shadows = (int)optics[2];
+        }
     }
     int rc = 0;
     for (uint32_t i = 0; !bad && rc == 0 && i < n[0]; i++) {
@@ -175,11 +234,25 @@ int wire_decode_scene(const void *data, size_t len, const AssetCache *cache, Sce
             rc = scene_add_texture(s, t, NULL, err);
     }
     for (uint32_t i = 0; !bad && rc == 0 && i < n[1]; i++) {
-        Material m;
+        Material m = {0};
         m.kd = get_vec(&c);
         m.ks = get_vec(&c);
         m.shininess = get_f64(&c);
         m.texture = (int32_t)cursor_u32(&c);
+        uint32_t opt = extras & WIRE_OPTICS ? cursor_u32(&c) : 0;
+        if (opt & ~(uint32_t)(MAT_REFLECT | MAT_DIELECTRIC | MAT_EMIT)) {
+            bad = "unknown material flags";
+            break;
+        }
+        if (opt & MAT_REFLECT)
+            m.kr = get_vec(&c);
+        if (opt & MAT_DIELECTRIC) {
+            m.ior = get_f64(&c);
+            m.kt = get_vec(&c);
+            m.absorb = get_vec(&c);
+        }
+        if (opt & MAT_EMIT)
+            m.ke = get_vec(&c);
         rc = scene_add_material(s, m, NULL, err);
     }
     for (uint32_t i = 0; !bad && rc == 0 && i < n[2]; i++) {

@@ -14,7 +14,8 @@
 #include "scene/scene.h"
 
 #define WIRE_MAGIC 0x4353524cu /* "LRSC" */
-#define WIRE_VERSION 2u /* 2: the output encoding (linear or sRGB), a plane's texture mapping */
+#define WIRE_VERSION 3u /* 2: the output encoding (linear or sRGB), a plane's texture mapping;
+                         * 3: the extras word, reflection, refraction and emission */
 
 /* Serialises s; model_assets[i] / texture_assets[i] are the assets of
  * s->models[i] / s->textures[i]. */

@@ -79,10 +79,11 @@ static RayStats pool_run_counted(RenderPool *p, JobFn fn, void *ctx, uint32_t ch
     memset(p->stats, 0, (size_t)n * sizeof *p->stats);
     Counted c = {fn, ctx, p->stats};
     pool_run(p->pool, counted_job, &c, chunks);
-    RayStats total = {0, 0};
+    RayStats total = {0, 0, 0};
     for (int i = 0; i < n; i++) {
         total.primary += p->stats[i].s.primary;
         total.shadow += p->stats[i].s.shadow;
+        total.secondary += p->stats[i].s.secondary;
     }
     return total;
 }
@@ -192,7 +193,7 @@ static void count_progress(const Frame *f, uint64_t pixels, const RayStats *st, 
     if (!f->progress)
         return;
     atomic_fetch_add_explicit(&f->progress->pixels, pixels, memory_order_relaxed);
-    atomic_fetch_add_explicit(&f->progress->rays, st->primary + st->shadow - before, memory_order_relaxed);
+    atomic_fetch_add_explicit(&f->progress->rays, ray_stats_total(st) - before, memory_order_relaxed);
 }
 
 /* [i0, i1): the chunk's pixels as offsets into a run of `total` */
@@ -211,7 +212,7 @@ static void job_grid(void *ctx, uint32_t chunk, RayStats *st)
     uint64_t i0, i1;
     chunk_range(chunk, f->count, &i0, &i1);
     int n = f->s->settings.aa;
-    uint64_t before = st->primary + st->shadow;
+    uint64_t before = ray_stats_total(st);
     for (uint64_t i = i0; i < i1;) {
         uint64_t g = f->first + i;
         if (n == 1) {
@@ -239,7 +240,7 @@ static void job_keys(void *ctx, uint32_t chunk, RayStats *st)
         return;
     uint64_t i0, i1;
     chunk_range(chunk, (uint64_t)f->width * (uint64_t)f->key_lines, &i0, &i1);
-    uint64_t before = st->primary + st->shadow;
+    uint64_t before = ray_stats_total(st);
     for (uint64_t i = i0; i < i1;) {
         real xs[TRACE_PACKET], ys[TRACE_PACKET];
         vec3 c[TRACE_PACKET];
@@ -285,7 +286,7 @@ static void job_refine(void *ctx, uint32_t chunk, RayStats *st)
     uint64_t i0, i1;
     chunk_range(chunk, f->count, &i0, &i1);
     int last_line = f->key_first + f->key_lines - 1;
-    uint64_t before = st->primary + st->shadow;
+    uint64_t before = ray_stats_total(st);
     for (uint64_t i = i0; i < i1; i++) {
         uint64_t g = f->first + i;
         int px = (int)(g % (uint64_t)f->width), py = (int)(g / (uint64_t)f->width);
@@ -324,7 +325,7 @@ int render_span(RenderPool *p, const Scene *s, int width, int height, uint64_t f
         return err_set(err, "render: pixels %llu..%llu outside a frame of %llu", (unsigned long long)first,
                        (unsigned long long)(first + count), (unsigned long long)total);
     if (stats)
-        *stats = (RayStats){0, 0};
+        *stats = (RayStats){0, 0, 0};
     if (count == 0)
         return 0;
     if (count / CHUNK >= UINT32_MAX)

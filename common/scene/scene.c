@@ -42,7 +42,8 @@ void scene_destroy(Scene *s)
 
 RenderSettings render_settings_default(void)
 {
-    RenderSettings r = {1, 0, SHADE_PHONG, 1, FILTER_BILINEAR, 0, 0, 0, 0};
+    RenderSettings r = {.aa = 1, .shading = SHADE_PHONG, .shadows = 1, .filter = FILTER_BILINEAR, .depth = 5,
+                        .cutoff = R(0.01), .fresnel = FRESNEL_EXACT, .glass_shadows = 1};
     return r;
 }
 
@@ -223,11 +224,38 @@ static int check_material(const Scene *s, uint32_t m, const char *what, uint32_t
     return 0;
 }
 
+/* What is wrong with a material's reflection, refraction and emission, or NULL. */
+static const char *material_check_optics(const Material *m)
+{
+    if (!v3_is_finite(m->kr) || !v3_is_finite(m->kt) || !v3_is_finite(m->absorb) || !v3_is_finite(m->ke) ||
+        !isfinite(m->ior))
+        return "reflection, transmission, absorption and emission must be finite";
+    if (v3_min_comp(m->kr) < R(0) || v3_min_comp(m->kt) < R(0) || v3_min_comp(m->absorb) < R(0) ||
+        v3_min_comp(m->ke) < R(0))
+        return "reflection, transmission, absorption and emission must not be negative";
+    if (m->ior < R(0) || (m->ior > R(0) && !(m->ior >= MATERIAL_IOR_MIN && m->ior <= MATERIAL_IOR_MAX)))
+        return "index of refraction out of range (0: none; else 1/16..16)";
+    if (material_dielectric(m) && material_reflects(m))
+        return "a dielectric reflects by Fresnel's equations and takes no mirror reflectance";
+    return NULL;
+}
+
+static uint32_t material_features(const Material *m)
+{
+    return (material_reflects(m) ? FEAT_REFLECT : 0u) | (material_dielectric(m) ? FEAT_REFRACT : 0u) |
+           (material_emits(m) ? FEAT_EMIT : 0u);
+}
+
 int scene_prepare(Scene *s, Err *err)
 {
     uint32_t f = 0;
     if (s->settings.aa < 1 || s->settings.aa > AA_MAX)
         return err_set(err, "scene: anti-aliasing %d out of range 1..%d", s->settings.aa, AA_MAX);
+    const RenderSettings *rs = &s->settings;
+    if (rs->depth < 0 || rs->depth > SCENE_MAX_DEPTH || !(rs->cutoff >= R(0) && rs->cutoff < R(1)) ||
+        (rs->fresnel != FRESNEL_EXACT && rs->fresnel != FRESNEL_SCHLICK) || (rs->glass_shadows & ~1))
+        return err_set(err, "scene: depth %d (0..%d), cutoff (0 up to 1), Fresnel model or glass shadows out of range",
+                       rs->depth, SCENE_MAX_DEPTH);
     const Camera *cam = &s->camera;
     if (!(cam->zoom > R(0)) || !isfinite(cam->zoom) || !v3_is_finite(cam->pos) || !isfinite(cam->yaw) ||
         !isfinite(cam->pitch) || !isfinite(cam->roll))
@@ -244,6 +272,9 @@ int scene_prepare(Scene *s, Err *err)
             f |= FEAT_TEXTURES;
         if (v3_max_comp(m->ks) > R(0))
             f |= FEAT_SPECULAR;
+        if (material_check_optics(m))
+            return err_set(err, "scene: material %u: %s", i, material_check_optics(m));
+        f |= material_features(m);
     }
     for (uint32_t i = 0; i < s->sphere_count; i++) {
         if (!(s->spheres[i].radius > R(0)) || !v3_is_finite(s->spheres[i].centre))
@@ -294,9 +325,11 @@ int scene_prepare(Scene *s, Err *err)
             f |= FEAT_TEXTURES;
         if (m->colours && in->material < 0)
             f |= FEAT_COLOURS;
-        for (uint32_t k = 0; k < m->material_count; k++)
+        for (uint32_t k = 0; k < m->material_count; k++) {
             if (v3_max_comp(m->materials[k].ks) > R(0))
                 f |= FEAT_SPECULAR;
+            f |= material_features(&m->materials[k]);
+        }
         in->world_box = m->tri_count ? instance_world_box(in, m->bounds) : aabb_empty();
     }
     for (uint32_t i = 0; i < s->model_count; i++)

@@ -12,6 +12,7 @@
 #include <stdint.h>
 
 #include "geom/camera.h"
+#include "geom/optics.h"
 #include "model/model.h"
 #include "model/texture.h"
 
@@ -19,6 +20,7 @@
 #define SCENE_MAX_LIGHTS 65536u
 #define AA_MAX 16
 #define SCENE_MAX_SIDE 65536 /* settings width/height */
+#define SCENE_MAX_DEPTH 64   /* settings depth: reflections and refractions deep */
 
 typedef struct {
     vec3 centre;
@@ -84,6 +86,14 @@ typedef struct {
     int shadows;
     TextureFilter filter;
     int linear;        /* pixels are written as linear codes (--linear), not sRGB */
+    /* secondary rays (reflection, refraction); only a scene with such
+     * materials carries these on the wire */
+    int depth;         /* bounces after the camera ray (0..SCENE_MAX_DEPTH) */
+    real cutoff;       /* a ray whose weight (the largest channel of what it
+                        * still adds to the pixel) is below this is not traced */
+    FresnelModel fresnel;
+    int glass_shadows; /* 1: shadow rays pass dielectrics, tinted by their
+                        * transmitted colour; 0: dielectrics cast opaque shadows */
     /* what the scene file asked for, for the programs' defaults; not on the
      * wire (an UPDATE carries the frame's size, the samples are above) */
     int width, height;  /* 0: not given */
@@ -99,6 +109,9 @@ enum {
     FEAT_SHADOWS = 1 << 5,
     FEAT_SPECULAR = 1 << 6,
     FEAT_COLOURS = 1 << 7, /* an instance shows its model's vertex colours */
+    FEAT_REFLECT = 1 << 8, /* a material with mirror reflectance */
+    FEAT_REFRACT = 1 << 9, /* a dielectric material */
+    FEAT_EMIT = 1 << 10,   /* an emissive material */
 };
 
 typedef struct {

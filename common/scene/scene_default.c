@@ -77,7 +77,7 @@ static Texture *default_texture(void)
 
 static Material mat(real r, real g, real b, real spec, real shininess)
 {
-    Material m = {v3(r, g, b), v3_splat(spec), shininess, -1};
+    Material m = {.kd = v3(r, g, b), .ks = v3_splat(spec), .shininess = shininess, .texture = -1};
     return m;
 }
 
@@ -92,7 +92,7 @@ int scene_default(Scene **out, const BvhOptions *opt, Err *err)
     camera_look_at(&s->camera, v3(0, R(2.4), R(7)), v3(0, R(0.8), 0), 0, camera_zoom_for_fov(55));
     s->ambient = v3_splat(R(0.015));
     s->background = v3(R(0.007), R(0.01), R(0.022));
-    uint32_t floor, red, blue, green, gold, pic, tex;
+    uint32_t floor, red, blue, green, gold, pic, tex, mirror, glass;
     Texture *t = default_texture();
     if (!t) {
         scene_destroy(s);
@@ -109,10 +109,20 @@ int scene_default(Scene **out, const BvhOptions *opt, Err *err)
     rc = rc ? rc : scene_add_material(s, mat(R(0.033), R(0.52), R(0.051), R(0.3), 10), &green, err);
     rc = rc ? rc : scene_add_material(s, mat(R(0.79), R(0.38), R(0.033), R(0.8), 60), &gold, err);
     rc = rc ? rc : scene_add_material(s, picture, &pic, err);
+    /* a mirror, and glass with a faint blue-green tint deepening with thickness */
+    Material chrome = mat(0, 0, 0, R(0.6), 200), crystal = mat(0, 0, 0, R(0.9), 300);
+    chrome.kr = v3(R(0.85), R(0.85), R(0.88));
+    crystal.ior = R(1.5);
+    crystal.kt = v3_splat(1);
+    crystal.absorb = v3(R(0.25), R(0.08), R(0.12));
+    rc = rc ? rc : scene_add_material(s, chrome, &mirror, err);
+    rc = rc ? rc : scene_add_material(s, crystal, &glass, err);
     rc = rc ? rc : scene_add_plane(s, plane_make(v3(0, 0, 0), v3(0, 1, 0), floor), err);
     rc = rc ? rc : scene_add_sphere(s, (Sphere){v3(R(-1.9), R(0.75), R(0.4)), R(0.75), red}, err);
     rc = rc ? rc : scene_add_sphere(s, (Sphere){v3(R(1.9), R(0.55), R(0.9)), R(0.55), blue}, err);
     rc = rc ? rc : scene_add_sphere(s, (Sphere){v3(R(-0.3), R(0.3), R(2.0)), R(0.3), green}, err);
+    rc = rc ? rc : scene_add_sphere(s, (Sphere){v3(R(-1.05), R(0.45), R(1.75)), R(0.45), mirror}, err);
+    rc = rc ? rc : scene_add_sphere(s, (Sphere){v3(R(0.85), R(0.5), R(1.9)), R(0.5), glass}, err);
     /* the picture: a quad standing behind the objects, texture coordinates over [0,1]^2 */
     vec3 a = v3(R(-1.6), R(0.2), R(-2.2)), b = v3(R(1.6), R(0.2), R(-2.2));
     vec3 c = v3(R(1.6), R(2.6), R(-2.2)), d = v3(R(-1.6), R(2.6), R(-2.2));

@@ -216,7 +216,8 @@ static int do_settings(Ctx *c, const Tokens *t)
 {
     static const KeySpec spec[] = {{"aa", ARG_NUM, 1, 0},       {"adaptive", ARG_NUM, 1, 0}, {"shading", ARG_WORD, 0, 0},
                                    {"shadows", ARG_WORD, 0, 0}, {"filter", ARG_WORD, 0, 0},  {"width", ARG_NUM, 1, 0},
-                                   {"height", ARG_NUM, 1, 0},   {0, 0, 0, 0}};
+                                   {"height", ARG_NUM, 1, 0},   {"depth", ARG_NUM, 1, 0},    {"cutoff", ARG_NUM, 1, 0},
+                                   {"fresnel", ARG_WORD, 0, 0}, {"glass_shadows", ARG_WORD, 0, 0}, {0, 0, 0, 0}};
     KeyVals kv;
     if (read_keys(c, t, 1, "settings", spec, &kv))
         return -1;
@@ -252,6 +253,30 @@ static int do_settings(Ctx *c, const Tokens *t)
             return fail(c, "'shadows' must be on or off, not '%s'", kv.word[3]);
         rs->shadows = strcmp(kv.word[3], "on") == 0;
     }
+    if (kv.present[7]) {
+        real n = kv.num[7][0];
+        if (!(n >= 0 && n <= SCENE_MAX_DEPTH && n == floor(n)))
+            return fail(c, "'depth' of settings must be a whole number from 0 to %d", SCENE_MAX_DEPTH);
+        rs->depth = (int)n;
+    }
+    if (kv.present[8]) {
+        if (!(kv.num[8][0] >= R(0) && kv.num[8][0] < R(1)))
+            return fail(c, "'cutoff' of settings must be from 0 up to (not including) 1");
+        rs->cutoff = kv.num[8][0];
+    }
+    if (kv.present[9]) {
+        if (strcmp(kv.word[9], "exact") == 0)
+            rs->fresnel = FRESNEL_EXACT;
+        else if (strcmp(kv.word[9], "schlick") == 0)
+            rs->fresnel = FRESNEL_SCHLICK;
+        else
+            return fail(c, "'fresnel' must be exact or schlick, not '%s'", kv.word[9]);
+    }
+    if (kv.present[10]) {
+        if (strcmp(kv.word[10], "tinted") != 0 && strcmp(kv.word[10], "opaque") != 0)
+            return fail(c, "'glass_shadows' must be tinted or opaque, not '%s'", kv.word[10]);
+        rs->glass_shadows = strcmp(kv.word[10], "tinted") == 0;
+    }
     if (kv.present[4]) {
         if (strcmp(kv.word[4], "nearest") == 0)
             rs->filter = FILTER_NEAREST;
@@ -282,13 +307,18 @@ static int do_texture(Ctx *c, const Tokens *t)
 static int do_material(Ctx *c, const Tokens *t)
 {
     static const KeySpec spec[] = {{"diffuse", ARG_NUM, 3, 0}, {"specular", ARG_NUM, 3, 0}, {"shininess", ARG_NUM, 1, 0},
-                                   {"texture", ARG_WORD, 0, 0}, {0, 0, 0, 0}};
+                                   {"texture", ARG_WORD, 0, 0}, {"reflect", ARG_NUM, 3, 0},  {"ior", ARG_NUM, 1, 0},
+                                   {"transmit", ARG_NUM, 3, 0}, {"absorb", ARG_NUM, 3, 0},   {"emit", ARG_NUM, 3, 0},
+                                   {0, 0, 0, 0}};
     if (t->n < 2)
         return fail(c, "material expects a name: material NAME diffuse R G B ...");
     KeyVals kv;
     if (read_keys(c, t, 2, "material", spec, &kv))
         return -1;
     Material m = material_default();
+    /* a mirror or a glass is that alone unless a diffuse colour is given */
+    if (kv.present[4] || kv.present[5])
+        m.kd = v3_splat(R(0));
     if (kv.present[0])
         m.kd = kv_vec(&kv, 0);
     if (kv.present[1])
@@ -297,6 +327,27 @@ static int do_material(Ctx *c, const Tokens *t)
         m.shininess = kv.num[2][0];
     if (non_negative_vec(c, m.kd, "diffuse", "material") || non_negative_vec(c, m.ks, "specular", "material") ||
         (m.shininess < 0 && fail(c, "'shininess' of material must not be negative")))
+        return -1;
+    if (kv.present[4])
+        m.kr = kv_vec(&kv, 4);
+    if (kv.present[5]) {
+        m.ior = kv.num[5][0];
+        m.kt = v3_splat(R(1));
+        if (!(m.ior >= MATERIAL_IOR_MIN && m.ior <= MATERIAL_IOR_MAX))
+            return fail(c, "'ior' of material must be from 0.0625 to 16");
+    }
+    if ((kv.present[6] || kv.present[7]) && !kv.present[5])
+        return fail(c, "'%s' of material needs 'ior' (a dielectric)", kv.present[6] ? "transmit" : "absorb");
+    if (kv.present[4] && kv.present[5])
+        return fail(c, "material takes either 'reflect' (a mirror) or 'ior' (a dielectric, reflecting by Fresnel), not both");
+    if (kv.present[6])
+        m.kt = kv_vec(&kv, 6);
+    if (kv.present[7])
+        m.absorb = kv_vec(&kv, 7);
+    if (kv.present[8])
+        m.ke = kv_vec(&kv, 8);
+    if (non_negative_vec(c, m.kr, "reflect", "material") || non_negative_vec(c, m.kt, "transmit", "material") ||
+        non_negative_vec(c, m.absorb, "absorb", "material") || non_negative_vec(c, m.ke, "emit", "material"))
         return -1;
     if (kv.present[3]) {
         uint32_t tex;

@@ -7,7 +7,20 @@
  * instance keeps the model's material), and is multiplied by the texture
  * where the material has one; the specular
  * term is skipped in diffuse-only mode and for materials without ks.  One
- * shadow ray per light stops at the first occluder (any-hit). */
+ * shadow ray per light stops at the first occluder (any-hit); with glass
+ * shadows, a blocked one is followed through dielectrics instead, tinted
+ * by their transmitted colour (no refraction: no caustics).
+ *
+ * Beyond the local terms (shade_beyond): an emissive material adds its
+ * radiance; a mirror adds kr times what its reflected ray sees; a
+ * dielectric splits into the reflected ray (weight F, by Fresnel's
+ * equations or Schlick's approximation) and the refracted one (weight
+ * (1 - F) kt), total internal reflection sending everything back; light
+ * that crossed a dielectric's inside is absorbed by exp(-absorb t)
+ * (Beer-Lambert).  Secondary rays recurse up to settings.depth bounces and
+ * are not traced where their weight, the most they can add to the pixel,
+ * is below settings.cutoff.  All of it is deterministic: no random number
+ * is drawn, so any client renders any pixel the same. */
 #include "scene/shade.h"
 
 /* Light arriving at p: unit direction towards the light, distance, radiance. */
@@ -79,7 +92,125 @@ static void shade_start(const Scene *s, const Ray *r, const Hit *hit, Shading *s
     sh->lit = 0;
 }
 
+/* Shadow rays through dielectrics: at most this many surfaces crossed. */
+#define GLASS_MAX_CROSSINGS 32
+
+static vec3 beer_lambert(vec3 absorb, real t)
+{
+    return v3(exp(-absorb.x * t), exp(-absorb.y * t), exp(-absorb.z * t));
+}
+
+/* What of a light's radiance passes along shadow ray sr (blocked by the
+ * any-hit test): the product of the transmitted colours (and absorption)
+ * of the dielectrics it crosses before tmax, 0 at anything opaque. */
+static vec3 transmittance(const Scene *s, const Ray *sr, real tmax, RayStats *stats)
+{
+    vec3 T = v3_splat(R(1));
+    Ray r = *sr;
+    real left = tmax;
+    for (int i = 0; i < GLASS_MAX_CROSSINGS; i++) {
+        Hit h;
+        r.tmax = left;
+        if (!trace_closest(s, &r, &h))
+            return T;
+        Surface sf;
+        trace_surface(s, &r, &h, &sf);
+        if (!material_dielectric(sf.mat))
+            break;
+        T = v3_mul(T, sf.mat->kt);
+        if (sf.inside && v3_max_comp(sf.mat->absorb) > R(0))
+            T = v3_mul(T, beer_lambert(sf.mat->absorb, h.t));
+        if (!(v3_max_comp(T) > R(0)))
+            break;
+        /* on through the surface: from just past it, the rest of the way */
+        left = left == REAL_MAX ? left : left - h.t;
+        stats->shadow++;
+        ray_set(&r, trace_offset_origin(sf.p, v3_neg(sf.ng), sf.err), r.dir, r.inv, R(0), left);
+    }
+    return v3_splat(R(0));
+}
+
+static void shade_rays(const Scene *s, const Ray *rays, int n, vec3 *out, RayStats *stats, uint64_t *keys, int depth,
+                       vec3 weight);
+
+/* The colour seen along a secondary ray from org in unit direction d. */
+static vec3 shade_secondary(const Scene *s, vec3 org, vec3 d, int depth, vec3 weight, RayStats *stats)
+{
+    Ray r = ray_make(org, d, R(0), REAL_INF);
+    vec3 c;
+    stats->secondary++;
+    shade_rays(s, &r, 1, &c, stats, NULL, depth, weight);
+    return c;
+}
+
+/* A secondary ray is traced when what it can add to the pixel is at least the cutoff. */
+static int worth_tracing(const Scene *s, vec3 weight)
+{
+    real w = v3_max_comp(weight);
+    return w > R(0) && w >= s->settings.cutoff;
+}
+
+/* The mirror direction of unit d at the surface: about the shading normal,
+ * or about the geometric one where a smooth normal would send it into the
+ * surface. */
+static vec3 reflected(vec3 d, const Surface *sf)
+{
+    vec3 r = optics_reflect(d, sf->ns);
+    return v3_dot(r, sf->ng) > R(0) ? r : optics_reflect(d, sf->ng);
+}
+
+/* Emission, reflection, refraction and absorption at sh's hit (at
+ * distance t along r), for a ray at bounce `depth` carrying `weight`. */
+static vec3 shade_beyond(const Scene *s, real t, const Shading *sh, int depth, vec3 weight, RayStats *stats)
+{
+    const Surface *sf = &sh->sf;
+    const Material *m = sf->mat;
+    vec3 col = sh->col;
+    if (scene_uses(s, FEAT_EMIT))
+        col = v3_add(col, m->ke);
+    const int reflects = scene_uses(s, FEAT_REFLECT) && material_reflects(m);
+    const int refracts = scene_uses(s, FEAT_REFRACT) && material_dielectric(m);
+    if (depth < s->settings.depth && (reflects || refracts)) {
+        vec3 d = v3_neg(sh->view);
+        /* a reflected ray leaves on the side the ray came from, a refracted one on the other */
+        vec3 front = trace_offset_origin(sf->p, sf->ng, sf->err);
+        if (reflects) {
+            vec3 w = v3_mul(weight, m->kr);
+            if (worth_tracing(s, w))
+                col = v3_add(col, v3_mul(m->kr, shade_secondary(s, front, reflected(d, sf), depth + 1, w, stats)));
+        } else {
+            real eta = sf->inside ? m->ior : R(1) / m->ior;
+            real cos_i = real_max(R(0), -v3_dot(d, sf->ns));
+            real f = optics_fresnel(s->settings.fresnel, cos_i, eta);
+            vec3 td = v3_splat(0);
+            /* past the critical angle, or bent back through the facet by a
+             * smooth normal: everything is reflected */
+            if (f >= R(1) || !optics_refract(d, sf->ns, eta, &td) || !(v3_dot(td, sf->ng) < R(0)))
+                f = R(1);
+            vec3 wr = v3_scale(weight, f);
+            if (worth_tracing(s, wr))
+                col = v3_add(col, v3_scale(shade_secondary(s, front, reflected(d, sf), depth + 1, wr, stats), f));
+            vec3 kt = v3_scale(m->kt, R(1) - f);
+            vec3 wt = v3_mul(weight, kt);
+            if (f < R(1) && worth_tracing(s, wt)) {
+                vec3 back = trace_offset_origin(sf->p, v3_neg(sf->ng), sf->err);
+                col = v3_add(col, v3_mul(kt, shade_secondary(s, back, v3_norm(td), depth + 1, wt, stats)));
+            }
+        }
+    }
+    /* the ray crossed this dielectric's inside to get here */
+    if (scene_uses(s, FEAT_REFRACT) && sf->inside && material_dielectric(m) && v3_max_comp(m->absorb) > R(0))
+        col = v3_mul(col, beer_lambert(m->absorb, t));
+    return col;
+}
+
 void shade_packet(const Scene *s, const Ray *rays, int n, vec3 *out, RayStats *stats, uint64_t *keys)
+{
+    shade_rays(s, rays, n, out, stats, keys, 0, v3_splat(R(1)));
+}
+
+static void shade_rays(const Scene *s, const Ray *rays, int n, vec3 *out, RayStats *stats, uint64_t *keys, int depth,
+                       vec3 weight)
 {
     Hit hits[TRACE_PACKET];
     Shading sh[TRACE_PACKET];
@@ -88,7 +219,8 @@ void shade_packet(const Scene *s, const Ray *rays, int n, vec3 *out, RayStats *s
         trace_closest(s, &rays[0], &hits[0]);
     else
         trace_closest_packet(s, rays, n, hits);
-    stats->primary += (uint64_t)n;
+    if (depth == 0)
+        stats->primary += (uint64_t)n;
     /* the hit triangles' vertices, for every ray at once: on a big model
      * each is a cache miss, and waiting for them one by one showed */
     for (int i = 0; i < n; i++)
@@ -105,6 +237,7 @@ void shade_packet(const Scene *s, const Ray *rays, int n, vec3 *out, RayStats *s
         live[nl++] = i;
     }
     const int shadows = scene_has(s, FEAT_SHADOWS);
+    const int glass_shadows = scene_uses(s, FEAT_REFRACT) && s->settings.glass_shadows;
     for (uint32_t li = 0; li < s->light_count; li++) {
         const Light *l = &s->lights[li];
         Ray sr[TRACE_PACKET];
@@ -142,13 +275,20 @@ void shade_packet(const Scene *s, const Ray *rays, int n, vec3 *out, RayStats *s
             continue;
         stats->shadow += (uint64_t)m;
         uint32_t blocked = m == 1 ? (uint32_t)trace_occluded(s, &sr[0], tmax[0]) : trace_occluded_packet(s, sr, m, tmax);
-        for (int k = 0; k < m; k++)
-            if (!(blocked >> k & 1))
+        for (int k = 0; k < m; k++) {
+            if (!(blocked >> k & 1)) {
                 add_light(&sh[who[k]], L[k], rad[k], ndotl[k], li);
+            } else if (glass_shadows) {
+                vec3 T = transmittance(s, &sr[k], tmax[k], stats);
+                if (v3_max_comp(T) > R(0))
+                    add_light(&sh[who[k]], L[k], v3_mul(rad[k], T), ndotl[k], li);
+            }
+        }
     }
+    const int beyond = scene_uses(s, FEAT_REFLECT | FEAT_REFRACT | FEAT_EMIT);
     for (int k = 0; k < nl; k++) {
         int i = live[k];
-        out[i] = sh[i].col;
+        out[i] = beyond ? shade_beyond(s, hits[i].t, &sh[i], depth, weight, stats) : sh[i].col;
         if (keys)
             keys[i] = (uint64_t)sh[i].sf.object << 16 | sh[i].lit;
     }
@@ -157,6 +297,6 @@ void shade_packet(const Scene *s, const Ray *rays, int n, vec3 *out, RayStats *s
 vec3 shade_ray(const Scene *s, const Ray *r, RayStats *stats, uint64_t *key)
 {
     vec3 c;
-    shade_packet(s, r, 1, &c, stats, key);
+    shade_rays(s, r, 1, &c, stats, key, 0, v3_splat(R(1)));
     return c;
 }

@@ -1,5 +1,6 @@
 /* shade.h - colour of a camera ray: Phong or diffuse-only shading with
- * point, spot and directional lights and hard shadows. */
+ * point, spot and directional lights and hard shadows, and the reflected
+ * and refracted rays of mirrors and dielectrics. */
 #ifndef LANRAY_SHADE_H
 #define LANRAY_SHADE_H
 
@@ -9,7 +10,10 @@
 
 typedef struct {
     uint64_t primary, shadow;
+    uint64_t secondary; /* reflected and refracted rays (and their shadow rays count as shadow) */
 } RayStats;
+
+static inline uint64_t ray_stats_total(const RayStats *s) { return s->primary + s->shadow + s->secondary; }
 
 /* Traces r and returns its colour.  *key (may be NULL) receives an identifier
  * of what the ray saw, for adaptive anti-aliasing: the surface and which of

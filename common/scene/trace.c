@@ -301,7 +301,7 @@ vec3 trace_triangle_point(vec3 v0, vec3 v1, vec3 v2, real b1, real b2, real *err
     return bary(v0, v1, v2, b1, b2);
 }
 
-static const Material fallback_material = {{{R(0.8), R(0.8), R(0.8)}}, {{0, 0, 0}}, R(1), -1};
+static const Material fallback_material = {.kd = {{R(0.8), R(0.8), R(0.8)}}, .shininess = R(1), .texture = -1};
 
 vec3 trace_terminator_point(vec3 p, const vec3 v[3], const vec3 n[3], real b1, real b2, real *err)
 {
@@ -447,8 +447,10 @@ void trace_surface(const Scene *s, const Ray *r, const Hit *h, Surface *out)
     if (!model_tex)
         out->tex = out->mat->texture >= 0 ? s->textures[out->mat->texture] : NULL;
     /* face the viewer: all surfaces are two-sided */
-    if (v3_dot(out->ng, r->dir) > R(0))
+    if (v3_dot(out->ng, r->dir) > R(0)) {
         out->ng = v3_neg(out->ng);
+        out->inside = 1;
+    }
     int flip = v3_dot(out->ns, out->ng) < R(0);
     if (flip)
         out->ns = v3_neg(out->ns);

@@ -31,6 +31,8 @@ typedef struct {
                        * its vertex normals describe (trace_terminator_point) */
     real ps_err;      /* the same bound for ps */
     int smooth;       /* ns comes from vertex normals */
+    int inside;       /* the ray arrived from behind the surface's outward normal
+                       * (a sphere's centre side, a triangle's back): it leaves a solid */
 } Surface;
 
 /* The closest hit: the smallest t, ties decided by a fixed rule (trace.c),

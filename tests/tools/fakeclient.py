@@ -15,7 +15,7 @@ Prints the text of the server's ERROR packet, or 'closed' / 'no error'.
 """
 import hashlib, hmac, os, socket, struct, sys
 
-MAGIC, VERSION, BOM = 0x5941524C, 3, 0x01020304
+MAGIC, VERSION, BOM = 0x5941524C, 4, 0x01020304
 SERVER_HELLO, HELLO, WELCOME, UPDATE, COMPUTE, DATA, ASSET, ERROR = 1, 2, 3, 4, 5, 6, 7, 8
 
 

@@ -7,8 +7,10 @@
 Every directive and key of the format appears with some probability (both
 spellings of centre/center and colour/color, a byte-order mark): camera
 by lookat or by angles, with zoom or fov and roll; ambient, background; every
-settings key and value; textures (PPM P3/P6, PGM P2/P5); materials with and
-without specular and textures, on any primitive; a model whose MTL gives
+settings key and value (depth, cutoff, fresnel and glass_shadows among
+them); textures (PPM P3/P6, PGM P2/P5); materials with and without specular
+and textures, mirrors (reflect), dielectrics (ior, transmit, absorb) and
+emission, on any primitive; a model whose MTL gives
 one material a texture (map_Kd with -s and -o) and one with vertex colours
 and no materials; spheres, planes (with and
 without their texture mapping keys) and triangles (with normals and uv); models from OBJ (with and without smooth, each builder) and from
@@ -135,6 +137,14 @@ def scene(seed):
         st += ["shadows", r.choice(["on", "off"])]
     if r.random() < 0.4:
         st += ["filter", r.choice(["nearest", "bilinear"])]
+    if r.random() < 0.3:
+        st += ["depth", str(r.choice([0, 1, 2, 5]))]
+    if r.random() < 0.3:
+        st += ["cutoff", num(r, 0, 0.5)]
+    if r.random() < 0.3:
+        st += ["fresnel", r.choice(["exact", "schlick"])]
+    if r.random() < 0.3:
+        st += ["glass_shadows", r.choice(["tinted", "opaque"])]
     if r.random() < 0.3:  # the programs' --width/--height override these
         st += ["width", str(r.randrange(1, 2000)), "height", str(r.randrange(1, 2000))]
     if st:
@@ -155,6 +165,17 @@ def scene(seed):
             m += ["specular", colour(r), "shininess", num(r, 0, 120)]
         if textures and r.random() < 0.6:
             m += ["texture", r.choice(textures)]
+        z = r.random()
+        if z < 0.25:  # a mirror, or a metal
+            m += ["reflect", colour(r)]
+        elif z < 0.5:  # a dielectric: glass, coloured or absorbing
+            m += ["ior", num(r, 1.1, 2.4)]
+            if r.random() < 0.5:
+                m += ["transmit", colour(r)]
+            if r.random() < 0.5:
+                m += ["absorb", colour(r, 2)]
+        if r.random() < 0.15:
+            m += ["emit", colour(r)]
         out.append(" ".join(m))
         materials.append(name)
 
