@@ -240,18 +240,22 @@ static int do_settings(Ctx *c, const Tokens *t)
                 return fail(c, "'%s' of settings must be a whole number from 1 to %d", spec[k].key, SCENE_MAX_SIDE);
             *(k == 5 ? &rs->width : &rs->height) = (int)n;
         }
-    if (kv.present[2]) {
-        if (strcmp(kv.word[2], "phong") == 0)
-            rs->shading = SHADE_PHONG;
-        else if (strcmp(kv.word[2], "diffuse") == 0)
-            rs->shading = SHADE_DIFFUSE;
-        else
-            return fail(c, "'shading' must be phong or diffuse, not '%s'", kv.word[2]);
-    }
-    if (kv.present[3]) {
-        if (strcmp(kv.word[3], "on") != 0 && strcmp(kv.word[3], "off") != 0)
-            return fail(c, "'shadows' must be on or off, not '%s'", kv.word[3]);
-        rs->shadows = strcmp(kv.word[3], "on") == 0;
+    /* the keys that name one of two words, in the order of their enums (0, 1) */
+    static const struct {
+        int key;
+        const char *words[2];
+    } choice[] = {{2, {"phong", "diffuse"}}, {3, {"off", "on"}}, {4, {"nearest", "bilinear"}},
+                  {9, {"exact", "schlick"}}, {10, {"opaque", "tinted"}}};
+    int *const dst[] = {(int *)&rs->shading, &rs->shadows, (int *)&rs->filter, (int *)&rs->fresnel, &rs->glass_shadows};
+    for (int i = 0; i < 5; i++) {
+        int k = choice[i].key;
+        if (!kv.present[k])
+            continue;
+        int w = strcmp(kv.word[k], choice[i].words[0]) == 0 ? 0 : strcmp(kv.word[k], choice[i].words[1]) == 0 ? 1 : -1;
+        if (w < 0)
+            return fail(c, "'%s' must be %s or %s, not '%s'", spec[k].key, choice[i].words[0], choice[i].words[1],
+                        kv.word[k]);
+        *dst[i] = w;
     }
     if (kv.present[7]) {
         real n = kv.num[7][0];
@@ -263,27 +267,6 @@ static int do_settings(Ctx *c, const Tokens *t)
         if (!(kv.num[8][0] >= R(0) && kv.num[8][0] < R(1)))
             return fail(c, "'cutoff' of settings must be from 0 up to (not including) 1");
         rs->cutoff = kv.num[8][0];
-    }
-    if (kv.present[9]) {
-        if (strcmp(kv.word[9], "exact") == 0)
-            rs->fresnel = FRESNEL_EXACT;
-        else if (strcmp(kv.word[9], "schlick") == 0)
-            rs->fresnel = FRESNEL_SCHLICK;
-        else
-            return fail(c, "'fresnel' must be exact or schlick, not '%s'", kv.word[9]);
-    }
-    if (kv.present[10]) {
-        if (strcmp(kv.word[10], "tinted") != 0 && strcmp(kv.word[10], "opaque") != 0)
-            return fail(c, "'glass_shadows' must be tinted or opaque, not '%s'", kv.word[10]);
-        rs->glass_shadows = strcmp(kv.word[10], "tinted") == 0;
-    }
-    if (kv.present[4]) {
-        if (strcmp(kv.word[4], "nearest") == 0)
-            rs->filter = FILTER_NEAREST;
-        else if (strcmp(kv.word[4], "bilinear") == 0)
-            rs->filter = FILTER_BILINEAR;
-        else
-            return fail(c, "'filter' must be nearest or bilinear, not '%s'", kv.word[4]);
     }
     return 0;
 }
