@@ -1,4 +1,5 @@
-/* test_camera.c - both camera forms (angles and look-at) and the per-frame ray constants. */
+/* test_camera.c - both camera forms (angles and look-at), the per-frame ray
+ * constants, and the orthographic and fisheye cameras' rays. */
 #include "helpers.h"
 
 #include "geom/camera.h"
@@ -96,12 +97,82 @@ static void frame_rays_span_the_field_of_view(void **state)
     assert_vec_near(v3_norm(camera_dir(&one, R(0.5), R(0.5))), f, EPS);
 }
 
+/* Parallel rays along the view direction, from a rectangle `size` wide
+ * centred on the camera's position, one pixel apart by size / width. */
+static void orthographic_rays_are_parallel_and_evenly_spaced(void **state)
+{
+    (void)state;
+    Camera c = camera_from_angles(v3(1, 2, 3), 30, -10, 5, 1);
+    c.kind = CAMERA_ORTHO;
+    c.size = 8;
+    vec3 r, u, f;
+    camera_basis(&c, &r, &u, &f);
+    CameraFrame fr = camera_frame(&c, 400, 300);
+    vec3 o, d, o2, d2;
+    assert_true(camera_ray(&fr, 200, 150, &o, &d));
+    assert_vec_near(o, c.pos, EPS);
+    assert_vec_near(d, f, EPS);
+    for (int i = 0; i < 50; i++) {
+        real x = (real)(i * 8), y = (real)(i * 6);
+        assert_true(camera_ray(&fr, x, y, &o, &d) && camera_ray(&fr, x + 1, y + 1, &o2, &d2));
+        assert_vec_near(d, f, 0);
+        assert_vec_near(d2, f, 0);
+        /* one pixel right and one down: size / width along right, and down */
+        assert_vec_near(v3_sub(o2, o), v3_scale(v3_sub(r, u), R(8.0 / 400.0)), EPS);
+    }
+    /* the corners: half the width to each side, half the height (square pixels) up and down */
+    assert_true(camera_ray(&fr, 0, 0, &o, &d));
+    assert_vec_near(o, v3_add(v3_sub(c.pos, v3_scale(r, 4)), v3_scale(u, 3)), EPS);
+}
+
+/* Equidistant: the angle from the view direction is proportional to the
+ * distance from the image centre, fov / 2 at the left and right edges;
+ * outside that circle there is no ray. */
+static void fisheye_angles_grow_with_distance_from_the_centre(void **state)
+{
+    (void)state;
+    Camera c = camera_from_angles(v3(0, 1, 0), -40, 20, 0, 1);
+    c.kind = CAMERA_FISHEYE;
+    vec3 r, u, f, o, d;
+    camera_basis(&c, &r, &u, &f);
+    const real fovs[] = {90, 180, 270, 360};
+    for (int k = 0; k < 4; k++) {
+        c.fov = fovs[k];
+        CameraFrame fr = camera_frame(&c, 400, 400);
+        assert_true(camera_ray(&fr, 200, 200, &o, &d));
+        assert_vec_near(o, c.pos, 0);
+        assert_vec_near(d, f, EPS);
+        real half = fovs[k] * REAL_PI / 360;
+        for (int i = 1; i <= 8; i++) {
+            real px = (real)i * 25, ang = half * px / 200;
+            /* along the row to the right, and up the column: turning towards right, and up */
+            assert_true(camera_ray(&fr, 200 + px, 200, &o, &d));
+            assert_float_equal(v3_dot(d, f), cos(ang), EPS);
+            assert_float_equal(v3_dot(d, r), sin(ang), EPS);
+            assert_true(camera_ray(&fr, 200, 200 - px, &o, &d));
+            assert_float_equal(v3_dot(d, u), sin(ang), EPS);
+        }
+        /* the left edge, and the corner outside the circle */
+        assert_true(camera_ray(&fr, 0, 200, &o, &d));
+        assert_float_equal(v3_dot(d, f), cos(half), EPS);
+        assert_true(v3_dot(d, r) < R(1e-5));
+        assert_false(camera_ray(&fr, 0, 0, &o, &d));
+    }
+    /* 360 degrees: the edge of the circle looks straight back */
+    c.fov = 360;
+    CameraFrame full = camera_frame(&c, 400, 400);
+    assert_true(camera_ray(&full, 400, 200, &o, &d));
+    assert_vec_near(d, v3_neg(f), R(1e-4));
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(zero_angles_look_down_minus_z),
         cmocka_unit_test(look_at_matches_angles),
         cmocka_unit_test(frame_rays_span_the_field_of_view),
+        cmocka_unit_test(orthographic_rays_are_parallel_and_evenly_spaced),
+        cmocka_unit_test(fisheye_angles_grow_with_distance_from_the_centre),
     };
     return cmocka_run_group_tests_name("camera", tests, NULL, NULL);
 }

@@ -130,6 +130,17 @@ static void errors_name_file_line_and_expectation(void **state)
     expect_error("camera position 0 0 0 lookat 0 0 0\n", "camera 'lookat' point equals its position");
     expect_error("camera position 0 0 0 fov 180\n", "'fov' of camera must be between 0 and 180");
     expect_error("camera lookat 0 0 0\n", "camera needs 'position'");
+    expect_error("camera position 0 0 1 fov 60 fisheye 180\n", "camera takes one of 'zoom', 'fov' (a pinhole), 'ortho' and 'fisheye'");
+    expect_error("camera position 0 0 1 ortho 0\n", "'ortho' of camera (the view's width) must be positive");
+    expect_error("camera position 0 0 1 fisheye 361\n", "at most 360 degrees");
+    expect_error("material m reflect 1 1 1 ior 1.5\n", "either 'reflect' (a mirror) or 'ior'");
+    expect_error("material m ior 20\n", "'ior' of material must be from 0.0625 to 16");
+    expect_error("material m absorb 1 1 1\n", "'absorb' of material needs 'ior'");
+    expect_error("material m emit -1 0 0\n", "'emit' of material must not be negative");
+    expect_error("settings depth 65\n", "'depth' of settings must be a whole number from 0 to 64");
+    expect_error("settings cutoff 1\n", "'cutoff' of settings must be from 0 up to");
+    expect_error("settings fresnel fast\n", "'fresnel' must be exact or schlick, not 'fast'");
+    expect_error("settings glass_shadows dark\n", "'glass_shadows' must be opaque or tinted, not 'dark'");
     expect_error("settings aa 17\n", "'aa' of settings must be a whole number from 1 to 16");
     expect_error("settings shading toon\n", "'shading' must be phong or diffuse");
     expect_error("ambient 1 1\n", "ambient expects 3 finite numbers");

@@ -271,7 +271,7 @@ static void malformed_scenes_and_assets_are_rejected(void **state)
     assert_contains(err.msg, "invalid settings");
     word = 0;
     memcpy(sk.data + 136, &word, 4);
-    word = 2;
+    word = 4;
     memcpy(sk.data + 140, &word, 4);
     assert_int_equal(wire_decode_scene(sk.data, sk.len, c, &back, &err), -1);
     assert_contains(err.msg, "unknown extras");
@@ -314,6 +314,33 @@ static void malformed_scenes_and_assets_are_rejected(void **state)
         assert_contains(err.msg, bad_optics[i].why);
         memcpy(sk.data + bad_optics[i].at, &was, 4);
     }
+    sink_free(&sk);
+    /* a fisheye camera: its kind and field of view follow the extras word
+     * (at 144 and 148), before the settings of secondary rays */
+    one->camera.kind = CAMERA_FISHEYE;
+    one->camera.fov = 200;
+    assert_int_equal(scene_prepare(one, NULL), 0);
+    sk = (Sink){0};
+    assert_int_equal(wire_encode_scene(one, NULL, NULL, &sk, NULL), 0);
+    assert_int_equal(wire_decode_scene(sk.data, sk.len, c, &back, &err), 0);
+    assert_true(back->camera.kind == CAMERA_FISHEYE && back->camera.fov == R(200));
+    scene_destroy(back);
+    const uint32_t kinds[] = {CAMERA_PINHOLE, CAMERA_FISHEYE + 1};
+    for (int i = 0; i < 2; i++) {
+        memcpy(sk.data + 144, &kinds[i], 4);
+        assert_int_equal(wire_decode_scene(sk.data, sk.len, c, &back, &err), -1);
+        assert_contains(err.msg, "invalid camera kind");
+    }
+    double wide = 400; /* past 360 degrees: the scene's own checks */
+    word = CAMERA_FISHEYE;
+    memcpy(sk.data + 144, &word, 4);
+    memcpy(sk.data + 148, &wide, 8);
+    assert_int_equal(wire_decode_scene(sk.data, sk.len, c, &back, &err), -1);
+    assert_contains(err.msg, "fisheye");
+    one->camera.kind = CAMERA_PINHOLE;
+    sink_free(&sk);
+    sk = (Sink){0};
+    assert_int_equal(wire_encode_scene(one, NULL, NULL, &sk, NULL), 0);
     /* a mirror's reflectance must not be negative: the scene's own checks */
     double neg = -1;
     memcpy(sk.data + 260, &neg, 8);

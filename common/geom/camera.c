@@ -5,7 +5,7 @@ static const real DEG = REAL_PI / R(180);
 
 Camera camera_from_angles(vec3 pos, real yaw, real pitch, real roll, real zoom)
 {
-    Camera c = {pos, yaw, pitch, roll, zoom};
+    Camera c = {.pos = pos, .yaw = yaw, .pitch = pitch, .roll = roll, .zoom = zoom, .kind = CAMERA_PINHOLE};
     return c;
 }
 
@@ -51,5 +51,45 @@ CameraFrame camera_frame(const Camera *c, int width, int height)
     fr.u = v3_scale(fr.right, px);
     fr.v = v3_scale(fr.up, -px);
     fr.k = v3_add(v3_sub(v3_scale(fr.forward, c->zoom), fr.right), v3_scale(fr.up, (real)height * px * R(0.5)));
+    fr.kind = c->kind;
+    fr.cx = (real)width * R(0.5);
+    fr.cy = (real)height * R(0.5);
+    fr.rad_per_px = R(0);
+    fr.max_angle = R(0);
+    if (c->kind == CAMERA_ORTHO) {
+        /* the view rectangle, size wide, centred on the camera's position */
+        real w = c->size / (real)width;
+        fr.u = v3_scale(fr.right, w);
+        fr.v = v3_scale(fr.up, -w);
+        fr.org = v3_add(v3_sub(c->pos, v3_scale(fr.right, c->size * R(0.5))), v3_scale(fr.up, (real)height * w * R(0.5)));
+    } else if (c->kind == CAMERA_FISHEYE) {
+        fr.max_angle = c->fov * DEG * R(0.5);
+        fr.rad_per_px = fr.max_angle / fr.cx;
+    }
     return fr;
+}
+
+int camera_ray(const CameraFrame *f, real x, real y, vec3 *org, vec3 *dir)
+{
+    switch (f->kind) {
+    case CAMERA_ORTHO:
+        *org = v3_add(v3_add(f->org, v3_scale(f->u, x)), v3_scale(f->v, y));
+        *dir = f->forward;
+        return 1;
+    case CAMERA_FISHEYE: {
+        real dx = x - f->cx, dy = f->cy - y; /* up is +dy */
+        real r = sqrt(dx * dx + dy * dy);
+        real theta = r * f->rad_per_px;
+        if (theta > f->max_angle)
+            return 0;
+        vec3 side = r > R(0) ? v3_add(v3_scale(f->right, dx / r), v3_scale(f->up, dy / r)) : f->right;
+        *org = f->org;
+        *dir = v3_norm(v3_add(v3_scale(f->forward, cos(theta)), v3_scale(side, sin(theta))));
+        return 1;
+    }
+    default:
+        *org = f->org;
+        *dir = v3_norm(camera_dir(f, x, y));
+        return 1;
+    }
 }

@@ -1,4 +1,4 @@
-/* camera.h - the pinhole camera.
+/* camera.h - the cameras: pinhole, orthographic and fisheye.
  *
  * Orientation is yaw (about world +y), pitch (up/down) and roll (about the
  * view direction), in degrees; at zero the camera looks down -z with +y up
@@ -6,24 +6,40 @@
  * Zoom is the distance of the view plane, whose width is 2: the horizontal
  * field of view is 2*atan(1/zoom).
  *
- * Per frame, camera_frame computes u, v and k once; the ray through image
- * position (x, y) (pixels, top-left origin, fractional for sub-samples) then
- * has direction u*x + v*y + k: two multiply-adds per ray. */
+ * Per frame, camera_frame computes u, v and k once; the pinhole ray through
+ * image position (x, y) (pixels, top-left origin, fractional for
+ * sub-samples) then has direction u*x + v*y + k: two multiply-adds per ray.
+ *
+ * An orthographic camera sends parallel rays along its view direction from
+ * a view rectangle `size` world units wide.  A fisheye camera is
+ * equidistant: a pixel's angle from the view direction grows with its
+ * distance from the image centre, reaching fov/2 at the left and right
+ * edges (fov up to 360 degrees: the whole sphere); pixels outside that
+ * circle see nothing (the background).  camera_ray gives their rays. */
 #ifndef LANRAY_CAMERA_H
 #define LANRAY_CAMERA_H
 
 #include "geom/ray.h"
 
+typedef enum { CAMERA_PINHOLE = 0, CAMERA_ORTHO = 1, CAMERA_FISHEYE = 2 } CameraKind;
+
+#define CAMERA_FISHEYE_MAX R(360)
+
 typedef struct {
     vec3 pos;
     real yaw, pitch, roll; /* degrees */
-    real zoom;
+    real zoom;             /* pinhole */
+    CameraKind kind;
+    real size;             /* orthographic: the view's width in world units */
+    real fov;              /* fisheye: the field of view across the width, degrees (0, 360] */
 } Camera;
 
 typedef struct {
-    vec3 org, u, v, k;
+    vec3 org, u, v, k;     /* pinhole; orthographic: a ray starts at org + u*x + v*y */
     vec3 right, up, forward;
     int width, height;
+    CameraKind kind;
+    real cx, cy, rad_per_px, max_angle; /* fisheye: image centre, angle per pixel, fov / 2 (radians) */
 } CameraFrame;
 
 Camera camera_from_angles(vec3 pos, real yaw, real pitch, real roll, real zoom);
@@ -34,7 +50,11 @@ real camera_zoom_for_fov(real fov_degrees);
 void camera_basis(const Camera *c, vec3 *right, vec3 *up, vec3 *forward);
 CameraFrame camera_frame(const Camera *c, int width, int height);
 
-/* Unnormalised direction through image position (x, y). */
+/* The ray through image position (x, y): 0 where the camera sees nothing
+ * there (outside a fisheye's circle).  *dir is unit length. */
+int camera_ray(const CameraFrame *f, real x, real y, vec3 *org, vec3 *dir);
+
+/* Unnormalised pinhole direction through image position (x, y). */
 static inline vec3 camera_dir(const CameraFrame *f, real x, real y)
 {
     return v3_add(v3_add(v3_scale(f->u, x), v3_scale(f->v, y)), f->k);

@@ -9,8 +9,10 @@ enum { TRI_SMOOTH = 1, TRI_UV = 2 };
 enum { PLANE_MAPPED = 1 };
 /* The extras word: what only some scenes carry.  WIRE_OPTICS: a material
  * reflects, refracts or emits; the settings of secondary rays follow, and
- * every material carries a word of MAT_* flags and the fields they name. */
-enum { WIRE_OPTICS = 1 };
+ * every material carries a word of MAT_* flags and the fields they name.
+ * WIRE_CAMERA: the camera is not a pinhole; its kind and its size (the
+ * orthographic width, or the fisheye's field of view) follow. */
+enum { WIRE_OPTICS = 1, WIRE_CAMERA = 2 };
 enum { MAT_REFLECT = 1, MAT_DIELECTRIC = 2, MAT_EMIT = 4 };
 
 static uint32_t material_optics(const Material *m)
@@ -52,7 +54,13 @@ int wire_encode_scene(const Scene *s, const Asset *model_assets, const Asset *te
     for (uint32_t i = 0; i < s->material_count; i++)
         if (material_optics(&s->materials[i]))
             extras |= WIRE_OPTICS;
+    if (c->kind != CAMERA_PINHOLE)
+        extras |= WIRE_CAMERA;
     sink_u32(o, extras);
+    if (extras & WIRE_CAMERA) {
+        sink_u32(o, (uint32_t)c->kind);
+        put_f64(o, c->kind == CAMERA_ORTHO ? c->size : c->fov);
+    }
     if (extras & WIRE_OPTICS) {
         sink_u32(o, (uint32_t)rs->depth);
         put_f64(o, rs->cutoff);
@@ -184,6 +192,12 @@ int wire_decode_scene(const void *data, size_t len, const AssetCache *cache, Sce
     real cutoff = R(0);
     cursor_get(&c, set, sizeof set);
     extras = cursor_u32(&c);
+    uint32_t cam_kind = CAMERA_PINHOLE;
+    real cam_size = R(0);
+    if (extras & WIRE_CAMERA) {
+        cam_kind = cursor_u32(&c);
+        cam_size = get_f64(&c);
+    }
     if (extras & WIRE_OPTICS) {
         optics[0] = cursor_u32(&c);
         cutoff = get_f64(&c);
@@ -203,12 +217,19 @@ int wire_decode_scene(const void *data, size_t len, const AssetCache *cache, Sce
     else if (set[0] < 1 || set[0] > AA_MAX || set[1] > 1 || set[2] > SHADE_DIFFUSE || set[3] > 1 || set[4] > FILTER_BILINEAR ||
              set[5] > 1)
         bad = "invalid settings";
-    else if (extras & ~(uint32_t)WIRE_OPTICS)
+    else if (extras & ~(uint32_t)(WIRE_OPTICS | WIRE_CAMERA))
         bad = "unknown extras";
+    else if ((extras & WIRE_CAMERA) && (cam_kind == CAMERA_PINHOLE || cam_kind > CAMERA_FISHEYE))
+        bad = "invalid camera kind";
     else if (optics[0] > SCENE_MAX_DEPTH || !(cutoff >= R(0) && cutoff < R(1)) || optics[1] > FRESNEL_SCHLICK ||
              optics[2] > 1)
         bad = "invalid secondary-ray settings";
     if (!bad) {
+        s->camera.kind = (CameraKind)cam_kind;
+        if (cam_kind == CAMERA_ORTHO)
+            s->camera.size = cam_size;
+        else if (cam_kind == CAMERA_FISHEYE)
+            s->camera.fov = cam_size;
         RenderSettings *rs = &s->settings;
         rs->aa = (int)set[0];
         rs->adaptive = (int)set[1];

@@ -107,9 +107,44 @@ static int cancelled(const Frame *f) { return f->cancel && atomic_load_explicit(
 
 /* The colours of n <= TRACE_PACKET sample positions, traced as one packet
  * (shade_packet: each colour is what the ray gives alone). */
+/* The same for an orthographic or fisheye camera: each ray by camera_ray,
+ * the ones it has (a fisheye sees nothing outside its circle) traced as one
+ * packet, the others the background. */
+static void sample_packet_other(const Frame *f, const real *xs, const real *ys, int n, vec3 *out, RayStats *st,
+                                uint64_t *keys)
+{
+    Ray rays[TRACE_PACKET];
+    vec3 col[TRACE_PACKET];
+    uint64_t key[TRACE_PACKET];
+    int which[TRACE_PACKET], m = 0;
+    for (int i = 0; i < n; i++) {
+        vec3 org, dir;
+        if (camera_ray(&f->cam, xs[i], ys[i], &org, &dir)) {
+            rays[m] = ray_make(org, dir, R(0), REAL_INF);
+            which[m++] = i;
+        } else {
+            out[i] = f->s->background;
+            if (keys)
+                keys[i] = UINT64_MAX;
+        }
+    }
+    if (m == 0)
+        return;
+    shade_packet(f->s, rays, m, col, st, keys ? key : NULL);
+    for (int k = 0; k < m; k++) {
+        out[which[k]] = col[k];
+        if (keys)
+            keys[which[k]] = key[k];
+    }
+}
+
 static void sample_packet(const Frame *f, const real *xs, const real *ys, int n, vec3 *out, RayStats *st,
                           uint64_t *keys)
 {
+    if (f->cam.kind != CAMERA_PINHOLE) {
+        sample_packet_other(f, xs, ys, n, out, st, keys);
+        return;
+    }
     /* ray_make(org, v3_norm(camera_dir(x, y))) for all eight lanes at once,
      * operation for operation, in arrays the compiler turns into vector
      * code: the square roots and divisions of one ray would otherwise wait

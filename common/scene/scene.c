@@ -260,6 +260,10 @@ int scene_prepare(Scene *s, Err *err)
     if (!(cam->zoom > R(0)) || !isfinite(cam->zoom) || !v3_is_finite(cam->pos) || !isfinite(cam->yaw) ||
         !isfinite(cam->pitch) || !isfinite(cam->roll))
         return err_set(err, "scene: camera needs a finite position and angles and a positive zoom");
+    if ((cam->kind == CAMERA_ORTHO && !(cam->size > R(0) && isfinite(cam->size))) ||
+        (cam->kind == CAMERA_FISHEYE && !(cam->fov > R(0) && cam->fov <= CAMERA_FISHEYE_MAX)) ||
+        (unsigned)cam->kind > CAMERA_FISHEYE)
+        return err_set(err, "scene: an orthographic camera needs a positive width, a fisheye 0 < fov <= 360");
     if (!v3_is_finite(s->ambient) || !v3_is_finite(s->background))
         return err_set(err, "scene: ambient and background colours must be finite");
     for (uint32_t i = 0; i < s->material_count; i++) {

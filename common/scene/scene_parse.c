@@ -175,10 +175,17 @@ static int do_camera(Ctx *c, const Tokens *t)
 {
     static const KeySpec spec[] = {{"position", ARG_NUM, 3, 1}, {"lookat", ARG_NUM, 3, 0}, {"yaw", ARG_NUM, 1, 0},
                                    {"pitch", ARG_NUM, 1, 0},    {"roll", ARG_NUM, 1, 0},   {"zoom", ARG_NUM, 1, 0},
-                                   {"fov", ARG_NUM, 1, 0},      {0, 0, 0, 0}};
+                                   {"fov", ARG_NUM, 1, 0},      {"ortho", ARG_NUM, 1, 0},  {"fisheye", ARG_NUM, 1, 0},
+                                   {0, 0, 0, 0}};
     KeyVals kv;
     if (read_keys(c, t, 1, "camera", spec, &kv))
         return -1;
+    if (kv.present[5] + kv.present[6] + kv.present[7] + kv.present[8] > 1)
+        return fail(c, "camera takes one of 'zoom', 'fov' (a pinhole), 'ortho' and 'fisheye'");
+    if (kv.present[7] && !(kv.num[7][0] > R(0)))
+        return fail(c, "'ortho' of camera (the view's width) must be positive");
+    if (kv.present[8] && !(kv.num[8][0] > R(0) && kv.num[8][0] <= CAMERA_FISHEYE_MAX))
+        return fail(c, "'fisheye' of camera (its field of view) must be above 0 and at most 360 degrees");
     if (kv.present[1] && (kv.present[2] || kv.present[3]))
         return fail(c, "camera takes either 'lookat' or 'yaw'/'pitch', not both");
     if (kv.present[5] && kv.present[6])
@@ -199,6 +206,13 @@ static int do_camera(Ctx *c, const Tokens *t)
             return fail(c, "camera 'lookat' point equals its position");
     } else {
         c->s->camera = camera_from_angles(pos, kv.num[2][0], kv.num[3][0], kv.num[4][0], zoom);
+    }
+    if (kv.present[7]) {
+        c->s->camera.kind = CAMERA_ORTHO;
+        c->s->camera.size = kv.num[7][0];
+    } else if (kv.present[8]) {
+        c->s->camera.kind = CAMERA_FISHEYE;
+        c->s->camera.fov = kv.num[8][0];
     }
     return 0;
 }

@@ -6,7 +6,7 @@
 
 Every directive and key of the format appears with some probability (both
 spellings of centre/center and colour/color, a byte-order mark): camera
-by lookat or by angles, with zoom or fov and roll; ambient, background; every
+by lookat or by angles, with zoom or fov (a pinhole), ortho or fisheye, and roll; ambient, background; every
 settings key and value (depth, cutoff, fresnel and glass_shadows among
 them); textures (PPM P3/P6, PGM P2/P5); materials with and without specular
 and textures, mirrors (reflect), dielectrics (ior, transmit, absorb) and
@@ -119,10 +119,14 @@ def scene(seed):
     if r.random() < 0.4:
         cam += ["roll", num(r, -45, 45)]
     z = r.random()
-    if z < 0.35:
+    if z < 0.3:
         cam += ["fov", num(r, 20, 120)]
-    elif z < 0.7:
+    elif z < 0.6:
         cam += ["zoom", num(r, 0.5, 3)]
+    elif z < 0.7:
+        cam += ["ortho", num(r, 1, 12)]
+    elif z < 0.8:
+        cam += ["fisheye", num(r, 30, 360)]
     out.append(" ".join(cam))
     if r.random() < 0.7:
         out.append("ambient " + colour(r, 0.3))
