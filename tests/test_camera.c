@@ -165,6 +165,41 @@ static void fisheye_angles_grow_with_distance_from_the_centre(void **state)
     assert_vec_near(d, v3_neg(f), R(1e-4));
 }
 
+/* A thin lens: every ray of one image position, from any point of the
+ * lens, passes through the same point at the focus distance (the pinhole
+ * ray's point there), and the rays leave from within the aperture. */
+static void thin_lens_focuses_at_the_focus_distance(void **state)
+{
+    (void)state;
+    Camera c = camera_from_angles(v3(1, 2, 3), 25, -15, 10, camera_zoom_for_fov(60));
+    c.aperture = R(0.4);
+    c.focus = R(7.5);
+    vec3 r, u, f;
+    camera_basis(&c, &r, &u, &f);
+    CameraFrame fr = camera_frame(&c, 320, 240);
+    const real pos[4][2] = {{160, 120}, {0, 0}, {319.5, 17.25}, {40, 200}};
+    for (int p = 0; p < 4; p++) {
+        vec3 d0 = v3_norm(camera_dir(&fr, pos[p][0], pos[p][1]));
+        vec3 want = v3_madd(c.pos, d0, c.focus / v3_dot(d0, f)); /* on the focal plane */
+        for (int i = 0; i <= 4; i++)
+            for (int j = 0; j <= 4; j++) {
+                vec3 o, d;
+                camera_lens_ray(&fr, pos[p][0], pos[p][1], (real)i / 4, (real)j / 4, &o, &d);
+                vec3 off = v3_sub(o, c.pos);
+                assert_true(v3_len(off) <= R(0.2) + EPS);   /* on the lens: within the aperture's radius */
+                assert_float_equal(v3_dot(off, f), 0, EPS); /* in the camera's right-up plane */
+                real t = v3_dot(v3_sub(want, o), f) / v3_dot(d, f);
+                assert_vec_near(v3_madd(o, d, t), want, R(2e-5) * c.focus);
+            }
+    }
+    /* points off the focal plane blur: two lens rays of one position part there */
+    vec3 o1, d1, o2, d2;
+    camera_lens_ray(&fr, 160, 120, 0, R(0.5), &o1, &d1);
+    camera_lens_ray(&fr, 160, 120, 1, R(0.5), &o2, &d2);
+    vec3 a = v3_madd(o1, d1, R(3)), b = v3_madd(o2, d2, R(3));
+    assert_true(v3_len(v3_sub(a, b)) > R(0.1));
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -173,6 +208,7 @@ int main(void)
         cmocka_unit_test(frame_rays_span_the_field_of_view),
         cmocka_unit_test(orthographic_rays_are_parallel_and_evenly_spaced),
         cmocka_unit_test(fisheye_angles_grow_with_distance_from_the_centre),
+        cmocka_unit_test(thin_lens_focuses_at_the_focus_distance),
     };
     return cmocka_run_group_tests_name("camera", tests, NULL, NULL);
 }

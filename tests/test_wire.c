@@ -271,7 +271,7 @@ static void malformed_scenes_and_assets_are_rejected(void **state)
     assert_contains(err.msg, "invalid settings");
     word = 0;
     memcpy(sk.data + 136, &word, 4);
-    word = 4;
+    word = 8;
     memcpy(sk.data + 140, &word, 4);
     assert_int_equal(wire_decode_scene(sk.data, sk.len, c, &back, &err), -1);
     assert_contains(err.msg, "unknown extras");
@@ -287,14 +287,14 @@ static void malformed_scenes_and_assets_are_rejected(void **state)
     assert_contains(err.msg, "truncated");
     sink_free(&sk);
     /* with a mirror: the settings of secondary rays follow the extras word
-     * (depth at 144, cutoff 148, Fresnel 156, glass shadows 160), the counts
-     * move to 164, and the material's flags word follows its texture (at
-     * 256), its reflectance after it (at 260) */
+     * (depth at 144, cutoff 148, Fresnel 156, glass shadows 160, rough
+     * samples 164), the counts move to 168, and the material's flags word
+     * follows its texture (at 260), its reflectance (264) and roughness after it */
     one->materials[0].kr = v3_splat(R(0.5));
     assert_int_equal(scene_prepare(one, NULL), 0);
     sk = (Sink){0};
     assert_int_equal(wire_encode_scene(one, NULL, NULL, &sk, NULL), 0);
-    assert_int_equal(sk.len, 292 + 20 + 4 + 24);
+    assert_int_equal(sk.len, 292 + 24 + 4 + 24 + 8);
     assert_int_equal(wire_decode_scene(sk.data, sk.len, c, &back, &err), 0);
     assert_true(back->materials[0].kr.y == R(0.5) && back->settings.depth == one->settings.depth);
     scene_destroy(back);
@@ -305,7 +305,8 @@ static void malformed_scenes_and_assets_are_rejected(void **state)
     } bad_optics[] = {{144, SCENE_MAX_DEPTH + 1, "secondary-ray settings"},
                       {156, 2, "secondary-ray settings"},
                       {160, 2, "secondary-ray settings"},
-                      {256, 8, "unknown material flags"}};
+                      {164, 0, "sample counts"},
+                      {260, 8, "unknown material flags"}};
     for (size_t i = 0; i < sizeof bad_optics / sizeof bad_optics[0]; i++) {
         uint32_t was;
         memcpy(&was, sk.data + bad_optics[i].at, 4);
@@ -316,7 +317,8 @@ static void malformed_scenes_and_assets_are_rejected(void **state)
     }
     sink_free(&sk);
     /* a fisheye camera: its kind and field of view follow the extras word
-     * (at 144 and 148), before the settings of secondary rays */
+     * (at 144 and 148; then aperture, focus and lens samples), before the
+     * settings of secondary rays */
     one->camera.kind = CAMERA_FISHEYE;
     one->camera.fov = 200;
     assert_int_equal(scene_prepare(one, NULL), 0);
@@ -343,7 +345,7 @@ static void malformed_scenes_and_assets_are_rejected(void **state)
     assert_int_equal(wire_encode_scene(one, NULL, NULL, &sk, NULL), 0);
     /* a mirror's reflectance must not be negative: the scene's own checks */
     double neg = -1;
-    memcpy(sk.data + 260, &neg, 8);
+    memcpy(sk.data + 264, &neg, 8);
     assert_int_equal(wire_decode_scene(sk.data, sk.len, c, &back, &err), -1);
     assert_contains(err.msg, "must not be negative");
     asset_cache_destroy(c);

@@ -29,6 +29,9 @@
 static const char *const shading_names[] = {"phong", "diffuse", NULL};
 static const char *const onoff_names[] = {"off", "on", NULL};
 static const char *const filter_names[] = {"nearest", "bilinear", NULL};
+/* bytes a pixel: RGB8 codes, or RGBE for a .hdr */
+#define BPP(scene) ((scene)->settings.hdr ? 4u : 3u)
+
 static const char *const fresnel_names[] = {"exact", "schlick", NULL};
 static const char *const glass_names[] = {"opaque", "tinted", NULL};
 
@@ -80,7 +83,7 @@ static int write_profile(RenderPool *pool, const Scene *scene, int width, int he
     for (int k = 0; rc == 0 && k < PROFILE_PASSES; k++)
         for (int y = 0; rc == 0 && y < height; y++) {
             double a = timer_now();
-            rc = render_lines(pool, scene, width, height, y, 1, pixels + (size_t)y * width * 3, NULL, err);
+            rc = render_lines(pool, scene, width, height, y, 1, pixels + (size_t)y * width * BPP(scene), NULL, err);
             double t = timer_now() - a;
             line[y] = k == 0 ? t : fmin(line[y], t);
         }
@@ -120,10 +123,13 @@ int main(int argc, char **argv)
     int shading = SHADE_PHONG, shadows = 1, filter = FILTER_BILINEAR, shading_given = 0, shadows_given = 0, filter_given = 0;
     int depth = 5, fresnel = FRESNEL_EXACT, glass = 1, depth_given = 0, cutoff_given = 0, fresnel_given = 0, glass_given = 0;
     double cutoff = 0.01;
+    int light_samples = 0, rough_samples = 0, lens_samples = 0, exposure_given = 0;
+    double exposure = 0;
     CliAa aa = {4, 1, 0};
     const Opt opts[] = {
         {.name = "--output", .alias = "-o", .kind = OPT_STRING, .dst = &out, .arg = "FILE",
-         .help = "the image: .png (tagged sRGB, or linear with --linear) or .ppm"},
+         .help = "the image: .png (tagged sRGB, or linear with --linear), .ppm, or .hdr (Radiance RGBE: high dynamic "
+                 "range, the light itself)"},
         {.name = "--width", .kind = OPT_INT, .dst = &width, .arg = "W", .lo = 1, .hi = RENDER_MAX_SIDE,
          .help = "frame width in pixels", .def = "the scene's, else 1024", .seen = &width_given},
         {.name = "--height", .kind = OPT_INT, .dst = &height, .arg = "H", .lo = 1, .hi = RENDER_MAX_SIDE,
@@ -150,6 +156,14 @@ int main(int argc, char **argv)
          .def = "the scene's, else exact"},
         {.name = "--glass-shadows", .kind = OPT_CHOICE, .dst = &glass, .choices = glass_names, .seen = &glass_given,
          .help = "shadow rays through dielectrics: stopped, or tinted by their colour", .def = "the scene's, else tinted"},
+        {.name = "--light-samples", .kind = OPT_INT, .dst = &light_samples, .arg = "K", .lo = 0, .hi = LIGHT_MAX_SAMPLES,
+         .help = "shadow rays of every sphere and rect light: K x K; 0 = each light's own", .def = "0"},
+        {.name = "--rough-samples", .kind = OPT_INT, .dst = &rough_samples, .arg = "K", .lo = 0, .hi = SCENE_MAX_SAMPLES,
+         .help = "rays of a rough mirror: K x K; 0 = the scene's", .def = "0: the scene's, else 4"},
+        {.name = "--lens-samples", .kind = OPT_INT, .dst = &lens_samples, .arg = "K", .lo = 0, .hi = SCENE_MAX_SAMPLES,
+         .help = "rays through a camera's lens per pixel sample: K x K; 0 = the scene's", .def = "0: the scene's, else 4"},
+        {.name = "--exposure", .kind = OPT_REAL, .dst = &exposure, .arg = "STOPS", .rlo = -32, .rhi = 32,
+         .seen = &exposure_given, .help = "8-bit output shows the light times 2^STOPS", .def = "the scene's, else 0"},
         {.name = "--linear", .kind = OPT_FLAG, .dst = &linear,
          .help = "write linear light (PNG tagged gAMA 1.0) instead of sRGB"},
         {.name = "--repeat", .kind = OPT_INT, .dst = &repeat, .arg = "N", .lo = 1, .hi = 100000,
@@ -215,7 +229,24 @@ int main(int argc, char **argv)
         rs->fresnel = (FresnelModel)fresnel;
     if (glass_given)
         rs->glass_shadows = glass;
+    if (rough_samples)
+        rs->rough_samples = rough_samples;
+    if (lens_samples)
+        rs->lens_samples = lens_samples;
+    for (uint32_t i = 0; light_samples && i < scene->light_count; i++)
+        if (light_is_area(&scene->lights[i]))
+            scene->lights[i].samples = light_samples;
     rs->linear = linear;
+    if (exposure_given)
+        rs->exposure = (real)exposure;
+    const int hdr = image_is_hdr(out);
+    if (hdr && (linear || exposure_given)) {
+        fprintf(stderr, "lanray-render: --linear and --exposure are for 8-bit output (.png, .ppm); a .hdr keeps the light "
+                        "itself\n");
+        scene_destroy(scene);
+        return 2;
+    }
+    rs->hdr = hdr;
     if (!width_given && rs->width)
         width = rs->width;
     if (!height_given && rs->height)
@@ -227,9 +258,9 @@ int main(int argc, char **argv)
     }
     double t1 = timer_now();
     cli_warn_scene("lanray-render", scene);
-    uint64_t frame_bytes = (uint64_t)width * (uint64_t)height * 3;
+    uint64_t frame_bytes = (uint64_t)width * (uint64_t)height * BPP(scene);
     int banded = band_lines ? band_lines < height : frame_bytes > WHOLE_FRAME_BYTES;
-    int band = !banded ? height : band_lines ? band_lines : (int)(BAND_BYTES / ((uint64_t)width * 3));
+    int band = !banded ? height : band_lines ? band_lines : (int)(BAND_BYTES / ((uint64_t)width * BPP(scene)));
     if (band < 1)
         band = 1;
     int rc = 0;
@@ -237,12 +268,12 @@ int main(int argc, char **argv)
         rc = err_set(&err, "%dx%d is rendered in bands (%.1f GB whole); --profile needs the whole frame", width, height,
                      (double)frame_bytes / 1e9);
     else
-        rc = cli_check_memory((uint64_t)width * (uint64_t)band * 3, banded ? "a band of the frame" : "the frame", &err);
+        rc = cli_check_memory((uint64_t)width * (uint64_t)band * BPP(scene), banded ? "a band of the frame" : "the frame", &err);
     ImageWriter *wr = NULL;
     if (rc == 0) /* the file exists, under a temporary name, before any rendering */
-        rc = image_writer_open(out, width, height, linear ? IMAGE_LINEAR : IMAGE_SRGB, &wr, &err);
+        rc = image_writer_open(out, width, height, hdr ? IMAGE_RGBE : linear ? IMAGE_LINEAR : IMAGE_SRGB, &wr, &err);
     RenderPool *pool = rc ? NULL : render_pool_create(threads, &err);
-    uint8_t *pixels = pool ? malloc((size_t)width * (size_t)band * 3) : NULL;
+    uint8_t *pixels = pool ? malloc((size_t)width * (size_t)band * BPP(scene)) : NULL;
     if (rc == 0 && (!pool || !pixels))
         rc = pool ? err_set(&err, "out of memory for %d lines of %d pixels", band, width) : -1;
     if (rc) {
@@ -273,7 +304,7 @@ int main(int argc, char **argv)
         for (int y = 0; rc == 0 && y < height; y += seg) {
             RayStats part;
             int n = y + seg <= height ? seg : height - y;
-            uint8_t *dst = pixels + (banded ? 0 : (size_t)y * width * 3);
+            uint8_t *dst = pixels + (banded ? 0 : (size_t)y * width * BPP(scene));
             rc = render_lines(pool, scene, width, height, y, n, dst, &part, &err);
             st.primary += part.primary;
             st.shadow += part.shadow;

@@ -60,6 +60,27 @@ static inline uint8_t linear_encode8(real v)
     return (uint8_t)(d * 255 + 0.5);
 }
 
+/* Linear light as RGBE (Ward's shared exponent, Radiance .hdr): the
+ * largest channel's binary exponent e + 128 in the fourth byte, each
+ * channel's mantissa in 1/256 steps of 2^e (truncated, as Radiance does);
+ * below 1e-32, negative or NaN gives zero.  Integer results of exact
+ * operations: the same bytes on every CPU. */
+static inline void rgbe_encode(real r, real g, real b, uint8_t out[4])
+{
+    double c[3] = {r > R(0) ? (double)r : 0.0, g > R(0) ? (double)g : 0.0, b > R(0) ? (double)b : 0.0};
+    double v = c[0] > c[1] ? c[0] : c[1];
+    v = v > c[2] ? v : c[2];
+    if (!(v >= 1e-32) || !isfinite(v)) {
+        out[0] = out[1] = out[2] = out[3] = 0;
+        return;
+    }
+    int e;
+    double m = frexp(v, &e) * 256.0 / v; /* v * m is just below 256 */
+    for (int k = 0; k < 3; k++)
+        out[k] = (uint8_t)(c[k] * m);
+    out[3] = (uint8_t)(e + 128);
+}
+
 /* The linear value of an sRGB-encoded fraction s in [0, 1] (for images that
  * are not 8 bits deep; 8-bit codes use srgb_decode8). */
 double srgb_decode(double s);

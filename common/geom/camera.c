@@ -1,6 +1,8 @@
 /* camera.c - camera orientation and per-frame ray constants. */
 #include "geom/camera.h"
 
+#include "base/sample.h"
+
 static const real DEG = REAL_PI / R(180);
 
 Camera camera_from_angles(vec3 pos, real yaw, real pitch, real roll, real zoom)
@@ -56,6 +58,8 @@ CameraFrame camera_frame(const Camera *c, int width, int height)
     fr.cy = (real)height * R(0.5);
     fr.rad_per_px = R(0);
     fr.max_angle = R(0);
+    fr.lens_radius = c->kind == CAMERA_PINHOLE ? c->aperture * R(0.5) : R(0);
+    fr.focus = c->focus;
     if (c->kind == CAMERA_ORTHO) {
         /* the view rectangle, size wide, centred on the camera's position */
         real w = c->size / (real)width;
@@ -67,6 +71,16 @@ CameraFrame camera_frame(const Camera *c, int width, int height)
         fr.rad_per_px = fr.max_angle / fr.cx;
     }
     return fr;
+}
+
+void camera_lens_ray(const CameraFrame *f, real x, real y, real lu, real lv, vec3 *org, vec3 *dir)
+{
+    vec3 d = v3_norm(camera_dir(f, x, y));
+    vec3 focal = v3_madd(f->org, d, f->focus / v3_dot(d, f->forward));
+    real dx, dy;
+    sample_disc(lu, lv, &dx, &dy);
+    *org = v3_add(f->org, v3_scale(v3_add(v3_scale(f->right, dx), v3_scale(f->up, dy)), f->lens_radius));
+    *dir = v3_norm(v3_sub(focal, *org));
 }
 
 int camera_ray(const CameraFrame *f, real x, real y, vec3 *org, vec3 *dir)

@@ -32,6 +32,7 @@ typedef struct {
     CameraKind kind;
     real size;             /* orthographic: the view's width in world units */
     real fov;              /* fisheye: the field of view across the width, degrees (0, 360] */
+    real aperture, focus;  /* pinhole: a lens this wide (0: none) in focus at this distance */
 } Camera;
 
 typedef struct {
@@ -40,6 +41,7 @@ typedef struct {
     int width, height;
     CameraKind kind;
     real cx, cy, rad_per_px, max_angle; /* fisheye: image centre, angle per pixel, fov / 2 (radians) */
+    real lens_radius, focus;            /* thin lens */
 } CameraFrame;
 
 Camera camera_from_angles(vec3 pos, real yaw, real pitch, real roll, real zoom);
@@ -53,6 +55,14 @@ CameraFrame camera_frame(const Camera *c, int width, int height);
 /* The ray through image position (x, y): 0 where the camera sees nothing
  * there (outside a fisheye's circle).  *dir is unit length. */
 int camera_ray(const CameraFrame *f, real x, real y, vec3 *org, vec3 *dir);
+
+/* A thin lens: the ray through image position (x, y) from the point (lu,
+ * lv) of the unit square mapped onto the lens (a disc of the aperture's
+ * diameter about the camera's position, in its right-up plane).  Every
+ * such ray of one position meets the pinhole ray of that position at the
+ * focus distance (measured along the view direction): points there are
+ * sharp, others blur with their distance from that plane. */
+void camera_lens_ray(const CameraFrame *f, real x, real y, real lu, real lv, vec3 *org, vec3 *dir);
 
 /* Unnormalised pinhole direction through image position (x, y). */
 static inline vec3 camera_dir(const CameraFrame *f, real x, real y)

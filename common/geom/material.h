@@ -14,6 +14,8 @@ typedef struct {
     /* what a ray does at the surface beyond local shading; all zero (as
      * the initialisers that leave them out give) for a plain surface */
     vec3 kr;         /* mirror reflectance: the colour of a metal */
+    real roughness;  /* 0: a perfect mirror; up to 1: reflected rays spread
+                      * over a lobe this wide (settings rough_samples of them) */
     real ior;        /* > 0: a dielectric (glass) of this index of refraction,
                       * reflecting by Fresnel and transmitting the rest */
     vec3 kt;         /* a dielectric's transmitted colour (1 1 1: clear) */
@@ -26,6 +28,7 @@ typedef struct {
 
 static inline int material_reflects(const Material *m) { return m->kr.x > R(0) || m->kr.y > R(0) || m->kr.z > R(0); }
 static inline int material_dielectric(const Material *m) { return m->ior > R(0); }
+static inline int material_rough(const Material *m) { return material_reflects(m) && m->roughness > R(0); }
 static inline int material_emits(const Material *m) { return m->ke.x > R(0) || m->ke.y > R(0) || m->ke.z > R(0); }
 
 static inline Material material_default(void)

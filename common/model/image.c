@@ -11,7 +11,7 @@
 
 struct ImageWriter {
     AtomicFile file;
-    int w, h, rows, png;
+    int w, h, rows, png, bpp;
     png_structp ps;
     png_infop info;
 };
@@ -37,10 +37,12 @@ static int has_ext(const char *path, const char *ext)
 
 int image_check_name(const char *path, Err *err)
 {
-    if (!has_ext(path, ".png") && !has_ext(path, ".ppm"))
-        return err_set(err, "%s: unknown image format (use .png or .ppm)", path);
+    if (!has_ext(path, ".png") && !has_ext(path, ".ppm") && !has_ext(path, ".hdr"))
+        return err_set(err, "%s: unknown image format (use .png, .ppm or .hdr)", path);
     return 0;
 }
+
+int image_is_hdr(const char *path) { return has_ext(path, ".hdr"); }
 
 void image_writer_abort(ImageWriter *wr)
 {
@@ -74,9 +76,22 @@ int image_writer_open(const char *path, int width, int height, ImageEncoding enc
     wr->w = width;
     wr->h = height;
     wr->png = has_ext(path, ".png");
+    wr->bpp = enc == IMAGE_RGBE ? 4 : 3;
+    if ((enc == IMAGE_RGBE) != image_is_hdr(path)) {
+        free(wr);
+        return err_set(err, "%s: %s", path, enc == IMAGE_RGBE ? "high dynamic range pixels go to a .hdr file"
+                                                               : "a .hdr file takes high dynamic range pixels");
+    }
     if (file_atomic_open(&wr->file, path, err)) {
         free(wr);
         return -1;
+    }
+    if (enc == IMAGE_RGBE) {
+        /* Radiance: flat (not run-length encoded) scanlines, top row first */
+        fprintf(wr->file.f, "#?RADIANCE\n# written by lanray\nFORMAT=32-bit_rle_rgbe\nEXPOSURE=1.0\n\n-Y %d +X %d\n", height,
+                width);
+        *out = wr;
+        return 0;
     }
     if (!wr->png) {
         fprintf(wr->file.f, "P6\n%d %d\n255\n", width, height);
@@ -113,7 +128,7 @@ int image_writer_rows(ImageWriter *wr, const uint8_t *rgb, int rows, Err *err)
         image_writer_abort(wr);
         return -1;
     }
-    size_t stride = (size_t)wr->w * 3;
+    size_t stride = (size_t)wr->w * (size_t)wr->bpp;
     if (!wr->png) {
         if (fwrite(rgb, stride, (size_t)rows, wr->file.f) != (size_t)rows)
             return write_failed(wr, err);

@@ -1,5 +1,7 @@
-/* image.h - writing RGB8 frames as PNG (libpng) or binary PPM, atomically,
- * whole or in bands. */
+/* image.h - writing RGB8 frames as PNG (libpng) or binary PPM, and high
+ * dynamic range frames (RGBE: three 8-bit mantissas sharing an 8-bit
+ * exponent, 4 bytes a pixel) as Radiance .hdr, atomically, whole or in
+ * bands. */
 #ifndef LANRAY_IMAGE_H
 #define LANRAY_IMAGE_H
 
@@ -10,10 +12,13 @@
 
 /* What the 8-bit values are: sRGB-encoded (what lanray writes unless told
  * --linear) or linear light.  A PNG says which in its sRGB or gAMA chunk. */
-typedef enum { IMAGE_SRGB = 0, IMAGE_LINEAR = 1 } ImageEncoding;
+typedef enum { IMAGE_SRGB = 0, IMAGE_LINEAR = 1, IMAGE_RGBE = 2 } ImageEncoding;
 
-/* The format follows the extension: .png or .ppm; anything else fails. */
+/* The format follows the extension: .png or .ppm (RGB8), .hdr (RGBE);
+ * anything else fails. */
 int image_check_name(const char *path, Err *err);
+/* Whether the name asks for a high dynamic range image (.hdr). */
+int image_is_hdr(const char *path);
 int image_write(const char *path, int width, int height, const uint8_t *rgb, ImageEncoding enc, Err *err);
 
 /* Writing an image a band of rows at a time, for frames too large to hold

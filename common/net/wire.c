@@ -10,9 +10,11 @@ enum { PLANE_MAPPED = 1 };
 /* The extras word: what only some scenes carry.  WIRE_OPTICS: a material
  * reflects, refracts or emits; the settings of secondary rays follow, and
  * every material carries a word of MAT_* flags and the fields they name.
- * WIRE_CAMERA: the camera is not a pinhole; its kind and its size (the
- * orthographic width, or the fisheye's field of view) follow. */
-enum { WIRE_OPTICS = 1, WIRE_CAMERA = 2 };
+ * WIRE_CAMERA: the camera is not a plain pinhole; its kind, its size (the
+ * orthographic width, or the fisheye's field of view), a pinhole's aperture
+ * and focus distance and the lens samples follow.  WIRE_EXPOSURE: the
+ * exposure in stops (f64) follows. */
+enum { WIRE_OPTICS = 1, WIRE_CAMERA = 2, WIRE_EXPOSURE = 4 };
 enum { MAT_REFLECT = 1, MAT_DIELECTRIC = 2, MAT_EMIT = 4 };
 
 static uint32_t material_optics(const Material *m)
@@ -54,18 +56,26 @@ int wire_encode_scene(const Scene *s, const Asset *model_assets, const Asset *te
     for (uint32_t i = 0; i < s->material_count; i++)
         if (material_optics(&s->materials[i]))
             extras |= WIRE_OPTICS;
-    if (c->kind != CAMERA_PINHOLE)
+    if (c->kind != CAMERA_PINHOLE || c->aperture > R(0))
         extras |= WIRE_CAMERA;
+    if (rs->exposure != R(0))
+        extras |= WIRE_EXPOSURE;
     sink_u32(o, extras);
+    if (extras & WIRE_EXPOSURE)
+        put_f64(o, rs->exposure);
     if (extras & WIRE_CAMERA) {
         sink_u32(o, (uint32_t)c->kind);
-        put_f64(o, c->kind == CAMERA_ORTHO ? c->size : c->fov);
+        put_f64(o, c->kind == CAMERA_ORTHO ? c->size : c->kind == CAMERA_FISHEYE ? c->fov : R(0));
+        put_f64(o, c->aperture);
+        put_f64(o, c->focus);
+        sink_u32(o, (uint32_t)rs->lens_samples);
     }
     if (extras & WIRE_OPTICS) {
         sink_u32(o, (uint32_t)rs->depth);
         put_f64(o, rs->cutoff);
         sink_u32(o, (uint32_t)rs->fresnel);
         sink_u32(o, (uint32_t)rs->glass_shadows);
+        sink_u32(o, (uint32_t)rs->rough_samples);
     }
     uint32_t counts[8] = {s->texture_count, s->material_count, s->sphere_count, s->plane_count,
                           s->tri_count,     s->model_count,    s->instance_count, s->light_count};
@@ -82,8 +92,10 @@ int wire_encode_scene(const Scene *s, const Asset *model_assets, const Asset *te
             continue;
         uint32_t opt = material_optics(m);
         sink_u32(o, opt);
-        if (opt & MAT_REFLECT)
+        if (opt & MAT_REFLECT) {
             put_vec(o, m->kr);
+            put_f64(o, m->roughness);
+        }
         if (opt & MAT_DIELECTRIC) {
             put_f64(o, m->ior);
             put_vec(o, m->kt);
@@ -140,12 +152,20 @@ int wire_encode_scene(const Scene *s, const Asset *model_assets, const Asset *te
             put_vec(o, l->pos);
             sink_u32(o, (uint32_t)l->attenuate);
         }
-        if (l->kind != LIGHT_POINT)
+        if (l->kind == LIGHT_SPOT || l->kind == LIGHT_DIRECTIONAL)
             put_vec(o, l->dir);
         if (l->kind == LIGHT_SPOT) {
             put_f64(o, l->angle);
             put_f64(o, l->soft);
         }
+        if (l->kind == LIGHT_SPHERE)
+            put_f64(o, l->radius);
+        if (l->kind == LIGHT_RECT) {
+            put_vec(o, l->edge1);
+            put_vec(o, l->edge2);
+        }
+        if (light_is_area(l))
+            sink_u32(o, (uint32_t)l->samples);
     }
     return o->failed ? err_set(err, "wire: out of memory serialising the scene") : 0;
 }
@@ -188,21 +208,27 @@ int wire_decode_scene(const void *data, size_t len, const AssetCache *cache, Sce
     s->camera = camera_from_angles(pos, yaw, pitch, roll, zoom);
     s->ambient = get_vec(&c);
     s->background = get_vec(&c);
-    uint32_t set[6], n[8], extras = 0, optics[3] = {0, 0, 0};
-    real cutoff = R(0);
+    uint32_t set[6], n[8], extras = 0, optics[4] = {0, 0, 0, 1}, lens_samples = 1;
+    real cutoff = R(0), aperture = R(0), focus = R(0), exposure = R(0);
     cursor_get(&c, set, sizeof set);
     extras = cursor_u32(&c);
+    if (extras & WIRE_EXPOSURE)
+        exposure = get_f64(&c);
     uint32_t cam_kind = CAMERA_PINHOLE;
     real cam_size = R(0);
     if (extras & WIRE_CAMERA) {
         cam_kind = cursor_u32(&c);
         cam_size = get_f64(&c);
+        aperture = get_f64(&c);
+        focus = get_f64(&c);
+        lens_samples = cursor_u32(&c);
     }
     if (extras & WIRE_OPTICS) {
         optics[0] = cursor_u32(&c);
         cutoff = get_f64(&c);
         optics[1] = cursor_u32(&c);
         optics[2] = cursor_u32(&c);
+        optics[3] = cursor_u32(&c);
     }
     cursor_get(&c, n, sizeof n);
     const char *bad = NULL;
@@ -217,10 +243,12 @@ int wire_decode_scene(const void *data, size_t len, const AssetCache *cache, Sce
     else if (set[0] < 1 || set[0] > AA_MAX || set[1] > 1 || set[2] > SHADE_DIFFUSE || set[3] > 1 || set[4] > FILTER_BILINEAR ||
              set[5] > 1)
         bad = "invalid settings";
-    else if (extras & ~(uint32_t)(WIRE_OPTICS | WIRE_CAMERA))
+    else if (extras & ~(uint32_t)(WIRE_OPTICS | WIRE_CAMERA | WIRE_EXPOSURE))
         bad = "unknown extras";
-    else if ((extras & WIRE_CAMERA) && (cam_kind == CAMERA_PINHOLE || cam_kind > CAMERA_FISHEYE))
+    else if (cam_kind > CAMERA_FISHEYE || ((extras & WIRE_CAMERA) && cam_kind == CAMERA_PINHOLE && !(aperture > R(0))))
         bad = "invalid camera kind";
+    else if (lens_samples < 1 || lens_samples > SCENE_MAX_SAMPLES || optics[3] < 1 || optics[3] > SCENE_MAX_SAMPLES)
+        bad = "invalid sample counts";
     else if (optics[0] > SCENE_MAX_DEPTH || !(cutoff >= R(0) && cutoff < R(1)) || optics[1] > FRESNEL_SCHLICK ||
              optics[2] > 1)
         bad = "invalid secondary-ray settings";
@@ -230,6 +258,8 @@ int wire_decode_scene(const void *data, size_t len, const AssetCache *cache, Sce
             s->camera.size = cam_size;
         else if (cam_kind == CAMERA_FISHEYE)
             s->camera.fov = cam_size;
+        s->camera.aperture = aperture;
+        s->camera.focus = focus;
         RenderSettings *rs = &s->settings;
         rs->aa = (int)set[0];
         rs->adaptive = (int)set[1];
@@ -237,12 +267,16 @@ int wire_decode_scene(const void *data, size_t len, const AssetCache *cache, Sce
         rs->shadows = (int)set[3];
         rs->filter = (TextureFilter)set[4];
         rs->linear = (int)set[5];
+        rs->exposure = exposure;
         if (extras & WIRE_OPTICS) {
             rs->depth = (int)optics[0];
             rs->cutoff = cutoff;
             rs->fresnel = (FresnelModel)optics[1];
             rs->glass_shadows = (int)optics[2];
+            rs->rough_samples = (int)optics[3];
         }
+        if (extras & WIRE_CAMERA)
+            rs->lens_samples = (int)lens_samples;
     }
     int rc = 0;
     for (uint32_t i = 0; !bad && rc == 0 && i < n[0]; i++) {
@@ -265,8 +299,10 @@ int wire_decode_scene(const void *data, size_t len, const AssetCache *cache, Sce
             bad = "unknown material flags";
             break;
         }
-        if (opt & MAT_REFLECT)
+        if (opt & MAT_REFLECT) {
             m.kr = get_vec(&c);
+            m.roughness = get_f64(&c);
+        }
         if (opt & MAT_DIELECTRIC) {
             m.ior = get_f64(&c);
             m.kt = get_vec(&c);
@@ -334,7 +370,7 @@ int wire_decode_scene(const void *data, size_t len, const AssetCache *cache, Sce
         Light l;
         memset(&l, 0, sizeof l);
         uint32_t kind = cursor_u32(&c);
-        if (kind > LIGHT_DIRECTIONAL) {
+        if (kind > LIGHT_RECT) {
             bad = "unknown light kind";
             break;
         }
@@ -345,12 +381,20 @@ int wire_decode_scene(const void *data, size_t len, const AssetCache *cache, Sce
             l.pos = get_vec(&c);
             l.attenuate = cursor_u32(&c) != 0;
         }
-        if (l.kind != LIGHT_POINT)
+        if (l.kind == LIGHT_SPOT || l.kind == LIGHT_DIRECTIONAL)
             l.dir = get_vec(&c);
         if (l.kind == LIGHT_SPOT) {
             l.angle = get_f64(&c);
             l.soft = get_f64(&c);
         }
+        if (l.kind == LIGHT_SPHERE)
+            l.radius = get_f64(&c);
+        if (l.kind == LIGHT_RECT) {
+            l.edge1 = get_vec(&c);
+            l.edge2 = get_vec(&c);
+        }
+        if (light_is_area(&l))
+            l.samples = (int)cursor_u32(&c);
         rc = scene_add_light(s, l, err);
     }
     if (!bad && rc == 0 && c.failed)

@@ -3,6 +3,8 @@
  * colour), run over chunks of pixels on a thread pool (pool.h). */
 #include "render/render.h"
 
+#include "base/sample.h"
+
 #include <stdatomic.h>
 #include <stddef.h>
 #include <stdlib.h>
@@ -97,16 +99,70 @@ typedef struct {
     const atomic_int *cancel;
     RenderProgress *progress;
     int linear; /* write linear codes instead of sRGB (--linear) */
+    int bpp;    /* bytes a pixel: 3 codes, or 4 of RGBE (settings hdr) */
+    real gain;  /* 2^exposure, for the codes */
     /* adaptive mode: keys and centre colours, as written, of whole lines key_first .. key_first + key_lines - 1 */
     int key_first, key_lines;
     uint64_t *keys;
-    uint8_t *colors; /* 3 per pixel */
+    uint8_t *colors; /* 3 codes per pixel: the key lines' centre samples, compared for contrast */
+    uint8_t *centre; /* their pixels (bpp per pixel); colors itself when bpp is 3 */
 } Frame;
 
 static int cancelled(const Frame *f) { return f->cancel && atomic_load_explicit(f->cancel, memory_order_relaxed); }
 
 /* The colours of n <= TRACE_PACKET sample positions, traced as one packet
  * (shade_packet: each colour is what the ray gives alone). */
+/* The random keys of n sample positions, where the scene draws random
+ * numbers (area lights, rough mirrors, a lens), else NULL. */
+static const uint32_t *sample_seeds(const Frame *f, const real *xs, const real *ys, int n, uint32_t *seeds)
+{
+    if (!scene_uses(f->s, FEAT_AREA | FEAT_ROUGH | FEAT_LENS))
+        return NULL;
+    for (int i = 0; i < n; i++)
+        seeds[i] = sample_seed(xs[i], ys[i]);
+    return seeds;
+}
+
+/* A camera with an aperture: lens_samples^2 rays from stratified points of
+ * the lens for each sample position, in packets, averaged; a position's key
+ * (adaptive sampling) is its first lens ray's. */
+static void sample_packet_lens(const Frame *f, const real *xs, const real *ys, int n, vec3 *out, RayStats *st,
+                               uint64_t *keys)
+{
+    const uint32_t k = (uint32_t)f->s->settings.lens_samples, per = k * k;
+    uint32_t seed[TRACE_PACKET], rs[TRACE_PACKET];
+    sample_seeds(f, xs, ys, n, seed);
+    Ray rays[TRACE_PACKET];
+    vec3 col[TRACE_PACKET];
+    uint64_t key[TRACE_PACKET];
+    int which[TRACE_PACKET], first[TRACE_PACKET], m = 0;
+    for (int i = 0; i < n; i++)
+        out[i] = v3_splat(0);
+    for (int i = 0; i < n; i++)
+        for (uint32_t j = 0; j < per; j++) {
+            real lu, lv;
+            vec3 org, dir;
+            uint32_t lens_key = sample_mix(seed[i], 0x4c454e53u); /* "LENS" */
+            sample_stratum(lens_key, j, k, &lu, &lv);
+            camera_lens_ray(&f->cam, xs[i], ys[i], lu, lv, &org, &dir);
+            ray_set(&rays[m], org, dir, v3(R(1) / dir.x, R(1) / dir.y, R(1) / dir.z), R(0), REAL_INF);
+            rs[m] = sample_mix(seed[i], j);
+            first[m] = j == 0;
+            which[m++] = i;
+            if (m == TRACE_PACKET || (i == n - 1 && j == per - 1)) {
+                shade_packet(f->s, rays, m, col, st, keys ? key : NULL, rs);
+                for (int q = 0; q < m; q++) {
+                    out[which[q]] = v3_add(out[which[q]], col[q]);
+                    if (keys && first[q])
+                        keys[which[q]] = key[q];
+                }
+                m = 0;
+            }
+        }
+    for (int i = 0; i < n; i++)
+        out[i] = v3_scale(out[i], R(1) / (real)per);
+}
+
 /* The same for an orthographic or fisheye camera: each ray by camera_ray,
  * the ones it has (a fisheye sees nothing outside its circle) traced as one
  * packet, the others the background. */
@@ -116,11 +172,14 @@ static void sample_packet_other(const Frame *f, const real *xs, const real *ys, 
     Ray rays[TRACE_PACKET];
     vec3 col[TRACE_PACKET];
     uint64_t key[TRACE_PACKET];
+    uint32_t seed[TRACE_PACKET], rs[TRACE_PACKET];
+    const uint32_t *seeds = sample_seeds(f, xs, ys, n, seed);
     int which[TRACE_PACKET], m = 0;
     for (int i = 0; i < n; i++) {
         vec3 org, dir;
         if (camera_ray(&f->cam, xs[i], ys[i], &org, &dir)) {
             rays[m] = ray_make(org, dir, R(0), REAL_INF);
+            rs[m] = seeds ? seeds[i] : 0;
             which[m++] = i;
         } else {
             out[i] = f->s->background;
@@ -130,7 +189,7 @@ static void sample_packet_other(const Frame *f, const real *xs, const real *ys, 
     }
     if (m == 0)
         return;
-    shade_packet(f->s, rays, m, col, st, keys ? key : NULL);
+    shade_packet(f->s, rays, m, col, st, keys ? key : NULL, rs);
     for (int k = 0; k < m; k++) {
         out[which[k]] = col[k];
         if (keys)
@@ -143,6 +202,10 @@ static void sample_packet(const Frame *f, const real *xs, const real *ys, int n,
 {
     if (f->cam.kind != CAMERA_PINHOLE) {
         sample_packet_other(f, xs, ys, n, out, st, keys);
+        return;
+    }
+    if (scene_uses(f->s, FEAT_LENS)) {
+        sample_packet_lens(f, xs, ys, n, out, st, keys);
         return;
     }
     /* ray_make(org, v3_norm(camera_dir(x, y))) for all eight lanes at once,
@@ -172,7 +235,8 @@ static void sample_packet(const Frame *f, const real *xs, const real *ys, int n,
         else
             rays[i] = ray_make(c->org, v3_norm(camera_dir(c, px[i], py[i])), R(0), REAL_INF);
     }
-    shade_packet(f->s, rays, n, out, st, keys);
+    uint32_t seed[TRACE_PACKET];
+    shade_packet(f->s, rays, n, out, st, keys, sample_seeds(f, xs, ys, n, seed));
 }
 
 /* n x n sub-samples, in packets, summed in the same order as ever */
@@ -214,12 +278,22 @@ static int line_packet(uint64_t g0, uint64_t left, int width, real *xs, real *ys
     return n;
 }
 
-/* Linear light to the pixel's codes: sRGB unless the scene asks for linear
- * output (srgb.h: both clamp, and NaN becomes 0). */
-static void put_pixel(const Frame *f, uint8_t *dst, vec3 c)
+/* Linear light to 8-bit codes: sRGB unless the scene asks for linear
+ * output (srgb.h: both clamp, and NaN becomes 0), after the exposure. */
+static void put_codes(const Frame *f, uint8_t *dst, vec3 c)
 {
     for (int k = 0; k < 3; k++)
-        dst[k] = f->linear ? linear_encode8(c.e[k]) : srgb_encode8(c.e[k]);
+        dst[k] = f->linear ? linear_encode8(c.e[k] * f->gain) : srgb_encode8(c.e[k] * f->gain);
+}
+
+/* A finished pixel: its codes, or its RGBE (high dynamic range: the light
+ * itself, no exposure). */
+static void put_pixel(const Frame *f, uint8_t *dst, vec3 c)
+{
+    if (f->bpp == 4)
+        rgbe_encode(c.x, c.y, c.z, dst);
+    else
+        put_codes(f, dst, c);
 }
 
 /* A chunk done: its finished pixels and the rays it took (since `before`). */
@@ -256,12 +330,12 @@ static void job_grid(void *ctx, uint32_t chunk, RayStats *st)
             int k = line_packet(g, i1 - i, f->width, xs, ys);
             sample_packet(f, xs, ys, k, c, st, NULL);
             for (int q = 0; q < k; q++)
-                put_pixel(f, &f->pixels[3 * (i + (uint64_t)q)], c[q]);
+                put_pixel(f, &f->pixels[f->bpp * (i + (uint64_t)q)], c[q]);
             i += (uint64_t)k;
             continue;
         }
         int px = (int)(g % (uint64_t)f->width), py = (int)(g / (uint64_t)f->width);
-        put_pixel(f, &f->pixels[3 * i], sample_grid(f, px, py, n, st));
+        put_pixel(f, &f->pixels[f->bpp * i], sample_grid(f, px, py, n, st));
         i++;
     }
     count_progress(f, i1 - i0, st, before);
@@ -285,8 +359,11 @@ static void job_keys(void *ctx, uint32_t chunk, RayStats *st)
         sample_packet(f, xs, ys, k, c, st, &f->keys[i]);
         /* kept as written: the contrast test compares what a viewer sees, and
          * a pixel without an edge is this sample */
-        for (int q = 0; q < k; q++)
-            put_pixel(f, &f->colors[3 * (i + (uint64_t)q)], c[q]);
+        for (int q = 0; q < k; q++) {
+            put_codes(f, &f->colors[3 * (i + (uint64_t)q)], c[q]);
+            if (f->centre != f->colors)
+                put_pixel(f, &f->centre[f->bpp * (i + (uint64_t)q)], c[q]);
+        }
         i += (uint64_t)k;
     }
     count_progress(f, 0, st, before);
@@ -339,9 +416,9 @@ static void job_refine(void *ctx, uint32_t chunk, RayStats *st)
         if (py < last_line)
             edge |= key[f->width] != key[0] || contrasts(col + row, col);
         if (edge)
-            put_pixel(f, &f->pixels[3 * i], sample_grid(f, px, py, f->s->settings.aa, st));
+            put_pixel(f, &f->pixels[f->bpp * i], sample_grid(f, px, py, f->s->settings.aa, st));
         else
-            memcpy(&f->pixels[3 * i], col, 3);
+            memcpy(&f->pixels[f->bpp * i], &f->centre[f->bpp * at], (size_t)f->bpp);
     }
     count_progress(f, i1 - i0, st, before);
 }
@@ -376,6 +453,8 @@ int render_span(RenderPool *p, const Scene *s, int width, int height, uint64_t f
     f.cancel = cancel;
     f.progress = p->progress;
     f.linear = s->settings.linear;
+    f.bpp = s->settings.hdr ? 4 : 3;
+    f.gain = pow(R(2), s->settings.exposure);
     RayStats st;
     if (!s->settings.adaptive || s->settings.aa == 1) {
         st = pool_run_counted(p, job_grid, &f, chunks_of(count));
@@ -386,7 +465,10 @@ int render_span(RenderPool *p, const Scene *s, int width, int height, uint64_t f
         f.key_lines = (l1 + 1 < height ? l1 + 1 : l1) - f.key_first + 1;
         f.keys = malloc((size_t)width * (size_t)f.key_lines * sizeof *f.keys);
         f.colors = malloc((size_t)width * (size_t)f.key_lines * 3);
-        if (!f.keys || !f.colors) {
+        f.centre = f.bpp == 3 ? f.colors : malloc((size_t)width * (size_t)f.key_lines * (size_t)f.bpp);
+        if (!f.keys || !f.colors || !f.centre) {
+            if (f.centre != f.colors)
+                free(f.centre);
             free(f.keys);
             free(f.colors);
             return err_set(err, "render: out of memory for adaptive sampling of %llu pixels", (unsigned long long)count);
@@ -395,6 +477,9 @@ int render_span(RenderPool *p, const Scene *s, int width, int height, uint64_t f
         RayStats st2 = pool_run_counted(p, job_refine, &f, chunks_of(count));
         st.primary += st2.primary;
         st.shadow += st2.shadow;
+        st.secondary += st2.secondary;
+        if (f.centre != f.colors)
+            free(f.centre);
         free(f.keys);
         free(f.colors);
     }

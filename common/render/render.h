@@ -32,7 +32,8 @@ void render_pool_destroy(RenderPool *p);
 int render_pool_threads(const RenderPool *p);
 
 /* Renders lines [first_line, first_line + count) of a width x height frame of
- * the prepared scene into pixels (RGB8, count*width*3 bytes). */
+ * the prepared scene into pixels (RGB8, count*width*3 bytes; with settings
+ * hdr, RGBE, count*width*4). */
 int render_lines(RenderPool *p, const Scene *s, int width, int height, int first_line, int count, uint8_t *pixels,
                  RayStats *stats, Err *err);
 

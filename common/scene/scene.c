@@ -43,7 +43,8 @@ void scene_destroy(Scene *s)
 RenderSettings render_settings_default(void)
 {
     RenderSettings r = {.aa = 1, .shading = SHADE_PHONG, .shadows = 1, .filter = FILTER_BILINEAR, .depth = 5,
-                        .cutoff = R(0.01), .fresnel = FRESNEL_EXACT, .glass_shadows = 1};
+                        .cutoff = R(0.01), .fresnel = FRESNEL_EXACT, .glass_shadows = 1, .rough_samples = 4,
+                        .lens_samples = 4};
     return r;
 }
 
@@ -178,6 +179,25 @@ Light light_directional(vec3 dir, vec3 color, real intensity)
     return l;
 }
 
+Light light_sphere(vec3 centre, real radius, int samples, vec3 color, real intensity, int attenuate)
+{
+    Light l = light_point(centre, color, intensity, attenuate);
+    l.kind = LIGHT_SPHERE;
+    l.radius = radius;
+    l.samples = samples;
+    return l;
+}
+
+Light light_rect(vec3 corner, vec3 edge1, vec3 edge2, int samples, vec3 color, real intensity, int attenuate)
+{
+    Light l = light_point(corner, color, intensity, attenuate);
+    l.kind = LIGHT_RECT;
+    l.edge1 = edge1;
+    l.edge2 = edge2;
+    l.samples = samples;
+    return l;
+}
+
 Instance instance_make(uint32_t model, vec3 translate, vec3 rotate, real scale)
 {
     Instance in;
@@ -233,6 +253,8 @@ static const char *material_check_optics(const Material *m)
     if (v3_min_comp(m->kr) < R(0) || v3_min_comp(m->kt) < R(0) || v3_min_comp(m->absorb) < R(0) ||
         v3_min_comp(m->ke) < R(0))
         return "reflection, transmission, absorption and emission must not be negative";
+    if (!(m->roughness >= R(0) && m->roughness <= R(1)))
+        return "roughness must be from 0 to 1";
     if (m->ior < R(0) || (m->ior > R(0) && !(m->ior >= MATERIAL_IOR_MIN && m->ior <= MATERIAL_IOR_MAX)))
         return "index of refraction out of range (0: none; else 1/16..16)";
     if (material_dielectric(m) && material_reflects(m))
@@ -243,7 +265,7 @@ static const char *material_check_optics(const Material *m)
 static uint32_t material_features(const Material *m)
 {
     return (material_reflects(m) ? FEAT_REFLECT : 0u) | (material_dielectric(m) ? FEAT_REFRACT : 0u) |
-           (material_emits(m) ? FEAT_EMIT : 0u);
+           (material_emits(m) ? FEAT_EMIT : 0u) | (material_rough(m) ? FEAT_ROUGH : 0u);
 }
 
 int scene_prepare(Scene *s, Err *err)
@@ -253,9 +275,11 @@ int scene_prepare(Scene *s, Err *err)
         return err_set(err, "scene: anti-aliasing %d out of range 1..%d", s->settings.aa, AA_MAX);
     const RenderSettings *rs = &s->settings;
     if (rs->depth < 0 || rs->depth > SCENE_MAX_DEPTH || !(rs->cutoff >= R(0) && rs->cutoff < R(1)) ||
-        (rs->fresnel != FRESNEL_EXACT && rs->fresnel != FRESNEL_SCHLICK) || (rs->glass_shadows & ~1))
-        return err_set(err, "scene: depth %d (0..%d), cutoff (0 up to 1), Fresnel model or glass shadows out of range",
-                       rs->depth, SCENE_MAX_DEPTH);
+        (rs->fresnel != FRESNEL_EXACT && rs->fresnel != FRESNEL_SCHLICK) || (rs->glass_shadows & ~1) ||
+        rs->rough_samples < 1 || rs->rough_samples > SCENE_MAX_SAMPLES || rs->lens_samples < 1 ||
+        rs->lens_samples > SCENE_MAX_SAMPLES || !(rs->exposure >= R(-32) && rs->exposure <= R(32)))
+        return err_set(err, "scene: depth %d (0..%d), cutoff (0 up to 1), Fresnel model, glass shadows, samples (1..%d) "
+                       "or exposure (-32..32) out of range", rs->depth, SCENE_MAX_DEPTH, SCENE_MAX_SAMPLES);
     const Camera *cam = &s->camera;
     if (!(cam->zoom > R(0)) || !isfinite(cam->zoom) || !v3_is_finite(cam->pos) || !isfinite(cam->yaw) ||
         !isfinite(cam->pitch) || !isfinite(cam->roll))
@@ -264,6 +288,11 @@ int scene_prepare(Scene *s, Err *err)
         (cam->kind == CAMERA_FISHEYE && !(cam->fov > R(0) && cam->fov <= CAMERA_FISHEYE_MAX)) ||
         (unsigned)cam->kind > CAMERA_FISHEYE)
         return err_set(err, "scene: an orthographic camera needs a positive width, a fisheye 0 < fov <= 360");
+    if (!(cam->aperture >= R(0)) || !isfinite(cam->aperture) || (cam->aperture > R(0) && cam->kind != CAMERA_PINHOLE) ||
+        (cam->aperture > R(0) && !(cam->focus > R(0) && isfinite(cam->focus))))
+        return err_set(err, "scene: a camera's aperture is a pinhole's, not negative, with a positive focus distance");
+    if (cam->aperture > R(0))
+        f |= FEAT_LENS;
     if (!v3_is_finite(s->ambient) || !v3_is_finite(s->background))
         return err_set(err, "scene: ambient and background colours must be finite");
     for (uint32_t i = 0; i < s->material_count; i++) {
@@ -343,10 +372,22 @@ int scene_prepare(Scene *s, Err *err)
         Light *l = &s->lights[i];
         if (!v3_is_finite(l->pos) || !v3_is_finite(l->color) || !(l->intensity >= R(0)) || !isfinite(l->intensity))
             return err_set(err, "scene: light %u needs a finite position and colour and a non-negative intensity", i);
-        if (l->kind != LIGHT_POINT) {
+        if (l->kind == LIGHT_SPOT || l->kind == LIGHT_DIRECTIONAL) {
             if (!(v3_len(l->dir) > R(0)) || !v3_is_finite(l->dir))
                 return err_set(err, "scene: light %u needs a non-zero direction", i);
             l->axis = v3_norm(l->dir);
+        }
+        if (light_is_area(l)) {
+            if (l->samples < 1 || l->samples > LIGHT_MAX_SAMPLES)
+                return err_set(err, "scene: area light %u needs 1..%d samples a side", i, LIGHT_MAX_SAMPLES);
+            if (l->kind == LIGHT_SPHERE && !(l->radius > R(0) && isfinite(l->radius)))
+                return err_set(err, "scene: sphere light %u needs a positive radius", i);
+            if (l->kind == LIGHT_RECT) {
+                if (!v3_is_finite(l->edge1) || !v3_is_finite(l->edge2) || !(v3_len(v3_cross(l->edge1, l->edge2)) > R(0)))
+                    return err_set(err, "scene: rectangle light %u needs two finite edges that are not parallel", i);
+                l->axis = v3_norm(v3_cross(l->edge1, l->edge2));
+            }
+            f |= FEAT_AREA;
         }
         if (l->kind == LIGHT_SPOT) {
             if (!(l->angle > R(0) && l->angle < R(180)) || !(l->soft >= R(0)))

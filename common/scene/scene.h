@@ -21,6 +21,7 @@
 #define AA_MAX 16
 #define SCENE_MAX_SIDE 65536 /* settings width/height */
 #define SCENE_MAX_DEPTH 64   /* settings depth: reflections and refractions deep */
+#define SCENE_MAX_SAMPLES 16 /* settings rough_samples, lens_samples: a side of the pattern */
 
 typedef struct {
     vec3 centre;
@@ -61,7 +62,11 @@ typedef struct {
     Aabb world_box;
 } Instance;
 
-typedef enum { LIGHT_POINT = 0, LIGHT_SPOT = 1, LIGHT_DIRECTIONAL = 2 } LightKind;
+/* Area lights (a sphere, a rectangle) send `samples` x `samples` shadow
+ * rays to stratified points of their surface, which makes soft shadows. */
+typedef enum { LIGHT_POINT = 0, LIGHT_SPOT = 1, LIGHT_DIRECTIONAL = 2, LIGHT_SPHERE = 3, LIGHT_RECT = 4 } LightKind;
+
+#define LIGHT_MAX_SAMPLES 64 /* a side of the pattern: 4096 shadow rays */
 
 typedef struct {
     LightKind kind;
@@ -71,6 +76,9 @@ typedef struct {
     real intensity;
     int attenuate;     /* point, spot: divide by distance squared */
     real angle, soft;  /* spot: full beam angle and soft edge width, degrees */
+    real radius;       /* sphere: pos is its centre */
+    vec3 edge1, edge2; /* rectangle: pos is a corner, the edges span it */
+    int samples;       /* sphere, rectangle: the side of the pattern of shadow rays */
     /* derived */
     vec3 axis;         /* dir, unit length */
     real cos_outer, cos_inner;
@@ -94,6 +102,10 @@ typedef struct {
     FresnelModel fresnel;
     int glass_shadows; /* 1: shadow rays pass dielectrics, tinted by their
                         * transmitted colour; 0: dielectrics cast opaque shadows */
+    int rough_samples; /* a rough mirror reflects rough_samples^2 rays */
+    int lens_samples;  /* a camera with an aperture sends lens_samples^2 rays per pixel sample */
+    real exposure;     /* stops: the 8-bit codes encode light times 2^exposure */
+    int hdr;           /* pixels are RGBE, 4 bytes (lanray-render's .hdr output); not on the wire */
     /* what the scene file asked for, for the programs' defaults; not on the
      * wire (an UPDATE carries the frame's size, the samples are above) */
     int width, height;  /* 0: not given */
@@ -112,6 +124,9 @@ enum {
     FEAT_REFLECT = 1 << 8, /* a material with mirror reflectance */
     FEAT_REFRACT = 1 << 9, /* a dielectric material */
     FEAT_EMIT = 1 << 10,   /* an emissive material */
+    FEAT_AREA = 1 << 11,   /* a sphere or rectangle light */
+    FEAT_ROUGH = 1 << 12,  /* a mirror with roughness */
+    FEAT_LENS = 1 << 13,   /* a camera with an aperture (depth of field) */
 };
 
 typedef struct {
@@ -156,6 +171,9 @@ Plane plane_make(vec3 point, vec3 normal, uint32_t material);
 Light light_point(vec3 pos, vec3 color, real intensity, int attenuate);
 Light light_spot(vec3 pos, vec3 dir, real angle, real soft, vec3 color, real intensity, int attenuate);
 Light light_directional(vec3 dir, vec3 color, real intensity);
+Light light_sphere(vec3 centre, real radius, int samples, vec3 color, real intensity, int attenuate);
+Light light_rect(vec3 corner, vec3 edge1, vec3 edge2, int samples, vec3 color, real intensity, int attenuate);
+static inline int light_is_area(const Light *l) { return l->kind == LIGHT_SPHERE || l->kind == LIGHT_RECT; }
 Instance instance_make(uint32_t model, vec3 translate, vec3 rotate, real scale);
 RenderSettings render_settings_default(void);
 

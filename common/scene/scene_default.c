@@ -142,7 +142,8 @@ int scene_default(Scene **out, const BvhOptions *opt, Err *err)
         in.material = (int32_t)gold;
         rc = scene_add_instance(s, in, err);
     }
-    rc = rc ? rc : scene_add_light(s, light_point(v3(4, 7, 6), v3(1, 1, 1), R(0.75), 0), err);
+    /* a round lamp: soft shadows (3 x 3 shadow rays) */
+    rc = rc ? rc : scene_add_light(s, light_sphere(v3(4, 7, 6), R(0.9), 3, v3(1, 1, 1), R(0.75), 0), err);
     rc = rc ? rc : scene_add_light(s, light_spot(v3(R(-2.5), R(5), R(2.5)), v3(R(0.35), -1, R(-0.45)), 36, 8,
                                                  v3(1, R(0.85), R(0.6)), R(0.7), 0), err);
     rc = rc ? rc : scene_prepare(s, err);

@@ -14,7 +14,7 @@
 
 #define SCENE_MAX_BYTES ((size_t)256 << 20)
 #define NAME_MAX_LEN 64
-#define MAX_KEYS 12
+#define MAX_KEYS 16
 
 typedef enum { ARG_NUM, ARG_WORD, ARG_FLAG } ArgKind;
 
@@ -176,7 +176,7 @@ static int do_camera(Ctx *c, const Tokens *t)
     static const KeySpec spec[] = {{"position", ARG_NUM, 3, 1}, {"lookat", ARG_NUM, 3, 0}, {"yaw", ARG_NUM, 1, 0},
                                    {"pitch", ARG_NUM, 1, 0},    {"roll", ARG_NUM, 1, 0},   {"zoom", ARG_NUM, 1, 0},
                                    {"fov", ARG_NUM, 1, 0},      {"ortho", ARG_NUM, 1, 0},  {"fisheye", ARG_NUM, 1, 0},
-                                   {0, 0, 0, 0}};
+                                   {"aperture", ARG_NUM, 1, 0}, {"focus", ARG_NUM, 1, 0},  {0, 0, 0, 0}};
     KeyVals kv;
     if (read_keys(c, t, 1, "camera", spec, &kv))
         return -1;
@@ -186,6 +186,12 @@ static int do_camera(Ctx *c, const Tokens *t)
         return fail(c, "'ortho' of camera (the view's width) must be positive");
     if (kv.present[8] && !(kv.num[8][0] > R(0) && kv.num[8][0] <= CAMERA_FISHEYE_MAX))
         return fail(c, "'fisheye' of camera (its field of view) must be above 0 and at most 360 degrees");
+    if (kv.present[9] != kv.present[10])
+        return fail(c, "camera takes 'aperture' and 'focus' together (a thin lens)");
+    if (kv.present[9] && (kv.present[7] || kv.present[8]))
+        return fail(c, "'aperture' is a pinhole camera's lens, not an orthographic or fisheye camera's");
+    if (kv.present[9] && !(kv.num[9][0] >= R(0) && kv.num[10][0] > R(0)))
+        return fail(c, "camera 'aperture' must not be negative and 'focus' must be positive");
     if (kv.present[1] && (kv.present[2] || kv.present[3]))
         return fail(c, "camera takes either 'lookat' or 'yaw'/'pitch', not both");
     if (kv.present[5] && kv.present[6])
@@ -214,6 +220,10 @@ static int do_camera(Ctx *c, const Tokens *t)
         c->s->camera.kind = CAMERA_FISHEYE;
         c->s->camera.fov = kv.num[8][0];
     }
+    if (kv.present[9]) {
+        c->s->camera.aperture = kv.num[9][0];
+        c->s->camera.focus = kv.num[10][0];
+    }
     return 0;
 }
 
@@ -231,7 +241,9 @@ static int do_settings(Ctx *c, const Tokens *t)
     static const KeySpec spec[] = {{"aa", ARG_NUM, 1, 0},       {"adaptive", ARG_NUM, 1, 0}, {"shading", ARG_WORD, 0, 0},
                                    {"shadows", ARG_WORD, 0, 0}, {"filter", ARG_WORD, 0, 0},  {"width", ARG_NUM, 1, 0},
                                    {"height", ARG_NUM, 1, 0},   {"depth", ARG_NUM, 1, 0},    {"cutoff", ARG_NUM, 1, 0},
-                                   {"fresnel", ARG_WORD, 0, 0}, {"glass_shadows", ARG_WORD, 0, 0}, {0, 0, 0, 0}};
+                                   {"fresnel", ARG_WORD, 0, 0}, {"glass_shadows", ARG_WORD, 0, 0},
+                                   {"rough_samples", ARG_NUM, 1, 0}, {"lens_samples", ARG_NUM, 1, 0},
+                                   {"exposure", ARG_NUM, 1, 0}, {0, 0, 0, 0}};
     KeyVals kv;
     if (read_keys(c, t, 1, "settings", spec, &kv))
         return -1;
@@ -277,6 +289,18 @@ static int do_settings(Ctx *c, const Tokens *t)
             return fail(c, "'depth' of settings must be a whole number from 0 to %d", SCENE_MAX_DEPTH);
         rs->depth = (int)n;
     }
+    if (kv.present[13]) {
+        if (!(kv.num[13][0] >= R(-32) && kv.num[13][0] <= R(32)))
+            return fail(c, "'exposure' of settings must be from -32 to 32 stops");
+        rs->exposure = kv.num[13][0];
+    }
+    for (int k = 11; k < 13; k++)
+        if (kv.present[k]) {
+            real n = kv.num[k][0];
+            if (!(n >= 1 && n <= SCENE_MAX_SAMPLES && n == floor(n)))
+                return fail(c, "'%s' of settings must be a whole number from 1 to %d", spec[k].key, SCENE_MAX_SAMPLES);
+            *(k == 11 ? &rs->rough_samples : &rs->lens_samples) = (int)n;
+        }
     if (kv.present[8]) {
         if (!(kv.num[8][0] >= R(0) && kv.num[8][0] < R(1)))
             return fail(c, "'cutoff' of settings must be from 0 up to (not including) 1");
@@ -306,7 +330,7 @@ static int do_material(Ctx *c, const Tokens *t)
     static const KeySpec spec[] = {{"diffuse", ARG_NUM, 3, 0}, {"specular", ARG_NUM, 3, 0}, {"shininess", ARG_NUM, 1, 0},
                                    {"texture", ARG_WORD, 0, 0}, {"reflect", ARG_NUM, 3, 0},  {"ior", ARG_NUM, 1, 0},
                                    {"transmit", ARG_NUM, 3, 0}, {"absorb", ARG_NUM, 3, 0},   {"emit", ARG_NUM, 3, 0},
-                                   {0, 0, 0, 0}};
+                                   {"roughness", ARG_NUM, 1, 0}, {0, 0, 0, 0}};
     if (t->n < 2)
         return fail(c, "material expects a name: material NAME diffuse R G B ...");
     KeyVals kv;
@@ -343,6 +367,13 @@ static int do_material(Ctx *c, const Tokens *t)
         m.absorb = kv_vec(&kv, 7);
     if (kv.present[8])
         m.ke = kv_vec(&kv, 8);
+    if (kv.present[9]) {
+        if (!kv.present[4])
+            return fail(c, "'roughness' of material needs 'reflect' (a mirror or a metal)");
+        if (!(kv.num[9][0] >= R(0) && kv.num[9][0] <= R(1)))
+            return fail(c, "'roughness' of material must be from 0 to 1");
+        m.roughness = kv.num[9][0];
+    }
     if (non_negative_vec(c, m.kr, "reflect", "material") || non_negative_vec(c, m.kt, "transmit", "material") ||
         non_negative_vec(c, m.absorb, "absorb", "material") || non_negative_vec(c, m.ke, "emit", "material"))
         return -1;
@@ -461,9 +492,11 @@ static int do_light(Ctx *c, const Tokens *t)
 {
     static const KeySpec spec[] = {{"position", ARG_NUM, 3, 0}, {"direction", ARG_NUM, 3, 0}, {"target", ARG_NUM, 3, 0},
                                    {"color", ARG_NUM, 3, 0},    {"intensity", ARG_NUM, 1, 0}, {"attenuate", ARG_FLAG, 0, 0},
-                                   {"angle", ARG_NUM, 1, 0},    {"soft", ARG_NUM, 1, 0},      {0, 0, 0, 0}};
+                                   {"angle", ARG_NUM, 1, 0},    {"soft", ARG_NUM, 1, 0},      {"radius", ARG_NUM, 1, 0},
+                                   {"corner", ARG_NUM, 3, 0},   {"edge1", ARG_NUM, 3, 0},     {"edge2", ARG_NUM, 3, 0},
+                                   {"samples", ARG_NUM, 1, 0},  {0, 0, 0, 0}};
     if (t->n < 2)
-        return fail(c, "light expects a kind: point, spot or directional");
+        return fail(c, "light expects a kind: point, spot, directional, sphere or rect");
     const char *kind = t->tok[1];
     KeyVals kv;
     if (read_keys(c, t, 2, "light", spec, &kv))
@@ -476,6 +509,35 @@ static int do_light(Ctx *c, const Tokens *t)
     if (kv.present[2])
         dir = v3_sub(kv_vec(&kv, 2), kv_vec(&kv, 0));
     Light l;
+    int area = strcmp(kind, "sphere") == 0 || strcmp(kind, "rect") == 0;
+    if (!area && (kv.present[8] || kv.present[9] || kv.present[10] || kv.present[11] || kv.present[12]))
+        return fail(c, "'radius', 'corner', 'edge1', 'edge2' and 'samples' are for sphere and rect lights");
+    int samples = 4;
+    if (kv.present[12]) {
+        real n = kv.num[12][0];
+        if (!(n >= 1 && n <= LIGHT_MAX_SAMPLES && n == floor(n)))
+            return fail(c, "'samples' of light must be a whole number from 1 to %d", LIGHT_MAX_SAMPLES);
+        samples = (int)n;
+    }
+    if (strcmp(kind, "sphere") == 0) {
+        if (!kv.present[0] || !kv.present[8] || kv.present[1] || kv.present[2] || kv.present[6] || kv.present[7] ||
+            kv.present[9] || kv.present[10] || kv.present[11])
+            return fail(c, "a sphere light takes 'position' and 'radius' (and samples, color, intensity, attenuate) only");
+        if (positive(c, kv.num[8][0], "radius", "light"))
+            return -1;
+        return scene_add_light(c->s, light_sphere(kv_vec(&kv, 0), kv.num[8][0], samples, color, intensity, kv.present[5]),
+                               c->err);
+    }
+    if (strcmp(kind, "rect") == 0) {
+        if (!kv.present[9] || !kv.present[10] || !kv.present[11] || kv.present[0] || kv.present[1] || kv.present[2] ||
+            kv.present[6] || kv.present[7] || kv.present[8])
+            return fail(c, "a rect light takes 'corner', 'edge1' and 'edge2' (and samples, color, intensity, attenuate) only");
+        if (!(v3_len(v3_cross(kv_vec(&kv, 10), kv_vec(&kv, 11))) > R(0)))
+            return fail(c, "the edges of a rect light must not be zero or parallel");
+        return scene_add_light(c->s, light_rect(kv_vec(&kv, 9), kv_vec(&kv, 10), kv_vec(&kv, 11), samples, color, intensity,
+                                                kv.present[5]),
+                               c->err);
+    }
     if (strcmp(kind, "point") == 0) {
         if (!kv.present[0] || kv.present[1] || kv.present[2] || kv.present[6] || kv.present[7])
             return fail(c, "a point light takes 'position' (and color, intensity, attenuate) only");
@@ -491,7 +553,7 @@ static int do_light(Ctx *c, const Tokens *t)
             return fail(c, "a directional light takes 'direction' (and color, intensity) only");
         l = light_directional(dir, color, intensity);
     } else {
-        return fail(c, "unknown light kind '%s' (point, spot or directional)", kind);
+        return fail(c, "unknown light kind '%s' (point, spot, directional, sphere or rect)", kind);
     }
     if (l.kind != LIGHT_POINT && !(v3_len(dir) > R(0)))
         return fail(c, "light direction must not be zero");

@@ -19,19 +19,52 @@
  * that crossed a dielectric's inside is absorbed by exp(-absorb t)
  * (Beer-Lambert).  Secondary rays recurse up to settings.depth bounces and
  * are not traced where their weight, the most they can add to the pixel,
- * is below settings.cutoff.  All of it is deterministic: no random number
- * is drawn, so any client renders any pixel the same. */
+ * is below settings.cutoff.  A rough mirror spreads its reflection over
+ * rough_samples^2 rays about the mirror direction, and an area light (a
+ * sphere, a rectangle) is samples^2 shadow rays to stratified points of it:
+ * soft shadows.  Their random numbers come from the ray's key (the pixel
+ * sample's, base/sample.h), mixed with the bounce and what they are drawn
+ * for: any client renders any pixel the same. */
 #include "scene/shade.h"
 
-/* Light arriving at p: unit direction towards the light, distance, radiance. */
-static int light_at(const Scene *s, const Light *l, vec3 p, vec3 *dir, real *dist, vec3 *radiance)
+#include "base/sample.h"
+
+/* Point j of the samples^2 stratified points of area light l, as seen
+ * from p (key: the ray's, mixed with the bounce and the light); *scale
+ * gets the point's share of the light: 1 / samples^2, and for a rectangle
+ * the cosine at its surface (it emits like a Lambertian panel, both sides). */
+static vec3 area_point(const Light *l, vec3 p, uint32_t key, uint32_t j, real *scale)
+{
+    real u, v;
+    sample_stratum(key, j, (uint32_t)l->samples, &u, &v);
+    *scale = R(1) / (real)(l->samples * l->samples);
+    if (l->kind == LIGHT_RECT)
+        return v3_add(l->pos, v3_add(v3_scale(l->edge1, u), v3_scale(l->edge2, v)));
+    /* a sphere: its disc facing p (what p sees of it), by the concentric map */
+    vec3 w = v3_norm(v3_sub(p, l->pos));
+    vec3 a = v3_norm(v3_cross(fabs(w.x) > R(0.5) ? v3(0, 1, 0) : v3(1, 0, 0), w)), b = v3_cross(w, a);
+    real x, y;
+    sample_disc(u, v, &x, &y);
+    return v3_add(l->pos, v3_scale(v3_add(v3_scale(a, x), v3_scale(b, y)), l->radius));
+}
+
+/* Light arriving at p from light l (for an area light, from its point j):
+ * unit direction towards the light, distance, radiance. */
+static int light_at(const Scene *s, const Light *l, vec3 p, uint32_t key, uint32_t j, vec3 *dir, real *dist,
+                    vec3 *radiance)
 {
     real scale = l->intensity;
     if (l->kind == LIGHT_DIRECTIONAL) {
         *dir = v3_neg(l->axis);
         *dist = REAL_INF;
     } else {
-        vec3 d = v3_sub(l->pos, p);
+        vec3 pos = l->pos;
+        if (scene_uses(s, FEAT_AREA) && light_is_area(l)) {
+            real share;
+            pos = area_point(l, p, key, j, &share);
+            scale *= share;
+        }
+        vec3 d = v3_sub(pos, p);
         real d2 = v3_dot(d, d);
         if (!(d2 > R(0)))
             return 0;
@@ -48,6 +81,8 @@ static int light_at(const Scene *s, const Light *l, vec3 p, vec3 *dir, real *dis
                 scale *= t * t * (R(3) - R(2) * t);
             }
         }
+        if (scene_uses(s, FEAT_AREA) && l->kind == LIGHT_RECT)
+            scale *= fabs(v3_dot(*dir, l->axis));
     }
     if (!(scale > R(0)))
         return 0;
@@ -61,6 +96,7 @@ typedef struct {
     vec3 kd, col, view, origin;
     int phong;
     uint32_t lit;
+    uint32_t key; /* the ray's random key, mixed with its bounce */
 } Shading;
 
 /* Light l's contribution to ray sh, already known to reach it. */
@@ -130,17 +166,43 @@ static vec3 transmittance(const Scene *s, const Ray *sr, real tmax, RayStats *st
     return v3_splat(R(0));
 }
 
-static void shade_rays(const Scene *s, const Ray *rays, int n, vec3 *out, RayStats *stats, uint64_t *keys, int depth,
-                       vec3 weight);
+static void shade_rays(const Scene *s, const Ray *rays, int n, vec3 *out, RayStats *stats, uint64_t *keys,
+                       const uint32_t *seeds, int depth, vec3 weight);
 
-/* The colour seen along a secondary ray from org in unit direction d. */
-static vec3 shade_secondary(const Scene *s, vec3 org, vec3 d, int depth, vec3 weight, RayStats *stats)
+/* The colour seen along a secondary ray from org in unit direction d
+ * (seed: its random key). */
+static vec3 shade_secondary(const Scene *s, vec3 org, vec3 d, uint32_t seed, int depth, vec3 weight, RayStats *stats)
 {
     Ray r = ray_make(org, d, R(0), REAL_INF);
     vec3 c;
     stats->secondary++;
-    shade_rays(s, &r, 1, &c, stats, NULL, depth, weight);
+    shade_rays(s, &r, 1, &c, stats, NULL, &seed, depth, weight);
     return c;
+}
+
+/* A rough mirror: rough_samples^2 rays about the mirror direction r, each
+ * bent by a stratified point of a sphere of radius `roughness` (a ray bent
+ * into the surface is mirrored back out of it), each carrying its share. */
+static vec3 rough_reflection(const Scene *s, const Shading *sh, vec3 front, vec3 r, int depth, vec3 weight,
+                             RayStats *stats)
+{
+    const Surface *sf = &sh->sf;
+    const Material *m = sf->mat;
+    uint32_t k = (uint32_t)s->settings.rough_samples, n = k * k;
+    real share = R(1) / (real)n;
+    vec3 w = v3_scale(v3_mul(weight, m->kr), share), sum = v3_splat(0);
+    uint32_t key = sample_mix(sh->key, 0x52000000u);
+    for (uint32_t j = 0; j < n; j++) {
+        real u, v;
+        sample_stratum(key, j, k, &u, &v);
+        real z = R(1) - R(2) * u, phi = R(2) * REAL_PI * v, rr = sqrt(real_max(R(0), R(1) - z * z));
+        vec3 d = v3_norm(v3_madd(r, v3(rr * cos(phi), rr * sin(phi), z), m->roughness));
+        real below = v3_dot(d, sf->ng);
+        if (below <= R(0))
+            d = v3_norm(v3_madd(d, sf->ng, R(-2) * below));
+        sum = v3_add(sum, shade_secondary(s, front, d, sample_mix(key, j), depth + 1, w, stats));
+    }
+    return v3_mul(m->kr, v3_scale(sum, share));
 }
 
 /* A secondary ray is traced when what it can add to the pixel is at least the cutoff. */
@@ -176,8 +238,13 @@ static vec3 shade_beyond(const Scene *s, real t, const Shading *sh, int depth, v
         vec3 front = trace_offset_origin(sf->p, sf->ng, sf->err);
         if (reflects) {
             vec3 w = v3_mul(weight, m->kr);
-            if (worth_tracing(s, w))
-                col = v3_add(col, v3_mul(m->kr, shade_secondary(s, front, reflected(d, sf), depth + 1, w, stats)));
+            if (!worth_tracing(s, w))
+                ;
+            else if (scene_uses(s, FEAT_ROUGH) && m->roughness > R(0))
+                col = v3_add(col, rough_reflection(s, sh, front, reflected(d, sf), depth, weight, stats));
+            else
+                col = v3_add(col, v3_mul(m->kr, shade_secondary(s, front, reflected(d, sf), sample_mix(sh->key, 1),
+                                                                depth + 1, w, stats)));
         } else {
             real eta = sf->inside ? m->ior : R(1) / m->ior;
             real cos_i = real_max(R(0), -v3_dot(d, sf->ns));
@@ -189,12 +256,15 @@ static vec3 shade_beyond(const Scene *s, real t, const Shading *sh, int depth, v
                 f = R(1);
             vec3 wr = v3_scale(weight, f);
             if (worth_tracing(s, wr))
-                col = v3_add(col, v3_scale(shade_secondary(s, front, reflected(d, sf), depth + 1, wr, stats), f));
+                col = v3_add(col, v3_scale(shade_secondary(s, front, reflected(d, sf), sample_mix(sh->key, 1), depth + 1,
+                                                           wr, stats),
+                                           f));
             vec3 kt = v3_scale(m->kt, R(1) - f);
             vec3 wt = v3_mul(weight, kt);
             if (f < R(1) && worth_tracing(s, wt)) {
                 vec3 back = trace_offset_origin(sf->p, v3_neg(sf->ng), sf->err);
-                col = v3_add(col, v3_mul(kt, shade_secondary(s, back, v3_norm(td), depth + 1, wt, stats)));
+                col = v3_add(col, v3_mul(kt, shade_secondary(s, back, v3_norm(td), sample_mix(sh->key, 2), depth + 1, wt,
+                                                             stats)));
             }
         }
     }
@@ -204,13 +274,67 @@ static vec3 shade_beyond(const Scene *s, real t, const Shading *sh, int depth, v
     return col;
 }
 
-void shade_packet(const Scene *s, const Ray *rays, int n, vec3 *out, RayStats *stats, uint64_t *keys)
+/* Light li (for an area light, its point j) at the live rays' hits: the
+ * shadow rays as one packet, and what reaches each hit added to it. */
+static void light_pass(const Scene *s, Shading *sh, const int *live, int nl, uint32_t li, uint32_t j, RayStats *stats)
 {
-    shade_rays(s, rays, n, out, stats, keys, 0, v3_splat(R(1)));
+    const int shadows = scene_has(s, FEAT_SHADOWS);
+    const int glass_shadows = scene_uses(s, FEAT_REFRACT) && s->settings.glass_shadows;
+    const Light *l = &s->lights[li];
+    Ray sr[TRACE_PACKET];
+    real tmax[TRACE_PACKET];
+    vec3 L[TRACE_PACKET], rad[TRACE_PACKET];
+    real ndotl[TRACE_PACKET];
+    int who[TRACE_PACKET], m = 0;
+    for (int k = 0; k < nl; k++) {
+        Shading *h = &sh[live[k]];
+        real dist;
+        if (!light_at(s, l, h->sf.p, sample_mix(h->key, 0x4c000000u + li), j, &L[m], &dist, &rad[m]))
+            continue;
+        /* The shading normal decides.  On a flat surface it is the
+         * geometric one, so a light behind the surface is skipped.  On a
+         * smooth triangle near the boundary between light and dark, a
+         * light may be behind the flat facet but in front of the curved
+         * surface its normals describe: it lights the point, and the
+         * shadow ray from the lifted point says whether anything is in
+         * the way.  (Skipping lights behind the facet cut triangle-shaped
+         * dark patches into coarse smooth meshes: tests/test_render.c,
+         * the shadow terminator.) */
+        ndotl[m] = v3_dot(h->sf.ns, L[m]);
+        if (ndotl[m] <= R(0))
+            continue;
+        if (!shadows) {
+            add_light(h, L[m], rad[m], ndotl[m], li);
+            continue;
+        }
+        /* stop just short of the light so that it does not shadow itself */
+        tmax[m] = isfinite(dist) ? dist * (R(1) - R(64) * REAL_EPS) : REAL_MAX;
+        ray_set(&sr[m], h->origin, L[m], v3(R(1) / L[m].x, R(1) / L[m].y, R(1) / L[m].z), R(0), tmax[m]);
+        who[m++] = live[k];
+    }
+    if (m == 0)
+        return;
+    stats->shadow += (uint64_t)m;
+    uint32_t blocked = m == 1 ? (uint32_t)trace_occluded(s, &sr[0], tmax[0]) : trace_occluded_packet(s, sr, m, tmax);
+    for (int k = 0; k < m; k++) {
+        if (!(blocked >> k & 1)) {
+            add_light(&sh[who[k]], L[k], rad[k], ndotl[k], li);
+        } else if (glass_shadows) {
+            vec3 T = transmittance(s, &sr[k], tmax[k], stats);
+            if (v3_max_comp(T) > R(0))
+                add_light(&sh[who[k]], L[k], v3_mul(rad[k], T), ndotl[k], li);
+        }
+    }
 }
 
-static void shade_rays(const Scene *s, const Ray *rays, int n, vec3 *out, RayStats *stats, uint64_t *keys, int depth,
-                       vec3 weight)
+void shade_packet(const Scene *s, const Ray *rays, int n, vec3 *out, RayStats *stats, uint64_t *keys,
+                  const uint32_t *seeds)
+{
+    shade_rays(s, rays, n, out, stats, keys, seeds, 0, v3_splat(R(1)));
+}
+
+static void shade_rays(const Scene *s, const Ray *rays, int n, vec3 *out, RayStats *stats, uint64_t *keys,
+                       const uint32_t *seeds, int depth, vec3 weight)
 {
     Hit hits[TRACE_PACKET];
     Shading sh[TRACE_PACKET];
@@ -234,56 +358,14 @@ static void shade_rays(const Scene *s, const Ray *rays, int n, vec3 *out, RaySta
             continue;
         }
         shade_start(s, &rays[i], &hits[i], &sh[i]);
+        sh[i].key = sample_mix(seeds ? seeds[i] : 0u, (uint32_t)depth);
         live[nl++] = i;
     }
-    const int shadows = scene_has(s, FEAT_SHADOWS);
-    const int glass_shadows = scene_uses(s, FEAT_REFRACT) && s->settings.glass_shadows;
     for (uint32_t li = 0; li < s->light_count; li++) {
         const Light *l = &s->lights[li];
-        Ray sr[TRACE_PACKET];
-        real tmax[TRACE_PACKET];
-        vec3 L[TRACE_PACKET], rad[TRACE_PACKET];
-        real ndotl[TRACE_PACKET];
-        int who[TRACE_PACKET], m = 0;
-        for (int k = 0; k < nl; k++) {
-            Shading *h = &sh[live[k]];
-            real dist;
-            if (!light_at(s, l, h->sf.p, &L[m], &dist, &rad[m]))
-                continue;
-            /* The shading normal decides.  On a flat surface it is the
-             * geometric one, so a light behind the surface is skipped.  On a
-             * smooth triangle near the boundary between light and dark, a
-             * light may be behind the flat facet but in front of the curved
-             * surface its normals describe: it lights the point, and the
-             * shadow ray from the lifted point says whether anything is in
-             * the way.  (Skipping lights behind the facet cut triangle-shaped
-             * dark patches into coarse smooth meshes: tests/test_render.c,
-             * the shadow terminator.) */
-            ndotl[m] = v3_dot(h->sf.ns, L[m]);
-            if (ndotl[m] <= R(0))
-                continue;
-            if (!shadows) {
-                add_light(h, L[m], rad[m], ndotl[m], li);
-                continue;
-            }
-            /* stop just short of the light so that it does not shadow itself */
-            tmax[m] = isfinite(dist) ? dist * (R(1) - R(64) * REAL_EPS) : REAL_MAX;
-            ray_set(&sr[m], h->origin, L[m], v3(R(1) / L[m].x, R(1) / L[m].y, R(1) / L[m].z), R(0), tmax[m]);
-            who[m++] = live[k];
-        }
-        if (m == 0)
-            continue;
-        stats->shadow += (uint64_t)m;
-        uint32_t blocked = m == 1 ? (uint32_t)trace_occluded(s, &sr[0], tmax[0]) : trace_occluded_packet(s, sr, m, tmax);
-        for (int k = 0; k < m; k++) {
-            if (!(blocked >> k & 1)) {
-                add_light(&sh[who[k]], L[k], rad[k], ndotl[k], li);
-            } else if (glass_shadows) {
-                vec3 T = transmittance(s, &sr[k], tmax[k], stats);
-                if (v3_max_comp(T) > R(0))
-                    add_light(&sh[who[k]], L[k], v3_mul(rad[k], T), ndotl[k], li);
-            }
-        }
+        uint32_t points = scene_uses(s, FEAT_AREA) && light_is_area(l) ? (uint32_t)(l->samples * l->samples) : 1u;
+        for (uint32_t j = 0; j < points; j++)
+            light_pass(s, sh, live, nl, li, j, stats);
     }
     const int beyond = scene_uses(s, FEAT_REFLECT | FEAT_REFRACT | FEAT_EMIT);
     for (int k = 0; k < nl; k++) {
@@ -297,6 +379,6 @@ static void shade_rays(const Scene *s, const Ray *rays, int n, vec3 *out, RaySta
 vec3 shade_ray(const Scene *s, const Ray *r, RayStats *stats, uint64_t *key)
 {
     vec3 c;
-    shade_rays(s, r, 1, &c, stats, key, 0, v3_splat(R(1)));
+    shade_rays(s, r, 1, &c, stats, key, NULL, 0, v3_splat(R(1)));
     return c;
 }

@@ -21,7 +21,10 @@ static inline uint64_t ray_stats_total(const RayStats *s) { return s->primary + 
 vec3 shade_ray(const Scene *s, const Ray *r, RayStats *stats, uint64_t *key);
 /* n <= TRACE_PACKET rays at once, camera rays and shadow rays traced as
  * packets: out[i] (and keys[i], when keys is not NULL) is what shade_ray
- * gives for rays[i], to the bit. */
-void shade_packet(const Scene *s, const Ray *rays, int n, vec3 *out, RayStats *stats, uint64_t *keys);
+ * gives for rays[i], to the bit.  seeds[i] is ray i's random key
+ * (sample_seed of its pixel sample), from which area lights, rough mirrors
+ * and lenses draw; NULL: all 0, which a scene without them may pass. */
+void shade_packet(const Scene *s, const Ray *rays, int n, vec3 *out, RayStats *stats, uint64_t *keys,
+                  const uint32_t *seeds);
 
 #endif

@@ -6,16 +6,17 @@
 
 Every directive and key of the format appears with some probability (both
 spellings of centre/center and colour/color, a byte-order mark): camera
-by lookat or by angles, with zoom or fov (a pinhole), ortho or fisheye, and roll; ambient, background; every
+by lookat or by angles, with zoom or fov (a pinhole, perhaps with aperture and
+focus), ortho or fisheye, and roll; ambient, background; every
 settings key and value (depth, cutoff, fresnel and glass_shadows among
 them); textures (PPM P3/P6, PGM P2/P5); materials with and without specular
-and textures, mirrors (reflect), dielectrics (ior, transmit, absorb) and
-emission, on any primitive; a model whose MTL gives
+and textures, mirrors (reflect, roughness), dielectrics (ior, transmit,
+absorb) and emission, on any primitive; a model whose MTL gives
 one material a texture (map_Kd with -s and -o) and one with vertex colours
 and no materials; spheres, planes (with and
 without their texture mapping keys) and triangles (with normals and uv); models from OBJ (with and without smooth, each builder) and from
 .tmd (converted by the caller as DIR/mesh.tmd); instances with transforms and
-material overrides; point, spot and directional lights with position,
+material overrides; point, spot, directional, sphere and rect lights with position,
 target, direction, soft, attenuate, colour and intensity.  Numbers are drawn
 with many digits, so that values that are normalised, converted or derived
 differ in their last bits when they take another path.
@@ -127,6 +128,8 @@ def scene(seed):
         cam += ["ortho", num(r, 1, 12)]
     elif z < 0.8:
         cam += ["fisheye", num(r, 30, 360)]
+    if z < 0.6 and r.random() < 0.25:  # a pinhole with a lens
+        cam += ["aperture", num(r, 0, 0.5), "focus", num(r, 1, 10)]
     out.append(" ".join(cam))
     if r.random() < 0.7:
         out.append("ambient " + colour(r, 0.3))
@@ -149,6 +152,7 @@ def scene(seed):
         st += ["fresnel", r.choice(["exact", "schlick"])]
     if r.random() < 0.3:
         st += ["glass_shadows", r.choice(["tinted", "opaque"])]
+    st += ["rough_samples", str(r.choice([1, 2])), "lens_samples", str(r.choice([1, 2]))]  # the defaults (4) are slow for a test
     if r.random() < 0.3:  # the programs' --width/--height override these
         st += ["width", str(r.randrange(1, 2000)), "height", str(r.randrange(1, 2000))]
     if st:
@@ -170,8 +174,10 @@ def scene(seed):
         if textures and r.random() < 0.6:
             m += ["texture", r.choice(textures)]
         z = r.random()
-        if z < 0.25:  # a mirror, or a metal
+        if z < 0.25:  # a mirror, or a metal, perhaps rough
             m += ["reflect", colour(r)]
+            if r.random() < 0.4:
+                m += ["roughness", num(r, 0, 1)]
         elif z < 0.5:  # a dielectric: glass, coloured or absorbing
             m += ["ior", num(r, 1.1, 2.4)]
             if r.random() < 0.5:
@@ -235,10 +241,16 @@ def scene(seed):
             out.append(" ".join(ins))
 
     for _ in range(r.randrange(0, 4)):
-        kind = r.choice(["point", "spot", "directional"])
+        kind = r.choice(["point", "spot", "directional", "sphere", "rect"])
         l = ["light", kind]
-        if kind != "directional":
+        if kind not in ("directional", "rect"):
             l += ["position", vec(r, -5, 5)]
+        if kind == "sphere":
+            l += ["radius", num(r, 0.05, 1.5)]
+        if kind == "rect":
+            l += ["corner", vec(r, -5, 5), "edge1", vec(r, 0.2, 2), "edge2", vec(r, -2, -0.2)]
+        if kind in ("sphere", "rect") and r.random() < 0.7:
+            l += ["samples", str(r.choice([1, 2, 3]))]
         if kind == "spot":
             if r.random() < 0.5:
                 l += ["target", vec(r, -1.5, 1.5)]
@@ -251,6 +263,8 @@ def scene(seed):
             l += ["direction", direction(r)]
         if kind != "directional" and r.random() < 0.4:
             l += ["attenuate"]
+        if kind in ("sphere", "rect") and "samples" not in l:
+            l += ["samples", "2"]  # the default 4 x 4 is slow for a test
         if r.random() < 0.5:
             l += [r.choice(["color", "colour"]), colour(r)]
         if r.random() < 0.6:
