@@ -6,6 +6,7 @@
 #include "base/fileio.h"
 #include "model/mtl.h"
 #include "model/obj.h"
+#include "model/tmd.h"
 
 static int parse(const char *text, Mesh *m, ObjStats *st, Err *err, int smooth)
 {
@@ -294,9 +295,9 @@ static void exporters_habits_convert_with_warnings(void **state)
     mesh_free(&m);
 }
 
-/* Ka, Ke, Ni, d, Tr and illum: read, checked and kept; a used material
- * asking for what lanray does not draw is one warning at its newmtl line. */
-static void material_extras_are_kept_and_warned(void **state)
+/* Ka, Ke, Ni, d, Tr and illum: read, checked and kept, and mapped onto
+ * reflection, refraction and emission (mtl_optics) for the used materials. */
+static void material_extras_are_kept_and_mapped(void **state)
 {
     (void)state;
     MtlLib lib = {0};
@@ -314,23 +315,77 @@ static void material_extras_are_kept_and_warned(void **state)
     assert_true(lamp->ke.x == 1 && lamp->ke.z == R(0.25) && lamp->d == 1 && lamp->illum == -1);
     assert_true(unused->d == R(0.5) && unused->illum == 4);
     assert_string_equal(lib.files[unused->file], "tests/data/obj/effects.mtl");
-    char what[256];
-    assert_int_equal(mtl_undrawn(plain, what, sizeof what), 0);
-    assert_int_equal(mtl_undrawn(glass, what, sizeof what), 1);
-    assert_string_equal(what, "transparency (d 0.4), glass (illum 7, Ni 1.5)");
+    /* the mapping: plain stays plain; glass is a dielectric of Ni 1.5 keeping
+     * d = 0.4 of its diffuse colour and passing 0.6; the mirror reflects Ks;
+     * the lamp emits Ke; a glass illum without Ni is 1.5, without d clear */
+    Material m = lib.mats[0];
+    assert_int_equal(mtl_optics(plain, &m), 0);
+    assert_true(!material_reflects(&m) && !material_dielectric(&m) && !material_emits(&m));
+    m = lib.mats[1];
+    assert_int_equal(mtl_optics(glass, &m), 1);
+    assert_true(m.ior == R(1.5) && !material_reflects(&m));
+    assert_float_equal(m.kt.x, R(0.6), 1e-6);
+    assert_float_equal(m.kd.x, R(0.9) * R(0.4), 1e-6);
+    m = lib.mats[2];
+    assert_int_equal(mtl_optics(mirror, &m), 1);
+    assert_true(m.kr.x == 1 && m.kr.y == 1 && m.kr.z == 1 && !material_dielectric(&m));
+    m = lib.mats[3];
+    assert_int_equal(mtl_optics(lamp, &m), 1);
+    assert_true(m.ke.x == 1 && m.ke.y == R(0.5) && m.ke.z == R(0.25));
+    m = lib.mats[4];
+    assert_int_equal(mtl_optics(unused, &m), 1);
+    assert_true(m.ior == R(1.5) && m.kt.x == R(0.5));
+    assert_null(material_optics_problem(&m));
+    /* a dissolve alone blends, unbent */
+    MtlExtra half = *plain;
+    half.d = R(0.25);
+    m = lib.mats[0];
+    assert_int_equal(mtl_optics(&half, &m), 1);
+    assert_true(m.ior == R(1) && m.kt.x == R(0.75));
+    assert_float_equal(m.kd.x, R(0.5) * R(0.25), 1e-6);
     mtl_free(&lib);
 
-    Mesh m;
+    /* through the reader, and into a .tmd (version 4) and back */
+    Mesh mesh;
     ObjStats st;
     Heard h;
-    read_file("effects.obj", &m, &st, &h, 0, 0);
-    assert_int_equal(m.material_count, 4);
-    assert_int_equal(st.undrawn_mtl, 3); /* glass, mirror, lamp; not the unused one */
-    assert_int_equal(h.lines, 3);
-    assert_non_null(strstr(h.last, "effects.mtl:20: material 'lamp' asks for emission (Ke 1 0.5 0.25)"));
-    mesh_free(&m);
-    read_file("effects.obj", &m, &st, &h, 1, -1);
-    assert_non_null(strstr(h.last, "effects.mtl:9: material 'glass' asks for transparency"));
+    read_file("effects.obj", &mesh, &st, &h, 0, 0);
+    assert_int_equal(mesh.material_count, 4);
+    assert_int_equal(st.optics_mtl, 3); /* glass, mirror, lamp; not plain, and not the unused one */
+    assert_int_equal(h.lines, 0);
+    int dielectrics = 0, mirrors = 0, lamps = 0;
+    for (uint32_t i = 0; i < mesh.material_count; i++) {
+        dielectrics += material_dielectric(&mesh.materials[i]);
+        mirrors += material_reflects(&mesh.materials[i]);
+        lamps += material_emits(&mesh.materials[i]);
+    }
+    assert_true(dielectrics == 1 && mirrors == 1 && lamps == 1);
+    BvhOptions opt = bvh_options_default(BVH_SAH);
+    Model *model, *back;
+    assert_int_equal(model_from_mesh(&model, &mesh, &opt, NULL), 0);
+    void *data;
+    size_t len;
+    assert_int_equal(tmd_encode(model, 0, &data, &len, NULL), 0);
+    uint32_t version;
+    memcpy(&version, (const char *)data + 8, 4);
+    assert_int_equal(version, TMD_VERSION);
+    assert_int_equal(tmd_decode(data, len, "effects.tmd", &back, &err), 0);
+    for (uint32_t i = 0; i < model->material_count; i++) {
+        const Material *a = &model->materials[i], *b = &back->materials[i];
+        assert_true(a->ior == b->ior && a->kt.x == b->kt.x && a->kr.y == b->kr.y && a->ke.z == b->ke.z);
+    }
+    model_destroy(back);
+    /* a material's optics out of range is refused, naming the material */
+    for (uint32_t i = 0; i < model->material_count; i++)
+        if (material_dielectric(&model->materials[i]))
+            model->materials[i].ior = 40;
+    free(data);
+    assert_int_equal(tmd_encode(model, 0, &data, &len, NULL), 0);
+    assert_int_equal(tmd_decode(data, len, "effects.tmd", &back, &err), -1);
+    assert_non_null(strstr(err.msg, "index of refraction"));
+    free(data);
+    model_destroy(model);
+    mesh_free(&mesh);
 
     const struct {
         const char *text, *says;
@@ -427,7 +482,7 @@ int main(void)
         cmocka_unit_test(byte_order_mark_is_skipped),
         cmocka_unit_test(polygons_are_triangulated_and_degenerates_dropped),
         cmocka_unit_test(materials_from_mtllib),
-        cmocka_unit_test(material_extras_are_kept_and_warned),
+        cmocka_unit_test(material_extras_are_kept_and_mapped),
         cmocka_unit_test(smooth_normals_average_faces),
         cmocka_unit_test(malformed_input_names_file_and_line),
     };

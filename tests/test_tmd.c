@@ -112,7 +112,7 @@ static void round_trip_through_a_file(void **state)
         /* the lowest version that holds the model: old readers take every file they can */
         uint32_t version;
         memcpy(&version, (const char *)a + 8, 4);
-        assert_int_equal(version, mask & 8 ? TMD_VERSION : TMD_VERSION_PLAIN);
+        assert_int_equal(version, mask & 8 ? TMD_VERSION_COLOURS : TMD_VERSION_PLAIN);
         free(a);
         model_destroy(m);
         model_destroy(back);
@@ -229,7 +229,7 @@ static void corrupted_colours_are_rejected(void **state)
     uint32_t v = TMD_VERSION_TEXTURES;
     memcpy(data + 8, &v, 4);
     expect_error(data, len, "unknown flags");
-    v = TMD_VERSION;
+    v = TMD_VERSION_COLOURS;
     memcpy(data + 8, &v, 4);
     float f = -0.5f;
     memcpy(data + len - 4, &f, 4);

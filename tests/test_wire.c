@@ -210,6 +210,38 @@ static void only_used_parts_travel(void **state)
     scene_destroy(b);
 }
 
+/* A model's own materials (an MTL's illum 3, carried in its .tmd) bring
+ * the settings of secondary rays onto the wire as a scene material does:
+ * without them a client traced with its defaults (found by randscene.sh). */
+static void a_models_optics_carry_the_settings(void **state)
+{
+    (void)state;
+    char obj[512], mtl[512], text[256];
+    snprintf(obj, sizeof obj, "%s/mirror.obj", test_tmpdir());
+    snprintf(mtl, sizeof mtl, "%s/mirror.mtl", test_tmpdir());
+    test_write_file(obj, "mtllib mirror.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl chrome\nf 1 2 3\n");
+    test_write_file(mtl, "newmtl chrome\nKd 0 0 0\nKs 0.9 0.9 0.9\nillum 3\n");
+    int n = snprintf(text, sizeof text,
+                     "settings depth 2 rough_samples 3 fresnel schlick\nmodel m mirror.obj\ninstance m\n"
+                     "sphere centre 0 0 2 radius 0.5\nlight point position 0 0 5\n");
+    Scene *s, *back;
+    Err err;
+    BvhOptions opt = bvh_options_default(BVH_SAH);
+    if (scene_parse(text, (size_t)n, "t.scene", test_tmpdir(), &opt, 0, &s, &err))
+        fail_msg("%s", err.msg);
+    assert_true(scene_has(s, FEAT_REFLECT) && s->material_count == 1 && !material_reflects(&s->materials[0]));
+    Encoded e = encode(s);
+    AssetCache *c = cache_of(s, &e);
+    assert_int_equal(wire_decode_scene(e.blob, e.len, c, &back, &err), 0);
+    assert_int_equal(back->settings.depth, 2);
+    assert_int_equal(back->settings.rough_samples, 3);
+    assert_int_equal(back->settings.fresnel, FRESNEL_SCHLICK);
+    scene_destroy(back);
+    asset_cache_destroy(c);
+    free_encoded(s, &e);
+    scene_destroy(s);
+}
+
 static void malformed_scenes_and_assets_are_rejected(void **state)
 {
     (void)state;
@@ -358,6 +390,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(scenes_round_trip),
         cmocka_unit_test(only_used_parts_travel),
+        cmocka_unit_test(a_models_optics_carry_the_settings),
         cmocka_unit_test(malformed_scenes_and_assets_are_rejected),
     };
     return cmocka_run_group_tests_name("wire", tests, NULL, NULL);

@@ -182,10 +182,11 @@ int main(int argc, char **argv)
             printf("  read %.1f MB at %.1f MB/s\n", (double)sb.st_size / 1e6, (double)sb.st_size / 1e6 / (t1 - t0));
         if (st.warnings)
             printf("  warnings %lu: undefined materials %lu, missing material libraries %lu, missing textures %lu, "
-                   "files found by name %lu, effects not drawn %lu%s\n",
+                   "files found by name %lu%s\n",
                    st.warnings, st.undefined_mtl, st.missing_mtllib, st.missing_textures, st.found_elsewhere,
-                   st.undrawn_mtl,
                    st.colours_ignored ? ", vertex colours ignored" : "");
+        if (st.optics_mtl)
+            printf("  materials with reflection, glass, transparency or emission (illum, Ni, d, Ke): %lu\n", st.optics_mtl);
         if (st.coloured)
             printf("  vertex colours: %lu coloured vertices, %s\n", st.coloured,
                    st.colours ? "kept as the diffuse colour" : "ignored (the model has materials)");

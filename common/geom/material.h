@@ -2,6 +2,7 @@
 #ifndef LANRAY_MATERIAL_H
 #define LANRAY_MATERIAL_H
 
+#include <stddef.h>
 #include <stdint.h>
 
 #include "base/vec.h"
@@ -28,6 +29,24 @@ typedef struct {
 
 static inline int material_reflects(const Material *m) { return m->kr.x > R(0) || m->kr.y > R(0) || m->kr.z > R(0); }
 static inline int material_dielectric(const Material *m) { return m->ior > R(0); }
+/* What is wrong with a material's reflection, refraction and emission, or NULL. */
+static inline const char *material_optics_problem(const Material *m)
+{
+    if (!v3_is_finite(m->kr) || !v3_is_finite(m->kt) || !v3_is_finite(m->absorb) || !v3_is_finite(m->ke) ||
+        !isfinite(m->ior) || !isfinite(m->roughness))
+        return "reflection, transmission, absorption and emission must be finite";
+    if (v3_min_comp(m->kr) < R(0) || v3_min_comp(m->kt) < R(0) || v3_min_comp(m->absorb) < R(0) ||
+        v3_min_comp(m->ke) < R(0))
+        return "reflection, transmission, absorption and emission must not be negative";
+    if (!(m->roughness >= R(0) && m->roughness <= R(1)))
+        return "roughness must be from 0 to 1";
+    if (m->ior < R(0) || (m->ior > R(0) && !(m->ior >= MATERIAL_IOR_MIN && m->ior <= MATERIAL_IOR_MAX)))
+        return "index of refraction out of range (0: none; else 1/16..16)";
+    if (m->ior > R(0) && (m->kr.x > R(0) || m->kr.y > R(0) || m->kr.z > R(0)))
+        return "a dielectric reflects by Fresnel's equations and takes no mirror reflectance";
+    return NULL;
+}
+
 static inline int material_rough(const Material *m) { return material_reflects(m) && m->roughness > R(0); }
 static inline int material_emits(const Material *m) { return m->ke.x > R(0) || m->ke.y > R(0) || m->ke.z > R(0); }
 

@@ -48,6 +48,8 @@ static inline real optics_fresnel_exact(real cos_i, real eta)
  * critical angle, as the exact form. */
 static inline real optics_fresnel_schlick(real cos_i, real eta)
 {
+    if (eta == R(1)) /* no change of index: nothing reflected (the exact form's answer too) */
+        return R(0);
     real r0 = (eta - R(1)) / (eta + R(1));
     r0 *= r0;
     real c = cos_i;

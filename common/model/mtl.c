@@ -214,23 +214,34 @@ int mtl_read(MtlLib *lib, const char *path, Err *err)
     return rc;
 }
 
-int mtl_undrawn(const MtlExtra *x, char *buf, size_t size)
+int mtl_optics(const MtlExtra *x, Material *m)
 {
-    size_t used = 0;
-    buf[0] = 0;
-#define SAY(...) (used += (size_t)snprintf(buf + used, used < size ? size - used : 0, __VA_ARGS__))
-    if (x->d < R(1))
-        SAY("%stransparency (d %g)", used ? ", " : "", (double)x->d);
-    if ((x->illum == 4 || x->illum == 6 || x->illum == 7 || x->illum == 9) && x->ni > R(0))
-        SAY("%sglass (illum %d, Ni %g)", used ? ", " : "", x->illum, (double)x->ni);
-    else if (x->illum == 4 || x->illum == 6 || x->illum == 7 || x->illum == 9)
-        SAY("%sglass (illum %d)", used ? ", " : "", x->illum);
-    else if (x->illum == 3 || x->illum == 5 || x->illum == 8)
-        SAY("%sreflection (illum %d)", used ? ", " : "", x->illum);
-    if (v3_max_comp(x->ke) > R(0))
-        SAY("%semission (Ke %g %g %g)", used ? ", " : "", (double)x->ke.x, (double)x->ke.y, (double)x->ke.z);
-#undef SAY
-    return used > 0;
+    int did = 0;
+    const int glass = x->illum == 4 || x->illum == 6 || x->illum == 7 || x->illum == 9;
+    if (glass) {
+        /* a dielectric; the opacity d is the diffuse share, the rest goes
+         * through (a glass illum without d is clear) */
+        real t = x->d < R(1) ? R(1) - x->d : R(1);
+        m->ior = x->ni >= MATERIAL_IOR_MIN && x->ni <= MATERIAL_IOR_MAX ? x->ni : R(1.5);
+        m->kt = v3_splat(t);
+        m->kd = v3_scale(m->kd, R(1) - t);
+        did = 1;
+    } else if (x->d < R(1)) {
+        /* dissolve: a blend with what is behind, unbent (index 1) */
+        m->ior = R(1);
+        m->kt = v3_splat(R(1) - x->d);
+        m->kd = v3_scale(m->kd, x->d);
+        m->ks = v3_scale(m->ks, x->d);
+        did = 1;
+    } else if ((x->illum == 3 || x->illum == 5 || x->illum == 8) && v3_max_comp(m->ks) > R(0)) {
+        m->kr = m->ks; /* the reflectivity of a ray-traced illum is Ks */
+        did = 1;
+    }
+    if (v3_max_comp(x->ke) > R(0)) {
+        m->ke = x->ke;
+        did = 1;
+    }
+    return did;
 }
 
 int mtl_find(const MtlLib *lib, const char *name)

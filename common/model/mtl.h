@@ -23,11 +23,10 @@ typedef struct {
     int found;               /* how file was found (FileFound, fileio.h) */
 } MtlMap;
 
-/* What a material says beyond the Phong terms: read, checked and kept, so
- * that a converter can say what it does not draw.  lanray's ambient term
- * takes Kd, not Ka (exporters write Ka as 0, as 1, or as Kd); reflection,
- * refraction, transparency and emission need rays lanray does not trace
- * yet, so such a material is drawn opaque with its Phong terms. */
+/* What a material says beyond the Phong terms: read, checked and kept, and
+ * mapped onto lanray's reflection, refraction and emission by mtl_optics.
+ * lanray's ambient term takes Kd, not Ka (exporters write Ka as 0, as 1, or
+ * as Kd). */
 typedef struct {
     vec3 ka, ke;   /* ambient and emitted colour (0 when not given) */
     real ni;       /* index of refraction, 0 when not given */
@@ -50,9 +49,15 @@ typedef struct {
 /* Adds the materials of one library (in memory, NUL-terminated, modified in place). */
 int mtl_parse(MtlLib *lib, char *text, size_t len, const char *name, Err *err);
 int mtl_read(MtlLib *lib, const char *path, Err *err);
-/* What a material asks for that lanray does not draw ("transparency (d
- * 0.4), glass (illum 7)"), into buf; 0 when nothing. */
-int mtl_undrawn(const MtlExtra *x, char *buf, size_t size);
+/* Maps what a material says beyond the Phong terms onto m: illum 3, 5 and
+ * 8 (reflection) make a mirror reflecting Ks; illum 4, 6, 7 and 9 (glass) a
+ * dielectric of index Ni (1.5 when not given) whose diffuse colour keeps
+ * the share d (opacity; none when d is not given) and which transmits the
+ * rest; a dissolve d < 1 otherwise is a blend with what is behind (index
+ * 1: unbent), diffuse and specular times d; Ke is emission.  Ka is not
+ * used (the ambient term takes the diffuse colour).  1 when it mapped
+ * anything. */
+int mtl_optics(const MtlExtra *x, Material *m);
 /* Index of a material by name, or -1. */
 int mtl_find(const MtlLib *lib, const char *name);
 void mtl_free(MtlLib *lib);

@@ -141,17 +141,6 @@ static int warn(Warner *w, int line, const char *fmt, ...)
     return rc;
 }
 
-/* A warning about a line of another file (a material library). */
-static int warn_in(Warner *w, const char *file, int line, const char *fmt, ...) __attribute__((format(printf, 4, 5)));
-static int warn_in(Warner *w, const char *file, int line, const char *fmt, ...)
-{
-    va_list ap;
-    va_start(ap, fmt);
-    int rc = vwarn(w, file, line, fmt, ap);
-    va_end(ap);
-    return rc;
-}
-
 /* The rest of a line after its keyword, without surrounding blanks and any
  * comment: material names may hold spaces. */
 static char *rest_of_line(char *s, size_t keyword_len)
@@ -396,17 +385,10 @@ static int obj_assemble(Obj *o, const ObjOptions *opt, Mesh *out, ObjStats *st, 
         for (uint32_t k = 0; k <= o->lib.count; k++)
             if (remap[k] >= 0 && k < o->lib.count)
                 out->materials[remap[k]] = o->lib.mats[k];
-    /* what the used materials ask for that is not drawn: one warning each, at its newmtl */
-    for (uint32_t k = 0; rc == 0 && has_m && k < o->lib.count; k++) {
-        char what[256];
-        const MtlExtra *x = &o->lib.extra[k];
-        if (remap[k] >= 0 && mtl_undrawn(x, what, sizeof what)) {
-            st->undrawn_mtl++;
-            rc = warn_in(&w, o->lib.files[x->file], x->line,
-                         "material '%s' asks for %s, which lanray does not draw: Phong terms only", o->lib.names[k],
-                         what);
-        }
-    }
+    /* reflection, glass, transparency and emission of the used materials */
+    for (uint32_t k = 0; rc == 0 && has_m && k < o->lib.count; k++)
+        if (remap[k] >= 0 && mtl_optics(&o->lib.extra[k], &out->materials[remap[k]]))
+            st->optics_mtl++;
     if (rc == 0 && has_m && has_t)
         rc = obj_textures(o, remap, out, &w);
     for (uint32_t i = 0; rc == 0 && i < o->ntri; i++) {

@@ -65,7 +65,7 @@ typedef struct {
     unsigned long missing_mtllib;    /* material libraries that could not be read */
     unsigned long missing_textures;  /* map_Kd files that could not be read */
     unsigned long found_elsewhere;   /* libraries and textures found by file name, not where written */
-    unsigned long undrawn_mtl;       /* used materials asking for transparency, glass, reflection or emission */
+    unsigned long optics_mtl;        /* used materials with reflection, glass, transparency or emission */
 } ObjStats;
 
 /* One warning under these options, for every reader that takes them (the

@@ -37,12 +37,19 @@ int tmd_encode(const Model *m, int wide, void **data, size_t *len, Err *err)
 {
     Sink s = {0};
     const int textured = m->mat_ids && m->texture_count > 0;
+    int optics = 0;
+    for (uint32_t i = 0; m->mat_ids && i < m->material_count; i++)
+        optics |= material_reflects(&m->materials[i]) || material_dielectric(&m->materials[i]) ||
+                  material_emits(&m->materials[i]);
     uint32_t flags = (m->normals ? TMD_HAS_NORMALS : 0) | (m->uvs ? TMD_HAS_UVS : 0) |
                      (m->mat_ids ? TMD_HAS_MATERIALS : 0) | (wide ? TMD_WIDE : 0) | (textured ? TMD_HAS_TEXTURES : 0) |
-                     (m->colours ? TMD_HAS_COLOURS : 0);
+                     (m->colours ? TMD_HAS_COLOURS : 0) | (optics ? TMD_HAS_OPTICS : 0);
     char magic[8] = TMD_MAGIC;
     sink_put(&s, magic, 8);
-    uint32_t version = m->colours ? TMD_VERSION : textured ? TMD_VERSION_TEXTURES : TMD_VERSION_PLAIN;
+    uint32_t version = optics       ? TMD_VERSION
+                       : m->colours ? TMD_VERSION_COLOURS
+                       : textured   ? TMD_VERSION_TEXTURES
+                                    : TMD_VERSION_PLAIN;
     uint32_t head[14] = {version, TMD_BOM, TMD_HEADER_BYTES, flags,
                          (uint32_t)m->bvh.kind, m->bvh.node_count, m->tri_count, m->mat_ids ? m->material_count : 0,
                          m->bvh.depth, textured ? m->texture_count : 0, 0, 0, 0, 0};
@@ -77,6 +84,12 @@ int tmd_encode(const Model *m, int wide, void **data, size_t *len, Err *err)
             put_real(&s, mt->shininess, wide, 0);
             if (textured)
                 sink_u32(&s, (uint32_t)mt->texture);
+            if (optics) {
+                const real o[14] = {mt->kr.x, mt->kr.y, mt->kr.z, mt->roughness, mt->ior, mt->kt.x, mt->kt.y,
+                                    mt->kt.z, mt->absorb.x, mt->absorb.y, mt->absorb.z, mt->ke.x, mt->ke.y, mt->ke.z};
+                for (int k = 0; k < 14; k++)
+                    put_real(&s, o[k], wide, 0);
+            }
         }
         sink_put(&s, m->mat_ids, m->tri_count * sizeof *m->mat_ids);
     }
@@ -178,9 +191,13 @@ int tmd_decode(const void *data, size_t len, const char *name, Model **out, Err 
     uint32_t flags = h[3], kind = h[4], nodes = h[5], tris = h[6], mats = h[7], depth = h[8], texs = h[9];
     if (h[2] != TMD_HEADER_BYTES)
         return err_set(err, "%s: header size %u, expected %u", name, h[2], TMD_HEADER_BYTES);
-    if (flags & ~(TMD_HAS_NORMALS | TMD_HAS_UVS | TMD_HAS_MATERIALS | TMD_WIDE | TMD_HAS_TEXTURES | TMD_HAS_COLOURS) ||
-        ((flags & TMD_HAS_TEXTURES) && h[0] < TMD_VERSION_TEXTURES) || ((flags & TMD_HAS_COLOURS) && h[0] < TMD_VERSION))
+    if (flags & ~(TMD_HAS_NORMALS | TMD_HAS_UVS | TMD_HAS_MATERIALS | TMD_WIDE | TMD_HAS_TEXTURES | TMD_HAS_COLOURS |
+                  TMD_HAS_OPTICS) ||
+        ((flags & TMD_HAS_TEXTURES) && h[0] < TMD_VERSION_TEXTURES) ||
+        ((flags & TMD_HAS_COLOURS) && h[0] < TMD_VERSION_COLOURS) || ((flags & TMD_HAS_OPTICS) && h[0] < TMD_VERSION) ||
+        ((flags & TMD_HAS_OPTICS) && !(flags & TMD_HAS_MATERIALS)))
         return err_set(err, "%s: unknown flags 0x%x", name, flags);
+    const int optics = (flags & TMD_HAS_OPTICS) != 0;
     const int textured = (flags & TMD_HAS_TEXTURES) != 0;
     if (textured != (texs > 0) || texs > 65536 || (textured && !(flags & TMD_HAS_MATERIALS)))
         return err_set(err, "%s: implausible texture count %u", name, texs);
@@ -201,7 +218,7 @@ int tmd_decode(const void *data, size_t len, const char *name, Model **out, Err 
     if (flags & TMD_HAS_UVS)
         want += (uint64_t)tris * 6 * w;
     if (flags & TMD_HAS_MATERIALS)
-        want += (uint64_t)mats * (7 * w + (textured ? 4 : 0)) + (uint64_t)tris * 4;
+        want += (uint64_t)mats * ((optics ? 21 : 7) * w + (textured ? 4 : 0)) + (uint64_t)tris * 4;
     if (flags & TMD_HAS_COLOURS)
         want += (uint64_t)tris * 9 * w;
     /* textures follow, each with its own size: at least their 12-byte headers */
@@ -246,6 +263,24 @@ int tmd_decode(const void *data, size_t len, const char *name, Model **out, Err 
                 return err_set(err, "%s: material %u uses texture %d of %u", name, i, t, texs);
             }
             mt->texture = t;
+        }
+        real o[14];
+        if (optics && !bad) {
+            if (read_reals(&c, wide, 0, o, 14)) {
+                bad = "material";
+                break;
+            }
+            mt->kr = v3(o[0], o[1], o[2]);
+            mt->roughness = o[3];
+            mt->ior = o[4];
+            mt->kt = v3(o[5], o[6], o[7]);
+            mt->absorb = v3(o[8], o[9], o[10]);
+            mt->ke = v3(o[11], o[12], o[13]);
+            if (material_optics_problem(mt)) {
+                const char *why = material_optics_problem(mt);
+                model_destroy(m);
+                return err_set(err, "%s: material %u: %s", name, i, why);
+            }
         }
     }
     if (m->mat_ids && !bad && cursor_get(&c, m->mat_ids, (size_t)tris * 4) == 0)

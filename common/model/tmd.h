@@ -14,9 +14,10 @@
 
 #define TMD_MAGIC "LRAYTMD"
 /* The version written is the lowest that holds the model, so that older
- * readers take every file they can: 3 with vertex colours, 2 with textures,
- * 1 otherwise. */
-#define TMD_VERSION 3u
+ * readers take every file they can: 4 with reflecting, refracting or
+ * emitting materials, 3 with vertex colours, 2 with textures, 1 otherwise. */
+#define TMD_VERSION 4u
+#define TMD_VERSION_COLOURS 3u
 #define TMD_VERSION_TEXTURES 2u
 #define TMD_VERSION_PLAIN 1u
 #define TMD_BOM 0x01020304u
@@ -27,6 +28,7 @@
 #define TMD_WIDE 8u /* numbers are float64 */
 #define TMD_HAS_TEXTURES 16u /* version 2: materials name textures carried at the end of the file */
 #define TMD_HAS_COLOURS 32u  /* version 3: vertex colours, after the material ids */
+#define TMD_HAS_OPTICS 64u   /* version 4: each material's reflection, refraction and emission */
 #define TMD_MAX_FILE_BYTES ((size_t)1 << 31)
 
 int tmd_write(const char *path, const Model *m, Err *err);

@@ -52,10 +52,16 @@ int wire_encode_scene(const Scene *s, const Asset *model_assets, const Asset *te
     uint32_t set[6] = {(uint32_t)rs->aa,      (uint32_t)rs->adaptive, (uint32_t)rs->shading,
                        (uint32_t)rs->shadows, (uint32_t)rs->filter,   (uint32_t)rs->linear};
     sink_put(o, set, sizeof set);
+    /* the settings of secondary rays go where any material, the scene's or
+     * a model's (a .tmd carries them), has optics */
     uint32_t extras = 0;
     for (uint32_t i = 0; i < s->material_count; i++)
         if (material_optics(&s->materials[i]))
             extras |= WIRE_OPTICS;
+    for (uint32_t i = 0; i < s->model_count; i++)
+        for (uint32_t k = 0; k < s->models[i]->material_count; k++)
+            if (material_optics(&s->models[i]->materials[k]))
+                extras |= WIRE_OPTICS;
     if (c->kind != CAMERA_PINHOLE || c->aperture > R(0))
         extras |= WIRE_CAMERA;
     if (rs->exposure != R(0))

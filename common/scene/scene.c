@@ -244,24 +244,6 @@ static int check_material(const Scene *s, uint32_t m, const char *what, uint32_t
     return 0;
 }
 
-/* What is wrong with a material's reflection, refraction and emission, or NULL. */
-static const char *material_check_optics(const Material *m)
-{
-    if (!v3_is_finite(m->kr) || !v3_is_finite(m->kt) || !v3_is_finite(m->absorb) || !v3_is_finite(m->ke) ||
-        !isfinite(m->ior))
-        return "reflection, transmission, absorption and emission must be finite";
-    if (v3_min_comp(m->kr) < R(0) || v3_min_comp(m->kt) < R(0) || v3_min_comp(m->absorb) < R(0) ||
-        v3_min_comp(m->ke) < R(0))
-        return "reflection, transmission, absorption and emission must not be negative";
-    if (!(m->roughness >= R(0) && m->roughness <= R(1)))
-        return "roughness must be from 0 to 1";
-    if (m->ior < R(0) || (m->ior > R(0) && !(m->ior >= MATERIAL_IOR_MIN && m->ior <= MATERIAL_IOR_MAX)))
-        return "index of refraction out of range (0: none; else 1/16..16)";
-    if (material_dielectric(m) && material_reflects(m))
-        return "a dielectric reflects by Fresnel's equations and takes no mirror reflectance";
-    return NULL;
-}
-
 static uint32_t material_features(const Material *m)
 {
     return (material_reflects(m) ? FEAT_REFLECT : 0u) | (material_dielectric(m) ? FEAT_REFRACT : 0u) |
@@ -305,8 +287,8 @@ int scene_prepare(Scene *s, Err *err)
             f |= FEAT_TEXTURES;
         if (v3_max_comp(m->ks) > R(0))
             f |= FEAT_SPECULAR;
-        if (material_check_optics(m))
-            return err_set(err, "scene: material %u: %s", i, material_check_optics(m));
+        if (material_optics_problem(m))
+            return err_set(err, "scene: material %u: %s", i, material_optics_problem(m));
         f |= material_features(m);
     }
     for (uint32_t i = 0; i < s->sphere_count; i++) {
@@ -359,6 +341,9 @@ int scene_prepare(Scene *s, Err *err)
         if (m->colours && in->material < 0)
             f |= FEAT_COLOURS;
         for (uint32_t k = 0; k < m->material_count; k++) {
+            if (material_optics_problem(&m->materials[k]))
+                return err_set(err, "scene: model %u, material %u: %s", in->model, k,
+                               material_optics_problem(&m->materials[k]));
             if (v3_max_comp(m->materials[k].ks) > R(0))
                 f |= FEAT_SPECULAR;
             f |= material_features(&m->materials[k]);

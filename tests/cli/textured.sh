@@ -44,10 +44,10 @@ python3 -c "import struct,sys; print(struct.unpack_from('<I', open(sys.argv[1],'
 # a version this build does not know
 python3 -c "
 import sys
-d = bytearray(open(sys.argv[1], 'rb').read()); d[8] = 4
+d = bytearray(open(sys.argv[1], 'rb').read()); d[8] = 5
 open(sys.argv[2], 'wb').write(d)" "$dir/quad-png.tmd" "$dir/quad.tmd"
-err=$("$BIN/lanray-render" "$dir/view.scene" --width 8 --height 8 -o "$dir/v4.png" 2>&1); [ $? -eq 1 ] || fail "version 4 accepted"
-grep -q "format version 4, this build reads versions 1 to 3" <<<"$err" || fail "version message: $err"
+err=$("$BIN/lanray-render" "$dir/view.scene" --width 8 --height 8 -o "$dir/v4.png" 2>&1); [ $? -eq 1 ] || fail "version 5 accepted"
+grep -q "format version 5, this build reads versions 1 to 4" <<<"$err" || fail "version message: $err"
 # distributed: the textured model through a server and a client, bit for bit
 cp "$dir/quad-png.tmd" "$dir/quad.tmd"
 "$BIN/lanray-render" "$dir/view.scene" --width 64 --height 64 -o "$dir/ref.png" --quiet >/dev/null 2>&1 || fail "reference render"

@@ -89,9 +89,10 @@ def write_assets(d):
         with open(os.path.join(d, "mesh.obj"), "w") as f:
             f.write("\n".join(lines) + "\n")
         with open(os.path.join(d, "mesh.mtl"), "w") as f:
-            # the model's own texture (MTL map_Kd, carried in its .tmd), placed by -s and -o
-            f.write("newmtl shiny\nKd 0.7 0.6 0.2\nKs 0.5 0.5 0.5\nNs 33\nnewmtl matte\nKd 0.2 0.5 0.7\n"
-                    "map_Kd -s 0.75 1.5 1 -o 0.1 0.2 t6.ppm\n")
+            # the model's own texture (MTL map_Kd, carried in its .tmd), placed by -s and -o;
+            # a ray-traced reflection (illum 3: a mirror of Ks) and an emission (Ke), carried too
+            f.write("newmtl shiny\nKd 0.7 0.6 0.2\nKs 0.5 0.5 0.5\nNs 33\nillum 3\nnewmtl matte\nKd 0.2 0.5 0.7\n"
+                    "Ke 0.05 0.1 0.05\nmap_Kd -s 0.75 1.5 1 -o 0.1 0.2 t6.ppm\n")
     if not os.path.exists(os.path.join(d, "painted.obj")):
         # a bumpy 5x5 grid with vertex colours and no materials (some in the x y z w r g b form)
         n = 5
