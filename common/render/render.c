@@ -280,15 +280,17 @@ static int line_packet(uint64_t g0, uint64_t left, int width, real *xs, real *ys
 
 /* Linear light to 8-bit codes: sRGB unless the scene asks for linear
  * output (srgb.h: both clamp, and NaN becomes 0), after the exposure. */
-static void put_codes(const Frame *f, uint8_t *dst, vec3 c)
+static inline __attribute__((always_inline)) void put_codes(const Frame *f, uint8_t *dst, vec3 c)
 {
+    if (f->gain != R(1)) /* an exposure: apart, so that a frame without pays nothing */
+        c = v3_scale(c, f->gain);
     for (int k = 0; k < 3; k++)
-        dst[k] = f->linear ? linear_encode8(c.e[k] * f->gain) : srgb_encode8(c.e[k] * f->gain);
+        dst[k] = f->linear ? linear_encode8(c.e[k]) : srgb_encode8(c.e[k]);
 }
 
 /* A finished pixel: its codes, or its RGBE (high dynamic range: the light
  * itself, no exposure). */
-static void put_pixel(const Frame *f, uint8_t *dst, vec3 c)
+static inline __attribute__((always_inline)) void put_pixel(const Frame *f, uint8_t *dst, vec3 c)
 {
     if (f->bpp == 4)
         rgbe_encode(c.x, c.y, c.z, dst);

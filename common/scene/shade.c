@@ -48,10 +48,11 @@ static vec3 area_point(const Light *l, vec3 p, uint32_t key, uint32_t j, real *s
     return v3_add(l->pos, v3_scale(v3_add(v3_scale(a, x), v3_scale(b, y)), l->radius));
 }
 
-/* Light arriving at p from light l (for an area light, from its point j):
- * unit direction towards the light, distance, radiance. */
-static int light_at(const Scene *s, const Light *l, vec3 p, uint32_t key, uint32_t j, vec3 *dir, real *dist,
-                    vec3 *radiance)
+/* Light arriving at p from light l, number li (for an area light, from
+ * its point j, drawn with the ray's key): unit direction towards the
+ * light, distance, radiance. */
+static int light_at(const Scene *s, const Light *l, vec3 p, uint32_t key, uint32_t li, uint32_t j, vec3 *dir,
+                    real *dist, vec3 *radiance)
 {
     real scale = l->intensity;
     if (l->kind == LIGHT_DIRECTIONAL) {
@@ -61,7 +62,7 @@ static int light_at(const Scene *s, const Light *l, vec3 p, uint32_t key, uint32
         vec3 pos = l->pos;
         if (scene_uses(s, FEAT_AREA) && light_is_area(l)) {
             real share;
-            pos = area_point(l, p, key, j, &share);
+            pos = area_point(l, p, sample_mix(key, 0x4c000000u + li), j, &share);
             scale *= share;
         }
         vec3 d = v3_sub(pos, p);
@@ -126,6 +127,7 @@ static void shade_start(const Scene *s, const Ray *r, const Hit *hit, Shading *s
                                      * point lifted onto the curved surface (trace_terminator_point) */
         sh->origin = trace_offset_origin(sh->sf.ps, sh->sf.ng, sh->sf.ps_err);
     sh->lit = 0;
+    sh->key = 0;
 }
 
 /* Shadow rays through dielectrics: at most this many surfaces crossed. */
@@ -289,7 +291,7 @@ static void light_pass(const Scene *s, Shading *sh, const int *live, int nl, uin
     for (int k = 0; k < nl; k++) {
         Shading *h = &sh[live[k]];
         real dist;
-        if (!light_at(s, l, h->sf.p, sample_mix(h->key, 0x4c000000u + li), j, &L[m], &dist, &rad[m]))
+        if (!light_at(s, l, h->sf.p, h->key, li, j, &L[m], &dist, &rad[m]))
             continue;
         /* The shading normal decides.  On a flat surface it is the
          * geometric one, so a light behind the surface is skipped.  On a
@@ -358,9 +360,13 @@ static void shade_rays(const Scene *s, const Ray *rays, int n, vec3 *out, RaySta
             continue;
         }
         shade_start(s, &rays[i], &hits[i], &sh[i]);
-        sh[i].key = sample_mix(seeds ? seeds[i] : 0u, (uint32_t)depth);
         live[nl++] = i;
     }
+    /* a random key only where something draws from it (hashing every ray's
+     * showed in the instruction count of scenes without) */
+    if (scene_uses(s, FEAT_AREA | FEAT_ROUGH))
+        for (int k = 0; k < nl; k++)
+            sh[live[k]].key = sample_mix(seeds ? seeds[live[k]] : 0u, (uint32_t)depth);
     for (uint32_t li = 0; li < s->light_count; li++) {
         const Light *l = &s->lights[li];
         uint32_t points = scene_uses(s, FEAT_AREA) && light_is_area(l) ? (uint32_t)(l->samples * l->samples) : 1u;
