@@ -365,7 +365,8 @@ static void material_extras_are_kept_and_mapped(void **state)
     assert_int_equal(model_from_mesh(&model, &mesh, &opt, NULL), 0);
     void *data;
     size_t len;
-    assert_int_equal(tmd_encode(model, 0, &data, &len, NULL), 0);
+    const int wide = sizeof(real) == 8; /* the double build's own numbers, as it sends them */
+    assert_int_equal(tmd_encode(model, wide, &data, &len, NULL), 0);
     uint32_t version;
     memcpy(&version, (const char *)data + 8, 4);
     assert_int_equal(version, TMD_VERSION);
@@ -380,7 +381,7 @@ static void material_extras_are_kept_and_mapped(void **state)
         if (material_dielectric(&model->materials[i]))
             model->materials[i].ior = 40;
     free(data);
-    assert_int_equal(tmd_encode(model, 0, &data, &len, NULL), 0);
+    assert_int_equal(tmd_encode(model, wide, &data, &len, NULL), 0);
     assert_int_equal(tmd_decode(data, len, "effects.tmd", &back, &err), -1);
     assert_non_null(strstr(err.msg, "index of refraction"));
     free(data);

@@ -93,9 +93,9 @@ int camera_ray(const CameraFrame *f, real x, real y, vec3 *org, vec3 *dir)
     case CAMERA_FISHEYE: {
         real dx = x - f->cx, dy = f->cy - y; /* up is +dy */
         real r = sqrt(dx * dx + dy * dy);
-        real theta = r * f->rad_per_px;
-        if (theta > f->max_angle)
+        if (r > f->cx) /* outside the image circle (its radius is half the width) */
             return 0;
+        real theta = r * f->rad_per_px;
         vec3 side = r > R(0) ? v3_add(v3_scale(f->right, dx / r), v3_scale(f->up, dy / r)) : f->right;
         *org = f->org;
         *dir = v3_norm(v3_add(v3_scale(f->forward, cos(theta)), v3_scale(side, sin(theta))));
