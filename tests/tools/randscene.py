@@ -8,8 +8,8 @@ Every directive and key of the format appears with some probability (both
 spellings of centre/center and colour/color, a byte-order mark): camera
 by lookat or by angles, with zoom or fov (a pinhole, perhaps with aperture and
 focus), ortho or fisheye, and roll; ambient, background; every
-settings key and value (depth, cutoff, fresnel and glass_shadows among
-them); textures (PPM P3/P6, PGM P2/P5); materials with and without specular
+settings key and value (depth, cutoff, fresnel, glass_shadows,
+rough_samples, lens_samples and exposure among them); textures (PPM P3/P6, PGM P2/P5); materials with and without specular
 and textures, mirrors (reflect, roughness), dielectrics (ior, transmit,
 absorb) and emission, on any primitive; a model whose MTL gives
 one material a texture (map_Kd with -s and -o) and one with vertex colours
@@ -154,6 +154,8 @@ def scene(seed):
     if r.random() < 0.3:
         st += ["glass_shadows", r.choice(["tinted", "opaque"])]
     st += ["rough_samples", str(r.choice([1, 2])), "lens_samples", str(r.choice([1, 2]))]  # the defaults (4) are slow for a test
+    if r.random() < 0.25:
+        st += ["exposure", num(r, -2, 2)]
     if r.random() < 0.3:  # the programs' --width/--height override these
         st += ["width", str(r.randrange(1, 2000)), "height", str(r.randrange(1, 2000))]
     if st:
