@@ -291,8 +291,13 @@ static void malformed_scenes_and_assets_are_rejected(void **state)
     Scene *one = scene_create();
     assert_int_equal(scene_add_material(one, material_default(), NULL, NULL), 0);
     assert_int_equal(scene_add_plane(one, plane_make(v3(0, 0, 0), v3(0, 1, 0), 0), NULL), 0);
-    assert_int_equal(scene_prepare(one, NULL), 0);
     Sink sk = {0};
+    /* what a scene sends follows what scene_prepare found in it */
+    assert_int_equal(wire_encode_scene(one, NULL, NULL, &sk, &err), -1);
+    assert_contains(err.msg, "not prepared");
+    sink_free(&sk);
+    sk = (Sink){0};
+    assert_int_equal(scene_prepare(one, NULL), 0);
     assert_int_equal(wire_encode_scene(one, NULL, NULL, &sk, NULL), 0);
     assert_int_equal(sk.len, 292);
     assert_int_equal(wire_decode_scene(sk.data, sk.len, c = asset_cache_create(), &back, &err), 0);

@@ -57,7 +57,6 @@ CameraFrame camera_frame(const Camera *c, int width, int height)
     fr.cx = (real)width * R(0.5);
     fr.cy = (real)height * R(0.5);
     fr.rad_per_px = R(0);
-    fr.max_angle = R(0);
     fr.lens_radius = c->kind == CAMERA_PINHOLE ? c->aperture * R(0.5) : R(0);
     fr.focus = c->focus;
     if (c->kind == CAMERA_ORTHO) {
@@ -67,8 +66,8 @@ CameraFrame camera_frame(const Camera *c, int width, int height)
         fr.v = v3_scale(fr.up, -w);
         fr.org = v3_add(v3_sub(c->pos, v3_scale(fr.right, c->size * R(0.5))), v3_scale(fr.up, (real)height * w * R(0.5)));
     } else if (c->kind == CAMERA_FISHEYE) {
-        fr.max_angle = c->fov * DEG * R(0.5);
-        fr.rad_per_px = fr.max_angle / fr.cx;
+        /* fov / 2 at the circle's edge, half the width from the centre */
+        fr.rad_per_px = c->fov * DEG * R(0.5) / fr.cx;
     }
     return fr;
 }

@@ -40,7 +40,7 @@ typedef struct {
     vec3 right, up, forward;
     int width, height;
     CameraKind kind;
-    real cx, cy, rad_per_px, max_angle; /* fisheye: image centre, angle per pixel, fov / 2 (radians) */
+    real cx, cy, rad_per_px;            /* fisheye: image centre, angle per pixel (radians) */
     real lens_radius, focus;            /* thin lens */
 } CameraFrame;
 

@@ -29,6 +29,15 @@ typedef struct {
 
 static inline int material_reflects(const Material *m) { return m->kr.x > R(0) || m->kr.y > R(0) || m->kr.z > R(0); }
 static inline int material_dielectric(const Material *m) { return m->ior > R(0); }
+static inline int material_emits(const Material *m) { return m->ke.x > R(0) || m->ke.y > R(0) || m->ke.z > R(0); }
+static inline int material_rough(const Material *m) { return material_reflects(m) && m->roughness > R(0); }
+
+/* Whether the material does anything beyond local shading. */
+static inline int material_has_optics(const Material *m)
+{
+    return material_reflects(m) || material_dielectric(m) || material_emits(m);
+}
+
 /* What is wrong with a material's reflection, refraction and emission, or NULL. */
 static inline const char *material_optics_problem(const Material *m)
 {
@@ -42,13 +51,10 @@ static inline const char *material_optics_problem(const Material *m)
         return "roughness must be from 0 to 1";
     if (m->ior < R(0) || (m->ior > R(0) && !(m->ior >= MATERIAL_IOR_MIN && m->ior <= MATERIAL_IOR_MAX)))
         return "index of refraction out of range (0: none; else 1/16..16)";
-    if (m->ior > R(0) && (m->kr.x > R(0) || m->kr.y > R(0) || m->kr.z > R(0)))
+    if (material_dielectric(m) && material_reflects(m))
         return "a dielectric reflects by Fresnel's equations and takes no mirror reflectance";
     return NULL;
 }
-
-static inline int material_rough(const Material *m) { return material_reflects(m) && m->roughness > R(0); }
-static inline int material_emits(const Material *m) { return m->ke.x > R(0) || m->ke.y > R(0) || m->ke.z > R(0); }
 
 static inline Material material_default(void)
 {

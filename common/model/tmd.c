@@ -39,8 +39,7 @@ int tmd_encode(const Model *m, int wide, void **data, size_t *len, Err *err)
     const int textured = m->mat_ids && m->texture_count > 0;
     int optics = 0;
     for (uint32_t i = 0; m->mat_ids && i < m->material_count; i++)
-        optics |= material_reflects(&m->materials[i]) || material_dielectric(&m->materials[i]) ||
-                  material_emits(&m->materials[i]);
+        optics |= material_has_optics(&m->materials[i]);
     uint32_t flags = (m->normals ? TMD_HAS_NORMALS : 0) | (m->uvs ? TMD_HAS_UVS : 0) |
                      (m->mat_ids ? TMD_HAS_MATERIALS : 0) | (wide ? TMD_WIDE : 0) | (textured ? TMD_HAS_TEXTURES : 0) |
                      (m->colours ? TMD_HAS_COLOURS : 0) | (optics ? TMD_HAS_OPTICS : 0);

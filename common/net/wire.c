@@ -37,6 +37,8 @@ static void put_vec(Sink *s, vec3 v)
 
 int wire_encode_scene(const Scene *s, const Asset *model_assets, const Asset *texture_assets, Sink *o, Err *err)
 {
+    if (!s->prepared) /* what it carries follows the features scene_prepare derives */
+        return err_set(err, "wire: scene not prepared");
     sink_u32(o, WIRE_MAGIC);
     sink_u32(o, WIRE_VERSION);
     sink_u32(o, PROTO_BOM);
@@ -53,15 +55,8 @@ int wire_encode_scene(const Scene *s, const Asset *model_assets, const Asset *te
                        (uint32_t)rs->shadows, (uint32_t)rs->filter,   (uint32_t)rs->linear};
     sink_put(o, set, sizeof set);
     /* the settings of secondary rays go where any material, the scene's or
-     * a model's (a .tmd carries them), has optics */
-    uint32_t extras = 0;
-    for (uint32_t i = 0; i < s->material_count; i++)
-        if (material_optics(&s->materials[i]))
-            extras |= WIRE_OPTICS;
-    for (uint32_t i = 0; i < s->model_count; i++)
-        for (uint32_t k = 0; k < s->models[i]->material_count; k++)
-            if (material_optics(&s->models[i]->materials[k]))
-                extras |= WIRE_OPTICS;
+     * a model's (a .tmd carries them), has optics: what scene_prepare found */
+    uint32_t extras = scene_has(s, FEAT_REFLECT | FEAT_REFRACT | FEAT_EMIT) ? WIRE_OPTICS : 0u;
     if (c->kind != CAMERA_PINHOLE || c->aperture > R(0))
         extras |= WIRE_CAMERA;
     if (rs->exposure != R(0))
@@ -158,7 +153,7 @@ int wire_encode_scene(const Scene *s, const Asset *model_assets, const Asset *te
             put_vec(o, l->pos);
             sink_u32(o, (uint32_t)l->attenuate);
         }
-        if (l->kind == LIGHT_SPOT || l->kind == LIGHT_DIRECTIONAL)
+        if (light_has_direction(l))
             put_vec(o, l->dir);
         if (l->kind == LIGHT_SPOT) {
             put_f64(o, l->angle);
@@ -387,7 +382,7 @@ int wire_decode_scene(const void *data, size_t len, const AssetCache *cache, Sce
             l.pos = get_vec(&c);
             l.attenuate = cursor_u32(&c) != 0;
         }
-        if (l.kind == LIGHT_SPOT || l.kind == LIGHT_DIRECTIONAL)
+        if (light_has_direction(&l))
             l.dir = get_vec(&c);
         if (l.kind == LIGHT_SPOT) {
             l.angle = get_f64(&c);

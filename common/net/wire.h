@@ -17,7 +17,8 @@
 #define WIRE_VERSION 3u /* 2: the output encoding (linear or sRGB), a plane's texture mapping;
                          * 3: the extras word, reflection, refraction and emission */
 
-/* Serialises s; model_assets[i] / texture_assets[i] are the assets of
+/* Serialises s, prepared (what it sends follows the features scene_prepare
+ * derives); model_assets[i] / texture_assets[i] are the assets of
  * s->models[i] / s->textures[i]. */
 int wire_encode_scene(const Scene *s, const Asset *model_assets, const Asset *texture_assets, Sink *out, Err *err);
 

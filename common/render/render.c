@@ -138,11 +138,11 @@ static void sample_packet_lens(const Frame *f, const real *xs, const real *ys, i
     int which[TRACE_PACKET], first[TRACE_PACKET], m = 0;
     for (int i = 0; i < n; i++)
         out[i] = v3_splat(0);
-    for (int i = 0; i < n; i++)
+    for (int i = 0; i < n; i++) {
+        const uint32_t lens_key = sample_mix(seed[i], 0x4c454e53u); /* "LENS" */
         for (uint32_t j = 0; j < per; j++) {
             real lu, lv;
             vec3 org, dir;
-            uint32_t lens_key = sample_mix(seed[i], 0x4c454e53u); /* "LENS" */
             sample_stratum(lens_key, j, k, &lu, &lv);
             camera_lens_ray(&f->cam, xs[i], ys[i], lu, lv, &org, &dir);
             ray_set(&rays[m], org, dir, v3(R(1) / dir.x, R(1) / dir.y, R(1) / dir.z), R(0), REAL_INF);
@@ -159,6 +159,7 @@ static void sample_packet_lens(const Frame *f, const real *xs, const real *ys, i
                 m = 0;
             }
         }
+    }
     for (int i = 0; i < n; i++)
         out[i] = v3_scale(out[i], R(1) / (real)per);
 }

@@ -357,7 +357,7 @@ int scene_prepare(Scene *s, Err *err)
         Light *l = &s->lights[i];
         if (!v3_is_finite(l->pos) || !v3_is_finite(l->color) || !(l->intensity >= R(0)) || !isfinite(l->intensity))
             return err_set(err, "scene: light %u needs a finite position and colour and a non-negative intensity", i);
-        if (l->kind == LIGHT_SPOT || l->kind == LIGHT_DIRECTIONAL) {
+        if (light_has_direction(l)) {
             if (!(v3_len(l->dir) > R(0)) || !v3_is_finite(l->dir))
                 return err_set(err, "scene: light %u needs a non-zero direction", i);
             l->axis = v3_norm(l->dir);

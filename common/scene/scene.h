@@ -174,6 +174,7 @@ Light light_directional(vec3 dir, vec3 color, real intensity);
 Light light_sphere(vec3 centre, real radius, int samples, vec3 color, real intensity, int attenuate);
 Light light_rect(vec3 corner, vec3 edge1, vec3 edge2, int samples, vec3 color, real intensity, int attenuate);
 static inline int light_is_area(const Light *l) { return l->kind == LIGHT_SPHERE || l->kind == LIGHT_RECT; }
+static inline int light_has_direction(const Light *l) { return l->kind == LIGHT_SPOT || l->kind == LIGHT_DIRECTIONAL; }
 Instance instance_make(uint32_t model, vec3 translate, vec3 rotate, real scale);
 RenderSettings render_settings_default(void);
 
