@@ -42,6 +42,7 @@ typedef struct {
     SceneRef *ref;
     uint8_t *pixels; /* set when done */
     uint32_t render_us;
+    uint32_t bpp; /* the pixels' size, set when done (ref is gone by then) */
 } Job;
 
 typedef struct {
@@ -96,7 +97,7 @@ static void *render_thread(void *arg)
         w->running_frame = j.frame;
         atomic_store(&w->cancel, 0);
         pthread_mutex_unlock(&w->mu);
-        uint8_t *px = malloc((size_t)j.seg.count * 3);
+        uint8_t *px = malloc((size_t)j.seg.count * render_pixel_bytes(j.ref->scene));
         Err err;
         double t0 = timer_now(), waited = 0;
         if (straight)
@@ -111,6 +112,7 @@ static void *render_thread(void *arg)
         w->running = 0;
         if (rc == 0 && j.frame == w->current_frame && w->ndone < MAX_JOBS * 2) {
             j.pixels = px;
+            j.bpp = render_pixel_bytes(j.ref->scene);
             j.render_us = us < 4e9 ? (uint32_t)us : UINT32_MAX;
             w->done[w->ndone++] = j;
             w->segments++;
@@ -204,18 +206,19 @@ static void queue_job(Worker *w, uint32_t frame, Segment seg, SceneRef *ref)
     if (w->nqueue == MAX_JOBS)
         return; /* the server never gives more than a few: a misbehaving server */
     ref->refs++;
-    w->queue[w->nqueue++] = (Job){frame, seg, ref, NULL, 0};
+    w->queue[w->nqueue++] = (Job){frame, seg, ref, NULL, 0, 0};
     pthread_cond_signal(&w->cv);
 }
 
 /* A segment the server asks for must lie in the frame, and its pixels must
  * fit in a DATA packet (the server would refuse a bigger one). */
-static int segment_ok(Segment seg, uint64_t width, uint64_t height, const char *packet, Err *err)
+static int segment_ok(Segment seg, const SceneRef *ref, const char *packet, Err *err)
 {
+    uint64_t width = (uint64_t)ref->width, height = (uint64_t)ref->height;
     if ((uint64_t)seg.first + seg.count > width * height)
         return err_set(err, "%s segment %u+%u outside the %llux%llu frame", packet, seg.first, seg.count,
                        (unsigned long long)width, (unsigned long long)height);
-    if (msg_min_size(PKT_DATA) + 3 * (uint64_t)seg.count > msg_max_size(PKT_DATA))
+    if (msg_min_size(PKT_DATA) + render_pixel_bytes(ref->scene) * (uint64_t)seg.count > msg_max_size(PKT_DATA))
         return err_set(err, "%s segment of %u pixels is larger than a DATA packet can carry", packet, seg.count);
     return 0;
 }
@@ -258,7 +261,7 @@ static int on_packet(const ClientConfig *cfg, Worker *w, Conn *c, AssetCache *ca
         *cur = ref;
         for (uint32_t i = 0; i < nseg; i++) {
             Segment seg = u.seg[i];
-            if (segment_ok(seg, width, height, "UPDATE", err)) {
+            if (segment_ok(seg, ref, "UPDATE", err)) {
                 pthread_mutex_unlock(&w->mu);
                 return -1;
             }
@@ -274,7 +277,7 @@ static int on_packet(const ClientConfig *cfg, Worker *w, Conn *c, AssetCache *ca
         Segment seg = m.seg;
         pthread_mutex_lock(&w->mu);
         if (*cur && m.frame == (*cur)->frame) {
-            if (segment_ok(seg, (uint64_t)(*cur)->width, (uint64_t)(*cur)->height, "COMPUTE", err)) {
+            if (segment_ok(seg, *cur, "COMPUTE", err)) {
                 pthread_mutex_unlock(&w->mu);
                 return -1;
             }
@@ -339,7 +342,7 @@ static int session(const ClientConfig *cfg, int fd, Worker *w, AssetCache *cache
             int bad = 0;
             for (int i = 0; i < n; i++) {
                 MsgOut out;
-                msg_encode_data(&(MsgData){done[i].frame, done[i].seg, done[i].render_us, done[i].pixels}, &out);
+                msg_encode_data(&(MsgData){done[i].frame, done[i].seg, done[i].render_us, done[i].pixels, done[i].bpp}, &out);
                 if (!bad && conn_send_msg(&c, &out, CONN_MAX_QUEUE, err))
                     bad = 1;
                 free(done[i].pixels);

@@ -4,8 +4,10 @@
  *
  * Without a scene it serves the built-in default scene.  With a display it
  * opens a window (keys in server/display.c); with --headless, or when there
- * is no display, it writes DIR/frame-NNNNN.png.  SIGUSR1 prints per-client
- * statistics; they are printed at exit too. */
+ * is no display, it writes DIR/frame-NNNNN.png (with --hdr, .hdr: the
+ * clients send RGBE pixels, and the window shows them after the scene's
+ * exposure).  SIGUSR1 prints per-client statistics; they are printed at exit
+ * too. */
 #include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -15,6 +17,7 @@
 #include "display.h"
 #include "model/image.h"
 #include "base/opt.h"
+#include "base/srgb.h"
 #include "render/render.h"
 #include "server.h"
 #include "base/timer.h"
@@ -29,6 +32,8 @@ typedef struct {
     Server *server;
     Scene *scene;
     int width, height;
+    int hdr;       /* frames are RGBE: written as .hdr, shown through view */
+    uint8_t *view; /* hdr: the frame as sRGB codes for the window */
     uint32_t frames_done, frames_wanted;
     double last_title, fps_t0;
     uint32_t fps_frames;
@@ -56,6 +61,15 @@ static void verify_frame(App *a, uint32_t frame, const uint8_t *pixels)
     }
 }
 
+/* Writes a frame under its name: .hdr where the frames are high dynamic range. */
+static int write_frame(const App *a, const char *stem, uint32_t n, const uint8_t *pixels, Err *err, char *path,
+                       size_t size)
+{
+    snprintf(path, size, "%s-%05u.%s", stem, n, a->hdr ? "hdr" : "png");
+    ImageEncoding enc = a->hdr ? IMAGE_RGBE : a->scene->settings.linear ? IMAGE_LINEAR : IMAGE_SRGB;
+    return image_write(path, a->width, a->height, pixels, enc, err);
+}
+
 static void on_frame(void *ctx, uint32_t frame, const uint8_t *pixels)
 {
     App *a = ctx;
@@ -65,20 +79,21 @@ static void on_frame(void *ctx, uint32_t frame, const uint8_t *pixels)
     if (a->verify)
         verify_frame(a, frame, pixels);
     if (a->display) {
-        display_show(a->display, pixels);
+        if (a->hdr)
+            srgb_from_rgbe(pixels, (size_t)a->width * a->height, pow(2.0, (double)a->scene->settings.exposure), a->view);
+        display_show(a->display, a->hdr ? a->view : pixels);
         if (a->screenshot) {
             char path[512];
-            snprintf(path, sizeof path, "lanray-screenshot-%05u.png", frame);
-            if (image_write(path, a->width, a->height, pixels, a->scene->settings.linear ? IMAGE_LINEAR : IMAGE_SRGB, &err))
+            if (write_frame(a, "lanray-screenshot", frame, pixels, &err, path, sizeof path))
                 fprintf(stderr, "lanray-server: %s\n", err.msg);
             else
                 fprintf(stderr, "lanray-server: saved %s\n", path);
             a->screenshot = 0;
         }
     } else if (a->out_dir) {
-        char path[4096];
-        snprintf(path, sizeof path, "%s/frame-%05u.png", a->out_dir, a->frames_done);
-        if (image_write(path, a->width, a->height, pixels, a->scene->settings.linear ? IMAGE_LINEAR : IMAGE_SRGB, &err)) {
+        char stem[4096], path[4200];
+        snprintf(stem, sizeof stem, "%s/frame", a->out_dir);
+        if (write_frame(a, stem, a->frames_done, pixels, &err, path, sizeof path)) {
             fprintf(stderr, "lanray-server: %s\n", err.msg);
             a->write_failures++;
         }
@@ -132,6 +147,7 @@ int main(int argc, char **argv)
     BvhOptions bvh = bvh_options_default(BVH_SAH);
     int headless = 0, force_bvh = 0, discard = 0, frames = 0, wait_clients = 0, tail = 1, bvh_kind = BVH_SAH;
     int width_given = 0, height_given = 0, warmup = 0, stall = 30, handshake = 10, machine_summary = 0, linear = 0;
+    int hdr = 0;
     CliAa aa = {1, 0, 0};
     double rotate = 0;
     const Opt opts[] = {
@@ -158,11 +174,14 @@ int main(int argc, char **argv)
          .help = "turn every model instance by DEG about y after each frame (Space toggles it in the window)"},
         {.name = "--linear", .kind = OPT_FLAG, .dst = &linear,
          .help = "frames in linear light (PNG tagged gAMA 1.0) instead of sRGB"},
+        {.name = "--hdr", .kind = OPT_FLAG, .dst = &hdr,
+         .help = "high dynamic range frames: clients send RGBE, frames are written as .hdr (Radiance); the window shows "
+                 "them after the scene's exposure"},
         {.name = "--headless", .kind = OPT_FLAG, .dst = &headless, .help = "no window: write frames to --out"},
         {.name = "--frames", .kind = OPT_INT, .dst = &frames, .arg = "N", .lo = 0, .hi = 100000000,
          .help = "stop after N frames, 0 = run until stopped"},
         {.name = "--out", .kind = OPT_STRING, .dst = &out_dir, .arg = "DIR",
-         .help = "headless: write DIR/frame-NNNNN.png (DIR and its parents are created)"},
+         .help = "headless: write DIR/frame-NNNNN.png, or .hdr with --hdr (DIR and its parents are created)"},
         {.name = "--discard", .kind = OPT_FLAG, .dst = &discard, .help = "headless, and throw frames away (benchmarks)"},
         {.name = "--verify", .kind = OPT_STRING, .dst = &verify_path, .arg = "REF.png",
          .help = "compare every frame with a reference; exit 3 if any pixel differs"},
@@ -215,7 +234,14 @@ int main(int argc, char **argv)
         scene->settings.aa = aa.aa;
         scene->settings.adaptive = aa.adaptive;
     }
+    if (hdr && (linear || verify_path)) {
+        fprintf(stderr, "lanray-server: --hdr frames keep the light itself: %s\n",
+                linear ? "--linear is for 8-bit frames" : "--verify compares 8-bit frames (compare the .hdr files instead)");
+        scene_destroy(scene);
+        return 2;
+    }
     scene->settings.linear = linear;
+    scene->settings.hdr = hdr;
     if (!width_given && scene->settings.width)
         cfg.width = scene->settings.width;
     if (!height_given && scene->settings.height)
@@ -227,7 +253,8 @@ int main(int argc, char **argv)
         return 1;
     }
     /* the frame being assembled, and a reference to compare with */
-    if (cli_check_memory((uint64_t)cfg.width * cfg.height * 3 * (verify_path ? 2 : 1), "the frame", &err)) {
+    const uint64_t frame_bytes = (uint64_t)cfg.width * cfg.height * render_pixel_bytes(scene);
+    if (cli_check_memory(frame_bytes + (verify_path || hdr ? (uint64_t)cfg.width * cfg.height * 3 : 0), "the frame", &err)) {
         fprintf(stderr, "lanray-server: %dx%d: %s\n", cfg.width, cfg.height, err.msg);
         scene_destroy(scene);
         return 1;
@@ -239,6 +266,7 @@ int main(int argc, char **argv)
     app.scene = scene;
     app.width = cfg.width;
     app.height = cfg.height;
+    app.hdr = hdr;
     app.frames_wanted = (uint32_t)frames;
     if (verify_path) {
         int vw, vh;
@@ -266,9 +294,16 @@ int main(int argc, char **argv)
             headless = 1;
         }
     }
+    if (app.display && hdr && !(app.view = malloc((size_t)cfg.width * cfg.height * 3))) {
+        fprintf(stderr, "lanray-server: out of memory for the window's %dx%d view\n", cfg.width, cfg.height);
+        display_close(app.display);
+        scene_destroy(scene);
+        return 1;
+    }
     if (headless && !discard && cli_make_dirs(out_dir, &err)) {
         fprintf(stderr, "lanray-server: %s\n", err.msg);
         free(app.verify);
+        free(app.view);
         display_close(app.display);
         scene_destroy(scene);
         return 1;
@@ -277,6 +312,7 @@ int main(int argc, char **argv)
     if (!app.server) {
         fprintf(stderr, "lanray-server: %s\n", err.msg);
         free(app.verify);
+        free(app.view);
         display_close(app.display);
         scene_destroy(scene);
         return 1;
@@ -374,6 +410,7 @@ int main(int argc, char **argv)
         free(app.verify);
     }
     server_destroy(app.server);
+    free(app.view);
     display_close(app.display);
     scene_destroy(scene);
     return rc;

@@ -22,6 +22,7 @@
 #include "net/net.h"
 #include "base/timer.h"
 #include "net/wire.h"
+#include "render/render.h"
 
 #include "measure.h"
 
@@ -56,7 +57,8 @@ struct Server {
     Sched *sched;
     uint32_t frame;   /* current frame id; 0 before the first */
     int in_frame, paused, dirty;
-    uint8_t *pixels;
+    uint8_t *pixels; /* the frame, bpp bytes a pixel: RGB8, or RGBE (hdr) */
+    uint32_t bpp;
     Asset *assets;    /* models then textures of the scene */
     uint32_t nassets;
     Sink blob;        /* the serialised scene of the current frame */
@@ -116,7 +118,8 @@ Server *server_create(const ServerConfig *cfg, Scene *scene, Err *err)
     SchedConfig sc = {(uint32_t)cfg->width, (uint32_t)cfg->height, cfg->segment_lines ? cfg->segment_lines : 1, cfg->tail,
                       (uint32_t)(cfg->width / 4 > 0 ? cfg->width / 4 : 1)};
     s->sched = sched_create(&sc);
-    s->pixels = calloc((size_t)cfg->width * cfg->height, 3);
+    s->bpp = render_pixel_bytes(scene);
+    s->pixels = calloc((size_t)cfg->width * cfg->height, s->bpp);
     if (!s->sched || !s->pixels || build_assets(s, err)) {
         if (!s->sched || !s->pixels)
             err_set(err, "out of memory or invalid frame size");
@@ -378,7 +381,7 @@ static void on_data(Server *s, Client *c)
 {
     MsgData d;
     Err e;
-    if (msg_decode_data(c->conn.body, c->conn.body_size, &d, &e)) {
+    if (msg_decode_data(c->conn.body, c->conn.body_size, s->bpp, &d, &e)) {
         drop(s, c, e.msg);
         return;
     }
@@ -398,7 +401,7 @@ static void on_data(Server *s, Client *c)
     if (r != SCHED_STALE) /* time spent rendering counts whether or not this copy won */
         c->busy_us += render_us;
     if (r == SCHED_ACCEPT) {
-        memcpy(s->pixels + (size_t)seg.first * 3, d.pixels, (size_t)seg.count * 3);
+        memcpy(s->pixels + (size_t)seg.first * s->bpp, d.pixels, (size_t)seg.count * s->bpp);
         c->segments++;
         c->pixels += seg.count;
     } else if (r == SCHED_DUPLICATE) {

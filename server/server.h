@@ -32,7 +32,8 @@ typedef struct {
 
 typedef struct Server Server;
 
-/* Called with each completed frame (RGB8, width*height*3). */
+/* Called with each completed frame: width*height pixels of RGB8, or of RGBE
+ * where the scene's settings say hdr (render_pixel_bytes). */
 typedef void (*FrameDoneFn)(void *ctx, uint32_t frame, const uint8_t *pixels);
 
 Server *server_create(const ServerConfig *cfg, Scene *scene, Err *err);

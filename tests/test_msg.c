@@ -72,13 +72,23 @@ static void packets_round_trip(void **state)
     assert_memory_equal(&c, &c2, sizeof c);
 
     const uint8_t px[6] = {1, 2, 3, 4, 5, 6};
-    MsgData d = {3, {5, 2}, 1234, px}, d2;
+    MsgData d = {3, {5, 2}, 1234, px, 3}, d2;
     msg_encode_data(&d, &o);
     n = body_of(&o, buf);
     assert_int_equal(n, 16 + 6);
-    assert_int_equal(msg_decode_data(buf, n, &d2, &err), 0);
-    assert_true(d2.frame == 3 && d2.seg.first == 5 && d2.seg.count == 2 && d2.render_us == 1234);
+    assert_int_equal(msg_decode_data(buf, n, 3, &d2, &err), 0);
+    assert_true(d2.frame == 3 && d2.seg.first == 5 && d2.seg.count == 2 && d2.render_us == 1234 && d2.bpp == 3);
     assert_memory_equal(d2.pixels, px, 6);
+    /* an hdr frame's pixels are RGBE: 4 bytes each, the same 6 bytes no longer fit */
+    assert_int_equal(msg_decode_data(buf, n, 4, &d2, &err), -1);
+    const uint8_t rgbe[8] = {1, 2, 3, 130, 5, 6, 7, 140};
+    MsgData hd = {4, {7, 2}, 99, rgbe, 4};
+    msg_encode_data(&hd, &o);
+    n = body_of(&o, buf);
+    assert_int_equal(n, 16 + 8);
+    assert_int_equal(msg_decode_data(buf, n, 4, &d2, &err), 0);
+    assert_true(d2.frame == 4 && d2.seg.first == 7 && d2.seg.count == 2 && d2.bpp == 4);
+    assert_memory_equal(d2.pixels, rgbe, 8);
 
     MsgAsset a = {ASSET_TEXTURE, {0}, px, sizeof px}, a2;
     a.hash[0] = 0xab, a.hash[31] = 0xcd;
@@ -124,9 +134,11 @@ static void bodies_that_do_not_fit_are_refused(void **state)
     MsgData d;
     uint32_t data[4] = {1, 0, 10, 5}; /* 10 pixels claimed */
     memcpy(buf, data, sizeof data);
-    assert_int_equal(msg_decode_data(buf, 16 + 29, &d, &err), -1);
-    assert_non_null(strstr(err.msg, "DATA packet size does not match its segment"));
-    assert_int_equal(msg_decode_data(buf, 16 + 30, &d, &err), 0);
+    assert_int_equal(msg_decode_data(buf, 16 + 29, 3, &d, &err), -1);
+    assert_non_null(strstr(err.msg, "DATA packet of 29 pixel bytes for a segment of 10 pixels of 3 bytes"));
+    assert_int_equal(msg_decode_data(buf, 16 + 30, 3, &d, &err), 0);
+    assert_int_equal(msg_decode_data(buf, 16 + 30, 4, &d, &err), -1);
+    assert_int_equal(msg_decode_data(buf, 16 + 40, 4, &d, &err), 0);
     MsgAsset a;
     assert_int_equal(msg_decode_asset(buf, 35, &a, &err), -1);
     assert_int_equal(msg_type_name(99)[0], 'u'); /* "unknown" */

@@ -242,6 +242,45 @@ static void a_models_optics_carry_the_settings(void **state)
     scene_destroy(s);
 }
 
+/* A high dynamic range frame costs the scene no bytes (a flag of the
+ * extras word) and the client renders the same RGBE as lanray-render. */
+static void hdr_travels_as_a_flag(void **state)
+{
+    (void)state;
+    Scene *s, *back;
+    BvhOptions opt = bvh_options_default(BVH_SAH);
+    Err err;
+    assert_int_equal(scene_default(&s, &opt, NULL), 0);
+    Encoded plain = encode(s);
+    s->settings.hdr = 1;
+    Encoded e = encode(s);
+    assert_int_equal(e.len, plain.len);
+    AssetCache *c = cache_of(s, &e);
+    if (wire_decode_scene(e.blob, e.len, c, &back, &err))
+        fail_msg("%s", err.msg);
+    assert_int_equal(back->settings.hdr, 1);
+    assert_int_equal(render_pixel_bytes(back), 4);
+    enum { W = 40, H = 30 };
+    static uint8_t pa[W * H * 4], pb[W * H * 4];
+    RenderPool *p = render_pool_create(2, NULL);
+    assert_int_equal(render_lines(p, s, W, H, 0, H, pa, NULL, NULL), 0);
+    assert_int_equal(render_span(p, back, W, H, 0, W * H, pb, NULL, NULL, NULL), 0);
+    assert_memory_equal(pa, pb, sizeof pa);
+    render_pool_destroy(p);
+    scene_destroy(back);
+    asset_cache_destroy(c);
+    free_encoded(s, &e);
+    /* and without it, the client's pixels are RGB8 again */
+    s->settings.hdr = 0;
+    c = cache_of(s, &plain);
+    assert_int_equal(wire_decode_scene(plain.blob, plain.len, c, &back, NULL), 0);
+    assert_int_equal(render_pixel_bytes(back), 3);
+    scene_destroy(back);
+    asset_cache_destroy(c);
+    free_encoded(s, &plain);
+    scene_destroy(s);
+}
+
 static void malformed_scenes_and_assets_are_rejected(void **state)
 {
     (void)state;
@@ -308,7 +347,7 @@ static void malformed_scenes_and_assets_are_rejected(void **state)
     assert_contains(err.msg, "invalid settings");
     word = 0;
     memcpy(sk.data + 136, &word, 4);
-    word = 8;
+    word = 16; /* the first unknown flag */
     memcpy(sk.data + 140, &word, 4);
     assert_int_equal(wire_decode_scene(sk.data, sk.len, c, &back, &err), -1);
     assert_contains(err.msg, "unknown extras");
@@ -396,6 +435,7 @@ int main(void)
         cmocka_unit_test(scenes_round_trip),
         cmocka_unit_test(only_used_parts_travel),
         cmocka_unit_test(a_models_optics_carry_the_settings),
+        cmocka_unit_test(hdr_travels_as_a_flag),
         cmocka_unit_test(malformed_scenes_and_assets_are_rejected),
     };
     return cmocka_run_group_tests_name("wire", tests, NULL, NULL);

@@ -29,8 +29,6 @@
 static const char *const shading_names[] = {"phong", "diffuse", NULL};
 static const char *const onoff_names[] = {"off", "on", NULL};
 static const char *const filter_names[] = {"nearest", "bilinear", NULL};
-/* bytes a pixel: RGB8 codes, or RGBE for a .hdr */
-#define BPP(scene) ((scene)->settings.hdr ? 4u : 3u)
 
 static const char *const fresnel_names[] = {"exact", "schlick", NULL};
 static const char *const glass_names[] = {"opaque", "tinted", NULL};
@@ -83,7 +81,8 @@ static int write_profile(RenderPool *pool, const Scene *scene, int width, int he
     for (int k = 0; rc == 0 && k < PROFILE_PASSES; k++)
         for (int y = 0; rc == 0 && y < height; y++) {
             double a = timer_now();
-            rc = render_lines(pool, scene, width, height, y, 1, pixels + (size_t)y * width * BPP(scene), NULL, err);
+            uint8_t *dst = pixels + (size_t)y * width * render_pixel_bytes(scene);
+            rc = render_lines(pool, scene, width, height, y, 1, dst, NULL, err);
             double t = timer_now() - a;
             line[y] = k == 0 ? t : fmin(line[y], t);
         }
@@ -258,9 +257,10 @@ int main(int argc, char **argv)
     }
     double t1 = timer_now();
     cli_warn_scene("lanray-render", scene);
-    uint64_t frame_bytes = (uint64_t)width * (uint64_t)height * BPP(scene);
+    const uint32_t bpp = render_pixel_bytes(scene);
+    uint64_t frame_bytes = (uint64_t)width * (uint64_t)height * bpp;
     int banded = band_lines ? band_lines < height : frame_bytes > WHOLE_FRAME_BYTES;
-    int band = !banded ? height : band_lines ? band_lines : (int)(BAND_BYTES / ((uint64_t)width * BPP(scene)));
+    int band = !banded ? height : band_lines ? band_lines : (int)(BAND_BYTES / ((uint64_t)width * bpp));
     if (band < 1)
         band = 1;
     int rc = 0;
@@ -268,12 +268,12 @@ int main(int argc, char **argv)
         rc = err_set(&err, "%dx%d is rendered in bands (%.1f GB whole); --profile needs the whole frame", width, height,
                      (double)frame_bytes / 1e9);
     else
-        rc = cli_check_memory((uint64_t)width * (uint64_t)band * BPP(scene), banded ? "a band of the frame" : "the frame", &err);
+        rc = cli_check_memory((uint64_t)width * (uint64_t)band * bpp, banded ? "a band of the frame" : "the frame", &err);
     ImageWriter *wr = NULL;
     if (rc == 0) /* the file exists, under a temporary name, before any rendering */
         rc = image_writer_open(out, width, height, hdr ? IMAGE_RGBE : linear ? IMAGE_LINEAR : IMAGE_SRGB, &wr, &err);
     RenderPool *pool = rc ? NULL : render_pool_create(threads, &err);
-    uint8_t *pixels = pool ? malloc((size_t)width * (size_t)band * BPP(scene)) : NULL;
+    uint8_t *pixels = pool ? malloc((size_t)width * (size_t)band * bpp) : NULL;
     if (rc == 0 && (!pool || !pixels))
         rc = pool ? err_set(&err, "out of memory for %d lines of %d pixels", band, width) : -1;
     if (rc) {
@@ -291,7 +291,7 @@ int main(int argc, char **argv)
     fflush(stdout);
     Watch watch;
     memset(&watch, 0, sizeof watch);
-    watch.pixels = frame_bytes / 3 * (uint64_t)repeat;
+    watch.pixels = (uint64_t)width * (uint64_t)height * (uint64_t)repeat;
     watch.width = width;
     render_pool_watch(pool, &watch.counts);
     Progress *prog = progress_start("lanray-render", !quiet, show_progress, &watch);
@@ -304,7 +304,7 @@ int main(int argc, char **argv)
         for (int y = 0; rc == 0 && y < height; y += seg) {
             RayStats part;
             int n = y + seg <= height ? seg : height - y;
-            uint8_t *dst = pixels + (banded ? 0 : (size_t)y * width * BPP(scene));
+            uint8_t *dst = pixels + (banded ? 0 : (size_t)y * width * bpp);
             rc = render_lines(pool, scene, width, height, y, n, dst, &part, &err);
             st.primary += part.primary;
             st.shadow += part.shadow;

@@ -81,6 +81,20 @@ static inline void rgbe_encode(real r, real g, real b, uint8_t out[4])
     out[3] = (uint8_t)(e + 128);
 }
 
+/* The light an RGBE pixel stands for, as Radiance reads it: each mantissa
+ * taken at the middle of its 1/256 step (rgbe_encode truncates), times
+ * 2^(exponent - 136); exponent byte 0 is black. */
+static inline void rgbe_decode(const uint8_t in[4], double out[3])
+{
+    double f = in[3] ? ldexp(1.0, (int)in[3] - 136) : 0.0;
+    for (int k = 0; k < 3; k++)
+        out[k] = in[3] ? ((double)in[k] + 0.5) * f : 0.0;
+}
+
+/* n RGBE pixels as 8-bit sRGB codes after a gain (2^exposure): how a
+ * window shows a high dynamic range frame. */
+void srgb_from_rgbe(const uint8_t *rgbe, size_t n, double gain, uint8_t *rgb);
+
 /* The linear value of an sRGB-encoded fraction s in [0, 1] (for images that
  * are not 8 bits deep; 8-bit codes use srgb_decode8). */
 double srgb_decode(double s);

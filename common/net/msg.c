@@ -60,7 +60,7 @@ static const Layout layouts[PKT_TYPE_END] = {
     [PKT_WELCOME] = {"WELCOME", welcome_f, NULL, 0},
     [PKT_UPDATE] = {"UPDATE", update_f, "scene", 64 * MIB},
     [PKT_COMPUTE] = {"COMPUTE", compute_f, NULL, 0},
-    [PKT_DATA] = {"DATA", data_f, "pixels", PROTO_HEADER + 16 + 192 * MIB}, /* a whole 8192x8192 frame */
+    [PKT_DATA] = {"DATA", data_f, "pixels", PROTO_HEADER + 16 + 256 * MIB}, /* a whole 8192x8192 frame of RGBE */
     [PKT_ASSET] = {"ASSET", asset_f, "payload", 1024 * MIB},
     [PKT_ERROR] = {"ERROR", none_f, "text", PROTO_HEADER + PROTO_MAX_ERROR_TEXT},
     [PKT_BYE] = {"BYE", none_f, NULL, 0},
@@ -150,7 +150,10 @@ void msg_encode_hello(const MsgHello *m, MsgOut *out) { encode(PKT_HELLO, m, NUL
 void msg_encode_welcome(const MsgWelcome *m, MsgOut *out) { encode(PKT_WELCOME, m, NULL, 0, out); }
 void msg_encode_update(const MsgUpdate *m, MsgOut *out) { encode(PKT_UPDATE, m, m->scene, m->scene_len, out); }
 void msg_encode_compute(const MsgCompute *m, MsgOut *out) { encode(PKT_COMPUTE, m, NULL, 0, out); }
-void msg_encode_data(const MsgData *m, MsgOut *out) { encode(PKT_DATA, m, m->pixels, 3 * (size_t)m->seg.count, out); }
+void msg_encode_data(const MsgData *m, MsgOut *out)
+{
+    encode(PKT_DATA, m, m->pixels, (size_t)m->bpp * m->seg.count, out);
+}
 void msg_encode_asset(const MsgAsset *m, MsgOut *out) { encode(PKT_ASSET, m, m->data, m->len, out); }
 void msg_encode_error(const MsgError *m, MsgOut *out)
 {
@@ -184,13 +187,14 @@ int msg_decode_compute(const uint8_t *body, size_t len, MsgCompute *m, Err *err)
     return decode(PKT_COMPUTE, body, len, m, NULL, NULL, err);
 }
 
-int msg_decode_data(const uint8_t *body, size_t len, MsgData *m, Err *err)
+int msg_decode_data(const uint8_t *body, size_t len, uint32_t bpp, MsgData *m, Err *err)
 {
     size_t n;
     if (decode(PKT_DATA, body, len, m, &m->pixels, &n, err))
         return -1;
-    if (n != 3 * (uint64_t)m->seg.count)
-        return err_set(err, "DATA packet size does not match its segment");
+    m->bpp = bpp;
+    if (n != bpp * (uint64_t)m->seg.count)
+        return err_set(err, "DATA packet of %zu pixel bytes for a segment of %u pixels of %u bytes", n, m->seg.count, bpp);
     return 0;
 }
 

@@ -16,7 +16,7 @@
 #include "base/err.h"
 
 #define PROTO_MAGIC 0x5941524cu /* "LRAY" */
-#define PROTO_VERSION 4u
+#define PROTO_VERSION 5u
 #define PROTO_BOM 0x01020304u
 #define PROTO_HEADER 8u
 #define PROTO_NONCE 32u
@@ -31,7 +31,7 @@ typedef enum {
     PKT_WELCOME = 3,      /* server -> client: client id */
     PKT_UPDATE = 4,       /* server -> client: frame, size, up to 2 segments, serialised scene */
     PKT_COMPUTE = 5,      /* server -> client: frame, segment */
-    PKT_DATA = 6,         /* client -> server: frame, segment, render time, RGB8 pixels */
+    PKT_DATA = 6,         /* client -> server: frame, segment, render time, RGB8 or RGBE pixels */
     PKT_ASSET = 7,        /* server -> client: kind, content hash, payload */
     PKT_ERROR = 8,        /* either way: a reason, then the sender closes */
     PKT_BYE = 9,          /* either way: orderly goodbye */
@@ -76,7 +76,8 @@ typedef struct {
     uint32_t frame;
     Segment seg;
     uint32_t render_us;
-    const uint8_t *pixels; /* 3 * seg.count bytes, RGB8 */
+    const uint8_t *pixels; /* bpp * seg.count bytes */
+    uint32_t bpp;          /* not sent: 3 (RGB8), or 4 (RGBE) where the frame's scene says hdr */
 } MsgData;
 
 typedef struct {
@@ -121,7 +122,9 @@ int msg_decode_hello(const uint8_t *body, size_t len, MsgHello *m, Err *err);
 int msg_decode_welcome(const uint8_t *body, size_t len, MsgWelcome *m, Err *err);
 int msg_decode_update(const uint8_t *body, size_t len, MsgUpdate *m, Err *err);
 int msg_decode_compute(const uint8_t *body, size_t len, MsgCompute *m, Err *err);
-int msg_decode_data(const uint8_t *body, size_t len, MsgData *m, Err *err);
+/* A DATA packet's pixel size is the frame's (3 or 4 bytes), which the
+ * receiver knows from the scene it sent: bpp. */
+int msg_decode_data(const uint8_t *body, size_t len, uint32_t bpp, MsgData *m, Err *err);
 int msg_decode_asset(const uint8_t *body, size_t len, MsgAsset *m, Err *err);
 /* The text made printable (other bytes become '?') and NUL-terminated. */
 int msg_decode_error(const uint8_t *body, size_t len, char text[PROTO_MAX_ERROR_TEXT + 1], Err *err);

@@ -13,8 +13,9 @@ enum { PLANE_MAPPED = 1 };
  * WIRE_CAMERA: the camera is not a plain pinhole; its kind, its size (the
  * orthographic width, or the fisheye's field of view), a pinhole's aperture
  * and focus distance and the lens samples follow.  WIRE_EXPOSURE: the
- * exposure in stops (f64) follows. */
-enum { WIRE_OPTICS = 1, WIRE_CAMERA = 2, WIRE_EXPOSURE = 4 };
+ * exposure in stops (f64) follows.  WIRE_HDR: the frame is high dynamic
+ * range, its pixels RGBE (4 bytes, DATA packets included); nothing follows. */
+enum { WIRE_OPTICS = 1, WIRE_CAMERA = 2, WIRE_EXPOSURE = 4, WIRE_HDR = 8 };
 enum { MAT_REFLECT = 1, MAT_DIELECTRIC = 2, MAT_EMIT = 4 };
 
 static uint32_t material_optics(const Material *m)
@@ -61,6 +62,8 @@ int wire_encode_scene(const Scene *s, const Asset *model_assets, const Asset *te
         extras |= WIRE_CAMERA;
     if (rs->exposure != R(0))
         extras |= WIRE_EXPOSURE;
+    if (rs->hdr)
+        extras |= WIRE_HDR;
     sink_u32(o, extras);
     if (extras & WIRE_EXPOSURE)
         put_f64(o, rs->exposure);
@@ -244,7 +247,7 @@ int wire_decode_scene(const void *data, size_t len, const AssetCache *cache, Sce
     else if (set[0] < 1 || set[0] > AA_MAX || set[1] > 1 || set[2] > SHADE_DIFFUSE || set[3] > 1 || set[4] > FILTER_BILINEAR ||
              set[5] > 1)
         bad = "invalid settings";
-    else if (extras & ~(uint32_t)(WIRE_OPTICS | WIRE_CAMERA | WIRE_EXPOSURE))
+    else if (extras & ~(uint32_t)(WIRE_OPTICS | WIRE_CAMERA | WIRE_EXPOSURE | WIRE_HDR))
         bad = "unknown extras";
     else if (cam_kind > CAMERA_FISHEYE || ((extras & WIRE_CAMERA) && cam_kind == CAMERA_PINHOLE && !(aperture > R(0))))
         bad = "invalid camera kind";
@@ -269,6 +272,7 @@ int wire_decode_scene(const void *data, size_t len, const AssetCache *cache, Sce
         rs->filter = (TextureFilter)set[4];
         rs->linear = (int)set[5];
         rs->exposure = exposure;
+        rs->hdr = (extras & WIRE_HDR) != 0;
         if (extras & WIRE_OPTICS) {
             rs->depth = (int)optics[0];
             rs->cutoff = cutoff;

@@ -456,7 +456,7 @@ int render_span(RenderPool *p, const Scene *s, int width, int height, uint64_t f
     f.cancel = cancel;
     f.progress = p->progress;
     f.linear = s->settings.linear;
-    f.bpp = s->settings.hdr ? 4 : 3;
+    f.bpp = (int)render_pixel_bytes(s);
     f.gain = pow(R(2), s->settings.exposure);
     RayStats st;
     if (!s->settings.adaptive || s->settings.aa == 1) {

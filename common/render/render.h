@@ -19,6 +19,10 @@
 
 typedef struct RenderPool RenderPool;
 
+/* Bytes a pixel of the scene's frames: 3 (RGB8 codes), or 4 (RGBE) with
+ * settings hdr. */
+static inline uint32_t render_pixel_bytes(const Scene *s) { return s->settings.hdr ? 4u : 3u; }
+
 /* Pixels finished and rays traced so far, for a progress line that another
  * thread reads while the pool renders (relaxed atomics: a rough count). */
 typedef struct {

@@ -105,7 +105,7 @@ typedef struct {
     int rough_samples; /* a rough mirror reflects rough_samples^2 rays */
     int lens_samples;  /* a camera with an aperture sends lens_samples^2 rays per pixel sample */
     real exposure;     /* stops: the 8-bit codes encode light times 2^exposure */
-    int hdr;           /* pixels are RGBE, 4 bytes (lanray-render's .hdr output); not on the wire */
+    int hdr;           /* pixels are RGBE, 4 bytes (a .hdr from lanray-render, lanray-server --hdr); not in scene files */
     /* what the scene file asked for, for the programs' defaults; not on the
      * wire (an UPDATE carries the frame's size, the samples are above) */
     int width, height;  /* 0: not given */

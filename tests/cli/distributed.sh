@@ -73,7 +73,8 @@ grep -q "authentication failed" <<<"$err" || fail "wrong token message: $err"
 err=$(LANRAY_TOKEN= "$BIN/lanray-client" "127.0.0.1:$port" --threads 1 2>&1); [ $? -eq 1 ] || fail "missing token should exit 1"
 grep -q "authentication failed" <<<"$err" || fail "missing token message: $err"
 version=$(python3 tests/tools/fakeclient.py "$port" version s3cret)
-grep -q "protocol version 99, the server speaks version 4" <<<"$version" || fail "version message: $version"
+proto=$(sed -n 's/^#define PROTO_VERSION \([0-9]*\)u.*/\1/p' common/net/msg.h)
+grep -q "protocol version 99, the server speaks version $proto" <<<"$version" || fail "version message: $version"
 LANRAY_TOKEN=s3cret client 2>/dev/null
 wait_exit "$server_pid" 60 || fail "authenticated frames did not complete"
 [ -e "$dir/a/frame-00002.png" ] || fail "no frames with the right token"

@@ -3,7 +3,9 @@
 # Radiance RGBE file (header, then 4 bytes a pixel) whose light, encoded
 # as sRGB, is the PNG's pixels (within RGBE's 8-bit mantissas); the
 # exposure scales the 8-bit path by 2^stops, from the command line or the
-# scene file, also through a server and a client; refusals.
+# scene file, also through a server and a client; a server's --hdr frames
+# (RGBE from two clients, cut in segments that end inside lines) are
+# lanray-render's .hdr byte for byte; refusals.
 set -u
 source tests/tools/server-lib.sh
 W=96 H=72
@@ -68,6 +70,32 @@ sed 's/^settings aa 1$/settings aa 1 exposure 1/' "$scene" >"$dir/exp.scene"
 cmp -s "$dir/exp.png" "$dir/up.png" || fail "settings exposure 1 differs from --exposure 1"
 "$BIN/lanray-render" "$dir/exp.scene" -o "$dir/exp64.png" --width 64 --height 64 --quiet >/dev/null || fail "exposure 64x64"
 verify_distributed exposure "$dir/exp.scene" "$dir/exp64.png" "with an exposure"
+# a server's high dynamic range frames: the same bytes as lanray-render's .hdr
+# (the scene's exposure is for 8-bit pixels: it must change nothing here)
+"$BIN/lanray-render" "$dir/exp.scene" -o "$dir/ref.hdr" --width 61 --height 37 --quiet >/dev/null || fail ".hdr 61x37"
+start_server hdrsrv "$dir/exp.scene" --port 0 --width 61 --height 37 --frames 2 --wait-clients 2 --segment 3 --hdr \
+    --out "$dir/hdrframes"
+for _ in 1 2; do
+    "$BIN/lanray-client" "127.0.0.1:$port" --threads 2 --once --quiet 2>/dev/null &
+    pids+=("$!")
+done
+for _ in $(seq 600); do kill -0 "$server_pid" 2>/dev/null || break; sleep 0.05; done
+! kill -0 "$server_pid" 2>/dev/null || fail "the --hdr server did not finish 2 frames in 30 s: $(tail -3 "$dir/hdrsrv.err")"
+wait "$server_pid" || fail "the --hdr server failed (exit $?)"
+for f in 1 2; do
+    cmp -s "$dir/hdrframes/frame-0000$f.hdr" "$dir/ref.hdr" || fail "the server's .hdr frame $f differs from lanray-render's"
+done
+[ -z "$(ls "$dir/hdrframes" | grep -v '^frame-0000[12]\.hdr$')" ] || fail "the --hdr server wrote other files: $(ls "$dir/hdrframes")"
+# an 8-bit frame of the same scene still travels as RGB8 (the PNG of a server without --hdr)
+"$BIN/lanray-render" "$dir/exp.scene" -o "$dir/ref8.png" --width 64 --height 64 --quiet >/dev/null || fail "8-bit reference"
+verify_distributed rgb8 "$dir/exp.scene" "$dir/ref8.png" "after an hdr run"
+# the server refuses --hdr with --linear or --verify (bad command line: 2)
+"$BIN/lanray-server" --headless --hdr --linear --port 0 --frames 1 >/dev/null 2>"$dir/r1.txt"; [ $? -eq 2 ] ||
+    fail "--hdr --linear should exit 2"
+grep -q -- "--linear is for 8-bit frames" "$dir/r1.txt" || fail "--hdr --linear message: $(cat "$dir/r1.txt")"
+"$BIN/lanray-server" --headless --hdr --verify "$dir/ref8.png" --port 0 --frames 1 >/dev/null 2>"$dir/r2.txt"; [ $? -eq 2 ] ||
+    fail "--hdr --verify should exit 2"
+grep -q -- "--verify compares 8-bit frames" "$dir/r2.txt" || fail "--hdr --verify message: $(cat "$dir/r2.txt")"
 # refusals: --linear or --exposure with .hdr, an exposure out of range
 "$BIN/lanray-render" "$scene" -o "$dir/b.hdr" --linear --quiet >/dev/null 2>&1; [ $? -eq 2 ] || fail "--linear with .hdr should exit 2"
 [ ! -e "$dir/b.hdr" ] || fail "a refused .hdr left a file"
@@ -75,5 +103,5 @@ verify_distributed exposure "$dir/exp.scene" "$dir/exp64.png" "with an exposure"
 printf 'settings exposure 33\n' >"$dir/bad.scene"
 err=$("$BIN/lanray-render" "$dir/bad.scene" -o "$dir/b.png" 2>&1); [ $? -eq 1 ] || fail "exposure 33 in a scene should exit 1"
 grep -q "bad.scene:1: 'exposure' of settings must be from -32 to 32" <<<"$err" || fail "exposure error: $err"
-echo "hdr: .hdr light against the PNG, exposure from the option, the scene and a server"
+echo "hdr: .hdr light against the PNG, exposure from the option, the scene and a server; a server's .hdr frames equal lanray-render's"
 exit 0

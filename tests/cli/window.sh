@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # The real SDL window under Xvfb: the server opens its window, a client
-# renders, and the frame captured from the X screen equals lanray-render's.
+# renders, and the frame captured from the X screen equals lanray-render's;
+# with --hdr, the sRGB codes of lanray-render's .hdr.
 set -u
 BIN=${BIN:-bin}
 dir=$(mktemp -d)
@@ -18,19 +19,52 @@ pids+=($!)
 for _ in $(seq 100); do [ -s "$dir/display" ] && break; sleep 0.05; done
 [ -s "$dir/display" ] || fail "Xvfb did not start"
 export DISPLAY=":$(head -1 "$dir/display")"
-"$BIN/lanray-server" --port 0 --width $W --height $H --frames 0 >"$dir/server.log" 2>"$dir/server.err" &
-pids+=($!)
-for _ in $(seq 100); do port=$(sed -n 's/.*listening on .*:\([0-9]*\) (.*/\1/p' "$dir/server.log"); [ -n "$port" ] && break; sleep 0.05; done
-[ -n "$port" ] || fail "server did not start"
-grep -q "no display\|cannot open a window" "$dir/server.err" && fail "the server did not open a window"
-"$BIN/lanray-client" "127.0.0.1:$port" --threads 2 2>"$dir/client.err" &
-pids+=($!)
-for _ in $(seq 50); do
-    xwd -root -silent >"$dir/screen.xwd" 2>/dev/null
-    if out=$(python3 tests/tools/xwdfind.py "$dir/screen.xwd" "$dir/ref.ppm"); then
-        echo "window shows the rendered frame: $out"
-        exit 0
-    fi
-    sleep 0.2
-done
-fail "the rendered frame never appeared on the X screen ($out)"
+# shown NAME REF.ppm SERVER-ARGS...: a server with a window and one client;
+# passes when REF appears on the X screen
+shown() {
+    local name=$1 ref=$2 port= out=; shift 2
+    "$BIN/lanray-server" --port 0 --width $W --height $H --frames 0 "$@" >"$dir/$name.log" 2>"$dir/$name.err" &
+    local spid=$!
+    pids+=($spid)
+    for _ in $(seq 100); do port=$(sed -n 's/.*listening on .*:\([0-9]*\) (.*/\1/p' "$dir/$name.log"); [ -n "$port" ] && break; sleep 0.05; done
+    [ -n "$port" ] || fail "$name: server did not start"
+    grep -q "no display\|cannot open a window" "$dir/$name.err" && fail "$name: the server did not open a window"
+    "$BIN/lanray-client" "127.0.0.1:$port" --threads 2 2>"$dir/$name-client.err" &
+    local cpid=$!
+    pids+=($cpid)
+    for _ in $(seq 50); do
+        xwd -root -silent >"$dir/screen.xwd" 2>/dev/null
+        if out=$(python3 tests/tools/xwdfind.py "$dir/screen.xwd" "$ref"); then
+            echo "$name: window shows the rendered frame: $out"
+            kill "$spid" "$cpid" 2>/dev/null
+            wait "$spid" "$cpid" 2>/dev/null
+            return 0
+        fi
+        sleep 0.2
+    done
+    fail "$name: the rendered frame never appeared on the X screen ($out)"
+}
+shown rgb8 "$dir/ref.ppm"
+# a high dynamic range frame (--hdr: RGBE from the client) is shown as the
+# sRGB codes of its light: lanray-render's .hdr, decoded as Radiance reads it
+"$BIN/lanray-render" --width $W --height $H --aa 1 -o "$dir/ref.hdr" --quiet >/dev/null || fail "reference .hdr"
+python3 - "$dir/ref.hdr" "$dir/hdr.ppm" <<'PY' || fail "cannot decode the reference .hdr"
+import math, sys
+head, _, body = open(sys.argv[1], "rb").read().partition(b"\n\n")
+size, _, px = body.partition(b"\n")
+h, w = int(size.split()[1]), int(size.split()[3])
+def srgb(v):
+    v = max(0.0, min(1.0, v))
+    s = 12.92 * v if v <= 0.0031308 else 1.055 * v ** (1 / 2.4) - 0.055
+    return int(s * 255 + 0.5)
+out = bytearray()
+for i in range(w * h):
+    r, g, b, e = px[4 * i:4 * i + 4]
+    f = math.ldexp(1.0, e - 136) if e else 0.0
+    out += bytes(srgb((c + 0.5) * f) for c in (r, g, b))
+open(sys.argv[2], "wb").write(b"P6\n%d %d\n255\n" % (w, h) + bytes(out))
+PY
+# (RGBE's mantissas move some codes: else the check would not tell the paths apart)
+! cmp -s "$dir/ref.ppm" "$dir/hdr.ppm" || fail "the .hdr's codes equal the PNG's: the test cannot tell them apart"
+shown hdr "$dir/hdr.ppm" --hdr
+exit 0

@@ -50,9 +50,10 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         break;
     }
     case 5: {
-        MsgData m;
-        if (msg_decode_data(b, n, &m, NULL) == 0)
-            msg_encode_data(&m, &o), same(&o, b, n);
+        MsgData m; /* both pixel sizes: RGB8 and RGBE */
+        for (uint32_t bpp = 3; bpp <= 4; bpp++)
+            if (msg_decode_data(b, n, bpp, &m, NULL) == 0)
+                msg_encode_data(&m, &o), same(&o, b, n);
         break;
     }
     case 6: {

@@ -13,9 +13,12 @@ MODE is one of:
   storm N     open N connections at once, hold them silent, report how many the server closed
 Prints the text of the server's ERROR packet, or 'closed' / 'no error'.
 """
-import hashlib, hmac, os, socket, struct, sys
+import hashlib, hmac, os, re, socket, struct, sys
 
-MAGIC, VERSION, BOM = 0x5941524C, 4, 0x01020304
+# the protocol version this checkout speaks, from the codec's header
+_MSG_H = os.path.join(os.path.dirname(os.path.abspath(__file__)), "../../common/net/msg.h")
+MAGIC, BOM = 0x5941524C, 0x01020304
+VERSION = int(re.search(r"#define PROTO_VERSION (\d+)u", open(_MSG_H).read()).group(1))
 SERVER_HELLO, HELLO, WELCOME, UPDATE, COMPUTE, DATA, ASSET, ERROR = 1, 2, 3, 4, 5, 6, 7, 8
 
 
