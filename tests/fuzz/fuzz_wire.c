@@ -2,6 +2,7 @@
  * serialised scenes.  The first byte picks: an asset (model or texture) added
  * to a cache that already holds the default scene's assets, or a scene
  * decoded against that cache and, when accepted, rendered. */
+#include <assert.h>
 #include <stdlib.h>
 
 #include "fuzz.h"
@@ -53,7 +54,8 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     }
     Scene *s;
     if (wire_decode_scene(data + 1, size - 1, cache, &s, NULL) == 0) {
-        uint8_t px[8 * 6 * 3];
+        uint8_t px[8 * 6 * 4]; /* RGB8, or RGBE where the scene's hdr flag says so */
+        assert(render_pixel_bytes(s) * 8 * 6 <= sizeof px);
         s->settings.aa = 1; /* bounded work per input */
         render_lines(pool, s, 8, 6, 0, 6, px, NULL, NULL);
         scene_destroy(s);
