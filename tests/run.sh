@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Runs the cmocka test binaries given as arguments, then the command-line
 # tests (tests/cli/*.sh), and closes with one line "N passed, N failed"
-# counting individual tests.
+# counting individual tests.  Each program's line ends with its seconds:
+# CI must stay well under 15 minutes, and this shows where they go.
 set -u
 passed=0
 failed=0
@@ -9,8 +10,10 @@ failed_names=()
 log=$(mktemp)
 trap 'rm -f "$log"' EXIT
 for t in "$@"; do
+    t0=$SECONDS
     "$t" 2>&1 | tee "$log"
     rc=${PIPESTATUS[0]}
+    echo "[ TIME     ] $(basename "$t") $((SECONDS - t0)) s"
     p=$(sed -n 's/^\[  PASSED  \] \([0-9]*\) test(s)\./\1/p' "$log" | tail -1)
     f=$(sed -n 's/^\[  FAILED  \] \([0-9]*\) test(s), listed below:/\1/p' "$log" | tail -1)
     passed=$((passed + ${p:-0}))
@@ -23,10 +26,11 @@ done
 for t in tests/cli/*.sh; do
     [ -e "$t" ] || continue
     echo "[ RUN      ] $(basename "$t")"
+    t0=$SECONDS
     if BIN="${BIN:-bin}" bash "$t"; then
-        echo "[       OK ] $(basename "$t")"; passed=$((passed + 1))
+        echo "[       OK ] $(basename "$t") ($((SECONDS - t0)) s)"; passed=$((passed + 1))
     else
-        echo "[  FAILED  ] $(basename "$t")"; failed=$((failed + 1)); failed_names+=("$(basename "$t")")
+        echo "[  FAILED  ] $(basename "$t") ($((SECONDS - t0)) s)"; failed=$((failed + 1)); failed_names+=("$(basename "$t")")
     fi
 done
 [ ${#failed_names[@]} -eq 0 ] || echo "failing: ${failed_names[*]}"

@@ -136,12 +136,14 @@ else
 fi
 
 # 9. progress: on a terminal only, off with --quiet; the headless server says at most a line a second
-W=1000 H=750
-out=$(python3 tests/tools/ptyrun.py "$BIN/lanray-render" --width $W --height $H --aa 4 --threads 1 -o "$dir/p.png")
+# (each render must outlast the second before a progress line: the default
+# scene at 640x480, 2x2 samples, one thread takes about 2.5 s, 15 s under ASan)
+W=640 H=480
+out=$(python3 tests/tools/ptyrun.py "$BIN/lanray-render" --width $W --height $H --aa 2 --threads 1 -o "$dir/p.png")
 grep -q "lanray-render: [0-9]* of $H lines ([0-9]*%), [0-9.]* Mrays/s, .* left" <<<"$out" || fail "no progress on a terminal: $out"
-out=$(python3 tests/tools/ptyrun.py "$BIN/lanray-render" --width $W --height $H --aa 4 --threads 1 --quiet -o "$dir/p.png")
+out=$(python3 tests/tools/ptyrun.py "$BIN/lanray-render" --width $W --height $H --aa 2 --threads 1 --quiet -o "$dir/p.png")
 grep -q " lines (" <<<"$out" && fail "progress despite --quiet"
-out=$("$BIN/lanray-render" --width $W --height $H --aa 4 --threads 1 -o "$dir/p.png" 2>&1)
+out=$("$BIN/lanray-render" --width $W --height $H --aa 2 --threads 1 -o "$dir/p.png" 2>&1)
 grep -q " lines (" <<<"$out" && fail "progress on a pipe"
 python3 -c "
 import math
