@@ -198,9 +198,13 @@ $(BUILD)/tools/bench/import_bench: tools/bench/import_bench.c $(LIB)
 	@mkdir -p $(dir $@)
 	$(CC) $(ALL_CFLAGS) -o $@ $< $(LIB) $(LDLIBS)
 
-bench: deps $(TOOLS) $(BUILD)/tools/bench/embree_ref $(BUILD)/tools/bench/import_bench
+$(BUILD)/tools/bench/build_bench: tools/bench/build_bench.c $(LIB)
+	@mkdir -p $(dir $@)
+	$(CC) $(ALL_CFLAGS) -o $@ $< $(LIB) $(LDLIBS)
+
+bench: deps $(TOOLS) $(BUILD)/tools/bench/embree_ref $(BUILD)/tools/bench/import_bench $(BUILD)/tools/bench/build_bench
 	@$(MAKE) --no-print-directory FEATURES=minimal $(BIN)/minimal/lanray-render
-	@BIN=$(BIN) EMBREE_REF=$(BUILD)/tools/bench/embree_ref bash tools/bench/bench-render
+	@BIN=$(BIN) EMBREE_REF=$(BUILD)/tools/bench/embree_ref BUILD_BENCH=$(BUILD)/tools/bench/build_bench bash tools/bench/bench-render
 	@BIN=$(BIN) bash tools/bench/bench-features
 	@IMPORT_BENCH=$(BUILD)/tools/bench/import_bench bash tools/bench/bench-import
 

@@ -2,6 +2,7 @@
 #include "helpers.h"
 
 #include "model/model.h"
+#include "base/pool.h"
 #include "base/simd.h"
 
 static void random_mesh(Mesh *m, Rng *rng, uint32_t n, int clustered)
@@ -188,18 +189,31 @@ static void builders_on_random_triangles(void **state)
 
 /* Builders on several threads make the very tree they make on one: the
  * subtrees are handed out by timing, the layout comes from the shape alone. */
+static void count_range(void *ctx, uint64_t lo, uint64_t hi, int thread)
+{
+    uint8_t *seen = ctx;
+    assert_true(thread >= 0 && thread < 3);
+    for (uint64_t i = lo; i < hi; i++)
+        seen[i]++;
+}
+
 static void threads_do_not_change_the_tree(void **state)
 {
     (void)state;
     Rng rng = {99};
-    Mesh mesh;
-    random_mesh(&mesh, &rng, 20000, 1); /* big enough for subtrees to change hands (bvh_tasks.c) */
+    /* big enough for subtrees to change hands (bvh_tasks.c), and, but for
+     * the MST (slow here, and bottom-up: no pool passes of its own), for the
+     * passes over every primitive to run on a pool (BVH_POOL_MIN) */
+    Mesh small, big;
+    random_mesh(&small, &rng, 20000, 1);
+    random_mesh(&big, &rng, BVH_POOL_MIN + 4000, 1);
     for (int k = 0; k < BVH_KIND_COUNT; k++) {
+        const Mesh *mesh = k == BVH_MST ? &small : &big;
         Model *one = NULL, *many = NULL;
         BvhOptions opt = bvh_options_default((BvhKind)k);
-        assert_int_equal(model_from_mesh(&one, &mesh, &opt, NULL), 0);
+        assert_int_equal(model_from_mesh(&one, mesh, &opt, NULL), 0);
         opt.threads = 4;
-        assert_int_equal(model_from_mesh(&many, &mesh, &opt, NULL), 0);
+        assert_int_equal(model_from_mesh(&many, mesh, &opt, NULL), 0);
         assert_int_equal(one->bvh.node_count, many->bvh.node_count);
         assert_int_equal(one->bvh.depth, many->bvh.depth);
         for (uint32_t i = 0; i < one->bvh.node_count; i++) { /* field by field: a double build's nodes have padding */
@@ -210,10 +224,48 @@ static void threads_do_not_change_the_tree(void **state)
             assert_int_equal(a->count, c->count);
         }
         assert_memory_equal(one->tris, many->tris, one->tri_count * sizeof(Tri));
+        assert_memory_equal(one->bounds.min.e, many->bounds.min.e, 3 * sizeof(real));
+        assert_memory_equal(one->bounds.max.e, many->bounds.max.e, 3 * sizeof(real));
         model_destroy(one);
         model_destroy(many);
     }
-    mesh_free(&mesh);
+    mesh_free(&small);
+    mesh_free(&big);
+}
+
+/* The passes over every primitive run on a pool: each index once, on any
+ * thread count and grain; a bad box is named by its first index whichever
+ * thread finds it. */
+static void pool_passes_cover_every_primitive(void **state)
+{
+    (void)state;
+    enum { N = 100003 };
+    static uint8_t seen[N];
+    for (int threads = 1; threads <= 3; threads++) {
+        Pool *p = pool_create(threads, NULL);
+        for (uint64_t grain = 1; grain <= 2 * N; grain *= 7) {
+            memset(seen, 0, sizeof seen);
+            pool_for(p, N, grain, count_range, seen);
+            for (uint32_t i = 0; i < N; i++)
+                assert_int_equal(seen[i], 1);
+        }
+        pool_destroy(p);
+    }
+    pool_for(NULL, 5, 1, count_range, seen); /* no pool: the caller */
+    Aabb *boxes = malloc(N * sizeof *boxes);
+    for (uint32_t i = 0; i < N; i++)
+        boxes[i] = (Aabb){v3((real)i, 0, 0), v3((real)i + 1, 1, 1)};
+    boxes[90000].max.y = REAL_INF;
+    boxes[70001] = aabb_empty();
+    for (uint32_t threads = 1; threads <= 4; threads += 3) {
+        BvhOptions opt = bvh_options_default(BVH_SAH);
+        opt.threads = threads;
+        Bvh bvh;
+        Err err;
+        assert_int_equal(bvh_build(&bvh, boxes, N, &opt, &err), -1);
+        assert_string_equal(err.msg, "bvh: primitive 70001 has an empty or non-finite box");
+    }
+    free(boxes);
 }
 
 static void builders_on_tiny_and_coincident_input(void **state)
@@ -321,6 +373,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(builders_on_random_triangles),
         cmocka_unit_test(threads_do_not_change_the_tree),
+        cmocka_unit_test(pool_passes_cover_every_primitive),
         cmocka_unit_test(builders_on_tiny_and_coincident_input),
         cmocka_unit_test(depth_is_bounded_on_adversarial_input),
         cmocka_unit_test(mst_equals_naive_greedy),

@@ -117,3 +117,32 @@ void pool_run(Pool *p, PoolFn fn, void *ctx, uint32_t chunks)
         pthread_cond_wait(&p->done, &p->mu);
     pthread_mutex_unlock(&p->mu);
 }
+
+typedef struct {
+    PoolRangeFn fn;
+    void *ctx;
+    uint64_t n, size;
+} RangeJob;
+
+static void range_chunk(void *ctx, uint32_t chunk, int thread)
+{
+    const RangeJob *j = ctx;
+    uint64_t lo = (uint64_t)chunk * j->size, hi = lo + j->size < j->n ? lo + j->size : j->n;
+    j->fn(j->ctx, lo, hi, thread);
+}
+
+void pool_for(Pool *p, uint64_t n, uint64_t grain, PoolRangeFn fn, void *ctx)
+{
+    if (grain < 1)
+        grain = 1;
+    if (!p || p->n == 0 || n < 2 * grain) {
+        if (n)
+            fn(ctx, 0, n, 0);
+        return;
+    }
+    uint64_t chunks = n / grain, most = 4 * (uint64_t)pool_threads(p);
+    if (chunks > most)
+        chunks = most;
+    RangeJob j = {fn, ctx, n, (n + chunks - 1) / chunks};
+    pool_run(p, range_chunk, &j, (uint32_t)((n + j.size - 1) / j.size));
+}

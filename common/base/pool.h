@@ -32,4 +32,12 @@ int pool_threads(const Pool *p);
  * when all are done.  One run at a time. */
 void pool_run(Pool *p, PoolFn fn, void *ctx, uint32_t chunks);
 
+/* A loop over [0, n) in ranges of at least `grain` items, a few per
+ * thread: fn(ctx, lo, hi, thread).  A NULL pool, or fewer than 2 * grain
+ * items, make one call on the caller (thread 0).  For the builders' passes
+ * over every primitive (bvh.c, bvh_sah.c, model.c): a reduction keeps
+ * per-thread results by `thread` (at most pool_threads). */
+typedef void (*PoolRangeFn)(void *ctx, uint64_t lo, uint64_t hi, int thread);
+void pool_for(Pool *p, uint64_t n, uint64_t grain, PoolRangeFn fn, void *ctx);
+
 #endif

@@ -42,17 +42,69 @@ int32_t builder_add(Builder *b, BuildNode node)
     return (int32_t)b->node_count++;
 }
 
-void builder_bounds(const Builder *b, uint32_t first, uint32_t count, Aabb *box, Aabb *cbox)
+typedef struct {
+    const Builder *b;
+    uint32_t first;
+    Aabb box[BVH_POOL_MAX], cbox[BVH_POOL_MAX];
+} Bounds;
+
+static void bounds_range(void *ctx, uint64_t lo, uint64_t hi, int thread)
 {
-    Aabb bb = aabb_empty(), cb = aabb_empty();
-    for (uint32_t i = first; i < first + count; i++) {
+    Bounds *w = ctx;
+    const Builder *b = w->b;
+    Aabb bb = w->box[thread], cb = w->cbox[thread];
+    for (uint64_t i = w->first + lo; i < w->first + hi; i++) {
         uint32_t p = b->perm[i];
         bb = aabb_union(bb, b->boxes[p]);
-        aabb_grow(&cb, b->centres[p]);
+        aabb_grow(&cb, b->centres ? b->centres[p] : aabb_centre(b->boxes[p]));
     }
+    w->box[thread] = bb, w->cbox[thread] = cb;
+}
+
+static void bounds_run(const Builder *b, Pool *pool, uint32_t first, uint32_t count, Aabb *box, Aabb *cbox)
+{
+    Bounds w;
+    w.b = b, w.first = first;
+    for (int k = 0; k < BVH_POOL_MAX; k++)
+        w.box[k] = w.cbox[k] = aabb_empty();
+    /* minima and maxima: the same boxes in any order and cut */
+    pool_for(pool, count, BVH_POOL_MIN / 4, bounds_range, &w);
+    Aabb bb = aabb_empty(), cb = aabb_empty();
+    for (int k = 0; k < BVH_POOL_MAX; k++)
+        bb = aabb_union(bb, w.box[k]), cb = aabb_union(cb, w.cbox[k]);
     *box = bb;
     if (cbox)
         *cbox = cb;
+}
+
+void builder_bounds(const Builder *b, uint32_t first, uint32_t count, Aabb *box, Aabb *cbox)
+{
+    bounds_run(b, NULL, first, count, box, cbox);
+}
+
+void builder_bounds_all(const Builder *b, Aabb *box, Aabb *cbox) { bounds_run(b, b->pool, 0, b->n, box, cbox); }
+
+/* Checks every box, fills the centres (where the builder keeps them) and
+ * the identity permutation; a range notes its first bad box. */
+typedef struct {
+    Builder *b;
+    uint32_t bad[BVH_POOL_MAX];
+} Prep;
+
+static void prep_range(void *ctx, uint64_t lo, uint64_t hi, int thread)
+{
+    Prep *w = ctx;
+    Builder *b = w->b;
+    for (uint32_t i = (uint32_t)lo; i < hi; i++) {
+        if (aabb_is_empty(b->boxes[i]) || !v3_is_finite(b->boxes[i].min) || !v3_is_finite(b->boxes[i].max)) {
+            if (i < w->bad[thread])
+                w->bad[thread] = i;
+            return;
+        }
+        if (b->centres)
+            b->centres[i] = aabb_centre(b->boxes[i]);
+        b->perm[i] = i;
+    }
 }
 
 int bvh_build(Bvh *out, const Aabb *boxes, uint32_t n, const BvhOptions *opt, Err *err)
@@ -69,20 +121,27 @@ int bvh_build(Bvh *out, const Aabb *boxes, uint32_t n, const BvhOptions *opt, Er
     b.boxes = boxes;
     b.n = n;
     b.opt = opt;
-    b.centres = bigmem_alloc(n * sizeof *b.centres);
+    const int centres = opt->kind != BVH_SAH; /* SAH keeps them in its references */
+    b.centres = centres ? bigmem_alloc(n * sizeof *b.centres) : NULL;
     b.perm = bigmem_alloc(n * sizeof *b.perm);
     int rc = -1;
-    if (!b.centres || !b.perm) {
+    if ((centres && !b.centres) || !b.perm) {
         err_set(err, "bvh: out of memory for %u primitives", n);
         goto done;
     }
-    for (uint32_t i = 0; i < n; i++) {
-        if (aabb_is_empty(boxes[i]) || !v3_is_finite(boxes[i].min) || !v3_is_finite(boxes[i].max)) {
-            err_set(err, "bvh: primitive %u has an empty or non-finite box", i);
-            goto done;
-        }
-        b.centres[i] = aabb_centre(boxes[i]);
-        b.perm[i] = i;
+    if (opt->threads > 1 && n >= BVH_POOL_MIN) /* without a pool (no threads) the passes run here */
+        b.pool = pool_create(opt->threads < BVH_POOL_MAX ? (int)opt->threads : BVH_POOL_MAX, NULL);
+    Prep prep;
+    prep.b = &b;
+    for (int k = 0; k < BVH_POOL_MAX; k++)
+        prep.bad[k] = n;
+    pool_for(b.pool, n, BVH_POOL_MIN / 4, prep_range, &prep);
+    uint32_t bad = n;
+    for (int k = 0; k < BVH_POOL_MAX; k++)
+        bad = prep.bad[k] < bad ? prep.bad[k] : bad;
+    if (bad < n) {
+        err_set(err, "bvh: primitive %u has an empty or non-finite box", bad);
+        goto done;
     }
     switch (opt->kind) {
     case BVH_SBT: rc = bvh_build_sbt(&b, err); break;
@@ -94,6 +153,7 @@ int bvh_build(Bvh *out, const Aabb *boxes, uint32_t n, const BvhOptions *opt, Er
         rc = bvh_flatten(&b, out, err);
     out->kind = opt->kind;
 done:
+    pool_destroy(b.pool);
     free(b.centres);
     free(b.perm);
     free(b.nodes);

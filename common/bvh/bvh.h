@@ -19,6 +19,12 @@
 #define BVH_MAX_DEPTH 64
 #define BVH_MAX_PRIMS (1u << 26)
 
+/* Builds of at least BVH_POOL_MIN primitives run their passes over every
+ * primitive (boxes, references, the triangles' reordering) on a pool of
+ * opt->threads threads, at most BVH_POOL_MAX; smaller ones on the caller. */
+#define BVH_POOL_MIN 65536u
+#define BVH_POOL_MAX 64
+
 /* 32 bytes in the float build: two nodes per 64-byte cache line. */
 typedef struct __attribute__((aligned(32))) {
     real bmin[3];

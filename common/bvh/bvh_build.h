@@ -5,7 +5,9 @@
 #ifndef LANRAY_BVH_BUILD_H
 #define LANRAY_BVH_BUILD_H
 
+#include "base/pool.h"
 #include "bvh/bvh.h"
+
 
 typedef struct {
     Aabb box;
@@ -15,7 +17,7 @@ typedef struct {
 
 typedef struct {
     const Aabb *boxes;
-    vec3 *centres;
+    vec3 *centres; /* NULL for SAH, which keeps centres in its own references: aabb_centre(boxes[i]) */
     uint32_t n;
     uint32_t *perm; /* primitive indices, grouped by leaf */
     BuildNode *nodes;
@@ -23,7 +25,9 @@ typedef struct {
     uint32_t root;
     const BvhOptions *opt;
     int collapse; /* let bvh_flatten merge small subtrees into leaves by SAH */
+    uint32_t max_depth; /* the deepest node builder_run made (the root is 1); 0: not known */
     const void *aux; /* a builder's own per-primitive data */
+    Pool *pool;      /* for passes over every primitive; NULL: the caller alone */
 } Builder;
 
 /* Appends a node, returns its index or -1 when out of memory (one thread only). */
@@ -44,6 +48,9 @@ typedef int (*BuildStep)(const Builder *b, const BuildTask *t, BuildTask kids[2]
 int builder_run(Builder *b, BuildStep step, Err *err);
 /* Bounds of the primitive boxes and of their centres over perm[first, first+count). */
 void builder_bounds(const Builder *b, uint32_t first, uint32_t count, Aabb *box, Aabb *cbox);
+/* The same over every primitive, on the pool: only where no task runs (a
+ * pool takes one loop at a time). */
+void builder_bounds_all(const Builder *b, Aabb *box, Aabb *cbox);
 
 int bvh_build_sbt(Builder *b, Err *err);
 int bvh_build_sah(Builder *b, Err *err);

@@ -22,6 +22,7 @@
 #include "bvh/bvh_build.h"
 
 #define BINS 32
+#define TWO_SETS_MIN 1024 /* primitives: below, one set of bins (bin_prims) */
 #define COST_TRAVERSE R(1)
 #define COST_INTERSECT R(1)
 
@@ -52,13 +53,13 @@ typedef struct {
     uint32_t count;
 } Bin;
 
-static inline int bin_of(real c, real lo, real scale)
+static inline int bin_of(real c, real lo, real scale, int nb)
 {
     /* extreme coordinates can make this inf * 0 = NaN: clamp before converting */
     real f = (c - lo) * scale;
     if (!(f >= R(0)))
         return 0;
-    return f >= (real)BINS ? BINS - 1 : (int)f;
+    return f >= (real)nb ? nb - 1 : (int)f;
 }
 
 static inline void box4_grow(Box4 *b, const Box4 *x)
@@ -99,24 +100,26 @@ static void refs_bounds(const Box4 *refs, uint32_t first, uint32_t count, BuildT
 /* Drops each primitive's centre into a bin per axis (bin_of), growing the
  * bins' boxes.  The hot loop of the build: on x86-64 float builds the three
  * axes go at once in SSE, with the same arithmetic, so the same bins. */
-static void bin_prims(const Box4 *refs, uint32_t first, uint32_t count, const real lo[3], const real scale[3],
+static void bin_prims(const Box4 *refs, uint32_t first, uint32_t count, const real lo[3], const real scale[3], int nb,
                       Bin bins[3][BINS])
 {
 #if defined(__x86_64__) && !defined(LANRAY_DOUBLE)
     const __m128 lov = _mm_setr_ps(lo[0], lo[1], lo[2], 0), scv = _mm_setr_ps(scale[0], scale[1], scale[2], 0);
-    const __m128 half = _mm_set1_ps(0.5f), zero = _mm_setzero_ps(), last = _mm_set1_ps((float)(BINS - 1));
+    const __m128 half = _mm_set1_ps(0.5f), zero = _mm_setzero_ps(), last = _mm_set1_ps((float)(nb - 1));
     /* two sets of bins, for even and odd primitives, merged at the end:
      * neighbours (sorted by the partitions above) often share a bin, and
-     * one set makes every update wait for the last one's store */
+     * one set makes every update wait for the last one's store; a small
+     * node keeps one, where clearing and merging the second cost more */
     Bin odd[3][BINS];
-    for (int a = 0; a < 3; a++)
-        for (int i = 0; i < BINS; i++)
+    const uint32_t two = count >= TWO_SETS_MIN;
+    for (int a = 0; two && a < 3; a++)
+        for (int i = 0; i < nb; i++)
             odd[a][i] = (Bin){box4_empty, 0};
     for (uint32_t i = first; i < first + count; i++) {
-        Bin(*set)[BINS] = (i - first) & 1 ? odd : bins;
+        Bin(*set)[BINS] = (i - first) & two ? odd : bins;
         const __m128 l = _mm_load_ps(refs[i].lo), h = _mm_load_ps(refs[i].hi);
         __m128 f = _mm_mul_ps(_mm_sub_ps(_mm_mul_ps(_mm_add_ps(l, h), half), lov), scv);
-        /* bin_of: NaN or below 0 -> 0; 31 or more -> 31 (truncating min(f, 31) is the same) */
+        /* bin_of: NaN or below 0 -> 0; nb - 1 or more -> nb - 1 (truncating min(f, nb - 1) is the same) */
         f = _mm_min_ps(_mm_and_ps(f, _mm_cmpge_ps(f, zero)), last);
         const __m128i k = _mm_cvttps_epi32(f);
         const int k0 = _mm_cvtsi128_si32(k), k1 = _mm_cvtsi128_si32(_mm_shuffle_epi32(k, 1)),
@@ -132,8 +135,8 @@ static void bin_prims(const Box4 *refs, uint32_t first, uint32_t count, const re
         _mm_store_ps(b2->box.hi, _mm_max_ps(h, _mm_load_ps(b2->box.hi)));
         b2->count++;
     }
-    for (int a = 0; a < 3; a++)
-        for (int i = 0; i < BINS; i++) {
+    for (int a = 0; two && a < 3; a++)
+        for (int i = 0; i < nb; i++) {
             box4_grow(&bins[a][i].box, &odd[a][i].box);
             bins[a][i].count += odd[a][i].count;
         }
@@ -141,7 +144,7 @@ static void bin_prims(const Box4 *refs, uint32_t first, uint32_t count, const re
     for (uint32_t i = first; i < first + count; i++) {
         const vec3 c = ref_centre(&refs[i]);
         for (int a = 0; a < 3; a++) {
-            Bin *bin = &bins[a][bin_of(c.e[a], lo[a], scale[a])];
+            Bin *bin = &bins[a][bin_of(c.e[a], lo[a], scale[a], nb)];
             box4_grow(&bin->box, &refs[i]);
             bin->count++;
         }
@@ -151,60 +154,61 @@ static void bin_prims(const Box4 *refs, uint32_t first, uint32_t count, const re
 
 /* Moves the references of [first, first + count) whose centre falls in a
  * bin up to `split` of `axis` before the others, growing cl and cr by the
- * centres of each side; returns where the second side starts.  In SSE on
- * x86-64 float builds, with bin_prims' arithmetic: the same bins, so the
- * same partition. */
+ * centres of each side; returns where the second side starts.
+ *
+ * Without a branch (Lomuto's scheme: every reference is swapped with the
+ * first one not yet known to go left, which moves on when it does): on
+ * the upper levels a reference goes either way at random, and the branch
+ * that guessed was a third of the partition's time.  A centre is in a bin
+ * up to `split` exactly when (c - lo) * scale < split + 1: bin_of's
+ * arithmetic, with its clamps (NaN and negatives go to bin 0, on the left;
+ * split + 1 <= nb - 1 leaves the upper clamp out of it). */
 static uint32_t partition(Box4 *refs, uint32_t first, uint32_t count, int axis, const real lo[3], const real scale[3],
                           int split, Box4 *cl, Box4 *cr)
 {
-    uint32_t i = first, j = first + count;
+    const real lo_a = lo[axis], scale_a = scale[axis], limit = (real)(split + 1);
+    uint32_t j = first;
 #if defined(__x86_64__) && !defined(LANRAY_DOUBLE)
-    const __m128 lov = _mm_setr_ps(lo[0], lo[1], lo[2], 0), scv = _mm_setr_ps(scale[0], scale[1], scale[2], 0);
-    const __m128 half = _mm_set1_ps(0.5f), zero = _mm_setzero_ps(), last = _mm_set1_ps((float)(BINS - 1));
+    const __m128 half = _mm_set1_ps(0.5f), inf = _mm_set1_ps(INFINITY), ninf = _mm_set1_ps(-INFINITY);
     __m128 llo = _mm_load_ps(cl->lo), lhi = _mm_load_ps(cl->hi), rlo = _mm_load_ps(cr->lo), rhi = _mm_load_ps(cr->hi);
-    while (i < j) {
+    for (uint32_t i = first; i < first + count; i++) {
+        const __m128 l = _mm_load_ps(refs[i].lo), h = _mm_load_ps(refs[i].hi);
         /* lane 3 holds the index bits, halved: garbage that only lane 3 of the boxes sees */
-        const __m128 c = _mm_mul_ps(_mm_add_ps(_mm_load_ps(refs[i].lo), _mm_load_ps(refs[i].hi)), half);
-        __m128 f = _mm_mul_ps(_mm_sub_ps(c, lov), scv);
-        f = _mm_min_ps(_mm_and_ps(f, _mm_cmpge_ps(f, zero)), last);
-        _Alignas(16) int k[4];
-        _mm_store_si128((__m128i *)k, _mm_cvttps_epi32(f));
-        if (k[axis] <= split) {
-            llo = _mm_min_ps(llo, c), lhi = _mm_max_ps(lhi, c);
-            i++;
-        } else {
-            rlo = _mm_min_ps(rlo, c), rhi = _mm_max_ps(rhi, c);
-            Box4 tmp = refs[i];
-            refs[i] = refs[--j];
-            refs[j] = tmp;
-        }
+        const __m128 c = _mm_mul_ps(_mm_add_ps(l, h), half);
+        const int left = !((((refs[i].lo[axis] + refs[i].hi[axis]) * R(0.5)) - lo_a) * scale_a >= limit);
+        const __m128 m = _mm_castsi128_ps(_mm_set1_epi32(-left));
+        llo = _mm_min_ps(llo, _mm_or_ps(_mm_and_ps(m, c), _mm_andnot_ps(m, inf)));
+        lhi = _mm_max_ps(lhi, _mm_or_ps(_mm_and_ps(m, c), _mm_andnot_ps(m, ninf)));
+        rlo = _mm_min_ps(rlo, _mm_or_ps(_mm_andnot_ps(m, c), _mm_and_ps(m, inf)));
+        rhi = _mm_max_ps(rhi, _mm_or_ps(_mm_andnot_ps(m, c), _mm_and_ps(m, ninf)));
+        const __m128 jl = _mm_load_ps(refs[j].lo), jh = _mm_load_ps(refs[j].hi);
+        _mm_store_ps(refs[j].lo, l), _mm_store_ps(refs[j].hi, h);
+        _mm_store_ps(refs[i].lo, jl), _mm_store_ps(refs[i].hi, jh);
+        j += (uint32_t)left;
     }
     _mm_store_ps(cl->lo, llo), _mm_store_ps(cl->hi, lhi), _mm_store_ps(cr->lo, rlo), _mm_store_ps(cr->hi, rhi);
 #else
-    while (i < j) {
+    for (uint32_t i = first; i < first + count; i++) {
         Box4 c;
         vec3 cv = ref_centre(&refs[i]);
         for (int k = 0; k < 4; k++)
             c.lo[k] = c.hi[k] = k < 3 ? cv.e[k] : R(0);
-        if (bin_of(cv.e[axis], lo[axis], scale[axis]) <= split) {
-            box4_grow(cl, &c);
-            i++;
-        } else {
-            box4_grow(cr, &c);
-            Box4 tmp = refs[i];
-            refs[i] = refs[--j];
-            refs[j] = tmp;
-        }
+        const int left = !((cv.e[axis] - lo_a) * scale_a >= limit);
+        box4_grow(left ? cl : cr, &c);
+        Box4 tmp = refs[i];
+        refs[i] = refs[j];
+        refs[j] = tmp;
+        j += (uint32_t)left;
     }
 #endif
-    return i;
+    return j;
 }
 
 /* Small nodes: the exact SAH over every split position of the centres
  * sorted on each axis.  Cheaper than filling 96 bins for a handful of
  * primitives (clearing the bins was a fifth of the build), and better:
  * binning can only approximate these splits. */
-#define SWEEP_MAX 32
+#define SWEEP_MAX 8
 
 static int sah_sweep(const Builder *b, const BuildTask *t, BuildTask kids[2])
 {
@@ -261,6 +265,11 @@ static int sah_sweep(const Builder *b, const BuildTask *t, BuildTask kids[2])
     return 2;
 }
 
+/* Bins for a node of n primitives: fewer for small nodes, whose binning
+ * cost is mostly clearing and sweeping the bins (Embree's rule: 4 + n/20,
+ * at most BINS). */
+static int bin_count(uint32_t n) { return n >= 20 * (BINS - 4) ? BINS : 4 + (int)(n / 20); }
+
 static int sah_step(const Builder *b, const BuildTask *t, BuildTask kids[2])
 {
     if (t->count == 1)
@@ -271,13 +280,14 @@ static int sah_step(const Builder *b, const BuildTask *t, BuildTask kids[2])
     Bin bins[3][BINS];
     real lo[3], scale[3];
     vec3 ext = aabb_extent(t->cbox);
+    const int nb = bin_count(t->count);
     for (int a = 0; a < 3; a++) {
         lo[a] = t->cbox.min.e[a];
-        scale[a] = ext.e[a] > R(0) ? (real)BINS / ext.e[a] : R(0);
-        for (int i = 0; i < BINS; i++)
+        scale[a] = ext.e[a] > R(0) ? (real)nb / ext.e[a] : R(0);
+        for (int i = 0; i < nb; i++)
             bins[a][i] = (Bin){box4_empty, 0};
     }
-    bin_prims(refs, t->first, t->count, lo, scale, bins);
+    bin_prims(refs, t->first, t->count, lo, scale, nb, bins);
     real best = REAL_INF;
     int axis = -1, split = 0;
     for (int a = 0; a < 3; a++) {
@@ -288,7 +298,7 @@ static int sah_step(const Builder *b, const BuildTask *t, BuildTask kids[2])
          * boundary of the run, which is the one a sweep over every bin
          * keeps (strictly smaller wins) */
         int used[BINS], m = 0;
-        for (int i = 0; i < BINS; i++)
+        for (int i = 0; i < nb; i++)
             if (bins[a][i].count)
                 used[m++] = i;
         real right_area[BINS];
@@ -325,7 +335,7 @@ static int sah_step(const Builder *b, const BuildTask *t, BuildTask kids[2])
         uint32_t i = partition(refs, t->first, t->count, axis, lo, scale, split, &cl, &cr);
         nl = i - t->first;
         Box4 bl = box4_empty, br = box4_empty;
-        for (int k = 0; k < BINS; k++)
+        for (int k = 0; k < nb; k++)
             box4_grow(k > split ? &br : &bl, &bins[axis][k].box);
         kids[0].box = box4_aabb(&bl), kids[0].cbox = box4_aabb(&cl);
         kids[1].box = box4_aabb(&br), kids[1].cbox = box4_aabb(&cr);
@@ -341,22 +351,39 @@ static int sah_step(const Builder *b, const BuildTask *t, BuildTask kids[2])
     return 2;
 }
 
-int bvh_build_sah(Builder *b, Err *err)
+static void refs_fill(void *ctx, uint64_t lo, uint64_t hi, int thread)
 {
-    Box4 *refs = bigmem_alloc((size_t)b->n * sizeof *refs);
-    if (!refs)
-        return err_set(err, "bvh: out of memory for %u primitives", b->n);
-    for (uint32_t i = 0; i < b->n; i++) {
+    (void)thread;
+    const Builder *b = ctx;
+    Box4 *refs = (Box4 *)b->aux;
+    for (uint32_t i = (uint32_t)lo; i < hi; i++) {
         for (int k = 0; k < 4; k++) {
             refs[i].lo[k] = k < 3 ? b->boxes[i].min.e[k] : R(0);
             refs[i].hi[k] = k < 3 ? b->boxes[i].max.e[k] : R(0);
         }
         memcpy(&refs[i].hi[3], &i, sizeof i);
     }
-    b->aux = refs;
-    int rc = builder_run(b, sah_step, err);
-    for (uint32_t i = 0; rc == 0 && i < b->n; i++)
+}
+
+static void refs_perm(void *ctx, uint64_t lo, uint64_t hi, int thread)
+{
+    (void)thread;
+    const Builder *b = ctx;
+    const Box4 *refs = b->aux;
+    for (uint64_t i = lo; i < hi; i++)
         b->perm[i] = ref_id(&refs[i]);
+}
+
+int bvh_build_sah(Builder *b, Err *err)
+{
+    Box4 *refs = bigmem_alloc((size_t)b->n * sizeof *refs);
+    if (!refs)
+        return err_set(err, "bvh: out of memory for %u primitives", b->n);
+    b->aux = refs;
+    pool_for(b->pool, b->n, BVH_POOL_MIN / 4, refs_fill, b);
+    int rc = builder_run(b, sah_step, err);
+    if (rc == 0)
+        pool_for(b->pool, b->n, BVH_POOL_MIN / 4, refs_perm, b);
     free(refs);
     b->aux = NULL;
     return rc;

@@ -63,7 +63,7 @@ static void *run_worker(void *arg)
 {
     Run *r = arg;
     Builder *b = r->b;
-    uint32_t cap = 256, sp = 0, next = 0, end = 0;
+    uint32_t cap = 256, sp = 0, next = 0, end = 0, deepest = 1;
     BuildTask *stack = malloc(cap * sizeof *stack), t;
     while (stack && run_take(r, &t)) {
         stack[sp++] = t;
@@ -83,6 +83,8 @@ static void *run_worker(void *arg)
                 kids[k].depth = cur.depth + 1;
                 b->nodes[c + k] = (BuildNode){kids[k].box, -1, -1, kids[k].first, kids[k].count};
             }
+            if (cur.depth + 1 > deepest)
+                deepest = cur.depth + 1;
             b->nodes[cur.node].left = (int32_t)c;
             b->nodes[cur.node].right = (int32_t)c + 1;
             /* the bigger child is shared when a worker waits, else both stay */
@@ -109,6 +111,9 @@ static void *run_worker(void *arg)
     if (!stack)
         __atomic_store_n(&r->failed, 1, __ATOMIC_RELAXED);
     free(stack);
+    uint32_t seen = __atomic_load_n(&b->max_depth, __ATOMIC_RELAXED);
+    while (deepest > seen && !__atomic_compare_exchange_n(&b->max_depth, &seen, deepest, 1, __ATOMIC_RELAXED, __ATOMIC_RELAXED)) {
+    }
     return NULL;
 }
 
@@ -127,10 +132,11 @@ int builder_run(Builder *b, BuildStep step, Err *err)
     }
     b->node_cap = cap;
     Aabb box, cbox;
-    builder_bounds(b, 0, b->n, &box, &cbox);
+    builder_bounds_all(b, &box, &cbox);
     b->nodes[0] = (BuildNode){box, -1, -1, 0, b->n};
     b->node_count = 1;
     b->root = 0;
+    b->max_depth = 1;
     r.queue[r.queued++] = (BuildTask){0, 0, b->n, 1, box, cbox};
     r.busy = (uint32_t)r.workers; /* each worker starts by taking */
     pthread_mutex_init(&r.lock, NULL);

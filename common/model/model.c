@@ -6,6 +6,7 @@
 #include "base/bigmem.h"
 #include <string.h>
 
+#include "base/pool.h"
 #include "base/simd.h"
 
 Model *model_alloc(uint32_t tri_count, uint32_t node_count, uint32_t material_count, unsigned attrs)
@@ -62,21 +63,87 @@ static Aabb tri_box(const Tri *t)
     return b;
 }
 
+/* The passes over every triangle around the tree, on the build's threads
+ * (bvh_build runs its own). */
+typedef struct {
+    Model *m;
+    const Mesh *mesh;
+    Aabb *boxes;
+    Aabb bounds[BVH_POOL_MAX];
+    const uint32_t *order; /* leaf order */
+    Tri *tris;
+    vec3 *nrm, *cols;
+    real *uvs;
+    uint32_t *mids;
+} Pass;
+
+static void pass_copy(void *ctx, uint64_t lo, uint64_t hi, int thread)
+{
+    (void)thread;
+    Pass *w = ctx;
+    for (uint64_t i = lo; i < hi; i++)
+        for (int k = 0; k < 3; k++)
+            for (int a = 0; a < 3; a++)
+                w->m->tris[i].v[k][a] = w->mesh->pos[3 * i + k].e[a];
+}
+
+static void pass_boxes(void *ctx, uint64_t lo, uint64_t hi, int thread)
+{
+    Pass *w = ctx;
+    Aabb bounds = w->bounds[thread];
+    for (uint64_t i = lo; i < hi; i++) {
+        w->boxes[i] = tri_box(&w->m->tris[i]);
+        bounds = aabb_union(bounds, w->boxes[i]);
+    }
+    w->bounds[thread] = bounds;
+}
+
+static void pass_reorder(void *ctx, uint64_t lo, uint64_t hi, int thread)
+{
+    (void)thread;
+    Pass *w = ctx;
+    const Model *m = w->m;
+    for (uint64_t i = lo; i < hi; i++) {
+        uint32_t p = w->order[i];
+        w->tris[i] = m->tris[p];
+        if (w->nrm)
+            memcpy(&w->nrm[3 * i], &m->normals[3 * p], 3 * sizeof *w->nrm);
+        if (w->uvs)
+            memcpy(&w->uvs[6 * i], &m->uvs[6 * p], 6 * sizeof *w->uvs);
+        if (w->mids)
+            w->mids[i] = m->mat_ids[p];
+        if (w->cols)
+            memcpy(&w->cols[3 * i], &m->colours[3 * p], 3 * sizeof *w->cols);
+    }
+}
+
+/* A pool for a build's passes: NULL (the caller alone) for one thread or a small model. */
+static Pool *build_pool(uint32_t n, const BvhOptions *opt)
+{
+    if (opt->threads <= 1 || n < BVH_POOL_MIN)
+        return NULL;
+    return pool_create(opt->threads < BVH_POOL_MAX ? (int)opt->threads : BVH_POOL_MAX, NULL);
+}
+
 /* Builds the BVH over m's triangles and permutes every per-triangle array into leaf order. */
-static int model_build_bvh(Model *m, const BvhOptions *opt, Err *err)
+static int model_build_bvh(Model *m, const BvhOptions *opt, Pool *pool, Err *err)
 {
     uint32_t n = m->tri_count;
-    Aabb *boxes = bigmem_alloc((n ? n : 1) * sizeof *boxes);
-    if (!boxes)
+    Pass w;
+    memset(&w, 0, sizeof w);
+    w.m = m;
+    w.boxes = bigmem_alloc((n ? n : 1) * sizeof *w.boxes);
+    if (!w.boxes)
         return err_set(err, "model: out of memory");
+    for (int k = 0; k < BVH_POOL_MAX; k++)
+        w.bounds[k] = aabb_empty();
+    pool_for(pool, n, BVH_POOL_MIN / 4, pass_boxes, &w);
     m->bounds = aabb_empty();
-    for (uint32_t i = 0; i < n; i++) {
-        boxes[i] = tri_box(&m->tris[i]);
-        m->bounds = aabb_union(m->bounds, boxes[i]);
-    }
+    for (int k = 0; k < BVH_POOL_MAX; k++) /* minima and maxima: any order gives the same */
+        m->bounds = aabb_union(m->bounds, w.bounds[k]);
     Bvh bvh;
-    int rc = bvh_build(&bvh, boxes, n, opt, err);
-    free(boxes);
+    int rc = bvh_build(&bvh, w.boxes, n, opt, err);
+    free(w.boxes);
     if (rc)
         return rc;
     Tri *tris = bigmem_alloc((n ? n : 1) * sizeof *tris);
@@ -93,18 +160,8 @@ static int model_build_bvh(Model *m, const BvhOptions *opt, Err *err)
         bvh_destroy(&bvh);
         return err_set(err, "model: out of memory");
     }
-    for (uint32_t i = 0; i < n; i++) {
-        uint32_t p = bvh.prims[i];
-        tris[i] = m->tris[p];
-        if (nrm)
-            memcpy(&nrm[3 * i], &m->normals[3 * p], 3 * sizeof *nrm);
-        if (uvs)
-            memcpy(&uvs[6 * i], &m->uvs[6 * p], 6 * sizeof *uvs);
-        if (mids)
-            mids[i] = m->mat_ids[p];
-        if (cols)
-            memcpy(&cols[3 * i], &m->colours[3 * p], 3 * sizeof *cols);
-    }
+    w.order = bvh.prims, w.tris = tris, w.nrm = nrm, w.uvs = uvs, w.mids = mids, w.cols = cols;
+    pool_for(pool, n, BVH_POOL_MIN / 4, pass_reorder, &w);
     free(m->tris);
     free(m->normals);
     free(m->uvs);
@@ -129,10 +186,11 @@ int model_from_mesh(Model **out, const Mesh *mesh, const BvhOptions *opt, Err *e
     Model *m = model_alloc(n, 0, mesh->material_count, mesh_attrs(mesh));
     if (!m)
         return err_set(err, "model: out of memory for %u triangles", n);
-    for (uint32_t i = 0; i < n; i++)
-        for (int k = 0; k < 3; k++)
-            for (int a = 0; a < 3; a++)
-                m->tris[i].v[k][a] = mesh->pos[3 * i + k].e[a];
+    Pool *pool = build_pool(n, opt);
+    Pass w;
+    memset(&w, 0, sizeof w);
+    w.m = m, w.mesh = mesh;
+    pool_for(pool, n, BVH_POOL_MIN / 4, pass_copy, &w);
     if (m->normals)
         memcpy(m->normals, mesh->nrm, n * 3 * sizeof *m->normals);
     if (m->uvs)
@@ -142,6 +200,7 @@ int model_from_mesh(Model **out, const Mesh *mesh, const BvhOptions *opt, Err *e
     if (m->mat_ids)
         for (uint32_t i = 0; i < n; i++) {
             if (mesh->mat[i] >= mesh->material_count) {
+                pool_destroy(pool);
                 model_destroy(m);
                 return err_set(err, "model: triangle %u uses material %u of %u", i, mesh->mat[i], mesh->material_count);
             }
@@ -155,11 +214,14 @@ int model_from_mesh(Model **out, const Mesh *mesh, const BvhOptions *opt, Err *e
             if (!(m->textures[i] = texture_copy(mesh->textures[i])))
                 break;
         if (m->texture_count != mesh->texture_count) {
+            pool_destroy(pool);
             model_destroy(m);
             return err_set(err, "model: out of memory for textures");
         }
     }
-    if (model_build_bvh(m, opt, err)) {
+    int rc = model_build_bvh(m, opt, pool, err);
+    pool_destroy(pool);
+    if (rc) {
         model_destroy(m);
         return -1;
     }
@@ -171,7 +233,10 @@ int model_rebuild(Model *m, const BvhOptions *opt, Err *err)
 {
     wide_destroy(m->wide);
     m->wide = NULL;
-    return model_build_bvh(m, opt, err);
+    Pool *pool = build_pool(m->tri_count, opt);
+    int rc = model_build_bvh(m, opt, pool, err);
+    pool_destroy(pool);
+    return rc;
 }
 
 ModelBytes model_bytes(const Model *m)
