@@ -127,7 +127,10 @@ static int32_t mst_nearest(const Mst *m, int32_t q, real *dist, int32_t known)
             if (c == q || c < 0)
                 continue;
             real d = union_area(qa, m->cbox[c]);
-            if (d < best || (d == best && c < best_id)) {
+            /* best_id < 0: the first cluster found wins even at an infinite
+             * area (boxes past 1e19 overflow a float's area): without it no
+             * neighbour was found and the chain took -1 for a cluster */
+            if (d < best || (d == best && (best_id < 0 || c < best_id))) {
                 best = d;
                 best_id = c;
             }

@@ -287,6 +287,10 @@ static int sah_sweep(const Builder *b, const BuildTask *t, BuildTask kids[2])
     real split_cost = area > R(0) ? COST_TRAVERSE + COST_INTERSECT * best / area : COST_TRAVERSE;
     if (!(split_cost < COST_INTERSECT * (real)bvh_leaf_blocks(n)) && n <= b->opt->max_leaf)
         return 0;
+    if (axis < 0) { /* every cost overflowed (boxes past 1e19 in a float build): the median of the widest axis */
+        axis = v3_max_axis(aabb_extent(t->cbox));
+        split = n / 2;
+    }
     Box4 sorted[SWEEP_MAX];
     for (uint32_t j = 0; j < n; j++)
         sorted[j] = refs[order[axis][j]];
