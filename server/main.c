@@ -32,8 +32,7 @@ typedef struct {
     Server *server;
     Scene *scene;
     int width, height;
-    int hdr;       /* frames are RGBE: written as .hdr, shown through view */
-    uint8_t *view; /* hdr: the frame as sRGB codes for the window */
+    uint8_t *view; /* settings hdr: the RGBE frame as sRGB codes for the window */
     uint32_t frames_done, frames_wanted;
     double last_title, fps_t0;
     uint32_t fps_frames;
@@ -65,8 +64,9 @@ static void verify_frame(App *a, uint32_t frame, const uint8_t *pixels)
 static int write_frame(const App *a, const char *stem, uint32_t n, const uint8_t *pixels, Err *err, char *path,
                        size_t size)
 {
-    snprintf(path, size, "%s-%05u.%s", stem, n, a->hdr ? "hdr" : "png");
-    ImageEncoding enc = a->hdr ? IMAGE_RGBE : a->scene->settings.linear ? IMAGE_LINEAR : IMAGE_SRGB;
+    const RenderSettings *rs = &a->scene->settings;
+    snprintf(path, size, "%s-%05u.%s", stem, n, rs->hdr ? "hdr" : "png");
+    ImageEncoding enc = rs->hdr ? IMAGE_RGBE : rs->linear ? IMAGE_LINEAR : IMAGE_SRGB;
     return image_write(path, a->width, a->height, pixels, enc, err);
 }
 
@@ -79,9 +79,9 @@ static void on_frame(void *ctx, uint32_t frame, const uint8_t *pixels)
     if (a->verify)
         verify_frame(a, frame, pixels);
     if (a->display) {
-        if (a->hdr)
+        if (a->view)
             srgb_from_rgbe(pixels, (size_t)a->width * a->height, pow(2.0, (double)a->scene->settings.exposure), a->view);
-        display_show(a->display, a->hdr ? a->view : pixels);
+        display_show(a->display, a->view ? a->view : pixels);
         if (a->screenshot) {
             char path[512];
             if (write_frame(a, "lanray-screenshot", frame, pixels, &err, path, sizeof path))
@@ -266,7 +266,6 @@ int main(int argc, char **argv)
     app.scene = scene;
     app.width = cfg.width;
     app.height = cfg.height;
-    app.hdr = hdr;
     app.frames_wanted = (uint32_t)frames;
     if (verify_path) {
         int vw, vh;

@@ -68,7 +68,7 @@ static void bounds_run(const Builder *b, Pool *pool, uint32_t first, uint32_t co
     for (int k = 0; k < BVH_POOL_MAX; k++)
         w.box[k] = w.cbox[k] = aabb_empty();
     /* minima and maxima: the same boxes in any order and cut */
-    pool_for(pool, count, BVH_POOL_MIN / 4, bounds_range, &w);
+    pool_for(pool, count, BVH_POOL_GRAIN, bounds_range, &w);
     Aabb bb = aabb_empty(), cb = aabb_empty();
     for (int k = 0; k < BVH_POOL_MAX; k++)
         bb = aabb_union(bb, w.box[k]), cb = aabb_union(cb, w.cbox[k]);
@@ -107,7 +107,22 @@ static void prep_range(void *ctx, uint64_t lo, uint64_t hi, int thread)
     }
 }
 
+Pool *bvh_pool_create(uint32_t n, const BvhOptions *opt)
+{
+    if (opt->threads <= 1 || n < BVH_POOL_MIN)
+        return NULL;
+    return pool_create(opt->threads < BVH_POOL_MAX ? (int)opt->threads : BVH_POOL_MAX, NULL);
+}
+
 int bvh_build(Bvh *out, const Aabb *boxes, uint32_t n, const BvhOptions *opt, Err *err)
+{
+    Pool *pool = bvh_pool_create(n, opt);
+    int rc = bvh_build_on(out, boxes, n, opt, pool, err);
+    pool_destroy(pool);
+    return rc;
+}
+
+int bvh_build_on(Bvh *out, const Aabb *boxes, uint32_t n, const BvhOptions *opt, Pool *pool, Err *err)
 {
     memset(out, 0, sizeof *out);
     out->kind = opt->kind;
@@ -121,6 +136,7 @@ int bvh_build(Bvh *out, const Aabb *boxes, uint32_t n, const BvhOptions *opt, Er
     b.boxes = boxes;
     b.n = n;
     b.opt = opt;
+    b.pool = pool;
     const int centres = opt->kind != BVH_SAH; /* SAH keeps them in its references */
     b.centres = centres ? bigmem_alloc(n * sizeof *b.centres) : NULL;
     b.perm = bigmem_alloc(n * sizeof *b.perm);
@@ -129,13 +145,11 @@ int bvh_build(Bvh *out, const Aabb *boxes, uint32_t n, const BvhOptions *opt, Er
         err_set(err, "bvh: out of memory for %u primitives", n);
         goto done;
     }
-    if (opt->threads > 1 && n >= BVH_POOL_MIN) /* without a pool (no threads) the passes run here */
-        b.pool = pool_create(opt->threads < BVH_POOL_MAX ? (int)opt->threads : BVH_POOL_MAX, NULL);
     Prep prep;
     prep.b = &b;
     for (int k = 0; k < BVH_POOL_MAX; k++)
         prep.bad[k] = n;
-    pool_for(b.pool, n, BVH_POOL_MIN / 4, prep_range, &prep);
+    pool_for(b.pool, n, BVH_POOL_GRAIN, prep_range, &prep);
     uint32_t bad = n;
     for (int k = 0; k < BVH_POOL_MAX; k++)
         bad = prep.bad[k] < bad ? prep.bad[k] : bad;
@@ -153,7 +167,6 @@ int bvh_build(Bvh *out, const Aabb *boxes, uint32_t n, const BvhOptions *opt, Er
         rc = bvh_flatten(&b, out, err);
     out->kind = opt->kind;
 done:
-    pool_destroy(b.pool);
     free(b.centres);
     free(b.perm);
     free(b.nodes);

@@ -14,6 +14,7 @@
 
 #include "geom/aabb.h"
 #include "base/err.h"
+#include "base/pool.h"
 #include "geom/ray.h"
 
 #define BVH_MAX_DEPTH 64
@@ -24,6 +25,7 @@
  * opt->threads threads, at most BVH_POOL_MAX; smaller ones on the caller. */
 #define BVH_POOL_MIN 65536u
 #define BVH_POOL_MAX 64
+#define BVH_POOL_GRAIN (BVH_POOL_MIN / 4) /* primitives a pool_for range holds at least */
 
 /* 32 bytes in the float build: two nodes per 64-byte cache line. */
 typedef struct __attribute__((aligned(32))) {
@@ -64,6 +66,13 @@ typedef struct {
 BvhOptions bvh_options_default(BvhKind kind);
 /* Builds over n boxes. Empty boxes are not allowed (callers drop degenerate input). */
 int bvh_build(Bvh *out, const Aabb *boxes, uint32_t n, const BvhOptions *opt, Err *err);
+/* The pool for a build of n primitives: NULL (the caller alone) for one
+ * thread or fewer than BVH_POOL_MIN primitives, or when no thread starts. */
+Pool *bvh_pool_create(uint32_t n, const BvhOptions *opt);
+/* bvh_build on the caller's pool (from bvh_pool_create, or NULL), so that
+ * a model's passes around the tree and the tree's own share one set of
+ * threads. */
+int bvh_build_on(Bvh *out, const Aabb *boxes, uint32_t n, const BvhOptions *opt, Pool *pool, Err *err);
 void bvh_destroy(Bvh *b);
 /* Allocates b->nodes for count nodes.  Sibling pairs always start at odd
  * indices (the root is 0, then pairs follow), so the array is placed 32 bytes

@@ -419,10 +419,10 @@ int bvh_build_sah(Builder *b, Err *err)
     if (!refs)
         return err_set(err, "bvh: out of memory for %u primitives", b->n);
     b->aux = refs;
-    pool_for(b->pool, b->n, BVH_POOL_MIN / 4, refs_fill, b);
+    pool_for(b->pool, b->n, BVH_POOL_GRAIN, refs_fill, b);
     int rc = builder_run(b, sah_step, err);
     if (rc == 0)
-        pool_for(b->pool, b->n, BVH_POOL_MIN / 4, refs_perm, b);
+        pool_for(b->pool, b->n, BVH_POOL_GRAIN, refs_perm, b);
     free(refs);
     b->aux = NULL;
     return rc;

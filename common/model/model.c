@@ -6,7 +6,6 @@
 #include "base/bigmem.h"
 #include <string.h>
 
-#include "base/pool.h"
 #include "base/simd.h"
 
 Model *model_alloc(uint32_t tri_count, uint32_t node_count, uint32_t material_count, unsigned attrs)
@@ -63,8 +62,8 @@ static Aabb tri_box(const Tri *t)
     return b;
 }
 
-/* The passes over every triangle around the tree, on the build's threads
- * (bvh_build runs its own). */
+/* The passes over every triangle around the tree, on the build's pool
+ * (which the tree's passes share: bvh_build_on). */
 typedef struct {
     Model *m;
     const Mesh *mesh;
@@ -117,14 +116,6 @@ static void pass_reorder(void *ctx, uint64_t lo, uint64_t hi, int thread)
     }
 }
 
-/* A pool for a build's passes: NULL (the caller alone) for one thread or a small model. */
-static Pool *build_pool(uint32_t n, const BvhOptions *opt)
-{
-    if (opt->threads <= 1 || n < BVH_POOL_MIN)
-        return NULL;
-    return pool_create(opt->threads < BVH_POOL_MAX ? (int)opt->threads : BVH_POOL_MAX, NULL);
-}
-
 /* Builds the BVH over m's triangles and permutes every per-triangle array into leaf order. */
 static int model_build_bvh(Model *m, const BvhOptions *opt, Pool *pool, Err *err)
 {
@@ -137,12 +128,12 @@ static int model_build_bvh(Model *m, const BvhOptions *opt, Pool *pool, Err *err
         return err_set(err, "model: out of memory");
     for (int k = 0; k < BVH_POOL_MAX; k++)
         w.bounds[k] = aabb_empty();
-    pool_for(pool, n, BVH_POOL_MIN / 4, pass_boxes, &w);
+    pool_for(pool, n, BVH_POOL_GRAIN, pass_boxes, &w);
     m->bounds = aabb_empty();
     for (int k = 0; k < BVH_POOL_MAX; k++) /* minima and maxima: any order gives the same */
         m->bounds = aabb_union(m->bounds, w.bounds[k]);
     Bvh bvh;
-    int rc = bvh_build(&bvh, w.boxes, n, opt, err);
+    int rc = bvh_build_on(&bvh, w.boxes, n, opt, pool, err);
     free(w.boxes);
     if (rc)
         return rc;
@@ -161,7 +152,7 @@ static int model_build_bvh(Model *m, const BvhOptions *opt, Pool *pool, Err *err
         return err_set(err, "model: out of memory");
     }
     w.order = bvh.prims, w.tris = tris, w.nrm = nrm, w.uvs = uvs, w.mids = mids, w.cols = cols;
-    pool_for(pool, n, BVH_POOL_MIN / 4, pass_reorder, &w);
+    pool_for(pool, n, BVH_POOL_GRAIN, pass_reorder, &w);
     free(m->tris);
     free(m->normals);
     free(m->uvs);
@@ -186,11 +177,11 @@ int model_from_mesh(Model **out, const Mesh *mesh, const BvhOptions *opt, Err *e
     Model *m = model_alloc(n, 0, mesh->material_count, mesh_attrs(mesh));
     if (!m)
         return err_set(err, "model: out of memory for %u triangles", n);
-    Pool *pool = build_pool(n, opt);
+    Pool *pool = bvh_pool_create(n, opt);
     Pass w;
     memset(&w, 0, sizeof w);
     w.m = m, w.mesh = mesh;
-    pool_for(pool, n, BVH_POOL_MIN / 4, pass_copy, &w);
+    pool_for(pool, n, BVH_POOL_GRAIN, pass_copy, &w);
     if (m->normals)
         memcpy(m->normals, mesh->nrm, n * 3 * sizeof *m->normals);
     if (m->uvs)
@@ -233,7 +224,7 @@ int model_rebuild(Model *m, const BvhOptions *opt, Err *err)
 {
     wide_destroy(m->wide);
     m->wide = NULL;
-    Pool *pool = build_pool(m->tri_count, opt);
+    Pool *pool = bvh_pool_create(m->tri_count, opt);
     int rc = model_build_bvh(m, opt, pool, err);
     pool_destroy(pool);
     return rc;
