@@ -215,6 +215,38 @@ static void slab_test(void **state)
     assert_float_equal(tn, 5, EPS);
 }
 
+/* real_next_up/down (the shadow rays' origins) are libm's nextafter, bit
+ * for bit, at zeros, subnormals, powers of two, the largest values and
+ * infinities, and over a sweep of bit patterns of both signs. */
+static void next_up_and_down_are_nextafter(void **state)
+{
+    (void)state;
+    const real special[] = {R(0), -R(0), REAL_MAX, -REAL_MAX, REAL_INF, -REAL_INF, R(1), -R(1), REAL_EPS,
+                            R(1e-40), -R(1e-40), R(1e30), R(-3.5), R(0.1)};
+    int checked = 0;
+    for (size_t i = 0; i < sizeof special / sizeof special[0]; i++) {
+        real x = special[i], up = nextafter(x, REAL_INF), down = nextafter(x, -REAL_INF);
+        real a = real_next_up(x), b = real_next_down(x);
+        assert_memory_equal(&a, &up, sizeof a);
+        assert_memory_equal(&b, &down, sizeof b);
+        checked++;
+    }
+    for (uint32_t k = 0; k < 200000; k++) {
+        uint64_t bits = (uint64_t)k * 0x9E3779B97F4A7C15ull;
+        real x;
+        memcpy(&x, &bits, sizeof x); /* the low bytes: any pattern, either sign */
+        if (isnan(x))
+            continue;
+        real up = nextafter(x, REAL_INF), down = nextafter(x, -REAL_INF), a = real_next_up(x), b = real_next_down(x);
+        assert_memory_equal(&a, &up, sizeof a);
+        assert_memory_equal(&b, &down, sizeof b);
+        checked++;
+    }
+    assert_true(checked > 100000);
+    real n = NAN;
+    assert_true(isnan(real_next_up(n)) && isnan(real_next_down(n)));
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -225,6 +257,7 @@ int main(void)
         cmocka_unit_test(triangle_fan_edges_are_watertight),
         cmocka_unit_test(octahedron_edges_and_vertices_do_not_leak),
         cmocka_unit_test(slab_test),
+        cmocka_unit_test(next_up_and_down_are_nextafter),
     };
     return cmocka_run_group_tests_name("intersect", tests, NULL, NULL);
 }

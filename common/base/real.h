@@ -10,6 +10,7 @@
 
 #include <float.h>
 #include <stdint.h>
+#include <string.h>
 #include <tgmath.h>
 
 #ifdef LANRAY_DOUBLE
@@ -40,5 +41,30 @@ static inline real real_min(real a, real b) { return a < b ? a : b; }
 static inline real real_max(real a, real b) { return a > b ? a : b; }
 static inline real real_clamp(real x, real lo, real hi) { return x < lo ? lo : (x > hi ? hi : x); }
 static inline int real_is_finite(real x) { return isfinite(x); }
+
+/* nextafter(x, +inf), inline: the next representable value above x (the
+ * least subnormal above a zero; infinity and NaN stay).  libm's is a call
+ * per coordinate of every shadow ray's origin. */
+static inline real real_next_up(real x)
+{
+#ifdef LANRAY_DOUBLE
+    uint64_t b;
+#else
+    uint32_t b;
+#endif
+    if (!(x < REAL_INF)) /* +inf, NaN */
+        return x;
+    if (x == R(0))
+        b = 1;
+    else {
+        memcpy(&b, &x, sizeof b);
+        b = x > R(0) ? b + 1 : b - 1; /* the magnitude's bits count up from zero on either sign */
+    }
+    memcpy(&x, &b, sizeof b);
+    return x;
+}
+
+/* nextafter(x, -inf) */
+static inline real real_next_down(real x) { return -real_next_up(-x); }
 
 #endif

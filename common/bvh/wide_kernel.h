@@ -14,6 +14,7 @@
  * bit; see wide.h for why the visiting order does not matter. */
 #include <assert.h>
 #include <immintrin.h>
+#include <string.h>
 
 #include "bvh/wide.h"
 
@@ -81,13 +82,17 @@ static inline __attribute__((always_inline)) int wide_tris_hit(const WideTris *b
     }
     const __m128 neg = _mm_or_ps(_mm_or_ps(_mm_cmplt_ps(U, zero), _mm_cmplt_ps(V, zero)), _mm_cmplt_ps(W, zero));
     const __m128 pos = _mm_or_ps(_mm_or_ps(_mm_cmpgt_ps(U, zero), _mm_cmpgt_ps(V, zero)), _mm_cmpgt_ps(W, zero));
+    const __m128 outside = _mm_and_ps(neg, pos);
+    /* most blocks a ray reaches it passes by: stop before the division */
+    if (_mm_movemask_ps(outside) == 0xf)
+        return 0;
     const __m128 det = U + V + W;
     const __m128 T = U * (k->sz * az) + V * (k->sz * bz) + W * (k->sz * cz);
     const __m128 inv = _mm_set1_ps(1.0f) / det;
     const __m128 t = T * inv;
     const __m128 vt = _mm_set1_ps(tmax);
     __m128 ok = _mm_and_ps(_mm_cmpgt_ps(t, k->tmin), upto ? _mm_cmple_ps(t, vt) : _mm_cmplt_ps(t, vt));
-    ok = _mm_andnot_ps(_mm_or_ps(_mm_and_ps(neg, pos), _mm_cmpeq_ps(det, zero)), ok);
+    ok = _mm_andnot_ps(_mm_or_ps(outside, _mm_cmpeq_ps(det, zero)), ok);
     *t_out = t, *v_out = V, *w_out = W, *inv_out = inv;
     return _mm_movemask_ps(ok);
 }
@@ -144,7 +149,19 @@ static inline __attribute__((always_inline)) int wide_take(const WideTris *blk, 
 #define WIDE_STACK (BVH_MAX_DEPTH * (NW - 1) + NW)
 
 /* Children hit, nearest last: all but the last go on the stack. */
-static inline __attribute__((always_inline)) WideEntry wide_sort_push(const float *node, int mask, VN lo,
+/* The start of a child's memory, fetched while its siblings are tested:
+ * a big model's nodes and leaves miss the cache. */
+static inline __attribute__((always_inline)) void wide_prefetch(const Wide *w, uint32_t id, uint32_t blocks)
+{
+    const char *m = blocks ? (const char *)&w->tris[id] : (const char *)WIDE_NODE(w, id);
+    _mm_prefetch(m, _MM_HINT_T0);
+    _mm_prefetch(m + 64, _MM_HINT_T0);
+    _mm_prefetch(m + 128, _MM_HINT_T0);
+    if (!blocks && NW == 8)
+        _mm_prefetch(m + 192, _MM_HINT_T0);
+}
+
+static inline __attribute__((always_inline)) WideEntry wide_sort_push(const Wide *w, const float *node, int mask, VN lo,
                                                                      WideEntry *stack, uint32_t *sp)
 {
     const uint32_t *child = (const uint32_t *)(const void *)(node + WIDE_BOX_FLOATS(NW));
@@ -157,6 +174,7 @@ static inline __attribute__((always_inline)) WideEntry wide_sort_push(const floa
         int i = __builtin_ctz((unsigned)mask);
         mask &= mask - 1;
         WideEntry x = {child[i], blocks[i], tn[i], 0};
+        wide_prefetch(w, x.id, x.blocks);
         int j = n++;
         while (j > 0 && e[j - 1].t < x.t) { /* farthest first */
             e[j] = e[j - 1];
@@ -173,7 +191,7 @@ static inline __attribute__((always_inline)) WideEntry wide_sort_push(const floa
 
 /* The next node of a single ray: the only child hit, or the nearest of
  * several with the others pushed. */
-static inline __attribute__((always_inline)) void wide_descend(const float *box, int mask, VN lo, WideEntry *stack,
+static inline __attribute__((always_inline)) void wide_descend(const Wide *w, const float *box, int mask, VN lo, WideEntry *stack,
                                                               uint32_t *sp, uint32_t *cur, uint32_t *cur_blocks)
 {
     if ((mask & (mask - 1)) == 0) {
@@ -181,7 +199,7 @@ static inline __attribute__((always_inline)) void wide_descend(const float *box,
         *cur = ((const uint32_t *)(const void *)(box + WIDE_BOX_FLOATS(NW)))[i];
         *cur_blocks = ((const uint8_t *)box + WIDE_BLOCKS_OFFSET(NW))[i];
     } else {
-        WideEntry e = wide_sort_push(box, mask, lo, stack, sp);
+        WideEntry e = wide_sort_push(w, box, mask, lo, stack, sp);
         *cur = e.id, *cur_blocks = e.blocks;
     }
 }
@@ -203,7 +221,7 @@ int KERNEL_CLOSEST(const Wide *w, const Ray *r, real tmax, uint32_t tie, WideHit
             int mask;
             WIDE_NODE_TEST(box, best, lo, mask);
             if (mask) {
-                wide_descend(box, mask, lo, stack, &sp, &cur, &cur_blocks);
+                wide_descend(w, box, mask, lo, stack, &sp, &cur, &cur_blocks);
                 continue;
             }
         } else {
@@ -239,7 +257,7 @@ int KERNEL_ANY(const Wide *w, const Ray *r, real tmax)
             int mask;
             WIDE_NODE_TEST(box, tmax, lo, mask);
             if (mask) {
-                wide_descend(box, mask, lo, stack, &sp, &cur, &cur_blocks);
+                wide_descend(w, box, mask, lo, stack, &sp, &cur, &cur_blocks);
                 continue;
             }
         } else {
@@ -328,33 +346,72 @@ static inline __attribute__((always_inline)) int wide_packet_node(const WidePack
     return VN_LE_MASK(lo, hi * VN_SET1(BVH_FUDGE));
 }
 
-/* The rays of `rays` whose own slab test enters child k of a node. */
-static inline __attribute__((always_inline)) uint32_t wide_packet_rays(const float *box, int k, const Ray *const *rays,
-                                                                       uint32_t active, const float *tmax)
+/* The packet's rays side by side, one lane each (lanes past n repeat ray
+ * 0), for the test of a leaf child against every ray at once.  A vector of
+ * WIDE_PACKET floats: one AVX register in the AVX2 kernel, two SSE ones in
+ * the SSE kernel (GCC's vector extension splits it). */
+#ifndef WIDE_LANES_COMMON
+#define WIDE_LANES_COMMON
+typedef float WideLanes __attribute__((vector_size(4 * WIDE_PACKET)));
+typedef int32_t WideLaneBits __attribute__((vector_size(4 * WIDE_PACKET)));
+
+typedef struct {
+    WideLanes o[3], inv[3], tmin;
+} WideRays;
+
+static inline __attribute__((always_inline)) void wide_rays_setup(WideRays *q, const Ray *const *rays, int n)
 {
-    uint32_t hit = 0;
-    while (active) {
-        int i = __builtin_ctz(active);
-        active &= active - 1;
-        const Ray *r = rays[i];
-        float lo = r->tmin, hi = tmax[i];
-        for (int a = 0; a < 3; a++) {
-            const int pos = r->inv.e[a] >= 0;
-            float t0 = (box[(pos ? a : a + 3) * NW + k] - r->org.e[a]) * r->inv.e[a];
-            float t1 = (box[(pos ? a + 3 : a) * NW + k] - r->org.e[a]) * r->inv.e[a];
-            lo = t0 > lo ? t0 : lo;
-            hi = t1 < hi ? t1 : hi;
-        }
-        if (lo <= hi * BVH_FUDGE)
-            hit |= 1u << i;
+    float o[3][WIDE_PACKET], inv[3][WIDE_PACKET], tmin[WIDE_PACKET];
+    for (int i = 0; i < WIDE_PACKET; i++) {
+        const Ray *r = rays[i < n ? i : 0];
+        for (int a = 0; a < 3; a++)
+            o[a][i] = r->org.e[a], inv[a][i] = r->inv.e[a];
+        tmin[i] = r->tmin;
     }
-    return hit;
+    for (int a = 0; a < 3; a++) {
+        memcpy(&q->o[a], o[a], sizeof q->o[a]);
+        memcpy(&q->inv[a], inv[a], sizeof q->inv[a]);
+    }
+    memcpy(&q->tmin, tmin, sizeof q->tmin);
+}
+
+#endif
+
+/* The rays of `active` whose own slab test enters child k of a node, all
+ * rays at once.  Every ray of a packet has the signs of p's directions
+ * (wide_packet_setup), so its entry and exit rows are p's; each lane is
+ * the single-ray test's arithmetic (WIDE_NODE_TEST).  tmax: WIDE_PACKET
+ * limits (lanes past the packet's rays are masked off). */
+static inline __attribute__((always_inline)) uint32_t wide_packet_rays(const float *box, int k, const WidePacket *p,
+                                                                       const WideRays *q, uint32_t active,
+                                                                       const float *tmax)
+{
+    WideLanes lo = q->tmin, hi;
+    memcpy(&hi, tmax, sizeof hi);
+    for (int a = 0; a < 3; a++) {
+        const WideLanes t0 = (box[p->n[a] + k] - q->o[a]) * q->inv[a];
+        const WideLanes t1 = (box[p->f[a] + k] - q->o[a]) * q->inv[a];
+        /* t0 > lo ? t0 : lo and t1 < hi ? t1 : hi: a NaN keeps the bound, as VN_MAX and VN_MIN do */
+        const WideLaneBits up = t0 > lo, down = t1 < hi;
+        lo = (WideLanes)(((WideLaneBits)t0 & up) | ((WideLaneBits)lo & ~up));
+        hi = (WideLanes)(((WideLaneBits)t1 & down) | ((WideLaneBits)hi & ~down));
+    }
+    const WideLaneBits in = lo <= hi * BVH_FUDGE;
+#if NW == 8
+    const uint32_t bits = (uint32_t)_mm256_movemask_ps((__m256)in);
+#else
+    __m128 half[2];
+    memcpy(half, &in, sizeof half);
+    const uint32_t bits = (uint32_t)(_mm_movemask_ps(half[0]) | _mm_movemask_ps(half[1]) << 4);
+#endif
+    return bits & active;
 }
 
 /* Pushes the children hit (farthest first) and returns the nearest; leaf
  * children carry the rays that enter them. */
-static inline __attribute__((always_inline)) WideEntry wide_packet_push(const float *box, int mask, VN lo,
-                                                                       const Ray *const *rays, uint32_t active,
+static inline __attribute__((always_inline)) WideEntry wide_packet_push(const Wide *w, const float *box, int mask, VN lo,
+                                                                       const WidePacket *p, const WideRays *q,
+                                                                       uint32_t active,
                                                                        const float *tmax, WideEntry *stack,
                                                                        uint32_t *sp)
 {
@@ -367,10 +424,11 @@ static inline __attribute__((always_inline)) WideEntry wide_packet_push(const fl
     while (mask) {
         int i = __builtin_ctz((unsigned)mask);
         mask &= mask - 1;
-        uint32_t rs = blocks[i] ? wide_packet_rays(box, i, rays, active, tmax) : active;
+        uint32_t rs = blocks[i] ? wide_packet_rays(box, i, p, q, active, tmax) : active;
         if (!rs)
             continue;
         WideEntry x = {child[i], blocks[i], tn[i], rs};
+        wide_prefetch(w, x.id, x.blocks);
         int j = n++;
         while (j > 0 && e[j - 1].t < x.t) {
             e[j] = e[j - 1];
@@ -409,13 +467,15 @@ uint32_t KERNEL_CLOSEST_PACKET(const Wide *w, const Ray *const *rays, int n, con
     }
     const uint32_t all = n == 32 ? ~0u : (1u << n) - 1;
     WideRay k[WIDE_PACKET];
-    float best[WIDE_PACKET];
+    float best[WIDE_PACKET] = {0};
     uint32_t best_idx[WIDE_PACKET];
     for (int i = 0; i < n; i++) {
         wide_ray_setup(&k[i], rays[i]);
         best[i] = tmax[i];
         best_idx[i] = tie[i];
     }
+    WideRays q;
+    wide_rays_setup(&q, rays, n);
     float far = wide_max_of(best, all);
     WideEntry stack[WIDE_STACK];
     uint32_t sp = 0;
@@ -426,7 +486,7 @@ uint32_t KERNEL_CLOSEST_PACKET(const Wide *w, const Ray *const *rays, int n, con
             VN lo;
             int mask = wide_packet_node(&p, box, far, &lo);
             if (mask) {
-                cur = wide_packet_push(box, mask, lo, rays, all, best, stack, &sp);
+                cur = wide_packet_push(w, box, mask, lo, &p, &q, all, best, stack, &sp);
                 if (cur.rays)
                     continue;
             }
@@ -492,11 +552,13 @@ uint32_t KERNEL_ANY_PACKET(const Wide *w, const Ray *const *rays, int n, const r
     }
     const uint32_t all = n == 32 ? ~0u : (1u << n) - 1;
     WideRay k[WIDE_PACKET];
-    float tm[WIDE_PACKET];
+    float tm[WIDE_PACKET] = {0};
     for (int i = 0; i < n; i++) {
         wide_ray_setup(&k[i], rays[i]);
         tm[i] = tmax[i];
     }
+    WideRays q;
+    wide_rays_setup(&q, rays, n);
     float far = wide_max_of(tm, all);
     WideEntry stack[WIDE_STACK];
     uint32_t sp = 0;
@@ -508,7 +570,7 @@ uint32_t KERNEL_ANY_PACKET(const Wide *w, const Ray *const *rays, int n, const r
             VN lo;
             int mask = wide_packet_node(&p, box, far, &lo);
             if (mask) {
-                cur = wide_packet_push(box, mask, lo, rays, active, tm, stack, &sp);
+                cur = wide_packet_push(w, box, mask, lo, &p, &q, active, tm, stack, &sp);
                 if (cur.rays)
                     continue;
             }

@@ -481,9 +481,9 @@ vec3 trace_offset_origin(vec3 p, vec3 n, real err)
     vec3 o = v3_madd(p, n, d);
     for (int a = 0; a < 3; a++) {
         if (n.e[a] > R(0))
-            o.e[a] = nextafter(o.e[a], REAL_INF);
+            o.e[a] = real_next_up(o.e[a]);
         else if (n.e[a] < R(0))
-            o.e[a] = nextafter(o.e[a], -REAL_INF);
+            o.e[a] = real_next_down(o.e[a]);
     }
     return o;
 }
