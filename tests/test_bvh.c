@@ -117,7 +117,10 @@ static void check_packets(const Model *m, Rng *rng, int packets)
         int n = 2 + (int)(rng_next(rng) % (WIDE_PACKET - 1));
         for (int i = 0; i < n; i++) {
             vec3 o = pk % 4 == 3 ? v3_add(org, v3_scale(rng_dir(rng), spread)) : org; /* shadow rays: many origins */
-            rays[i] = ray_make(o, v3_sub(v3_add(target, v3_scale(rng_vec(rng, -1, 1), spread)), o), 0, REAL_INF);
+            vec3 d = v3_sub(v3_add(target, v3_scale(rng_vec(rng, -1, 1), spread)), o);
+            if (pk % 7 == 6 && i == n / 2) /* a packet the interval test must refuse: a zero, a subnormal component */
+                d.e[pk % 3] = pk % 2 ? R(0) : R(1e-40) * (d.e[pk % 3] < 0 ? -1 : 1);
+            rays[i] = ray_make(o, d, 0, REAL_INF);
             rp[i] = &rays[i];
             tmax[i] = pk % 5 == 4 ? radius * rng_real(rng, R(0.2), R(2)) : REAL_INF;
             at[i] = (int)(rng_next(rng) % 2);

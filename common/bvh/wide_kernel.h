@@ -287,6 +287,39 @@ int KERNEL_ANY(const Wide *w, const Ray *r, real tmax)
  * ray by ray, each ray with the single-ray triangle test, so each ray ends
  * with the hit it would have found alone. */
 
+/* The packet's rays side by side, one lane each (lanes past n repeat ray
+ * 0), for the test of a leaf child against every ray at once.  A vector of
+ * WIDE_PACKET floats: one AVX register in the AVX2 kernel, two SSE ones in
+ * the SSE kernel (GCC's vector extension splits it). */
+#ifndef WIDE_LANES_COMMON
+#define WIDE_LANES_COMMON
+typedef float WideLanes __attribute__((vector_size(4 * WIDE_PACKET)));
+typedef int32_t WideLaneBits __attribute__((vector_size(4 * WIDE_PACKET)));
+
+typedef struct {
+    WideLanes o[3], inv[3], tmin;
+} WideRays;
+
+_Static_assert(WIDE_PACKET == 8, "the packet set-up reads a packet as two SSE registers");
+
+/* The least and the greatest of WIDE_PACKET floats (origins, inverse
+ * directions: finite or infinite, never NaN in a packet that is kept) */
+static inline __attribute__((always_inline)) float wide_hmin(const float *v)
+{
+    __m128 m = _mm_min_ps(_mm_loadu_ps(v), _mm_loadu_ps(v + 4));
+    m = _mm_min_ps(m, _mm_movehl_ps(m, m));
+    return _mm_cvtss_f32(_mm_min_ss(m, _mm_shuffle_ps(m, m, 1)));
+}
+
+static inline __attribute__((always_inline)) float wide_hmax(const float *v)
+{
+    __m128 m = _mm_max_ps(_mm_loadu_ps(v), _mm_loadu_ps(v + 4));
+    m = _mm_max_ps(m, _mm_movehl_ps(m, m));
+    return _mm_cvtss_f32(_mm_max_ss(m, _mm_shuffle_ps(m, m, 1)));
+}
+
+#endif
+
 typedef struct {
     VN o_near[3], o_far[3]; /* the origin bound giving the least entry / greatest exit, per axis */
     VN ilo[3], ihi[3];
@@ -294,41 +327,46 @@ typedef struct {
     int n[3], f[3];         /* rows of the entry and exit bounds */
 } WidePacket;
 
-/* Fills the packet bounds; 0 when the rays are not coherent enough. */
-static inline __attribute__((always_inline)) int wide_packet_setup(WidePacket *p, const Ray *const *rays, int n)
+/* Fills the packet bounds and the rays' lanes; 0 when the rays are not
+ * coherent enough: a direction component zero, not finite or of another
+ * sign than the others' (0 < |1/d| < inf holds exactly when d is finite,
+ * nonzero and its reciprocal does not overflow), or origins spread wider
+ * than `spread` on an axis. */
+static inline __attribute__((always_inline)) int wide_packet_setup(WidePacket *p, WideRays *q, const Ray *const *rays,
+                                                                   int n, float spread)
 {
-    float olo[3], ohi[3], ilo[3], ihi[3], tmin = rays[0]->tmin;
+    float o[3][WIDE_PACKET], inv[3][WIDE_PACKET], tmin[WIDE_PACKET];
+    for (int i = 0; i < WIDE_PACKET; i++) {
+        const Ray *r = rays[i < n ? i : 0]; /* lanes past n repeat ray 0: bounds and tests unchanged */
+        for (int a = 0; a < 3; a++)
+            o[a][i] = r->org.e[a], inv[a][i] = r->inv.e[a];
+        tmin[i] = r->tmin;
+    }
+    const __m128 inf = _mm_set1_ps(INFINITY), ninf = _mm_set1_ps(-INFINITY), zero = _mm_setzero_ps();
     for (int a = 0; a < 3; a++) {
-        olo[a] = ohi[a] = rays[0]->org.e[a];
-        ilo[a] = ihi[a] = rays[0]->inv.e[a];
-        if (!(rays[0]->dir.e[a] != 0) || !isfinite(ilo[a]))
+        const __m128 v0 = _mm_loadu_ps(inv[a]), v1 = _mm_loadu_ps(inv[a] + 4);
+        const int pos = _mm_movemask_ps(_mm_and_ps(_mm_cmpgt_ps(v0, zero), _mm_cmplt_ps(v0, inf))) |
+                        _mm_movemask_ps(_mm_and_ps(_mm_cmpgt_ps(v1, zero), _mm_cmplt_ps(v1, inf))) << 4;
+        const int neg = _mm_movemask_ps(_mm_and_ps(_mm_cmplt_ps(v0, zero), _mm_cmpgt_ps(v0, ninf))) |
+                        _mm_movemask_ps(_mm_and_ps(_mm_cmplt_ps(v1, zero), _mm_cmpgt_ps(v1, ninf))) << 4;
+        const float olo = wide_hmin(o[a]), ohi = wide_hmax(o[a]);
+        if ((pos != 0xff && neg != 0xff) || !(ohi - olo <= spread))
             return 0;
-    }
-    for (int i = 1; i < n; i++) {
-        const Ray *r = rays[i];
-        for (int a = 0; a < 3; a++) {
-            float inv = r->inv.e[a];
-            if (!(r->dir.e[a] != 0) || !isfinite(inv) || (inv > 0) != (ilo[a] > 0))
-                return 0;
-            const float o = r->org.e[a];
-            olo[a] = o < olo[a] ? o : olo[a], ohi[a] = o > ohi[a] ? o : ohi[a];
-            ilo[a] = inv < ilo[a] ? inv : ilo[a], ihi[a] = inv > ihi[a] ? inv : ihi[a];
-        }
-        tmin = r->tmin < tmin ? r->tmin : tmin;
-    }
-    for (int a = 0; a < 3; a++) {
-        int pos = ilo[a] > 0;
+        const float ilo = wide_hmin(inv[a]), ihi = wide_hmax(inv[a]);
         /* (bound - o) * inv: with inv > 0 it grows with the bound minus o,
          * so the least entry takes the greatest origin and the greatest exit
          * the least; with inv < 0 the other way round */
-        p->o_near[a] = VN_SET1(pos ? ohi[a] : olo[a]);
-        p->o_far[a] = VN_SET1(pos ? olo[a] : ohi[a]);
-        p->ilo[a] = VN_SET1(ilo[a]);
-        p->ihi[a] = VN_SET1(ihi[a]);
+        p->o_near[a] = VN_SET1(pos ? ohi : olo);
+        p->o_far[a] = VN_SET1(pos ? olo : ohi);
+        p->ilo[a] = VN_SET1(ilo);
+        p->ihi[a] = VN_SET1(ihi);
         p->n[a] = (pos ? a : a + 3) * NW;
         p->f[a] = (pos ? a + 3 : a) * NW;
+        memcpy(&q->o[a], o[a], sizeof q->o[a]);
+        memcpy(&q->inv[a], inv[a], sizeof q->inv[a]);
     }
-    p->tmin = VN_SET1(tmin);
+    p->tmin = VN_SET1(wide_hmin(tmin));
+    memcpy(&q->tmin, tmin, sizeof q->tmin);
     return 1;
 }
 
@@ -345,37 +383,6 @@ static inline __attribute__((always_inline)) int wide_packet_node(const WidePack
     *lo_out = lo;
     return VN_LE_MASK(lo, hi * VN_SET1(BVH_FUDGE));
 }
-
-/* The packet's rays side by side, one lane each (lanes past n repeat ray
- * 0), for the test of a leaf child against every ray at once.  A vector of
- * WIDE_PACKET floats: one AVX register in the AVX2 kernel, two SSE ones in
- * the SSE kernel (GCC's vector extension splits it). */
-#ifndef WIDE_LANES_COMMON
-#define WIDE_LANES_COMMON
-typedef float WideLanes __attribute__((vector_size(4 * WIDE_PACKET)));
-typedef int32_t WideLaneBits __attribute__((vector_size(4 * WIDE_PACKET)));
-
-typedef struct {
-    WideLanes o[3], inv[3], tmin;
-} WideRays;
-
-static inline __attribute__((always_inline)) void wide_rays_setup(WideRays *q, const Ray *const *rays, int n)
-{
-    float o[3][WIDE_PACKET], inv[3][WIDE_PACKET], tmin[WIDE_PACKET];
-    for (int i = 0; i < WIDE_PACKET; i++) {
-        const Ray *r = rays[i < n ? i : 0];
-        for (int a = 0; a < 3; a++)
-            o[a][i] = r->org.e[a], inv[a][i] = r->inv.e[a];
-        tmin[i] = r->tmin;
-    }
-    for (int a = 0; a < 3; a++) {
-        memcpy(&q->o[a], o[a], sizeof q->o[a]);
-        memcpy(&q->inv[a], inv[a], sizeof q->inv[a]);
-    }
-    memcpy(&q->tmin, tmin, sizeof q->tmin);
-}
-
-#endif
 
 /* The rays of `active` whose own slab test enters child k of a node, all
  * rays at once.  Every ray of a packet has the signs of p's directions
@@ -455,17 +462,29 @@ static inline float wide_max_of(const float *v, uint32_t mask)
     return m;
 }
 
+/* A packet that misses the root node's children altogether (a scene's
+ * top level sends every packet that reaches the model's instance): one node
+ * test, before the rays' own set-up. */
+static inline __attribute__((always_inline)) int wide_packet_misses(const Wide *w, const WidePacket *p, float far)
+{
+    VN lo;
+    return w->root_blocks == 0 && !wide_packet_node(p, WIDE_NODE(w, w->root), far, &lo);
+}
+
 uint32_t KERNEL_CLOSEST_PACKET(const Wide *w, const Ray *const *rays, int n, const real *tmax, const uint32_t *tie,
                                WideHit *hits)
 {
     WidePacket p;
     uint32_t found = 0;
-    if (n < 2 || !wide_packet_setup(&p, rays, n)) {
+    WideRays q;
+    if (n < 2 || !wide_packet_setup(&p, &q, rays, n, INFINITY)) {
         for (int i = 0; i < n; i++)
             found |= (uint32_t)KERNEL_CLOSEST(w, rays[i], tmax[i], tie[i], &hits[i]) << i;
         return found;
     }
     const uint32_t all = n == 32 ? ~0u : (1u << n) - 1;
+    if (wide_packet_misses(w, &p, wide_max_of(tmax, all)))
+        return 0;
     WideRay k[WIDE_PACKET];
     float best[WIDE_PACKET] = {0};
     uint32_t best_idx[WIDE_PACKET];
@@ -474,8 +493,6 @@ uint32_t KERNEL_CLOSEST_PACKET(const Wide *w, const Ray *const *rays, int n, con
         best[i] = tmax[i];
         best_idx[i] = tie[i];
     }
-    WideRays q;
-    wide_rays_setup(&q, rays, n);
     float far = wide_max_of(best, all);
     WideEntry stack[WIDE_STACK];
     uint32_t sp = 0;
@@ -527,38 +544,25 @@ uint32_t KERNEL_CLOSEST_PACKET(const Wide *w, const Ray *const *rays, int n, con
 #define WIDE_SPREAD_LEAVES 3
 #endif
 
-static inline int wide_spread(const Wide *w, const Ray *const *rays, int n)
-{
-    for (int a = 0; a < 3; a++) {
-        float lo = rays[0]->org.e[a], hi = lo;
-        for (int i = 1; i < n; i++) {
-            float o = rays[i]->org.e[a];
-            lo = o < lo ? o : lo, hi = o > hi ? o : hi;
-        }
-        if (hi - lo > WIDE_SPREAD_LEAVES * w->leaf_size)
-            return 1;
-    }
-    return 0;
-}
-
 uint32_t KERNEL_ANY_PACKET(const Wide *w, const Ray *const *rays, int n, const real *tmax)
 {
     WidePacket p;
     uint32_t hit = 0;
-    if (n < 2 || wide_spread(w, rays, n) || !wide_packet_setup(&p, rays, n)) {
+    WideRays q;
+    if (n < 2 || !wide_packet_setup(&p, &q, rays, n, WIDE_SPREAD_LEAVES * w->leaf_size)) {
         for (int i = 0; i < n; i++)
             hit |= (uint32_t)KERNEL_ANY(w, rays[i], tmax[i]) << i;
         return hit;
     }
     const uint32_t all = n == 32 ? ~0u : (1u << n) - 1;
+    if (wide_packet_misses(w, &p, wide_max_of(tmax, all)))
+        return 0;
     WideRay k[WIDE_PACKET];
     float tm[WIDE_PACKET] = {0};
     for (int i = 0; i < n; i++) {
         wide_ray_setup(&k[i], rays[i]);
         tm[i] = tmax[i];
     }
-    WideRays q;
-    wide_rays_setup(&q, rays, n);
     float far = wide_max_of(tm, all);
     WideEntry stack[WIDE_STACK];
     uint32_t sp = 0;

@@ -212,7 +212,9 @@ static uint32_t top_packet(const Scene *s, const Ray *rays, int n, Best *best, c
     int sp = 0;
     for (int i = 0; i < n; i++)
         far[i] = closest ? best[i].hit->t : tmax[i];
-    uint32_t idx = 0, rs = node_rays(&s->top.nodes[0], rays, all, far);
+    /* a root that is a leaf (one model instance, say) is not box-tested:
+     * its primitives' own tests (a model's root node) do that work */
+    uint32_t idx = 0, rs = s->top.nodes[0].count ? all : node_rays(&s->top.nodes[0], rays, all, far);
     for (;;) {
         const BvhNode *nd = &s->top.nodes[idx];
         if (rs && nd->count == 0) {
@@ -275,6 +277,8 @@ uint32_t trace_occluded_packet(const Scene *s, const Ray *rays, int n, const rea
     uint32_t rest = ((1u << n) - 1) & ~blocked;
     if (!rest)
         return blocked;
+    if (!blocked)
+        return top_packet(s, rays, n, NULL, tmax);
     /* the unblocked rays, packed */
     Ray rr[TRACE_PACKET];
     real tm[TRACE_PACKET];
