@@ -328,8 +328,13 @@ vec3 trace_terminator_point(vec3 p, const vec3 v[3], const vec3 n[3], real b1, r
 
 void trace_surface(const Scene *s, const Ray *r, const Hit *h, Surface *out)
 {
-    memset(out, 0, sizeof *out);
+    /* field by field, not memset: its string store's start-up showed in
+     * every hit (every case below sets p, the normals, err, mat, object) */
+    out->p = out->ng = out->ns = out->colour = v3_splat(0);
+    out->u = out->v = out->err = 0;
+    out->has_uv = out->has_colour = out->smooth = out->inside = 0;
     out->mat = &fallback_material;
+    out->object = 0;
     /* a smooth triangle's corners and vertex normals, for the terminator
      * point (model space for an instance) */
     vec3 tv[3], tn[3], pm = v3_splat(0);
