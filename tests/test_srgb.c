@@ -40,6 +40,58 @@ static void encoding_rounds_to_the_nearest_code(void **state)
     assert_int_equal(linear_encode8(R(0.5)), 128);
 }
 
+/* The code of v by the thresholds alone: the count of thresholds at or
+ * below it (a binary search), what srgb_encode8 must give. */
+static int code_by_search(double v)
+{
+    int lo = 0, hi = 255; /* the answer is in [lo, hi] */
+    while (lo < hi) {
+        int mid = (lo + hi) / 2;
+        if (v >= srgb_threshold[mid])
+            lo = mid + 1;
+        else
+            hi = mid;
+    }
+    return lo;
+}
+
+/* The table's guess and the two steps after it give the exact code for
+ * every float from the first threshold to the last (all 109 million), and
+ * for the doubles between floats where a guess could fall furthest short:
+ * just below each bucket's first float, and just below each threshold. */
+static void encoding_matches_the_thresholds_everywhere(void **state)
+{
+    (void)state;
+    float f = (float)srgb_threshold[0];
+    uint32_t bits, last;
+    memcpy(&bits, &f, sizeof bits);
+    f = (float)srgb_threshold[254];
+    memcpy(&last, &f, sizeof last);
+    uint64_t checked = 0;
+    for (uint32_t b = bits - 1; b <= last + 1; b++) {
+        float x;
+        memcpy(&x, &b, sizeof x);
+        if (srgb_encode8((real)x) != code_by_search((double)x))
+            fail_msg("%.9g: code %d, thresholds say %d", (double)x, srgb_encode8((real)x), code_by_search((double)x));
+        checked++;
+    }
+    assert_true(checked > 100000000);
+    for (uint32_t b = bits & ~0x7fffu; b <= last; b += 0x8000u) { /* each bucket's first float */
+        float x;
+        memcpy(&x, &b, sizeof x);
+        double below = nextafter((double)x, 0.0);
+        if ((double)(real)below == below) /* a double build: the value between two floats */
+            assert_int_equal(srgb_encode8((real)below), code_by_search(below));
+    }
+    for (int k = 0; k < 255; k++) {
+        double t = srgb_threshold[k], below = nextafter(t, 0.0);
+        if ((double)(real)below == below)
+            assert_int_equal(srgb_encode8((real)below), code_by_search(below));
+        if ((double)(real)t == t)
+            assert_int_equal(srgb_encode8((real)t), code_by_search(t));
+    }
+}
+
 /* Decoding a code and encoding it again gives the code back: a texture
  * drawn at full light comes out as stored. */
 static void decoding_is_exact_and_round_trips(void **state)
@@ -97,6 +149,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(encoding_rounds_to_the_nearest_code),
+        cmocka_unit_test(encoding_matches_the_thresholds_everywhere),
         cmocka_unit_test(decoding_is_exact_and_round_trips),
         cmocka_unit_test(rgbe_round_trips),
     };
