@@ -156,50 +156,117 @@ static void bin_prims(const Box4 *refs, uint32_t first, uint32_t count, const re
  * bin up to `split` of `axis` before the others, growing cl and cr by the
  * centres of each side; returns where the second side starts.
  *
- * Without a branch (Lomuto's scheme: every reference is swapped with the
- * first one not yet known to go left, which moves on when it does): on
- * the upper levels a reference goes either way at random, and the branch
- * that guessed was a third of the partition's time.  A centre is in a bin
- * up to `split` exactly when (c - lo) * scale < split + 1: bin_of's
- * arithmetic, with its clamps (NaN and negatives go to bin 0, on the left;
- * split + 1 <= nb - 1 leaves the upper clamp out of it). */
+ * A centre is in a bin up to `split` exactly when (c - lo) * scale <
+ * split + 1: bin_of's arithmetic, with its clamps (NaN and negatives go to
+ * bin 0, on the left; split + 1 <= nb - 1 leaves the upper clamp out of
+ * it).
+ *
+ * By blocks from both ends (Edelkamp and Weiss's BlockQuicksort): a block
+ * of PART_BLOCK references at the front notes, without a branch, the ones
+ * that belong at the back, a block at the back the ones that belong at the
+ * front, and as many pairs as both have are swapped.  Each reference is
+ * read once and only the misplaced ones written, where the scheme before
+ * (Lomuto's: every reference swapped with the first one not yet known to
+ * go left) read and wrote every one twice; the upper levels stream the
+ * whole array from memory, so that traffic was their time.  What is left
+ * between the last blocks goes by Lomuto's scheme. */
+#define PART_BLOCK 64
+
+/* the two sides' centre boxes, grown reference by reference */
+typedef struct {
+#if defined(__x86_64__) && !defined(LANRAY_DOUBLE)
+    __m128 llo, lhi, rlo, rhi;
+#else
+    Box4 l, r;
+#endif
+} Sides;
+
+static inline __attribute__((always_inline)) int ref_left(const Box4 *x, int axis, real lo, real scale, real limit)
+{
+    return !((((x->lo[axis] + x->hi[axis]) * R(0.5)) - lo) * scale >= limit);
+}
+
+/* Grows the side `left` says by x's centre.  A box grown twice by one
+ * point is unchanged, so a reference may be counted twice. */
+static inline __attribute__((always_inline)) void sides_add(Sides *s, const Box4 *x, int left)
+{
+#if defined(__x86_64__) && !defined(LANRAY_DOUBLE)
+    const __m128 inf = _mm_set1_ps(INFINITY), ninf = _mm_set1_ps(-INFINITY);
+    /* lane 3 holds the index bits, halved: garbage that only lane 3 of the boxes sees */
+    const __m128 c = _mm_mul_ps(_mm_add_ps(_mm_load_ps(x->lo), _mm_load_ps(x->hi)), _mm_set1_ps(0.5f));
+    const __m128 m = _mm_castsi128_ps(_mm_set1_epi32(-left));
+    s->llo = _mm_min_ps(s->llo, _mm_or_ps(_mm_and_ps(m, c), _mm_andnot_ps(m, inf)));
+    s->lhi = _mm_max_ps(s->lhi, _mm_or_ps(_mm_and_ps(m, c), _mm_andnot_ps(m, ninf)));
+    s->rlo = _mm_min_ps(s->rlo, _mm_or_ps(_mm_andnot_ps(m, c), _mm_and_ps(m, inf)));
+    s->rhi = _mm_max_ps(s->rhi, _mm_or_ps(_mm_andnot_ps(m, c), _mm_and_ps(m, ninf)));
+#else
+    Box4 c;
+    vec3 cv = ref_centre(x);
+    for (int k = 0; k < 4; k++)
+        c.lo[k] = c.hi[k] = k < 3 ? cv.e[k] : R(0);
+    box4_grow(left ? &s->l : &s->r, &c);
+#endif
+}
+
+static inline __attribute__((always_inline)) void ref_swap(Box4 *a, Box4 *b)
+{
+    Box4 t = *a;
+    *a = *b;
+    *b = t;
+}
+
 static uint32_t partition(Box4 *refs, uint32_t first, uint32_t count, int axis, const real lo[3], const real scale[3],
                           int split, Box4 *cl, Box4 *cr)
 {
     const real lo_a = lo[axis], scale_a = scale[axis], limit = (real)(split + 1);
-    uint32_t j = first;
+    Sides s;
 #if defined(__x86_64__) && !defined(LANRAY_DOUBLE)
-    const __m128 half = _mm_set1_ps(0.5f), inf = _mm_set1_ps(INFINITY), ninf = _mm_set1_ps(-INFINITY);
-    __m128 llo = _mm_load_ps(cl->lo), lhi = _mm_load_ps(cl->hi), rlo = _mm_load_ps(cr->lo), rhi = _mm_load_ps(cr->hi);
-    for (uint32_t i = first; i < first + count; i++) {
-        const __m128 l = _mm_load_ps(refs[i].lo), h = _mm_load_ps(refs[i].hi);
-        /* lane 3 holds the index bits, halved: garbage that only lane 3 of the boxes sees */
-        const __m128 c = _mm_mul_ps(_mm_add_ps(l, h), half);
-        const int left = !((((refs[i].lo[axis] + refs[i].hi[axis]) * R(0.5)) - lo_a) * scale_a >= limit);
-        const __m128 m = _mm_castsi128_ps(_mm_set1_epi32(-left));
-        llo = _mm_min_ps(llo, _mm_or_ps(_mm_and_ps(m, c), _mm_andnot_ps(m, inf)));
-        lhi = _mm_max_ps(lhi, _mm_or_ps(_mm_and_ps(m, c), _mm_andnot_ps(m, ninf)));
-        rlo = _mm_min_ps(rlo, _mm_or_ps(_mm_andnot_ps(m, c), _mm_and_ps(m, inf)));
-        rhi = _mm_max_ps(rhi, _mm_or_ps(_mm_andnot_ps(m, c), _mm_and_ps(m, ninf)));
-        const __m128 jl = _mm_load_ps(refs[j].lo), jh = _mm_load_ps(refs[j].hi);
-        _mm_store_ps(refs[j].lo, l), _mm_store_ps(refs[j].hi, h);
-        _mm_store_ps(refs[i].lo, jl), _mm_store_ps(refs[i].hi, jh);
-        j += (uint32_t)left;
-    }
-    _mm_store_ps(cl->lo, llo), _mm_store_ps(cl->hi, lhi), _mm_store_ps(cr->lo, rlo), _mm_store_ps(cr->hi, rhi);
+    s.llo = _mm_load_ps(cl->lo), s.lhi = _mm_load_ps(cl->hi), s.rlo = _mm_load_ps(cr->lo), s.rhi = _mm_load_ps(cr->hi);
 #else
-    for (uint32_t i = first; i < first + count; i++) {
-        Box4 c;
-        vec3 cv = ref_centre(&refs[i]);
-        for (int k = 0; k < 4; k++)
-            c.lo[k] = c.hi[k] = k < 3 ? cv.e[k] : R(0);
-        const int left = !((cv.e[axis] - lo_a) * scale_a >= limit);
-        box4_grow(left ? cl : cr, &c);
-        Box4 tmp = refs[i];
-        refs[i] = refs[j];
-        refs[j] = tmp;
+    s.l = *cl, s.r = *cr;
+#endif
+    uint32_t l = first, r = first + count; /* [l, r) not yet in place */
+    uint8_t offl[PART_BLOCK], offr[PART_BLOCK];
+    uint32_t nl = 0, nr = 0, sl = 0, sr = 0;
+    while (r - l >= 2 * PART_BLOCK) {
+        if (nl == 0) { /* the front block's references that go right */
+            sl = 0;
+            for (uint32_t k = 0; k < PART_BLOCK; k++) {
+                const int left = ref_left(&refs[l + k], axis, lo_a, scale_a, limit);
+                sides_add(&s, &refs[l + k], left);
+                offl[nl] = (uint8_t)k;
+                nl += (uint32_t)!left;
+            }
+        }
+        if (nr == 0) { /* the back block's references that go left */
+            sr = 0;
+            for (uint32_t k = 0; k < PART_BLOCK; k++) {
+                const int left = ref_left(&refs[r - 1 - k], axis, lo_a, scale_a, limit);
+                sides_add(&s, &refs[r - 1 - k], left);
+                offr[nr] = (uint8_t)k;
+                nr += (uint32_t)left;
+            }
+        }
+        const uint32_t pairs = nl < nr ? nl : nr;
+        for (uint32_t k = 0; k < pairs; k++)
+            ref_swap(&refs[l + offl[sl + k]], &refs[r - 1 - offr[sr + k]]);
+        nl -= pairs, nr -= pairs, sl += pairs, sr += pairs;
+        if (nl == 0)
+            l += PART_BLOCK;
+        if (nr == 0)
+            r -= PART_BLOCK;
+    }
+    uint32_t j = l; /* the rest, Lomuto's way */
+    for (uint32_t i = l; i < r; i++) {
+        const int left = ref_left(&refs[i], axis, lo_a, scale_a, limit);
+        sides_add(&s, &refs[i], left);
+        ref_swap(&refs[i], &refs[j]);
         j += (uint32_t)left;
     }
+#if defined(__x86_64__) && !defined(LANRAY_DOUBLE)
+    _mm_store_ps(cl->lo, s.llo), _mm_store_ps(cl->hi, s.lhi), _mm_store_ps(cr->lo, s.rlo), _mm_store_ps(cr->hi, s.rhi);
+#else
+    *cl = s.l, *cr = s.r;
 #endif
     return j;
 }
