@@ -46,6 +46,22 @@ static inline __attribute__((always_inline)) void wide_ray_setup(WideRay *k, con
     k->tmin = _mm_set1_ps(r->tmin);
 }
 
+/* The lanes of z whose U, V or W came out exactly zero (an edge through
+ * the ray) computed again in double from the sheared coordinates, as the
+ * scalar tri_intersect does: fa holds the rows Ax, Ay, Bx, By, Cx, Cy, fu
+ * the rows U, V, W, rewritten in those lanes.  One for the four- and the
+ * eight-lane test, so both stay the scalar test's arithmetic. */
+static inline void wide_edges_in_double(int z, const float fa[6][8], float fu[3][8])
+{
+    for (int l = 0; l < 8; l++)
+        if (z >> l & 1) {
+            double xa = fa[0][l], ya = fa[1][l], xb = fa[2][l], yb = fa[3][l], xc = fa[4][l], yc = fa[5][l];
+            fu[0][l] = (float)(xc * yb - yc * xb);
+            fu[1][l] = (float)(xa * yc - ya * xc);
+            fu[2][l] = (float)(xb * ya - yb * xa);
+        }
+}
+
 /* Four triangles at once: the lanes that hit with tmin < t and t < tmax
  * (t <= tmax when `upto`), as a bit mask; their t, V, W and 1/det. */
 static inline __attribute__((always_inline)) int wide_tris_hit(const WideTris *b, const WideRay *k, float tmax, int upto,
@@ -67,17 +83,11 @@ static inline __attribute__((always_inline)) int wide_tris_hit(const WideTris *b
     const __m128 zero = _mm_setzero_ps();
     int z = _mm_movemask_ps(_mm_or_ps(_mm_or_ps(_mm_cmpeq_ps(U, zero), _mm_cmpeq_ps(V, zero)), _mm_cmpeq_ps(W, zero)));
     if (__builtin_expect(z != 0, 0)) { /* an edge through the ray: redo those lanes in double, as the scalar test does */
-        float fa[6][4], fu[3][4];
+        float fa[6][8], fu[3][8];
         _mm_storeu_ps(fa[0], Ax), _mm_storeu_ps(fa[1], Ay), _mm_storeu_ps(fa[2], Bx);
         _mm_storeu_ps(fa[3], By), _mm_storeu_ps(fa[4], Cx), _mm_storeu_ps(fa[5], Cy);
         _mm_storeu_ps(fu[0], U), _mm_storeu_ps(fu[1], V), _mm_storeu_ps(fu[2], W);
-        for (int l = 0; l < 4; l++)
-            if (z >> l & 1) {
-                double xa = fa[0][l], ya = fa[1][l], xb = fa[2][l], yb = fa[3][l], xc = fa[4][l], yc = fa[5][l];
-                fu[0][l] = (float)(xc * yb - yc * xb);
-                fu[1][l] = (float)(xa * yc - ya * xc);
-                fu[2][l] = (float)(xb * ya - yb * xa);
-            }
+        wide_edges_in_double(z, (const float(*)[8])fa, fu); /* z has lanes 0-3 only */
         U = _mm_loadu_ps(fu[0]), V = _mm_loadu_ps(fu[1]), W = _mm_loadu_ps(fu[2]);
     }
     const __m128 neg = _mm_or_ps(_mm_or_ps(_mm_cmplt_ps(U, zero), _mm_cmplt_ps(V, zero)), _mm_cmplt_ps(W, zero));
@@ -160,13 +170,7 @@ static inline __attribute__((always_inline)) int wide_tris_hit8(const WideTris *
         _mm256_storeu_ps(fa[0], Ax), _mm256_storeu_ps(fa[1], Ay), _mm256_storeu_ps(fa[2], Bx);
         _mm256_storeu_ps(fa[3], By), _mm256_storeu_ps(fa[4], Cx), _mm256_storeu_ps(fa[5], Cy);
         _mm256_storeu_ps(fu[0], U), _mm256_storeu_ps(fu[1], V), _mm256_storeu_ps(fu[2], W);
-        for (int l = 0; l < 8; l++)
-            if (z >> l & 1) {
-                double xa = fa[0][l], ya = fa[1][l], xb = fa[2][l], yb = fa[3][l], xc = fa[4][l], yc = fa[5][l];
-                fu[0][l] = (float)(xc * yb - yc * xb);
-                fu[1][l] = (float)(xa * yc - ya * xc);
-                fu[2][l] = (float)(xb * ya - yb * xa);
-            }
+        wide_edges_in_double(z, (const float(*)[8])fa, fu);
         U = _mm256_loadu_ps(fu[0]), V = _mm256_loadu_ps(fu[1]), W = _mm256_loadu_ps(fu[2]);
     }
     const __m256 neg = _mm256_or_ps(_mm256_or_ps(_mm256_cmp_ps(U, zero, _CMP_LT_OQ), _mm256_cmp_ps(V, zero, _CMP_LT_OQ)),
@@ -266,15 +270,15 @@ static inline __attribute__((always_inline)) int wide_leaf_any(const WideTris *b
 
 /* Children hit, nearest last: all but the last go on the stack. */
 /* The start of a child's memory, fetched while its siblings are tested:
- * a big model's nodes and leaves miss the cache. */
+ * a big model's nodes and leaves miss the cache.  A node is NW / 2 cache
+ * lines (128 or 256 bytes, aligned); a leaf's first block of 160 bytes
+ * spans at most three. */
 static inline __attribute__((always_inline)) void wide_prefetch(const Wide *w, uint32_t id, uint32_t blocks)
 {
     const char *m = blocks ? (const char *)&w->tris[id] : (const char *)WIDE_NODE(w, id);
-    _mm_prefetch(m, _MM_HINT_T0);
-    _mm_prefetch(m + 64, _MM_HINT_T0);
-    _mm_prefetch(m + 128, _MM_HINT_T0);
-    if (!blocks && NW == 8)
-        _mm_prefetch(m + 192, _MM_HINT_T0);
+    const int lines = blocks ? 3 : NW / 2;
+    for (int i = 0; i < lines; i++)
+        _mm_prefetch(m + 64 * i, _MM_HINT_T0);
 }
 
 static inline __attribute__((always_inline)) WideEntry wide_sort_push(const Wide *w, const float *node, int mask, VN lo,
@@ -589,7 +593,8 @@ uint32_t KERNEL_CLOSEST_PACKET(const Wide *w, const Ray *const *rays, int n, con
         return found;
     }
     const uint32_t all = n == 32 ? ~0u : (1u << n) - 1;
-    if (wide_packet_misses(w, &p, wide_max_of(tmax, all)))
+    float far = wide_max_of(tmax, all);
+    if (wide_packet_misses(w, &p, far))
         return 0;
     WideRay k[WIDE_PACKET];
     float best[WIDE_PACKET] = {0};
@@ -599,7 +604,6 @@ uint32_t KERNEL_CLOSEST_PACKET(const Wide *w, const Ray *const *rays, int n, con
         best[i] = tmax[i];
         best_idx[i] = tie[i];
     }
-    float far = wide_max_of(best, all);
     WideEntry stack[WIDE_STACK];
     uint32_t sp = 0;
     WideEntry cur = {w->root, w->root_blocks, 0, all};
@@ -654,7 +658,8 @@ uint32_t KERNEL_ANY_PACKET(const Wide *w, const Ray *const *rays, int n, const r
         return hit;
     }
     const uint32_t all = n == 32 ? ~0u : (1u << n) - 1;
-    if (wide_packet_misses(w, &p, wide_max_of(tmax, all)))
+    float far = wide_max_of(tmax, all);
+    if (wide_packet_misses(w, &p, far))
         return 0;
     WideRay k[WIDE_PACKET];
     float tm[WIDE_PACKET] = {0};
@@ -662,7 +667,6 @@ uint32_t KERNEL_ANY_PACKET(const Wide *w, const Ray *const *rays, int n, const r
         wide_ray_setup(&k[i], rays[i]);
         tm[i] = tmax[i];
     }
-    float far = wide_max_of(tm, all);
     WideEntry stack[WIDE_STACK];
     uint32_t sp = 0;
     WideEntry cur = {w->root, w->root_blocks, 0, all};
