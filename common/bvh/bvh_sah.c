@@ -382,7 +382,11 @@ static int bin_count(uint32_t n) { return n >= 20 * (BINS - 4) ? BINS : 4 + (int
 
 static int sah_step(const Builder *b, const BuildTask *t, BuildTask kids[2])
 {
-    if (t->count == 1)
+    /* One block of primitives is a leaf: it costs COST_INTERSECT, and any
+     * split costs COST_TRAVERSE (no less) plus its children's share, so
+     * neither sweep could choose to split.  Most leaves are such nodes,
+     * and their sweeps were a twentieth of the build. */
+    if (t->count <= BVH_LEAF_BLOCK && t->count <= b->opt->max_leaf)
         return 0;
     if (t->count <= SWEEP_MAX)
         return sah_sweep(b, t, kids);
