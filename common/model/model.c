@@ -54,6 +54,31 @@ void model_destroy(Model *m)
     free(m);
 }
 
+/* Where a build takes the triangles from, in their first order: a mesh
+ * (model_from_mesh) or the model's own arrays (model_rebuild).  The
+ * passes read it where it is, so that a model made from a mesh never
+ * holds the triangles in the mesh's order: that copy was 36 bytes a
+ * triangle of fresh memory, a tenth of a build's page faults. */
+typedef struct {
+    const vec3 *pos;   /* a mesh's corners, 3 a triangle, or NULL */
+    const Tri *tris;   /* else the model's triangles */
+    const vec3 *nrm;   /* 3 a triangle, or NULL */
+    const real *uvs;   /* 6 a triangle, or NULL */
+    const uint32_t *mids;
+    const vec3 *cols;  /* 3 a triangle, or NULL */
+} Source;
+
+static Tri source_tri(const Source *s, uint64_t i)
+{
+    if (!s->pos)
+        return s->tris[i];
+    Tri t;
+    for (int k = 0; k < 3; k++)
+        for (int a = 0; a < 3; a++)
+            t.v[k][a] = s->pos[3 * i + (uint64_t)k].e[a];
+    return t;
+}
+
 static Aabb tri_box(const Tri *t)
 {
     Aabb b = aabb_point(tri_vertex(t, 0));
@@ -65,8 +90,7 @@ static Aabb tri_box(const Tri *t)
 /* The passes over every triangle around the tree, on the build's pool
  * (which the tree's passes share: bvh_build_on). */
 typedef struct {
-    Model *m;
-    const Mesh *mesh;
+    const Source *src;
     Aabb *boxes;
     Aabb bounds[BVH_POOL_MAX];
     const uint32_t *order; /* leaf order */
@@ -76,22 +100,13 @@ typedef struct {
     uint32_t *mids;
 } Pass;
 
-static void pass_copy(void *ctx, uint64_t lo, uint64_t hi, int thread)
-{
-    (void)thread;
-    Pass *w = ctx;
-    for (uint64_t i = lo; i < hi; i++)
-        for (int k = 0; k < 3; k++)
-            for (int a = 0; a < 3; a++)
-                w->m->tris[i].v[k][a] = w->mesh->pos[3 * i + k].e[a];
-}
-
 static void pass_boxes(void *ctx, uint64_t lo, uint64_t hi, int thread)
 {
     Pass *w = ctx;
     Aabb bounds = w->bounds[thread];
     for (uint64_t i = lo; i < hi; i++) {
-        w->boxes[i] = tri_box(&w->m->tris[i]);
+        const Tri t = source_tri(w->src, i);
+        w->boxes[i] = tri_box(&t);
         bounds = aabb_union(bounds, w->boxes[i]);
     }
     w->bounds[thread] = bounds;
@@ -101,28 +116,30 @@ static void pass_reorder(void *ctx, uint64_t lo, uint64_t hi, int thread)
 {
     (void)thread;
     Pass *w = ctx;
-    const Model *m = w->m;
+    const Source *s = w->src;
     for (uint64_t i = lo; i < hi; i++) {
         uint32_t p = w->order[i];
-        w->tris[i] = m->tris[p];
+        w->tris[i] = source_tri(s, p);
         if (w->nrm)
-            memcpy(&w->nrm[3 * i], &m->normals[3 * p], 3 * sizeof *w->nrm);
+            memcpy(&w->nrm[3 * i], &s->nrm[3 * (uint64_t)p], 3 * sizeof *w->nrm);
         if (w->uvs)
-            memcpy(&w->uvs[6 * i], &m->uvs[6 * p], 6 * sizeof *w->uvs);
+            memcpy(&w->uvs[6 * i], &s->uvs[6 * (uint64_t)p], 6 * sizeof *w->uvs);
         if (w->mids)
-            w->mids[i] = m->mat_ids[p];
+            w->mids[i] = s->mids[p];
         if (w->cols)
-            memcpy(&w->cols[3 * i], &m->colours[3 * p], 3 * sizeof *w->cols);
+            memcpy(&w->cols[3 * i], &s->cols[3 * (uint64_t)p], 3 * sizeof *w->cols);
     }
 }
 
-/* Builds the BVH over m's triangles and permutes every per-triangle array into leaf order. */
-static int model_build_bvh(Model *m, const BvhOptions *opt, Pool *pool, Err *err)
+/* Builds m's tree over the n triangles of src and puts them, with their
+ * attributes, into m in leaf order; the model's old arrays are freed
+ * (src may be them). */
+static int model_build_bvh(Model *m, const Source *src, const BvhOptions *opt, Pool *pool, Err *err)
 {
     uint32_t n = m->tri_count;
     Pass w;
     memset(&w, 0, sizeof w);
-    w.m = m;
+    w.src = src;
     w.boxes = bigmem_alloc((n ? n : 1) * sizeof *w.boxes);
     if (!w.boxes)
         return err_set(err, "model: out of memory");
@@ -137,12 +154,13 @@ static int model_build_bvh(Model *m, const BvhOptions *opt, Pool *pool, Err *err
     free(w.boxes);
     if (rc)
         return rc;
-    Tri *tris = bigmem_alloc((n ? n : 1) * sizeof *tris);
-    vec3 *nrm = m->normals ? malloc(n * 3 * sizeof *nrm) : NULL;
-    real *uvs = m->uvs ? malloc(n * 6 * sizeof *uvs) : NULL;
-    uint32_t *mids = m->mat_ids ? malloc(n * sizeof *mids) : NULL;
-    vec3 *cols = m->colours ? malloc(n * 3 * sizeof *cols) : NULL;
-    if (!tris || (m->normals && !nrm) || (m->uvs && !uvs) || (m->mat_ids && !mids) || (m->colours && !cols)) {
+    size_t tc = n ? n : 1;
+    Tri *tris = bigmem_alloc(tc * sizeof *tris);
+    vec3 *nrm = src->nrm ? malloc(tc * 3 * sizeof *nrm) : NULL;
+    real *uvs = src->uvs ? malloc(tc * 6 * sizeof *uvs) : NULL;
+    uint32_t *mids = src->mids ? malloc(tc * sizeof *mids) : NULL;
+    vec3 *cols = src->cols ? malloc(tc * 3 * sizeof *cols) : NULL;
+    if (!tris || (src->nrm && !nrm) || (src->uvs && !uvs) || (src->mids && !mids) || (src->cols && !cols)) {
         free(tris);
         free(nrm);
         free(uvs);
@@ -174,29 +192,14 @@ int model_from_mesh(Model **out, const Mesh *mesh, const BvhOptions *opt, Err *e
 {
     *out = NULL;
     uint32_t n = mesh->tri_count;
-    Model *m = model_alloc(n, 0, mesh->material_count, mesh_attrs(mesh));
+    for (uint32_t i = 0; mesh->mat && i < n; i++)
+        if (mesh->mat[i] >= mesh->material_count)
+            return err_set(err, "model: triangle %u uses material %u of %u", i, mesh->mat[i], mesh->material_count);
+    /* no triangles yet: model_build_bvh puts them in, in leaf order */
+    Model *m = model_alloc(0, 0, mesh->material_count, 0);
     if (!m)
         return err_set(err, "model: out of memory for %u triangles", n);
-    Pool *pool = bvh_pool_create(n, opt);
-    Pass w;
-    memset(&w, 0, sizeof w);
-    w.m = m, w.mesh = mesh;
-    pool_for(pool, n, BVH_POOL_GRAIN, pass_copy, &w);
-    if (m->normals)
-        memcpy(m->normals, mesh->nrm, n * 3 * sizeof *m->normals);
-    if (m->uvs)
-        memcpy(m->uvs, mesh->uv, n * 6 * sizeof *m->uvs);
-    if (m->colours)
-        memcpy(m->colours, mesh->col, n * 3 * sizeof *m->colours);
-    if (m->mat_ids)
-        for (uint32_t i = 0; i < n; i++) {
-            if (mesh->mat[i] >= mesh->material_count) {
-                pool_destroy(pool);
-                model_destroy(m);
-                return err_set(err, "model: triangle %u uses material %u of %u", i, mesh->mat[i], mesh->material_count);
-            }
-            m->mat_ids[i] = mesh->mat[i];
-        }
+    m->tri_count = n;
     if (mesh->material_count)
         memcpy(m->materials, mesh->materials, mesh->material_count * sizeof *m->materials);
     if (mesh->texture_count) {
@@ -205,12 +208,13 @@ int model_from_mesh(Model **out, const Mesh *mesh, const BvhOptions *opt, Err *e
             if (!(m->textures[i] = texture_copy(mesh->textures[i])))
                 break;
         if (m->texture_count != mesh->texture_count) {
-            pool_destroy(pool);
             model_destroy(m);
             return err_set(err, "model: out of memory for textures");
         }
     }
-    int rc = model_build_bvh(m, opt, pool, err);
+    const Source src = {mesh->pos, NULL, mesh->nrm, mesh->uv, mesh->mat, mesh->col};
+    Pool *pool = bvh_pool_create(n, opt);
+    int rc = model_build_bvh(m, &src, opt, pool, err);
     pool_destroy(pool);
     if (rc) {
         model_destroy(m);
@@ -224,8 +228,9 @@ int model_rebuild(Model *m, const BvhOptions *opt, Err *err)
 {
     wide_destroy(m->wide);
     m->wide = NULL;
+    const Source src = {NULL, m->tris, m->normals, m->uvs, m->mat_ids, m->colours};
     Pool *pool = bvh_pool_create(m->tri_count, opt);
-    int rc = model_build_bvh(m, opt, pool, err);
+    int rc = model_build_bvh(m, &src, opt, pool, err);
     pool_destroy(pool);
     return rc;
 }
