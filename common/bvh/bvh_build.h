@@ -28,6 +28,7 @@ typedef struct {
     uint32_t max_depth; /* the deepest node builder_run made (the root is 1); 0: not known */
     const void *aux; /* a builder's own per-primitive data */
     Pool *pool;      /* for passes over every primitive; NULL: the caller alone */
+    int top; /* builder_run steps the top of the tree alone: a step may run on the pool */
 } Builder;
 
 /* Appends a node, returns its index or -1 when out of memory (one thread only). */
@@ -39,7 +40,9 @@ int32_t builder_add(Builder *b, BuildNode node);
  * fills kids[0..1] (boxes and ranges) and returns 2; builder_run allocates
  * the children's nodes and links them.  Subtrees go to opt->threads
  * workers; each task touches only its own range of perm, so the tree is the
- * same whatever the number of threads and their timing. */
+ * same whatever the number of threads and their timing.  While there are
+ * fewer tasks than workers, builder_run steps the biggest one alone with
+ * b->top set, and the step may spread its passes over b->pool. */
 typedef struct {
     uint32_t node, first, count, depth;
     Aabb box, cbox;

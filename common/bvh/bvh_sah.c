@@ -380,6 +380,48 @@ static int sah_sweep(const Builder *b, const BuildTask *t, BuildTask kids[2])
  * extra leaf visits cheap. */
 static int bin_count(uint32_t n) { return n >= 20 * (BINS - 4) ? BINS : 4 + (int)(n / 20); }
 
+/* Binning at the top of the tree (b->top: no other task runs), by ranges
+ * on the pool, each thread into its own bins, which are then merged:
+ * boxes by minimum and maximum and counts by sum, so the same bins
+ * whichever thread took which range. */
+typedef struct {
+    const Box4 *refs;
+    uint32_t first;
+    const real *lo, *scale;
+    int nb;
+    Bin (*bins)[3][BINS]; /* one set per pool thread */
+} BinJob;
+
+static void bin_range(void *ctx, uint64_t lo, uint64_t hi, int thread)
+{
+    const BinJob *j = ctx;
+    bin_prims(j->refs, j->first + (uint32_t)lo, (uint32_t)(hi - lo), j->lo, j->scale, j->nb, j->bins[thread]);
+}
+
+static void bin_on_pool(const Builder *b, const BuildTask *t, const real lo[3], const real scale[3], int nb,
+                        Bin bins[3][BINS])
+{
+    const int threads = pool_threads(b->pool);
+    Bin(*sets)[3][BINS] = malloc((size_t)threads * sizeof *sets);
+    if (!sets) { /* the same bins, on the caller alone */
+        bin_prims(b->aux, t->first, t->count, lo, scale, nb, bins);
+        return;
+    }
+    for (int k = 0; k < threads; k++)
+        for (int a = 0; a < 3; a++)
+            for (int i = 0; i < nb; i++)
+                sets[k][a][i] = (Bin){box4_empty, 0};
+    BinJob job = {b->aux, t->first, lo, scale, nb, sets};
+    pool_for(b->pool, t->count, BVH_POOL_GRAIN, bin_range, &job);
+    for (int k = 0; k < threads; k++)
+        for (int a = 0; a < 3; a++)
+            for (int i = 0; i < nb; i++) {
+                box4_grow(&bins[a][i].box, &sets[k][a][i].box);
+                bins[a][i].count += sets[k][a][i].count;
+            }
+    free(sets);
+}
+
 static int sah_step(const Builder *b, const BuildTask *t, BuildTask kids[2])
 {
     /* One block of primitives is a leaf: it costs COST_INTERSECT, and any
@@ -401,7 +443,10 @@ static int sah_step(const Builder *b, const BuildTask *t, BuildTask kids[2])
         for (int i = 0; i < nb; i++)
             bins[a][i] = (Bin){box4_empty, 0};
     }
-    bin_prims(refs, t->first, t->count, lo, scale, nb, bins);
+    if (b->top && b->pool)
+        bin_on_pool(b, t, lo, scale, nb, bins);
+    else
+        bin_prims(refs, t->first, t->count, lo, scale, nb, bins);
     real best = REAL_INF;
     int axis = -1, split = 0;
     for (int a = 0; a < 3; a++) {

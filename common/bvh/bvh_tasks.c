@@ -15,6 +15,7 @@
 #include "bvh/bvh_build.h"
 
 #define SHARE_MIN 4096 /* primitives: smaller subtrees stay with their worker */
+#define TOP_MIN 65536 /* primitives: a smaller task is not worth the pool's hand-offs */
 #define NODE_CHUNK 256 /* node slots a worker takes at a time: its nodes share no cache line with another's */
 
 typedef struct {
@@ -59,6 +60,47 @@ static int run_take(Run *r, BuildTask *t)
     return got;
 }
 
+/* Gives cur's two children the node slots c and c + 1. */
+static void run_link(Builder *b, const BuildTask *cur, BuildTask kids[2], uint32_t c)
+{
+    for (int k = 0; k < 2; k++) {
+        kids[k].node = c + (uint32_t)k;
+        kids[k].depth = cur->depth + 1;
+        b->nodes[c + k] = (BuildNode){kids[k].box, -1, -1, kids[k].first, kids[k].count};
+    }
+    b->nodes[cur->node].left = (int32_t)c;
+    b->nodes[cur->node].right = (int32_t)c + 1;
+}
+
+/* The top of the tree, while there are fewer tasks than workers: the
+ * biggest task is stepped alone on the caller, with b->top set so that its
+ * passes run on the pool.  With two workers the root took a worker a
+ * tenth of the build while the other waited. */
+static void run_top(Run *r)
+{
+    Builder *b = r->b;
+    b->top = 1;
+    while (b->pool && r->workers > 1 && r->queued > 0 && r->queued < (uint32_t)r->workers) {
+        uint32_t big = 0;
+        for (uint32_t i = 1; i < r->queued; i++)
+            if (r->queue[i].count > r->queue[big].count)
+                big = i;
+        if (r->queue[big].count < TOP_MIN)
+            break;
+        BuildTask cur = r->queue[big], kids[2];
+        r->queue[big] = r->queue[--r->queued];
+        if (r->step(b, &cur, kids) != 2)
+            continue;
+        run_link(b, &cur, kids, b->node_count);
+        b->node_count += 2;
+        if (cur.depth + 1 > b->max_depth)
+            b->max_depth = cur.depth + 1;
+        r->queue[r->queued++] = kids[0];
+        r->queue[r->queued++] = kids[1];
+    }
+    b->top = 0;
+}
+
 static void *run_worker(void *arg)
 {
     Run *r = arg;
@@ -76,17 +118,10 @@ static void *run_worker(void *arg)
                 next = __atomic_fetch_add(&b->node_count, NODE_CHUNK, __ATOMIC_RELAXED);
                 end = next + NODE_CHUNK;
             }
-            uint32_t c = next;
+            run_link(b, &cur, kids, next);
             next += 2;
-            for (int k = 0; k < 2; k++) {
-                kids[k].node = c + (uint32_t)k;
-                kids[k].depth = cur.depth + 1;
-                b->nodes[c + k] = (BuildNode){kids[k].box, -1, -1, kids[k].first, kids[k].count};
-            }
             if (cur.depth + 1 > deepest)
                 deepest = cur.depth + 1;
-            b->nodes[cur.node].left = (int32_t)c;
-            b->nodes[cur.node].right = (int32_t)c + 1;
             /* the bigger child is shared when a worker waits, else both stay */
             int big = kids[1].count > kids[0].count;
             if (r->workers > 1 && kids[big].count >= SHARE_MIN && __atomic_load_n(&r->waiting, __ATOMIC_RELAXED) > 0) {
@@ -138,6 +173,7 @@ int builder_run(Builder *b, BuildStep step, Err *err)
     b->root = 0;
     b->max_depth = 1;
     r.queue[r.queued++] = (BuildTask){0, 0, b->n, 1, box, cbox};
+    run_top(&r);
     r.busy = (uint32_t)r.workers; /* each worker starts by taking */
     pthread_mutex_init(&r.lock, NULL);
     pthread_cond_init(&r.wake, NULL);
