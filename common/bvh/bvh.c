@@ -96,7 +96,7 @@ static void prep_range(void *ctx, uint64_t lo, uint64_t hi, int thread)
     Prep *w = ctx;
     Builder *b = w->b;
     for (uint32_t i = (uint32_t)lo; i < hi; i++) {
-        if (aabb_is_empty(b->boxes[i]) || !v3_is_finite(b->boxes[i].min) || !v3_is_finite(b->boxes[i].max)) {
+        if (!builder_box_ok(b->boxes[i])) {
             if (i < w->bad[thread])
                 w->bad[thread] = i;
             return;
@@ -106,6 +106,8 @@ static void prep_range(void *ctx, uint64_t lo, uint64_t hi, int thread)
         b->perm[i] = i;
     }
 }
+
+int builder_bad_box(uint32_t i, Err *err) { return err_set(err, "bvh: primitive %u has an empty or non-finite box", i); }
 
 Pool *bvh_pool_create(uint32_t n, const BvhOptions *opt)
 {
@@ -145,17 +147,19 @@ int bvh_build_on(Bvh *out, const Aabb *boxes, uint32_t n, const BvhOptions *opt,
         err_set(err, "bvh: out of memory for %u primitives", n);
         goto done;
     }
-    Prep prep;
-    prep.b = &b;
-    for (int k = 0; k < BVH_POOL_MAX; k++)
-        prep.bad[k] = n;
-    pool_for(b.pool, n, BVH_POOL_GRAIN, prep_range, &prep);
-    uint32_t bad = n;
-    for (int k = 0; k < BVH_POOL_MAX; k++)
-        bad = prep.bad[k] < bad ? prep.bad[k] : bad;
-    if (bad < n) {
-        err_set(err, "bvh: primitive %u has an empty or non-finite box", bad);
-        goto done;
+    if (opt->kind != BVH_SAH) { /* SAH checks the boxes in its own first pass (bvh_sah.c) */
+        Prep prep;
+        prep.b = &b;
+        for (int k = 0; k < BVH_POOL_MAX; k++)
+            prep.bad[k] = n;
+        pool_for(b.pool, n, BVH_POOL_GRAIN, prep_range, &prep);
+        uint32_t bad = n;
+        for (int k = 0; k < BVH_POOL_MAX; k++)
+            bad = prep.bad[k] < bad ? prep.bad[k] : bad;
+        if (bad < n) {
+            rc = builder_bad_box(bad, err);
+            goto done;
+        }
     }
     switch (opt->kind) {
     case BVH_SBT: rc = bvh_build_sbt(&b, err); break;

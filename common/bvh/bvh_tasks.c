@@ -75,13 +75,13 @@ static void run_link(Builder *b, const BuildTask *cur, BuildTask kids[2], uint32
 }
 
 /* The top of the tree, while there are fewer tasks than workers: the
- * biggest task is stepped alone on the caller, with b->top set so that its
- * passes run on the pool.  With two workers the root took a worker a
+ * biggest task is stepped alone on the caller, by b->top_step where there
+ * is one, whose passes run on the pool.  With two workers the root took a worker a
  * tenth of the build while the other waited. */
 static void run_top(Run *r)
 {
     Builder *b = r->b;
-    b->top = 1;
+    const BuildStep step = b->top_step ? b->top_step : r->step;
     while (b->pool && r->workers > 1 && r->queued > 0 && r->queued < (uint32_t)r->workers) {
         uint32_t big = 0;
         for (uint32_t i = 1; i < r->queued; i++)
@@ -91,7 +91,7 @@ static void run_top(Run *r)
             break;
         BuildTask cur = r->queue[big], kids[2];
         r->queue[big] = r->queue[--r->queued];
-        if (r->step(b, &cur, kids) != 2)
+        if (step(b, &cur, kids) != 2)
             continue;
         run_link(b, &cur, kids, b->node_count);
         b->node_count += 2;
@@ -100,7 +100,6 @@ static void run_top(Run *r)
         r->queue[r->queued++] = kids[0];
         r->queue[r->queued++] = kids[1];
     }
-    b->top = 0;
 }
 
 static void *run_worker(void *arg)
@@ -169,7 +168,10 @@ int builder_run(Builder *b, BuildStep step, Err *err)
     }
     b->node_cap = cap;
     Aabb box, cbox;
-    builder_bounds_all(b, &box, &cbox);
+    if (b->root_known)
+        box = b->root_box, cbox = b->root_cbox;
+    else
+        builder_bounds_all(b, &box, &cbox);
     b->nodes[0] = (BuildNode){box, -1, -1, 0, b->n};
     b->node_count = 1;
     b->root = 0;
