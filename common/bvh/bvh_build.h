@@ -36,7 +36,6 @@ struct Builder {
     uint32_t max_depth; /* the deepest node builder_run made (the root is 1); 0: not known */
     const void *aux; /* a builder's own per-primitive data */
     Pool *pool;      /* for passes over every primitive; NULL: the caller alone */
-    BuildStep top_step; /* or NULL: the step for the top of the tree, which may run on the pool */
     int root_known; /* root_box and root_cbox are set (the builder's own pass found them) */
     Aabb root_box, root_cbox;
 };
@@ -50,11 +49,11 @@ int32_t builder_add(Builder *b, BuildNode node);
  * fills kids[0..1] (boxes and ranges) and returns 2; builder_run allocates
  * the children's nodes and links them.  Subtrees go to opt->threads
  * workers; each task touches only its own range of perm, so the tree is the
- * same whatever the number of threads and their timing.  While there are
- * fewer tasks than workers, builder_run steps the biggest one alone, by
- * b->top_step where the builder has one, which may spread its passes over
- * b->pool. */
-int builder_run(Builder *b, BuildStep step, Err *err);
+ * same whatever the number of threads and their timing.  A builder may
+ * give a second step, top_step (else NULL), for the top of the tree: while
+ * there are fewer tasks than workers, builder_run steps the biggest one
+ * alone with it, and it may spread its passes over b->pool. */
+int builder_run(Builder *b, BuildStep step, BuildStep top_step, Err *err);
 /* Bounds of the primitive boxes and of their centres over perm[first, first+count). */
 void builder_bounds(const Builder *b, uint32_t first, uint32_t count, Aabb *box, Aabb *cbox);
 /* The same over every primitive, on the pool: only where no task runs (a

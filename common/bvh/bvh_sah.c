@@ -97,6 +97,24 @@ static void refs_bounds(const Box4 *refs, uint32_t first, uint32_t count, BuildT
     kid->cbox = cbox;
 }
 
+static inline __attribute__((always_inline)) void bins_clear(Bin bins[3][BINS], int nb)
+{
+    for (int a = 0; a < 3; a++)
+        for (int i = 0; i < nb; i++)
+            bins[a][i] = (Bin){box4_empty, 0};
+}
+
+/* Adds the primitives binned in `from` to `into`: boxes by minimum and
+ * maximum, counts by sum, so the same bins in any order. */
+static inline __attribute__((always_inline)) void bins_merge(Bin into[3][BINS], Bin from[3][BINS], int nb)
+{
+    for (int a = 0; a < 3; a++)
+        for (int i = 0; i < nb; i++) {
+            box4_grow(&into[a][i].box, &from[a][i].box);
+            into[a][i].count += from[a][i].count;
+        }
+}
+
 /* Drops each primitive's centre into a bin per axis (bin_of), growing the
  * bins' boxes.  The hot loop of the build: on x86-64 float builds the three
  * axes go at once in SSE, with the same arithmetic, so the same bins.
@@ -115,9 +133,8 @@ static inline __attribute__((always_inline)) void bin_prims(const Box4 *refs, ui
      * node keeps one, where clearing and merging the second cost more */
     Bin odd[3][BINS];
     const uint32_t two = count >= TWO_SETS_MIN;
-    for (int a = 0; two && a < 3; a++)
-        for (int i = 0; i < nb; i++)
-            odd[a][i] = (Bin){box4_empty, 0};
+    if (two)
+        bins_clear(odd, nb);
     for (uint32_t i = first; i < first + count; i++) {
         Bin(*set)[BINS] = (i - first) & two ? odd : bins;
         const __m128 l = _mm_load_ps(refs[i].lo), h = _mm_load_ps(refs[i].hi);
@@ -138,11 +155,8 @@ static inline __attribute__((always_inline)) void bin_prims(const Box4 *refs, ui
         _mm_store_ps(b2->box.hi, _mm_max_ps(h, _mm_load_ps(b2->box.hi)));
         b2->count++;
     }
-    for (int a = 0; two && a < 3; a++)
-        for (int i = 0; i < nb; i++) {
-            box4_grow(&bins[a][i].box, &odd[a][i].box);
-            bins[a][i].count += odd[a][i].count;
-        }
+    if (two)
+        bins_merge(bins, odd, nb);
 #else
     for (uint32_t i = first; i < first + count; i++) {
         const vec3 c = ref_centre(&refs[i]);
@@ -383,10 +397,9 @@ static int sah_sweep(const Builder *b, const BuildTask *t, BuildTask kids[2])
  * extra leaf visits cheap. */
 static int bin_count(uint32_t n) { return n >= 20 * (BINS - 4) ? BINS : 4 + (int)(n / 20); }
 
-/* Binning at the top of the tree (sah_step_top: no other task runs), by ranges
- * on the pool, each thread into its own bins, which are then merged:
- * boxes by minimum and maximum and counts by sum, so the same bins
- * whichever thread took which range. */
+/* Binning at the top of the tree (sah_step_top: no other task runs), by
+ * ranges on the pool, each thread into its own bins, which are then
+ * merged (bins_merge): the same bins whichever thread took which range. */
 typedef struct {
     const Box4 *refs;
     uint32_t first;
@@ -412,17 +425,11 @@ static BinSet *bin_on_pool(const Builder *b, const BuildTask *t, const real lo[3
     if (!sets)
         return NULL;
     for (int k = 0; k < threads; k++)
-        for (int a = 0; a < 3; a++)
-            for (int i = 0; i < nb; i++)
-                sets[k][a][i] = (Bin){box4_empty, 0};
+        bins_clear(sets[k], nb);
     BinJob job = {b->aux, t->first, lo, scale, nb, sets};
     pool_for(b->pool, t->count, BVH_POOL_GRAIN, bin_range, &job);
     for (int k = 1; k < threads; k++)
-        for (int a = 0; a < 3; a++)
-            for (int i = 0; i < nb; i++) {
-                box4_grow(&sets[0][a][i].box, &sets[k][a][i].box);
-                sets[0][a][i].count += sets[k][a][i].count;
-            }
+        bins_merge(sets[0], sets[k], nb);
     return sets;
 }
 
@@ -449,8 +456,6 @@ static inline __attribute__((always_inline)) int sah_split(const Builder *b, con
     for (int a = 0; a < 3; a++) {
         lo[a] = t->cbox.min.e[a];
         scale[a] = ext.e[a] > R(0) ? (real)nb / ext.e[a] : R(0);
-        for (int i = 0; i < nb; i++)
-            bins[a][i] = (Bin){box4_empty, 0};
     }
     BinSet *pooled = top && b->pool ? bin_on_pool(b, t, lo, scale, nb) : NULL;
     if (pooled) {
@@ -459,6 +464,7 @@ static inline __attribute__((always_inline)) int sah_split(const Builder *b, con
                 bins[a][i] = pooled[0][a][i];
         free(pooled);
     } else {
+        bins_clear(bins, nb);
         bin_prims(refs, t->first, t->count, lo, scale, nb, bins);
     }
     real best = REAL_INF;
@@ -619,8 +625,7 @@ int bvh_build_sah(Builder *b, Err *err)
     }
     b->root_known = 1;
     b->root_box = box4_aabb(&box), b->root_cbox = box4_aabb(&cbox);
-    b->top_step = sah_step_top;
-    int rc = builder_run(b, sah_step, err);
+    int rc = builder_run(b, sah_step, sah_step_top, err);
     if (rc == 0)
         pool_for(b->pool, b->n, BVH_POOL_GRAIN, refs_perm, b);
     free(refs);

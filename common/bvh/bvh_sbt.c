@@ -48,4 +48,4 @@ static int sbt_step(const Builder *b, const BuildTask *t, BuildTask kids[2])
     return 2;
 }
 
-int bvh_build_sbt(Builder *b, Err *err) { return builder_run(b, sbt_step, err); }
+int bvh_build_sbt(Builder *b, Err *err) { return builder_run(b, sbt_step, NULL, err); }

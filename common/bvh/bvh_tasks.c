@@ -75,14 +75,15 @@ static void run_link(Builder *b, const BuildTask *cur, BuildTask kids[2], uint32
 }
 
 /* The top of the tree, while there are fewer tasks than workers: the
- * biggest task is stepped alone on the caller, by b->top_step where there
- * is one, whose passes run on the pool.  With two workers the root took a worker a
- * tenth of the build while the other waited. */
-static void run_top(Run *r)
+ * biggest task is stepped alone on the caller by the builder's top step,
+ * whose passes run on the pool.  With two workers the root took one of
+ * them a tenth of the build while the other waited.  A builder without a
+ * top step starts its workers at once: stepping its top alone would only
+ * keep them waiting longer. */
+static void run_top(Run *r, BuildStep step)
 {
     Builder *b = r->b;
-    const BuildStep step = b->top_step ? b->top_step : r->step;
-    while (b->pool && r->workers > 1 && r->queued > 0 && r->queued < (uint32_t)r->workers) {
+    while (step && b->pool && r->workers > 1 && r->queued > 0 && r->queued < (uint32_t)r->workers) {
         uint32_t big = 0;
         for (uint32_t i = 1; i < r->queued; i++)
             if (r->queue[i].count > r->queue[big].count)
@@ -153,7 +154,7 @@ static void *run_worker(void *arg)
     return NULL;
 }
 
-int builder_run(Builder *b, BuildStep step, Err *err)
+int builder_run(Builder *b, BuildStep step, BuildStep top_step, Err *err)
 {
     /* a binary tree over n primitives has at most 2n - 1 nodes; each
      * worker may leave part of its last chunk unused */
@@ -177,7 +178,7 @@ int builder_run(Builder *b, BuildStep step, Err *err)
     b->root = 0;
     b->max_depth = 1;
     r.queue[r.queued++] = (BuildTask){0, 0, b->n, 1, box, cbox};
-    run_top(&r);
+    run_top(&r, top_step);
     r.busy = (uint32_t)r.workers; /* each worker starts by taking */
     pthread_mutex_init(&r.lock, NULL);
     pthread_cond_init(&r.wake, NULL);
