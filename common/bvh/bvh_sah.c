@@ -170,8 +170,8 @@ static inline __attribute__((always_inline)) void bin_prims(const Box4 *refs, ui
 }
 
 /* Moves the references of [first, first + count) whose centre falls in a
- * bin up to `split` of `axis` before the others, growing cl and cr by the
- * centres of each side; returns where the second side starts.
+ * bin up to `split` of `axis` before the others; returns where the second
+ * side starts.
  *
  * A centre is in a bin up to `split` exactly when (c - lo) * scale <
  * split + 1: bin_of's arithmetic, with its clamps (NaN and negatives go to
@@ -180,8 +180,9 @@ static inline __attribute__((always_inline)) void bin_prims(const Box4 *refs, ui
  *
  * By blocks from both ends (Edelkamp and Weiss's BlockQuicksort): a block
  * of PART_BLOCK references at the front notes, without a branch, the ones
- * that belong at the back, a block at the back the ones that belong at the
- * front, and as many pairs as both have are swapped.  Each reference is
+ * that belong at the back (a bit each in a mask: a byte each in an array
+ * made every note a store), a block at the back the ones that belong at
+ * the front, and as many pairs as both have are swapped.  Each reference is
  * read once and only the misplaced ones written, where the scheme before
  * (Lomuto's: every reference swapped with the first one not yet known to
  * go left) read and wrote every one twice; the upper levels stream the
@@ -189,39 +190,25 @@ static inline __attribute__((always_inline)) void bin_prims(const Box4 *refs, ui
  * between the last blocks goes by Lomuto's scheme. */
 #define PART_BLOCK 64
 
-/* the two sides' centre boxes, grown reference by reference */
+/* Where each reference goes: bin_of's arithmetic, per lane on x86-64
+ * float builds, on the split's axis otherwise. */
 typedef struct {
 #if defined(__x86_64__) && !defined(LANRAY_DOUBLE)
-    __m128 llo, lhi, rlo, rhi;
+    __m128 lo, scale, limit;
 #else
-    Box4 l, r;
+    real lo, scale, limit;
 #endif
-} Sides;
+} Side;
 
-static inline __attribute__((always_inline)) int ref_left(const Box4 *x, int axis, real lo, real scale, real limit)
-{
-    return !((((x->lo[axis] + x->hi[axis]) * R(0.5)) - lo) * scale >= limit);
-}
-
-/* Grows the side `left` says by x's centre.  A box grown twice by one
- * point is unchanged, so a reference may be counted twice. */
-static inline __attribute__((always_inline)) void sides_add(Sides *s, const Box4 *x, int left)
+/* Whether x goes right (1) or left (0).  `axis` is a constant in each
+ * caller (partition), so that picking its lane is one shift. */
+static inline __attribute__((always_inline)) int side_right(const Side *s, const Box4 *x, int axis)
 {
 #if defined(__x86_64__) && !defined(LANRAY_DOUBLE)
-    const __m128 inf = _mm_set1_ps(INFINITY), ninf = _mm_set1_ps(-INFINITY);
-    /* lane 3 holds the index bits, halved: garbage that only lane 3 of the boxes sees */
     const __m128 c = _mm_mul_ps(_mm_add_ps(_mm_load_ps(x->lo), _mm_load_ps(x->hi)), _mm_set1_ps(0.5f));
-    const __m128 m = _mm_castsi128_ps(_mm_set1_epi32(-left));
-    s->llo = _mm_min_ps(s->llo, _mm_or_ps(_mm_and_ps(m, c), _mm_andnot_ps(m, inf)));
-    s->lhi = _mm_max_ps(s->lhi, _mm_or_ps(_mm_and_ps(m, c), _mm_andnot_ps(m, ninf)));
-    s->rlo = _mm_min_ps(s->rlo, _mm_or_ps(_mm_andnot_ps(m, c), _mm_and_ps(m, inf)));
-    s->rhi = _mm_max_ps(s->rhi, _mm_or_ps(_mm_andnot_ps(m, c), _mm_and_ps(m, ninf)));
+    return (_mm_movemask_ps(_mm_cmpge_ps(_mm_mul_ps(_mm_sub_ps(c, s->lo), s->scale), s->limit)) >> axis) & 1;
 #else
-    Box4 c;
-    vec3 cv = ref_centre(x);
-    for (int k = 0; k < 4; k++)
-        c.lo[k] = c.hi[k] = k < 3 ? cv.e[k] : R(0);
-    box4_grow(left ? &s->l : &s->r, &c);
+    return (((x->lo[axis] + x->hi[axis]) * R(0.5)) - s->lo) * s->scale >= s->limit;
 #endif
 }
 
@@ -232,60 +219,82 @@ static inline __attribute__((always_inline)) void ref_swap(Box4 *a, Box4 *b)
     *b = t;
 }
 
-static uint32_t partition(Box4 *refs, uint32_t first, uint32_t count, int axis, const real lo[3], const real scale[3],
-                          int split, Box4 *cl, Box4 *cr)
+static inline __attribute__((always_inline)) uint32_t partition_on(Box4 *refs, uint32_t first, uint32_t count,
+                                                                    const int axis, const Side *s)
 {
-    const real lo_a = lo[axis], scale_a = scale[axis], limit = (real)(split + 1);
-    Sides s;
-#if defined(__x86_64__) && !defined(LANRAY_DOUBLE)
-    s.llo = _mm_load_ps(cl->lo), s.lhi = _mm_load_ps(cl->hi), s.rlo = _mm_load_ps(cr->lo), s.rhi = _mm_load_ps(cr->hi);
-#else
-    s.l = *cl, s.r = *cr;
-#endif
     uint32_t l = first, r = first + count; /* [l, r) not yet in place */
-    uint8_t offl[PART_BLOCK], offr[PART_BLOCK];
-    uint32_t nl = 0, nr = 0, sl = 0, sr = 0;
+    /* bit k: the front block's reference l + k goes right, the back
+     * block's r - 1 - k goes left; set bits are paired in order */
+    uint64_t ml = 0, mr = 0;
+    int have_l = 0, have_r = 0;
     while (r - l >= 2 * PART_BLOCK) {
-        if (nl == 0) { /* the front block's references that go right */
-            sl = 0;
-            for (uint32_t k = 0; k < PART_BLOCK; k++) {
-                const int left = ref_left(&refs[l + k], axis, lo_a, scale_a, limit);
-                sides_add(&s, &refs[l + k], left);
-                offl[nl] = (uint8_t)k;
-                nl += (uint32_t)!left;
-            }
+        if (!have_l) {
+            for (uint32_t k = 0; k < PART_BLOCK; k++)
+                ml |= (uint64_t)side_right(s, &refs[l + k], axis) << k;
+            have_l = 1;
         }
-        if (nr == 0) { /* the back block's references that go left */
-            sr = 0;
-            for (uint32_t k = 0; k < PART_BLOCK; k++) {
-                const int left = ref_left(&refs[r - 1 - k], axis, lo_a, scale_a, limit);
-                sides_add(&s, &refs[r - 1 - k], left);
-                offr[nr] = (uint8_t)k;
-                nr += (uint32_t)left;
-            }
+        if (!have_r) {
+            for (uint32_t k = 0; k < PART_BLOCK; k++)
+                mr |= (uint64_t)!side_right(s, &refs[r - 1 - k], axis) << k;
+            have_r = 1;
         }
-        const uint32_t pairs = nl < nr ? nl : nr;
-        for (uint32_t k = 0; k < pairs; k++)
-            ref_swap(&refs[l + offl[sl + k]], &refs[r - 1 - offr[sr + k]]);
-        nl -= pairs, nr -= pairs, sl += pairs, sr += pairs;
-        if (nl == 0)
-            l += PART_BLOCK;
-        if (nr == 0)
-            r -= PART_BLOCK;
+        for (; ml && mr; ml &= ml - 1, mr &= mr - 1)
+            ref_swap(&refs[l + (uint32_t)__builtin_ctzll(ml)], &refs[r - 1 - (uint32_t)__builtin_ctzll(mr)]);
+        if (!ml)
+            l += PART_BLOCK, have_l = 0;
+        if (!mr)
+            r -= PART_BLOCK, have_r = 0;
     }
     uint32_t j = l; /* the rest, Lomuto's way */
     for (uint32_t i = l; i < r; i++) {
-        const int left = ref_left(&refs[i], axis, lo_a, scale_a, limit);
-        sides_add(&s, &refs[i], left);
+        const int right = side_right(s, &refs[i], axis);
         ref_swap(&refs[i], &refs[j]);
-        j += (uint32_t)left;
+        j += (uint32_t)!right;
     }
-#if defined(__x86_64__) && !defined(LANRAY_DOUBLE)
-    _mm_store_ps(cl->lo, s.llo), _mm_store_ps(cl->hi, s.lhi), _mm_store_ps(cr->lo, s.rlo), _mm_store_ps(cr->hi, s.rhi);
-#else
-    *cl = s.l, *cr = s.r;
-#endif
     return j;
+}
+
+static uint32_t partition(Box4 *refs, uint32_t first, uint32_t count, int axis, const real lo[3], const real scale[3],
+                          int split)
+{
+    const real limit = (real)(split + 1);
+    Side s;
+#if defined(__x86_64__) && !defined(LANRAY_DOUBLE)
+    s.lo = _mm_setr_ps(lo[0], lo[1], lo[2], 0), s.scale = _mm_setr_ps(scale[0], scale[1], scale[2], 0);
+    s.limit = _mm_set1_ps(limit);
+#else
+    s.lo = lo[axis], s.scale = scale[axis], s.limit = limit;
+#endif
+    switch (axis) { /* a constant axis in each */
+    case 0: return partition_on(refs, first, count, 0, &s);
+    case 1: return partition_on(refs, first, count, 1, &s);
+    default: return partition_on(refs, first, count, 2, &s);
+    }
+}
+
+/* The box of the centres of refs[first, first + count), by
+ * aabb_centre's arithmetic.  Apart from the partition, which grew both
+ * sides' boxes as it went (a masked minimum and maximum per side for
+ * every reference), this pass over each side costs a third of what that
+ * did: the sides lie together now, and the smaller nodes' are still in
+ * the cache. */
+static Aabb refs_cbox(const Box4 *refs, uint32_t first, uint32_t count)
+{
+#if defined(__x86_64__) && !defined(LANRAY_DOUBLE)
+    __m128 lo = _mm_set1_ps(INFINITY), hi = _mm_set1_ps(-INFINITY);
+    for (uint32_t i = first; i < first + count; i++) {
+        const __m128 c = _mm_mul_ps(_mm_add_ps(_mm_load_ps(refs[i].lo), _mm_load_ps(refs[i].hi)), _mm_set1_ps(0.5f));
+        lo = _mm_min_ps(lo, c), hi = _mm_max_ps(hi, c);
+    }
+    Box4 b;
+    _mm_store_ps(b.lo, lo), _mm_store_ps(b.hi, hi);
+    return box4_aabb(&b);
+#else
+    Aabb cbox = aabb_empty();
+    for (uint32_t i = first; i < first + count; i++)
+        aabb_grow(&cbox, ref_centre(&refs[i]));
+    return cbox;
+#endif
 }
 
 /* Small nodes: the exact SAH over every split position of the centres
@@ -294,61 +303,76 @@ static uint32_t partition(Box4 *refs, uint32_t first, uint32_t count, int axis, 
  * binning can only approximate these splits. */
 #define SWEEP_MAX 8
 
-/* The order of n centres (key: twice each one, on one axis), stable:
- * order[r] is the r-th smallest, equal ones keeping their order.  On
- * x86-64 float builds by counting each one's rank against all the others,
- * four at a time and without a branch: for the few of a sweep faster than
- * an insertion sort, whose branches guess wrong at random.  The same order
- * either way.  key has room for 3 more, which the count fills. */
-static void sweep_order(real *key, uint32_t n, uint8_t *order)
+/* For each axis, the order of the n centres along it (order[a][r]: the
+ * r-th smallest, equal ones keeping their order: the key is twice each
+ * centre) and the SAH cost of each split of that order (cost[a][j]: the
+ * first j + 1 on the left).
+ *
+ * On x86-64 float builds the three axes go at once, one to a lane: a
+ * reference's keys are its lo + hi, each one's rank is counted against all
+ * the others without a branch, and the sweeps grow three boxes at once
+ * from the references transposed into a vector per coordinate.  The same
+ * arithmetic per lane as the scalar sweep below, so the same costs; three
+ * axes one by one, with their shuffles and scalar areas, were a seventh of
+ * the build (3200 instructions a node, 950 now). */
+static void sweep_costs(const Box4 *refs, uint32_t n, uint8_t order[3][SWEEP_MAX], real cost[3][SWEEP_MAX])
 {
 #if defined(__x86_64__) && !defined(LANRAY_DOUBLE)
-    for (uint32_t i = n; i < n + 3; i++) /* past the end: after any centre, even an infinite one (its index is larger) */
-        key[i] = INFINITY;
-    const __m128i step = _mm_setr_epi32(0, 1, 2, 3);
+    __m128 key[SWEEP_MAX];
+    for (uint32_t i = 0; i < n; i++)
+        key[i] = _mm_add_ps(_mm_load_ps(refs[i].lo), _mm_load_ps(refs[i].hi));
     for (uint32_t i = 0; i < n; i++) {
-        const __m128 ki = _mm_set1_ps(key[i]);
-        const __m128i ii = _mm_set1_epi32((int)i);
         __m128i rank = _mm_setzero_si128();
-        for (uint32_t j = 0; j < n; j += 4) {
-            const __m128 kj = _mm_loadu_ps(key + j);
-            const __m128i jj = _mm_add_epi32(_mm_set1_epi32((int)j), step);
-            const __m128 tie = _mm_and_ps(_mm_cmpeq_ps(kj, ki), _mm_castsi128_ps(_mm_cmplt_epi32(jj, ii)));
-            rank = _mm_sub_epi32(rank, _mm_castps_si128(_mm_or_ps(_mm_cmplt_ps(kj, ki), tie)));
+        for (uint32_t j = 0; j < i; j++) /* before i: ties count */
+            rank = _mm_sub_epi32(rank, _mm_castps_si128(_mm_cmple_ps(key[j], key[i])));
+        for (uint32_t j = i + 1; j < n; j++)
+            rank = _mm_sub_epi32(rank, _mm_castps_si128(_mm_cmplt_ps(key[j], key[i])));
+        order[0][_mm_cvtsi128_si32(rank)] = (uint8_t)i;
+        order[1][_mm_cvtsi128_si32(_mm_shuffle_epi32(rank, 1))] = (uint8_t)i;
+        order[2][_mm_cvtsi128_si32(_mm_shuffle_epi32(rank, 2))] = (uint8_t)i;
+    }
+    /* lane a: the box of the references taken so far in axis a's order */
+    const __m128 inf = _mm_set1_ps(INFINITY), ninf = _mm_set1_ps(-INFINITY);
+    __m128 right_area[SWEEP_MAX];
+    for (int side = 0; side < 2; side++) {
+        __m128 lx = inf, ly = inf, lz = inf, hx = ninf, hy = ninf, hz = ninf;
+        for (uint32_t s = 0; s + 1 < n; s++) {
+            const uint32_t j = side ? s : n - 1 - s; /* the right side from the back */
+            const Box4 *r0 = &refs[order[0][j]], *r1 = &refs[order[1][j]], *r2 = &refs[order[2][j]];
+            __m128 l0 = _mm_load_ps(r0->lo), l1 = _mm_load_ps(r1->lo), l2 = _mm_load_ps(r2->lo), l3 = inf;
+            __m128 h0 = _mm_load_ps(r0->hi), h1 = _mm_load_ps(r1->hi), h2 = _mm_load_ps(r2->hi), h3 = ninf;
+            _MM_TRANSPOSE4_PS(l0, l1, l2, l3);
+            _MM_TRANSPOSE4_PS(h0, h1, h2, h3);
+            lx = _mm_min_ps(l0, lx), ly = _mm_min_ps(l1, ly), lz = _mm_min_ps(l2, lz);
+            hx = _mm_max_ps(h0, hx), hy = _mm_max_ps(h1, hy), hz = _mm_max_ps(h2, hz);
+            /* box4_half_area's arithmetic */
+            const __m128 ex = _mm_sub_ps(hx, lx), ey = _mm_sub_ps(hy, ly), ez = _mm_sub_ps(hz, lz);
+            const __m128 area = _mm_add_ps(_mm_add_ps(_mm_mul_ps(ex, ey), _mm_mul_ps(ey, ez)), _mm_mul_ps(ez, ex));
+            if (!side) {
+                right_area[j] = area;
+                continue;
+            }
+            _Alignas(16) real c[4];
+            _mm_store_ps(c, _mm_add_ps(_mm_mul_ps(area, _mm_set1_ps((real)bvh_leaf_blocks(j + 1))),
+                                       _mm_mul_ps(right_area[j + 1], _mm_set1_ps((real)bvh_leaf_blocks(n - j - 1)))));
+            cost[0][j] = c[0], cost[1][j] = c[1], cost[2][j] = c[2];
         }
-        rank = _mm_add_epi32(rank, _mm_shuffle_epi32(rank, 0x4e));
-        rank = _mm_add_epi32(rank, _mm_shuffle_epi32(rank, 0xb1));
-        order[_mm_cvtsi128_si32(rank)] = (uint8_t)i;
     }
 #else
-    real sorted[SWEEP_MAX];
-    for (uint32_t i = 0; i < n; i++) { /* insertion sort */
-        real c = key[i];
-        uint32_t j = i;
-        while (j > 0 && sorted[j - 1] > c) {
-            sorted[j] = sorted[j - 1];
-            order[j] = order[j - 1];
-            j--;
-        }
-        sorted[j] = c;
-        order[j] = (uint8_t)i;
-    }
-#endif
-}
-
-static int sah_sweep(const Builder *b, const BuildTask *t, BuildTask kids[2])
-{
-    Box4 *refs = (Box4 *)b->aux + t->first;
-    const uint32_t n = t->count;
-    uint8_t order[3][SWEEP_MAX];
-    _Alignas(16) real key[SWEEP_MAX + 3];
-    real best = REAL_INF;
-    int axis = -1;
-    uint32_t split = 0;
     for (int a = 0; a < 3; a++) {
+        real key[SWEEP_MAX], sorted[SWEEP_MAX];
         for (uint32_t i = 0; i < n; i++)
             key[i] = refs[i].lo[a] + refs[i].hi[a];
-        sweep_order(key, n, order[a]);
+        for (uint32_t i = 0; i < n; i++) { /* insertion sort */
+            uint32_t j = i;
+            while (j > 0 && sorted[j - 1] > key[i]) {
+                sorted[j] = sorted[j - 1];
+                order[a][j] = order[a][j - 1];
+                j--;
+            }
+            sorted[j] = key[i];
+            order[a][j] = (uint8_t)i;
+        }
         real right_area[SWEEP_MAX];
         Box4 acc = box4_empty;
         for (uint32_t j = n - 1; j > 0; j--) {
@@ -358,15 +382,30 @@ static int sah_sweep(const Builder *b, const BuildTask *t, BuildTask kids[2])
         acc = box4_empty;
         for (uint32_t j = 0; j + 1 < n; j++) {
             box4_grow(&acc, &refs[order[a][j]]);
-            real c = box4_half_area(&acc) * (real)bvh_leaf_blocks(j + 1) +
-                     right_area[j + 1] * (real)bvh_leaf_blocks(n - j - 1);
-            if (c < best) {
-                best = c;
+            cost[a][j] = box4_half_area(&acc) * (real)bvh_leaf_blocks(j + 1) +
+                         right_area[j + 1] * (real)bvh_leaf_blocks(n - j - 1);
+        }
+    }
+#endif
+}
+
+static int sah_sweep(const Builder *b, const BuildTask *t, BuildTask kids[2])
+{
+    Box4 *refs = (Box4 *)b->aux + t->first;
+    const uint32_t n = t->count;
+    uint8_t order[3][SWEEP_MAX];
+    real cost[3][SWEEP_MAX];
+    sweep_costs(refs, n, order, cost);
+    real best = REAL_INF;
+    int axis = -1;
+    uint32_t split = 0;
+    for (int a = 0; a < 3; a++)
+        for (uint32_t j = 0; j + 1 < n; j++)
+            if (cost[a][j] < best) {
+                best = cost[a][j];
                 axis = a;
                 split = j + 1;
             }
-        }
-    }
     real area = aabb_half_area(t->box);
     real split_cost = area > R(0) ? COST_TRAVERSE + COST_INTERSECT * best / area : COST_TRAVERSE;
     if (!(split_cost < COST_INTERSECT * (real)bvh_leaf_blocks(n)) && n <= b->opt->max_leaf)
@@ -509,15 +548,12 @@ static inline __attribute__((always_inline)) int sah_split(const Builder *b, con
     real leaf_cost = COST_INTERSECT * (real)bvh_leaf_blocks(t->count);
     uint32_t nl;
     if (split_cost < REAL_INF && (split_cost < leaf_cost || t->count > b->opt->max_leaf)) {
-        /* partition, growing each side's centre box on the way */
-        Box4 cl = box4_empty, cr = box4_empty;
-        uint32_t i = partition(refs, t->first, t->count, axis, lo, scale, split, &cl, &cr);
-        nl = i - t->first;
+        nl = partition(refs, t->first, t->count, axis, lo, scale, split) - t->first;
         Box4 bl = box4_empty, br = box4_empty;
         for (int k = 0; k < nb; k++)
             box4_grow(k > split ? &br : &bl, &bins[axis][k].box);
-        kids[0].box = box4_aabb(&bl), kids[0].cbox = box4_aabb(&cl);
-        kids[1].box = box4_aabb(&br), kids[1].cbox = box4_aabb(&cr);
+        kids[0].box = box4_aabb(&bl), kids[0].cbox = refs_cbox(refs, t->first, nl);
+        kids[1].box = box4_aabb(&br), kids[1].cbox = refs_cbox(refs, t->first + nl, t->count - nl);
     } else if (t->count > b->opt->max_leaf) {
         nl = t->count / 2; /* coincident centres: split by count */
         refs_bounds(refs, t->first, nl, &kids[0]);
