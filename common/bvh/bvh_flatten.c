@@ -133,13 +133,170 @@ static int flat_centres(Flat *f, vec3 **own)
     return 0;
 }
 
+/* A plain tree (nothing to collapse, shallow enough to need no repair)
+ * is laid out by flat_subtree, in the general loop's order: children in
+ * adjacent slots, depth first, left first.  Its leaves keep their
+ * builder's ranges: a top-down builder splits a range left before right,
+ * so a range is also the leaf's place in leaf order, and the leaf order
+ * is perm itself.
+ *
+ * The subtree of build node `root` goes to flat slot `slot`, its
+ * descendants to the slots from *next on (2 for each interior node);
+ * returns its deepest level. */
+static uint32_t flat_subtree(const Builder *b, BvhNode *nodes, uint32_t root, uint32_t slot, uint32_t depth,
+                             uint32_t *next)
+{
+    uint32_t work[BVH_MAX_DEPTH + 2][3], wp = 0, deepest = depth, c = *next; /* build node, slot, depth */
+    work[wp][0] = root, work[wp][1] = slot, work[wp][2] = depth, wp++;
+    while (wp) {
+        wp--;
+        const uint32_t i = work[wp][0], s = work[wp][1], d = work[wp][2];
+        const BuildNode *bn = &b->nodes[i];
+        BvhNode *node = &nodes[s];
+        flat_set_box(node, bn->box);
+        deepest = d > deepest ? d : deepest;
+        if (bn->left < 0) {
+            node->first = bn->first;
+            node->count = bn->count;
+            continue;
+        }
+        node->first = c;
+        node->count = 0;
+        /* a pop takes one entry and pushes two: one more a level */
+        work[wp][0] = (uint32_t)bn->right, work[wp][1] = c + 1, work[wp][2] = d + 1, wp++;
+        work[wp][0] = (uint32_t)bn->left, work[wp][1] = c, work[wp][2] = d + 1, wp++;
+        c += 2;
+    }
+    *next = c;
+    return deepest;
+}
+
+/* On a pool, a plain tree is cut into subtrees of at most cut_max
+ * primitives, which are laid out at once: a subtree's slots follow from
+ * the number of interior nodes before it in depth-first order, which a
+ * pass over each subtree counts first (on the pool too).  Serial, the
+ * layout was a tenth of the 1M-triangle sphere's two-thread build. */
+#define CUTS_PER_THREAD 8
+
+typedef struct {
+    uint32_t node, slot, depth, next, interior, deepest;
+} Cut;
+
+typedef struct {
+    const Builder *b;
+    BvhNode *nodes;
+    Cut *cuts;
+} CutJob;
+
+static int cut_is(const BuildNode *bn, uint32_t cut_max) { return bn->left < 0 || bn->count <= cut_max; }
+
+static void cut_count(void *ctx, uint64_t lo, uint64_t hi, int thread)
+{
+    (void)thread;
+    const CutJob *j = ctx;
+    for (uint64_t k = lo; k < hi; k++) {
+        uint32_t stack[BVH_MAX_DEPTH + 2], sp = 0, interior = 0;
+        stack[sp++] = j->cuts[k].node;
+        while (sp) {
+            const BuildNode *bn = &j->b->nodes[stack[--sp]];
+            if (bn->left >= 0) {
+                interior++;
+                stack[sp++] = (uint32_t)bn->right;
+                stack[sp++] = (uint32_t)bn->left;
+            }
+        }
+        j->cuts[k].interior = interior;
+    }
+}
+
+static void cut_lay(void *ctx, uint64_t lo, uint64_t hi, int thread)
+{
+    (void)thread;
+    const CutJob *j = ctx;
+    for (uint64_t k = lo; k < hi; k++) {
+        Cut *c = &j->cuts[k];
+        uint32_t next = c->next;
+        c->deepest = flat_subtree(j->b, j->nodes, c->node, c->slot, c->depth, &next);
+    }
+}
+
+/* The top above the cuts, depth first as flat_subtree goes; returns the
+ * number of cuts.  With `cuts` it notes each cut's build node, and with
+ * `nodes` as well it lays out the top's nodes and gives each cut (whose
+ * interior nodes are counted by then) its slot, its depth and the first
+ * slot of its descendants. */
+static uint32_t cut_top(const Builder *b, BvhNode *nodes, uint32_t cut_max, Cut *cuts, uint32_t *next)
+{
+    uint32_t work[BVH_MAX_DEPTH + 2][3], wp = 0, nc = 0, c = 1;
+    work[wp][0] = b->root, work[wp][1] = 0, work[wp][2] = 1, wp++;
+    while (wp) {
+        wp--;
+        const uint32_t i = work[wp][0], s = work[wp][1], d = work[wp][2];
+        const BuildNode *bn = &b->nodes[i];
+        if (cut_is(bn, cut_max)) {
+            if (cuts && nodes) {
+                cuts[nc].slot = s, cuts[nc].depth = d, cuts[nc].next = c;
+                c += 2 * cuts[nc].interior;
+            } else if (cuts) {
+                cuts[nc].node = i;
+            }
+            nc++;
+            continue;
+        }
+        if (nodes) {
+            flat_set_box(&nodes[s], bn->box);
+            nodes[s].first = c;
+            nodes[s].count = 0;
+        }
+        work[wp][0] = (uint32_t)bn->right, work[wp][1] = c + 1, work[wp][2] = d + 1, wp++;
+        work[wp][0] = (uint32_t)bn->left, work[wp][1] = c, work[wp][2] = d + 1, wp++;
+        c += 2;
+    }
+    *next = c;
+    return nc;
+}
+
+/* Lays out a plain tree into f, whose nodes and prims are allocated;
+ * 0, or -1 when out of memory. */
+static int flat_plain(const Builder *b, Flat *f)
+{
+    uint32_t next = 1;
+    memcpy(f->prims, b->perm, b->n * sizeof *f->prims);
+    f->prim_count = b->n;
+    const int threads = b->pool ? pool_threads(b->pool) : 1;
+    if (threads < 2) {
+        f->depth = flat_subtree(b, f->nodes, b->root, 0, 1, &next);
+        f->node_count = next;
+        return 0;
+    }
+    const uint32_t cut_max = b->n / (CUTS_PER_THREAD * (uint32_t)threads);
+    const uint32_t nc = cut_top(b, NULL, cut_max, NULL, &next);
+    Cut *cuts = calloc(nc, sizeof *cuts);
+    if (!cuts)
+        return -1;
+    CutJob job = {b, f->nodes, cuts};
+    cut_top(b, NULL, cut_max, cuts, &next);
+    pool_for(b->pool, nc, 1, cut_count, &job);
+    cut_top(b, f->nodes, cut_max, cuts, &next);
+    pool_for(b->pool, nc, 1, cut_lay, &job);
+    f->node_count = next;
+    f->depth = 1;
+    for (uint32_t k = 0; k < nc; k++) /* the top's nodes lie above every cut */
+        f->depth = cuts[k].deepest > f->depth ? cuts[k].deepest : f->depth;
+    free(cuts);
+    return 0;
+}
+
 int bvh_flatten(const Builder *b, Bvh *out, Err *err)
 {
     /* a tree its builder knows to be shallow enough, with nothing to
-     * collapse, is laid out as it is: no pass for heights and costs (on
-     * the 1M-triangle sphere, a tenth of the SAH build on two threads) */
+     * collapse, is laid out as it is (flat_plain): no pass for heights and
+     * costs (on the 1M-triangle sphere, a tenth of the SAH build on two
+     * threads), and none of their arrays */
     const int plain = !b->collapse && b->max_depth && b->max_depth <= BVH_MAX_DEPTH;
     uint32_t bn_count = b->node_count, pass = plain ? 1 : bn_count;
+    if (plain)
+        bn_count = 1;
     uint32_t *order = bigmem_alloc(pass * sizeof *order);   /* pre-order */
     uint32_t *stack = bigmem_alloc(pass * sizeof *stack);
     uint32_t *height = bigmem_alloc(pass * sizeof *height);
@@ -155,8 +312,15 @@ int bvh_flatten(const Builder *b, Bvh *out, Err *err)
     f.prims = bigmem_alloc(b->n * sizeof *f.prims);
     int rc = -1;
     if (!order || !stack || !height || !nprims || !cost || !tmp || !work || !f.nodes || !f.prims) {
-        err_set(err, "bvh: out of memory flattening %u nodes", bn_count);
+        err_set(err, "bvh: out of memory flattening %u nodes", b->node_count);
         goto done;
+    }
+    if (plain) {
+        if (flat_plain(b, &f)) {
+            err_set(err, "bvh: out of memory flattening %u nodes", b->node_count);
+            goto done;
+        }
+        goto laid;
     }
     /* pre-order, then a reverse sweep gives children before parents */
     uint32_t sp = 0, no = 0;
@@ -230,6 +394,7 @@ int bvh_flatten(const Builder *b, Bvh *out, Err *err)
         work[wp][0] = (uint32_t)bn->right, work[wp][1] = c + 1, work[wp][2] = depth + 1, wp++;
         work[wp][0] = (uint32_t)bn->left, work[wp][1] = c, work[wp][2] = depth + 1, wp++;
     }
+laid:
     out->nodes = f.nodes;
     out->nodes_mem = nodes_owner.nodes_mem;
     out->node_count = f.node_count;
