@@ -109,6 +109,10 @@ typedef struct {
     int linear; /* write linear codes instead of sRGB (--linear) */
     int bpp;    /* bytes a pixel: 3 codes, or 4 of RGBE (settings hdr) */
     uint32_t chunk; /* pixels per work item (chunk_size) */
+    /* the grid's pairs of whole lines (job_tiles): from line tile_line on,
+     * each pair cut into blocks of tile_cols columns */
+    uint64_t tile_line;
+    uint32_t tile_cols, tile_blocks;
     real gain;  /* 2^exposure, for the codes */
     /* adaptive mode: keys and centre colours, as written, of whole lines key_first .. key_first + key_lines - 1 */
     int key_first, key_lines;
@@ -353,6 +357,37 @@ static void job_grid(void *ctx, uint32_t chunk, RayStats *st)
     count_progress(f, i1 - i0, st, before);
 }
 
+/* A chunk of the grid's pairs of whole lines, one sample a pixel: a block
+ * of columns of two lines, in packets of 4 x 2 pixels.  A packet's rays
+ * then spread over half the width of a line's eight, and on the 1M-triangle
+ * sphere a frame took 10% less time (the bunny and the elephant 2-4%);
+ * each pixel is what its ray gives alone, whatever packet it is in. */
+#define TILE_W (TRACE_PACKET / 2)
+
+static void job_tiles(void *ctx, uint32_t chunk, RayStats *st)
+{
+    Frame *f = ctx;
+    if (cancelled(f))
+        return;
+    const uint64_t w = (uint64_t)f->width, y = f->tile_line + 2 * (uint64_t)(chunk / f->tile_blocks);
+    const int c0 = (int)(chunk % f->tile_blocks * f->tile_cols);
+    const int c1 = f->width - c0 > (int)f->tile_cols ? c0 + (int)f->tile_cols : f->width;
+    uint64_t before = ray_stats_total(st);
+    for (int x = c0; x < c1; x += TILE_W) {
+        const int k = c1 - x < TILE_W ? c1 - x : TILE_W; /* columns in this packet */
+        real xs[TRACE_PACKET], ys[TRACE_PACKET];
+        vec3 c[TRACE_PACKET];
+        for (int q = 0; q < 2 * k; q++) {
+            xs[q] = (real)(x + q % k) + R(0.5);
+            ys[q] = (real)(y + (uint64_t)(q / k)) + R(0.5);
+        }
+        sample_packet(f, xs, ys, 2 * k, c, st, NULL);
+        for (int q = 0; q < 2 * k; q++)
+            put_pixel(f, &f->pixels[f->bpp * ((y + (uint64_t)(q / k)) * w + (uint64_t)(x + q % k) - f->first)], c[q]);
+    }
+    count_progress(f, 2 * (uint64_t)(c1 - c0), st, before);
+}
+
 /* adaptive pass 1: one centre sample per pixel of the key lines, keeping its key */
 static void job_keys(void *ctx, uint32_t chunk, RayStats *st)
 {
@@ -445,6 +480,46 @@ static uint32_t chunk_size(uint64_t n, int threads)
     return (uint32_t)(c < CHUNK_MIN ? CHUNK_MIN : c > CHUNK_MAX ? CHUNK_MAX : c);
 }
 
+static void ray_stats_add(RayStats *to, RayStats st)
+{
+    to->primary += st.primary;
+    to->shadow += st.shadow;
+    to->secondary += st.secondary;
+}
+
+/* Pixels [first, first + count) of f's span, by lines (job_grid). */
+static RayStats grid_lines(RenderPool *p, const Frame *f, uint64_t first, uint64_t count)
+{
+    if (count == 0)
+        return (RayStats){0, 0, 0};
+    Frame l = *f;
+    l.first = first;
+    l.count = count;
+    l.pixels = f->pixels + (size_t)f->bpp * (first - f->first);
+    return pool_run_counted(p, job_grid, &l, chunks_of(&l, count));
+}
+
+/* The regular grid.  With one sample a pixel, the span's whole lines go
+ * two by two (job_tiles), and what is left of a line at either end, and an
+ * odd last whole line, by lines; a segment of one line, or of part of one,
+ * goes by lines alone. */
+static RayStats render_grid(RenderPool *p, Frame *f)
+{
+    const uint64_t w = (uint64_t)f->width, end = f->first + f->count;
+    const uint64_t r0 = (f->first + w - 1) / w, r1 = end / w; /* whole lines [r0, r1) */
+    if (f->s->settings.aa != 1 || r1 < r0 + 2)
+        return pool_run_counted(p, job_grid, f, chunks_of(f, f->count));
+    const uint64_t rb = r0 + (r1 - r0) / 2 * 2; /* the pairs end */
+    RayStats st = grid_lines(p, f, f->first, r0 * w - f->first);
+    Frame t = *f;
+    t.tile_line = r0;
+    t.tile_cols = f->chunk / 2 / TILE_W * TILE_W; /* about a chunk's pixels: CHUNK_MIN / 2 or more */
+    t.tile_blocks = (uint32_t)((w + t.tile_cols - 1) / t.tile_cols);
+    ray_stats_add(&st, pool_run_counted(p, job_tiles, &t, (uint32_t)((rb - r0) / 2 * t.tile_blocks)));
+    ray_stats_add(&st, grid_lines(p, f, rb * w, end - rb * w));
+    return st;
+}
+
 int render_span(RenderPool *p, const Scene *s, int width, int height, uint64_t first, uint64_t count, uint8_t *pixels,
                 RayStats *stats, const atomic_int *cancel, Err *err)
 {
@@ -478,7 +553,7 @@ int render_span(RenderPool *p, const Scene *s, int width, int height, uint64_t f
     f.chunk = chunk_size(count, pool_threads(p->pool));
     RayStats st;
     if (!s->settings.adaptive || s->settings.aa == 1) {
-        st = pool_run_counted(p, job_grid, &f, chunks_of(&f, count));
+        st = render_grid(p, &f);
     } else {
         /* keys for the span's lines and the lines just above and below */
         int l0 = (int)(first / (uint64_t)width), l1 = (int)((first + count - 1) / (uint64_t)width);
@@ -495,10 +570,7 @@ int render_span(RenderPool *p, const Scene *s, int width, int height, uint64_t f
             return err_set(err, "render: out of memory for adaptive sampling of %llu pixels", (unsigned long long)count);
         }
         st = pool_run_counted(p, job_keys, &f, chunks_of(&f, (uint64_t)width * (uint64_t)f.key_lines));
-        RayStats st2 = pool_run_counted(p, job_refine, &f, chunks_of(&f, count));
-        st.primary += st2.primary;
-        st.shadow += st2.shadow;
-        st.secondary += st2.secondary;
+        ray_stats_add(&st, pool_run_counted(p, job_refine, &f, chunks_of(&f, count)));
         if (f.centre != f.colors)
             free(f.centre);
         free(f.keys);
