@@ -112,12 +112,23 @@ static void pass_boxes(void *ctx, uint64_t lo, uint64_t hi, int thread)
     w->bounds[thread] = bounds;
 }
 
+/* How far ahead the reordering asks for a source triangle: the gather
+ * from the file's order waited on a cache miss per triangle, a tenth of
+ * the bunny's two-thread build. */
+#define REORDER_AHEAD 16
+
 static void pass_reorder(void *ctx, uint64_t lo, uint64_t hi, int thread)
 {
     (void)thread;
     Pass *w = ctx;
     const Source *s = w->src;
     for (uint64_t i = lo; i < hi; i++) {
+        if (i + REORDER_AHEAD < hi) {
+            const uint32_t q = w->order[i + REORDER_AHEAD];
+            const char *at = s->pos ? (const char *)&s->pos[3 * (uint64_t)q] : (const char *)&s->tris[q];
+            __builtin_prefetch(at);
+            __builtin_prefetch(at + sizeof(Tri) - 1);
+        }
         uint32_t p = w->order[i];
         w->tris[i] = source_tri(s, p);
         if (w->nrm)
