@@ -104,7 +104,7 @@ static inline __attribute__((always_inline)) int top_leaf_any(const void *vctx, 
     return 0;
 }
 
-static void closest_planes(const Scene *s, const Ray *r, Hit *hit)
+static inline __attribute__((always_inline)) void closest_planes(const Scene *s, const Ray *r, Hit *hit)
 {
     hit->t = r->tmax;
     hit->kind = HIT_NONE;
@@ -116,7 +116,7 @@ static void closest_planes(const Scene *s, const Ray *r, Hit *hit)
         }
 }
 
-static int occluded_planes(const Scene *s, const Ray *r, real tmax)
+static inline __attribute__((always_inline)) int occluded_planes(const Scene *s, const Ray *r, real tmax)
 {
     if (scene_uses(s, FEAT_PLANES))
         for (uint32_t i = 0; i < s->plane_count; i++) {
@@ -350,7 +350,10 @@ static __attribute__((noinline)) void surface_lift(Surface *out, const Hit *h, c
                   real_gamma(2) * v3_max_comp(v3_abs(out->ps));
 }
 
-void trace_surface(const Scene *s, const Ray *r, const Hit *h, Surface *out)
+/* trace_surface's body; `optional` (a constant in each copy) lets the
+ * paths of smooth normals, textures and vertex colours in. */
+static inline __attribute__((always_inline)) void surface_at(const Scene *s, const Ray *r, const Hit *h, Surface *out,
+                                                             const int optional)
 {
     /* field by field, not memset: its string store's start-up showed in
      * every hit (every case below sets p, the normals, err, mat, object) */
@@ -374,7 +377,7 @@ void trace_surface(const Scene *s, const Ray *r, const Hit *h, Surface *out)
         /* r * n carries the normalisation's error; adding the centre rounds once more */
         out->err = real_gamma(6) * sp->radius + real_gamma(2) * real_max(v3_max_comp(v3_abs(sp->centre)), v3_max_comp(v3_abs(out->p)));
         out->ns = out->ng;
-        if (scene_uses(s, FEAT_TEXTURES)) {
+        if (optional && scene_uses(s, FEAT_TEXTURES)) {
             /* spherical mapping: u the longitude from +z towards +x, v the
              * latitude from the bottom pole (0) to the top (1) */
             vec3 n = out->ng;
@@ -393,7 +396,7 @@ void trace_surface(const Scene *s, const Ray *r, const Hit *h, Surface *out)
         out->p = v3_madd(p, pl->unit, v3_dot(v3_sub(pl->point, p), pl->unit));
         out->err = real_gamma(4) * real_max(v3_max_comp(v3_abs(out->p)), v3_max_comp(v3_abs(pl->point)));
         out->ng = out->ns = pl->unit;
-        if (scene_uses(s, FEAT_TEXTURES)) {
+        if (optional && scene_uses(s, FEAT_TEXTURES)) {
             vec3 d = v3_sub(out->p, pl->point);
             out->u = v3_dot(d, pl->tu);
             out->v = v3_dot(d, pl->tv);
@@ -410,13 +413,13 @@ void trace_surface(const Scene *s, const Ray *r, const Hit *h, Surface *out)
         out->p = trace_triangle_point(v0, v1, v2, h->b1, h->b2, &out->err);
         out->ng = v3_norm(v3_cross(v3_sub(v1, v0), v3_sub(v2, v0)));
         out->ns = out->ng;
-        if (scene_uses(s, FEAT_SMOOTH) && a->smooth) {
+        if (optional && scene_uses(s, FEAT_SMOOTH) && a->smooth) {
             out->ns = v3_norm(bary(a->n[0], a->n[1], a->n[2], h->b1, h->b2));
             out->smooth = 1;
             tv[0] = v0, tv[1] = v1, tv[2] = v2;
             memcpy(tn, a->n, sizeof tn);
         }
-        if (scene_uses(s, FEAT_TEXTURES) && a->textured) {
+        if (optional && scene_uses(s, FEAT_TEXTURES) && a->textured) {
             out->u = (R(1) - h->b1 - h->b2) * a->uv[0] + h->b1 * a->uv[2] + h->b2 * a->uv[4];
             out->v = (R(1) - h->b1 - h->b2) * a->uv[1] + h->b1 * a->uv[3] + h->b2 * a->uv[5];
             out->has_uv = 1;
@@ -441,7 +444,7 @@ void trace_surface(const Scene *s, const Ray *r, const Hit *h, Surface *out)
                    real_gamma(2) * real_max(v3_max_comp(v3_abs(in->translate)), v3_max_comp(v3_abs(out->p)));
         /* uniform scale: normals transform by the rotation alone */
         out->ng = v3_norm(m3_apply(&in->rot, v3_cross(v3_sub(v1, v0), v3_sub(v2, v0))));
-        if (scene_uses(s, FEAT_SMOOTH) && m->normals) {
+        if (optional && scene_uses(s, FEAT_SMOOTH) && m->normals) {
             const vec3 *n = &m->normals[3 * h->sub];
             out->ns = v3_norm(m3_apply(&in->rot, bary(n[0], n[1], n[2], h->b1, h->b2)));
             out->smooth = 1;
@@ -451,13 +454,13 @@ void trace_surface(const Scene *s, const Ray *r, const Hit *h, Surface *out)
         } else {
             out->ns = out->ng;
         }
-        if (scene_uses(s, FEAT_TEXTURES) && m->uvs) {
+        if (optional && scene_uses(s, FEAT_TEXTURES) && m->uvs) {
             const real *uv = &m->uvs[6 * h->sub];
             out->u = (R(1) - h->b1 - h->b2) * uv[0] + h->b1 * uv[2] + h->b2 * uv[4];
             out->v = (R(1) - h->b1 - h->b2) * uv[1] + h->b1 * uv[3] + h->b2 * uv[5];
             out->has_uv = 1;
         }
-        if (scene_uses(s, FEAT_COLOURS) && m->colours && in->material < 0) {
+        if (optional && scene_uses(s, FEAT_COLOURS) && m->colours && in->material < 0) {
             const vec3 *c = &m->colours[3 * h->sub];
             out->colour = bary(c[0], c[1], c[2], h->b1, h->b2);
             out->has_colour = 1;
@@ -491,6 +494,18 @@ void trace_surface(const Scene *s, const Ray *r, const Hit *h, Surface *out)
     out->ps_err = out->err;
     if (out->smooth)
         surface_lift(out, h, tv, tn, flip, inst, pm);
+}
+
+void trace_surface(const Scene *s, const Ray *r, const Hit *h, Surface *out)
+{
+    /* a scene without any of them takes a copy without their paths: with
+     * them in the one body, each flat hit executed 100 instructions more
+     * than a build with the features compiled out (the bigger function's
+     * code, spread thin: registers, spills, vector shuffles) */
+    if (scene_uses(s, FEAT_SMOOTH | FEAT_TEXTURES | FEAT_COLOURS))
+        surface_at(s, r, h, out, 1);
+    else
+        surface_at(s, r, h, out, 0);
 }
 
 vec3 trace_offset_origin(vec3 p, vec3 n, real err)
