@@ -51,8 +51,9 @@ static vec3 area_point(const Light *l, vec3 p, uint32_t key, uint32_t j, real *s
 /* Light arriving at p from light l, number li (for an area light, from
  * its point j, drawn with the ray's key): unit direction towards the
  * light, distance, radiance. */
-static int light_at(const Scene *s, const Light *l, vec3 p, uint32_t key, uint32_t li, uint32_t j, vec3 *dir,
-                    real *dist, vec3 *radiance)
+static inline __attribute__((always_inline)) int light_at(const Scene *s, const Light *l, vec3 p, uint32_t key,
+                                                         uint32_t li, uint32_t j, vec3 *dir, real *dist,
+                                                         vec3 *radiance, const int optional)
 {
     real scale = l->intensity;
     if (l->kind == LIGHT_DIRECTIONAL) {
@@ -60,7 +61,7 @@ static int light_at(const Scene *s, const Light *l, vec3 p, uint32_t key, uint32
         *dist = REAL_INF;
     } else {
         vec3 pos = l->pos;
-        if (scene_uses(s, FEAT_AREA) && light_is_area(l)) {
+        if (optional && scene_uses(s, FEAT_AREA) && light_is_area(l)) {
             real share;
             pos = area_point(l, p, sample_mix(key, 0x4c000000u + li), j, &share);
             scale *= share;
@@ -71,9 +72,9 @@ static int light_at(const Scene *s, const Light *l, vec3 p, uint32_t key, uint32
             return 0;
         *dist = sqrt(d2);
         *dir = v3_scale(d, R(1) / *dist);
-        if (scene_uses(s, FEAT_ATTENUATION) && l->attenuate)
+        if (optional && scene_uses(s, FEAT_ATTENUATION) && l->attenuate)
             scale /= d2;
-        if (scene_uses(s, FEAT_SPOT) && l->kind == LIGHT_SPOT) {
+        if (optional && scene_uses(s, FEAT_SPOT) && l->kind == LIGHT_SPOT) {
             real c = -v3_dot(*dir, l->axis);
             if (c <= l->cos_outer)
                 return 0;
@@ -82,7 +83,7 @@ static int light_at(const Scene *s, const Light *l, vec3 p, uint32_t key, uint32
                 scale *= t * t * (R(3) - R(2) * t);
             }
         }
-        if (scene_uses(s, FEAT_AREA) && l->kind == LIGHT_RECT)
+        if (optional && scene_uses(s, FEAT_AREA) && l->kind == LIGHT_RECT)
             scale *= fabs(v3_dot(*dir, l->axis));
     }
     if (!(scale > R(0)))
@@ -112,12 +113,13 @@ static void add_light(Shading *sh, vec3 L, vec3 rad, real ndotl, uint32_t i)
     }
 }
 
-static void shade_start(const Scene *s, const Ray *r, const Hit *hit, Shading *sh)
+static inline __attribute__((always_inline)) void shade_start(const Scene *s, const Ray *r, const Hit *hit,
+                                                              Shading *sh, const int optional)
 {
     trace_surface(s, r, hit, &sh->sf);
     const Material *m = sh->sf.mat;
-    sh->kd = scene_uses(s, FEAT_COLOURS) && sh->sf.has_colour ? sh->sf.colour : m->kd;
-    if (scene_uses(s, FEAT_TEXTURES) && sh->sf.tex && sh->sf.has_uv)
+    sh->kd = optional && scene_uses(s, FEAT_COLOURS) && sh->sf.has_colour ? sh->sf.colour : m->kd;
+    if (optional && scene_uses(s, FEAT_TEXTURES) && sh->sf.tex && sh->sf.has_uv)
         sh->kd = v3_mul(sh->kd, texture_sample(sh->sf.tex, sh->sf.u, sh->sf.v, s->settings.filter));
     sh->col = v3_mul(s->ambient, sh->kd);
     sh->view = v3_neg(v3_norm(r->dir));
@@ -278,10 +280,12 @@ static vec3 shade_beyond(const Scene *s, real t, const Shading *sh, int depth, v
 
 /* Light li (for an area light, its point j) at the live rays' hits: the
  * shadow rays as one packet, and what reaches each hit added to it. */
-static void light_pass(const Scene *s, Shading *sh, const int *live, int nl, uint32_t li, uint32_t j, RayStats *stats)
+static inline __attribute__((always_inline)) void light_pass(const Scene *s, Shading *sh, const int *live, int nl,
+                                                             uint32_t li, uint32_t j, RayStats *stats,
+                                                             const int optional)
 {
     const int shadows = scene_has(s, FEAT_SHADOWS);
-    const int glass_shadows = scene_uses(s, FEAT_REFRACT) && s->settings.glass_shadows;
+    const int glass_shadows = optional && scene_uses(s, FEAT_REFRACT) && s->settings.glass_shadows;
     const Light *l = &s->lights[li];
     Ray sr[TRACE_PACKET];
     real tmax[TRACE_PACKET];
@@ -291,7 +295,7 @@ static void light_pass(const Scene *s, Shading *sh, const int *live, int nl, uin
     for (int k = 0; k < nl; k++) {
         Shading *h = &sh[live[k]];
         real dist;
-        if (!light_at(s, l, h->sf.p, h->key, li, j, &L[m], &dist, &rad[m]))
+        if (!light_at(s, l, h->sf.p, h->key, li, j, &L[m], &dist, &rad[m], optional))
             continue;
         /* The shading normal decides.  On a flat surface it is the
          * geometric one, so a light behind the surface is skipped.  On a
@@ -335,8 +339,11 @@ void shade_packet(const Scene *s, const Ray *rays, int n, vec3 *out, RayStats *s
     shade_rays(s, rays, n, out, stats, keys, seeds, 0, v3_splat(R(1)));
 }
 
-static void shade_rays(const Scene *s, const Ray *rays, int n, vec3 *out, RayStats *stats, uint64_t *keys,
-                       const uint32_t *seeds, int depth, vec3 weight)
+/* shade_rays' body; `optional` (a constant in each copy) lets in the paths
+ * of the features a scene may use beyond point lights, shadows and Phong. */
+static inline __attribute__((always_inline)) void shade_rays_at(const Scene *s, const Ray *rays, int n, vec3 *out,
+                                                                RayStats *stats, uint64_t *keys, const uint32_t *seeds,
+                                                                int depth, vec3 weight, const int optional)
 {
     Hit hits[TRACE_PACKET];
     Shading sh[TRACE_PACKET];
@@ -359,27 +366,45 @@ static void shade_rays(const Scene *s, const Ray *rays, int n, vec3 *out, RaySta
                 keys[i] = UINT64_MAX;
             continue;
         }
-        shade_start(s, &rays[i], &hits[i], &sh[i]);
+        shade_start(s, &rays[i], &hits[i], &sh[i], optional);
         live[nl++] = i;
     }
     /* a random key only where something draws from it (hashing every ray's
      * showed in the instruction count of scenes without) */
-    if (scene_uses(s, FEAT_AREA | FEAT_ROUGH))
+    if (optional && scene_uses(s, FEAT_AREA | FEAT_ROUGH))
         for (int k = 0; k < nl; k++)
             sh[live[k]].key = sample_mix(seeds ? seeds[live[k]] : 0u, (uint32_t)depth);
     for (uint32_t li = 0; li < s->light_count; li++) {
         const Light *l = &s->lights[li];
-        uint32_t points = scene_uses(s, FEAT_AREA) && light_is_area(l) ? (uint32_t)(l->samples * l->samples) : 1u;
+        uint32_t points =
+            optional && scene_uses(s, FEAT_AREA) && light_is_area(l) ? (uint32_t)(l->samples * l->samples) : 1u;
         for (uint32_t j = 0; j < points; j++)
-            light_pass(s, sh, live, nl, li, j, stats);
+            light_pass(s, sh, live, nl, li, j, stats, optional);
     }
-    const int beyond = scene_uses(s, FEAT_REFLECT | FEAT_REFRACT | FEAT_EMIT);
+    const int beyond = optional && scene_uses(s, FEAT_REFLECT | FEAT_REFRACT | FEAT_EMIT);
     for (int k = 0; k < nl; k++) {
         int i = live[k];
         out[i] = beyond ? shade_beyond(s, hits[i].t, &sh[i], depth, weight, stats) : sh[i].col;
         if (keys)
             keys[i] = (uint64_t)sh[i].sf.object << 16 | sh[i].lit;
     }
+}
+
+/* The features whose paths the shading asks about; a scene using none of
+ * them (point lights, shadows, Phong or diffuse: make bench's scenes)
+ * takes a copy without those paths.  In the one body, their tests and the
+ * bigger function's registers cost a flat hit 50 instructions more than a
+ * build with the features compiled out. */
+#define SHADE_OPTIONAL (FEAT_TEXTURES | FEAT_COLOURS | FEAT_SPOT | FEAT_ATTENUATION | FEAT_REFLECT | FEAT_REFRACT | \
+                        FEAT_EMIT | FEAT_AREA | FEAT_ROUGH)
+
+static void shade_rays(const Scene *s, const Ray *rays, int n, vec3 *out, RayStats *stats, uint64_t *keys,
+                       const uint32_t *seeds, int depth, vec3 weight)
+{
+    if (scene_uses(s, SHADE_OPTIONAL))
+        shade_rays_at(s, rays, n, out, stats, keys, seeds, depth, weight, 1);
+    else
+        shade_rays_at(s, rays, n, out, stats, keys, seeds, depth, weight, 0);
 }
 
 vec3 shade_ray(const Scene *s, const Ray *r, RayStats *stats, uint64_t *key)
