@@ -294,38 +294,43 @@ int bvh_flatten(const Builder *b, Bvh *out, Err *err)
      * costs (on the 1M-triangle sphere, a tenth of the SAH build on two
      * threads), and none of their arrays */
     const int plain = !b->collapse && b->max_depth && b->max_depth <= BVH_MAX_DEPTH;
-    uint32_t bn_count = b->node_count, pass = plain ? 1 : bn_count;
-    if (plain)
-        bn_count = 1;
-    uint32_t *order = bigmem_alloc(pass * sizeof *order);   /* pre-order */
-    uint32_t *stack = bigmem_alloc(pass * sizeof *stack);
-    uint32_t *height = bigmem_alloc(pass * sizeof *height);
-    uint32_t *nprims = bigmem_alloc(pass * sizeof *nprims);
-    double *cost = bigmem_alloc(pass * sizeof *cost);
-    uint32_t *tmp = bigmem_alloc((plain ? 1 : b->n) * sizeof *tmp);
-    uint32_t (*work)[3] = bigmem_alloc(bn_count * sizeof *work); /* build node, flat slot, depth */
+    const uint32_t bn_count = b->node_count;
     vec3 *own_centres = NULL;
     Flat f = {b, b->centres, NULL, 0, 2 * b->n, NULL, 0, 0};
     Bvh nodes_owner = {0};
     if (bvh_alloc_nodes(&nodes_owner, f.node_cap) == 0)
         f.nodes = nodes_owner.nodes;
     f.prims = bigmem_alloc(b->n * sizeof *f.prims);
+    /* the general layout's arrays */
+    uint32_t *order = NULL, *stack = NULL, *height = NULL, *nprims = NULL, *tmp = NULL;
+    double *cost = NULL;
+    uint32_t(*work)[3] = NULL; /* build node, flat slot, depth */
     int rc = -1;
-    if (!order || !stack || !height || !nprims || !cost || !tmp || !work || !f.nodes || !f.prims) {
-        err_set(err, "bvh: out of memory flattening %u nodes", b->node_count);
+    if (!f.nodes || !f.prims) {
+        err_set(err, "bvh: out of memory flattening %u nodes", bn_count);
         goto done;
     }
     if (plain) {
         if (flat_plain(b, &f)) {
-            err_set(err, "bvh: out of memory flattening %u nodes", b->node_count);
+            err_set(err, "bvh: out of memory flattening %u nodes", bn_count);
             goto done;
         }
         goto laid;
     }
+    order = bigmem_alloc(bn_count * sizeof *order); /* pre-order */
+    stack = bigmem_alloc(bn_count * sizeof *stack);
+    height = bigmem_alloc(bn_count * sizeof *height);
+    nprims = bigmem_alloc(bn_count * sizeof *nprims);
+    cost = bigmem_alloc(bn_count * sizeof *cost);
+    tmp = bigmem_alloc(b->n * sizeof *tmp);
+    work = bigmem_alloc(bn_count * sizeof *work);
+    if (!order || !stack || !height || !nprims || !cost || !tmp || !work) {
+        err_set(err, "bvh: out of memory flattening %u nodes", bn_count);
+        goto done;
+    }
     /* pre-order, then a reverse sweep gives children before parents */
     uint32_t sp = 0, no = 0;
-    if (!plain)
-        stack[sp++] = b->root;
+    stack[sp++] = b->root;
     while (sp) {
         uint32_t i = stack[--sp];
         order[no++] = i;
@@ -334,7 +339,7 @@ int bvh_flatten(const Builder *b, Bvh *out, Err *err)
             stack[sp++] = (uint32_t)b->nodes[i].left;
         }
     }
-    for (uint32_t k = no; !plain && k-- > 0;) {
+    for (uint32_t k = no; k-- > 0;) {
         uint32_t i = order[k];
         const BuildNode *bn = &b->nodes[i];
         double area = aabb_half_area(bn->box);
@@ -362,7 +367,7 @@ int bvh_flatten(const Builder *b, Bvh *out, Err *err)
         const BuildNode *bn = &b->nodes[i];
         BvhNode *node = &f.nodes[slot];
         int leaf = bn->left < 0 || (b->collapse && height[i] == 1);
-        if (!plain && !leaf && depth + height[i] - 1 > BVH_MAX_DEPTH && depth >= REPAIR_DEPTH) {
+        if (!leaf && depth + height[i] - 1 > BVH_MAX_DEPTH && depth >= REPAIR_DEPTH) {
             if (flat_centres(&f, &own_centres)) {
                 err_set(err, "bvh: out of memory repairing the depth of %u primitives", b->n);
                 goto done;
