@@ -66,11 +66,21 @@ static uint32_t ref_id(const Box4 *r)
     return bits - REF_ID_BIAS;
 #endif
 }
+/* A reference's centre: aabb_centre's arithmetic, which binning and
+ * partitioning must share to agree on every reference's bin.  On x86-64
+ * float builds in a row, from the reference's rows lo and hi (lane 3
+ * carries the index, halved). */
+#if defined(__x86_64__) && !defined(LANRAY_DOUBLE)
+static inline __attribute__((always_inline)) __m128 centre4(__m128 lo, __m128 hi)
+{
+    return _mm_mul_ps(_mm_add_ps(lo, hi), _mm_set1_ps(0.5f));
+}
+#else
 static vec3 ref_centre(const Box4 *r)
 {
-    /* aabb_centre's arithmetic, so the bins are the ones it gives */
     return v3((r->lo[0] + r->hi[0]) * R(0.5), (r->lo[1] + r->hi[1]) * R(0.5), (r->lo[2] + r->hi[2]) * R(0.5));
 }
+#endif
 
 typedef struct {
     Box4 box;
@@ -109,16 +119,33 @@ static inline real box4_half_area(const Box4 *b)
     return ex * ey + ey * ez + ez * ex;
 }
 
+/* The box of the centres of refs[first, first + count). */
+static Aabb refs_cbox(const Box4 *refs, uint32_t first, uint32_t count)
+{
+#if defined(__x86_64__) && !defined(LANRAY_DOUBLE)
+    __m128 lo = _mm_set1_ps(INFINITY), hi = _mm_set1_ps(-INFINITY);
+    for (uint32_t i = first; i < first + count; i++) {
+        const __m128 c = centre4(_mm_load_ps(refs[i].lo), _mm_load_ps(refs[i].hi));
+        lo = _mm_min_ps(lo, c), hi = _mm_max_ps(hi, c);
+    }
+    Box4 b;
+    _mm_store_ps(b.lo, lo), _mm_store_ps(b.hi, hi);
+    return box4_aabb(&b);
+#else
+    Aabb cbox = aabb_empty();
+    for (uint32_t i = first; i < first + count; i++)
+        aabb_grow(&cbox, ref_centre(&refs[i]));
+    return cbox;
+#endif
+}
+
 static void refs_bounds(const Box4 *refs, uint32_t first, uint32_t count, BuildTask *kid)
 {
     Box4 box = box4_empty;
-    Aabb cbox = aabb_empty();
-    for (uint32_t i = first; i < first + count; i++) {
+    for (uint32_t i = first; i < first + count; i++)
         box4_grow(&box, &refs[i]);
-        aabb_grow(&cbox, ref_centre(&refs[i]));
-    }
     kid->box = box4_aabb(&box);
-    kid->cbox = cbox;
+    kid->cbox = refs_cbox(refs, first, count);
 }
 
 static inline __attribute__((always_inline)) void bins_clear(Bin bins[3][BINS], int nb)
@@ -145,7 +172,7 @@ static inline __attribute__((always_inline)) void bin_one(const Box4 *x, char *s
                                                           __m128i size, __m128i axis_at)
 {
     const __m128 l = _mm_load_ps(x->lo), h = _mm_load_ps(x->hi);
-    __m128 f = _mm_mul_ps(_mm_sub_ps(_mm_mul_ps(_mm_add_ps(l, h), _mm_set1_ps(0.5f)), lov), scv);
+    __m128 f = _mm_mul_ps(_mm_sub_ps(centre4(l, h), lov), scv);
     /* bin_of: NaN or below 0 -> 0; nb - 1 or more -> nb - 1 (truncating min(f, nb - 1) is the same) */
     f = _mm_min_ps(_mm_and_ps(f, _mm_cmpge_ps(f, _mm_setzero_ps())), last);
     const __m128i at = _mm_add_epi32(_mm_mullo_epi16(_mm_cvttps_epi32(f), size), axis_at);
@@ -249,7 +276,7 @@ typedef struct {
 static inline __attribute__((always_inline)) int side_right(const Side *s, const Box4 *x, int axis)
 {
 #if defined(__x86_64__) && !defined(LANRAY_DOUBLE)
-    const __m128 c = _mm_mul_ps(_mm_add_ps(_mm_load_ps(x->lo), _mm_load_ps(x->hi)), _mm_set1_ps(0.5f));
+    const __m128 c = centre4(_mm_load_ps(x->lo), _mm_load_ps(x->hi));
     return (_mm_movemask_ps(_mm_cmpge_ps(_mm_mul_ps(_mm_sub_ps(c, s->lo), s->scale), s->limit)) >> axis) & 1;
 #else
     return (((x->lo[axis] + x->hi[axis]) * R(0.5)) - s->lo) * s->scale >= s->limit;
@@ -314,31 +341,6 @@ static uint32_t partition(Box4 *refs, uint32_t first, uint32_t count, int axis, 
     case 1: return partition_on(refs, first, count, 1, &s);
     default: return partition_on(refs, first, count, 2, &s);
     }
-}
-
-/* The box of the centres of refs[first, first + count), by
- * aabb_centre's arithmetic.  Apart from the partition, which grew both
- * sides' boxes as it went (a masked minimum and maximum per side for
- * every reference), this pass over each side costs a third of what that
- * did: the sides lie together now, and the smaller nodes' are still in
- * the cache. */
-static Aabb refs_cbox(const Box4 *refs, uint32_t first, uint32_t count)
-{
-#if defined(__x86_64__) && !defined(LANRAY_DOUBLE)
-    __m128 lo = _mm_set1_ps(INFINITY), hi = _mm_set1_ps(-INFINITY);
-    for (uint32_t i = first; i < first + count; i++) {
-        const __m128 c = _mm_mul_ps(_mm_add_ps(_mm_load_ps(refs[i].lo), _mm_load_ps(refs[i].hi)), _mm_set1_ps(0.5f));
-        lo = _mm_min_ps(lo, c), hi = _mm_max_ps(hi, c);
-    }
-    Box4 b;
-    _mm_store_ps(b.lo, lo), _mm_store_ps(b.hi, hi);
-    return box4_aabb(&b);
-#else
-    Aabb cbox = aabb_empty();
-    for (uint32_t i = first; i < first + count; i++)
-        aabb_grow(&cbox, ref_centre(&refs[i]));
-    return cbox;
-#endif
 }
 
 /* Small nodes: the exact SAH over every split position of the centres
@@ -638,7 +640,7 @@ static void refs_fill(void *ctx, uint64_t lo, uint64_t hi, int thread)
         if (!builder_box_ok(x))
             break;
         const __m128 l = _mm_setr_ps(x.min.x, x.min.y, x.min.z, 0), h = _mm_setr_ps(x.max.x, x.max.y, x.max.z, 0);
-        const __m128 c = _mm_mul_ps(_mm_add_ps(l, h), _mm_set1_ps(0.5f)); /* aabb_centre's arithmetic */
+        const __m128 c = centre4(l, h);
         blo = _mm_min_ps(blo, l), bhi = _mm_max_ps(bhi, h);
         clo = _mm_min_ps(clo, c), chi = _mm_max_ps(chi, c);
         _mm_store_ps(refs[i].lo, l);
