@@ -306,9 +306,7 @@ int main(int argc, char **argv)
             int n = y + seg <= height ? seg : height - y;
             uint8_t *dst = pixels + (banded ? 0 : (size_t)y * width * bpp);
             rc = render_lines(pool, scene, width, height, y, n, dst, &part, &err);
-            st.primary += part.primary;
-            st.shadow += part.shadow;
-            st.secondary += part.secondary;
+            ray_stats_add(&st, part);
             if (rc == 0 && banded && f == repeat - 1) /* in bands, the last pass writes */
                 rc = image_writer_rows(wr, pixels, n, &err) ? (wr = NULL, -1) : 0;
         }

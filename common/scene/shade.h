@@ -14,6 +14,12 @@ typedef struct {
 } RayStats;
 
 static inline uint64_t ray_stats_total(const RayStats *s) { return s->primary + s->shadow + s->secondary; }
+static inline void ray_stats_add(RayStats *to, RayStats st)
+{
+    to->primary += st.primary;
+    to->shadow += st.shadow;
+    to->secondary += st.secondary;
+}
 
 /* Traces r and returns its colour.  *key (may be NULL) receives an identifier
  * of what the ray saw, for adaptive anti-aliasing: the surface and which of
