@@ -29,10 +29,20 @@ extern const float srgb_decode8[256];
 #define SRGB_START_BASE (114 << 8) /* 2^-13, below the first threshold */
 extern const uint8_t srgb_start[13 * 256];
 
+/* srgb_start's guess for a float in [threshold 0, threshold 254), where
+ * its bucket is in range (clamped all the same). */
+static inline int srgb_guess(float f)
+{
+    uint32_t bits;
+    memcpy(&bits, &f, sizeof bits);
+    uint32_t i = (bits >> 15) - SRGB_START_BASE;
+    return srgb_start[i < sizeof srgb_start ? i : sizeof srgb_start - 1];
+}
+
 /* The sRGB code of linear v: round to nearest in sRGB terms, clamped to
  * 0..255; NaN (inf * 0 from extreme scene values) becomes 0.  A table
- * lookup by the value's top bits, then two comparisons with
- * the exact thresholds: every pixel channel goes through here, and a
+ * lookup by the value's top bits, then one comparison with the exact
+ * thresholds (two in a double build): every pixel channel goes through here, and a
  * binary search over the thresholds cost a cheap scene a fifth of its
  * time. */
 static inline uint8_t srgb_encode8(real v)
@@ -45,10 +55,7 @@ static inline uint8_t srgb_encode8(real v)
         return 0;
     if (v >= srgb_threshold_f[254])
         return 255;
-    uint32_t bits;
-    memcpy(&bits, &v, sizeof bits);
-    uint32_t i = (bits >> 15) - SRGB_START_BASE; /* in range for v in [threshold 0, threshold 254) */
-    int code = srgb_start[i < sizeof srgb_start ? i : sizeof srgb_start - 1];
+    int code = srgb_guess(v);
     code += v >= srgb_threshold_f[code];
     return (uint8_t)code;
 #else
@@ -60,10 +67,7 @@ static inline uint8_t srgb_encode8(real v)
     float f = (float)d;
     if ((double)f > d) /* rounded up: the bucket's guess must not pass d's code */
         f = nextafterf(f, 0.0f);
-    uint32_t bits;
-    memcpy(&bits, &f, sizeof bits);
-    uint32_t i = (bits >> 15) - SRGB_START_BASE; /* in range for d in [threshold 0, threshold 254) */
-    int code = srgb_start[i < sizeof srgb_start ? i : sizeof srgb_start - 1];
+    int code = srgb_guess(f);
     /* two steps without a branch: the guess is at most one below for a
      * float (test_srgb checks every float in range), and a double between
      * two floats is at most one code past the lower one's.  The loop this
