@@ -134,8 +134,8 @@ static void pixels_are_srgb_unless_linear(void **state)
     s->planes[0].uv_scale = 1;
     s->settings.linear = 0;
     for (int k = 0; k < 256; k++) {
-        float *t = s->textures[tex]->rgb;
-        t[0] = t[1] = t[2] = srgb_decode8[k];
+        uint8_t *t = s->textures[tex]->level[0].rgb;
+        t[0] = t[1] = t[2] = (uint8_t)k;
         prepare(s);
         uint8_t px[16 * 3];
         render_codes(s, px);
@@ -404,7 +404,7 @@ static void packets_equal_single_rays(void **state)
                         real tm[TRACE_PACKET];
                         for (int i = 0; i < n; i++)
                             tm[i] = hp[i].kind ? hp[i].t * R(0.5) : R(100);
-                        uint32_t blocked = trace_occluded_packet(s, rays, n, tm);
+                        uint32_t blocked = trace_occluded_packet(s, rays, n, tm, NULL);
                         for (int i = 0; i < n; i++) {
                             Hit h;
                             int got = trace_closest(s, &rays[i], &h);
@@ -428,7 +428,7 @@ static void packets_equal_single_rays(void **state)
                             vec3 c = shade_ray(s, &rays[i], &st1, &key);
                             if (memcmp(&c, &cp[i], sizeof c) != 0 || key != kp[i])
                                 fail_msg("%s: ray (%d,%d): packet colour differs", simd_name((SimdPath)path), x0 + i, y);
-                            assert_int_equal((int)(blocked >> i & 1), trace_occluded(s, &rays[i], tm[i]));
+                            assert_int_equal((int)(blocked >> i & 1), trace_occluded(s, &rays[i], tm[i], NULL));
                         }
                         packets++;
                     }
@@ -598,6 +598,85 @@ static void adaptive_refines_texture_edges(void **state)
     scene_destroy(s);
 }
 
+/* The floor's colour at three points under a lamp, seen from eye. */
+static void floor_under(const Scene *s, vec3 out[3])
+{
+    const vec3 at[3] = {v3(0, 0, 0), v3(1, 0, R(0.5)), v3(R(-0.7), 0, R(-0.3))};
+    for (int i = 0; i < 3; i++)
+        out[i] = look(s, v3(0, 3, 6), at[i]);
+}
+
+static void assert_lit_alike(const vec3 a[3], const vec3 b[3])
+{
+    for (int i = 0; i < 3; i++) {
+        assert_true(a[i].x > R(0.05));
+        if (!(fabs(b[i].x - a[i].x) <= R(0.01) * a[i].x))
+            fail_msg("floor point %d: %g with the lamp shown, %g with the light alone", i, (double)b[i].x,
+                     (double)a[i].x);
+    }
+}
+
+/* A light shown by an emissive primitive around it (a lamp) lights the
+ * floor as the light alone does: its shadow rays pass their own lamp, also
+ * through glass (tinted shadows), where they followed it before. */
+static void lamps_do_not_shadow_their_light(void **state)
+{
+    (void)state;
+    for (int kind = 0; kind < 3; kind++) { /* a round lamp, a point in a bulb, a panel */
+        Scene *s = empty_scene();
+        Material bulb = {.kd = v3(0, 0, 0), .ke = v3(1, 1, 1), .texture = -1};
+        uint32_t mb;
+        assert_int_equal(scene_add_material(s, bulb, &mb, NULL), 0);
+        assert_int_equal(scene_add_plane(s, plane_make(v3(0, 0, 0), v3(0, 1, 0), 0), NULL), 0);
+        Light l = kind == 0   ? light_sphere(v3(0, 2, 0), R(0.2), 3, v3(1, 1, 1), 4, 1)
+                  : kind == 1 ? light_point(v3(0, 2, 0), v3(1, 1, 1), 4, 1)
+                              : light_rect(v3(R(-0.3), 2, R(-0.3)), v3(R(0.6), 0, 0), v3(0, 0, R(0.6)), 2, v3(1, 1, 1),
+                                           4, 1);
+        assert_int_equal(scene_add_light(s, l, NULL), 0);
+        prepare(s);
+        vec3 alone[3], shown[3];
+        floor_under(s, alone);
+        if (kind < 2) {
+            for (int r = 0; r < 3; r++) { /* the same radius, a larger one, a smaller one */
+                s->sphere_count = 0;
+                const real radius[3] = {R(0.2), R(0.3), R(0.1)};
+                assert_int_equal(scene_add_sphere(s, (Sphere){v3(0, 2, 0), radius[r], mb}, NULL), 0);
+                prepare(s);
+                assert_int_equal(s->lights[0].lamp_count, 1);
+                floor_under(s, shown);
+                assert_lit_alike(alone, shown);
+            }
+        } else {
+            const vec3 q[4] = {v3(R(-0.3), 2, R(-0.3)), v3(R(0.3), 2, R(-0.3)), v3(R(0.3), 2, R(0.3)),
+                               v3(R(-0.3), 2, R(0.3))};
+            const vec3 t1[3] = {q[0], q[1], q[2]}, t2[3] = {q[0], q[2], q[3]};
+            assert_int_equal(scene_add_triangle(s, t1, NULL, NULL, mb, NULL), 0);
+            assert_int_equal(scene_add_triangle(s, t2, NULL, NULL, mb, NULL), 0);
+            prepare(s);
+            assert_int_equal(s->lights[0].lamp_count, 2);
+            floor_under(s, shown);
+            assert_lit_alike(alone, shown);
+        }
+        /* a glass ball between the light and the floor: shadow rays through
+         * it go on to the light and pass the lamp (transmittance) */
+        Material glass = {.ior = R(1.5), .kt = v3(1, 1, 1), .texture = -1};
+        uint32_t mg;
+        assert_int_equal(scene_add_material(s, glass, &mg, NULL), 0);
+        assert_int_equal(scene_add_sphere(s, (Sphere){v3(0, 1, 0), R(0.3), mg}, NULL), 0);
+        prepare(s);
+        vec3 through = look(s, v3(0, 3, 6), v3(R(0.05), 0, 0));
+        assert_true(through.x > R(0.5) * alone[0].x); /* clear glass: most of the light */
+        /* an emissive ball that does not enclose the light is an occluder like any other */
+        s->spheres[0].centre = v3(0, 1, 0);
+        s->sphere_count = 1;
+        prepare(s);
+        assert_int_equal(s->lights[0].lamp_count, kind == 2 ? 2 : 0);
+        if (kind < 2)
+            assert_true(look(s, v3(0, 3, 6), v3(0, 0, 0)).x < R(0.5) * alone[0].x);
+        scene_destroy(s);
+    }
+}
+
 static void frame_sizes_and_bad_requests(void **state)
 {
     (void)state;
@@ -633,6 +712,7 @@ int main(void)
         cmocka_unit_test(partial_line_spans_and_cancel),
         cmocka_unit_test(adaptive_refines_only_edges),
         cmocka_unit_test(adaptive_refines_texture_edges),
+        cmocka_unit_test(lamps_do_not_shadow_their_light),
         cmocka_unit_test(frame_sizes_and_bad_requests),
     };
     return cmocka_run_group_tests_name("render", tests, NULL, NULL);

@@ -109,10 +109,12 @@ static void round_trip_through_a_file(void **state)
         if (mask & 8)
             want += 36 * (size_t)m->tri_count;
         assert_int_equal((size_t)st.st_size, want);
-        /* the lowest version that holds the model: old readers take every file they can */
-        uint32_t version;
+        /* version 5, with the file's length and checksum */
+        uint32_t version, length;
         memcpy(&version, (const char *)a + 8, 4);
-        assert_int_equal(version, mask & 8 ? TMD_VERSION_COLOURS : TMD_VERSION_PLAIN);
+        memcpy(&length, (const char *)a + TMD_LENGTH_AT, 4);
+        assert_int_equal(version, TMD_VERSION);
+        assert_int_equal(length, alen);
         free(a);
         model_destroy(m);
         model_destroy(back);
@@ -161,6 +163,24 @@ static void truncated_files_are_rejected(void **state)
     model_destroy(m);
 }
 
+/* A patched file sealed again: its length and checksum made right, so that
+ * the reader's checks behind them are what answer. */
+static void seal(uint8_t *d, size_t len)
+{
+    uint32_t l = (uint32_t)len, c;
+    memcpy(d + TMD_LENGTH_AT, &l, 4);
+    c = tmd_checksum(d, len);
+    memcpy(d + TMD_CHECKSUM_AT, &c, 4);
+}
+
+/* A version 1 to 4 file from a version-5 one without textures: the same
+ * layout, without the length and checksum. */
+static void as_old(uint8_t *d, uint32_t version)
+{
+    memcpy(d + 8, &version, 4);
+    memset(d + TMD_LENGTH_AT, 0, 16);
+}
+
 static void expect_error(const uint8_t *data, size_t len, const char *what)
 {
     Model *back = NULL;
@@ -179,7 +199,7 @@ static void corrupted_fields_are_rejected(void **state)
     assert_int_equal(tmd_encode(m, 0, (void **)&data, &len, NULL), 0);
     uint8_t *bad = malloc(len);
     uint32_t v;
-#define PATCH(off, val) (memcpy(bad, data, len), v = (val), memcpy(bad + (off), &v, 4))
+#define PATCH(off, val) (memcpy(bad, data, len), v = (val), memcpy(bad + (off), &v, 4), seal(bad, len))
     memcpy(bad, data, len);
     bad[0] = 'X';
     expect_error(bad, len, "bad magic");
@@ -187,6 +207,16 @@ static void corrupted_fields_are_rejected(void **state)
     expect_error(bad, len, "version 99");
     PATCH(12, 0x04030201);
     expect_error(bad, len, "other byte order");
+    /* unsealed: a changed byte is corruption, a missing one a cut */
+    memcpy(bad, data, len);
+    bad[len / 2] ^= 1;
+    expect_error(bad, len, "corrupt: checksum");
+    expect_error(data, len - 4, "corrupt or cut short: the file has");
+    /* an old version has no checksum, so its reserved words must be zero */
+    memcpy(bad, data, len);
+    v = 4;
+    memcpy(bad + 8, &v, 4);
+    expect_error(bad, len, "reserved header fields");
     PATCH(20, 0x80);
     expect_error(bad, len, "unknown flags");
     PATCH(24, 7);
@@ -202,6 +232,7 @@ static void corrupted_fields_are_rejected(void **state)
     float nan = NAN;
     memcpy(bad, data, len);
     memcpy(bad + 64 + 32 * m->bvh.node_count, &nan, 4);
+    seal(bad, len);
     expect_error(bad, len, "not a finite number");
     /* a triangle using a material that does not exist */
     PATCH(len - 4, 2);
@@ -218,7 +249,7 @@ static void corrupted_fields_are_rejected(void **state)
     model_destroy(m);
 }
 
-/* Vertex colours: version 3 only, finite, not negative. */
+/* Vertex colours: version 3 on, finite, not negative. */
 static void corrupted_colours_are_rejected(void **state)
 {
     (void)state;
@@ -226,17 +257,78 @@ static void corrupted_colours_are_rejected(void **state)
     uint8_t *data;
     size_t len;
     assert_int_equal(tmd_encode(m, 0, (void **)&data, &len, NULL), 0);
-    uint32_t v = TMD_VERSION_TEXTURES;
-    memcpy(data + 8, &v, 4);
+    as_old(data, TMD_VERSION_TEXTURES);
     expect_error(data, len, "unknown flags");
-    v = TMD_VERSION_COLOURS;
-    memcpy(data + 8, &v, 4);
+    as_old(data, TMD_VERSION_COLOURS);
+    Model *back;
+    Err err;
+    if (tmd_decode(data, len, "old.tmd", &back, &err)) /* an old file reads */
+        fail_msg("%s", err.msg);
+    model_destroy(back);
     float f = -0.5f;
     memcpy(data + len - 4, &f, 4);
     expect_error(data, len, "negative vertex colour");
     f = INFINITY;
     memcpy(data + len - 8, &f, 4);
     expect_error(data, len, "vertex colour is not a finite number");
+    free(data);
+    model_destroy(m);
+}
+
+/* A small textured model: 12 triangles, a material with an 8 x 8 texture. */
+static Model *textured_model(void)
+{
+    Mesh mesh;
+    assert_int_equal(mesh_init(&mesh, MESH_UVS | MESH_MATERIALS, NULL), 0);
+    uint8_t px[8 * 8 * 3];
+    for (int i = 0; i < 8 * 8 * 3; i++)
+        px[i] = (uint8_t)(i * 37);
+    uint32_t tid;
+    assert_int_equal(mesh_add_texture(&mesh, texture_from_rgb8(8, 8, px), &tid, NULL), 0);
+    Material mt = material_default();
+    mt.texture = (int32_t)tid;
+    assert_int_equal(mesh_add_material(&mesh, mt, NULL), 0);
+    Rng rng = {5};
+    for (int i = 0; i < 12; i++) {
+        vec3 c = rng_vec(&rng, -5, 5);
+        vec3 p[3] = {c, v3_add(c, v3(1, 0, 0)), v3_add(c, v3(0, 1, 0))};
+        real uv[6] = {0, 0, 1, 0, 0, 1};
+        assert_int_equal(mesh_add(&mesh, p, NULL, uv, NULL, 0, NULL), 0);
+    }
+    Model *m;
+    BvhOptions opt = bvh_options_default(BVH_SAH);
+    assert_int_equal(model_from_mesh(&m, &mesh, &opt, NULL), 0);
+    mesh_free(&mesh);
+    return m;
+}
+
+/* Textures travel as images (a PNG here, made from the texels) and come
+ * back with the same texels; and a single flipped bit anywhere in a file,
+ * its header, tree, triangles or texture, is refused as corruption. */
+static void textures_round_trip_and_every_bit_is_checked(void **state)
+{
+    (void)state;
+    Model *m = textured_model(), *back = NULL;
+    uint8_t *data;
+    size_t len;
+    Err err = {{0}};
+    assert_int_equal(tmd_encode(m, 0, (void **)&data, &len, NULL), 0);
+    if (tmd_decode(data, len, "t.tmd", &back, &err))
+        fail_msg("%s", err.msg);
+    assert_int_equal(back->texture_count, 1);
+    assert_int_equal(back->textures[0]->codec, TEXTURE_PNG);
+    assert_memory_equal(back->textures[0]->texels, m->textures[0]->texels, texture_bytes(m->textures[0]));
+    model_destroy(back);
+    for (size_t bit = 0; bit < 8 * len; bit++) {
+        data[bit / 8] ^= (uint8_t)(1u << (bit % 8));
+        back = NULL;
+        err.msg[0] = 0;
+        assert_int_equal(tmd_decode(data, len, "flip.tmd", &back, &err), -1);
+        assert_null(back);
+        if (!strstr(err.msg, "corrupt"))
+            fail_msg("bit %zu of %zu: \"%s\" does not name corruption", bit, 8 * len, err.msg);
+        data[bit / 8] ^= (uint8_t)(1u << (bit % 8));
+    }
     free(data);
     model_destroy(m);
 }
@@ -262,6 +354,7 @@ int main(void)
         cmocka_unit_test(truncated_files_are_rejected),
         cmocka_unit_test(corrupted_fields_are_rejected),
         cmocka_unit_test(corrupted_colours_are_rejected),
+        cmocka_unit_test(textures_round_trip_and_every_bit_is_checked),
         cmocka_unit_test(unwritable_destination_leaves_nothing),
     };
     return cmocka_run_group_tests_name("tmd", tests, NULL, NULL);

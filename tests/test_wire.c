@@ -316,7 +316,7 @@ static void malformed_scenes_and_assets_are_rejected(void **state)
     uint8_t tex[12] = {2, 0, 0, 0, 2, 0, 0, 0, 0, 0, 0, 0}, h[PROTO_HASH];
     auth_hash(tex, sizeof tex, h);
     assert_int_equal(asset_cache_add(empty, ASSET_TEXTURE, h, tex, sizeof tex, &err), -1);
-    assert_contains(err.msg, "texture payload");
+    assert_contains(err.msg, "the texture's header is cut short");
     asset_cache_destroy(empty);
     free(bad);
     asset_cache_destroy(c);

@@ -259,3 +259,31 @@ int image_read_png_limited(FILE *f, const char *path, uint32_t max_side, int *wi
     png_read_free(r, 1);
     return 0;
 }
+
+static void png_to_sink(png_structp png, png_bytep data, png_size_t n) { sink_put(png_get_io_ptr(png), data, n); }
+static void png_flush_nothing(png_structp png) { (void)png; }
+
+int image_encode_png(const uint8_t *rgb, int w, int h, Sink *out)
+{
+    Err err;
+    png_structp ps = png_create_write_struct(PNG_LIBPNG_VER_STRING, &err, png_error_fn, png_warning_fn);
+    png_infop info = ps ? png_create_info_struct(ps) : NULL;
+    if (!info) {
+        png_destroy_write_struct(&ps, NULL);
+        return -1;
+    }
+    if (setjmp(png_jmpbuf(ps))) {
+        png_destroy_write_struct(&ps, &info);
+        return -1;
+    }
+    png_set_write_fn(ps, out, png_to_sink, png_flush_nothing);
+    png_set_IHDR(ps, info, (png_uint_32)w, (png_uint_32)h, 8, PNG_COLOR_TYPE_RGB, PNG_INTERLACE_NONE,
+                 PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
+    png_set_compression_level(ps, 9);
+    png_write_info(ps, info);
+    for (int y = 0; y < h; y++)
+        png_write_row(ps, (png_const_bytep)(rgb + (size_t)y * (size_t)w * 3));
+    png_write_end(ps, NULL);
+    png_destroy_write_struct(&ps, &info);
+    return out->failed ? -1 : 0;
+}

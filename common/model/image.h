@@ -8,6 +8,7 @@
 #include <stdint.h>
 #include <stdio.h>
 
+#include "base/cursor.h"
 #include "base/err.h"
 
 /* What the 8-bit values are: sRGB-encoded (what lanray writes unless told
@@ -39,5 +40,9 @@ int image_read_png_stream(FILE *f, const char *name, int *width, int *height, ui
 /* The same, refusing (before allocating) an image wider or taller than max_side. */
 int image_read_png_limited(FILE *f, const char *name, uint32_t max_side, int *width, int *height, uint8_t **rgb,
                            Err *err);
+
+/* 8-bit RGB (w x h, as given: no colour chunk) as a PNG into out, compressed
+ * hard: for textures that are stored, not frames written often. */
+int image_encode_png(const uint8_t *rgb, int w, int h, Sink *out);
 
 #endif

@@ -1,92 +1,158 @@
-/* texture.c - PPM/PGM loading through libnetpbm.
+/* texture.c - a texture's texels and its mip-map levels.
  *
- * libnetpbm reports errors by calling pm_error(), which exits the process by
- * default.  We install a jump buffer (pm_setjmpbuf) and a message hook so
- * that a bad file becomes an error message instead; the size is checked
- * against TEXTURE_MAX_SIDE before any pixel memory is allocated. */
+ * Each level is the one above box-filtered to half its size (rounded
+ * down, at least 1): in linear light, since texels are averaged as light,
+ * then rounded to the nearest sRGB code.  A side of odd length is shrunk by
+ * a box of 2 to 3 texels with fractional weights at its ends, so that every
+ * texel of the level above counts by the area it covers (no texel is
+ * dropped, none counted twice).  The arithmetic is float in every build and
+ * in a fixed order: the same texels on every machine and in both precisions
+ * (a float's code is the same in float and double: srgb.h). */
 #include "model/texture.h"
 
-#include <errno.h>
-#include <netpbm/pam.h>
-#include <setjmp.h>
-#include <stddef.h>
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "base/srgb.h"
 
-static char pm_last_error[256];
-
-static void capture_pm_error(const char *msg)
+/* The levels of a w x h image, and the bytes their texels take. */
+static uint32_t level_sizes(uint32_t w, uint32_t h, TextureLevel *lv, size_t *bytes)
 {
-    snprintf(pm_last_error, sizeof pm_last_error, "%s", msg);
-    size_t n = strlen(pm_last_error);
-    while (n && (pm_last_error[n - 1] == '\n' || pm_last_error[n - 1] == ' '))
-        pm_last_error[--n] = 0;
+    uint32_t n = 0;
+    *bytes = 0;
+    for (;;) {
+        lv[n].w = w;
+        lv[n].h = h;
+        *bytes += (size_t)w * h * 3;
+        n++;
+        if ((w == 1 && h == 1) || n == TEXTURE_MAX_LEVELS)
+            return n;
+        w = w > 1 ? w / 2 : 1;
+        h = h > 1 ? h / 2 : 1;
+    }
 }
 
-static void quiet_pm_message(const char *msg) { (void)msg; }
-
-Texture *texture_alloc(uint32_t w, uint32_t h)
+/* Weights of the source texels [*first, *first + *count) that output texel
+ * x of `out` covers, when `in` texels shrink to `out` (box filter). */
+static void box_weights(uint32_t in, uint32_t out, uint32_t x, uint32_t *first, uint32_t *count, float w[4])
 {
+    if (in == out) {
+        *first = x, *count = 1, w[0] = 1.0f;
+        return;
+    }
+    const float s = (float)in / (float)out;
+    const float a = (float)x * s, b = x + 1 == out ? (float)in : (float)(x + 1) * s;
+    uint32_t i0 = (uint32_t)a, i1 = (uint32_t)ceilf(b);
+    if (i1 > in)
+        i1 = in;
+    if (i1 - i0 > 4) /* s < 3, so a box meets at most 4 texels */
+        i1 = i0 + 4;
+    *first = i0;
+    *count = i1 - i0;
+    for (uint32_t i = i0; i < i1; i++) {
+        float lo = (float)i > a ? (float)i : a, hi = (float)(i + 1) < b ? (float)(i + 1) : b;
+        w[i - i0] = (hi - lo) / (b - a);
+    }
+}
+
+/* Level `to` from the level above it, a row at a time (`row`: 3 floats a
+ * texel of the level above; `acc`: 3 a texel of this one). */
+static void shrink(const TextureLevel *src, TextureLevel *dst, float *row, float *acc)
+{
+    for (uint32_t y = 0; y < dst->h; y++) {
+        uint32_t r0, rn;
+        float wy[4];
+        box_weights(src->h, dst->h, y, &r0, &rn, wy);
+        memset(row, 0, (size_t)src->w * 3 * sizeof *row);
+        for (uint32_t k = 0; k < rn; k++) {
+            const uint8_t *p = &src->rgb[(size_t)(r0 + k) * src->w * 3];
+            for (size_t i = 0; i < (size_t)src->w * 3; i++)
+                row[i] += wy[k] * srgb_decode8[p[i]];
+        }
+        for (uint32_t x = 0; x < dst->w; x++) {
+            uint32_t c0, cn;
+            float wx[4];
+            box_weights(src->w, dst->w, x, &c0, &cn, wx);
+            float sum[3] = {0, 0, 0};
+            for (uint32_t k = 0; k < cn; k++)
+                for (int c = 0; c < 3; c++)
+                    sum[c] += wx[k] * row[3 * (c0 + k) + c];
+            for (int c = 0; c < 3; c++)
+                acc[3 * x + c] = sum[c];
+        }
+        uint8_t *q = &dst->rgb[(size_t)y * dst->w * 3];
+        for (size_t i = 0; i < (size_t)dst->w * 3; i++)
+            q[i] = srgb_encode8((real)acc[i]);
+    }
+}
+
+/* A texture with room for the levels of w x h, the image's texels not yet set. */
+static Texture *texture_alloc(uint32_t w, uint32_t h)
+{
+    if (!texture_size_ok(w, h))
+        return NULL;
     Texture *t = calloc(1, sizeof *t);
     if (!t)
         return NULL;
     t->w = w;
     t->h = h;
-    t->rgb = malloc((size_t)w * h * 3 * sizeof *t->rgb + (w == 0 || h == 0));
-    if (!t->rgb) {
+    size_t bytes;
+    t->levels = level_sizes(w, h, t->level, &bytes);
+    t->texels = malloc(bytes);
+    if (!t->texels) {
         free(t);
         return NULL;
+    }
+    size_t at = 0;
+    for (uint32_t l = 0; l < t->levels; l++) {
+        t->level[l].rgb = t->texels + at;
+        at += (size_t)t->level[l].w * t->level[l].h * 3;
     }
     return t;
 }
 
-int texture_encode(const Texture *t, Sink *out)
+/* The mip-map levels below level 0. */
+static int build_levels(Texture *t)
 {
-    sink_u32(out, t->w);
-    sink_u32(out, t->h);
-    return sink_put(out, t->rgb, (size_t)t->w * t->h * 3 * sizeof *t->rgb);
-}
-
-int texture_read_texels(Cursor *c, uint32_t w, uint32_t h, const char *name, Texture **out, Err *err)
-{
-    *out = NULL;
-    size_t n = (size_t)w * h * 3;
-    Texture *t = texture_alloc(w, h);
-    if (!t)
-        return err_set(err, "%s: out of memory for a %ux%u texture", name, w, h);
-    if (cursor_get(c, t->rgb, n * sizeof *t->rgb)) {
-        texture_destroy(t);
-        return err_set(err, "%s: the %ux%u texture's texels are cut short", name, w, h);
+    if (t->levels < 2)
+        return 0;
+    float *row = malloc((size_t)t->w * 3 * sizeof *row), *acc = malloc((size_t)t->w * 3 * sizeof *acc);
+    if (!row || !acc) {
+        free(row);
+        free(acc);
+        return -1;
     }
-    for (size_t i = 0; i < n; i++)
-        if (!(t->rgb[i] >= 0.0f && t->rgb[i] <= 1.0f)) { /* NaN fails too */
-            texture_destroy(t);
-            return err_set(err, "%s: a texel value out of range", name);
-        }
-    *out = t;
+    for (uint32_t l = 1; l < t->levels; l++)
+        shrink(&t->level[l - 1], &t->level[l], row, acc);
+    free(row);
+    free(acc);
     return 0;
 }
 
-int texture_decode(const void *data, size_t len, const char *name, Texture **out, Err *err)
+Texture *texture_from_file_rgb8(uint32_t w, uint32_t h, const uint8_t *rgb, uint8_t *file, size_t file_len,
+                                TextureCodec codec)
 {
-    *out = NULL;
-    Cursor cur = cursor_make(data, len);
-    uint32_t w = cursor_u32(&cur), h = cursor_u32(&cur);
-    if (cur.failed || !texture_size_ok(w, h) || cur.left != (size_t)w * h * 3 * sizeof(float))
-        return err_set(err, "%s: texture payload of %zu bytes is malformed", name, len);
-    return texture_read_texels(&cur, w, h, name, out, err);
+    Texture *t = texture_alloc(w, h);
+    if (!t) {
+        free(file);
+        return NULL;
+    }
+    memcpy(t->level[0].rgb, rgb, (size_t)w * h * 3);
+    if (build_levels(t)) {
+        free(file);
+        texture_destroy(t);
+        return NULL;
+    }
+    t->file = file;
+    t->file_len = file ? file_len : 0;
+    t->codec = file ? codec : TEXTURE_RAW;
+    return t;
 }
 
 Texture *texture_from_rgb8(uint32_t w, uint32_t h, const uint8_t *rgb)
 {
-    Texture *t = texture_alloc(w, h);
-    if (!t)
-        return NULL;
-    for (size_t i = 0; i < (size_t)w * h * 3; i++)
-        t->rgb[i] = srgb_decode8[rgb[i]];
-    return t;
+    return texture_from_file_rgb8(w, h, rgb, NULL, 0, TEXTURE_RAW);
 }
 
 Texture *texture_copy(const Texture *t)
@@ -94,112 +160,77 @@ Texture *texture_copy(const Texture *t)
     Texture *c = texture_alloc(t->w, t->h);
     if (!c)
         return NULL;
+    if (t->file && !(c->file = malloc(t->file_len))) {
+        texture_destroy(c);
+        return NULL;
+    }
+    if (t->file)
+        memcpy(c->file, t->file, t->file_len);
+    c->file_len = t->file_len;
+    c->codec = t->codec;
     c->clamp = t->clamp;
-    memcpy(c->rgb, t->rgb, (size_t)t->w * t->h * 3 * sizeof *c->rgb);
+    c->closest = t->closest;
+    memcpy(c->texels, t->texels, texture_bytes(t));
     return c;
+}
+
+size_t texture_bytes(const Texture *t)
+{
+    size_t n = 0;
+    for (uint32_t l = 0; l < t->levels; l++)
+        n += (size_t)t->level[l].w * t->level[l].h * 3;
+    return n;
 }
 
 void texture_destroy(Texture *t)
 {
     if (!t)
         return;
-    free(t->rgb);
+    free(t->texels);
+    free(t->file);
     free(t);
 }
 
-int texture_read_stream(FILE *f, const char *name, Texture **out, Err *err)
+vec3 texture_texel(const Texture *t, uint32_t l, uint32_t x, uint32_t y)
 {
-    static int initialised;
-    if (!initialised) {
-        pm_init("lanray", 0);
-        pm_setusererrormsgfn(capture_pm_error);
-        pm_setusermessagefn(quiet_pm_message);
-        initialised = 1;
-    }
-    *out = NULL;
-    /* only PBM/PGM/PPM (P1..P6): libnetpbm's PAM (P7) header parser leaks
-     * memory when it rejects a file, and textures do not need PAM */
-    int c0 = getc(f), c1 = getc(f);
-    if (c0 != 'P' || c1 < '1' || c1 > '6')
-        return err_set(err, "%s: not a valid PPM/PGM image: the file does not start with P1..P6", name);
-    if (ungetc(c1, f) == EOF || ungetc(c0, f) == EOF) /* only one push-back is guaranteed: re-open the stream's start */
-        if (fseek(f, 0, SEEK_SET) != 0)
-            return err_set(err, "%s: cannot rewind the stream", name);
-    struct pam pam;
-    Texture *volatile tex = NULL;
-    tuple *volatile row = NULL;
-    jmp_buf jb, *saved;
-    pm_last_error[0] = 0;
-    pm_setjmpbufsave(&jb, &saved);
-    if (setjmp(jb) != 0) {
-        pm_setjmpbuf(saved);
-        if (row)
-            pnm_freepamrow(row);
-        texture_destroy(tex);
-        return err_set(err, "%s: not a valid PPM/PGM image: %s", name, pm_last_error[0] ? pm_last_error : "unknown error");
-    }
-    /* the struct up to tuple_type, as PAM_STRUCT_SIZE(tuple_type) means but
-     * without its offset through a null pointer (UB); later fields (comments)
-     * would make netpbm allocate strings we do not want */
-    memset(&pam, 0, sizeof pam);
-    pnm_readpaminit(f, &pam, (int)(offsetof(struct pam, tuple_type) + sizeof pam.tuple_type));
-    int rc = 0;
-    if (pam.width < 1 || pam.height < 1 || (uint32_t)pam.width > TEXTURE_MAX_SIDE || (uint32_t)pam.height > TEXTURE_MAX_SIDE)
-        rc = err_set(err, "%s: image is %dx%d, textures must be 1..%u pixels on a side", name, pam.width, pam.height,
-                     TEXTURE_MAX_SIDE);
-    else if (pam.depth != 1 && pam.depth != 3)
-        rc = err_set(err, "%s: image has %u channels, expected 1 (grey) or 3 (RGB)", name, pam.depth);
-    else if (pam.maxval < 1)
-        rc = err_set(err, "%s: maxval %lu is invalid", name, pam.maxval);
-    if (rc == 0) {
-        /* the header's size must be backed by bytes before anything is
-         * allocated: raw formats need their exact sample bytes, plain ones at
-         * least one character per sample (checked where the stream can seek) */
-        uint64_t samples = (uint64_t)pam.width * (uint64_t)pam.height * pam.depth;
-        uint64_t need = c1 == '4' ? (uint64_t)((pam.width + 7) / 8) * (uint64_t)pam.height
-                        : c1 >= '5' ? samples * (pam.maxval > 255 ? 2 : 1)
-                                    : samples;
-        long pos = ftell(f);
-        if (pos >= 0 && fseek(f, 0, SEEK_END) == 0) {
-            long end = ftell(f);
-            fseek(f, pos, SEEK_SET);
-            if (end >= pos && (uint64_t)(end - pos) < need)
-                rc = err_set(err, "%s: the header promises %dx%d pixels but only %ld bytes follow", name, pam.width,
-                             pam.height, end - pos);
-        }
-    }
-    if (rc) {
-        pm_setjmpbuf(saved);
-        return rc;
-    }
-    tex = calloc(1, sizeof *tex);
-    if (tex) {
-        tex->w = (uint32_t)pam.width;
-        tex->h = (uint32_t)pam.height;
-        tex->rgb = malloc((size_t)tex->w * tex->h * 3 * sizeof *tex->rgb);
-    }
-    if (!tex || !tex->rgb) {
-        pm_setjmpbuf(saved);
-        texture_destroy(tex);
-        return err_set(err, "%s: out of memory for a %dx%d texture", name, pam.width, pam.height);
-    }
-    row = pnm_allocpamrow(&pam);
-    for (uint32_t y = 0; y < tex->h; y++) {
-        pnm_readpamrow(&pam, row);
-        float *dst = &tex->rgb[(size_t)y * tex->w * 3];
-        for (uint32_t x = 0; x < tex->w; x++)
-            for (int c = 0; c < 3; c++) {
-                sample v = row[x][pam.depth == 3 ? c : 0];
-                /* stored sRGB-encoded (as PPM and PNG images are): decoded to
-                 * linear light, by the table for 8 bits, else the formula */
-                dst[3 * x + c] = v >= pam.maxval       ? 1.0f
-                                 : pam.maxval == 255 ? srgb_decode8[v]
-                                                     : (float)srgb_decode((double)v / (double)pam.maxval);
-            }
-    }
-    pnm_freepamrow(row);
-    pm_setjmpbuf(saved);
-    *out = tex;
-    return 0;
+    const uint8_t *p = &t->level[l].rgb[3 * ((size_t)y * t->level[l].w + x)];
+    return v3(srgb_decode8[p[0]], srgb_decode8[p[1]], srgb_decode8[p[2]]);
 }
 
+int texture_read_texels(Cursor *c, uint32_t w, uint32_t h, const char *name, Texture **out, Err *err)
+{
+    *out = NULL;
+    size_t n = (size_t)w * h * 3;
+    uint8_t *rgb = malloc(n);
+    if (!rgb)
+        return err_set(err, "%s: out of memory for a %ux%u texture", name, w, h);
+    for (size_t i = 0; i < n; i++) {
+        float v = cursor_f32(c);
+        if (c->failed) {
+            free(rgb);
+            return err_set(err, "%s: the %ux%u texture's texels are cut short", name, w, h);
+        }
+        if (!(v >= 0.0f && v <= 1.0f)) { /* NaN fails too */
+            free(rgb);
+            return err_set(err, "%s: a texel value out of range", name);
+        }
+        rgb[i] = srgb_encode8((real)v);
+    }
+    *out = texture_from_rgb8(w, h, rgb);
+    free(rgb);
+    return *out ? 0 : err_set(err, "%s: out of memory for a %ux%u texture", name, w, h);
+}
+
+static const char *const filter_names[FILTER_COUNT] = {"nearest", "bilinear", "trilinear", "anisotropic"};
+
+const char *texture_filter_name(TextureFilter f) { return (unsigned)f < FILTER_COUNT ? filter_names[f] : "?"; }
+
+int texture_filter_parse(const char *s, TextureFilter *out)
+{
+    for (int i = 0; i < FILTER_COUNT; i++)
+        if (strcmp(s, filter_names[i]) == 0) {
+            *out = (TextureFilter)i;
+            return 0;
+        }
+    return -1;
+}

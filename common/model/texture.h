@@ -1,9 +1,18 @@
-/* texture.h - RGB images for texture mapping, read from PNG, JPEG, PPM or PGM.
+/* texture.h - RGB images for texture mapping, with their mip-maps.
  *
- * Texels are stored as float RGB in [0,1], linear light: images store
- * sRGB-encoded values, which are decoded on load (srgb.h), so that filtering
- * and shading work on light.  Texture coordinates wrap (repeat);
- * v = 0 is the bottom row, as in OBJ. */
+ * Texels are kept as the 8-bit sRGB codes image files store (3 bytes a
+ * texel, a quarter of float RGB), decoded to linear light by a table when
+ * sampled (srgb.h), so that filtering and shading work on light.  Below the
+ * image are its mip-map levels, each half the size of the one above (a box
+ * filter in linear light, rounded to sRGB codes), down to 1 x 1: a ray
+ * whose footprint covers many texels reads a level where it covers about
+ * one (texture_sample.c).  Texture coordinates wrap (repeat) unless the
+ * texture clamps; v = 0 is the bottom row, as in OBJ.
+ *
+ * A texture read from a PNG or JPEG file keeps the file's own bytes: a
+ * .tmd and an ASSET carry those (texture_encode), so that a model with a
+ * 78 KB image is not stored, or sent to every client, as 12 MB of floats;
+ * the reader decodes them again into the same texels. */
 #ifndef LANRAY_TEXTURE_H
 #define LANRAY_TEXTURE_H
 
@@ -15,78 +24,95 @@
 #include "base/vec.h"
 
 #define TEXTURE_MAX_SIDE 16384u
+#define TEXTURE_MAX_LEVELS 15 /* 16384 = 2^14: 15 levels down to 1 x 1 */
+
+typedef enum { TEXTURE_RAW = 0, TEXTURE_PNG = 1, TEXTURE_JPEG = 2 } TextureCodec;
 
 typedef struct {
     uint32_t w, h;
-    float *rgb; /* 3 per texel, row-major, top row first */
-    int clamp;  /* coordinates clamp to the edge instead of wrapping (MTL -clamp on) */
+    uint8_t *rgb; /* 3 sRGB codes a texel, row-major, top row first */
+} TextureLevel;
+
+typedef struct {
+    uint32_t w, h;   /* the image's size: level 0 */
+    int clamp;       /* coordinates clamp to the edge instead of wrapping (MTL -clamp on) */
+    int closest;     /* magnified, texels are squares with sharp edges (pixel art, a
+                      * checkerboard); else they blend bilinearly */
+    uint32_t levels; /* 1 + the mip-map levels below the image */
+    TextureLevel level[TEXTURE_MAX_LEVELS];
+    uint8_t *texels; /* every level's texels, one block */
+    /* the image file's own bytes, kept for the byte form; NULL where the
+     * texture came from elsewhere (PPM, generated, an embedded bitmap):
+     * texture_encode then writes a PNG of the texels */
+    uint8_t *file;
+    size_t file_len;
+    TextureCodec codec;
 } Texture;
 
-typedef enum { FILTER_NEAREST = 0, FILTER_BILINEAR = 1 } TextureFilter;
+/* How a lookup reads the texels: one texel of the image (nearest), the
+ * bilinear blend of four (bilinear), the blend of two mip-map levels
+ * chosen by the ray's footprint (trilinear: aliasing gone, detail blurred
+ * along a floor seen edge-on), or several trilinear probes along the
+ * footprint's long axis (anisotropic). */
+typedef enum { FILTER_NEAREST = 0, FILTER_BILINEAR = 1, FILTER_TRILINEAR = 2, FILTER_ANISOTROPIC = 3 } TextureFilter;
+#define FILTER_COUNT 4
+const char *texture_filter_name(TextureFilter f);
+int texture_filter_parse(const char *s, TextureFilter *out);
 
-/* Reads a PPM (P3/P6) or PGM (P2/P5, replicated to grey RGB); `name` labels errors. */
-int texture_read_stream(FILE *f, const char *name, Texture **out, Err *err);
-/* Reads a texture file by its extension: .png, .jpg/.jpeg, else PPM/PGM (texture_file.c). */
-int texture_read(const char *path, Texture **out, Err *err);
-/* A JPEG from an open stream (not closed) of `bytes` bytes; `name` labels errors. */
-int texture_read_jpeg_stream(FILE *f, const char *name, size_t bytes, Texture **out, Err *err);
-/* A w x h texture whose texels the caller fills, or NULL. */
-Texture *texture_alloc(uint32_t w, uint32_t h);
-/* The texture's byte form, what an ASSET carries (docs/protocol.md): u32
- * w, u32 h, f32 rgb[3 w h] as stored (linear light, top row first). */
-int texture_encode(const Texture *t, Sink *out);
-/* Reads that form with every size and value checked; `name` labels errors. */
-int texture_decode(const void *data, size_t len, const char *name, Texture **out, Err *err);
+/* The footprint of a ray's sample on the texture: how u and v change from
+ * one sample to the next across the image (x) and down it (y). */
+typedef struct {
+    real dudx, dvdx, dudy, dvdy;
+} TexFootprint;
+
+/* A texture of w x h from 8-bit sRGB RGB texels (copied), with its
+ * mip-maps; NULL when out of memory. */
+Texture *texture_from_rgb8(uint32_t w, uint32_t h, const uint8_t *rgb);
+/* The same taking ownership of `file` (the image's own bytes, freed on
+ * failure too). */
+Texture *texture_from_file_rgb8(uint32_t w, uint32_t h, const uint8_t *rgb, uint8_t *file, size_t file_len,
+                                TextureCodec codec);
+void texture_destroy(Texture *t);
+Texture *texture_copy(const Texture *t);
 /* Whether w x h is a size a texture may have (1..TEXTURE_MAX_SIDE a side). */
 static inline int texture_size_ok(uint32_t w, uint32_t h)
 {
     return w >= 1 && h >= 1 && w <= TEXTURE_MAX_SIDE && h <= TEXTURE_MAX_SIDE;
 }
-/* The texels of a w x h texture as stored in both byte forms (the ASSET's
- * and the .tmd's): f32 rgb, linear light, each in [0, 1]; the caller has
- * checked the size and that the cursor holds them. */
+/* Bytes the texels of all levels take. */
+size_t texture_bytes(const Texture *t);
+
+/* Reads an image file, by its first bytes (not its name): PNG, JPEG, or
+ * PPM/PGM (texture_file.c); another format is named in the error. */
+int texture_read(const char *path, Texture **out, Err *err);
+/* The same from bytes in memory (an image embedded in a glTF, say); `name`
+ * labels errors.  The bytes are copied where they are kept. */
+int texture_read_memory(const void *data, size_t len, const char *name, Texture **out, Err *err);
+/* Reads a PPM (P3/P6) or PGM (P2/P5, replicated to grey RGB); `name` labels errors. */
+int texture_read_stream(FILE *f, const char *name, Texture **out, Err *err);
+/* A JPEG from an open stream (not closed) of `bytes` bytes; `name` labels errors. */
+int texture_read_jpeg_stream(FILE *f, const char *name, size_t bytes, Texture **out, Err *err);
+
+/* The texture's byte form, what an ASSET and a .tmd carry (docs/tmd.md):
+ * u32 w, h, flags (1: clamp, 2: closest), codec (1 PNG, 2 JPEG), byte
+ * count, then the image's bytes, padded with zeros to a multiple of 4. */
+int texture_encode(const Texture *t, Sink *out);
+/* Reads one byte form from a cursor: the image is decoded and must be w x
+ * h; `name` labels errors. */
+int texture_read_form(Cursor *c, const char *name, Texture **out, Err *err);
+/* A whole payload that is one byte form and nothing else (an ASSET). */
+int texture_decode(const void *data, size_t len, const char *name, Texture **out, Err *err);
+/* The texels of a w x h texture as .tmd versions 2 to 4 stored them: f32
+ * rgb, linear light, each in [0, 1]; the caller has checked the size and
+ * that the cursor holds them.  They are kept as the nearest sRGB codes. */
 int texture_read_texels(Cursor *c, uint32_t w, uint32_t h, const char *name, Texture **out, Err *err);
-/* A texture of w x h from 8-bit RGB pixels (copied). */
-Texture *texture_from_rgb8(uint32_t w, uint32_t h, const uint8_t *rgb);
-void texture_destroy(Texture *t);
-Texture *texture_copy(const Texture *t);
 
-static inline vec3 texture_texel(const Texture *t, uint32_t x, uint32_t y)
-{
-    const float *p = &t->rgb[3 * ((size_t)y * t->w + x)];
-    return v3(p[0], p[1], p[2]);
-}
-
-/* Wraps a coordinate into [0,1); NaN and inf map to 0. */
-static inline real texture_wrap(real u)
-{
-    if (!isfinite(u))
-        return R(0);
-    u -= floor(u);
-    return u >= R(1) ? R(0) : u;
-}
-
-/* Clamps a coordinate into [0,1]; NaN maps to 0. */
-static inline real texture_clamp01(real u) { return u > R(0) ? (u < R(1) ? u : R(1)) : R(0); }
-
-static inline vec3 texture_sample(const Texture *t, real u, real v, TextureFilter filter)
-{
-    u = t->clamp ? texture_clamp01(u) : texture_wrap(u);
-    v = R(1) - (t->clamp ? texture_clamp01(v) : texture_wrap(v)); /* v = 0 at the bottom */
-    if (filter == FILTER_NEAREST) {
-        uint32_t x = (uint32_t)(u * (real)t->w), y = (uint32_t)(v * (real)t->h);
-        return texture_texel(t, x < t->w ? x : t->w - 1, y < t->h ? y : t->h - 1);
-    }
-    /* bilinear between the four texel centres around (u, v), wrapping at the edges */
-    real fx = u * (real)t->w - R(0.5), fy = v * (real)t->h - R(0.5);
-    real x0f = floor(fx), y0f = floor(fy);
-    real ax = fx - x0f, ay = fy - y0f;
-    int64_t x0 = (int64_t)x0f, y0 = (int64_t)y0f;
-    uint32_t xa = (uint32_t)((x0 % t->w + t->w) % t->w), xb = (xa + 1) % t->w;
-    uint32_t ya = (uint32_t)((y0 % t->h + t->h) % t->h), yb = (ya + 1) % t->h;
-    vec3 top = v3_lerp(texture_texel(t, xa, ya), texture_texel(t, xb, ya), ax);
-    vec3 bot = v3_lerp(texture_texel(t, xa, yb), texture_texel(t, xb, yb), ax);
-    return v3_lerp(top, bot, ay);
-}
+/* The linear colour of texel (x, y) of level l. */
+vec3 texture_texel(const Texture *t, uint32_t l, uint32_t x, uint32_t y);
+/* The colour at (u, v): with `fp` NULL, one lookup in the image (nearest
+ * or bilinear, as for a trilinear or anisotropic filter); else filtered
+ * over the footprint (texture_sample.c).  Non-finite coordinates read
+ * texel (0, 0). */
+vec3 texture_sample(const Texture *t, real u, real v, const TexFootprint *fp, TextureFilter filter);
 
 #endif

@@ -1,30 +1,21 @@
-/* texture_file.c - texture images by file type: PNG (libpng, through
- * image.c's reader), JPEG (libjpeg-turbo) and PPM/PGM (libnetpbm, in
- * texture.c).  Every reader checks the image's size against
- * TEXTURE_MAX_SIDE before it allocates the pixels. */
-#include <ctype.h>
+/* texture_file.c - texture images by their first bytes: PNG (libpng,
+ * through image.c's reader), JPEG (libjpeg-turbo) and PPM/PGM (libnetpbm,
+ * texture_ppm.c).  Every reader checks the image's size against
+ * TEXTURE_MAX_SIDE before it allocates the pixels.  A PNG or a JPEG keeps
+ * its file's bytes (texture.h).  Formats that are recognised but not read
+ * (TGA, BMP, GIF, ...) are named in the error, with what to convert them to. */
 #include <errno.h>
 #include <setjmp.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/stat.h>
+#include <strings.h>
 
 #include <jpeglib.h>
 
+#include "base/fileio.h"
 #include "model/image.h"
 #include "model/texture.h"
-
-static int has_extension(const char *path, const char *ext)
-{
-    size_t n = strlen(path), m = strlen(ext);
-    if (n < m)
-        return 0;
-    for (size_t i = 0; i < m; i++)
-        if (tolower((unsigned char)path[n - m + i]) != ext[i])
-            return 0;
-    return 1;
-}
 
 typedef struct {
     struct jpeg_error_mgr pub;
@@ -96,29 +87,117 @@ int texture_read_jpeg_stream(FILE *f, const char *name, size_t bytes, Texture **
     return *out ? 0 : err_set(err, "%s: out of memory for a %ux%u texture", name, w, h);
 }
 
+
+
+/* A texture file may be at most this big: a 16384 x 16384 image in any
+ * sensible encoding fits. */
+#define TEXTURE_MAX_FILE_BYTES ((size_t)1 << 30)
+
 int texture_read(const char *path, Texture **out, Err *err)
 {
     *out = NULL;
-    FILE *f = fopen(path, "rb");
-    if (!f)
-        return err_set(err, "%s: cannot open: %s", path, strerror(errno));
-    if (has_extension(path, ".png")) {
-        int w, h;
-        uint8_t *rgb;
-        if (image_read_png_limited(f, path, TEXTURE_MAX_SIDE, &w, &h, &rgb, err)) /* closes f */
-            return -1;
-        *out = texture_from_rgb8((uint32_t)w, (uint32_t)h, rgb);
-        free(rgb);
-        return *out ? 0 : err_set(err, "%s: out of memory for a %dx%d texture", path, w, h);
-    }
-    int rc;
-    if (has_extension(path, ".jpg") || has_extension(path, ".jpeg")) {
-        struct stat sb;
-        rc = fstat(fileno(f), &sb) == 0 ? texture_read_jpeg_stream(f, path, (size_t)sb.st_size, out, err)
-                                        : err_set(err, "%s: cannot stat: %s", path, strerror(errno));
-    } else {
-        rc = texture_read_stream(f, path, out, err);
-    }
-    fclose(f);
+    char *data;
+    size_t len;
+    if (file_read_all(path, TEXTURE_MAX_FILE_BYTES, &data, &len, err))
+        return -1;
+    int rc = texture_read_memory(data, len, path, out, err);
+    free(data);
     return rc;
+}
+
+static int starts(const uint8_t *p, size_t len, const char *magic, size_t n)
+{
+    return len >= n && memcmp(p, magic, n) == 0;
+}
+
+static int ends_with(const char *name, const char *ext)
+{
+    size_t n = strlen(name), e = strlen(ext);
+    return n >= e && strcasecmp(name + n - e, ext) == 0;
+}
+
+/* The format of an image lanray does not read, from its bytes or, for a
+ * TGA (which has no magic), its name; NULL when it is none of them. */
+static const char *unread_format(const uint8_t *p, size_t len, const char *name)
+{
+    if (starts(p, len, "BM", 2))
+        return "BMP";
+    if (starts(p, len, "GIF8", 4))
+        return "GIF";
+    if (starts(p, len, "RIFF", 4) && len >= 12 && memcmp(p + 8, "WEBP", 4) == 0)
+        return "WebP";
+    if (starts(p, len, "II*\0", 4) || starts(p, len, "MM\0*", 4))
+        return "TIFF";
+    if (starts(p, len, "DDS ", 4))
+        return "DDS";
+    if (starts(p, len, "8BPS", 4))
+        return "Photoshop";
+    if (starts(p, len, "\x76\x2f\x31\x01", 4))
+        return "OpenEXR";
+    if (starts(p, len, "#?RADIANCE", 10) || starts(p, len, "#?RGBE", 6))
+        return "Radiance HDR";
+    if (starts(p, len, "\xabKTX", 4))
+        return "KTX";
+    if (ends_with(name, ".tga") || starts(p + (len >= 18 ? len - 18 : 0), len >= 18 ? 18 : 0, "TRUEVISION-XFILE", 16))
+        return "TGA";
+    return NULL;
+}
+
+/* A copy of the image's bytes, to keep with the texture. */
+static uint8_t *keep_bytes(const void *data, size_t len)
+{
+    uint8_t *k = malloc(len ? len : 1);
+    if (k)
+        memcpy(k, data, len);
+    return k;
+}
+
+int texture_read_memory(const void *data, size_t len, const char *name, Texture **out, Err *err)
+{
+    *out = NULL;
+    const uint8_t *p = data;
+    const int png = starts(p, len, "\x89PNG\r\n\x1a\n", 8), jpeg = starts(p, len, "\xff\xd8\xff", 3);
+    const int pnm = len >= 2 && p[0] == 'P' && p[1] >= '1' && p[1] <= '6';
+    if (!png && !jpeg && !pnm) {
+        const char *fmt = unread_format(p, len, name);
+        if (fmt)
+            return err_set(err, "%s: a %s image: lanray reads PNG, JPEG, PPM and PGM textures (convert it to PNG)", name,
+                           fmt);
+        return err_set(err, "%s: not an image lanray reads (PNG, JPEG, PPM or PGM): %s", name,
+                       len == 0 ? "the file is empty" : "its first bytes are none of theirs");
+    }
+    FILE *f = fmemopen((void *)(uintptr_t)data, len, "rb");
+    if (!f)
+        return err_set(err, "%s: cannot read the image from memory: %s", name, strerror(errno));
+    if (pnm) {
+        int rc = texture_read_stream(f, name, out, err);
+        fclose(f);
+        return rc;
+    }
+    if (jpeg) {
+        Texture *t;
+        int rc = texture_read_jpeg_stream(f, name, len, &t, err);
+        fclose(f);
+        if (rc)
+            return rc;
+        uint8_t *k = keep_bytes(data, len);
+        if (!k) {
+            texture_destroy(t);
+            return err_set(err, "%s: out of memory", name);
+        }
+        t->file = k, t->file_len = len, t->codec = TEXTURE_JPEG;
+        *out = t;
+        return 0;
+    }
+    int w, h;
+    uint8_t *rgb;
+    if (image_read_png_limited(f, name, TEXTURE_MAX_SIDE, &w, &h, &rgb, err)) /* closes f */
+        return -1;
+    *out = texture_from_file_rgb8((uint32_t)w, (uint32_t)h, rgb, keep_bytes(data, len), len, TEXTURE_PNG);
+    free(rgb);
+    if (*out && !(*out)->file) {
+        texture_destroy(*out);
+        *out = NULL;
+    }
+    return *out ? 0 : err_set(err, "%s: out of memory for a %dx%d texture", name, w, h);
 }

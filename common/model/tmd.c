@@ -5,6 +5,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include <zlib.h>
+
 #include "base/cursor.h"
 #include "base/fileio.h"
 
@@ -33,6 +35,19 @@ static void put_real(Sink *s, real x, int wide, int dir)
     }
 }
 
+uint32_t tmd_checksum(const void *data, size_t len)
+{
+    /* CRC-32 (zlib's) of the bytes, the checksum field read as zero: every
+     * error of one bit, and of a burst up to 32 bits, changes it */
+    const uint8_t *p = data;
+    const uint8_t zero[4] = {0, 0, 0, 0};
+    uLong crc = crc32(0L, Z_NULL, 0);
+    crc = crc32_z(crc, p, TMD_CHECKSUM_AT);
+    crc = crc32_z(crc, zero, 4);
+    crc = crc32_z(crc, p + TMD_CHECKSUM_AT + 4, len - TMD_CHECKSUM_AT - 4);
+    return (uint32_t)crc;
+}
+
 int tmd_encode(const Model *m, int wide, void **data, size_t *len, Err *err)
 {
     Sink s = {0};
@@ -45,11 +60,8 @@ int tmd_encode(const Model *m, int wide, void **data, size_t *len, Err *err)
                      (m->colours ? TMD_HAS_COLOURS : 0) | (optics ? TMD_HAS_OPTICS : 0);
     char magic[8] = TMD_MAGIC;
     sink_put(&s, magic, 8);
-    uint32_t version = optics       ? TMD_VERSION
-                       : m->colours ? TMD_VERSION_COLOURS
-                       : textured   ? TMD_VERSION_TEXTURES
-                                    : TMD_VERSION_PLAIN;
-    uint32_t head[14] = {version, TMD_BOM, TMD_HEADER_BYTES, flags,
+    /* the file's length and checksum (offsets 48 and 52) are filled in last */
+    uint32_t head[14] = {TMD_VERSION, TMD_BOM, TMD_HEADER_BYTES, flags,
                          (uint32_t)m->bvh.kind, m->bvh.node_count, m->tri_count, m->mat_ids ? m->material_count : 0,
                          m->bvh.depth, textured ? m->texture_count : 0, 0, 0, 0, 0};
     sink_put(&s, head, sizeof head);
@@ -96,18 +108,17 @@ int tmd_encode(const Model *m, int wide, void **data, size_t *len, Err *err)
         for (uint32_t i = 0; i < 3 * m->tri_count; i++)
             for (int a = 0; a < 3; a++)
                 put_real(&s, m->colours[i].e[a], wide, 0);
-    for (uint32_t i = 0; textured && i < m->texture_count; i++) {
-        const Texture *t = m->textures[i];
-        sink_u32(&s, t->w);
-        sink_u32(&s, t->h);
-        sink_u32(&s, t->clamp ? 1 : 0);
-        for (size_t k = 0; k < (size_t)t->w * t->h * 3; k++)
-            sink_f32(&s, t->rgb[k]);
-    }
-    if (s.failed) {
+    for (uint32_t i = 0; textured && i < m->texture_count; i++)
+        texture_encode(m->textures[i], &s);
+    if (s.failed || s.len > TMD_MAX_FILE_BYTES) {
         sink_free(&s);
-        return err_set(err, "tmd: out of memory encoding %u triangles", m->tri_count);
+        return err_set(err, "tmd: out of memory encoding %u triangles, or more than %zu bytes", m->tri_count,
+                       TMD_MAX_FILE_BYTES);
     }
+    uint32_t total = (uint32_t)s.len, crc;
+    memcpy(s.data + TMD_LENGTH_AT, &total, 4);
+    crc = tmd_checksum(s.data, s.len);
+    memcpy(s.data + TMD_CHECKSUM_AT, &crc, 4);
     *data = s.data;
     *len = s.len;
     return 0;
@@ -148,23 +159,35 @@ static int read_reals(Cursor *c, int wide, int dir, real *dst, size_t n)
     return c->failed ? -1 : 0;
 }
 
-/* The textures at the end of a version-2 file: each size checked against
- * the bytes left before anything is allocated; the file ends with them. */
-static int tmd_read_textures(Cursor *c, uint32_t texs, Model *m, const char *name, Err *err)
+/* The textures at the end of the file: in versions 2 to 4 as float
+ * texels, each size checked against the bytes left before anything is
+ * allocated; from version 5 in their byte form (texture_read_form).  The
+ * file ends with them. */
+static int tmd_read_textures(Cursor *c, uint32_t version, uint32_t texs, Model *m, const char *name, Err *err)
 {
     m->textures = calloc(texs, sizeof *m->textures);
     if (!m->textures)
         return err_set(err, "%s: out of memory for %u textures", name, texs);
     for (uint32_t i = 0; i < texs; i++) {
-        uint32_t tw = cursor_u32(c), th = cursor_u32(c), tf = cursor_u32(c);
-        if (c->failed || !texture_size_ok(tw, th) || tf > 1 || (uint64_t)tw * th * 12 > c->left)
-            return err_set(err, "%s: texture %u: implausible size %ux%u or flags %u", name, i, tw, th, tf);
         char label[1100];
         snprintf(label, sizeof label, "%s: texture %u", name, i);
         Texture *t;
-        if (texture_read_texels(c, tw, th, label, &t, err))
-            return -1;
-        t->clamp = (int)tf;
+        if (version >= TMD_VERSION_FORMS) {
+            if (texture_read_form(c, label, &t, err))
+                return -1;
+        } else {
+            uint32_t tw = cursor_u32(c), th = cursor_u32(c), tf = cursor_u32(c);
+            if (c->failed)
+                return err_set(err, "%s: the file is cut short in the texture's header", label);
+            if (!texture_size_ok(tw, th) || tf > 1)
+                return err_set(err, "%s: implausible size %ux%u or flags %u", label, tw, th, tf);
+            if ((uint64_t)tw * th * 12 > c->left)
+                return err_set(err, "%s: the file is cut short: %ux%u texels need %llu bytes, %zu are left", label, tw,
+                               th, (unsigned long long)tw * th * 12, c->left);
+            if (texture_read_texels(c, tw, th, label, &t, err))
+                return -1;
+            t->clamp = (int)tf;
+        }
         m->textures[m->texture_count++] = t;
     }
     if (c->left != 0)
@@ -179,21 +202,35 @@ int tmd_decode(const void *data, size_t len, const char *name, Model **out, Err 
     char magic[8];
     uint32_t h[14];
     if (cursor_get(&c, magic, 8) || cursor_get(&c, h, sizeof h))
-        return err_set(err, "%s: %zu bytes is too short for a .tmd header (64 bytes)", name, len);
+        return err_set(err, "%s: %zu bytes is too short for a .tmd header (64 bytes): not a .tmd file, or one cut short",
+                       name, len);
     if (memcmp(magic, TMD_MAGIC, 8) != 0)
-        return err_set(err, "%s: not a .tmd file (bad magic)", name);
+        return err_set(err, "%s: not a .tmd file, or a corrupt one (bad magic)", name);
     if (h[1] != TMD_BOM)
-        return err_set(err, "%s: byte-order mark 0x%08x: written on a machine of the other byte order", name, h[1]);
+        return err_set(err, "%s: byte-order mark 0x%08x: written on a machine of the other byte order, or corrupt", name,
+                       h[1]);
     if (h[0] < TMD_VERSION_PLAIN || h[0] > TMD_VERSION)
-        return err_set(err, "%s: format version %u, this build reads versions %u to %u", name, h[0], TMD_VERSION_PLAIN,
-                       TMD_VERSION);
+        return err_set(err, "%s: format version %u, this build reads versions %u to %u: a newer lanray's file, or a "
+                       "corrupt one", name, h[0], TMD_VERSION_PLAIN, TMD_VERSION);
+    if (h[0] >= TMD_VERSION_FORMS) {
+        /* the length first, so that a file cut short says so; then every bit */
+        if (h[10] != len)
+            return err_set(err, "%s: corrupt or cut short: the file has %zu bytes, its header says %u", name, len, h[10]);
+        uint32_t crc = tmd_checksum(data, len);
+        if (crc != h[11])
+            return err_set(err, "%s: corrupt: checksum 0x%08x, the header says 0x%08x", name, crc, h[11]);
+        if (h[12] || h[13])
+            return err_set(err, "%s: reserved header fields are not zero", name);
+    } else if (h[10] || h[11] || h[12] || h[13]) {
+        return err_set(err, "%s: corrupt: version %u with reserved header fields that are not zero", name, h[0]);
+    }
     uint32_t flags = h[3], kind = h[4], nodes = h[5], tris = h[6], mats = h[7], depth = h[8], texs = h[9];
     if (h[2] != TMD_HEADER_BYTES)
         return err_set(err, "%s: header size %u, expected %u", name, h[2], TMD_HEADER_BYTES);
     if (flags & ~(TMD_HAS_NORMALS | TMD_HAS_UVS | TMD_HAS_MATERIALS | TMD_WIDE | TMD_HAS_TEXTURES | TMD_HAS_COLOURS |
                   TMD_HAS_OPTICS) ||
         ((flags & TMD_HAS_TEXTURES) && h[0] < TMD_VERSION_TEXTURES) ||
-        ((flags & TMD_HAS_COLOURS) && h[0] < TMD_VERSION_COLOURS) || ((flags & TMD_HAS_OPTICS) && h[0] < TMD_VERSION) ||
+        ((flags & TMD_HAS_COLOURS) && h[0] < TMD_VERSION_COLOURS) || ((flags & TMD_HAS_OPTICS) && h[0] < TMD_VERSION_OPTICS) ||
         ((flags & TMD_HAS_OPTICS) && !(flags & TMD_HAS_MATERIALS)))
         return err_set(err, "%s: unknown flags 0x%x", name, flags);
     const int optics = (flags & TMD_HAS_OPTICS) != 0;
@@ -301,7 +338,7 @@ int tmd_decode(const void *data, size_t len, const char *name, Model **out, Err 
         model_destroy(m);
         return err_set(err, "%s: %s is not a finite number", name, bad ? bad : "data");
     }
-    if (textured && tmd_read_textures(&c, texs, m, name, err)) {
+    if (textured && tmd_read_textures(&c, h[0], texs, m, name, err)) {
         model_destroy(m);
         return -1;
     }

@@ -13,10 +13,13 @@
 #include "model/model.h"
 
 #define TMD_MAGIC "LRAYTMD"
-/* The version written is the lowest that holds the model, so that older
- * readers take every file they can: 4 with reflecting, refracting or
- * emitting materials, 3 with vertex colours, 2 with textures, 1 otherwise. */
-#define TMD_VERSION 4u
+/* Version 5 is written: the file's length and a CRC-32 of all of it in
+ * the header, textures as their image files' bytes.  Versions 1 to 4 are
+ * read (4: reflecting, refracting or emitting materials, 3: vertex
+ * colours, 2: textures as float texels, 1: the rest). */
+#define TMD_VERSION 5u
+#define TMD_VERSION_FORMS 5u
+#define TMD_VERSION_OPTICS 4u
 #define TMD_VERSION_COLOURS 3u
 #define TMD_VERSION_TEXTURES 2u
 #define TMD_VERSION_PLAIN 1u
@@ -30,6 +33,8 @@
 #define TMD_HAS_COLOURS 32u  /* version 3: vertex colours, after the material ids */
 #define TMD_HAS_OPTICS 64u   /* version 4: each material's reflection, refraction and emission */
 #define TMD_MAX_FILE_BYTES ((size_t)1 << 31)
+#define TMD_LENGTH_AT 48u   /* version 5: u32 the file's length */
+#define TMD_CHECKSUM_AT 52u /* version 5: u32 CRC-32 of the file, this field read as 0 */
 
 int tmd_write(const char *path, const Model *m, Err *err);
 int tmd_read(const char *path, Model **out, Err *err);
@@ -37,5 +42,7 @@ int tmd_read(const char *path, Model **out, Err *err);
 /* wide: float64 numbers (TMD_WIDE), the model's own values in a double build. */
 int tmd_encode(const Model *m, int wide, void **data, size_t *len, Err *err);
 int tmd_decode(const void *data, size_t len, const char *name, Model **out, Err *err);
+/* The checksum a version-5 file carries at TMD_CHECKSUM_AT (len >= 64). */
+uint32_t tmd_checksum(const void *data, size_t len);
 
 #endif

@@ -36,6 +36,7 @@ void scene_destroy(Scene *s)
     free(s->models);
     free(s->instances);
     free(s->lights);
+    free(s->lamps);
     bvh_destroy(&s->top);
     free(s);
 }
@@ -250,6 +251,82 @@ static uint32_t material_features(const Material *m)
            (material_emits(m) ? FEAT_EMIT : 0u) | (material_rough(m) ? FEAT_ROUGH : 0u);
 }
 
+/* Whether emissive sphere sp shows light l: the light's centre is inside
+ * it, or it is inside the light's sphere (a point light has radius 0). */
+static int sphere_shows(const Sphere *sp, const Light *l)
+{
+    real d = v3_len(v3_sub(sp->centre, l->kind == LIGHT_RECT ? v3_add(l->pos, v3_scale(v3_add(l->edge1, l->edge2), R(0.5)))
+                                                             : l->pos));
+    return d <= real_max(sp->radius, l->kind == LIGHT_SPHERE ? l->radius : R(0));
+}
+
+/* Whether triangle t shows rectangle light l: its corners lie in the
+ * light's plane (to a thousandth of the light's size) and its box meets
+ * the light's. */
+static int tri_shows(const Tri *t, const Light *l)
+{
+    real size = real_max(v3_len(l->edge1), v3_len(l->edge2)), tol = size * R(1e-3);
+    Aabb lb = aabb_point(l->pos), tb = aabb_empty();
+    aabb_grow(&lb, v3_add(l->pos, l->edge1));
+    aabb_grow(&lb, v3_add(l->pos, l->edge2));
+    aabb_grow(&lb, v3_add(l->pos, v3_add(l->edge1, l->edge2)));
+    for (int k = 0; k < 3; k++) {
+        vec3 v = tri_vertex(t, k);
+        if (!(fabs(v3_dot(v3_sub(v, l->pos), l->axis)) <= tol))
+            return 0;
+        aabb_grow(&tb, v);
+    }
+    for (int a = 0; a < 3; a++)
+        if (tb.min.e[a] > lb.max.e[a] + tol || tb.max.e[a] < lb.min.e[a] - tol)
+            return 0;
+    return 1;
+}
+
+/* Every light's lamp (scene.h): its emissive spheres and, for a
+ * rectangle, its emissive scene triangles, as top-level primitive numbers
+ * in increasing order.  Only emissive primitives are looked at: a scene
+ * without emission pays one pass over its materials. */
+static int pair_lamps(Scene *s, Err *err)
+{
+    s->lamp_total = 0;
+    for (uint32_t i = 0; i < s->light_count; i++)
+        s->lights[i].lamp_first = s->lights[i].lamp_count = 0;
+    int emits = 0;
+    for (uint32_t m = 0; m < s->material_count && !emits; m++)
+        emits = material_emits(&s->materials[m]);
+    if (!emits || s->light_count == 0)
+        return 0;
+    uint32_t *cand = NULL, nc = 0, cap = 0;
+    for (uint32_t p = 0; p < s->sphere_count + s->tri_count; p++) {
+        uint32_t m = p < s->sphere_count ? s->spheres[p].material : s->tri_attrs[p - s->sphere_count].material;
+        if (!material_emits(&s->materials[m]))
+            continue;
+        if (array_reserve((void **)&cand, &cap, nc + 1, sizeof *cand, SCENE_MAX_ITEMS * 2)) {
+            free(cand);
+            return err_set(err, "scene: out of memory for the lights' lamps");
+        }
+        cand[nc++] = p;
+    }
+    for (uint32_t i = 0; i < s->light_count; i++) {
+        Light *l = &s->lights[i];
+        l->lamp_first = s->lamp_total;
+        for (uint32_t k = 0; k < nc && l->kind != LIGHT_DIRECTIONAL; k++) {
+            uint32_t p = cand[k];
+            if (p < s->sphere_count ? !sphere_shows(&s->spheres[p], l)
+                                    : l->kind != LIGHT_RECT || !tri_shows(&s->tris[p - s->sphere_count], l))
+                continue;
+            if (array_reserve((void **)&s->lamps, &s->lamp_cap, s->lamp_total + 1, sizeof *s->lamps, UINT32_MAX / 8)) {
+                free(cand);
+                return err_set(err, "scene: out of memory for the lights' lamps");
+            }
+            s->lamps[s->lamp_total++] = p;
+            l->lamp_count++;
+        }
+    }
+    free(cand);
+    return 0;
+}
+
 int scene_prepare(Scene *s, Err *err)
 {
     uint32_t f = 0;
@@ -388,6 +465,8 @@ int scene_prepare(Scene *s, Err *err)
     }
     if (s->settings.shadows && s->light_count)
         f |= FEAT_SHADOWS;
+    if (pair_lamps(s, err))
+        return -1;
     /* the top-level BVH: one box per sphere, scene triangle and instance */
     bvh_destroy(&s->top);
     if (nb) {

@@ -63,7 +63,14 @@ typedef struct {
 } Instance;
 
 /* Area lights (a sphere, a rectangle) send `samples` x `samples` shadow
- * rays to stratified points of their surface, which makes soft shadows. */
+ * rays to stratified points of their surface, which makes soft shadows.
+ *
+ * A light is not seen; an emissive primitive placed where it is shows it
+ * (a lamp).  Such a primitive encloses the light's points, so its shadow
+ * rays would all end on it: scene_prepare pairs every light with its lamp
+ * (the emissive spheres around its centre, or around which its sphere lies;
+ * for a rectangle, the emissive scene triangles in its plane that overlap
+ * it), and the light's shadow rays pass them. */
 typedef enum { LIGHT_POINT = 0, LIGHT_SPOT = 1, LIGHT_DIRECTIONAL = 2, LIGHT_SPHERE = 3, LIGHT_RECT = 4 } LightKind;
 
 #define LIGHT_MAX_SAMPLES 64 /* a side of the pattern: 4096 shadow rays */
@@ -82,6 +89,7 @@ typedef struct {
     /* derived */
     vec3 axis;         /* dir, unit length */
     real cos_outer, cos_inner;
+    uint32_t lamp_first, lamp_count; /* its lamp: Scene.lamps[lamp_first ..], which its shadow rays pass */
 } Light;
 
 typedef enum { SHADE_PHONG = 0, SHADE_DIFFUSE = 1 } ShadeModel;
@@ -148,6 +156,8 @@ typedef struct {
 
     /* derived by scene_prepare */
     Bvh top;               /* prims index spheres, then triangles, then instances */
+    uint32_t *lamps;       /* the lights' lamps: top-level primitive numbers, by light (Light.lamp_first) */
+    uint32_t lamp_total, lamp_cap;
     uint32_t features;
     int prepared;
 } Scene;

@@ -1,6 +1,7 @@
 /* scene_default.c - the built-in scene: small, but it shows every feature a
  * newcomer should see working (shadows, the spot cone, texture filtering,
- * smooth normals, Phong highlights) without any file on disk. */
+ * smooth normals, Phong highlights, a mirror, glass, a lamp and its soft
+ * shadows) without any file on disk. */
 #include "scene/scene_default.h"
 
 #include <stdlib.h>
@@ -142,8 +143,15 @@ int scene_default(Scene **out, const BvhOptions *opt, Err *err)
         in.material = (int32_t)gold;
         rc = scene_add_instance(s, in, err);
     }
-    /* a round lamp: soft shadows (3 x 3 shadow rays) */
-    rc = rc ? rc : scene_add_light(s, light_sphere(v3(4, 7, 6), R(0.9), 3, v3(1, 1, 1), R(0.75), 0), err);
+    /* a round lamp in view, top right: an emissive sphere around a sphere
+     * light (its lamp, scene.h), with its soft shadows (3 x 3 shadow rays) */
+    Material bulb = mat(0, 0, 0, 0, 1);
+    bulb.ke = v3_splat(4);
+    uint32_t lamp;
+    const vec3 at = v3(R(1.8), R(3.1), R(1.8));
+    rc = rc ? rc : scene_add_material(s, bulb, &lamp, err);
+    rc = rc ? rc : scene_add_sphere(s, (Sphere){at, R(0.3), lamp}, err);
+    rc = rc ? rc : scene_add_light(s, light_sphere(at, R(0.3), 3, v3(1, 1, 1), R(0.75), 0), err);
     rc = rc ? rc : scene_add_light(s, light_spot(v3(R(-2.5), R(5), R(2.5)), v3(R(0.35), -1, R(-0.45)), 36, 8,
                                                  v3(1, R(0.85), R(0.6)), R(0.7), 0), err);
     rc = rc ? rc : scene_prepare(s, err);

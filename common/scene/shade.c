@@ -120,7 +120,7 @@ static inline __attribute__((always_inline)) void shade_start(const Scene *s, co
     const Material *m = sh->sf.mat;
     sh->kd = optional && scene_uses(s, FEAT_COLOURS) && sh->sf.has_colour ? sh->sf.colour : m->kd;
     if (optional && scene_uses(s, FEAT_TEXTURES) && sh->sf.tex && sh->sf.has_uv)
-        sh->kd = v3_mul(sh->kd, texture_sample(sh->sf.tex, sh->sf.u, sh->sf.v, s->settings.filter));
+        sh->kd = v3_mul(sh->kd, texture_sample(sh->sf.tex, sh->sf.u, sh->sf.v, NULL, s->settings.filter));
     sh->col = v3_mul(s->ambient, sh->kd);
     sh->view = v3_neg(v3_norm(r->dir));
     sh->phong = s->settings.shading == SHADE_PHONG && v3_max_comp(m->ks) > R(0);
@@ -143,7 +143,7 @@ static vec3 beer_lambert(vec3 absorb, real t)
 /* What of a light's radiance passes along shadow ray sr (blocked by the
  * any-hit test): the product of the transmitted colours (and absorption)
  * of the dielectrics it crosses before tmax, 0 at anything opaque. */
-static vec3 transmittance(const Scene *s, const Ray *sr, real tmax, RayStats *stats)
+static vec3 transmittance(const Scene *s, const Ray *sr, real tmax, const Light *l, RayStats *stats)
 {
     vec3 T = v3_splat(R(1));
     Ray r = *sr;
@@ -155,10 +155,12 @@ static vec3 transmittance(const Scene *s, const Ray *sr, real tmax, RayStats *st
             return T;
         Surface sf;
         trace_surface(s, &r, &h, &sf);
-        if (!material_dielectric(sf.mat))
+        const int lamp = trace_lamp_part(s, l, &h); /* the light's own lamp: passed, untinted */
+        if (!lamp && !material_dielectric(sf.mat))
             break;
-        T = v3_mul(T, sf.mat->kt);
-        if (sf.inside && v3_max_comp(sf.mat->absorb) > R(0))
+        if (!lamp)
+            T = v3_mul(T, sf.mat->kt);
+        if (!lamp && sf.inside && v3_max_comp(sf.mat->absorb) > R(0))
             T = v3_mul(T, beer_lambert(sf.mat->absorb, h.t));
         if (!(v3_max_comp(T) > R(0)))
             break;
@@ -321,12 +323,13 @@ static inline __attribute__((always_inline)) void light_pass(const Scene *s, Sha
     if (m == 0)
         return;
     stats->shadow += (uint64_t)m;
-    uint32_t blocked = m == 1 ? (uint32_t)trace_occluded(s, &sr[0], tmax[0]) : trace_occluded_packet(s, sr, m, tmax);
+    uint32_t blocked =
+        m == 1 ? (uint32_t)trace_occluded(s, &sr[0], tmax[0], l) : trace_occluded_packet(s, sr, m, tmax, l);
     for (int k = 0; k < m; k++) {
         if (!(blocked >> k & 1)) {
             add_light(&sh[who[k]], L[k], rad[k], ndotl[k], li);
         } else if (glass_shadows) {
-            vec3 T = transmittance(s, &sr[k], tmax[k], stats);
+            vec3 T = transmittance(s, &sr[k], tmax[k], l, stats);
             if (v3_max_comp(T) > R(0))
                 add_light(&sh[who[k]], L[k], v3_mul(rad[k], T), ndotl[k], li);
         }

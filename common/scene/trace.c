@@ -63,9 +63,21 @@ static int leaf_closest(const Scene *s, uint32_t p, const Ray *r, Best *b)
     return 1;
 }
 
-static int leaf_occluded(const Scene *s, uint32_t p, const Ray *r, real tmax)
+/* Whether top-level primitive p is part of the lamp of light l (NULL:
+ * none): the light's shadow rays pass it (scene.h). */
+static inline int lamp_part(const Scene *s, const Light *l, uint32_t p)
+{
+    for (uint32_t k = 0; l && k < l->lamp_count; k++)
+        if (s->lamps[l->lamp_first + k] == p)
+            return 1;
+    return 0;
+}
+
+static int leaf_occluded(const Scene *s, uint32_t p, const Ray *r, real tmax, const Light *lamp)
 {
     real t, b1, b2;
+    if (lamp && lamp_part(s, lamp, p))
+        return 0;
     if (p < s->sphere_count)
         return sphere_intersect(r, s->spheres[p].centre, s->spheres[p].radius, tmax, &t);
     p -= s->sphere_count;
@@ -94,15 +106,23 @@ static inline __attribute__((always_inline)) int top_leaf_closest(void *vctx, ui
     return found;
 }
 
+typedef struct {
+    const Scene *s;
+    const Light *lamp; /* the light whose lamp the ray passes, or NULL */
+} AnyCtx;
+
 static inline __attribute__((always_inline)) int top_leaf_any(const void *vctx, uint32_t first, uint32_t count,
                                                               const Ray *r, real tmax)
 {
-    const Scene *s = vctx;
+    const AnyCtx *c = vctx;
     for (uint32_t i = 0; i < count; i++)
-        if (leaf_occluded(s, s->top.prims[first + i], r, tmax))
+        if (leaf_occluded(c->s, c->s->top.prims[first + i], r, tmax, c->lamp))
             return 1;
     return 0;
 }
+
+/* The light whose lamp shadow rays towards l pass: l, or NULL where it has none. */
+static const Light *lamp_of(const Light *l) { return l && l->lamp_count ? l : NULL; }
 
 static inline __attribute__((always_inline)) void closest_planes(const Scene *s, const Ray *r, Hit *hit)
 {
@@ -127,6 +147,15 @@ static inline __attribute__((always_inline)) int occluded_planes(const Scene *s,
     return 0;
 }
 
+int trace_lamp_part(const Scene *s, const Light *l, const Hit *h)
+{
+    if (h->kind == HIT_SPHERE)
+        return lamp_part(s, l, h->index);
+    if (h->kind == HIT_TRIANGLE)
+        return lamp_part(s, l, s->sphere_count + h->index);
+    return 0;
+}
+
 int trace_closest(const Scene *s, const Ray *r, Hit *hit)
 {
     closest_planes(s, r, hit);
@@ -137,9 +166,10 @@ int trace_closest(const Scene *s, const Ray *r, Hit *hit)
     return hit->kind != HIT_NONE;
 }
 
-int trace_occluded(const Scene *s, const Ray *r, real tmax)
+int trace_occluded(const Scene *s, const Ray *r, real tmax, const Light *towards)
 {
-    return occluded_planes(s, r, tmax) || bvh_any(&s->top, r, tmax, top_leaf_any, s);
+    AnyCtx c = {s, lamp_of(towards)};
+    return occluded_planes(s, r, tmax) || bvh_any(&s->top, r, tmax, top_leaf_any, &c);
 }
 
 /* The rays of `mask` whose slab test enters node n (each with its own far limit). */
@@ -198,7 +228,7 @@ static uint32_t instance_packet(const Scene *s, uint32_t p, const Ray *rays, uin
 /* The top tree for a packet: depth first, each node with the rays that
  * enter it; leaves ray by ray, except instances, which take the packet to
  * their model.  Closest hits follow the rule above, so the order is free. */
-static uint32_t top_packet(const Scene *s, const Ray *rays, int n, Best *best, const real *tmax)
+static uint32_t top_packet(const Scene *s, const Ray *rays, int n, Best *best, const real *tmax, const Light *lamp)
 {
     const int closest = best != NULL;
     uint32_t done = 0; /* occlusion: the rays already blocked */
@@ -236,7 +266,7 @@ static uint32_t top_packet(const Scene *s, const Ray *rays, int n, Best *best, c
                         int i = __builtin_ctz(m);
                         if (closest)
                             leaf_closest(s, p, &rays[i], &best[i]);
-                        else if (leaf_occluded(s, p, &rays[i], tmax[i]))
+                        else if (leaf_occluded(s, p, &rays[i], tmax[i], lamp))
                             done |= 1u << i;
                     }
                 }
@@ -265,11 +295,12 @@ void trace_closest_packet(const Scene *s, const Ray *rays, int n, Hit *hits)
         closest_planes(s, &rays[i], &hits[i]);
         best[i] = (Best){&hits[i], 0};
     }
-    top_packet(s, rays, n, best, NULL);
+    top_packet(s, rays, n, best, NULL, NULL);
 }
 
-uint32_t trace_occluded_packet(const Scene *s, const Ray *rays, int n, const real *tmax)
+uint32_t trace_occluded_packet(const Scene *s, const Ray *rays, int n, const real *tmax, const Light *towards)
 {
+    const Light *lamp = lamp_of(towards);
     uint32_t blocked = 0;
     for (int i = 0; i < n; i++)
         if (occluded_planes(s, &rays[i], tmax[i]))
@@ -278,7 +309,7 @@ uint32_t trace_occluded_packet(const Scene *s, const Ray *rays, int n, const rea
     if (!rest)
         return blocked;
     if (!blocked)
-        return top_packet(s, rays, n, NULL, tmax);
+        return top_packet(s, rays, n, NULL, tmax, lamp);
     /* the unblocked rays, packed */
     Ray rr[TRACE_PACKET];
     real tm[TRACE_PACKET];
@@ -287,7 +318,7 @@ uint32_t trace_occluded_packet(const Scene *s, const Ray *rays, int n, const rea
         int i = __builtin_ctz(k);
         rr[m] = rays[i], tm[m] = tmax[i], which[m++] = i;
     }
-    uint32_t got = top_packet(s, rr, m, NULL, tm);
+    uint32_t got = top_packet(s, rr, m, NULL, tm, lamp);
     for (int k = 0; k < m; k++)
         if (got >> k & 1)
             blocked |= 1u << which[k];

@@ -44,12 +44,16 @@ int trace_closest(const Scene *s, const Ray *r, Hit *hit);
 #define TRACE_PACKET 8
 void trace_closest_packet(const Scene *s, const Ray *rays, int n, Hit *hits);
 /* The mask of the n rays that are blocked before their tmax (trace_occluded each). */
-uint32_t trace_occluded_packet(const Scene *s, const Ray *rays, int n, const real *tmax);
+uint32_t trace_occluded_packet(const Scene *s, const Ray *rays, int n, const real *tmax, const Light *towards);
 /* The point at barycentrics (b1, b2) of triangle v0 v1 v2, as trace_surface
  * computes a scene triangle's hit point, and the bound on the rounding error
  * of each of its coordinates (for trace_offset_origin). */
 vec3 trace_triangle_point(vec3 v0, vec3 v1, vec3 v2, real b1, real b2, real *err);
-int trace_occluded(const Scene *s, const Ray *r, real tmax);
+/* Whether anything blocks r before tmax.  A shadow ray towards a light
+ * (`towards`, or NULL) passes the light's own lamp (scene.h). */
+int trace_occluded(const Scene *s, const Ray *r, real tmax, const Light *towards);
+/* Whether hit h is on part of light l's lamp. */
+int trace_lamp_part(const Scene *s, const Light *l, const Hit *h);
 void trace_surface(const Scene *s, const Ray *r, const Hit *hit, Surface *out);
 
 /* Moves p off the surface along n (the side the new ray leaves on) by just

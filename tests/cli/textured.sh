@@ -1,10 +1,14 @@
 #!/usr/bin/env bash
 # Textured models: MTL map_Kd with a PNG and a JPEG texture (and -s/-o
-# placement) travels in the .tmd (version 2) and shows the texture's colours
+# placement) travels in the .tmd (version 5: the image file's own bytes)
+# and shows the texture's colours
 # where expected, checked pixel by pixel; a missing texture is a warning and
 # leaves the material untextured; a distributed frame of the textured model
 # is bit-identical to lanray-render's (the clients get the texture inside
-# the model asset); a reader meets an unknown .tmd version with a clear error.
+# the model asset); a reader meets an unknown .tmd version with a clear error,
+# and a flipped bit with one that names corruption.  A model with a
+# 1024 x 1024 texture makes a .tmd at most 1.5 times the OBJ, MTL and image
+# together, for an incompressible PNG (3 MB) and a well-compressed one.
 set -u
 source tests/tools/server-lib.sh
 D=tests/data/textured
@@ -38,16 +42,35 @@ grep -q "crate.obj:2: material library 'C:/Users/artist/My Models/Crate.MTL' not
 "$BIN/lanray-render" "$dir/view.scene" --width 64 --height 64 -o "$dir/moved.png" --quiet >/dev/null 2>&1 || fail "render moved"
 near "$(px "$dir/moved.png")" "255 0 0|0 255 0|0 0 255|255 255 255|" 0 || fail "moved model: quadrants $(px "$dir/moved.png")"
 "$BIN/obj2tmd" --strict "$D/quad-missing.obj" "$dir/strict.tmd" >/dev/null 2>&1 && fail "--strict converted a model whose texture is missing"
-# version 2 with textures, version 1 without
-python3 -c "import struct,sys; print(struct.unpack_from('<I', open(sys.argv[1],'rb').read(), 8)[0])" "$dir/quad-png.tmd" | grep -qx 2 || fail "a textured .tmd is not version 2"
-python3 -c "import struct,sys; print(struct.unpack_from('<I', open(sys.argv[1],'rb').read(), 8)[0])" "$dir/quad-missing.tmd" | grep -qx 1 || fail "an untextured .tmd is not version 1"
-# a version this build does not know
+# version 5, textured or not
+ver() { python3 -c "import struct,sys; print(struct.unpack_from('<I', open(sys.argv[1],'rb').read(), 8)[0])" "$1"; }
+[ "$(ver "$dir/quad-png.tmd")" = 5 ] && [ "$(ver "$dir/quad-missing.tmd")" = 5 ] || fail "a .tmd is not version 5"
+# a version this build does not know, and a flipped bit
 python3 -c "
 import sys
-d = bytearray(open(sys.argv[1], 'rb').read()); d[8] = 5
+d = bytearray(open(sys.argv[1], 'rb').read()); d[8] = 6
 open(sys.argv[2], 'wb').write(d)" "$dir/quad-png.tmd" "$dir/quad.tmd"
-err=$("$BIN/lanray-render" "$dir/view.scene" --width 8 --height 8 -o "$dir/v4.png" 2>&1); [ $? -eq 1 ] || fail "version 5 accepted"
-grep -q "format version 5, this build reads versions 1 to 4" <<<"$err" || fail "version message: $err"
+err=$("$BIN/lanray-render" "$dir/view.scene" --width 8 --height 8 -o "$dir/v6.png" 2>&1); [ $? -eq 1 ] || fail "version 6 accepted"
+grep -q "format version 6, this build reads versions 1 to 5" <<<"$err" || fail "version message: $err"
+for at in 100 300 -20; do
+    python3 -c "
+import sys
+d = bytearray(open(sys.argv[1], 'rb').read()); d[int(sys.argv[3])] ^= 16
+open(sys.argv[2], 'wb').write(d)" "$dir/quad-png.tmd" "$dir/quad.tmd" "$at"
+    err=$("$BIN/lanray-render" "$dir/view.scene" --width 8 --height 8 -o "$dir/flip.png" 2>&1); [ $? -eq 1 ] || fail "a flipped bit at $at accepted"
+    grep -q "quad.tmd: corrupt: checksum" <<<"$err" || fail "flipped bit message: $err"
+done
+[ -e "$dir/flip.png" ] && fail "an image written from a corrupt model"
+# the size of a .tmd with a 1024 x 1024 texture against the files it came from
+for kind in noise smooth; do
+    python3 tests/tools/makepng.py "$dir/big-$kind.png" 1024 1024 "$kind"
+    sed "s/quadrants.png/big-$kind.png/" "$D/quad-png.mtl" >"$dir/big-$kind.mtl"
+    sed "s/quad-png.mtl/big-$kind.mtl/" "$D/quad-png.obj" >"$dir/big-$kind.obj"
+    "$BIN/obj2tmd" "$dir/big-$kind.obj" "$dir/big-$kind.tmd" >/dev/null 2>"$dir/big.err" || fail "obj2tmd big-$kind: $(cat "$dir/big.err")"
+    src=$(( $(stat -c %s "$dir/big-$kind.obj") + $(stat -c %s "$dir/big-$kind.mtl") + $(stat -c %s "$dir/big-$kind.png") ))
+    tmd=$(stat -c %s "$dir/big-$kind.tmd")
+    [ $(( tmd * 2 )) -le $(( src * 3 )) ] || fail "big-$kind: a .tmd of $tmd bytes from $src bytes of OBJ, MTL and PNG"
+done
 # distributed: the textured model through a server and a client, bit for bit
 cp "$dir/quad-png.tmd" "$dir/quad.tmd"
 "$BIN/lanray-render" "$dir/view.scene" --width 64 --height 64 -o "$dir/ref.png" --quiet >/dev/null 2>&1 || fail "reference render"

@@ -1,0 +1,88 @@
+/* texture_codec.c - a texture's byte form, as a .tmd and an ASSET carry it.
+ *
+ * The form is the image file's own bytes (PNG or JPEG) behind a small
+ * header that states the size they must decode to; a texture without a
+ * file of its own (PPM, generated, an embedded bitmap) is written as a PNG
+ * of its texels.  A reader decodes the bytes with the same libraries and
+ * so gets the same texels, then builds the same mip-maps (texture.c). */
+#include "model/texture.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+#include "model/image.h"
+
+#define FORM_CLAMP 1u
+#define FORM_CLOSEST 2u
+
+int texture_encode(const Texture *t, Sink *out)
+{
+    Sink png = {0};
+    const uint8_t *bytes = t->file;
+    size_t len = t->file_len;
+    TextureCodec codec = t->codec;
+    if (!bytes) {
+        if (image_encode_png(t->level[0].rgb, (int)t->w, (int)t->h, &png) || png.failed) {
+            sink_free(&png);
+            out->failed = 1;
+            return -1;
+        }
+        bytes = png.data, len = png.len, codec = TEXTURE_PNG;
+    }
+    sink_u32(out, t->w);
+    sink_u32(out, t->h);
+    sink_u32(out, (t->clamp ? FORM_CLAMP : 0) | (t->closest ? FORM_CLOSEST : 0));
+    sink_u32(out, (uint32_t)codec);
+    sink_u32(out, (uint32_t)len);
+    sink_put(out, bytes, len);
+    const uint8_t zero[4] = {0, 0, 0, 0};
+    sink_put(out, zero, (4 - len % 4) % 4);
+    sink_free(&png);
+    return out->failed ? -1 : 0;
+}
+
+int texture_read_form(Cursor *c, const char *name, Texture **out, Err *err)
+{
+    *out = NULL;
+    uint32_t w = cursor_u32(c), h = cursor_u32(c), flags = cursor_u32(c), codec = cursor_u32(c), len = cursor_u32(c);
+    if (c->failed)
+        return err_set(err, "%s: the texture's header is cut short", name);
+    if (!texture_size_ok(w, h) || (flags & ~(FORM_CLAMP | FORM_CLOSEST)) || (codec != TEXTURE_PNG && codec != TEXTURE_JPEG))
+        return err_set(err, "%s: a texture of %ux%u, flags %u, codec %u: not a size, flags and codec (1 PNG, 2 JPEG) "
+                       "a texture has", name, w, h, flags, codec);
+    size_t padded = (size_t)len + (4 - len % 4) % 4;
+    if (padded > c->left)
+        return err_set(err, "%s: the texture's %u image bytes are cut short (%zu left)", name, len, c->left);
+    const uint8_t *bytes = c->p;
+    for (size_t i = len; i < padded; i++)
+        if (bytes[i] != 0)
+            return err_set(err, "%s: the texture's padding is not zero", name);
+    Texture *t;
+    if (texture_read_memory(bytes, len, name, &t, err))
+        return -1;
+    if (t->w != w || t->h != h || t->codec != (TextureCodec)codec) {
+        uint32_t tw = t->w, th = t->h;
+        texture_destroy(t);
+        return err_set(err, "%s: the texture says %ux%u %s, its image is %ux%u", name, w, h,
+                       codec == TEXTURE_PNG ? "PNG" : "JPEG", tw, th);
+    }
+    c->p += padded;
+    c->left -= padded;
+    t->clamp = (flags & FORM_CLAMP) != 0;
+    t->closest = (flags & FORM_CLOSEST) != 0;
+    *out = t;
+    return 0;
+}
+
+int texture_decode(const void *data, size_t len, const char *name, Texture **out, Err *err)
+{
+    Cursor c = cursor_make(data, len);
+    if (texture_read_form(&c, name, out, err))
+        return -1;
+    if (c.left != 0) {
+        texture_destroy(*out);
+        *out = NULL;
+        return err_set(err, "%s: %zu bytes after the texture", name, c.left);
+    }
+    return 0;
+}

@@ -1,0 +1,160 @@
+/* texture_sample.c - reading a texture over a ray's footprint.
+ *
+ * The footprint (how far u and v move from one sample to the next, across
+ * and down the image: texture.h) measured in texels gives the level of
+ * detail lambda = log2(rho), rho the longer of its two sides: where one
+ * sample spans rho texels, level lambda has about one texel per sample,
+ * and sampling it does not alias (Williams, "Pyramidal Parametrics", 1983).
+ * Trilinear filtering blends the bilinear lookups of the two levels around
+ * lambda.  On a surface seen edge-on the footprint is long and thin, and
+ * rho (its long side) blurs across the short one; anisotropic filtering
+ * takes N = long / short (at most ANISO_MAX) trilinear probes spread along
+ * the long side, at the level of long / N, as GPUs do.
+ *
+ * Magnified (lambda <= 0), a texture's texels blend bilinearly, or, for a
+ * `closest` texture (pixel art, a checkerboard of one texel a square),
+ * stay squares: the bilinear weight is sharpened to the box of the sample's
+ * footprint, a ramp one footprint wide at each texel edge instead of one
+ * texel wide (with a footprint of a texel it is bilinear again, so the two
+ * meet where magnification ends).
+ *
+ * lambda is computed without libm (frexp is exact, the fraction linear):
+ * the same bits on every machine, as the pixels of a farm must be. */
+#include <math.h>
+
+#include "model/texture.h"
+
+#define ANISO_MAX 16
+
+/* Wraps a coordinate into [0,1); NaN and inf map to 0. */
+static inline real wrap01(real u)
+{
+    if (!isfinite(u))
+        return R(0);
+    u -= floor(u);
+    return u >= R(1) ? R(0) : u;
+}
+
+/* Clamps a coordinate into [0,1]; NaN maps to 0. */
+static inline real clamp01(real u) { return u > R(0) ? (u < R(1) ? u : R(1)) : R(0); }
+
+/* A texel index along a side of n: wrapped, or clamped to the edge. */
+static inline uint32_t address(const Texture *t, int64_t i, uint32_t n)
+{
+    if (t->clamp)
+        return i < 0 ? 0 : i >= (int64_t)n ? n - 1 : (uint32_t)i;
+    int64_t m = i % (int64_t)n;
+    return (uint32_t)(m < 0 ? m + (int64_t)n : m);
+}
+
+/* The weight of the second of two texels at fraction a between their
+ * centres, for a box footprint of s texels: a itself for s >= 1
+ * (bilinear), a ramp of width s about their shared edge below. */
+static inline real sharpen(real a, real s)
+{
+    if (s >= R(1))
+        return a;
+    real w = (a - R(0.5)) / s + R(0.5);
+    return w < R(0) ? R(0) : w > R(1) ? R(1) : w;
+}
+
+/* Bilinear at level l; (u, v) wrapped or clamped already, v = 0 at the
+ * top; sx, sy: a closest texture's footprint in this level's texels. */
+static vec3 bilinear(const Texture *t, uint32_t l, real u, real v, real sx, real sy)
+{
+    const TextureLevel *L = &t->level[l];
+    real fx = u * (real)L->w - R(0.5), fy = v * (real)L->h - R(0.5);
+    real x0f = floor(fx), y0f = floor(fy);
+    real ax = fx - x0f, ay = fy - y0f;
+    if (t->closest) {
+        ax = sharpen(ax, sx);
+        ay = sharpen(ay, sy);
+    }
+    int64_t x0 = (int64_t)x0f, y0 = (int64_t)y0f;
+    uint32_t xa = address(t, x0, L->w), xb = address(t, x0 + 1, L->w);
+    uint32_t ya = address(t, y0, L->h), yb = address(t, y0 + 1, L->h);
+    vec3 top = v3_lerp(texture_texel(t, l, xa, ya), texture_texel(t, l, xb, ya), ax);
+    vec3 bot = v3_lerp(texture_texel(t, l, xa, yb), texture_texel(t, l, xb, yb), ax);
+    return v3_lerp(top, bot, ay);
+}
+
+/* A coordinate pair as the levels index them: wrapped or clamped, v from the top. */
+static inline void place(const Texture *t, real *u, real *v)
+{
+    *u = t->clamp ? clamp01(*u) : wrap01(*u);
+    *v = R(1) - (t->clamp ? clamp01(*v) : wrap01(*v));
+}
+
+/* log2(x) for x > 0: exact at powers of two, linear between (at most 0.09
+ * low); -inf for 0, and huge for inf or NaN. */
+static real lod_log2(real x)
+{
+    if (!(x > R(0)))
+        return -REAL_INF;
+    if (!isfinite(x))
+        return R(1e9);
+    int e;
+    real m = frexp(x, &e); /* x = m 2^e, m in [0.5, 1) */
+    return (real)(e - 1) + (R(2) * m - R(1));
+}
+
+/* One trilinear lookup at level of detail lambda; (sx, sy): the
+ * footprint's extent along u and v in texels of level 0 (closest). */
+static vec3 trilinear(const Texture *t, real u, real v, real lambda, real sx, real sy)
+{
+    place(t, &u, &v);
+    if (!(lambda > R(0)))
+        return bilinear(t, 0, u, v, sx, sy);
+    const real last = (real)(t->levels - 1);
+    if (lambda >= last)
+        return bilinear(t, t->levels - 1, u, v, 1, 1);
+    uint32_t l = (uint32_t)lambda;
+    real f = lambda - (real)l;
+    return v3_lerp(bilinear(t, l, u, v, 1, 1), bilinear(t, l + 1, u, v, 1, 1), f);
+}
+
+static vec3 nearest(const Texture *t, real u, real v)
+{
+    place(t, &u, &v);
+    uint32_t x = (uint32_t)(u * (real)t->w), y = (uint32_t)(v * (real)t->h);
+    return texture_texel(t, 0, x < t->w ? x : t->w - 1, y < t->h ? y : t->h - 1);
+}
+
+vec3 texture_sample(const Texture *t, real u, real v, const TexFootprint *fp, TextureFilter filter)
+{
+    if (!isfinite(u) || !isfinite(v))
+        u = v = R(0);
+    if (filter == FILTER_NEAREST)
+        return nearest(t, u, v);
+    if (!fp) {
+        if (t->closest) /* no footprint: a square's texel */
+            return nearest(t, u, v);
+        place(t, &u, &v);
+        return bilinear(t, 0, u, v, 1, 1);
+    }
+    /* the footprint's two sides, in texels of level 0 */
+    const real W = (real)t->w, H = (real)t->h;
+    real ax = fp->dudx * W, ay = fp->dvdx * H, bx = fp->dudy * W, by = fp->dvdy * H;
+    real la = sqrt(ax * ax + ay * ay), lb = sqrt(bx * bx + by * by);
+    real sx = real_max(fabs(ax), fabs(bx)), sy = real_max(fabs(ay), fabs(by));
+    if (filter == FILTER_BILINEAR) {
+        place(t, &u, &v);
+        return bilinear(t, 0, u, v, sx, sy);
+    }
+    real major = real_max(la, lb), minor = real_min(la, lb);
+    if (filter == FILTER_TRILINEAR || !(major > R(0)) || !isfinite(major))
+        return trilinear(t, u, v, lod_log2(major), sx, sy);
+    /* anisotropic: probes along the long side, each at the level of long / n */
+    real ratio = minor > R(0) ? major / minor : (real)ANISO_MAX;
+    int n = ratio >= (real)ANISO_MAX ? ANISO_MAX : (int)ceil(ratio);
+    if (n <= 1)
+        return trilinear(t, u, v, lod_log2(major), sx, sy);
+    real du = la >= lb ? fp->dudx : fp->dudy, dv = la >= lb ? fp->dvdx : fp->dvdy;
+    real lambda = lod_log2(major / (real)n);
+    vec3 sum = v3_splat(0);
+    for (int i = 0; i < n; i++) {
+        real k = ((real)i + R(0.5)) / (real)n - R(0.5);
+        sum = v3_add(sum, trilinear(t, u + du * k, v + dv * k, lambda, sx / (real)n, sy / (real)n));
+    }
+    return v3_scale(sum, R(1) / (real)n);
+}
