@@ -400,7 +400,7 @@ static void packets_equal_single_rays(void **state)
                         vec3 cp[TRACE_PACKET];
                         uint64_t kp[TRACE_PACKET];
                         RayStats st = {0, 0, 0};
-                        shade_packet(s, rays, n, cp, &st, kp, NULL);
+                        shade_packet(s, rays, n, cp, &st, kp, NULL, NULL);
                         real tm[TRACE_PACKET];
                         for (int i = 0; i < n; i++)
                             tm[i] = hp[i].kind ? hp[i].t * R(0.5) : R(100);

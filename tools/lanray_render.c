@@ -28,7 +28,7 @@
 
 static const char *const shading_names[] = {"phong", "diffuse", NULL};
 static const char *const onoff_names[] = {"off", "on", NULL};
-static const char *const filter_names[] = {"nearest", "bilinear", NULL};
+static const char *const filter_names[] = {"nearest", "bilinear", "trilinear", "anisotropic", NULL};
 
 static const char *const fresnel_names[] = {"exact", "schlick", NULL};
 static const char *const glass_names[] = {"opaque", "tinted", NULL};
@@ -119,7 +119,7 @@ int main(int argc, char **argv)
     int width = 1024, height = 768, repeat = 1, quiet = 0, segment = 0, threads = 0, linear = 0, simd_given = 0,
         stats = 0;
     int width_given = 0, height_given = 0, force_bvh = 0, bvh_kind = BVH_SAH, band_lines = 0;
-    int shading = SHADE_PHONG, shadows = 1, filter = FILTER_BILINEAR, shading_given = 0, shadows_given = 0, filter_given = 0;
+    int shading = SHADE_PHONG, shadows = 1, filter = FILTER_ANISOTROPIC, shading_given = 0, shadows_given = 0, filter_given = 0;
     int depth = 5, fresnel = FRESNEL_EXACT, glass = 1, depth_given = 0, cutoff_given = 0, fresnel_given = 0, glass_given = 0;
     double cutoff = 0.01;
     int light_samples = 0, rough_samples = 0, lens_samples = 0, exposure_given = 0;
@@ -145,7 +145,8 @@ int main(int argc, char **argv)
         {.name = "--shadows", .kind = OPT_CHOICE, .dst = &shadows, .choices = onoff_names, .seen = &shadows_given,
          .help = "shadow rays", .def = "the scene's, else on"},
         {.name = "--filter", .kind = OPT_CHOICE, .dst = &filter, .choices = filter_names, .seen = &filter_given,
-         .help = "texture filtering", .def = "the scene's, else bilinear"},
+         .help = "texture filtering: one texel, four, mip-maps by the ray's footprint, or mip-maps along it",
+         .def = "the scene's, else anisotropic"},
         {.name = "--depth", .kind = OPT_INT, .dst = &depth, .arg = "N", .lo = 0, .hi = SCENE_MAX_DEPTH, .seen = &depth_given,
          .help = "bounces of reflected and refracted rays after the camera ray", .def = "the scene's, else 5"},
         {.name = "--cutoff", .kind = OPT_REAL, .dst = &cutoff, .arg = "W", .rlo = 0, .rhi = 0.999, .seen = &cutoff_given,

@@ -136,7 +136,7 @@ vec3 texture_sample(const Texture *t, real u, real v, const TexFootprint *fp, Te
     const real W = (real)t->w, H = (real)t->h;
     real ax = fp->dudx * W, ay = fp->dvdx * H, bx = fp->dudy * W, by = fp->dvdy * H;
     real la = sqrt(ax * ax + ay * ay), lb = sqrt(bx * bx + by * by);
-    real sx = real_max(fabs(ax), fabs(bx)), sy = real_max(fabs(ay), fabs(by));
+    real sx = fabs(ax) + fabs(bx), sy = fabs(ay) + fabs(by);
     if (filter == FILTER_BILINEAR) {
         place(t, &u, &v);
         return bilinear(t, 0, u, v, sx, sy);
@@ -151,10 +151,13 @@ vec3 texture_sample(const Texture *t, real u, real v, const TexFootprint *fp, Te
         return trilinear(t, u, v, lod_log2(major), sx, sy);
     real du = la >= lb ? fp->dudx : fp->dudy, dv = la >= lb ? fp->dvdx : fp->dvdy;
     real lambda = lod_log2(major / (real)n);
+    /* each probe's footprint: the long side cut in n, the short one whole */
+    real psx = (la >= lb ? fabs(ax) : fabs(bx)) / (real)n + (la >= lb ? fabs(bx) : fabs(ax));
+    real psy = (la >= lb ? fabs(ay) : fabs(by)) / (real)n + (la >= lb ? fabs(by) : fabs(ay));
     vec3 sum = v3_splat(0);
     for (int i = 0; i < n; i++) {
         real k = ((real)i + R(0.5)) / (real)n - R(0.5);
-        sum = v3_add(sum, trilinear(t, u + du * k, v + dv * k, lambda, sx / (real)n, sy / (real)n));
+        sum = v3_add(sum, trilinear(t, u + du * k, v + dv * k, lambda, psx, psy));
     }
     return v3_scale(sum, R(1) / (real)n);
 }

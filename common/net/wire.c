@@ -244,7 +244,7 @@ int wire_decode_scene(const void *data, size_t len, const AssetCache *cache, Sce
         bad = "truncated header";
     else if (need > c.left)
         bad = "counts larger than the data";
-    else if (set[0] < 1 || set[0] > AA_MAX || set[1] > 1 || set[2] > SHADE_DIFFUSE || set[3] > 1 || set[4] > FILTER_BILINEAR ||
+    else if (set[0] < 1 || set[0] > AA_MAX || set[1] > 1 || set[2] > SHADE_DIFFUSE || set[3] > 1 || set[4] >= FILTER_COUNT ||
              set[5] > 1)
         bad = "invalid settings";
     else if (extras & ~(uint32_t)(WIRE_OPTICS | WIRE_CAMERA | WIRE_EXPOSURE | WIRE_HDR))

@@ -104,6 +104,7 @@ typedef struct {
     const atomic_int *cancel;
     RenderProgress *progress;
     int linear; /* write linear codes instead of sRGB (--linear) */
+    int diffs;  /* the scene has textures: camera rays carry differentials (raydiff.h) */
     int bpp;    /* bytes a pixel: 3 codes, or 4 of RGBE (settings hdr) */
     uint32_t chunk; /* pixels per work item (chunk_size) */
     /* the grid's pairs of whole lines (job_tiles): from line tile_line on,
@@ -120,8 +121,6 @@ typedef struct {
 
 static int cancelled(const Frame *f) { return f->cancel && atomic_load_explicit(f->cancel, memory_order_relaxed); }
 
-/* The colours of n <= TRACE_PACKET sample positions, traced as one packet
- * (shade_packet: each colour is what the ray gives alone). */
 /* The random keys of n sample positions, where the scene draws random
  * numbers (area lights, rough mirrors, a lens), else NULL. */
 static const uint32_t *sample_seeds(const Frame *f, const real *xs, const real *ys, int n, uint32_t *seeds)
@@ -133,15 +132,57 @@ static const uint32_t *sample_seeds(const Frame *f, const real *xs, const real *
     return seeds;
 }
 
+/* The differentials of the camera rays through n sample positions, to the
+ * positions `step` pixels on (a sample's share of a pixel: 1 for one sample
+ * a pixel, 1/N for N x N); NULL where the scene has no textures.  The
+ * pinhole's by its formula (also for a lens: the footprint in the plane of
+ * focus), an orthographic camera's origin moves, a fisheye's by finite
+ * differences (towards the centre where a step leaves its circle). */
+static const RayDiff *camera_diffs(const Frame *f, const real *xs, const real *ys, int n, real step, RayDiff *out)
+{
+    if (!f->diffs)
+        return NULL;
+    const CameraFrame *c = &f->cam;
+    for (int i = 0; i < n; i++) {
+        RayDiff *d = &out[i];
+        d->dox = d->doy = d->ddx = d->ddy = v3_splat(0);
+        if (c->kind == CAMERA_ORTHO) {
+            d->dox = v3_scale(c->u, step);
+            d->doy = v3_scale(c->v, step);
+        } else if (c->kind == CAMERA_FISHEYE) {
+            vec3 o, d0, d1;
+            if (!camera_ray(c, xs[i], ys[i], &o, &d0))
+                continue;
+            for (int a = 0; a < 2; a++) {
+                real sx = a == 0 ? step : 0, sy = a == 0 ? 0 : step;
+                real sign = xs[i] * (a == 0) + ys[i] * (a == 1) > (a == 0 ? c->cx : c->cy) ? R(-1) : R(1);
+                if (camera_ray(c, xs[i] + sign * sx, ys[i] + sign * sy, &o, &d1))
+                    *(a == 0 ? &d->ddx : &d->ddy) = v3_scale(v3_sub(d1, d0), sign);
+            }
+        } else {
+            vec3 a = camera_dir(c, xs[i], ys[i]);
+            real len = v3_len(a);
+            if (!(len > R(0)))
+                continue;
+            vec3 u = v3_scale(a, R(1) / len);
+            d->ddx = v3_scale(v3_madd(c->u, u, -v3_dot(u, c->u)), step / len);
+            d->ddy = v3_scale(v3_madd(c->v, u, -v3_dot(u, c->v)), step / len);
+        }
+    }
+    return out;
+}
+
 /* A camera with an aperture: lens_samples^2 rays from stratified points of
  * the lens for each sample position, in packets, averaged; a position's key
  * (adaptive sampling) is its first lens ray's. */
 static void sample_packet_lens(const Frame *f, const real *xs, const real *ys, int n, vec3 *out, RayStats *st,
-                               uint64_t *keys)
+                               uint64_t *keys, real step)
 {
     const uint32_t k = (uint32_t)f->s->settings.lens_samples, per = k * k;
     uint32_t seed[TRACE_PACKET], rs[TRACE_PACKET];
     sample_seeds(f, xs, ys, n, seed);
+    RayDiff pos_diff[TRACE_PACKET], diff[TRACE_PACKET];
+    const RayDiff *pd = camera_diffs(f, xs, ys, n, step, pos_diff);
     Ray rays[TRACE_PACKET];
     vec3 col[TRACE_PACKET];
     uint64_t key[TRACE_PACKET];
@@ -157,10 +198,12 @@ static void sample_packet_lens(const Frame *f, const real *xs, const real *ys, i
             camera_lens_ray(&f->cam, xs[i], ys[i], lu, lv, &org, &dir);
             ray_set(&rays[m], org, dir, v3(R(1) / dir.x, R(1) / dir.y, R(1) / dir.z), R(0), REAL_INF);
             rs[m] = sample_mix(seed[i], j);
+            if (pd)
+                diff[m] = pd[i];
             first[m] = j == 0;
             which[m++] = i;
             if (m == TRACE_PACKET || (i == n - 1 && j == per - 1)) {
-                shade_packet(f->s, rays, m, col, st, keys ? key : NULL, rs);
+                shade_packet(f->s, rays, m, col, st, keys ? key : NULL, rs, pd ? diff : NULL);
                 for (int q = 0; q < m; q++) {
                     out[which[q]] = v3_add(out[which[q]], col[q]);
                     if (keys && first[q])
@@ -178,19 +221,23 @@ static void sample_packet_lens(const Frame *f, const real *xs, const real *ys, i
  * the ones it has (a fisheye sees nothing outside its circle) traced as one
  * packet, the others the background. */
 static void sample_packet_other(const Frame *f, const real *xs, const real *ys, int n, vec3 *out, RayStats *st,
-                                uint64_t *keys)
+                                uint64_t *keys, real step)
 {
     Ray rays[TRACE_PACKET];
     vec3 col[TRACE_PACKET];
     uint64_t key[TRACE_PACKET];
     uint32_t seed[TRACE_PACKET], rs[TRACE_PACKET];
     const uint32_t *seeds = sample_seeds(f, xs, ys, n, seed);
+    RayDiff pos_diff[TRACE_PACKET], diff[TRACE_PACKET];
+    const RayDiff *pd = camera_diffs(f, xs, ys, n, step, pos_diff);
     int which[TRACE_PACKET], m = 0;
     for (int i = 0; i < n; i++) {
         vec3 org, dir;
         if (camera_ray(&f->cam, xs[i], ys[i], &org, &dir)) {
             rays[m] = ray_make(org, dir, R(0), REAL_INF);
             rs[m] = seeds ? seeds[i] : 0;
+            if (pd)
+                diff[m] = pd[i];
             which[m++] = i;
         } else {
             out[i] = f->s->background;
@@ -200,7 +247,7 @@ static void sample_packet_other(const Frame *f, const real *xs, const real *ys, 
     }
     if (m == 0)
         return;
-    shade_packet(f->s, rays, m, col, st, keys ? key : NULL, rs);
+    shade_packet(f->s, rays, m, col, st, keys ? key : NULL, rs, pd ? diff : NULL);
     for (int k = 0; k < m; k++) {
         out[which[k]] = col[k];
         if (keys)
@@ -208,15 +255,18 @@ static void sample_packet_other(const Frame *f, const real *xs, const real *ys, 
     }
 }
 
+/* The colours of n <= TRACE_PACKET sample positions, each `step` pixels
+ * from the next (its footprint), traced as one packet (shade_packet: each
+ * colour is what the ray gives alone). */
 static void sample_packet(const Frame *f, const real *xs, const real *ys, int n, vec3 *out, RayStats *st,
-                          uint64_t *keys)
+                          uint64_t *keys, real step)
 {
     if (f->cam.kind != CAMERA_PINHOLE) {
-        sample_packet_other(f, xs, ys, n, out, st, keys);
+        sample_packet_other(f, xs, ys, n, out, st, keys, step);
         return;
     }
     if (scene_uses(f->s, FEAT_LENS)) {
-        sample_packet_lens(f, xs, ys, n, out, st, keys);
+        sample_packet_lens(f, xs, ys, n, out, st, keys, step);
         return;
     }
     /* ray_make(org, v3_norm(camera_dir(x, y))) for all eight lanes at once,
@@ -247,7 +297,8 @@ static void sample_packet(const Frame *f, const real *xs, const real *ys, int n,
             rays[i] = ray_make(c->org, v3_norm(camera_dir(c, px[i], py[i])), R(0), REAL_INF);
     }
     uint32_t seed[TRACE_PACKET];
-    shade_packet(f->s, rays, n, out, st, keys, sample_seeds(f, xs, ys, n, seed));
+    RayDiff diff[TRACE_PACKET];
+    shade_packet(f->s, rays, n, out, st, keys, sample_seeds(f, xs, ys, n, seed), camera_diffs(f, px, py, n, step, diff));
 }
 
 /* n x n sub-samples, in packets, summed in the same order as ever */
@@ -263,7 +314,7 @@ static vec3 sample_grid(const Frame *f, int px, int py, int n, RayStats *st)
             xs[k] = (real)px + ((real)i + R(0.5)) * inv;
             ys[k++] = (real)py + ((real)j + R(0.5)) * inv;
             if (k == TRACE_PACKET || (j == n - 1 && i == n - 1)) {
-                sample_packet(f, xs, ys, k, c, st, NULL);
+                sample_packet(f, xs, ys, k, c, st, NULL, inv);
                 for (int q = 0; q < k; q++)
                     sum = v3_add(sum, c[q]);
                 k = 0;
@@ -341,7 +392,7 @@ static void job_grid(void *ctx, uint32_t chunk, RayStats *st)
             real xs[TRACE_PACKET], ys[TRACE_PACKET];
             vec3 c[TRACE_PACKET];
             int k = line_packet(g, i1 - i, f->width, xs, ys);
-            sample_packet(f, xs, ys, k, c, st, NULL);
+            sample_packet(f, xs, ys, k, c, st, NULL, R(1));
             for (int q = 0; q < k; q++)
                 put_pixel(f, &f->pixels[f->bpp * (i + (uint64_t)q)], c[q]);
             i += (uint64_t)k;
@@ -378,7 +429,7 @@ static void job_tiles(void *ctx, uint32_t chunk, RayStats *st)
             xs[q] = (real)(x + q % k) + R(0.5);
             ys[q] = (real)(y + (uint64_t)(q / k)) + R(0.5);
         }
-        sample_packet(f, xs, ys, 2 * k, c, st, NULL);
+        sample_packet(f, xs, ys, 2 * k, c, st, NULL, R(1));
         for (int q = 0; q < 2 * k; q++)
             put_pixel(f, &f->pixels[f->bpp * ((y + (uint64_t)(q / k)) * w + (uint64_t)(x + q % k) - f->first)], c[q]);
     }
@@ -400,7 +451,7 @@ static void job_keys(void *ctx, uint32_t chunk, RayStats *st)
         int k = line_packet(i, i1 - i, f->width, xs, ys);
         for (int q = 0; q < k; q++)
             ys[q] += (real)f->key_first;
-        sample_packet(f, xs, ys, k, c, st, &f->keys[i]);
+        sample_packet(f, xs, ys, k, c, st, &f->keys[i], R(1));
         /* kept as written: the contrast test compares what a viewer sees, and
          * a pixel without an edge is this sample */
         for (int q = 0; q < k; q++) {
@@ -538,6 +589,7 @@ int render_span(RenderPool *p, const Scene *s, int width, int height, uint64_t f
     f.cancel = cancel;
     f.progress = p->progress;
     f.linear = s->settings.linear;
+    f.diffs = scene_uses(s, FEAT_TEXTURES);
     f.bpp = (int)render_pixel_bytes(s);
     f.gain = pow(R(2), s->settings.exposure);
     f.chunk = chunk_size(count, pool_threads(p->pool));

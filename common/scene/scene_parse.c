@@ -270,10 +270,9 @@ static int do_settings(Ctx *c, const Tokens *t)
     static const struct {
         int key;
         const char *words[2];
-    } choice[] = {{2, {"phong", "diffuse"}}, {3, {"off", "on"}}, {4, {"nearest", "bilinear"}},
-                  {9, {"exact", "schlick"}}, {10, {"opaque", "tinted"}}};
-    int *const dst[] = {(int *)&rs->shading, &rs->shadows, (int *)&rs->filter, (int *)&rs->fresnel, &rs->glass_shadows};
-    for (int i = 0; i < 5; i++) {
+    } choice[] = {{2, {"phong", "diffuse"}}, {3, {"off", "on"}}, {9, {"exact", "schlick"}}, {10, {"opaque", "tinted"}}};
+    int *const dst[] = {(int *)&rs->shading, &rs->shadows, (int *)&rs->fresnel, &rs->glass_shadows};
+    for (int i = 0; i < 4; i++) {
         int k = choice[i].key;
         if (!kv.present[k])
             continue;
@@ -283,6 +282,8 @@ static int do_settings(Ctx *c, const Tokens *t)
                         kv.word[k]);
         *dst[i] = w;
     }
+    if (kv.present[4] && texture_filter_parse(kv.word[4], &rs->filter))
+        return fail(c, "'filter' must be nearest, bilinear, trilinear or anisotropic, not '%s'", kv.word[4]);
     if (kv.present[7]) {
         real n = kv.num[7][0];
         if (!(n >= 0 && n <= SCENE_MAX_DEPTH && n == floor(n)))
@@ -311,14 +312,15 @@ static int do_settings(Ctx *c, const Tokens *t)
 
 static int do_texture(Ctx *c, const Tokens *t)
 {
-    if (t->n != 3)
-        return fail(c, "texture expects a name and a file: texture NAME FILE.ppm");
+    if (t->n < 3 || t->n > 4 || (t->n == 4 && strcmp(t->tok[3], "closest") != 0 && strcmp(t->tok[3], "smooth") != 0))
+        return fail(c, "texture expects a name, a file and how magnified texels look: texture NAME FILE [smooth|closest]");
     char path[4096];
     if (file_join(c->dir, t->tok[2], path, sizeof path))
         return fail(c, "texture file name '%s' is too long", t->tok[2]);
     Texture *tex;
     if (texture_read(path, &tex, c->err))
         return err_prefix(c->err, "%s:%d", c->file, c->line);
+    tex->closest = t->n == 4 && strcmp(t->tok[3], "closest") == 0;
     uint32_t id;
     if (scene_add_texture(c->s, tex, &id, c->err))
         return -1;

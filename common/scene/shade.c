@@ -28,6 +28,7 @@
 #include "scene/shade.h"
 
 #include "base/sample.h"
+#include "geom/raydiff.h"
 
 /* Point j of the samples^2 stratified points of area light l, as seen
  * from p (key: the ray's, mixed with the bounce and the light); *scale
@@ -99,6 +100,10 @@ typedef struct {
     int phong;
     uint32_t lit;
     uint32_t key; /* the ray's random key, mixed with its bounce */
+    /* a scene with textures: the ray's differentials, its footprint on the
+     * surface and how the shading normal changes across it (raydiff.h) */
+    const RayDiff *rd;
+    vec3 dpdx, dpdy, dndx, dndy;
 } Shading;
 
 /* Light l's contribution to ray sh, already known to reach it. */
@@ -114,13 +119,19 @@ static void add_light(Shading *sh, vec3 L, vec3 rad, real ndotl, uint32_t i)
 }
 
 static inline __attribute__((always_inline)) void shade_start(const Scene *s, const Ray *r, const Hit *hit,
-                                                              Shading *sh, const int optional)
+                                                              Shading *sh, const RayDiff *rd, const int optional)
 {
     trace_surface(s, r, hit, &sh->sf);
     const Material *m = sh->sf.mat;
     sh->kd = optional && scene_uses(s, FEAT_COLOURS) && sh->sf.has_colour ? sh->sf.colour : m->kd;
+    sh->rd = optional ? rd : NULL;
+    TexFootprint fp;
+    if (sh->rd) {
+        raydiff_at(rd, r->dir, hit->t, sh->sf.ng, &sh->dpdx, &sh->dpdy);
+        trace_surface_change(s, hit, &sh->sf, sh->dpdx, sh->dpdy, &fp, &sh->dndx, &sh->dndy);
+    }
     if (optional && scene_uses(s, FEAT_TEXTURES) && sh->sf.tex && sh->sf.has_uv)
-        sh->kd = v3_mul(sh->kd, texture_sample(sh->sf.tex, sh->sf.u, sh->sf.v, NULL, s->settings.filter));
+        sh->kd = v3_mul(sh->kd, texture_sample(sh->sf.tex, sh->sf.u, sh->sf.v, sh->rd ? &fp : NULL, s->settings.filter));
     sh->col = v3_mul(s->ambient, sh->kd);
     sh->view = v3_neg(v3_norm(r->dir));
     sh->phong = s->settings.shading == SHADE_PHONG && v3_max_comp(m->ks) > R(0);
@@ -173,17 +184,27 @@ static vec3 transmittance(const Scene *s, const Ray *sr, real tmax, const Light 
 }
 
 static void shade_rays(const Scene *s, const Ray *rays, int n, vec3 *out, RayStats *stats, uint64_t *keys,
-                       const uint32_t *seeds, int depth, vec3 weight);
+                       const uint32_t *seeds, const RayDiff *diffs, int depth, vec3 weight);
 
 /* The colour seen along a secondary ray from org in unit direction d
- * (seed: its random key). */
-static vec3 shade_secondary(const Scene *s, vec3 org, vec3 d, uint32_t seed, int depth, vec3 weight, RayStats *stats)
+ * (seed: its random key; rd: its differentials, or NULL). */
+static vec3 shade_secondary(const Scene *s, vec3 org, vec3 d, uint32_t seed, const RayDiff *rd, int depth, vec3 weight,
+                            RayStats *stats)
 {
     Ray r = ray_make(org, d, R(0), REAL_INF);
     vec3 c;
     stats->secondary++;
-    shade_rays(s, &r, 1, &c, stats, NULL, &seed, depth, weight);
+    shade_rays(s, &r, 1, &c, stats, NULL, &seed, rd, depth, weight);
     return c;
+}
+
+/* The differentials of the mirrored ray, where the ray has them. */
+static const RayDiff *reflected_diff(const Shading *sh, vec3 d, RayDiff *out)
+{
+    if (!sh->rd)
+        return NULL;
+    *out = raydiff_reflect(sh->rd, d, sh->sf.ns, sh->dndx, sh->dndy, sh->dpdx, sh->dpdy);
+    return out;
 }
 
 /* A rough mirror: rough_samples^2 rays about the mirror direction r, each
@@ -198,6 +219,8 @@ static vec3 rough_reflection(const Scene *s, const Shading *sh, vec3 front, vec3
     real share = R(1) / (real)n;
     vec3 w = v3_scale(v3_mul(weight, m->kr), share), sum = v3_splat(0);
     uint32_t key = sample_mix(sh->key, 0x52000000u);
+    RayDiff rd; /* the mirror's: the lobe's rays spread the footprint more, which is not followed */
+    const RayDiff *rdp = reflected_diff(sh, v3_neg(sh->view), &rd);
     for (uint32_t j = 0; j < n; j++) {
         real u, v;
         sample_stratum(key, j, k, &u, &v);
@@ -206,7 +229,7 @@ static vec3 rough_reflection(const Scene *s, const Shading *sh, vec3 front, vec3
         real below = v3_dot(d, sf->ng);
         if (below <= R(0))
             d = v3_norm(v3_madd(d, sf->ng, R(-2) * below));
-        sum = v3_add(sum, shade_secondary(s, front, d, sample_mix(key, j), depth + 1, w, stats));
+        sum = v3_add(sum, shade_secondary(s, front, d, sample_mix(key, j), rdp, depth + 1, w, stats));
     }
     return v3_mul(m->kr, v3_scale(sum, share));
 }
@@ -242,6 +265,8 @@ static vec3 shade_beyond(const Scene *s, real t, const Shading *sh, int depth, v
         vec3 d = v3_neg(sh->view);
         /* a reflected ray leaves on the side the ray came from, a refracted one on the other */
         vec3 front = trace_offset_origin(sf->p, sf->ng, sf->err);
+        RayDiff rrd, trd;
+        const RayDiff *rdp = reflected_diff(sh, d, &rrd);
         if (reflects) {
             vec3 w = v3_mul(weight, m->kr);
             if (!worth_tracing(s, w))
@@ -249,7 +274,7 @@ static vec3 shade_beyond(const Scene *s, real t, const Shading *sh, int depth, v
             else if (scene_uses(s, FEAT_ROUGH) && m->roughness > R(0))
                 col = v3_add(col, rough_reflection(s, sh, front, reflected(d, sf), depth, weight, stats));
             else
-                col = v3_add(col, v3_mul(m->kr, shade_secondary(s, front, reflected(d, sf), sample_mix(sh->key, 1),
+                col = v3_add(col, v3_mul(m->kr, shade_secondary(s, front, reflected(d, sf), sample_mix(sh->key, 1), rdp,
                                                                 depth + 1, w, stats)));
         } else {
             real eta = sf->inside ? m->ior : R(1) / m->ior;
@@ -262,15 +287,20 @@ static vec3 shade_beyond(const Scene *s, real t, const Shading *sh, int depth, v
                 f = R(1);
             vec3 wr = v3_scale(weight, f);
             if (worth_tracing(s, wr))
-                col = v3_add(col, v3_scale(shade_secondary(s, front, reflected(d, sf), sample_mix(sh->key, 1), depth + 1,
-                                                           wr, stats),
+                col = v3_add(col, v3_scale(shade_secondary(s, front, reflected(d, sf), sample_mix(sh->key, 1), rdp,
+                                                           depth + 1, wr, stats),
                                            f));
             vec3 kt = v3_scale(m->kt, R(1) - f);
             vec3 wt = v3_mul(weight, kt);
             if (f < R(1) && worth_tracing(s, wt)) {
                 vec3 back = trace_offset_origin(sf->p, v3_neg(sf->ng), sf->err);
-                col = v3_add(col, v3_mul(kt, shade_secondary(s, back, v3_norm(td), sample_mix(sh->key, 2), depth + 1, wt,
-                                                             stats)));
+                const RayDiff *tdp = NULL;
+                if (sh->rd) {
+                    trd = raydiff_refract(sh->rd, d, sf->ns, eta, sh->dndx, sh->dndy, sh->dpdx, sh->dpdy);
+                    tdp = &trd;
+                }
+                col = v3_add(col, v3_mul(kt, shade_secondary(s, back, v3_norm(td), sample_mix(sh->key, 2), tdp, depth + 1,
+                                                             wt, stats)));
             }
         }
     }
@@ -337,16 +367,17 @@ static inline __attribute__((always_inline)) void light_pass(const Scene *s, Sha
 }
 
 void shade_packet(const Scene *s, const Ray *rays, int n, vec3 *out, RayStats *stats, uint64_t *keys,
-                  const uint32_t *seeds)
+                  const uint32_t *seeds, const RayDiff *diffs)
 {
-    shade_rays(s, rays, n, out, stats, keys, seeds, 0, v3_splat(R(1)));
+    shade_rays(s, rays, n, out, stats, keys, seeds, diffs, 0, v3_splat(R(1)));
 }
 
 /* shade_rays' body; `optional` (a constant in each copy) lets in the paths
  * of the features a scene may use beyond point lights, shadows and Phong. */
 static inline __attribute__((always_inline)) void shade_rays_at(const Scene *s, const Ray *rays, int n, vec3 *out,
                                                                 RayStats *stats, uint64_t *keys, const uint32_t *seeds,
-                                                                int depth, vec3 weight, const int optional)
+                                                                const RayDiff *diffs, int depth, vec3 weight,
+                                                                const int optional)
 {
     Hit hits[TRACE_PACKET];
     Shading sh[TRACE_PACKET];
@@ -369,7 +400,7 @@ static inline __attribute__((always_inline)) void shade_rays_at(const Scene *s, 
                 keys[i] = UINT64_MAX;
             continue;
         }
-        shade_start(s, &rays[i], &hits[i], &sh[i], optional);
+        shade_start(s, &rays[i], &hits[i], &sh[i], diffs ? &diffs[i] : NULL, optional);
         live[nl++] = i;
     }
     /* a random key only where something draws from it (hashing every ray's
@@ -402,17 +433,17 @@ static inline __attribute__((always_inline)) void shade_rays_at(const Scene *s, 
                         FEAT_EMIT | FEAT_AREA | FEAT_ROUGH)
 
 static void shade_rays(const Scene *s, const Ray *rays, int n, vec3 *out, RayStats *stats, uint64_t *keys,
-                       const uint32_t *seeds, int depth, vec3 weight)
+                       const uint32_t *seeds, const RayDiff *diffs, int depth, vec3 weight)
 {
     if (scene_uses(s, SHADE_OPTIONAL))
-        shade_rays_at(s, rays, n, out, stats, keys, seeds, depth, weight, 1);
+        shade_rays_at(s, rays, n, out, stats, keys, seeds, diffs, depth, weight, 1);
     else
-        shade_rays_at(s, rays, n, out, stats, keys, seeds, depth, weight, 0);
+        shade_rays_at(s, rays, n, out, stats, keys, seeds, NULL, depth, weight, 0);
 }
 
 vec3 shade_ray(const Scene *s, const Ray *r, RayStats *stats, uint64_t *key)
 {
     vec3 c;
-    shade_rays(s, r, 1, &c, stats, key, NULL, 0, v3_splat(R(1)));
+    shade_rays(s, r, 1, &c, stats, key, NULL, NULL, 0, v3_splat(R(1)));
     return c;
 }

@@ -6,6 +6,7 @@
 
 #include <stdint.h>
 
+#include "geom/raydiff.h"
 #include "scene/trace.h"
 
 typedef struct {
@@ -29,8 +30,11 @@ vec3 shade_ray(const Scene *s, const Ray *r, RayStats *stats, uint64_t *key);
  * packets: out[i] (and keys[i], when keys is not NULL) is what shade_ray
  * gives for rays[i], to the bit.  seeds[i] is ray i's random key
  * (sample_seed of its pixel sample), from which area lights, rough mirrors
- * and lenses draw; NULL: all 0, which a scene without them may pass. */
+ * and lenses draw; NULL: all 0, which a scene without them may pass.
+ * diffs[i] are ray i's differentials, from which textures are filtered
+ * over the sample's footprint (also after mirrors and glass); NULL: each
+ * texture is read at one point of its image. */
 void shade_packet(const Scene *s, const Ray *rays, int n, vec3 *out, RayStats *stats, uint64_t *keys,
-                  const uint32_t *seeds);
+                  const uint32_t *seeds, const RayDiff *diffs);
 
 #endif

@@ -552,3 +552,110 @@ vec3 trace_offset_origin(vec3 p, vec3 n, real err)
     }
     return o;
 }
+
+/* Barycentric changes (db1, db2) of a displacement dp in the plane of the
+ * triangle with edges e1, e2 (least squares: dp's part in the plane). */
+static void bary_change(vec3 e1, vec3 e2, vec3 dp, real *db1, real *db2)
+{
+    real g11 = v3_dot(e1, e1), g12 = v3_dot(e1, e2), g22 = v3_dot(e2, e2);
+    real r1 = v3_dot(dp, e1), r2 = v3_dot(dp, e2), det = g11 * g22 - g12 * g12;
+    if (!(fabs(det) > R(0))) {
+        *db1 = *db2 = R(0);
+        return;
+    }
+    *db1 = (g22 * r1 - g12 * r2) / det;
+    *db2 = (g11 * r2 - g12 * r1) / det;
+}
+
+/* How the unit normal normalise(n) changes when n changes by dn. */
+static vec3 unit_change(vec3 n, vec3 dn)
+{
+    real len = v3_len(n);
+    if (!(len > R(0)))
+        return v3_splat(0);
+    vec3 u = v3_scale(n, R(1) / len);
+    return v3_scale(v3_madd(dn, u, -v3_dot(u, dn)), R(1) / len);
+}
+
+/* A triangle's texture coordinate and normal changes (model space) for the
+ * footprint's two sides dp[2]; uv (6) and n (3) may be NULL. */
+static void tri_changes(const Tri *t, const real *uv, const vec3 *n, real b1, real b2, const vec3 dp[2], real duv[4],
+                        vec3 dn[2])
+{
+    vec3 v0 = tri_vertex(t, 0), e1 = v3_sub(tri_vertex(t, 1), v0), e2 = v3_sub(tri_vertex(t, 2), v0);
+    for (int k = 0; k < 2; k++) {
+        real d1, d2;
+        bary_change(e1, e2, dp[k], &d1, &d2);
+        if (uv) {
+            duv[2 * k] = d1 * (uv[2] - uv[0]) + d2 * (uv[4] - uv[0]);
+            duv[2 * k + 1] = d1 * (uv[3] - uv[1]) + d2 * (uv[5] - uv[1]);
+        }
+        if (n) {
+            vec3 nn = bary(n[0], n[1], n[2], b1, b2);
+            dn[k] = unit_change(nn, v3_add(v3_scale(v3_sub(n[1], n[0]), d1), v3_scale(v3_sub(n[2], n[0]), d2)));
+        }
+    }
+}
+
+void trace_surface_change(const Scene *s, const Hit *h, const Surface *sf, vec3 dpdx, vec3 dpdy, TexFootprint *fp,
+                          vec3 *dndx, vec3 *dndy)
+{
+    real duv[4] = {0, 0, 0, 0};
+    vec3 dn[2] = {v3_splat(0), v3_splat(0)};
+    const vec3 dp[2] = {dpdx, dpdy};
+    vec3 n_ref = sf->ns; /* the normal whose change dn is, before the surface turned it to face the ray */
+    switch (h->kind) {
+    case HIT_SPHERE: {
+        const Sphere *sp = &s->spheres[h->index];
+        vec3 n = v3_scale(v3_sub(sf->p, sp->centre), R(1) / sp->radius);
+        n_ref = n;
+        for (int k = 0; k < 2; k++)
+            dn[k] = v3_scale(v3_madd(dp[k], n, -v3_dot(dp[k], n)), R(1) / sp->radius);
+        /* u = 1/2 + atan2(nx, nz) / 2pi, v = 1/2 + asin(ny) / pi (surface_at) */
+        real r2 = n.x * n.x + n.z * n.z, c = sqrt(real_max(R(0), R(1) - n.y * n.y));
+        for (int k = 0; k < 2; k++) {
+            duv[2 * k] = r2 > R(0) ? (n.z * dn[k].x - n.x * dn[k].z) / (R(2) * REAL_PI * r2) : R(0);
+            duv[2 * k + 1] = c > R(0) ? dn[k].y / (REAL_PI * c) : R(0);
+        }
+        break;
+    }
+    case HIT_PLANE: {
+        const Plane *pl = &s->planes[h->index];
+        for (int k = 0; k < 2; k++) {
+            duv[2 * k] = v3_dot(dp[k], pl->tu);
+            duv[2 * k + 1] = v3_dot(dp[k], pl->tv);
+        }
+        break;
+    }
+    case HIT_TRIANGLE: {
+        const TriAttr *a = &s->tri_attrs[h->index];
+        tri_changes(&s->tris[h->index], a->textured ? a->uv : NULL, a->smooth ? a->n : NULL, h->b1, h->b2, dp, duv, dn);
+        if (a->smooth)
+            n_ref = bary(a->n[0], a->n[1], a->n[2], h->b1, h->b2);
+        break;
+    }
+    case HIT_INSTANCE: {
+        const Instance *in = &s->instances[h->index];
+        const Model *m = s->models[in->model];
+        /* into model space, where the triangle's coordinates are */
+        const vec3 dpm[2] = {v3_scale(m3_apply_t(&in->rot, dpdx), R(1) / in->scale),
+                             v3_scale(m3_apply_t(&in->rot, dpdy), R(1) / in->scale)};
+        const vec3 *n = m->normals ? &m->normals[3 * h->sub] : NULL;
+        tri_changes(&m->tris[h->sub], m->uvs ? &m->uvs[6 * h->sub] : NULL, n, h->b1, h->b2, dpm, duv, dn);
+        if (n) {
+            for (int k = 0; k < 2; k++)
+                dn[k] = m3_apply(&in->rot, dn[k]);
+            n_ref = m3_apply(&in->rot, bary(n[0], n[1], n[2], h->b1, h->b2));
+        }
+        break;
+    }
+    default:
+        break;
+    }
+    /* the normal was turned to face the ray (surface_at): its change turns with it */
+    if (v3_dot(n_ref, sf->ns) < R(0))
+        dn[0] = v3_neg(dn[0]), dn[1] = v3_neg(dn[1]);
+    *fp = (TexFootprint){duv[0], duv[1], duv[2], duv[3]};
+    *dndx = dn[0];
+    *dndy = dn[1];
+}

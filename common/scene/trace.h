@@ -56,6 +56,12 @@ int trace_occluded(const Scene *s, const Ray *r, real tmax, const Light *towards
 int trace_lamp_part(const Scene *s, const Light *l, const Hit *h);
 void trace_surface(const Scene *s, const Ray *r, const Hit *hit, Surface *out);
 
+/* How the surface at hit h changes over a sample's footprint (dpdx,
+ * dpdy: raydiff.h): its texture coordinates (*fp) and its shading normal
+ * (sf->ns as it faces the ray). */
+void trace_surface_change(const Scene *s, const Hit *h, const Surface *sf, vec3 dpdx, vec3 dpdy, TexFootprint *fp,
+                          vec3 *dndx, vec3 *dndy);
+
 /* Moves p off the surface along n (the side the new ray leaves on) by just
  * more than the rounding error of p, so that the new ray cannot hit the
  * surface it starts on, whatever the scale or position of the scene.  Like

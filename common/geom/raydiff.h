@@ -1,0 +1,67 @@
+/* raydiff.h - ray differentials: how a ray's origin and direction change
+ * from one image sample to the next, across (x) and down (y) the image
+ * (Igehy, "Tracing Ray Differentials", SIGGRAPH 1999).
+ *
+ * Carried to a hit, they give the sample's footprint on the surface, dP/dx
+ * and dP/dy, from which a texture lookup knows how many texels one sample
+ * spans (texture_sample.c).  A mirror or a refraction turns them with the
+ * ray, using how the normal changes across the footprint (curved surfaces
+ * widen or narrow it), so a texture seen in a mirror ball is filtered over
+ * its footprint there too.  Only a scene with textures carries them. */
+#ifndef LANRAY_RAYDIFF_H
+#define LANRAY_RAYDIFF_H
+
+#include "base/vec.h"
+
+typedef struct {
+    vec3 dox, doy; /* origin */
+    vec3 ddx, ddy; /* direction (of the unit direction) */
+} RayDiff;
+
+/* The footprint at the hit at distance t along unit direction d, on the
+ * tangent plane of normal n: dP = dO + t dD + dt d, with dt keeping the
+ * point on the plane (zero where d runs along the plane). */
+static inline void raydiff_at(const RayDiff *rd, vec3 d, real t, vec3 n, vec3 *dpdx, vec3 *dpdy)
+{
+    vec3 px = v3_madd(rd->dox, rd->ddx, t), py = v3_madd(rd->doy, rd->ddy, t);
+    real dn = v3_dot(d, n);
+    if (dn != R(0)) {
+        px = v3_madd(px, d, -v3_dot(px, n) / dn);
+        py = v3_madd(py, d, -v3_dot(py, n) / dn);
+    }
+    *dpdx = px;
+    *dpdy = py;
+}
+
+/* The differentials of the ray mirrored about n at the footprint (dpdx,
+ * dpdy), the normal changing by (dndx, dndy) across it:
+ * r = d - 2 (d.n) n, dr = dd - 2 ((d.n) dn + d(d.n) n). */
+static inline RayDiff raydiff_reflect(const RayDiff *rd, vec3 d, vec3 n, vec3 dndx, vec3 dndy, vec3 dpdx, vec3 dpdy)
+{
+    real dn = v3_dot(d, n);
+    real ddnx = v3_dot(rd->ddx, n) + v3_dot(d, dndx), ddny = v3_dot(rd->ddy, n) + v3_dot(d, dndy);
+    RayDiff out = {dpdx, dpdy, v3_sub(rd->ddx, v3_scale(v3_madd(v3_scale(dndx, dn), n, ddnx), R(2))),
+                   v3_sub(rd->ddy, v3_scale(v3_madd(v3_scale(dndy, dn), n, ddny), R(2)))};
+    return out;
+}
+
+/* The same for the ray refracted with eta = n1 / n2 (n facing the
+ * incoming ray): t = eta d + mu n, mu = eta c - k, c = -d.n,
+ * k = sqrt(1 - eta^2 (1 - c^2)); dt = eta dd + mu dn + dmu n with
+ * dmu = (eta - eta^2 c / k) dc.  At total internal reflection (k = 0) the
+ * direction's change is left without the dmu term. */
+static inline RayDiff raydiff_refract(const RayDiff *rd, vec3 d, vec3 n, real eta, vec3 dndx, vec3 dndy, vec3 dpdx,
+                                      vec3 dpdy)
+{
+    real c = -v3_dot(d, n);
+    real k2 = R(1) - eta * eta * (R(1) - c * c);
+    real k = k2 > R(0) ? sqrt(k2) : R(0);
+    real mu = eta * c - k;
+    real dmu_dc = k > R(0) ? eta - eta * eta * c / k : R(0);
+    real dcx = -(v3_dot(rd->ddx, n) + v3_dot(d, dndx)), dcy = -(v3_dot(rd->ddy, n) + v3_dot(d, dndy));
+    RayDiff out = {dpdx, dpdy, v3_add(v3_add(v3_scale(rd->ddx, eta), v3_scale(dndx, mu)), v3_scale(n, dmu_dc * dcx)),
+                   v3_add(v3_add(v3_scale(rd->ddy, eta), v3_scale(dndy, mu)), v3_scale(n, dmu_dc * dcy))};
+    return out;
+}
+
+#endif
