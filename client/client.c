@@ -312,7 +312,10 @@ static int session(const ClientConfig *cfg, int fd, Worker *w, AssetCache *cache
         conn_close(&c);
         return hs;
     }
-    log_line(cfg->quiet, "lanray-client", "connected to %s:%d with %d threads", cfg->host, cfg->port, cfg->threads);
+    /* an IPv6 address in brackets, as it is typed: [::1]:7878 */
+    const int v6 = strchr(cfg->host, ':') != NULL;
+    log_line(cfg->quiet, "lanray-client", "connected to %s%s%s:%d with %d threads", v6 ? "[" : "", cfg->host,
+             v6 ? "]" : "", cfg->port, cfg->threads);
     SceneRef *cur = NULL;
     int rc = SESSION_ENDED;
     for (;;) {
@@ -440,8 +443,8 @@ int client_run(const ClientConfig *cfg, volatile sig_atomic_t *stop, ClientStats
         }
         if (*stop || !cfg->reconnect)
             break;
-        if (timer_now() - start > 2)
-            backoff = 0.1; /* the session worked for a while: start over gently */
+        if (r == SESSION_ENDED || timer_now() - start > 2)
+            backoff = 0.1; /* the session worked (past the handshake): start over gently */
         log_line(cfg->quiet, "lanray-client", "%s; reconnecting in %.1f s", e.msg, backoff);
         struct timespec ts = {(time_t)backoff, (long)((backoff - (double)(time_t)backoff) * 1e9)};
         nanosleep(&ts, NULL);

@@ -53,10 +53,18 @@ static void verify_frame(App *a, uint32_t frame, const uint8_t *pixels)
     for (uint64_t i = 0; i < n; i++)
         wrong += memcmp(pixels + 3 * i, a->verify + 3 * i, 3) != 0;
     if (wrong) {
+        /* the usual cause, said once: a reference made with other settings
+         * (lanray-render's default anti-aliasing is adaptive 4, a server's 1) */
+        const RenderSettings *rs = &a->scene->settings;
+        char aa[32];
+        snprintf(aa, sizeof aa, "%s%d", rs->adaptive ? "adaptive:" : "", rs->aa);
+        fprintf(stderr, "lanray-server: frame %u: %llu pixels differ from %s%s%s%s\n", frame, (unsigned long long)wrong,
+                a->verify_path, a->wrong_frames ? "" : " (is it the server's picture? it renders --aa ",
+                a->wrong_frames ? "" : aa,
+                a->wrong_frames ? "" : ", and lanray-render adaptive:4 unless told: render the reference with the "
+                                       "server's --aa and the scene's settings)");
         a->wrong_frames++;
         a->wrong_pixels += wrong;
-        fprintf(stderr, "lanray-server: frame %u: %llu pixels differ from %s\n", frame, (unsigned long long)wrong,
-                a->verify_path);
     }
 }
 
@@ -299,17 +307,12 @@ int main(int argc, char **argv)
         scene_destroy(scene);
         return 1;
     }
-    if (headless && !discard && cli_make_dirs(out_dir, &err)) {
-        fprintf(stderr, "lanray-server: %s\n", err.msg);
-        free(app.verify);
-        free(app.view);
-        display_close(app.display);
-        scene_destroy(scene);
-        return 1;
-    }
     app.server = server_create(&cfg, scene, &err);
-    if (!app.server) {
+    /* the frames' directory only once the server listens: a server that
+     * cannot start leaves nothing behind */
+    if (!app.server || (headless && !discard && cli_make_dirs(out_dir, &err))) {
         fprintf(stderr, "lanray-server: %s\n", err.msg);
+        server_destroy(app.server);
         free(app.verify);
         free(app.view);
         display_close(app.display);

@@ -64,6 +64,7 @@ struct Server {
     Sink blob;        /* the serialised scene of the current frame */
     /* finished clients' statistics, for the summary */
     uint64_t gone_segments, gone_pixels, gone_bytes;
+    uint32_t gone_clients; /* clients that left, or were dropped */
     int auto_segment;
     Measure m; /* for the summary line and the automatic segment size */
 };
@@ -141,6 +142,7 @@ Server *server_create(const ServerConfig *cfg, Scene *scene, Err *err)
 static void client_free(Server *s, Client *c)
 {
     s->gone_segments += c->segments;
+    s->gone_clients++;
     s->gone_pixels += c->pixels;
     s->gone_bytes += c->conn.bytes_in + c->conn.bytes_out;
     conn_close(&c->conn);
@@ -546,9 +548,13 @@ void server_print_summary(const Server *s, int machine)
     double dup = (double)(st.duplicate_pixels - m->dup_base) / s->cfg.width / fr;
     double per_frame = (double)(bytes - m->measured_bytes_base - m->asset_bytes) / fr;
     double segs = (double)(st.segments - m->seg_base) / fr;
-    printf("%u frames%s in %.3f s: %.2f fps with %u client%s (busy %.0f%% of their time)\n", frames,
-           s->cfg.warmup ? " after the warm-up" : "", wall, wall > 0 ? frames / wall : 0.0, n, n == 1 ? "" : "s",
-           wall > 0 && n ? 100 * busy / (n * wall) : 0.0);
+    /* the most clients at once; where some left, how many stayed to the end */
+    char who[96] = "";
+    if (s->gone_clients)
+        snprintf(who, sizeof who, ", %u at the end, %u gone", s->nclients, s->gone_clients);
+    printf("%u frames%s in %.3f s: %.2f fps with %s%u client%s%s (busy %.0f%% of their time)\n", frames,
+           s->cfg.warmup ? " after the warm-up" : "", wall, wall > 0 ? frames / wall : 0.0, s->gone_clients ? "up to " : "",
+           n, n == 1 ? "" : "s", who, wall > 0 && n ? 100 * busy / (n * wall) : 0.0);
     printf("a frame: %.1f segments of %u lines, %.1f lines rendered twice, %.2f MB on the network\n", segs,
            server_segment_lines(s), dup, per_frame / 1e6);
     if (!machine)

@@ -9,6 +9,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <dirent.h>
 #include <unistd.h>
 
 #include <cmocka.h>
@@ -48,16 +49,42 @@ static inline vec3 rng_dir(Rng *r)
     }
 }
 
-/* A fresh temporary directory for a test's files. */
+static char test_tmpdir_path[64];
+
+/* Removes path and, for a directory, what it holds. */
+static inline void test_rm_tree(const char *path)
+{
+    DIR *d = opendir(path);
+    if (d) {
+        struct dirent *e;
+        while ((e = readdir(d)))
+            if (strcmp(e->d_name, ".") != 0 && strcmp(e->d_name, "..") != 0) {
+                char sub[1024];
+                if (snprintf(sub, sizeof sub, "%.700s/%.300s", path, e->d_name) < (int)sizeof sub)
+                    test_rm_tree(sub);
+            }
+        closedir(d);
+    }
+    remove(path);
+}
+
+/* The test's temporary directory goes when the test ends. */
+static inline void test_tmpdir_remove(void)
+{
+    if (test_tmpdir_path[0])
+        test_rm_tree(test_tmpdir_path);
+}
+
+/* A fresh temporary directory for a test's files, removed at exit. */
 static inline const char *test_tmpdir(void)
 {
-    static char dir[64];
-    if (!dir[0]) {
-        snprintf(dir, sizeof dir, "/tmp/lanray-test-XXXXXX");
-        if (!mkdtemp(dir))
+    if (!test_tmpdir_path[0]) {
+        snprintf(test_tmpdir_path, sizeof test_tmpdir_path, "/tmp/lanray-test-XXXXXX");
+        if (!mkdtemp(test_tmpdir_path))
             abort();
+        atexit(test_tmpdir_remove);
     }
-    return dir;
+    return test_tmpdir_path;
 }
 
 static inline void test_write_file(const char *path, const char *text)

@@ -9,6 +9,10 @@ failed=0
 failed_names=()
 log=$(mktemp)
 trap 'rm -f "$log"' EXIT
+# the unit tests keep their files in /tmp/lanray-test-*, which they remove
+# (helpers.h): one left behind is a failure, naming the folder
+tmpdirs() { ls -d /tmp/lanray-test-* 2>/dev/null | sort; }
+before=$(tmpdirs)
 for t in "$@"; do
     t0=$SECONDS
     "$t" 2>&1 | tee "$log"
@@ -23,6 +27,13 @@ for t in "$@"; do
         [ -n "$f" ] || failed=$((failed + 1)) # crashed before reporting
     fi
 done
+left=$(comm -13 <(echo "$before") <(tmpdirs))
+if [ -n "$left" ]; then
+    echo "[  FAILED  ] unit tests left temporary folders: $left"
+    failed=$((failed + 1)); failed_names+=("temporary folders")
+else
+    passed=$((passed + 1))
+fi
 for t in tests/cli/*.sh; do
     [ -e "$t" ] || continue
     echo "[ RUN      ] $(basename "$t")"

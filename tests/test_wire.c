@@ -244,6 +244,47 @@ static void a_models_optics_carry_the_settings(void **state)
 
 /* A high dynamic range frame costs the scene no bytes (a flag of the
  * extras word) and the client renders the same RGBE as lanray-render. */
+/* The sampling, what the depth limit returns and the texture filter
+ * travel, and the client renders the server's pixels with them. */
+static void sampling_limit_and_filter_travel(void **state)
+{
+    (void)state;
+    Scene *s, *back;
+    BvhOptions opt = bvh_options_default(BVH_SAH);
+    Err err;
+    assert_int_equal(scene_default(&s, &opt, NULL), 0);
+    const struct {
+        Sampling sampling;
+        DepthLimit limit;
+        TextureFilter filter;
+    } cases[] = {{SAMPLING_PRODUCT, LIMIT_LOCAL, FILTER_TRILINEAR}, {SAMPLING_BUDGET, LIMIT_BACKGROUND, FILTER_NEAREST}};
+    for (int i = 0; i < 2; i++) {
+        s->settings.sampling = cases[i].sampling;
+        s->settings.depth_limit = cases[i].limit;
+        s->settings.filter = cases[i].filter;
+        s->settings.depth = 1;
+        assert_int_equal(scene_prepare(s, NULL), 0);
+        Encoded e = encode(s);
+        AssetCache *c = cache_of(s, &e);
+        if (wire_decode_scene(e.blob, e.len, c, &back, &err))
+            fail_msg("%s", err.msg);
+        assert_int_equal(back->settings.sampling, cases[i].sampling);
+        assert_int_equal(back->settings.depth_limit, cases[i].limit);
+        assert_int_equal(back->settings.filter, cases[i].filter);
+        enum { W = 40, H = 30 };
+        static uint8_t pa[W * H * 3], pb[W * H * 3];
+        RenderPool *p = render_pool_create(2, NULL);
+        assert_int_equal(render_lines(p, s, W, H, 0, H, pa, NULL, NULL), 0);
+        assert_int_equal(render_span(p, back, W, H, 0, W * H, pb, NULL, NULL, NULL), 0);
+        assert_memory_equal(pa, pb, sizeof pa);
+        render_pool_destroy(p);
+        scene_destroy(back);
+        asset_cache_destroy(c);
+        free_encoded(s, &e);
+    }
+    scene_destroy(s);
+}
+
 static void hdr_travels_as_a_flag(void **state)
 {
     (void)state;
@@ -347,7 +388,7 @@ static void malformed_scenes_and_assets_are_rejected(void **state)
     assert_contains(err.msg, "invalid settings");
     word = 0;
     memcpy(sk.data + 136, &word, 4);
-    word = 16; /* the first unknown flag */
+    word = 32; /* the first unknown flag */
     memcpy(sk.data + 140, &word, 4);
     assert_int_equal(wire_decode_scene(sk.data, sk.len, c, &back, &err), -1);
     assert_contains(err.msg, "unknown extras");
@@ -364,13 +405,14 @@ static void malformed_scenes_and_assets_are_rejected(void **state)
     sink_free(&sk);
     /* with a mirror: the settings of secondary rays follow the extras word
      * (depth at 144, cutoff 148, Fresnel 156, glass shadows 160, rough
-     * samples 164), the counts move to 168, and the material's flags word
-     * follows its texture (at 260), its reflectance (264) and roughness after it */
+     * samples 164, depth limit 168), the counts move to 172, and the
+     * material's flags word follows its texture (at 264), its reflectance
+     * (268) and roughness after it */
     one->materials[0].kr = v3_splat(R(0.5));
     assert_int_equal(scene_prepare(one, NULL), 0);
     sk = (Sink){0};
     assert_int_equal(wire_encode_scene(one, NULL, NULL, &sk, NULL), 0);
-    assert_int_equal(sk.len, 292 + 24 + 4 + 24 + 8);
+    assert_int_equal(sk.len, 292 + 28 + 4 + 24 + 8);
     assert_int_equal(wire_decode_scene(sk.data, sk.len, c, &back, &err), 0);
     assert_true(back->materials[0].kr.y == R(0.5) && back->settings.depth == one->settings.depth);
     scene_destroy(back);
@@ -381,8 +423,9 @@ static void malformed_scenes_and_assets_are_rejected(void **state)
     } bad_optics[] = {{144, SCENE_MAX_DEPTH + 1, "secondary-ray settings"},
                       {156, 2, "secondary-ray settings"},
                       {160, 2, "secondary-ray settings"},
-                      {164, 0, "sample counts"},
-                      {260, 8, "unknown material flags"}};
+                      {164, SCENE_MAX_SAMPLES + 1, "sample counts"},
+                      {168, LIMIT_COUNT, "secondary-ray settings"},
+                      {264, 8, "unknown material flags"}};
     for (size_t i = 0; i < sizeof bad_optics / sizeof bad_optics[0]; i++) {
         uint32_t was;
         memcpy(&was, sk.data + bad_optics[i].at, 4);
@@ -421,7 +464,7 @@ static void malformed_scenes_and_assets_are_rejected(void **state)
     assert_int_equal(wire_encode_scene(one, NULL, NULL, &sk, NULL), 0);
     /* a mirror's reflectance must not be negative: the scene's own checks */
     double neg = -1;
-    memcpy(sk.data + 264, &neg, 8);
+    memcpy(sk.data + 268, &neg, 8);
     assert_int_equal(wire_decode_scene(sk.data, sk.len, c, &back, &err), -1);
     assert_contains(err.msg, "must not be negative");
     asset_cache_destroy(c);
@@ -436,6 +479,7 @@ int main(void)
         cmocka_unit_test(only_used_parts_travel),
         cmocka_unit_test(a_models_optics_carry_the_settings),
         cmocka_unit_test(hdr_travels_as_a_flag),
+        cmocka_unit_test(sampling_limit_and_filter_travel),
         cmocka_unit_test(malformed_scenes_and_assets_are_rejected),
     };
     return cmocka_run_group_tests_name("wire", tests, NULL, NULL);

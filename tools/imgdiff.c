@@ -14,6 +14,7 @@
 #include <string.h>
 
 #include "model/image.h"
+#include "model/texture.h"
 #include "base/opt.h"
 
 /* Mean SSIM over all 8x8 windows (step 1) of the luma channel. */
@@ -65,6 +66,32 @@ static double ssim(const uint8_t *a, const uint8_t *b, int w, int h)
     return sum / (double)windows;
 }
 
+/* An image as 8-bit RGB: a PNG by libpng (any size, its codes as stored),
+ * a PPM, PGM or JPEG by the texture readers (model/texture.h). */
+static int read_image(const char *path, int *w, int *h, uint8_t **rgb, Err *err)
+{
+    FILE *f = fopen(path, "rb");
+    unsigned char sig[8] = {0};
+    size_t got = f ? fread(sig, 1, sizeof sig, f) : 0;
+    if (f)
+        fclose(f);
+    if (got == 8 && memcmp(sig, "\x89PNG\r\n\x1a\n", 8) == 0)
+        return image_read_png(path, w, h, rgb, err);
+    Texture *t;
+    if (texture_read(path, &t, err))
+        return -1;
+    size_t n = (size_t)t->w * t->h * 3;
+    *rgb = malloc(n);
+    if (!*rgb) {
+        texture_destroy(t);
+        return err_set(err, "%s: out of memory", path);
+    }
+    memcpy(*rgb, t->level[0].rgb, n);
+    *w = (int)t->w, *h = (int)t->h;
+    texture_destroy(t);
+    return 0;
+}
+
 int main(int argc, char **argv)
 {
     int csv = 0;
@@ -74,7 +101,8 @@ int main(int argc, char **argv)
     };
     const char *args[2];
     OptSpec spec = {.prog = "lanray-imgdiff", .synopsis = "[--csv] a.png b.png",
-                    .about = "Compares two images of the same size: the largest channel difference, the pixels that differ,\n"
+                    .about = "Compares two images of the same size (PNG, PPM, PGM or JPEG, by their first bytes): the\n"
+                    "largest channel difference, the pixels that differ,\n"
                     "RMSE (0..255), PSNR in dB and SSIM (luma, 8x8 windows; 1 = identical).  The numbers are for the\n"
                     "caller to judge.",
                     .opts = opts, .args = args, .min_args = 2, .max_args = 2, .missing = "needs two images",
@@ -87,11 +115,11 @@ int main(int argc, char **argv)
     Err err = {{0}};
     int wa, ha, wb, hb;
     uint8_t *a, *b;
-    if (image_read_png(args[0], &wa, &ha, &a, &err)) {
+    if (read_image(args[0], &wa, &ha, &a, &err)) {
         fprintf(stderr, "lanray-imgdiff: %s\n", err.msg);
         return 1;
     }
-    if (image_read_png(args[1], &wb, &hb, &b, &err)) {
+    if (read_image(args[1], &wb, &hb, &b, &err)) {
         fprintf(stderr, "lanray-imgdiff: %s\n", err.msg);
         free(a);
         return 1;

@@ -15,6 +15,7 @@
 #include <unistd.h>
 
 #include "app/cli.h"
+#include "base/fileio.h"
 #include "model/image.h"
 #include "base/opt.h"
 #include "base/progress.h"
@@ -32,6 +33,8 @@ static const char *const filter_names[] = {"nearest", "bilinear", "trilinear", "
 
 static const char *const fresnel_names[] = {"exact", "schlick", NULL};
 static const char *const glass_names[] = {"opaque", "tinted", NULL};
+static const char *const sampling_names[] = {"budget", "product", NULL};
+static const char *const limit_names[] = {"black", "background", "ambient", "local", NULL};
 
 typedef struct {
     RenderProgress counts;
@@ -123,6 +126,7 @@ int main(int argc, char **argv)
     int depth = 5, fresnel = FRESNEL_EXACT, glass = 1, depth_given = 0, cutoff_given = 0, fresnel_given = 0, glass_given = 0;
     double cutoff = 0.01;
     int light_samples = 0, rough_samples = 0, lens_samples = 0, exposure_given = 0;
+    int sampling = SAMPLING_BUDGET, sampling_given = 0, limit = LIMIT_BLACK, limit_given = 0;
     double exposure = 0;
     CliAa aa = {4, 1, 0};
     const Opt opts[] = {
@@ -154,14 +158,22 @@ int main(int argc, char **argv)
         {.name = "--fresnel", .kind = OPT_CHOICE, .dst = &fresnel, .choices = fresnel_names, .seen = &fresnel_given,
          .help = "a dielectric's reflectance: Fresnel's equations or Schlick's approximation",
          .def = "the scene's, else exact"},
+        {.name = "--depth-limit", .kind = OPT_CHOICE, .dst = &limit, .choices = limit_names, .seen = &limit_given,
+         .help = "what a mirror's or glass's ray cut at the depth limit returns", .def = "the scene's, else local"},
         {.name = "--glass-shadows", .kind = OPT_CHOICE, .dst = &glass, .choices = glass_names, .seen = &glass_given,
          .help = "shadow rays through dielectrics: stopped, or tinted by their colour", .def = "the scene's, else tinted"},
+        {.name = "--sampling", .kind = OPT_CHOICE, .dst = &sampling, .choices = sampling_names, .seen = &sampling_given,
+         .help = "area lights, a lens, rough mirrors: their K x K points shared by a pixel's rays (budget: costs add), or "
+                 "taken by every ray (product: costs multiply)", .def = "the scene's, else budget"},
         {.name = "--light-samples", .kind = OPT_INT, .dst = &light_samples, .arg = "K", .lo = 0, .hi = LIGHT_MAX_SAMPLES,
-         .help = "shadow rays of every sphere and rect light: K x K; 0 = each light's own", .def = "0"},
+         .help = "shadow rays of every sphere and rect light: K x K a pixel (product: a ray); 0 = each light's own",
+         .def = "0"},
         {.name = "--rough-samples", .kind = OPT_INT, .dst = &rough_samples, .arg = "K", .lo = 0, .hi = SCENE_MAX_SAMPLES,
-         .help = "rays of a rough mirror: K x K; 0 = the scene's", .def = "0: the scene's, else 4"},
+         .help = "rays of a rough mirror: K x K a pixel (product: a ray); 0 = the scene's",
+         .def = "0: the scene's, else 6 (product: 4)"},
         {.name = "--lens-samples", .kind = OPT_INT, .dst = &lens_samples, .arg = "K", .lo = 0, .hi = SCENE_MAX_SAMPLES,
-         .help = "rays through a camera's lens per pixel sample: K x K; 0 = the scene's", .def = "0: the scene's, else 4"},
+         .help = "rays through a camera's lens: K x K a pixel (product: a pixel sample); 0 = the scene's",
+         .def = "0: the scene's, else 3 (product: 4)"},
         {.name = "--exposure", .kind = OPT_REAL, .dst = &exposure, .arg = "STOPS", .rlo = -32, .rhi = 32,
          .seen = &exposure_given, .help = "8-bit output shows the light times 2^STOPS", .def = "the scene's, else 0"},
         {.name = "--linear", .kind = OPT_FLAG, .dst = &linear,
@@ -190,19 +202,21 @@ int main(int argc, char **argv)
                     .opts = opts, .args = args, .max_args = 1,
                     .exits = "  0  the image was written\n"
                     "  1  an error: the scene, the output file or its directory, memory; nothing is left behind\n"
-                    "  2  bad command line\n"};
+                    "  2  bad command line, or an image format it does not write (-o x.jpg)\n"};
     int go = opt_run(&spec, argc, argv);
     if (go != OPT_GO)
         return go;
     Err err = {{0}};
+    file_atomic_on_signals(); /* interrupted, nothing half-written is left */
     if (!simd_given && cli_simd_env(&err)) {
         fprintf(stderr, "lanray-render: %s\n", err.msg);
         return 2;
     }
-    /* a wrong output name fails before the scene is even loaded */
+    /* a wrong output name fails before the scene is even loaded: a bad
+     * command line (a directory that is not there fails later, 1) */
     if (image_check_name(out, &err)) {
         fprintf(stderr, "lanray-render: %s\n", err.msg);
-        return 1;
+        return 2;
     }
     threads = cli_threads(threads);
     BvhOptions bvh = bvh_options_default((BvhKind)bvh_kind);
@@ -229,6 +243,10 @@ int main(int argc, char **argv)
         rs->fresnel = (FresnelModel)fresnel;
     if (glass_given)
         rs->glass_shadows = glass;
+    if (sampling_given)
+        rs->sampling = (Sampling)sampling;
+    if (limit_given)
+        rs->depth_limit = (DepthLimit)limit;
     if (rough_samples)
         rs->rough_samples = rough_samples;
     if (lens_samples)

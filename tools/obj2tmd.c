@@ -10,6 +10,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 #include <sys/stat.h>
 
 #include "app/cli.h"
@@ -88,15 +89,22 @@ int main(int argc, char **argv)
                     .exits = "  0  converted\n"
                     "  1  an error in the OBJ (file and line named), no usable triangle, an unwritable output, or the\n"
                     "     output is the input; no output file is left\n"
-                    "  2  bad command line\n"};
+                    "  2  bad command line, or an output not named .tmd\n"};
     int go = opt_run(&spec, argc, argv);
     if (go != OPT_GO)
         return go;
     Err err = {{0}};
+    file_atomic_on_signals(); /* interrupted, nothing half-written is left */
     const char *in = args[0], *out = args[1];
     if (same_file(in, out)) {
         fprintf(stderr, "obj2tmd: %s is the input file %s; name another output\n", out, in);
         return 1;
+    }
+    size_t on = strlen(out);
+    if (on < 4 || strcasecmp(out + on - 4, ".tmd") != 0) {
+        fprintf(stderr, "obj2tmd: %s: the output is a .tmd file; name it so (a reader takes a model by its extension)\n",
+                out);
+        return 2;
     }
     BvhOptions bo = bvh_options_default((BvhKind)bvh_kind);
     bo.max_leaf = (uint32_t)leaf;
@@ -131,7 +139,7 @@ int main(int argc, char **argv)
             st.vertices = is.vertices, st.faces = is.triangles + is.degenerate, st.degenerate = is.degenerate;
             st.skipped[OBJ_SKIP_LINE] = is.lines, st.skipped[OBJ_SKIP_POINT] = is.points;
             st.coloured = is.coloured, st.colours = mesh.col != NULL, st.colours_ignored = is.colours_ignored;
-            st.warnings = is.warnings;
+            st.warnings = is.warnings, st.missing_textures = is.missing_textures;
         }
     }
     if (imported ? err.msg[0] != 0 : obj_read(in, &oo, &mesh, &st, &err) != 0) {
@@ -171,9 +179,16 @@ int main(int argc, char **argv)
         printf("%s -> %s\n", in, out);
         printf("  vertices %lu, faces %lu, triangles %u, degenerate dropped %lu\n", st.vertices, st.faces,
                model->tri_count, st.degenerate);
-        printf("  attributes: %s%s%s%s\n", model->normals ? "normals " : "", model->uvs ? "uvs " : "",
+        printf("  attributes: %s%s%s%s", model->normals ? "normals " : "", model->uvs ? "uvs " : "",
                model->colours ? "vertex-colours " : "",
                model->mat_ids ? "materials" : (model->normals || model->uvs || model->colours ? "" : "positions only"));
+        if (model->texture_count)
+            printf(", textures %u", model->texture_count);
+        printf("\n");
+        const Aabb b = model->bounds;
+        printf("  bounds x %g..%g, y %g..%g, z %g..%g (size %g x %g x %g)\n", (double)b.min.x, (double)b.max.x,
+               (double)b.min.y, (double)b.max.y, (double)b.min.z, (double)b.max.z, (double)(b.max.x - b.min.x),
+               (double)(b.max.y - b.min.y), (double)(b.max.z - b.min.z));
         printf("  bvh %s: %u nodes, depth %u, SAH cost %.2f\n", bvh_kind_name(bo.kind), model->bvh.node_count,
                model->bvh.depth, bvh_sah_cost(&model->bvh));
         printf("  parse %.3f s, build %.3f s\n", t1 - t0, t2 - t1);

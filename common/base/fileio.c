@@ -6,6 +6,7 @@
 
 #include <dirent.h>
 #include <errno.h>
+#include <signal.h>
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
@@ -48,6 +49,60 @@ int file_read_all(const char *path, size_t max_bytes, char **data, size_t *len, 
     return 0;
 }
 
+/* The temporary files being written, for a signal handler to remove:
+ * copies of their names (the handler may run on any thread, while the
+ * AtomicFile's own name is freed), each slot claimed atomically. */
+#define PENDING_MAX 16
+#define PENDING_NAME 4200
+static struct {
+    int claimed;                /* owned by an AtomicFile (atomic) */
+    volatile sig_atomic_t live; /* name holds a file that exists */
+    char name[PENDING_NAME];
+} pending[PENDING_MAX];
+
+static int pending_add(const char *tmp)
+{
+    if (strlen(tmp) >= PENDING_NAME)
+        return -1;
+    for (int i = 0; i < PENDING_MAX; i++) {
+        int free_slot = 0;
+        if (__atomic_compare_exchange_n(&pending[i].claimed, &free_slot, 1, 0, __ATOMIC_ACQ_REL, __ATOMIC_RELAXED)) {
+            strcpy(pending[i].name, tmp);
+            pending[i].live = 1;
+            return i;
+        }
+    }
+    return -1; /* more files at once than slots: that one is not removed on a signal */
+}
+
+static void pending_drop(int slot)
+{
+    if (slot < 0)
+        return;
+    pending[slot].live = 0;
+    __atomic_store_n(&pending[slot].claimed, 0, __ATOMIC_RELEASE);
+}
+
+static void on_stop_signal(int sig)
+{
+    for (int i = 0; i < PENDING_MAX; i++)
+        if (pending[i].live)
+            unlink(pending[i].name); /* async-signal-safe */
+    signal(sig, SIG_DFL);
+    raise(sig);
+}
+
+void file_atomic_on_signals(void)
+{
+    static const int sigs[] = {SIGINT, SIGTERM, SIGHUP};
+    struct sigaction sa;
+    memset(&sa, 0, sizeof sa);
+    sa.sa_handler = on_stop_signal;
+    sigemptyset(&sa.sa_mask);
+    for (size_t i = 0; i < sizeof sigs / sizeof *sigs; i++)
+        sigaction(sigs[i], &sa, NULL);
+}
+
 int file_atomic_open(AtomicFile *a, const char *path, Err *err)
 {
     memset(a, 0, sizeof a[0]);
@@ -69,6 +124,7 @@ int file_atomic_open(AtomicFile *a, const char *path, Err *err)
         a->tmp = NULL;
         return -1;
     }
+    a->slot = pending_add(a->tmp);
     a->f = fdopen(fd, "wb");
     if (!a->f) {
         int e = errno;
@@ -85,6 +141,7 @@ void file_atomic_abort(AtomicFile *a)
         fclose(a->f);
     if (a->tmp) {
         unlink(a->tmp);
+        pending_drop(a->slot);
         free(a->tmp);
     }
     a->f = NULL;
@@ -109,6 +166,7 @@ int file_atomic_commit(AtomicFile *a, Err *err)
         rc = err_set(err, "%s: cannot rename into place: %s", a->path, strerror(errno));
     if (rc != 0)
         unlink(a->tmp);
+    pending_drop(a->slot);
     free(a->tmp);
     a->tmp = NULL;
     return rc;

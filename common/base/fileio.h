@@ -21,8 +21,14 @@ typedef struct {
     FILE *f;
     char *tmp;
     const char *path;
+    int slot; /* where the signal handler finds its name, or -1 */
 } AtomicFile;
 int file_atomic_open(AtomicFile *a, const char *path, Err *err);
+/* Makes SIGINT, SIGTERM and SIGHUP remove every temporary file still being
+ * written before the process ends by the signal's default action, so that
+ * an interrupted program leaves nothing behind (a program that handles
+ * those signals itself aborts its files instead). */
+void file_atomic_on_signals(void);
 int file_atomic_commit(AtomicFile *a, Err *err);
 void file_atomic_abort(AtomicFile *a);
 

@@ -58,6 +58,70 @@ static inline void sample_stratum(uint32_t key, uint32_t j, uint32_t k, real *u,
     *v = ((real)(j / k) + sample_unit(sample_hash(h))) * inv;
 }
 
+/* One sample budget per pixel: an effect that asks for K points a pixel
+ * (an area light's K = samples^2, a lens's, a rough mirror's) spreads
+ * them over the pixel's rays: ray `index` of the `count` rays its pixel
+ * traces at its depth takes ceil(K / count) of them, points index * m ..
+ * index * m + m - 1 of one sequence of count * m for the whole pixel, so
+ * that the points of a pixel are stratified together and costs add (K +
+ * rays) instead of multiplying (K x rays).  key: the pixel's, mixed with
+ * the path (sample_mix); a ray's children (a rough mirror's) are rays
+ * index * m + j of count * m. */
+typedef struct {
+    uint32_t key;
+    uint32_t index, count; /* ray index of count, 0 <= index < count */
+} SampleId;
+
+/* Points per ray when an effect wants k a pixel over `count` rays: ceil(k / count), at least 1. */
+static inline uint32_t sample_share(uint32_t k, uint32_t count) { return count >= k ? 1u : (k + count - 1) / count; }
+
+static inline uint32_t sample_reverse(uint32_t x)
+{
+    x = (x << 16) | (x >> 16);
+    x = ((x & 0x00ff00ffu) << 8) | ((x & 0xff00ff00u) >> 8);
+    x = ((x & 0x0f0f0f0fu) << 4) | ((x & 0xf0f0f0f0u) >> 4);
+    x = ((x & 0x33333333u) << 2) | ((x & 0xccccccccu) >> 2);
+    return ((x & 0x55555555u) << 1) | ((x & 0xaaaaaaaau) >> 1);
+}
+
+/* Owen scrambling of a 32-bit fraction (nested uniform: each bit flipped by
+ * a hash of the bits above it), by the Laine-Karras permutation on the
+ * bits reversed (Burley, "Practical Hash-based Owen Scrambling", JCGT 2020). */
+static inline uint32_t sample_owen(uint32_t x, uint32_t seed)
+{
+    x = sample_reverse(x);
+    x += seed;
+    x ^= x * 0x6c50b47cu;
+    x ^= x * 0xb82f1e52u;
+    x ^= x * 0xc7afe638u;
+    x ^= x * 0x8d22f6e6u;
+    return sample_reverse(x);
+}
+
+/* Point `index` of an Owen-scrambled Sobol (0,2)-sequence in the unit
+ * square, its index shuffled too (Burley's shuffled scrambled Sobol), for
+ * one sequence per seed: any 2^k consecutive aligned points are a (0,k,2)-net
+ * (one point in every 2^-a x 2^-(k-a) box), the first n of a sequence
+ * are well spread for any n, and two seeds' sequences are independent. */
+static inline void sample_sobol2(uint32_t index, uint32_t seed, real *u, real *v)
+{
+    uint32_t i = sample_owen(index, sample_hash(seed ^ 0x5bd1e995u));
+    /* the second Sobol dimension: bit 31 - j of y is the parity of the bits
+     * k of i with C(k, j) odd, that is (Lucas) with j's bits a subset of
+     * k's: a superset sum over the five bits of a bit's position, five
+     * shifts where a loop over i's bits took up to 32 steps */
+    uint32_t z = i;
+    z ^= (z >> 1) & 0x55555555u;
+    z ^= (z >> 2) & 0x33333333u;
+    z ^= (z >> 4) & 0x0f0f0f0fu;
+    z ^= (z >> 8) & 0x00ff00ffu;
+    z ^= (z >> 16) & 0x0000ffffu;
+    uint32_t x = sample_owen(sample_reverse(i), sample_hash(seed ^ 0x68e31da4u));
+    uint32_t y = sample_owen(sample_reverse(z), sample_hash(seed ^ 0xb5297a4du));
+    *u = (real)(x >> 8) * R(5.9604644775390625e-8);
+    *v = (real)(y >> 8) * R(5.9604644775390625e-8);
+}
+
 /* (u, v) in the unit square to the unit disc, area-preserving (Shirley and
  * Chiu's concentric map: strata stay compact). */
 static inline void sample_disc(real u, real v, real *x, real *y)

@@ -16,6 +16,7 @@
 #include <unistd.h>
 
 #include "base/cursor.h"
+#include "model/import_texture.h"
 
 #define IMPORT_MAX_TRIANGLES (1u << 26) /* BVH_MAX_PRIMS */
 
@@ -114,10 +115,12 @@ static int is_ply(const char *path)
 
 #define IMPORT_FLAGS (aiProcess_Triangulate | aiProcess_PreTransformVertices | aiProcess_SortByPType | aiProcess_ValidateDataStructure)
 
-static int import_scene(const struct aiScene *sc, const char *path, int stl, Mesh *out, ImportStats *st, Err *err);
+static int import_scene(const struct aiScene *sc, const char *path, const char *model, int stl, Mesh *out,
+                        ImportTexList *tl, ImportStats *st, Err *err);
 
-/* In this process: what the child of import_read runs. */
-static int import_read_direct(const char *path, Mesh *out, ImportStats *st, Err *err)
+/* In this process: what the child of import_read runs.  The materials'
+ * textures are gathered into *tl, undecoded (import_texture.h). */
+static int import_read_direct(const char *path, Mesh *out, ImportTexList *tl, ImportStats *st, Err *err)
 {
     ImportStats local;
     if (!st)
@@ -142,13 +145,13 @@ static int import_read_direct(const char *path, Mesh *out, ImportStats *st, Err 
     if (!sc)
         return err_set(err, "%s: %s", path, aiGetErrorString());
     const char *e = extension(path);
-    int rc = import_scene(sc, path, strcmp(e, ".stl") == 0 || strcmp(e, ".STL") == 0, out, st, err);
-    aiReleaseImport(sc);
-    return rc;
+    /* the scene stays: embedded images' bytes are Assimp's until sent
+     * (the child ends after) */
+    return import_scene(sc, path, path, strcmp(e, ".stl") == 0 || strcmp(e, ".STL") == 0, out, tl, st, err);
 }
 
 static int import_read_memory_direct(const void *data, size_t len, const char *hint, const char *name, Mesh *out,
-                                     ImportStats *st, Err *err)
+                                     ImportTexList *tl, ImportStats *st, Err *err)
 {
     ImportStats local;
     if (!st)
@@ -163,13 +166,14 @@ static int import_read_memory_direct(const void *data, size_t len, const char *h
     const struct aiScene *sc = aiImportFileFromMemory(data, (unsigned)len, IMPORT_FLAGS, hint);
     if (!sc)
         return err_set(err, "%s: %s", name, aiGetErrorString());
-    int rc = import_scene(sc, name, strcmp(hint, "stl") == 0, out, st, err);
-    aiReleaseImport(sc);
-    return rc;
+    return import_scene(sc, name, NULL, strcmp(hint, "stl") == 0, out, tl, st, err);
 }
 
-/* The triangles of an imported scene into *out (stats counted). */
-static int import_scene(const struct aiScene *sc, const char *path, int stl, Mesh *out, ImportStats *st, Err *err)
+/* The triangles of an imported scene into *out (stats counted); each
+ * material's texture is an index into *tl.  `model`: the file's path, where
+ * textures named by a relative path are looked for (NULL: none). */
+static int import_scene(const struct aiScene *sc, const char *path, const char *model, int stl, Mesh *out,
+                        ImportTexList *tl, ImportStats *st, Err *err)
 {
     int has_n = 0, has_t = 0, has_c = 0;
     unsigned long faces = 0;
@@ -205,8 +209,11 @@ static int import_scene(const struct aiScene *sc, const char *path, int stl, Mes
         rc = mesh_init(out, (has_n ? MESH_NORMALS : 0u) | (has_t ? MESH_UVS : 0u) | (has_m ? MESH_MATERIALS : 0u) |
                                 (has_c ? MESH_COLOURS : 0u),
                        err);
-    for (unsigned i = 0; rc == 0 && has_m && i < sc->mNumMaterials; i++)
-        rc = mesh_add_material(out, import_material(sc->mMaterials[i]), err);
+    for (unsigned i = 0; rc == 0 && has_m && i < sc->mNumMaterials; i++) {
+        Material mt = import_material(sc->mMaterials[i]);
+        mt.texture = has_t ? import_tex_find(sc, sc->mMaterials[i], model, tl) : -1;
+        rc = mesh_add_material(out, mt, err);
+    }
     for (unsigned i = 0; rc == 0 && i < sc->mNumMeshes; i++) {
         const struct aiMesh *am = sc->mMeshes[i];
         st->meshes++;
@@ -293,7 +300,7 @@ static int import_scene(const struct aiScene *sc, const char *path, int stl, Mes
  * answer, is an error naming the file. */
 #define IMPORT_MAX_REPLY ((size_t)4 << 30)
 
-static void send_mesh(int fd, int rc, const Mesh *m, const ImportStats *st, const Err *err)
+static void send_mesh(int fd, int rc, const Mesh *m, const ImportTexList *tl, const ImportStats *st, const Err *err)
 {
     Sink o = {0};
     sink_u32(&o, (uint32_t)(rc == 0));
@@ -313,6 +320,7 @@ static void send_mesh(int fd, int rc, const Mesh *m, const ImportStats *st, cons
         if (m->col)
             sink_put(&o, m->col, (size_t)m->tri_count * 3 * sizeof *m->col);
         sink_put(&o, m->materials, (size_t)m->material_count * sizeof *m->materials);
+        import_tex_send(&o, tl);
     }
     const uint8_t *p = o.data;
     size_t left = o.failed ? 0 : o.len;
@@ -327,7 +335,8 @@ static void send_mesh(int fd, int rc, const Mesh *m, const ImportStats *st, cons
     sink_free(&o);
 }
 
-static int receive_mesh(const uint8_t *data, size_t len, const char *name, Mesh *out, ImportStats *st, Err *err)
+static int receive_mesh(const uint8_t *data, size_t len, const char *name, const ObjOptions *opt, Mesh *out,
+                        ImportStats *st, Err *err)
 {
     Cursor c = cursor_make(data, len);
     uint32_t ok = cursor_u32(&c);
@@ -351,10 +360,24 @@ static int receive_mesh(const uint8_t *data, size_t len, const char *name, Mesh 
     size_t need = (size_t)n * (3 * sizeof(vec3) + (has_n ? 3 * sizeof(vec3) : 0) + (has_t ? 6 * sizeof(real) : 0) +
                                (has_m ? sizeof(uint32_t) : 0) + (has_c ? 3 * sizeof(vec3) : 0)) +
                   (size_t)nmat * sizeof(Material);
-    if (need != c.left)
+    if (need > c.left)
         return err_set(err, "%s: the importer's answer is cut short", name);
     if (mesh_init(out, attrs, err))
         return -1;
+    /* the textures after the materials: decoded first, so that the
+     * materials can name them */
+    Cursor tc = cursor_make(c.p + need, c.left - need);
+    int32_t *map = malloc(IMPORT_TEX_MAX * sizeof *map);
+    uint32_t ntex = 0;
+    if (!map || import_tex_receive(&tc, name, opt, &st->warnings, &st->missing_textures, out, map, &ntex, err) ||
+        (tc.left != 0 && err_set(err, "%s: the importer's answer has %zu bytes too many", name, tc.left))) {
+        if (!map)
+            err_set(err, "%s: out of memory", name);
+        free(map);
+        mesh_free(out);
+        return -1;
+    }
+    st->textures = out->texture_count;
     /* triangles one by one through mesh_add, which owns the arrays' growth */
     const uint8_t *pos = c.p, *nrm = pos + (size_t)n * 3 * sizeof(vec3);
     const uint8_t *uv = nrm + (has_n ? (size_t)n * 3 * sizeof(vec3) : 0);
@@ -364,12 +387,19 @@ static int receive_mesh(const uint8_t *data, size_t len, const char *name, Mesh 
     for (uint32_t i = 0; i < nmat; i++) {
         Material mt;
         memcpy(&mt, mats + (size_t)i * sizeof mt, sizeof mt);
-        mt.texture = -1;
+        if (mt.texture < -1 || mt.texture >= (int32_t)ntex) {
+            free(map);
+            mesh_free(out);
+            return err_set(err, "%s: the importer's answer is implausible (material %u's texture)", name, i);
+        }
+        mt.texture = mt.texture < 0 ? -1 : map[mt.texture];
         if (mesh_add_material(out, mt, err)) {
+            free(map);
             mesh_free(out);
             return -1;
         }
     }
+    free(map);
     for (uint32_t i = 0; i < n; i++) {
         vec3 p[3], q[3], k[3];
         real u[6];
@@ -420,7 +450,7 @@ static void child_defaults(void)
         __sanitizer_set_death_callback(child_die);
 }
 
-static int isolated(const Job *job, const char *name, Mesh *out, ImportStats *st, Err *err)
+static int isolated(const Job *job, const char *name, const ObjOptions *opt, Mesh *out, ImportStats *st, Err *err)
 {
     memset(out, 0, sizeof *out);
     memset(st, 0, sizeof *st);
@@ -438,10 +468,11 @@ static int isolated(const Job *job, const char *name, Mesh *out, ImportStats *st
         child_defaults();
         Mesh m;
         ImportStats cs;
+        ImportTexList tl = {0};
         Err cerr = {{0}};
-        int rc = job->path ? import_read_direct(job->path, &m, &cs, &cerr)
-                           : import_read_memory_direct(job->data, job->len, job->hint, name, &m, &cs, &cerr);
-        send_mesh(fds[1], rc, &m, &cs, &cerr);
+        int rc = job->path ? import_read_direct(job->path, &m, &tl, &cs, &cerr)
+                           : import_read_memory_direct(job->data, job->len, job->hint, name, &m, &tl, &cs, &cerr);
+        send_mesh(fds[1], rc, &m, &tl, &cs, &cerr);
         _exit(0);
     }
     close(fds[1]);
@@ -477,7 +508,7 @@ static int isolated(const Job *job, const char *name, Mesh *out, ImportStats *st
         rc = err_set(err, "%s: the importer (Assimp) failed on this file (exit %d): it is malformed", name,
                      WIFEXITED(status) ? WEXITSTATUS(status) : -1);
     if (rc == 0)
-        rc = receive_mesh(buf, len, name, out, st, err);
+        rc = receive_mesh(buf, len, name, opt, out, st, err);
     free(buf);
     return rc;
 }
@@ -505,7 +536,7 @@ int import_read(const char *path, const ObjOptions *opt, Mesh *out, ImportStats 
         memset(out, 0, sizeof *out);
         return err_set(err, "%s: not a format the importer reads (PLY, STL, glTF, ...)", path);
     }
-    if (isolated(&job, path, out, st, err))
+    if (isolated(&job, path, opt, out, st, err))
         return -1;
     return import_warnings(opt, path, out, st, err);
 }
@@ -517,7 +548,7 @@ int import_read_memory(const void *data, size_t len, const char *hint, const cha
     Job job = {NULL, data, len, hint};
     if (!st)
         st = &local;
-    if (isolated(&job, name, out, st, err))
+    if (isolated(&job, name, opt, out, st, err))
         return -1;
     return import_warnings(opt, name, out, st, err);
 }

@@ -7,7 +7,9 @@
  * and counted.  Normals and texture coordinates come along where the file
  * has them, except STL's facet normals (STL has no other kind: such a model
  * is flat, and its geometric normals are the ones lanray computes), and
- * each material's diffuse and specular colour and shininess.  Vertex
+ * each material's diffuse and specular colour and shininess, and its
+ * diffuse (glTF: base colour) texture, embedded in the file or beside it
+ * (import_texture.h: a texture that cannot be read is a warning).  Vertex
  * colours (the first set) are kept where the file has no materials, as the
  * OBJ reader keeps them; otherwise they are dropped and counted.
  *
@@ -25,6 +27,8 @@ typedef struct {
     unsigned long meshes, triangles, degenerate, points, lines, vertices;
     unsigned long coloured; /* vertices with a colour */
     int colours_ignored; /* the file had vertex colours and materials: the materials win (a warning) */
+    unsigned long textures;         /* textures the materials use, read */
+    unsigned long missing_textures; /* textures that could not be read (a warning each) */
     unsigned long warnings;
 } ImportStats;
 

@@ -22,6 +22,7 @@
  * the same bits on every machine, as the pixels of a farm must be. */
 #include <math.h>
 
+#include "base/srgb.h"
 #include "model/texture.h"
 
 #define ANISO_MAX 16
@@ -38,13 +39,14 @@ static inline real wrap01(real u)
 /* Clamps a coordinate into [0,1]; NaN maps to 0. */
 static inline real clamp01(real u) { return u > R(0) ? (u < R(1) ? u : R(1)) : R(0); }
 
-/* A texel index along a side of n: wrapped, or clamped to the edge. */
+/* A texel index along a side of n, from -1 to n (a coordinate in [0, 1]
+ * less half a texel, and the texel after it): wrapped, or clamped to the
+ * edge.  No division: it showed in the profile of a textured floor. */
 static inline uint32_t address(const Texture *t, int64_t i, uint32_t n)
 {
     if (t->clamp)
         return i < 0 ? 0 : i >= (int64_t)n ? n - 1 : (uint32_t)i;
-    int64_t m = i % (int64_t)n;
-    return (uint32_t)(m < 0 ? m + (int64_t)n : m);
+    return i < 0 ? n - 1 : i >= (int64_t)n ? 0 : (uint32_t)i;
 }
 
 /* The weight of the second of two texels at fraction a between their
@@ -58,9 +60,16 @@ static inline real sharpen(real a, real s)
     return w < R(0) ? R(0) : w > R(1) ? R(1) : w;
 }
 
+/* Texel (x, y) of level L in linear light. */
+static inline vec3 texel(const TextureLevel *L, uint32_t x, uint32_t y)
+{
+    const uint8_t *p = &L->rgb[3 * ((size_t)y * L->w + x)];
+    return v3(srgb_decode8[p[0]], srgb_decode8[p[1]], srgb_decode8[p[2]]);
+}
+
 /* Bilinear at level l; (u, v) wrapped or clamped already, v = 0 at the
  * top; sx, sy: a closest texture's footprint in this level's texels. */
-static vec3 bilinear(const Texture *t, uint32_t l, real u, real v, real sx, real sy)
+static inline vec3 bilinear(const Texture *t, uint32_t l, real u, real v, real sx, real sy)
 {
     const TextureLevel *L = &t->level[l];
     real fx = u * (real)L->w - R(0.5), fy = v * (real)L->h - R(0.5);
@@ -73,8 +82,8 @@ static vec3 bilinear(const Texture *t, uint32_t l, real u, real v, real sx, real
     int64_t x0 = (int64_t)x0f, y0 = (int64_t)y0f;
     uint32_t xa = address(t, x0, L->w), xb = address(t, x0 + 1, L->w);
     uint32_t ya = address(t, y0, L->h), yb = address(t, y0 + 1, L->h);
-    vec3 top = v3_lerp(texture_texel(t, l, xa, ya), texture_texel(t, l, xb, ya), ax);
-    vec3 bot = v3_lerp(texture_texel(t, l, xa, yb), texture_texel(t, l, xb, yb), ax);
+    vec3 top = v3_lerp(texel(L, xa, ya), texel(L, xb, ya), ax);
+    vec3 bot = v3_lerp(texel(L, xa, yb), texel(L, xb, yb), ax);
     return v3_lerp(top, bot, ay);
 }
 
@@ -100,7 +109,7 @@ static real lod_log2(real x)
 
 /* One trilinear lookup at level of detail lambda; (sx, sy): the
  * footprint's extent along u and v in texels of level 0 (closest). */
-static vec3 trilinear(const Texture *t, real u, real v, real lambda, real sx, real sy)
+static inline vec3 trilinear(const Texture *t, real u, real v, real lambda, real sx, real sy)
 {
     place(t, &u, &v);
     if (!(lambda > R(0)))
@@ -117,7 +126,7 @@ static vec3 nearest(const Texture *t, real u, real v)
 {
     place(t, &u, &v);
     uint32_t x = (uint32_t)(u * (real)t->w), y = (uint32_t)(v * (real)t->h);
-    return texture_texel(t, 0, x < t->w ? x : t->w - 1, y < t->h ? y : t->h - 1);
+    return texel(&t->level[0], x < t->w ? x : t->w - 1, y < t->h ? y : t->h - 1);
 }
 
 vec3 texture_sample(const Texture *t, real u, real v, const TexFootprint *fp, TextureFilter filter)

@@ -14,8 +14,10 @@ enum { PLANE_MAPPED = 1 };
  * orthographic width, or the fisheye's field of view), a pinhole's aperture
  * and focus distance and the lens samples follow.  WIRE_EXPOSURE: the
  * exposure in stops (f64) follows.  WIRE_HDR: the frame is high dynamic
- * range, its pixels RGBE (4 bytes, DATA packets included); nothing follows. */
-enum { WIRE_OPTICS = 1, WIRE_CAMERA = 2, WIRE_EXPOSURE = 4, WIRE_HDR = 8 };
+ * range, its pixels RGBE (4 bytes, DATA packets included); nothing follows.
+ * WIRE_PRODUCT: the sampled effects multiply (settings sampling product);
+ * nothing follows. */
+enum { WIRE_OPTICS = 1, WIRE_CAMERA = 2, WIRE_EXPOSURE = 4, WIRE_HDR = 8, WIRE_PRODUCT = 16 };
 enum { MAT_REFLECT = 1, MAT_DIELECTRIC = 2, MAT_EMIT = 4 };
 
 static uint32_t material_optics(const Material *m)
@@ -64,6 +66,8 @@ int wire_encode_scene(const Scene *s, const Asset *model_assets, const Asset *te
         extras |= WIRE_EXPOSURE;
     if (rs->hdr)
         extras |= WIRE_HDR;
+    if (rs->sampling == SAMPLING_PRODUCT)
+        extras |= WIRE_PRODUCT;
     sink_u32(o, extras);
     if (extras & WIRE_EXPOSURE)
         put_f64(o, rs->exposure);
@@ -80,6 +84,7 @@ int wire_encode_scene(const Scene *s, const Asset *model_assets, const Asset *te
         sink_u32(o, (uint32_t)rs->fresnel);
         sink_u32(o, (uint32_t)rs->glass_shadows);
         sink_u32(o, (uint32_t)rs->rough_samples);
+        sink_u32(o, (uint32_t)rs->depth_limit);
     }
     uint32_t counts[8] = {s->texture_count, s->material_count, s->sphere_count, s->plane_count,
                           s->tri_count,     s->model_count,    s->instance_count, s->light_count};
@@ -212,7 +217,7 @@ int wire_decode_scene(const void *data, size_t len, const AssetCache *cache, Sce
     s->camera = camera_from_angles(pos, yaw, pitch, roll, zoom);
     s->ambient = get_vec(&c);
     s->background = get_vec(&c);
-    uint32_t set[6], n[8], extras = 0, optics[4] = {0, 0, 0, 1}, lens_samples = 1;
+    uint32_t set[6], n[8], extras = 0, optics[5] = {0, 0, 0, 0, 0}, lens_samples = 0;
     real cutoff = R(0), aperture = R(0), focus = R(0), exposure = R(0);
     cursor_get(&c, set, sizeof set);
     extras = cursor_u32(&c);
@@ -233,6 +238,7 @@ int wire_decode_scene(const void *data, size_t len, const AssetCache *cache, Sce
         optics[1] = cursor_u32(&c);
         optics[2] = cursor_u32(&c);
         optics[3] = cursor_u32(&c);
+        optics[4] = cursor_u32(&c);
     }
     cursor_get(&c, n, sizeof n);
     const char *bad = NULL;
@@ -247,14 +253,14 @@ int wire_decode_scene(const void *data, size_t len, const AssetCache *cache, Sce
     else if (set[0] < 1 || set[0] > AA_MAX || set[1] > 1 || set[2] > SHADE_DIFFUSE || set[3] > 1 || set[4] >= FILTER_COUNT ||
              set[5] > 1)
         bad = "invalid settings";
-    else if (extras & ~(uint32_t)(WIRE_OPTICS | WIRE_CAMERA | WIRE_EXPOSURE | WIRE_HDR))
+    else if (extras & ~(uint32_t)(WIRE_OPTICS | WIRE_CAMERA | WIRE_EXPOSURE | WIRE_HDR | WIRE_PRODUCT))
         bad = "unknown extras";
     else if (cam_kind > CAMERA_FISHEYE || ((extras & WIRE_CAMERA) && cam_kind == CAMERA_PINHOLE && !(aperture > R(0))))
         bad = "invalid camera kind";
-    else if (lens_samples < 1 || lens_samples > SCENE_MAX_SAMPLES || optics[3] < 1 || optics[3] > SCENE_MAX_SAMPLES)
+    else if (lens_samples > SCENE_MAX_SAMPLES || optics[3] > SCENE_MAX_SAMPLES)
         bad = "invalid sample counts";
     else if (optics[0] > SCENE_MAX_DEPTH || !(cutoff >= R(0) && cutoff < R(1)) || optics[1] > FRESNEL_SCHLICK ||
-             optics[2] > 1)
+             optics[2] > 1 || optics[4] >= LIMIT_COUNT)
         bad = "invalid secondary-ray settings";
     if (!bad) {
         s->camera.kind = (CameraKind)cam_kind;
@@ -273,12 +279,14 @@ int wire_decode_scene(const void *data, size_t len, const AssetCache *cache, Sce
         rs->linear = (int)set[5];
         rs->exposure = exposure;
         rs->hdr = (extras & WIRE_HDR) != 0;
+        rs->sampling = extras & WIRE_PRODUCT ? SAMPLING_PRODUCT : SAMPLING_BUDGET;
         if (extras & WIRE_OPTICS) {
             rs->depth = (int)optics[0];
             rs->cutoff = cutoff;
             rs->fresnel = (FresnelModel)optics[1];
             rs->glass_shadows = (int)optics[2];
             rs->rough_samples = (int)optics[3];
+            rs->depth_limit = (DepthLimit)optics[4];
         }
         if (extras & WIRE_CAMERA)
             rs->lens_samples = (int)lens_samples;

@@ -14,8 +14,10 @@
 #include "scene/scene.h"
 
 #define WIRE_MAGIC 0x4353524cu /* "LRSC" */
-#define WIRE_VERSION 3u /* 2: the output encoding (linear or sRGB), a plane's texture mapping;
-                         * 3: the extras word, reflection, refraction and emission */
+#define WIRE_VERSION 4u /* 2: the output encoding (linear or sRGB), a plane's texture mapping;
+                         * 3: the extras word, reflection, refraction and emission;
+                         * 4: texture filters trilinear and anisotropic, the sampling
+                         * (extras 16), what a ray cut at the depth limit returns */
 
 /* Serialises s, prepared (what it sends follows the features scene_prepare
  * derives); model_assets[i] / texture_assets[i] are the assets of

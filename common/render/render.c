@@ -121,20 +121,41 @@ typedef struct {
 
 static int cancelled(const Frame *f) { return f->cancel && atomic_load_explicit(f->cancel, memory_order_relaxed); }
 
-/* The random keys of n sample positions, where the scene draws random
- * numbers (area lights, rough mirrors, a lens), else NULL. */
-static const uint32_t *sample_seeds(const Frame *f, const real *xs, const real *ys, int n, uint32_t *seeds)
+/* n <= TRACE_PACKET sample positions: where they are in the image, which
+ * of their pixel's `per_pixel` positions each is (pos, NULL: the first),
+ * and the step to the next position (their footprint: 1 for one sample a
+ * pixel, 1/N for N x N). */
+typedef struct {
+    const real *xs, *ys;
+    const uint32_t *pos;
+    uint32_t per_pixel;
+    real step;
+    int n;
+} Samples;
+
+/* The key of the pixel that holds image position (x, y). */
+static uint32_t pixel_key(real x, real y)
+{
+    return sample_mix(sample_hash((uint32_t)(int64_t)floor(x)), (uint32_t)(int64_t)floor(y));
+}
+
+/* The samples (base/sample.h) of the camera rays at the positions, where
+ * the scene draws random numbers (area lights, rough mirrors, a lens),
+ * else NULL.  Per effect, each position its own key; one budget, the
+ * pixel's key and the position's number among the pixel's. */
+static const SampleId *sample_ids(const Frame *f, const Samples *sm, SampleId *ids)
 {
     if (!scene_uses(f->s, FEAT_AREA | FEAT_ROUGH | FEAT_LENS))
         return NULL;
-    for (int i = 0; i < n; i++)
-        seeds[i] = sample_seed(xs[i], ys[i]);
-    return seeds;
+    for (int i = 0; i < sm->n; i++)
+        ids[i] = f->s->settings.sampling == SAMPLING_PRODUCT
+                     ? (SampleId){sample_seed(sm->xs[i], sm->ys[i]), 0, 1}
+                     : (SampleId){pixel_key(sm->xs[i], sm->ys[i]), sm->pos ? sm->pos[i] : 0, sm->per_pixel};
+    return ids;
 }
 
-/* The differentials of the camera rays through n sample positions, to the
- * positions `step` pixels on (a sample's share of a pixel: 1 for one sample
- * a pixel, 1/N for N x N); NULL where the scene has no textures.  The
+/* The differentials of the camera rays through the positions, to the
+ * positions a step on; NULL where the scene has no textures.  The
  * pinhole's by its formula (also for a lens: the footprint in the plane of
  * focus), an orthographic camera's origin moves, a fisheye's by finite
  * differences (towards the centre where a step leaves its circle). */
@@ -146,6 +167,7 @@ static const RayDiff *camera_diffs(const Frame *f, const real *xs, const real *y
     for (int i = 0; i < n; i++) {
         RayDiff *d = &out[i];
         d->dox = d->doy = d->ddx = d->ddy = v3_splat(0);
+        d->w0 = d->spread = R(0);
         if (c->kind == CAMERA_ORTHO) {
             d->dox = v3_scale(c->u, step);
             d->doy = v3_scale(c->v, step);
@@ -155,7 +177,7 @@ static const RayDiff *camera_diffs(const Frame *f, const real *xs, const real *y
                 continue;
             for (int a = 0; a < 2; a++) {
                 real sx = a == 0 ? step : 0, sy = a == 0 ? 0 : step;
-                real sign = xs[i] * (a == 0) + ys[i] * (a == 1) > (a == 0 ? c->cx : c->cy) ? R(-1) : R(1);
+                real sign = (a == 0 ? xs[i] > c->cx : ys[i] > c->cy) ? R(-1) : R(1);
                 if (camera_ray(c, xs[i] + sign * sx, ys[i] + sign * sy, &o, &d1))
                     *(a == 0 ? &d->ddx : &d->ddy) = v3_scale(v3_sub(d1, d0), sign);
             }
@@ -172,34 +194,57 @@ static const RayDiff *camera_diffs(const Frame *f, const real *xs, const real *y
     return out;
 }
 
-/* A camera with an aperture: lens_samples^2 rays from stratified points of
- * the lens for each sample position, in packets, averaged; a position's key
- * (adaptive sampling) is its first lens ray's. */
-static void sample_packet_lens(const Frame *f, const real *xs, const real *ys, int n, vec3 *out, RayStats *st,
-                               uint64_t *keys, real step)
+/* A camera with an aperture: rays from stratified points of the lens for
+ * each sample position, in packets, averaged; a position's key (adaptive
+ * sampling) is its first lens ray's.  Per effect, lens_samples^2 rays a
+ * position; one budget, the position's share of the lens_samples^2 its
+ * pixel takes (at least one), points of one sequence for the pixel, each
+ * ray a ray of the pixel's count. */
+static void sample_packet_lens(const Frame *f, const Samples *sm, vec3 *out, RayStats *st, uint64_t *keys)
 {
-    const uint32_t k = (uint32_t)f->s->settings.lens_samples, per = k * k;
-    uint32_t seed[TRACE_PACKET], rs[TRACE_PACKET];
-    sample_seeds(f, xs, ys, n, seed);
+    const int product = f->s->settings.sampling == SAMPLING_PRODUCT;
+    const uint32_t k = (uint32_t)settings_lens_samples(&f->s->settings),
+                   per = product ? k * k : sample_share(k * k, sm->per_pixel);
+    /* a lens ray's share of the aperture (a square of the same area) */
+    const real cone_w = R(1.7724538509055159) * f->cam.lens_radius / sqrt((real)(product ? per : per * sm->per_pixel));
+    SampleId id[TRACE_PACKET], rs[TRACE_PACKET];
+    sample_ids(f, sm, id);
     RayDiff pos_diff[TRACE_PACKET], diff[TRACE_PACKET];
-    const RayDiff *pd = camera_diffs(f, xs, ys, n, step, pos_diff);
+    const RayDiff *pd = camera_diffs(f, sm->xs, sm->ys, sm->n, sm->step, pos_diff);
     Ray rays[TRACE_PACKET];
     vec3 col[TRACE_PACKET];
     uint64_t key[TRACE_PACKET];
     int which[TRACE_PACKET], first[TRACE_PACKET], m = 0;
+    const int n = sm->n;
     for (int i = 0; i < n; i++)
         out[i] = v3_splat(0);
     for (int i = 0; i < n; i++) {
-        const uint32_t lens_key = sample_mix(seed[i], 0x4c454e53u); /* "LENS" */
+        const uint32_t lens_key = sample_mix(id[i].key, 0x4c454e53u); /* "LENS" */
+        vec3 focal = v3_splat(0); /* where the position's lens rays meet */
+        if (pd) {
+            vec3 dc = v3_norm(camera_dir(&f->cam, sm->xs[i], sm->ys[i]));
+            focal = v3_madd(f->cam.org, dc, f->cam.focus / v3_dot(dc, f->cam.forward));
+        }
         for (uint32_t j = 0; j < per; j++) {
             real lu, lv;
             vec3 org, dir;
-            sample_stratum(lens_key, j, k, &lu, &lv);
-            camera_lens_ray(&f->cam, xs[i], ys[i], lu, lv, &org, &dir);
+            if (product) {
+                sample_stratum(lens_key, j, k, &lu, &lv);
+                rs[m] = (SampleId){sample_mix(id[i].key, j), 0, 1};
+            } else {
+                rs[m] = (SampleId){id[i].key, id[i].index * per + j, id[i].count * per};
+                sample_sobol2(rs[m].index, lens_key, &lu, &lv);
+            }
+            camera_lens_ray(&f->cam, sm->xs[i], sm->ys[i], lu, lv, &org, &dir);
             ray_set(&rays[m], org, dir, v3(R(1) / dir.x, R(1) / dir.y, R(1) / dir.z), R(0), REAL_INF);
-            rs[m] = sample_mix(seed[i], j);
-            if (pd)
+            if (pd) {
+                /* the cone of the ray's share of the lens: as wide as that
+                 * share's square there, closing to a point at the focus */
                 diff[m] = pd[i];
+                real dist = v3_len(v3_sub(focal, org));
+                diff[m].w0 = cone_w;
+                diff[m].spread = dist > R(0) ? -cone_w / dist : R(0);
+            }
             first[m] = j == 0;
             which[m++] = i;
             if (m == TRACE_PACKET || (i == n - 1 && j == per - 1)) {
@@ -220,22 +265,21 @@ static void sample_packet_lens(const Frame *f, const real *xs, const real *ys, i
 /* The same for an orthographic or fisheye camera: each ray by camera_ray,
  * the ones it has (a fisheye sees nothing outside its circle) traced as one
  * packet, the others the background. */
-static void sample_packet_other(const Frame *f, const real *xs, const real *ys, int n, vec3 *out, RayStats *st,
-                                uint64_t *keys, real step)
+static void sample_packet_other(const Frame *f, const Samples *sm, vec3 *out, RayStats *st, uint64_t *keys)
 {
     Ray rays[TRACE_PACKET];
     vec3 col[TRACE_PACKET];
     uint64_t key[TRACE_PACKET];
-    uint32_t seed[TRACE_PACKET], rs[TRACE_PACKET];
-    const uint32_t *seeds = sample_seeds(f, xs, ys, n, seed);
+    SampleId id[TRACE_PACKET], rs[TRACE_PACKET];
+    const SampleId *ids = sample_ids(f, sm, id);
     RayDiff pos_diff[TRACE_PACKET], diff[TRACE_PACKET];
-    const RayDiff *pd = camera_diffs(f, xs, ys, n, step, pos_diff);
+    const RayDiff *pd = camera_diffs(f, sm->xs, sm->ys, sm->n, sm->step, pos_diff);
     int which[TRACE_PACKET], m = 0;
-    for (int i = 0; i < n; i++) {
+    for (int i = 0; i < sm->n; i++) {
         vec3 org, dir;
-        if (camera_ray(&f->cam, xs[i], ys[i], &org, &dir)) {
+        if (camera_ray(&f->cam, sm->xs[i], sm->ys[i], &org, &dir)) {
             rays[m] = ray_make(org, dir, R(0), REAL_INF);
-            rs[m] = seeds ? seeds[i] : 0;
+            rs[m] = ids ? ids[i] : (SampleId){0, 0, 1};
             if (pd)
                 diff[m] = pd[i];
             which[m++] = i;
@@ -255,30 +299,29 @@ static void sample_packet_other(const Frame *f, const real *xs, const real *ys, 
     }
 }
 
-/* The colours of n <= TRACE_PACKET sample positions, each `step` pixels
- * from the next (its footprint), traced as one packet (shade_packet: each
- * colour is what the ray gives alone). */
-static void sample_packet(const Frame *f, const real *xs, const real *ys, int n, vec3 *out, RayStats *st,
-                          uint64_t *keys, real step)
+/* The colours of the sample positions, traced as one packet (shade_packet:
+ * each colour is what the ray gives alone). */
+static void sample_packet(const Frame *f, const Samples *sm, vec3 *out, RayStats *st, uint64_t *keys)
 {
     if (f->cam.kind != CAMERA_PINHOLE) {
-        sample_packet_other(f, xs, ys, n, out, st, keys, step);
+        sample_packet_other(f, sm, out, st, keys);
         return;
     }
     if (scene_uses(f->s, FEAT_LENS)) {
-        sample_packet_lens(f, xs, ys, n, out, st, keys, step);
+        sample_packet_lens(f, sm, out, st, keys);
         return;
     }
     /* ray_make(org, v3_norm(camera_dir(x, y))) for all eight lanes at once,
      * operation for operation, in arrays the compiler turns into vector
      * code: the square roots and divisions of one ray would otherwise wait
      * on each other */
+    const int n = sm->n;
     real dx[TRACE_PACKET], dy[TRACE_PACKET], dz[TRACE_PACKET], ix[TRACE_PACKET], iy[TRACE_PACKET], iz[TRACE_PACKET];
     real len[TRACE_PACKET]; /* zero: a degenerate camera, done as ray_make does it */
     const CameraFrame *c = &f->cam;
     real px[TRACE_PACKET], py[TRACE_PACKET];
     for (int i = 0; i < TRACE_PACKET; i++)
-        px[i] = xs[i < n ? i : 0], py[i] = ys[i < n ? i : 0];
+        px[i] = sm->xs[i < n ? i : 0], py[i] = sm->ys[i < n ? i : 0];
     const real ux = c->u.x, uy = c->u.y, uz = c->u.z, vx = c->v.x, vy = c->v.y, vz = c->v.z;
     const real kx = c->k.x, ky = c->k.y, kz = c->k.z;
     for (int i = 0; i < TRACE_PACKET; i++) {
@@ -296,9 +339,16 @@ static void sample_packet(const Frame *f, const real *xs, const real *ys, int n,
         else
             rays[i] = ray_make(c->org, v3_norm(camera_dir(c, px[i], py[i])), R(0), REAL_INF);
     }
-    uint32_t seed[TRACE_PACKET];
+    SampleId id[TRACE_PACKET];
     RayDiff diff[TRACE_PACKET];
-    shade_packet(f->s, rays, n, out, st, keys, sample_seeds(f, xs, ys, n, seed), camera_diffs(f, px, py, n, step, diff));
+    shade_packet(f->s, rays, n, out, st, keys, sample_ids(f, sm, id), camera_diffs(f, px, py, n, sm->step, diff));
+}
+
+/* One sample a pixel at each of n positions (their pixels' centres). */
+static Samples centres(const real *xs, const real *ys, int n)
+{
+    Samples sm = {xs, ys, NULL, 1, R(1), n};
+    return sm;
 }
 
 /* n x n sub-samples, in packets, summed in the same order as ever */
@@ -307,14 +357,17 @@ static vec3 sample_grid(const Frame *f, int px, int py, int n, RayStats *st)
     vec3 sum = v3_splat(0);
     real inv = R(1) / (real)n;
     real xs[TRACE_PACKET], ys[TRACE_PACKET];
+    uint32_t pos[TRACE_PACKET];
     vec3 c[TRACE_PACKET];
     int k = 0;
     for (int j = 0; j < n; j++)
         for (int i = 0; i < n; i++) {
             xs[k] = (real)px + ((real)i + R(0.5)) * inv;
-            ys[k++] = (real)py + ((real)j + R(0.5)) * inv;
+            ys[k] = (real)py + ((real)j + R(0.5)) * inv;
+            pos[k++] = (uint32_t)(j * n + i);
             if (k == TRACE_PACKET || (j == n - 1 && i == n - 1)) {
-                sample_packet(f, xs, ys, k, c, st, NULL, inv);
+                Samples sm = {xs, ys, pos, (uint32_t)(n * n), inv, k};
+                sample_packet(f, &sm, c, st, NULL);
                 for (int q = 0; q < k; q++)
                     sum = v3_add(sum, c[q]);
                 k = 0;
@@ -392,7 +445,8 @@ static void job_grid(void *ctx, uint32_t chunk, RayStats *st)
             real xs[TRACE_PACKET], ys[TRACE_PACKET];
             vec3 c[TRACE_PACKET];
             int k = line_packet(g, i1 - i, f->width, xs, ys);
-            sample_packet(f, xs, ys, k, c, st, NULL, R(1));
+            Samples sm = centres(xs, ys, k);
+            sample_packet(f, &sm, c, st, NULL);
             for (int q = 0; q < k; q++)
                 put_pixel(f, &f->pixels[f->bpp * (i + (uint64_t)q)], c[q]);
             i += (uint64_t)k;
@@ -429,7 +483,8 @@ static void job_tiles(void *ctx, uint32_t chunk, RayStats *st)
             xs[q] = (real)(x + q % k) + R(0.5);
             ys[q] = (real)(y + (uint64_t)(q / k)) + R(0.5);
         }
-        sample_packet(f, xs, ys, 2 * k, c, st, NULL, R(1));
+        Samples sm = centres(xs, ys, 2 * k);
+        sample_packet(f, &sm, c, st, NULL);
         for (int q = 0; q < 2 * k; q++)
             put_pixel(f, &f->pixels[f->bpp * ((y + (uint64_t)(q / k)) * w + (uint64_t)(x + q % k) - f->first)], c[q]);
     }
@@ -451,7 +506,8 @@ static void job_keys(void *ctx, uint32_t chunk, RayStats *st)
         int k = line_packet(i, i1 - i, f->width, xs, ys);
         for (int q = 0; q < k; q++)
             ys[q] += (real)f->key_first;
-        sample_packet(f, xs, ys, k, c, st, &f->keys[i], R(1));
+        Samples sm = centres(xs, ys, k);
+        sample_packet(f, &sm, c, st, &f->keys[i]);
         /* kept as written: the contrast test compares what a viewer sees, and
          * a pixel without an edge is this sample */
         for (int q = 0; q < k; q++) {

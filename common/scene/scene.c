@@ -44,9 +44,22 @@ void scene_destroy(Scene *s)
 RenderSettings render_settings_default(void)
 {
     RenderSettings r = {.aa = 1, .shading = SHADE_PHONG, .shadows = 1, .filter = FILTER_ANISOTROPIC, .depth = 5,
-                        .cutoff = R(0.01), .fresnel = FRESNEL_EXACT, .glass_shadows = 1, .rough_samples = 4,
-                        .lens_samples = 4};
+                        .cutoff = R(0.01), .fresnel = FRESNEL_EXACT, .glass_shadows = 1};
     return r;
+}
+
+static const char *const limit_names[LIMIT_COUNT] = {"black", "background", "ambient", "local"};
+
+const char *depth_limit_name(DepthLimit l) { return (unsigned)l < LIMIT_COUNT ? limit_names[l] : "?"; }
+
+int depth_limit_parse(const char *s, DepthLimit *out)
+{
+    for (int i = 0; i < LIMIT_COUNT; i++)
+        if (strcmp(s, limit_names[i]) == 0) {
+            *out = (DepthLimit)i;
+            return 0;
+        }
+    return -1;
 }
 
 #define PUSH(s, arr, count, cap, limit, value, what)                                                   \
@@ -335,7 +348,8 @@ int scene_prepare(Scene *s, Err *err)
     const RenderSettings *rs = &s->settings;
     if (rs->depth < 0 || rs->depth > SCENE_MAX_DEPTH || !(rs->cutoff >= R(0) && rs->cutoff < R(1)) ||
         (rs->fresnel != FRESNEL_EXACT && rs->fresnel != FRESNEL_SCHLICK) || (rs->glass_shadows & ~1) ||
-        rs->rough_samples < 1 || rs->rough_samples > SCENE_MAX_SAMPLES || rs->lens_samples < 1 ||
+        (unsigned)rs->depth_limit >= LIMIT_COUNT || (rs->sampling != SAMPLING_BUDGET && rs->sampling != SAMPLING_PRODUCT) ||
+        rs->rough_samples < 0 || rs->rough_samples > SCENE_MAX_SAMPLES || rs->lens_samples < 0 ||
         rs->lens_samples > SCENE_MAX_SAMPLES || !(rs->exposure >= R(-32) && rs->exposure <= R(32)))
         return err_set(err, "scene: depth %d (0..%d), cutoff (0 up to 1), Fresnel model, glass shadows, samples (1..%d) "
                        "or exposure (-32..32) out of range", rs->depth, SCENE_MAX_DEPTH, SCENE_MAX_SAMPLES);

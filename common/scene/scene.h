@@ -94,6 +94,21 @@ typedef struct {
 
 typedef enum { SHADE_PHONG = 0, SHADE_DIFFUSE = 1 } ShadeModel;
 
+/* How the sampled effects (area lights, a lens, rough mirrors) share a
+ * pixel's samples: one budget (each of the pixel's rays takes its share of
+ * each effect's points, from stratified sequences: costs add), or per
+ * effect (every ray takes all of each effect's points: costs multiply). */
+typedef enum { SAMPLING_BUDGET = 0, SAMPLING_PRODUCT = 1 } Sampling;
+
+/* What a mirror's or a dielectric's ray that the depth limit cuts returns
+ * in place of what it would see: nothing (black), the background, the
+ * ambient light, or the light at the surface where it is cut (what a white
+ * diffuse surface there would show: the ambient plus the lights that reach
+ * it). */
+typedef enum { LIMIT_BLACK = 0, LIMIT_BACKGROUND = 1, LIMIT_AMBIENT = 2, LIMIT_LOCAL = 3, LIMIT_COUNT } DepthLimit;
+const char *depth_limit_name(DepthLimit l);
+int depth_limit_parse(const char *s, DepthLimit *out);
+
 /* Quality knobs: the scene file sets defaults, the command line may override. */
 typedef struct {
     int aa;            /* samples per pixel side: aa*aa per pixel (1..AA_MAX) */
@@ -105,13 +120,16 @@ typedef struct {
     /* secondary rays (reflection, refraction); only a scene with such
      * materials carries these on the wire */
     int depth;         /* bounces after the camera ray (0..SCENE_MAX_DEPTH) */
+    DepthLimit depth_limit; /* what a ray the depth limit cuts returns */
     real cutoff;       /* a ray whose weight (the largest channel of what it
                         * still adds to the pixel) is below this is not traced */
     FresnelModel fresnel;
     int glass_shadows; /* 1: shadow rays pass dielectrics, tinted by their
                         * transmitted colour; 0: dielectrics cast opaque shadows */
-    int rough_samples; /* a rough mirror reflects rough_samples^2 rays */
-    int lens_samples;  /* a camera with an aperture sends lens_samples^2 rays per pixel sample */
+    int rough_samples; /* a rough mirror reflects rough_samples^2 rays (per pixel, or per ray with product); 0: the default */
+    int lens_samples;  /* a camera with an aperture sends lens_samples^2 rays per pixel (budget) or pixel sample
+                        * (product); 0: the default */
+    Sampling sampling;
     real exposure;     /* stops: the 8-bit codes encode light times 2^exposure */
     int hdr;           /* pixels are RGBE, 4 bytes (a .hdr from lanray-render, lanray-server --hdr); not in scene files */
     /* what the scene file asked for, for the programs' defaults; not on the
@@ -187,6 +205,19 @@ static inline int light_is_area(const Light *l) { return l->kind == LIGHT_SPHERE
 static inline int light_has_direction(const Light *l) { return l->kind == LIGHT_SPOT || l->kind == LIGHT_DIRECTIONAL; }
 Instance instance_make(uint32_t model, vec3 translate, vec3 rotate, real scale);
 RenderSettings render_settings_default(void);
+/* The rough mirrors' and the lens's samples a side: the scene's, else the
+ * default of its sampling.  One budget: 6 x 6 rough rays and 3 x 3 lens rays
+ * a pixel, where the lens scene of make tradeoff reached the error of the
+ * per-effect defaults (4 x 4 each per ray) at a fifth of their time; per
+ * effect, those 4 x 4 (docs/tradeoff.md). */
+static inline int settings_rough_samples(const RenderSettings *rs)
+{
+    return rs->rough_samples ? rs->rough_samples : rs->sampling == SAMPLING_PRODUCT ? 4 : 6;
+}
+static inline int settings_lens_samples(const RenderSettings *rs)
+{
+    return rs->lens_samples ? rs->lens_samples : rs->sampling == SAMPLING_PRODUCT ? 4 : 3;
+}
 
 /* Checks references and values, derives transforms, builds the top-level BVH. */
 int scene_prepare(Scene *s, Err *err);

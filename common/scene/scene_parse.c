@@ -14,7 +14,7 @@
 
 #define SCENE_MAX_BYTES ((size_t)256 << 20)
 #define NAME_MAX_LEN 64
-#define MAX_KEYS 16
+#define MAX_KEYS 24
 
 typedef enum { ARG_NUM, ARG_WORD, ARG_FLAG } ArgKind;
 
@@ -243,7 +243,8 @@ static int do_settings(Ctx *c, const Tokens *t)
                                    {"height", ARG_NUM, 1, 0},   {"depth", ARG_NUM, 1, 0},    {"cutoff", ARG_NUM, 1, 0},
                                    {"fresnel", ARG_WORD, 0, 0}, {"glass_shadows", ARG_WORD, 0, 0},
                                    {"rough_samples", ARG_NUM, 1, 0}, {"lens_samples", ARG_NUM, 1, 0},
-                                   {"exposure", ARG_NUM, 1, 0}, {0, 0, 0, 0}};
+                                   {"exposure", ARG_NUM, 1, 0}, {"sampling", ARG_WORD, 0, 0},
+                                   {"depth_limit", ARG_WORD, 0, 0}, {0, 0, 0, 0}};
     KeyVals kv;
     if (read_keys(c, t, 1, "settings", spec, &kv))
         return -1;
@@ -270,9 +271,10 @@ static int do_settings(Ctx *c, const Tokens *t)
     static const struct {
         int key;
         const char *words[2];
-    } choice[] = {{2, {"phong", "diffuse"}}, {3, {"off", "on"}}, {9, {"exact", "schlick"}}, {10, {"opaque", "tinted"}}};
-    int *const dst[] = {(int *)&rs->shading, &rs->shadows, (int *)&rs->fresnel, &rs->glass_shadows};
-    for (int i = 0; i < 4; i++) {
+    } choice[] = {{2, {"phong", "diffuse"}}, {3, {"off", "on"}}, {9, {"exact", "schlick"}}, {10, {"opaque", "tinted"}},
+                  {14, {"budget", "product"}}};
+    int *const dst[] = {(int *)&rs->shading, &rs->shadows, (int *)&rs->fresnel, &rs->glass_shadows, (int *)&rs->sampling};
+    for (int i = 0; i < 5; i++) {
         int k = choice[i].key;
         if (!kv.present[k])
             continue;
@@ -284,6 +286,8 @@ static int do_settings(Ctx *c, const Tokens *t)
     }
     if (kv.present[4] && texture_filter_parse(kv.word[4], &rs->filter))
         return fail(c, "'filter' must be nearest, bilinear, trilinear or anisotropic, not '%s'", kv.word[4]);
+    if (kv.present[15] && depth_limit_parse(kv.word[15], &rs->depth_limit))
+        return fail(c, "'depth_limit' must be black, background, ambient or local, not '%s'", kv.word[15]);
     if (kv.present[7]) {
         real n = kv.num[7][0];
         if (!(n >= 0 && n <= SCENE_MAX_DEPTH && n == floor(n)))

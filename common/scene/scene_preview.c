@@ -29,7 +29,11 @@ int scene_preview(const char *model_path, const BvhOptions *bvh, int rebuild, Sc
         /* a 40 degree lens: the bounding sphere fits the shorter (vertical,
          * at 4:3) side with a margin */
         real fov = R(40), half_v = atan(tan(fov * R(0.5) * REAL_PI / R(180)) * R(0.75));
-        vec3 dir = v3_norm(v3(R(0.55), R(0.4), R(1)));
+        /* three quarters from the front of +z, or, for a model longer
+         * along z than along x (a cow or a car walking along z), from the
+         * side: seen along its length it was a narrow view of its back */
+        vec3 ext = v3_sub(b.max, b.min);
+        vec3 dir = v3_norm(ext.z > ext.x ? v3(R(1), R(0.4), R(0.55)) : v3(R(0.55), R(0.4), R(1)));
         vec3 eye = v3_madd(c, dir, r * R(1.1) / sin(half_v));
         if (camera_look_at(&s->camera, eye, c, 0, camera_zoom_for_fov(fov)))
             rc = err_set(err, "%s: cannot frame the model", model_path);

@@ -30,15 +30,10 @@
 #include "base/sample.h"
 #include "geom/raydiff.h"
 
-/* Point j of the samples^2 stratified points of area light l, as seen
- * from p (key: the ray's, mixed with the bounce and the light); *scale
- * gets the point's share of the light: 1 / samples^2, and for a rectangle
- * the cosine at its surface (it emits like a Lambertian panel, both sides). */
-static vec3 area_point(const Light *l, vec3 p, uint32_t key, uint32_t j, real *scale)
+/* The point (u, v) of the unit square on area light l, as seen from p: a
+ * rectangle's point, or a sphere's on the disc it shows p. */
+static vec3 area_point(const Light *l, vec3 p, real u, real v)
 {
-    real u, v;
-    sample_stratum(key, j, (uint32_t)l->samples, &u, &v);
-    *scale = R(1) / (real)(l->samples * l->samples);
     if (l->kind == LIGHT_RECT)
         return v3_add(l->pos, v3_add(v3_scale(l->edge1, u), v3_scale(l->edge2, v)));
     /* a sphere: its disc facing p (what p sees of it), by the concentric map */
@@ -49,10 +44,33 @@ static vec3 area_point(const Light *l, vec3 p, uint32_t key, uint32_t j, real *s
     return v3_add(l->pos, v3_scale(v3_add(v3_scale(a, x), v3_scale(b, y)), l->radius));
 }
 
+/* Area light li's point j for a ray (id: its sample, mixed with the
+ * bounce) into (u, v), and the point's share of the light; 0 where the ray
+ * takes fewer points.  Per effect (settings sampling product): j of the
+ * light's samples^2 stratified points, each ray its own.  One budget (the
+ * default): j of the ray's share of the samples^2 points its pixel takes
+ * (base/sample.h). */
+static inline int area_sample(const Scene *s, const Light *l, uint32_t li, const SampleId *id, uint32_t j, real *u,
+                              real *v, real *share)
+{
+    const uint32_t k = (uint32_t)(l->samples * l->samples), key = sample_mix(id->key, 0x4c000000u + li);
+    if (s->settings.sampling == SAMPLING_PRODUCT) {
+        sample_stratum(key, j, (uint32_t)l->samples, u, v);
+        *share = R(1) / (real)k;
+        return 1;
+    }
+    const uint32_t m = sample_share(k, id->count);
+    if (j >= m)
+        return 0;
+    sample_sobol2(id->index * m + j, key, u, v);
+    *share = R(1) / (real)m;
+    return 1;
+}
+
 /* Light arriving at p from light l, number li (for an area light, from
- * its point j, drawn with the ray's key): unit direction towards the
- * light, distance, radiance. */
-static inline __attribute__((always_inline)) int light_at(const Scene *s, const Light *l, vec3 p, uint32_t key,
+ * its point j for the ray's sample id): unit direction towards the light,
+ * distance, radiance. */
+static inline __attribute__((always_inline)) int light_at(const Scene *s, const Light *l, vec3 p, const SampleId *id,
                                                          uint32_t li, uint32_t j, vec3 *dir, real *dist,
                                                          vec3 *radiance, const int optional)
 {
@@ -63,8 +81,10 @@ static inline __attribute__((always_inline)) int light_at(const Scene *s, const 
     } else {
         vec3 pos = l->pos;
         if (optional && scene_uses(s, FEAT_AREA) && light_is_area(l)) {
-            real share;
-            pos = area_point(l, p, sample_mix(key, 0x4c000000u + li), j, &share);
+            real u, v, share;
+            if (!area_sample(s, l, li, id, j, &u, &v, &share))
+                return 0;
+            pos = area_point(l, p, u, v);
             scale *= share;
         }
         vec3 d = v3_sub(pos, p);
@@ -99,11 +119,13 @@ typedef struct {
     vec3 kd, col, view, origin;
     int phong;
     uint32_t lit;
-    uint32_t key; /* the ray's random key, mixed with its bounce */
+    SampleId id; /* the ray's sample, its key mixed with its bounce */
     /* a scene with textures: the ray's differentials, its footprint on the
      * surface and how the shading normal changes across it (raydiff.h) */
     const RayDiff *rd;
+    real t; /* the hit's distance, where the ray's cone goes on from */
     vec3 dpdx, dpdy, dndx, dndy;
+    vec3 irr; /* settings depth_limit local: the ambient and the light that reaches the point */
 } Shading;
 
 /* Light l's contribution to ray sh, already known to reach it. */
@@ -124,13 +146,16 @@ static inline __attribute__((always_inline)) void shade_start(const Scene *s, co
     trace_surface(s, r, hit, &sh->sf);
     const Material *m = sh->sf.mat;
     sh->kd = optional && scene_uses(s, FEAT_COLOURS) && sh->sf.has_colour ? sh->sf.colour : m->kd;
-    sh->rd = optional ? rd : NULL;
+    const int textured = optional && scene_uses(s, FEAT_TEXTURES) && sh->sf.tex && sh->sf.has_uv;
+    /* the footprint where a texture reads it or a mirror's or glass's rays carry it on */
+    sh->rd = optional && (textured || material_reflects(m) || material_dielectric(m)) ? rd : NULL;
+    sh->t = hit->t;
     TexFootprint fp;
     if (sh->rd) {
         raydiff_at(rd, r->dir, hit->t, sh->sf.ng, &sh->dpdx, &sh->dpdy);
         trace_surface_change(s, hit, &sh->sf, sh->dpdx, sh->dpdy, &fp, &sh->dndx, &sh->dndy);
     }
-    if (optional && scene_uses(s, FEAT_TEXTURES) && sh->sf.tex && sh->sf.has_uv)
+    if (textured)
         sh->kd = v3_mul(sh->kd, texture_sample(sh->sf.tex, sh->sf.u, sh->sf.v, sh->rd ? &fp : NULL, s->settings.filter));
     sh->col = v3_mul(s->ambient, sh->kd);
     sh->view = v3_neg(v3_norm(r->dir));
@@ -140,7 +165,8 @@ static inline __attribute__((always_inline)) void shade_start(const Scene *s, co
                                      * point lifted onto the curved surface (trace_terminator_point) */
         sh->origin = trace_offset_origin(sh->sf.ps, sh->sf.ng, sh->sf.ps_err);
     sh->lit = 0;
-    sh->key = 0;
+    sh->id = (SampleId){0, 0, 1};
+    sh->irr = s->ambient;
 }
 
 /* Shadow rays through dielectrics: at most this many surfaces crossed. */
@@ -184,17 +210,25 @@ static vec3 transmittance(const Scene *s, const Ray *sr, real tmax, const Light 
 }
 
 static void shade_rays(const Scene *s, const Ray *rays, int n, vec3 *out, RayStats *stats, uint64_t *keys,
-                       const uint32_t *seeds, const RayDiff *diffs, int depth, vec3 weight);
+                       const SampleId *ids, const RayDiff *diffs, int depth, vec3 weight);
 
 /* The colour seen along a secondary ray from org in unit direction d
- * (seed: its random key; rd: its differentials, or NULL). */
-static vec3 shade_secondary(const Scene *s, vec3 org, vec3 d, uint32_t seed, const RayDiff *rd, int depth, vec3 weight,
+ * (id: its sample; rd: its differentials, or NULL). */
+static vec3 shade_secondary(const Scene *s, vec3 org, vec3 d, SampleId id, const RayDiff *rd, int depth, vec3 weight,
                             RayStats *stats)
 {
     Ray r = ray_make(org, d, R(0), REAL_INF);
     vec3 c;
     stats->secondary++;
-    shade_rays(s, &r, 1, &c, stats, NULL, &seed, rd, depth, weight);
+    shade_rays(s, &r, 1, &c, stats, NULL, &id, rd, depth, weight);
+    return c;
+}
+
+/* A mirrored or refracted ray's sample: the same ray of its pixel, its key
+ * mixed with which it is (1 reflected, 2 refracted). */
+static SampleId follow(const SampleId *id, uint32_t which)
+{
+    SampleId c = {sample_mix(id->key, which), id->index, id->count};
     return c;
 }
 
@@ -204,32 +238,61 @@ static const RayDiff *reflected_diff(const Shading *sh, vec3 d, RayDiff *out)
     if (!sh->rd)
         return NULL;
     *out = raydiff_reflect(sh->rd, d, sh->sf.ns, sh->dndx, sh->dndy, sh->dpdx, sh->dpdy);
+    raydiff_carry(out, sh->rd, sh->t);
     return out;
 }
 
-/* A rough mirror: rough_samples^2 rays about the mirror direction r, each
- * bent by a stratified point of a sphere of radius `roughness` (a ray bent
- * into the surface is mirrored back out of it), each carrying its share. */
+/* A rough mirror: rays about the mirror direction r, each bent by a
+ * stratified point of a sphere of radius `roughness` (a ray bent into the
+ * surface is mirrored back out of it), each carrying its share.  Per
+ * effect: rough_samples^2 rays; one budget: the ray's share of the
+ * rough_samples^2 its pixel takes, each a ray of the pixel's count at the
+ * next bounce (base/sample.h). */
 static vec3 rough_reflection(const Scene *s, const Shading *sh, vec3 front, vec3 r, int depth, vec3 weight,
                              RayStats *stats)
 {
     const Surface *sf = &sh->sf;
     const Material *m = sf->mat;
-    uint32_t k = (uint32_t)s->settings.rough_samples, n = k * k;
+    const int product = s->settings.sampling == SAMPLING_PRODUCT;
+    uint32_t k = (uint32_t)settings_rough_samples(&s->settings), n = product ? k * k : sample_share(k * k, sh->id.count);
     real share = R(1) / (real)n;
     vec3 w = v3_scale(v3_mul(weight, m->kr), share), sum = v3_splat(0);
-    uint32_t key = sample_mix(sh->key, 0x52000000u);
-    RayDiff rd; /* the mirror's: the lobe's rays spread the footprint more, which is not followed */
+    uint32_t key = sample_mix(sh->id.key, 0x52000000u);
+    RayDiff rd; /* the mirror's, its cone widened by each ray's share of the lobe */
     const RayDiff *rdp = reflected_diff(sh, v3_neg(sh->view), &rd);
+    if (rdp)
+        raydiff_lobe(&rd, sh->rd, sh->t, m->roughness, product ? n : sh->id.count * n);
+    /* the rays leave one point into one lobe: traced as packets, each
+     * colour what the ray gives alone, summed in order */
+    Ray rays[TRACE_PACKET];
+    SampleId child[TRACE_PACKET];
+    RayDiff diff[TRACE_PACKET];
+    vec3 col[TRACE_PACKET];
+    uint32_t q = 0;
     for (uint32_t j = 0; j < n; j++) {
         real u, v;
-        sample_stratum(key, j, k, &u, &v);
+        if (product) {
+            sample_stratum(key, j, k, &u, &v);
+            child[q] = (SampleId){sample_mix(key, j), 0, 1};
+        } else {
+            child[q] = (SampleId){key, sh->id.index * n + j, sh->id.count * n};
+            sample_sobol2(child[q].index, key, &u, &v);
+        }
         real z = R(1) - R(2) * u, phi = R(2) * REAL_PI * v, rr = sqrt(real_max(R(0), R(1) - z * z));
         vec3 d = v3_norm(v3_madd(r, v3(rr * cos(phi), rr * sin(phi), z), m->roughness));
         real below = v3_dot(d, sf->ng);
         if (below <= R(0))
             d = v3_norm(v3_madd(d, sf->ng, R(-2) * below));
-        sum = v3_add(sum, shade_secondary(s, front, d, sample_mix(key, j), rdp, depth + 1, w, stats));
+        rays[q] = ray_make(front, d, R(0), REAL_INF);
+        if (rdp)
+            diff[q] = *rdp;
+        if (++q == TRACE_PACKET || j == n - 1) {
+            stats->secondary += q;
+            shade_rays(s, rays, (int)q, col, stats, NULL, child, rdp ? diff : NULL, depth + 1, w);
+            for (uint32_t i = 0; i < q; i++)
+                sum = v3_add(sum, col[i]);
+            q = 0;
+        }
     }
     return v3_mul(m->kr, v3_scale(sum, share));
 }
@@ -261,7 +324,22 @@ static vec3 shade_beyond(const Scene *s, real t, const Shading *sh, int depth, v
         col = v3_add(col, m->ke);
     const int reflects = scene_uses(s, FEAT_REFLECT) && material_reflects(m);
     const int refracts = scene_uses(s, FEAT_REFRACT) && material_dielectric(m);
-    if (depth < s->settings.depth && (reflects || refracts)) {
+    if (depth >= s->settings.depth && (reflects || refracts) && s->settings.depth_limit != LIMIT_BLACK) {
+        /* cut by the depth limit: what the untraced rays would carry, an
+         * estimate of what they see times their weight */
+        const DepthLimit lim = s->settings.depth_limit;
+        vec3 seen = lim == LIMIT_BACKGROUND ? s->background : lim == LIMIT_AMBIENT ? s->ambient : sh->irr;
+        if (reflects) {
+            col = v3_add(col, v3_mul(m->kr, seen));
+        } else {
+            vec3 d = v3_neg(sh->view), td;
+            real eta = sf->inside ? m->ior : R(1) / m->ior;
+            real f = optics_fresnel(s->settings.fresnel, real_max(R(0), -v3_dot(d, sf->ns)), eta);
+            if (f >= R(1) || !optics_refract(d, sf->ns, eta, &td) || !(v3_dot(td, sf->ng) < R(0)))
+                f = R(1);
+            col = v3_add(col, v3_mul(seen, v3_add(v3_splat(f), v3_scale(m->kt, R(1) - f))));
+        }
+    } else if (depth < s->settings.depth && (reflects || refracts)) {
         vec3 d = v3_neg(sh->view);
         /* a reflected ray leaves on the side the ray came from, a refracted one on the other */
         vec3 front = trace_offset_origin(sf->p, sf->ng, sf->err);
@@ -274,7 +352,7 @@ static vec3 shade_beyond(const Scene *s, real t, const Shading *sh, int depth, v
             else if (scene_uses(s, FEAT_ROUGH) && m->roughness > R(0))
                 col = v3_add(col, rough_reflection(s, sh, front, reflected(d, sf), depth, weight, stats));
             else
-                col = v3_add(col, v3_mul(m->kr, shade_secondary(s, front, reflected(d, sf), sample_mix(sh->key, 1), rdp,
+                col = v3_add(col, v3_mul(m->kr, shade_secondary(s, front, reflected(d, sf), follow(&sh->id, 1), rdp,
                                                                 depth + 1, w, stats)));
         } else {
             real eta = sf->inside ? m->ior : R(1) / m->ior;
@@ -287,7 +365,7 @@ static vec3 shade_beyond(const Scene *s, real t, const Shading *sh, int depth, v
                 f = R(1);
             vec3 wr = v3_scale(weight, f);
             if (worth_tracing(s, wr))
-                col = v3_add(col, v3_scale(shade_secondary(s, front, reflected(d, sf), sample_mix(sh->key, 1), rdp,
+                col = v3_add(col, v3_scale(shade_secondary(s, front, reflected(d, sf), follow(&sh->id, 1), rdp,
                                                            depth + 1, wr, stats),
                                            f));
             vec3 kt = v3_scale(m->kt, R(1) - f);
@@ -297,9 +375,10 @@ static vec3 shade_beyond(const Scene *s, real t, const Shading *sh, int depth, v
                 const RayDiff *tdp = NULL;
                 if (sh->rd) {
                     trd = raydiff_refract(sh->rd, d, sf->ns, eta, sh->dndx, sh->dndy, sh->dpdx, sh->dpdy);
+                    raydiff_carry(&trd, sh->rd, sh->t);
                     tdp = &trd;
                 }
-                col = v3_add(col, v3_mul(kt, shade_secondary(s, back, v3_norm(td), sample_mix(sh->key, 2), tdp, depth + 1,
+                col = v3_add(col, v3_mul(kt, shade_secondary(s, back, v3_norm(td), follow(&sh->id, 2), tdp, depth + 1,
                                                              wt, stats)));
             }
         }
@@ -318,6 +397,8 @@ static inline __attribute__((always_inline)) void light_pass(const Scene *s, Sha
 {
     const int shadows = scene_has(s, FEAT_SHADOWS);
     const int glass_shadows = optional && scene_uses(s, FEAT_REFRACT) && s->settings.glass_shadows;
+    /* the light at the point, for a ray the depth limit cuts there */
+    const int track = optional && scene_uses(s, FEAT_REFLECT | FEAT_REFRACT) && s->settings.depth_limit == LIMIT_LOCAL;
     const Light *l = &s->lights[li];
     Ray sr[TRACE_PACKET];
     real tmax[TRACE_PACKET];
@@ -327,7 +408,7 @@ static inline __attribute__((always_inline)) void light_pass(const Scene *s, Sha
     for (int k = 0; k < nl; k++) {
         Shading *h = &sh[live[k]];
         real dist;
-        if (!light_at(s, l, h->sf.p, h->key, li, j, &L[m], &dist, &rad[m], optional))
+        if (!light_at(s, l, h->sf.p, &h->id, li, j, &L[m], &dist, &rad[m], optional))
             continue;
         /* The shading normal decides.  On a flat surface it is the
          * geometric one, so a light behind the surface is skipped.  On a
@@ -343,6 +424,8 @@ static inline __attribute__((always_inline)) void light_pass(const Scene *s, Sha
             continue;
         if (!shadows) {
             add_light(h, L[m], rad[m], ndotl[m], li);
+            if (track)
+                h->irr = v3_madd(h->irr, rad[m], ndotl[m]);
             continue;
         }
         /* stop just short of the light so that it does not shadow itself */
@@ -356,26 +439,28 @@ static inline __attribute__((always_inline)) void light_pass(const Scene *s, Sha
     uint32_t blocked =
         m == 1 ? (uint32_t)trace_occluded(s, &sr[0], tmax[0], l) : trace_occluded_packet(s, sr, m, tmax, l);
     for (int k = 0; k < m; k++) {
-        if (!(blocked >> k & 1)) {
-            add_light(&sh[who[k]], L[k], rad[k], ndotl[k], li);
-        } else if (glass_shadows) {
-            vec3 T = transmittance(s, &sr[k], tmax[k], l, stats);
-            if (v3_max_comp(T) > R(0))
-                add_light(&sh[who[k]], L[k], v3_mul(rad[k], T), ndotl[k], li);
+        vec3 got = rad[k];
+        if (blocked >> k & 1) {
+            got = glass_shadows ? v3_mul(rad[k], transmittance(s, &sr[k], tmax[k], l, stats)) : v3_splat(0);
+            if (!(v3_max_comp(got) > R(0)))
+                continue;
         }
+        add_light(&sh[who[k]], L[k], got, ndotl[k], li);
+        if (track)
+            sh[who[k]].irr = v3_madd(sh[who[k]].irr, got, ndotl[k]);
     }
 }
 
 void shade_packet(const Scene *s, const Ray *rays, int n, vec3 *out, RayStats *stats, uint64_t *keys,
-                  const uint32_t *seeds, const RayDiff *diffs)
+                  const SampleId *ids, const RayDiff *diffs)
 {
-    shade_rays(s, rays, n, out, stats, keys, seeds, diffs, 0, v3_splat(R(1)));
+    shade_rays(s, rays, n, out, stats, keys, ids, diffs, 0, v3_splat(R(1)));
 }
 
 /* shade_rays' body; `optional` (a constant in each copy) lets in the paths
  * of the features a scene may use beyond point lights, shadows and Phong. */
 static inline __attribute__((always_inline)) void shade_rays_at(const Scene *s, const Ray *rays, int n, vec3 *out,
-                                                                RayStats *stats, uint64_t *keys, const uint32_t *seeds,
+                                                                RayStats *stats, uint64_t *keys, const SampleId *ids,
                                                                 const RayDiff *diffs, int depth, vec3 weight,
                                                                 const int optional)
 {
@@ -406,12 +491,23 @@ static inline __attribute__((always_inline)) void shade_rays_at(const Scene *s, 
     /* a random key only where something draws from it (hashing every ray's
      * showed in the instruction count of scenes without) */
     if (optional && scene_uses(s, FEAT_AREA | FEAT_ROUGH))
-        for (int k = 0; k < nl; k++)
-            sh[live[k]].key = sample_mix(seeds ? seeds[live[k]] : 0u, (uint32_t)depth);
+        for (int k = 0; k < nl; k++) {
+            const SampleId id = ids ? ids[live[k]] : (SampleId){0, 0, 1};
+            sh[live[k]].id = (SampleId){sample_mix(id.key, (uint32_t)depth), id.index, id.count};
+        }
     for (uint32_t li = 0; li < s->light_count; li++) {
         const Light *l = &s->lights[li];
-        uint32_t points =
-            optional && scene_uses(s, FEAT_AREA) && light_is_area(l) ? (uint32_t)(l->samples * l->samples) : 1u;
+        uint32_t points = 1;
+        if (optional && scene_uses(s, FEAT_AREA) && light_is_area(l)) {
+            /* per effect, every ray all of the light's points; one budget,
+             * each ray its share (the most of the packet's rays) */
+            const uint32_t k = (uint32_t)(l->samples * l->samples);
+            points = s->settings.sampling == SAMPLING_PRODUCT ? k : 0;
+            for (int q = 0; q < nl && points < k; q++) {
+                uint32_t m = sample_share(k, sh[live[q]].id.count);
+                points = m > points ? m : points;
+            }
+        }
         for (uint32_t j = 0; j < points; j++)
             light_pass(s, sh, live, nl, li, j, stats, optional);
     }
@@ -433,12 +529,12 @@ static inline __attribute__((always_inline)) void shade_rays_at(const Scene *s, 
                         FEAT_EMIT | FEAT_AREA | FEAT_ROUGH)
 
 static void shade_rays(const Scene *s, const Ray *rays, int n, vec3 *out, RayStats *stats, uint64_t *keys,
-                       const uint32_t *seeds, const RayDiff *diffs, int depth, vec3 weight)
+                       const SampleId *ids, const RayDiff *diffs, int depth, vec3 weight)
 {
     if (scene_uses(s, SHADE_OPTIONAL))
-        shade_rays_at(s, rays, n, out, stats, keys, seeds, diffs, depth, weight, 1);
+        shade_rays_at(s, rays, n, out, stats, keys, ids, diffs, depth, weight, 1);
     else
-        shade_rays_at(s, rays, n, out, stats, keys, seeds, NULL, depth, weight, 0);
+        shade_rays_at(s, rays, n, out, stats, keys, ids, NULL, depth, weight, 0);
 }
 
 vec3 shade_ray(const Scene *s, const Ray *r, RayStats *stats, uint64_t *key)

@@ -6,6 +6,7 @@
 
 #include <stdint.h>
 
+#include "base/sample.h"
 #include "geom/raydiff.h"
 #include "scene/trace.h"
 
@@ -28,13 +29,14 @@ static inline void ray_stats_add(RayStats *to, RayStats st)
 vec3 shade_ray(const Scene *s, const Ray *r, RayStats *stats, uint64_t *key);
 /* n <= TRACE_PACKET rays at once, camera rays and shadow rays traced as
  * packets: out[i] (and keys[i], when keys is not NULL) is what shade_ray
- * gives for rays[i], to the bit.  seeds[i] is ray i's random key
- * (sample_seed of its pixel sample), from which area lights, rough mirrors
- * and lenses draw; NULL: all 0, which a scene without them may pass.
+ * gives for rays[i], to the bit.  ids[i] is ray i's sample (base/sample.h:
+ * its pixel's key, and which of its pixel's rays it is), from which area
+ * lights and rough mirrors draw; NULL: all key 0, ray 0 of 1, which a scene
+ * without them may pass.
  * diffs[i] are ray i's differentials, from which textures are filtered
  * over the sample's footprint (also after mirrors and glass); NULL: each
  * texture is read at one point of its image. */
 void shade_packet(const Scene *s, const Ray *rays, int n, vec3 *out, RayStats *stats, uint64_t *keys,
-                  const uint32_t *seeds, const RayDiff *diffs);
+                  const SampleId *ids, const RayDiff *diffs);
 
 #endif

@@ -408,15 +408,16 @@ static inline __attribute__((always_inline)) void surface_at(const Scene *s, con
         /* r * n carries the normalisation's error; adding the centre rounds once more */
         out->err = real_gamma(6) * sp->radius + real_gamma(2) * real_max(v3_max_comp(v3_abs(sp->centre)), v3_max_comp(v3_abs(out->p)));
         out->ns = out->ng;
-        if (optional && scene_uses(s, FEAT_TEXTURES)) {
+        out->mat = &s->materials[sp->material];
+        if (optional && scene_uses(s, FEAT_TEXTURES) && out->mat->texture >= 0) {
             /* spherical mapping: u the longitude from +z towards +x, v the
-             * latitude from the bottom pole (0) to the top (1) */
+             * latitude from the bottom pole (0) to the top (1); only for a
+             * textured material (the arc functions showed in the profile) */
             vec3 n = out->ng;
             out->u = R(0.5) + atan2(n.x, n.z) / (R(2) * REAL_PI);
             out->v = R(0.5) + asin(real_clamp(n.y, R(-1), R(1))) / REAL_PI;
             out->has_uv = 1;
         }
-        out->mat = &s->materials[sp->material];
         out->object = h->index;
         break;
     }
@@ -427,13 +428,13 @@ static inline __attribute__((always_inline)) void surface_at(const Scene *s, con
         out->p = v3_madd(p, pl->unit, v3_dot(v3_sub(pl->point, p), pl->unit));
         out->err = real_gamma(4) * real_max(v3_max_comp(v3_abs(out->p)), v3_max_comp(v3_abs(pl->point)));
         out->ng = out->ns = pl->unit;
-        if (optional && scene_uses(s, FEAT_TEXTURES)) {
+        out->mat = &s->materials[pl->material];
+        if (optional && scene_uses(s, FEAT_TEXTURES) && out->mat->texture >= 0) {
             vec3 d = v3_sub(out->p, pl->point);
             out->u = v3_dot(d, pl->tu);
             out->v = v3_dot(d, pl->tv);
             out->has_uv = 1;
         }
-        out->mat = &s->materials[pl->material];
         out->object = s->sphere_count + h->index;
         break;
     }

@@ -69,11 +69,14 @@ kill -TERM "$server_pid"; wait "$server_pid"; rc=$?
 [ $rc -eq 0 ] || fail "a server with no --frames stopped by SIGTERM exited $rc"
 
 # 5. lanray-render checks the output before rendering: a frame that would take minutes fails at once
+# (an image format lanray does not write is a bad command line, 2; a
+# directory that is not there is an error of the run, 1)
 for o in "$dir/out.jpg" "$dir/missing/dir/out.png"; do
     t0=$(date +%s%N)
     err=$("$BIN/lanray-render" --width 8000 --height 8000 --aa 16 -o "$o" 2>&1); rc=$?
     ms=$((($(date +%s%N) - t0) / 1000000))
-    [ $rc -eq 1 ] || fail "-o $o exited $rc"
+    case $o in *.jpg) want=2 ;; *) want=1 ;; esac
+    [ $rc -eq $want ] || fail "-o $o exited $rc, not $want"
     grep -q "Mrays/s" <<<"$err" && fail "-o $o rendered before failing: $err"
     [ $ms -lt 20000 ] || fail "-o $o took $ms ms to fail"
 done
@@ -92,6 +95,10 @@ for o in "$dir/cube.obj" "$dir/link.obj" "$dir/./cube.obj"; do
     grep -q "is the input file" <<<"$err" || fail "same-file message: $err"
 done
 [ "$(md5sum <"$dir/cube.obj")" = "$sum" ] || fail "obj2tmd changed its input"
+# an output that is not a .tmd: a command-line error, nothing written
+err=$("$BIN/obj2tmd" "$dir/cube.obj" "$dir/out.xyz" 2>&1); rc=$?
+[ $rc -eq 2 ] && grep -q "out.xyz: the output is a .tmd file" <<<"$err" || fail "obj2tmd to out.xyz: exit $rc, $err"
+[ -e "$dir/out.xyz" ] && fail "obj2tmd wrote out.xyz"
 
 # 7. frames too large for memory: a server refuses with what it needs; lanray-render renders in bands
 # (address-space limits are the test's lever; the sanitizers reserve terabytes of it, so not there)
@@ -105,6 +112,9 @@ fi
 "$BIN/lanray-render" --width 300 --height 200 --aa adaptive -o "$dir/whole.png" --quiet >/dev/null || fail "whole frame"
 "$BIN/lanray-render" --width 300 --height 200 --aa adaptive --band 7 --repeat 2 -o "$dir/bands.png" --quiet >/dev/null || fail "bands"
 grep -q "^max difference 0," <<<"$("$BIN/lanray-imgdiff" "$dir/whole.png" "$dir/bands.png")" || fail "bands differ from the whole frame"
+# lanray-imgdiff reads what lanray writes besides PNG: the same frame as a PPM compares equal
+"$BIN/lanray-render" --width 300 --height 200 --aa adaptive -o "$dir/whole.ppm" --quiet >/dev/null || fail "whole frame as PPM"
+grep -q "^max difference 0," <<<"$("$BIN/lanray-imgdiff" "$dir/whole.png" "$dir/whole.ppm" 2>&1)" || fail "imgdiff PNG against PPM"
 if [ $sanitized = 0 ]; then
     # a 113 MB frame under a 90 MB limit: refused whole, written in bands of 16 lines
     printf 'camera position 0 0 5 lookat 0 0 0\nsettings aa 1\nlight point position 0 5 5\nsphere centre 0 0 0 radius 0.1\n' >"$dir/tiny.scene"
@@ -117,6 +127,20 @@ if [ $sanitized = 0 ]; then
     rm -f "$dir/big.ppm"
 fi
 
+# interrupted (SIGINT, SIGTERM, SIGHUP) while it writes, lanray-render
+# leaves no temporary file behind, and ends by the signal
+for sig in INT TERM HUP; do
+    mkdir -p "$dir/sig"
+    "$BIN/lanray-render" --width 6000 --height 6000 --threads 1 -o "$dir/sig/big.png" --quiet >/dev/null 2>&1 &
+    p=$!
+    for _ in $(seq 100); do ls "$dir"/sig/big.png.tmp.* >/dev/null 2>&1 && break; sleep 0.05; done
+    ls "$dir"/sig/big.png.tmp.* >/dev/null 2>&1 || fail "no temporary file while rendering"
+    kill -$sig $p
+    wait $p 2>/dev/null; rc=$?
+    [ -z "$(ls -A "$dir/sig")" ] || fail "SIG$sig left $(ls "$dir/sig")"
+    [ $rc -gt 128 ] || fail "lanray-render ended with $rc after SIG$sig"
+done
+
 # 8. --out creates its directories; --listen localhost is loopback; IPv6
 start_server nested --port 0 --width 32 --height 24 --frames 1 --out "$dir/a/b/c"
 "$BIN/lanray-client" "127.0.0.1:$port" --threads 1 --once --quiet 2>/dev/null
@@ -128,12 +152,51 @@ wait "$server_pid" || fail "--listen localhost without a token should be loopbac
 if python3 -c 'import socket; s=socket.socket(socket.AF_INET6); s.bind(("::1", 0))' 2>/dev/null; then
     start_server v6 --port 0 --listen ::1 --width 32 --height 24 --frames 1 --out "$dir/v6"
     grep -q "listening on \[::1\]:$port" "$dir/v6.log" || fail "IPv6 listening line: $(cat "$dir/v6.log")"
-    "$BIN/lanray-client" "[::1]:$port" --threads 1 --once --quiet 2>"$dir/v6c.err" || fail "IPv6 client: $(cat "$dir/v6c.err")"
+    "$BIN/lanray-client" "[::1]:$port" --threads 1 --once 2>"$dir/v6c.err" || fail "IPv6 client: $(cat "$dir/v6c.err")"
+    grep -q "connected to \[::1\]:$port with 1 threads" "$dir/v6c.err" || fail "IPv6 client's line: $(cat "$dir/v6c.err")"
     wait "$server_pid" || fail "IPv6 server"
     [ -e "$dir/v6/frame-00001.png" ] || fail "no frame over IPv6"
 else
     echo "cli: no IPv6 loopback here; IPv6 not tested"
 fi
+
+# a client's back-off starts again at 0.1 s after a session that worked:
+# a server for one frame, a gap while its port is closed (0.1, 0.2, 0.4
+# ... s), a second server for one frame on the same port, then 0.1 s again
+start_server one --port 0 --width 32 --height 24 --frames 1 --out "$dir/b1"
+"$BIN/lanray-client" "127.0.0.1:$port" --threads 1 2>"$dir/backoff.err" & bc=$!
+pids+=($bc)
+wait "$server_pid"
+sleep 1.6
+start_server two --port "$port" --width 32 --height 24 --frames 1 --out "$dir/b2"
+wait "$server_pid"
+for _ in $(seq 40); do [ "$(grep -c "reconnecting in 0.1 s" "$dir/backoff.err")" -ge 2 ] && break; sleep 0.05; done
+kill $bc 2>/dev/null; wait $bc 2>/dev/null
+[ "$(grep -c "connected to 127.0.0.1:$port" "$dir/backoff.err")" -eq 2 ] || fail "back-off: two sessions: $(cat "$dir/backoff.err")"
+[ "$(grep -c "reconnecting in 0.1 s" "$dir/backoff.err")" -ge 2 ] || fail "back-off not reset after a session: $(cat "$dir/backoff.err")"
+# a server that cannot listen (its port taken) leaves no --out directory
+start_server taken --port 0 --width 32 --height 24
+err=$("$BIN/lanray-server" --headless --port "$port" --width 32 --height 24 --frames 1 --out "$dir/never" 2>&1); rc=$?
+[ $rc -eq 1 ] || fail "a server on a taken port exited $rc: $err"
+[ -e "$dir/never" ] && fail "a server that could not listen created its --out directory"
+kill "$server_pid"; wait "$server_pid" 2>/dev/null
+# --verify against a reference made with lanray-render's defaults says why it may differ
+"$BIN/lanray-render" --width 32 --height 24 -o "$dir/vref.png" --quiet >/dev/null 2>&1 || fail "verify reference"
+start_server vfy --port 0 --width 32 --height 24 --frames 1 --verify "$dir/vref.png" --out "$dir/vf"
+"$BIN/lanray-client" "127.0.0.1:$port" --threads 1 --once --quiet 2>/dev/null
+wait "$server_pid"; rc=$?
+[ $rc -eq 3 ] && grep -q "pixels differ from $dir/vref.png (is it the server's picture? it renders --aa 1, and lanray-render adaptive:4" \
+    "$dir/vfy.err" || fail "--verify hint (exit $rc): $(cat "$dir/vfy.err")"
+# a client killed mid-run: the summary says how many were there at the most and at the end
+start_server gone --port 0 --width 320 --height 240 --frames 6 --wait-clients 2 --out "$dir/gone"
+"$BIN/lanray-client" "127.0.0.1:$port" --threads 1 --once --quiet 2>/dev/null & keep=$!
+"$BIN/lanray-client" "127.0.0.1:$port" --threads 1 --quiet 2>/dev/null & victim=$!
+pids+=($keep $victim)
+for _ in $(seq 200); do [ -e "$dir/gone/frame-00002.png" ] && break; sleep 0.05; done
+kill -9 $victim
+wait "$server_pid" || fail "server with a killed client: $(cat "$dir/gone.err")"
+grep -q "^6 frames in [0-9.]* s: [0-9.]* fps with up to 2 clients, 1 at the end, 1 gone" "$dir/gone.log" ||
+    fail "summary after a client was killed: $(cat "$dir/gone.log")"
 
 # 9. progress: on a terminal only, off with --quiet; the headless server says at most a line a second
 # (each render must outlast the second before a progress line: the default
@@ -206,6 +269,27 @@ ok = 0.1 < share < 0.8 and min(xs) > 0 and max(xs) < w - 1 and min(ys) > 0 and m
 print("preview covers %.0f%%, x %d..%d, y %d..%d" % (100 * share, min(xs), max(xs), min(ys), max(ys)))
 sys.exit(0 if ok else 1)
 PY
+
+# a model longer along z than x is previewed from its side: its picture is wider than tall
+python3 -c "
+v = [(x, y, z) for z in (-2, 2) for y in (0, 1) for x in (-0.5, 0.5)]
+f = [(1,2,4,3),(5,7,8,6),(1,5,6,2),(3,4,8,7),(1,3,7,5),(2,6,8,4)]
+open('$dir/long.obj', 'w').write(''.join('v %g %g %g\\n' % p for p in v) + ''.join('f %d %d %d %d\\n' % q for q in f))"
+"$BIN/lanray-render" "$dir/long.obj" --width 80 --height 60 --aa 1 -o "$dir/long.ppm" --quiet >/dev/null 2>&1 || fail "long preview"
+python3 - "$dir/long.ppm" <<'PY' || fail "a long model is not previewed from its side"
+import sys
+d = open(sys.argv[1], "rb").read()
+w, h = 80, 60
+px = d[len(d) - w * h * 3:]
+bg = px[0:3]
+fg = [(i % w, i // w) for i in range(w * h) if px[3 * i:3 * i + 3] != bg]
+xs, ys = [x for x, _ in fg], [y for _, y in fg]
+sys.exit(0 if (max(xs) - min(xs)) > 1.5 * (max(ys) - min(ys)) else 1)
+PY
+printf 'v -0.5 0 -2\nv 0.5 0 -2\nv 0.5 1 -2\n' >"$dir/tri.obj"
+printf 'f 1 2 3\n' >>"$dir/tri.obj"
+"$BIN/obj2tmd" "$dir/tri.obj" "$dir/tri.tmd" | grep -q "bounds x -0.5..0.5, y 0..1, z -2..-2 (size 1 x 1 x 0)" ||
+    fail "obj2tmd prints no bounds: $("$BIN/obj2tmd" "$dir/tri.obj" "$dir/tri.tmd")"
 
 # 13. the demo's log reads in order: the listening line before the first join, the table at the end
 out=$(DISPLAY= WAYLAND_DISPLAY= FRAMES=2 OUT="$dir/demo" BIN="$BIN" bash tools/demo 2>&1) || fail "demo: $out"

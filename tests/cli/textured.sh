@@ -9,6 +9,7 @@
 # and a flipped bit with one that names corruption.  A model with a
 # 1024 x 1024 texture makes a .tmd at most 1.5 times the OBJ, MTL and image
 # together, for an incompressible PNG (3 MB) and a well-compressed one.
+# glTF models bring their textures, embedded or beside them.
 set -u
 source tests/tools/server-lib.sh
 D=tests/data/textured
@@ -71,6 +72,43 @@ for kind in noise smooth; do
     tmd=$(stat -c %s "$dir/big-$kind.tmd")
     [ $(( tmd * 2 )) -le $(( src * 3 )) ] || fail "big-$kind: a .tmd of $tmd bytes from $src bytes of OBJ, MTL and PNG"
 done
+# glTF: a GLB with its PNG or JPEG embedded, a glTF with its PNG beside it
+# or as a data URI, all textured as the OBJ is; magFilter NEAREST keeps the
+# texels square; a missing or broken image is a warning naming it (an error
+# with --strict) and leaves the material untextured
+python3 tests/tools/gltftex.py "$dir/gltf" "$D/quadrants.png" "$D/quadrants.jpg" || fail "gltftex.py"
+gltf() { # model, expected quadrants, tolerance
+    "$BIN/obj2tmd" "$dir/gltf/$1" "$dir/quad.tmd" >"$dir/gltf.log" 2>"$dir/gltf.err" || fail "obj2tmd $1: $(cat "$dir/gltf.err")"
+    grep -q "textures 1" "$dir/gltf.log" || fail "$1: no texture in the summary: $(cat "$dir/gltf.log")"
+    [ -s "$dir/gltf.err" ] && fail "$1: warnings: $(cat "$dir/gltf.err")"
+    "$BIN/lanray-render" "$dir/view.scene" --width 64 --height 64 -o "$dir/gltf.png" --quiet >/dev/null 2>&1 || fail "render $1"
+    near "$(px "$dir/gltf.png")" "$2" "$3" || fail "$1: quadrants $(px "$dir/gltf.png"), expected $2"
+}
+gltf quad.gltf "255 0 0|0 255 0|0 0 255|255 255 255|" 0
+gltf quad.glb "255 0 0|0 255 0|0 0 255|255 255 255|" 0
+gltf quad-jpg.glb "255 0 0|0 255 0|0 0 255|255 255 255|" 2
+gltf quad-data.gltf "255 0 0|0 255 0|0 0 255|255 255 255|" 0
+gltf quad.dae "255 0 0|0 255 0|0 0 255|255 255 255|" 0 # COLLADA, through the same importer
+# magnified 4x, a pixel a quarter texel from the red-green edge: blended, or red
+edge() { "$BIN/obj2tmd" "$dir/gltf/$1" "$dir/quad.tmd" >/dev/null 2>&1 &&
+    "$BIN/lanray-render" "$dir/view.scene" --width 256 --height 256 -o "$dir/edge.png" --quiet >/dev/null 2>&1 &&
+    python3 tests/tools/pngpixel.py "$dir/edge.png" 127 64; }
+[ "$(edge quad-nearest.glb)" = "255 0 0" ] || fail "magFilter NEAREST: $(edge quad-nearest.glb) at the edge, expected 255 0 0"
+[ "$(edge quad.glb)" != "255 0 0" ] || fail "a smooth texture is sharp at the edge"
+for bad in quad-missing.gltf:"texture 'nothere.png': not found beside the model" quad-broken.glb:"embedded image 0 (png): png:"; do
+    m=${bad%%:*} why=${bad#*:}
+    "$BIN/obj2tmd" "$dir/gltf/$m" "$dir/quad.tmd" >"$dir/gltf.log" 2>"$dir/gltf.err" || fail "obj2tmd $m: $(cat "$dir/gltf.err")"
+    grep -q "obj2tmd: warning: $dir/gltf/$m: $why.*the material is untextured" "$dir/gltf.err" || fail "$m warning: $(cat "$dir/gltf.err")"
+    grep -q "missing textures 1" "$dir/gltf.log" || fail "$m summary: $(cat "$dir/gltf.log")"
+    "$BIN/obj2tmd" --strict "$dir/gltf/$m" "$dir/strict.tmd" >/dev/null 2>"$dir/gltf.err" && fail "--strict converted $m"
+    grep -q "an error with --strict" "$dir/gltf.err" || fail "$m with --strict: $(cat "$dir/gltf.err")"
+done
+[ -e "$dir/strict.tmd" ] && fail "--strict left a file"
+# a scene that names the GLB itself: converted on load, distributed bit for bit
+sed 's/quad.tmd/gltf\/quad.glb/' "$dir/view.scene" >"$dir/glb.scene"
+"$BIN/lanray-render" "$dir/glb.scene" --width 64 --height 64 -o "$dir/glb-ref.png" --quiet >/dev/null 2>&1 || fail "render glb.scene"
+near "$(px "$dir/glb-ref.png")" "255 0 0|0 255 0|0 0 255|255 255 255|" 0 || fail "glb.scene: quadrants $(px "$dir/glb-ref.png")"
+verify_distributed glb "$dir/glb.scene" "$dir/glb-ref.png" "of the scene naming a GLB"
 # distributed: the textured model through a server and a client, bit for bit
 cp "$dir/quad-png.tmd" "$dir/quad.tmd"
 "$BIN/lanray-render" "$dir/view.scene" --width 64 --height 64 -o "$dir/ref.png" --quiet >/dev/null 2>&1 || fail "reference render"
