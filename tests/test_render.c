@@ -677,6 +677,42 @@ static void lamps_do_not_shadow_their_light(void **state)
     }
 }
 
+/* A glass ray cut by the depth limit returns the chosen estimate times
+ * what the cut rays would carry: nothing, the background, the ambient, or
+ * the light at the point; a mirror the same times its reflectance. */
+static void depth_limit_returns_the_choice(void **state)
+{
+    (void)state;
+    Scene *s = empty_scene();
+    s->background = v3(R(0.5), R(0.6), R(0.7));
+    s->ambient = v3_splat(R(0.2));
+    Material glass = {.ior = R(1.5), .kt = v3(1, 1, 1), .texture = -1};
+    uint32_t mg;
+    assert_int_equal(scene_add_material(s, glass, &mg, NULL), 0);
+    assert_int_equal(scene_add_sphere(s, (Sphere){v3(0, 0, 0), 1, mg}, NULL), 0);
+    assert_int_equal(scene_add_light(s, light_directional(v3(0, 0, -1), v3(1, 1, 1), R(0.5)), NULL), 0);
+    s->settings.depth = 0;
+    s->settings.shadows = 0;
+    const vec3 eye = v3(0, 0, 5);
+    for (int l = 0; l < LIMIT_COUNT; l++) {
+        s->settings.depth_limit = (DepthLimit)l;
+        prepare(s);
+        vec3 c = look(s, eye, v3(0, 0, 0)); /* head on: Fresnel 0.04, the rest transmitted: weight 1 */
+        vec3 want = l == LIMIT_BLACK ? v3_splat(0)
+                    : l == LIMIT_BACKGROUND ? s->background
+                    : l == LIMIT_AMBIENT ? s->ambient
+                                         : v3_splat(R(0.2) + R(0.5)); /* ambient + the light, N.L = 1 */
+        for (int k = 0; k < 3; k++)
+            assert_float_equal(c.e[k], want.e[k], R(1e-4));
+    }
+    /* a mirror: its reflectance times the estimate */
+    s->materials[mg] = (Material){.kr = v3(R(0.5), R(0.5), R(0.5)), .texture = -1};
+    s->settings.depth_limit = LIMIT_BACKGROUND;
+    prepare(s);
+    assert_float_equal(look(s, eye, v3(0, 0, 0)).z, R(0.35), R(1e-4));
+    scene_destroy(s);
+}
+
 static void frame_sizes_and_bad_requests(void **state)
 {
     (void)state;
@@ -713,6 +749,7 @@ int main(void)
         cmocka_unit_test(adaptive_refines_only_edges),
         cmocka_unit_test(adaptive_refines_texture_edges),
         cmocka_unit_test(lamps_do_not_shadow_their_light),
+        cmocka_unit_test(depth_limit_returns_the_choice),
         cmocka_unit_test(frame_sizes_and_bad_requests),
     };
     return cmocka_run_group_tests_name("render", tests, NULL, NULL);

@@ -126,7 +126,7 @@ int main(int argc, char **argv)
     int depth = 5, fresnel = FRESNEL_EXACT, glass = 1, depth_given = 0, cutoff_given = 0, fresnel_given = 0, glass_given = 0;
     double cutoff = 0.01;
     int light_samples = 0, rough_samples = 0, lens_samples = 0, exposure_given = 0;
-    int sampling = SAMPLING_BUDGET, sampling_given = 0, limit = LIMIT_BLACK, limit_given = 0;
+    int sampling = SAMPLING_BUDGET, sampling_given = 0, limit = LIMIT_BACKGROUND, limit_given = 0;
     double exposure = 0;
     CliAa aa = {4, 1, 0};
     const Opt opts[] = {
@@ -159,7 +159,7 @@ int main(int argc, char **argv)
          .help = "a dielectric's reflectance: Fresnel's equations or Schlick's approximation",
          .def = "the scene's, else exact"},
         {.name = "--depth-limit", .kind = OPT_CHOICE, .dst = &limit, .choices = limit_names, .seen = &limit_given,
-         .help = "what a mirror's or glass's ray cut at the depth limit returns", .def = "the scene's, else local"},
+         .help = "what a mirror's or glass's ray cut at the depth limit returns", .def = "the scene's, else background"},
         {.name = "--glass-shadows", .kind = OPT_CHOICE, .dst = &glass, .choices = glass_names, .seen = &glass_given,
          .help = "shadow rays through dielectrics: stopped, or tinted by their colour", .def = "the scene's, else tinted"},
         {.name = "--sampling", .kind = OPT_CHOICE, .dst = &sampling, .choices = sampling_names, .seen = &sampling_given,

@@ -186,7 +186,7 @@ static inline __attribute__((always_inline)) int wide_tris_hit8(const WideTris *
     const __m256 t = T * inv;
     const __m256 vt = _mm256_set1_ps(tmax);
     __m256 ok = _mm256_and_ps(_mm256_cmp_ps(t, _mm256_broadcast_ps(&k->tmin), _CMP_GT_OQ),
-                              _mm256_cmp_ps(t, vt, upto ? _CMP_LE_OQ : _CMP_LT_OQ));
+                              upto ? _mm256_cmp_ps(t, vt, _CMP_LE_OQ) : _mm256_cmp_ps(t, vt, _CMP_LT_OQ));
     ok = _mm256_andnot_ps(_mm256_or_ps(outside, _mm256_cmp_ps(det, zero, _CMP_EQ_OQ)), ok);
     const int mask = _mm256_movemask_ps(ok);
     if (mask && t_out) {

@@ -44,7 +44,8 @@ void scene_destroy(Scene *s)
 RenderSettings render_settings_default(void)
 {
     RenderSettings r = {.aa = 1, .shading = SHADE_PHONG, .shadows = 1, .filter = FILTER_ANISOTROPIC, .depth = 5,
-                        .cutoff = R(0.01), .fresnel = FRESNEL_EXACT, .glass_shadows = 1};
+                        .cutoff = R(0.01), .fresnel = FRESNEL_EXACT, .glass_shadows = 1,
+                        .depth_limit = LIMIT_BACKGROUND};
     return r;
 }
 

@@ -126,4 +126,5 @@ def main():
         out.write(DAE)
 
 
-main()
+if __name__ == "__main__":
+    main()

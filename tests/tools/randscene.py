@@ -9,11 +9,14 @@ spellings of centre/center and colour/color, a byte-order mark): camera
 by lookat or by angles, with zoom or fov (a pinhole, perhaps with aperture and
 focus), ortho or fisheye, and roll; ambient, background; every
 settings key and value (depth, cutoff, fresnel, glass_shadows,
-rough_samples, lens_samples and exposure among them); textures (PPM P3/P6, PGM P2/P5); materials with and without specular
+rough_samples, lens_samples, exposure, the four texture filters, the
+sampling and what the depth limit returns among them); textures (PPM
+P3/P6, PGM P2/P5, PNG, JPEG, smooth or closest); materials with and without specular
 and textures, mirrors (reflect, roughness), dielectrics (ior, transmit,
 absorb) and emission, on any primitive; a model whose MTL gives
-one material a texture (map_Kd with -s and -o) and one with vertex colours
-and no materials; spheres, planes (with and
+one material a texture (map_Kd with -s and -o), one with vertex colours
+and no materials, and a GLB with its texture embedded; lamps (an emissive
+sphere at a light); spheres, planes (with and
 without their texture mapping keys) and triangles (with normals and uv); models from OBJ (with and without smooth, each builder) and from
 .tmd (converted by the caller as DIR/mesh.tmd); instances with transforms and
 material overrides; point, spot, directional, sphere and rect lights with position,
@@ -26,7 +29,11 @@ and through a server with two clients, and compares the frames bit for bit.
 """
 import os
 import random
+import shutil
 import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import gltftex  # noqa: E402  (the textured quad as a GLB)
 
 
 def num(r, lo, hi):
@@ -67,6 +74,12 @@ def write_assets(d):
             f.write(b"P5\n4 4\n255\n" + bytes(rng.randrange(256) for _ in range(16)))
         with open(os.path.join(d, "t2.pgm"), "w") as f:
             f.write("P2\n2 3\n9\n" + " ".join(str(rng.randrange(10)) for _ in range(6)) + "\n")
+    if not os.path.exists(os.path.join(d, "quad.glb")):
+        data = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "data", "textured")
+        shutil.copy(os.path.join(data, "quadrants.png"), os.path.join(d, "tq.png"))
+        shutil.copy(os.path.join(data, "quadrants.jpg"), os.path.join(d, "tq.jpg"))
+        gltftex.write_glb(os.path.join(d, "quad.glb"), open(os.path.join(data, "quadrants.png"), "rb").read(),
+                          "image/png", {"magFilter": 9728} if rng.random() < 0.5 else None)
     if not os.path.exists(os.path.join(d, "mesh.obj")):
         # a bumpy 6x6 grid with texture coordinates, two materials, normals on one half
         n = 6
@@ -143,8 +156,12 @@ def scene(seed):
         st += ["shading", r.choice(["phong", "diffuse"])]
     if r.random() < 0.4:
         st += ["shadows", r.choice(["on", "off"])]
+    if r.random() < 0.5:
+        st += ["filter", r.choice(["nearest", "bilinear", "trilinear", "anisotropic"])]
     if r.random() < 0.4:
-        st += ["filter", r.choice(["nearest", "bilinear"])]
+        st += ["sampling", r.choice(["budget", "product"])]
+    if r.random() < 0.4:
+        st += ["depth_limit", r.choice(["black", "background", "ambient", "local"])]
     if r.random() < 0.3:
         st += ["depth", str(r.choice([0, 1, 2, 5]))]
     if r.random() < 0.3:
@@ -164,7 +181,8 @@ def scene(seed):
     textures = []
     for i in range(r.choice([0, 0, 1, 2])):
         name = "tex%d" % i
-        out.append("texture %s %s" % (name, r.choice(["t6.ppm", "t3.ppm", "t5.pgm", "t2.pgm"])))
+        t = "texture %s %s" % (name, r.choice(["t6.ppm", "t3.ppm", "t5.pgm", "t2.pgm", "tq.png", "tq.jpg"]))
+        out.append(t + r.choice(["", "", " closest", " smooth"]))
         textures.append(name)
     materials = ["default"]
     for i in range(r.randrange(0, 4)):
@@ -214,7 +232,9 @@ def scene(seed):
     models = []
     for i in range(r.choice([0, 0, 1, 2])):
         name = "mod%d" % i
-        if r.random() < 0.2:
+        if r.random() < 0.15:
+            m = ["model", name, "quad.glb"]
+        elif r.random() < 0.2:
             m = ["model", name, "painted.obj"]
             if r.random() < 0.5:
                 m += ["smooth"]
@@ -273,6 +293,11 @@ def scene(seed):
         if r.random() < 0.6:
             l += ["intensity", num(r, 0.1, 3 if "attenuate" not in l else 30)]
         out.append(" ".join(l))
+        if kind in ("point", "sphere") and r.random() < 0.3:  # a lamp: an emissive sphere shows the light
+            at = l[l.index("position") + 1]
+            rad = float(l[l.index("radius") + 1]) if kind == "sphere" else 0.1
+            out.append("material lamp%d emit %s" % (len(out), colour(r, 4)))
+            out.append("sphere centre %s radius %.9g material lamp%d" % (at, rad * r.uniform(0.5, 1.5), len(out) - 1))
     text = "\n".join(out) + "\n"
     # a byte-order mark, as editors on Windows write one
     return ("\ufeff" if r.random() < 0.1 else "") + text
