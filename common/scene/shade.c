@@ -166,7 +166,8 @@ static inline __attribute__((always_inline)) void shade_start(const Scene *s, co
         sh->origin = trace_offset_origin(sh->sf.ps, sh->sf.ng, sh->sf.ps_err);
     sh->lit = 0;
     sh->id = (SampleId){0, 0, 1};
-    sh->irr = s->ambient;
+    if (optional)
+        sh->irr = s->ambient;
 }
 
 /* Shadow rays through dielectrics: at most this many surfaces crossed. */
