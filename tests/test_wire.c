@@ -244,6 +244,19 @@ static void a_models_optics_carry_the_settings(void **state)
 
 /* A high dynamic range frame costs the scene no bytes (a flag of the
  * extras word) and the client renders the same RGBE as lanray-render. */
+/* A 40x30 frame of the server's scene a and of the client's decoded b:
+ * the same bytes (RGB8 or RGBE). */
+static void assert_renders_alike(const Scene *a, const Scene *b)
+{
+    enum { W = 40, H = 30 };
+    static uint8_t pa[W * H * 4], pb[W * H * 4];
+    RenderPool *p = render_pool_create(2, NULL);
+    assert_int_equal(render_lines(p, a, W, H, 0, H, pa, NULL, NULL), 0);
+    assert_int_equal(render_span(p, b, W, H, 0, W * H, pb, NULL, NULL, NULL), 0);
+    assert_memory_equal(pa, pb, (size_t)W * H * render_pixel_bytes(a));
+    render_pool_destroy(p);
+}
+
 /* The sampling, what the depth limit returns and the texture filter
  * travel, and the client renders the server's pixels with them. */
 static void sampling_limit_and_filter_travel(void **state)
@@ -271,13 +284,7 @@ static void sampling_limit_and_filter_travel(void **state)
         assert_int_equal(back->settings.sampling, cases[i].sampling);
         assert_int_equal(back->settings.depth_limit, cases[i].limit);
         assert_int_equal(back->settings.filter, cases[i].filter);
-        enum { W = 40, H = 30 };
-        static uint8_t pa[W * H * 3], pb[W * H * 3];
-        RenderPool *p = render_pool_create(2, NULL);
-        assert_int_equal(render_lines(p, s, W, H, 0, H, pa, NULL, NULL), 0);
-        assert_int_equal(render_span(p, back, W, H, 0, W * H, pb, NULL, NULL, NULL), 0);
-        assert_memory_equal(pa, pb, sizeof pa);
-        render_pool_destroy(p);
+        assert_renders_alike(s, back);
         scene_destroy(back);
         asset_cache_destroy(c);
         free_encoded(s, &e);
@@ -301,13 +308,7 @@ static void hdr_travels_as_a_flag(void **state)
         fail_msg("%s", err.msg);
     assert_int_equal(back->settings.hdr, 1);
     assert_int_equal(render_pixel_bytes(back), 4);
-    enum { W = 40, H = 30 };
-    static uint8_t pa[W * H * 4], pb[W * H * 4];
-    RenderPool *p = render_pool_create(2, NULL);
-    assert_int_equal(render_lines(p, s, W, H, 0, H, pa, NULL, NULL), 0);
-    assert_int_equal(render_span(p, back, W, H, 0, W * H, pb, NULL, NULL, NULL), 0);
-    assert_memory_equal(pa, pb, sizeof pa);
-    render_pool_destroy(p);
+    assert_renders_alike(s, back);
     scene_destroy(back);
     asset_cache_destroy(c);
     free_encoded(s, &e);

@@ -243,3 +243,11 @@ void opt_version(const OptSpec *spec, FILE *f)
 {
     fprintf(f, "%s %s (%s precision)\n", spec->prog, LANRAY_VERSION, REAL_NAME);
 }
+
+int opt_word_index(const char *const *names, int n, const char *s)
+{
+    for (int i = 0; i < n; i++)
+        if (strcmp(s, names[i]) == 0)
+            return i;
+    return -1;
+}

@@ -69,5 +69,8 @@ int opt_run(OptSpec *spec, int argc, char **argv);
 /* Usage, every option with its range and default, the exit statuses. */
 void opt_usage(const OptSpec *spec, FILE *f);
 void opt_version(const OptSpec *spec, FILE *f);
+/* The index of word s among n names, or -1: the enum a keyword stands for
+ * (a scene's settings, a builder's name). */
+int opt_word_index(const char *const *names, int n, const char *s);
 
 #endif

@@ -6,6 +6,7 @@
 #include "base/bigmem.h"
 #include <string.h>
 
+#include "base/opt.h"
 #include "bvh/bvh_build.h"
 
 static const char *const kind_names[BVH_KIND_COUNT] = {"sbt", "mst", "sah"};
@@ -14,12 +15,10 @@ const char *bvh_kind_name(BvhKind k) { return (unsigned)k < BVH_KIND_COUNT ? kin
 
 int bvh_kind_parse(const char *s, BvhKind *out)
 {
-    for (int i = 0; i < BVH_KIND_COUNT; i++)
-        if (strcmp(s, kind_names[i]) == 0) {
-            *out = (BvhKind)i;
-            return 0;
-        }
-    return -1;
+    int i = opt_word_index(kind_names, BVH_KIND_COUNT, s);
+    if (i >= 0)
+        *out = (BvhKind)i;
+    return i >= 0 ? 0 : -1;
 }
 
 BvhOptions bvh_options_default(BvhKind kind)

@@ -14,6 +14,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "base/opt.h"
 #include "base/srgb.h"
 
 /* The levels of a w x h image, and the bytes their texels take. */
@@ -227,10 +228,8 @@ const char *texture_filter_name(TextureFilter f) { return (unsigned)f < FILTER_C
 
 int texture_filter_parse(const char *s, TextureFilter *out)
 {
-    for (int i = 0; i < FILTER_COUNT; i++)
-        if (strcmp(s, filter_names[i]) == 0) {
-            *out = (TextureFilter)i;
-            return 0;
-        }
-    return -1;
+    int i = opt_word_index(filter_names, FILTER_COUNT, s);
+    if (i >= 0)
+        *out = (TextureFilter)i;
+    return i >= 0 ? 0 : -1;
 }

@@ -5,6 +5,7 @@
 #include <string.h>
 
 #include "base/array.h"
+#include "base/opt.h"
 
 Scene *scene_create(void)
 {
@@ -55,12 +56,10 @@ const char *depth_limit_name(DepthLimit l) { return (unsigned)l < LIMIT_COUNT ? 
 
 int depth_limit_parse(const char *s, DepthLimit *out)
 {
-    for (int i = 0; i < LIMIT_COUNT; i++)
-        if (strcmp(s, limit_names[i]) == 0) {
-            *out = (DepthLimit)i;
-            return 0;
-        }
-    return -1;
+    int i = opt_word_index(limit_names, LIMIT_COUNT, s);
+    if (i >= 0)
+        *out = (DepthLimit)i;
+    return i >= 0 ? 0 : -1;
 }
 
 #define PUSH(s, arr, count, cap, limit, value, what)                                                   \

@@ -255,8 +255,10 @@ wait "$server_pid" || fail "plain server"
 grep -q "^max difference 0," <<<"$("$BIN/lanray-imgdiff" "$dir/pl1.png" "$dir/pl/frame-00001.png")" ||
     fail "a server's default is not one sample per pixel"
 # a model alone: a preview with the camera framed on it (all of it in the frame, filling a good part)
-out=$("$BIN/lanray-render" models/cube.obj --width 80 --height 60 --aa 1 -o "$dir/cube.ppm" 2>&1) || fail "preview: $out"
-python3 - "$dir/cube.ppm" <<'PY' || fail "the preview does not frame the model"
+# foreground PPM: the share of an 80x60 preview's pixels that are not the
+# background, and the box they span: "share x0 x1 y0 y1"
+foreground() {
+    python3 - "$1" <<'PY'
 import sys
 d = open(sys.argv[1], "rb").read()
 w, h = 80, 60
@@ -264,11 +266,14 @@ px = d[len(d) - w * h * 3:]
 bg = px[0:3]
 fg = [(i % w, i // w) for i in range(w * h) if px[3 * i:3 * i + 3] != bg]
 xs, ys = [x for x, _ in fg], [y for _, y in fg]
-share = len(fg) / (w * h)
-ok = 0.1 < share < 0.8 and min(xs) > 0 and max(xs) < w - 1 and min(ys) > 0 and max(ys) < h - 1
-print("preview covers %.0f%%, x %d..%d, y %d..%d" % (100 * share, min(xs), max(xs), min(ys), max(ys)))
-sys.exit(0 if ok else 1)
+print("%.3f %d %d %d %d" % (len(fg) / (w * h), min(xs), max(xs), min(ys), max(ys)))
 PY
+}
+out=$("$BIN/lanray-render" models/cube.obj --width 80 --height 60 --aa 1 -o "$dir/cube.ppm" 2>&1) || fail "preview: $out"
+read -r share x0 x1 y0 y1 <<<"$(foreground "$dir/cube.ppm")"
+echo "preview covers $(python3 -c "print(round(100 * $share))")%, x $x0..$x1, y $y0..$y1"
+python3 -c "import sys; sys.exit(0 if 0.1 < $share < 0.8 else 1)" && [ "$x0" -gt 0 ] && [ "$x1" -lt 79 ] && [ "$y0" -gt 0 ] &&
+    [ "$y1" -lt 59 ] || fail "the preview does not frame the model"
 
 # a model longer along z than x is previewed from its side: its picture is wider than tall
 python3 -c "
@@ -276,16 +281,8 @@ v = [(x, y, z) for z in (-2, 2) for y in (0, 1) for x in (-0.5, 0.5)]
 f = [(1,2,4,3),(5,7,8,6),(1,5,6,2),(3,4,8,7),(1,3,7,5),(2,6,8,4)]
 open('$dir/long.obj', 'w').write(''.join('v %g %g %g\\n' % p for p in v) + ''.join('f %d %d %d %d\\n' % q for q in f))"
 "$BIN/lanray-render" "$dir/long.obj" --width 80 --height 60 --aa 1 -o "$dir/long.ppm" --quiet >/dev/null 2>&1 || fail "long preview"
-python3 - "$dir/long.ppm" <<'PY' || fail "a long model is not previewed from its side"
-import sys
-d = open(sys.argv[1], "rb").read()
-w, h = 80, 60
-px = d[len(d) - w * h * 3:]
-bg = px[0:3]
-fg = [(i % w, i // w) for i in range(w * h) if px[3 * i:3 * i + 3] != bg]
-xs, ys = [x for x, _ in fg], [y for _, y in fg]
-sys.exit(0 if (max(xs) - min(xs)) > 1.5 * (max(ys) - min(ys)) else 1)
-PY
+read -r share x0 x1 y0 y1 <<<"$(foreground "$dir/long.ppm")"
+[ $((2 * (x1 - x0))) -gt $((3 * (y1 - y0))) ] || fail "a long model is not previewed from its side: x $x0..$x1, y $y0..$y1"
 printf 'v -0.5 0 -2\nv 0.5 0 -2\nv 0.5 1 -2\n' >"$dir/tri.obj"
 printf 'f 1 2 3\n' >>"$dir/tri.obj"
 "$BIN/obj2tmd" "$dir/tri.obj" "$dir/tri.tmd" | grep -q "bounds x -0.5..0.5, y 0..1, z -2..-2 (size 1 x 1 x 0)" ||

@@ -34,16 +34,11 @@ check_floor() { # scene, what
 }
 check_floor horizon "a checker floor to the horizon"
 # the same floor seen in a mirror wall that fills the frame
-cat >"$dir/mirror.scene" <<'SCENE'
-camera position 0 1 4 lookat 0 0.6 -10 fov 60
-ambient 1 1 1
-background 0.5 0.6 0.8
-texture checker checker.ppm
-material floor diffuse 1 1 1 texture checker
-material mirror reflect 1 1 1
-plane point 0 0 0 normal 0 1 0 material floor uvscale 2
-plane point 0 0 -1 normal 0 0 1 material mirror
-SCENE
+{
+    sed 's/^camera position 0 1 0 /camera position 0 1 4 /' "$dir/horizon.scene"
+    echo "material mirror reflect 1 1 1"
+    echo "plane point 0 0 -1 normal 0 0 1 material mirror"
+} >"$dir/mirror.scene"
 check_floor mirror "the floor in a mirror" 2>&1 | sed 's/^/  /'
 [ "${PIPESTATUS[0]}" = 0 ] || exit 1
 # the checkerboards users copy: the texture line of each, on a quad filling the frame
