@@ -19,6 +19,7 @@
 #include "base/opt.h"
 #include "base/srgb.h"
 #include "render/render.h"
+#include "net/msg.h"
 #include "server.h"
 #include "base/timer.h"
 

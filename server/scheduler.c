@@ -103,6 +103,14 @@ void sched_begin_frame(Sched *s, uint32_t frame)
 
 void sched_set_clients(Sched *s, uint32_t clients) { s->clients = clients ? clients : 1; }
 
+void sched_start_frame(Sched *s, uint32_t frame, uint32_t clients, int auto_size, double work_us, double overhead_us)
+{
+    if (auto_size)
+        sched_set_segment_lines(s, sched_auto_lines(work_us, overhead_us, s->cfg.height, clients));
+    sched_begin_frame(s, frame);
+    sched_set_clients(s, clients);
+}
+
 void sched_set_segment_lines(Sched *s, uint32_t lines) { s->cfg.segment_lines = lines ? lines : 1; }
 
 static int add_assignment(Sched *s, int client, uint32_t rec)
@@ -218,6 +226,14 @@ SchedResult sched_complete(Sched *s, int client, uint32_t frame, Segment seg)
         return SCHED_ACCEPT;
     }
     return SCHED_UNKNOWN;
+}
+
+uint32_t sched_top_up(Sched *s, int client, Segment out[SCHED_IN_FLIGHT])
+{
+    uint32_t n = 0;
+    while (n < SCHED_IN_FLIGHT && sched_held(s, client) < SCHED_IN_FLIGHT && sched_assign(s, client, &out[n]))
+        n++;
+    return n;
 }
 
 void sched_release(Sched *s, int client)

@@ -7,13 +7,16 @@
  * design) or adaptive (segments shrink as the frame runs out, down to parts
  * of a line).  When no new pixels are left, segments still outstanding are
  * handed again to clients that ask, and the first result for a segment wins.
- * The server, the tests and the simulator all drive this module directly. */
+ * The dispatch policy is here too (sched_start_frame, sched_top_up): the
+ * server and the simulator both follow it by calling them.  The server, the
+ * tests and the simulator all drive this module directly; it includes
+ * nothing of the wire (tests/cli/layers.sh checks). */
 #ifndef LANRAY_SCHED_H
 #define LANRAY_SCHED_H
 
 #include <stdint.h>
 
-#include "net/msg.h"
+#include "render/segment.h"
 
 /* Size in pixels of the next segment, given the unassigned pixels left. */
 typedef uint32_t (*SchedTailRule)(uint32_t remaining, uint32_t segment_pixels, uint32_t clients, uint32_t min_pixels);
@@ -52,6 +55,26 @@ Sched *sched_create(const SchedConfig *cfg);
 void sched_destroy(Sched *s);
 /* Starts frame `frame` (all earlier assignments become stale). */
 void sched_begin_frame(Sched *s, uint32_t frame);
+
+/* Segments kept in flight at each client: one rendering and one queued
+ * behind it, so that a client never waits a round trip between two (the
+ * adaptive tail rule's fair share counts on it). */
+#define SCHED_IN_FLIGHT 2
+
+/* The start of a frame, as the server and the simulator do it: with
+ * auto_size, segments sized by sched_auto_lines from the work and the
+ * per-segment overhead measured (or simulated) over the last frame; then
+ * frame `frame` begins on `clients` clients. */
+void sched_start_frame(Sched *s, uint32_t frame, uint32_t clients, int auto_size, double work_us, double overhead_us);
+
+/* Tops the client up to SCHED_IN_FLIGHT segments: assigns what it lacks
+ * (fewer where nothing is left for it) into out, in the order it should
+ * render them, and returns how many.  The policy: a client gets its first
+ * segments with the frame (the update), and after every result from any
+ * client each client is topped up again, so that segments released by a
+ * client that left, or still outstanding at the frame's end, go to the
+ * idle ones. */
+uint32_t sched_top_up(Sched *s, int client, Segment out[SCHED_IN_FLIGHT]);
 /* Changes the segment size from the next frame on (automatic sizing). */
 void sched_set_segment_lines(Sched *s, uint32_t lines);
 

@@ -218,14 +218,17 @@ static void send_or_drop(Server *s, Client *c, const MsgOut *m)
         drop(s, c, e.msg);
 }
 
-static void send_compute(Server *s, Client *c)
+/* The segments the scheduler tops the client up with, a COMPUTE each. */
+static void send_computes(Server *s, Client *c)
 {
-    MsgCompute m = {s->frame, {0, 0}};
-    if (!sched_assign(s->sched, c->id, &m.seg))
-        return;
-    MsgOut out;
-    msg_encode_compute(&m, &out);
-    send_or_drop(s, c, &out);
+    Segment seg[SCHED_IN_FLIGHT];
+    uint32_t n = sched_top_up(s->sched, c->id, seg);
+    for (uint32_t k = 0; k < n && !c->closing; k++) {
+        MsgCompute m = {s->frame, seg[k]};
+        MsgOut out;
+        msg_encode_compute(&m, &out);
+        send_or_drop(s, c, &out);
+    }
 }
 
 /* The assets it lacks, then the scene and two segments. */
@@ -242,9 +245,8 @@ static void send_update(Server *s, Client *c)
             measure_asset_sent(&s->m, PROTO_HEADER + out.head_len + out.tail_len);
         }
     MsgUpdate u = {s->frame, (uint32_t)s->cfg.width, (uint32_t)s->cfg.height, 0, {{0, 0}}, s->blob.data, s->blob.len};
-    for (int k = 0; k < 2; k++)
-        if (sched_assign(s->sched, c->id, &u.seg[u.nseg]))
-            u.nseg++;
+    _Static_assert(sizeof u.seg / sizeof u.seg[0] >= SCHED_IN_FLIGHT, "an UPDATE carries a client's first segments");
+    u.nseg = sched_top_up(s->sched, c->id, u.seg);
     MsgOut out;
     msg_encode_update(&u, &out);
     send_or_drop(s, c, &out);
@@ -276,10 +278,7 @@ static int start_frame(Server *s, Err *err)
     double work;
     double o = measure_frame_start(&s->m, timer_now(), n, server_bytes(s), sched_stats(s->sched).duplicate_pixels,
                                    sched_stats(s->sched).segments, s->auto_segment, &work);
-    if (s->auto_segment)
-        sched_set_segment_lines(s->sched, sched_auto_lines(work, o, (uint32_t)s->cfg.height, n));
-    sched_begin_frame(s->sched, s->frame);
-    sched_set_clients(s->sched, server_client_count(s));
+    sched_start_frame(s->sched, s->frame, n, s->auto_segment, work, o);
     for (uint32_t i = 0; i < s->nclients; i++)
         if (s->clients[i]->state == CLIENT_ACTIVE && !s->clients[i]->closing)
             send_update(s, s->clients[i]);
@@ -409,8 +408,8 @@ static void on_data(Server *s, Client *c)
     } else if (r == SCHED_DUPLICATE) {
         c->duplicates += seg.count;
     }
-    if (r != SCHED_STALE && s->in_frame)
-        send_compute(s, c);
+    if (r != SCHED_STALE && s->in_frame) /* the others are topped up in housekeeping */
+        send_computes(s, c);
 }
 
 static void on_packet(Server *s, Client *c)
@@ -461,17 +460,13 @@ static void housekeeping(Server *s)
         else if (c->state == CLIENT_ACTIVE && sched_held(s->sched, c->id) && now - c->last_result > s->cfg.stall_timeout)
             drop(s, c, "stalled: no result in time");
     }
-    /* idle clients take work again: segments released by a client that left,
-     * or still outstanding at the end of a frame, are handed out again */
+    /* every client topped up (the scheduler's policy): segments released by
+     * a client that left, or still outstanding at the end of a frame, go to
+     * the idle ones */
     for (uint32_t i = 0; s->in_frame && i < s->nclients; i++) {
         Client *c = s->clients[i];
         if (c->state == CLIENT_ACTIVE && !c->closing && c->frame_sent == s->frame)
-            while (sched_held(s->sched, c->id) < 2) {
-                uint32_t before = sched_held(s->sched, c->id);
-                send_compute(s, c);
-                if (sched_held(s->sched, c->id) == before || c->closing)
-                    break;
-            }
+            send_computes(s, c);
     }
     /* remove closed clients */
     for (uint32_t i = 0; i < s->nclients;) {

@@ -168,6 +168,55 @@ static void auto_lines_follow_the_rule(void **state)
     assert_int_equal(sched_auto_lines(1e6, 1e-6, 1000, 1), 1);  /* almost free segments: one line */
 }
 
+/* The dispatch policy: a frame starts (auto-sized or not), each client is
+ * topped up to SCHED_IN_FLIGHT segments, a result frees one place, and the
+ * segments of a client that left go to the one that is topped up. */
+static void top_up_keeps_segments_in_flight(void **state)
+{
+    (void)state;
+    SchedConfig cfg = {10, 10, 4, sched_tail_static, 1};
+    Sched *s = sched_create(&cfg);
+    assert_non_null(s);
+    sched_start_frame(s, 1, 2, 1, 0, 0); /* nothing measured: a sixteenth of the frame a client, at least a line */
+    assert_int_equal(sched_config(s)->segment_lines, 1);
+    Segment a[SCHED_IN_FLIGHT], b[SCHED_IN_FLIGHT];
+    assert_int_equal(sched_top_up(s, 0, a), SCHED_IN_FLIGHT);
+    assert_int_equal(sched_top_up(s, 0, b), 0); /* full already */
+    assert_int_equal(a[0].first, 0);
+    assert_int_equal(a[1].first, 10); /* in the order it renders them */
+    assert_int_equal(sched_top_up(s, 1, b), SCHED_IN_FLIGHT);
+    assert_int_equal(b[0].first, 20);
+    assert_int_equal(sched_complete(s, 0, 1, a[0]), SCHED_ACCEPT);
+    Segment queue[64];
+    uint32_t head = 0, tail = 0;
+    queue[tail++] = a[1];
+    tail += sched_top_up(s, 0, &queue[tail]);
+    assert_int_equal(tail, 2);
+    assert_int_equal(queue[1].first, 40);
+    /* client 1 leaves holding 20 and 30; client 0 runs the frame out,
+     * rendering in order and topped up after each result */
+    sched_release(s, 1);
+    int got20 = 0, got30 = 0;
+    while (head < tail && !sched_frame_done(s)) {
+        Segment g = queue[head++];
+        assert_int_equal(sched_complete(s, 0, 1, g), SCHED_ACCEPT);
+        got20 |= g.first == 20;
+        got30 |= g.first == 30;
+        assert_true(tail + SCHED_IN_FLIGHT <= 64);
+        tail += sched_top_up(s, 0, &queue[tail]);
+        assert_true(sched_held(s, 0) <= SCHED_IN_FLIGHT);
+    }
+    assert_true(sched_frame_done(s));
+    assert_true(got20 && got30);
+    /* the next frame, sized by hand: the size stays */
+    sched_set_segment_lines(s, 3);
+    sched_start_frame(s, 2, 1, 0, 5e6, 100);
+    assert_int_equal(sched_config(s)->segment_lines, 3);
+    assert_int_equal(sched_top_up(s, 0, a), SCHED_IN_FLIGHT);
+    assert_int_equal(a[1].first, 30);
+    sched_destroy(s);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -177,6 +226,7 @@ int main(void)
         cmocka_unit_test(queued_segments_are_reissued_first),
         cmocka_unit_test(released_clients_hold_nothing),
         cmocka_unit_test(auto_lines_follow_the_rule),
+        cmocka_unit_test(top_up_keeps_segments_in_flight),
     };
     return cmocka_run_group_tests_name("sched", tests, NULL, NULL);
 }

@@ -303,19 +303,16 @@ static void run(Sim *s)
         /* the server's rule, with the simulated per-segment overhead and CPU
          * outside the render threads standing for what the server measures
          * (the gap between results, and its own CPU per packet twice over) */
-        if (s->segment == 0)
-            sched_set_segment_lines(sc, sched_auto_lines(work, s->overhead_us + s->bg_cpu_us, (uint32_t)s->height,
-                                                         (uint32_t)s->clients));
-        sched_begin_frame(sc, (uint32_t)frame + 1);
+        sched_start_frame(sc, (uint32_t)frame + 1, (uint32_t)s->clients, s->segment == 0, work,
+                          s->overhead_us + s->bg_cpu_us);
         work = 0;
-        for (int i = 0; i < s->clients; i++) {
+        for (int i = 0; i < s->clients; i++) { /* the UPDATE with each client's first segments */
             double t = fmax(send_via(s, now, &down, &cl[i].down, UPDATE_BYTES), now + s->turnaround_us);
             bytes += UPDATE_BYTES;
-            for (int k = 0; k < 2; k++) {
-                Segment g;
-                if (sched_assign(sc, i, &g))
-                    heap_push(&h, (Event){t, EV_ARRIVE_CLIENT, i, (uint32_t)frame + 1, g, 0, 0, 0});
-            }
+            Segment g[SCHED_IN_FLIGHT];
+            uint32_t n = sched_top_up(sc, i, g);
+            for (uint32_t k = 0; k < n; k++)
+                heap_push(&h, (Event){t, EV_ARRIVE_CLIENT, i, (uint32_t)frame + 1, g[k], 0, 0, 0});
         }
         while (!sched_frame_done(sc) && h.n) {
             Event ev = heap_pop(&h);
@@ -364,17 +361,14 @@ static void run(Sim *s)
                         work += ev.busy_us; /* the server sums the render times clients report */
                 }
                 if (r != SCHED_STALE && !sched_frame_done(sc)) {
-                    /* a COMPUTE after each DATA, and idle clients topped up */
+                    /* every client topped up after a result, a COMPUTE a segment */
                     for (int i = 0; i < s->clients; i++) {
-                        if (i != ev.client && sched_held(sc, i) >= 2)
-                            continue;
-                        while (sched_held(sc, i) < 2) {
-                            Segment g;
-                            if (!sched_assign(sc, i, &g))
-                                break;
+                        Segment g[SCHED_IN_FLIGHT];
+                        uint32_t n = sched_top_up(sc, i, g);
+                        for (uint32_t k = 0; k < n; k++) {
                             double t = send_via(s, now, &down, &cl[i].down, 20);
                             bytes += 20;
-                            heap_push(&h, (Event){t, EV_ARRIVE_CLIENT, i, ev.frame, g, 0, 0, 0});
+                            heap_push(&h, (Event){t, EV_ARRIVE_CLIENT, i, ev.frame, g[k], 0, 0, 0});
                         }
                     }
                 }

@@ -14,6 +14,7 @@
 #include <stdint.h>
 
 #include "base/err.h"
+#include "render/segment.h"
 
 #define PROTO_MAGIC 0x5941524cu /* "LRAY" */
 #define PROTO_VERSION 6u
@@ -40,11 +41,6 @@ typedef enum {
 
 enum { ASSET_MODEL = 1, ASSET_TEXTURE = 2 };
 enum { HELLO_TOKEN_REQUIRED = 1 };
-
-/* A segment: pixels [first, first + count) of a frame, in row-major order. */
-typedef struct {
-    uint32_t first, count;
-} Segment;
 
 typedef struct {
     uint32_t magic, version, bom, flags; /* flags: HELLO_TOKEN_REQUIRED */

@@ -9,7 +9,11 @@ each holds); a file may include its own folder's headers and those of
 lower layers, never a higher one.  server/ and client/ sit above common/
 and beside each other (neither includes the other); tools/ (the programs'
 mains, benchmarks) may use everything.  Includes are written FOLDER/NAME.h
-for common/ (-Icommon), so the folder of an include is in its name."""
+for common/ (-Icommon), so the folder of an include is in its name.
+
+The segment scheduler (server/scheduler.*) is pure logic that the server,
+the tests and the simulator drive: it may include base/ and the segment
+type (render/segment.h), nothing of the wire or the scene."""
 import os
 import re
 import sys
@@ -56,6 +60,24 @@ def edges(root):
                 yield path, line, src, dst, m.group(1)
 
 
+SCHEDULER = ("server/scheduler.c", "server/scheduler.h")
+SCHEDULER_MAY = re.compile(r"^(base/[\w.]+|render/segment\.h|scheduler\.h)$")
+
+
+def scheduler_problems(root):
+    """Includes of the scheduler beyond base/ and its segment type."""
+    for rel in SCHEDULER:
+        path = os.path.join(root, rel)
+        if not os.path.exists(path):
+            continue
+        text = open(path, encoding="utf-8", errors="replace").read()
+        for m in INCLUDE.finditer(text):
+            if not SCHEDULER_MAY.match(m.group(1)):
+                line = text.count("\n", 0, m.start()) + 1
+                yield "%s:%d: the scheduler (pure logic) includes %s: it may use base/ and render/segment.h only" % (
+                    path, line, m.group(1))
+
+
 def main():
     args = sys.argv[1:]
     root = "."
@@ -77,11 +99,15 @@ def main():
         elif RANK[dst] >= RANK[src]:
             print("%s:%d: %s (layer %s) includes %s, of layer %s above or beside it" % (path, line, src, src, inc, dst))
             bad += 1
+    for problem in scheduler_problems(root):
+        print(problem)
+        bad += 1
     if bad:
-        print("layers: %d back-edge%s (docs/architecture.md: a folder includes only itself and the layers below)"
-              % (bad, "" if bad == 1 else "s"))
+        print("layers: %d bad include%s (docs/architecture.md: a folder includes only itself and the layers below;"
+              " the scheduler only base/ and render/segment.h)" % (bad, "" if bad == 1 else "s"))
         return 1
-    print("layers: %d includes across folders, all downward" % len(found))
+    print("layers: %d includes across folders, all downward; the scheduler includes no more than base/ and its segment type"
+          % len(found))
     return 0
 
 

@@ -1,0 +1,39 @@
+#!/usr/bin/env bash
+# samepixels.sh BEFORE_BIN [AFTER_BIN] - a refactoring changed no pixel.
+#
+# Renders the default scene, models/example.scene and SEEDS (60) random
+# scenes of tests/tools/randscene.py with lanray-render from two builds'
+# bin folders (an earlier commit's, this one's: AFTER_BIN, default bin),
+# on every SIMD path this CPU has, and compares the PNGs byte for byte.
+# (That a served frame equals lanray-render's is tests/cli/randscene.sh.)
+# Exits 1 naming each scene and path that differs.
+set -u
+before=${1:?usage: samepixels.sh BEFORE_BIN [AFTER_BIN]}
+after=${2:-bin}
+SEEDS=${SEEDS:-60}
+W=${W:-160} H=${H:-120}
+dir=$(mktemp -d)
+trap 'rm -rf "$dir"' EXIT
+python3 tests/tools/randscene.py 0 "$dir" >/dev/null || exit 1
+"$after/obj2tmd" "$dir/mesh.obj" "$dir/mesh.tmd" >/dev/null || exit 1
+paths=(auto)
+for p in scalar sse avx2; do
+    "$after/lanray-render" --simd "$p" --width 1 --height 1 -o "$dir/probe.png" --quiet >/dev/null 2>&1 && paths+=("$p")
+done
+scenes=("" models/example.scene)
+for seed in $(seq 1 "$SEEDS"); do scenes+=("$(python3 tests/tools/randscene.py "$seed" "$dir")"); done
+bad=0 n=0
+for scene in "${scenes[@]}"; do
+    for p in "${paths[@]}"; do
+        for side in before after; do
+            b=${!side}
+            "$b/lanray-render" $scene --simd "$p" --width "$W" --height "$H" --threads 2 -o "$dir/$side.png" \
+                --quiet >/dev/null 2>&1 || { echo "samepixels: ${scene:-default} ($p): $b/lanray-render failed"; bad=$((bad + 1)); }
+        done
+        n=$((n + 1))
+        cmp -s "$dir/before.png" "$dir/after.png" ||
+            { echo "samepixels: ${scene:-default scene} ($p): the pictures differ"; bad=$((bad + 1)); }
+    done
+done
+[ $bad -eq 0 ] || { echo "samepixels: $bad problems in $n renders"; exit 1; }
+echo "samepixels: $n renders ($((${#scenes[@]})) scenes x ${#paths[@]} SIMD paths) byte-identical"
