@@ -1,6 +1,7 @@
 /* trace.c - the top level of traversal: scene BVH, planes, model instances. */
 #include "scene/trace.h"
 
+#include "bvh/bvh_packet.h"
 #include "bvh/bvh_traverse.h"
 
 #include <string.h>
@@ -172,20 +173,6 @@ int trace_occluded(const Scene *s, const Ray *r, real tmax, const Light *towards
     return occluded_planes(s, r, tmax) || bvh_any(&s->top, r, tmax, top_leaf_any, &c);
 }
 
-/* The rays of `mask` whose slab test enters node n (each with its own far limit). */
-static uint32_t node_rays(const BvhNode *n, const Ray *rays, uint32_t mask, const real *tmax)
-{
-    uint32_t in = 0;
-    while (mask) {
-        int i = __builtin_ctz(mask);
-        mask &= mask - 1;
-        real tn;
-        if (bvh_node_hit(n, &rays[i], tmax[i], &tn))
-            in |= 1u << i;
-    }
-    return in;
-}
-
 /* Instance p of the top tree against the rays of `mask`, as one packet in model space. */
 static uint32_t instance_packet(const Scene *s, uint32_t p, const Ray *rays, uint32_t mask, Best *best, int closest,
                                 const real *tmax)
@@ -225,67 +212,50 @@ static uint32_t instance_packet(const Scene *s, uint32_t p, const Ray *rays, uin
     return got;
 }
 
-/* The top tree for a packet: depth first, each node with the rays that
- * enter it; leaves ray by ray, except instances, which take the packet to
- * their model.  Closest hits follow the rule above, so the order is free. */
+typedef struct {
+    const Scene *s;
+    const Ray *rays;
+    Best *best;        /* closest hits; NULL for occlusion */
+    const real *tmax;  /* occlusion's limits */
+    const Light *lamp; /* occlusion: the lamp its light passes */
+} PacketCtx;
+
+/* A primitive of the top tree against the packet's rays that reach it:
+ * one by one, except instances, which take the packet to their model.
+ * Closest hits follow the rule above, so the order is free. */
+static inline __attribute__((always_inline)) uint32_t top_leaf_packet(void *vctx, uint32_t p, uint32_t rs, real *far)
+{
+    const PacketCtx *c = vctx;
+    const Scene *s = c->s;
+    const int closest = c->best != NULL;
+    uint32_t done = 0;
+    if (p >= s->sphere_count + s->tri_count) {
+        done = instance_packet(s, p, c->rays, rs, c->best, closest, c->tmax);
+    } else {
+        for (uint32_t m = rs; m; m &= m - 1) {
+            int i = __builtin_ctz(m);
+            if (closest)
+                leaf_closest(s, p, &c->rays[i], &c->best[i]);
+            else if (leaf_occluded(s, p, &c->rays[i], c->tmax[i], c->lamp))
+                done |= 1u << i;
+        }
+    }
+    if (closest)
+        for (uint32_t m = rs; m; m &= m - 1) {
+            int i = __builtin_ctz(m);
+            far[i] = c->best[i].hit->t;
+        }
+    return done;
+}
+
+/* The top tree for a packet (bvh_packet.h). */
 static uint32_t top_packet(const Scene *s, const Ray *rays, int n, Best *best, const real *tmax, const Light *lamp)
 {
-    const int closest = best != NULL;
-    uint32_t done = 0; /* occlusion: the rays already blocked */
-    const uint32_t all = (1u << n) - 1;
     real far[TRACE_PACKET];
-    if (s->top.node_count == 0)
-        return 0;
-    struct {
-        uint32_t node, rays;
-    } stack[BVH_MAX_DEPTH + 1];
-    int sp = 0;
     for (int i = 0; i < n; i++)
-        far[i] = closest ? best[i].hit->t : tmax[i];
-    /* a root that is a leaf (one model instance, say) is not box-tested:
-     * its primitives' own tests (a model's root node) do that work */
-    uint32_t idx = 0, rs = s->top.nodes[0].count ? all : node_rays(&s->top.nodes[0], rays, all, far);
-    for (;;) {
-        const BvhNode *nd = &s->top.nodes[idx];
-        if (rs && nd->count == 0) {
-            uint32_t r0 = node_rays(&s->top.nodes[nd->first], rays, rs, far);
-            uint32_t r1 = node_rays(&s->top.nodes[nd->first + 1], rays, rs, far);
-            if (r0 && r1)
-                stack[sp].node = nd->first + 1, stack[sp++].rays = r1;
-            idx = r0 ? nd->first : nd->first + 1;
-            rs = r0 ? r0 : r1;
-            if (rs)
-                continue;
-        } else if (rs) {
-            for (uint32_t k = 0; k < nd->count && rs; k++) {
-                uint32_t p = s->top.prims[nd->first + k];
-                if (p >= s->sphere_count + s->tri_count) {
-                    done |= instance_packet(s, p, rays, rs, best, closest, tmax);
-                } else {
-                    for (uint32_t m = rs; m; m &= m - 1) {
-                        int i = __builtin_ctz(m);
-                        if (closest)
-                            leaf_closest(s, p, &rays[i], &best[i]);
-                        else if (leaf_occluded(s, p, &rays[i], tmax[i], lamp))
-                            done |= 1u << i;
-                    }
-                }
-                rs &= ~done;
-            }
-            if (closest)
-                for (int i = 0; i < n; i++)
-                    far[i] = best[i].hit->t;
-        }
-        /* a popped node's rays: drop those blocked since, and those whose
-         * hit is now nearer than the node (tested again against it) */
-        do {
-            if (sp == 0)
-                return done;
-            --sp;
-            idx = stack[sp].node;
-            rs = node_rays(&s->top.nodes[idx], rays, stack[sp].rays & ~done, far);
-        } while (!rs);
-    }
+        far[i] = best ? best[i].hit->t : tmax[i];
+    PacketCtx c = {s, rays, best, tmax, lamp};
+    return bvh_packet(&s->top, rays, n, far, top_leaf_packet, &c);
 }
 
 void trace_closest_packet(const Scene *s, const Ray *rays, int n, Hit *hits)
