@@ -15,7 +15,7 @@
 
 #include "app/cli.h"
 #include "display.h"
-#include "model/image.h"
+#include "image/image.h"
 #include "base/opt.h"
 #include "base/srgb.h"
 #include "render/render.h"

@@ -6,7 +6,7 @@
 
 #include <math.h>
 
-#include "geom/optics.h"
+#include "shading/optics.h"
 #include "scene/shade.h"
 
 #define N_GLASS R(1.5)

@@ -5,7 +5,7 @@
 #include <math.h>
 
 #include "base/srgb.h"
-#include "model/image.h"
+#include "image/image.h"
 #include "model/texture.h"
 
 static const char *write_bytes(const char *name, const void *data, size_t len)

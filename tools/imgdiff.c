@@ -13,7 +13,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "model/image.h"
+#include "image/image.h"
 #include "model/texture.h"
 #include "base/opt.h"
 

@@ -16,7 +16,7 @@
 
 #include "app/cli.h"
 #include "base/fileio.h"
-#include "model/image.h"
+#include "image/image.h"
 #include "base/opt.h"
 #include "base/progress.h"
 #include "render/render.h"

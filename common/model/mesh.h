@@ -7,7 +7,7 @@
 #include <stdint.h>
 
 #include "base/err.h"
-#include "geom/material.h"
+#include "shading/material.h"
 #include "model/texture.h"
 
 typedef struct {

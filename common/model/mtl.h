@@ -7,7 +7,7 @@
 #include <stddef.h>
 
 #include "base/err.h"
-#include "geom/material.h"
+#include "shading/material.h"
 
 #define MTL_NAME_MAX 128
 #define MTL_PATH_MAX 1024

@@ -10,7 +10,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "model/image.h"
+#include "image/image.h"
 
 #define FORM_CLAMP 1u
 #define FORM_CLOSEST 2u

@@ -14,7 +14,7 @@
 #include <jpeglib.h>
 
 #include "base/fileio.h"
-#include "model/image.h"
+#include "image/image.h"
 #include "model/texture.h"
 
 typedef struct {

@@ -12,7 +12,7 @@
 #include <stdint.h>
 
 #include "geom/camera.h"
-#include "geom/optics.h"
+#include "shading/optics.h"
 #include "model/model.h"
 #include "model/texture.h"
 

@@ -18,7 +18,7 @@ import os
 import re
 import sys
 
-LAYERS = ["base", "geom", "bvh", "model", "scene", "render", "net", "app"]
+LAYERS = ["base", "image", "geom", "shading", "bvh", "model", "scene", "render", "net", "app"]
 RANK = {f: i for i, f in enumerate(LAYERS)}
 RANK.update({"server": len(LAYERS), "client": len(LAYERS), "tools": len(LAYERS) + 1})
 INCLUDE = re.compile(r'^\s*#\s*include\s*"([^"]+)"', re.M)

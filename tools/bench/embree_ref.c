@@ -27,7 +27,7 @@
 #include <string.h>
 
 #include "geom/camera.h"
-#include "model/image.h"
+#include "image/image.h"
 #include "base/opt.h"
 #include "base/srgb.h"
 #include "scene/scene_parse.h"

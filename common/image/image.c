@@ -1,5 +1,5 @@
 /* image.c - see image.h. */
-#include "model/image.h"
+#include "image/image.h"
 
 #include <errno.h>
 #include <png.h>
