@@ -149,61 +149,71 @@ static void apply_input(App *a, const DisplayInput *in, const Camera *home, int 
 
 _Static_assert(CLI_MAX_SEGMENT == SERVER_MAX_SIDE, "a segment is at most the tallest frame");
 
-int main(int argc, char **argv)
+/* What the command line says. */
+typedef struct {
+    ServerConfig cfg;
+    BvhOptions bvh;
+    const char *scene_path, *out_dir, *verify_path;
+    int headless, force_bvh, discard, frames, wait_clients, tail, bvh_kind, width_given, height_given;
+    int warmup, stall, handshake, machine_summary, linear, hdr;
+    CliAa aa;
+    double rotate;
+} Args;
+
+/* Parses the command line into a: OPT_GO, or the exit status. */
+static int parse_args(Args *a, int argc, char **argv)
 {
-    const char *out_dir = "frames", *verify_path = NULL;
-    ServerConfig cfg = {"127.0.0.1", PROTO_DEFAULT_PORT, getenv("LANRAY_TOKEN"), 0, 1024, 768, 0, sched_tail_smart, 30, 10, 0, 0};
-    BvhOptions bvh = bvh_options_default(BVH_SAH);
-    int headless = 0, force_bvh = 0, discard = 0, frames = 0, wait_clients = 0, tail = 1, bvh_kind = BVH_SAH;
-    int width_given = 0, height_given = 0, warmup = 0, stall = 30, handshake = 10, machine_summary = 0, linear = 0;
-    int hdr = 0;
-    CliAa aa = {1, 0, 0};
-    double rotate = 0;
+    *a = (Args){.cfg = {.listen_addr = "127.0.0.1", .port = PROTO_DEFAULT_PORT, .token = getenv("LANRAY_TOKEN"),
+                        .width = 1024, .height = 768, .tail = sched_tail_smart, .stall_timeout = 30,
+                        .handshake_timeout = 10},
+                .bvh = bvh_options_default(BVH_SAH), .out_dir = "frames", .tail = 1, .bvh_kind = BVH_SAH,
+                .stall = 30, .handshake = 10, .aa = {1, 0, 0}};
+    ServerConfig *cfg = &a->cfg;
     const Opt opts[] = {
-        {.name = "--port", .kind = OPT_INT, .dst = &cfg.port, .arg = "P", .lo = 0, .hi = 65535,
+        {.name = "--port", .kind = OPT_INT, .dst = &cfg->port, .arg = "P", .lo = 0, .hi = 65535,
          .help = "TCP port, 0 = any free one (the 'listening on' line says which)"},
-        {.name = "--listen", .kind = OPT_STRING, .dst = &cfg.listen_addr, .arg = "ADDR",
+        {.name = "--listen", .kind = OPT_STRING, .dst = &cfg->listen_addr, .arg = "ADDR",
          .help = "address to listen on: a name or an IPv4/IPv6 address; not loopback needs --token or --insecure"},
-        {.name = "--token", .kind = OPT_STRING, .dst = &cfg.token, .arg = "T",
+        {.name = "--token", .kind = OPT_STRING, .dst = &cfg->token, .arg = "T",
          .help = "shared secret clients must prove (or LANRAY_TOKEN in the environment)", .def = "none"},
-        {.name = "--insecure", .kind = OPT_FLAG, .dst = &cfg.insecure, .help = "allow a non-loopback address without a token"},
-        {.name = "--width", .kind = OPT_INT, .dst = &cfg.width, .arg = "W", .lo = 1, .hi = SERVER_MAX_SIDE,
-         .help = "frame width in pixels", .def = "the scene's, else 1024", .seen = &width_given},
-        {.name = "--height", .kind = OPT_INT, .dst = &cfg.height, .arg = "H", .lo = 1, .hi = SERVER_MAX_SIDE,
-         .help = "frame height in pixels", .def = "the scene's, else 768", .seen = &height_given},
-        {.name = "--segment", .kind = OPT_CUSTOM, .dst = &cfg.segment_lines, .arg = "LINES|auto", .parse = cli_parse_segment,
+        {.name = "--insecure", .kind = OPT_FLAG, .dst = &cfg->insecure, .help = "allow a non-loopback address without a token"},
+        {.name = "--width", .kind = OPT_INT, .dst = &cfg->width, .arg = "W", .lo = 1, .hi = SERVER_MAX_SIDE,
+         .help = "frame width in pixels", .def = "the scene's, else 1024", .seen = &a->width_given},
+        {.name = "--height", .kind = OPT_INT, .dst = &cfg->height, .arg = "H", .lo = 1, .hi = SERVER_MAX_SIDE,
+         .help = "frame height in pixels", .def = "the scene's, else 768", .seen = &a->height_given},
+        {.name = "--segment", .kind = OPT_CUSTOM, .dst = &cfg->segment_lines, .arg = "LINES|auto", .parse = cli_parse_segment,
          .range = CLI_SEGMENT_RANGE, .help = "lines per segment handed to a client", .def = "auto"},
-        {.name = "--tail", .kind = OPT_CHOICE, .dst = &tail, .choices = sched_tail_names,
+        {.name = "--tail", .kind = OPT_CHOICE, .dst = &a->tail, .choices = sched_tail_names,
          .help = "how the last segments of a frame are cut and shared (docs/scaling.md)"},
-        {.name = "--bvh", .kind = OPT_CHOICE, .dst = &bvh_kind, .choices = cli_bvh_names, .seen = &force_bvh,
+        {.name = "--bvh", .kind = OPT_CHOICE, .dst = &a->bvh_kind, .choices = cli_bvh_names, .seen = &a->force_bvh,
          .help = "BVH builder for models; given, it rebuilds .tmd models too"},
-        {.name = "--aa", .kind = OPT_CUSTOM, .dst = &aa, .arg = "N|adaptive[:N]", .parse = cli_parse_aa, .range = CLI_AA_RANGE,
+        {.name = "--aa", .kind = OPT_CUSTOM, .dst = &a->aa, .arg = "N|adaptive[:N]", .parse = cli_parse_aa, .range = CLI_AA_RANGE,
          .help = "anti-aliasing", .def = "the scene's, else 1"},
-        {.name = "--rotate", .kind = OPT_REAL, .dst = &rotate, .arg = "DEG",
+        {.name = "--rotate", .kind = OPT_REAL, .dst = &a->rotate, .arg = "DEG",
          .help = "turn every model instance by DEG about y after each frame (Space toggles it in the window)"},
-        {.name = "--linear", .kind = OPT_FLAG, .dst = &linear,
+        {.name = "--linear", .kind = OPT_FLAG, .dst = &a->linear,
          .help = "frames in linear light (PNG tagged gAMA 1.0) instead of sRGB"},
-        {.name = "--hdr", .kind = OPT_FLAG, .dst = &hdr,
+        {.name = "--hdr", .kind = OPT_FLAG, .dst = &a->hdr,
          .help = "high dynamic range frames: clients send RGBE, frames are written as .hdr (Radiance); the window shows "
                  "them after the scene's exposure"},
-        {.name = "--headless", .kind = OPT_FLAG, .dst = &headless, .help = "no window: write frames to --out"},
-        {.name = "--frames", .kind = OPT_INT, .dst = &frames, .arg = "N", .lo = 0, .hi = 100000000,
+        {.name = "--headless", .kind = OPT_FLAG, .dst = &a->headless, .help = "no window: write frames to --out"},
+        {.name = "--frames", .kind = OPT_INT, .dst = &a->frames, .arg = "N", .lo = 0, .hi = 100000000,
          .help = "stop after N frames, 0 = run until stopped"},
-        {.name = "--out", .kind = OPT_STRING, .dst = &out_dir, .arg = "DIR",
+        {.name = "--out", .kind = OPT_STRING, .dst = &a->out_dir, .arg = "DIR",
          .help = "headless: write DIR/frame-NNNNN.png, or .hdr with --hdr (DIR and its parents are created)"},
-        {.name = "--discard", .kind = OPT_FLAG, .dst = &discard, .help = "headless, and throw frames away (benchmarks)"},
-        {.name = "--verify", .kind = OPT_STRING, .dst = &verify_path, .arg = "REF.png",
+        {.name = "--discard", .kind = OPT_FLAG, .dst = &a->discard, .help = "headless, and throw frames away (benchmarks)"},
+        {.name = "--verify", .kind = OPT_STRING, .dst = &a->verify_path, .arg = "REF.png",
          .help = "compare every frame with a reference; exit 3 if any pixel differs"},
-        {.name = "--wait-clients", .kind = OPT_INT, .dst = &wait_clients, .arg = "N", .lo = 0, .hi = 4096,
+        {.name = "--wait-clients", .kind = OPT_INT, .dst = &a->wait_clients, .arg = "N", .lo = 0, .hi = 4096,
          .help = "start the first frame only once N clients have joined"},
-        {.name = "--warmup", .kind = OPT_INT, .dst = &warmup, .arg = "N", .lo = 0, .hi = 1000000,
+        {.name = "--warmup", .kind = OPT_INT, .dst = &a->warmup, .arg = "N", .lo = 0, .hi = 1000000,
          .help = "leave the first N frames out of the summary (the first carries the assets)"},
-        {.name = "--stall-timeout", .kind = OPT_INT, .dst = &stall, .arg = "S", .lo = 1, .hi = 86400,
+        {.name = "--stall-timeout", .kind = OPT_INT, .dst = &a->stall, .arg = "S", .lo = 1, .hi = 86400,
          .help = "seconds a client may hold work without a result before it is dropped"},
-        {.name = "--handshake-timeout", .kind = OPT_INT, .dst = &handshake, .arg = "S", .lo = 1, .hi = 3600,
+        {.name = "--handshake-timeout", .kind = OPT_INT, .dst = &a->handshake, .arg = "S", .lo = 1, .hi = 3600,
          .help = "seconds a new connection has to finish the handshake"},
-        {.name = "--quiet", .kind = OPT_FLAG, .dst = &cfg.quiet, .help = "print errors and the listening line only"},
-        {.name = "--machine-summary", .kind = OPT_FLAG, .dst = &machine_summary,
+        {.name = "--quiet", .kind = OPT_FLAG, .dst = &cfg->quiet, .help = "print errors and the listening line only"},
+        {.name = "--machine-summary", .kind = OPT_FLAG, .dst = &a->machine_summary,
          .help = "end with one 'summary key=value ...' line for scripts (tools/bench/bench-scaling)"},
         {0},
     };
@@ -222,199 +232,244 @@ int main(int argc, char **argv)
                     "  3  --verify: a frame differed from the reference\n"
                     "  4  stopped (SIGINT, SIGTERM, the window) before the requested frames were done\n"};
     int go = opt_run(&spec, argc, argv);
-    if (go != OPT_GO)
-        return go;
-    Err err = {{0}};
-    const char *scene_path = args[0];
-    if (cfg.token && !*cfg.token)
-        cfg.token = NULL;
-    cfg.tail = sched_tail_rules[tail];
-    cfg.warmup = (uint32_t)warmup;
-    cfg.stall_timeout = stall;
-    cfg.handshake_timeout = handshake;
-    bvh.kind = (BvhKind)bvh_kind;
-    headless |= discard;
-    Scene *scene;
-    if (cli_open_scene(scene_path, &bvh, force_bvh, &scene, &err)) {
-        fprintf(stderr, "lanray-server: %s\n", err.msg);
+    a->scene_path = args[0];
+    if (cfg->token && !*cfg->token)
+        cfg->token = NULL;
+    cfg->tail = sched_tail_rules[a->tail];
+    cfg->warmup = (uint32_t)a->warmup;
+    cfg->stall_timeout = a->stall;
+    cfg->handshake_timeout = a->handshake;
+    a->bvh.kind = (BvhKind)a->bvh_kind;
+    a->headless |= a->discard;
+    return go;
+}
+
+/* Everything main opens, closed by app_close alone, whatever was reached. */
+static void app_close(App *a)
+{
+    server_destroy(a->server);
+    free(a->verify);
+    free(a->view);
+    display_close(a->display);
+    scene_destroy(a->scene);
+}
+
+/* The scene, with the command line's settings over its own, and the frame
+ * size: 0, or the exit status. */
+static int open_scene(App *app, Args *a, Err *err)
+{
+    ServerConfig *cfg = &a->cfg;
+    if (cli_open_scene(a->scene_path, &a->bvh, a->force_bvh, &app->scene, err)) {
+        fprintf(stderr, "lanray-server: %s\n", err->msg);
         return 1;
     }
-    if (aa.given) {
-        scene->settings.aa = aa.aa;
-        scene->settings.adaptive = aa.adaptive;
+    Scene *scene = app->scene;
+    if (a->aa.given) {
+        scene->settings.aa = a->aa.aa;
+        scene->settings.adaptive = a->aa.adaptive;
     }
-    if (hdr && (linear || verify_path)) {
+    if (a->hdr && (a->linear || a->verify_path)) {
         fprintf(stderr, "lanray-server: --hdr frames keep the light itself: %s\n",
-                linear ? "--linear is for 8-bit frames" : "--verify compares 8-bit frames (compare the .hdr files instead)");
-        scene_destroy(scene);
+                a->linear ? "--linear is for 8-bit frames" : "--verify compares 8-bit frames (compare the .hdr files instead)");
         return 2;
     }
-    scene->settings.linear = linear;
-    scene->settings.hdr = hdr;
-    if (!width_given && scene->settings.width)
-        cfg.width = scene->settings.width;
-    if (!height_given && scene->settings.height)
-        cfg.height = scene->settings.height;
-    if (cfg.width > SERVER_MAX_SIDE || cfg.height > SERVER_MAX_SIDE) {
+    scene->settings.linear = a->linear;
+    scene->settings.hdr = a->hdr;
+    if (!a->width_given && scene->settings.width)
+        cfg->width = scene->settings.width;
+    if (!a->height_given && scene->settings.height)
+        cfg->height = scene->settings.height;
+    if (cfg->width > SERVER_MAX_SIDE || cfg->height > SERVER_MAX_SIDE) {
         fprintf(stderr, "lanray-server: the scene asks for %dx%d; a server frame is at most %dx%d (lanray-render renders larger ones)\n",
-                cfg.width, cfg.height, SERVER_MAX_SIDE, SERVER_MAX_SIDE);
-        scene_destroy(scene);
+                cfg->width, cfg->height, SERVER_MAX_SIDE, SERVER_MAX_SIDE);
         return 1;
     }
     /* the frame being assembled, and a reference to compare with */
-    const uint64_t frame_bytes = (uint64_t)cfg.width * cfg.height * render_pixel_bytes(scene);
-    if (cli_check_memory(frame_bytes + (verify_path || hdr ? (uint64_t)cfg.width * cfg.height * 3 : 0), "the frame", &err)) {
-        fprintf(stderr, "lanray-server: %dx%d: %s\n", cfg.width, cfg.height, err.msg);
-        scene_destroy(scene);
+    const uint64_t frame_bytes = (uint64_t)cfg->width * cfg->height * render_pixel_bytes(scene);
+    if (cli_check_memory(frame_bytes + (a->verify_path || a->hdr ? (uint64_t)cfg->width * cfg->height * 3 : 0), "the frame",
+                         err)) {
+        fprintf(stderr, "lanray-server: %dx%d: %s\n", cfg->width, cfg->height, err->msg);
         return 1;
     }
     cli_warn_scene("lanray-server", scene);
-    App app;
-    memset(&app, 0, sizeof app);
-    app.out_dir = discard ? NULL : out_dir;
-    app.scene = scene;
-    app.width = cfg.width;
-    app.height = cfg.height;
-    app.frames_wanted = (uint32_t)frames;
-    if (verify_path) {
+    app->out_dir = a->discard ? NULL : a->out_dir;
+    app->width = cfg->width;
+    app->height = cfg->height;
+    app->frames_wanted = (uint32_t)a->frames;
+    return 0;
+}
+
+/* The reference (--verify), the window or the frames' folder, and the
+ * server listening: 0, or the exit status. */
+static int open_outputs(App *app, Args *a, Err *err)
+{
+    const ServerConfig *cfg = &a->cfg;
+    if (a->verify_path) {
         int vw, vh;
-        if (image_read_png(verify_path, &vw, &vh, &app.verify, &err)) {
-            fprintf(stderr, "lanray-server: %s\n", err.msg);
-            scene_destroy(scene);
+        if (image_read_png(a->verify_path, &vw, &vh, &app->verify, err)) {
+            fprintf(stderr, "lanray-server: %s\n", err->msg);
             return 1;
         }
-        if (vw != cfg.width || vh != cfg.height) {
-            fprintf(stderr, "lanray-server: %s is %dx%d, the frames are %dx%d\n", verify_path, vw, vh, cfg.width, cfg.height);
-            free(app.verify);
-            scene_destroy(scene);
+        if (vw != cfg->width || vh != cfg->height) {
+            fprintf(stderr, "lanray-server: %s is %dx%d, the frames are %dx%d\n", a->verify_path, vw, vh, cfg->width,
+                    cfg->height);
             return 1;
         }
-        app.verify_path = verify_path;
+        app->verify_path = a->verify_path;
     }
-    if (!headless && !display_available()) {
-        fprintf(stderr, "lanray-server: no display; writing frames to %s/\n", out_dir);
-        headless = 1;
+    if (!a->headless && !display_available()) {
+        fprintf(stderr, "lanray-server: no display; writing frames to %s/\n", a->out_dir);
+        a->headless = 1;
     }
-    if (!headless) {
-        app.display = display_open(cfg.width, cfg.height, &err);
-        if (!app.display) {
-            fprintf(stderr, "lanray-server: cannot open a window (%s); writing frames to %s/\n", err.msg, out_dir);
-            headless = 1;
+    if (!a->headless) {
+        app->display = display_open(cfg->width, cfg->height, err);
+        if (!app->display) {
+            fprintf(stderr, "lanray-server: cannot open a window (%s); writing frames to %s/\n", err->msg, a->out_dir);
+            a->headless = 1;
         }
     }
-    if (app.display && hdr && !(app.view = malloc((size_t)cfg.width * cfg.height * 3))) {
-        fprintf(stderr, "lanray-server: out of memory for the window's %dx%d view\n", cfg.width, cfg.height);
-        display_close(app.display);
-        scene_destroy(scene);
+    if (app->display && a->hdr && !(app->view = malloc((size_t)cfg->width * cfg->height * 3))) {
+        fprintf(stderr, "lanray-server: out of memory for the window's %dx%d view\n", cfg->width, cfg->height);
         return 1;
     }
-    app.server = server_create(&cfg, scene, &err);
+    app->server = server_create(cfg, app->scene, err);
     /* the frames' directory only once the server listens: a server that
      * cannot start leaves nothing behind */
-    if (!app.server || (headless && !discard && cli_make_dirs(out_dir, &err))) {
-        fprintf(stderr, "lanray-server: %s\n", err.msg);
-        server_destroy(app.server);
-        free(app.verify);
-        free(app.view);
-        display_close(app.display);
-        scene_destroy(scene);
+    if (!app->server || (a->headless && !a->discard && cli_make_dirs(a->out_dir, err))) {
+        fprintf(stderr, "lanray-server: %s\n", err->msg);
         return 1;
     }
-    signal(SIGINT, on_stop);
-    signal(SIGTERM, on_stop);
-    signal(SIGUSR1, on_stats);
-    signal(SIGPIPE, SIG_IGN);
     /* the port line is what scripts wait for */
     char segtext[32];
-    if (cfg.segment_lines)
-        snprintf(segtext, sizeof segtext, "%u-line", cfg.segment_lines);
+    if (cfg->segment_lines)
+        snprintf(segtext, sizeof segtext, "%u-line", cfg->segment_lines);
     else
         snprintf(segtext, sizeof segtext, "automatic");
-    printf("lanray-server: listening on %s (%dx%d, %s segments)\n", server_address(app.server), cfg.width, cfg.height,
+    printf("lanray-server: listening on %s (%dx%d, %s segments)\n", server_address(app->server), cfg->width, cfg->height,
            segtext);
     fflush(stdout);
-    Camera home = scene->camera;
-    int animate = rotate != 0, rc = 0;
-    uint32_t seen = 0;
-    app.fps_t0 = timer_now();
-    double status_t = app.fps_t0;
-    uint32_t status_frames = 0;
+    return 0;
+}
+
+/* The window's title, twice a second: the frame rate and the clients. */
+static void show_title(App *app)
+{
+    double now = timer_now();
+    if (now - app->last_title <= 0.5)
+        return;
+    char title[160];
+    uint32_t n = server_client_count(app->server);
+    double fps = app->fps_frames / (now - app->fps_t0);
+    snprintf(title, sizeof title, "lanray - %.1f fps - %u client%s%s", fps, n, n == 1 ? "" : "s",
+             n ? "" : " (waiting for clients)");
+    display_title(app->display, title);
+    app->last_title = now;
+    app->fps_t0 = now;
+    app->fps_frames = 0;
+}
+
+/* Headless: one line a second at most, to see it is alive. */
+static void show_status(App *app, double *since, uint32_t *frames)
+{
+    double now = timer_now();
+    if (now - *since < 1)
+        return;
+    uint32_t n = server_client_count(app->server);
+    if (app->frames_done != *frames || n == 0)
+        fprintf(stderr, "lanray-server: %u frames, %.1f fps, %u client%s%s\n", app->frames_done,
+                (app->frames_done - *frames) / (now - *since), n, n == 1 ? "" : "s", n ? "" : " (waiting for clients)");
+    *since = now;
+    *frames = app->frames_done;
+}
+
+/* The event loop until the frames are done, the window closes or a signal
+ * stops it: 0, or 1 when the server fails. */
+static int serve(App *app, const Args *a)
+{
+    Err err = {{0}};
+    Camera home = app->scene->camera;
+    int animate = a->rotate != 0, wait_clients = a->wait_clients;
+    uint32_t seen = 0, status_frames = 0;
+    app->fps_t0 = timer_now();
+    double status_t = app->fps_t0;
     /* --wait-clients: no frame starts before that many clients have joined */
-    server_pause(app.server, wait_clients > 0);
+    server_pause(app->server, wait_clients > 0);
     while (!stop_flag) {
-        if (wait_clients > 0 && server_client_count(app.server) >= (uint32_t)wait_clients) {
-            server_pause(app.server, 0);
+        if (wait_clients > 0 && server_client_count(app->server) >= (uint32_t)wait_clients) {
+            server_pause(app->server, 0);
             wait_clients = 0;
         }
-        if (server_step(app.server, app.display ? 5 : 50, on_frame, &app, &err)) {
+        if (server_step(app->server, app->display ? 5 : 50, on_frame, app, &err)) {
             fprintf(stderr, "lanray-server: %s\n", err.msg);
-            rc = 1;
-            break;
+            return 1;
         }
-        if (app.frames_done != seen) {
-            seen = app.frames_done;
+        if (app->frames_done != seen) {
+            seen = app->frames_done;
             if (animate) {
-                for (uint32_t i = 0; i < scene->instance_count; i++)
-                    scene->instances[i].rotate.y += (real)rotate;
-                server_scene_changed(app.server);
+                for (uint32_t i = 0; i < app->scene->instance_count; i++)
+                    app->scene->instances[i].rotate.y += (real)a->rotate;
+                server_scene_changed(app->server);
             }
         }
-        if (app.display) {
+        if (app->display) {
             DisplayInput in;
-            display_poll(app.display, &in);
+            display_poll(app->display, &in);
             if (in.quit)
                 break;
-            apply_input(&app, &in, &home, &animate);
-            double now = timer_now();
-            if (now - app.last_title > 0.5) {
-                char title[160];
-                uint32_t n = server_client_count(app.server);
-                double fps = app.fps_frames / (now - app.fps_t0);
-                snprintf(title, sizeof title, "lanray - %.1f fps - %u client%s%s", fps, n, n == 1 ? "" : "s",
-                         n ? "" : " (waiting for clients)");
-                display_title(app.display, title);
-                app.last_title = now;
-                app.fps_t0 = now;
-                app.fps_frames = 0;
-            }
-        }
-        /* headless: one line a second at most, to see it is alive */
-        double now = timer_now();
-        if (!app.display && !cfg.quiet && now - status_t >= 1) {
-            uint32_t n = server_client_count(app.server);
-            if (app.frames_done != status_frames || n == 0)
-                fprintf(stderr, "lanray-server: %u frames, %.1f fps, %u client%s%s\n", app.frames_done,
-                        (app.frames_done - status_frames) / (now - status_t), n, n == 1 ? "" : "s",
-                        n ? "" : " (waiting for clients)");
-            status_t = now;
-            status_frames = app.frames_done;
+            apply_input(app, &in, &home, &animate);
+            show_title(app);
+        } else if (!a->cfg.quiet) {
+            show_status(app, &status_t, &status_frames);
         }
         if (stats_flag) {
             stats_flag = 0;
-            server_print_stats(app.server);
+            server_print_stats(app->server);
             fflush(stdout);
         }
     }
-    server_print_stats(app.server);
-    server_print_summary(app.server, machine_summary);
-    if (app.write_failures) {
-        fprintf(stderr, "lanray-server: %llu frames could not be written\n", (unsigned long long)app.write_failures);
+    return 0;
+}
+
+/* The statistics and the summary, and the exit status from how it ended. */
+static int finish(App *app, const Args *a, int rc)
+{
+    server_print_stats(app->server);
+    server_print_summary(app->server, a->machine_summary);
+    if (app->write_failures) {
+        fprintf(stderr, "lanray-server: %llu frames could not be written\n", (unsigned long long)app->write_failures);
         rc = 1;
     }
-    if (rc == 0 && frames && app.frames_done < (uint32_t)frames) {
-        fprintf(stderr, "lanray-server: stopped after %u of %d frames\n", app.frames_done, frames);
+    if (rc == 0 && a->frames && app->frames_done < (uint32_t)a->frames) {
+        fprintf(stderr, "lanray-server: stopped after %u of %d frames\n", app->frames_done, a->frames);
         rc = 4;
     }
-    if (app.verify) {
-        printf("verify frames=%u wrong_frames=%llu wrong_pixels=%llu\n", app.frames_done,
-               (unsigned long long)app.wrong_frames, (unsigned long long)app.wrong_pixels);
-        if (app.wrong_frames && rc == 0)
+    if (app->verify) {
+        printf("verify frames=%u wrong_frames=%llu wrong_pixels=%llu\n", app->frames_done,
+               (unsigned long long)app->wrong_frames, (unsigned long long)app->wrong_pixels);
+        if (app->wrong_frames && rc == 0)
             rc = 3;
-        free(app.verify);
     }
-    server_destroy(app.server);
-    free(app.view);
-    display_close(app.display);
-    scene_destroy(scene);
+    return rc;
+}
+
+int main(int argc, char **argv)
+{
+    Args a;
+    int rc = parse_args(&a, argc, argv);
+    if (rc != OPT_GO)
+        return rc;
+    App app = {0};
+    Err err = {{0}};
+    rc = open_scene(&app, &a, &err);
+    if (rc == 0)
+        rc = open_outputs(&app, &a, &err);
+    if (rc == 0) {
+        signal(SIGINT, on_stop);
+        signal(SIGTERM, on_stop);
+        signal(SIGUSR1, on_stats);
+        signal(SIGPIPE, SIG_IGN);
+        rc = finish(&app, &a, serve(&app, &a));
+    }
+    app_close(&app);
     return rc;
 }

@@ -116,82 +116,90 @@ static void print_memory(const Scene *s)
            (double)sum.attributes / n);
 }
 
-int main(int argc, char **argv)
+/* What the command line says. */
+typedef struct {
+    const char *out, *profile, *scene_path;
+    int width, height, repeat, quiet, segment, threads, linear, simd_given, stats;
+    int width_given, height_given, force_bvh, bvh_kind, band_lines;
+    int shading, shadows, filter, shading_given, shadows_given, filter_given;
+    int depth, fresnel, glass, depth_given, cutoff_given, fresnel_given, glass_given;
+    double cutoff;
+    int light_samples, rough_samples, lens_samples, exposure_given;
+    int sampling, sampling_given, limit, limit_given;
+    double exposure;
+    CliAa aa;
+} Args;
+
+/* Parses the command line into a: OPT_GO, or the exit status. */
+static int parse_args(Args *a, int argc, char **argv)
 {
-    const char *out = "lanray.png", *profile = NULL;
-    int width = 1024, height = 768, repeat = 1, quiet = 0, segment = 0, threads = 0, linear = 0, simd_given = 0,
-        stats = 0;
-    int width_given = 0, height_given = 0, force_bvh = 0, bvh_kind = BVH_SAH, band_lines = 0;
-    int shading = SHADE_PHONG, shadows = 1, filter = FILTER_ANISOTROPIC, shading_given = 0, shadows_given = 0, filter_given = 0;
-    int depth = 5, fresnel = FRESNEL_EXACT, glass = 1, depth_given = 0, cutoff_given = 0, fresnel_given = 0, glass_given = 0;
-    double cutoff = 0.01;
-    int light_samples = 0, rough_samples = 0, lens_samples = 0, exposure_given = 0;
-    int sampling = SAMPLING_BUDGET, sampling_given = 0, limit = LIMIT_BACKGROUND, limit_given = 0;
-    double exposure = 0;
-    CliAa aa = {4, 1, 0};
+    *a = (Args){.out = "lanray.png", .width = 1024, .height = 768, .repeat = 1, .bvh_kind = BVH_SAH,
+                .shading = SHADE_PHONG, .shadows = 1, .filter = FILTER_ANISOTROPIC, .depth = 5,
+                .fresnel = FRESNEL_EXACT, .glass = 1, .cutoff = 0.01, .sampling = SAMPLING_BUDGET,
+                .limit = LIMIT_BACKGROUND, .aa = {4, 1, 0}};
     const Opt opts[] = {
-        {.name = "--output", .alias = "-o", .kind = OPT_STRING, .dst = &out, .arg = "FILE",
+        {.name = "--output", .alias = "-o", .kind = OPT_STRING, .dst = &a->out, .arg = "FILE",
          .help = "the image: .png (tagged sRGB, or linear with --linear), .ppm, or .hdr (Radiance RGBE: high dynamic "
                  "range, the light itself)"},
-        {.name = "--width", .kind = OPT_INT, .dst = &width, .arg = "W", .lo = 1, .hi = RENDER_MAX_SIDE,
-         .help = "frame width in pixels", .def = "the scene's, else 1024", .seen = &width_given},
-        {.name = "--height", .kind = OPT_INT, .dst = &height, .arg = "H", .lo = 1, .hi = RENDER_MAX_SIDE,
-         .help = "frame height in pixels", .def = "the scene's, else 768", .seen = &height_given},
-        {.name = "--aa", .kind = OPT_CUSTOM, .dst = &aa, .arg = "N|adaptive[:N]", .parse = cli_parse_aa, .range = CLI_AA_RANGE,
+        {.name = "--width", .kind = OPT_INT, .dst = &a->width, .arg = "W", .lo = 1, .hi = RENDER_MAX_SIDE,
+         .help = "frame width in pixels", .def = "the scene's, else 1024", .seen = &a->width_given},
+        {.name = "--height", .kind = OPT_INT, .dst = &a->height, .arg = "H", .lo = 1, .hi = RENDER_MAX_SIDE,
+         .help = "frame height in pixels", .def = "the scene's, else 768", .seen = &a->height_given},
+        {.name = "--aa", .kind = OPT_CUSTOM, .dst = &a->aa, .arg = "N|adaptive[:N]", .parse = cli_parse_aa, .range = CLI_AA_RANGE,
          .help = "anti-aliasing: N x N samples, or one and N x N where neighbours differ",
          .def = "the scene's, else adaptive:4"},
-        {.name = "--threads", .kind = OPT_INT, .dst = &threads, .arg = "T", .lo = 0, .hi = RENDER_MAX_THREADS,
+        {.name = "--threads", .kind = OPT_INT, .dst = &a->threads, .arg = "T", .lo = 0, .hi = RENDER_MAX_THREADS,
          .help = "render threads, 0 = one per core", .def = "0: all cores"},
-        {.name = "--bvh", .kind = OPT_CHOICE, .dst = &bvh_kind, .choices = cli_bvh_names, .seen = &force_bvh,
+        {.name = "--bvh", .kind = OPT_CHOICE, .dst = &a->bvh_kind, .choices = cli_bvh_names, .seen = &a->force_bvh,
          .help = "BVH builder for models; given, it rebuilds .tmd models too"},
-        {.name = "--shading", .kind = OPT_CHOICE, .dst = &shading, .choices = shading_names, .seen = &shading_given,
+        {.name = "--shading", .kind = OPT_CHOICE, .dst = &a->shading, .choices = shading_names, .seen = &a->shading_given,
          .help = "Phong, or diffuse only", .def = "the scene's, else phong"},
-        {.name = "--shadows", .kind = OPT_CHOICE, .dst = &shadows, .choices = onoff_names, .seen = &shadows_given,
+        {.name = "--shadows", .kind = OPT_CHOICE, .dst = &a->shadows, .choices = onoff_names, .seen = &a->shadows_given,
          .help = "shadow rays", .def = "the scene's, else on"},
-        {.name = "--filter", .kind = OPT_CHOICE, .dst = &filter, .choices = filter_names, .seen = &filter_given,
+        {.name = "--filter", .kind = OPT_CHOICE, .dst = &a->filter, .choices = filter_names, .seen = &a->filter_given,
          .help = "texture filtering: one texel, four, mip-maps by the ray's footprint, or mip-maps along it",
          .def = "the scene's, else anisotropic"},
-        {.name = "--depth", .kind = OPT_INT, .dst = &depth, .arg = "N", .lo = 0, .hi = SCENE_MAX_DEPTH, .seen = &depth_given,
+        {.name = "--depth", .kind = OPT_INT, .dst = &a->depth, .arg = "N", .lo = 0, .hi = SCENE_MAX_DEPTH, .seen = &a->depth_given,
          .help = "bounces of reflected and refracted rays after the camera ray", .def = "the scene's, else 5"},
-        {.name = "--cutoff", .kind = OPT_REAL, .dst = &cutoff, .arg = "W", .rlo = 0, .rhi = 0.999, .seen = &cutoff_given,
+        {.name = "--cutoff", .kind = OPT_REAL, .dst = &a->cutoff, .arg = "W", .rlo = 0, .rhi = 0.999, .seen = &a->cutoff_given,
          .help = "skip a secondary ray that can add less than W to the pixel", .def = "the scene's, else 0.01"},
-        {.name = "--fresnel", .kind = OPT_CHOICE, .dst = &fresnel, .choices = fresnel_names, .seen = &fresnel_given,
+        {.name = "--fresnel", .kind = OPT_CHOICE, .dst = &a->fresnel, .choices = fresnel_names, .seen = &a->fresnel_given,
          .help = "a dielectric's reflectance: Fresnel's equations or Schlick's approximation",
          .def = "the scene's, else exact"},
-        {.name = "--depth-limit", .kind = OPT_CHOICE, .dst = &limit, .choices = limit_names, .seen = &limit_given,
+        {.name = "--depth-limit", .kind = OPT_CHOICE, .dst = &a->limit, .choices = limit_names, .seen = &a->limit_given,
          .help = "what a mirror's or glass's ray cut at the depth limit returns", .def = "the scene's, else background"},
-        {.name = "--glass-shadows", .kind = OPT_CHOICE, .dst = &glass, .choices = glass_names, .seen = &glass_given,
+        {.name = "--glass-shadows", .kind = OPT_CHOICE, .dst = &a->glass, .choices = glass_names, .seen = &a->glass_given,
          .help = "shadow rays through dielectrics: stopped, or tinted by their colour", .def = "the scene's, else tinted"},
-        {.name = "--sampling", .kind = OPT_CHOICE, .dst = &sampling, .choices = sampling_names, .seen = &sampling_given,
+        {.name = "--sampling", .kind = OPT_CHOICE, .dst = &a->sampling, .choices = sampling_names, .seen = &a->sampling_given,
          .help = "area lights, a lens, rough mirrors: their K x K points shared by a pixel's rays (budget: costs add), or "
                  "taken by every ray (product: costs multiply)", .def = "the scene's, else budget"},
-        {.name = "--light-samples", .kind = OPT_INT, .dst = &light_samples, .arg = "K", .lo = 0, .hi = LIGHT_MAX_SAMPLES,
+        {.name = "--light-samples", .kind = OPT_INT, .dst = &a->light_samples, .arg = "K", .lo = 0, .hi = LIGHT_MAX_SAMPLES,
          .help = "shadow rays of every sphere and rect light: K x K a pixel (product: a ray); 0 = each light's own",
          .def = "0"},
-        {.name = "--rough-samples", .kind = OPT_INT, .dst = &rough_samples, .arg = "K", .lo = 0, .hi = SCENE_MAX_SAMPLES,
+        {.name = "--rough-samples", .kind = OPT_INT, .dst = &a->rough_samples, .arg = "K", .lo = 0, .hi = SCENE_MAX_SAMPLES,
          .help = "rays of a rough mirror: K x K a pixel (product: a ray); 0 = the scene's",
          .def = "0: the scene's, else 6 (product: 4)"},
-        {.name = "--lens-samples", .kind = OPT_INT, .dst = &lens_samples, .arg = "K", .lo = 0, .hi = SCENE_MAX_SAMPLES,
+        {.name = "--lens-samples", .kind = OPT_INT, .dst = &a->lens_samples, .arg = "K", .lo = 0, .hi = SCENE_MAX_SAMPLES,
          .help = "rays through a camera's lens: K x K a pixel (product: a pixel sample); 0 = the scene's",
          .def = "0: the scene's, else 3 (product: 4)"},
-        {.name = "--exposure", .kind = OPT_REAL, .dst = &exposure, .arg = "STOPS", .rlo = -32, .rhi = 32,
-         .seen = &exposure_given, .help = "8-bit output shows the light times 2^STOPS", .def = "the scene's, else 0"},
-        {.name = "--linear", .kind = OPT_FLAG, .dst = &linear,
+        {.name = "--exposure", .kind = OPT_REAL, .dst = &a->exposure, .arg = "STOPS", .rlo = -32, .rhi = 32,
+         .seen = &a->exposure_given, .help = "8-bit output shows the light times 2^STOPS", .def = "the scene's, else 0"},
+        {.name = "--linear", .kind = OPT_FLAG, .dst = &a->linear,
          .help = "write linear light (PNG tagged gAMA 1.0) instead of sRGB"},
-        {.name = "--repeat", .kind = OPT_INT, .dst = &repeat, .arg = "N", .lo = 1, .hi = 100000,
+        {.name = "--repeat", .kind = OPT_INT, .dst = &a->repeat, .arg = "N", .lo = 1, .hi = 100000,
          .help = "render the frame N times, report the best and mean time (benchmarks)"},
-        {.name = "--segment", .kind = OPT_INT, .dst = &segment, .arg = "LINES", .lo = 0, .hi = RENDER_MAX_SIDE,
+        {.name = "--segment", .kind = OPT_INT, .dst = &a->segment, .arg = "LINES", .lo = 0, .hi = RENDER_MAX_SIDE,
          .help = "render as segments of LINES lines one after another, as clients do; 0 = whole frame"},
-        {.name = "--band", .kind = OPT_INT, .dst = &band_lines, .arg = "LINES", .lo = 0, .hi = RENDER_MAX_SIDE,
+        {.name = "--band", .kind = OPT_INT, .dst = &a->band_lines, .arg = "LINES", .lo = 0, .hi = RENDER_MAX_SIDE,
          .help = "hold only LINES lines in memory, writing each band as it is done; 0 = the whole frame up to 256 MB, "
                  "bands of 32 MB above"},
-        {.name = "--profile", .kind = OPT_STRING, .dst = &profile, .arg = "FILE",
+        {.name = "--profile", .kind = OPT_STRING, .dst = &a->profile, .arg = "FILE",
          .help = "also time every line alone, write 'line,microseconds' to FILE (for tools/schedsim)"},
         {.name = "--simd", .kind = OPT_CUSTOM, .parse = cli_parse_simd, .arg = "PATH", .range = CLI_SIMD_RANGE,
-         .seen = &simd_given, .help = "traversal path (every path gives the same pixels)", .def = CLI_SIMD_DEFAULT},
-        {.name = "--stats", .kind = OPT_FLAG, .dst = &stats,
+         .seen = &a->simd_given, .help = "traversal path (every path gives the same pixels)", .def = CLI_SIMD_DEFAULT},
+        {.name = "--stats", .kind = OPT_FLAG, .dst = &a->stats,
          .help = "print the models' memory per triangle (triangles, tree, wide tree, attributes)"},
-        {.name = "--quiet", .kind = OPT_FLAG, .dst = &quiet, .help = "print only the timing line: no scene line, no progress"},
+        {.name = "--quiet", .kind = OPT_FLAG, .dst = &a->quiet, .help = "print only the timing line: no scene line, no progress"},
         {0},
     };
     const char *args[1] = {NULL};
@@ -204,164 +212,223 @@ int main(int argc, char **argv)
                     "  1  an error: the scene, the output file or its directory, memory; nothing is left behind\n"
                     "  2  bad command line, or an image format it does not write (-o x.jpg)\n"};
     int go = opt_run(&spec, argc, argv);
-    if (go != OPT_GO)
-        return go;
-    Err err = {{0}};
+    a->scene_path = args[0];
+    return go;
+}
+
+/* The command line's settings over the scene's: 0, or 2 for a .hdr asked to
+ * be linear or exposed. */
+static int apply_settings(Scene *scene, Args *a)
+{
+    RenderSettings *rs = &scene->settings;
+    if (a->aa.given || !rs->sampling_given) /* a still image is anti-aliased unless the scene or the user says */
+        rs->aa = a->aa.aa, rs->adaptive = a->aa.adaptive;
+    if (a->shading_given)
+        rs->shading = (ShadeModel)a->shading;
+    if (a->shadows_given)
+        rs->shadows = a->shadows;
+    if (a->filter_given)
+        rs->filter = (TextureFilter)a->filter;
+    if (a->depth_given)
+        rs->depth = a->depth;
+    if (a->cutoff_given)
+        rs->cutoff = (real)a->cutoff;
+    if (a->fresnel_given)
+        rs->fresnel = (FresnelModel)a->fresnel;
+    if (a->glass_given)
+        rs->glass_shadows = a->glass;
+    if (a->sampling_given)
+        rs->sampling = (Sampling)a->sampling;
+    if (a->limit_given)
+        rs->depth_limit = (DepthLimit)a->limit;
+    if (a->rough_samples)
+        rs->rough_samples = a->rough_samples;
+    if (a->lens_samples)
+        rs->lens_samples = a->lens_samples;
+    for (uint32_t i = 0; a->light_samples && i < scene->light_count; i++)
+        if (light_is_area(&scene->lights[i]))
+            scene->lights[i].samples = a->light_samples;
+    rs->linear = a->linear;
+    if (a->exposure_given)
+        rs->exposure = (real)a->exposure;
+    rs->hdr = image_is_hdr(a->out);
+    if (rs->hdr && (a->linear || a->exposure_given)) {
+        fprintf(stderr, "lanray-render: --linear and --exposure are for 8-bit output (.png, .ppm); a .hdr keeps the light "
+                        "itself\n");
+        return 2;
+    }
+    if (!a->width_given && rs->width)
+        a->width = rs->width;
+    if (!a->height_given && rs->height)
+        a->height = rs->height;
+    return 0;
+}
+
+/* A render: what job_open makes, job_close alone frees. */
+typedef struct {
+    Scene *scene;
+    BvhOptions bvh;
+    RenderPool *pool;
+    uint8_t *pixels;
+    ImageWriter *wr;
+    int banded, band;
+    uint32_t bpp;
+    double load_s;
+} Job;
+
+static void job_close(Job *j)
+{
+    image_writer_abort(j->wr);
+    free(j->pixels);
+    render_pool_destroy(j->pool);
+    scene_destroy(j->scene);
+}
+
+/* The scene with its settings, the frame's memory (whole, or in bands), the
+ * output file under its temporary name and the pool: 0, or the exit status. */
+static int job_open(Job *j, Args *a, Err *err)
+{
     file_atomic_on_signals(); /* interrupted, nothing half-written is left */
-    if (!simd_given && cli_simd_env(&err)) {
-        fprintf(stderr, "lanray-render: %s\n", err.msg);
+    if (!a->simd_given && cli_simd_env(err)) {
+        fprintf(stderr, "lanray-render: %s\n", err->msg);
         return 2;
     }
     /* a wrong output name fails before the scene is even loaded: a bad
      * command line (a directory that is not there fails later, 1) */
-    if (image_check_name(out, &err)) {
-        fprintf(stderr, "lanray-render: %s\n", err.msg);
+    if (image_check_name(a->out, err)) {
+        fprintf(stderr, "lanray-render: %s\n", err->msg);
         return 2;
     }
-    threads = cli_threads(threads);
-    BvhOptions bvh = bvh_options_default((BvhKind)bvh_kind);
-    Scene *scene;
+    a->threads = cli_threads(a->threads);
+    j->bvh = bvh_options_default((BvhKind)a->bvh_kind);
     double t0 = timer_now();
-    if (cli_open_scene(args[0], &bvh, force_bvh, &scene, &err)) {
-        fprintf(stderr, "lanray-render: %s\n", err.msg);
+    if (cli_open_scene(a->scene_path, &j->bvh, a->force_bvh, &j->scene, err)) {
+        fprintf(stderr, "lanray-render: %s\n", err->msg);
         return 1;
     }
-    RenderSettings *rs = &scene->settings;
-    if (aa.given || !rs->sampling_given) /* a still image is anti-aliased unless the scene or the user says */
-        rs->aa = aa.aa, rs->adaptive = aa.adaptive;
-    if (shading_given)
-        rs->shading = (ShadeModel)shading;
-    if (shadows_given)
-        rs->shadows = shadows;
-    if (filter_given)
-        rs->filter = (TextureFilter)filter;
-    if (depth_given)
-        rs->depth = depth;
-    if (cutoff_given)
-        rs->cutoff = (real)cutoff;
-    if (fresnel_given)
-        rs->fresnel = (FresnelModel)fresnel;
-    if (glass_given)
-        rs->glass_shadows = glass;
-    if (sampling_given)
-        rs->sampling = (Sampling)sampling;
-    if (limit_given)
-        rs->depth_limit = (DepthLimit)limit;
-    if (rough_samples)
-        rs->rough_samples = rough_samples;
-    if (lens_samples)
-        rs->lens_samples = lens_samples;
-    for (uint32_t i = 0; light_samples && i < scene->light_count; i++)
-        if (light_is_area(&scene->lights[i]))
-            scene->lights[i].samples = light_samples;
-    rs->linear = linear;
-    if (exposure_given)
-        rs->exposure = (real)exposure;
-    const int hdr = image_is_hdr(out);
-    if (hdr && (linear || exposure_given)) {
-        fprintf(stderr, "lanray-render: --linear and --exposure are for 8-bit output (.png, .ppm); a .hdr keeps the light "
-                        "itself\n");
-        scene_destroy(scene);
-        return 2;
-    }
-    rs->hdr = hdr;
-    if (!width_given && rs->width)
-        width = rs->width;
-    if (!height_given && rs->height)
-        height = rs->height;
-    if (scene_prepare(scene, &err)) {
-        fprintf(stderr, "lanray-render: %s\n", err.msg);
-        scene_destroy(scene);
+    int rc = apply_settings(j->scene, a);
+    if (rc)
+        return rc;
+    if (scene_prepare(j->scene, err)) {
+        fprintf(stderr, "lanray-render: %s\n", err->msg);
         return 1;
     }
-    double t1 = timer_now();
-    cli_warn_scene("lanray-render", scene);
-    const uint32_t bpp = render_pixel_bytes(scene);
-    uint64_t frame_bytes = (uint64_t)width * (uint64_t)height * bpp;
-    int banded = band_lines ? band_lines < height : frame_bytes > WHOLE_FRAME_BYTES;
-    int band = !banded ? height : band_lines ? band_lines : (int)(BAND_BYTES / ((uint64_t)width * bpp));
-    if (band < 1)
-        band = 1;
-    int rc = 0;
-    if (banded && profile)
-        rc = err_set(&err, "%dx%d is rendered in bands (%.1f GB whole); --profile needs the whole frame", width, height,
+    j->load_s = timer_now() - t0;
+    cli_warn_scene("lanray-render", j->scene);
+    const int width = a->width, height = a->height;
+    j->bpp = render_pixel_bytes(j->scene);
+    uint64_t frame_bytes = (uint64_t)width * (uint64_t)height * j->bpp;
+    j->banded = a->band_lines ? a->band_lines < height : frame_bytes > WHOLE_FRAME_BYTES;
+    j->band = !j->banded ? height : a->band_lines ? a->band_lines : (int)(BAND_BYTES / ((uint64_t)width * j->bpp));
+    if (j->band < 1)
+        j->band = 1;
+    if (j->banded && a->profile)
+        rc = err_set(err, "%dx%d is rendered in bands (%.1f GB whole); --profile needs the whole frame", width, height,
                      (double)frame_bytes / 1e9);
     else
-        rc = cli_check_memory((uint64_t)width * (uint64_t)band * bpp, banded ? "a band of the frame" : "the frame", &err);
-    ImageWriter *wr = NULL;
+        rc = cli_check_memory((uint64_t)width * (uint64_t)j->band * j->bpp,
+                              j->banded ? "a band of the frame" : "the frame", err);
+    const RenderSettings *rs = &j->scene->settings;
     if (rc == 0) /* the file exists, under a temporary name, before any rendering */
-        rc = image_writer_open(out, width, height, hdr ? IMAGE_RGBE : linear ? IMAGE_LINEAR : IMAGE_SRGB, &wr, &err);
-    RenderPool *pool = rc ? NULL : render_pool_create(threads, &err);
-    uint8_t *pixels = pool ? malloc((size_t)width * (size_t)band * bpp) : NULL;
-    if (rc == 0 && (!pool || !pixels))
-        rc = pool ? err_set(&err, "out of memory for %d lines of %d pixels", band, width) : -1;
+        rc = image_writer_open(a->out, width, height, rs->hdr ? IMAGE_RGBE : rs->linear ? IMAGE_LINEAR : IMAGE_SRGB,
+                               &j->wr, err);
+    j->pool = rc ? NULL : render_pool_create(a->threads, err);
+    j->pixels = j->pool ? malloc((size_t)width * (size_t)j->band * j->bpp) : NULL;
+    if (rc == 0 && (!j->pool || !j->pixels))
+        rc = j->pool ? err_set(err, "out of memory for %d lines of %d pixels", j->band, width) : -1;
     if (rc) {
-        fprintf(stderr, "lanray-render: %s\n", err.msg);
-        image_writer_abort(wr);
-        free(pixels);
-        render_pool_destroy(pool);
-        scene_destroy(scene);
+        fprintf(stderr, "lanray-render: %s\n", err->msg);
         return 1;
     }
-    if (!quiet)
-        printf("scene: %s, %llu triangles, %u spheres, %u planes, %u lights; loaded in %.3f s\n",
-               args[0] ? args[0] : "built-in default", (unsigned long long)scene_triangle_count(scene),
-               scene->sphere_count, scene->plane_count, scene->light_count, t1 - t0);
-    fflush(stdout);
+    return 0;
+}
+
+/* The frame, --repeat times, by segments; in bands the last pass writes them. */
+static int job_render(Job *j, const Args *a, RayStats *st, double *best, double *sum, Err *err)
+{
     Watch watch;
     memset(&watch, 0, sizeof watch);
-    watch.pixels = (uint64_t)width * (uint64_t)height * (uint64_t)repeat;
-    watch.width = width;
-    render_pool_watch(pool, &watch.counts);
-    Progress *prog = progress_start("lanray-render", !quiet, show_progress, &watch);
-    double best = 1e30, sum = 0;
-    RayStats st = {0, 0, 0};
-    int seg = segment && segment < band ? segment : band; /* a band holds a segment */
-    for (int f = 0; f < repeat && rc == 0; f++) {
-        double a = timer_now();
-        st = (RayStats){0, 0, 0};
-        for (int y = 0; rc == 0 && y < height; y += seg) {
+    watch.pixels = (uint64_t)a->width * (uint64_t)a->height * (uint64_t)a->repeat;
+    watch.width = a->width;
+    render_pool_watch(j->pool, &watch.counts);
+    Progress *prog = progress_start("lanray-render", !a->quiet, show_progress, &watch);
+    int rc = 0, seg = a->segment && a->segment < j->band ? a->segment : j->band; /* a band holds a segment */
+    *best = 1e30, *sum = 0;
+    for (int f = 0; f < a->repeat && rc == 0; f++) {
+        double t = timer_now();
+        *st = (RayStats){0, 0, 0};
+        for (int y = 0; rc == 0 && y < a->height; y += seg) {
             RayStats part;
-            int n = y + seg <= height ? seg : height - y;
-            uint8_t *dst = pixels + (banded ? 0 : (size_t)y * width * bpp);
-            rc = render_lines(pool, scene, width, height, y, n, dst, &part, &err);
-            ray_stats_add(&st, part);
-            if (rc == 0 && banded && f == repeat - 1) /* in bands, the last pass writes */
-                rc = image_writer_rows(wr, pixels, n, &err) ? (wr = NULL, -1) : 0;
+            int n = y + seg <= a->height ? seg : a->height - y;
+            uint8_t *dst = j->pixels + (j->banded ? 0 : (size_t)y * a->width * j->bpp);
+            rc = render_lines(j->pool, j->scene, a->width, a->height, y, n, dst, &part, err);
+            ray_stats_add(st, part);
+            if (rc == 0 && j->banded && f == a->repeat - 1) /* in bands, the last pass writes */
+                rc = image_writer_rows(j->wr, j->pixels, n, err) ? (j->wr = NULL, -1) : 0;
         }
-        double dt = timer_now() - a;
-        sum += dt;
-        best = fmin(best, dt);
+        double dt = timer_now() - t;
+        *sum += dt;
+        *best = fmin(*best, dt);
     }
     progress_stop(prog);
-    render_pool_watch(pool, NULL);
-    if (rc == 0 && profile)
-        rc = write_profile(pool, scene, width, height, pixels, profile, &err);
-    if (rc == 0 && !banded)
-        rc = image_writer_rows(wr, pixels, height, &err) ? (wr = NULL, -1) : 0;
+    render_pool_watch(j->pool, NULL);
+    if (rc == 0 && a->profile)
+        rc = write_profile(j->pool, j->scene, a->width, a->height, j->pixels, a->profile, err);
+    if (rc == 0 && !j->banded)
+        rc = image_writer_rows(j->wr, j->pixels, a->height, err) ? (j->wr = NULL, -1) : 0;
+    ImageWriter *wr = j->wr;
+    j->wr = NULL;
     if (rc == 0)
-        rc = image_writer_close(wr, &err);
+        rc = image_writer_close(wr, err);
     else
         image_writer_abort(wr);
-    if (rc)
-        fprintf(stderr, "lanray-render: %s\n", err.msg);
-    else {
-        double rays = (double)ray_stats_total(&st);
-        char second[64] = "";
-        if (st.secondary) /* a scene with mirrors or glass */
-            snprintf(second, sizeof second, " + %llu secondary", (unsigned long long)st.secondary);
-        printf("%dx%d aa %d%s %s shadows %s bvh %s threads %d simd %s (%s): frame %.4f s (mean %.4f s over %d), "
-               "%.2f Mrays/s (%llu camera + %llu shadow%s rays)\n",
-               width, height, rs->aa, rs->adaptive ? " adaptive" : "", rs->shading == SHADE_PHONG ? "phong" : "diffuse",
-               rs->shadows ? "on" : "off", bvh_kind_name(bvh.kind), threads, simd_name(simd_path()), REAL_NAME, best, sum / repeat, repeat,
-               rays / best * 1e-6, (unsigned long long)st.primary, (unsigned long long)st.shadow, second);
-        if (stats)
-            print_memory(scene);
-        if (!quiet)
-            printf("wrote %s\n", out);
+    return rc;
+}
+
+/* The timing line (what benchmarks read), the memory table, the file's name. */
+static void report(const Job *j, const Args *a, RayStats st, double best, double sum)
+{
+    const RenderSettings *rs = &j->scene->settings;
+    double rays = (double)ray_stats_total(&st);
+    char second[64] = "";
+    if (st.secondary) /* a scene with mirrors or glass */
+        snprintf(second, sizeof second, " + %llu secondary", (unsigned long long)st.secondary);
+    printf("%dx%d aa %d%s %s shadows %s bvh %s threads %d simd %s (%s): frame %.4f s (mean %.4f s over %d), "
+           "%.2f Mrays/s (%llu camera + %llu shadow%s rays)\n",
+           a->width, a->height, rs->aa, rs->adaptive ? " adaptive" : "", rs->shading == SHADE_PHONG ? "phong" : "diffuse",
+           rs->shadows ? "on" : "off", bvh_kind_name(j->bvh.kind), a->threads, simd_name(simd_path()), REAL_NAME, best,
+           sum / a->repeat, a->repeat, rays / best * 1e-6, (unsigned long long)st.primary, (unsigned long long)st.shadow,
+           second);
+    if (a->stats)
+        print_memory(j->scene);
+    if (!a->quiet)
+        printf("wrote %s\n", a->out);
+}
+
+int main(int argc, char **argv)
+{
+    Args a;
+    int rc = parse_args(&a, argc, argv);
+    if (rc != OPT_GO)
+        return rc;
+    Err err = {{0}};
+    Job j = {0};
+    rc = job_open(&j, &a, &err);
+    if (rc == 0) {
+        if (!a.quiet)
+            printf("scene: %s, %llu triangles, %u spheres, %u planes, %u lights; loaded in %.3f s\n",
+                   a.scene_path ? a.scene_path : "built-in default", (unsigned long long)scene_triangle_count(j.scene),
+                   j.scene->sphere_count, j.scene->plane_count, j.scene->light_count, j.load_s);
+        fflush(stdout);
+        RayStats st = {0, 0, 0};
+        double best = 0, sum = 0;
+        if (job_render(&j, &a, &st, &best, &sum, &err)) {
+            fprintf(stderr, "lanray-render: %s\n", err.msg);
+            rc = 1;
+        } else {
+            report(&j, &a, st, best, sum);
+        }
     }
-    free(pixels);
-    render_pool_destroy(pool);
-    scene_destroy(scene);
-    return rc ? 1 : 0;
+    job_close(&j);
+    return rc;
 }
