@@ -60,23 +60,29 @@ static int same_file(const char *a, const char *b)
     return stat(a, &sa) == 0 && stat(b, &sb) == 0 && sa.st_dev == sb.st_dev && sa.st_ino == sb.st_ino;
 }
 
-int main(int argc, char **argv)
+/* What the command line says. */
+typedef struct {
+    int bvh_kind, leaf, axis, smooth, quiet, threads, strict;
+    const char *in, *out;
+} Args;
+
+/* Parses the command line into a: OPT_GO, or the exit status. */
+static int parse_args(Args *a, int argc, char **argv)
 {
-    int bvh_kind = BVH_SAH, leaf = (int)bvh_options_default(BVH_SAH).max_leaf, axis = 0, smooth = 0, quiet = 0,
-        threads = 0, strict = 0;
+    *a = (Args){.bvh_kind = BVH_SAH, .leaf = (int)bvh_options_default(BVH_SAH).max_leaf};
     const Opt opts[] = {
-        {.name = "--bvh", .kind = OPT_CHOICE, .dst = &bvh_kind, .choices = cli_bvh_names,
+        {.name = "--bvh", .kind = OPT_CHOICE, .dst = &a->bvh_kind, .choices = cli_bvh_names,
          .help = "builder: sbt (spatial median), mst (bottom-up, smallest merged box), sah (surface area)"},
-        {.name = "--leaf", .kind = OPT_INT, .dst = &leaf, .arg = "N", .lo = 1, .hi = 255,
+        {.name = "--leaf", .kind = OPT_INT, .dst = &a->leaf, .arg = "N", .lo = 1, .hi = 255,
          .help = "most triangles per leaf"},
-        {.name = "--axis", .kind = OPT_CHOICE, .dst = &axis, .choices = axis_names,
+        {.name = "--axis", .kind = OPT_CHOICE, .dst = &a->axis, .choices = axis_names,
          .help = "SBT split axis: the box's longest, or x, y, z in turn"},
-        {.name = "--threads", .kind = OPT_INT, .dst = &threads, .arg = "T", .lo = 0, .hi = 64,
+        {.name = "--threads", .kind = OPT_INT, .dst = &a->threads, .arg = "T", .lo = 0, .hi = 64,
          .help = "builder threads, 0 = one per core (the tree is the same for any number)", .def = "0: all cores"},
-        {.name = "--smooth", .kind = OPT_FLAG, .dst = &smooth, .help = "compute smooth vertex normals where the OBJ has none"},
-        {.name = "--strict", .kind = OPT_FLAG, .dst = &strict,
+        {.name = "--smooth", .kind = OPT_FLAG, .dst = &a->smooth, .help = "compute smooth vertex normals where the OBJ has none"},
+        {.name = "--strict", .kind = OPT_FLAG, .dst = &a->strict,
          .help = "make every warning an error (an undefined material, a missing library, skipped elements, ...)"},
-        {.name = "--quiet", .kind = OPT_FLAG, .dst = &quiet, .help = "print errors only: no summary, no progress"},
+        {.name = "--quiet", .kind = OPT_FLAG, .dst = &a->quiet, .help = "print errors only: no summary, no progress"},
         {0},
     };
     const char *args[2] = {NULL, NULL};
@@ -91,11 +97,15 @@ int main(int argc, char **argv)
                     "     output is the input; no output file is left\n"
                     "  2  bad command line, or an output not named .tmd\n"};
     int go = opt_run(&spec, argc, argv);
-    if (go != OPT_GO)
-        return go;
+    a->in = args[0], a->out = args[1];
+    return go;
+}
+
+/* The output checked before the work: not the input, named .tmd, in a
+ * directory that takes a file.  0, or the exit status. */
+static int check_output(const char *in, const char *out)
+{
     Err err = {{0}};
-    file_atomic_on_signals(); /* interrupted, nothing half-written is left */
-    const char *in = args[0], *out = args[1];
     if (same_file(in, out)) {
         fprintf(stderr, "obj2tmd: %s is the input file %s; name another output\n", out, in);
         return 1;
@@ -106,112 +116,141 @@ int main(int argc, char **argv)
                 out);
         return 2;
     }
-    BvhOptions bo = bvh_options_default((BvhKind)bvh_kind);
-    bo.max_leaf = (uint32_t)leaf;
-    bo.sbt_alternate = axis == 1;
-    bo.threads = cli_threads(threads);
-    ObjOptions oo = {.smooth = smooth, .strict = strict, .warn = quiet ? NULL : show_warning};
-    /* the output's directory takes a file: checked before the work */
     AtomicFile probe;
     if (file_atomic_open(&probe, out, &err)) {
         fprintf(stderr, "obj2tmd: %s\n", err.msg);
         return 1;
     }
     file_atomic_abort(&probe);
-    Step step;
-    atomic_init(&step.step, "reading");
-    atomic_init(&step.file, in);
-    Progress *prog = progress_start("obj2tmd", !quiet, show_step, &step);
-    Mesh mesh;
-    ObjStats st;
-    memset(&st, 0, sizeof st);
-    /* OBJ by its own reader; PLY, STL, glTF and the rest through Assimp (import.h) */
-    const int imported = import_knows(in);
-    double t0 = timer_now();
-    if (imported) {
+    return 0;
+}
+
+/* The mesh from an OBJ by its own reader, or from PLY, STL, glTF and the
+ * rest through Assimp (import.h), with its statistics: 0, or the exit
+ * status. */
+static int read_mesh(const Args *a, Mesh *mesh, ObjStats *st)
+{
+    Err err = {{0}};
+    ObjOptions oo = {.smooth = a->smooth, .strict = a->strict, .warn = a->quiet ? NULL : show_warning};
+    memset(st, 0, sizeof *st);
+    if (import_knows(a->in)) {
         ImportStats is;
-        if (smooth) {
-            progress_stop(prog);
+        if (a->smooth) {
             fprintf(stderr, "obj2tmd: --smooth applies to OBJ input\n");
             return 2;
         }
-        if (import_read(in, &oo, &mesh, &is, &err) == 0) {
-            st.vertices = is.vertices, st.faces = is.triangles + is.degenerate, st.degenerate = is.degenerate;
-            st.skipped[OBJ_SKIP_LINE] = is.lines, st.skipped[OBJ_SKIP_POINT] = is.points;
-            st.coloured = is.coloured, st.colours = mesh.col != NULL, st.colours_ignored = is.colours_ignored;
-            st.warnings = is.warnings, st.missing_textures = is.missing_textures;
+        if (import_read(a->in, &oo, mesh, &is, &err) == 0) {
+            st->vertices = is.vertices, st->faces = is.triangles + is.degenerate, st->degenerate = is.degenerate;
+            st->skipped[OBJ_SKIP_LINE] = is.lines, st->skipped[OBJ_SKIP_POINT] = is.points;
+            st->coloured = is.coloured, st->colours = mesh->col != NULL, st->colours_ignored = is.colours_ignored;
+            st->warnings = is.warnings, st->missing_textures = is.missing_textures;
+            return 0;
+        }
+    } else if (obj_read(a->in, &oo, mesh, st, &err) == 0) {
+        return 0;
+    }
+    fprintf(stderr, "obj2tmd: %s\n", err.msg);
+    return 1;
+}
+
+/* The summary: what was read, what was built, how long it took. */
+static void print_summary(const Args *a, const Model *model, const ObjStats *st, const BvhOptions *bo, double parse_s,
+                          double build_s)
+{
+    printf("%s -> %s\n", a->in, a->out);
+    printf("  vertices %lu, faces %lu, triangles %u, degenerate dropped %lu\n", st->vertices, st->faces,
+           model->tri_count, st->degenerate);
+    printf("  attributes: %s%s%s%s", model->normals ? "normals " : "", model->uvs ? "uvs " : "",
+           model->colours ? "vertex-colours " : "",
+           model->mat_ids ? "materials" : (model->normals || model->uvs || model->colours ? "" : "positions only"));
+    if (model->texture_count)
+        printf(", textures %u", model->texture_count);
+    printf("\n");
+    const Aabb b = model->bounds;
+    printf("  bounds x %g..%g, y %g..%g, z %g..%g (size %g x %g x %g)\n", (double)b.min.x, (double)b.max.x,
+           (double)b.min.y, (double)b.max.y, (double)b.min.z, (double)b.max.z, (double)(b.max.x - b.min.x),
+           (double)(b.max.y - b.min.y), (double)(b.max.z - b.min.z));
+    printf("  bvh %s: %u nodes, depth %u, SAH cost %.2f\n", bvh_kind_name(bo->kind), model->bvh.node_count,
+           model->bvh.depth, bvh_sah_cost(&model->bvh));
+    printf("  parse %.3f s, build %.3f s\n", parse_s, build_s);
+    struct stat sb;
+    if (stat(a->in, &sb) == 0 && parse_s > 0)
+        printf("  read %.1f MB at %.1f MB/s\n", (double)sb.st_size / 1e6, (double)sb.st_size / 1e6 / parse_s);
+    if (st->warnings)
+        printf("  warnings %lu: undefined materials %lu, missing material libraries %lu, missing textures %lu, "
+               "files found by name %lu%s\n",
+               st->warnings, st->undefined_mtl, st->missing_mtllib, st->missing_textures, st->found_elsewhere,
+               st->colours_ignored ? ", vertex colours ignored" : "");
+    if (st->optics_mtl)
+        printf("  materials with reflection, glass, transparency or emission (illum, Ni, d, Ke): %lu\n", st->optics_mtl);
+    if (st->coloured)
+        printf("  vertex colours: %lu coloured vertices, %s\n", st->coloured,
+               st->colours ? "kept as the diffuse colour" : "ignored (the model has materials)");
+    int any = 0;
+    for (int k = 0; k < OBJ_SKIP_KINDS; k++)
+        if (st->skipped[k])
+            printf("%s %lu %s", any++ ? "," : "  skipped:", st->skipped[k], obj_skip_name((ObjSkip)k));
+    if (any)
+        printf("\n");
+}
+
+/* Reads, builds and writes, the progress line saying which: 0, or the
+ * exit status. */
+static int convert(const Args *a)
+{
+    Err err = {{0}};
+    BvhOptions bo = bvh_options_default((BvhKind)a->bvh_kind);
+    bo.max_leaf = (uint32_t)a->leaf;
+    bo.sbt_alternate = a->axis == 1;
+    bo.threads = cli_threads(a->threads);
+    Step step;
+    atomic_init(&step.step, "reading");
+    atomic_init(&step.file, a->in);
+    Progress *prog = progress_start("obj2tmd", !a->quiet, show_step, &step);
+    Mesh mesh;
+    ObjStats st;
+    double t0 = timer_now();
+    int rc = read_mesh(a, &mesh, &st);
+    double t1 = timer_now();
+    if (rc == 0 && mesh.tri_count == 0) {
+        fprintf(stderr, "obj2tmd: %s: no usable triangles (%lu faces, %lu degenerate)\n", a->in, st.faces, st.degenerate);
+        mesh_free(&mesh);
+        rc = 1;
+    }
+    Model *model = NULL;
+    if (rc == 0) {
+        atomic_store(&step.step, bo.kind == BVH_MST   ? "building the MST tree of"
+                                 : bo.kind == BVH_SBT ? "building the SBT tree of"
+                                                      : "building the SAH tree of");
+        if (model_from_mesh(&model, &mesh, &bo, &err)) {
+            fprintf(stderr, "obj2tmd: %s: %s\n", a->in, err.msg);
+            rc = 1;
+        }
+        mesh_free(&mesh);
+    }
+    double t2 = timer_now();
+    if (rc == 0) {
+        atomic_store(&step.step, "writing");
+        atomic_store(&step.file, a->out);
+        if (tmd_write(a->out, model, &err)) {
+            fprintf(stderr, "obj2tmd: %s\n", err.msg);
+            rc = 1;
         }
     }
-    if (imported ? err.msg[0] != 0 : obj_read(in, &oo, &mesh, &st, &err) != 0) {
-        progress_stop(prog);
-        fprintf(stderr, "obj2tmd: %s\n", err.msg);
-        return 1;
-    }
-    double t1 = timer_now();
-    if (mesh.tri_count == 0) {
-        progress_stop(prog);
-        fprintf(stderr, "obj2tmd: %s: no usable triangles (%lu faces, %lu degenerate)\n", in, st.faces, st.degenerate);
-        mesh_free(&mesh);
-        return 1;
-    }
-    atomic_store(&step.step, bo.kind == BVH_MST   ? "building the MST tree of"
-                             : bo.kind == BVH_SBT ? "building the SBT tree of"
-                                                  : "building the SAH tree of");
-    Model *model;
-    int rc = model_from_mesh(&model, &mesh, &bo, &err);
-    double t2 = timer_now();
-    mesh_free(&mesh);
-    if (rc) {
-        progress_stop(prog);
-        fprintf(stderr, "obj2tmd: %s: %s\n", in, err.msg);
-        return 1;
-    }
-    atomic_store(&step.step, "writing");
-    atomic_store(&step.file, out);
-    rc = tmd_write(out, model, &err);
     progress_stop(prog);
-    if (rc) {
-        fprintf(stderr, "obj2tmd: %s\n", err.msg);
-        model_destroy(model);
-        return 1;
-    }
-    if (!quiet) {
-        printf("%s -> %s\n", in, out);
-        printf("  vertices %lu, faces %lu, triangles %u, degenerate dropped %lu\n", st.vertices, st.faces,
-               model->tri_count, st.degenerate);
-        printf("  attributes: %s%s%s%s", model->normals ? "normals " : "", model->uvs ? "uvs " : "",
-               model->colours ? "vertex-colours " : "",
-               model->mat_ids ? "materials" : (model->normals || model->uvs || model->colours ? "" : "positions only"));
-        if (model->texture_count)
-            printf(", textures %u", model->texture_count);
-        printf("\n");
-        const Aabb b = model->bounds;
-        printf("  bounds x %g..%g, y %g..%g, z %g..%g (size %g x %g x %g)\n", (double)b.min.x, (double)b.max.x,
-               (double)b.min.y, (double)b.max.y, (double)b.min.z, (double)b.max.z, (double)(b.max.x - b.min.x),
-               (double)(b.max.y - b.min.y), (double)(b.max.z - b.min.z));
-        printf("  bvh %s: %u nodes, depth %u, SAH cost %.2f\n", bvh_kind_name(bo.kind), model->bvh.node_count,
-               model->bvh.depth, bvh_sah_cost(&model->bvh));
-        printf("  parse %.3f s, build %.3f s\n", t1 - t0, t2 - t1);
-        struct stat sb;
-        if (stat(in, &sb) == 0 && t1 > t0)
-            printf("  read %.1f MB at %.1f MB/s\n", (double)sb.st_size / 1e6, (double)sb.st_size / 1e6 / (t1 - t0));
-        if (st.warnings)
-            printf("  warnings %lu: undefined materials %lu, missing material libraries %lu, missing textures %lu, "
-                   "files found by name %lu%s\n",
-                   st.warnings, st.undefined_mtl, st.missing_mtllib, st.missing_textures, st.found_elsewhere,
-                   st.colours_ignored ? ", vertex colours ignored" : "");
-        if (st.optics_mtl)
-            printf("  materials with reflection, glass, transparency or emission (illum, Ni, d, Ke): %lu\n", st.optics_mtl);
-        if (st.coloured)
-            printf("  vertex colours: %lu coloured vertices, %s\n", st.coloured,
-                   st.colours ? "kept as the diffuse colour" : "ignored (the model has materials)");
-        int any = 0;
-        for (int k = 0; k < OBJ_SKIP_KINDS; k++)
-            if (st.skipped[k])
-                printf("%s %lu %s", any++ ? "," : "  skipped:", st.skipped[k], obj_skip_name((ObjSkip)k));
-        if (any)
-            printf("\n");
-    }
+    if (rc == 0 && !a->quiet)
+        print_summary(a, model, &st, &bo, t1 - t0, t2 - t1);
     model_destroy(model);
-    return 0;
+    return rc;
+}
+
+int main(int argc, char **argv)
+{
+    Args a;
+    int rc = parse_args(&a, argc, argv);
+    if (rc != OPT_GO)
+        return rc;
+    file_atomic_on_signals(); /* interrupted, nothing half-written is left */
+    rc = check_output(a.in, a.out);
+    return rc ? rc : convert(&a);
 }
