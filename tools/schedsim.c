@@ -273,166 +273,224 @@ static void bg_add(const Sim *s, Client *cl, int ci, double now, Heap *h)
     bg_share(s, cl, now, h);
 }
 
+/* The simulation under way: what run's event handlers share. */
+typedef struct {
+    Sim *s;
+    Client *cl;
+    Sched *sc;
+    Heap h;
+    Link down, up; /* the server's link, each way */
+    double now, bytes, busy, work, server_free;
+} Run;
+
+/* A frame begins: the scheduler sizes and starts it, and every client gets
+ * the UPDATE with its first segments. */
+static void frame_begin(Run *r, int frame)
+{
+    Sim *s = r->s;
+    /* the server's rule, with the simulated per-segment overhead and CPU
+     * outside the render threads standing for what the server measures
+     * (the gap between results, and its own CPU per packet twice over) */
+    sched_start_frame(r->sc, (uint32_t)frame + 1, (uint32_t)s->clients, s->segment == 0, r->work,
+                      s->overhead_us + s->bg_cpu_us);
+    r->work = 0;
+    for (int i = 0; i < s->clients; i++) {
+        double t = fmax(send_via(s, r->now, &r->down, &r->cl[i].down, UPDATE_BYTES), r->now + s->turnaround_us);
+        r->bytes += UPDATE_BYTES;
+        Segment g[SCHED_IN_FLIGHT];
+        uint32_t n = sched_top_up(r->sc, i, g);
+        for (uint32_t k = 0; k < n; k++)
+            heap_push(&r->h, (Event){t, EV_ARRIVE_CLIENT, i, (uint32_t)frame + 1, g[k], 0, 0, 0});
+    }
+}
+
+/* A segment reaches its client: queued, unless a newer frame has come.
+ * Each handler returns 0 where the event changes nothing more (idle
+ * clients are not looked at), 1 where it goes on. */
+static int on_arrive_client(Run *r, const Event *ev)
+{
+    Client *c = &r->cl[ev->client];
+    if (ev->frame > c->cur_frame) { /* newer UPDATE: drop older work, cancel the render */
+        c->cur_frame = ev->frame;
+        c->nq = 0;
+        if (c->busy || c->lagging) {
+            c->busy = c->lagging = 0;
+            c->gen++;
+            group_share(r->s, r->cl, c->group, r->now, &r->h);
+        }
+    }
+    if (ev->frame < c->cur_frame || c->nq == 64)
+        return 0;
+    c->queue[c->nq] = ev->seg;
+    c->qframe[c->nq++] = ev->frame;
+    return 1;
+}
+
+/* A client finishes a segment: its DATA goes to the server. */
+static int on_done(Run *r, Event ev)
+{
+    Client *c = &r->cl[ev.client];
+    if (ev.gen != c->gen)
+        return 0; /* cancelled, or rescheduled at another rate */
+    c->busy = 0;
+    c->rate = 0;
+    ev.busy_us = r->now - c->started;
+    group_share(r->s, r->cl, c->group, r->now, &r->h);
+    if (ev.frame == c->cur_frame) {
+        double size = 24.0 + 3.0 * ev.seg.count;
+        double t = send_via(r->s, r->now, &r->up, &c->up, size);
+        heap_push(&r->h, (Event){t, EV_ARRIVE_SERVER, ev.client, ev.frame, ev.seg, ev.busy_us, 0, 0});
+    }
+    return 1;
+}
+
+/* A DATA packet at the server: its one thread takes packets in turn; the
+ * result goes to the scheduler, and every client is topped up. */
+static int on_arrive_server(Run *r, Event ev)
+{
+    Sim *s = r->s;
+    if (s->server_us > 0 && !ev.gen) {
+        r->server_free = fmax(r->now, r->server_free) + s->server_us;
+        ev.t = r->server_free;
+        ev.gen = 1;
+        heap_push(&r->h, ev);
+        return 0;
+    }
+    r->bytes += 24.0 + 3.0 * ev.seg.count;
+    bg_add(s, r->cl, ev.client, r->now, &r->h);
+    SchedResult res = sched_complete(r->sc, ev.client, ev.frame, ev.seg);
+    if (res != SCHED_STALE) {
+        r->busy += ev.busy_us;
+        if (res == SCHED_ACCEPT)
+            r->work += ev.busy_us; /* the server sums the render times clients report */
+    }
+    if (res == SCHED_STALE || sched_frame_done(r->sc))
+        return 1;
+    /* every client topped up after a result, a COMPUTE a segment */
+    for (int i = 0; i < s->clients; i++) {
+        Segment g[SCHED_IN_FLIGHT];
+        uint32_t n = sched_top_up(r->sc, i, g);
+        for (uint32_t k = 0; k < n; k++) {
+            double t = send_via(s, r->now, &r->down, &r->cl[i].down, 20);
+            r->bytes += 20;
+            heap_push(&r->h, (Event){t, EV_ARRIVE_CLIENT, i, ev.frame, g[k], 0, 0, 0});
+        }
+    }
+    return 1;
+}
+
+/* Idle clients start their next queued segment; one that was idle (not
+ * going straight on from its own last segment) first waits for a core when
+ * its group is oversubscribed. */
+static void start_idle(Run *r, const Event *ev)
+{
+    Sim *s = r->s;
+    for (int i = 0; i < s->clients; i++) {
+        Client *d = &r->cl[i];
+        if (d->busy || d->waking || d->lagging || d->nq == 0)
+            continue;
+        int woke = ev->kind == EV_WAKE && ev->client == i;
+        if (!woke && !(ev->kind == EV_DONE && ev->client == i) && s->slice_us > 0) {
+            double delay = s->slice_us * floor(group_demand(s, r->cl, d->group) / s->group_cores);
+            if (delay > 0) {
+                d->waking = 1;
+                heap_push(&r->h, (Event){r->now + delay, EV_WAKE, i, 0, {0, 0}, 0, 0, 0});
+                continue;
+            }
+        }
+        Segment g = d->queue[0];
+        uint32_t f = d->qframe[0];
+        memmove(d->queue, d->queue + 1, (size_t)--d->nq * sizeof *d->queue);
+        memmove(d->qframe, d->qframe + 1, (size_t)d->nq * sizeof *d->qframe);
+        /* the CPU part of the per-segment overhead stretches with the
+         * core share; the waiting part comes first and takes no core */
+        d->left = (seg_cost(s, g) / (s->threads * d->speed) + s->overhead_cpu * s->overhead_us / d->speed);
+        d->seg = g;
+        d->seg_frame = f;
+        d->started = d->since = r->now;
+        d->rate = 0;
+        double lag = (1 - s->overhead_cpu) * s->overhead_us;
+        if (lag > 0) {
+            d->lagging = 1;
+            heap_push(&r->h, (Event){r->now + lag, EV_LAGGED, i, 0, {0, 0}, 0, d->gen, 0});
+            continue;
+        }
+        d->busy = 1;
+        group_share(s, r->cl, d->group, r->now, &r->h);
+    }
+}
+
+/* One event of a frame. */
+static void on_event(Run *r, const Event *ev)
+{
+    Client *c = &r->cl[ev->client];
+    int go_on = 1;
+    switch (ev->kind) {
+    case EV_ARRIVE_CLIENT: go_on = on_arrive_client(r, ev); break;
+    case EV_DONE: go_on = on_done(r, *ev); break;
+    case EV_ARRIVE_SERVER: go_on = on_arrive_server(r, *ev); break;
+    case EV_BG_IDLE:
+        if (ev->gen == c->bg_gen) {
+            c->bg_left = 0; /* its background work is done: the core is the render threads' again */
+            c->bg_rate = 0;
+            bg_share(r->s, r->cl, r->now, &r->h);
+        }
+        break;
+    case EV_WAKE: c->waking = 0; break;
+    case EV_LAGGED:
+        if (ev->gen == c->gen && c->lagging) {
+            c->lagging = 0; /* waited: now the CPU work */
+            c->busy = 1;
+            group_share(r->s, r->cl, c->group, r->now, &r->h);
+        }
+        break;
+    }
+    if (go_on)
+        start_idle(r, ev);
+}
+
 static void run(Sim *s)
 {
-    Client *cl = calloc((size_t)s->clients, sizeof *cl);
+    Run r = {.s = s, .cl = calloc((size_t)s->clients, sizeof *r.cl)};
     /* --cores: the clients (and the server) share that many cores; without
      * it every client has its own machine */
     s->shared = s->cores < 1e6;
     int groups = s->shared ? 1 : s->clients;
     s->group_cores = s->cores / groups;
     for (int i = 0; i < s->clients; i++) {
-        cl[i].speed = s->nspeeds ? s->speeds[i % s->nspeeds] : 1.0;
-        cl[i].up.tokens = cl[i].down.tokens = s->client_burst; /* tbf starts full */
-        cl[i].group = i % groups;
+        r.cl[i].speed = s->nspeeds ? s->speeds[i % s->nspeeds] : 1.0;
+        r.cl[i].up.tokens = r.cl[i].down.tokens = s->client_burst; /* tbf starts full */
+        r.cl[i].group = i % groups;
     }
-    SchedConfig cfg = {(uint32_t)s->width, (uint32_t)s->height, s->segment ? s->segment : 1, s->tail,
-                       (uint32_t)(s->width / 4 > 0 ? s->width / 4 : 1)};
-    Sched *sc = sched_create(&cfg);
-    sched_set_clients(sc, (uint32_t)s->clients);
-    Heap h = {0};
-    Link down = {0}, up = {0}; /* the server's link, each way */
-    double now = 0, bytes = 0, busy = 0, work = 0, server_free = 0;
-    int frame = 0, measured = 0;
+    SchedConfig cfg = {.width = (uint32_t)s->width, .height = (uint32_t)s->height,
+                       .segment_lines = s->segment ? s->segment : 1, .tail = s->tail,
+                       .min_pixels = (uint32_t)(s->width / 4 > 0 ? s->width / 4 : 1)};
+    r.sc = sched_create(&cfg);
+    sched_set_clients(r.sc, (uint32_t)s->clients);
+    int measured = 0;
     double t_first = 0;
-    for (; frame < s->frames + 1; frame++) { /* frame 0 is warm-up, as in the benchmark */
+    for (int frame = 0; frame < s->frames + 1; frame++) { /* frame 0 is warm-up, as in the benchmark */
         if (frame == 1) {
-            t_first = now;
-            bytes = busy = 0;
+            t_first = r.now;
+            r.bytes = r.busy = 0;
         }
-        /* the server's rule, with the simulated per-segment overhead and CPU
-         * outside the render threads standing for what the server measures
-         * (the gap between results, and its own CPU per packet twice over) */
-        sched_start_frame(sc, (uint32_t)frame + 1, (uint32_t)s->clients, s->segment == 0, work,
-                          s->overhead_us + s->bg_cpu_us);
-        work = 0;
-        for (int i = 0; i < s->clients; i++) { /* the UPDATE with each client's first segments */
-            double t = fmax(send_via(s, now, &down, &cl[i].down, UPDATE_BYTES), now + s->turnaround_us);
-            bytes += UPDATE_BYTES;
-            Segment g[SCHED_IN_FLIGHT];
-            uint32_t n = sched_top_up(sc, i, g);
-            for (uint32_t k = 0; k < n; k++)
-                heap_push(&h, (Event){t, EV_ARRIVE_CLIENT, i, (uint32_t)frame + 1, g[k], 0, 0, 0});
-        }
-        while (!sched_frame_done(sc) && h.n) {
-            Event ev = heap_pop(&h);
-            now = ev.t;
-            Client *c = &cl[ev.client];
-            if (ev.kind == EV_ARRIVE_CLIENT) {
-                if (ev.frame > c->cur_frame) { /* newer UPDATE: drop older work, cancel the render */
-                    c->cur_frame = ev.frame;
-                    c->nq = 0;
-                    if (c->busy || c->lagging) {
-                        c->busy = c->lagging = 0;
-                        c->gen++;
-                        group_share(s, cl, c->group, now, &h);
-                    }
-                }
-                if (ev.frame < c->cur_frame || c->nq == 64)
-                    continue;
-                c->queue[c->nq] = ev.seg;
-                c->qframe[c->nq++] = ev.frame;
-            } else if (ev.kind == EV_DONE) {
-                if (ev.gen != c->gen)
-                    continue; /* cancelled, or rescheduled at another rate */
-                c->busy = 0;
-                c->rate = 0;
-                ev.busy_us = now - c->started;
-                group_share(s, cl, c->group, now, &h);
-                if (ev.frame == c->cur_frame) {
-                    double size = 24.0 + 3.0 * ev.seg.count;
-                    double t = send_via(s, now, &up, &c->up, size);
-                    heap_push(&h, (Event){t, EV_ARRIVE_SERVER, ev.client, ev.frame, ev.seg, ev.busy_us, 0, 0});
-                }
-            } else if (ev.kind == EV_ARRIVE_SERVER) { /* DATA at the server */
-                if (s->server_us > 0 && !ev.gen) { /* its one thread takes packets in turn */
-                    server_free = fmax(now, server_free) + s->server_us;
-                    ev.t = server_free;
-                    ev.gen = 1;
-                    heap_push(&h, ev);
-                    continue;
-                }
-                bytes += 24.0 + 3.0 * ev.seg.count;
-                bg_add(s, cl, ev.client, now, &h);
-                SchedResult r = sched_complete(sc, ev.client, ev.frame, ev.seg);
-                if (r != SCHED_STALE) {
-                    busy += ev.busy_us;
-                    if (r == SCHED_ACCEPT)
-                        work += ev.busy_us; /* the server sums the render times clients report */
-                }
-                if (r != SCHED_STALE && !sched_frame_done(sc)) {
-                    /* every client topped up after a result, a COMPUTE a segment */
-                    for (int i = 0; i < s->clients; i++) {
-                        Segment g[SCHED_IN_FLIGHT];
-                        uint32_t n = sched_top_up(sc, i, g);
-                        for (uint32_t k = 0; k < n; k++) {
-                            double t = send_via(s, now, &down, &cl[i].down, 20);
-                            bytes += 20;
-                            heap_push(&h, (Event){t, EV_ARRIVE_CLIENT, i, ev.frame, g[k], 0, 0, 0});
-                        }
-                    }
-                }
-            }
-            if (ev.kind == EV_BG_IDLE && ev.gen == c->bg_gen) {
-                c->bg_left = 0; /* its background work is done: the core is the render threads' again */
-                c->bg_rate = 0;
-                bg_share(s, cl, now, &h);
-            }
-            if (ev.kind == EV_WAKE)
-                c->waking = 0;
-            if (ev.kind == EV_LAGGED && ev.gen == c->gen && c->lagging) {
-                c->lagging = 0; /* waited: now the CPU work */
-                c->busy = 1;
-                group_share(s, cl, c->group, now, &h);
-            }
-            /* idle clients start their next queued segment; one that was
-             * idle (not going straight on from its own last segment) first
-             * waits for a core when its group is oversubscribed */
-            for (int i = 0; i < s->clients; i++) {
-                Client *d = &cl[i];
-                if (d->busy || d->waking || d->lagging || d->nq == 0)
-                    continue;
-                int woke = ev.kind == EV_WAKE && ev.client == i;
-                if (!woke && !(ev.kind == EV_DONE && ev.client == i) && s->slice_us > 0) {
-                    double delay = s->slice_us * floor(group_demand(s, cl, d->group) / s->group_cores);
-                    if (delay > 0) {
-                        d->waking = 1;
-                        heap_push(&h, (Event){now + delay, EV_WAKE, i, 0, {0, 0}, 0, 0, 0});
-                        continue;
-                    }
-                }
-                Segment g = d->queue[0];
-                uint32_t f = d->qframe[0];
-                memmove(d->queue, d->queue + 1, (size_t)--d->nq * sizeof *d->queue);
-                memmove(d->qframe, d->qframe + 1, (size_t)d->nq * sizeof *d->qframe);
-                /* the CPU part of the per-segment overhead stretches with the
-                 * core share; the waiting part comes first and takes no core */
-                d->left = (seg_cost(s, g) / (s->threads * d->speed) + s->overhead_cpu * s->overhead_us / d->speed);
-                d->seg = g;
-                d->seg_frame = f;
-                d->started = d->since = now;
-                d->rate = 0;
-                double lag = (1 - s->overhead_cpu) * s->overhead_us;
-                if (lag > 0) {
-                    d->lagging = 1;
-                    heap_push(&h, (Event){now + lag, EV_LAGGED, i, 0, {0, 0}, 0, d->gen, 0});
-                    continue;
-                }
-                d->busy = 1;
-                group_share(s, cl, d->group, now, &h);
-            }
+        frame_begin(&r, frame);
+        while (!sched_frame_done(r.sc) && r.h.n) {
+            Event ev = heap_pop(&r.h);
+            r.now = ev.t;
+            on_event(&r, &ev);
         }
         if (frame >= 1)
             measured++;
     }
-    double wall = now - t_first;
-    SchedStats st = sched_stats(sc);
+    double wall = r.now - t_first;
+    SchedStats st = sched_stats(r.sc);
     printf("predicted fps=%.3f efficiency=%.4f dup_lines_per_frame=%.2f bytes_per_frame=%.0f segment_lines=%u\n",
-           measured / (wall * 1e-6), busy / (s->clients * wall), (double)st.duplicate_pixels / s->width / (s->frames + 1),
-           bytes / measured, sched_config(sc)->segment_lines);
-    sched_destroy(sc);
-    free(h.e);
-    free(cl);
+           measured / (wall * 1e-6), r.busy / (s->clients * wall), (double)st.duplicate_pixels / s->width / (s->frames + 1),
+           r.bytes / measured, sched_config(r.sc)->segment_lines);
+    sched_destroy(r.sc);
+    free(r.h.e);
+    free(r.cl);
 }
 
 /* --probe-slice: how long a runnable thread waits for a core on this
@@ -511,50 +569,45 @@ static int parse_speeds(const char *v, void *dst, Err *err)
 }
 
 
-int main(int argc, char **argv)
+/* What the command line says beyond the simulation's own numbers. */
+typedef struct {
+    const char *profile;
+    int tail, probe;
+    double burst_kb;
+} Args;
+
+/* Parses the command line into s and a: OPT_GO, or the exit status. */
+static int parse_args(Sim *s, Args *a, int argc, char **argv)
 {
-    Sim s;
-    memset(&s, 0, sizeof s);
-    s.width = 1024;
-    s.clients = 1;
-    s.threads = 1;
-    s.frames = 3;
-    s.cores = 1e9;
-    s.latency_us = 50;
-    s.mbit = 10000;
-    s.overhead_us = 100;
-    s.segment = 16;
-    s.cost_scale = 1;
-    s.overhead_cpu = 1;
-    const char *profile = NULL;
-    int tail = 1, probe = 0;
-    double burst_kb = 0;
+    *s = (Sim){.width = 1024, .clients = 1, .threads = 1, .frames = 3, .cores = 1e9, .latency_us = 50, .mbit = 10000,
+               .overhead_us = 100, .segment = 16, .cost_scale = 1, .overhead_cpu = 1};
+    *a = (Args){.tail = 1};
     const Opt opts[] = {
-        {.name = "--profile", .kind = OPT_STRING, .dst = &profile, .arg = "FILE",
+        {.name = "--profile", .kind = OPT_STRING, .dst = &a->profile, .arg = "FILE",
          .help = "per-line cost, 'line,microseconds' (lanray-render --profile); required"},
-        {.name = "--width", .kind = OPT_INT, .dst = &s.width, .arg = "W", .lo = 1, .hi = 65536, .help = "frame width"},
-        {.name = "--clients", .kind = OPT_INT, .dst = &s.clients, .arg = "N", .lo = 1, .hi = MAXC, .help = "clients"},
-        {.name = "--threads", .kind = OPT_INT, .dst = &s.threads, .arg = "T", .lo = 1, .hi = 1024, .help = "threads per client"},
-        {.name = "--cores", .kind = OPT_REAL, .dst = &s.cores, .arg = "C", .help = "cores the clients share", .def = "unlimited"},
-        {.name = "--speeds", .kind = OPT_CUSTOM, .dst = &s, .arg = "a,b,...", .parse = parse_speeds,
+        {.name = "--width", .kind = OPT_INT, .dst = &s->width, .arg = "W", .lo = 1, .hi = 65536, .help = "frame width"},
+        {.name = "--clients", .kind = OPT_INT, .dst = &s->clients, .arg = "N", .lo = 1, .hi = MAXC, .help = "clients"},
+        {.name = "--threads", .kind = OPT_INT, .dst = &s->threads, .arg = "T", .lo = 1, .hi = 1024, .help = "threads per client"},
+        {.name = "--cores", .kind = OPT_REAL, .dst = &s->cores, .arg = "C", .help = "cores the clients share", .def = "unlimited"},
+        {.name = "--speeds", .kind = OPT_CUSTOM, .dst = s, .arg = "a,b,...", .parse = parse_speeds,
          .range = "positive numbers separated by commas", .help = "speed factor of each client", .def = "all 1"},
-        {.name = "--segment", .kind = OPT_CUSTOM, .dst = &s.segment, .arg = "LINES|auto", .parse = cli_parse_segment,
+        {.name = "--segment", .kind = OPT_CUSTOM, .dst = &s->segment, .arg = "LINES|auto", .parse = cli_parse_segment,
          .range = CLI_SEGMENT_RANGE, .help = "lines per segment", .def = "16"},
-        {.name = "--tail", .kind = OPT_CHOICE, .dst = &tail, .choices = sched_tail_names, .help = "tail rule"},
-        {.name = "--frames", .kind = OPT_INT, .dst = &s.frames, .arg = "F", .lo = 1, .hi = 100000, .help = "frames to simulate"},
-        {.name = "--latency-us", .kind = OPT_REAL, .dst = &s.latency_us, .arg = "L", .help = "one-way packet latency"},
-        {.name = "--bandwidth-mbit", .kind = OPT_REAL, .dst = &s.mbit, .arg = "B", .help = "the server's link"},
-        {.name = "--client-mbit", .kind = OPT_REAL, .dst = &s.client_mbit, .arg = "B2", .help = "each client's own link, 0 = none"},
-        {.name = "--client-burst-kb", .kind = OPT_REAL, .dst = &burst_kb, .arg = "K", .help = "token bucket of a client's link"},
-        {.name = "--overhead-us", .kind = OPT_REAL, .dst = &s.overhead_us, .arg = "O", .help = "per-segment overhead"},
-        {.name = "--overhead-cpu", .kind = OPT_REAL, .dst = &s.overhead_cpu, .arg = "Q", .rlo = 0, .rhi = 1,
+        {.name = "--tail", .kind = OPT_CHOICE, .dst = &a->tail, .choices = sched_tail_names, .help = "tail rule"},
+        {.name = "--frames", .kind = OPT_INT, .dst = &s->frames, .arg = "F", .lo = 1, .hi = 100000, .help = "frames to simulate"},
+        {.name = "--latency-us", .kind = OPT_REAL, .dst = &s->latency_us, .arg = "L", .help = "one-way packet latency"},
+        {.name = "--bandwidth-mbit", .kind = OPT_REAL, .dst = &s->mbit, .arg = "B", .help = "the server's link"},
+        {.name = "--client-mbit", .kind = OPT_REAL, .dst = &s->client_mbit, .arg = "B2", .help = "each client's own link, 0 = none"},
+        {.name = "--client-burst-kb", .kind = OPT_REAL, .dst = &a->burst_kb, .arg = "K", .help = "token bucket of a client's link"},
+        {.name = "--overhead-us", .kind = OPT_REAL, .dst = &s->overhead_us, .arg = "O", .help = "per-segment overhead"},
+        {.name = "--overhead-cpu", .kind = OPT_REAL, .dst = &s->overhead_cpu, .arg = "Q", .rlo = 0, .rhi = 1,
          .help = "part of the overhead that is CPU work"},
-        {.name = "--bg-cpu-us", .kind = OPT_REAL, .dst = &s.bg_cpu_us, .arg = "G", .help = "CPU per segment outside the render threads"},
-        {.name = "--slice-us", .kind = OPT_REAL, .dst = &s.slice_us, .arg = "S", .help = "the OS scheduler's time slice"},
-        {.name = "--turnaround-us", .kind = OPT_REAL, .dst = &s.turnaround_us, .arg = "R", .help = "frame end to next UPDATE"},
-        {.name = "--server-us", .kind = OPT_REAL, .dst = &s.server_us, .arg = "P", .help = "server CPU per DATA packet"},
-        {.name = "--cost-scale", .kind = OPT_REAL, .dst = &s.cost_scale, .arg = "K", .help = "multiplies the profile's costs"},
-        {.name = "--probe-slice", .kind = OPT_INT, .dst = &probe, .arg = "C", .lo = 1, .hi = 4096,
+        {.name = "--bg-cpu-us", .kind = OPT_REAL, .dst = &s->bg_cpu_us, .arg = "G", .help = "CPU per segment outside the render threads"},
+        {.name = "--slice-us", .kind = OPT_REAL, .dst = &s->slice_us, .arg = "S", .help = "the OS scheduler's time slice"},
+        {.name = "--turnaround-us", .kind = OPT_REAL, .dst = &s->turnaround_us, .arg = "R", .help = "frame end to next UPDATE"},
+        {.name = "--server-us", .kind = OPT_REAL, .dst = &s->server_us, .arg = "P", .help = "server CPU per DATA packet"},
+        {.name = "--cost-scale", .kind = OPT_REAL, .dst = &s->cost_scale, .arg = "K", .help = "multiplies the profile's costs"},
+        {.name = "--probe-slice", .kind = OPT_INT, .dst = &a->probe, .arg = "C", .lo = 1, .hi = 4096,
          .help = "instead: measure the time slice S on C cores of this machine", .def = "off"},
         {0},
     };
@@ -564,41 +617,57 @@ int main(int argc, char **argv)
                     .opts = opts,
                     .exits = "  0  simulated\n  1  the profile could not be read\n  2  bad command line\n"};
     int go = opt_run(&spec, argc, argv);
-    if (go != OPT_GO)
-        return go;
-    if (probe)
-        return probe_slice(probe);
-    if (!profile) {
+    if (go == OPT_GO && !a->probe && !a->profile) {
         fprintf(stderr, "schedsim: needs --profile FILE (usage: %s %s)\n", spec.prog, spec.synopsis);
         return 2;
     }
-    s.tail = sched_tail_rules[tail];
-    s.client_burst = burst_kb * 1024;
-    FILE *f = fopen(profile, "r");
+    s->tail = sched_tail_rules[a->tail];
+    s->client_burst = a->burst_kb * 1024;
+    return go;
+}
+
+/* The per-line costs, and their running sum per pixel: 0, or 1. */
+static int read_profile(Sim *s, const char *path)
+{
+    FILE *f = fopen(path, "r");
     if (!f) {
-        fprintf(stderr, "schedsim: cannot open %s\n", profile);
+        fprintf(stderr, "schedsim: cannot open %s\n", path);
         return 1;
     }
     int cap = 0, line;
     double us;
     while (fscanf(f, "%d,%lf", &line, &us) == 2) {
-        if (s.height == cap) {
+        if (s->height == cap) {
             cap = cap ? 2 * cap : 1024;
-            s.line_us = realloc(s.line_us, (size_t)cap * sizeof *s.line_us);
+            s->line_us = realloc(s->line_us, (size_t)cap * sizeof *s->line_us);
         }
-        s.line_us[s.height++] = us;
+        s->line_us[s->height++] = us;
     }
     fclose(f);
-    if (s.height < 1) {
-        fprintf(stderr, "schedsim: %s has no lines\n", profile);
+    if (s->height < 1) {
+        fprintf(stderr, "schedsim: %s has no lines\n", path);
         return 1;
     }
-    s.prefix = malloc(((size_t)s.width * s.height + 1) * sizeof *s.prefix);
-    s.prefix[0] = 0;
-    for (size_t p = 0; p < (size_t)s.width * s.height; p++)
-        s.prefix[p + 1] = s.prefix[p] + s.cost_scale * s.line_us[p / s.width] / s.width;
-    run(&s);
+    s->prefix = malloc(((size_t)s->width * s->height + 1) * sizeof *s->prefix);
+    s->prefix[0] = 0;
+    for (size_t p = 0; p < (size_t)s->width * s->height; p++)
+        s->prefix[p + 1] = s->prefix[p] + s->cost_scale * s->line_us[p / s->width] / s->width;
+    return 0;
+}
+
+int main(int argc, char **argv)
+{
+    static Sim s; /* its speeds table is large */
+    Args a;
+    int rc = parse_args(&s, &a, argc, argv);
+    if (rc != OPT_GO)
+        return rc;
+    if (a.probe)
+        return probe_slice(a.probe);
+    rc = read_profile(&s, a.profile);
+    if (rc == 0)
+        run(&s);
     free(s.line_us);
     free(s.prefix);
-    return 0;
+    return rc;
 }
