@@ -92,6 +92,26 @@ static int read_image(const char *path, int *w, int *h, uint8_t **rgb, Err *err)
     return 0;
 }
 
+/* The largest channel difference, the pixels that differ at all, and the
+ * RMSE (returned) of n RGB8 pixels. */
+static double differences(const uint8_t *a, const uint8_t *b, size_t n, int *maxd, size_t *differing)
+{
+    double sq = 0;
+    *maxd = 0, *differing = 0;
+    for (size_t i = 0; i < n; i++) {
+        int px = 0;
+        for (int c = 0; c < 3; c++) {
+            int d = abs((int)a[3 * i + c] - (int)b[3 * i + c]);
+            if (d > *maxd)
+                *maxd = d;
+            px |= d;
+            sq += (double)d * d;
+        }
+        *differing += px != 0;
+    }
+    return sqrt(sq / (3.0 * (double)n));
+}
+
 int main(int argc, char **argv)
 {
     int csv = 0;
@@ -130,22 +150,9 @@ int main(int argc, char **argv)
         free(b);
         return 1;
     }
-    size_t n = (size_t)wa * (size_t)ha;
-    int maxd = 0;
-    size_t differing = 0;
-    double sq = 0;
-    for (size_t i = 0; i < n; i++) {
-        int px = 0;
-        for (int c = 0; c < 3; c++) {
-            int d = abs((int)a[3 * i + c] - (int)b[3 * i + c]);
-            if (d > maxd)
-                maxd = d;
-            px |= d;
-            sq += (double)d * d;
-        }
-        differing += px != 0;
-    }
-    double rmse = sqrt(sq / (3.0 * (double)n));
+    size_t n = (size_t)wa * (size_t)ha, differing;
+    int maxd;
+    double rmse = differences(a, b, n, &maxd, &differing);
     double psnr = rmse > 0 ? 20 * log10(255.0 / rmse) : (double)INFINITY;
     double s = ssim(a, b, wa, ha);
     if (csv)

@@ -139,18 +139,24 @@ static void *worker(void *arg)
     return NULL;
 }
 
-int main(int argc, char **argv)
+/* What the command line says. */
+typedef struct {
+    const char *out, *scene_path;
+    int width, height, threads, repeat, robust;
+} Args;
+
+/* Parses the command line into a: OPT_GO, or the exit status. */
+static int parse_args(Args *a, int argc, char **argv)
 {
-    const char *out = NULL;
-    int width = 1024, height = 768, threads = 2, repeat = 1, robust = 0;
+    *a = (Args){.width = 1024, .height = 768, .threads = 2, .repeat = 1};
     const Opt opts[] = {
-        {.name = "--output", .alias = "-o", .kind = OPT_STRING, .dst = &out, .arg = "FILE", .help = "write the image", .def = "none"},
-        {.name = "--width", .kind = OPT_INT, .dst = &width, .arg = "W", .lo = 1, .hi = 16384, .help = "frame width"},
-        {.name = "--height", .kind = OPT_INT, .dst = &height, .arg = "H", .lo = 1, .hi = 16384, .help = "frame height"},
-        {.name = "--threads", .kind = OPT_INT, .dst = &threads, .arg = "T", .lo = 1, .hi = 256, .help = "render threads"},
-        {.name = "--repeat", .kind = OPT_INT, .dst = &repeat, .arg = "N", .lo = 1, .hi = 100000,
+        {.name = "--output", .alias = "-o", .kind = OPT_STRING, .dst = &a->out, .arg = "FILE", .help = "write the image", .def = "none"},
+        {.name = "--width", .kind = OPT_INT, .dst = &a->width, .arg = "W", .lo = 1, .hi = 16384, .help = "frame width"},
+        {.name = "--height", .kind = OPT_INT, .dst = &a->height, .arg = "H", .lo = 1, .hi = 16384, .help = "frame height"},
+        {.name = "--threads", .kind = OPT_INT, .dst = &a->threads, .arg = "T", .lo = 1, .hi = 256, .help = "render threads"},
+        {.name = "--repeat", .kind = OPT_INT, .dst = &a->repeat, .arg = "N", .lo = 1, .hi = 100000,
          .help = "render N times, report the best time"},
-        {.name = "--robust", .kind = OPT_FLAG, .dst = &robust,
+        {.name = "--robust", .kind = OPT_FLAG, .dst = &a->robust,
          .help = "RTC_SCENE_FLAG_ROBUST: Embree's watertight traversal (slower)"},
         {0},
     };
@@ -161,38 +167,40 @@ int main(int argc, char **argv)
                     .opts = opts, .args = args, .min_args = 1, .max_args = 1, .missing = "needs a scene",
                     .exits = "  0  rendered\n  1  an error, or a scene it does not support\n  2  bad command line\n"};
     int go = opt_run(&spec, argc, argv);
-    if (go != OPT_GO)
-        return go;
-    const char *scene_path = args[0];
+    a->scene_path = args[0];
+    return go;
+}
+
+/* The scene, if it is one this reference renders: model instances and
+ * point lights without attenuation.  NULL after saying why. */
+static Scene *load_scene(const char *path)
+{
     Err err;
     Scene *s;
     BvhOptions opt = bvh_options_default(BVH_SAH);
-    if (scene_load(scene_path, &opt, 0, &s, &err)) {
+    if (scene_load(path, &opt, 0, &s, &err)) {
         fprintf(stderr, "embree_ref: %s\n", err.msg);
-        return 1;
+        return NULL;
     }
-    if (s->sphere_count || s->plane_count || s->tri_count) {
-        fprintf(stderr, "embree_ref: %s: only model instances are supported\n", scene_path);
-        return 1;
+    const char *why = s->sphere_count || s->plane_count || s->tri_count ? "only model instances are supported" : NULL;
+    for (uint32_t i = 0; !why && i < s->light_count; i++)
+        if (s->lights[i].kind != LIGHT_POINT || s->lights[i].attenuate)
+            why = "only point lights without attenuation are supported";
+    if (why) {
+        fprintf(stderr, "embree_ref: %s: %s\n", path, why);
+        scene_destroy(s);
+        return NULL;
     }
-    for (uint32_t i = 0; i < s->light_count; i++)
-        if (s->lights[i].kind != LIGHT_POINT || s->lights[i].attenuate) {
-            fprintf(stderr, "embree_ref: %s: only point lights without attenuation are supported\n", scene_path);
-            return 1;
-        }
-    /* Embree builds and renders on the same number of threads as lanray:
-     * its build runs on TBB, which the device config caps */
-    char config[64];
-    snprintf(config, sizeof config, "threads=%d,set_affinity=0", threads);
-    RTCDevice dev = rtcNewDevice(config);
-    if (!dev) {
-        fprintf(stderr, "embree_ref: rtcNewDevice(\"%s\") failed\n", config);
-        return 1;
-    }
-    rtcSetDeviceMemoryMonitorFunction(dev, count_bytes, NULL);
+    return s;
+}
+
+/* Every instance's triangles in world space, as one Embree mesh; its
+ * vertex buffer (three vertices a triangle) into *vb. */
+static RTCGeometry world_mesh(RTCDevice dev, const Scene *s, float **vb)
+{
     uint64_t ntri = scene_triangle_count(s);
     RTCGeometry g = rtcNewGeometry(dev, RTC_GEOMETRY_TYPE_TRIANGLE);
-    float *vb = rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), 3 * ntri);
+    float *v = rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), 3 * ntri);
     unsigned *ib = rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), ntri);
     uint64_t k = 0;
     for (uint32_t i = 0; i < s->instance_count; i++) {
@@ -201,17 +209,22 @@ int main(int argc, char **argv)
         for (uint32_t t = 0; t < m->tri_count; t++, k++)
             for (int c = 0; c < 3; c++) {
                 vec3 w = v3_add(v3_scale(m3_apply(&in->rot, tri_vertex(&m->tris[t], c)), in->scale), in->translate);
-                vb[9 * k + 3 * c] = (float)w.x, vb[9 * k + 3 * c + 1] = (float)w.y, vb[9 * k + 3 * c + 2] = (float)w.z;
+                v[9 * k + 3 * c] = (float)w.x, v[9 * k + 3 * c + 1] = (float)w.y, v[9 * k + 3 * c + 2] = (float)w.z;
                 ib[3 * k + c] = (unsigned)(3 * k + c);
             }
     }
     rtcCommitGeometry(g);
-    size_t buffers = (size_t)atomic_load(&device_bytes);
-    /* the build, timed as the median of BUILDS scenes over the same
-     * geometry after one untimed build that starts Embree's threads */
+    *vb = v;
+    return g;
+}
+
+/* The scene over g, built BUILDS + 1 times: the first, untimed, starts
+ * Embree's threads; *build is the median of the rest, *tree_bytes what the
+ * last one holds. */
+static RTCScene build_scene(RTCDevice dev, RTCGeometry g, int robust, double *build, size_t *tree_bytes)
+{
     double builds[BUILDS + 1];
     RTCScene rs = NULL;
-    size_t tree_bytes = 0;
     for (int b = 0; b <= BUILDS; b++) {
         if (rs)
             rtcReleaseScene(rs);
@@ -223,51 +236,84 @@ int main(int argc, char **argv)
         double t0 = timer_now();
         rtcCommitScene(rs);
         builds[b] = timer_now() - t0;
-        tree_bytes = (size_t)(atomic_load(&device_bytes) - before);
+        *tree_bytes = (size_t)(atomic_load(&device_bytes) - before);
     }
-    rtcReleaseGeometry(g);
     qsort(builds + 1, BUILDS, sizeof *builds, cmp_double);
-    double build = builds[1 + BUILDS / 2];
-    Job j;
-    memset(&j, 0, sizeof j);
-    j.scene = rs;
-    j.s = s;
-    j.vb = vb;
-    j.cam = camera_frame(&s->camera, width, height);
-    j.pixels = malloc((size_t)width * height * 3);
-    const Material *mat = s->instance_count && s->instances[0].material >= 0 ? &s->materials[s->instances[0].material]
-                                                                             : &s->materials[0];
-    j.kd = mat->kd, j.ks = mat->ks, j.shininess = mat->shininess;
+    *build = builds[1 + BUILDS / 2];
+    return rs;
+}
+
+/* The frame, `repeat` times on `threads` threads: the best time, and the
+ * last frame's ray counts. */
+static double render_frames(Job *j, int threads, int repeat, unsigned long long *prim, unsigned long long *shad)
+{
     double best = 1e30;
-    unsigned long long prim = 0, shad = 0;
     pthread_t th[256];
     for (int f = 0; f < repeat; f++) {
-        atomic_store(&j.next_line, 0);
-        atomic_store(&j.primary, 0);
-        atomic_store(&j.shadow, 0);
+        atomic_store(&j->next_line, 0);
+        atomic_store(&j->primary, 0);
+        atomic_store(&j->shadow, 0);
         double a = timer_now();
         for (int i = 0; i < threads; i++)
-            pthread_create(&th[i], NULL, worker, &j);
+            pthread_create(&th[i], NULL, worker, j);
         for (int i = 0; i < threads; i++)
             pthread_join(th[i], NULL);
         double dt = timer_now() - a;
         if (dt < best)
             best = dt;
-        prim = atomic_load(&j.primary);
-        shad = atomic_load(&j.shadow);
+        *prim = atomic_load(&j->primary);
+        *shad = atomic_load(&j->shadow);
     }
+    return best;
+}
+
+int main(int argc, char **argv)
+{
+    Args a;
+    int rc = parse_args(&a, argc, argv);
+    if (rc != OPT_GO)
+        return rc;
+    Scene *s = load_scene(a.scene_path);
+    if (!s)
+        return 1;
+    rc = 0;
+    /* Embree builds and renders on the same number of threads as lanray:
+     * its build runs on TBB, which the device config caps */
+    char config[64];
+    snprintf(config, sizeof config, "threads=%d,set_affinity=0", a.threads);
+    RTCDevice dev = rtcNewDevice(config);
+    if (!dev) {
+        fprintf(stderr, "embree_ref: rtcNewDevice(\"%s\") failed\n", config);
+        scene_destroy(s);
+        return 1;
+    }
+    rtcSetDeviceMemoryMonitorFunction(dev, count_bytes, NULL);
+    Job j = {.s = s, .cam = camera_frame(&s->camera, a.width, a.height)};
+    float *vb;
+    RTCGeometry g = world_mesh(dev, s, &vb);
+    size_t buffers = (size_t)atomic_load(&device_bytes), tree_bytes = 0;
+    double build;
+    j.scene = build_scene(dev, g, a.robust, &build, &tree_bytes);
+    rtcReleaseGeometry(g);
+    j.vb = vb;
+    j.pixels = malloc((size_t)a.width * a.height * 3);
+    const Material *mat = s->instance_count && s->instances[0].material >= 0 ? &s->materials[s->instances[0].material]
+                                                                             : &s->materials[0];
+    j.kd = mat->kd, j.ks = mat->ks, j.shininess = mat->shininess;
+    unsigned long long prim = 0, shad = 0, ntri = scene_triangle_count(s);
+    double best = render_frames(&j, a.threads, a.repeat, &prim, &shad);
     printf("embree%s: %llu triangles, build %.3f s, memory %.1f bytes/triangle (tree %.1f + buffers %.1f); %dx%d threads %d: "
            "frame %.4f s, %.2f Mrays/s (%llu camera + %llu shadow rays)\n",
-           robust ? " robust" : "", (unsigned long long)ntri, build, (double)(tree_bytes + buffers) / (double)ntri,
-           (double)tree_bytes / (double)ntri, (double)buffers / (double)ntri, width, height, threads, best,
+           a.robust ? " robust" : "", ntri, build, (double)(tree_bytes + buffers) / (double)ntri,
+           (double)tree_bytes / (double)ntri, (double)buffers / (double)ntri, a.width, a.height, a.threads, best,
            (double)(prim + shad) / best * 1e-6, prim, shad);
-    int rc = 0;
-    if (out && image_write(out, width, height, j.pixels, IMAGE_SRGB, &err)) {
+    Err err;
+    if (a.out && image_write(a.out, a.width, a.height, j.pixels, IMAGE_SRGB, &err)) {
         fprintf(stderr, "embree_ref: %s\n", err.msg);
         rc = 1;
     }
     free(j.pixels);
-    rtcReleaseScene(rs);
+    rtcReleaseScene(j.scene);
     rtcReleaseDevice(dev);
     scene_destroy(s);
     return rc;
