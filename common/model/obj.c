@@ -486,6 +486,176 @@ static int obj_mtllib(Obj *o, char *rest, const char *dir, Warner *w, int line)
     return 0;
 }
 
+/* A '\\' at the end continues the line: the lines are adjacent in the
+ * buffer, so the terminators between them become blanks. */
+static void join_continued(Lexer *lx, char *line)
+{
+    for (;;) {
+        char *e = line + strlen(line);
+        while (e > line && (e[-1] == ' ' || e[-1] == '\t' || e[-1] == '\r'))
+            e--;
+        if (e == line || e[-1] != '\\')
+            return;
+        char *next = lex_next_raw(lx);
+        if (!next)
+            return;
+        e[-1] = ' ';
+        for (char *q = e; q < next; q++)
+            if (*q == 0)
+                *q = ' ';
+    }
+}
+
+/* The line being read, for errors. */
+typedef struct {
+    const char *name;
+    int line;
+    Err *err;
+} Where;
+
+/* A face's corners after the 'f' (any number of them: split without the
+ * token limit), fanned into triangles of material mat. */
+static int parse_face(Obj *o, char *p, int32_t mat, ObjStats *st, const Where *at)
+{
+    uint32_t nc = 0;
+    for (;;) {
+        while (*p == ' ' || *p == '\t' || *p == '\r')
+            p++;
+        if (*p == 0 || *p == '#')
+            break;
+        char *tok = p;
+        while (*p && *p != ' ' && *p != '\t' && *p != '\r' && *p != '#')
+            p++;
+        char c = *p;
+        *p = 0;
+        const char *what;
+        if (grow((void **)&o->corner, &o->ccorner, nc + 1, sizeof *o->corner))
+            return err_set(at->err, "%s:%d: face too large or out of memory", at->name, at->line);
+        if (parse_corner(tok, o, o->corner[nc], &what))
+            return err_set(at->err, "%s:%d: bad %s in face corner '%s' (%u vertices, %u texture coordinates, %u normals defined so far)",
+                           at->name, at->line, what, tok, o->nv, o->nvt, o->nvn);
+        nc++;
+        if (c == 0 || c == '#')
+            break;
+        p++;
+    }
+    if (nc < 3)
+        return err_set(at->err, "%s:%d: a face needs at least 3 corners, this one has %u", at->name, at->line, nc);
+    st->faces++;
+    /* fan triangulation: exact for the convex polygons OBJ exporters write */
+    for (uint32_t k = 1; k + 1 < nc; k++) {
+        if (grow((void **)&o->tris, &o->ctri, o->ntri + 1, sizeof *o->tris))
+            return err_set(at->err, "%s:%d: too many triangles or out of memory", at->name, at->line);
+        ObjTri *tr = &o->tris[o->ntri++];
+        const uint32_t idx[3] = {0, k, k + 1};
+        for (int j = 0; j < 3; j++) {
+            tr->p[j] = o->corner[idx[j]][0];
+            tr->t[j] = o->corner[idx[j]][1];
+            tr->n[j] = o->corner[idx[j]][2];
+        }
+        tr->mat = mat;
+    }
+    return 0;
+}
+
+/* v: x y z, x y z w, and x y z r g b (or w r g b) as many exporters write
+ * vertex colours. */
+static int parse_vertex(Obj *o, const Tokens *t, ObjStats *st, const Where *at)
+{
+    real v[3], vw, c[3] = {-1, -1, -1};
+    int nums = t->n - 1, rgb = nums == 6 ? 4 : 5;
+    if (!(nums == 3 || nums == 4 || nums == 6 || nums == 7) || lex_real(t->tok[1], &v[0]) ||
+        lex_real(t->tok[2], &v[1]) || lex_real(t->tok[3], &v[2]) ||
+        ((nums == 4 || nums == 7) && lex_real(t->tok[4], &vw)) ||
+        (nums >= 6 &&
+         (lex_real(t->tok[rgb], &c[0]) || lex_real(t->tok[rgb + 1], &c[1]) || lex_real(t->tok[rgb + 2], &c[2]))))
+        return err_set(at->err, "%s:%d: expected 3 finite numbers after 'v' (and a w, colours, or both)", at->name,
+                       at->line);
+    if (nums >= 6 && !(c[0] >= R(0) && c[1] >= R(0) && c[2] >= R(0)))
+        return err_set(at->err, "%s:%d: a vertex colour below 0", at->name, at->line);
+    if (grow((void **)&o->v, &o->cv, o->nv + 1, sizeof *o->v))
+        return err_set(at->err, "%s:%d: too many vertices or out of memory", at->name, at->line);
+    if (nums >= 6 || o->vc) {
+        if (nums >= 6 && !st->coloured++) {
+            o->colour_line = at->line;
+            o->colour_ints = 1;
+        }
+        int first = o->vc == NULL;
+        if (grow((void **)&o->vc, &o->cvc, o->nv + 1, sizeof *o->vc))
+            return err_set(at->err, "%s:%d: too many vertices or out of memory", at->name, at->line);
+        for (uint32_t i = 0; first && i < o->nv; i++) /* uncoloured so far: marked, given the default later */
+            o->vc[i] = v3(-1, -1, -1);
+        o->vc[o->nv] = v3(c[0], c[1], c[2]);
+        for (int i = 0; i < 3 && nums >= 6; i++) {
+            o->colour_max = real_max(o->colour_max, c[i]);
+            o->colour_ints &= c[i] == floor(c[i]);
+        }
+    }
+    o->v[o->nv++] = v3(v[0], v[1], v[2]);
+    return 0;
+}
+
+static int parse_uv(Obj *o, const Tokens *t, const Where *at)
+{
+    real v[2] = {0, 0};
+    if (t->n < 2 || t->n > 4 || lex_real(t->tok[1], &v[0]) || (t->n >= 3 && lex_real(t->tok[2], &v[1])))
+        return err_set(at->err, "%s:%d: expected 1 to 3 finite numbers after 'vt'", at->name, at->line);
+    if (grow((void **)&o->vt, &o->cvt, o->nvt + 1, 2 * sizeof *o->vt))
+        return err_set(at->err, "%s:%d: too many texture coordinates or out of memory", at->name, at->line);
+    o->vt[2 * o->nvt] = v[0];
+    o->vt[2 * o->nvt + 1] = v[1];
+    o->nvt++;
+    return 0;
+}
+
+static int parse_normal(Obj *o, const Tokens *t, const Where *at)
+{
+    real v[3];
+    if (read_reals(t, 1, 3, 0, v))
+        return err_set(at->err, "%s:%d: expected 3 finite numbers after 'vn'", at->name, at->line);
+    if (grow((void **)&o->vn, &o->cvn, o->nvn + 1, sizeof *o->vn))
+        return err_set(at->err, "%s:%d: too many normals or out of memory", at->name, at->line);
+    o->vn[o->nvn++] = v3(v[0], v[1], v[2]);
+    return 0;
+}
+
+/* usemtl: the material by name into *mat; the names are resolved against
+ * the libraries at the end. */
+static int parse_usemtl(Obj *o, const char *rest, int32_t *mat, const Where *at)
+{
+    *mat = -1;
+    for (uint32_t i = o->nused; i-- > 0 && *mat < 0;)
+        if (strncmp(o->used[i].name, rest, MTL_NAME_MAX - 1) == 0)
+            *mat = (int32_t)i;
+    if (*mat >= 0)
+        return 0;
+    if (grow((void **)&o->used, &o->cused, o->nused + 1, sizeof *o->used))
+        return err_set(at->err, "%s:%d: too many materials or out of memory", at->name, at->line);
+    size_t nlen = strnlen(rest, MTL_NAME_MAX - 1); /* longer names are cut, as the library's */
+    memcpy(o->used[o->nused].name, rest, nlen);
+    o->used[o->nused].name[nlen] = 0;
+    o->used[o->nused].line = at->line;
+    *mat = (int32_t)o->nused++;
+    return 0;
+}
+
+/* usemtl and mtllib take the rest of the line (names and paths may hold
+ * spaces), copied into rest before the split cuts the line up. */
+static void rest_for_names(char *s, char rest[4096])
+{
+    rest[0] = 0;
+    if ((strncmp(s, "usemtl", 6) == 0 || strncmp(s, "mtllib", 6) == 0) &&
+        (s[6] == 0 || s[6] == ' ' || s[6] == '\t' || s[6] == '\r')) {
+        char *r = rest_of_line(s, 6);
+        char *hash = strchr(r, '#');
+        if (hash) {
+            *hash = 0;
+            r = rest_of_line(r, 0);
+        }
+        snprintf(rest, 4096, "%s", r);
+    }
+}
+
 int obj_parse(char *text, size_t len, const char *name, const char *dir, const ObjOptions *opt, Mesh *out,
               ObjStats *st, Err *err)
 {
@@ -499,196 +669,48 @@ int obj_parse(char *text, size_t len, const char *name, const char *dir, const O
     Lexer lx = lex_make(text, len);
     Tokens t;
     int32_t mat = -1;
-    int rc = -1, warned_kind[OBJ_SKIP_KINDS] = {0};
+    int rc = -1, bad = 0, warned_kind[OBJ_SKIP_KINDS] = {0};
     Warner w = {opt, st, name, err};
     char *line;
-    while ((line = lex_next_raw(&lx))) {
-        /* a '\' at the end continues the line: the lines are adjacent in
-         * the buffer, so the terminators between them become blanks */
-        for (;;) {
-            char *e = line + strlen(line);
-            while (e > line && (e[-1] == ' ' || e[-1] == '\t' || e[-1] == '\r'))
-                e--;
-            if (e == line || e[-1] != '\\')
-                break;
-            char *next = lex_next_raw(&lx);
-            if (!next)
-                break;
-            e[-1] = ' ';
-            for (char *q = e; q < next; q++)
-                if (*q == 0)
-                    *q = ' ';
-        }
-        /* faces may have any number of corners: split them without the token limit */
+    while (!bad && (line = lex_next_raw(&lx))) {
+        join_continued(&lx, line);
+        Where at = {name, lx.line, err};
         char *s = line;
         while (*s == ' ' || *s == '\t')
             s++;
         if (s[0] == 'f' && (s[1] == ' ' || s[1] == '\t')) {
-            uint32_t nc = 0;
-            char *p = s + 1;
-            for (;;) {
-                while (*p == ' ' || *p == '\t' || *p == '\r')
-                    p++;
-                if (*p == 0 || *p == '#')
-                    break;
-                char *tok = p;
-                while (*p && *p != ' ' && *p != '\t' && *p != '\r' && *p != '#')
-                    p++;
-                char c = *p;
-                *p = 0;
-                const char *what;
-                if (grow((void **)&o.corner, &o.ccorner, nc + 1, sizeof *o.corner)) {
-                    err_set(err, "%s:%d: face too large or out of memory", name, lx.line);
-                    goto done;
-                }
-                if (parse_corner(tok, &o, o.corner[nc], &what)) {
-                    err_set(err, "%s:%d: bad %s in face corner '%s' (%u vertices, %u texture coordinates, %u normals defined so far)",
-                            name, lx.line, what, tok, o.nv, o.nvt, o.nvn);
-                    goto done;
-                }
-                nc++;
-                if (c == 0 || c == '#')
-                    break;
-                p++;
-            }
-            if (nc < 3) {
-                err_set(err, "%s:%d: a face needs at least 3 corners, this one has %u", name, lx.line, nc);
-                goto done;
-            }
-            st->faces++;
-            /* fan triangulation: exact for the convex polygons OBJ exporters write */
-            for (uint32_t k = 1; k + 1 < nc; k++) {
-                if (grow((void **)&o.tris, &o.ctri, o.ntri + 1, sizeof *o.tris)) {
-                    err_set(err, "%s:%d: too many triangles or out of memory", name, lx.line);
-                    goto done;
-                }
-                ObjTri *tr = &o.tris[o.ntri++];
-                const uint32_t idx[3] = {0, k, k + 1};
-                for (int j = 0; j < 3; j++) {
-                    tr->p[j] = o.corner[idx[j]][0];
-                    tr->t[j] = o.corner[idx[j]][1];
-                    tr->n[j] = o.corner[idx[j]][2];
-                }
-                tr->mat = mat;
-            }
+            bad = parse_face(&o, s + 1, mat, st, &at);
             continue;
         }
-        /* usemtl and mtllib take the rest of the line (names and paths may
-         * hold spaces), copied before the split cuts the line up */
-        char rest[4096] = "";
-        if ((strncmp(s, "usemtl", 6) == 0 || strncmp(s, "mtllib", 6) == 0) &&
-            (s[6] == 0 || s[6] == ' ' || s[6] == '\t' || s[6] == '\r')) {
-            char *r = rest_of_line(s, 6);
-            char *hash = strchr(r, '#');
-            if (hash) {
-                *hash = 0;
-                r = rest_of_line(r, 0);
-            }
-            snprintf(rest, sizeof rest, "%s", r);
-        }
+        char rest[4096];
+        rest_for_names(s, rest);
         lex_split(line, &t);
         if (t.n == 0)
             continue;
         const char *k = t.tok[0];
         if (strcmp(k, "v") == 0) {
-            /* x y z, x y z w, and x y z r g b (or w r g b) as many exporters write vertex colours */
-            real v[3], vw, c[3] = {-1, -1, -1};
-            int nums = t.n - 1, rgb = nums == 6 ? 4 : 5;
-            if (!(nums == 3 || nums == 4 || nums == 6 || nums == 7) || lex_real(t.tok[1], &v[0]) ||
-                lex_real(t.tok[2], &v[1]) || lex_real(t.tok[3], &v[2]) ||
-                ((nums == 4 || nums == 7) && lex_real(t.tok[4], &vw)) ||
-                (nums >= 6 && (lex_real(t.tok[rgb], &c[0]) || lex_real(t.tok[rgb + 1], &c[1]) ||
-                               lex_real(t.tok[rgb + 2], &c[2])))) {
-                err_set(err, "%s:%d: expected 3 finite numbers after 'v' (and a w, colours, or both)", name, lx.line);
-                goto done;
-            }
-            if (nums >= 6 && !(c[0] >= R(0) && c[1] >= R(0) && c[2] >= R(0))) {
-                err_set(err, "%s:%d: a vertex colour below 0", name, lx.line);
-                goto done;
-            }
-            if (grow((void **)&o.v, &o.cv, o.nv + 1, sizeof *o.v)) {
-                err_set(err, "%s:%d: too many vertices or out of memory", name, lx.line);
-                goto done;
-            }
-            if (nums >= 6 || o.vc) {
-                if (nums >= 6 && !st->coloured++) {
-                    o.colour_line = lx.line;
-                    o.colour_ints = 1;
-                }
-                int first = o.vc == NULL;
-                if (grow((void **)&o.vc, &o.cvc, o.nv + 1, sizeof *o.vc)) {
-                    err_set(err, "%s:%d: too many vertices or out of memory", name, lx.line);
-                    goto done;
-                }
-                for (uint32_t i = 0; first && i < o.nv; i++) /* uncoloured so far: marked, given the default later */
-                    o.vc[i] = v3(-1, -1, -1);
-                o.vc[o.nv] = v3(c[0], c[1], c[2]);
-                for (int i = 0; i < 3 && nums >= 6; i++) {
-                    o.colour_max = real_max(o.colour_max, c[i]);
-                    o.colour_ints &= c[i] == floor(c[i]);
-                }
-            }
-            o.v[o.nv++] = v3(v[0], v[1], v[2]);
+            bad = parse_vertex(&o, &t, st, &at);
         } else if (strcmp(k, "vt") == 0) {
-            real v[2] = {0, 0};
-            if (t.n < 2 || t.n > 4 || lex_real(t.tok[1], &v[0]) || (t.n >= 3 && lex_real(t.tok[2], &v[1]))) {
-                err_set(err, "%s:%d: expected 1 to 3 finite numbers after 'vt'", name, lx.line);
-                goto done;
-            }
-            if (grow((void **)&o.vt, &o.cvt, o.nvt + 1, 2 * sizeof *o.vt)) {
-                err_set(err, "%s:%d: too many texture coordinates or out of memory", name, lx.line);
-                goto done;
-            }
-            o.vt[2 * o.nvt] = v[0];
-            o.vt[2 * o.nvt + 1] = v[1];
-            o.nvt++;
+            bad = parse_uv(&o, &t, &at);
         } else if (strcmp(k, "vn") == 0) {
-            real v[3];
-            if (read_reals(&t, 1, 3, 0, v)) {
-                err_set(err, "%s:%d: expected 3 finite numbers after 'vn'", name, lx.line);
-                goto done;
-            }
-            if (grow((void **)&o.vn, &o.cvn, o.nvn + 1, sizeof *o.vn)) {
-                err_set(err, "%s:%d: too many normals or out of memory", name, lx.line);
-                goto done;
-            }
-            o.vn[o.nvn++] = v3(v[0], v[1], v[2]);
+            bad = parse_normal(&o, &t, &at);
         } else if (strcmp(k, "o") == 0 || strcmp(k, "g") == 0) {
             st->groups++;
         } else if (strcmp(k, "mtllib") == 0) {
-            if (obj_mtllib(&o, rest, dir, &w, lx.line))
-                goto done;
+            bad = obj_mtllib(&o, rest, dir, &w, lx.line);
         } else if (strcmp(k, "usemtl") == 0) {
-            /* by name; the names are resolved against the libraries at the end */
-            mat = -1;
-            for (uint32_t i = o.nused; i-- > 0 && mat < 0;)
-                if (strncmp(o.used[i].name, rest, MTL_NAME_MAX - 1) == 0)
-                    mat = (int32_t)i;
-            if (mat < 0) {
-                if (grow((void **)&o.used, &o.cused, o.nused + 1, sizeof *o.used)) {
-                    err_set(err, "%s:%d: too many materials or out of memory", name, lx.line);
-                    goto done;
-                }
-                size_t nlen = strnlen(rest, MTL_NAME_MAX - 1); /* longer names are cut, as the library's */
-                memcpy(o.used[o.nused].name, rest, nlen);
-                o.used[o.nused].name[nlen] = 0;
-                o.used[o.nused].line = lx.line;
-                mat = (int32_t)o.nused++;
-            }
+            bad = parse_usemtl(&o, rest, &mat, &at);
         } else {
             /* s, l, p, curves and the rest do not describe triangles: skipped, counted, one warning per kind */
             ObjSkip kind = skip_kind(k);
             st->skipped[kind]++;
-            if (!warned_kind[kind]++ &&
-                warn(&w, lx.line, "'%s' skipped (%s: a triangle renderer does not draw them)", k, obj_skip_name(kind)))
-                goto done;
+            bad = !warned_kind[kind]++ &&
+                  warn(&w, lx.line, "'%s' skipped (%s: a triangle renderer does not draw them)", k, obj_skip_name(kind));
         }
     }
     st->vertices = o.nv;
-    if (obj_resolve(&o, &w))
-        goto done;
-    rc = obj_assemble(&o, opt, out, st, name, err);
-done:
+    if (!bad && !obj_resolve(&o, &w))
+        rc = obj_assemble(&o, opt, out, st, name, err);
     obj_free(&o);
     return rc;
 }
