@@ -195,9 +195,16 @@ static int tmd_read_textures(Cursor *c, uint32_t version, uint32_t texs, Model *
     return 0;
 }
 
-int tmd_decode(const void *data, size_t len, const char *name, Model **out, Err *err)
+/* A header's numbers: the fields after the magic (tmd.h), named. */
+typedef struct {
+    uint32_t version, flags, kind, nodes, tris, mats, depth, texs;
+    int wide, optics, textured;
+} Header;
+
+/* The header checked against itself and the file's length and checksum,
+ * before anything is allocated. */
+static int check_header(const void *data, size_t len, const char *name, Header *hd, Err *err)
 {
-    *out = NULL;
     Cursor c = cursor_make(data, len);
     char magic[8];
     uint32_t h[14];
@@ -224,7 +231,9 @@ int tmd_decode(const void *data, size_t len, const char *name, Model **out, Err 
     } else if (h[10] || h[11] || h[12] || h[13]) {
         return err_set(err, "%s: corrupt: version %u with reserved header fields that are not zero", name, h[0]);
     }
-    uint32_t flags = h[3], kind = h[4], nodes = h[5], tris = h[6], mats = h[7], depth = h[8], texs = h[9];
+    *hd = (Header){.version = h[0], .flags = h[3], .kind = h[4], .nodes = h[5], .tris = h[6], .mats = h[7],
+                   .depth = h[8], .texs = h[9]};
+    const uint32_t flags = hd->flags;
     if (h[2] != TMD_HEADER_BYTES)
         return err_set(err, "%s: header size %u, expected %u", name, h[2], TMD_HEADER_BYTES);
     if (flags & ~(TMD_HAS_NORMALS | TMD_HAS_UVS | TMD_HAS_MATERIALS | TMD_WIDE | TMD_HAS_TEXTURES | TMD_HAS_COLOURS |
@@ -233,120 +242,142 @@ int tmd_decode(const void *data, size_t len, const char *name, Model **out, Err 
         ((flags & TMD_HAS_COLOURS) && h[0] < TMD_VERSION_COLOURS) || ((flags & TMD_HAS_OPTICS) && h[0] < TMD_VERSION_OPTICS) ||
         ((flags & TMD_HAS_OPTICS) && !(flags & TMD_HAS_MATERIALS)))
         return err_set(err, "%s: unknown flags 0x%x", name, flags);
-    const int optics = (flags & TMD_HAS_OPTICS) != 0;
-    const int textured = (flags & TMD_HAS_TEXTURES) != 0;
-    if (textured != (texs > 0) || texs > 65536 || (textured && !(flags & TMD_HAS_MATERIALS)))
-        return err_set(err, "%s: implausible texture count %u", name, texs);
-    if (kind >= BVH_KIND_COUNT)
-        return err_set(err, "%s: unknown BVH kind %u", name, kind);
-    if (tris > BVH_MAX_PRIMS || nodes > 2 * tris || (tris > 0) != (nodes > 0))
-        return err_set(err, "%s: implausible counts (%u nodes, %u triangles)", name, nodes, tris);
-    if (mats > 65536 || ((flags & TMD_HAS_MATERIALS) != 0) != (mats > 0))
-        return err_set(err, "%s: implausible material count %u", name, mats);
-    if (depth > BVH_MAX_DEPTH)
-        return err_set(err, "%s: tree depth %u exceeds %u", name, depth, BVH_MAX_DEPTH);
-    /* the exact size follows from the header: check it before allocating anything */
-    int wide = (flags & TMD_WIDE) != 0;
-    uint64_t w = wide ? 8 : 4; /* bytes per number */
-    uint64_t want = TMD_HEADER_BYTES + (uint64_t)nodes * (6 * w + 8) + (uint64_t)tris * 9 * w;
+    hd->optics = (flags & TMD_HAS_OPTICS) != 0;
+    hd->textured = (flags & TMD_HAS_TEXTURES) != 0;
+    hd->wide = (flags & TMD_WIDE) != 0;
+    if (hd->textured != (hd->texs > 0) || hd->texs > 65536 || (hd->textured && !(flags & TMD_HAS_MATERIALS)))
+        return err_set(err, "%s: implausible texture count %u", name, hd->texs);
+    if (hd->kind >= BVH_KIND_COUNT)
+        return err_set(err, "%s: unknown BVH kind %u", name, hd->kind);
+    if (hd->tris > BVH_MAX_PRIMS || hd->nodes > 2 * hd->tris || (hd->tris > 0) != (hd->nodes > 0))
+        return err_set(err, "%s: implausible counts (%u nodes, %u triangles)", name, hd->nodes, hd->tris);
+    if (hd->mats > 65536 || ((flags & TMD_HAS_MATERIALS) != 0) != (hd->mats > 0))
+        return err_set(err, "%s: implausible material count %u", name, hd->mats);
+    if (hd->depth > BVH_MAX_DEPTH)
+        return err_set(err, "%s: tree depth %u exceeds %u", name, hd->depth, BVH_MAX_DEPTH);
+    /* the exact size follows from the header */
+    uint64_t w = hd->wide ? 8 : 4; /* bytes per number */
+    uint64_t want = TMD_HEADER_BYTES + (uint64_t)hd->nodes * (6 * w + 8) + (uint64_t)hd->tris * 9 * w;
     if (flags & TMD_HAS_NORMALS)
-        want += (uint64_t)tris * 9 * w;
+        want += (uint64_t)hd->tris * 9 * w;
     if (flags & TMD_HAS_UVS)
-        want += (uint64_t)tris * 6 * w;
+        want += (uint64_t)hd->tris * 6 * w;
     if (flags & TMD_HAS_MATERIALS)
-        want += (uint64_t)mats * ((optics ? 21 : 7) * w + (textured ? 4 : 0)) + (uint64_t)tris * 4;
+        want += (uint64_t)hd->mats * ((hd->optics ? 21 : 7) * w + (hd->textured ? 4 : 0)) + (uint64_t)hd->tris * 4;
     if (flags & TMD_HAS_COLOURS)
-        want += (uint64_t)tris * 9 * w;
+        want += (uint64_t)hd->tris * 9 * w;
     /* textures follow, each with its own size: at least their 12-byte headers */
-    if (textured ? want + (uint64_t)texs * 12 > len : want != len)
+    if (hd->textured ? want + (uint64_t)hd->texs * 12 > len : want != len)
         return err_set(err, "%s: header promises %llu bytes but the file has %zu", name, (unsigned long long)want, len);
-    Model *m = model_alloc(tris, nodes, mats,
+    return 0;
+}
+
+/* The tree's nodes, the triangles and their normals and texture
+ * coordinates: NULL, or what was not a finite number. */
+static const char *read_geometry(Cursor *c, const Header *hd, Model *m)
+{
+    for (uint32_t i = 0; i < hd->nodes; i++) {
+        BvhNode *n = &m->bvh.nodes[i];
+        if (read_reals(c, hd->wide, -1, n->bmin, 3))
+            return "node box";
+        n->first = cursor_u32(c);
+        if (read_reals(c, hd->wide, 1, n->bmax, 3))
+            return "node box";
+        n->count = cursor_u32(c);
+    }
+    for (uint32_t i = 0; i < hd->tris; i++)
+        if (read_reals(c, hd->wide, 0, &m->tris[i].v[0][0], 9))
+            return "triangle vertex";
+    for (uint32_t i = 0; m->normals && i < 3 * hd->tris; i++)
+        if (read_reals(c, hd->wide, 0, m->normals[i].e, 3))
+            return "normal";
+    if (m->uvs && read_reals(c, hd->wide, 0, m->uvs, (size_t)6 * hd->tris))
+        return "texture coordinate";
+    return NULL;
+}
+
+/* The materials, each with its texture and optics where the file has them. */
+static int read_materials(Cursor *c, const Header *hd, Model *m, const char *name, Err *err)
+{
+    for (uint32_t i = 0; i < hd->mats; i++) {
+        Material *mt = &m->materials[i];
+        *mt = material_default();
+        if (read_reals(c, hd->wide, 0, mt->kd.e, 3) || read_reals(c, hd->wide, 0, mt->ks.e, 3) ||
+            read_reals(c, hd->wide, 0, &mt->shininess, 1))
+            return err_set(err, "%s: material is not a finite number", name);
+        if (hd->textured) {
+            int32_t t = (int32_t)cursor_u32(c);
+            if (t < -1 || t >= (int32_t)hd->texs)
+                return err_set(err, "%s: material %u uses texture %d of %u", name, i, t, hd->texs);
+            mt->texture = t;
+        }
+        real o[14];
+        if (!hd->optics)
+            continue;
+        if (read_reals(c, hd->wide, 0, o, 14))
+            return err_set(err, "%s: material is not a finite number", name);
+        mt->kr = v3(o[0], o[1], o[2]);
+        mt->roughness = o[3];
+        mt->ior = o[4];
+        mt->kt = v3(o[5], o[6], o[7]);
+        mt->absorb = v3(o[8], o[9], o[10]);
+        mt->ke = v3(o[11], o[12], o[13]);
+        const char *why = material_optics_problem(mt);
+        if (why)
+            return err_set(err, "%s: material %u: %s", name, i, why);
+    }
+    return 0;
+}
+
+/* Each triangle's material and its vertex colours, where the file has them. */
+static int read_per_triangle(Cursor *c, const Header *hd, Model *m, const char *name, Err *err)
+{
+    if (m->mat_ids && cursor_get(c, m->mat_ids, (size_t)hd->tris * 4) == 0)
+        for (uint32_t i = 0; i < hd->tris; i++)
+            if (m->mat_ids[i] >= hd->mats)
+                return err_set(err, "%s: triangle %u uses material %u of %u", name, i, m->mat_ids[i], hd->mats);
+    for (uint32_t i = 0; m->colours && i < 3 * hd->tris; i++) {
+        if (read_reals(c, hd->wide, 0, m->colours[i].e, 3))
+            return err_set(err, "%s: vertex colour is not a finite number", name);
+        if (m->colours[i].x < R(0) || m->colours[i].y < R(0) || m->colours[i].z < R(0))
+            return err_set(err, "%s: triangle %u: a negative vertex colour", name, i / 3);
+    }
+    return 0;
+}
+
+int tmd_decode(const void *data, size_t len, const char *name, Model **out, Err *err)
+{
+    *out = NULL;
+    Header hd = {0};
+    if (check_header(data, len, name, &hd, err))
+        return -1;
+    const uint32_t flags = hd.flags;
+    Model *m = model_alloc(hd.tris, hd.nodes, hd.mats,
                            (flags & TMD_HAS_NORMALS ? MESH_NORMALS : 0u) | (flags & TMD_HAS_UVS ? MESH_UVS : 0u) |
                                (flags & TMD_HAS_MATERIALS ? MESH_MATERIALS : 0u) |
                                (flags & TMD_HAS_COLOURS ? MESH_COLOURS : 0u));
     if (!m)
-        return err_set(err, "%s: out of memory for %u triangles", name, tris);
-    m->bvh.kind = (BvhKind)kind;
-    m->bvh.depth = depth;
-    const char *bad = NULL;
-    for (uint32_t i = 0; i < nodes && !bad; i++) {
-        BvhNode *n = &m->bvh.nodes[i];
-        if (read_reals(&c, wide, -1, n->bmin, 3))
-            bad = "node box";
-        n->first = cursor_u32(&c);
-        if (read_reals(&c, wide, 1, n->bmax, 3))
-            bad = "node box";
-        n->count = cursor_u32(&c);
-    }
-    for (uint32_t i = 0; i < tris && !bad; i++)
-        if (read_reals(&c, wide, 0, &m->tris[i].v[0][0], 9))
-            bad = "triangle vertex";
-    for (uint32_t i = 0; m->normals && i < 3 * tris && !bad; i++)
-        if (read_reals(&c, wide, 0, m->normals[i].e, 3))
-            bad = "normal";
-    if (m->uvs && !bad && read_reals(&c, wide, 0, m->uvs, (size_t)6 * tris))
-        bad = "texture coordinate";
-    for (uint32_t i = 0; i < mats && !bad; i++) {
-        Material *mt = &m->materials[i];
-        *mt = material_default();
-        if (read_reals(&c, wide, 0, mt->kd.e, 3) || read_reals(&c, wide, 0, mt->ks.e, 3) ||
-            read_reals(&c, wide, 0, &mt->shininess, 1))
-            bad = "material";
-        if (textured && !bad) {
-            int32_t t = (int32_t)cursor_u32(&c);
-            if (t < -1 || t >= (int32_t)texs) {
-                model_destroy(m);
-                return err_set(err, "%s: material %u uses texture %d of %u", name, i, t, texs);
-            }
-            mt->texture = t;
-        }
-        real o[14];
-        if (optics && !bad) {
-            if (read_reals(&c, wide, 0, o, 14)) {
-                bad = "material";
-                break;
-            }
-            mt->kr = v3(o[0], o[1], o[2]);
-            mt->roughness = o[3];
-            mt->ior = o[4];
-            mt->kt = v3(o[5], o[6], o[7]);
-            mt->absorb = v3(o[8], o[9], o[10]);
-            mt->ke = v3(o[11], o[12], o[13]);
-            if (material_optics_problem(mt)) {
-                const char *why = material_optics_problem(mt);
-                model_destroy(m);
-                return err_set(err, "%s: material %u: %s", name, i, why);
-            }
-        }
-    }
-    if (m->mat_ids && !bad && cursor_get(&c, m->mat_ids, (size_t)tris * 4) == 0)
-        for (uint32_t i = 0; i < tris; i++)
-            if (m->mat_ids[i] >= mats) {
-                uint32_t bad_id = m->mat_ids[i];
-                model_destroy(m);
-                return err_set(err, "%s: triangle %u uses material %u of %u", name, i, bad_id, mats);
-            }
-    for (uint32_t i = 0; m->colours && i < 3 * tris && !bad; i++) {
-        if (read_reals(&c, wide, 0, m->colours[i].e, 3))
-            bad = "vertex colour";
-        else if (m->colours[i].x < R(0) || m->colours[i].y < R(0) || m->colours[i].z < R(0)) {
-            model_destroy(m);
-            return err_set(err, "%s: triangle %u: a negative vertex colour", name, i / 3);
-        }
-    }
-    if (bad || c.failed) {
-        model_destroy(m);
-        return err_set(err, "%s: %s is not a finite number", name, bad ? bad : "data");
-    }
-    if (textured && tmd_read_textures(&c, h[0], texs, m, name, err)) {
+        return err_set(err, "%s: out of memory for %u triangles", name, hd.tris);
+    m->bvh.kind = (BvhKind)hd.kind;
+    m->bvh.depth = hd.depth;
+    Cursor c = cursor_make((const uint8_t *)data + TMD_HEADER_BYTES, len - TMD_HEADER_BYTES); /* after the header */
+    const char *bad = read_geometry(&c, &hd, m);
+    int rc = bad ? err_set(err, "%s: %s is not a finite number", name, bad) : 0;
+    if (rc == 0)
+        rc = read_materials(&c, &hd, m, name, err);
+    if (rc == 0)
+        rc = read_per_triangle(&c, &hd, m, name, err);
+    if (rc == 0 && c.failed)
+        rc = err_set(err, "%s: data is not a finite number", name);
+    if (rc == 0 && hd.textured)
+        rc = tmd_read_textures(&c, hd.version, hd.texs, m, name, err);
+    if (rc == 0 && bvh_validate(&m->bvh, &m->bvh.depth, err))
+        rc = err_prefix(err, "%s", name);
+    if (rc) {
         model_destroy(m);
         return -1;
     }
-    if (bvh_validate(&m->bvh, &m->bvh.depth, err)) {
-        model_destroy(m);
-        return err_prefix(err, "%s", name);
-    }
-    m->bounds = nodes ? bvh_node_box(&m->bvh.nodes[0]) : aabb_empty();
+    m->bounds = hd.nodes ? bvh_node_box(&m->bvh.nodes[0]) : aabb_empty();
     *out = m;
     return 0;
 }
