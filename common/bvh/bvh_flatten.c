@@ -287,6 +287,131 @@ static int flat_plain(const Builder *b, Flat *f)
     return 0;
 }
 
+/* The general layout's scratch arrays, by build node (and a primitive list). */
+typedef struct {
+    uint32_t *order, *stack, *height, *nprims, *tmp;
+    double *cost;
+    uint32_t (*work)[3]; /* build node, flat slot, depth */
+} Scratch;
+
+static void scratch_free(Scratch *s)
+{
+    free(s->order);
+    free(s->stack);
+    free(s->height);
+    free(s->nprims);
+    free(s->cost);
+    free(s->tmp);
+    free(s->work);
+}
+
+static int scratch_alloc(Scratch *s, uint32_t nodes, uint32_t prims)
+{
+    s->order = bigmem_alloc(nodes * sizeof *s->order); /* pre-order */
+    s->stack = bigmem_alloc(nodes * sizeof *s->stack);
+    s->height = bigmem_alloc(nodes * sizeof *s->height);
+    s->nprims = bigmem_alloc(nodes * sizeof *s->nprims);
+    s->cost = bigmem_alloc(nodes * sizeof *s->cost);
+    s->tmp = bigmem_alloc(prims * sizeof *s->tmp);
+    s->work = bigmem_alloc(nodes * sizeof *s->work);
+    return s->order && s->stack && s->height && s->nprims && s->cost && s->tmp && s->work ? 0 : -1;
+}
+
+/* Every build node's height, primitives and SAH cost, children before
+ * parents (pre-order, then a reverse sweep); with collapsing, a subtree
+ * cheaper as one leaf becomes one (height 1). */
+static void subtree_costs(const Builder *b, Scratch *s)
+{
+    uint32_t sp = 0, no = 0;
+    s->stack[sp++] = b->root;
+    while (sp) {
+        uint32_t i = s->stack[--sp];
+        s->order[no++] = i;
+        if (b->nodes[i].left >= 0) {
+            s->stack[sp++] = (uint32_t)b->nodes[i].right;
+            s->stack[sp++] = (uint32_t)b->nodes[i].left;
+        }
+    }
+    for (uint32_t k = no; k-- > 0;) {
+        uint32_t i = s->order[k];
+        const BuildNode *bn = &b->nodes[i];
+        double area = aabb_half_area(bn->box);
+        if (bn->left < 0) {
+            s->height[i] = 1;
+            s->nprims[i] = bn->count;
+            s->cost[i] = area * bvh_leaf_blocks(bn->count);
+            continue;
+        }
+        uint32_t l = (uint32_t)bn->left, r = (uint32_t)bn->right;
+        s->height[i] = 1 + (s->height[l] > s->height[r] ? s->height[l] : s->height[r]);
+        s->nprims[i] = s->nprims[l] + s->nprims[r];
+        s->cost[i] = area + s->cost[l] + s->cost[r];
+        if (b->collapse && s->nprims[i] <= b->opt->max_leaf && area * bvh_leaf_blocks(s->nprims[i]) <= s->cost[i]) {
+            s->cost[i] = area * bvh_leaf_blocks(s->nprims[i]);
+            s->height[i] = 1;
+        }
+    }
+}
+
+/* The general layout: depth first, each node's children side by side, a
+ * subtree that would pass BVH_MAX_DEPTH rebuilt by medians below
+ * REPAIR_DEPTH. */
+static int flat_general(const Builder *b, Flat *f, vec3 **own_centres, Err *err)
+{
+    Scratch s = {0};
+    int rc = -1;
+    if (scratch_alloc(&s, b->node_count, b->n)) {
+        err_set(err, "bvh: out of memory flattening %u nodes", b->node_count);
+        goto done;
+    }
+    subtree_costs(b, &s);
+    uint32_t wp = 0;
+    f->node_count = 1;
+    s.work[wp][0] = b->root, s.work[wp][1] = 0, s.work[wp][2] = 1, wp++;
+    while (wp) {
+        wp--;
+        uint32_t i = s.work[wp][0], slot = s.work[wp][1], depth = s.work[wp][2];
+        const BuildNode *bn = &b->nodes[i];
+        BvhNode *node = &f->nodes[slot];
+        int leaf = bn->left < 0 || (b->collapse && s.height[i] == 1);
+        if (!leaf && depth + s.height[i] - 1 > BVH_MAX_DEPTH && depth >= REPAIR_DEPTH) {
+            if (flat_centres(f, own_centres)) {
+                err_set(err, "bvh: out of memory repairing the depth of %u primitives", b->n);
+                goto done;
+            }
+            uint32_t n = collect_prims(b, i, s.tmp, s.stack);
+            flat_median(f, s.tmp, n, slot, depth);
+            continue;
+        }
+        flat_set_box(node, bn->box);
+        flat_note_depth(f, depth);
+        if (bn->left < 0) {
+            node->first = f->prim_count;
+            node->count = bn->count;
+            memcpy(f->prims + f->prim_count, b->perm + bn->first, bn->count * sizeof *f->prims);
+            f->prim_count += node->count;
+            continue;
+        }
+        if (leaf) { /* a collapsed subtree */
+            node->first = f->prim_count;
+            node->count = collect_prims(b, i, f->prims + f->prim_count, s.stack);
+            f->prim_count += node->count;
+            continue;
+        }
+        uint32_t c = f->node_count;
+        f->node_count += 2;
+        node->first = c;
+        node->count = 0;
+        /* push right first so the left subtree is laid out right after its parent */
+        s.work[wp][0] = (uint32_t)bn->right, s.work[wp][1] = c + 1, s.work[wp][2] = depth + 1, wp++;
+        s.work[wp][0] = (uint32_t)bn->left, s.work[wp][1] = c, s.work[wp][2] = depth + 1, wp++;
+    }
+    rc = 0;
+done:
+    scratch_free(&s);
+    return rc;
+}
+
 int bvh_flatten(const Builder *b, Bvh *out, Err *err)
 {
     /* a tree its builder knows to be shallow enough, with nothing to
@@ -294,129 +419,27 @@ int bvh_flatten(const Builder *b, Bvh *out, Err *err)
      * costs (on the 1M-triangle sphere, a tenth of the SAH build on two
      * threads), and none of their arrays */
     const int plain = !b->collapse && b->max_depth && b->max_depth <= BVH_MAX_DEPTH;
-    const uint32_t bn_count = b->node_count;
     vec3 *own_centres = NULL;
     Flat f = {b, b->centres, NULL, 0, 2 * b->n, NULL, 0, 0};
     Bvh nodes_owner = {0};
     if (bvh_alloc_nodes(&nodes_owner, f.node_cap) == 0)
         f.nodes = nodes_owner.nodes;
     f.prims = bigmem_alloc(b->n * sizeof *f.prims);
-    /* the general layout's arrays */
-    uint32_t *order = NULL, *stack = NULL, *height = NULL, *nprims = NULL, *tmp = NULL;
-    double *cost = NULL;
-    uint32_t(*work)[3] = NULL; /* build node, flat slot, depth */
     int rc = -1;
-    if (!f.nodes || !f.prims) {
-        err_set(err, "bvh: out of memory flattening %u nodes", bn_count);
-        goto done;
+    if (!f.nodes || !f.prims || (plain && flat_plain(b, &f)))
+        err_set(err, "bvh: out of memory flattening %u nodes", b->node_count);
+    else
+        rc = plain ? 0 : flat_general(b, &f, &own_centres, err);
+    if (rc == 0) {
+        out->nodes = f.nodes;
+        out->nodes_mem = nodes_owner.nodes_mem;
+        out->node_count = f.node_count;
+        out->prims = f.prims;
+        out->prim_count = f.prim_count;
+        out->depth = f.depth;
+        f.nodes = NULL;
+        f.prims = NULL;
     }
-    if (plain) {
-        if (flat_plain(b, &f)) {
-            err_set(err, "bvh: out of memory flattening %u nodes", bn_count);
-            goto done;
-        }
-        goto laid;
-    }
-    order = bigmem_alloc(bn_count * sizeof *order); /* pre-order */
-    stack = bigmem_alloc(bn_count * sizeof *stack);
-    height = bigmem_alloc(bn_count * sizeof *height);
-    nprims = bigmem_alloc(bn_count * sizeof *nprims);
-    cost = bigmem_alloc(bn_count * sizeof *cost);
-    tmp = bigmem_alloc(b->n * sizeof *tmp);
-    work = bigmem_alloc(bn_count * sizeof *work);
-    if (!order || !stack || !height || !nprims || !cost || !tmp || !work) {
-        err_set(err, "bvh: out of memory flattening %u nodes", bn_count);
-        goto done;
-    }
-    /* pre-order, then a reverse sweep gives children before parents */
-    uint32_t sp = 0, no = 0;
-    stack[sp++] = b->root;
-    while (sp) {
-        uint32_t i = stack[--sp];
-        order[no++] = i;
-        if (b->nodes[i].left >= 0) {
-            stack[sp++] = (uint32_t)b->nodes[i].right;
-            stack[sp++] = (uint32_t)b->nodes[i].left;
-        }
-    }
-    for (uint32_t k = no; k-- > 0;) {
-        uint32_t i = order[k];
-        const BuildNode *bn = &b->nodes[i];
-        double area = aabb_half_area(bn->box);
-        if (bn->left < 0) {
-            height[i] = 1;
-            nprims[i] = bn->count;
-            cost[i] = area * bvh_leaf_blocks(bn->count);
-        } else {
-            uint32_t l = (uint32_t)bn->left, r = (uint32_t)bn->right;
-            height[i] = 1 + (height[l] > height[r] ? height[l] : height[r]);
-            nprims[i] = nprims[l] + nprims[r];
-            cost[i] = area + cost[l] + cost[r];
-            if (b->collapse && nprims[i] <= b->opt->max_leaf && area * bvh_leaf_blocks(nprims[i]) <= cost[i]) {
-                cost[i] = area * bvh_leaf_blocks(nprims[i]);
-                height[i] = 1;
-            }
-        }
-    }
-    uint32_t wp = 0;
-    f.node_count = 1;
-    work[wp][0] = b->root, work[wp][1] = 0, work[wp][2] = 1, wp++;
-    while (wp) {
-        wp--;
-        uint32_t i = work[wp][0], slot = work[wp][1], depth = work[wp][2];
-        const BuildNode *bn = &b->nodes[i];
-        BvhNode *node = &f.nodes[slot];
-        int leaf = bn->left < 0 || (b->collapse && height[i] == 1);
-        if (!leaf && depth + height[i] - 1 > BVH_MAX_DEPTH && depth >= REPAIR_DEPTH) {
-            if (flat_centres(&f, &own_centres)) {
-                err_set(err, "bvh: out of memory repairing the depth of %u primitives", b->n);
-                goto done;
-            }
-            uint32_t n = collect_prims(b, i, tmp, stack);
-            flat_median(&f, tmp, n, slot, depth);
-            continue;
-        }
-        flat_set_box(node, bn->box);
-        flat_note_depth(&f, depth);
-        if (bn->left < 0) {
-            node->first = f.prim_count;
-            node->count = bn->count;
-            memcpy(f.prims + f.prim_count, b->perm + bn->first, bn->count * sizeof *f.prims);
-            f.prim_count += node->count;
-            continue;
-        }
-        if (leaf) { /* a collapsed subtree */
-            node->first = f.prim_count;
-            node->count = collect_prims(b, i, f.prims + f.prim_count, stack);
-            f.prim_count += node->count;
-            continue;
-        }
-        uint32_t c = f.node_count;
-        f.node_count += 2;
-        node->first = c;
-        node->count = 0;
-        /* push right first so the left subtree is laid out right after its parent */
-        work[wp][0] = (uint32_t)bn->right, work[wp][1] = c + 1, work[wp][2] = depth + 1, wp++;
-        work[wp][0] = (uint32_t)bn->left, work[wp][1] = c, work[wp][2] = depth + 1, wp++;
-    }
-laid:
-    out->nodes = f.nodes;
-    out->nodes_mem = nodes_owner.nodes_mem;
-    out->node_count = f.node_count;
-    out->prims = f.prims;
-    out->prim_count = f.prim_count;
-    out->depth = f.depth;
-    f.nodes = NULL;
-    f.prims = NULL;
-    rc = 0;
-done:
-    free(order);
-    free(stack);
-    free(height);
-    free(nprims);
-    free(cost);
-    free(tmp);
-    free(work);
     free(own_centres);
     if (f.nodes)
         free(nodes_owner.nodes_mem);
