@@ -351,6 +351,135 @@ static __attribute__((noinline)) void surface_lift(Surface *out, const Hit *h, c
                   real_gamma(2) * v3_max_comp(v3_abs(out->ps));
 }
 
+/* A smooth triangle's corners and vertex normals, for the terminator point
+ * (model space for an instance: pm, and the instance). */
+typedef struct {
+    vec3 tv[3], tn[3], pm;
+    const Instance *inst;
+} Lift;
+
+/* The surfaces of each kind of hit, for surface_at; `optional` as there. */
+static inline __attribute__((always_inline)) void surface_sphere(const Scene *s, const Ray *r, const Hit *h,
+                                                                 Surface *out, const int optional)
+{
+    const Sphere *sp = &s->spheres[h->index];
+    vec3 p = ray_at(r, h->t);
+    out->ng = v3_norm(v3_sub(p, sp->centre));
+    /* re-project onto the surface: removes the error of o + t*d */
+    out->p = v3_madd(sp->centre, out->ng, sp->radius);
+    /* r * n carries the normalisation's error; adding the centre rounds once more */
+    out->err = real_gamma(6) * sp->radius + real_gamma(2) * real_max(v3_max_comp(v3_abs(sp->centre)), v3_max_comp(v3_abs(out->p)));
+    out->ns = out->ng;
+    out->mat = &s->materials[sp->material];
+    if (optional && scene_uses(s, FEAT_TEXTURES) && out->mat->texture >= 0) {
+        /* spherical mapping: u the longitude from +z towards +x, v the
+         * latitude from the bottom pole (0) to the top (1); only for a
+         * textured material (the arc functions showed in the profile) */
+        vec3 n = out->ng;
+        out->u = R(0.5) + atan2(n.x, n.z) / (R(2) * REAL_PI);
+        out->v = R(0.5) + asin(real_clamp(n.y, R(-1), R(1))) / REAL_PI;
+        out->has_uv = 1;
+    }
+    out->object = h->index;
+}
+
+static inline __attribute__((always_inline)) void surface_plane(const Scene *s, const Ray *r, const Hit *h, Surface *out,
+                                                                const int optional)
+{
+    const Plane *pl = &s->planes[h->index];
+    vec3 p = ray_at(r, h->t);
+    /* project onto the plane for the same reason */
+    out->p = v3_madd(p, pl->unit, v3_dot(v3_sub(pl->point, p), pl->unit));
+    out->err = real_gamma(4) * real_max(v3_max_comp(v3_abs(out->p)), v3_max_comp(v3_abs(pl->point)));
+    out->ng = out->ns = pl->unit;
+    out->mat = &s->materials[pl->material];
+    if (optional && scene_uses(s, FEAT_TEXTURES) && out->mat->texture >= 0) {
+        vec3 d = v3_sub(out->p, pl->point);
+        out->u = v3_dot(d, pl->tu);
+        out->v = v3_dot(d, pl->tv);
+        out->has_uv = 1;
+    }
+    out->object = s->sphere_count + h->index;
+}
+
+static inline __attribute__((always_inline)) void surface_triangle(const Scene *s, const Hit *h, Surface *out,
+                                                                   Lift *lift, const int optional)
+{
+    const Tri *t = &s->tris[h->index];
+    const TriAttr *a = &s->tri_attrs[h->index];
+    vec3 v0 = tri_vertex(t, 0), v1 = tri_vertex(t, 1), v2 = tri_vertex(t, 2);
+    out->p = trace_triangle_point(v0, v1, v2, h->b1, h->b2, &out->err);
+    out->ng = v3_norm(v3_cross(v3_sub(v1, v0), v3_sub(v2, v0)));
+    out->ns = out->ng;
+    if (optional && scene_uses(s, FEAT_SMOOTH) && a->smooth) {
+        out->ns = v3_norm(bary(a->n[0], a->n[1], a->n[2], h->b1, h->b2));
+        out->smooth = 1;
+        lift->tv[0] = v0, lift->tv[1] = v1, lift->tv[2] = v2;
+        memcpy(lift->tn, a->n, sizeof lift->tn);
+    }
+    if (optional && scene_uses(s, FEAT_TEXTURES) && a->textured) {
+        out->u = (R(1) - h->b1 - h->b2) * a->uv[0] + h->b1 * a->uv[2] + h->b2 * a->uv[4];
+        out->v = (R(1) - h->b1 - h->b2) * a->uv[1] + h->b1 * a->uv[3] + h->b2 * a->uv[5];
+        out->has_uv = 1;
+    }
+    out->mat = &s->materials[a->material];
+    /* scene triangles of one material form one surface (a quad is two triangles) */
+    out->object = s->sphere_count + s->plane_count + a->material;
+}
+
+/* Returns 1 where the surface takes the model's own material (and texture). */
+static inline __attribute__((always_inline)) int surface_instance(const Scene *s, const Hit *h, Surface *out, Lift *lift,
+                                                                  const int optional)
+{
+    int model_tex = 0;
+    const Instance *in = &s->instances[h->index];
+    const Model *m = s->models[in->model];
+    const Tri *t = &m->tris[h->sub];
+    vec3 v0 = tri_vertex(t, 0), v1 = tri_vertex(t, 1), v2 = tri_vertex(t, 2);
+    lift->pm = bary(v0, v1, v2, h->b1, h->b2);
+    out->p = v3_add(v3_scale(m3_apply(&in->rot, lift->pm), in->scale), in->translate);
+    /* the model-space point's error carried through rotation and scale, plus
+     * the rounding of adding the translation (and of subtracting it again
+     * when a new ray goes back into model space) */
+    real vmax = v3_max_comp(v3_max(v3_abs(v0), v3_max(v3_abs(v1), v3_abs(v2))));
+    out->err = real_gamma(10) * R(3) * in->scale * vmax +
+               real_gamma(2) * real_max(v3_max_comp(v3_abs(in->translate)), v3_max_comp(v3_abs(out->p)));
+    /* uniform scale: normals transform by the rotation alone */
+    out->ng = v3_norm(m3_apply(&in->rot, v3_cross(v3_sub(v1, v0), v3_sub(v2, v0))));
+    if (optional && scene_uses(s, FEAT_SMOOTH) && m->normals) {
+        const vec3 *n = &m->normals[3 * h->sub];
+        out->ns = v3_norm(m3_apply(&in->rot, bary(n[0], n[1], n[2], h->b1, h->b2)));
+        out->smooth = 1;
+        lift->tv[0] = v0, lift->tv[1] = v1, lift->tv[2] = v2;
+        memcpy(lift->tn, n, sizeof lift->tn);
+        lift->inst = in;
+    } else {
+        out->ns = out->ng;
+    }
+    if (optional && scene_uses(s, FEAT_TEXTURES) && m->uvs) {
+        const real *uv = &m->uvs[6 * h->sub];
+        out->u = (R(1) - h->b1 - h->b2) * uv[0] + h->b1 * uv[2] + h->b2 * uv[4];
+        out->v = (R(1) - h->b1 - h->b2) * uv[1] + h->b1 * uv[3] + h->b2 * uv[5];
+        out->has_uv = 1;
+    }
+    if (optional && scene_uses(s, FEAT_COLOURS) && m->colours && in->material < 0) {
+        const vec3 *c = &m->colours[3 * h->sub];
+        out->colour = bary(c[0], c[1], c[2], h->b1, h->b2);
+        out->has_colour = 1;
+    }
+    if (in->material >= 0)
+        out->mat = &s->materials[in->material];
+    else if (m->mat_ids) {
+        out->mat = &m->materials[m->mat_ids[h->sub]];
+        /* a model's own material names the model's own texture */
+        out->tex = out->mat->texture >= 0 ? m->textures[out->mat->texture] : NULL;
+        model_tex = 1;
+    } else if (s->material_count)
+        out->mat = &s->materials[0];
+    out->object = s->sphere_count + s->plane_count + s->material_count + h->index;
+    return model_tex;
+}
+
 /* trace_surface's body; `optional` (a constant in each copy) lets the
  * paths of smooth normals, textures and vertex colours in. */
 static inline __attribute__((always_inline)) void surface_at(const Scene *s, const Ray *r, const Hit *h, Surface *out,
@@ -363,124 +492,16 @@ static inline __attribute__((always_inline)) void surface_at(const Scene *s, con
     out->has_uv = out->has_colour = out->smooth = out->inside = 0;
     out->mat = &fallback_material;
     out->object = 0;
-    /* a smooth triangle's corners and vertex normals, for the terminator
-     * point (model space for an instance) */
-    vec3 tv[3], tn[3], pm = v3_splat(0);
-    const Instance *inst = NULL;
+    Lift lift;
+    lift.pm = v3_splat(0);
+    lift.inst = NULL;
     int model_tex = 0;
     switch (h->kind) {
-    case HIT_SPHERE: {
-        const Sphere *sp = &s->spheres[h->index];
-        vec3 p = ray_at(r, h->t);
-        out->ng = v3_norm(v3_sub(p, sp->centre));
-        /* re-project onto the surface: removes the error of o + t*d */
-        out->p = v3_madd(sp->centre, out->ng, sp->radius);
-        /* r * n carries the normalisation's error; adding the centre rounds once more */
-        out->err = real_gamma(6) * sp->radius + real_gamma(2) * real_max(v3_max_comp(v3_abs(sp->centre)), v3_max_comp(v3_abs(out->p)));
-        out->ns = out->ng;
-        out->mat = &s->materials[sp->material];
-        if (optional && scene_uses(s, FEAT_TEXTURES) && out->mat->texture >= 0) {
-            /* spherical mapping: u the longitude from +z towards +x, v the
-             * latitude from the bottom pole (0) to the top (1); only for a
-             * textured material (the arc functions showed in the profile) */
-            vec3 n = out->ng;
-            out->u = R(0.5) + atan2(n.x, n.z) / (R(2) * REAL_PI);
-            out->v = R(0.5) + asin(real_clamp(n.y, R(-1), R(1))) / REAL_PI;
-            out->has_uv = 1;
-        }
-        out->object = h->index;
-        break;
-    }
-    case HIT_PLANE: {
-        const Plane *pl = &s->planes[h->index];
-        vec3 p = ray_at(r, h->t);
-        /* project onto the plane for the same reason */
-        out->p = v3_madd(p, pl->unit, v3_dot(v3_sub(pl->point, p), pl->unit));
-        out->err = real_gamma(4) * real_max(v3_max_comp(v3_abs(out->p)), v3_max_comp(v3_abs(pl->point)));
-        out->ng = out->ns = pl->unit;
-        out->mat = &s->materials[pl->material];
-        if (optional && scene_uses(s, FEAT_TEXTURES) && out->mat->texture >= 0) {
-            vec3 d = v3_sub(out->p, pl->point);
-            out->u = v3_dot(d, pl->tu);
-            out->v = v3_dot(d, pl->tv);
-            out->has_uv = 1;
-        }
-        out->object = s->sphere_count + h->index;
-        break;
-    }
-    case HIT_TRIANGLE: {
-        const Tri *t = &s->tris[h->index];
-        const TriAttr *a = &s->tri_attrs[h->index];
-        vec3 v0 = tri_vertex(t, 0), v1 = tri_vertex(t, 1), v2 = tri_vertex(t, 2);
-        out->p = trace_triangle_point(v0, v1, v2, h->b1, h->b2, &out->err);
-        out->ng = v3_norm(v3_cross(v3_sub(v1, v0), v3_sub(v2, v0)));
-        out->ns = out->ng;
-        if (optional && scene_uses(s, FEAT_SMOOTH) && a->smooth) {
-            out->ns = v3_norm(bary(a->n[0], a->n[1], a->n[2], h->b1, h->b2));
-            out->smooth = 1;
-            tv[0] = v0, tv[1] = v1, tv[2] = v2;
-            memcpy(tn, a->n, sizeof tn);
-        }
-        if (optional && scene_uses(s, FEAT_TEXTURES) && a->textured) {
-            out->u = (R(1) - h->b1 - h->b2) * a->uv[0] + h->b1 * a->uv[2] + h->b2 * a->uv[4];
-            out->v = (R(1) - h->b1 - h->b2) * a->uv[1] + h->b1 * a->uv[3] + h->b2 * a->uv[5];
-            out->has_uv = 1;
-        }
-        out->mat = &s->materials[a->material];
-        /* scene triangles of one material form one surface (a quad is two triangles) */
-        out->object = s->sphere_count + s->plane_count + a->material;
-        break;
-    }
-    case HIT_INSTANCE: {
-        const Instance *in = &s->instances[h->index];
-        const Model *m = s->models[in->model];
-        const Tri *t = &m->tris[h->sub];
-        vec3 v0 = tri_vertex(t, 0), v1 = tri_vertex(t, 1), v2 = tri_vertex(t, 2);
-        pm = bary(v0, v1, v2, h->b1, h->b2);
-        out->p = v3_add(v3_scale(m3_apply(&in->rot, pm), in->scale), in->translate);
-        /* the model-space point's error carried through rotation and scale, plus
-         * the rounding of adding the translation (and of subtracting it again
-         * when a new ray goes back into model space) */
-        real vmax = v3_max_comp(v3_max(v3_abs(v0), v3_max(v3_abs(v1), v3_abs(v2))));
-        out->err = real_gamma(10) * R(3) * in->scale * vmax +
-                   real_gamma(2) * real_max(v3_max_comp(v3_abs(in->translate)), v3_max_comp(v3_abs(out->p)));
-        /* uniform scale: normals transform by the rotation alone */
-        out->ng = v3_norm(m3_apply(&in->rot, v3_cross(v3_sub(v1, v0), v3_sub(v2, v0))));
-        if (optional && scene_uses(s, FEAT_SMOOTH) && m->normals) {
-            const vec3 *n = &m->normals[3 * h->sub];
-            out->ns = v3_norm(m3_apply(&in->rot, bary(n[0], n[1], n[2], h->b1, h->b2)));
-            out->smooth = 1;
-            tv[0] = v0, tv[1] = v1, tv[2] = v2;
-            memcpy(tn, n, sizeof tn);
-            inst = in;
-        } else {
-            out->ns = out->ng;
-        }
-        if (optional && scene_uses(s, FEAT_TEXTURES) && m->uvs) {
-            const real *uv = &m->uvs[6 * h->sub];
-            out->u = (R(1) - h->b1 - h->b2) * uv[0] + h->b1 * uv[2] + h->b2 * uv[4];
-            out->v = (R(1) - h->b1 - h->b2) * uv[1] + h->b1 * uv[3] + h->b2 * uv[5];
-            out->has_uv = 1;
-        }
-        if (optional && scene_uses(s, FEAT_COLOURS) && m->colours && in->material < 0) {
-            const vec3 *c = &m->colours[3 * h->sub];
-            out->colour = bary(c[0], c[1], c[2], h->b1, h->b2);
-            out->has_colour = 1;
-        }
-        if (in->material >= 0)
-            out->mat = &s->materials[in->material];
-        else if (m->mat_ids) {
-            out->mat = &m->materials[m->mat_ids[h->sub]];
-            /* a model's own material names the model's own texture */
-            out->tex = out->mat->texture >= 0 ? m->textures[out->mat->texture] : NULL;
-            model_tex = 1;
-        } else if (s->material_count)
-            out->mat = &s->materials[0];
-        out->object = s->sphere_count + s->plane_count + s->material_count + h->index;
-        break;
-    }
-    default:
-        break;
+    case HIT_SPHERE: surface_sphere(s, r, h, out, optional); break;
+    case HIT_PLANE: surface_plane(s, r, h, out, optional); break;
+    case HIT_TRIANGLE: surface_triangle(s, h, out, &lift, optional); break;
+    case HIT_INSTANCE: model_tex = surface_instance(s, h, out, &lift, optional); break;
+    default: break;
     }
     if (!model_tex)
         out->tex = out->mat->texture >= 0 ? s->textures[out->mat->texture] : NULL;
@@ -495,7 +516,7 @@ static inline __attribute__((always_inline)) void surface_at(const Scene *s, con
     out->ps = out->p;
     out->ps_err = out->err;
     if (out->smooth)
-        surface_lift(out, h, tv, tn, flip, inst, pm);
+        surface_lift(out, h, lift.tv, lift.tn, flip, lift.inst, lift.pm);
 }
 
 void trace_surface(const Scene *s, const Ray *r, const Hit *h, Surface *out)
