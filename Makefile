@@ -12,6 +12,7 @@
 #   make loadtest   64 clients joining and leaving for 5 minutes, every frame verified
 #   make tools-doc  docs/tools.md from every tool's --help
 #   make architecture  docs/architecture.dot and .svg from the #include graph (graphviz)
+#   make scene-doc  docs/scene.md's tables of keys from the scene's field tables
 #   make PRECISION=double ...   double-precision build in build/double, bin/double
 PRECISION ?= float
 SAN ?=
@@ -77,7 +78,7 @@ REPLAYS := $(FUZZ_NAMES:%=$(BUILD)/fuzz/replay_%)
 
 DEB_PACKAGES := gcc make pkg-config libsdl2-dev libnetpbm-dev libpng-dev libjpeg62-turbo-dev zlib1g-dev libassimp-dev libcmocka-dev libembree-dev libsodium-dev xvfb x11-apps python3 clang libclang-rt-14-dev
 
-.PHONY: all deps check check-asan bench demo clean tradeoff bench-scaling fuzz loadtest tools-doc architecture
+.PHONY: all deps check check-asan bench demo clean tradeoff bench-scaling fuzz loadtest tools-doc architecture scene-doc
 .SECONDARY:
 all: $(TOOLS)
 
@@ -147,6 +148,11 @@ $(BUILD)/tests/%: $(BUILD)/tests/%.o $(LIB)
 # handlers' fuzz harnesses, link the archive they test
 $(BUILD)/tests/test_sched $(BUILD)/tests/test_measure $(BUILD)/fuzz/replay_server: $(SERVER_LIB)
 $(BUILD)/fuzz/replay_client: $(CLIENT_LIB)
+
+# docs/scene.md's tables of keys, printed from the field tables that the
+# parser, the wire and the checks read (test_fields fails where they differ)
+scene-doc: $(BUILD)/tests/test_fields
+	$(BUILD)/tests/test_fields --write
 
 # The unit tests, then the command-line tests against the built tools.
 check: deps

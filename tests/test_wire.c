@@ -364,69 +364,84 @@ static void malformed_scenes_and_assets_are_rejected(void **state)
     asset_cache_destroy(c);
     free_encoded(s, &e);
     scene_destroy(s);
-    /* a plane's flags word, the output encoding and the extras word:
-     * unknown values are refused.  Layout (docs/protocol.md): a 12-byte
-     * header, camera 56, colours 48, settings 24 (linear is the sixth u32,
-     * at 136), the extras word at 140, counts 32, one material 60, then the
-     * plane: point and normal 48, material 4, flags at 288. */
+    /* Every item travels by its field table (docs/protocol.md): a 12-byte
+     * header; the camera, a group word (at 12) and position, yaw, pitch,
+     * roll, zoom (60 bytes); the colours (48); the settings, a group word
+     * at 120, then aa, adaptive, shading, shadows, filter (at 140), linear
+     * and hdr; the counts (32, at 152); a material, its group word (184),
+     * diffuse, specular, shininess and texture (64); a plane, its group
+     * word (248), point, normal and material: 304 bytes. */
     Scene *one = scene_create();
     assert_int_equal(scene_add_material(one, material_default(), NULL, NULL), 0);
     assert_int_equal(scene_add_plane(one, plane_make(v3(0, 0, 0), v3(0, 1, 0), 0), NULL), 0);
     Sink sk = {0};
-    /* what a scene sends follows what scene_prepare found in it */
+    /* only a scene whose checks have passed is sent */
     assert_int_equal(wire_encode_scene(one, NULL, NULL, &sk, &err), -1);
     assert_contains(err.msg, "not prepared");
     sink_free(&sk);
     sk = (Sink){0};
     assert_int_equal(scene_prepare(one, NULL), 0);
     assert_int_equal(wire_encode_scene(one, NULL, NULL, &sk, NULL), 0);
-    assert_int_equal(sk.len, 292);
+    assert_int_equal(sk.len, 304);
     assert_int_equal(wire_decode_scene(sk.data, sk.len, c = asset_cache_create(), &back, &err), 0);
-    scene_destroy(back);
-    uint32_t word = 2;
-    memcpy(sk.data + 136, &word, 4);
-    assert_int_equal(wire_decode_scene(sk.data, sk.len, c, &back, &err), -1);
-    assert_contains(err.msg, "invalid settings");
-    word = 0;
-    memcpy(sk.data + 136, &word, 4);
-    word = 32; /* the first unknown flag */
-    memcpy(sk.data + 140, &word, 4);
-    assert_int_equal(wire_decode_scene(sk.data, sk.len, c, &back, &err), -1);
-    assert_contains(err.msg, "unknown extras");
-    word = 0;
-    memcpy(sk.data + 140, &word, 4);
-    word = 2;
-    memcpy(sk.data + 288, &word, 4);
-    assert_int_equal(wire_decode_scene(sk.data, sk.len, c, &back, &err), -1);
-    assert_contains(err.msg, "unknown plane flags");
-    word = 1; /* mapped, but its two numbers are missing */
-    memcpy(sk.data + 288, &word, 4);
-    assert_int_equal(wire_decode_scene(sk.data, sk.len, c, &back, &err), -1);
-    assert_contains(err.msg, "truncated");
-    sink_free(&sk);
-    /* with a mirror: the settings of secondary rays follow the extras word
-     * (depth at 144, cutoff 148, Fresnel 156, glass shadows 160, rough
-     * samples 164, depth limit 168), the counts move to 172, and the
-     * material's flags word follows its texture (at 264), its reflectance
-     * (268) and roughness after it */
-    one->materials[0].kr = v3_splat(R(0.5));
-    assert_int_equal(scene_prepare(one, NULL), 0);
-    sk = (Sink){0};
-    assert_int_equal(wire_encode_scene(one, NULL, NULL, &sk, NULL), 0);
-    assert_int_equal(sk.len, 292 + 28 + 4 + 24 + 8);
-    assert_int_equal(wire_decode_scene(sk.data, sk.len, c, &back, &err), 0);
-    assert_true(back->materials[0].kr.y == R(0.5) && back->settings.depth == one->settings.depth);
     scene_destroy(back);
     const struct {
         size_t at;
         uint32_t word;
         const char *why;
-    } bad_optics[] = {{144, SCENE_MAX_DEPTH + 1, "secondary-ray settings"},
-                      {156, 2, "secondary-ray settings"},
-                      {160, 2, "secondary-ray settings"},
-                      {164, SCENE_MAX_SAMPLES + 1, "sample counts"},
-                      {168, LIMIT_COUNT, "secondary-ray settings"},
-                      {264, 8, "unknown material flags"}};
+    } bad_words[] = {{120, 1u << 5, "bad settings"},
+                     {140, FILTER_COUNT, "settings: 'filter' is not one of its words"},
+                     {136, 2, "settings: 'shadows' is not one of its words"},
+                     {144, 2, "settings: 'linear' is not 0 or 1"},
+                     {184, 1u << 4, "bad material"},
+                     {248, 1u << 2, "bad plane"},
+                     {248, 1u << 1, "truncated"}, /* a plane mapped, its two numbers missing */
+                     {12, 1u << 3, "bad camera"}};
+    for (size_t i = 0; i < sizeof bad_words / sizeof bad_words[0]; i++) {
+        uint32_t was;
+        memcpy(&was, sk.data + bad_words[i].at, 4);
+        memcpy(sk.data + bad_words[i].at, &bad_words[i].word, 4);
+        assert_int_equal(wire_decode_scene(sk.data, sk.len, c, &back, &err), -1);
+        assert_contains(err.msg, bad_words[i].why);
+        memcpy(sk.data + bad_words[i].at, &was, 4);
+    }
+    sink_free(&sk);
+    /* a mirror pays for its reflectance and roughness (32 bytes after the
+     * material's texture, at 248); settings of secondary rays away from
+     * their defaults travel in the settings' first group (28 bytes after
+     * hdr, at 152: depth, depth limit, cutoff, Fresnel, glass shadows,
+     * rough samples), moving the rest along */
+    one->materials[0].kr = v3_splat(R(0.5));
+    assert_int_equal(scene_prepare(one, NULL), 0);
+    sk = (Sink){0};
+    assert_int_equal(wire_encode_scene(one, NULL, NULL, &sk, NULL), 0);
+    assert_int_equal(sk.len, 304 + 32);
+    assert_int_equal(wire_decode_scene(sk.data, sk.len, c, &back, &err), 0);
+    assert_true(back->materials[0].kr.y == R(0.5));
+    scene_destroy(back);
+    /* a mirror's reflectance must not be negative: the scene's own checks */
+    double neg = -1;
+    memcpy(sk.data + 248, &neg, 8);
+    assert_int_equal(wire_decode_scene(sk.data, sk.len, c, &back, &err), -1);
+    assert_contains(err.msg, "'reflect' must not be negative");
+    sink_free(&sk);
+    one->settings.depth = 8;
+    assert_int_equal(scene_prepare(one, NULL), 0);
+    sk = (Sink){0};
+    assert_int_equal(wire_encode_scene(one, NULL, NULL, &sk, NULL), 0);
+    assert_int_equal(sk.len, 304 + 32 + 28);
+    assert_int_equal(wire_decode_scene(sk.data, sk.len, c, &back, &err), 0);
+    assert_true(back->settings.depth == 8 && back->settings.cutoff == one->settings.cutoff);
+    scene_destroy(back);
+    const struct {
+        size_t at;
+        uint32_t word;
+        const char *why;
+    } bad_optics[] = {{152, SCENE_MAX_DEPTH + 1, "'depth' must be a whole number from 0 to 64"},
+                      {156, LIMIT_COUNT, "'depth_limit' is not one of its words"},
+                      {168, 2, "'fresnel' is not one of its words"},
+                      {172, 2, "'glass_shadows' is not one of its words"},
+                      {176, SCENE_MAX_SAMPLES + 1, "'rough_samples' must be 0 or from 1 to 16"}};
     for (size_t i = 0; i < sizeof bad_optics / sizeof bad_optics[0]; i++) {
         uint32_t was;
         memcpy(&was, sk.data + bad_optics[i].at, 4);
@@ -436,38 +451,28 @@ static void malformed_scenes_and_assets_are_rejected(void **state)
         memcpy(sk.data + bad_optics[i].at, &was, 4);
     }
     sink_free(&sk);
-    /* a fisheye camera: its kind and field of view follow the extras word
-     * (at 144 and 148; then aperture, focus and lens samples), before the
-     * settings of secondary rays */
+    one->settings.depth = 5;
+    /* a fisheye camera: its projection group (the orthographic width, the
+     * fisheye's field of view at 80, the kind at 88) follows the zoom */
     one->camera.kind = CAMERA_FISHEYE;
     one->camera.fov = 200;
     assert_int_equal(scene_prepare(one, NULL), 0);
     sk = (Sink){0};
     assert_int_equal(wire_encode_scene(one, NULL, NULL, &sk, NULL), 0);
+    assert_int_equal(sk.len, 304 + 32 + 20);
     assert_int_equal(wire_decode_scene(sk.data, sk.len, c, &back, &err), 0);
     assert_true(back->camera.kind == CAMERA_FISHEYE && back->camera.fov == R(200));
     scene_destroy(back);
-    const uint32_t kinds[] = {CAMERA_PINHOLE, CAMERA_FISHEYE + 1};
-    for (int i = 0; i < 2; i++) {
-        memcpy(sk.data + 144, &kinds[i], 4);
-        assert_int_equal(wire_decode_scene(sk.data, sk.len, c, &back, &err), -1);
-        assert_contains(err.msg, "invalid camera kind");
-    }
-    double wide = 400; /* past 360 degrees: the scene's own checks */
+    uint32_t word = CAMERA_FISHEYE + 1;
+    memcpy(sk.data + 88, &word, 4);
+    assert_int_equal(wire_decode_scene(sk.data, sk.len, c, &back, &err), -1);
+    assert_contains(err.msg, "camera: 'kind' is not one of its words");
     word = CAMERA_FISHEYE;
-    memcpy(sk.data + 144, &word, 4);
-    memcpy(sk.data + 148, &wide, 8);
+    memcpy(sk.data + 88, &word, 4);
+    double wide = 400; /* past 360 degrees */
+    memcpy(sk.data + 80, &wide, 8);
     assert_int_equal(wire_decode_scene(sk.data, sk.len, c, &back, &err), -1);
-    assert_contains(err.msg, "fisheye");
-    one->camera.kind = CAMERA_PINHOLE;
-    sink_free(&sk);
-    sk = (Sink){0};
-    assert_int_equal(wire_encode_scene(one, NULL, NULL, &sk, NULL), 0);
-    /* a mirror's reflectance must not be negative: the scene's own checks */
-    double neg = -1;
-    memcpy(sk.data + 268, &neg, 8);
-    assert_int_equal(wire_decode_scene(sk.data, sk.len, c, &back, &err), -1);
-    assert_contains(err.msg, "must not be negative");
+    assert_contains(err.msg, "'fisheye' must be from 0 to 360");
     asset_cache_destroy(c);
     sink_free(&sk);
     scene_destroy(one);

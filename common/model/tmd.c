@@ -322,10 +322,11 @@ static int read_materials(Cursor *c, const Header *hd, Model *m, const char *nam
         mt->kt = v3(o[5], o[6], o[7]);
         mt->absorb = v3(o[8], o[9], o[10]);
         mt->ke = v3(o[11], o[12], o[13]);
-        const char *why = material_optics_problem(mt);
-        if (why)
-            return err_set(err, "%s: material %u: %s", name, i, why);
     }
+    char why[160];
+    for (uint32_t i = 0; i < hd->mats; i++)
+        if (material_problem(&m->materials[i], why, sizeof why))
+            return err_set(err, "%s: material %u: %s", name, i, why);
     return 0;
 }
 

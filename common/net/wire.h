@@ -14,13 +14,14 @@
 #include "scene/scene.h"
 
 #define WIRE_MAGIC 0x4353524cu /* "LRSC" */
-#define WIRE_VERSION 4u /* 2: the output encoding (linear or sRGB), a plane's texture mapping;
+#define WIRE_VERSION 5u /* 2: the output encoding (linear or sRGB), a plane's texture mapping;
                          * 3: the extras word, reflection, refraction and emission;
                          * 4: texture filters trilinear and anisotropic, the sampling
-                         * (extras 16), what a ray cut at the depth limit returns */
+                         * (extras 16), what a ray cut at the depth limit returns;
+                         * 5: every item by its field table, with group bits in place of
+                         * the extras word */
 
-/* Serialises s, prepared (what it sends follows the features scene_prepare
- * derives); model_assets[i] / texture_assets[i] are the assets of
+/* Serialises s, prepared (its checks passed); model_assets[i] / texture_assets[i] are the assets of
  * s->models[i] / s->textures[i]. */
 int wire_encode_scene(const Scene *s, const Asset *model_assets, const Asset *texture_assets, Sink *out, Err *err);
 

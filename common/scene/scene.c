@@ -6,6 +6,7 @@
 
 #include "base/array.h"
 #include "base/opt.h"
+#include "scene/scene_fields.h"
 
 Scene *scene_create(void)
 {
@@ -44,10 +45,10 @@ void scene_destroy(Scene *s)
 
 RenderSettings render_settings_default(void)
 {
-    RenderSettings r = {.aa = 1, .shading = SHADE_PHONG, .shadows = 1, .filter = FILTER_ANISOTROPIC, .depth = 5,
-                        .cutoff = R(0.01), .fresnel = FRESNEL_EXACT, .glass_shadows = 1,
-                        .depth_limit = LIMIT_BACKGROUND};
-    return r;
+    SettingsSpec sp;
+    memset(&sp, 0, sizeof sp);
+    field_defaults(&settings_kind, &sp, 0);
+    return sp.rs;
 }
 
 static const char *const limit_names[LIMIT_COUNT] = {"black", "background", "ambient", "local"};
@@ -340,177 +341,177 @@ static int pair_lamps(Scene *s, Err *err)
     return 0;
 }
 
-int scene_prepare(Scene *s, Err *err)
+/* The settings, the camera and the colours, by their tables. */
+static int prepare_view(const Scene *s, uint32_t *f, Err *err)
 {
-    uint32_t f = 0;
-    if (s->settings.aa < 1 || s->settings.aa > AA_MAX)
-        return err_set(err, "scene: anti-aliasing %d out of range 1..%d", s->settings.aa, AA_MAX);
-    const RenderSettings *rs = &s->settings;
-    if (rs->depth < 0 || rs->depth > SCENE_MAX_DEPTH || !(rs->cutoff >= R(0) && rs->cutoff < R(1)) ||
-        (rs->fresnel != FRESNEL_EXACT && rs->fresnel != FRESNEL_SCHLICK) || (rs->glass_shadows & ~1) ||
-        (unsigned)rs->depth_limit >= LIMIT_COUNT || (rs->sampling != SAMPLING_BUDGET && rs->sampling != SAMPLING_PRODUCT) ||
-        rs->rough_samples < 0 || rs->rough_samples > SCENE_MAX_SAMPLES || rs->lens_samples < 0 ||
-        rs->lens_samples > SCENE_MAX_SAMPLES || !(rs->exposure >= R(-32) && rs->exposure <= R(32)))
-        return err_set(err, "scene: depth %d (0..%d), cutoff (0 up to 1), Fresnel model, glass shadows, samples (1..%d) "
-                       "or exposure (-32..32) out of range", rs->depth, SCENE_MAX_DEPTH, SCENE_MAX_SAMPLES);
-    const Camera *cam = &s->camera;
-    if (!(cam->zoom > R(0)) || !isfinite(cam->zoom) || !v3_is_finite(cam->pos) || !isfinite(cam->yaw) ||
-        !isfinite(cam->pitch) || !isfinite(cam->roll))
-        return err_set(err, "scene: camera needs a finite position and angles and a positive zoom");
-    if ((cam->kind == CAMERA_ORTHO && !(cam->size > R(0) && isfinite(cam->size))) ||
-        (cam->kind == CAMERA_FISHEYE && !(cam->fov > R(0) && cam->fov <= CAMERA_FISHEYE_MAX)) ||
-        (unsigned)cam->kind > CAMERA_FISHEYE)
-        return err_set(err, "scene: an orthographic camera needs a positive width, a fisheye 0 < fov <= 360");
-    if (!(cam->aperture >= R(0)) || !isfinite(cam->aperture) || (cam->aperture > R(0) && cam->kind != CAMERA_PINHOLE) ||
-        (cam->aperture > R(0) && !(cam->focus > R(0) && isfinite(cam->focus))))
-        return err_set(err, "scene: a camera's aperture is a pinhole's, not negative, with a positive focus distance");
-    if (cam->aperture > R(0))
-        f |= FEAT_LENS;
+    char why[160];
+    if (settings_problem(&s->settings, why, sizeof why))
+        return err_set(err, "scene: settings: %s", why);
+    if (camera_problem(&s->camera, why, sizeof why))
+        return err_set(err, "scene: camera: %s", why);
+    if (s->camera.aperture > R(0))
+        *f |= FEAT_LENS;
     if (!v3_is_finite(s->ambient) || !v3_is_finite(s->background))
         return err_set(err, "scene: ambient and background colours must be finite");
+    return 0;
+}
+
+static int prepare_materials(const Scene *s, uint32_t *f, Err *err)
+{
     for (uint32_t i = 0; i < s->material_count; i++) {
         const Material *m = &s->materials[i];
-        if (!v3_is_finite(m->kd) || !v3_is_finite(m->ks) || !(m->shininess >= R(0)) || !isfinite(m->shininess))
-            return err_set(err, "scene: material %u needs finite colours and a non-negative shininess", i);
-        if (m->texture >= (int32_t)s->texture_count)
+        char why[160];
+        if (material_problem(m, why, sizeof why))
+            return err_set(err, "scene: material %u: %s", i, why);
+        if (m->texture < -1 || m->texture >= (int32_t)s->texture_count)
             return err_set(err, "scene: material %u uses texture %d but the scene has %u", i, m->texture, s->texture_count);
         if (m->texture >= 0)
-            f |= FEAT_TEXTURES;
+            *f |= FEAT_TEXTURES;
         if (v3_max_comp(m->ks) > R(0))
-            f |= FEAT_SPECULAR;
-        if (material_optics_problem(m))
-            return err_set(err, "scene: material %u: %s", i, material_optics_problem(m));
-        f |= material_features(m);
+            *f |= FEAT_SPECULAR;
+        *f |= material_features(m);
     }
+    return 0;
+}
+
+/* Spheres, planes (their unit normals and texture axes) and triangles. */
+static int prepare_primitives(Scene *s, uint32_t *f, Err *err)
+{
+    char why[160];
     for (uint32_t i = 0; i < s->sphere_count; i++) {
-        if (!(s->spheres[i].radius > R(0)) || !v3_is_finite(s->spheres[i].centre))
-            return err_set(err, "scene: sphere %u needs a finite centre and a positive radius", i);
+        if (field_problem(&sphere_kind, &s->spheres[i], 0, why, sizeof why))
+            return err_set(err, "scene: sphere %u: %s", i, why);
         if (check_material(s, s->spheres[i].material, "sphere", i, err))
             return -1;
     }
     for (uint32_t i = 0; i < s->plane_count; i++) {
         Plane *p = &s->planes[i];
-        if (!(v3_len(p->normal) > R(0)) || !v3_is_finite(p->point) || !v3_is_finite(p->normal))
-            return err_set(err, "scene: plane %u needs a finite point and a non-zero normal", i);
-        if (!(p->uv_scale > R(0)) || !isfinite(p->uv_scale) || !isfinite(p->uv_rotate))
-            return err_set(err, "scene: plane %u needs a positive texture scale and a finite texture rotation", i);
+        if (field_problem(&plane_kind, p, 0, why, sizeof why))
+            return err_set(err, "scene: plane %u: %s", i, why);
         p->unit = v3_norm(p->normal);
         plane_axes(p);
         if (check_material(s, p->material, "plane", i, err))
             return -1;
-        f |= FEAT_PLANES;
+        *f |= FEAT_PLANES;
     }
-    Aabb *boxes = NULL;
-    uint32_t nb = s->sphere_count + s->tri_count + s->instance_count;
     for (uint32_t i = 0; i < s->tri_count; i++) {
-        vec3 p[3];
-        for (int k = 0; k < 3; k++)
-            p[k] = tri_vertex(&s->tris[i], k);
-        if (!v3_is_finite(p[0]) || !v3_is_finite(p[1]) || !v3_is_finite(p[2]))
-            return err_set(err, "scene: triangle %u has a non-finite vertex", i);
+        TriSpec t = tri_spec(s, i);
+        if (field_problem(&triangle_kind, &t, 0, why, sizeof why))
+            return err_set(err, "scene: triangle %u: %s", i, why);
         if (check_material(s, s->tri_attrs[i].material, "triangle", i, err))
             return -1;
         if (s->tri_attrs[i].smooth)
-            f |= FEAT_SMOOTH;
+            *f |= FEAT_SMOOTH;
     }
+    return 0;
+}
+
+/* Instances: their transforms and world boxes, and what their models use. */
+static int prepare_instances(Scene *s, uint32_t *f, Err *err)
+{
+    char why[160];
     for (uint32_t i = 0; i < s->instance_count; i++) {
         Instance *in = &s->instances[i];
         if (in->model >= s->model_count)
             return err_set(err, "scene: instance %u uses model %u but the scene has %u", i, in->model, s->model_count);
-        if (!(in->scale > R(0)) || !isfinite(in->scale) || !v3_is_finite(in->translate) || !v3_is_finite(in->rotate))
-            return err_set(err, "scene: instance %u needs a finite transform with positive scale", i);
-        if (in->material >= 0 && check_material(s, (uint32_t)in->material, "instance", i, err))
-            return -1;
+        if (field_problem(&instance_kind, in, 0, why, sizeof why))
+            return err_set(err, "scene: instance %u: %s", i, why);
+        if (in->material < -1 || (in->material >= 0 && check_material(s, (uint32_t)in->material, "instance", i, err)))
+            return in->material < -1 ? err_set(err, "scene: instance %u: material %d", i, in->material) : -1;
         in->rot = m3_rotation_xyz(in->rotate);
         in->identity = in->scale == R(1) && in->rotate.x == R(0) && in->rotate.y == R(0) && in->rotate.z == R(0) &&
                        in->translate.x == R(0) && in->translate.y == R(0) && in->translate.z == R(0);
         const Model *m = s->models[in->model];
         if (m->normals)
-            f |= FEAT_SMOOTH;
+            *f |= FEAT_SMOOTH;
         if (m->uvs)
-            f |= FEAT_TEXTURES;
+            *f |= FEAT_TEXTURES;
         if (m->colours && in->material < 0)
-            f |= FEAT_COLOURS;
+            *f |= FEAT_COLOURS;
         for (uint32_t k = 0; k < m->material_count; k++) {
-            if (material_optics_problem(&m->materials[k]))
-                return err_set(err, "scene: model %u, material %u: %s", in->model, k,
-                               material_optics_problem(&m->materials[k]));
+            if (material_problem(&m->materials[k], why, sizeof why))
+                return err_set(err, "scene: model %u, material %u: %s", in->model, k, why);
             if (v3_max_comp(m->materials[k].ks) > R(0))
-                f |= FEAT_SPECULAR;
-            f |= material_features(&m->materials[k]);
+                *f |= FEAT_SPECULAR;
+            *f |= material_features(&m->materials[k]);
         }
         in->world_box = m->tri_count ? instance_world_box(in, m->bounds) : aabb_empty();
     }
     for (uint32_t i = 0; i < s->model_count; i++)
         if (model_prepare_simd(s->models[i], err))
             return err_prefix(err, "scene");
+    return 0;
+}
+
+/* Lights: their axes and spot cones. */
+static int prepare_lights(Scene *s, uint32_t *f, Err *err)
+{
     for (uint32_t i = 0; i < s->light_count; i++) {
         Light *l = &s->lights[i];
-        if (!v3_is_finite(l->pos) || !v3_is_finite(l->color) || !(l->intensity >= R(0)) || !isfinite(l->intensity))
-            return err_set(err, "scene: light %u needs a finite position and colour and a non-negative intensity", i);
-        if (light_has_direction(l)) {
-            if (!(v3_len(l->dir) > R(0)) || !v3_is_finite(l->dir))
-                return err_set(err, "scene: light %u needs a non-zero direction", i);
+        char why[160];
+        if (light_problem(l, why, sizeof why))
+            return err_set(err, "scene: light %u: %s", i, why);
+        if (light_has_direction(l))
             l->axis = v3_norm(l->dir);
-        }
-        if (light_is_area(l)) {
-            if (l->samples < 1 || l->samples > LIGHT_MAX_SAMPLES)
-                return err_set(err, "scene: area light %u needs 1..%d samples a side", i, LIGHT_MAX_SAMPLES);
-            if (l->kind == LIGHT_SPHERE && !(l->radius > R(0) && isfinite(l->radius)))
-                return err_set(err, "scene: sphere light %u needs a positive radius", i);
-            if (l->kind == LIGHT_RECT) {
-                if (!v3_is_finite(l->edge1) || !v3_is_finite(l->edge2) || !(v3_len(v3_cross(l->edge1, l->edge2)) > R(0)))
-                    return err_set(err, "scene: rectangle light %u needs two finite edges that are not parallel", i);
-                l->axis = v3_norm(v3_cross(l->edge1, l->edge2));
-            }
-            f |= FEAT_AREA;
-        }
+        if (l->kind == LIGHT_RECT)
+            l->axis = v3_norm(v3_cross(l->edge1, l->edge2));
+        if (light_is_area(l))
+            *f |= FEAT_AREA;
         if (l->kind == LIGHT_SPOT) {
-            if (!(l->angle > R(0) && l->angle < R(180)) || !(l->soft >= R(0)))
-                return err_set(err, "scene: spot light %u needs 0 < angle < 180 and soft >= 0", i);
             real half = l->angle * R(0.5) * REAL_PI / R(180);
             real inner = real_max(R(0), l->angle * R(0.5) - l->soft) * REAL_PI / R(180);
             l->cos_outer = cos(half);
             l->cos_inner = cos(inner);
-            f |= FEAT_SPOT;
+            *f |= FEAT_SPOT;
         }
         if (l->attenuate && l->kind != LIGHT_DIRECTIONAL)
-            f |= FEAT_ATTENUATION;
+            *f |= FEAT_ATTENUATION;
     }
     if (s->settings.shadows && s->light_count)
-        f |= FEAT_SHADOWS;
-    if (pair_lamps(s, err))
-        return -1;
-    /* the top-level BVH: one box per sphere, scene triangle and instance */
+        *f |= FEAT_SHADOWS;
+    return 0;
+}
+
+/* The top-level BVH: one box per sphere, scene triangle and instance. */
+static int build_top(Scene *s, Err *err)
+{
     bvh_destroy(&s->top);
-    if (nb) {
-        boxes = malloc(nb * sizeof *boxes);
-        if (!boxes)
-            return err_set(err, "scene: out of memory");
-        uint32_t k = 0;
-        for (uint32_t i = 0; i < s->sphere_count; i++) {
-            const Sphere *sp = &s->spheres[i];
-            vec3 r = v3_splat(sp->radius * (R(1) + real_gamma(4)));
-            boxes[k++] = (Aabb){v3_sub(sp->centre, r), v3_add(sp->centre, r)};
-        }
-        for (uint32_t i = 0; i < s->tri_count; i++) {
-            Aabb b = aabb_point(tri_vertex(&s->tris[i], 0));
-            aabb_grow(&b, tri_vertex(&s->tris[i], 1));
-            aabb_grow(&b, tri_vertex(&s->tris[i], 2));
-            boxes[k++] = b;
-        }
-        for (uint32_t i = 0; i < s->instance_count; i++) {
-            Aabb b = s->instances[i].world_box;
-            /* an empty model still needs a valid box: a point at its position */
-            boxes[k++] = aabb_is_empty(b) ? aabb_point(s->instances[i].translate) : b;
-        }
-        BvhOptions opt = bvh_options_default(BVH_SAH);
-        opt.max_leaf = 2;
-        int rc = bvh_build(&s->top, boxes, nb, &opt, err);
-        free(boxes);
-        if (rc)
-            return err_prefix(err, "scene");
+    uint32_t nb = s->sphere_count + s->tri_count + s->instance_count;
+    if (nb == 0)
+        return 0;
+    Aabb *boxes = malloc(nb * sizeof *boxes);
+    if (!boxes)
+        return err_set(err, "scene: out of memory");
+    uint32_t k = 0;
+    for (uint32_t i = 0; i < s->sphere_count; i++) {
+        const Sphere *sp = &s->spheres[i];
+        vec3 r = v3_splat(sp->radius * (R(1) + real_gamma(4)));
+        boxes[k++] = (Aabb){v3_sub(sp->centre, r), v3_add(sp->centre, r)};
     }
+    for (uint32_t i = 0; i < s->tri_count; i++) {
+        Aabb b = aabb_point(tri_vertex(&s->tris[i], 0));
+        aabb_grow(&b, tri_vertex(&s->tris[i], 1));
+        aabb_grow(&b, tri_vertex(&s->tris[i], 2));
+        boxes[k++] = b;
+    }
+    for (uint32_t i = 0; i < s->instance_count; i++) {
+        Aabb b = s->instances[i].world_box;
+        /* an empty model still needs a valid box: a point at its position */
+        boxes[k++] = aabb_is_empty(b) ? aabb_point(s->instances[i].translate) : b;
+    }
+    BvhOptions opt = bvh_options_default(BVH_SAH);
+    opt.max_leaf = 2;
+    int rc = bvh_build(&s->top, boxes, nb, &opt, err);
+    free(boxes);
+    return rc ? err_prefix(err, "scene") : 0;
+}
+
+int scene_prepare(Scene *s, Err *err)
+{
+    uint32_t f = 0;
+    if (prepare_view(s, &f, err) || prepare_materials(s, &f, err) || prepare_primitives(s, &f, err) ||
+        prepare_instances(s, &f, err) || prepare_lights(s, &f, err) || pair_lamps(s, err) || build_top(s, err))
+        return -1;
     s->features = f;
     s->prepared = 1;
     return 0;

@@ -5,6 +5,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "base/field.h"
 #include "base/vec.h"
 
 typedef struct {
@@ -38,28 +39,20 @@ static inline int material_has_optics(const Material *m)
     return material_reflects(m) || material_dielectric(m) || material_emits(m);
 }
 
-/* What is wrong with a material's reflection, refraction and emission, or NULL. */
-static inline const char *material_optics_problem(const Material *m)
-{
-    if (!v3_is_finite(m->kr) || !v3_is_finite(m->kt) || !v3_is_finite(m->absorb) || !v3_is_finite(m->ke) ||
-        !isfinite(m->ior) || !isfinite(m->roughness))
-        return "reflection, transmission, absorption and emission must be finite";
-    if (v3_min_comp(m->kr) < R(0) || v3_min_comp(m->kt) < R(0) || v3_min_comp(m->absorb) < R(0) ||
-        v3_min_comp(m->ke) < R(0))
-        return "reflection, transmission, absorption and emission must not be negative";
-    if (!(m->roughness >= R(0) && m->roughness <= R(1)))
-        return "roughness must be from 0 to 1";
-    if (m->ior < R(0) || (m->ior > R(0) && !(m->ior >= MATERIAL_IOR_MIN && m->ior <= MATERIAL_IOR_MAX)))
-        return "index of refraction out of range (0: none; else 1/16..16)";
-    if (material_dielectric(m) && material_reflects(m))
-        return "a dielectric reflects by Fresnel's equations and takes no mirror reflectance";
-    return NULL;
-}
+/* The material's fields (field.h): the scene file's `material` keys, the
+ * wire's and the .tmd's material, their checks and docs. */
+extern const FieldKind material_kind;
 
-static inline Material material_default(void)
-{
-    Material m = {.kd = v3(R(0.8), R(0.8), R(0.8)), .ks = v3(R(0), R(0), R(0)), .shininess = R(1), .texture = -1};
-    return m;
-}
+/* Every field at its default: a grey diffuse surface, no texture. */
+Material material_default(void);
+
+/* The defaults that follow from what a scene file gave: a mirror or a
+ * glass is that alone unless a diffuse colour is given, and a glass is
+ * clear unless a transmitted colour is. */
+void material_file_defaults(Material *m, FieldSet given);
+
+/* What is wrong with a material's values (a field out of its range, a
+ * dielectric with a mirror reflectance), into buf; or NULL. */
+const char *material_problem(const Material *m, char *buf, size_t size);
 
 #endif

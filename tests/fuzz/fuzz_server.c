@@ -15,6 +15,7 @@
 
 #include "fuzz.h"
 #include "base/real.h"
+#include "net/msg.h"
 #include "scene/scene_parse.h"
 #include "server.h"
 

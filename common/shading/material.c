@@ -1,0 +1,75 @@
+/* material.c - the material's field table (see material.h and field.h).
+ * The table's order is the wire's and the groups say what a material
+ * pays for: a mirror's reflectance and roughness, a dielectric's index,
+ * colour and absorption, an emitter's radiance travel only where set. */
+#include "shading/material.h"
+
+#include <stdio.h>
+#include <string.h>
+
+#define OFF(f) offsetof(Material, f)
+enum { GROUP_MIRROR = 1, GROUP_DIELECTRIC = 2, GROUP_EMIT = 3 };
+
+static const Field fields[] = {
+    {.key = "diffuse", .type = FIELD_VEC, .off = OFF(kd), .hi = FIELD_INF, .def = 0.8,
+     .shown_default = "0.8 0.8 0.8 (0 0 0 with `reflect` or `ior`)",
+     .doc = "diffuse colour (linear light), multiplied by the texture"},
+    {.key = "specular", .type = FIELD_VEC, .off = OFF(ks), .hi = FIELD_INF, .doc = "Phong highlight colour"},
+    {.key = "shininess", .type = FIELD_REAL, .off = OFF(shininess), .hi = FIELD_INF, .def = 1,
+     .doc = "Phong exponent: larger is a smaller, sharper highlight"},
+    {.key = "texture", .type = FIELD_NAME, .off = OFF(texture), .def = -1,
+     .doc = "a `texture` by its name, multiplying the diffuse colour"},
+    {.key = "reflect", .type = FIELD_VEC, .group = GROUP_MIRROR, .off = OFF(kr), .hi = FIELD_INF,
+     .doc = "mirror reflectance: the colour of a metal"},
+    {.key = "roughness", .type = FIELD_REAL, .group = GROUP_MIRROR, .off = OFF(roughness), .hi = 1,
+     .doc = "how far reflected rays spread (0: a perfect mirror); needs `reflect`"},
+    {.key = "ior", .type = FIELD_REAL, .group = GROUP_DIELECTRIC, .flags = FIELD_ZERO_OK, .off = OFF(ior),
+     .lo = 0.0625, .hi = 16, .shown_default = "none",
+     .doc = "index of refraction: a dielectric (glass, water), reflecting by Fresnel and transmitting the rest"},
+    {.key = "transmit", .type = FIELD_VEC, .group = GROUP_DIELECTRIC, .off = OFF(kt), .hi = FIELD_INF,
+     .shown_default = "1 1 1 (clear)", .doc = "a dielectric's transmitted colour; needs `ior`"},
+    {.key = "absorb", .type = FIELD_VEC, .group = GROUP_DIELECTRIC, .off = OFF(absorb), .hi = FIELD_INF,
+     .doc = "a dielectric's absorption per unit length inside it (Beer-Lambert); needs `ior`"},
+    {.key = "emit", .type = FIELD_VEC, .group = GROUP_EMIT, .off = OFF(ke), .hi = FIELD_INF,
+     .doc = "emitted radiance, seen and reflected (a lamp: see below)"},
+};
+
+static const FieldRule rules[] = {
+    {RULE_NEEDS, "transmit", "ior", "'transmit' of material needs 'ior' (a dielectric)"},
+    {RULE_NEEDS, "absorb", "ior", "'absorb' of material needs 'ior' (a dielectric)"},
+    {RULE_NEEDS, "roughness", "reflect", "'roughness' of material needs 'reflect' (a mirror or a metal)"},
+    {RULE_EXCLUDES, "reflect", "ior",
+     "material takes either 'reflect' (a mirror) or 'ior' (a dielectric, reflecting by Fresnel), not both"},
+    {0, NULL, NULL, NULL},
+};
+
+const FieldKind material_kind = {.name = "material", .fields = fields, .count = sizeof fields / sizeof *fields,
+                                 .rules = rules, .group_count = 3};
+
+Material material_default(void)
+{
+    Material m;
+    memset(&m, 0, sizeof m);
+    field_defaults(&material_kind, &m, 0);
+    return m;
+}
+
+void material_file_defaults(Material *m, FieldSet given)
+{
+    const FieldKind *k = &material_kind;
+    if ((field_given(k, given, "reflect") || field_given(k, given, "ior")) && !field_given(k, given, "diffuse"))
+        m->kd = v3_splat(R(0));
+    if (field_given(k, given, "ior") && !field_given(k, given, "transmit"))
+        m->kt = v3_splat(R(1));
+}
+
+const char *material_problem(const Material *m, char *buf, size_t size)
+{
+    if (field_problem(&material_kind, m, 0, buf, size))
+        return buf;
+    if (material_dielectric(m) && material_reflects(m)) {
+        snprintf(buf, size, "a dielectric reflects by Fresnel's equations and takes no mirror reflectance");
+        return buf;
+    }
+    return NULL;
+}
