@@ -291,6 +291,12 @@ static int at_default(const Field *f, const void *item)
     return n ? 1 : *int_at_c(f, item) == (f->type == FIELD_FLAG ? 0 : (int)f->def);
 }
 
+/* Whether field f of an item of this variant, with these group bits, is on the wire. */
+static int sent(const Field *f, int variant, uint32_t groups)
+{
+    return on_wire(f) && takes(f, variant) && (!f->group || (groups >> f->group & 1));
+}
+
 static int variant_of(const FieldKind *k, const void *item)
 {
     return k->variants ? *(const int *)((const char *)item + k->variant_off) : 0;
@@ -311,7 +317,7 @@ void field_encode(const FieldKind *k, const void *item, Sink *out)
         sink_u32(out, groups);
     for (uint32_t i = 0; i < k->count; i++) {
         const Field *f = &k->fields[i];
-        if (!on_wire(f) || !takes(f, variant) || (f->group && !(groups >> f->group & 1)))
+        if (!sent(f, variant, groups))
             continue;
         int n = reals_of(f);
         for (int j = 0; j < n; j++) {
@@ -340,7 +346,7 @@ int field_decode(const FieldKind *k, Cursor *c, void *item)
         return -1;
     for (uint32_t i = 0; i < k->count; i++) {
         const Field *f = &k->fields[i];
-        if (!on_wire(f) || !takes(f, variant) || (f->group && !(groups >> f->group & 1)))
+        if (!sent(f, variant, groups))
             continue;
         int n = reals_of(f);
         for (int j = 0; j < n; j++) {

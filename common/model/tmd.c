@@ -52,12 +52,9 @@ int tmd_encode(const Model *m, int wide, void **data, size_t *len, Err *err)
 {
     Sink s = {0};
     const int textured = m->mat_ids && m->texture_count > 0;
-    int optics = 0;
-    for (uint32_t i = 0; m->mat_ids && i < m->material_count; i++)
-        optics |= material_has_optics(&m->materials[i]);
     uint32_t flags = (m->normals ? TMD_HAS_NORMALS : 0) | (m->uvs ? TMD_HAS_UVS : 0) |
                      (m->mat_ids ? TMD_HAS_MATERIALS : 0) | (wide ? TMD_WIDE : 0) | (textured ? TMD_HAS_TEXTURES : 0) |
-                     (m->colours ? TMD_HAS_COLOURS : 0) | (optics ? TMD_HAS_OPTICS : 0);
+                     (m->colours ? TMD_HAS_COLOURS : 0);
     char magic[8] = TMD_MAGIC;
     sink_put(&s, magic, 8);
     /* the file's length and checksum (offsets 48 and 52) are filled in last */
@@ -86,21 +83,12 @@ int tmd_encode(const Model *m, int wide, void **data, size_t *len, Err *err)
         for (uint32_t i = 0; i < 6 * m->tri_count; i++)
             put_real(&s, m->uvs[i], wide, 0);
     if (m->mat_ids) {
+        /* each by the material's table: what the scene's wire carries */
         for (uint32_t i = 0; i < m->material_count; i++) {
-            const Material *mt = &m->materials[i];
-            for (int a = 0; a < 3; a++)
-                put_real(&s, mt->kd.e[a], wide, 0);
-            for (int a = 0; a < 3; a++)
-                put_real(&s, mt->ks.e[a], wide, 0);
-            put_real(&s, mt->shininess, wide, 0);
-            if (textured)
-                sink_u32(&s, (uint32_t)mt->texture);
-            if (optics) {
-                const real o[14] = {mt->kr.x, mt->kr.y, mt->kr.z, mt->roughness, mt->ior, mt->kt.x, mt->kt.y,
-                                    mt->kt.z, mt->absorb.x, mt->absorb.y, mt->absorb.z, mt->ke.x, mt->ke.y, mt->ke.z};
-                for (int k = 0; k < 14; k++)
-                    put_real(&s, o[k], wide, 0);
-            }
+            Material mt = m->materials[i];
+            if (!textured) /* a texture that did not come along is none */
+                mt.texture = -1;
+            field_encode(&material_kind, &mt, &s);
         }
         sink_put(&s, m->mat_ids, m->tri_count * sizeof *m->mat_ids);
     }
@@ -240,7 +228,7 @@ static int check_header(const void *data, size_t len, const char *name, Header *
                   TMD_HAS_OPTICS) ||
         ((flags & TMD_HAS_TEXTURES) && h[0] < TMD_VERSION_TEXTURES) ||
         ((flags & TMD_HAS_COLOURS) && h[0] < TMD_VERSION_COLOURS) || ((flags & TMD_HAS_OPTICS) && h[0] < TMD_VERSION_OPTICS) ||
-        ((flags & TMD_HAS_OPTICS) && !(flags & TMD_HAS_MATERIALS)))
+        ((flags & TMD_HAS_OPTICS) && (!(flags & TMD_HAS_MATERIALS) || h[0] >= TMD_VERSION_FIELDS)))
         return err_set(err, "%s: unknown flags 0x%x", name, flags);
     hd->optics = (flags & TMD_HAS_OPTICS) != 0;
     hd->textured = (flags & TMD_HAS_TEXTURES) != 0;
@@ -262,12 +250,19 @@ static int check_header(const void *data, size_t len, const char *name, Header *
         want += (uint64_t)hd->tris * 9 * w;
     if (flags & TMD_HAS_UVS)
         want += (uint64_t)hd->tris * 6 * w;
+    /* from version 6 a material takes as many bytes as it uses: at least
+     * its table's fewest, the file's end is checked after reading */
+    const int exact = hd->version < TMD_VERSION_FIELDS && !hd->textured;
     if (flags & TMD_HAS_MATERIALS)
-        want += (uint64_t)hd->mats * ((hd->optics ? 21 : 7) * w + (hd->textured ? 4 : 0)) + (uint64_t)hd->tris * 4;
+        want += (uint64_t)hd->mats * (hd->version >= TMD_VERSION_FIELDS ? field_min_bytes(&material_kind)
+                                                                        : (hd->optics ? 21 : 7) * w + (hd->textured ? 4 : 0)) +
+                (uint64_t)hd->tris * 4;
     if (flags & TMD_HAS_COLOURS)
         want += (uint64_t)hd->tris * 9 * w;
     /* textures follow, each with its own size: at least their 12-byte headers */
-    if (hd->textured ? want + (uint64_t)hd->texs * 12 > len : want != len)
+    if (hd->textured)
+        want += (uint64_t)hd->texs * 12;
+    if (exact ? want != len : want > len)
         return err_set(err, "%s: header promises %llu bytes but the file has %zu", name, (unsigned long long)want, len);
     return 0;
 }
@@ -299,7 +294,15 @@ static const char *read_geometry(Cursor *c, const Header *hd, Model *m)
 /* The materials, each with its texture and optics where the file has them. */
 static int read_materials(Cursor *c, const Header *hd, Model *m, const char *name, Err *err)
 {
-    for (uint32_t i = 0; i < hd->mats; i++) {
+    for (uint32_t i = 0; i < hd->mats && hd->version >= TMD_VERSION_FIELDS; i++) {
+        Material *mt = &m->materials[i];
+        memset(mt, 0, sizeof *mt);
+        if (field_decode(&material_kind, c, mt))
+            return err_set(err, "%s: material %u is %s", name, i, c->failed ? "cut short" : "malformed (unknown groups)");
+        if (mt->texture < -1 || mt->texture >= (int32_t)hd->texs)
+            return err_set(err, "%s: material %u uses texture %d of %u", name, i, mt->texture, hd->texs);
+    }
+    for (uint32_t i = 0; i < hd->mats && hd->version < TMD_VERSION_FIELDS; i++) {
         Material *mt = &m->materials[i];
         *mt = material_default();
         if (read_reals(c, hd->wide, 0, mt->kd.e, 3) || read_reals(c, hd->wide, 0, mt->ks.e, 3) ||
@@ -372,6 +375,8 @@ int tmd_decode(const void *data, size_t len, const char *name, Model **out, Err 
         rc = err_set(err, "%s: data is not a finite number", name);
     if (rc == 0 && hd.textured)
         rc = tmd_read_textures(&c, hd.version, hd.texs, m, name, err);
+    else if (rc == 0 && c.left != 0)
+        rc = err_set(err, "%s: %zu bytes after the last section", name, c.left);
     if (rc == 0 && bvh_validate(&m->bvh, &m->bvh.depth, err))
         rc = err_prefix(err, "%s", name);
     if (rc) {

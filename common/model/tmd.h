@@ -13,11 +13,13 @@
 #include "model/model.h"
 
 #define TMD_MAGIC "LRAYTMD"
-/* Version 5 is written: the file's length and a CRC-32 of all of it in
- * the header, textures as their image files' bytes.  Versions 1 to 4 are
- * read (4: reflecting, refracting or emitting materials, 3: vertex
- * colours, 2: textures as float texels, 1: the rest). */
-#define TMD_VERSION 5u
+/* Version 6 is written: materials by the material's field table (field.h),
+ * as on the wire.  Versions 1 to 5 are read (5: the file's length and a
+ * CRC-32 of all of it in the header, textures as their image files' bytes;
+ * 4: reflecting, refracting or emitting materials, 3: vertex colours, 2:
+ * textures as float texels, 1: the rest). */
+#define TMD_VERSION 6u
+#define TMD_VERSION_FIELDS 6u
 #define TMD_VERSION_FORMS 5u
 #define TMD_VERSION_OPTICS 4u
 #define TMD_VERSION_COLOURS 3u
@@ -31,7 +33,7 @@
 #define TMD_WIDE 8u /* numbers are float64 */
 #define TMD_HAS_TEXTURES 16u /* version 2: materials name textures carried at the end of the file */
 #define TMD_HAS_COLOURS 32u  /* version 3: vertex colours, after the material ids */
-#define TMD_HAS_OPTICS 64u   /* version 4: each material's reflection, refraction and emission */
+#define TMD_HAS_OPTICS 64u   /* versions 4 and 5: each material's reflection, refraction and emission */
 #define TMD_MAX_FILE_BYTES ((size_t)1 << 31)
 #define TMD_LENGTH_AT 48u   /* version 5: u32 the file's length */
 #define TMD_CHECKSUM_AT 52u /* version 5: u32 CRC-32 of the file, this field read as 0 */

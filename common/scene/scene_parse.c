@@ -92,6 +92,18 @@ static int read_fields(Ctx *c, const FieldKind *k, const Tokens *t, int start, i
     return field_read(k, t, start, variant, item, given, names, where(c, at, sizeof at), c->err);
 }
 
+/* A new item of kind k (its size bytes zero, then the table's defaults)
+ * from a directive's keys. */
+static int read_new(Ctx *c, const FieldKind *k, const Tokens *t, int start, int variant, void *item, size_t size,
+                    FieldSet *given, const char **names)
+{
+    memset(item, 0, size);
+    if (k->variants)
+        *(int *)((char *)item + k->variant_off) = variant;
+    field_defaults(k, item, variant);
+    return read_fields(c, k, t, start, variant, item, given, names);
+}
+
 /* The material named by the directive's key `key` (the default material,
  * 0, where it names none) into *id. */
 static int lookup_material(Ctx *c, const FieldKind *k, const char **names, const char *key, int *id)
@@ -108,11 +120,9 @@ static int lookup_material(Ctx *c, const FieldKind *k, const char **names, const
 static int do_camera(Ctx *c, const Tokens *t)
 {
     CameraSpec sp;
-    memset(&sp, 0, sizeof sp);
-    field_defaults(&camera_kind, &sp, 0);
     FieldSet given;
     const char *names[16];
-    if (read_fields(c, &camera_kind, t, 1, 0, &sp, &given, names))
+    if (read_new(c, &camera_kind, t, 1, 0, &sp, sizeof sp, &given, names))
         return -1;
     if (scene_fields_finish_camera(&sp, given))
         return fail(c, "camera 'lookat' point equals its position");
@@ -186,12 +196,10 @@ static int do_material(Ctx *c, const Tokens *t)
 static int do_sphere(Ctx *c, const Tokens *t)
 {
     Sphere sp;
-    memset(&sp, 0, sizeof sp);
-    field_defaults(&sphere_kind, &sp, 0);
     FieldSet given;
     const char *names[8];
     int mat = 0;
-    if (read_fields(c, &sphere_kind, t, 1, 0, &sp, &given, names) ||
+    if (read_new(c, &sphere_kind, t, 1, 0, &sp, sizeof sp, &given, names) ||
         lookup_material(c, &sphere_kind, names, "material", &mat))
         return -1;
     sp.material = (uint32_t)mat;
@@ -201,12 +209,10 @@ static int do_sphere(Ctx *c, const Tokens *t)
 static int do_plane(Ctx *c, const Tokens *t)
 {
     Plane p;
-    memset(&p, 0, sizeof p);
-    field_defaults(&plane_kind, &p, 0);
     FieldSet given;
     const char *names[8];
     int mat = 0;
-    if (read_fields(c, &plane_kind, t, 1, 0, &p, &given, names) || lookup_material(c, &plane_kind, names, "material", &mat))
+    if (read_new(c, &plane_kind, t, 1, 0, &p, sizeof p, &given, names) || lookup_material(c, &plane_kind, names, "material", &mat))
         return -1;
     p.material = (uint32_t)mat;
     return scene_add_plane(c->s, p, c->err);
@@ -215,11 +221,9 @@ static int do_plane(Ctx *c, const Tokens *t)
 static int do_triangle(Ctx *c, const Tokens *t)
 {
     TriSpec tr;
-    memset(&tr, 0, sizeof tr);
-    field_defaults(&triangle_kind, &tr, 0);
     FieldSet given;
     const char *names[8];
-    if (read_fields(c, &triangle_kind, t, 1, 0, &tr, &given, names) ||
+    if (read_new(c, &triangle_kind, t, 1, 0, &tr, sizeof tr, &given, names) ||
         lookup_material(c, &triangle_kind, names, "material", &tr.material))
         return -1;
     vec3 p[3];
@@ -241,11 +245,9 @@ static int do_model(Ctx *c, const Tokens *t)
     if (t->n < 3)
         return fail(c, "model expects a name and a file: model NAME FILE.tmd|FILE.obj");
     ModelSpec sp;
-    memset(&sp, 0, sizeof sp);
-    field_defaults(&model_kind, &sp, 0);
     FieldSet given;
     const char *names[8];
-    if (read_fields(c, &model_kind, t, 3, 0, &sp, &given, names))
+    if (read_new(c, &model_kind, t, 3, 0, &sp, sizeof sp, &given, names))
         return -1;
     const int bvh_given = field_given(&model_kind, given, "bvh");
     BvhOptions opt = *c->bvh;
@@ -273,12 +275,10 @@ static int do_instance(Ctx *c, const Tokens *t)
     if (names_find(&c->models, t->tok[1], &model))
         return fail(c, "unknown model '%s' (define it with 'model %s FILE' first)", t->tok[1], t->tok[1]);
     Instance in;
-    memset(&in, 0, sizeof in);
-    field_defaults(&instance_kind, &in, 0);
     FieldSet given;
     const char *names[8];
     int mat = -1;
-    if (read_fields(c, &instance_kind, t, 2, 0, &in, &given, names) ||
+    if (read_new(c, &instance_kind, t, 2, 0, &in, sizeof in, &given, names) ||
         lookup_material(c, &instance_kind, names, "material", &mat))
         return -1;
     in.model = model;
@@ -296,12 +296,9 @@ static int do_light(Ctx *c, const Tokens *t)
     if (!light_kind.variants[kind])
         return fail(c, "unknown light kind '%s' (point, spot, directional, sphere or rect)", t->tok[1]);
     LightSpec sp;
-    memset(&sp, 0, sizeof sp);
-    sp.l.kind = (LightKind)kind;
-    field_defaults(&light_kind, &sp, kind);
     FieldSet given;
     const char *names[16];
-    if (read_fields(c, &light_kind, t, 2, kind, &sp, &given, names))
+    if (read_new(c, &light_kind, t, 2, kind, &sp, sizeof sp, &given, names))
         return -1;
     const char *why = scene_fields_finish_light(&sp, given);
     char buf[160];

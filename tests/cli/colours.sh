@@ -3,7 +3,7 @@
 # renders them as the diffuse colour, interpolated across each triangle,
 # checked pixel by pixel against the colours and the sRGB curve; the same
 # model as a PLY with byte colours (through Assimp) renders the same bytes;
-# the .tmd is version 5; colours beside a material through the importer
+# the .tmd is version 6; colours beside a material through the importer
 # are a warning (an error with --strict); an instance with a material of its own shows that
 # material instead; a distributed frame is bit-identical to lanray-render's
 # (the colours travel inside the model asset).
@@ -15,8 +15,8 @@ render() { "$BIN/lanray-render" "$dir/$1" --width 64 --height 64 -o "$dir/$2" --
 "$BIN/obj2tmd" "$D/quads.obj" "$dir/quads.tmd" >"$dir/obj.log" 2>"$dir/obj.err" || fail "obj2tmd: $(cat "$dir/obj.err")"
 grep -q "vertex colours: 16 coloured vertices, kept as the diffuse colour" "$dir/obj.log" || fail "summary: $(cat "$dir/obj.log")"
 [ -s "$dir/obj.err" ] && fail "warnings for a model whose colours are kept: $(cat "$dir/obj.err")"
-python3 -c "import struct,sys; print(struct.unpack_from('<I', open(sys.argv[1],'rb').read(), 8)[0])" "$dir/quads.tmd" | grep -qx 5 ||
-    fail "a .tmd with vertex colours is not version 5"
+python3 -c "import struct,sys; print(struct.unpack_from('<I', open(sys.argv[1],'rb').read(), 8)[0])" "$dir/quads.tmd" | grep -qx 6 ||
+    fail "a .tmd with vertex colours is not version 6"
 render view.scene obj.png
 # expected codes: the quadrants' colours; along the bottom right quadrant's
 # middle row the colour runs from 0 at x = 32 to 1 at x = 64 (pixel centres)

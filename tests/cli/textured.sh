@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Textured models: MTL map_Kd with a PNG and a JPEG texture (and -s/-o
-# placement) travels in the .tmd (version 5: the image file's own bytes)
+# placement) travels in the .tmd (version 5 on: the image file's own bytes)
 # and shows the texture's colours
 # where expected, checked pixel by pixel; a missing texture is a warning and
 # leaves the material untextured; a distributed frame of the textured model
@@ -43,16 +43,16 @@ grep -q "crate.obj:2: material library 'C:/Users/artist/My Models/Crate.MTL' not
 "$BIN/lanray-render" "$dir/view.scene" --width 64 --height 64 -o "$dir/moved.png" --quiet >/dev/null 2>&1 || fail "render moved"
 near "$(px "$dir/moved.png")" "255 0 0|0 255 0|0 0 255|255 255 255|" 0 || fail "moved model: quadrants $(px "$dir/moved.png")"
 "$BIN/obj2tmd" --strict "$D/quad-missing.obj" "$dir/strict.tmd" >/dev/null 2>&1 && fail "--strict converted a model whose texture is missing"
-# version 5, textured or not
+# the version written (6), textured or not
 ver() { python3 -c "import struct,sys; print(struct.unpack_from('<I', open(sys.argv[1],'rb').read(), 8)[0])" "$1"; }
-[ "$(ver "$dir/quad-png.tmd")" = 5 ] && [ "$(ver "$dir/quad-missing.tmd")" = 5 ] || fail "a .tmd is not version 5"
+[ "$(ver "$dir/quad-png.tmd")" = 6 ] && [ "$(ver "$dir/quad-missing.tmd")" = 6 ] || fail "a .tmd is not version 6"
 # a version this build does not know, and a flipped bit
 python3 -c "
 import sys
-d = bytearray(open(sys.argv[1], 'rb').read()); d[8] = 6
+d = bytearray(open(sys.argv[1], 'rb').read()); d[8] = 7
 open(sys.argv[2], 'wb').write(d)" "$dir/quad-png.tmd" "$dir/quad.tmd"
-err=$("$BIN/lanray-render" "$dir/view.scene" --width 8 --height 8 -o "$dir/v6.png" 2>&1); [ $? -eq 1 ] || fail "version 6 accepted"
-grep -q "format version 6, this build reads versions 1 to 5" <<<"$err" || fail "version message: $err"
+err=$("$BIN/lanray-render" "$dir/view.scene" --width 8 --height 8 -o "$dir/v7.png" 2>&1); [ $? -eq 1 ] || fail "version 7 accepted"
+grep -q "format version 7, this build reads versions 1 to 6" <<<"$err" || fail "version message: $err"
 for at in 100 300 -20; do
     python3 -c "
 import sys

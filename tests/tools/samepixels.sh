@@ -14,20 +14,29 @@ SEEDS=${SEEDS:-60}
 W=${W:-160} H=${H:-120}
 dir=$(mktemp -d)
 trap 'rm -rf "$dir"' EXIT
-python3 tests/tools/randscene.py 0 "$dir" >/dev/null || exit 1
-"$after/obj2tmd" "$dir/mesh.obj" "$dir/mesh.tmd" >/dev/null || exit 1
+# each side's scenes with its own model file (a .tmd in its own version)
+for side in before after; do
+    mkdir -p "$dir/$side"
+    python3 tests/tools/randscene.py 0 "$dir/$side" >/dev/null || exit 1
+    b=${!side}
+    "$b/obj2tmd" "$dir/$side/mesh.obj" "$dir/$side/mesh.tmd" >/dev/null || exit 1
+done
 paths=(auto)
 for p in scalar sse avx2; do
     "$after/lanray-render" --simd "$p" --width 1 --height 1 -o "$dir/probe.png" --quiet >/dev/null 2>&1 && paths+=("$p")
 done
 scenes=("" models/example.scene)
-for seed in $(seq 1 "$SEEDS"); do scenes+=("$(python3 tests/tools/randscene.py "$seed" "$dir")"); done
+for seed in $(seq 1 "$SEEDS"); do
+    python3 tests/tools/randscene.py "$seed" "$dir/before" >/dev/null || exit 1
+    scenes+=("$(python3 tests/tools/randscene.py "$seed" "$dir/after")")
+done
 bad=0 n=0
 for scene in "${scenes[@]}"; do
     for p in "${paths[@]}"; do
         for side in before after; do
             b=${!side}
-            "$b/lanray-render" $scene --simd "$p" --width "$W" --height "$H" --threads 2 -o "$dir/$side.png" \
+            scene_of_side=${scene/$dir\/after/$dir\/$side}
+            "$b/lanray-render" $scene_of_side --simd "$p" --width "$W" --height "$H" --threads 2 -o "$dir/$side.png" \
                 --quiet >/dev/null 2>&1 || { echo "samepixels: ${scene:-default} ($p): $b/lanray-render failed"; bad=$((bad + 1)); }
         done
         n=$((n + 1))
