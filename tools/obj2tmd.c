@@ -248,9 +248,11 @@ int main(int argc, char **argv)
 {
     Args a;
     int rc = parse_args(&a, argc, argv);
-    if (rc != OPT_GO)
-        return rc;
-    file_atomic_on_signals(); /* interrupted, nothing half-written is left */
-    rc = check_output(a.in, a.out);
-    return rc ? rc : convert(&a);
+    if (rc == OPT_GO) {
+        file_atomic_on_signals(); /* interrupted, nothing half-written is left */
+        rc = check_output(a.in, a.out);
+        if (rc == 0)
+            rc = convert(&a);
+    }
+    return rc;
 }

@@ -302,6 +302,29 @@ static int variant_of(const FieldKind *k, const void *item)
     return k->variants ? *(const int *)((const char *)item + k->variant_off) : 0;
 }
 
+/* The fields of an item of this variant and these groups, in table order:
+ * written to out, or, without out, read from in. */
+static void walk_fields(const FieldKind *k, int variant, uint32_t groups, void *item, Sink *out, Cursor *in)
+{
+    for (uint32_t i = 0; i < k->count; i++) {
+        const Field *f = &k->fields[i];
+        if (!sent(f, variant, groups))
+            continue;
+        int n = reals_of(f);
+        for (int j = 0; j < n; j++) {
+            double d = (double)real_at(f, item)[j];
+            if (out)
+                sink_put(out, &d, sizeof d);
+            else if (cursor_get(in, &d, sizeof d) == 0)
+                real_at(f, item)[j] = (real)d;
+        }
+        if (n == 0 && out)
+            sink_u32(out, (uint32_t)*int_at(f, item));
+        else if (n == 0)
+            *int_at(f, item) = (int)cursor_u32(in);
+    }
+}
+
 void field_encode(const FieldKind *k, const void *item, Sink *out)
 {
     const int variant = variant_of(k, item);
@@ -315,18 +338,7 @@ void field_encode(const FieldKind *k, const void *item, Sink *out)
     }
     if (k->group_count)
         sink_u32(out, groups);
-    for (uint32_t i = 0; i < k->count; i++) {
-        const Field *f = &k->fields[i];
-        if (!sent(f, variant, groups))
-            continue;
-        int n = reals_of(f);
-        for (int j = 0; j < n; j++) {
-            double d = (double)real_at_c(f, item)[j];
-            sink_put(out, &d, sizeof d);
-        }
-        if (n == 0)
-            sink_u32(out, (uint32_t)*int_at_c(f, item));
-    }
+    walk_fields(k, variant, groups, (void *)item, out, NULL); /* only read from */
 }
 
 int field_decode(const FieldKind *k, Cursor *c, void *item)
@@ -344,19 +356,7 @@ int field_decode(const FieldKind *k, Cursor *c, void *item)
     uint32_t groups = k->group_count ? cursor_u32(c) : 0;
     if (groups & ~(((1u << k->group_count) - 1) << 1))
         return -1;
-    for (uint32_t i = 0; i < k->count; i++) {
-        const Field *f = &k->fields[i];
-        if (!sent(f, variant, groups))
-            continue;
-        int n = reals_of(f);
-        for (int j = 0; j < n; j++) {
-            double d = 0;
-            cursor_get(c, &d, sizeof d);
-            real_at(f, item)[j] = (real)d;
-        }
-        if (n == 0)
-            *int_at(f, item) = (int)cursor_u32(c);
-    }
+    walk_fields(k, variant, groups, item, NULL, c);
     return c->failed ? -1 : 0;
 }
 
