@@ -255,6 +255,8 @@ int field_read(const FieldKind *k, const Tokens *t, int start, int variant, void
     char dname[64], keys[256];
     directive_name(k, variant, dname, sizeof dname);
     *given = 0;
+    if (k->count > FIELD_MAX)
+        return err_set(err, "%s: %s has %u fields, more than %d", where, k->name, k->count, FIELD_MAX);
     for (int i = start; i < t->n;) {
         int fi = field_index(k, t->tok[i]);
         if (fi < 0) {

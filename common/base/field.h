@@ -86,8 +86,10 @@ typedef struct {
     uint32_t group_count;      /* group bits in use: 0 for a kind without groups */
 } FieldKind;
 
-/* Which fields a directive gave: bit i for field i. */
+/* Which fields a directive gave: bit i for field i; a kind has at most
+ * FIELD_MAX fields. */
 typedef uint64_t FieldSet;
+#define FIELD_MAX 64
 
 /* Every field of item that the variant takes (0 for a kind without) at
  * its default, FIELD_FILE fields included; the rest is left alone. */

@@ -121,7 +121,7 @@ static int do_camera(Ctx *c, const Tokens *t)
 {
     CameraSpec sp;
     FieldSet given;
-    const char *names[16];
+    const char *names[FIELD_MAX];
     if (read_new(c, &camera_kind, t, 1, 0, &sp, sizeof sp, &given, names))
         return -1;
     if (scene_fields_finish_camera(&sp, given))
@@ -145,7 +145,7 @@ static int do_settings(Ctx *c, const Tokens *t)
 {
     SettingsSpec sp = {.rs = c->s->settings, .adaptive = 1};
     FieldSet given;
-    const char *names[32];
+    const char *names[FIELD_MAX];
     if (read_fields(c, &settings_kind, t, 1, 0, &sp, &given, names))
         return -1;
     scene_fields_finish_settings(&sp, given);
@@ -176,7 +176,7 @@ static int do_material(Ctx *c, const Tokens *t)
         return fail(c, "material expects a name: material NAME diffuse R G B ...");
     Material m = material_default();
     FieldSet given;
-    const char *names[16];
+    const char *names[FIELD_MAX];
     if (read_fields(c, &material_kind, t, 2, 0, &m, &given, names))
         return -1;
     material_file_defaults(&m, given);
@@ -197,7 +197,7 @@ static int do_sphere(Ctx *c, const Tokens *t)
 {
     Sphere sp;
     FieldSet given;
-    const char *names[8];
+    const char *names[FIELD_MAX];
     int mat = 0;
     if (read_new(c, &sphere_kind, t, 1, 0, &sp, sizeof sp, &given, names) ||
         lookup_material(c, &sphere_kind, names, "material", &mat))
@@ -210,7 +210,7 @@ static int do_plane(Ctx *c, const Tokens *t)
 {
     Plane p;
     FieldSet given;
-    const char *names[8];
+    const char *names[FIELD_MAX];
     int mat = 0;
     if (read_new(c, &plane_kind, t, 1, 0, &p, sizeof p, &given, names) || lookup_material(c, &plane_kind, names, "material", &mat))
         return -1;
@@ -222,7 +222,7 @@ static int do_triangle(Ctx *c, const Tokens *t)
 {
     TriSpec tr;
     FieldSet given;
-    const char *names[8];
+    const char *names[FIELD_MAX];
     if (read_new(c, &triangle_kind, t, 1, 0, &tr, sizeof tr, &given, names) ||
         lookup_material(c, &triangle_kind, names, "material", &tr.material))
         return -1;
@@ -246,7 +246,7 @@ static int do_model(Ctx *c, const Tokens *t)
         return fail(c, "model expects a name and a file: model NAME FILE.tmd|FILE.obj");
     ModelSpec sp;
     FieldSet given;
-    const char *names[8];
+    const char *names[FIELD_MAX];
     if (read_new(c, &model_kind, t, 3, 0, &sp, sizeof sp, &given, names))
         return -1;
     const int bvh_given = field_given(&model_kind, given, "bvh");
@@ -276,7 +276,7 @@ static int do_instance(Ctx *c, const Tokens *t)
         return fail(c, "unknown model '%s' (define it with 'model %s FILE' first)", t->tok[1], t->tok[1]);
     Instance in;
     FieldSet given;
-    const char *names[8];
+    const char *names[FIELD_MAX];
     int mat = -1;
     if (read_new(c, &instance_kind, t, 2, 0, &in, sizeof in, &given, names) ||
         lookup_material(c, &instance_kind, names, "material", &mat))
@@ -297,7 +297,7 @@ static int do_light(Ctx *c, const Tokens *t)
         return fail(c, "unknown light kind '%s' (point, spot, directional, sphere or rect)", t->tok[1]);
     LightSpec sp;
     FieldSet given;
-    const char *names[16];
+    const char *names[FIELD_MAX];
     if (read_new(c, &light_kind, t, 2, kind, &sp, sizeof sp, &given, names))
         return -1;
     const char *why = scene_fields_finish_light(&sp, given);
