@@ -111,10 +111,10 @@ static void on_frame(void *ctx, uint32_t frame, const uint8_t *pixels)
         stop_flag = 1;
 }
 
-/* Camera moves and animation from the window, applied before the next frame. */
+/* Camera moves and animation from the window, for the next frame. */
 static void apply_input(App *a, const DisplayInput *in, const Camera *home, int *animate)
 {
-    Camera *c = &a->scene->camera;
+    Camera cam = server_camera(a->server), *c = &cam;
     int changed = 0;
     if (in->reset) {
         *c = *home;
@@ -143,7 +143,7 @@ static void apply_input(App *a, const DisplayInput *in, const Camera *home, int 
     if (in->screenshot)
         a->screenshot = 1;
     if (changed)
-        server_scene_changed(a->server);
+        server_set_camera(a->server, c);
 }
 
 
@@ -405,11 +405,8 @@ static int serve(App *app, const Args *a)
         }
         if (app->frames_done != seen) {
             seen = app->frames_done;
-            if (animate) {
-                for (uint32_t i = 0; i < app->scene->instance_count; i++)
-                    app->scene->instances[i].rotate.y += (real)a->rotate;
-                server_scene_changed(app->server);
-            }
+            if (animate)
+                server_turn_instances(app->server, (real)a->rotate);
         }
         if (app->display) {
             DisplayInput in;

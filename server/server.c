@@ -57,6 +57,10 @@ struct Server {
     Sched *sched;
     uint32_t frame;   /* current frame id; 0 before the first */
     int in_frame, paused, dirty;
+    /* changes held for the next frame (server_set_camera, server_turn_instances) */
+    Camera next_camera;
+    int camera_pending;
+    real turn_pending;
     uint8_t *pixels; /* the frame, bpp bytes a pixel: RGB8, or RGBE (hdr) */
     uint32_t bpp;
     Asset *assets;    /* models then textures of the scene */
@@ -175,7 +179,31 @@ void server_destroy(Server *s)
 
 int server_port(const Server *s) { return s->port; }
 const char *server_address(const Server *s) { return s->address; }
-void server_scene_changed(Server *s) { s->dirty = 1; }
+void server_set_camera(Server *s, const Camera *c)
+{
+    s->next_camera = *c;
+    s->camera_pending = 1;
+}
+
+void server_turn_instances(Server *s, real degrees) { s->turn_pending += degrees; }
+
+Camera server_camera(const Server *s) { return s->camera_pending ? s->next_camera : s->scene->camera; }
+
+/* What was held for this frame, applied to the scene before it is sent. */
+static void apply_pending(Server *s)
+{
+    if (s->camera_pending) {
+        s->scene->camera = s->next_camera;
+        s->camera_pending = 0;
+        s->dirty = 1;
+    }
+    if (s->turn_pending != R(0)) {
+        for (uint32_t i = 0; i < s->scene->instance_count; i++)
+            s->scene->instances[i].rotate.y += s->turn_pending;
+        s->turn_pending = 0;
+        s->dirty = 1;
+    }
+}
 void server_pause(Server *s, int paused) { s->paused = paused; }
 
 uint32_t server_client_count(const Server *s)
@@ -264,6 +292,7 @@ static uint64_t server_bytes(const Server *s)
 
 static int start_frame(Server *s, Err *err)
 {
+    apply_pending(s);
     if (s->dirty) {
         if (scene_prepare(s->scene, err))
             return -1;

@@ -38,8 +38,14 @@ typedef void (*FrameDoneFn)(void *ctx, uint32_t frame, const uint8_t *pixels);
 
 Server *server_create(const ServerConfig *cfg, Scene *scene, Err *err);
 void server_destroy(Server *s);
-/* The scene changed (camera, animation): the next frame uses it. */
-void server_scene_changed(Server *s);
+/* The camera of the next frame (the window's moves), and the instances
+ * turned by `degrees` about y from the next frame on (its animation): held
+ * until that frame starts, so that the scene a frame was sent from is
+ * never changed while the frame is under way. */
+void server_set_camera(Server *s, const Camera *c);
+void server_turn_instances(Server *s, real degrees);
+/* The camera the next frame starts from. */
+Camera server_camera(const Server *s);
 /* One round of the event loop, waiting at most timeout_ms.  Starts a new frame
  * when the previous one is done and clients are connected, unless paused. */
 int server_step(Server *s, int timeout_ms, FrameDoneFn done, void *ctx, Err *err);
