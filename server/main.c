@@ -185,7 +185,7 @@ static int parse_args(Args *a, int argc, char **argv)
          .range = CLI_SEGMENT_RANGE, .help = "lines per segment handed to a client", .def = "auto"},
         {.name = "--tail", .kind = OPT_CHOICE, .dst = &a->tail, .choices = sched_tail_names,
          .help = "how the last segments of a frame are cut and shared (docs/scaling.md)"},
-        {.name = "--bvh", .kind = OPT_CHOICE, .dst = &a->bvh_kind, .choices = cli_bvh_names, .seen = &a->force_bvh,
+        {.name = "--bvh", .kind = OPT_CHOICE, .dst = &a->bvh_kind, .choices = bvh_kind_names, .seen = &a->force_bvh,
          .help = "BVH builder for models; given, it rebuilds .tmd models too"},
         {.name = "--aa", .kind = OPT_CUSTOM, .dst = &a->aa, .arg = "N|adaptive[:N]", .parse = cli_parse_aa, .range = CLI_AA_RANGE,
          .help = "anti-aliasing", .def = "the scene's, else 1"},

@@ -20,6 +20,7 @@
 #include "base/opt.h"
 #include "base/progress.h"
 #include "render/render.h"
+#include "scene/scene_fields.h"
 #include "base/simd.h"
 #include "base/timer.h"
 
@@ -27,14 +28,6 @@
 #define WHOLE_FRAME_BYTES ((uint64_t)256 << 20)
 #define BAND_BYTES ((uint64_t)32 << 20)
 
-static const char *const shading_names[] = {"phong", "diffuse", NULL};
-static const char *const onoff_names[] = {"off", "on", NULL};
-static const char *const filter_names[] = {"nearest", "bilinear", "trilinear", "anisotropic", NULL};
-
-static const char *const fresnel_names[] = {"exact", "schlick", NULL};
-static const char *const glass_names[] = {"opaque", "tinted", NULL};
-static const char *const sampling_names[] = {"budget", "product", NULL};
-static const char *const limit_names[] = {"black", "background", "ambient", "local", NULL};
 
 typedef struct {
     RenderProgress counts;
@@ -150,27 +143,27 @@ static int parse_args(Args *a, int argc, char **argv)
          .def = "the scene's, else adaptive:4"},
         {.name = "--threads", .kind = OPT_INT, .dst = &a->threads, .arg = "T", .lo = 0, .hi = RENDER_MAX_THREADS,
          .help = "render threads, 0 = one per core", .def = "0: all cores"},
-        {.name = "--bvh", .kind = OPT_CHOICE, .dst = &a->bvh_kind, .choices = cli_bvh_names, .seen = &a->force_bvh,
+        {.name = "--bvh", .kind = OPT_CHOICE, .dst = &a->bvh_kind, .choices = bvh_kind_names, .seen = &a->force_bvh,
          .help = "BVH builder for models; given, it rebuilds .tmd models too"},
-        {.name = "--shading", .kind = OPT_CHOICE, .dst = &a->shading, .choices = shading_names, .seen = &a->shading_given,
+        {.name = "--shading", .kind = OPT_CHOICE, .dst = &a->shading, .choices = field_words(&settings_kind, "shading"), .seen = &a->shading_given,
          .help = "Phong, or diffuse only", .def = "the scene's, else phong"},
-        {.name = "--shadows", .kind = OPT_CHOICE, .dst = &a->shadows, .choices = onoff_names, .seen = &a->shadows_given,
+        {.name = "--shadows", .kind = OPT_CHOICE, .dst = &a->shadows, .choices = field_words(&settings_kind, "shadows"), .seen = &a->shadows_given,
          .help = "shadow rays", .def = "the scene's, else on"},
-        {.name = "--filter", .kind = OPT_CHOICE, .dst = &a->filter, .choices = filter_names, .seen = &a->filter_given,
+        {.name = "--filter", .kind = OPT_CHOICE, .dst = &a->filter, .choices = texture_filter_names, .seen = &a->filter_given,
          .help = "texture filtering: one texel, four, mip-maps by the ray's footprint, or mip-maps along it",
          .def = "the scene's, else anisotropic"},
         {.name = "--depth", .kind = OPT_INT, .dst = &a->depth, .arg = "N", .lo = 0, .hi = SCENE_MAX_DEPTH, .seen = &a->depth_given,
          .help = "bounces of reflected and refracted rays after the camera ray", .def = "the scene's, else 5"},
         {.name = "--cutoff", .kind = OPT_REAL, .dst = &a->cutoff, .arg = "W", .rlo = 0, .rhi = 0.999, .seen = &a->cutoff_given,
          .help = "skip a secondary ray that can add less than W to the pixel", .def = "the scene's, else 0.01"},
-        {.name = "--fresnel", .kind = OPT_CHOICE, .dst = &a->fresnel, .choices = fresnel_names, .seen = &a->fresnel_given,
+        {.name = "--fresnel", .kind = OPT_CHOICE, .dst = &a->fresnel, .choices = field_words(&settings_kind, "fresnel"), .seen = &a->fresnel_given,
          .help = "a dielectric's reflectance: Fresnel's equations or Schlick's approximation",
          .def = "the scene's, else exact"},
-        {.name = "--depth-limit", .kind = OPT_CHOICE, .dst = &a->limit, .choices = limit_names, .seen = &a->limit_given,
+        {.name = "--depth-limit", .kind = OPT_CHOICE, .dst = &a->limit, .choices = field_words(&settings_kind, "depth_limit"), .seen = &a->limit_given,
          .help = "what a mirror's or glass's ray cut at the depth limit returns", .def = "the scene's, else background"},
-        {.name = "--glass-shadows", .kind = OPT_CHOICE, .dst = &a->glass, .choices = glass_names, .seen = &a->glass_given,
+        {.name = "--glass-shadows", .kind = OPT_CHOICE, .dst = &a->glass, .choices = field_words(&settings_kind, "glass_shadows"), .seen = &a->glass_given,
          .help = "shadow rays through dielectrics: stopped, or tinted by their colour", .def = "the scene's, else tinted"},
-        {.name = "--sampling", .kind = OPT_CHOICE, .dst = &a->sampling, .choices = sampling_names, .seen = &a->sampling_given,
+        {.name = "--sampling", .kind = OPT_CHOICE, .dst = &a->sampling, .choices = field_words(&settings_kind, "sampling"), .seen = &a->sampling_given,
          .help = "area lights, a lens, rough mirrors: their K x K points shared by a pixel's rays (budget: costs add), or "
                  "taken by every ray (product: costs multiply)", .def = "the scene's, else budget"},
         {.name = "--light-samples", .kind = OPT_INT, .dst = &a->light_samples, .arg = "K", .lo = 0, .hi = LIGHT_MAX_SAMPLES,

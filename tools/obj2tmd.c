@@ -71,7 +71,7 @@ static int parse_args(Args *a, int argc, char **argv)
 {
     *a = (Args){.bvh_kind = BVH_SAH, .leaf = (int)bvh_options_default(BVH_SAH).max_leaf};
     const Opt opts[] = {
-        {.name = "--bvh", .kind = OPT_CHOICE, .dst = &a->bvh_kind, .choices = cli_bvh_names,
+        {.name = "--bvh", .kind = OPT_CHOICE, .dst = &a->bvh_kind, .choices = bvh_kind_names,
          .help = "builder: sbt (spatial median), mst (bottom-up, smallest merged box), sah (surface area)"},
         {.name = "--leaf", .kind = OPT_INT, .dst = &a->leaf, .arg = "N", .lo = 1, .hi = 255,
          .help = "most triangles per leaf"},

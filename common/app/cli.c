@@ -15,7 +15,6 @@
 #include "scene/scene_parse.h"
 #include "scene/scene_preview.h"
 
-const char *const cli_bvh_names[] = {"sbt", "mst", "sah", NULL};
 
 static int parse_n(const char *s, int *out)
 {

@@ -18,7 +18,6 @@ typedef struct {
 int cli_parse_aa(const char *value, void *dst, Err *err);
 #define CLI_AA_RANGE "1..16, adaptive or adaptive:1..16"
 
-extern const char *const cli_bvh_names[]; /* sbt, mst, sah: BvhKind order */
 
 /* --segment LINES|auto: lines per segment into a uint32_t, 0 for auto; at
  * most the tallest frame a server takes. */

@@ -44,6 +44,12 @@ int field_index(const FieldKind *k, const char *key)
     return -1;
 }
 
+const char *const *field_words(const FieldKind *k, const char *key)
+{
+    int i = field_index(k, key);
+    return i >= 0 && k->fields[i].type == FIELD_CHOICE ? k->fields[i].words : NULL;
+}
+
 /* The range a number must be in, in words ("must be positive"); a stored
  * value may also be 0 where the field allows "none" (FIELD_ZERO_OK), a
  * file's may not (it gave the key to have one). */

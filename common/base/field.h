@@ -106,6 +106,10 @@ int field_read(const FieldKind *k, const Tokens *t, int start, int variant, void
 
 /* The index of the field with that key (or alias), or -1. */
 int field_index(const FieldKind *k, const char *key);
+/* The words of the choice with that key (NULL-terminated, in the order of
+ * its values), or NULL: for a command line that offers the same choice. */
+const char *const *field_words(const FieldKind *k, const char *key);
+
 /* Whether a directive gave that key. */
 static inline int field_given(const FieldKind *k, FieldSet given, const char *key)
 {

@@ -11,13 +11,13 @@
 #include "base/opt.h"
 #include "bvh/bvh_build.h"
 
-static const char *const kind_names[BVH_KIND_COUNT] = {"sbt", "mst", "sah"};
+const char *const bvh_kind_names[BVH_KIND_COUNT + 1] = {"sbt", "mst", "sah", NULL};
 
-const char *bvh_kind_name(BvhKind k) { return (unsigned)k < BVH_KIND_COUNT ? kind_names[k] : "?"; }
+const char *bvh_kind_name(BvhKind k) { return (unsigned)k < BVH_KIND_COUNT ? bvh_kind_names[k] : "?"; }
 
 int bvh_kind_parse(const char *s, BvhKind *out)
 {
-    int i = opt_word_index(kind_names, BVH_KIND_COUNT, s);
+    int i = opt_word_index(bvh_kind_names, BVH_KIND_COUNT, s);
     if (i >= 0)
         *out = (BvhKind)i;
     return i >= 0 ? 0 : -1;

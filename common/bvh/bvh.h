@@ -84,6 +84,8 @@ int bvh_alloc_nodes(Bvh *b, uint32_t count);
 int bvh_validate(const Bvh *b, uint32_t *depth, Err *err);
 /* SAH cost with traversal cost 1 and intersection cost 1, relative to the root area. */
 double bvh_sah_cost(const Bvh *b);
+/* The builders' names in BvhKind order, NULL-terminated (scene files, command lines). */
+extern const char *const bvh_kind_names[];
 const char *bvh_kind_name(BvhKind k);
 int bvh_kind_parse(const char *s, BvhKind *out);
 static inline Aabb bvh_node_box(const BvhNode *n)

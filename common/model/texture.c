@@ -222,13 +222,13 @@ int texture_read_texels(Cursor *c, uint32_t w, uint32_t h, const char *name, Tex
     return *out ? 0 : err_set(err, "%s: out of memory for a %ux%u texture", name, w, h);
 }
 
-static const char *const filter_names[FILTER_COUNT] = {"nearest", "bilinear", "trilinear", "anisotropic"};
+const char *const texture_filter_names[FILTER_COUNT + 1] = {"nearest", "bilinear", "trilinear", "anisotropic", NULL};
 
-const char *texture_filter_name(TextureFilter f) { return (unsigned)f < FILTER_COUNT ? filter_names[f] : "?"; }
+const char *texture_filter_name(TextureFilter f) { return (unsigned)f < FILTER_COUNT ? texture_filter_names[f] : "?"; }
 
 int texture_filter_parse(const char *s, TextureFilter *out)
 {
-    int i = opt_word_index(filter_names, FILTER_COUNT, s);
+    int i = opt_word_index(texture_filter_names, FILTER_COUNT, s);
     if (i >= 0)
         *out = (TextureFilter)i;
     return i >= 0 ? 0 : -1;

@@ -56,6 +56,8 @@ typedef struct {
  * footprint's long axis (anisotropic). */
 typedef enum { FILTER_NEAREST = 0, FILTER_BILINEAR = 1, FILTER_TRILINEAR = 2, FILTER_ANISOTROPIC = 3 } TextureFilter;
 #define FILTER_COUNT 4
+/* The filters' names in TextureFilter order, NULL-terminated. */
+extern const char *const texture_filter_names[];
 const char *texture_filter_name(TextureFilter f);
 int texture_filter_parse(const char *s, TextureFilter *out);
 

@@ -5,7 +5,6 @@
 #include <string.h>
 
 #include "base/array.h"
-#include "base/opt.h"
 #include "scene/scene_fields.h"
 
 Scene *scene_create(void)
@@ -51,17 +50,6 @@ RenderSettings render_settings_default(void)
     return sp.rs;
 }
 
-static const char *const limit_names[LIMIT_COUNT] = {"black", "background", "ambient", "local"};
-
-const char *depth_limit_name(DepthLimit l) { return (unsigned)l < LIMIT_COUNT ? limit_names[l] : "?"; }
-
-int depth_limit_parse(const char *s, DepthLimit *out)
-{
-    int i = opt_word_index(limit_names, LIMIT_COUNT, s);
-    if (i >= 0)
-        *out = (DepthLimit)i;
-    return i >= 0 ? 0 : -1;
-}
 
 #define PUSH(s, arr, count, cap, limit, value, what)                                                   \
     do {                                                                                               \

@@ -106,8 +106,6 @@ typedef enum { SAMPLING_BUDGET = 0, SAMPLING_PRODUCT = 1 } Sampling;
  * diffuse surface there would show: the ambient plus the lights that reach
  * it). */
 typedef enum { LIMIT_BLACK = 0, LIMIT_BACKGROUND = 1, LIMIT_AMBIENT = 2, LIMIT_LOCAL = 3, LIMIT_COUNT } DepthLimit;
-const char *depth_limit_name(DepthLimit l);
-int depth_limit_parse(const char *s, DepthLimit *out);
 
 /* Quality knobs: the scene file sets defaults, the command line may override. */
 typedef struct {

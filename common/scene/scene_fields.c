@@ -64,7 +64,6 @@ const FieldKind camera_kind = {.name = "camera", .fields = camera_fields,
 
 static const char *const shading_words[] = {"phong", "diffuse", NULL};
 static const char *const onoff_words[] = {"off", "on", NULL};
-static const char *const filter_words[] = {"nearest", "bilinear", "trilinear", "anisotropic", NULL};
 static const char *const fresnel_words[] = {"exact", "schlick", NULL};
 static const char *const glass_words[] = {"opaque", "tinted", NULL};
 static const char *const sampling_words[] = {"budget", "product", NULL};
@@ -82,7 +81,7 @@ static const Field settings_fields[] = {
      .doc = "Phong, or diffuse only"},
     {.key = "shadows", .type = FIELD_CHOICE, .off = SET(rs.shadows), .words = onoff_words, .def = 1,
      .doc = "shadow rays"},
-    {.key = "filter", .type = FIELD_CHOICE, .off = SET(rs.filter), .words = filter_words, .def = FILTER_ANISOTROPIC,
+    {.key = "filter", .type = FIELD_CHOICE, .off = SET(rs.filter), .words = texture_filter_names, .def = FILTER_ANISOTROPIC,
      .doc = "texture filtering: one texel, four, mip-maps by the ray's footprint, or mip-maps along it"},
     {.key = "linear", .type = FIELD_FLAG, .flags = FIELD_WIRE, .off = SET(rs.linear), .doc = "linear output codes"},
     {.key = "hdr", .type = FIELD_FLAG, .flags = FIELD_WIRE, .off = SET(rs.hdr), .doc = "RGBE pixels (4 bytes)"},
@@ -230,9 +229,8 @@ static const Field instance_fields[] = {
 const FieldKind instance_kind = {.name = "instance", .fields = instance_fields,
                                  .count = sizeof instance_fields / sizeof *instance_fields};
 
-static const char *const bvh_words[] = {"sbt", "mst", "sah", NULL};
 static const Field model_fields[] = {
-    {.key = "bvh", .type = FIELD_CHOICE, .flags = FIELD_FILE, .off = offsetof(ModelSpec, bvh), .words = bvh_words,
+    {.key = "bvh", .type = FIELD_CHOICE, .flags = FIELD_FILE, .off = offsetof(ModelSpec, bvh), .words = bvh_kind_names,
      .def = BVH_SAH, .shown_default = "sah (a .tmd: its own)",
      .doc = "the tree's builder: spatial median, smallest merged box, or surface area; given, it rebuilds a .tmd's"},
     {.key = "smooth", .type = FIELD_FLAG, .flags = FIELD_FILE, .off = offsetof(ModelSpec, smooth),
