@@ -113,13 +113,13 @@ static void docs_show_every_table(void **state)
 
 /* A value the field allows and that is not its default, as scene-file text
  * into buf, and as numbers into v (ints as reals). */
-static int sample_value(const Field *f, int salt, char *buf, size_t size, real *v)
+static void sample_value(const Field *f, int salt, char *buf, size_t size, real *v)
 {
     int n = f->type == FIELD_VEC ? 3 : f->type == FIELD_REALS ? f->n : 1;
     buf[0] = 0;
     if (f->type == FIELD_FLAG) {
         v[0] = 1;
-        return 0;
+        return;
     }
     for (int j = 0; j < n; j++) {
         double lo = f->lo <= -FIELD_INF ? -4 : f->lo, hi = f->hi >= FIELD_INF ? lo + 8 : f->hi;
@@ -133,7 +133,7 @@ static int sample_value(const Field *f, int salt, char *buf, size_t size, real *
             x = ((int)f->def + 1) % words;
             snprintf(buf, size, "%s", f->words[(int)x]);
             v[0] = (real)x;
-            return 0;
+            return;
         }
         if (x == f->def)
             x = (x + hi) / 2;
@@ -141,7 +141,6 @@ static int sample_value(const Field *f, int salt, char *buf, size_t size, real *
         size_t l = strlen(buf);
         snprintf(buf + l, size - l, "%s%.17g", j ? " " : "", x);
     }
-    return 0;
 }
 
 /* The item a parsed scene holds for kind k, as the kind's struct (or spec). */

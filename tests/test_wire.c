@@ -323,6 +323,28 @@ static void hdr_travels_as_a_flag(void **state)
     scene_destroy(s);
 }
 
+/* A word of a serialised scene replaced: the scene is refused, saying why. */
+typedef struct {
+    size_t at;
+    uint32_t word;
+    const char *why;
+} BadWord;
+
+/* Each bad word in turn in the scene sk, refused; sk as it was after. */
+static void refused(Sink *sk, AssetCache *c, const BadWord *bad, size_t n)
+{
+    for (size_t i = 0; i < n; i++) {
+        Scene *back;
+        Err err;
+        uint32_t was;
+        memcpy(&was, sk->data + bad[i].at, 4);
+        memcpy(sk->data + bad[i].at, &bad[i].word, 4);
+        assert_int_equal(wire_decode_scene(sk->data, sk->len, c, &back, &err), -1);
+        assert_contains(err.msg, bad[i].why);
+        memcpy(sk->data + bad[i].at, &was, 4);
+    }
+}
+
 static void malformed_scenes_and_assets_are_rejected(void **state)
 {
     (void)state;
@@ -385,11 +407,7 @@ static void malformed_scenes_and_assets_are_rejected(void **state)
     assert_int_equal(sk.len, 304);
     assert_int_equal(wire_decode_scene(sk.data, sk.len, c = asset_cache_create(), &back, &err), 0);
     scene_destroy(back);
-    const struct {
-        size_t at;
-        uint32_t word;
-        const char *why;
-    } bad_words[] = {{120, 1u << 5, "bad settings"},
+    const BadWord bad_words[] = {{120, 1u << 5, "bad settings"},
                      {140, FILTER_COUNT, "settings: 'filter' is not one of its words"},
                      {136, 2, "settings: 'shadows' is not one of its words"},
                      {144, 2, "settings: 'linear' is not 0 or 1"},
@@ -397,14 +415,7 @@ static void malformed_scenes_and_assets_are_rejected(void **state)
                      {248, 1u << 2, "bad plane"},
                      {248, 1u << 1, "truncated"}, /* a plane mapped, its two numbers missing */
                      {12, 1u << 3, "bad camera"}};
-    for (size_t i = 0; i < sizeof bad_words / sizeof bad_words[0]; i++) {
-        uint32_t was;
-        memcpy(&was, sk.data + bad_words[i].at, 4);
-        memcpy(sk.data + bad_words[i].at, &bad_words[i].word, 4);
-        assert_int_equal(wire_decode_scene(sk.data, sk.len, c, &back, &err), -1);
-        assert_contains(err.msg, bad_words[i].why);
-        memcpy(sk.data + bad_words[i].at, &was, 4);
-    }
+    refused(&sk, c, bad_words, sizeof bad_words / sizeof bad_words[0]);
     sink_free(&sk);
     /* a mirror pays for its reflectance and roughness (32 bytes after the
      * material's texture, at 248); settings of secondary rays away from
@@ -433,23 +444,12 @@ static void malformed_scenes_and_assets_are_rejected(void **state)
     assert_int_equal(wire_decode_scene(sk.data, sk.len, c, &back, &err), 0);
     assert_true(back->settings.depth == 8 && back->settings.cutoff == one->settings.cutoff);
     scene_destroy(back);
-    const struct {
-        size_t at;
-        uint32_t word;
-        const char *why;
-    } bad_optics[] = {{152, SCENE_MAX_DEPTH + 1, "'depth' must be a whole number from 0 to 64"},
+    const BadWord bad_optics[] = {{152, SCENE_MAX_DEPTH + 1, "'depth' must be a whole number from 0 to 64"},
                       {156, LIMIT_COUNT, "'depth_limit' is not one of its words"},
                       {168, 2, "'fresnel' is not one of its words"},
                       {172, 2, "'glass_shadows' is not one of its words"},
                       {176, SCENE_MAX_SAMPLES + 1, "'rough_samples' must be 0 or from 1 to 16"}};
-    for (size_t i = 0; i < sizeof bad_optics / sizeof bad_optics[0]; i++) {
-        uint32_t was;
-        memcpy(&was, sk.data + bad_optics[i].at, 4);
-        memcpy(sk.data + bad_optics[i].at, &bad_optics[i].word, 4);
-        assert_int_equal(wire_decode_scene(sk.data, sk.len, c, &back, &err), -1);
-        assert_contains(err.msg, bad_optics[i].why);
-        memcpy(sk.data + bad_optics[i].at, &was, 4);
-    }
+    refused(&sk, c, bad_optics, sizeof bad_optics / sizeof bad_optics[0]);
     sink_free(&sk);
     one->settings.depth = 5;
     /* a fisheye camera: its projection group (the orthographic width, the

@@ -5,6 +5,8 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "base/opt.h"
+
 static int takes(const Field *f, int variant) { return f->variants == 0 || (f->variants >> variant & 1); }
 static int on_wire(const Field *f) { return !(f->flags & FIELD_FILE); }
 static int in_files(const Field *f) { return !(f->flags & FIELD_WIRE); }
@@ -42,6 +44,19 @@ int field_index(const FieldKind *k, const char *key)
             return (int)i;
     }
     return -1;
+}
+
+static int word_count(const char *const *w)
+{
+    int n = 0;
+    while (w && w[n])
+        n++;
+    return n;
+}
+
+int field_variant(const FieldKind *k, const char *word)
+{
+    return k->variants ? opt_word_index(k->variants, word_count(k->variants), word) : -1;
 }
 
 const char *const *field_words(const FieldKind *k, const char *key)
@@ -92,13 +107,6 @@ static int in_range(const Field *f, int stored, double v)
     return f->type != FIELD_WHOLE || v == floor(v);
 }
 
-static int word_count(const char *const *w)
-{
-    int n = 0;
-    while (w && w[n])
-        n++;
-    return n;
-}
 
 /* "a, b or c" */
 static void words_list(const char *const *w, char *buf, size_t size)
@@ -205,11 +213,11 @@ static int read_value(const Field *f, const char *dname, const Tokens *t, int *i
             *name = w;
             return 0;
         }
-        for (int j = 0; f->words[j]; j++)
-            if (strcmp(f->words[j], w) == 0) {
-                *int_at(f, item) = j;
-                return 0;
-            }
+        int j = opt_word_index(f->words, word_count(f->words), w);
+        if (j >= 0) {
+            *int_at(f, item) = j;
+            return 0;
+        }
         char list[160];
         words_list(f->words, list, sizeof list);
         return err_set(err, "%s: '%s' of %s must be %s, not '%s'", where, f->key, dname, list, w);

@@ -106,6 +106,9 @@ int field_read(const FieldKind *k, const Tokens *t, int start, int variant, void
 
 /* The index of the field with that key (or alias), or -1. */
 int field_index(const FieldKind *k, const char *key);
+/* The variant a word names (a light's kind), or -1. */
+int field_variant(const FieldKind *k, const char *word);
+
 /* The words of the choice with that key (NULL-terminated, in the order of
  * its values), or NULL: for a command line that offers the same choice. */
 const char *const *field_words(const FieldKind *k, const char *key);

@@ -404,8 +404,10 @@ static int prepare_instances(Scene *s, uint32_t *f, Err *err)
             return err_set(err, "scene: instance %u uses model %u but the scene has %u", i, in->model, s->model_count);
         if (field_problem(&instance_kind, in, 0, why, sizeof why))
             return err_set(err, "scene: instance %u: %s", i, why);
-        if (in->material < -1 || (in->material >= 0 && check_material(s, (uint32_t)in->material, "instance", i, err)))
-            return in->material < -1 ? err_set(err, "scene: instance %u: material %d", i, in->material) : -1;
+        if (in->material < -1)
+            return err_set(err, "scene: instance %u: material %d", i, in->material);
+        if (in->material >= 0 && check_material(s, (uint32_t)in->material, "instance", i, err))
+            return -1;
         in->rot = m3_rotation_xyz(in->rotate);
         in->identity = in->scale == R(1) && in->rotate.x == R(0) && in->rotate.y == R(0) && in->rotate.z == R(0) &&
                        in->translate.x == R(0) && in->translate.y == R(0) && in->translate.z == R(0);

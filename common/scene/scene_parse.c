@@ -104,16 +104,17 @@ static int read_new(Ctx *c, const FieldKind *k, const Tokens *t, int start, int 
     return read_fields(c, k, t, start, variant, item, given, names);
 }
 
-/* The material named by the directive's key `key` (the default material,
- * 0, where it names none) into *id. */
+/* The material named by the directive's key `key`, where it names one,
+ * into *id (else *id keeps its default). */
 static int lookup_material(Ctx *c, const FieldKind *k, const char **names, const char *key, int *id)
 {
     const char *name = names[field_index(k, key)];
-    uint32_t m = 0;
-    if (name && names_find(&c->materials, name, &m))
+    uint32_t m;
+    if (!name)
+        return 0;
+    if (names_find(&c->materials, name, &m))
         return fail(c, "unknown material '%s' (define it with 'material %s ...' first)", name, name);
-    if (name || *id >= 0)
-        *id = (int)m;
+    *id = (int)m;
     return 0;
 }
 
@@ -290,10 +291,8 @@ static int do_light(Ctx *c, const Tokens *t)
 {
     if (t->n < 2)
         return fail(c, "light expects a kind: point, spot, directional, sphere or rect");
-    int kind = 0;
-    while (light_kind.variants[kind] && strcmp(light_kind.variants[kind], t->tok[1]) != 0)
-        kind++;
-    if (!light_kind.variants[kind])
+    int kind = field_variant(&light_kind, t->tok[1]);
+    if (kind < 0)
         return fail(c, "unknown light kind '%s' (point, spot, directional, sphere or rect)", t->tok[1]);
     LightSpec sp;
     FieldSet given;
