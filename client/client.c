@@ -31,6 +31,7 @@
 
 typedef struct {
     Scene *scene;
+    World *world; /* built from scene, with the previous frame's world for what did not change */
     uint32_t frame;
     int width, height;
     int refs;
@@ -63,6 +64,7 @@ typedef struct {
 static void ref_drop(SceneRef *r)
 {
     if (r && --r->refs == 0) {
+        world_destroy(r->world);
         scene_destroy(r->scene);
         free(r);
     }
@@ -97,12 +99,12 @@ static void *render_thread(void *arg)
         w->running_frame = j.frame;
         atomic_store(&w->cancel, 0);
         pthread_mutex_unlock(&w->mu);
-        uint8_t *px = malloc((size_t)j.seg.count * render_pixel_bytes(j.ref->scene));
+        uint8_t *px = malloc((size_t)j.seg.count * render_pixel_bytes(&j.ref->scene->settings));
         Err err;
         double t0 = timer_now(), waited = 0;
         if (straight)
             waited = fmax((t0 - last_end) - (timer_thread_cpu() - last_end_cpu), 0.0);
-        int rc = px ? render_span(w->pool, j.ref->scene, j.ref->width, j.ref->height, j.seg.first, j.seg.count, px,
+        int rc = px ? render_span(w->pool, j.ref->world, j.ref->width, j.ref->height, j.seg.first, j.seg.count, px,
                                   NULL, &w->cancel, &err)
                     : -1;
         last_end = timer_now();
@@ -112,7 +114,7 @@ static void *render_thread(void *arg)
         w->running = 0;
         if (rc == 0 && j.frame == w->current_frame && w->ndone < MAX_JOBS * 2) {
             j.pixels = px;
-            j.bpp = render_pixel_bytes(j.ref->scene);
+            j.bpp = render_pixel_bytes(&j.ref->scene->settings);
             j.render_us = us < 4e9 ? (uint32_t)us : UINT32_MAX;
             w->done[w->ndone++] = j;
             w->segments++;
@@ -218,7 +220,7 @@ static int segment_ok(Segment seg, const SceneRef *ref, const char *packet, Err 
     if ((uint64_t)seg.first + seg.count > width * height)
         return err_set(err, "%s segment %u+%u outside the %llux%llu frame", packet, seg.first, seg.count,
                        (unsigned long long)width, (unsigned long long)height);
-    if (msg_min_size(PKT_DATA) + render_pixel_bytes(ref->scene) * (uint64_t)seg.count > msg_max_size(PKT_DATA))
+    if (msg_min_size(PKT_DATA) + render_pixel_bytes(&ref->scene->settings) * (uint64_t)seg.count > msg_max_size(PKT_DATA))
         return err_set(err, "%s segment of %u pixels is larger than a DATA packet can carry", packet, seg.count);
     return 0;
 }
@@ -244,12 +246,14 @@ static int on_packet(const ClientConfig *cfg, Worker *w, Conn *c, AssetCache *ca
         Scene *scene;
         if (wire_decode_scene(u.scene, u.scene_len, cache, &scene, err))
             return -1;
-        SceneRef *ref = calloc(1, sizeof *ref);
+        World *world = world_build(scene, *cur ? (*cur)->world : NULL, err);
+        SceneRef *ref = world ? calloc(1, sizeof *ref) : NULL;
         if (!ref) {
+            world_destroy(world);
             scene_destroy(scene);
-            return err_set(err, "out of memory");
+            return world ? err_set(err, "out of memory") : -1;
         }
-        *ref = (SceneRef){scene, frame, (int)width, (int)height, 1};
+        *ref = (SceneRef){scene, world, frame, (int)width, (int)height, 1};
         pthread_mutex_lock(&w->mu);
         w->current_frame = frame;
         for (int i = 0; i < w->nqueue; i++)

@@ -285,7 +285,7 @@ static int open_scene(App *app, Args *a, Err *err)
         return 1;
     }
     /* the frame being assembled, and a reference to compare with */
-    const uint64_t frame_bytes = (uint64_t)cfg->width * cfg->height * render_pixel_bytes(scene);
+    const uint64_t frame_bytes = (uint64_t)cfg->width * cfg->height * render_pixel_bytes(&scene->settings);
     if (cli_check_memory(frame_bytes + (a->verify_path || a->hdr ? (uint64_t)cfg->width * cfg->height * 3 : 0), "the frame",
                          err)) {
         fprintf(stderr, "lanray-server: %dx%d: %s\n", cfg->width, cfg->height, err->msg);

@@ -123,7 +123,7 @@ Server *server_create(const ServerConfig *cfg, Scene *scene, Err *err)
     SchedConfig sc = {(uint32_t)cfg->width, (uint32_t)cfg->height, cfg->segment_lines ? cfg->segment_lines : 1, cfg->tail,
                       (uint32_t)(cfg->width / 4 > 0 ? cfg->width / 4 : 1)};
     s->sched = sched_create(&sc);
-    s->bpp = render_pixel_bytes(scene);
+    s->bpp = render_pixel_bytes(&scene->settings);
     s->pixels = calloc((size_t)cfg->width * cfg->height, s->bpp);
     if (!s->sched || !s->pixels || build_assets(s, err)) {
         if (!s->sched || !s->pixels)
@@ -294,7 +294,7 @@ static int start_frame(Server *s, Err *err)
 {
     apply_pending(s);
     if (s->dirty) {
-        if (scene_prepare(s->scene, err))
+        if (scene_check(s->scene, err))
             return -1;
         s->dirty = 0;
     }

@@ -3,6 +3,7 @@
  * mirrors and glass in whole renders (what shade_ray adds and what it does
  * not trace). */
 #include "helpers.h"
+#include "worlds.h"
 
 #include <math.h>
 
@@ -129,7 +130,7 @@ static Scene *glass_scene(real radius, real ior)
     Sphere sp = {v3(0, 0, 0), radius, id};
     assert_int_equal(scene_add_sphere(s, sp, NULL), 0);
     Err err;
-    if (scene_prepare(s, &err))
+    if (scene_check(s, &err))
         fail_msg("%s", err.msg);
     return s;
 }
@@ -148,9 +149,9 @@ static void a_ray_through_a_glass_sphere_meets_the_axis_where_geometry_says(void
         Ray r = ray_make(v3((real)h, 0, 10), v3(0, 0, -1), 0, REAL_INF);
         for (int crossing = 0; crossing < 2; crossing++) {
             Hit hit;
-            assert_true(trace_closest(s, &r, &hit));
+            assert_true(trace_closest(world_now(s), &r, &hit));
             Surface sf;
-            trace_surface(s, &r, &hit, &sf);
+            trace_surface(world_now(s), &r, &hit, &sf);
             assert_int_equal(sf.inside, crossing); /* in, then out */
             vec3 t = v3_splat(0);
             real eta = sf.inside ? sf.mat->ior : R(1) / sf.mat->ior;
@@ -170,10 +171,10 @@ static void a_ray_through_a_glass_sphere_meets_the_axis_where_geometry_says(void
     scene_destroy(s);
 }
 
-static vec3 look(const Scene *s, vec3 eye, vec3 dir, RayStats *st)
+static vec3 look(Scene *s, vec3 eye, vec3 dir, RayStats *st)
 {
     Ray r = ray_make(eye, v3_norm(dir), 0, REAL_INF);
-    return shade_ray(s, &r, st, NULL);
+    return shade_ray(world_now(s), &r, st, NULL);
 }
 
 /* A mirror sphere in front of an emissive wall: the centre pixel is kr
@@ -192,8 +193,9 @@ static void a_mirror_shows_kr_times_what_it_reflects(void **state)
     assert_int_equal(scene_add_sphere(s, (Sphere){v3(0, 0, 0), 1, m}, NULL), 0);
     assert_int_equal(scene_add_plane(s, plane_make(v3(0, 0, 5), v3(0, 0, -1), l), NULL), 0);
     Err err;
-    assert_int_equal(scene_prepare(s, &err), 0);
-    assert_true(scene_has(s, FEAT_REFLECT) && scene_has(s, FEAT_EMIT) && !scene_has(s, FEAT_REFRACT));
+    assert_int_equal(scene_check(s, &err), 0);
+    const World *w = world_now(s);
+    assert_true(world_has(w, FEAT_REFLECT) && world_has(w, FEAT_EMIT) && !world_has(w, FEAT_REFRACT));
     RayStats st = {0, 0, 0};
     /* straight at the sphere from behind the wall's side: reflected back onto the wall */
     vec3 c = look(s, v3(0, 0, 3), v3(0, 0, -1), &st);
@@ -228,7 +230,7 @@ static void glass_transmits_one_minus_fresnel_and_absorbs_by_beer_lambert(void *
         assert_int_equal(scene_add_sphere(s, (Sphere){v3(0, 0, 0), 1, g}, NULL), 0);
         assert_int_equal(scene_add_plane(s, plane_make(v3(0, 0, -5), v3(0, 0, 1), l), NULL), 0);
         Err err;
-        assert_int_equal(scene_prepare(s, &err), 0);
+        assert_int_equal(scene_check(s, &err), 0);
         RayStats st = {0, 0, 0};
         vec3 c = look(s, v3(0, 0, 3), v3(0, 0, -1), &st);
         double through = 0.96 * 0.96;
@@ -249,5 +251,7 @@ int main(void)
         cmocka_unit_test(a_mirror_shows_kr_times_what_it_reflects),
         cmocka_unit_test(glass_transmits_one_minus_fresnel_and_absorbs_by_beer_lambert),
     };
-    return cmocka_run_group_tests(tests, NULL, NULL);
+    int rc = cmocka_run_group_tests(tests, NULL, NULL);
+    world_now_free();
+    return rc;
 }

@@ -1,6 +1,7 @@
 /* test_render.c - shading against analytic values, and pixels that do not
  * depend on threads or on how the frame is cut into segments. */
 #include "helpers.h"
+#include "worlds.h"
 
 #include <math.h>
 
@@ -23,16 +24,16 @@ static Scene *empty_scene(void)
 static void prepare(Scene *s)
 {
     Err err;
-    if (scene_prepare(s, &err))
+    if (scene_check(s, &err))
         fail_msg("%s", err.msg);
 }
 
 /* Colour seen by a ray from eye towards point p. */
-static vec3 look(const Scene *s, vec3 eye, vec3 p)
+static vec3 look(Scene *s, vec3 eye, vec3 p)
 {
     Ray r = ray_make(eye, v3_norm(v3_sub(p, eye)), 0, REAL_INF);
     RayStats st = {0, 0, 0};
-    return shade_ray(s, &r, &st, NULL);
+    return shade_ray(world_now(s), &r, &st, NULL);
 }
 
 static void diffuse_and_phong_match_the_formula(void **state)
@@ -92,10 +93,10 @@ static void shadows_attenuation_and_spot_cone(void **state)
 }
 
 /* The colour of every pixel of a small frame that shows one surface only. */
-static void render_codes(const Scene *s, uint8_t out[16 * 3])
+static void render_codes(Scene *s, uint8_t out[16 * 3])
 {
     RenderPool *pool = render_pool_create(1, NULL);
-    assert_int_equal(render_lines(pool, s, 4, 4, 0, 4, out, NULL, NULL), 0);
+    assert_int_equal(render_lines(pool, world_now(s), 4, 4, 0, 4, out, NULL, NULL), 0);
     render_pool_destroy(pool);
 }
 
@@ -165,8 +166,8 @@ static void plane_and_sphere_texture_coordinates(void **state)
     Ray r = ray_make(v3(4, 3, -2), v3(0, -1, 0), 0, REAL_INF);
     Hit h;
     Surface sf;
-    assert_true(trace_closest(s, &r, &h));
-    trace_surface(s, &r, &h, &sf);
+    assert_true(trace_closest(world_now(s), &r, &h));
+    trace_surface(world_now(s), &r, &h, &sf);
     assert_true(sf.has_uv);
     /* unturned: u = x / 2, v = -z / 2 from the point (1, 0, 1); turned 90
      * degrees, u takes v's axis and v takes -u's */
@@ -174,7 +175,7 @@ static void plane_and_sphere_texture_coordinates(void **state)
     assert_float_equal(sf.v, R(-1.5), R(1e-6));
     s->planes[0].uv_rotate = 0;
     prepare(s);
-    trace_surface(s, &r, &h, &sf);
+    trace_surface(world_now(s), &r, &h, &sf);
     assert_float_equal(sf.u, R(1.5), R(1e-6));
     assert_float_equal(sf.v, R(1.5), R(1e-6));
     /* the sphere: its front (+z) is the middle of the texture, its top v = 1,
@@ -184,9 +185,9 @@ static void plane_and_sphere_texture_coordinates(void **state)
     for (int k = 0; k < 3; k++) {
         vec3 o = v3_add(v3(0, 5, 0), v3_scale(at[k], 3));
         r = ray_make(o, v3_neg(at[k]), 0, REAL_INF);
-        assert_true(trace_closest(s, &r, &h));
+        assert_true(trace_closest(world_now(s), &r, &h));
         assert_int_equal(h.kind, HIT_SPHERE);
-        trace_surface(s, &r, &h, &sf);
+        trace_surface(world_now(s), &r, &h, &sf);
         assert_true(sf.has_uv);
         if (want[k][0] >= 0)
             assert_float_equal(sf.u, want[k][0], R(1e-5));
@@ -318,15 +319,15 @@ static void textured_triangle_and_instances(void **state)
     /* rotating +x by 90 degrees about y gives -z: the model's (1,0,0) lands at (10, 0, -3) */
     Ray r = ray_make(v3(20, R(0.5), R(-1)), v3(-1, 0, 0), 0, REAL_INF);
     Hit h;
-    assert_true(trace_closest(s, &r, &h));
+    assert_true(trace_closest(world_now(s), &r, &h));
     assert_int_equal(h.kind, HIT_INSTANCE);
     assert_float_equal(h.t, 10, R(1e-5));
     Surface sf;
-    trace_surface(s, &r, &h, &sf);
+    trace_surface(world_now(s), &r, &h, &sf);
     assert_float_equal(sf.ng.x, 1, R(1e-5)); /* faces the ray */
     assert_float_equal(sf.p.z, -1, R(1e-5));
     r = ray_make(v3(20, R(0.5), R(-3.5)), v3(-1, 0, 0), 0, REAL_INF); /* beyond the scaled edge */
-    assert_false(trace_closest(s, &r, &h));
+    assert_false(trace_closest(world_now(s), &r, &h));
     scene_destroy(s);
 }
 
@@ -384,7 +385,7 @@ static void packets_equal_single_rays(void **state)
         for (int path = 0; path < SIMD_PATH_COUNT; path++) {
             if (simd_force((SimdPath)path))
                 continue;
-            prepare(s);
+            const World *w = world_now(s);
             const vec3 eyes[3] = {v3(0, R(0.5), 4), v3(R(3.5), 2, R(-0.5)), v3(R(0.01), 5, R(0.02))};
             for (int e = 0; e < 3; e++)
                 for (int y = 0; y < 40; y++)
@@ -396,18 +397,18 @@ static void packets_equal_single_rays(void **state)
                             rays[i] = ray_make(eyes[e], v3_norm(v3_sub(target, eyes[e])), 0, REAL_INF);
                         }
                         Hit hp[TRACE_PACKET];
-                        trace_closest_packet(s, rays, n, hp);
+                        trace_closest_packet(w, rays, n, hp);
                         vec3 cp[TRACE_PACKET];
                         uint64_t kp[TRACE_PACKET];
                         RayStats st = {0, 0, 0};
-                        shade_packet(s, rays, n, cp, &st, kp, NULL, NULL);
+                        shade_packet(w, rays, n, cp, &st, kp, NULL, NULL);
                         real tm[TRACE_PACKET];
                         for (int i = 0; i < n; i++)
                             tm[i] = hp[i].kind ? hp[i].t * R(0.5) : R(100);
-                        uint32_t blocked = trace_occluded_packet(s, rays, n, tm, NULL);
+                        uint32_t blocked = trace_occluded_packet(w, rays, n, tm, NULL);
                         for (int i = 0; i < n; i++) {
                             Hit h;
-                            int got = trace_closest(s, &rays[i], &h);
+                            int got = trace_closest(w, &rays[i], &h);
                             assert_int_equal(got, hp[i].kind != HIT_NONE);
                             if (got && (h.kind != hp[i].kind || h.index != hp[i].index || h.sub != hp[i].sub ||
                                         h.t != hp[i].t || h.b1 != hp[i].b1 || h.b2 != hp[i].b2))
@@ -425,10 +426,10 @@ static void packets_equal_single_rays(void **state)
                             ties += got && h.kind == HIT_INSTANCE && h.index == 0;
                             uint64_t key;
                             RayStats st1 = {0, 0, 0};
-                            vec3 c = shade_ray(s, &rays[i], &st1, &key);
+                            vec3 c = shade_ray(w, &rays[i], &st1, &key);
                             if (memcmp(&c, &cp[i], sizeof c) != 0 || key != kp[i])
                                 fail_msg("%s: ray (%d,%d): packet colour differs", simd_name((SimdPath)path), x0 + i, y);
-                            assert_int_equal((int)(blocked >> i & 1), trace_occluded(s, &rays[i], tm[i], NULL));
+                            assert_int_equal((int)(blocked >> i & 1), trace_occluded(w, &rays[i], tm[i], NULL));
                         }
                         packets++;
                     }
@@ -442,13 +443,14 @@ static void packets_equal_single_rays(void **state)
     simd_force(best);
 }
 
-static uint8_t *render_all(RenderPool *p, const Scene *s, int w, int h, int segment)
+static uint8_t *render_all(RenderPool *p, Scene *s, int w, int h, int segment)
 {
     uint8_t *px = malloc((size_t)w * h * 3);
     Err err;
+    const World *world = world_now(s);
     for (int y = 0; y < h; y += segment) {
         int n = y + segment <= h ? segment : h - y;
-        if (render_lines(p, s, w, h, y, n, px + (size_t)y * w * 3, NULL, &err))
+        if (render_lines(p, world, w, h, y, n, px + (size_t)y * w * 3, NULL, &err))
             fail_msg("%s", err.msg);
     }
     return px;
@@ -501,23 +503,23 @@ static void partial_line_spans_and_cancel(void **state)
     for (int mode = 0; mode < 3; mode++) {
         s->settings.aa = mode == 0 ? 1 : 2;
         s->settings.adaptive = mode == 2;
-        assert_int_equal(render_span(p, s, W, H, 0, N, ref, NULL, NULL, NULL), 0);
+        assert_int_equal(render_span(p, world_now(s), W, H, 0, N, ref, NULL, NULL, NULL), 0);
         const uint64_t sizes[3] = {1, 37, 150};
         for (int k = 0; k < 3; k++) {
             memset(px, 0, N * 3);
             for (uint64_t a = 0; a < N; a += sizes[k]) {
                 uint64_t n = a + sizes[k] <= N ? sizes[k] : N - a;
-                assert_int_equal(render_span(p, s, W, H, a, n, px + 3 * a, NULL, NULL, NULL), 0);
+                assert_int_equal(render_span(p, world_now(s), W, H, a, n, px + 3 * a, NULL, NULL, NULL), 0);
             }
             assert_memory_equal(ref, px, N * 3);
         }
     }
     atomic_int cancel = 1;
     RayStats st;
-    assert_int_equal(render_span(p, s, W, H, 0, N, px, &st, &cancel, NULL), RENDER_CANCELLED);
+    assert_int_equal(render_span(p, world_now(s), W, H, 0, N, px, &st, &cancel, NULL), RENDER_CANCELLED);
     assert_int_equal(st.primary, 0);
     Err err = {{0}};
-    assert_int_equal(render_span(p, s, W, H, N - 5, 6, px, NULL, NULL, &err), -1);
+    assert_int_equal(render_span(p, world_now(s), W, H, N - 5, 6, px, NULL, NULL, &err), -1);
     assert_contains(err.msg, "outside a frame");
     free(ref);
     free(px);
@@ -536,12 +538,12 @@ static void adaptive_refines_only_edges(void **state)
     uint8_t *px = malloc(W * H * 3);
     RayStats plain, adaptive, full;
     s->settings.aa = 4;
-    assert_int_equal(render_lines(p, s, W, H, 0, H, px, &full, NULL), 0);
+    assert_int_equal(render_lines(p, world_now(s), W, H, 0, H, px, &full, NULL), 0);
     s->settings.adaptive = 1;
-    assert_int_equal(render_lines(p, s, W, H, 0, H, px, &adaptive, NULL), 0);
+    assert_int_equal(render_lines(p, world_now(s), W, H, 0, H, px, &adaptive, NULL), 0);
     s->settings.aa = 1;
     s->settings.adaptive = 0;
-    assert_int_equal(render_lines(p, s, W, H, 0, H, px, &plain, NULL), 0);
+    assert_int_equal(render_lines(p, world_now(s), W, H, 0, H, px, &plain, NULL), 0);
     assert_int_equal(plain.primary, W * H);
     assert_int_equal(full.primary, 16 * W * H);
     /* more than one sample per pixel, far fewer than 16 */
@@ -577,11 +579,11 @@ static void adaptive_refines_texture_edges(void **state)
     const int W = 96, H = 72;
     uint8_t *one = malloc(W * H * 3), *ad = malloc(W * H * 3), *full = malloc(W * H * 3);
     RayStats st_one, st_ad, st_full;
-    assert_int_equal(render_lines(p, s, W, H, 0, H, one, &st_one, NULL), 0);
+    assert_int_equal(render_lines(p, world_now(s), W, H, 0, H, one, &st_one, NULL), 0);
     s->settings.aa = 4;
-    assert_int_equal(render_lines(p, s, W, H, 0, H, full, &st_full, NULL), 0);
+    assert_int_equal(render_lines(p, world_now(s), W, H, 0, H, full, &st_full, NULL), 0);
     s->settings.adaptive = 1;
-    assert_int_equal(render_lines(p, s, W, H, 0, H, ad, &st_ad, NULL), 0);
+    assert_int_equal(render_lines(p, world_now(s), W, H, 0, H, ad, &st_ad, NULL), 0);
     double e_one = 0, e_ad = 0;
     for (int i = 0; i < W * H * 3; i++) {
         e_one += (double)(one[i] - full[i]) * (one[i] - full[i]);
@@ -599,7 +601,7 @@ static void adaptive_refines_texture_edges(void **state)
 }
 
 /* The floor's colour at three points under a lamp, seen from eye. */
-static void floor_under(const Scene *s, vec3 out[3])
+static void floor_under(Scene *s, vec3 out[3])
 {
     const vec3 at[3] = {v3(0, 0, 0), v3(1, 0, R(0.5)), v3(R(-0.7), 0, R(-0.3))};
     for (int i = 0; i < 3; i++)
@@ -642,7 +644,7 @@ static void lamps_do_not_shadow_their_light(void **state)
                 const real radius[3] = {R(0.2), R(0.3), R(0.1)};
                 assert_int_equal(scene_add_sphere(s, (Sphere){v3(0, 2, 0), radius[r], mb}, NULL), 0);
                 prepare(s);
-                assert_int_equal(s->lights[0].lamp_count, 1);
+                assert_int_equal(world_now(s)->lights[0].lamp_count, 1);
                 floor_under(s, shown);
                 assert_lit_alike(alone, shown);
             }
@@ -653,7 +655,7 @@ static void lamps_do_not_shadow_their_light(void **state)
             assert_int_equal(scene_add_triangle(s, t1, NULL, NULL, mb, NULL), 0);
             assert_int_equal(scene_add_triangle(s, t2, NULL, NULL, mb, NULL), 0);
             prepare(s);
-            assert_int_equal(s->lights[0].lamp_count, 2);
+            assert_int_equal(world_now(s)->lights[0].lamp_count, 2);
             floor_under(s, shown);
             assert_lit_alike(alone, shown);
         }
@@ -670,7 +672,7 @@ static void lamps_do_not_shadow_their_light(void **state)
         s->spheres[0].centre = v3(0, 1, 0);
         s->sphere_count = 1;
         prepare(s);
-        assert_int_equal(s->lights[0].lamp_count, kind == 2 ? 2 : 0);
+        assert_int_equal(world_now(s)->lights[0].lamp_count, kind == 2 ? 2 : 0);
         if (kind < 2)
             assert_true(look(s, v3(0, 3, 6), v3(0, 0, 0)).x < R(0.5) * alone[0].x);
         scene_destroy(s);
@@ -722,15 +724,87 @@ static void frame_sizes_and_bad_requests(void **state)
     RenderPool *p = render_pool_create(2, NULL);
     uint8_t px[3 * 4];
     RayStats st;
-    assert_int_equal(render_lines(p, s, 1, 1, 0, 1, px, &st, NULL), 0);
+    assert_int_equal(render_lines(p, world_now(s), 1, 1, 0, 1, px, &st, NULL), 0);
     assert_int_equal(st.primary, 1);
     Err err = {{0}};
-    assert_int_equal(render_lines(p, s, 2, 2, 1, 2, px, NULL, &err), -1);
+    assert_int_equal(render_lines(p, world_now(s), 2, 2, 1, 2, px, NULL, &err), -1);
     assert_contains(err.msg, "outside a frame");
-    assert_int_equal(render_lines(p, s, 0, 2, 0, 1, px, NULL, &err), -1);
+    assert_int_equal(render_lines(p, world_now(s), 0, 2, 0, 1, px, NULL, &err), -1);
     assert_contains(err.msg, "out of range");
     assert_null(render_pool_create(0, &err));
     render_pool_destroy(p);
+    scene_destroy(s);
+}
+
+/* The pixels of a 48x36 frame of world w. */
+static void render_world(const World *w, uint8_t *px)
+{
+    RenderPool *p = render_pool_create(2, NULL);
+    assert_non_null(p);
+    assert_int_equal(render_lines(p, w, 48, 36, 0, 36, px, NULL, NULL), 0);
+    render_pool_destroy(p);
+}
+
+/* A world built with the previous one takes its top-level BVH where the
+ * boxes did not change (a camera move, a new colour), builds its own where
+ * they did (a sphere moved), and renders what a world built alone renders;
+ * a new view changes the pixels without a new world, and a bad one is
+ * refused and leaves the view as it was. */
+static void worlds_reuse_what_did_not_change(void **state)
+{
+    (void)state;
+    static uint8_t a[48 * 36 * 3], b[48 * 36 * 3];
+    BvhOptions opt = bvh_options_default(BVH_SAH);
+    Scene *s;
+    assert_int_equal(scene_default(&s, &opt, NULL), 0);
+    World *w0 = world_build(s, NULL, NULL);
+    assert_non_null(w0);
+    s->camera.pos = v3_add(s->camera.pos, v3(R(0.3), R(0.1), 0));
+    s->materials[0].kd = v3(R(0.2), R(0.7), R(0.3));
+    assert_int_equal(scene_check(s, NULL), 0);
+    World *w1 = world_build(s, w0, NULL), *alone = world_build(s, NULL, NULL);
+    assert_true(world_shares_top(w1, w0));
+    assert_false(world_shares_top(alone, w0));
+    render_world(w1, a);
+    render_world(alone, b);
+    assert_memory_equal(a, b, sizeof a);
+    world_destroy(alone);
+    world_destroy(w0); /* w1 keeps the shared tree */
+    assert_true(s->sphere_count > 0);
+    s->spheres[0].centre.x += R(0.5);
+    assert_int_equal(scene_check(s, NULL), 0);
+    World *w2 = world_build(s, w1, NULL);
+    alone = world_build(s, NULL, NULL);
+    assert_false(world_shares_top(w2, w1));
+    render_world(w2, a);
+    render_world(alone, b);
+    assert_memory_equal(a, b, sizeof a);
+    render_world(w1, b);
+    assert_memory_not_equal(a, b, sizeof a);
+    /* the view: 2x2 samples a pixel, as a scene that asks for them */
+    View v = w2->view;
+    v.settings.aa = 2;
+    v.settings.adaptive = 0;
+    assert_int_equal(world_set_view(w2, &v, NULL), 0);
+    render_world(w2, a);
+    s->settings = v.settings;
+    assert_int_equal(scene_check(s, NULL), 0);
+    World *w3 = world_build(s, w2, NULL);
+    assert_true(world_shares_top(w3, w2));
+    render_world(w3, b);
+    assert_memory_equal(a, b, sizeof a);
+    render_world(alone, b);
+    assert_memory_not_equal(a, b, sizeof a);
+    View bad = v;
+    bad.settings.aa = 0;
+    Err err;
+    assert_int_equal(world_set_view(w2, &bad, &err), -1);
+    assert_contains(err.msg, "aa");
+    assert_int_equal(w2->view.settings.aa, 2);
+    world_destroy(alone);
+    world_destroy(w1);
+    world_destroy(w2);
+    world_destroy(w3);
     scene_destroy(s);
 }
 
@@ -751,6 +825,9 @@ int main(void)
         cmocka_unit_test(lamps_do_not_shadow_their_light),
         cmocka_unit_test(depth_limit_returns_the_choice),
         cmocka_unit_test(frame_sizes_and_bad_requests),
+        cmocka_unit_test(worlds_reuse_what_did_not_change),
     };
-    return cmocka_run_group_tests_name("render", tests, NULL, NULL);
+    int rc = cmocka_run_group_tests_name("render", tests, NULL, NULL);
+    world_now_free();
+    return rc;
 }

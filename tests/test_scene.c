@@ -1,5 +1,6 @@
 /* test_scene.c - the scene-file parser: a full scene, and every kind of error with file and line. */
 #include "helpers.h"
+#include "worlds.h"
 
 #include "scene/scene_parse.h"
 
@@ -55,15 +56,16 @@ static void full_scene(void **state)
     assert_int_equal(s->settings.shadows, 0);
     assert_int_equal(s->settings.filter, FILTER_NEAREST);
     assert_float_equal(s->planes[0].normal.y, 2, 0); /* as given */
-    assert_float_equal(s->planes[0].unit.y, 1, R(1e-6)); /* derived */
+    const World *w = world_now(s);
+    assert_float_equal(w->planes[0].unit.y, 1, R(1e-6)); /* derived */
     assert_float_equal(s->spheres[0].radius, 1, 0);
     assert_int_equal(s->instances[0].material, 1);
     assert_float_equal(s->lights[1].dir.y, -5, 0); /* target - position, as given */
-    assert_float_equal(s->lights[1].axis.y, -1, R(1e-6));
+    assert_float_equal(w->lights[1].axis.y, -1, R(1e-6));
     assert_true(s->lights[0].attenuate);
-    assert_true(scene_has(s, FEAT_TEXTURES) && scene_has(s, FEAT_SMOOTH) && scene_has(s, FEAT_SPOT) &&
-                scene_has(s, FEAT_ATTENUATION) && scene_has(s, FEAT_PLANES) && !scene_has(s, FEAT_SHADOWS));
-    assert_true(s->prepared);
+    assert_true(world_has(w, FEAT_TEXTURES) && world_has(w, FEAT_SMOOTH) && world_has(w, FEAT_SPOT) &&
+                world_has(w, FEAT_ATTENUATION) && world_has(w, FEAT_PLANES) && !world_has(w, FEAT_SHADOWS));
+    assert_true(s->checked);
     scene_destroy(s);
 }
 
@@ -74,7 +76,7 @@ static void features_reflect_what_is_used(void **state)
     Err err;
     if (parse("sphere centre 0 0 0 radius 1\nlight point position 0 5 0\n", &s, &err))
         fail_msg("%s", err.msg);
-    assert_int_equal(s->features, FEAT_SHADOWS);
+    assert_int_equal(world_now(s)->features, FEAT_SHADOWS);
     scene_destroy(s);
 }
 
@@ -160,5 +162,7 @@ int main(void)
         cmocka_unit_test(byte_order_mark_and_spellings),
         cmocka_unit_test(errors_name_file_line_and_expectation),
     };
-    return cmocka_run_group_tests_name("scene", tests, NULL, NULL);
+    int rc = cmocka_run_group_tests_name("scene", tests, NULL, NULL);
+    world_now_free();
+    return rc;
 }

@@ -1,5 +1,6 @@
 /* test_wire.c - scenes through the wire format and the asset cache. */
 #include "helpers.h"
+#include "worlds.h"
 
 #include "net/auth.h"
 #include "render/render.h"
@@ -51,18 +52,75 @@ static void free_encoded(const Scene *s, Encoded *e)
     free(e->blob);
 }
 
-static void assert_same_pixels(const Scene *a, const Scene *b)
+static void assert_same_pixels(Scene *a, Scene *b)
 {
     RenderPool *p = render_pool_create(2, NULL);
     enum { W = 64, H = 48 };
     uint8_t pa[W * H * 3], pb[W * H * 3];
-    assert_int_equal(render_lines(p, a, W, H, 0, H, pa, NULL, NULL), 0);
-    assert_int_equal(render_lines(p, b, W, H, 0, H, pb, NULL, NULL), 0);
+    assert_int_equal(render_lines(p, world_now(a), W, H, 0, H, pa, NULL, NULL), 0);
+    assert_int_equal(render_lines(p, world_now(b), W, H, 0, H, pb, NULL, NULL), 0);
     assert_memory_equal(pa, pb, sizeof pa);
     render_pool_destroy(p);
 }
 
 #define SAME(a, b) assert_memory_equal(&(a), &(b), sizeof(a))
+
+/* What a world derives from its description, bit for bit. */
+static void assert_worlds_identical(const World *a, const World *b)
+{
+    assert_int_equal(a->features, b->features);
+    assert_int_equal(a->plane_count, b->plane_count);
+    for (uint32_t i = 0; i < a->plane_count; i++) {
+        const WorldPlane *x = &a->planes[i], *y = &b->planes[i];
+        SAME(x->point, y->point);
+        SAME(x->unit, y->unit);
+        SAME(x->tu, y->tu);
+        SAME(x->tv, y->tv);
+        assert_int_equal(x->material, y->material);
+    }
+    assert_int_equal(a->instance_count, b->instance_count);
+    for (uint32_t i = 0; i < a->instance_count; i++) {
+        const WorldInstance *x = &a->instances[i], *y = &b->instances[i];
+        SAME(x->rot, y->rot);
+        SAME(x->translate, y->translate);
+        SAME(x->scale, y->scale);
+        assert_int_equal(x->identity, y->identity);
+        assert_int_equal(x->material, y->material);
+    }
+    assert_int_equal(a->light_count, b->light_count);
+    for (uint32_t i = 0; i < a->light_count; i++) {
+        const WorldLight *x = &a->lights[i], *y = &b->lights[i];
+        SAME(x->axis, y->axis);
+        SAME(x->cos_outer, y->cos_outer);
+        SAME(x->cos_inner, y->cos_inner);
+        assert_int_equal(x->lamp_first, y->lamp_first);
+        assert_int_equal(x->lamp_count, y->lamp_count);
+    }
+    assert_int_equal(a->lamp_total, b->lamp_total);
+    if (a->lamp_total)
+        assert_memory_equal(a->lamps, b->lamps, a->lamp_total * sizeof *a->lamps);
+    assert_int_equal(a->tree->node_count, b->tree->node_count);
+    for (uint32_t i = 0; i < a->tree->node_count; i++) {
+        SAME(a->tree->nodes[i].bmin, b->tree->nodes[i].bmin);
+        SAME(a->tree->nodes[i].bmax, b->tree->nodes[i].bmax);
+    }
+}
+
+/* The worlds of a and b, built alone, are the same bits; so is b's built
+ * with a's as the previous world (which gives it a's top-level BVH). */
+static void assert_same_worlds(const Scene *a, const Scene *b)
+{
+    World *wa = world_build(a, NULL, NULL), *wb = world_build(b, NULL, NULL), *wr = world_build(b, wa, NULL);
+    assert_non_null(wa);
+    assert_non_null(wb);
+    assert_non_null(wr);
+    assert_worlds_identical(wa, wb);
+    assert_worlds_identical(wa, wr);
+    assert_true(world_shares_top(wr, wa) || wa->top == NULL);
+    world_destroy(wa);
+    world_destroy(wb);
+    world_destroy(wr);
+}
 
 /* Every number rendering reads, given and derived, bit for bit: a client
  * must render from exactly what lanray-render does (a difference of one ulp
@@ -73,7 +131,6 @@ static void assert_scenes_identical(const Scene *a, const Scene *b)
     SAME(a->ambient, b->ambient);
     SAME(a->background, b->background);
     assert_int_equal(a->settings.linear, b->settings.linear);
-    assert_int_equal(a->features, b->features);
     assert_int_equal(a->material_count, b->material_count);
     for (uint32_t i = 0; i < a->material_count; i++) {
         SAME(a->materials[i].kd, b->materials[i].kd);
@@ -85,11 +142,8 @@ static void assert_scenes_identical(const Scene *a, const Scene *b)
     for (uint32_t i = 0; i < a->plane_count; i++) {
         SAME(a->planes[i].point, b->planes[i].point);
         SAME(a->planes[i].normal, b->planes[i].normal);
-        SAME(a->planes[i].unit, b->planes[i].unit);
         SAME(a->planes[i].uv_scale, b->planes[i].uv_scale);
         SAME(a->planes[i].uv_rotate, b->planes[i].uv_rotate);
-        SAME(a->planes[i].tu, b->planes[i].tu);
-        SAME(a->planes[i].tv, b->planes[i].tv);
     }
     assert_int_equal(a->sphere_count, b->sphere_count);
     for (uint32_t i = 0; i < a->sphere_count; i++) {
@@ -114,8 +168,6 @@ static void assert_scenes_identical(const Scene *a, const Scene *b)
         SAME(x->translate, y->translate);
         SAME(x->rotate, y->rotate);
         SAME(x->scale, y->scale);
-        SAME(x->rot, y->rot);
-        SAME(x->world_box, y->world_box);
         assert_int_equal(x->material, y->material);
     }
     assert_int_equal(a->model_count, b->model_count);
@@ -135,18 +187,13 @@ static void assert_scenes_identical(const Scene *a, const Scene *b)
         assert_int_equal(x->kind, y->kind);
         SAME(x->pos, y->pos);
         SAME(x->dir, y->dir);
-        SAME(x->axis, y->axis);
         SAME(x->color, y->color);
         SAME(x->intensity, y->intensity);
-        SAME(x->cos_outer, y->cos_outer);
-        SAME(x->cos_inner, y->cos_inner);
+        SAME(x->angle, y->angle);
+        SAME(x->soft, y->soft);
         assert_int_equal(x->attenuate, y->attenuate);
     }
-    assert_int_equal(a->top.node_count, b->top.node_count);
-    for (uint32_t i = 0; i < a->top.node_count; i++) {
-        SAME(a->top.nodes[i].bmin, b->top.nodes[i].bmin);
-        SAME(a->top.nodes[i].bmax, b->top.nodes[i].bmax);
-    }
+    assert_same_worlds(a, b);
 }
 
 static void scenes_round_trip(void **state)
@@ -167,12 +214,11 @@ static void scenes_round_trip(void **state)
             fail_msg("%s", err.msg);
         assert_true(back->borrowed_assets);
         assert_int_equal(back->light_count, s->light_count);
-        assert_int_equal(back->features, s->features);
         assert_scenes_identical(s, back);
-        /* preparing again (lanray-render does, a server does after every
-         * change) changes nothing either: directions normalised in place
-         * drifted by an ulp every time */
-        assert_int_equal(scene_prepare(back, NULL), 0);
+        /* checking again (a server does after every change) changes
+         * nothing either (directions normalised in place once drifted by an
+         * ulp every time) */
+        assert_int_equal(scene_check(back, NULL), 0);
         assert_scenes_identical(s, back);
         assert_same_pixels(s, back);
         /* models travel as assets: the scene itself stays small */
@@ -198,8 +244,8 @@ static void only_used_parts_travel(void **state)
     scene_add_triangle(b, p, NULL, uv, 0, NULL);
     scene_add_light(a, light_point(v3(0, 5, 0), v3(1, 1, 1), 1, 0), NULL);
     scene_add_light(b, light_spot(v3(0, 5, 0), v3(0, -1, 0), 30, 0, v3(1, 1, 1), 1, 0), NULL);
-    assert_int_equal(scene_prepare(a, NULL), 0);
-    assert_int_equal(scene_prepare(b, NULL), 0);
+    assert_int_equal(scene_check(a, NULL), 0);
+    assert_int_equal(scene_check(b, NULL), 0);
     Sink sa = {0}, sb = {0};
     assert_int_equal(wire_encode_scene(a, NULL, NULL, &sa, NULL), 0);
     assert_int_equal(wire_encode_scene(b, NULL, NULL, &sb, NULL), 0);
@@ -229,7 +275,7 @@ static void a_models_optics_carry_the_settings(void **state)
     BvhOptions opt = bvh_options_default(BVH_SAH);
     if (scene_parse(text, (size_t)n, "t.scene", test_tmpdir(), &opt, 0, &s, &err))
         fail_msg("%s", err.msg);
-    assert_true(scene_has(s, FEAT_REFLECT) && s->material_count == 1 && !material_reflects(&s->materials[0]));
+    assert_true(world_has(world_now(s), FEAT_REFLECT) && s->material_count == 1 && !material_reflects(&s->materials[0]));
     Encoded e = encode(s);
     AssetCache *c = cache_of(s, &e);
     assert_int_equal(wire_decode_scene(e.blob, e.len, c, &back, &err), 0);
@@ -246,14 +292,14 @@ static void a_models_optics_carry_the_settings(void **state)
  * extras word) and the client renders the same RGBE as lanray-render. */
 /* A 40x30 frame of the server's scene a and of the client's decoded b:
  * the same bytes (RGB8 or RGBE). */
-static void assert_renders_alike(const Scene *a, const Scene *b)
+static void assert_renders_alike(Scene *a, Scene *b)
 {
     enum { W = 40, H = 30 };
     static uint8_t pa[W * H * 4], pb[W * H * 4];
     RenderPool *p = render_pool_create(2, NULL);
-    assert_int_equal(render_lines(p, a, W, H, 0, H, pa, NULL, NULL), 0);
-    assert_int_equal(render_span(p, b, W, H, 0, W * H, pb, NULL, NULL, NULL), 0);
-    assert_memory_equal(pa, pb, (size_t)W * H * render_pixel_bytes(a));
+    assert_int_equal(render_lines(p, world_now(a), W, H, 0, H, pa, NULL, NULL), 0);
+    assert_int_equal(render_span(p, world_now(b), W, H, 0, W * H, pb, NULL, NULL, NULL), 0);
+    assert_memory_equal(pa, pb, (size_t)W * H * render_pixel_bytes(&a->settings));
     render_pool_destroy(p);
 }
 
@@ -276,7 +322,7 @@ static void sampling_limit_and_filter_travel(void **state)
         s->settings.depth_limit = cases[i].limit;
         s->settings.filter = cases[i].filter;
         s->settings.depth = 1;
-        assert_int_equal(scene_prepare(s, NULL), 0);
+        assert_int_equal(scene_check(s, NULL), 0);
         Encoded e = encode(s);
         AssetCache *c = cache_of(s, &e);
         if (wire_decode_scene(e.blob, e.len, c, &back, &err))
@@ -307,7 +353,7 @@ static void hdr_travels_as_a_flag(void **state)
     if (wire_decode_scene(e.blob, e.len, c, &back, &err))
         fail_msg("%s", err.msg);
     assert_int_equal(back->settings.hdr, 1);
-    assert_int_equal(render_pixel_bytes(back), 4);
+    assert_int_equal(render_pixel_bytes(&back->settings), 4);
     assert_renders_alike(s, back);
     scene_destroy(back);
     asset_cache_destroy(c);
@@ -316,7 +362,7 @@ static void hdr_travels_as_a_flag(void **state)
     s->settings.hdr = 0;
     c = cache_of(s, &plain);
     assert_int_equal(wire_decode_scene(plain.blob, plain.len, c, &back, NULL), 0);
-    assert_int_equal(render_pixel_bytes(back), 3);
+    assert_int_equal(render_pixel_bytes(&back->settings), 3);
     scene_destroy(back);
     asset_cache_destroy(c);
     free_encoded(s, &plain);
@@ -399,10 +445,10 @@ static void malformed_scenes_and_assets_are_rejected(void **state)
     Sink sk = {0};
     /* only a scene whose checks have passed is sent */
     assert_int_equal(wire_encode_scene(one, NULL, NULL, &sk, &err), -1);
-    assert_contains(err.msg, "not prepared");
+    assert_contains(err.msg, "not checked");
     sink_free(&sk);
     sk = (Sink){0};
-    assert_int_equal(scene_prepare(one, NULL), 0);
+    assert_int_equal(scene_check(one, NULL), 0);
     assert_int_equal(wire_encode_scene(one, NULL, NULL, &sk, NULL), 0);
     assert_int_equal(sk.len, 304);
     assert_int_equal(wire_decode_scene(sk.data, sk.len, c = asset_cache_create(), &back, &err), 0);
@@ -423,7 +469,7 @@ static void malformed_scenes_and_assets_are_rejected(void **state)
      * hdr, at 152: depth, depth limit, cutoff, Fresnel, glass shadows,
      * rough samples), moving the rest along */
     one->materials[0].kr = v3_splat(R(0.5));
-    assert_int_equal(scene_prepare(one, NULL), 0);
+    assert_int_equal(scene_check(one, NULL), 0);
     sk = (Sink){0};
     assert_int_equal(wire_encode_scene(one, NULL, NULL, &sk, NULL), 0);
     assert_int_equal(sk.len, 304 + 32);
@@ -437,7 +483,7 @@ static void malformed_scenes_and_assets_are_rejected(void **state)
     assert_contains(err.msg, "'reflect' must not be negative");
     sink_free(&sk);
     one->settings.depth = 8;
-    assert_int_equal(scene_prepare(one, NULL), 0);
+    assert_int_equal(scene_check(one, NULL), 0);
     sk = (Sink){0};
     assert_int_equal(wire_encode_scene(one, NULL, NULL, &sk, NULL), 0);
     assert_int_equal(sk.len, 304 + 32 + 28);
@@ -456,7 +502,7 @@ static void malformed_scenes_and_assets_are_rejected(void **state)
      * fisheye's field of view at 80, the kind at 88) follows the zoom */
     one->camera.kind = CAMERA_FISHEYE;
     one->camera.fov = 200;
-    assert_int_equal(scene_prepare(one, NULL), 0);
+    assert_int_equal(scene_check(one, NULL), 0);
     sk = (Sink){0};
     assert_int_equal(wire_encode_scene(one, NULL, NULL, &sk, NULL), 0);
     assert_int_equal(sk.len, 304 + 32 + 20);
@@ -488,5 +534,7 @@ int main(void)
         cmocka_unit_test(sampling_limit_and_filter_travel),
         cmocka_unit_test(malformed_scenes_and_assets_are_rejected),
     };
-    return cmocka_run_group_tests_name("wire", tests, NULL, NULL);
+    int rc = cmocka_run_group_tests_name("wire", tests, NULL, NULL);
+    world_now_free();
+    return rc;
 }

@@ -57,7 +57,7 @@ static void show_progress(void *ctx, double elapsed, char *line, size_t size)
  * inside a segment.  A call into the pool costs a hand-off when the pool has
  * worker threads; the simulator models it as the per-segment overhead, so it
  * is measured on a one-pixel call and taken off. */
-static int write_profile(RenderPool *pool, const Scene *scene, int width, int height, uint8_t *pixels,
+static int write_profile(RenderPool *pool, const World *scene, int width, int height, uint8_t *pixels,
                          const char *profile, Err *err)
 {
     enum { PROFILE_PASSES = 15, PROFILE_CALLS = 64 };
@@ -77,7 +77,7 @@ static int write_profile(RenderPool *pool, const Scene *scene, int width, int he
     for (int k = 0; rc == 0 && k < PROFILE_PASSES; k++)
         for (int y = 0; rc == 0 && y < height; y++) {
             double a = timer_now();
-            uint8_t *dst = pixels + (size_t)y * width * render_pixel_bytes(scene);
+            uint8_t *dst = pixels + (size_t)y * width * render_pixel_bytes(&scene->view.settings);
             rc = render_lines(pool, scene, width, height, y, 1, dst, NULL, err);
             double t = timer_now() - a;
             line[y] = k == 0 ? t : fmin(line[y], t);
@@ -260,6 +260,7 @@ static int apply_settings(Scene *scene, Args *a)
 /* A render: what job_open makes, job_close alone frees. */
 typedef struct {
     Scene *scene;
+    World *world; /* built from scene */
     BvhOptions bvh;
     RenderPool *pool;
     uint8_t *pixels;
@@ -274,6 +275,7 @@ static void job_close(Job *j)
     image_writer_abort(j->wr);
     free(j->pixels);
     render_pool_destroy(j->pool);
+    world_destroy(j->world);
     scene_destroy(j->scene);
 }
 
@@ -302,14 +304,14 @@ static int job_open(Job *j, Args *a, Err *err)
     int rc = apply_settings(j->scene, a);
     if (rc)
         return rc;
-    if (scene_prepare(j->scene, err)) {
+    if (scene_check(j->scene, err) || !(j->world = world_build(j->scene, NULL, err))) {
         fprintf(stderr, "lanray-render: %s\n", err->msg);
         return 1;
     }
     j->load_s = timer_now() - t0;
     cli_warn_scene("lanray-render", j->scene);
     const int width = a->width, height = a->height;
-    j->bpp = render_pixel_bytes(j->scene);
+    j->bpp = render_pixel_bytes(&j->scene->settings);
     uint64_t frame_bytes = (uint64_t)width * (uint64_t)height * j->bpp;
     j->banded = a->band_lines ? a->band_lines < height : frame_bytes > WHOLE_FRAME_BYTES;
     j->band = !j->banded ? height : a->band_lines ? a->band_lines : (int)(BAND_BYTES / ((uint64_t)width * j->bpp));
@@ -354,7 +356,7 @@ static int job_render(Job *j, const Args *a, RayStats *st, double *best, double 
             RayStats part;
             int n = y + seg <= a->height ? seg : a->height - y;
             uint8_t *dst = j->pixels + (j->banded ? 0 : (size_t)y * a->width * j->bpp);
-            rc = render_lines(j->pool, j->scene, a->width, a->height, y, n, dst, &part, err);
+            rc = render_lines(j->pool, j->world, a->width, a->height, y, n, dst, &part, err);
             ray_stats_add(st, part);
             if (rc == 0 && j->banded && f == a->repeat - 1) /* in bands, the last pass writes */
                 rc = image_writer_rows(j->wr, j->pixels, n, err) ? (j->wr = NULL, -1) : 0;
@@ -366,7 +368,7 @@ static int job_render(Job *j, const Args *a, RayStats *st, double *best, double 
     progress_stop(prog);
     render_pool_watch(j->pool, NULL);
     if (rc == 0 && a->profile)
-        rc = write_profile(j->pool, j->scene, a->width, a->height, j->pixels, a->profile, err);
+        rc = write_profile(j->pool, j->world, a->width, a->height, j->pixels, a->profile, err);
     if (rc == 0 && !j->banded)
         rc = image_writer_rows(j->wr, j->pixels, a->height, err) ? (j->wr = NULL, -1) : 0;
     ImageWriter *wr = j->wr;

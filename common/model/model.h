@@ -51,7 +51,7 @@ typedef struct {
 ModelBytes model_bytes(const Model *m);
 
 /* Builds (or drops) the wide tree for the SIMD path in use; called by
- * scene_prepare, before any thread traces. */
+ * world_build, before any thread traces. */
 int model_prepare_simd(Model *m, Err *err);
 
 /* Closest hit nearer than tmax in model space: the smallest t, and of equal

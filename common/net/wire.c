@@ -30,8 +30,8 @@ enum { SEC_TEXTURES, SEC_MATERIALS, SEC_SPHERES, SEC_PLANES, SEC_TRIANGLES, SEC_
 
 int wire_encode_scene(const Scene *s, const Asset *model_assets, const Asset *texture_assets, Sink *o, Err *err)
 {
-    if (!s->prepared) /* the scene's checks have passed */
-        return err_set(err, "wire: scene not prepared");
+    if (!s->checked) /* the scene's checks have passed */
+        return err_set(err, "wire: scene not checked");
     sink_u32(o, WIRE_MAGIC);
     sink_u32(o, WIRE_VERSION);
     sink_u32(o, PROTO_BOM);
@@ -204,8 +204,8 @@ int wire_decode_scene(const void *data, size_t len, const AssetCache *cache, Sce
         bad = "trailing bytes";
     if (bad)
         rc = err_set(err, "scene: %s", bad);
-    /* scene_prepare checks every reference and value (the tables' ranges, indices) */
-    if (rc == 0 && scene_prepare(s, err))
+    /* scene_check checks every reference and value (the tables' ranges, indices) */
+    if (rc == 0 && scene_check(s, err))
         rc = -1;
     if (rc) {
         scene_destroy(s);

@@ -21,12 +21,12 @@
                          * 5: every item by its field table, with group bits in place of
                          * the extras word */
 
-/* Serialises s, prepared (its checks passed); model_assets[i] / texture_assets[i] are the assets of
+/* Serialises s, checked (scene_check); model_assets[i] / texture_assets[i] are the assets of
  * s->models[i] / s->textures[i]. */
 int wire_encode_scene(const Scene *s, const Asset *model_assets, const Asset *texture_assets, Sink *out, Err *err);
 
 /* Decodes a scene whose models and textures are in the cache; the scene
- * borrows them and comes back prepared. */
+ * borrows them and comes back checked (scene_check). */
 int wire_decode_scene(const void *data, size_t len, const AssetCache *cache, Scene **out, Err *err);
 
 #endif

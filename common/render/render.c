@@ -96,7 +96,7 @@ static RayStats pool_run_counted(RenderPool *p, JobFn fn, void *ctx, uint32_t ch
 }
 
 typedef struct {
-    const Scene *s;
+    const World *w;
     CameraFrame cam;
     int width;
     uint64_t first, count; /* the span, in pixels */
@@ -145,10 +145,10 @@ static uint32_t pixel_key(real x, real y)
  * pixel's key and the position's number among the pixel's. */
 static const SampleId *sample_ids(const Frame *f, const Samples *sm, SampleId *ids)
 {
-    if (!scene_uses(f->s, FEAT_AREA | FEAT_ROUGH | FEAT_LENS))
+    if (!world_uses(f->w, FEAT_AREA | FEAT_ROUGH | FEAT_LENS))
         return NULL;
     for (int i = 0; i < sm->n; i++)
-        ids[i] = f->s->settings.sampling == SAMPLING_PRODUCT
+        ids[i] = f->w->view.settings.sampling == SAMPLING_PRODUCT
                      ? (SampleId){sample_seed(sm->xs[i], sm->ys[i]), 0, 1}
                      : (SampleId){pixel_key(sm->xs[i], sm->ys[i]), sm->pos ? sm->pos[i] : 0, sm->per_pixel};
     return ids;
@@ -202,8 +202,8 @@ static const RayDiff *camera_diffs(const Frame *f, const real *xs, const real *y
  * ray a ray of the pixel's count. */
 static void sample_packet_lens(const Frame *f, const Samples *sm, vec3 *out, RayStats *st, uint64_t *keys)
 {
-    const int product = f->s->settings.sampling == SAMPLING_PRODUCT;
-    const uint32_t k = (uint32_t)settings_lens_samples(&f->s->settings),
+    const int product = f->w->view.settings.sampling == SAMPLING_PRODUCT;
+    const uint32_t k = (uint32_t)settings_lens_samples(&f->w->view.settings),
                    per = product ? k * k : sample_share(k * k, sm->per_pixel);
     /* a lens ray's share of the aperture (a square of the same area) */
     const real cone_w = R(1.7724538509055159) * f->cam.lens_radius / sqrt((real)(product ? per : per * sm->per_pixel));
@@ -248,7 +248,7 @@ static void sample_packet_lens(const Frame *f, const Samples *sm, vec3 *out, Ray
             first[m] = j == 0;
             which[m++] = i;
             if (m == TRACE_PACKET || (i == n - 1 && j == per - 1)) {
-                shade_packet(f->s, rays, m, col, st, keys ? key : NULL, rs, pd ? diff : NULL);
+                shade_packet(f->w, rays, m, col, st, keys ? key : NULL, rs, pd ? diff : NULL);
                 for (int q = 0; q < m; q++) {
                     out[which[q]] = v3_add(out[which[q]], col[q]);
                     if (keys && first[q])
@@ -284,14 +284,14 @@ static void sample_packet_other(const Frame *f, const Samples *sm, vec3 *out, Ra
                 diff[m] = pd[i];
             which[m++] = i;
         } else {
-            out[i] = f->s->background;
+            out[i] = f->w->background;
             if (keys)
                 keys[i] = UINT64_MAX;
         }
     }
     if (m == 0)
         return;
-    shade_packet(f->s, rays, m, col, st, keys ? key : NULL, rs, pd ? diff : NULL);
+    shade_packet(f->w, rays, m, col, st, keys ? key : NULL, rs, pd ? diff : NULL);
     for (int k = 0; k < m; k++) {
         out[which[k]] = col[k];
         if (keys)
@@ -307,7 +307,7 @@ static void sample_packet(const Frame *f, const Samples *sm, vec3 *out, RayStats
         sample_packet_other(f, sm, out, st, keys);
         return;
     }
-    if (scene_uses(f->s, FEAT_LENS)) {
+    if (world_uses(f->w, FEAT_LENS)) {
         sample_packet_lens(f, sm, out, st, keys);
         return;
     }
@@ -341,7 +341,7 @@ static void sample_packet(const Frame *f, const Samples *sm, vec3 *out, RayStats
     }
     SampleId id[TRACE_PACKET];
     RayDiff diff[TRACE_PACKET];
-    shade_packet(f->s, rays, n, out, st, keys, sample_ids(f, sm, id), camera_diffs(f, px, py, n, sm->step, diff));
+    shade_packet(f->w, rays, n, out, st, keys, sample_ids(f, sm, id), camera_diffs(f, px, py, n, sm->step, diff));
 }
 
 /* One sample a pixel at each of n positions (their pixels' centres). */
@@ -437,7 +437,7 @@ static void job_grid(void *ctx, uint32_t chunk, RayStats *st)
         return;
     uint64_t i0, i1;
     chunk_range(f, chunk, f->count, &i0, &i1);
-    int n = f->s->settings.aa;
+    int n = f->w->view.settings.aa;
     uint64_t before = ray_stats_total(st);
     for (uint64_t i = i0; i < i1;) {
         uint64_t g = f->first + i;
@@ -567,7 +567,7 @@ static void job_refine(void *ctx, uint32_t chunk, RayStats *st)
         if (py < last_line)
             edge |= key[f->width] != key[0] || contrasts(col + row, col);
         if (edge)
-            put_pixel(f, &f->pixels[f->bpp * i], sample_grid(f, px, py, f->s->settings.aa, st));
+            put_pixel(f, &f->pixels[f->bpp * i], sample_grid(f, px, py, f->w->view.settings.aa, st));
         else
             memcpy(&f->pixels[f->bpp * i], &f->centre[f->bpp * at], (size_t)f->bpp);
     }
@@ -604,7 +604,7 @@ static RayStats render_grid(RenderPool *p, Frame *f)
 {
     const uint64_t w = (uint64_t)f->width, end = f->first + f->count;
     const uint64_t r0 = (f->first + w - 1) / w, r1 = end / w; /* whole lines [r0, r1) */
-    if (f->s->settings.aa != 1 || r1 < r0 + 2)
+    if (f->w->view.settings.aa != 1 || r1 < r0 + 2)
         return pool_run_counted(p, job_grid, f, chunks_of(f, f->count));
     const uint64_t rb = r0 + (r1 - r0) / 2 * 2; /* the pairs end */
     RayStats st = grid_lines(p, f, f->first, r0 * w - f->first);
@@ -617,11 +617,9 @@ static RayStats render_grid(RenderPool *p, Frame *f)
     return st;
 }
 
-int render_span(RenderPool *p, const Scene *s, int width, int height, uint64_t first, uint64_t count, uint8_t *pixels,
+int render_span(RenderPool *p, const World *w, int width, int height, uint64_t first, uint64_t count, uint8_t *pixels,
                 RayStats *stats, const atomic_int *cancel, Err *err)
 {
-    if (!s->prepared)
-        return err_set(err, "render: scene not prepared");
     if (width < 1 || height < 1 || width > RENDER_MAX_SIDE || height > RENDER_MAX_SIDE)
         return err_set(err, "render: frame %dx%d out of range 1..%d", width, height, RENDER_MAX_SIDE);
     uint64_t total = (uint64_t)width * (uint64_t)height;
@@ -636,21 +634,21 @@ int render_span(RenderPool *p, const Scene *s, int width, int height, uint64_t f
         return err_set(err, "render: span of %llu pixels too large", (unsigned long long)count);
     Frame f;
     memset(&f, 0, sizeof f);
-    f.s = s;
-    f.cam = camera_frame(&s->camera, width, height);
+    f.w = w;
+    f.cam = camera_frame(&w->view.camera, width, height);
     f.width = width;
     f.first = first;
     f.count = count;
     f.pixels = pixels;
     f.cancel = cancel;
     f.progress = p->progress;
-    f.linear = s->settings.linear;
-    f.diffs = scene_uses(s, FEAT_TEXTURES);
-    f.bpp = (int)render_pixel_bytes(s);
-    f.gain = pow(R(2), s->settings.exposure);
+    f.linear = w->view.settings.linear;
+    f.diffs = world_uses(w, FEAT_TEXTURES);
+    f.bpp = (int)render_pixel_bytes(&w->view.settings);
+    f.gain = pow(R(2), w->view.settings.exposure);
     f.chunk = chunk_size(count, pool_threads(p->pool));
     RayStats st;
-    if (!s->settings.adaptive || s->settings.aa == 1) {
+    if (!w->view.settings.adaptive || w->view.settings.aa == 1) {
         st = render_grid(p, &f);
     } else {
         /* keys for the span's lines and the lines just above and below */
@@ -679,11 +677,11 @@ int render_span(RenderPool *p, const Scene *s, int width, int height, uint64_t f
     return cancelled(&f) ? RENDER_CANCELLED : 0;
 }
 
-int render_lines(RenderPool *p, const Scene *s, int width, int height, int first_line, int count, uint8_t *pixels,
+int render_lines(RenderPool *p, const World *w, int width, int height, int first_line, int count, uint8_t *pixels,
                  RayStats *stats, Err *err)
 {
     if (first_line < 0 || count < 0 || count > height - first_line)
         return err_set(err, "render: lines %d..%d outside a frame of %d lines", first_line, first_line + count, height);
-    return render_span(p, s, width, height, (uint64_t)first_line * (uint64_t)(width > 0 ? width : 0),
+    return render_span(p, w, width, height, (uint64_t)first_line * (uint64_t)(width > 0 ? width : 0),
                        (uint64_t)count * (uint64_t)(width > 0 ? width : 0), pixels, stats, NULL, err);
 }

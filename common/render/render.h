@@ -21,7 +21,7 @@ typedef struct RenderPool RenderPool;
 
 /* Bytes a pixel of the scene's frames: 3 (RGB8 codes), or 4 (RGBE) with
  * settings hdr. */
-static inline uint32_t render_pixel_bytes(const Scene *s) { return s->settings.hdr ? 4u : 3u; }
+static inline uint32_t render_pixel_bytes(const RenderSettings *rs) { return rs->hdr ? 4u : 3u; }
 
 /* Pixels finished and rays traced so far, for a progress line that another
  * thread reads while the pool renders (relaxed atomics: a rough count). */
@@ -38,7 +38,7 @@ int render_pool_threads(const RenderPool *p);
 /* Renders lines [first_line, first_line + count) of a width x height frame of
  * the prepared scene into pixels (RGB8, count*width*3 bytes; with settings
  * hdr, RGBE, count*width*4). */
-int render_lines(RenderPool *p, const Scene *s, int width, int height, int first_line, int count, uint8_t *pixels,
+int render_lines(RenderPool *p, const World *w, int width, int height, int first_line, int count, uint8_t *pixels,
                  RayStats *stats, Err *err);
 
 #define RENDER_CANCELLED 1
@@ -46,7 +46,7 @@ int render_lines(RenderPool *p, const Scene *s, int width, int height, int first
  * start or end inside a line).  When cancel is not NULL and becomes non-zero,
  * the workers stop taking chunks and RENDER_CANCELLED is returned (the
  * pixels are then incomplete). */
-int render_span(RenderPool *p, const Scene *s, int width, int height, uint64_t first, uint64_t count, uint8_t *pixels,
+int render_span(RenderPool *p, const World *w, int width, int height, uint64_t first, uint64_t count, uint8_t *pixels,
                 RayStats *stats, const atomic_int *cancel, Err *err);
 
 #endif

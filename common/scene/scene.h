@@ -1,11 +1,12 @@
-/* scene.h - everything a frame is rendered from.
+/* scene.h - a scene's description: its items as they were given.
  *
  * A Scene is filled through the scene_add_* calls (by the scene-file parser,
- * the built-in default scene or the wire decoder), then
- * scene_prepare() derives what rendering needs: instance transforms, the
- * top-level BVH over spheres, triangles and model instances (planes are
- * unbounded and tested apart), and the feature flags that let the inner loop
- * skip what the scene does not use. */
+ * the built-in default scene or the wire decoder) and checked once by
+ * scene_check (every item by its field table, scene/scene_fields.h, and the
+ * references between items).  It holds plain values only: what rendering
+ * derives from them (plane axes, instance transforms, light cones, lamps,
+ * the top-level BVH, the features used) is a World's (scene/world.h), built
+ * from a checked description. */
 #ifndef LANRAY_SCENE_H
 #define LANRAY_SCENE_H
 
@@ -30,17 +31,14 @@ typedef struct {
 } Sphere;
 
 /* Scene items keep the values they were given (a file, the wire); what
- * scene_prepare derives from them goes into fields of their own, so that
- * preparing a scene twice, or once on each side of the wire, gives the same
- * bits: a direction normalised again can move by an ulp. */
+ * a world derives from them is the world's (world.h), so that building a
+ * world twice, or once on each side of the wire, gives the same bits: a
+ * direction normalised again can move by an ulp. */
 typedef struct {
     vec3 point, normal; /* as given: normal need not be unit length */
     uint32_t material;
     real uv_scale;      /* planar texture mapping: world units per repeat (> 0) */
     real uv_rotate;     /* and its turn about the normal, degrees */
-    /* derived */
-    vec3 unit;          /* the unit normal */
-    vec3 tu, tv;        /* texture coordinates of p: ((p - point).tu, (p - point).tv) */
 } Plane;
 
 /* Shading attributes of a scene-level triangle (positions live in Scene.tris). */
@@ -56,10 +54,6 @@ typedef struct {
     vec3 translate, rotate; /* rotate: degrees about x, y, z */
     real scale;             /* uniform, > 0 */
     int32_t material;       /* scene material overriding the model's, or -1 */
-    /* derived by scene_prepare */
-    mat3 rot;               /* model -> world rotation */
-    int identity;           /* no rotation, scale 1, no translation: rays need no transform */
-    Aabb world_box;
 } Instance;
 
 /* Area lights (a sphere, a rectangle) send `samples` x `samples` shadow
@@ -67,7 +61,7 @@ typedef struct {
  *
  * A light is not seen; an emissive primitive placed where it is shows it
  * (a lamp).  Such a primitive encloses the light's points, so its shadow
- * rays would all end on it: scene_prepare pairs every light with its lamp
+ * rays would all end on it: world_build pairs every light with its lamp
  * (the emissive spheres around its centre, or around which its sphere lies;
  * for a rectangle, the emissive scene triangles in its plane that overlap
  * it), and the light's shadow rays pass them. */
@@ -86,10 +80,6 @@ typedef struct {
     real radius;       /* sphere: pos is its centre */
     vec3 edge1, edge2; /* rectangle: pos is a corner, the edges span it */
     int samples;       /* sphere, rectangle: the side of the pattern of shadow rays */
-    /* derived */
-    vec3 axis;         /* dir, unit length */
-    real cos_outer, cos_inner;
-    uint32_t lamp_first, lamp_count; /* its lamp: Scene.lamps[lamp_first ..], which its shadow rays pass */
 } Light;
 
 typedef enum { SHADE_PHONG = 0, SHADE_DIFFUSE = 1 } ShadeModel;
@@ -136,23 +126,6 @@ typedef struct {
     int sampling_given; /* the file set aa or adaptive */
 } RenderSettings;
 
-enum {
-    FEAT_TEXTURES = 1 << 0,
-    FEAT_SMOOTH = 1 << 1,
-    FEAT_SPOT = 1 << 2,
-    FEAT_ATTENUATION = 1 << 3,
-    FEAT_PLANES = 1 << 4,
-    FEAT_SHADOWS = 1 << 5,
-    FEAT_SPECULAR = 1 << 6,
-    FEAT_COLOURS = 1 << 7, /* an instance shows its model's vertex colours */
-    FEAT_REFLECT = 1 << 8, /* a material with mirror reflectance */
-    FEAT_REFRACT = 1 << 9, /* a dielectric material */
-    FEAT_EMIT = 1 << 10,   /* an emissive material */
-    FEAT_AREA = 1 << 11,   /* a sphere or rectangle light */
-    FEAT_ROUGH = 1 << 12,  /* a mirror with roughness */
-    FEAT_LENS = 1 << 13,   /* a camera with an aperture (depth of field) */
-};
-
 typedef struct {
     Camera camera;
     vec3 ambient, background;
@@ -169,13 +142,7 @@ typedef struct {
     Light *lights;         uint32_t light_count, light_cap;
 
     int borrowed_assets;   /* models and textures belong to someone else (a client's asset cache) */
-
-    /* derived by scene_prepare */
-    Bvh top;               /* prims index spheres, then triangles, then instances */
-    uint32_t *lamps;       /* the lights' lamps: top-level primitive numbers, by light (Light.lamp_first) */
-    uint32_t lamp_total, lamp_cap;
-    uint32_t features;
-    int prepared;
+    int checked;           /* scene_check passed since the last change */
 } Scene;
 
 Scene *scene_create(void);
@@ -217,21 +184,13 @@ static inline int settings_lens_samples(const RenderSettings *rs)
     return rs->lens_samples ? rs->lens_samples : rs->sampling == SAMPLING_PRODUCT ? 4 : 3;
 }
 
-/* Checks references and values, derives transforms, builds the top-level BVH. */
-int scene_prepare(Scene *s, Err *err);
-/* Rebuilds every model's BVH with another builder (then call scene_prepare). */
+/* The one check of a scene however it was made: every item by its table,
+ * the references between items. */
+int scene_check(Scene *s, Err *err);
+/* The part of it a frame's camera and settings take. */
+int scene_check_view(const Camera *c, const RenderSettings *rs, Err *err);
+/* Rebuilds every model's BVH with another builder (then build a new world). */
 int scene_rebuild_models(Scene *s, const BvhOptions *opt, Err *err);
 uint64_t scene_triangle_count(const Scene *s);
-
-static inline int scene_has(const Scene *s, uint32_t feature) { return (s->features & feature) != 0; }
-
-/* What the inner loop asks before taking an optional path.  A LANRAY_MINIMAL
- * build (make FEATURES=minimal) compiles every optional feature out, so that
- * `make bench` can show that a scene not using them pays nothing for them. */
-#ifdef LANRAY_MINIMAL
-#define scene_uses(s, feature) ((void)(s), 0)
-#else
-#define scene_uses(s, feature) scene_has(s, feature)
-#endif
 
 #endif

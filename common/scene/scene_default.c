@@ -154,7 +154,7 @@ int scene_default(Scene **out, const BvhOptions *opt, Err *err)
     rc = rc ? rc : scene_add_light(s, light_sphere(at, R(0.3), 3, v3(1, 1, 1), R(0.75), 0), err);
     rc = rc ? rc : scene_add_light(s, light_spot(v3(R(-2.5), R(5), R(2.5)), v3(R(0.35), -1, R(-0.45)), 36, 8,
                                                  v3(1, R(0.85), R(0.6)), R(0.7), 0), err);
-    rc = rc ? rc : scene_prepare(s, err);
+    rc = rc ? rc : scene_check(s, err);
     if (rc) {
         scene_destroy(s);
         return -1;

@@ -357,7 +357,7 @@ int scene_parse(char *text, size_t len, const char *name, const char *dir, const
         else
             rc = d->fn(&c, &t);
     }
-    if (rc == 0 && scene_prepare(c.s, err))
+    if (rc == 0 && scene_check(c.s, err))
         rc = err_prefix(err, "%s", name);
     free(c.materials.items);
     free(c.textures.items);

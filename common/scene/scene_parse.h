@@ -13,7 +13,7 @@
 /* Parses scene text (NUL-terminated, modified in place); relative file names
  * are resolved against dir.  `bvh` is the builder for models read from OBJ;
  * when `force` is set, .tmd models are rebuilt with it too.  The scene comes
- * back prepared. */
+ * back checked (scene_check). */
 int scene_parse(char *text, size_t len, const char *name, const char *dir, const BvhOptions *bvh, int force,
                 Scene **out, Err *err);
 int scene_load(const char *path, const BvhOptions *bvh, int force, Scene **out, Err *err);

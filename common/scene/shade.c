@@ -32,7 +32,7 @@
 
 /* The point (u, v) of the unit square on area light l, as seen from p: a
  * rectangle's point, or a sphere's on the disc it shows p. */
-static vec3 area_point(const Light *l, vec3 p, real u, real v)
+static vec3 area_point(const WorldLight *l, vec3 p, real u, real v)
 {
     if (l->kind == LIGHT_RECT)
         return v3_add(l->pos, v3_add(v3_scale(l->edge1, u), v3_scale(l->edge2, v)));
@@ -50,11 +50,11 @@ static vec3 area_point(const Light *l, vec3 p, real u, real v)
  * light's samples^2 stratified points, each ray its own.  One budget (the
  * default): j of the ray's share of the samples^2 points its pixel takes
  * (base/sample.h). */
-static inline int area_sample(const Scene *s, const Light *l, uint32_t li, const SampleId *id, uint32_t j, real *u,
+static inline int area_sample(const World *w, const WorldLight *l, uint32_t li, const SampleId *id, uint32_t j, real *u,
                               real *v, real *share)
 {
     const uint32_t k = (uint32_t)(l->samples * l->samples), key = sample_mix(id->key, 0x4c000000u + li);
-    if (s->settings.sampling == SAMPLING_PRODUCT) {
+    if (w->view.settings.sampling == SAMPLING_PRODUCT) {
         sample_stratum(key, j, (uint32_t)l->samples, u, v);
         *share = R(1) / (real)k;
         return 1;
@@ -70,7 +70,7 @@ static inline int area_sample(const Scene *s, const Light *l, uint32_t li, const
 /* Light arriving at p from light l, number li (for an area light, from
  * its point j for the ray's sample id): unit direction towards the light,
  * distance, radiance. */
-static inline __attribute__((always_inline)) int light_at(const Scene *s, const Light *l, vec3 p, const SampleId *id,
+static inline __attribute__((always_inline)) int light_at(const World *w, const WorldLight *l, vec3 p, const SampleId *id,
                                                          uint32_t li, uint32_t j, vec3 *dir, real *dist,
                                                          vec3 *radiance, const int optional)
 {
@@ -80,9 +80,9 @@ static inline __attribute__((always_inline)) int light_at(const Scene *s, const 
         *dist = REAL_INF;
     } else {
         vec3 pos = l->pos;
-        if (optional && scene_uses(s, FEAT_AREA) && light_is_area(l)) {
+        if (optional && world_uses(w, FEAT_AREA) && world_light_is_area(l)) {
             real u, v, share;
-            if (!area_sample(s, l, li, id, j, &u, &v, &share))
+            if (!area_sample(w, l, li, id, j, &u, &v, &share))
                 return 0;
             pos = area_point(l, p, u, v);
             scale *= share;
@@ -93,9 +93,9 @@ static inline __attribute__((always_inline)) int light_at(const Scene *s, const 
             return 0;
         *dist = sqrt(d2);
         *dir = v3_scale(d, R(1) / *dist);
-        if (optional && scene_uses(s, FEAT_ATTENUATION) && l->attenuate)
+        if (optional && world_uses(w, FEAT_ATTENUATION) && l->attenuate)
             scale /= d2;
-        if (optional && scene_uses(s, FEAT_SPOT) && l->kind == LIGHT_SPOT) {
+        if (optional && world_uses(w, FEAT_SPOT) && l->kind == LIGHT_SPOT) {
             real c = -v3_dot(*dir, l->axis);
             if (c <= l->cos_outer)
                 return 0;
@@ -104,7 +104,7 @@ static inline __attribute__((always_inline)) int light_at(const Scene *s, const 
                 scale *= t * t * (R(3) - R(2) * t);
             }
         }
-        if (optional && scene_uses(s, FEAT_AREA) && l->kind == LIGHT_RECT)
+        if (optional && world_uses(w, FEAT_AREA) && l->kind == LIGHT_RECT)
             scale *= fabs(v3_dot(*dir, l->axis));
     }
     if (!(scale > R(0)))
@@ -140,34 +140,34 @@ static void add_light(Shading *sh, vec3 L, vec3 rad, real ndotl, uint32_t i)
     }
 }
 
-static inline __attribute__((always_inline)) void shade_start(const Scene *s, const Ray *r, const Hit *hit,
+static inline __attribute__((always_inline)) void shade_start(const World *w, const Ray *r, const Hit *hit,
                                                               Shading *sh, const RayDiff *rd, const int optional)
 {
-    trace_surface(s, r, hit, &sh->sf);
+    trace_surface(w, r, hit, &sh->sf);
     const Material *m = sh->sf.mat;
-    sh->kd = optional && scene_uses(s, FEAT_COLOURS) && sh->sf.has_colour ? sh->sf.colour : m->kd;
-    const int textured = optional && scene_uses(s, FEAT_TEXTURES) && sh->sf.tex && sh->sf.has_uv;
+    sh->kd = optional && world_uses(w, FEAT_COLOURS) && sh->sf.has_colour ? sh->sf.colour : m->kd;
+    const int textured = optional && world_uses(w, FEAT_TEXTURES) && sh->sf.tex && sh->sf.has_uv;
     /* the footprint where a texture reads it or a mirror's or glass's rays carry it on */
     sh->rd = optional && (textured || material_reflects(m) || material_dielectric(m)) ? rd : NULL;
     sh->t = hit->t;
     TexFootprint fp;
     if (sh->rd) {
         raydiff_at(rd, r->dir, hit->t, sh->sf.ng, &sh->dpdx, &sh->dpdy);
-        trace_surface_change(s, hit, &sh->sf, sh->dpdx, sh->dpdy, &fp, &sh->dndx, &sh->dndy);
+        trace_surface_change(w, hit, &sh->sf, sh->dpdx, sh->dpdy, &fp, &sh->dndx, &sh->dndy);
     }
     if (textured)
-        sh->kd = v3_mul(sh->kd, texture_sample(sh->sf.tex, sh->sf.u, sh->sf.v, sh->rd ? &fp : NULL, s->settings.filter));
-    sh->col = v3_mul(s->ambient, sh->kd);
+        sh->kd = v3_mul(sh->kd, texture_sample(sh->sf.tex, sh->sf.u, sh->sf.v, sh->rd ? &fp : NULL, w->view.settings.filter));
+    sh->col = v3_mul(w->ambient, sh->kd);
     sh->view = v3_neg(v3_norm(r->dir));
-    sh->phong = s->settings.shading == SHADE_PHONG && v3_max_comp(m->ks) > R(0);
+    sh->phong = w->view.settings.shading == SHADE_PHONG && v3_max_comp(m->ks) > R(0);
     sh->origin = sh->sf.p;
-    if (scene_has(s, FEAT_SHADOWS)) /* every light ray leaves on the viewer's side, a smooth triangle's from its
+    if (world_has(w, FEAT_SHADOWS)) /* every light ray leaves on the viewer's side, a smooth triangle's from its
                                      * point lifted onto the curved surface (trace_terminator_point) */
         sh->origin = trace_offset_origin(sh->sf.ps, sh->sf.ng, sh->sf.ps_err);
     sh->lit = 0;
     sh->id = (SampleId){0, 0, 1};
     if (optional)
-        sh->irr = s->ambient;
+        sh->irr = w->ambient;
 }
 
 /* Shadow rays through dielectrics: at most this many surfaces crossed. */
@@ -181,7 +181,7 @@ static vec3 beer_lambert(vec3 absorb, real t)
 /* What of a light's radiance passes along shadow ray sr (blocked by the
  * any-hit test): the product of the transmitted colours (and absorption)
  * of the dielectrics it crosses before tmax, 0 at anything opaque. */
-static vec3 transmittance(const Scene *s, const Ray *sr, real tmax, const Light *l, RayStats *stats)
+static vec3 transmittance(const World *w, const Ray *sr, real tmax, const WorldLight *l, RayStats *stats)
 {
     vec3 T = v3_splat(R(1));
     Ray r = *sr;
@@ -189,11 +189,11 @@ static vec3 transmittance(const Scene *s, const Ray *sr, real tmax, const Light 
     for (int i = 0; i < GLASS_MAX_CROSSINGS; i++) {
         Hit h;
         r.tmax = left;
-        if (!trace_closest(s, &r, &h))
+        if (!trace_closest(w, &r, &h))
             return T;
         Surface sf;
-        trace_surface(s, &r, &h, &sf);
-        const int lamp = trace_lamp_part(s, l, &h); /* the light's own lamp: passed, untinted */
+        trace_surface(w, &r, &h, &sf);
+        const int lamp = trace_lamp_part(w, l, &h); /* the light's own lamp: passed, untinted */
         if (!lamp && !material_dielectric(sf.mat))
             break;
         if (!lamp)
@@ -210,18 +210,18 @@ static vec3 transmittance(const Scene *s, const Ray *sr, real tmax, const Light 
     return v3_splat(R(0));
 }
 
-static void shade_rays(const Scene *s, const Ray *rays, int n, vec3 *out, RayStats *stats, uint64_t *keys,
+static void shade_rays(const World *w, const Ray *rays, int n, vec3 *out, RayStats *stats, uint64_t *keys,
                        const SampleId *ids, const RayDiff *diffs, int depth, vec3 weight);
 
 /* The colour seen along a secondary ray from org in unit direction d
  * (id: its sample; rd: its differentials, or NULL). */
-static vec3 shade_secondary(const Scene *s, vec3 org, vec3 d, SampleId id, const RayDiff *rd, int depth, vec3 weight,
+static vec3 shade_secondary(const World *w, vec3 org, vec3 d, SampleId id, const RayDiff *rd, int depth, vec3 weight,
                             RayStats *stats)
 {
     Ray r = ray_make(org, d, R(0), REAL_INF);
     vec3 c;
     stats->secondary++;
-    shade_rays(s, &r, 1, &c, stats, NULL, &id, rd, depth, weight);
+    shade_rays(w, &r, 1, &c, stats, NULL, &id, rd, depth, weight);
     return c;
 }
 
@@ -249,15 +249,15 @@ static const RayDiff *reflected_diff(const Shading *sh, vec3 d, RayDiff *out)
  * effect: rough_samples^2 rays; one budget: the ray's share of the
  * rough_samples^2 its pixel takes, each a ray of the pixel's count at the
  * next bounce (base/sample.h). */
-static vec3 rough_reflection(const Scene *s, const Shading *sh, vec3 front, vec3 r, int depth, vec3 weight,
+static vec3 rough_reflection(const World *w, const Shading *sh, vec3 front, vec3 r, int depth, vec3 weight,
                              RayStats *stats)
 {
     const Surface *sf = &sh->sf;
     const Material *m = sf->mat;
-    const int product = s->settings.sampling == SAMPLING_PRODUCT;
-    uint32_t k = (uint32_t)settings_rough_samples(&s->settings), n = product ? k * k : sample_share(k * k, sh->id.count);
+    const int product = w->view.settings.sampling == SAMPLING_PRODUCT;
+    uint32_t k = (uint32_t)settings_rough_samples(&w->view.settings), n = product ? k * k : sample_share(k * k, sh->id.count);
     real share = R(1) / (real)n;
-    vec3 w = v3_scale(v3_mul(weight, m->kr), share), sum = v3_splat(0);
+    vec3 wt = v3_scale(v3_mul(weight, m->kr), share), sum = v3_splat(0);
     uint32_t key = sample_mix(sh->id.key, 0x52000000u);
     RayDiff rd; /* the mirror's, its cone widened by each ray's share of the lobe */
     const RayDiff *rdp = reflected_diff(sh, v3_neg(sh->view), &rd);
@@ -289,7 +289,7 @@ static vec3 rough_reflection(const Scene *s, const Shading *sh, vec3 front, vec3
             diff[q] = *rdp;
         if (++q == TRACE_PACKET || j == n - 1) {
             stats->secondary += q;
-            shade_rays(s, rays, (int)q, col, stats, NULL, child, rdp ? diff : NULL, depth + 1, w);
+            shade_rays(w, rays, (int)q, col, stats, NULL, child, rdp ? diff : NULL, depth + 1, wt);
             for (uint32_t i = 0; i < q; i++)
                 sum = v3_add(sum, col[i]);
             q = 0;
@@ -299,10 +299,10 @@ static vec3 rough_reflection(const Scene *s, const Shading *sh, vec3 front, vec3
 }
 
 /* A secondary ray is traced when what it can add to the pixel is at least the cutoff. */
-static int worth_tracing(const Scene *s, vec3 weight)
+static int worth_tracing(const World *w, vec3 weight)
 {
-    real w = v3_max_comp(weight);
-    return w > R(0) && w >= s->settings.cutoff;
+    real wt = v3_max_comp(weight);
+    return wt > R(0) && wt >= w->view.settings.cutoff;
 }
 
 /* The mirror direction of unit d at the surface: about the shading normal,
@@ -316,62 +316,62 @@ static vec3 reflected(vec3 d, const Surface *sf)
 
 /* Emission, reflection, refraction and absorption at sh's hit (at
  * distance t along r), for a ray at bounce `depth` carrying `weight`. */
-static vec3 shade_beyond(const Scene *s, real t, const Shading *sh, int depth, vec3 weight, RayStats *stats)
+static vec3 shade_beyond(const World *w, real t, const Shading *sh, int depth, vec3 weight, RayStats *stats)
 {
     const Surface *sf = &sh->sf;
     const Material *m = sf->mat;
     vec3 col = sh->col;
-    if (scene_uses(s, FEAT_EMIT))
+    if (world_uses(w, FEAT_EMIT))
         col = v3_add(col, m->ke);
-    const int reflects = scene_uses(s, FEAT_REFLECT) && material_reflects(m);
-    const int refracts = scene_uses(s, FEAT_REFRACT) && material_dielectric(m);
-    if (depth >= s->settings.depth && (reflects || refracts) && s->settings.depth_limit != LIMIT_BLACK) {
+    const int reflects = world_uses(w, FEAT_REFLECT) && material_reflects(m);
+    const int refracts = world_uses(w, FEAT_REFRACT) && material_dielectric(m);
+    if (depth >= w->view.settings.depth && (reflects || refracts) && w->view.settings.depth_limit != LIMIT_BLACK) {
         /* cut by the depth limit: what the untraced rays would carry, an
          * estimate of what they see times their weight */
-        const DepthLimit lim = s->settings.depth_limit;
-        vec3 seen = lim == LIMIT_BACKGROUND ? s->background : lim == LIMIT_AMBIENT ? s->ambient : sh->irr;
+        const DepthLimit lim = w->view.settings.depth_limit;
+        vec3 seen = lim == LIMIT_BACKGROUND ? w->background : lim == LIMIT_AMBIENT ? w->ambient : sh->irr;
         if (reflects) {
             col = v3_add(col, v3_mul(m->kr, seen));
         } else {
             vec3 d = v3_neg(sh->view), td;
             real eta = sf->inside ? m->ior : R(1) / m->ior;
-            real f = optics_fresnel(s->settings.fresnel, real_max(R(0), -v3_dot(d, sf->ns)), eta);
+            real f = optics_fresnel(w->view.settings.fresnel, real_max(R(0), -v3_dot(d, sf->ns)), eta);
             if (f >= R(1) || !optics_refract(d, sf->ns, eta, &td) || !(v3_dot(td, sf->ng) < R(0)))
                 f = R(1);
             col = v3_add(col, v3_mul(seen, v3_add(v3_splat(f), v3_scale(m->kt, R(1) - f))));
         }
-    } else if (depth < s->settings.depth && (reflects || refracts)) {
+    } else if (depth < w->view.settings.depth && (reflects || refracts)) {
         vec3 d = v3_neg(sh->view);
         /* a reflected ray leaves on the side the ray came from, a refracted one on the other */
         vec3 front = trace_offset_origin(sf->p, sf->ng, sf->err);
         RayDiff rrd, trd;
         const RayDiff *rdp = reflected_diff(sh, d, &rrd);
         if (reflects) {
-            vec3 w = v3_mul(weight, m->kr);
-            if (!worth_tracing(s, w))
+            vec3 wt = v3_mul(weight, m->kr);
+            if (!worth_tracing(w, wt))
                 ;
-            else if (scene_uses(s, FEAT_ROUGH) && m->roughness > R(0))
-                col = v3_add(col, rough_reflection(s, sh, front, reflected(d, sf), depth, weight, stats));
+            else if (world_uses(w, FEAT_ROUGH) && m->roughness > R(0))
+                col = v3_add(col, rough_reflection(w, sh, front, reflected(d, sf), depth, weight, stats));
             else
-                col = v3_add(col, v3_mul(m->kr, shade_secondary(s, front, reflected(d, sf), follow(&sh->id, 1), rdp,
-                                                                depth + 1, w, stats)));
+                col = v3_add(col, v3_mul(m->kr, shade_secondary(w, front, reflected(d, sf), follow(&sh->id, 1), rdp,
+                                                                depth + 1, wt, stats)));
         } else {
             real eta = sf->inside ? m->ior : R(1) / m->ior;
             real cos_i = real_max(R(0), -v3_dot(d, sf->ns));
-            real f = optics_fresnel(s->settings.fresnel, cos_i, eta);
+            real f = optics_fresnel(w->view.settings.fresnel, cos_i, eta);
             vec3 td = v3_splat(0);
             /* past the critical angle, or bent back through the facet by a
              * smooth normal: everything is reflected */
             if (f >= R(1) || !optics_refract(d, sf->ns, eta, &td) || !(v3_dot(td, sf->ng) < R(0)))
                 f = R(1);
             vec3 wr = v3_scale(weight, f);
-            if (worth_tracing(s, wr))
-                col = v3_add(col, v3_scale(shade_secondary(s, front, reflected(d, sf), follow(&sh->id, 1), rdp,
+            if (worth_tracing(w, wr))
+                col = v3_add(col, v3_scale(shade_secondary(w, front, reflected(d, sf), follow(&sh->id, 1), rdp,
                                                            depth + 1, wr, stats),
                                            f));
             vec3 kt = v3_scale(m->kt, R(1) - f);
             vec3 wt = v3_mul(weight, kt);
-            if (f < R(1) && worth_tracing(s, wt)) {
+            if (f < R(1) && worth_tracing(w, wt)) {
                 vec3 back = trace_offset_origin(sf->p, v3_neg(sf->ng), sf->err);
                 const RayDiff *tdp = NULL;
                 if (sh->rd) {
@@ -379,28 +379,28 @@ static vec3 shade_beyond(const Scene *s, real t, const Shading *sh, int depth, v
                     raydiff_carry(&trd, sh->rd, sh->t);
                     tdp = &trd;
                 }
-                col = v3_add(col, v3_mul(kt, shade_secondary(s, back, v3_norm(td), follow(&sh->id, 2), tdp, depth + 1,
+                col = v3_add(col, v3_mul(kt, shade_secondary(w, back, v3_norm(td), follow(&sh->id, 2), tdp, depth + 1,
                                                              wt, stats)));
             }
         }
     }
     /* the ray crossed this dielectric's inside to get here */
-    if (scene_uses(s, FEAT_REFRACT) && sf->inside && material_dielectric(m) && v3_max_comp(m->absorb) > R(0))
+    if (world_uses(w, FEAT_REFRACT) && sf->inside && material_dielectric(m) && v3_max_comp(m->absorb) > R(0))
         col = v3_mul(col, beer_lambert(m->absorb, t));
     return col;
 }
 
 /* Light li (for an area light, its point j) at the live rays' hits: the
  * shadow rays as one packet, and what reaches each hit added to it. */
-static inline __attribute__((always_inline)) void light_pass(const Scene *s, Shading *sh, const int *live, int nl,
+static inline __attribute__((always_inline)) void light_pass(const World *w, Shading *sh, const int *live, int nl,
                                                              uint32_t li, uint32_t j, RayStats *stats,
                                                              const int optional)
 {
-    const int shadows = scene_has(s, FEAT_SHADOWS);
-    const int glass_shadows = optional && scene_uses(s, FEAT_REFRACT) && s->settings.glass_shadows;
+    const int shadows = world_has(w, FEAT_SHADOWS);
+    const int glass_shadows = optional && world_uses(w, FEAT_REFRACT) && w->view.settings.glass_shadows;
     /* the light at the point, for a ray the depth limit cuts there */
-    const int track = optional && scene_uses(s, FEAT_REFLECT | FEAT_REFRACT) && s->settings.depth_limit == LIMIT_LOCAL;
-    const Light *l = &s->lights[li];
+    const int track = optional && world_uses(w, FEAT_REFLECT | FEAT_REFRACT) && w->view.settings.depth_limit == LIMIT_LOCAL;
+    const WorldLight *l = &w->lights[li];
     Ray sr[TRACE_PACKET];
     real tmax[TRACE_PACKET];
     vec3 L[TRACE_PACKET], rad[TRACE_PACKET];
@@ -409,7 +409,7 @@ static inline __attribute__((always_inline)) void light_pass(const Scene *s, Sha
     for (int k = 0; k < nl; k++) {
         Shading *h = &sh[live[k]];
         real dist;
-        if (!light_at(s, l, h->sf.p, &h->id, li, j, &L[m], &dist, &rad[m], optional))
+        if (!light_at(w, l, h->sf.p, &h->id, li, j, &L[m], &dist, &rad[m], optional))
             continue;
         /* The shading normal decides.  On a flat surface it is the
          * geometric one, so a light behind the surface is skipped.  On a
@@ -438,11 +438,11 @@ static inline __attribute__((always_inline)) void light_pass(const Scene *s, Sha
         return;
     stats->shadow += (uint64_t)m;
     uint32_t blocked =
-        m == 1 ? (uint32_t)trace_occluded(s, &sr[0], tmax[0], l) : trace_occluded_packet(s, sr, m, tmax, l);
+        m == 1 ? (uint32_t)trace_occluded(w, &sr[0], tmax[0], l) : trace_occluded_packet(w, sr, m, tmax, l);
     for (int k = 0; k < m; k++) {
         vec3 got = rad[k];
         if (blocked >> k & 1) {
-            got = glass_shadows ? v3_mul(rad[k], transmittance(s, &sr[k], tmax[k], l, stats)) : v3_splat(0);
+            got = glass_shadows ? v3_mul(rad[k], transmittance(w, &sr[k], tmax[k], l, stats)) : v3_splat(0);
             if (!(v3_max_comp(got) > R(0)))
                 continue;
         }
@@ -452,15 +452,15 @@ static inline __attribute__((always_inline)) void light_pass(const Scene *s, Sha
     }
 }
 
-void shade_packet(const Scene *s, const Ray *rays, int n, vec3 *out, RayStats *stats, uint64_t *keys,
+void shade_packet(const World *w, const Ray *rays, int n, vec3 *out, RayStats *stats, uint64_t *keys,
                   const SampleId *ids, const RayDiff *diffs)
 {
-    shade_rays(s, rays, n, out, stats, keys, ids, diffs, 0, v3_splat(R(1)));
+    shade_rays(w, rays, n, out, stats, keys, ids, diffs, 0, v3_splat(R(1)));
 }
 
 /* shade_rays' body; `optional` (a constant in each copy) lets in the paths
  * of the features a scene may use beyond point lights, shadows and Phong. */
-static inline __attribute__((always_inline)) void shade_rays_at(const Scene *s, const Ray *rays, int n, vec3 *out,
+static inline __attribute__((always_inline)) void shade_rays_at(const World *w, const Ray *rays, int n, vec3 *out,
                                                                 RayStats *stats, uint64_t *keys, const SampleId *ids,
                                                                 const RayDiff *diffs, int depth, vec3 weight,
                                                                 const int optional)
@@ -469,53 +469,53 @@ static inline __attribute__((always_inline)) void shade_rays_at(const Scene *s, 
     Shading sh[TRACE_PACKET];
     int live[TRACE_PACKET], nl = 0;
     if (n == 1)
-        trace_closest(s, &rays[0], &hits[0]);
+        trace_closest(w, &rays[0], &hits[0]);
     else
-        trace_closest_packet(s, rays, n, hits);
+        trace_closest_packet(w, rays, n, hits);
     if (depth == 0)
         stats->primary += (uint64_t)n;
     /* the hit triangles' vertices, for every ray at once: on a big model
      * each is a cache miss, and waiting for them one by one showed */
     for (int i = 0; i < n; i++)
         if (hits[i].kind == HIT_INSTANCE)
-            __builtin_prefetch(&s->models[s->instances[hits[i].index].model]->tris[hits[i].sub]);
+            __builtin_prefetch(&w->models[w->instances[hits[i].index].model]->tris[hits[i].sub]);
     for (int i = 0; i < n; i++) {
         if (hits[i].kind == HIT_NONE) {
-            out[i] = s->background;
+            out[i] = w->background;
             if (keys)
                 keys[i] = UINT64_MAX;
             continue;
         }
-        shade_start(s, &rays[i], &hits[i], &sh[i], diffs ? &diffs[i] : NULL, optional);
+        shade_start(w, &rays[i], &hits[i], &sh[i], diffs ? &diffs[i] : NULL, optional);
         live[nl++] = i;
     }
     /* a random key only where something draws from it (hashing every ray's
      * showed in the instruction count of scenes without) */
-    if (optional && scene_uses(s, FEAT_AREA | FEAT_ROUGH))
+    if (optional && world_uses(w, FEAT_AREA | FEAT_ROUGH))
         for (int k = 0; k < nl; k++) {
             const SampleId id = ids ? ids[live[k]] : (SampleId){0, 0, 1};
             sh[live[k]].id = (SampleId){sample_mix(id.key, (uint32_t)depth), id.index, id.count};
         }
-    for (uint32_t li = 0; li < s->light_count; li++) {
-        const Light *l = &s->lights[li];
+    for (uint32_t li = 0; li < w->light_count; li++) {
+        const WorldLight *l = &w->lights[li];
         uint32_t points = 1;
-        if (optional && scene_uses(s, FEAT_AREA) && light_is_area(l)) {
+        if (optional && world_uses(w, FEAT_AREA) && world_light_is_area(l)) {
             /* per effect, every ray all of the light's points; one budget,
              * each ray its share (the most of the packet's rays) */
             const uint32_t k = (uint32_t)(l->samples * l->samples);
-            points = s->settings.sampling == SAMPLING_PRODUCT ? k : 0;
+            points = w->view.settings.sampling == SAMPLING_PRODUCT ? k : 0;
             for (int q = 0; q < nl && points < k; q++) {
                 uint32_t m = sample_share(k, sh[live[q]].id.count);
                 points = m > points ? m : points;
             }
         }
         for (uint32_t j = 0; j < points; j++)
-            light_pass(s, sh, live, nl, li, j, stats, optional);
+            light_pass(w, sh, live, nl, li, j, stats, optional);
     }
-    const int beyond = optional && scene_uses(s, FEAT_REFLECT | FEAT_REFRACT | FEAT_EMIT);
+    const int beyond = optional && world_uses(w, FEAT_REFLECT | FEAT_REFRACT | FEAT_EMIT);
     for (int k = 0; k < nl; k++) {
         int i = live[k];
-        out[i] = beyond ? shade_beyond(s, hits[i].t, &sh[i], depth, weight, stats) : sh[i].col;
+        out[i] = beyond ? shade_beyond(w, hits[i].t, &sh[i], depth, weight, stats) : sh[i].col;
         if (keys)
             keys[i] = (uint64_t)sh[i].sf.object << 16 | sh[i].lit;
     }
@@ -529,18 +529,18 @@ static inline __attribute__((always_inline)) void shade_rays_at(const Scene *s, 
 #define SHADE_OPTIONAL (FEAT_TEXTURES | FEAT_COLOURS | FEAT_SPOT | FEAT_ATTENUATION | FEAT_REFLECT | FEAT_REFRACT | \
                         FEAT_EMIT | FEAT_AREA | FEAT_ROUGH)
 
-static void shade_rays(const Scene *s, const Ray *rays, int n, vec3 *out, RayStats *stats, uint64_t *keys,
+static void shade_rays(const World *w, const Ray *rays, int n, vec3 *out, RayStats *stats, uint64_t *keys,
                        const SampleId *ids, const RayDiff *diffs, int depth, vec3 weight)
 {
-    if (scene_uses(s, SHADE_OPTIONAL))
-        shade_rays_at(s, rays, n, out, stats, keys, ids, diffs, depth, weight, 1);
+    if (world_uses(w, SHADE_OPTIONAL))
+        shade_rays_at(w, rays, n, out, stats, keys, ids, diffs, depth, weight, 1);
     else
-        shade_rays_at(s, rays, n, out, stats, keys, ids, NULL, depth, weight, 0);
+        shade_rays_at(w, rays, n, out, stats, keys, ids, NULL, depth, weight, 0);
 }
 
-vec3 shade_ray(const Scene *s, const Ray *r, RayStats *stats, uint64_t *key)
+vec3 shade_ray(const World *w, const Ray *r, RayStats *stats, uint64_t *key)
 {
     vec3 c;
-    shade_rays(s, r, 1, &c, stats, key, NULL, NULL, 0, v3_splat(R(1)));
+    shade_rays(w, r, 1, &c, stats, key, NULL, NULL, 0, v3_splat(R(1)));
     return c;
 }

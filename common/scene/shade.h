@@ -26,7 +26,7 @@ static inline void ray_stats_add(RayStats *to, RayStats st)
 /* Traces r and returns its colour.  *key (may be NULL) receives an identifier
  * of what the ray saw, for adaptive anti-aliasing: the surface and which of
  * the first 16 lights reached it. */
-vec3 shade_ray(const Scene *s, const Ray *r, RayStats *stats, uint64_t *key);
+vec3 shade_ray(const World *w, const Ray *r, RayStats *stats, uint64_t *key);
 /* n <= TRACE_PACKET rays at once, camera rays and shadow rays traced as
  * packets: out[i] (and keys[i], when keys is not NULL) is what shade_ray
  * gives for rays[i], to the bit.  ids[i] is ray i's sample (base/sample.h:
@@ -36,7 +36,7 @@ vec3 shade_ray(const Scene *s, const Ray *r, RayStats *stats, uint64_t *key);
  * diffs[i] are ray i's differentials, from which textures are filtered
  * over the sample's footprint (also after mirrors and glass); NULL: each
  * texture is read at one point of its image. */
-void shade_packet(const Scene *s, const Ray *rays, int n, vec3 *out, RayStats *stats, uint64_t *keys,
+void shade_packet(const World *w, const Ray *rays, int n, vec3 *out, RayStats *stats, uint64_t *keys,
                   const SampleId *ids, const RayDiff *diffs);
 
 #endif

@@ -8,7 +8,7 @@
 
 /* Ray in an instance's model space.  The map x -> R^T (x - T) / s is affine,
  * so distances t along the ray are the same in both spaces. */
-static Ray instance_ray(const Instance *in, const Ray *r)
+static Ray instance_ray(const WorldInstance *in, const Ray *r)
 {
     real inv = R(1) / in->scale;
     vec3 o = v3_scale(m3_apply_t(&in->rot, v3_sub(r->org, in->translate)), inv);
@@ -31,12 +31,12 @@ typedef struct {
 
 static int takes(const Best *b, real t, uint32_t key) { return t < b->hit->t || (t == b->hit->t && key < b->key); }
 
-static int leaf_closest(const Scene *s, uint32_t p, const Ray *r, Best *b)
+static int leaf_closest(const World *w, uint32_t p, const Ray *r, Best *b)
 {
     real t, b1 = 0, b2 = 0;
     const uint32_t key = p + 1;
-    if (p < s->sphere_count) {
-        const Sphere *sp = &s->spheres[p];
+    if (p < w->sphere_count) {
+        const Sphere *sp = &w->spheres[p];
         /* the nearest root beyond tmin, then the rule (a tie at hit->t counts) */
         if (!sphere_intersect(r, sp->centre, sp->radius, REAL_INF, &t) || !takes(b, t, key))
             return 0;
@@ -44,20 +44,20 @@ static int leaf_closest(const Scene *s, uint32_t p, const Ray *r, Best *b)
         b->key = key;
         return 1;
     }
-    p -= s->sphere_count;
-    if (p < s->tri_count) {
-        if (!tri_solve(r, &s->tris[p], &t, &b1, &b2) || !takes(b, t, key))
+    p -= w->sphere_count;
+    if (p < w->tri_count) {
+        if (!tri_solve(r, &w->tris[p], &t, &b1, &b2) || !takes(b, t, key))
             return 0;
         *b->hit = (Hit){t, b1, b2, HIT_TRIANGLE, p, 0};
         b->key = key;
         return 1;
     }
-    p -= s->tri_count;
-    const Instance *in = &s->instances[p];
+    p -= w->tri_count;
+    const WorldInstance *in = &w->instances[p];
     Ray mr;
     const Ray *rr = in->identity ? r : (mr = instance_ray(in, r), &mr);
     ModelHit mh;
-    if (!model_intersect(s->models[in->model], rr, b->hit->t, key < b->key, &mh))
+    if (!model_intersect(w->models[in->model], rr, b->hit->t, key < b->key, &mh))
         return 0;
     *b->hit = (Hit){mh.t, mh.b1, mh.b2, HIT_INSTANCE, p, mh.tri};
     b->key = key;
@@ -66,33 +66,33 @@ static int leaf_closest(const Scene *s, uint32_t p, const Ray *r, Best *b)
 
 /* Whether top-level primitive p is part of the lamp of light l (NULL:
  * none): the light's shadow rays pass it (scene.h). */
-static inline int lamp_part(const Scene *s, const Light *l, uint32_t p)
+static inline int lamp_part(const World *w, const WorldLight *l, uint32_t p)
 {
     for (uint32_t k = 0; l && k < l->lamp_count; k++)
-        if (s->lamps[l->lamp_first + k] == p)
+        if (w->lamps[l->lamp_first + k] == p)
             return 1;
     return 0;
 }
 
-static int leaf_occluded(const Scene *s, uint32_t p, const Ray *r, real tmax, const Light *lamp)
+static int leaf_occluded(const World *w, uint32_t p, const Ray *r, real tmax, const WorldLight *lamp)
 {
     real t, b1, b2;
-    if (lamp && lamp_part(s, lamp, p))
+    if (lamp && lamp_part(w, lamp, p))
         return 0;
-    if (p < s->sphere_count)
-        return sphere_intersect(r, s->spheres[p].centre, s->spheres[p].radius, tmax, &t);
-    p -= s->sphere_count;
-    if (p < s->tri_count)
-        return tri_intersect(r, &s->tris[p], tmax, &t, &b1, &b2);
-    p -= s->tri_count;
-    const Instance *in = &s->instances[p];
+    if (p < w->sphere_count)
+        return sphere_intersect(r, w->spheres[p].centre, w->spheres[p].radius, tmax, &t);
+    p -= w->sphere_count;
+    if (p < w->tri_count)
+        return tri_intersect(r, &w->tris[p], tmax, &t, &b1, &b2);
+    p -= w->tri_count;
+    const WorldInstance *in = &w->instances[p];
     Ray mr;
     const Ray *rr = in->identity ? r : (mr = instance_ray(in, r), &mr);
-    return model_occluded(s->models[in->model], rr, tmax);
+    return model_occluded(w->models[in->model], rr, tmax);
 }
 
 typedef struct {
-    const Scene *s;
+    const World *w;
     Best *best;
 } ClosestCtx;
 
@@ -102,14 +102,14 @@ static inline __attribute__((always_inline)) int top_leaf_closest(void *vctx, ui
     ClosestCtx *c = vctx;
     int found = 0;
     for (uint32_t i = 0; i < count; i++)
-        found |= leaf_closest(c->s, c->s->top.prims[first + i], r, c->best);
+        found |= leaf_closest(c->w, c->w->tree->prims[first + i], r, c->best);
     *tmax = c->best->hit->t;
     return found;
 }
 
 typedef struct {
-    const Scene *s;
-    const Light *lamp; /* the light whose lamp the ray passes, or NULL */
+    const World *w;
+    const WorldLight *lamp; /* the light whose lamp the ray passes, or NULL */
 } AnyCtx;
 
 static inline __attribute__((always_inline)) int top_leaf_any(const void *vctx, uint32_t first, uint32_t count,
@@ -117,67 +117,67 @@ static inline __attribute__((always_inline)) int top_leaf_any(const void *vctx, 
 {
     const AnyCtx *c = vctx;
     for (uint32_t i = 0; i < count; i++)
-        if (leaf_occluded(c->s, c->s->top.prims[first + i], r, tmax, c->lamp))
+        if (leaf_occluded(c->w, c->w->tree->prims[first + i], r, tmax, c->lamp))
             return 1;
     return 0;
 }
 
 /* The light whose lamp shadow rays towards l pass: l, or NULL where it has none. */
-static const Light *lamp_of(const Light *l) { return l && l->lamp_count ? l : NULL; }
+static const WorldLight *lamp_of(const WorldLight *l) { return l && l->lamp_count ? l : NULL; }
 
-static inline __attribute__((always_inline)) void closest_planes(const Scene *s, const Ray *r, Hit *hit)
+static inline __attribute__((always_inline)) void closest_planes(const World *w, const Ray *r, Hit *hit)
 {
     hit->t = r->tmax;
     hit->kind = HIT_NONE;
-    if (scene_uses(s, FEAT_PLANES))
-        for (uint32_t i = 0; i < s->plane_count; i++) {
+    if (world_uses(w, FEAT_PLANES))
+        for (uint32_t i = 0; i < w->plane_count; i++) {
             real t;
-            if (plane_intersect(r, s->planes[i].point, s->planes[i].unit, hit->t, &t))
+            if (plane_intersect(r, w->planes[i].point, w->planes[i].unit, hit->t, &t))
                 *hit = (Hit){t, 0, 0, HIT_PLANE, i, 0};
         }
 }
 
-static inline __attribute__((always_inline)) int occluded_planes(const Scene *s, const Ray *r, real tmax)
+static inline __attribute__((always_inline)) int occluded_planes(const World *w, const Ray *r, real tmax)
 {
-    if (scene_uses(s, FEAT_PLANES))
-        for (uint32_t i = 0; i < s->plane_count; i++) {
+    if (world_uses(w, FEAT_PLANES))
+        for (uint32_t i = 0; i < w->plane_count; i++) {
             real t;
-            if (plane_intersect(r, s->planes[i].point, s->planes[i].unit, tmax, &t))
+            if (plane_intersect(r, w->planes[i].point, w->planes[i].unit, tmax, &t))
                 return 1;
         }
     return 0;
 }
 
-int trace_lamp_part(const Scene *s, const Light *l, const Hit *h)
+int trace_lamp_part(const World *w, const WorldLight *l, const Hit *h)
 {
     if (h->kind == HIT_SPHERE)
-        return lamp_part(s, l, h->index);
+        return lamp_part(w, l, h->index);
     if (h->kind == HIT_TRIANGLE)
-        return lamp_part(s, l, s->sphere_count + h->index);
+        return lamp_part(w, l, w->sphere_count + h->index);
     return 0;
 }
 
-int trace_closest(const Scene *s, const Ray *r, Hit *hit)
+int trace_closest(const World *w, const Ray *r, Hit *hit)
 {
-    closest_planes(s, r, hit);
+    closest_planes(w, r, hit);
     Best b = {hit, 0};
-    ClosestCtx c = {s, &b};
+    ClosestCtx c = {w, &b};
     real tmax = hit->t;
-    bvh_closest(&s->top, r, &tmax, top_leaf_closest, &c);
+    bvh_closest(w->tree, r, &tmax, top_leaf_closest, &c);
     return hit->kind != HIT_NONE;
 }
 
-int trace_occluded(const Scene *s, const Ray *r, real tmax, const Light *towards)
+int trace_occluded(const World *w, const Ray *r, real tmax, const WorldLight *towards)
 {
-    AnyCtx c = {s, lamp_of(towards)};
-    return occluded_planes(s, r, tmax) || bvh_any(&s->top, r, tmax, top_leaf_any, &c);
+    AnyCtx c = {w, lamp_of(towards)};
+    return occluded_planes(w, r, tmax) || bvh_any(w->tree, r, tmax, top_leaf_any, &c);
 }
 
 /* Instance p of the top tree against the rays of `mask`, as one packet in model space. */
-static uint32_t instance_packet(const Scene *s, uint32_t p, const Ray *rays, uint32_t mask, Best *best, int closest,
+static uint32_t instance_packet(const World *w, uint32_t p, const Ray *rays, uint32_t mask, Best *best, int closest,
                                 const real *tmax)
 {
-    const Instance *in = &s->instances[p - s->sphere_count - s->tri_count];
+    const WorldInstance *in = &w->instances[p - w->sphere_count - w->tri_count];
     Ray mr[TRACE_PACKET];
     const Ray *rr[TRACE_PACKET];
     real tm[TRACE_PACKET];
@@ -192,7 +192,7 @@ static uint32_t instance_packet(const Scene *s, uint32_t p, const Ray *rays, uin
         at[n] = closest && p + 1 < best[i].key;
         which[n++] = i;
     }
-    const Model *m = s->models[in->model];
+    const Model *m = w->models[in->model];
     uint32_t got = 0;
     if (closest) {
         ModelHit mh[TRACE_PACKET];
@@ -200,7 +200,7 @@ static uint32_t instance_packet(const Scene *s, uint32_t p, const Ray *rays, uin
         for (int k = 0; k < n; k++)
             if (found >> k & 1) {
                 Best *b = &best[which[k]];
-                *b->hit = (Hit){mh[k].t, mh[k].b1, mh[k].b2, HIT_INSTANCE, p - s->sphere_count - s->tri_count, mh[k].tri};
+                *b->hit = (Hit){mh[k].t, mh[k].b1, mh[k].b2, HIT_INSTANCE, p - w->sphere_count - w->tri_count, mh[k].tri};
                 b->key = p + 1;
             }
     } else {
@@ -213,11 +213,11 @@ static uint32_t instance_packet(const Scene *s, uint32_t p, const Ray *rays, uin
 }
 
 typedef struct {
-    const Scene *s;
+    const World *w;
     const Ray *rays;
     Best *best;        /* closest hits; NULL for occlusion */
     const real *tmax;  /* occlusion's limits */
-    const Light *lamp; /* occlusion: the lamp its light passes */
+    const WorldLight *lamp; /* occlusion: the lamp its light passes */
 } PacketCtx;
 
 /* A primitive of the top tree against the packet's rays that reach it:
@@ -226,17 +226,17 @@ typedef struct {
 static inline __attribute__((always_inline)) uint32_t top_leaf_packet(void *vctx, uint32_t p, uint32_t rs, real *far)
 {
     const PacketCtx *c = vctx;
-    const Scene *s = c->s;
+    const World *w = c->w;
     const int closest = c->best != NULL;
     uint32_t done = 0;
-    if (p >= s->sphere_count + s->tri_count) {
-        done = instance_packet(s, p, c->rays, rs, c->best, closest, c->tmax);
+    if (p >= w->sphere_count + w->tri_count) {
+        done = instance_packet(w, p, c->rays, rs, c->best, closest, c->tmax);
     } else {
         for (uint32_t m = rs; m; m &= m - 1) {
             int i = __builtin_ctz(m);
             if (closest)
-                leaf_closest(s, p, &c->rays[i], &c->best[i]);
-            else if (leaf_occluded(s, p, &c->rays[i], c->tmax[i], c->lamp))
+                leaf_closest(w, p, &c->rays[i], &c->best[i]);
+            else if (leaf_occluded(w, p, &c->rays[i], c->tmax[i], c->lamp))
                 done |= 1u << i;
         }
     }
@@ -249,37 +249,37 @@ static inline __attribute__((always_inline)) uint32_t top_leaf_packet(void *vctx
 }
 
 /* The top tree for a packet (bvh_packet.h). */
-static uint32_t top_packet(const Scene *s, const Ray *rays, int n, Best *best, const real *tmax, const Light *lamp)
+static uint32_t top_packet(const World *w, const Ray *rays, int n, Best *best, const real *tmax, const WorldLight *lamp)
 {
     real far[TRACE_PACKET];
     for (int i = 0; i < n; i++)
         far[i] = best ? best[i].hit->t : tmax[i];
-    PacketCtx c = {s, rays, best, tmax, lamp};
-    return bvh_packet(&s->top, rays, n, far, top_leaf_packet, &c);
+    PacketCtx c = {w, rays, best, tmax, lamp};
+    return bvh_packet(w->tree, rays, n, far, top_leaf_packet, &c);
 }
 
-void trace_closest_packet(const Scene *s, const Ray *rays, int n, Hit *hits)
+void trace_closest_packet(const World *w, const Ray *rays, int n, Hit *hits)
 {
     Best best[TRACE_PACKET];
     for (int i = 0; i < n; i++) {
-        closest_planes(s, &rays[i], &hits[i]);
+        closest_planes(w, &rays[i], &hits[i]);
         best[i] = (Best){&hits[i], 0};
     }
-    top_packet(s, rays, n, best, NULL, NULL);
+    top_packet(w, rays, n, best, NULL, NULL);
 }
 
-uint32_t trace_occluded_packet(const Scene *s, const Ray *rays, int n, const real *tmax, const Light *towards)
+uint32_t trace_occluded_packet(const World *w, const Ray *rays, int n, const real *tmax, const WorldLight *towards)
 {
-    const Light *lamp = lamp_of(towards);
+    const WorldLight *lamp = lamp_of(towards);
     uint32_t blocked = 0;
     for (int i = 0; i < n; i++)
-        if (occluded_planes(s, &rays[i], tmax[i]))
+        if (occluded_planes(w, &rays[i], tmax[i]))
             blocked |= 1u << i;
     uint32_t rest = ((1u << n) - 1) & ~blocked;
     if (!rest)
         return blocked;
     if (!blocked)
-        return top_packet(s, rays, n, NULL, tmax, lamp);
+        return top_packet(w, rays, n, NULL, tmax, lamp);
     /* the unblocked rays, packed */
     Ray rr[TRACE_PACKET];
     real tm[TRACE_PACKET];
@@ -288,7 +288,7 @@ uint32_t trace_occluded_packet(const Scene *s, const Ray *rays, int n, const rea
         int i = __builtin_ctz(k);
         rr[m] = rays[i], tm[m] = tmax[i], which[m++] = i;
     }
-    uint32_t got = top_packet(s, rr, m, NULL, tm, lamp);
+    uint32_t got = top_packet(w, rr, m, NULL, tm, lamp);
     for (int k = 0; k < m; k++)
         if (got >> k & 1)
             blocked |= 1u << which[k];
@@ -333,7 +333,7 @@ vec3 trace_terminator_point(vec3 p, const vec3 v[3], const vec3 n[3], real b1, r
  * smooth normals too (measured before the copies: 8 instructions of a
  * flat hit). */
 static __attribute__((noinline)) void surface_lift(Surface *out, const Hit *h, const vec3 tv[3], vec3 tn[3], int flip,
-                                                  const Instance *inst, vec3 pm)
+                                                  const WorldInstance *inst, vec3 pm)
 {
     /* the vertex normals face the side shading (and shadow rays) use */
     for (int i = 0; i < 3 && flip; i++)
@@ -355,14 +355,14 @@ static __attribute__((noinline)) void surface_lift(Surface *out, const Hit *h, c
  * (model space for an instance: pm, and the instance). */
 typedef struct {
     vec3 tv[3], tn[3], pm;
-    const Instance *inst;
+    const WorldInstance *inst;
 } Lift;
 
 /* The surfaces of each kind of hit, for surface_at; `optional` as there. */
-static inline __attribute__((always_inline)) void surface_sphere(const Scene *s, const Ray *r, const Hit *h,
+static inline __attribute__((always_inline)) void surface_sphere(const World *w, const Ray *r, const Hit *h,
                                                                  Surface *out, const int optional)
 {
-    const Sphere *sp = &s->spheres[h->index];
+    const Sphere *sp = &w->spheres[h->index];
     vec3 p = ray_at(r, h->t);
     out->ng = v3_norm(v3_sub(p, sp->centre));
     /* re-project onto the surface: removes the error of o + t*d */
@@ -370,8 +370,8 @@ static inline __attribute__((always_inline)) void surface_sphere(const Scene *s,
     /* r * n carries the normalisation's error; adding the centre rounds once more */
     out->err = real_gamma(6) * sp->radius + real_gamma(2) * real_max(v3_max_comp(v3_abs(sp->centre)), v3_max_comp(v3_abs(out->p)));
     out->ns = out->ng;
-    out->mat = &s->materials[sp->material];
-    if (optional && scene_uses(s, FEAT_TEXTURES) && out->mat->texture >= 0) {
+    out->mat = &w->materials[sp->material];
+    if (optional && world_uses(w, FEAT_TEXTURES) && out->mat->texture >= 0) {
         /* spherical mapping: u the longitude from +z towards +x, v the
          * latitude from the bottom pole (0) to the top (1); only for a
          * textured material (the arc functions showed in the profile) */
@@ -383,57 +383,57 @@ static inline __attribute__((always_inline)) void surface_sphere(const Scene *s,
     out->object = h->index;
 }
 
-static inline __attribute__((always_inline)) void surface_plane(const Scene *s, const Ray *r, const Hit *h, Surface *out,
+static inline __attribute__((always_inline)) void surface_plane(const World *w, const Ray *r, const Hit *h, Surface *out,
                                                                 const int optional)
 {
-    const Plane *pl = &s->planes[h->index];
+    const WorldPlane *pl = &w->planes[h->index];
     vec3 p = ray_at(r, h->t);
     /* project onto the plane for the same reason */
     out->p = v3_madd(p, pl->unit, v3_dot(v3_sub(pl->point, p), pl->unit));
     out->err = real_gamma(4) * real_max(v3_max_comp(v3_abs(out->p)), v3_max_comp(v3_abs(pl->point)));
     out->ng = out->ns = pl->unit;
-    out->mat = &s->materials[pl->material];
-    if (optional && scene_uses(s, FEAT_TEXTURES) && out->mat->texture >= 0) {
+    out->mat = &w->materials[pl->material];
+    if (optional && world_uses(w, FEAT_TEXTURES) && out->mat->texture >= 0) {
         vec3 d = v3_sub(out->p, pl->point);
         out->u = v3_dot(d, pl->tu);
         out->v = v3_dot(d, pl->tv);
         out->has_uv = 1;
     }
-    out->object = s->sphere_count + h->index;
+    out->object = w->sphere_count + h->index;
 }
 
-static inline __attribute__((always_inline)) void surface_triangle(const Scene *s, const Hit *h, Surface *out,
+static inline __attribute__((always_inline)) void surface_triangle(const World *w, const Hit *h, Surface *out,
                                                                    Lift *lift, const int optional)
 {
-    const Tri *t = &s->tris[h->index];
-    const TriAttr *a = &s->tri_attrs[h->index];
+    const Tri *t = &w->tris[h->index];
+    const TriAttr *a = &w->tri_attrs[h->index];
     vec3 v0 = tri_vertex(t, 0), v1 = tri_vertex(t, 1), v2 = tri_vertex(t, 2);
     out->p = trace_triangle_point(v0, v1, v2, h->b1, h->b2, &out->err);
     out->ng = v3_norm(v3_cross(v3_sub(v1, v0), v3_sub(v2, v0)));
     out->ns = out->ng;
-    if (optional && scene_uses(s, FEAT_SMOOTH) && a->smooth) {
+    if (optional && world_uses(w, FEAT_SMOOTH) && a->smooth) {
         out->ns = v3_norm(bary(a->n[0], a->n[1], a->n[2], h->b1, h->b2));
         out->smooth = 1;
         lift->tv[0] = v0, lift->tv[1] = v1, lift->tv[2] = v2;
         memcpy(lift->tn, a->n, sizeof lift->tn);
     }
-    if (optional && scene_uses(s, FEAT_TEXTURES) && a->textured) {
+    if (optional && world_uses(w, FEAT_TEXTURES) && a->textured) {
         out->u = (R(1) - h->b1 - h->b2) * a->uv[0] + h->b1 * a->uv[2] + h->b2 * a->uv[4];
         out->v = (R(1) - h->b1 - h->b2) * a->uv[1] + h->b1 * a->uv[3] + h->b2 * a->uv[5];
         out->has_uv = 1;
     }
-    out->mat = &s->materials[a->material];
+    out->mat = &w->materials[a->material];
     /* scene triangles of one material form one surface (a quad is two triangles) */
-    out->object = s->sphere_count + s->plane_count + a->material;
+    out->object = w->sphere_count + w->plane_count + a->material;
 }
 
 /* Returns 1 where the surface takes the model's own material (and texture). */
-static inline __attribute__((always_inline)) int surface_instance(const Scene *s, const Hit *h, Surface *out, Lift *lift,
+static inline __attribute__((always_inline)) int surface_instance(const World *w, const Hit *h, Surface *out, Lift *lift,
                                                                   const int optional)
 {
     int model_tex = 0;
-    const Instance *in = &s->instances[h->index];
-    const Model *m = s->models[in->model];
+    const WorldInstance *in = &w->instances[h->index];
+    const Model *m = w->models[in->model];
     const Tri *t = &m->tris[h->sub];
     vec3 v0 = tri_vertex(t, 0), v1 = tri_vertex(t, 1), v2 = tri_vertex(t, 2);
     lift->pm = bary(v0, v1, v2, h->b1, h->b2);
@@ -446,7 +446,7 @@ static inline __attribute__((always_inline)) int surface_instance(const Scene *s
                real_gamma(2) * real_max(v3_max_comp(v3_abs(in->translate)), v3_max_comp(v3_abs(out->p)));
     /* uniform scale: normals transform by the rotation alone */
     out->ng = v3_norm(m3_apply(&in->rot, v3_cross(v3_sub(v1, v0), v3_sub(v2, v0))));
-    if (optional && scene_uses(s, FEAT_SMOOTH) && m->normals) {
+    if (optional && world_uses(w, FEAT_SMOOTH) && m->normals) {
         const vec3 *n = &m->normals[3 * h->sub];
         out->ns = v3_norm(m3_apply(&in->rot, bary(n[0], n[1], n[2], h->b1, h->b2)));
         out->smooth = 1;
@@ -456,33 +456,33 @@ static inline __attribute__((always_inline)) int surface_instance(const Scene *s
     } else {
         out->ns = out->ng;
     }
-    if (optional && scene_uses(s, FEAT_TEXTURES) && m->uvs) {
+    if (optional && world_uses(w, FEAT_TEXTURES) && m->uvs) {
         const real *uv = &m->uvs[6 * h->sub];
         out->u = (R(1) - h->b1 - h->b2) * uv[0] + h->b1 * uv[2] + h->b2 * uv[4];
         out->v = (R(1) - h->b1 - h->b2) * uv[1] + h->b1 * uv[3] + h->b2 * uv[5];
         out->has_uv = 1;
     }
-    if (optional && scene_uses(s, FEAT_COLOURS) && m->colours && in->material < 0) {
+    if (optional && world_uses(w, FEAT_COLOURS) && m->colours && in->material < 0) {
         const vec3 *c = &m->colours[3 * h->sub];
         out->colour = bary(c[0], c[1], c[2], h->b1, h->b2);
         out->has_colour = 1;
     }
     if (in->material >= 0)
-        out->mat = &s->materials[in->material];
+        out->mat = &w->materials[in->material];
     else if (m->mat_ids) {
         out->mat = &m->materials[m->mat_ids[h->sub]];
         /* a model's own material names the model's own texture */
         out->tex = out->mat->texture >= 0 ? m->textures[out->mat->texture] : NULL;
         model_tex = 1;
-    } else if (s->material_count)
-        out->mat = &s->materials[0];
-    out->object = s->sphere_count + s->plane_count + s->material_count + h->index;
+    } else if (w->material_count)
+        out->mat = &w->materials[0];
+    out->object = w->sphere_count + w->plane_count + w->material_count + h->index;
     return model_tex;
 }
 
 /* trace_surface's body; `optional` (a constant in each copy) lets the
  * paths of smooth normals, textures and vertex colours in. */
-static inline __attribute__((always_inline)) void surface_at(const Scene *s, const Ray *r, const Hit *h, Surface *out,
+static inline __attribute__((always_inline)) void surface_at(const World *w, const Ray *r, const Hit *h, Surface *out,
                                                              const int optional)
 {
     /* field by field, not memset: its string store's start-up showed in
@@ -497,14 +497,14 @@ static inline __attribute__((always_inline)) void surface_at(const Scene *s, con
     lift.inst = NULL;
     int model_tex = 0;
     switch (h->kind) {
-    case HIT_SPHERE: surface_sphere(s, r, h, out, optional); break;
-    case HIT_PLANE: surface_plane(s, r, h, out, optional); break;
-    case HIT_TRIANGLE: surface_triangle(s, h, out, &lift, optional); break;
-    case HIT_INSTANCE: model_tex = surface_instance(s, h, out, &lift, optional); break;
+    case HIT_SPHERE: surface_sphere(w, r, h, out, optional); break;
+    case HIT_PLANE: surface_plane(w, r, h, out, optional); break;
+    case HIT_TRIANGLE: surface_triangle(w, h, out, &lift, optional); break;
+    case HIT_INSTANCE: model_tex = surface_instance(w, h, out, &lift, optional); break;
     default: break;
     }
     if (!model_tex)
-        out->tex = out->mat->texture >= 0 ? s->textures[out->mat->texture] : NULL;
+        out->tex = out->mat->texture >= 0 ? w->textures[out->mat->texture] : NULL;
     /* face the viewer: all surfaces are two-sided */
     if (v3_dot(out->ng, r->dir) > R(0)) {
         out->ng = v3_neg(out->ng);
@@ -519,16 +519,16 @@ static inline __attribute__((always_inline)) void surface_at(const Scene *s, con
         surface_lift(out, h, lift.tv, lift.tn, flip, lift.inst, lift.pm);
 }
 
-void trace_surface(const Scene *s, const Ray *r, const Hit *h, Surface *out)
+void trace_surface(const World *w, const Ray *r, const Hit *h, Surface *out)
 {
     /* a scene without any of them takes a copy without their paths: with
      * them in the one body, each flat hit executed 100 instructions more
      * than a build with the features compiled out (the bigger function's
      * code, spread thin: registers, spills, vector shuffles) */
-    if (scene_uses(s, FEAT_SMOOTH | FEAT_TEXTURES | FEAT_COLOURS))
-        surface_at(s, r, h, out, 1);
+    if (world_uses(w, FEAT_SMOOTH | FEAT_TEXTURES | FEAT_COLOURS))
+        surface_at(w, r, h, out, 1);
     else
-        surface_at(s, r, h, out, 0);
+        surface_at(w, r, h, out, 0);
 }
 
 vec3 trace_offset_origin(vec3 p, vec3 n, real err)
@@ -589,7 +589,7 @@ static void tri_changes(const Tri *t, const real *uv, const vec3 *n, real b1, re
     }
 }
 
-void trace_surface_change(const Scene *s, const Hit *h, const Surface *sf, vec3 dpdx, vec3 dpdy, TexFootprint *fp,
+void trace_surface_change(const World *w, const Hit *h, const Surface *sf, vec3 dpdx, vec3 dpdy, TexFootprint *fp,
                           vec3 *dndx, vec3 *dndy)
 {
     real duv[4] = {0, 0, 0, 0};
@@ -598,7 +598,7 @@ void trace_surface_change(const Scene *s, const Hit *h, const Surface *sf, vec3 
     vec3 n_ref = sf->ns; /* the normal whose change dn is, before the surface turned it to face the ray */
     switch (h->kind) {
     case HIT_SPHERE: {
-        const Sphere *sp = &s->spheres[h->index];
+        const Sphere *sp = &w->spheres[h->index];
         vec3 n = v3_scale(v3_sub(sf->p, sp->centre), R(1) / sp->radius);
         n_ref = n;
         for (int k = 0; k < 2; k++)
@@ -612,7 +612,7 @@ void trace_surface_change(const Scene *s, const Hit *h, const Surface *sf, vec3 
         break;
     }
     case HIT_PLANE: {
-        const Plane *pl = &s->planes[h->index];
+        const WorldPlane *pl = &w->planes[h->index];
         for (int k = 0; k < 2; k++) {
             duv[2 * k] = v3_dot(dp[k], pl->tu);
             duv[2 * k + 1] = v3_dot(dp[k], pl->tv);
@@ -620,15 +620,15 @@ void trace_surface_change(const Scene *s, const Hit *h, const Surface *sf, vec3 
         break;
     }
     case HIT_TRIANGLE: {
-        const TriAttr *a = &s->tri_attrs[h->index];
-        tri_changes(&s->tris[h->index], a->textured ? a->uv : NULL, a->smooth ? a->n : NULL, h->b1, h->b2, dp, duv, dn);
+        const TriAttr *a = &w->tri_attrs[h->index];
+        tri_changes(&w->tris[h->index], a->textured ? a->uv : NULL, a->smooth ? a->n : NULL, h->b1, h->b2, dp, duv, dn);
         if (a->smooth)
             n_ref = bary(a->n[0], a->n[1], a->n[2], h->b1, h->b2);
         break;
     }
     case HIT_INSTANCE: {
-        const Instance *in = &s->instances[h->index];
-        const Model *m = s->models[in->model];
+        const WorldInstance *in = &w->instances[h->index];
+        const Model *m = w->models[in->model];
         /* into model space, where the triangle's coordinates are */
         const vec3 dpm[2] = {v3_scale(m3_apply_t(&in->rot, dpdx), R(1) / in->scale),
                              v3_scale(m3_apply_t(&in->rot, dpdy), R(1) / in->scale)};

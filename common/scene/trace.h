@@ -3,7 +3,7 @@
 #ifndef LANRAY_TRACE_H
 #define LANRAY_TRACE_H
 
-#include "scene/scene.h"
+#include "scene/world.h"
 
 typedef enum { HIT_NONE = 0, HIT_SPHERE, HIT_PLANE, HIT_TRIANGLE, HIT_INSTANCE } HitKind;
 
@@ -37,29 +37,29 @@ typedef struct {
 
 /* The closest hit: the smallest t, ties decided by a fixed rule (trace.c),
  * so that every traversal order and every SIMD path finds the same one. */
-int trace_closest(const Scene *s, const Ray *r, Hit *hit);
+int trace_closest(const World *w, const Ray *r, Hit *hit);
 /* n <= TRACE_PACKET rays at once: each gets exactly trace_closest's hit
  * (kind HIT_NONE for a miss); coherent rays (a line of pixels, the
  * sub-samples of a pixel) share the walk down the trees. */
 #define TRACE_PACKET 8
-void trace_closest_packet(const Scene *s, const Ray *rays, int n, Hit *hits);
+void trace_closest_packet(const World *w, const Ray *rays, int n, Hit *hits);
 /* The mask of the n rays that are blocked before their tmax (trace_occluded each). */
-uint32_t trace_occluded_packet(const Scene *s, const Ray *rays, int n, const real *tmax, const Light *towards);
+uint32_t trace_occluded_packet(const World *w, const Ray *rays, int n, const real *tmax, const WorldLight *towards);
 /* The point at barycentrics (b1, b2) of triangle v0 v1 v2, as trace_surface
  * computes a scene triangle's hit point, and the bound on the rounding error
  * of each of its coordinates (for trace_offset_origin). */
 vec3 trace_triangle_point(vec3 v0, vec3 v1, vec3 v2, real b1, real b2, real *err);
 /* Whether anything blocks r before tmax.  A shadow ray towards a light
  * (`towards`, or NULL) passes the light's own lamp (scene.h). */
-int trace_occluded(const Scene *s, const Ray *r, real tmax, const Light *towards);
+int trace_occluded(const World *w, const Ray *r, real tmax, const WorldLight *towards);
 /* Whether hit h is on part of light l's lamp. */
-int trace_lamp_part(const Scene *s, const Light *l, const Hit *h);
-void trace_surface(const Scene *s, const Ray *r, const Hit *hit, Surface *out);
+int trace_lamp_part(const World *w, const WorldLight *l, const Hit *h);
+void trace_surface(const World *w, const Ray *r, const Hit *hit, Surface *out);
 
 /* How the surface at hit h changes over a sample's footprint (dpdx,
  * dpdy: raydiff.h): its texture coordinates (*fp) and its shading normal
  * (sf->ns as it faces the ray). */
-void trace_surface_change(const Scene *s, const Hit *h, const Surface *sf, vec3 dpdx, vec3 dpdy, TexFootprint *fp,
+void trace_surface_change(const World *w, const Hit *h, const Surface *sf, vec3 dpdx, vec3 dpdy, TexFootprint *fp,
                           vec3 *dndx, vec3 *dndy);
 
 /* Moves p off the surface along n (the side the new ray leaves on) by just

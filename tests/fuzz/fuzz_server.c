@@ -31,7 +31,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
                       "sphere centre 0 0.5 0 radius 0.5 material red\n"
                       "light point position 2 4 3 intensity 1\n";
         BvhOptions opt = bvh_options_default(BVH_SAH);
-        if (scene_parse(text, sizeof text - 1, "fuzz.scene", ".", &opt, 0, &scene, NULL) || scene_prepare(scene, NULL))
+        if (scene_parse(text, sizeof text - 1, "fuzz.scene", ".", &opt, 0, &scene, NULL) || scene_check(scene, NULL))
             abort();
     }
     if (size < 1 || size > 1 << 20)

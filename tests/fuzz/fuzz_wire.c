@@ -55,9 +55,12 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     Scene *s;
     if (wire_decode_scene(data + 1, size - 1, cache, &s, NULL) == 0) {
         uint8_t px[8 * 6 * 4]; /* RGB8, or RGBE where the scene's hdr flag says so */
-        assert(render_pixel_bytes(s) * 8 * 6 <= sizeof px);
+        assert(render_pixel_bytes(&s->settings) * 8 * 6 <= sizeof px);
         s->settings.aa = 1; /* bounded work per input */
-        render_lines(pool, s, 8, 6, 0, 6, px, NULL, NULL);
+        World *w = world_build(s, NULL, NULL);
+        if (w)
+            render_lines(pool, w, 8, 6, 0, 6, px, NULL, NULL);
+        world_destroy(w);
         scene_destroy(s);
     }
     return 0;

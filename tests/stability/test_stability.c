@@ -3,6 +3,7 @@
  * Every test states the tolerance it holds and why; docs/stability.md
  * collects them with what the float and the double build each hold. */
 #include "../helpers.h"
+#include "../worlds.h"
 
 #include "meshes.h"
 #include "render/render.h"
@@ -92,7 +93,7 @@ static Scene *acne_scene(real S, vec3 T)
     scene_add_light(s, light_point(P(-3, 6, 4), v3(1, 1, 1), R(0.9), 0), NULL);
     camera_look_at(&s->camera, P(0, 3, 8), P(R(0.5), 1, 0), 0, camera_zoom_for_fov(50));
 #undef P
-    assert_int_equal(scene_prepare(s, NULL), 0);
+    assert_int_equal(scene_check(s, NULL), 0);
     return s;
 }
 
@@ -101,25 +102,27 @@ static Scene *acne_scene(real S, vec3 T)
 static int count_acne(Scene *s, int w, int h)
 {
     CameraFrame f = camera_frame(&s->camera, w, h);
+    World *world = world_build(s, NULL, NULL);
+    assert_non_null(world);
+    View on = scene_view(s), off = on; /* the same world, seen with and without shadows */
+    on.settings.shadows = 1;
+    off.settings.shadows = 0;
     int acne = 0;
     for (int y = 0; y < h; y++)
         for (int x = 0; x < w; x++) {
             Ray r = ray_make(f.org, v3_norm(camera_dir(&f, (real)x + R(0.5), (real)y + R(0.5))), 0, REAL_INF);
             Hit hit;
-            if (!trace_closest(s, &r, &hit) || (hit.kind != HIT_SPHERE && hit.kind != HIT_INSTANCE))
+            if (!trace_closest(world, &r, &hit) || (hit.kind != HIT_SPHERE && hit.kind != HIT_INSTANCE))
                 continue;
             RayStats st;
-            uint64_t on, off;
-            s->settings.shadows = 1;
-            scene_prepare(s, NULL);
-            shade_ray(s, &r, &st, &on);
-            s->settings.shadows = 0;
-            scene_prepare(s, NULL);
-            shade_ray(s, &r, &st, &off);
-            acne += (on & 0xffff) != (off & 0xffff);
+            uint64_t on_key, off_key;
+            assert_int_equal(world_set_view(world, &on, NULL), 0);
+            shade_ray(world, &r, &st, &on_key);
+            assert_int_equal(world_set_view(world, &off, NULL), 0);
+            shade_ray(world, &r, &st, &off_key);
+            acne += (on_key & 0xffff) != (off_key & 0xffff);
         }
-    s->settings.shadows = 1;
-    scene_prepare(s, NULL);
+    world_destroy(world);
     return acne;
 }
 
@@ -161,14 +164,14 @@ static void no_acne_at_any_translation_or_scale(void **state)
     uint8_t ref[W * H * 3], img[W * H * 3];
     Scene *s = acne_scene(1, v3(0, 0, 0));
     assert_int_equal(count_acne(s, W, H), 0);
-    assert_int_equal(render_lines(pool, s, W, H, 0, H, ref, NULL, NULL), 0);
+    assert_int_equal(render_lines(pool, world_now(s), W, H, 0, H, ref, NULL, NULL), 0);
     scene_destroy(s);
     const real offsets[] = {R(1e-4), 1, R(1e4), R(1e6)};
     const real scales[] = {R(1e-4), R(1e-2), 1, R(1e2), R(1e4), R(1e6)};
     for (int i = 0; i < 4; i++) {
         s = acne_scene(1, v3(offsets[i], R(0.5) * offsets[i], -offsets[i]));
         int acne = count_acne(s, W, H);
-        assert_int_equal(render_lines(pool, s, W, H, 0, H, img, NULL, NULL), 0);
+        assert_int_equal(render_lines(pool, world_now(s), W, H, 0, H, img, NULL, NULL), 0);
         double diff = share_differing(ref, img, W * H);
         printf("translate %g: acne %d, pixels differing %.4f\n", (double)offsets[i], acne, diff);
         assert_int_equal(acne, 0);
@@ -178,7 +181,7 @@ static void no_acne_at_any_translation_or_scale(void **state)
     for (int i = 0; i < 6; i++) {
         s = acne_scene(scales[i], v3(0, 0, 0));
         int acne = count_acne(s, W, H);
-        assert_int_equal(render_lines(pool, s, W, H, 0, H, img, NULL, NULL), 0);
+        assert_int_equal(render_lines(pool, world_now(s), W, H, 0, H, img, NULL, NULL), 0);
         double diff = share_differing(ref, img, W * H);
         printf("scale %g: acne %d, pixels differing %.4f\n", (double)scales[i], acne, diff);
         assert_int_equal(acne, 0);
@@ -202,7 +205,7 @@ static Scene *optics_scene(real S, vec3 T, Material m)
     scene_add_model(s, icosphere_model(), &mid, NULL);
     Instance in = instance_make(mid, v3_add(T, v3(R(2.5) * S, 0, 0)), v3(10, 20, 30), S);
     scene_add_instance(s, in, NULL);
-    assert_int_equal(scene_prepare(s, NULL), 0);
+    assert_int_equal(scene_check(s, NULL), 0);
     return s;
 }
 
@@ -224,11 +227,11 @@ static Ray leaving(const Surface *sf, vec3 n, vec3 d) { return ray_make(trace_of
  * (a miss or another object is a leak through the closed surface); there
  * the refracted ray out must not hit the object again, and the ray
  * reflected inside (all of the light past the critical angle) must stay in. */
-static OpticsCount shoot_optics(const Scene *s, real S, int rays, uint64_t seed)
+static OpticsCount shoot_optics(const World *s, real S, int rays, uint64_t seed)
 {
     Rng rng = {seed};
     OpticsCount c = {0};
-    const Instance *in = &s->instances[0];
+    const WorldInstance *in = &s->instances[0];
     const Model *m = s->models[in->model];
     const Material *mat = &s->materials[0];
     for (int n = 0; n < rays; n++) {
@@ -318,7 +321,7 @@ static void reflection_and_refraction_at_any_translation_or_scale(void **state)
         for (int i = 0; i < 10; i++) {
             real S = i < 5 ? 1 : scales[i - 5], T = i < 5 ? offsets[i] : 0;
             Scene *s = optics_scene(S, v3(T, R(0.5) * T, -T), *mats[k]);
-            OpticsCount c = shoot_optics(s, S, 20000, 11 + (uint64_t)i);
+            OpticsCount c = shoot_optics(world_now(s), S, 20000, 11 + (uint64_t)i);
             printf("%s, translate %g scale %g: %d rays, %d missed, %d self-intersections, %d leaks, %d totally reflected"
                    " (%d origins rounded inside, not counted)\n",
                    names[k], (double)T, (double)S, c.rays, c.missed, c.self, c.leaked, c.tir, c.started_inside);
@@ -457,7 +460,8 @@ static void degenerate_and_sliver_triangles(void **state)
     scene_add_model(s, m, &mid, NULL);
     scene_add_instance(s, instance_make(mid, v3(0, 0, 0), v3(0, 0, 0), 1), NULL);
     scene_add_light(s, light_point(v3(0, R(0.5), 3), v3(1, 1, 1), 1, 0), NULL);
-    assert_int_equal(scene_prepare(s, NULL), 0);
+    assert_int_equal(scene_check(s, NULL), 0);
+    const World *world = world_now(s);
     int hits = 0;
     for (int i = 0; i < 50; i++)
         for (int j = 0; j < 20; j++) {
@@ -466,7 +470,7 @@ static void degenerate_and_sliver_triangles(void **state)
             r = ray_make(v3(x, R(0.05) * (real)j, 3), v3_norm(v3(R(1e-9) * (real)j, 0, -1)), 0, REAL_INF);
             RayStats st;
             uint64_t key;
-            vec3 col = shade_ray(s, &r, &st, &key);
+            vec3 col = shade_ray(world, &r, &st, &key);
             assert_true(v3_is_finite(col));
             hits += key != UINT64_MAX;
         }
@@ -488,7 +492,7 @@ static Scene *simple_scene(void)
     return s;
 }
 
-static int count_background(const uint8_t *px, int n, const Scene *s)
+static int count_background(const uint8_t *px, int n, const World *s)
 {
     uint8_t bg[3];
     for (int c = 0; c < 3; c++)
@@ -509,12 +513,12 @@ static void camera_inside_a_sphere(void **state)
     s->camera.pos = v3(R(0.3), R(-0.2), R(0.1));
     scene_add_light(s, light_point(v3(0, 1, 0), v3(1, 1, 1), 1, 0), NULL);
     s->planes[0].point = v3(0, -100, 0);
-    assert_int_equal(scene_prepare(s, NULL), 0);
+    assert_int_equal(scene_check(s, NULL), 0);
     RenderPool *p = render_pool_create(2, NULL);
     enum { W = 64, H = 48 };
     uint8_t px[W * H * 3];
-    assert_int_equal(render_lines(p, s, W, H, 0, H, px, NULL, NULL), 0);
-    assert_int_equal(count_background(px, W * H, s), 0);
+    assert_int_equal(render_lines(p, world_now(s), W, H, 0, H, px, NULL, NULL), 0);
+    assert_int_equal(count_background(px, W * H, world_now(s)), 0);
     int lit = 0;
     for (int i = 0; i < W * H; i++)
         lit += px[3 * i] > 60;
@@ -524,9 +528,9 @@ static void camera_inside_a_sphere(void **state)
 }
 
 /* Sampled pixels of a frame equal the colour of their own camera ray. */
-static void check_pixels_match_rays(const uint8_t *px, int w, int h, const Scene *s)
+static void check_pixels_match_rays(const uint8_t *px, int w, int h, const World *s)
 {
-    CameraFrame f = camera_frame(&s->camera, w, h);
+    CameraFrame f = camera_frame(&s->view.camera, w, h);
     Rng rng = {5};
     for (int i = 0; i < 200; i++) {
         int x = (int)(rng_next(&rng) % (uint64_t)w), y = (int)(rng_next(&rng) % (uint64_t)h);
@@ -547,17 +551,17 @@ static void one_pixel_and_8k_frames(void **state)
     Scene *s = simple_scene();
     scene_add_light(s, light_point(v3(2, 5, 4), v3(1, 1, 1), 1, 0), NULL);
     s->settings.shadows = 0;
-    assert_int_equal(scene_prepare(s, NULL), 0);
+    assert_int_equal(scene_check(s, NULL), 0);
     RenderPool *p = render_pool_create(2, NULL);
     const int sizes[2] = {1, 8192};
     for (int k = 0; k < 2; k++) {
         int n = sizes[k];
         uint8_t *px = malloc((size_t)n * n * 3);
         assert_non_null(px);
-        assert_int_equal(render_lines(p, s, n, n, 0, n, px, NULL, NULL), 0);
-        check_pixels_match_rays(px, n, n, s);
+        assert_int_equal(render_lines(p, world_now(s), n, n, 0, n, px, NULL, NULL), 0);
+        check_pixels_match_rays(px, n, n, world_now(s));
         if (n > 1)
-            assert_true(count_background(px, n * n, s) < n * n / 2);
+            assert_true(count_background(px, n * n, world_now(s)) < n * n / 2);
         free(px);
     }
     render_pool_destroy(p);
@@ -574,18 +578,18 @@ static void zero_and_a_thousand_lights(void **state)
     RenderPool *p = render_pool_create(2, NULL);
     uint8_t one[W * H * 3], many[W * H * 3];
     Scene *s = simple_scene();
-    assert_int_equal(scene_prepare(s, NULL), 0);
-    assert_int_equal(render_lines(p, s, W, H, 0, H, one, NULL, NULL), 0);
+    assert_int_equal(scene_check(s, NULL), 0);
+    assert_int_equal(render_lines(p, world_now(s), W, H, 0, H, one, NULL, NULL), 0);
     uint8_t want = srgb_encode8(s->ambient.x * s->materials[0].kd.x);
     assert_int_equal(one[3 * (H / 2 * W + W / 2)], want); /* the sphere's centre pixel */
     scene_add_light(s, light_point(v3(2, 5, 4), v3(1, 1, 1), 1, 0), NULL);
-    assert_int_equal(scene_prepare(s, NULL), 0);
-    assert_int_equal(render_lines(p, s, W, H, 0, H, one, NULL, NULL), 0);
+    assert_int_equal(scene_check(s, NULL), 0);
+    assert_int_equal(render_lines(p, world_now(s), W, H, 0, H, one, NULL, NULL), 0);
     s->light_count = 0;
     for (int i = 0; i < 1000; i++)
         scene_add_light(s, light_point(v3(2, 5, 4), v3(1, 1, 1), R(0.001), 0), NULL);
-    assert_int_equal(scene_prepare(s, NULL), 0);
-    assert_int_equal(render_lines(p, s, W, H, 0, H, many, NULL, NULL), 0);
+    assert_int_equal(scene_check(s, NULL), 0);
+    assert_int_equal(render_lines(p, world_now(s), W, H, 0, H, many, NULL, NULL), 0);
     for (int i = 0; i < W * H * 3; i++)
         assert_true(abs(one[i] - many[i]) <= 1);
     render_pool_destroy(p);
@@ -606,10 +610,10 @@ static void extreme_fields_of_view(void **state)
     const real fovs[2] = {1, 179};
     for (int k = 0; k < 2; k++) {
         s->camera.zoom = camera_zoom_for_fov(fovs[k]);
-        assert_int_equal(scene_prepare(s, NULL), 0);
-        assert_int_equal(render_lines(p, s, W, H, 0, H, px, NULL, NULL), 0);
-        check_pixels_match_rays(px, W, H, s);
-        int background = count_background(px, W * H, s);
+        assert_int_equal(scene_check(s, NULL), 0);
+        assert_int_equal(render_lines(p, world_now(s), W, H, 0, H, px, NULL, NULL), 0);
+        check_pixels_match_rays(px, W, H, world_now(s));
+        int background = count_background(px, W * H, world_now(s));
         if (k == 0)
             assert_int_equal(background, 0);
         else /* the horizon crosses the middle of a 179-degree view: about half is sky */
@@ -632,5 +636,7 @@ int main(void)
         cmocka_unit_test(zero_and_a_thousand_lights),
         cmocka_unit_test(extreme_fields_of_view),
     };
-    return cmocka_run_group_tests_name("stability", tests, NULL, NULL);
+    int rc = cmocka_run_group_tests_name("stability", tests, NULL, NULL);
+    world_now_free();
+    return rc;
 }

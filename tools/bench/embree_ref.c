@@ -206,9 +206,10 @@ static RTCGeometry world_mesh(RTCDevice dev, const Scene *s, float **vb)
     for (uint32_t i = 0; i < s->instance_count; i++) {
         const Instance *in = &s->instances[i];
         const Model *m = s->models[in->model];
+        const mat3 rot = m3_rotation_xyz(in->rotate); /* as world_build turns it */
         for (uint32_t t = 0; t < m->tri_count; t++, k++)
             for (int c = 0; c < 3; c++) {
-                vec3 w = v3_add(v3_scale(m3_apply(&in->rot, tri_vertex(&m->tris[t], c)), in->scale), in->translate);
+                vec3 w = v3_add(v3_scale(m3_apply(&rot, tri_vertex(&m->tris[t], c)), in->scale), in->translate);
                 v[9 * k + 3 * c] = (float)w.x, v[9 * k + 3 * c + 1] = (float)w.y, v[9 * k + 3 * c + 2] = (float)w.z;
                 ib[3 * k + c] = (unsigned)(3 * k + c);
             }

@@ -1,0 +1,145 @@
+/* world.h - what rays are traced against, built from a scene description.
+ *
+ * A Scene (scene.h) is the description: items as a file, the wire or code
+ * gave them, checked by scene_check.  A World is built from one
+ * (world_build) and holds what the inner loop reads, in the form it reads
+ * it: the planes' unit normals and texture axes, the instances' rotations
+ * and world boxes, the lights' axes, spot cones and lamps, the top-level
+ * BVH, and the features the scene uses.  Spheres, scene triangles,
+ * materials, textures and models are read from the description in place:
+ * they need nothing derived.  A world never changes its description; the
+ * description must outlive it and stay unchanged while it is used.
+ *
+ * Beside it, the frame's view: the camera and the quality settings, which a
+ * frame may change without a new world (world_set_view checks them and
+ * nothing else). */
+#ifndef LANRAY_WORLD_H
+#define LANRAY_WORLD_H
+
+#include <stdatomic.h>
+
+#include "scene/scene.h"
+
+enum {
+    FEAT_TEXTURES = 1 << 0,
+    FEAT_SMOOTH = 1 << 1,
+    FEAT_SPOT = 1 << 2,
+    FEAT_ATTENUATION = 1 << 3,
+    FEAT_PLANES = 1 << 4,
+    FEAT_SHADOWS = 1 << 5,
+    FEAT_SPECULAR = 1 << 6,
+    FEAT_COLOURS = 1 << 7, /* an instance shows its model's vertex colours */
+    FEAT_REFLECT = 1 << 8, /* a material with mirror reflectance */
+    FEAT_REFRACT = 1 << 9, /* a dielectric material */
+    FEAT_EMIT = 1 << 10,   /* an emissive material */
+    FEAT_AREA = 1 << 11,   /* a sphere or rectangle light */
+    FEAT_ROUGH = 1 << 12,  /* a mirror with roughness */
+    FEAT_LENS = 1 << 13,   /* a camera with an aperture (depth of field) */
+};
+
+/* What one frame is rendered with beside the world. */
+typedef struct {
+    Camera camera;
+    RenderSettings settings;
+} View;
+
+typedef struct {
+    vec3 point;
+    vec3 unit;   /* the unit normal */
+    vec3 tu, tv; /* texture coordinates of p: ((p - point).tu, (p - point).tv) */
+    uint32_t material;
+} WorldPlane;
+
+typedef struct {
+    uint32_t model;
+    mat3 rot;      /* model -> world rotation */
+    vec3 translate;
+    real scale;
+    int32_t material; /* the scene material overriding the model's, or -1 */
+    int identity;     /* no rotation, scale 1, no translation: rays need no transform */
+} WorldInstance;
+
+/* A light as shading reads it: a spot's or a directional light's direction
+ * and a rectangle's normal as a unit axis, a spot's angles as cosines. */
+typedef struct {
+    LightKind kind;
+    vec3 pos;          /* point, spot; sphere: its centre; rectangle: a corner */
+    vec3 axis;         /* spot: beam axis; directional: the way light travels; rectangle: its normal */
+    vec3 color;
+    real intensity;
+    int attenuate;
+    real radius;       /* sphere */
+    vec3 edge1, edge2; /* rectangle */
+    int samples;       /* sphere, rectangle: the side of the pattern of shadow rays */
+    real cos_outer, cos_inner;       /* spot */
+    uint32_t lamp_first, lamp_count; /* its lamp: World.lamps[lamp_first ..], which its shadow rays pass */
+} WorldLight;
+
+static inline int world_light_is_area(const WorldLight *l) { return l->kind == LIGHT_SPHERE || l->kind == LIGHT_RECT; }
+
+/* The top-level BVH and the boxes it was built over, shared between worlds
+ * whose boxes are the same (a new camera, new settings, a new material). */
+typedef struct {
+    Bvh bvh;      /* prims index spheres, then triangles, then instances */
+    Aabb *boxes;
+    uint32_t count;
+    atomic_int refs;
+} WorldTop;
+
+typedef struct {
+    const Scene *desc;
+    View view;
+
+    /* read in place from the description */
+    const Material *materials;
+    uint32_t material_count;
+    Texture *const *textures;
+    const Sphere *spheres;
+    uint32_t sphere_count;
+    const Tri *tris;
+    const TriAttr *tri_attrs;
+    uint32_t tri_count;
+    Model *const *models;
+    vec3 ambient, background;
+
+    /* derived */
+    WorldPlane *planes;
+    uint32_t plane_count;
+    WorldInstance *instances;
+    uint32_t instance_count;
+    WorldLight *lights;
+    uint32_t light_count;
+    uint32_t *lamps;  /* the lights' lamps: top-level primitive numbers, by light (WorldLight.lamp_first) */
+    uint32_t lamp_total;
+    WorldTop *top;    /* NULL: nothing but planes */
+    const Bvh *tree;  /* &top->bvh, or an empty tree */
+    uint32_t features;      /* what the items use (FEAT_*), and what the view adds: */
+    uint32_t item_features; /* the items' alone */
+} World;
+
+/* Builds the world of desc (checked: scene_check), with desc's camera and
+ * settings as its view.  previous (may be NULL), a world of an earlier
+ * description, gives what did not change: its top-level BVH where the
+ * boxes are the same.  The result is the same bits with or without it. */
+World *world_build(const Scene *desc, const World *previous, Err *err);
+void world_destroy(World *w);
+/* Sets the view of the frames to come: checks the camera and the settings
+ * (as scene_check does) and nothing else. */
+int world_set_view(World *w, const View *v, Err *err);
+/* The description's view: its camera and settings. */
+View scene_view(const Scene *s);
+/* Whether the world's top-level BVH is previous's (world_build reused it). */
+int world_shares_top(const World *w, const World *previous);
+
+static inline int world_has(const World *w, uint32_t feature) { return (w->features & feature) != 0; }
+
+/* What the inner loop asks before taking an optional path.  A LANRAY_MINIMAL
+ * build (make FEATURES=minimal) compiles every optional feature out, so that
+ * `make bench` can show that a scene not using them pays nothing for them. */
+#ifdef LANRAY_MINIMAL
+#define world_uses(w, feature) ((void)(w), 0)
+#else
+#define world_uses(w, feature) world_has(w, feature)
+#endif
+
+#endif
