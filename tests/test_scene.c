@@ -82,6 +82,27 @@ static void features_reflect_what_is_used(void **state)
 
 /* A UTF-8 byte-order mark before the first directive is skipped, and both
  * spellings of centre/center and colour/color are taken. */
+/* A smooth triangle made in code (or sent) with a zero vertex normal is
+ * refused by the one check, as a file's `normals` with one is by the parser. */
+static void a_smooth_triangle_needs_its_normals(void **state)
+{
+    (void)state;
+    Scene *s = scene_create();
+    assert_int_equal(scene_add_material(s, material_default(), NULL, NULL), 0);
+    const vec3 p[3] = {v3(0, 0, 0), v3(1, 0, 0), v3(0, 1, 0)};
+    vec3 n[3] = {v3(0, 0, 1), v3(0, 0, 1), v3(0, 0, 1)};
+    assert_int_equal(scene_add_triangle(s, p, n, NULL, 0, NULL), 0);
+    assert_int_equal(scene_check(s, NULL), 0);
+    n[2] = v3(0, 0, 0);
+    assert_int_equal(scene_add_triangle(s, p, n, NULL, 0, NULL), 0);
+    Err err;
+    assert_int_equal(scene_check(s, &err), -1);
+    assert_contains(err.msg, "triangle 1");
+    assert_contains(err.msg, "normals");
+    assert_false(s->checked);
+    scene_destroy(s);
+}
+
 static void byte_order_mark_and_spellings(void **state)
 {
     (void)state;
@@ -159,6 +180,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(full_scene),
         cmocka_unit_test(features_reflect_what_is_used),
+        cmocka_unit_test(a_smooth_triangle_needs_its_normals),
         cmocka_unit_test(byte_order_mark_and_spellings),
         cmocka_unit_test(errors_name_file_line_and_expectation),
     };

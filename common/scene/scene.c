@@ -262,6 +262,11 @@ static int check_primitives(const Scene *s, Err *err)
             return err_set(err, "scene: triangle %u: %s", i, why);
         if (check_material(s, s->tri_attrs[i].material, "triangle", i, err))
             return -1;
+        /* the table skips a group at its defaults; a smooth triangle's
+         * normals are there whatever their values (from the wire, from code) */
+        for (int k = 0; t.smooth && k < 3; k++)
+            if (!(v3_dot(s->tri_attrs[i].n[k], s->tri_attrs[i].n[k]) > R(0)))
+                return err_set(err, "scene: triangle %u: 'normals' has a zero vector", i);
     }
     return 0;
 }
