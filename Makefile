@@ -208,11 +208,16 @@ $(BUILD)/tools/bench/build_bench: tools/bench/build_bench.c $(LIB)
 	@mkdir -p $(dir $@)
 	$(CC) $(ALL_CFLAGS) -o $@ $< $(LIB) $(LDLIBS)
 
-bench: deps $(TOOLS) $(BUILD)/tools/bench/embree_ref $(BUILD)/tools/bench/import_bench $(BUILD)/tools/bench/build_bench
+$(BUILD)/tools/bench/view_bench: tools/bench/view_bench.c $(LIB)
+	@mkdir -p $(dir $@)
+	$(CC) $(ALL_CFLAGS) -o $@ $< $(LIB) $(LDLIBS)
+
+bench: deps $(TOOLS) $(BUILD)/tools/bench/embree_ref $(BUILD)/tools/bench/import_bench $(BUILD)/tools/bench/build_bench $(BUILD)/tools/bench/view_bench
 	@$(MAKE) --no-print-directory FEATURES=minimal $(BIN)/minimal/lanray-render
 	@BIN=$(BIN) EMBREE_REF=$(BUILD)/tools/bench/embree_ref BUILD_BENCH=$(BUILD)/tools/bench/build_bench bash tools/bench/bench-render
 	@BIN=$(BIN) bash tools/bench/bench-features
 	@IMPORT_BENCH=$(BUILD)/tools/bench/import_bench bash tools/bench/bench-import
+	@VIEW_BENCH=$(BUILD)/tools/bench/view_bench bash tools/bench/bench-view
 
 # the trade-off study: CSV and plot into docs/ (needs gnuplot, installed here)
 tradeoff: deps $(TOOLS)

@@ -29,9 +29,20 @@
 
 #define MAX_JOBS 64
 
+/* A description the server sent (its number: MsgUpdate.scene_id), shared
+ * by the frames that use it. */
 typedef struct {
     Scene *scene;
-    World *world; /* built from scene, with the previous frame's world for what did not change */
+    uint32_t id;
+    atomic_int refs; /* the network thread takes, either thread drops */
+} Desc;
+
+/* A frame: its description and the world seen with the frame's view.  The
+ * render thread's jobs hold references, so a new frame never changes what
+ * an old segment renders.  (The counts change under Worker.mu.) */
+typedef struct {
+    Desc *desc;
+    World *world;
     uint32_t frame;
     int width, height;
     int refs;
@@ -61,13 +72,80 @@ typedef struct {
     uint64_t segments, pixels;
 } Worker;
 
+static void desc_drop(Desc *d)
+{
+    if (d && atomic_fetch_sub(&d->refs, 1) == 1) {
+        scene_destroy(d->scene);
+        free(d);
+    }
+}
+
 static void ref_drop(SceneRef *r)
 {
     if (r && --r->refs == 0) {
         world_destroy(r->world);
-        scene_destroy(r->scene);
+        desc_drop(r->desc);
         free(r);
     }
+}
+
+static uint32_t ref_bpp(const SceneRef *r) { return render_pixel_bytes(&r->world->view.settings); }
+
+/* The description an UPDATE brings, or the one it names that the client
+ * holds (cur's), with one more reference. */
+static Desc *update_desc(const MsgUpdate *u, const AssetCache *cache, const SceneRef *cur, Err *err)
+{
+    if (u->scene_len == 0) {
+        if (!cur || cur->desc->id != u->scene_id) {
+            err_set(err, "UPDATE for scene %u without it (this client holds %u)", u->scene_id, cur ? cur->desc->id : 0);
+            return NULL;
+        }
+        atomic_fetch_add(&cur->desc->refs, 1);
+        return cur->desc;
+    }
+    Desc *d = calloc(1, sizeof *d);
+    if (!d) {
+        err_set(err, "out of memory");
+        return NULL;
+    }
+    if (wire_decode_scene(u->scene, u->scene_len, cache, &d->scene, err)) {
+        free(d);
+        return NULL;
+    }
+    d->id = u->scene_id;
+    atomic_init(&d->refs, 1);
+    return d;
+}
+
+/* The frame of an UPDATE: its description (new, or the one held) and its
+ * world: a new description's built with the previous frame's world (its
+ * tree where the boxes are the same), the held one's shared with the new
+ * view (no check, no build). */
+static SceneRef *update_ref(const MsgUpdate *u, const AssetCache *cache, const SceneRef *cur, Err *err)
+{
+    View view;
+    if (wire_decode_view(u->view, u->view_len, &view, err))
+        return NULL;
+    Desc *d = update_desc(u, cache, cur, err);
+    if (!d)
+        return NULL;
+    World *world = NULL;
+    if (d == (cur ? cur->desc : NULL)) {
+        world = world_with_view(cur->world, &view, err);
+    } else if ((world = world_build(d->scene, cur ? cur->world : NULL, err)) && world_set_view(world, &view, err)) {
+        world_destroy(world);
+        world = NULL;
+    }
+    SceneRef *ref = world ? calloc(1, sizeof *ref) : NULL;
+    if (!ref) {
+        if (world)
+            err_set(err, "out of memory");
+        world_destroy(world);
+        desc_drop(d);
+        return NULL;
+    }
+    *ref = (SceneRef){d, world, u->frame, (int)u->width, (int)u->height, 1};
+    return ref;
 }
 
 /* The render time a DATA reports is the segment's render, plus, when the
@@ -99,7 +177,7 @@ static void *render_thread(void *arg)
         w->running_frame = j.frame;
         atomic_store(&w->cancel, 0);
         pthread_mutex_unlock(&w->mu);
-        uint8_t *px = malloc((size_t)j.seg.count * render_pixel_bytes(&j.ref->scene->settings));
+        uint8_t *px = malloc((size_t)j.seg.count * ref_bpp(j.ref));
         Err err;
         double t0 = timer_now(), waited = 0;
         if (straight)
@@ -114,7 +192,7 @@ static void *render_thread(void *arg)
         w->running = 0;
         if (rc == 0 && j.frame == w->current_frame && w->ndone < MAX_JOBS * 2) {
             j.pixels = px;
-            j.bpp = render_pixel_bytes(&j.ref->scene->settings);
+            j.bpp = ref_bpp(j.ref);
             j.render_us = us < 4e9 ? (uint32_t)us : UINT32_MAX;
             w->done[w->ndone++] = j;
             w->segments++;
@@ -220,7 +298,7 @@ static int segment_ok(Segment seg, const SceneRef *ref, const char *packet, Err 
     if ((uint64_t)seg.first + seg.count > width * height)
         return err_set(err, "%s segment %u+%u outside the %llux%llu frame", packet, seg.first, seg.count,
                        (unsigned long long)width, (unsigned long long)height);
-    if (msg_min_size(PKT_DATA) + render_pixel_bytes(&ref->scene->settings) * (uint64_t)seg.count > msg_max_size(PKT_DATA))
+    if (msg_min_size(PKT_DATA) + ref_bpp(ref) * (uint64_t)seg.count > msg_max_size(PKT_DATA))
         return err_set(err, "%s segment of %u pixels is larger than a DATA packet can carry", packet, seg.count);
     return 0;
 }
@@ -243,17 +321,9 @@ static int on_packet(const ClientConfig *cfg, Worker *w, Conn *c, AssetCache *ca
         uint32_t frame = u.frame, width = u.width, height = u.height, nseg = u.nseg;
         if (width < 1 || height < 1 || width > RENDER_MAX_SIDE || height > RENDER_MAX_SIDE)
             return err_set(err, "malformed UPDATE");
-        Scene *scene;
-        if (wire_decode_scene(u.scene, u.scene_len, cache, &scene, err))
+        SceneRef *ref = update_ref(&u, cache, *cur, err);
+        if (!ref)
             return -1;
-        World *world = world_build(scene, *cur ? (*cur)->world : NULL, err);
-        SceneRef *ref = world ? calloc(1, sizeof *ref) : NULL;
-        if (!ref) {
-            world_destroy(world);
-            scene_destroy(scene);
-            return world ? err_set(err, "out of memory") : -1;
-        }
-        *ref = (SceneRef){scene, world, frame, (int)width, (int)height, 1};
         pthread_mutex_lock(&w->mu);
         w->current_frame = frame;
         for (int i = 0; i < w->nqueue; i++)

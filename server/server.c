@@ -39,6 +39,7 @@ typedef struct {
     uint32_t threads;
     double since, last_result;
     uint32_t frame_sent; /* last frame it got an UPDATE for (0: none) */
+    uint32_t scene_held; /* the description it was sent last (Server.scene_id; 0: none) */
     uint8_t *asset_sent; /* per server asset */
     uint64_t segments, pixels, duplicates;
     uint64_t busy_us;
@@ -57,6 +58,8 @@ struct Server {
     Sched *sched;
     uint32_t frame;   /* current frame id; 0 before the first */
     int in_frame, paused, dirty;
+    View view;          /* the frame's camera and settings, apart from the description */
+    uint32_t scene_id;  /* the description's number, one up each time it changes */
     /* changes held for the next frame (server_set_camera, server_turn_instances) */
     Camera next_camera;
     int camera_pending;
@@ -65,7 +68,9 @@ struct Server {
     uint32_t bpp;
     Asset *assets;    /* models then textures of the scene */
     uint32_t nassets;
-    Sink blob;        /* the serialised scene of the current frame */
+    Sink scene_blob;  /* the serialised description (number scene_id) */
+    Sink blob;        /* the current frame's view, then scene_blob: an UPDATE sends the view, or both */
+    uint32_t view_len;
     /* finished clients' statistics, for the summary */
     uint64_t gone_segments, gone_pixels, gone_bytes;
     uint32_t gone_clients; /* clients that left, or were dropped */
@@ -116,6 +121,7 @@ Server *server_create(const ServerConfig *cfg, Scene *scene, Err *err)
     s->cfg = *cfg;
     s->cfg.listen_addr = addr;
     s->scene = scene;
+    s->view = scene_view(scene);
     s->listen_fd = -1;
     s->next_id = 1;
     s->auto_segment = cfg->segment_lines == 0;
@@ -172,6 +178,7 @@ void server_destroy(Server *s)
         asset_free(&s->assets[i]);
     free(s->assets);
     sink_free(&s->blob);
+    sink_free(&s->scene_blob);
     sched_destroy(s->sched);
     free(s->pixels);
     free(s);
@@ -187,15 +194,15 @@ void server_set_camera(Server *s, const Camera *c)
 
 void server_turn_instances(Server *s, real degrees) { s->turn_pending += degrees; }
 
-Camera server_camera(const Server *s) { return s->camera_pending ? s->next_camera : s->scene->camera; }
+Camera server_camera(const Server *s) { return s->camera_pending ? s->next_camera : s->view.camera; }
 
-/* What was held for this frame, applied to the scene before it is sent. */
+/* What was held for this frame: a camera for the view, a turn for the
+ * description (which then is checked and sent again). */
 static void apply_pending(Server *s)
 {
     if (s->camera_pending) {
-        s->scene->camera = s->next_camera;
+        s->view.camera = s->next_camera;
         s->camera_pending = 0;
-        s->dirty = 1;
     }
     if (s->turn_pending != R(0)) {
         for (uint32_t i = 0; i < s->scene->instance_count; i++)
@@ -272,13 +279,17 @@ static void send_update(Server *s, Client *c)
             c->asset_sent[i] = 1;
             measure_asset_sent(&s->m, PROTO_HEADER + out.head_len + out.tail_len);
         }
-    MsgUpdate u = {s->frame, (uint32_t)s->cfg.width, (uint32_t)s->cfg.height, 0, {{0, 0}}, s->blob.data, s->blob.len};
+    const int held = c->scene_held == s->scene_id;
+    MsgUpdate u = {.frame = s->frame, .width = (uint32_t)s->cfg.width, .height = (uint32_t)s->cfg.height,
+                   .scene_id = s->scene_id, .view_len = s->view_len, .view = s->blob.data,
+                   .scene_len = held ? 0 : s->blob.len - s->view_len};
     _Static_assert(sizeof u.seg / sizeof u.seg[0] >= SCHED_IN_FLIGHT, "an UPDATE carries a client's first segments");
     u.nseg = sched_top_up(s->sched, c->id, u.seg);
     MsgOut out;
     msg_encode_update(&u, &out);
     send_or_drop(s, c, &out);
     c->frame_sent = s->frame;
+    c->scene_held = s->scene_id;
 }
 
 /* Bytes in and out over every connection so far, closed ones included. */
@@ -293,14 +304,21 @@ static uint64_t server_bytes(const Server *s)
 static int start_frame(Server *s, Err *err)
 {
     apply_pending(s);
-    if (s->dirty) {
-        if (scene_check(s->scene, err))
+    if (s->dirty) { /* a new description: checked, encoded once, numbered */
+        s->scene_blob.len = 0;
+        if (scene_check(s->scene, err) ||
+            wire_encode_scene(s->scene, s->assets, s->assets + s->scene->model_count, &s->scene_blob, err))
             return -1;
+        s->scene_id++;
         s->dirty = 0;
     }
     s->blob.len = 0;
-    if (wire_encode_scene(s->scene, s->assets, s->assets + s->scene->model_count, &s->blob, err))
+    if (wire_encode_view(&s->view, &s->blob, err))
         return -1;
+    s->view_len = (uint32_t)s->blob.len;
+    sink_put(&s->blob, s->scene_blob.data, s->scene_blob.len);
+    if (s->blob.failed)
+        return err_set(err, "out of memory for the frame's UPDATE");
     s->frame++;
     s->in_frame = 1;
     uint32_t n = server_client_count(s);

@@ -51,19 +51,26 @@ static void packets_round_trip(void **state)
     assert_int_equal(msg_decode_welcome(buf, n, &w2, &err), 0);
     assert_int_equal(w2.id, 42);
 
-    const uint8_t scene[5] = {1, 2, 3, 4, 5};
-    for (uint32_t nseg = 0; nseg <= 2; nseg++) {
-        MsgUpdate u = {7, 640, 480, nseg, {{10, 20}, {30, 40}}, scene, sizeof scene}, u2;
-        msg_encode_update(&u, &o);
-        n = body_of(&o, buf);
-        assert_int_equal(n, 16 + 8 * nseg + sizeof scene);
-        assert_int_equal(msg_decode_update(buf, n, &u2, &err), 0);
-        assert_true(u2.frame == 7 && u2.width == 640 && u2.height == 480 && u2.nseg == nseg);
-        for (uint32_t k = 0; k < nseg; k++)
-            assert_memory_equal(&u2.seg[k], &u.seg[k], sizeof(Segment));
-        assert_int_equal(u2.scene_len, sizeof scene);
-        assert_memory_equal(u2.scene, scene, sizeof scene);
-    }
+    /* the view (3 bytes) and the scene (5) are one block: with the scene, or the view alone */
+    const uint8_t block[8] = {9, 8, 7, 1, 2, 3, 4, 5};
+    for (uint32_t nseg = 0; nseg <= 2; nseg++)
+        for (size_t scene_len = 0; scene_len <= 5; scene_len += 5) {
+            MsgUpdate u = {.frame = 7, .width = 640, .height = 480, .scene_id = 3, .view_len = 3, .nseg = nseg,
+                           .seg = {{10, 20}, {30, 40}}, .view = block, .scene_len = scene_len},
+                      u2;
+            msg_encode_update(&u, &o);
+            n = body_of(&o, buf);
+            assert_int_equal(n, 24 + 8 * nseg + 3 + scene_len);
+            assert_int_equal(msg_decode_update(buf, n, &u2, &err), 0);
+            assert_true(u2.frame == 7 && u2.width == 640 && u2.height == 480 && u2.nseg == nseg);
+            assert_true(u2.scene_id == 3 && u2.view_len == 3);
+            for (uint32_t k = 0; k < nseg; k++)
+                assert_memory_equal(&u2.seg[k], &u.seg[k], sizeof(Segment));
+            assert_memory_equal(u2.view, block, 3);
+            assert_int_equal(u2.scene_len, scene_len);
+            if (scene_len)
+                assert_memory_equal(u2.scene, block + 3, scene_len);
+        }
 
     MsgCompute c = {9, {100, 200}}, c2;
     msg_encode_compute(&c, &o);
@@ -123,14 +130,18 @@ static void bodies_that_do_not_fit_are_refused(void **state)
     assert_int_equal(msg_decode_hello(buf, 85, &h, &err), -1);
     assert_non_null(strstr(err.msg, "HELLO packet of 85 bytes, its layout has 84"));
     MsgUpdate u;
-    uint32_t three[4] = {1, 2, 3, 3};
+    uint32_t three[6] = {1, 2, 3, 1, 0, 3};
     memcpy(buf, three, sizeof three);
     assert_int_equal(msg_decode_update(buf, 200, &u, &err), -1);
     assert_non_null(strstr(err.msg, "UPDATE packet with 3 segments"));
-    uint32_t two[4] = {1, 2, 3, 2};
+    uint32_t two[6] = {1, 2, 3, 1, 0, 2};
     memcpy(buf, two, sizeof two);
-    assert_int_equal(msg_decode_update(buf, 16 + 15, &u, &err), -1);
+    assert_int_equal(msg_decode_update(buf, 24 + 15, &u, &err), -1);
     assert_non_null(strstr(err.msg, "too short for its segments"));
+    uint32_t long_view[6] = {1, 2, 3, 1, 10, 0}; /* a view of 10 bytes, 9 there */
+    memcpy(buf, long_view, sizeof long_view);
+    assert_int_equal(msg_decode_update(buf, 24 + 9, &u, &err), -1);
+    assert_non_null(strstr(err.msg, "view of 10 bytes and 9 bytes left"));
     MsgData d;
     uint32_t data[4] = {1, 0, 10, 5}; /* 10 pixels claimed */
     memcpy(buf, data, sizeof data);

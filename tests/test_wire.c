@@ -524,10 +524,65 @@ static void malformed_scenes_and_assets_are_rejected(void **state)
     scene_destroy(one);
 }
 
+/* A frame's view travels alone: decoded, it gives the world of the
+ * description a client holds (world_with_view) the pixels of a world built
+ * from a scene with that camera and settings, with no tree built; a view
+ * the checks refuse, a short one and one with a byte more are errors. */
+static void a_view_travels_alone(void **state)
+{
+    (void)state;
+    BvhOptions opt = bvh_options_default(BVH_SAH);
+    Scene *s;
+    assert_int_equal(scene_default(&s, &opt, NULL), 0);
+    World *held = world_build(s, NULL, NULL);
+    assert_non_null(held);
+    View v = scene_view(s);
+    v.camera.pos = v3_add(v.camera.pos, v3(R(0.4), R(-0.2), R(0.3)));
+    v.settings.aa = 2;
+    v.settings.adaptive = 0;
+    v.settings.shadows = 0;
+    Sink sink = {0};
+    assert_int_equal(wire_encode_view(&v, &sink, NULL), 0);
+    assert_true(sink.len < 256); /* a view is small: the camera and the settings */
+    View got;
+    Err err;
+    assert_int_equal(wire_decode_view(sink.data, sink.len, &got, &err), 0);
+    uint64_t trees = world_tree_builds();
+    World *moved = world_with_view(held, &got, &err);
+    assert_non_null(moved);
+    assert_int_equal(world_tree_builds(), trees); /* a camera move builds no tree */
+    assert_true(world_shares_top(moved, held));
+    world_destroy(held); /* the moved world keeps what it shares */
+    s->camera = v.camera;
+    s->settings = v.settings;
+    enum { W = 40, H = 30 };
+    static uint8_t pa[W * H * 3], pb[W * H * 3];
+    RenderPool *p = render_pool_create(2, NULL);
+    assert_int_equal(render_lines(p, moved, W, H, 0, H, pa, NULL, NULL), 0);
+    assert_int_equal(render_lines(p, world_now(s), W, H, 0, H, pb, NULL, NULL), 0);
+    assert_memory_equal(pa, pb, sizeof pa);
+    render_pool_destroy(p);
+    assert_int_equal(wire_decode_view(sink.data, sink.len - 1, &got, &err), -1);
+    assert_contains(err.msg, "view: truncated");
+    sink_u32(&sink, 0);
+    assert_int_equal(wire_decode_view(sink.data, sink.len, &got, &err), -1);
+    assert_contains(err.msg, "trailing");
+    View bad = v;
+    bad.settings.depth = SCENE_MAX_DEPTH + 1;
+    sink.len = 0;
+    assert_int_equal(wire_encode_view(&bad, &sink, NULL), 0);
+    assert_int_equal(wire_decode_view(sink.data, sink.len, &got, &err), -1);
+    assert_contains(err.msg, "depth");
+    sink_free(&sink);
+    world_destroy(moved);
+    scene_destroy(s);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(scenes_round_trip),
+        cmocka_unit_test(a_view_travels_alone),
         cmocka_unit_test(only_used_parts_travel),
         cmocka_unit_test(a_models_optics_carry_the_settings),
         cmocka_unit_test(hdr_travels_as_a_flag),

@@ -38,8 +38,9 @@ static const Field hello_f[] = {
     {"proof", offsetof(MsgHello, proof), PROTO_PROOF}, {NULL, 0, 0}};
 static const Field welcome_f[] = {{"id", offsetof(MsgWelcome, id), 4}, {NULL, 0, 0}};
 static const Field update_f[] = {
-    {"frame", offsetof(MsgUpdate, frame), 4},   {"width", offsetof(MsgUpdate, width), 4},
-    {"height", offsetof(MsgUpdate, height), 4}, {"nseg", offsetof(MsgUpdate, nseg), 4},
+    {"frame", offsetof(MsgUpdate, frame), 4},         {"width", offsetof(MsgUpdate, width), 4},
+    {"height", offsetof(MsgUpdate, height), 4},       {"scene_id", offsetof(MsgUpdate, scene_id), 4},
+    {"view_len", offsetof(MsgUpdate, view_len), 4},   {"nseg", offsetof(MsgUpdate, nseg), 4},
     {"segments", offsetof(MsgUpdate, seg), SEGMENTS_BY_NSEG}, {NULL, 0, 0}};
 static const Field compute_f[] = {{"frame", offsetof(MsgCompute, frame), 4},
                                   {"first", offsetof(MsgCompute, seg.first), 4},
@@ -58,7 +59,7 @@ static const Layout layouts[PKT_TYPE_END] = {
     [PKT_SERVER_HELLO] = {"SERVER_HELLO", server_hello_f, NULL, 0},
     [PKT_HELLO] = {"HELLO", hello_f, NULL, 0},
     [PKT_WELCOME] = {"WELCOME", welcome_f, NULL, 0},
-    [PKT_UPDATE] = {"UPDATE", update_f, "scene", 64 * MIB},
+    [PKT_UPDATE] = {"UPDATE", update_f, "view+scene", 64 * MIB},
     [PKT_COMPUTE] = {"COMPUTE", compute_f, NULL, 0},
     [PKT_DATA] = {"DATA", data_f, "pixels", PROTO_HEADER + 16 + 256 * MIB}, /* a whole 8192x8192 frame of RGBE */
     [PKT_ASSET] = {"ASSET", asset_f, "payload", 1024 * MIB},
@@ -148,7 +149,10 @@ static int decode(uint32_t type, const uint8_t *body, size_t len, void *m, const
 void msg_encode_server_hello(const MsgServerHello *m, MsgOut *out) { encode(PKT_SERVER_HELLO, m, NULL, 0, out); }
 void msg_encode_hello(const MsgHello *m, MsgOut *out) { encode(PKT_HELLO, m, NULL, 0, out); }
 void msg_encode_welcome(const MsgWelcome *m, MsgOut *out) { encode(PKT_WELCOME, m, NULL, 0, out); }
-void msg_encode_update(const MsgUpdate *m, MsgOut *out) { encode(PKT_UPDATE, m, m->scene, m->scene_len, out); }
+void msg_encode_update(const MsgUpdate *m, MsgOut *out)
+{
+    encode(PKT_UPDATE, m, m->view, (size_t)m->view_len + m->scene_len, out);
+}
 void msg_encode_compute(const MsgCompute *m, MsgOut *out) { encode(PKT_COMPUTE, m, NULL, 0, out); }
 void msg_encode_data(const MsgData *m, MsgOut *out)
 {
@@ -179,7 +183,14 @@ int msg_decode_welcome(const uint8_t *body, size_t len, MsgWelcome *m, Err *err)
 int msg_decode_update(const uint8_t *body, size_t len, MsgUpdate *m, Err *err)
 {
     memset(m, 0, sizeof *m);
-    return decode(PKT_UPDATE, body, len, m, &m->scene, &m->scene_len, err);
+    size_t rest;
+    if (decode(PKT_UPDATE, body, len, m, &m->view, &rest, err))
+        return -1;
+    if (m->view_len > rest)
+        return err_set(err, "UPDATE packet with a view of %u bytes and %zu bytes left", m->view_len, rest);
+    m->scene = m->view + m->view_len;
+    m->scene_len = rest - m->view_len;
+    return 0;
 }
 
 int msg_decode_compute(const uint8_t *body, size_t len, MsgCompute *m, Err *err)

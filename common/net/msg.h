@@ -17,7 +17,7 @@
 #include "render/segment.h"
 
 #define PROTO_MAGIC 0x5941524cu /* "LRAY" */
-#define PROTO_VERSION 7u
+#define PROTO_VERSION 8u /* 8: an UPDATE carries the frame's view apart, and the scene only when it changed */
 #define PROTO_BOM 0x01020304u
 #define PROTO_HEADER 8u
 #define PROTO_NONCE 32u
@@ -30,7 +30,7 @@ typedef enum {
     PKT_SERVER_HELLO = 1, /* server -> client: magic, version, bom, flags, nonce */
     PKT_HELLO = 2,        /* client -> server: magic, version, bom, threads, real size, nonce, proof */
     PKT_WELCOME = 3,      /* server -> client: client id */
-    PKT_UPDATE = 4,       /* server -> client: frame, size, up to 2 segments, serialised scene */
+    PKT_UPDATE = 4,       /* server -> client: frame, size, scene id, up to 2 segments, the view, the scene if new */
     PKT_COMPUTE = 5,      /* server -> client: frame, segment */
     PKT_DATA = 6,         /* client -> server: frame, segment, render time, RGB8 or RGBE pixels */
     PKT_ASSET = 7,        /* server -> client: kind, content hash, payload */
@@ -56,10 +56,20 @@ typedef struct {
     uint32_t id;
 } MsgWelcome;
 
+/* A frame: its view (wire_encode_view: the camera and the settings), and
+ * the scene description (wire_encode_scene) numbered scene_id, sent only
+ * to a client that does not hold that description yet (scene_len 0 then).
+ * The view and the scene are one block in the packet: encoding sends
+ * view_len + scene_len bytes from `view`; decoding points view and scene
+ * into the body. */
 typedef struct {
-    uint32_t frame, width, height, nseg; /* nseg <= 2 */
+    uint32_t frame, width, height;
+    uint32_t scene_id;  /* the description's number (the server counts up from 1 as it changes) */
+    uint32_t view_len;
+    uint32_t nseg;      /* <= 2 */
     Segment seg[2];
-    const uint8_t *scene; /* the serialised scene (wire.h) */
+    const uint8_t *view;
+    const uint8_t *scene;
     size_t scene_len;
 } MsgUpdate;
 

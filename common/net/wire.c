@@ -214,3 +214,34 @@ int wire_decode_scene(const void *data, size_t len, const AssetCache *cache, Sce
     *out = s;
     return 0;
 }
+
+int wire_encode_view(const View *v, Sink *o, Err *err)
+{
+    CameraSpec cam = {.cam = v->camera};
+    field_encode(&camera_kind, &cam, o);
+    SettingsSpec set = {.rs = v->settings};
+    field_encode(&settings_kind, &set, o);
+    return o->failed ? err_set(err, "wire: out of memory serialising the view") : 0;
+}
+
+int wire_decode_view(const void *data, size_t len, View *out, Err *err)
+{
+    Cursor c = cursor_make(data, len);
+    CameraSpec cam;
+    SettingsSpec set;
+    memset(&cam, 0, sizeof cam);
+    memset(&set, 0, sizeof set);
+    if (field_decode(&camera_kind, &c, &cam))
+        return err_set(err, "view: %s", c.failed ? "truncated camera" : "bad camera");
+    if (field_decode(&settings_kind, &c, &set))
+        return err_set(err, "view: %s", c.failed ? "truncated settings" : "bad settings");
+    if (c.left != 0)
+        return err_set(err, "view: %zu trailing bytes", c.left);
+    char why[160];
+    if (settings_problem(&set.rs, why, sizeof why))
+        return err_set(err, "view: settings: %s", why);
+    if (camera_problem(&cam.cam, why, sizeof why))
+        return err_set(err, "view: camera: %s", why);
+    *out = (View){.camera = cam.cam, .settings = set.rs};
+    return 0;
+}

@@ -11,7 +11,7 @@
 #include "net/asset.h"
 #include "base/cursor.h"
 #include "net/msg.h"
-#include "scene/scene.h"
+#include "scene/world.h"
 
 #define WIRE_MAGIC 0x4353524cu /* "LRSC" */
 #define WIRE_VERSION 5u /* 2: the output encoding (linear or sRGB), a plane's texture mapping;
@@ -28,5 +28,11 @@ int wire_encode_scene(const Scene *s, const Asset *model_assets, const Asset *te
 /* Decodes a scene whose models and textures are in the cache; the scene
  * borrows them and comes back checked (scene_check). */
 int wire_decode_scene(const void *data, size_t len, const AssetCache *cache, Scene **out, Err *err);
+
+/* A frame's view on the wire: the camera and the settings by their tables,
+ * as the scene's header has them (a few hundred bytes at most). */
+int wire_encode_view(const View *v, Sink *out, Err *err);
+/* Decodes and checks a view (scene_check_view); the bytes must be exactly it. */
+int wire_decode_view(const void *data, size_t len, View *out, Err *err);
 
 #endif

@@ -116,8 +116,9 @@ static int tri_shows(const Tri *t, const WorldLight *l)
 
 static int lamp_push(World *w, uint32_t *cap, uint32_t p)
 {
-    if (array_reserve((void **)&w->lamps, cap, w->lamp_total + 1, sizeof *w->lamps, UINT32_MAX / 8))
+    if (array_reserve((void **)&w->parts->lamps, cap, w->lamp_total + 1, sizeof *w->lamps, UINT32_MAX / 8))
         return -1;
+    w->lamps = w->parts->lamps;
     w->lamps[w->lamp_total++] = p;
     return 0;
 }
@@ -163,9 +164,14 @@ static int pair_lamps(World *w, Err *err)
 /* Planes, instances (and their models) and lights, derived; what they use. */
 static int derive_items(World *w, const Scene *s, Err *err)
 {
-    w->planes = calloc(s->plane_count ? s->plane_count : 1, sizeof *w->planes);
-    w->instances = calloc(s->instance_count ? s->instance_count : 1, sizeof *w->instances);
-    w->lights = calloc(s->light_count ? s->light_count : 1, sizeof *w->lights);
+    WorldParts *pt = calloc(1, sizeof *pt);
+    if (!pt)
+        return err_set(err, "scene: out of memory");
+    atomic_init(&pt->refs, 1);
+    w->parts = pt;
+    w->planes = pt->planes = calloc(s->plane_count ? s->plane_count : 1, sizeof *w->planes);
+    w->instances = pt->instances = calloc(s->instance_count ? s->instance_count : 1, sizeof *w->instances);
+    w->lights = pt->lights = calloc(s->light_count ? s->light_count : 1, sizeof *w->lights);
     if (!w->planes || !w->instances || !w->lights)
         return err_set(err, "scene: out of memory");
     uint32_t f = 0;
@@ -226,6 +232,10 @@ static Aabb *top_boxes(const World *w, uint32_t nb, Err *err)
     return boxes;
 }
 
+static atomic_uint_fast64_t tree_builds;
+
+uint64_t world_tree_builds(void) { return atomic_load(&tree_builds); }
+
 static void top_drop(WorldTop *t)
 {
     if (t && atomic_fetch_sub(&t->refs, 1) == 1) {
@@ -260,6 +270,7 @@ static int build_top(World *w, const World *previous, Aabb *boxes, uint32_t nb, 
         top_drop(t);
         return err_prefix(err, "scene");
     }
+    atomic_fetch_add(&tree_builds, 1);
     w->top = t;
     return 0;
 }
@@ -304,6 +315,27 @@ int world_set_view(World *w, const View *v, Err *err)
     return 0;
 }
 
+World *world_with_view(const World *w, const View *v, Err *err)
+{
+    World *n = malloc(sizeof *n);
+    if (!n) {
+        err_set(err, "scene: out of memory");
+        return NULL;
+    }
+    *n = *w;
+    if (world_set_view(n, v, err)) {
+        free(n);
+        return NULL;
+    }
+    if (n->parts)
+        atomic_fetch_add(&n->parts->refs, 1);
+    if (n->top) {
+        atomic_fetch_add(&n->top->refs, 1);
+        n->tree = &n->top->bvh;
+    }
+    return n;
+}
+
 int world_shares_top(const World *w, const World *previous)
 {
     return w && previous && w->top && w->top == previous->top;
@@ -313,10 +345,14 @@ void world_destroy(World *w)
 {
     if (!w)
         return;
-    free(w->planes);
-    free(w->instances);
-    free(w->lights);
-    free(w->lamps);
+    WorldParts *pt = w->parts;
+    if (pt && atomic_fetch_sub(&pt->refs, 1) == 1) {
+        free(pt->planes);
+        free(pt->instances);
+        free(pt->lights);
+        free(pt->lamps);
+        free(pt);
+    }
     top_drop(w->top);
     free(w);
 }

@@ -86,6 +86,16 @@ typedef struct {
     atomic_int refs;
 } WorldTop;
 
+/* What a world derives from its description item by item, shared by the
+ * worlds that differ only in their view (world_with_view). */
+typedef struct {
+    WorldPlane *planes;
+    WorldInstance *instances;
+    WorldLight *lights;
+    uint32_t *lamps;
+    atomic_int refs;
+} WorldParts;
+
 typedef struct {
     const Scene *desc;
     View view;
@@ -111,6 +121,7 @@ typedef struct {
     uint32_t light_count;
     uint32_t *lamps;  /* the lights' lamps: top-level primitive numbers, by light (WorldLight.lamp_first) */
     uint32_t lamp_total;
+    WorldParts *parts; /* owns planes, instances, lights and lamps */
     WorldTop *top;    /* NULL: nothing but planes */
     const Bvh *tree;  /* &top->bvh, or an empty tree */
     uint32_t features;      /* what the items use (FEAT_*), and what the view adds: */
@@ -124,8 +135,16 @@ typedef struct {
 World *world_build(const Scene *desc, const World *previous, Err *err);
 void world_destroy(World *w);
 /* Sets the view of the frames to come: checks the camera and the settings
- * (as scene_check does) and nothing else. */
+ * (as scene_check does) and nothing else.  Not while a frame renders w. */
 int world_set_view(World *w, const View *v, Err *err);
+/* A world of w's description seen with view v: it shares w's derived
+ * items and tree (w may be destroyed first, or render on meanwhile), and
+ * costs the view's check and one allocation.  NULL with err set where v is
+ * refused. */
+World *world_with_view(const World *w, const View *v, Err *err);
+/* How many top-level trees world_build has built in this process (a world
+ * that reuses its previous one's builds none): for tests and benchmarks. */
+uint64_t world_tree_builds(void);
 /* The description's view: its camera and settings. */
 View scene_view(const Scene *s);
 /* Whether the world's top-level BVH is previous's (world_build reused it). */

@@ -1,7 +1,9 @@
-/* fuzz_wire.c - what a client decodes from the server: ASSET payloads and
- * serialised scenes.  The first byte picks: an asset (model or texture) added
- * to a cache that already holds the default scene's assets, or a scene
- * decoded against that cache and, when accepted, rendered. */
+/* fuzz_wire.c - what a client decodes from the server: ASSET payloads,
+ * serialised scenes and frames' views.  The first byte picks: an asset
+ * (model or texture, below 32) added to a cache that already holds the
+ * default scene's assets; a view ('V') decoded and, when accepted, the
+ * default scene rendered with it; or a scene decoded against that cache
+ * and, when accepted, rendered. */
 #include <assert.h>
 #include <stdlib.h>
 
@@ -13,6 +15,8 @@
 
 static AssetCache *cache;
 static RenderPool *pool;
+static Scene *base;        /* the default scene */
+static World *base_world;  /* and its world, which a view is set on */
 
 static void setup(void)
 {
@@ -34,7 +38,24 @@ static void setup(void)
         asset_cache_add(cache, ASSET_TEXTURE, a.hash, a.data, a.len, NULL);
         asset_free(&a);
     }
-    scene_destroy(s);
+    base = s;
+    base_world = world_build(base, NULL, NULL);
+    if (!base_world)
+        abort();
+}
+
+/* A frame's view: decoded, then the default scene rendered with it. */
+static void view_one(const uint8_t *data, size_t size)
+{
+    View v;
+    if (wire_decode_view(data, size, &v, NULL))
+        return;
+    v.settings.aa = 1; /* bounded work per input */
+    World *w = world_with_view(base_world, &v, NULL);
+    uint8_t px[8 * 6 * 4];
+    if (w)
+        render_lines(pool, w, 8, 6, 0, 6, px, NULL, NULL);
+    world_destroy(w);
 }
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
@@ -43,6 +64,10 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         setup();
     if (size < 1)
         return 0;
+    if (data[0] == 'V') {
+        view_one(data + 1, size - 1);
+        return 0;
+    }
     if (data[0] < 32) {
         /* an asset: the hash is computed, so the payload itself gets decoded */
         AssetCache *c = asset_cache_create();
