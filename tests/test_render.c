@@ -715,6 +715,41 @@ static void depth_limit_returns_the_choice(void **state)
     scene_destroy(s);
 }
 
+/* A ray with a NaN in it (a degenerate camera's: fuzz_wire found a lens
+ * camera of zoom 1e-28 whose rays overflowed) hits nothing and blocks
+ * nothing, on every SIMD path: the wide kernels once walked such a ray into
+ * their unused children and round the tree until the stack overflowed. */
+static void nan_rays_hit_nothing(void **state)
+{
+    (void)state;
+    BvhOptions opt = bvh_options_default(BVH_SAH);
+    Scene *s;
+    assert_int_equal(scene_default(&s, &opt, NULL), 0);
+    const real nan = (real)NAN;
+    const vec3 dirs[3] = {v3(nan, nan, nan), v3(0, nan, -1), v3(0, 0, -1)};
+    const vec3 orgs[3] = {v3(0, 1, 5), v3(0, 1, 5), v3(nan, 1, 5)};
+    for (int path = 0; path < SIMD_PATH_COUNT; path++) {
+        if (simd_force((SimdPath)path))
+            continue;
+        const World *w = world_now(s);
+        for (int k = 0; k < 3; k++) {
+            Ray r = ray_make(orgs[k], dirs[k], 0, REAL_INF);
+            Hit h;
+            assert_false(trace_closest(w, &r, &h));
+            assert_false(trace_occluded(w, &r, 100, NULL));
+            Ray rays[4] = {r, r, r, r};
+            Hit hs[4];
+            trace_closest_packet(w, rays, 4, hs);
+            for (int i = 0; i < 4; i++)
+                assert_int_equal(hs[i].kind, HIT_NONE);
+        }
+    }
+    SimdPath best;
+    simd_parse("auto", &best);
+    simd_force(best);
+    scene_destroy(s);
+}
+
 static void frame_sizes_and_bad_requests(void **state)
 {
     (void)state;
@@ -825,6 +860,7 @@ int main(void)
         cmocka_unit_test(lamps_do_not_shadow_their_light),
         cmocka_unit_test(depth_limit_returns_the_choice),
         cmocka_unit_test(frame_sizes_and_bad_requests),
+        cmocka_unit_test(nan_rays_hit_nothing),
         cmocka_unit_test(worlds_reuse_what_did_not_change),
     };
     int rc = cmocka_run_group_tests_name("render", tests, NULL, NULL);

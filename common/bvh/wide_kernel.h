@@ -34,6 +34,18 @@ typedef struct {
     __m128 sx, sy, sz, tmin;
 } WideRay;
 
+/* A ray with a NaN in its origin or direction (from a degenerate camera)
+ * passes every slab test (a NaN leaves a bound as it was), unused children
+ * included, whose child 0 is the root: it would walk in circles.  It hits
+ * nothing.  (The packets' set-up already refuses such rays.) */
+static inline __attribute__((always_inline)) int wide_ray_nan(const Ray *r)
+{
+    /* one sum, NaN where any term is (or where infinities of both signs
+     * meet, a ray from nowhere that hits nothing either) */
+    const real s = r->dir.x + r->dir.y + r->dir.z + r->org.x + r->org.y + r->org.z;
+    return s != s;
+}
+
 static inline __attribute__((always_inline)) void wide_ray_setup(WideRay *k, const Ray *r)
 {
     k->kx = r->kx, k->ky = r->ky, k->kz = r->kz;
@@ -326,6 +338,8 @@ static inline __attribute__((always_inline)) void wide_descend(const Wide *w, co
 
 int KERNEL_CLOSEST(const Wide *w, const Ray *r, real tmax, uint32_t tie, WideHit *hit)
 {
+    if (wide_ray_nan(r))
+        return 0;
     WideRay k;
     wide_ray_setup(&k, r);
     WIDE_NODE_SETUP();
@@ -358,6 +372,8 @@ int KERNEL_CLOSEST(const Wide *w, const Ray *r, real tmax, uint32_t tie, WideHit
 
 int KERNEL_ANY(const Wide *w, const Ray *r, real tmax)
 {
+    if (wide_ray_nan(r))
+        return 0;
     WideRay k;
     wide_ray_setup(&k, r);
     WIDE_NODE_SETUP();
