@@ -190,7 +190,8 @@ FUZZ_SECONDS ?= 60
 FUZZ_JOBS ?= 2
 FUZZ_CFLAGS := -std=c17 -g -O1 -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=undefined $(CPPFLAGS) -Itests/fuzz
 FUZZERS := $(FUZZ_NAMES:%=build/fuzz/fuzz_%)
-build/fuzz/fuzz_%: tests/fuzz/fuzz_%.c $(COMMON_SRC) $(SERVER_SRC) $(CLIENT_SRC)
+# (the headers too: a kernel in a header changed, the harnesses must be built again)
+build/fuzz/fuzz_%: tests/fuzz/fuzz_%.c $(COMMON_SRC) $(SERVER_SRC) $(CLIENT_SRC) $(wildcard common/*/*.h server/*.h client/*.h tests/fuzz/*.h)
 	@mkdir -p $(dir $@)
 	clang $(FUZZ_CFLAGS) -o $@ $< $(COMMON_SRC) $(SERVER_SRC) $(CLIENT_SRC) $(LDLIBS)
 fuzz: deps $(FUZZERS)

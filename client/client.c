@@ -70,6 +70,7 @@ typedef struct {
     int wake[2];
     RenderPool *pool;
     uint64_t segments, pixels;
+    uint64_t scenes; /* descriptions decoded (the network thread's) */
 } Worker;
 
 static void desc_drop(Desc *d)
@@ -324,6 +325,7 @@ static int on_packet(const ClientConfig *cfg, Worker *w, Conn *c, AssetCache *ca
         SceneRef *ref = update_ref(&u, cache, *cur, err);
         if (!ref)
             return -1;
+        w->scenes += u.scene_len > 0;
         pthread_mutex_lock(&w->mu);
         w->current_frame = frame;
         for (int i = 0; i < w->nqueue; i++)
@@ -484,7 +486,7 @@ static void worker_stop(Worker *w, AssetCache *cache, pthread_t th, ClientStats 
     pthread_mutex_unlock(&w->mu);
     pthread_join(th, NULL);
     if (stats)
-        *stats = (ClientStats){w->segments, w->pixels, sessions};
+        *stats = (ClientStats){w->segments, w->pixels, sessions, w->scenes, world_tree_builds()};
     render_pool_destroy(w->pool);
     asset_cache_destroy(cache);
     close(w->wake[0]);

@@ -22,6 +22,8 @@ typedef struct {
 typedef struct {
     uint64_t segments, pixels;
     uint32_t sessions; /* connections that got through the handshake */
+    uint64_t scenes;   /* scene descriptions decoded (a frame of a new view needs none) */
+    uint64_t trees;    /* top-level trees built for them (a new description whose boxes did not change needs none) */
 } ClientStats;
 
 /* Runs until *stop becomes non-zero (or, without reconnect, the session

@@ -102,7 +102,8 @@ int main(int argc, char **argv)
     if (rc)
         fprintf(stderr, "lanray-client: %s\n", err.msg);
     if (st.sessions)
-        log_line(cfg.quiet, "lanray-client", "rendered %llu segments, %llu pixels", (unsigned long long)st.segments,
-                 (unsigned long long)st.pixels);
+        log_line(cfg.quiet, "lanray-client", "rendered %llu segments, %llu pixels; %llu scenes decoded, %llu top-level trees built",
+                 (unsigned long long)st.segments, (unsigned long long)st.pixels, (unsigned long long)st.scenes,
+                 (unsigned long long)st.trees);
     return rc ? 1 : 0;
 }

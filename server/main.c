@@ -19,6 +19,7 @@
 #include "base/opt.h"
 #include "base/srgb.h"
 #include "render/render.h"
+#include "scene/camera_path.h"
 #include "net/msg.h"
 #include "server.h"
 #include "base/timer.h"
@@ -44,6 +45,10 @@ typedef struct {
     uint8_t *verify;
     uint64_t wrong_frames, wrong_pixels;
     uint64_t write_failures;
+    /* --path: the camera flies it; the frames from the first to the one at its end */
+    CameraPath path;
+    uint32_t path_final;   /* the frame that shows the path's end (0: not set yet) */
+    double path_t0, path_t1; /* when the first and that frame were shown */
 } App;
 
 /* Pixels of a frame that differ from the reference (--verify): a farm test
@@ -107,8 +112,32 @@ static void on_frame(void *ctx, uint32_t frame, const uint8_t *pixels)
             a->write_failures++;
         }
     }
+    if (a->path.count && a->frames_done == 1)
+        a->path_t0 = timer_now();
+    if (a->path_final && a->frames_done == a->path_final) {
+        a->path_t1 = timer_now();
+        if (!a->frames_wanted && !a->display) /* headless, no count: the flight is the job */
+            stop_flag = 1;
+    }
     if (a->frames_wanted && a->frames_done >= a->frames_wanted)
         stop_flag = 1;
+}
+
+/* --path: the next frame's camera, at frames_done x --path-step seconds, or
+ * without a step at the time since the first frame was shown (the flight's
+ * own speed, whatever the frame rate). */
+static void path_next(App *app, double step)
+{
+    if (!app->path.count || app->path_final)
+        return;
+    double t = step > 0 ? app->frames_done * step : app->frames_done ? timer_now() - app->path_t0 : 0;
+    const double end = (double)camera_path_end(&app->path);
+    if (t >= end) {
+        t = end;
+        app->path_final = app->frames_done + 1;
+    }
+    Camera c = camera_path_at(&app->path, (real)t);
+    server_set_camera(app->server, &c);
 }
 
 /* Camera moves and animation from the window, for the next frame. */
@@ -158,6 +187,8 @@ typedef struct {
     int warmup, stall, handshake, machine_summary, linear, hdr;
     CliAa aa;
     double rotate;
+    const char *path;
+    double path_step;
 } Args;
 
 /* Parses the command line into a: OPT_GO, or the exit status. */
@@ -191,6 +222,12 @@ static int parse_args(Args *a, int argc, char **argv)
          .help = "anti-aliasing", .def = "the scene's, else 1"},
         {.name = "--rotate", .kind = OPT_REAL, .dst = &a->rotate, .arg = "DEG",
          .help = "turn every model instance by DEG about y after each frame (Space toggles it in the window)"},
+        {.name = "--path", .kind = OPT_STRING, .dst = &a->path, .arg = "FILE",
+         .help = "fly the camera along a path (docs/scene.md); headless without --frames, stop at its end and print "
+                 "the frame rate held"},
+        {.name = "--path-step", .kind = OPT_REAL, .dst = &a->path_step, .arg = "S", .rlo = 0, .rhi = 1e6,
+         .help = "seconds of the path a frame, 0 = the time that passes (a frame N shows the path at (N-1) x S)",
+         .def = "0"},
         {.name = "--linear", .kind = OPT_FLAG, .dst = &a->linear,
          .help = "frames in linear light (PNG tagged gAMA 1.0) instead of sRGB"},
         {.name = "--hdr", .kind = OPT_FLAG, .dst = &a->hdr,
@@ -252,6 +289,7 @@ static void app_close(App *a)
     free(a->view);
     display_close(a->display);
     scene_destroy(a->scene);
+    camera_path_free(&a->path);
 }
 
 /* The scene, with the command line's settings over its own, and the frame
@@ -292,6 +330,10 @@ static int open_scene(App *app, Args *a, Err *err)
         return 1;
     }
     cli_warn_scene("lanray-server", scene);
+    if (a->path && camera_path_load(a->path, &app->path, err)) {
+        fprintf(stderr, "lanray-server: %s\n", err->msg);
+        return 1;
+    }
     app->out_dir = a->discard ? NULL : a->out_dir;
     app->width = cfg->width;
     app->height = cfg->height;
@@ -394,6 +436,7 @@ static int serve(App *app, const Args *a)
     double status_t = app->fps_t0;
     /* --wait-clients: no frame starts before that many clients have joined */
     server_pause(app->server, wait_clients > 0);
+    path_next(app, a->path_step);
     while (!stop_flag) {
         if (wait_clients > 0 && server_client_count(app->server) >= (uint32_t)wait_clients) {
             server_pause(app->server, 0);
@@ -407,6 +450,7 @@ static int serve(App *app, const Args *a)
             seen = app->frames_done;
             if (animate)
                 server_turn_instances(app->server, (real)a->rotate);
+            path_next(app, a->path_step);
         }
         if (app->display) {
             DisplayInput in;
@@ -432,6 +476,9 @@ static int finish(App *app, const Args *a, int rc)
 {
     server_print_stats(app->server);
     server_print_summary(app->server, a->machine_summary);
+    if (app->path_t1 > app->path_t0 && app->path_final > 1)
+        printf("path: frames 1 to %u in %.2f s, %.2f fps while moving\n", app->path_final, app->path_t1 - app->path_t0,
+               (app->path_final - 1) / (app->path_t1 - app->path_t0));
     if (app->write_failures) {
         fprintf(stderr, "lanray-server: %llu frames could not be written\n", (unsigned long long)app->write_failures);
         rc = 1;

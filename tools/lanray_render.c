@@ -20,6 +20,7 @@
 #include "base/opt.h"
 #include "base/progress.h"
 #include "render/render.h"
+#include "scene/camera_path.h"
 #include "scene/scene_fields.h"
 #include "base/simd.h"
 #include "base/timer.h"
@@ -111,7 +112,8 @@ static void print_memory(const Scene *s)
 
 /* What the command line says. */
 typedef struct {
-    const char *out, *profile, *scene_path;
+    const char *out, *profile, *scene_path, *path;
+    double at;
     int width, height, repeat, quiet, segment, threads, linear, simd_given, stats;
     int width_given, height_given, force_bvh, bvh_kind, band_lines;
     int shading, shadows, filter, shading_given, shadows_given, filter_given;
@@ -179,6 +181,10 @@ static int parse_args(Args *a, int argc, char **argv)
          .seen = &a->exposure_given, .help = "8-bit output shows the light times 2^STOPS", .def = "the scene's, else 0"},
         {.name = "--linear", .kind = OPT_FLAG, .dst = &a->linear,
          .help = "write linear light (PNG tagged gAMA 1.0) instead of sRGB"},
+        {.name = "--path", .kind = OPT_STRING, .dst = &a->path, .arg = "FILE",
+         .help = "a camera path (docs/scene.md): render its camera at --at in place of the scene's"},
+        {.name = "--at", .kind = OPT_REAL, .dst = &a->at, .arg = "T", .rlo = 0, .rhi = 1e9,
+         .help = "the time on --path, seconds", .def = "0"},
         {.name = "--repeat", .kind = OPT_INT, .dst = &a->repeat, .arg = "N", .lo = 1, .hi = 100000,
          .help = "render the frame N times, report the best and mean time (benchmarks)"},
         {.name = "--segment", .kind = OPT_INT, .dst = &a->segment, .arg = "LINES", .lo = 0, .hi = RENDER_MAX_SIDE,
@@ -207,6 +213,21 @@ static int parse_args(Args *a, int argc, char **argv)
     int go = opt_run(&spec, argc, argv);
     a->scene_path = args[0];
     return go;
+}
+
+/* --path: the path's camera at --at in place of the scene's (0, or 1). */
+static int apply_path(Scene *scene, const Args *a, Err *err)
+{
+    CameraPath path;
+    if (!a->path)
+        return 0;
+    if (camera_path_load(a->path, &path, err)) {
+        fprintf(stderr, "lanray-render: %s\n", err->msg);
+        return 1;
+    }
+    scene->camera = camera_path_at(&path, (real)a->at);
+    camera_path_free(&path);
+    return 0;
 }
 
 /* The command line's settings over the scene's: 0, or 2 for a .hdr asked to
@@ -302,6 +323,8 @@ static int job_open(Job *j, Args *a, Err *err)
         return 1;
     }
     int rc = apply_settings(j->scene, a);
+    if (rc == 0)
+        rc = apply_path(j->scene, a, err);
     if (rc)
         return rc;
     if (scene_check(j->scene, err) || !(j->world = world_build(j->scene, NULL, err))) {

@@ -140,7 +140,7 @@ static int decode(uint32_t type, const uint8_t *body, size_t len, void *m, const
     if (!l->tail && at != len)
         return err_set(err, "%s packet of %zu bytes, its layout has %zu", l->name, len, at);
     if (tail) {
-        *tail = body + at;
+        *tail = len ? body + at : NULL; /* an empty body may come as NULL: no offset on it */
         *tail_len = len - at;
     }
     return 0;
@@ -188,7 +188,7 @@ int msg_decode_update(const uint8_t *body, size_t len, MsgUpdate *m, Err *err)
         return -1;
     if (m->view_len > rest)
         return err_set(err, "UPDATE packet with a view of %u bytes and %zu bytes left", m->view_len, rest);
-    m->scene = m->view + m->view_len;
+    m->scene = m->view ? m->view + m->view_len : NULL;
     m->scene_len = rest - m->view_len;
     return 0;
 }

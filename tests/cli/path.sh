@@ -1,0 +1,69 @@
+#!/usr/bin/env bash
+# A camera path (--path): frame k of a served flight with --path-step S is
+# lanray-render's image of the path's camera at (k-1) x S, byte for byte,
+# through two clients; a camera that moves costs a client no scene and no
+# top-level tree (it decodes one description and builds one tree for the
+# whole flight), while an animation that turns the model does (one each a
+# frame: the counters can tell); a headless flight without --frames stops
+# at the path's end and prints the frame rate it held; bad path files are
+# refused naming the file and line.
+set -u
+source tests/tools/server-lib.sh
+cat >"$dir/fly.path" <<'PATH'
+# round the default scene
+key 0   position 0 1.2 5   lookat 0 0.6 0 fov 60
+key 1   position 2.5 1.5 4 lookat 0 0.6 0 fov 55
+key 2.5 position 4 2 0.5   lookat 0 0.5 0 fov 50
+PATH
+W=96 H=72
+for k in 1 2 3 4 5 6; do
+    t=$(python3 -c "print(($k - 1) * 0.5)")
+    "$BIN/lanray-render" --path "$dir/fly.path" --at "$t" --aa 1 --width $W --height $H -o "$dir/ref-$k.png" --quiet \
+        >/dev/null || fail "lanray-render --at $t"
+done
+cmp -s "$dir/ref-1.png" "$dir/ref-2.png" && fail "the path does not move the camera: the test cannot fail"
+# clients: run_clients N LOG-STEM; waits for the server
+run_clients() {
+    for c in $(seq "$1"); do
+        "$BIN/lanray-client" "127.0.0.1:$port" --threads 1 --once 2>"$dir/$2-$c.err" >/dev/null &
+        pids+=("$!")
+    done
+    for _ in $(seq 400); do kill -0 "$server_pid" 2>/dev/null || break; sleep 0.05; done
+    wait "$server_pid" || fail "the server exited $?"
+    sleep 0.2
+}
+start_server fly --port 0 --width $W --height $H --path "$dir/fly.path" --path-step 0.5 --wait-clients 2 --out "$dir/f"
+run_clients 2 fly
+n=$(ls "$dir/f" | wc -l)
+[ "$n" = 6 ] || fail "the flight of 2.5 s at 0.5 s a frame wrote $n frames, not 6 (it stops at the path's end)"
+for k in 1 2 3 4 5 6; do
+    cmp -s "$dir/f/frame-0000$k.png" "$dir/ref-$k.png" || fail "frame $k is not the path's camera at $(((k - 1) * 5))/10 s"
+done
+grep -q "^path: frames 1 to 6 in .* fps while moving" "$dir/fly.log" || fail "no frame rate line: $(tail -2 "$dir/fly.log")"
+for c in 1 2; do
+    grep -q "1 scenes decoded, 1 top-level trees built" "$dir/fly-$c.err" ||
+        fail "client $c decoded or built more than once for camera moves: $(tail -1 "$dir/fly-$c.err")"
+done
+# the same flight with the model turning: a new description every frame
+start_server turn --port 0 --width $W --height $H --path "$dir/fly.path" --path-step 0.5 --wait-clients 1 --rotate 10 \
+    --out "$dir/t"
+run_clients 1 turn
+grep -q "6 scenes decoded, 6 top-level trees built" "$dir/turn-1.err" ||
+    fail "a turning model should cost a scene and a tree a frame: $(tail -1 "$dir/turn-1.err")"
+# bad paths: each refused with the file, the line and the reason
+bad() {
+    printf '%b' "$1" >"$dir/bad.path"
+    out=$("$BIN/lanray-render" --path "$dir/bad.path" -o "$dir/bad.png" --width 8 --height 8 2>&1) && fail "accepted: $1"
+    grep -q "$2" <<<"$out" || fail "for '$1' expected '$2', got: $out"
+    [ -e "$dir/bad.png" ] && fail "an image was left behind for a bad path"
+    return 0
+}
+bad 'key 0 position 0 1 5\nkey 0 position 1 1 5\n' 'bad.path:2: key at 0 s is not after the key before it'
+bad 'key 0 position 0 1 5\nwaypoint 1 position 1 1 5\n' "bad.path:2: unknown directive 'waypoint'"
+bad 'key 0 position 0 1 5\nkey 1 position 1 1 5 ortho 4\n' 'bad.path:2: a key of another projection'
+bad 'key x position 0 1 5\n' "bad.path:1: 'key' expects a time"
+bad 'key 0 position 0 1 5 fov 200\n' 'bad.path:1:'
+bad '# nothing\n' 'no camera keys'
+"$BIN/lanray-server" --headless --path "$dir/missing.path" --port 0 2>"$dir/miss.err" && fail "the server took a missing path"
+grep -q "missing.path" "$dir/miss.err" || fail "the server's error does not name the path: $(cat "$dir/miss.err")"
+echo "path: 6 frames of a flight through 2 clients equal lanray-render's cameras on the path; a camera move decodes no scene and builds no tree (6 each with a turning model); bad paths named by line"
