@@ -49,6 +49,8 @@ typedef struct {
     CameraPath path;
     uint32_t path_final;   /* the frame that shows the path's end (0: not set yet) */
     double path_t0, path_t1; /* when the first and that frame were shown */
+    int refine;            /* --still-aa: the frame after the path's end is the converged one */
+    double converged_t;    /* when it was shown */
 } App;
 
 /* Pixels of a frame that differ from the reference (--verify): a farm test
@@ -114,9 +116,14 @@ static void on_frame(void *ctx, uint32_t frame, const uint8_t *pixels)
     }
     if (a->path.count && a->frames_done == 1)
         a->path_t0 = timer_now();
-    if (a->path_final && a->frames_done == a->path_final) {
+    if (a->path_final && a->frames_done == a->path_final)
         a->path_t1 = timer_now();
-        if (!a->frames_wanted && !a->display) /* headless, no count: the flight is the job */
+    /* headless, no count: the flight is the job, and with refinement the
+     * still frame after it (the converged picture) */
+    const uint32_t last = a->path_final ? a->path_final + (a->refine ? 1 : 0) : 0;
+    if (last && a->frames_done == last) {
+        a->converged_t = a->refine ? timer_now() : 0;
+        if (!a->frames_wanted && !a->display)
             stop_flag = 1;
     }
     if (a->frames_wanted && a->frames_done >= a->frames_wanted)
@@ -189,6 +196,7 @@ typedef struct {
     double rotate;
     const char *path;
     double path_step;
+    CliAa still;
 } Args;
 
 /* Parses the command line into a: OPT_GO, or the exit status. */
@@ -228,6 +236,10 @@ static int parse_args(Args *a, int argc, char **argv)
         {.name = "--path-step", .kind = OPT_REAL, .dst = &a->path_step, .arg = "S", .rlo = 0, .rhi = 1e6,
          .help = "seconds of the path a frame, 0 = the time that passes (a frame N shows the path at (N-1) x S)",
          .def = "0"},
+        {.name = "--still-aa", .kind = OPT_CUSTOM, .dst = &a->still, .arg = "N|adaptive[:N]", .parse = cli_parse_aa,
+         .range = CLI_AA_RANGE, .help = "refine: a frame whose camera and scene did not change since the frame before "
+                                       "is rendered with these samples (adaptive:4 is lanray-render's picture)",
+         .def = "none: every frame with --aa"},
         {.name = "--linear", .kind = OPT_FLAG, .dst = &a->linear,
          .help = "frames in linear light (PNG tagged gAMA 1.0) instead of sRGB"},
         {.name = "--hdr", .kind = OPT_FLAG, .dst = &a->hdr,
@@ -276,6 +288,9 @@ static int parse_args(Args *a, int argc, char **argv)
     cfg->warmup = (uint32_t)a->warmup;
     cfg->stall_timeout = a->stall;
     cfg->handshake_timeout = a->handshake;
+    cfg->refine = a->still.given;
+    cfg->still_aa = a->still.aa;
+    cfg->still_adaptive = a->still.adaptive;
     a->bvh.kind = (BvhKind)a->bvh_kind;
     a->headless |= a->discard;
     return go;
@@ -338,6 +353,7 @@ static int open_scene(App *app, Args *a, Err *err)
     app->width = cfg->width;
     app->height = cfg->height;
     app->frames_wanted = (uint32_t)a->frames;
+    app->refine = a->still.given;
     return 0;
 }
 
@@ -479,6 +495,9 @@ static int finish(App *app, const Args *a, int rc)
     if (app->path_t1 > app->path_t0 && app->path_final > 1)
         printf("path: frames 1 to %u in %.2f s, %.2f fps while moving\n", app->path_final, app->path_t1 - app->path_t0,
                (app->path_final - 1) / (app->path_t1 - app->path_t0));
+    if (app->converged_t > 0)
+        printf("path: converged frame %u, %.2f s after the last move\n", app->path_final + 1,
+               app->converged_t - app->path_t1);
     if (app->write_failures) {
         fprintf(stderr, "lanray-server: %llu frames could not be written\n", (unsigned long long)app->write_failures);
         rc = 1;

@@ -60,6 +60,9 @@ struct Server {
     int in_frame, paused, dirty;
     View view;          /* the frame's camera and settings, apart from the description */
     uint32_t scene_id;  /* the description's number, one up each time it changes */
+    Camera last_camera; /* the camera of the frame before, and its description's number: */
+    uint32_t last_scene_id;
+    int still;          /* the current frame's are the same (refinement) */
     /* changes held for the next frame (server_set_camera, server_turn_instances) */
     Camera next_camera;
     int camera_pending;
@@ -185,6 +188,7 @@ void server_destroy(Server *s)
 }
 
 int server_port(const Server *s) { return s->port; }
+int server_frame_still(const Server *s) { return s->still; }
 const char *server_address(const Server *s) { return s->address; }
 void server_set_camera(Server *s, const Camera *c)
 {
@@ -195,6 +199,14 @@ void server_set_camera(Server *s, const Camera *c)
 void server_turn_instances(Server *s, real degrees) { s->turn_pending += degrees; }
 
 Camera server_camera(const Server *s) { return s->camera_pending ? s->next_camera : s->view.camera; }
+
+/* The same camera, field by field (a struct may hold padding). */
+static int camera_same(const Camera *a, const Camera *b)
+{
+    return a->pos.x == b->pos.x && a->pos.y == b->pos.y && a->pos.z == b->pos.z && a->yaw == b->yaw &&
+           a->pitch == b->pitch && a->roll == b->roll && a->zoom == b->zoom && a->kind == b->kind &&
+           a->size == b->size && a->fov == b->fov && a->aperture == b->aperture && a->focus == b->focus;
+}
 
 /* What was held for this frame: a camera for the view, a turn for the
  * description (which then is checked and sent again). */
@@ -312,8 +324,15 @@ static int start_frame(Server *s, Err *err)
         s->scene_id++;
         s->dirty = 0;
     }
+    /* still: nothing moved since the frame before, which the view then refines */
+    s->still = s->frame > 0 && s->scene_id == s->last_scene_id && camera_same(&s->view.camera, &s->last_camera);
+    s->last_camera = s->view.camera;
+    s->last_scene_id = s->scene_id;
+    View v = s->view;
+    if (s->still && s->cfg.refine)
+        v.settings.aa = s->cfg.still_aa, v.settings.adaptive = s->cfg.still_adaptive;
     s->blob.len = 0;
-    if (wire_encode_view(&s->view, &s->blob, err))
+    if (wire_encode_view(&v, &s->blob, err))
         return -1;
     s->view_len = (uint32_t)s->blob.len;
     sink_put(&s->blob, s->scene_blob.data, s->scene_blob.len);

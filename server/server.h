@@ -28,6 +28,11 @@ typedef struct {
     double handshake_timeout; /* seconds to finish the handshake */
     int quiet;
     uint32_t warmup;          /* frames left out of the summary (the first carries the assets) */
+    /* progressive refinement: a frame whose camera and scene are the
+     * previous frame's is rendered with these samples (the still quality,
+     * lanray-render's picture bit for bit), a frame that moved with the
+     * scene's own (refine 0: every frame with the scene's) */
+    int refine, still_aa, still_adaptive;
 } ServerConfig;
 
 typedef struct Server Server;
@@ -46,6 +51,9 @@ void server_set_camera(Server *s, const Camera *c);
 void server_turn_instances(Server *s, real degrees);
 /* The camera the next frame starts from. */
 Camera server_camera(const Server *s);
+/* Whether the current (or last) frame was a still one: its camera and scene
+ * those of the frame before (rendered with the still quality when refining). */
+int server_frame_still(const Server *s);
 /* One round of the event loop, waiting at most timeout_ms.  Starts a new frame
  * when the previous one is done and clients are connected, unless paused. */
 int server_step(Server *s, int timeout_ms, FrameDoneFn done, void *ctx, Err *err);

@@ -288,14 +288,19 @@ printf 'f 1 2 3\n' >>"$dir/tri.obj"
 "$BIN/obj2tmd" "$dir/tri.obj" "$dir/tri.tmd" | grep -q "bounds x -0.5..0.5, y 0..1, z -2..-2 (size 1 x 1 x 0)" ||
     fail "obj2tmd prints no bounds: $("$BIN/obj2tmd" "$dir/tri.obj" "$dir/tri.tmd")"
 
-# 13. the demo's log reads in order: the listening line before the first join, the table at the end
+# 13. the demo's log reads in order: the listening line before the first join, the table at the end;
+# it flies its path and ends on the converged frame
 out=$(DISPLAY= WAYLAND_DISPLAY= FRAMES=2 OUT="$dir/demo" BIN="$BIN" bash tools/demo 2>&1) || fail "demo: $out"
 l=$(grep -n "listening on" <<<"$out" | head -1 | cut -d: -f1)
 j=$(grep -n " joined with 1 thread$" <<<"$out" | head -1 | cut -d: -f1)
 t=$(grep -n "frames started" <<<"$out" | head -1 | cut -d: -f1)
 [ -n "$l" ] && [ -n "$j" ] && [ -n "$t" ] && [ "$l" -lt "$j" ] && [ "$j" -lt "$t" ] || fail "demo log out of order: $out"
 grep -q "^  client address  *threads  *segments  *lines/s  *dup px  *bytes in  *bytes out$" <<<"$out" || fail "no statistics table: $out"
-grep -q "^2 frames in [0-9.]* s: [0-9.]* fps with 2 clients" <<<"$out" || fail "no summary line: $out"
+# FRAMES=2 is raised to 3: the flight's start and end, and the converged frame
+grep -q "^3 frames in [0-9.]* s: [0-9.]* fps with 2 clients" <<<"$out" || fail "no summary line: $out"
+grep -q "^path: frames 1 to 2 in [0-9.]* s, [0-9.]* fps while moving$" <<<"$out" || fail "no frame rate held: $out"
+grep -q "^path: converged frame 3, " <<<"$out" || fail "the demo did not end converged: $out"
+[ "$(ls "$dir/demo" | wc -l)" = 3 ] || fail "the demo wrote $(ls "$dir/demo" | wc -l) frames, not 3"
 
 # 11. no header of ours has the name of one that the system headers we use include: with -Iserver, a
 # server/sched.h was taken for <sched.h> inside <pthread.h>, and gcc -MMD then left every header

@@ -5,8 +5,9 @@
 # top-level tree (it decodes one description and builds one tree for the
 # whole flight), while an animation that turns the model does (one each a
 # frame: the counters can tell); a headless flight without --frames stops
-# at the path's end and prints the frame rate it held; bad path files are
-# refused naming the file and line.
+# at the path's end and prints the frame rate it held (with --still-aa, after
+# one more, still frame: the converged one, lanray-render's picture bit for
+# bit); bad path files are refused naming the file and line.
 set -u
 source tests/tools/server-lib.sh
 cat >"$dir/fly.path" <<'PATH'
@@ -44,6 +45,20 @@ for c in 1 2; do
     grep -q "1 scenes decoded, 1 top-level trees built" "$dir/fly-$c.err" ||
         fail "client $c decoded or built more than once for camera moves: $(tail -1 "$dir/fly-$c.err")"
 done
+# refined: the still frame after the flight is lanray-render's full picture
+# (its default, adaptive:4) of the path's end, through 1 and through 2 clients
+"$BIN/lanray-render" --path "$dir/fly.path" --at 2.5 --width $W --height $H -o "$dir/still.png" --quiet >/dev/null ||
+    fail "lanray-render the still"
+cmp -s "$dir/still.png" "$dir/ref-6.png" && fail "the still quality looks like the moving one: the test cannot fail"
+for n in 1 2; do
+    start_server refine-$n --port 0 --width $W --height $H --path "$dir/fly.path" --path-step 0.5 --wait-clients $n \
+        --still-aa adaptive:4 --out "$dir/r$n"
+    run_clients $n refine-$n
+    [ "$(ls "$dir/r$n" | wc -l)" = 7 ] || fail "refining, the flight should write 6 moving frames and the still one"
+    cmp -s "$dir/r$n/frame-00006.png" "$dir/ref-6.png" || fail "refining changed a moving frame ($n clients)"
+    cmp -s "$dir/r$n/frame-00007.png" "$dir/still.png" || fail "the converged frame is not lanray-render's ($n clients)"
+    grep -q "^path: converged frame 7, .* s after the last move" "$dir/refine-$n.log" || fail "no converged line"
+done
 # the same flight with the model turning: a new description every frame
 start_server turn --port 0 --width $W --height $H --path "$dir/fly.path" --path-step 0.5 --wait-clients 1 --rotate 10 \
     --out "$dir/t"
@@ -66,4 +81,4 @@ bad 'key 0 position 0 1 5 fov 200\n' 'bad.path:1:'
 bad '# nothing\n' 'no camera keys'
 "$BIN/lanray-server" --headless --path "$dir/missing.path" --port 0 2>"$dir/miss.err" && fail "the server took a missing path"
 grep -q "missing.path" "$dir/miss.err" || fail "the server's error does not name the path: $(cat "$dir/miss.err")"
-echo "path: 6 frames of a flight through 2 clients equal lanray-render's cameras on the path; a camera move decodes no scene and builds no tree (6 each with a turning model); bad paths named by line"
+echo "path: 6 frames of a flight through 2 clients equal lanray-render's cameras on the path, and the converged one its full picture; a camera move decodes no scene and builds no tree (6 each with a turning model); bad paths named by line"

@@ -4,7 +4,9 @@
 # (tests/tools/randscene.py).  Each seed is rendered standalone, then served
 # with `--verify` to two clients (segment size, tail rule and each client's
 # SIMD path drawn from the seed too); any differing pixel fails, naming the
-# seed and its scene file.
+# seed and its scene file.  Every fourth seed is refined instead: the server
+# renders frame 1 with one sample a pixel and the still frame 2 with
+# --still-aa adaptive:4, which must be lanray-render's --aa adaptive:4.
 # SEEDS=N sets how many (default 60; 20 under the sanitizers, which are slow).
 set -u
 source tests/tools/server-lib.sh
@@ -29,10 +31,17 @@ for seed in $(seq "$FIRST_SEED" $((FIRST_SEED + SEEDS - 1))); do
     tail=${tails[$((seed / 6 % 3))]}
     linear=()
     [ $((seed % 5)) -eq 0 ] && linear=(--linear) # the output encoding travels to the clients too
-    "$BIN/lanray-render" "$scene" -o "$ref" --width $W --height $H --threads 2 "${linear[@]}" --quiet >"$dir/render.log" 2>&1 ||
+    refine=() check=(--frames 1 --verify "$ref") aa=()
+    if [ $((seed % 4)) -eq 0 ]; then
+        aa=(--aa adaptive:4)
+        refine=(--aa 1 --still-aa adaptive:4)
+        check=(--frames 2)
+    fi
+    "$BIN/lanray-render" "$scene" -o "$ref" --width $W --height $H --threads 2 "${linear[@]}" "${aa[@]}" --quiet >"$dir/render.log" 2>&1 ||
         { cat "$dir/render.log"; fail "seed $seed: lanray-render failed"; }
-    start_server "seed-$seed" "$scene" "${linear[@]}" --port 0 --width $W --height $H --frames 1 --wait-clients 2 --segment "$seg" --tail "$tail" \
-        --verify "$ref" --out "$dir/f"
+    rm -rf "$dir/f"
+    start_server "seed-$seed" "$scene" "${linear[@]}" --port 0 --width $W --height $H "${check[@]}" "${refine[@]}" --wait-clients 2 --segment "$seg" --tail "$tail" \
+        --out "$dir/f"
     # the two clients as two CPUs: each takes another traversal path (simd.h)
     s1=${simd[$((seed % ${#simd[@]}))]} s2=${simd[$(((seed + 1) % ${#simd[@]}))]}
     "$BIN/lanray-client" "127.0.0.1:$port" --threads 2 --once --quiet --simd "$s1" 2>/dev/null &
@@ -45,13 +54,17 @@ for seed in $(seq "$FIRST_SEED" $((FIRST_SEED + SEEDS - 1))); do
     wait "$server_pid"
     rc=$?
     wait "$c1" "$c2" 2>/dev/null
+    if [ $rc -eq 0 ] && [ ${#refine[@]} -gt 0 ] && ! cmp -s "$dir/f/frame-00002.png" "$ref"; then
+        rc=3
+        echo "seed $seed: the refined frame 2 differs from lanray-render --aa adaptive:4" >>"$dir/seed-$seed.err"
+    fi
     if [ $rc -eq 3 ]; then
         bad=$((bad + 1))
-        echo "seed $seed ($seg-line segments, $tail tail): $(grep -o '[0-9]* pixels differ' "$dir/seed-$seed.err")"
+        echo "seed $seed ($seg-line segments, $tail tail): $(grep -o '[0-9]* pixels differ\|the refined frame 2 differs.*' "$dir/seed-$seed.err")"
         mkdir -p build/randscene-failures && cp "$scene" build/randscene-failures/
     elif [ $rc -ne 0 ]; then
         fail "seed $seed: server exited $rc"
     fi
 done
 [ $bad -eq 0 ] || fail "$bad of $SEEDS random scenes differ between lanray-render and a server with two clients (scenes in build/randscene-failures/)"
-echo "random scenes: $SEEDS of $SEEDS bit-identical to lanray-render's through a server and two clients"
+echo "random scenes: $SEEDS of $SEEDS bit-identical to lanray-render's through a server and two clients (every fourth refined: its still frame lanray-render's adaptive:4)"
