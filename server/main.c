@@ -21,6 +21,7 @@
 #include "render/render.h"
 #include "scene/camera_path.h"
 #include "net/msg.h"
+#include "pace.h"
 #include "server.h"
 #include "base/timer.h"
 
@@ -51,6 +52,10 @@ typedef struct {
     double path_t0, path_t1; /* when the first and that frame were shown */
     int refine;            /* --still-aa: the frame after the path's end is the converged one */
     double converged_t;    /* when it was shown */
+    /* --target-fps: the render scale of the moving frames */
+    Pace pace;
+    double last_frame_t;
+    uint64_t scale_sum, scaled_frames;
 } App;
 
 /* Pixels of a frame that differ from the reference (--verify): a farm test
@@ -86,6 +91,21 @@ static int write_frame(const App *a, const char *stem, uint32_t n, const uint8_t
     return image_write(path, a->width, a->height, pixels, enc, err);
 }
 
+/* --target-fps: a moving frame's time (from the frame before's end) sets
+ * the next moving frame's render scale; a still frame is whole anyway. */
+static void pace_frame(App *a)
+{
+    const double now = timer_now(), dt = a->last_frame_t > 0 ? now - a->last_frame_t : 0;
+    a->last_frame_t = now;
+    if (server_frame_still(a->server))
+        return;
+    const int scale = server_frame_scale(a->server);
+    a->scale_sum += (uint64_t)scale;
+    a->scaled_frames++;
+    if (a->pace.target > 0 && dt > 0)
+        server_set_scale(a->server, pace_update(&a->pace, dt, scale, (uint32_t)a->width, (uint32_t)a->height));
+}
+
 static void on_frame(void *ctx, uint32_t frame, const uint8_t *pixels)
 {
     App *a = ctx;
@@ -116,6 +136,7 @@ static void on_frame(void *ctx, uint32_t frame, const uint8_t *pixels)
     }
     if (a->path.count && a->frames_done == 1)
         a->path_t0 = timer_now();
+    pace_frame(a);
     if (a->path_final && a->frames_done == a->path_final)
         a->path_t1 = timer_now();
     /* headless, no count: the flight is the job, and with refinement the
@@ -197,6 +218,7 @@ typedef struct {
     const char *path;
     double path_step;
     CliAa still;
+    double target_fps;
 } Args;
 
 /* Parses the command line into a: OPT_GO, or the exit status. */
@@ -240,6 +262,9 @@ static int parse_args(Args *a, int argc, char **argv)
          .range = CLI_AA_RANGE, .help = "refine: a frame whose camera and scene did not change since the frame before "
                                        "is rendered with these samples (adaptive:4 is lanray-render's picture)",
          .def = "none: every frame with --aa"},
+        {.name = "--target-fps", .kind = OPT_REAL, .dst = &a->target_fps, .arg = "F", .rlo = 0, .rhi = 1000,
+         .help = "while the view moves, render fewer pixels (a render scale of 1 to 8, chosen from the frame times "
+                 "measured) to hold F frames a second; 0 = every pixel", .def = "0"},
         {.name = "--linear", .kind = OPT_FLAG, .dst = &a->linear,
          .help = "frames in linear light (PNG tagged gAMA 1.0) instead of sRGB"},
         {.name = "--hdr", .kind = OPT_FLAG, .dst = &a->hdr,
@@ -354,6 +379,7 @@ static int open_scene(App *app, Args *a, Err *err)
     app->height = cfg->height;
     app->frames_wanted = (uint32_t)a->frames;
     app->refine = a->still.given;
+    pace_init(&app->pace, a->target_fps);
     return 0;
 }
 
@@ -495,6 +521,9 @@ static int finish(App *app, const Args *a, int rc)
     if (app->path_t1 > app->path_t0 && app->path_final > 1)
         printf("path: frames 1 to %u in %.2f s, %.2f fps while moving\n", app->path_final, app->path_t1 - app->path_t0,
                (app->path_final - 1) / (app->path_t1 - app->path_t0));
+    if (app->scaled_frames && app->pace.target > 0)
+        printf("pace: target %.1f fps, mean render scale %.2f over %llu moving frames\n", 1.0 / app->pace.target,
+               (double)app->scale_sum / (double)app->scaled_frames, (unsigned long long)app->scaled_frames);
     if (app->converged_t > 0)
         printf("path: converged frame %u, %.2f s after the last move\n", app->path_final + 1,
                app->converged_t - app->path_t1);

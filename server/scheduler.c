@@ -113,6 +113,16 @@ void sched_start_frame(Sched *s, uint32_t frame, uint32_t clients, int auto_size
 
 void sched_set_segment_lines(Sched *s, uint32_t lines) { s->cfg.segment_lines = lines ? lines : 1; }
 
+int sched_set_size(Sched *s, uint32_t width, uint32_t height)
+{
+    if (width < 1 || height < 1)
+        return -1;
+    s->cfg.width = width;
+    s->cfg.height = height;
+    s->total = width * height;
+    return 0;
+}
+
 static int add_assignment(Sched *s, int client, uint32_t rec)
 {
     if (s->nasg == s->capasg) {

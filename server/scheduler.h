@@ -77,6 +77,9 @@ void sched_start_frame(Sched *s, uint32_t frame, uint32_t clients, int auto_size
 uint32_t sched_top_up(Sched *s, int client, Segment out[SCHED_IN_FLIGHT]);
 /* Changes the segment size from the next frame on (automatic sizing). */
 void sched_set_segment_lines(Sched *s, uint32_t lines);
+/* The frame size of the frames to come (a render scale changes it between
+ * frames; between frames only).  0 where a side is 0. */
+int sched_set_size(Sched *s, uint32_t width, uint32_t height);
 
 /* The automatic segment size, in lines, for a frame of `work_us` of render
  * time (0: nothing measured yet) on `clients` clients, where one segment

@@ -63,6 +63,10 @@ struct Server {
     Camera last_camera; /* the camera of the frame before, and its description's number: */
     uint32_t last_scene_id;
     int still;          /* the current frame's are the same (refinement) */
+    int next_scale;     /* server_set_scale: the moving frames' render scale */
+    int scale;          /* the current frame's, and its size: */
+    uint32_t fw, fh;
+    uint8_t *shown;     /* a scaled frame scaled up to the full size, for the callback */
     /* changes held for the next frame (server_set_camera, server_turn_instances) */
     Camera next_camera;
     int camera_pending;
@@ -134,8 +138,11 @@ Server *server_create(const ServerConfig *cfg, Scene *scene, Err *err)
     s->sched = sched_create(&sc);
     s->bpp = render_pixel_bytes(&scene->settings);
     s->pixels = calloc((size_t)cfg->width * cfg->height, s->bpp);
-    if (!s->sched || !s->pixels || build_assets(s, err)) {
-        if (!s->sched || !s->pixels)
+    s->shown = calloc((size_t)cfg->width * cfg->height, s->bpp);
+    s->scale = s->next_scale = 1;
+    s->fw = (uint32_t)cfg->width, s->fh = (uint32_t)cfg->height;
+    if (!s->sched || !s->pixels || !s->shown || build_assets(s, err)) {
+        if (!s->sched || !s->pixels || !s->shown)
             err_set(err, "out of memory or invalid frame size");
         server_destroy(s);
         return NULL;
@@ -184,11 +191,31 @@ void server_destroy(Server *s)
     sink_free(&s->scene_blob);
     sched_destroy(s->sched);
     free(s->pixels);
+    free(s->shown);
     free(s);
 }
 
 int server_port(const Server *s) { return s->port; }
 int server_frame_still(const Server *s) { return s->still; }
+int server_frame_scale(const Server *s) { return s->scale; }
+
+void server_set_scale(Server *s, int scale)
+{
+    s->next_scale = scale < 1 ? 1 : scale > SERVER_MAX_SCALE ? SERVER_MAX_SCALE : scale;
+}
+
+/* The frame of fw x fh pixels scaled up to the full size: each pixel a
+ * block (nearest: the picture as rendered, bytes as they came). */
+static const uint8_t *scaled_up(Server *s)
+{
+    if (s->scale == 1)
+        return s->pixels;
+    const uint32_t w = (uint32_t)s->cfg.width, h = (uint32_t)s->cfg.height, b = s->bpp, k = (uint32_t)s->scale;
+    for (uint32_t y = 0; y < h; y++)
+        for (uint32_t x = 0; x < w; x++)
+            memcpy(s->shown + ((size_t)y * w + x) * b, s->pixels + ((size_t)(y / k) * s->fw + x / k) * b, b);
+    return s->shown;
+}
 const char *server_address(const Server *s) { return s->address; }
 void server_set_camera(Server *s, const Camera *c)
 {
@@ -292,7 +319,7 @@ static void send_update(Server *s, Client *c)
             measure_asset_sent(&s->m, PROTO_HEADER + out.head_len + out.tail_len);
         }
     const int held = c->scene_held == s->scene_id;
-    MsgUpdate u = {.frame = s->frame, .width = (uint32_t)s->cfg.width, .height = (uint32_t)s->cfg.height,
+    MsgUpdate u = {.frame = s->frame, .width = s->fw, .height = s->fh,
                    .scene_id = s->scene_id, .view_len = s->view_len, .view = s->blob.data,
                    .scene_len = held ? 0 : s->blob.len - s->view_len};
     _Static_assert(sizeof u.seg / sizeof u.seg[0] >= SCHED_IN_FLIGHT, "an UPDATE carries a client's first segments");
@@ -331,6 +358,11 @@ static int start_frame(Server *s, Err *err)
     View v = s->view;
     if (s->still && s->cfg.refine)
         v.settings.aa = s->cfg.still_aa, v.settings.adaptive = s->cfg.still_adaptive;
+    /* a moving frame at the render scale, a still one whole */
+    s->scale = s->still ? 1 : s->next_scale;
+    s->fw = ((uint32_t)s->cfg.width + (uint32_t)s->scale - 1) / (uint32_t)s->scale;
+    s->fh = ((uint32_t)s->cfg.height + (uint32_t)s->scale - 1) / (uint32_t)s->scale;
+    sched_set_size(s->sched, s->fw, s->fh);
     s->blob.len = 0;
     if (wire_encode_view(&v, &s->blob, err))
         return -1;
@@ -589,7 +621,7 @@ int server_step(Server *s, int timeout_ms, FrameDoneFn done, void *ctx, Err *err
         s->in_frame = 0;
         measure_frame_end(&s->m, timer_now());
         if (done)
-            done(ctx, s->frame, s->pixels);
+            done(ctx, s->frame, scaled_up(s));
     }
     return 0;
 }

@@ -51,6 +51,14 @@ void server_set_camera(Server *s, const Camera *c);
 void server_turn_instances(Server *s, real degrees);
 /* The camera the next frame starts from. */
 Camera server_camera(const Server *s);
+/* The render scale of the moving frames to come: 1 (every pixel) to
+ * SERVER_MAX_SCALE: the clients render a frame of width / scale x height /
+ * scale (rounded up) and the server shows it scaled up, each pixel a block.
+ * A still frame is rendered whole. */
+#define SERVER_MAX_SCALE 8
+void server_set_scale(Server *s, int scale);
+/* The scale of the current (or last) frame. */
+int server_frame_scale(const Server *s);
 /* Whether the current (or last) frame was a still one: its camera and scene
  * those of the frame before (rendered with the still quality when refining). */
 int server_frame_still(const Server *s);

@@ -7,7 +7,9 @@
 # frame: the counters can tell); a headless flight without --frames stops
 # at the path's end and prints the frame rate it held (with --still-aa, after
 # one more, still frame: the converged one, lanray-render's picture bit for
-# bit); bad path files are refused naming the file and line.
+# bit); with --target-fps a moving frame is rendered at a render scale and
+# shown in blocks, lanray-render's smaller picture; bad path files are
+# refused naming the file and line.
 set -u
 source tests/tools/server-lib.sh
 cat >"$dir/fly.path" <<'PATH'
@@ -59,6 +61,28 @@ for n in 1 2; do
     cmp -s "$dir/r$n/frame-00007.png" "$dir/still.png" || fail "the converged frame is not lanray-render's ($n clients)"
     grep -q "^path: converged frame 7, .* s after the last move" "$dir/refine-$n.log" || fail "no converged line"
 done
+# a render scale (--target-fps out of reach: the coarsest, 8, from the
+# second frame's time on, so frame 3 at the latest): a moving
+# frame is lanray-render's picture of W/8 x H/8 pixels, each pixel an 8 x 8
+# block of the full-size frame; the still frame after the flight is whole
+"$BIN/lanray-render" --path "$dir/fly.path" --at 1 --aa 1 --width $((W / 8)) --height $((H / 8)) -o "$dir/small.png" \
+    --quiet >/dev/null || fail "lanray-render small"
+start_server scale --port 0 --width $W --height $H --path "$dir/fly.path" --path-step 0.5 --wait-clients 2 \
+    --target-fps 1000 --still-aa adaptive:4 --out "$dir/sc"
+run_clients 2 scale
+python3 - "$dir/sc/frame-00003.png" "$dir/small.png" 8 <<'PY' || fail "frame 3 at render scale 8 is not lanray-render's small frame scaled up"
+import sys
+sys.path.insert(0, "tests/tools")
+from pngpixel import read
+(big, _), (small, _), k = read(sys.argv[1]), read(sys.argv[2]), int(sys.argv[3])
+assert len(big) == len(small) * k, "the frame is not full size"
+for y, row in enumerate(big):
+    for x in range(len(row) // 3):
+        if row[3 * x:3 * x + 3] != small[y // k][3 * (x // k):3 * (x // k) + 3]:
+            sys.exit("pixel %d,%d" % (x, y))
+PY
+grep -q "^pace: target 1000.0 fps, mean render scale " "$dir/scale.log" || fail "no pace line: $(tail -3 "$dir/scale.log")"
+cmp -s "$dir/sc/frame-00007.png" "$dir/still.png" || fail "the still frame after a scaled flight is not whole and refined"
 # the same flight with the model turning: a new description every frame
 start_server turn --port 0 --width $W --height $H --path "$dir/fly.path" --path-step 0.5 --wait-clients 1 --rotate 10 \
     --out "$dir/t"
@@ -81,4 +105,4 @@ bad 'key 0 position 0 1 5 fov 200\n' 'bad.path:1:'
 bad '# nothing\n' 'no camera keys'
 "$BIN/lanray-server" --headless --path "$dir/missing.path" --port 0 2>"$dir/miss.err" && fail "the server took a missing path"
 grep -q "missing.path" "$dir/miss.err" || fail "the server's error does not name the path: $(cat "$dir/miss.err")"
-echo "path: 6 frames of a flight through 2 clients equal lanray-render's cameras on the path, and the converged one its full picture; a camera move decodes no scene and builds no tree (6 each with a turning model); bad paths named by line"
+echo "path: 6 frames of a flight through 2 clients equal lanray-render's cameras on the path, and the converged one its full picture; a frame at render scale 8 is its small picture in blocks; a camera move decodes no scene and builds no tree (6 each with a turning model); bad paths named by line"
