@@ -479,6 +479,7 @@ static int serve(App *app, const Args *a)
     /* --wait-clients: no frame starts before that many clients have joined */
     server_pause(app->server, wait_clients > 0);
     path_next(app, a->path_step);
+    server_set_scale(app->server, app->pace.scale);
     while (!stop_flag) {
         if (wait_clients > 0 && server_client_count(app->server) >= (uint32_t)wait_clients) {
             server_pause(app->server, 0);

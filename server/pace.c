@@ -4,7 +4,12 @@
 const int pace_scales[] = {1, 2, 3, 4, 6, 8};
 const int pace_scale_count = (int)(sizeof pace_scales / sizeof pace_scales[0]);
 
-void pace_init(Pace *p, double fps) { *p = (Pace){.target = fps > 0 ? 1.0 / fps : 0, .per_pixel = 0, .scale = 1}; }
+/* With a target, the first moving frame is the coarsest (its cost is not
+ * known yet: a fast first picture, refined as the times come in). */
+void pace_init(Pace *p, double fps)
+{
+    *p = (Pace){.target = fps > 0 ? 1.0 / fps : 0, .per_pixel = 0, .scale = fps > 0 ? pace_scales[pace_scale_count - 1] : 1};
+}
 
 /* The pixels rendered at a scale: each side divided, rounded up. */
 static double pixels_at(int scale, uint32_t width, uint32_t height)

@@ -26,6 +26,7 @@ typedef struct {
 extern const int pace_scales[];
 extern const int pace_scale_count;
 
+/* fps 0: no target (scale 1 always); else the scale starts at the coarsest. */
 void pace_init(Pace *p, double fps);
 /* A moving frame of width x height (the full frame) rendered at `scale` took
  * `seconds`: the scale for the next moving frame. */

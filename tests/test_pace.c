@@ -17,6 +17,8 @@ static void coarser_at_once_finer_with_room(void **state)
     (void)state;
     Pace p;
     pace_init(&p, 15); /* 66.7 ms a frame */
+    assert_int_equal(p.scale, 8); /* nothing measured: a fast first picture */
+    p.scale = 1;
     /* 600 ns a pixel: 472 ms whole, 118 ms at 2, 52 ms at 3 */
     int k = pace_update(&p, frame_time(1, 600), 1, W, H);
     assert_int_equal(k, 3);
@@ -40,6 +42,7 @@ static void no_flicker_about_a_boundary(void **state)
     (void)state;
     Pace p;
     pace_init(&p, 15);
+    p.scale = 1;
     /* whole frames at 75 ns (59 ms: fits, 0.88 of the target): scale 2 would
      * fit easily, 1 fits; a 10% wobble must not move it */
     int k = 1, changes = 0;
@@ -53,6 +56,7 @@ static void no_flicker_about_a_boundary(void **state)
     /* at scale 2 with whole frames predicted at 0.85 of the target (above
      * PACE_FINER): it stays at 2 rather than trying 1 and coming back */
     pace_init(&p, 15);
+    p.scale = 1;
     k = pace_update(&p, frame_time(1, 120), 1, W, H); /* 94 ms whole: coarser */
     assert_int_equal(k, 2);
     for (int i = 0; i < 40; i++) {
@@ -71,6 +75,7 @@ static void no_target_keeps_every_pixel(void **state)
     pace_init(&p, 0);
     assert_int_equal(pace_update(&p, 10.0, 1, W, H), 1);
     pace_init(&p, 1000); /* out of reach: the coarsest */
+    p.scale = 1;
     assert_int_equal(pace_update(&p, frame_time(1, 100), 1, W, H), pace_scales[pace_scale_count - 1]);
 }
 
