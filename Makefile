@@ -78,7 +78,7 @@ REPLAYS := $(FUZZ_NAMES:%=$(BUILD)/fuzz/replay_%)
 
 DEB_PACKAGES := gcc make pkg-config libsdl2-dev libnetpbm-dev libpng-dev libjpeg62-turbo-dev zlib1g-dev libassimp-dev libcmocka-dev libembree-dev libsodium-dev xvfb x11-apps python3 clang libclang-rt-14-dev
 
-.PHONY: all deps check check-asan bench demo clean tradeoff bench-scaling fuzz loadtest tools-doc architecture scene-doc
+.PHONY: all deps check check-asan bench demo clean tradeoff bench-scaling bench-realtime fuzz loadtest tools-doc architecture scene-doc
 .SECONDARY:
 all: $(TOOLS)
 
@@ -232,6 +232,12 @@ tradeoff: deps $(TOOLS)
 bench-scaling: deps $(TOOLS)
 	@$(MAKE) --no-print-directory DEB_PACKAGES="gnuplot-nox iproute2" deps
 	@BIN=$(BIN) tools/bench/bench-scaling docs
+
+# the real-time viewer: make demo's flight at a frame-rate target, its error
+# and its time to converge against lanray-render (docs/realtime.md)
+bench-realtime: deps $(TOOLS)
+	@$(MAKE) --no-print-directory DEB_PACKAGES=gnuplot-nox deps
+	@BIN=$(BIN) bash tools/bench/bench-realtime docs
 
 # make loadtest [LOAD_SECONDS=300] [LOAD_CLIENTS=64]: one server, many clients
 # joining and leaving, every frame verified; server RSS and CPU in docs/loadtest.csv
