@@ -3,37 +3,75 @@
 
 const int pace_scales[] = {1, 2, 3, 4, 6, 8};
 const int pace_scale_count = (int)(sizeof pace_scales / sizeof pace_scales[0]);
+_Static_assert(sizeof pace_scales / sizeof pace_scales[0] == PACE_SCALES, "a time for every scale");
 
 /* With a target, the first moving frame is the coarsest (its cost is not
  * known yet: a fast first picture, refined as the times come in). */
 void pace_init(Pace *p, double fps)
 {
-    *p = (Pace){.target = fps > 0 ? 1.0 / fps : 0, .per_pixel = 0, .scale = fps > 0 ? pace_scales[pace_scale_count - 1] : 1};
+    *p = (Pace){.target = fps > 0 ? 1.0 / fps : 0, .scale = fps > 0 ? pace_scales[pace_scale_count - 1] : 1};
 }
 
-/* The pixels rendered at a scale: each side divided, rounded up. */
-static double pixels_at(int scale, uint32_t width, uint32_t height)
+/* The pixels rendered at scale index i: each side divided, rounded up. */
+static double pixels_at(int i, uint32_t width, uint32_t height)
 {
-    const uint32_t k = (uint32_t)scale;
+    const uint32_t k = (uint32_t)pace_scales[i];
     return (double)((width + k - 1) / k) * (double)((height + k - 1) / k);
+}
+
+/* The time predicted at scale index j: as measured there, else on the line
+ * a + b x pixels through the two measured scales nearest j in pixels (a
+ * frame's fixed cost and its cost a pixel, neither below 0), else in
+ * proportion to the one measured. */
+static double predict(const Pace *p, int j, uint32_t w, uint32_t h)
+{
+    if (p->t[j] > 0)
+        return p->t[j];
+    int a = -1, b = -1;
+    for (int d = 1; d < pace_scale_count && b < 0; d++)
+        for (int s = -1; s <= 1; s += 2) {
+            const int i = j + s * d;
+            if (i < 0 || i >= pace_scale_count || !(p->t[i] > 0) || b >= 0)
+                continue;
+            if (a < 0)
+                a = i;
+            else
+                b = i;
+        }
+    if (a < 0)
+        return 0;
+    const double pa = pixels_at(a, w, h), pj = pixels_at(j, w, h);
+    if (b < 0)
+        return p->t[a] * pj / pa;
+    const double pb = pixels_at(b, w, h);
+    double slope = (p->t[b] - p->t[a]) / (pb - pa);
+    slope = slope > 0 ? slope : 0;
+    double fixed = p->t[a] - slope * pa;
+    fixed = fixed > 0 ? fixed : 0;
+    return fixed + slope * pj;
 }
 
 int pace_update(Pace *p, double seconds, int scale, uint32_t width, uint32_t height)
 {
     if (!(p->target > 0) || !(seconds > 0))
         return p->scale;
-    const double measured = seconds / pixels_at(scale, width, height);
-    /* the last frames weigh most: a view that turns to a costly part shows at once */
-    p->per_pixel = p->per_pixel > 0 ? 0.5 * p->per_pixel + 0.5 * measured : measured;
     int i = 0;
-    while (i < pace_scale_count - 1 && pace_scales[i] != p->scale)
+    while (i < pace_scale_count - 1 && pace_scales[i] != scale)
         i++;
-    const double now = p->per_pixel * pixels_at(pace_scales[i], width, height);
+    /* this scale's time, the last frames weighing most; the other scales'
+     * follow it (the view turned to a costlier or a cheaper part) */
+    const double old = p->t[i], now = old > 0 ? 0.5 * old + 0.5 * seconds : seconds;
+    for (int j = 0; j < pace_scale_count && old > 0; j++)
+        if (j != i)
+            p->t[j] *= now / old;
+    p->t[i] = now;
     if (now > p->target) { /* coarser at once, as far as it takes */
-        while (i < pace_scale_count - 1 && p->per_pixel * pixels_at(pace_scales[i], width, height) > p->target)
+        while (i < pace_scale_count - 1 && predict(p, i, width, height) > p->target)
             i++;
+    } else if (i > 0 && !(p->t[i - 1] > 0) && now <= PACE_PROBE * p->target) {
+        i--; /* far below the target and the finer scale never tried: try it */
     } else { /* finer only with room to spare */
-        while (i > 0 && p->per_pixel * pixels_at(pace_scales[i - 1], width, height) <= PACE_FINER * p->target)
+        while (i > 0 && predict(p, i - 1, width, height) <= PACE_FINER * p->target)
             i--;
     }
     p->scale = pace_scales[i];

@@ -2,23 +2,29 @@
  *
  * Pure logic (no clock, no sockets), fed by the server's main loop with the
  * time each moving frame took and the scale it was rendered at; the tests
- * drive it with made-up times.  The cost of a frame is taken to be its
- * pixels times a cost a pixel, measured as it runs (an average over the
- * last frames, each frame counted at the scale it had), so the scale for
- * the target is the finest whose predicted time fits.  Hysteresis keeps it
- * from flickering between two scales: it goes coarser as soon as the
- * prediction misses the target, finer only when the finer scale is
- * predicted to take at most PACE_FINER of the target. */
+ * drive it with made-up times.  It keeps each scale's time as measured (an
+ * average that weighs the last frames most; a change at the scale in use
+ * carries over to the others: the view turned to a costlier part) and
+ * predicts an unmeasured scale from the two measured ones nearest in
+ * pixels, on a line of a fixed cost a frame and a cost a pixel (a small
+ * frame's time is mostly the fixed part).  The scale for the target is the
+ * finest predicted to fit.  Hysteresis keeps it from flickering between
+ * two scales: it goes coarser as soon as a frame misses the target, finer
+ * only when the finer scale is predicted to take at most PACE_FINER of it;
+ * a finer scale never measured is tried once the frames take at most
+ * PACE_PROBE of the target. */
 #ifndef LANRAY_PACE_H
 #define LANRAY_PACE_H
 
 #include <stdint.h>
 
 #define PACE_FINER 0.8
+#define PACE_PROBE 0.75
+#define PACE_SCALES 6
 
 typedef struct {
-    double target;    /* seconds a frame */
-    double per_pixel; /* seconds a pixel (0: nothing measured yet) */
+    double target;         /* seconds a frame */
+    double t[PACE_SCALES]; /* seconds a frame at each of pace_scales (0: not measured) */
     int scale;
 } Pace;
 
