@@ -16,6 +16,7 @@
 #include "app/cli.h"
 #include "display.h"
 #include "image/image.h"
+#include "base/log.h"
 #include "base/opt.h"
 #include "base/srgb.h"
 #include "render/render.h"
@@ -23,6 +24,7 @@
 #include "net/msg.h"
 #include "pace.h"
 #include "server.h"
+#include "watch.h"
 #include "base/timer.h"
 
 static volatile sig_atomic_t stop_flag, stats_flag;
@@ -56,6 +58,12 @@ typedef struct {
     Pace pace;
     double last_frame_t;
     uint64_t scale_sum, scaled_frames;
+    /* live edits: the scene file and its files watched, read again when one
+     * changes; the new scene waits for the server to take it */
+    Watch *watch;
+    Scene *pending;
+    double edit_t;         /* when the last event came (0: none waiting) */
+    char edit_error[600];  /* the last read's error, shown in the title until a good read */
 } App;
 
 /* Pixels of a frame that differ from the reference (--verify): a farm test
@@ -218,7 +226,7 @@ typedef struct {
     const char *path;
     double path_step;
     CliAa still;
-    double target_fps;
+    double target_fps, max_fps;
 } Args;
 
 /* Parses the command line into a: OPT_GO, or the exit status. */
@@ -265,6 +273,8 @@ static int parse_args(Args *a, int argc, char **argv)
         {.name = "--target-fps", .kind = OPT_REAL, .dst = &a->target_fps, .arg = "F", .rlo = 0, .rhi = 1000,
          .help = "while the view moves, render fewer pixels (a render scale of 1 to 8, chosen from the frame times "
                  "measured) to hold F frames a second; 0 = every pixel", .def = "0"},
+        {.name = "--max-fps", .kind = OPT_REAL, .dst = &a->max_fps, .arg = "F", .rlo = 0, .rhi = 1000,
+         .help = "start at most F frames a second (the rest of the time the farm idles); 0 = no limit", .def = "0"},
         {.name = "--linear", .kind = OPT_FLAG, .dst = &a->linear,
          .help = "frames in linear light (PNG tagged gAMA 1.0) instead of sRGB"},
         {.name = "--hdr", .kind = OPT_FLAG, .dst = &a->hdr,
@@ -297,6 +307,8 @@ static int parse_args(Args *a, int argc, char **argv)
                     "hands out segments of each frame to lanray-client processes and shows the frames in a window,\n"
                     "or writes them when headless or without a display.  In the window: W/S A/D R/F move, the mouse or\n"
                     "the arrows look, +/- zoom, Space toggles --rotate, P saves a screenshot, Home resets, Esc quits.\n"
+                    "A scene file is followed while it runs: an edit to it or to the models and textures it names is\n"
+                    "read again and sent between frames; an error keeps the last good scene and is shown with its line.\n"
                     "SIGUSR1 prints per-client statistics.",
                     .opts = opts, .args = args, .max_args = 1,
                     .exits = "  0  every requested frame was written (--frames N), or stopped by the window, SIGINT or SIGTERM\n"
@@ -329,7 +341,21 @@ static void app_close(App *a)
     free(a->view);
     display_close(a->display);
     scene_destroy(a->scene);
+    scene_destroy(a->pending);
+    watch_close(a->watch);
     camera_path_free(&a->path);
+}
+
+/* The command line's settings over a scene's own (at the start, and on every
+ * reading of an edited scene). */
+static void apply_overrides(Scene *scene, const Args *a)
+{
+    if (a->aa.given) {
+        scene->settings.aa = a->aa.aa;
+        scene->settings.adaptive = a->aa.adaptive;
+    }
+    scene->settings.linear = a->linear;
+    scene->settings.hdr = a->hdr;
 }
 
 /* The scene, with the command line's settings over its own, and the frame
@@ -342,17 +368,12 @@ static int open_scene(App *app, Args *a, Err *err)
         return 1;
     }
     Scene *scene = app->scene;
-    if (a->aa.given) {
-        scene->settings.aa = a->aa.aa;
-        scene->settings.adaptive = a->aa.adaptive;
-    }
+    apply_overrides(scene, a);
     if (a->hdr && (a->linear || a->verify_path)) {
         fprintf(stderr, "lanray-server: --hdr frames keep the light itself: %s\n",
                 a->linear ? "--linear is for 8-bit frames" : "--verify compares 8-bit frames (compare the .hdr files instead)");
         return 2;
     }
-    scene->settings.linear = a->linear;
-    scene->settings.hdr = a->hdr;
     if (!a->width_given && scene->settings.width)
         cfg->width = scene->settings.width;
     if (!a->height_given && scene->settings.height)
@@ -423,6 +444,8 @@ static int open_outputs(App *app, Args *a, Err *err)
         fprintf(stderr, "lanray-server: %s\n", err->msg);
         return 1;
     }
+    if (a->scene_path && !(app->watch = watch_open(app->scene, err)))
+        fprintf(stderr, "lanray-server: not following edits of %s: %s\n", a->scene_path, err->msg);
     /* the port line is what scripts wait for */
     char segtext[32];
     if (cfg->segment_lines)
@@ -444,12 +467,53 @@ static void show_title(App *app)
     char title[160];
     uint32_t n = server_client_count(app->server);
     double fps = app->fps_frames / (now - app->fps_t0);
-    snprintf(title, sizeof title, "lanray - %.1f fps - %u client%s%s", fps, n, n == 1 ? "" : "s",
-             n ? "" : " (waiting for clients)");
+    if (app->edit_error[0])
+        snprintf(title, sizeof title, "lanray - error: %.130s", app->edit_error);
+    else
+        snprintf(title, sizeof title, "lanray - %.1f fps - %u client%s%s", fps, n, n == 1 ? "" : "s",
+                 n ? "" : " (waiting for clients)");
     display_title(app->display, title);
     app->last_title = now;
     app->fps_t0 = now;
     app->fps_frames = 0;
+}
+
+/* Live edits: a scene file or one of its files changed (0.15 s ago, so
+ * that an editor's writes are over): the scene is read again and handed to
+ * the server for the next frame; an error keeps the last good scene on
+ * screen and says why, in the log and the window's title. */
+static void follow_edits(App *app, const Args *a)
+{
+    if (app->pending && server_scene(app->server) == app->pending) { /* taken: the old one is free */
+        scene_destroy(app->scene);
+        app->scene = app->pending;
+        app->pending = NULL;
+    }
+    const double now = timer_now();
+    if (watch_changed(app->watch))
+        app->edit_t = now;
+    if (app->edit_t == 0 || now - app->edit_t < 0.15)
+        return;
+    app->edit_t = 0;
+    Scene *next;
+    Err err;
+    if (cli_open_scene(a->scene_path, &a->bvh, a->force_bvh, &next, &err)) {
+        fprintf(stderr, "lanray-server: %s (the last good scene stays)\n", err.msg);
+        snprintf(app->edit_error, sizeof app->edit_error, "%s", err.msg);
+        app->last_title = 0;
+        return;
+    }
+    apply_overrides(next, a);
+    scene_destroy(app->pending);
+    app->pending = next;
+    server_set_scene(app->server, next);
+    app->edit_error[0] = 0;
+    log_line(a->cfg.quiet, "lanray-server", "%s read again", a->scene_path);
+    Watch *w = watch_open(next, &err); /* its files from now on */
+    if (w) {
+        watch_close(app->watch);
+        app->watch = w;
+    }
 }
 
 /* Headless: one line a second at most, to see it is alive. */
@@ -485,10 +549,15 @@ static int serve(App *app, const Args *a)
             server_pause(app->server, 0);
             wait_clients = 0;
         }
+        /* --max-fps: the next frame waits for its time */
+        if (a->max_fps > 0 && wait_clients == 0)
+            server_pause(app->server, timer_now() - app->last_frame_t < 1.0 / a->max_fps);
         if (server_step(app->server, app->display ? 5 : 50, on_frame, app, &err)) {
             fprintf(stderr, "lanray-server: %s\n", err.msg);
             return 1;
         }
+        if (app->watch)
+            follow_edits(app, a);
         if (app->frames_done != seen) {
             seen = app->frames_done;
             if (animate)

@@ -18,6 +18,7 @@
 
 #include "net/auth.h"
 #include "net/conn.h"
+#include "base/array.h"
 #include "base/log.h"
 #include "net/net.h"
 #include "base/timer.h"
@@ -40,7 +41,8 @@ typedef struct {
     double since, last_result;
     uint32_t frame_sent; /* last frame it got an UPDATE for (0: none) */
     uint32_t scene_held; /* the description it was sent last (Server.scene_id; 0: none) */
-    uint8_t *asset_sent; /* per server asset */
+    uint8_t (*sent)[PROTO_HASH]; /* the assets it was sent, by hash (a new scene keeps what it shares) */
+    uint32_t nsent, sent_cap;
     uint64_t segments, pixels, duplicates;
     uint64_t busy_us;
     MeasureClient mc;       /* its results' timing, for the segment overhead */
@@ -60,6 +62,7 @@ struct Server {
     int in_frame, paused, dirty;
     View view;          /* the frame's camera and settings, apart from the description */
     uint32_t scene_id;  /* the description's number, one up each time it changes */
+    Scene *next_scene;  /* server_set_scene: the description of the frames to come */
     Camera last_camera; /* the camera of the frame before, and its description's number: */
     uint32_t last_scene_id;
     int still;          /* the current frame's are the same (refinement) */
@@ -166,7 +169,7 @@ static void client_free(Server *s, Client *c)
     s->gone_pixels += c->pixels;
     s->gone_bytes += c->conn.bytes_in + c->conn.bytes_out;
     conn_close(&c->conn);
-    free(c->asset_sent);
+    free(c->sent);
     free(c);
 }
 
@@ -235,10 +238,31 @@ static int camera_same(const Camera *a, const Camera *b)
            a->size == b->size && a->fov == b->fov && a->aperture == b->aperture && a->focus == b->focus;
 }
 
-/* What was held for this frame: a camera for the view, a turn for the
- * description (which then is checked and sent again). */
-static void apply_pending(Server *s)
+void server_set_scene(Server *s, Scene *next) { s->next_scene = next; }
+Scene *server_scene(const Server *s) { return s->scene; }
+
+/* A new description (a reload): its assets, its camera where it moved the
+ * file's, its settings. */
+static int swap_scene(Server *s, Err *err)
 {
+    const Camera before = s->scene->camera;
+    s->scene = s->next_scene;
+    s->next_scene = NULL;
+    if (build_assets(s, err))
+        return -1;
+    if (!camera_same(&before, &s->scene->camera))
+        s->view.camera = s->scene->camera;
+    s->view.settings = s->scene->settings;
+    s->dirty = 1;
+    return 0;
+}
+
+/* What was held for this frame: a new description, a camera for the view,
+ * a turn for the description (which then is checked and sent again). */
+static int apply_pending(Server *s, Err *err)
+{
+    if (s->next_scene && swap_scene(s, err))
+        return -1;
     if (s->camera_pending) {
         s->view.camera = s->next_camera;
         s->camera_pending = 0;
@@ -249,6 +273,7 @@ static void apply_pending(Server *s)
         s->turn_pending = 0;
         s->dirty = 1;
     }
+    return 0;
 }
 void server_pause(Server *s, int paused) { s->paused = paused; }
 
@@ -292,6 +317,15 @@ static void send_or_drop(Server *s, Client *c, const MsgOut *m)
         drop(s, c, e.msg);
 }
 
+/* Whether the client was sent the asset of that hash. */
+static int client_has(const Client *c, const uint8_t *hash)
+{
+    for (uint32_t i = 0; i < c->nsent; i++)
+        if (memcmp(c->sent[i], hash, PROTO_HASH) == 0)
+            return 1;
+    return 0;
+}
+
 /* The segments the scheduler tops the client up with, a COMPUTE each. */
 static void send_computes(Server *s, Client *c)
 {
@@ -309,13 +343,16 @@ static void send_computes(Server *s, Client *c)
 static void send_update(Server *s, Client *c)
 {
     for (uint32_t i = 0; i < s->nassets; i++)
-        if (!c->asset_sent[i]) {
+        if (!client_has(c, s->assets[i].hash)) {
             MsgAsset a = {s->assets[i].kind, {0}, s->assets[i].data, s->assets[i].len};
             memcpy(a.hash, s->assets[i].hash, PROTO_HASH);
             MsgOut out;
             msg_encode_asset(&a, &out);
             send_or_drop(s, c, &out);
-            c->asset_sent[i] = 1;
+            if (!c->closing && array_reserve((void **)&c->sent, &c->sent_cap, c->nsent + 1, sizeof *c->sent, 1u << 20))
+                drop(s, c, "out of memory for the assets it holds");
+            else if (!c->closing)
+                memcpy(c->sent[c->nsent++], s->assets[i].hash, PROTO_HASH);
             measure_asset_sent(&s->m, PROTO_HEADER + out.head_len + out.tail_len);
         }
     const int held = c->scene_held == s->scene_id;
@@ -342,7 +379,8 @@ static uint64_t server_bytes(const Server *s)
 
 static int start_frame(Server *s, Err *err)
 {
-    apply_pending(s);
+    if (apply_pending(s, err))
+        return -1;
     if (s->dirty) { /* a new description: checked, encoded once, numbered */
         s->scene_blob.len = 0;
         if (scene_check(s->scene, err) ||
@@ -391,9 +429,7 @@ int server_adopt(Server *s, int fd, const char *addr)
         return -1;
     }
     Client *c = calloc(1, sizeof *c);
-    if (c)
-        c->asset_sent = calloc(s->nassets + 1, 1);
-    if (!c || !c->asset_sent) {
+    if (!c) {
         free(c);
         close(fd);
         log_line(s->cfg.quiet, "lanray-server", "refused a connection from %s: out of memory", addr);

@@ -49,6 +49,12 @@ void server_destroy(Server *s);
  * never changed while the frame is under way. */
 void server_set_camera(Server *s, const Camera *c);
 void server_turn_instances(Server *s, real degrees);
+/* The description of the frames to come (a scene file read again): taken
+ * at the next frame's start, when its assets are made and sent to whom
+ * lacks them; the caller keeps ownership of both scenes and may free the
+ * old one once server_scene returns the new one. */
+void server_set_scene(Server *s, Scene *next);
+Scene *server_scene(const Server *s);
 /* The camera the next frame starts from. */
 Camera server_camera(const Server *s);
 /* The render scale of the moving frames to come: 1 (every pixel) to

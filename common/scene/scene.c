@@ -37,6 +37,9 @@ void scene_destroy(Scene *s)
     free(s->models);
     free(s->instances);
     free(s->lights);
+    for (uint32_t i = 0; i < s->source_count; i++)
+        free(s->sources[i]);
+    free(s->sources);
     free(s);
 }
 
@@ -136,6 +139,17 @@ int scene_add_instance(Scene *s, Instance in, Err *err)
 int scene_add_light(Scene *s, Light l, Err *err)
 {
     PUSH(s, lights, light_count, light_cap, SCENE_MAX_LIGHTS, l, "lights");
+    return 0;
+}
+
+int scene_add_source(Scene *s, const char *path, Err *err)
+{
+    char *copy = strdup(path);
+    if (!copy || array_reserve((void **)&s->sources, &s->source_cap, s->source_count + 1, sizeof *s->sources, 65536)) {
+        free(copy);
+        return err_set(err, "scene: too many files or out of memory");
+    }
+    s->sources[s->source_count++] = copy;
     return 0;
 }
 

@@ -143,6 +143,9 @@ typedef struct {
 
     int borrowed_assets;   /* models and textures belong to someone else (a client's asset cache) */
     int checked;           /* scene_check passed since the last change */
+    /* the files it was read from (the scene file, its models' and textures'
+     * files), for a server that follows edits; not on the wire */
+    char **sources;        uint32_t source_count, source_cap;
 } Scene;
 
 Scene *scene_create(void);
@@ -159,6 +162,8 @@ int scene_add_triangle(Scene *s, const vec3 p[3], const vec3 *n, const real *uv,
 int scene_add_model(Scene *s, Model *m, uint32_t *id, Err *err);
 int scene_add_instance(Scene *s, Instance in, Err *err);
 int scene_add_light(Scene *s, Light l, Err *err);
+/* Records a file the scene was read from (a copy of path). */
+int scene_add_source(Scene *s, const char *path, Err *err);
 
 Plane plane_make(vec3 point, vec3 normal, uint32_t material);
 Light light_point(vec3 pos, vec3 color, real intensity, int attenuate);

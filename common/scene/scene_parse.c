@@ -162,7 +162,7 @@ static int do_texture(Ctx *c, const Tokens *t)
     if (file_join(c->dir, t->tok[2], path, sizeof path))
         return fail(c, "texture file name '%s' is too long", t->tok[2]);
     Texture *tex;
-    if (texture_read(path, &tex, c->err))
+    if (scene_add_source(c->s, path, c->err) || texture_read(path, &tex, c->err))
         return err_prefix(c->err, "%s:%d", c->file, c->line);
     tex->closest = t->n == 4 && strcmp(t->tok[3], "closest") == 0;
     uint32_t id;
@@ -260,7 +260,7 @@ static int do_model(Ctx *c, const Tokens *t)
     if (!model_load_knows(path))
         return fail(c, "model file '%s' must end in .tmd, .obj, or a format the importer reads (.ply, .stl, .gltf, .glb, ...)", t->tok[2]);
     Model *m = NULL;
-    if (model_load(path, &opt, c->force || bvh_given, sp.smooth, &m, c->err))
+    if (scene_add_source(c->s, path, c->err) || model_load(path, &opt, c->force || bvh_given, sp.smooth, &m, c->err))
         return err_prefix(c->err, "%s:%d", c->file, c->line);
     uint32_t id;
     if (scene_add_model(c->s, m, &id, c->err))
@@ -381,5 +381,10 @@ int scene_load(const char *path, const BvhOptions *bvh, int force, Scene **out, 
     file_dirname(path, dir, sizeof dir);
     int rc = scene_parse(text, len, path, dir, bvh, force, out, err);
     free(text);
+    if (rc == 0 && scene_add_source(*out, path, err)) {
+        scene_destroy(*out);
+        *out = NULL;
+        return -1;
+    }
     return rc;
 }

@@ -43,6 +43,7 @@ int scene_preview(const char *model_path, const BvhOptions *bvh, int rebuild, Sc
         s->ambient = v3_splat(R(0.12));
         s->background = v3(R(0.16), R(0.17), R(0.2));
     }
+    rc = rc ? rc : scene_add_source(s, model_path, err);
     rc = rc ? rc : scene_check(s, err);
     if (rc) {
         scene_destroy(s);

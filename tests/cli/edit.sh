@@ -1,0 +1,75 @@
+#!/usr/bin/env bash
+# Live scene edits: a server follows its scene file and the files it names
+# while it runs.  A model added to the file, a texture file replaced, then a
+# syntax error, then a fix: the frames show each good version as
+# lanray-render draws it (byte for byte), the error is logged with its file
+# and line while the last good scene stays on, and the one client never
+# reconnects.
+set -u
+source tests/tools/server-lib.sh
+W=64 H=48
+mkdir -p "$dir/s"
+cp models/cube.obj models/cube.mtl "$dir/s/"
+printf 'P3\n2 2\n255\n255 0 0  0 255 0\n0 0 255  255 255 255\n' >"$dir/s/tex.ppm"
+base='camera position 0 1.5 4 lookat 0 0.3 0 fov 50
+texture t tex.ppm closest
+material tiles texture t
+plane point 0 -0.5 0 normal 0 1 0 material tiles
+sphere centre -1 0.2 0 radius 0.5
+light point position 2 4 3
+'
+v1=$base
+v2="${base}model cube cube.obj
+instance cube translate 0.8 0 0 rotate 0 30 0
+"
+v4=${v2/sphere centre -1 0.2 0/sphere centre -1.2 0.5 -0.5}
+render_ref() { # NAME TEXT: lanray-render's picture of that scene (with the texture there now)
+    printf '%s' "$2" >"$dir/s/ref.scene"
+    "$BIN/lanray-render" "$dir/s/ref.scene" --aa 1 --width $W --height $H -o "$dir/$1.png" --quiet >/dev/null ||
+        fail "lanray-render $1"
+}
+render_ref ref1 "$v1"
+render_ref ref2 "$v2"
+cp "$dir/s/tex.ppm" "$dir/tex-before.ppm"
+printf 'P3\n2 2\n255\n0 0 0  255 255 0\n255 0 255  0 255 255\n' >"$dir/s/tex.ppm"
+render_ref ref3 "$v2"
+render_ref ref4 "$v4"
+cp "$dir/tex-before.ppm" "$dir/s/tex.ppm"
+cmp -s "$dir/ref2.png" "$dir/ref3.png" && fail "the new texture does not show: the test cannot fail"
+rm -f "$dir/s/ref.scene"
+printf '%s' "$v1" >"$dir/s/e.scene"
+start_server edit "$dir/s/e.scene" --port 0 --width $W --height $H --aa 1 --max-fps 25 --out "$dir/f"
+"$BIN/lanray-client" "127.0.0.1:$port" --threads 1 --once 2>"$dir/client.err" >/dev/null &
+pids+=("$!")
+# shows REF WHAT: waits (10 s at most) for a frame written from now on that is REF
+shows() {
+    local from=$(ls "$dir/f" 2>/dev/null | tail -1)
+    for _ in $(seq 200); do
+        local last=$(ls "$dir/f" 2>/dev/null | tail -1)
+        if [ -n "$last" ] && [ "$last" != "$from" ] && cmp -s "$dir/f/$last" "$dir/$1.png"; then
+            return 0
+        fi
+        sleep 0.05
+    done
+    fail "$2: the frames did not become lanray-render's picture (last: $(ls "$dir/f" | tail -1))"
+}
+shows ref1 "the first scene"
+printf '%s' "$v2" >"$dir/s/e.scene.tmp" && mv "$dir/s/e.scene.tmp" "$dir/s/e.scene" # as editors save
+shows ref2 "a model added"
+printf 'P3\n2 2\n255\n0 0 0  255 255 0\n255 0 255  0 255 255\n' >"$dir/s/tex.ppm"
+shows ref3 "the texture replaced"
+printf '%ssphere centre 0 0\n' "$v2" >"$dir/s/e.scene"
+for _ in $(seq 200); do grep -q "the last good scene stays" "$dir/edit.err" && break; sleep 0.05; done
+grep -q "e.scene:9: .*(the last good scene stays)" "$dir/edit.err" ||
+    fail "the error is not reported with its file and line: $(tail -2 "$dir/edit.err")"
+shows ref3 "a syntax error (the last good scene stays on)"
+printf '%s' "$v4" >"$dir/s/e.scene"
+shows ref4 "the error fixed, a sphere moved"
+kill -TERM "$server_pid"
+wait "$server_pid" 2>/dev/null
+sleep 0.2
+n=$(grep -c "connected to" "$dir/client.err")
+[ "$n" = 1 ] || fail "the client connected $n times: $(cat "$dir/client.err")"
+grep -q "reconnecting" "$dir/client.err" && fail "the client reconnected: $(cat "$dir/client.err")"
+grep -q "scenes decoded" "$dir/client.err" || fail "the client did not end its session cleanly: $(cat "$dir/client.err")"
+echo "edit: a model added, a texture replaced, an error (logged with its line, the last good scene kept) and its fix, each followed by the frames as lanray-render draws it, with one connection"
