@@ -75,12 +75,18 @@ void display_title(Display *d, const char *title) { SDL_SetWindowTitle(d->win, t
 
 void display_poll(Display *d, DisplayInput *in)
 {
-    (void)d;
     memset(in, 0, sizeof *in);
     SDL_Event e;
     while (SDL_PollEvent(&e)) {
         switch (e.type) {
         case SDL_QUIT: in->quit = 1; break;
+        case SDL_WINDOWEVENT: /* shown again: the last frame, drawn again (an idle window gets no new one) */
+            if (e.window.event == SDL_WINDOWEVENT_EXPOSED) {
+                SDL_RenderClear(d->ren);
+                SDL_RenderCopy(d->ren, d->tex, NULL, NULL);
+                SDL_RenderPresent(d->ren);
+            }
+            break;
         case SDL_MOUSEMOTION:
             if (e.motion.state & SDL_BUTTON_LMASK) {
                 in->yaw -= e.motion.xrel * 0.2;

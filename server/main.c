@@ -31,6 +31,18 @@ static volatile sig_atomic_t stop_flag, stats_flag;
 static void on_stop(int sig) { (void)sig; stop_flag = 1; }
 static void on_stats(int sig) { (void)sig; stats_flag = 1; }
 
+/* once: a second SIGINT or SIGTERM ends the server at once (flags
+ * SA_RESETHAND), where the first asks it to stop */
+static void on_signal(int sig, void (*fn)(int), int once)
+{
+    struct sigaction sa;
+    memset(&sa, 0, sizeof sa);
+    sa.sa_handler = fn;
+    sa.sa_flags = once ? SA_RESETHAND : 0;
+    sigemptyset(&sa.sa_mask);
+    sigaction(sig, &sa, NULL);
+}
+
 typedef struct {
     const char *out_dir; /* NULL: frames are discarded (benchmarks) */
     Display *display;
@@ -530,6 +542,15 @@ static void show_status(App *app, double *since, uint32_t *frames)
     *frames = app->frames_done;
 }
 
+/* Whether the window has nothing new to show: its last frame was a still
+ * one, and no move, turn, edit or flight is on its way. */
+static int idle(const App *app, int animate)
+{
+    const int flying = app->path.count && !app->path_final;
+    return app->frames_done > 0 && server_frame_still(app->server) && !animate && !flying &&
+           !server_changes_pending(app->server) && !app->pending;
+}
+
 /* The event loop until the frames are done, the window closes or a signal
  * stops it: 0, or 1 when the server fails. */
 static int serve(App *app, const Args *a)
@@ -549,9 +570,11 @@ static int serve(App *app, const Args *a)
             server_pause(app->server, 0);
             wait_clients = 0;
         }
-        /* --max-fps: the next frame waits for its time */
-        if (a->max_fps > 0 && wait_clients == 0)
-            server_pause(app->server, timer_now() - app->last_frame_t < 1.0 / a->max_fps);
+        /* --max-fps: the next frame waits for its time; a window whose
+         * picture is still (converged, with --still-aa) waits for a change */
+        if (wait_clients == 0)
+            server_pause(app->server, (a->max_fps > 0 && timer_now() - app->last_frame_t < 1.0 / a->max_fps) ||
+                                          (app->display && idle(app, animate)));
         if (server_step(app->server, app->display ? 5 : 50, on_frame, app, &err)) {
             fprintf(stderr, "lanray-server: %s\n", err.msg);
             return 1;
@@ -626,9 +649,11 @@ int main(int argc, char **argv)
     if (rc == 0)
         rc = open_outputs(&app, &a, &err);
     if (rc == 0) {
-        signal(SIGINT, on_stop);
-        signal(SIGTERM, on_stop);
-        signal(SIGUSR1, on_stats);
+        /* sigaction, not signal(): under _POSIX_C_SOURCE signal() resets a
+         * handler after its first call, and a second SIGUSR1 killed the server */
+        on_signal(SIGINT, on_stop, 1);
+        on_signal(SIGTERM, on_stop, 1);
+        on_signal(SIGUSR1, on_stats, 0);
         signal(SIGPIPE, SIG_IGN);
         rc = finish(&app, &a, serve(&app, &a));
     }

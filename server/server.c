@@ -241,6 +241,11 @@ static int camera_same(const Camera *a, const Camera *b)
 void server_set_scene(Server *s, Scene *next) { s->next_scene = next; }
 Scene *server_scene(const Server *s) { return s->scene; }
 
+int server_changes_pending(const Server *s)
+{
+    return s->camera_pending || s->turn_pending != R(0) || s->next_scene != NULL;
+}
+
 /* A new description (a reload): its assets, its camera where it moved the
  * file's, its settings. */
 static int swap_scene(Server *s, Err *err)

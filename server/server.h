@@ -55,6 +55,8 @@ void server_turn_instances(Server *s, real degrees);
  * old one once server_scene returns the new one. */
 void server_set_scene(Server *s, Scene *next);
 Scene *server_scene(const Server *s);
+/* Whether a new camera, a turn or a new scene waits for the next frame. */
+int server_changes_pending(const Server *s);
 /* The camera the next frame starts from. */
 Camera server_camera(const Server *s);
 /* The render scale of the moving frames to come: 1 (every pixel) to

@@ -67,4 +67,30 @@ PY
 # (RGBE's mantissas move some codes: else the check would not tell the paths apart)
 ! cmp -s "$dir/ref.ppm" "$dir/hdr.ppm" || fail "the .hdr's codes equal the PNG's: the test cannot tell them apart"
 shown hdr "$dir/hdr.ppm" --hdr
+# a window whose picture converged idles: with --still-aa 2 the second
+# frame is lanray-render's --aa 2 picture, and no frame starts after it
+# while nothing changes (the frames started, read twice a second apart)
+"$BIN/lanray-render" --width $W --height $H --aa 2 -o "$dir/still.ppm" --quiet >/dev/null || fail "reference still"
+"$BIN/lanray-server" --port 0 --width $W --height $H --still-aa 2 >"$dir/idle.log" 2>"$dir/idle.err" &
+spid=$!
+pids+=($spid)
+port=
+for _ in $(seq 100); do port=$(sed -n 's/.*listening on .*:\([0-9]*\) (.*/\1/p' "$dir/idle.log"); [ -n "$port" ] && break; sleep 0.05; done
+[ -n "$port" ] || fail "idle: server did not start"
+"$BIN/lanray-client" "127.0.0.1:$port" --threads 2 2>"$dir/idle-client.err" &
+pids+=($!)
+for _ in $(seq 50); do
+    xwd -root -silent >"$dir/screen.xwd" 2>/dev/null
+    python3 tests/tools/xwdfind.py "$dir/screen.xwd" "$dir/still.ppm" >/dev/null && break
+    sleep 0.2
+done
+python3 tests/tools/xwdfind.py "$dir/screen.xwd" "$dir/still.ppm" >/dev/null || fail "idle: the converged picture never showed"
+started() { kill -USR1 "$spid"; sleep 0.3; sed -n 's/^frames started \([0-9]*\);.*/\1/p' "$dir/idle.log" | tail -1; }
+n1=$(started)
+sleep 1
+n2=$(started)
+kill -0 "$spid" 2>/dev/null || fail "idle: the server died of a second SIGUSR1"
+[ -n "$n1" ] && [ "$n1" = "$n2" ] || fail "idle: frames kept starting on a converged picture ($n1, then $n2)"
+[ "$n1" -le 3 ] || fail "idle: $n1 frames for a picture that converged at the second"
+echo "idle: the converged picture stays, $n1 frames started, none in the second after"
 exit 0
