@@ -79,8 +79,9 @@ struct Server {
     Asset *assets;    /* models then textures of the scene */
     uint32_t nassets;
     Sink scene_blob;  /* the serialised description (number scene_id) */
-    Sink blob;        /* the current frame's view, then scene_blob: an UPDATE sends the view, or both */
+    Sink blob;        /* the current frame's view, and behind it scene_blob once a client lacks it */
     uint32_t view_len;
+    int blob_has_scene;
     /* finished clients' statistics, for the summary */
     uint64_t gone_segments, gone_pixels, gone_bytes;
     uint32_t gone_clients; /* clients that left, or were dropped */
@@ -214,9 +215,17 @@ static const uint8_t *scaled_up(Server *s)
     if (s->scale == 1)
         return s->pixels;
     const uint32_t w = (uint32_t)s->cfg.width, h = (uint32_t)s->cfg.height, b = s->bpp, k = (uint32_t)s->scale;
-    for (uint32_t y = 0; y < h; y++)
+    const size_t row = (size_t)w * b;
+    for (uint32_t y = 0; y < h; y++) {
+        uint8_t *dst = s->shown + (size_t)y * row;
+        if (y % k) { /* the line above, again */
+            memcpy(dst, dst - row, row);
+            continue;
+        }
+        const uint8_t *src = s->pixels + (size_t)(y / k) * s->fw * b;
         for (uint32_t x = 0; x < w; x++)
-            memcpy(s->shown + ((size_t)y * w + x) * b, s->pixels + ((size_t)(y / k) * s->fw + x / k) * b, b);
+            memcpy(dst + (size_t)x * b, src + (size_t)(x / k) * b, b);
+    }
     return s->shown;
 }
 const char *server_address(const Server *s) { return s->address; }
@@ -347,7 +356,9 @@ static void send_computes(Server *s, Client *c)
 /* The assets it lacks, then the scene and two segments. */
 static void send_update(Server *s, Client *c)
 {
-    for (uint32_t i = 0; i < s->nassets; i++)
+    /* a client that holds this description got its assets before it */
+    const int held = c->scene_held == s->scene_id;
+    for (uint32_t i = 0; i < s->nassets && !held; i++)
         if (!client_has(c, s->assets[i].hash)) {
             MsgAsset a = {s->assets[i].kind, {0}, s->assets[i].data, s->assets[i].len};
             memcpy(a.hash, s->assets[i].hash, PROTO_HASH);
@@ -360,7 +371,16 @@ static void send_update(Server *s, Client *c)
                 memcpy(c->sent[c->nsent++], s->assets[i].hash, PROTO_HASH);
             measure_asset_sent(&s->m, PROTO_HEADER + out.head_len + out.tail_len);
         }
-    const int held = c->scene_held == s->scene_id;
+    if (!held && !s->blob_has_scene) { /* the description behind the view: copied in a frame that needs it */
+        sink_put(&s->blob, s->scene_blob.data, s->scene_blob.len);
+        if (s->blob.failed) {
+            s->blob.failed = 0;
+            s->blob.len = s->view_len;
+            drop(s, c, "out of memory for the scene's UPDATE");
+            return;
+        }
+        s->blob_has_scene = 1;
+    }
     MsgUpdate u = {.frame = s->frame, .width = s->fw, .height = s->fh,
                    .scene_id = s->scene_id, .view_len = s->view_len, .view = s->blob.data,
                    .scene_len = held ? 0 : s->blob.len - s->view_len};
@@ -410,9 +430,7 @@ static int start_frame(Server *s, Err *err)
     if (wire_encode_view(&v, &s->blob, err))
         return -1;
     s->view_len = (uint32_t)s->blob.len;
-    sink_put(&s->blob, s->scene_blob.data, s->scene_blob.len);
-    if (s->blob.failed)
-        return err_set(err, "out of memory for the frame's UPDATE");
+    s->blob_has_scene = 0;
     s->frame++;
     s->in_frame = 1;
     uint32_t n = server_client_count(s);
