@@ -59,7 +59,7 @@ LDFLAGS := $(SANFLAGS)
 # session.  The server's SDL window is in none of them, so no test links
 # SDL, and a test links the server's or the client's archive only when it
 # tests them.
-DISPLAY_SRC := server/display.c
+DISPLAY_SRC := server/display.c server/window.c
 COMMON_SRC := $(wildcard common/*/*.c)
 SERVER_SRC := $(filter-out server/main.c $(DISPLAY_SRC),$(wildcard server/*.c))
 CLIENT_SRC := $(filter-out client/main.c,$(wildcard client/*.c))
@@ -76,7 +76,7 @@ TESTS := $(TEST_SRC:%.c=$(BUILD)/%)
 FUZZ_NAMES := $(patsubst tests/fuzz/fuzz_%.c,%,$(wildcard tests/fuzz/fuzz_*.c))
 REPLAYS := $(FUZZ_NAMES:%=$(BUILD)/fuzz/replay_%)
 
-DEB_PACKAGES := gcc make pkg-config libsdl2-dev libnetpbm-dev libpng-dev libjpeg62-turbo-dev zlib1g-dev libassimp-dev libcmocka-dev libembree-dev libsodium-dev xvfb x11-apps python3 clang libclang-rt-14-dev
+DEB_PACKAGES := gcc make pkg-config libsdl2-dev libsdl2-ttf-dev fonts-dejavu-core xdotool libnetpbm-dev libpng-dev libjpeg62-turbo-dev zlib1g-dev libassimp-dev libcmocka-dev libembree-dev libsodium-dev xvfb x11-apps python3 clang libclang-rt-14-dev
 
 .PHONY: all deps check check-asan bench demo clean tradeoff bench-scaling bench-realtime fuzz loadtest tools-doc architecture scene-doc
 .SECONDARY:
@@ -95,7 +95,7 @@ deps:
 # Before anything compiles: the libraries' headers are there, or one line
 # says what to do (instead of a compiler error per file).  The targets that
 # run `make deps` first are not held back by it.
-LIB_HEADERS ?= /usr/include/SDL2/SDL.h /usr/include/netpbm/pam.h /usr/include/png.h /usr/include/zlib.h /usr/include/sodium.h /usr/include/cmocka.h /usr/include/assimp/cimport.h /usr/include/jpeglib.h
+LIB_HEADERS ?= /usr/include/SDL2/SDL.h /usr/include/SDL2/SDL_ttf.h /usr/include/netpbm/pam.h /usr/include/png.h /usr/include/zlib.h /usr/include/sodium.h /usr/include/cmocka.h /usr/include/assimp/cimport.h /usr/include/jpeglib.h
 INSTALLING_GOALS := deps check check-asan check-tsan demo bench tradeoff bench-scaling fuzz loadtest clean architecture
 ifeq ($(filter $(INSTALLING_GOALS),$(MAKECMDGOALS)),)
   MISSING_HEADERS := $(filter-out $(wildcard $(LIB_HEADERS)),$(LIB_HEADERS))
@@ -128,7 +128,7 @@ $(BIN)/obj2tmd: $(BUILD)/tools/obj2tmd.o $(LIB)
 
 $(BIN)/lanray-server: $(BUILD)/server/main.o $(DISPLAY_SRC:%.c=$(BUILD)/%.o) $(SERVER_LIB) $(LIB)
 	@mkdir -p $(dir $@)
-	$(CC) $(LDFLAGS) -o $@ $(LINK_INPUTS) -lSDL2 $(LDLIBS)
+	$(CC) $(LDFLAGS) -o $@ $(LINK_INPUTS) -lSDL2_ttf -lSDL2 $(LDLIBS)
 
 $(BIN)/lanray-client: $(BUILD)/client/main.o $(CLIENT_LIB) $(LIB)
 	@mkdir -p $(dir $@)
@@ -146,7 +146,7 @@ $(BUILD)/tests/%: $(BUILD)/tests/%.o $(LIB)
 	$(CC) $(LDFLAGS) -o $@ $(LINK_INPUTS) -lcmocka $(LDLIBS)
 # the tests of the server's scheduler and measurements, and the packet
 # handlers' fuzz harnesses, link the archive they test
-$(BUILD)/tests/test_sched $(BUILD)/tests/test_measure $(BUILD)/tests/test_pace $(BUILD)/fuzz/replay_server: $(SERVER_LIB)
+$(BUILD)/tests/test_sched $(BUILD)/tests/test_measure $(BUILD)/tests/test_pace $(BUILD)/tests/test_controls $(BUILD)/fuzz/replay_server: $(SERVER_LIB)
 $(BUILD)/fuzz/replay_client: $(CLIENT_LIB)
 
 # docs/scene.md's tables of keys, printed from the field tables that the

@@ -1,17 +1,32 @@
-/* display.c - see display.h.  Keys: W/S or Up/Down move, A/D strafe, Left/Right
- * turn, R/F up/down, +/- or the wheel zoom, mouse drag looks around, Space
- * toggles the model animation, P saves a screenshot, Home resets the camera,
- * Esc or Q quits. */
+/* display.c - see display.h.  Keys: W/S or Up/Down move, A/D strafe,
+ * Left/Right turn, R/F up/down (Shift: faster), +/- or the wheel zoom, a
+ * mouse drag looks around, V captures the pointer for mouse look (Esc lets
+ * it go), C frames the whole scene, Home resets the camera, Space toggles
+ * the model animation, P saves a screenshot, Tab shows the panel, T /
+ * Shift+T the frame-rate target, N the still quality, L the light
+ * sampling, M the shading, H the shadows; Esc or Q quits.  The panel's
+ * text is drawn by SDL2_ttf in DejaVu Sans Mono (fonts-dejavu-core), or
+ * the font LANRAY_FONT names. */
 #include "display.h"
 
 #include <SDL2/SDL.h>
+#include <SDL2/SDL_ttf.h>
 #include <stdlib.h>
 #include <string.h>
+
+#define DISPLAY_FONT "/usr/share/fonts/truetype/dejavu/DejaVuSansMono.ttf"
+#define DISPLAY_FONT_PT 12
+#define LOOK_DEG_PX 0.15 /* mouse look: degrees a pixel */
 
 struct Display {
     SDL_Window *win;
     SDL_Renderer *ren;
     SDL_Texture *tex;
+    SDL_Texture *panel; /* the panel's lines on a translucent box, made by display_panel */
+    SDL_Rect panel_at;
+    TTF_Font *font;
+    int ttf; /* TTF_Init done */
+    int captured;
     int w, h;
 };
 
@@ -53,6 +68,12 @@ void display_close(Display *d)
 {
     if (!d)
         return;
+    if (d->panel)
+        SDL_DestroyTexture(d->panel);
+    if (d->font)
+        TTF_CloseFont(d->font);
+    if (d->ttf)
+        TTF_Quit();
     if (d->tex)
         SDL_DestroyTexture(d->tex);
     if (d->ren)
@@ -63,15 +84,121 @@ void display_close(Display *d)
     SDL_Quit();
 }
 
-void display_show(Display *d, const uint8_t *rgb)
+/* The last frame and the panel over it, to the screen. */
+static void present(Display *d)
 {
-    SDL_UpdateTexture(d->tex, NULL, rgb, d->w * 3);
     SDL_RenderClear(d->ren);
     SDL_RenderCopy(d->ren, d->tex, NULL, NULL);
+    if (d->panel)
+        SDL_RenderCopy(d->ren, d->panel, NULL, &d->panel_at);
     SDL_RenderPresent(d->ren);
 }
 
+void display_show(Display *d, const uint8_t *rgb)
+{
+    SDL_UpdateTexture(d->tex, NULL, rgb, d->w * 3);
+    present(d);
+}
+
+static int open_font(Display *d, Err *err)
+{
+    if (d->font)
+        return 0;
+    if (!d->ttf) {
+        if (TTF_Init() != 0)
+            return err_set(err, "SDL_ttf: %s", TTF_GetError());
+        d->ttf = 1;
+    }
+    const char *path = getenv("LANRAY_FONT");
+    if (!path || !*path)
+        path = DISPLAY_FONT;
+    if (!(d->font = TTF_OpenFont(path, DISPLAY_FONT_PT)))
+        return err_set(err, "no panel: font %s: %s (make deps installs fonts-dejavu-core)", path, TTF_GetError());
+    return 0;
+}
+
+int display_panel(Display *d, char (*lines)[100], int n, Err *err)
+{
+    if (d->panel) {
+        SDL_DestroyTexture(d->panel);
+        d->panel = NULL;
+    }
+    if (n == 0) {
+        present(d);
+        return 0;
+    }
+    if (open_font(d, err))
+        return -1;
+    const int pad = 6, step = TTF_FontLineSkip(d->font);
+    int width = 0;
+    for (int i = 0; i < n; i++) {
+        int tw = 0, th = 0;
+        TTF_SizeUTF8(d->font, lines[i], &tw, &th);
+        width = tw > width ? tw : width;
+    }
+    /* the text on a translucent dark box, made once per change of text */
+    SDL_Surface *box = SDL_CreateRGBSurfaceWithFormat(0, width + 2 * pad, n * step + 2 * pad, 32, SDL_PIXELFORMAT_ARGB8888);
+    if (!box)
+        return err_set(err, "SDL: %s", SDL_GetError());
+    SDL_FillRect(box, NULL, SDL_MapRGBA(box->format, 0, 0, 0, 170));
+    for (int i = 0; i < n; i++) {
+        SDL_Surface *t = TTF_RenderUTF8_Blended(d->font, lines[i][0] ? lines[i] : " ", (SDL_Color){235, 235, 235, 255});
+        if (!t)
+            continue;
+        SDL_Rect at = {pad, pad + i * step, t->w, t->h};
+        SDL_SetSurfaceBlendMode(t, SDL_BLENDMODE_BLEND);
+        SDL_BlitSurface(t, NULL, box, &at);
+        SDL_FreeSurface(t);
+    }
+    d->panel = SDL_CreateTextureFromSurface(d->ren, box);
+    d->panel_at = (SDL_Rect){8, 8, box->w, box->h};
+    SDL_FreeSurface(box);
+    if (!d->panel)
+        return err_set(err, "SDL: %s", SDL_GetError());
+    SDL_SetTextureBlendMode(d->panel, SDL_BLENDMODE_BLEND);
+    present(d);
+    return 0;
+}
+
 void display_title(Display *d, const char *title) { SDL_SetWindowTitle(d->win, title); }
+
+static void capture(Display *d, int on)
+{
+    d->captured = on && SDL_SetRelativeMouseMode(SDL_TRUE) == 0;
+    if (!on)
+        SDL_SetRelativeMouseMode(SDL_FALSE);
+}
+
+static void key_down(Display *d, const SDL_KeyboardEvent *k, DisplayInput *in)
+{
+    const int shift = (k->keysym.mod & KMOD_SHIFT) != 0;
+    switch (k->keysym.sym) {
+    case SDLK_ESCAPE: /* lets the pointer go first */
+        if (d->captured)
+            capture(d, 0);
+        else
+            in->quit = 1;
+        break;
+    case SDLK_q: in->quit = 1; break;
+    case SDLK_p: in->screenshot = 1; break;
+    case SDLK_HOME: in->reset = 1; break;
+    case SDLK_SPACE: in->toggle_animation = 1; break;
+    case SDLK_PLUS:
+    case SDLK_EQUALS:
+    case SDLK_KP_PLUS: in->zoom += 1; break;
+    case SDLK_MINUS:
+    case SDLK_KP_MINUS: in->zoom -= 1; break;
+    case SDLK_TAB: in->toggle_panel = 1; break;
+    case SDLK_c: in->frame_all = 1; break;
+    case SDLK_v: capture(d, !d->captured); break;
+    case SDLK_t: *(shift ? &in->target_down : &in->target_up) = 1; break;
+    case SDLK_n: in->next_still = 1; break;
+    case SDLK_l: in->toggle_lights = 1; break;
+    case SDLK_m: in->toggle_shading = 1; break;
+    case SDLK_h: in->toggle_shadows = 1; break;
+    default: break;
+    }
+}
 
 void display_poll(Display *d, DisplayInput *in)
 {
@@ -81,40 +208,29 @@ void display_poll(Display *d, DisplayInput *in)
         switch (e.type) {
         case SDL_QUIT: in->quit = 1; break;
         case SDL_WINDOWEVENT: /* shown again: the last frame, drawn again (an idle window gets no new one) */
-            if (e.window.event == SDL_WINDOWEVENT_EXPOSED) {
-                SDL_RenderClear(d->ren);
-                SDL_RenderCopy(d->ren, d->tex, NULL, NULL);
-                SDL_RenderPresent(d->ren);
-            }
+            if (e.window.event == SDL_WINDOWEVENT_EXPOSED)
+                present(d);
+            else if (e.window.event == SDL_WINDOWEVENT_FOCUS_LOST && d->captured)
+                capture(d, 0);
             break;
         case SDL_MOUSEMOTION:
-            if (e.motion.state & SDL_BUTTON_LMASK) {
-                in->yaw -= e.motion.xrel * 0.2;
-                in->pitch -= e.motion.yrel * 0.2;
+            if (d->captured || (e.motion.state & SDL_BUTTON_LMASK)) {
+                in->yaw -= e.motion.xrel * LOOK_DEG_PX;
+                in->pitch -= e.motion.yrel * LOOK_DEG_PX;
             }
             break;
         case SDL_MOUSEWHEEL: in->zoom += e.wheel.y; break;
         case SDL_KEYDOWN:
-            switch (e.key.keysym.sym) {
-            case SDLK_ESCAPE:
-            case SDLK_q: in->quit = 1; break;
-            case SDLK_p: in->screenshot = 1; break;
-            case SDLK_HOME: in->reset = 1; break;
-            case SDLK_SPACE: in->toggle_animation = 1; break;
-            case SDLK_PLUS:
-            case SDLK_EQUALS:
-            case SDLK_KP_PLUS: in->zoom += 1; break;
-            case SDLK_MINUS:
-            case SDLK_KP_MINUS: in->zoom -= 1; break;
-            default: break;
-            }
+            if (!e.key.repeat)
+                key_down(d, &e.key, in);
             break;
         default: break;
         }
     }
     const Uint8 *k = SDL_GetKeyboardState(NULL);
-    in->forward += (k[SDL_SCANCODE_W] || k[SDL_SCANCODE_UP]) - (k[SDL_SCANCODE_S] || k[SDL_SCANCODE_DOWN]);
-    in->right += k[SDL_SCANCODE_D] - k[SDL_SCANCODE_A];
-    in->up += k[SDL_SCANCODE_R] - k[SDL_SCANCODE_F];
-    in->yaw += 2.0 * (k[SDL_SCANCODE_LEFT] - k[SDL_SCANCODE_RIGHT]);
+    in->forward = (k[SDL_SCANCODE_W] || k[SDL_SCANCODE_UP]) - (k[SDL_SCANCODE_S] || k[SDL_SCANCODE_DOWN]);
+    in->right = k[SDL_SCANCODE_D] - k[SDL_SCANCODE_A];
+    in->up = k[SDL_SCANCODE_R] - k[SDL_SCANCODE_F];
+    in->turn = k[SDL_SCANCODE_LEFT] - k[SDL_SCANCODE_RIGHT];
+    in->fast = k[SDL_SCANCODE_LSHIFT] || k[SDL_SCANCODE_RSHIFT];
 }

@@ -1,4 +1,5 @@
-/* display.h - the server's SDL2 window: shows frames, reads keyboard and mouse. */
+/* display.h - the server's SDL2 window: shows frames and the panel, reads
+ * keyboard and mouse. */
 #ifndef LANRAY_DISPLAY_H
 #define LANRAY_DISPLAY_H
 
@@ -11,16 +12,25 @@ typedef struct Display Display;
 /* What the user did since the last poll. */
 typedef struct {
     int quit, screenshot, reset, toggle_animation;
-    double forward, right, up; /* movement, in steps */
-    double yaw, pitch;         /* degrees */
+    double forward, right, up; /* keys held: -1, 0 or 1 */
+    int fast;                  /* Shift held: move faster */
+    double turn;               /* arrow keys held: -1..1 (left +) */
+    double yaw, pitch;         /* degrees, from the mouse */
     double zoom;               /* zoom steps (+ in, - out) */
+    /* the knobs: */
+    int toggle_panel, frame_all, target_up, target_down, next_still, toggle_lights, toggle_shading,
+        toggle_shadows;
 } DisplayInput;
 
 /* Whether a display is there to open a window on. */
 int display_available(void);
 Display *display_open(int width, int height, Err *err);
 void display_close(Display *d);
+/* Shows a frame (and the panel over it, where shown). */
 void display_show(Display *d, const uint8_t *rgb);
+/* The panel's lines, drawn over the frame shown from now on (n = 0: no
+ * panel); 0, or -1 with the reason where the window has no font. */
+int display_panel(Display *d, char (*lines)[100], int n, Err *err);
 void display_poll(Display *d, DisplayInput *in);
 void display_title(Display *d, const char *title);
 

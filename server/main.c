@@ -25,6 +25,7 @@
 #include "pace.h"
 #include "server.h"
 #include "watch.h"
+#include "window.h"
 #include "base/timer.h"
 
 static volatile sig_atomic_t stop_flag, stats_flag;
@@ -76,6 +77,7 @@ typedef struct {
     Scene *pending;
     double edit_t;         /* when the last event came (0: none waiting) */
     char edit_error[600];  /* the last read's error, shown in the title until a good read */
+    Window win;            /* the window's controls and panel */
 } App;
 
 /* Pixels of a frame that differ from the reference (--verify): a farm test
@@ -188,42 +190,6 @@ static void path_next(App *app, double step)
     server_set_camera(app->server, &c);
 }
 
-/* Camera moves and animation from the window, for the next frame. */
-static void apply_input(App *a, const DisplayInput *in, const Camera *home, int *animate)
-{
-    Camera cam = server_camera(a->server), *c = &cam;
-    int changed = 0;
-    if (in->reset) {
-        *c = *home;
-        changed = 1;
-    }
-    if (in->forward || in->right || in->up) {
-        vec3 r, u, f;
-        camera_basis(c, &r, &u, &f);
-        real step = R(0.1);
-        c->pos = v3_add(c->pos, v3_scale(f, (real)in->forward * step));
-        c->pos = v3_add(c->pos, v3_scale(r, (real)in->right * step));
-        c->pos = v3_add(c->pos, v3_scale(v3(0, 1, 0), (real)in->up * step));
-        changed = 1;
-    }
-    if (in->yaw || in->pitch) {
-        c->yaw += (real)in->yaw;
-        c->pitch = real_clamp(c->pitch + (real)in->pitch, -89, 89);
-        changed = 1;
-    }
-    if (in->zoom) {
-        c->zoom *= pow(R(1.1), (real)in->zoom);
-        changed = 1;
-    }
-    if (in->toggle_animation)
-        *animate = !*animate;
-    if (in->screenshot)
-        a->screenshot = 1;
-    if (changed)
-        server_set_camera(a->server, c);
-}
-
-
 _Static_assert(CLI_MAX_SEGMENT == SERVER_MAX_SIDE, "a segment is at most the tallest frame");
 
 /* What the command line says. */
@@ -238,8 +204,12 @@ typedef struct {
     const char *path;
     double path_step;
     CliAa still;
+    int moving_lights, moving_lights_given;
     double target_fps, max_fps;
 } Args;
+
+/* --moving-lights: the scene's (-1), or a LightSampling + 1 */
+static const char *const moving_lights_words[] = {"scene", "full", "adaptive", NULL};
 
 /* Parses the command line into a: OPT_GO, or the exit status. */
 static int parse_args(Args *a, int argc, char **argv)
@@ -282,6 +252,11 @@ static int parse_args(Args *a, int argc, char **argv)
          .range = CLI_AA_RANGE, .help = "refine: a frame whose camera and scene did not change since the frame before "
                                        "is rendered with these samples (adaptive:4 is lanray-render's picture)",
          .def = "none: every frame with --aa"},
+        {.name = "--moving-lights", .kind = OPT_CHOICE, .dst = &a->moving_lights, .choices = moving_lights_words,
+         .seen = &a->moving_lights_given,
+         .help = "area lights in the frames that are not still ones: the scene's light_sampling, every point at every "
+                 "pixel, or adaptive (one probe a pixel, every point in penumbrae: docs/tradeoff.md)",
+         .def = "adaptive with --still-aa, else scene"},
         {.name = "--target-fps", .kind = OPT_REAL, .dst = &a->target_fps, .arg = "F", .rlo = 0, .rhi = 1000,
          .help = "while the view moves, render fewer pixels (a render scale of 1 to 8, chosen from the frame times "
                  "measured) to hold F frames a second; 0 = every pixel", .def = "0"},
@@ -317,8 +292,12 @@ static int parse_args(Args *a, int argc, char **argv)
     OptSpec spec = {.prog = "lanray-server", .synopsis = "[scene | model.obj | model.tmd] [options]",
                     .about = "Holds the scene (the built-in one without an argument; a model alone gets a preview scene),\n"
                     "hands out segments of each frame to lanray-client processes and shows the frames in a window,\n"
-                    "or writes them when headless or without a display.  In the window: W/S A/D R/F move, the mouse or\n"
-                    "the arrows look, +/- zoom, Space toggles --rotate, P saves a screenshot, Home resets, Esc quits.\n"
+                    "or writes them when headless or without a display.  In the window: W/S A/D R/F move (Shift: faster;\n"
+                    "the speed follows the scene's size), a mouse drag or the arrows look, V captures the mouse for\n"
+                    "mouse look (Esc lets it go), +/- or the wheel zoom, C frames the whole scene, Home resets, Space\n"
+                    "toggles --rotate, P saves a screenshot, Tab shows the panel (frame rate, render scale, samples,\n"
+                    "each client's lines/s and share, segment size), T/Shift+T the frame-rate target up/down, N the\n"
+                    "still quality (off, 2x2, adaptive 4x4, 4x4), L light sampling, M shading, H shadows; Esc or Q quits.\n"
                     "A scene file is followed while it runs: an edit to it or to the models and textures it names is\n"
                     "read again and sent between frames; an error keeps the last good scene and is shown with its line.\n"
                     "SIGUSR1 prints per-client statistics.",
@@ -340,6 +319,10 @@ static int parse_args(Args *a, int argc, char **argv)
     cfg->refine = a->still.given;
     cfg->still_aa = a->still.aa;
     cfg->still_adaptive = a->still.adaptive;
+    /* refining, the moving frames take adaptive light sampling (a fifth
+     * faster at one sample a pixel, the error within a few percent:
+     * docs/tradeoff.md); the still one the scene's, lanray-render's */
+    cfg->moving_lights = a->moving_lights_given ? a->moving_lights - 1 : a->still.given ? LIGHTS_ADAPTIVE : -1;
     a->bvh.kind = (BvhKind)a->bvh_kind;
     a->headless |= a->discard;
     return go;
@@ -485,6 +468,7 @@ static void show_title(App *app)
         snprintf(title, sizeof title, "lanray - %.1f fps - %u client%s%s", fps, n, n == 1 ? "" : "s",
                  n ? "" : " (waiting for clients)");
     display_title(app->display, title);
+    window_panel(&app->win, fps, app->edit_error[0] ? app->edit_error : NULL);
     app->last_title = now;
     app->fps_t0 = now;
     app->fps_frames = 0;
@@ -516,6 +500,8 @@ static void follow_edits(App *app, const Args *a)
         return;
     }
     apply_overrides(next, a);
+    if (app->display)
+        window_knobs_apply(&app->win, &next->settings);
     scene_destroy(app->pending);
     app->pending = next;
     server_set_scene(app->server, next);
@@ -556,7 +542,9 @@ static int idle(const App *app, int animate)
 static int serve(App *app, const Args *a)
 {
     Err err = {{0}};
-    Camera home = app->scene->camera;
+    if (app->display)
+        window_init(&app->win, app->display, app->server, &app->pace, a->target_fps, app->scene, app->width,
+                    app->height);
     int animate = a->rotate != 0, wait_clients = a->wait_clients;
     uint32_t seen = 0, status_frames = 0;
     app->fps_t0 = timer_now();
@@ -588,11 +576,8 @@ static int serve(App *app, const Args *a)
             path_next(app, a->path_step);
         }
         if (app->display) {
-            DisplayInput in;
-            display_poll(app->display, &in);
-            if (in.quit)
+            if (window_poll(&app->win, &animate, &app->screenshot))
                 break;
-            apply_input(app, &in, &home, &animate);
             show_title(app);
         } else if (!a->cfg.quiet) {
             show_status(app, &status_t, &status_frames);

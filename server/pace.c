@@ -12,6 +12,13 @@ void pace_init(Pace *p, double fps)
     *p = (Pace){.target = fps > 0 ? 1.0 / fps : 0, .scale = fps > 0 ? pace_scales[pace_scale_count - 1] : 1};
 }
 
+void pace_set_target(Pace *p, double fps)
+{
+    p->target = fps > 0 ? 1.0 / fps : 0;
+    if (!(fps > 0))
+        p->scale = 1;
+}
+
 /* The pixels rendered at scale index i: each side divided, rounded up. */
 static double pixels_at(int i, uint32_t width, uint32_t height)
 {

@@ -34,6 +34,9 @@ extern const int pace_scale_count;
 
 /* fps 0: no target (scale 1 always); else the scale starts at the coarsest. */
 void pace_init(Pace *p, double fps);
+/* A new target (the window's T key), the times measured kept; 0: none,
+ * every frame whole. */
+void pace_set_target(Pace *p, double fps);
 /* A moving frame of width x height (the full frame) rendered at `scale` took
  * `seconds`: the scale for the next moving frame. */
 int pace_update(Pace *p, double seconds, int scale, uint32_t width, uint32_t height);

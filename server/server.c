@@ -44,6 +44,7 @@ typedef struct {
     uint8_t (*sent)[PROTO_HASH]; /* the assets it was sent, by hash (a new scene keeps what it shares) */
     uint32_t nsent, sent_cap;
     uint64_t segments, pixels, duplicates;
+    uint64_t frame_pixels, last_frame_pixels; /* this frame's, and the last finished one's (the panel) */
     uint64_t busy_us;
     MeasureClient mc;       /* its results' timing, for the segment overhead */
     int closing;
@@ -74,6 +75,10 @@ struct Server {
     Camera next_camera;
     int camera_pending;
     real turn_pending;
+    RenderSettings next_settings; /* server_set_settings */
+    int settings_pending;
+    uint32_t settings_id, last_settings_id; /* one up at each change of the view's settings */
+    double frame_t0, last_frame_s; /* the current frame's start, the last finished frame's time */
     uint8_t *pixels; /* the frame, bpp bytes a pixel: RGB8, or RGBE (hdr) */
     uint32_t bpp;
     Asset *assets;    /* models then textures of the scene */
@@ -252,8 +257,52 @@ Scene *server_scene(const Server *s) { return s->scene; }
 
 int server_changes_pending(const Server *s)
 {
-    return s->camera_pending || s->turn_pending != R(0) || s->next_scene != NULL;
+    return s->camera_pending || s->turn_pending != R(0) || s->next_scene != NULL || s->settings_pending;
 }
+
+void server_set_settings(Server *s, const RenderSettings *rs)
+{
+    s->next_settings = *rs;
+    s->settings_pending = 1;
+}
+
+RenderSettings server_settings(const Server *s) { return s->settings_pending ? s->next_settings : s->view.settings; }
+
+void server_set_still(Server *s, int refine, int aa, int adaptive)
+{
+    s->cfg.refine = refine, s->cfg.still_aa = aa, s->cfg.still_adaptive = adaptive;
+    s->settings_id++; /* the next frame is not the last one refined */
+}
+
+void server_still(const Server *s, int *refine, int *aa, int *adaptive)
+{
+    *refine = s->cfg.refine, *aa = s->cfg.still_aa, *adaptive = s->cfg.still_adaptive;
+}
+
+uint32_t server_clients_info(const Server *s, ServerClientInfo *out, uint32_t max)
+{
+    uint64_t total = 0;
+    for (uint32_t i = 0; i < s->nclients; i++)
+        total += s->clients[i]->last_frame_pixels;
+    uint32_t n = 0;
+    for (uint32_t i = 0; i < s->nclients && n < max; i++) {
+        const Client *c = s->clients[i];
+        if (c->state != CLIENT_ACTIVE || c->closing)
+            continue;
+        out[n] = (ServerClientInfo){.id = c->id, .threads = c->threads};
+        snprintf(out[n].addr, sizeof out[n].addr, "%s", c->addr);
+        out[n].share = total ? (double)c->last_frame_pixels / (double)total : 0;
+        /* lines of the full frame's width a second, over the last frame */
+        out[n].lines_per_s = s->last_frame_s > 0 ? (double)c->last_frame_pixels / s->fw / s->last_frame_s : 0;
+        n++;
+    }
+    return n;
+}
+
+double server_last_frame_time(const Server *s) { return s->last_frame_s; }
+
+void server_set_moving_lights(Server *s, int lights) { s->cfg.moving_lights = lights; }
+int server_moving_lights(const Server *s) { return s->cfg.moving_lights; }
 
 /* A new description (a reload): its assets, its camera where it moved the
  * file's, its settings. */
@@ -280,6 +329,11 @@ static int apply_pending(Server *s, Err *err)
     if (s->camera_pending) {
         s->view.camera = s->next_camera;
         s->camera_pending = 0;
+    }
+    if (s->settings_pending) {
+        s->view.settings = s->next_settings;
+        s->settings_pending = 0;
+        s->settings_id++;
     }
     if (s->turn_pending != R(0)) {
         for (uint32_t i = 0; i < s->scene->instance_count; i++)
@@ -415,12 +469,19 @@ static int start_frame(Server *s, Err *err)
         s->dirty = 0;
     }
     /* still: nothing moved since the frame before, which the view then refines */
-    s->still = s->frame > 0 && s->scene_id == s->last_scene_id && camera_same(&s->view.camera, &s->last_camera);
+    s->still = s->frame > 0 && s->scene_id == s->last_scene_id && s->settings_id == s->last_settings_id &&
+               camera_same(&s->view.camera, &s->last_camera);
     s->last_camera = s->view.camera;
     s->last_scene_id = s->scene_id;
+    s->last_settings_id = s->settings_id;
+    s->frame_t0 = timer_now();
+    for (uint32_t i = 0; i < s->nclients; i++)
+        s->clients[i]->frame_pixels = 0;
     View v = s->view;
     if (s->still && s->cfg.refine)
         v.settings.aa = s->cfg.still_aa, v.settings.adaptive = s->cfg.still_adaptive;
+    else if (!s->still && s->cfg.moving_lights >= 0)
+        v.settings.light_sampling = (LightSampling)s->cfg.moving_lights;
     /* a moving frame at the render scale, a still one whole */
     s->scale = s->still ? 1 : s->next_scale;
     s->fw = ((uint32_t)s->cfg.width + (uint32_t)s->scale - 1) / (uint32_t)s->scale;
@@ -562,6 +623,7 @@ static void on_data(Server *s, Client *c)
         memcpy(s->pixels + (size_t)seg.first * s->bpp, d.pixels, (size_t)seg.count * s->bpp);
         c->segments++;
         c->pixels += seg.count;
+        c->frame_pixels += seg.count;
     } else if (r == SCHED_DUPLICATE) {
         c->duplicates += seg.count;
     }
@@ -679,6 +741,9 @@ int server_step(Server *s, int timeout_ms, FrameDoneFn done, void *ctx, Err *err
     if (s->in_frame && sched_frame_done(s->sched)) {
         s->in_frame = 0;
         measure_frame_end(&s->m, timer_now());
+        s->last_frame_s = timer_now() - s->frame_t0;
+        for (uint32_t i = 0; i < s->nclients; i++)
+            s->clients[i]->last_frame_pixels = s->clients[i]->frame_pixels;
         if (done)
             done(ctx, s->frame, scaled_up(s));
     }

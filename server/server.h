@@ -33,6 +33,9 @@ typedef struct {
      * lanray-render's picture bit for bit), a frame that moved with the
      * scene's own (refine 0: every frame with the scene's) */
     int refine, still_aa, still_adaptive;
+    /* the light sampling (LightSampling) of the frames that are not still
+     * ones; -1: the scene's (lanray-server --moving-lights) */
+    int moving_lights;
 } ServerConfig;
 
 typedef struct Server Server;
@@ -59,6 +62,29 @@ Scene *server_scene(const Server *s);
 int server_changes_pending(const Server *s);
 /* The camera the next frame starts from. */
 Camera server_camera(const Server *s);
+/* The quality settings of the frames to come (the window's knobs): held
+ * until the next frame starts, which then is not a still one. */
+void server_set_settings(Server *s, const RenderSettings *rs);
+RenderSettings server_settings(const Server *s);
+/* Progressive refinement's still quality (ServerConfig refine, still_aa,
+ * still_adaptive), changed from the window. */
+void server_set_still(Server *s, int refine, int aa, int adaptive);
+void server_still(const Server *s, int *refine, int *aa, int *adaptive);
+/* The moving frames' light sampling (ServerConfig moving_lights), from the window. */
+void server_set_moving_lights(Server *s, int lights);
+int server_moving_lights(const Server *s);
+/* The active clients as the window's panel shows them: each one's share of
+ * the last finished frame's pixels and its rate over that frame, in lines
+ * of the frame's width a second.  Returns how many were written (<= max). */
+typedef struct {
+    int id;
+    char addr[64];
+    uint32_t threads;
+    double share, lines_per_s;
+} ServerClientInfo;
+uint32_t server_clients_info(const Server *s, ServerClientInfo *out, uint32_t max);
+/* The last finished frame's time, from its start to its last pixels, seconds. */
+double server_last_frame_time(const Server *s);
 /* The render scale of the moving frames to come: 1 (every pixel) to
  * SERVER_MAX_SCALE: the clients render a frame of width / scale x height /
  * scale (rounded up) and the server shows it scaled up, each pixel a block.

@@ -120,7 +120,7 @@ typedef struct {
     int depth, fresnel, glass, depth_given, cutoff_given, fresnel_given, glass_given;
     double cutoff;
     int light_samples, rough_samples, lens_samples, exposure_given;
-    int sampling, sampling_given, limit, limit_given;
+    int sampling, sampling_given, limit, limit_given, lights, lights_given;
     double exposure;
     CliAa aa;
 } Args;
@@ -168,6 +168,10 @@ static int parse_args(Args *a, int argc, char **argv)
         {.name = "--sampling", .kind = OPT_CHOICE, .dst = &a->sampling, .choices = field_words(&settings_kind, "sampling"), .seen = &a->sampling_given,
          .help = "area lights, a lens, rough mirrors: their K x K points shared by a pixel's rays (budget: costs add), or "
                  "taken by every ray (product: costs multiply)", .def = "the scene's, else budget"},
+        {.name = "--light-sampling", .kind = OPT_CHOICE, .dst = &a->lights, .choices = field_words(&settings_kind, "light_sampling"),
+         .seen = &a->lights_given, .help = "area lights: every point at every pixel, or one point until a pixel's 3 x 3 "
+                                          "neighbours disagree (penumbrae, edges) and every point there",
+         .def = "the scene's, else full"},
         {.name = "--light-samples", .kind = OPT_INT, .dst = &a->light_samples, .arg = "K", .lo = 0, .hi = LIGHT_MAX_SAMPLES,
          .help = "shadow rays of every sphere and rect light: K x K a pixel (product: a ray); 0 = each light's own",
          .def = "0"},
@@ -253,6 +257,8 @@ static int apply_settings(Scene *scene, Args *a)
         rs->glass_shadows = a->glass;
     if (a->sampling_given)
         rs->sampling = (Sampling)a->sampling;
+    if (a->lights_given)
+        rs->light_sampling = (LightSampling)a->lights;
     if (a->limit_given)
         rs->depth_limit = (DepthLimit)a->limit;
     if (a->rough_samples)

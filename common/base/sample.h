@@ -70,6 +70,13 @@ static inline void sample_stratum(uint32_t key, uint32_t j, uint32_t k, real *u,
 typedef struct {
     uint32_t key;
     uint32_t index, count; /* ray index of count, 0 <= index < count */
+    /* Adaptive light sampling's first pass (settings light_sampling): 1
+     * where this camera ray takes one point of each area light, the point
+     * of stratum (px mod k, py mod k) of its k x k, so that every 3 x 3
+     * block of pixels probes every stratum of a light of 3 x 3 (interleaved
+     * sampling); 0 otherwise, and for every ray after a bounce. */
+    uint32_t probe;
+    uint16_t px, py;
 } SampleId;
 
 /* Points per ray when an effect wants k a pixel over `count` rays: ceil(k / count), at least 1. */

@@ -17,7 +17,8 @@
 #include "render/segment.h"
 
 #define PROTO_MAGIC 0x5941524cu /* "LRAY" */
-#define PROTO_VERSION 8u /* 8: an UPDATE carries the frame's view apart, and the scene only when it changed */
+#define PROTO_VERSION 9u /* 8: an UPDATE carries the frame's view apart, and the scene only when it changed;
+                          * 9: the view's settings hold light_sampling (wire 6) */
 #define PROTO_BOM 0x01020304u
 #define PROTO_HEADER 8u
 #define PROTO_NONCE 32u

@@ -114,6 +114,10 @@ typedef struct {
     real gain;  /* 2^exposure, for the codes */
     /* adaptive mode: keys and centre colours, as written, of whole lines key_first .. key_first + key_lines - 1 */
     int key_first, key_lines;
+    int probe;         /* adaptive light sampling: the centre samples probe each area light (SampleId.probe) */
+    uint64_t key_mask;  /* the bits of a key that refines() compares with the 4 neighbours' */
+    uint64_t area_mask; /* the area lights' bits of a key (compared with the 8 neighbours') */
+    int colour_test;   /* refines() compares colours too */
     uint64_t *keys;
     uint8_t *colors; /* 3 codes per pixel: the key lines' centre samples, compared for contrast */
     uint8_t *centre; /* their pixels (bpp per pixel); colors itself when bpp is 3 */
@@ -131,6 +135,7 @@ typedef struct {
     uint32_t per_pixel;
     real step;
     int n;
+    int probe; /* adaptive light sampling's first pass: one point of each area light (SampleId.probe) */
 } Samples;
 
 /* The key of the pixel that holds image position (x, y). */
@@ -147,10 +152,17 @@ static const SampleId *sample_ids(const Frame *f, const Samples *sm, SampleId *i
 {
     if (!world_uses(f->w, FEAT_AREA | FEAT_ROUGH | FEAT_LENS))
         return NULL;
-    for (int i = 0; i < sm->n; i++)
+    for (int i = 0; i < sm->n; i++) {
         ids[i] = f->w->view.settings.sampling == SAMPLING_PRODUCT
-                     ? (SampleId){sample_seed(sm->xs[i], sm->ys[i]), 0, 1}
-                     : (SampleId){pixel_key(sm->xs[i], sm->ys[i]), sm->pos ? sm->pos[i] : 0, sm->per_pixel};
+                     ? (SampleId){.key = sample_seed(sm->xs[i], sm->ys[i]), .index = 0, .count = 1}
+                     : (SampleId){.key = pixel_key(sm->xs[i], sm->ys[i]), .index = sm->pos ? sm->pos[i] : 0,
+                                  .count = sm->per_pixel};
+        if (sm->probe) {
+            ids[i].probe = 1;
+            ids[i].px = (uint16_t)(int64_t)floor(sm->xs[i]);
+            ids[i].py = (uint16_t)(int64_t)floor(sm->ys[i]);
+        }
+    }
     return ids;
 }
 
@@ -230,9 +242,11 @@ static void sample_packet_lens(const Frame *f, const Samples *sm, vec3 *out, Ray
             vec3 org, dir;
             if (product) {
                 sample_stratum(lens_key, j, k, &lu, &lv);
-                rs[m] = (SampleId){sample_mix(id[i].key, j), 0, 1};
+                rs[m] = id[i];
+                rs[m].key = sample_mix(id[i].key, j), rs[m].index = 0, rs[m].count = 1;
             } else {
-                rs[m] = (SampleId){id[i].key, id[i].index * per + j, id[i].count * per};
+                rs[m] = id[i];
+                rs[m].index = id[i].index * per + j, rs[m].count = id[i].count * per;
                 sample_sobol2(rs[m].index, lens_key, &lu, &lv);
             }
             camera_lens_ray(&f->cam, sm->xs[i], sm->ys[i], lu, lv, &org, &dir);
@@ -279,7 +293,7 @@ static void sample_packet_other(const Frame *f, const Samples *sm, vec3 *out, Ra
         vec3 org, dir;
         if (camera_ray(&f->cam, sm->xs[i], sm->ys[i], &org, &dir)) {
             rays[m] = ray_make(org, dir, R(0), REAL_INF);
-            rs[m] = ids ? ids[i] : (SampleId){0, 0, 1};
+            rs[m] = ids ? ids[i] : (SampleId){.key = 0, .index = 0, .count = 1};
             if (pd)
                 diff[m] = pd[i];
             which[m++] = i;
@@ -347,7 +361,7 @@ static void sample_packet(const Frame *f, const Samples *sm, vec3 *out, RayStats
 /* One sample a pixel at each of n positions (their pixels' centres). */
 static Samples centres(const real *xs, const real *ys, int n)
 {
-    Samples sm = {xs, ys, NULL, 1, R(1), n};
+    Samples sm = {.xs = xs, .ys = ys, .per_pixel = 1, .step = R(1), .n = n};
     return sm;
 }
 
@@ -366,7 +380,7 @@ static vec3 sample_grid(const Frame *f, int px, int py, int n, RayStats *st)
             ys[k] = (real)py + ((real)j + R(0.5)) * inv;
             pos[k++] = (uint32_t)(j * n + i);
             if (k == TRACE_PACKET || (j == n - 1 && i == n - 1)) {
-                Samples sm = {xs, ys, pos, (uint32_t)(n * n), inv, k};
+                Samples sm = {.xs = xs, .ys = ys, .pos = pos, .per_pixel = (uint32_t)(n * n), .step = inv, .n = k};
                 sample_packet(f, &sm, c, st, NULL);
                 for (int q = 0; q < k; q++)
                     sum = v3_add(sum, c[q]);
@@ -507,6 +521,7 @@ static void job_keys(void *ctx, uint32_t chunk, RayStats *st)
         for (int q = 0; q < k; q++)
             ys[q] += (real)f->key_first;
         Samples sm = centres(xs, ys, k);
+        sm.probe = f->probe;
         sample_packet(f, &sm, c, st, &f->keys[i]);
         /* kept as written: the contrast test compares what a viewer sees, and
          * a pixel without an edge is this sample */
@@ -540,7 +555,36 @@ static int contrasts(const uint8_t *a, const uint8_t *b)
     return 0;
 }
 
-/* adaptive pass 2: supersample where a 4-neighbour differs in key or colour */
+/* Whether the pixel at key (px, py) of the key lines is refined: a
+ * 4-neighbour differs in key or colour.  With adaptive light sampling, also
+ * where any of the 8 neighbours differs in an area light's bit of the keys:
+ * a 3 x 3 block of pixels probes all 9 strata of a 3 x 3 light, and a
+ * penumbra shows as bits that differ within it; at one sample a pixel only
+ * those bits count (a surface's edge or a colour gains nothing from every
+ * point of the lights). */
+static int refines(const Frame *f, const uint64_t *key, const uint8_t *col, int px, int py)
+{
+    const ptrdiff_t w = f->width, row = 3 * w;
+    const int left = px > 0, right = px + 1 < f->width, up = py > f->key_first,
+              down = py < f->key_first + f->key_lines - 1;
+    uint64_t mask = f->area_mask;
+#define DIFFERS(o) ((key[o] & mask) != (key[0] & mask))
+    if (f->probe && ((up && ((left && DIFFERS(-w - 1)) || (right && DIFFERS(-w + 1)))) ||
+                     (down && ((left && DIFFERS(w - 1)) || (right && DIFFERS(w + 1))))))
+        return 1;
+    mask = f->key_mask;
+    if ((left && DIFFERS(-1)) || (right && DIFFERS(1)) || (up && DIFFERS(-w)) || (down && DIFFERS(w)))
+        return 1;
+#undef DIFFERS
+    if (!f->colour_test)
+        return 0;
+    return (left && contrasts(col - 3, col)) || (right && contrasts(col + 3, col)) || (up && contrasts(col - row, col)) ||
+           (down && contrasts(col + row, col));
+}
+
+/* adaptive pass 2: supersample where refines() says; at one sample a pixel
+ * (adaptive light sampling alone) the refined pixels' centres go in
+ * packets, every point of every area light */
 static void job_refine(void *ctx, uint32_t chunk, RayStats *st)
 {
     Frame *f = ctx;
@@ -548,30 +592,45 @@ static void job_refine(void *ctx, uint32_t chunk, RayStats *st)
         return;
     uint64_t i0, i1;
     chunk_range(f, chunk, f->count, &i0, &i1);
-    int last_line = f->key_first + f->key_lines - 1;
+    const int n = f->w->view.settings.aa;
     uint64_t before = ray_stats_total(st);
+    real xs[TRACE_PACKET], ys[TRACE_PACKET];
+    uint64_t at_px[TRACE_PACKET];
+    int m = 0;
     for (uint64_t i = i0; i < i1; i++) {
         uint64_t g = f->first + i;
         int px = (int)(g % (uint64_t)f->width), py = (int)(g / (uint64_t)f->width);
         size_t at = (size_t)(py - f->key_first) * (size_t)f->width + (size_t)px;
-        const uint64_t *key = &f->keys[at];
-        const uint8_t *col = &f->colors[3 * at];
-        ptrdiff_t row = 3 * (ptrdiff_t)f->width;
-        int edge = 0;
-        if (px > 0)
-            edge |= key[-1] != key[0] || contrasts(col - 3, col);
-        if (px + 1 < f->width)
-            edge |= key[1] != key[0] || contrasts(col + 3, col);
-        if (py > f->key_first)
-            edge |= key[-f->width] != key[0] || contrasts(col - row, col);
-        if (py < last_line)
-            edge |= key[f->width] != key[0] || contrasts(col + row, col);
-        if (edge)
-            put_pixel(f, &f->pixels[f->bpp * i], sample_grid(f, px, py, f->w->view.settings.aa, st));
-        else
+        if (!refines(f, &f->keys[at], &f->colors[3 * at], px, py))
             memcpy(&f->pixels[f->bpp * i], &f->centre[f->bpp * at], (size_t)f->bpp);
+        else if (n > 1)
+            put_pixel(f, &f->pixels[f->bpp * i], sample_grid(f, px, py, n, st));
+        else {
+            xs[m] = (real)px + R(0.5), ys[m] = (real)py + R(0.5);
+            at_px[m++] = i;
+        }
+        if (m == TRACE_PACKET || (m > 0 && i + 1 == i1)) {
+            vec3 c[TRACE_PACKET];
+            Samples sm = centres(xs, ys, m);
+            sample_packet(f, &sm, c, st, NULL);
+            for (int q = 0; q < m; q++)
+                put_pixel(f, &f->pixels[f->bpp * at_px[q]], c[q]);
+            m = 0;
+        }
     }
     count_progress(f, i1 - i0, st, before);
+}
+
+int render_probes_lights(const World *w)
+{
+    const RenderSettings *rs = &w->view.settings;
+    if (rs->light_sampling != LIGHTS_ADAPTIVE || !world_uses(w, FEAT_AREA) || !world_has(w, FEAT_SHADOWS) ||
+        (rs->aa > 1 && !rs->adaptive))
+        return 0;
+    for (uint32_t i = 0; i < w->light_count; i++)
+        if (world_light_is_area(&w->lights[i]) && w->lights[i].samples > 1)
+            return 1;
+    return 0;
 }
 
 static uint32_t chunks_of(const Frame *f, uint64_t n) { return (uint32_t)((n + f->chunk - 1) / f->chunk); }
@@ -647,8 +706,17 @@ int render_span(RenderPool *p, const World *w, int width, int height, uint64_t f
     f.bpp = (int)render_pixel_bytes(&w->view.settings);
     f.gain = pow(R(2), w->view.settings.exposure);
     f.chunk = chunk_size(count, pool_threads(p->pool));
+    f.probe = render_probes_lights(w);
+    /* at one sample a pixel, adaptive light sampling refines only for the
+     * area lights (the lights' bits of the keys: shade.c) */
+    f.area_mask = 0;
+    for (uint32_t i = 0; i < w->light_count && i < 16; i++)
+        if (world_light_is_area(&w->lights[i]))
+            f.area_mask |= 1u << i;
+    f.key_mask = f.probe && w->view.settings.aa == 1 ? f.area_mask : UINT64_MAX;
+    f.colour_test = w->view.settings.aa > 1;
     RayStats st;
-    if (!w->view.settings.adaptive || w->view.settings.aa == 1) {
+    if (!f.probe && (!w->view.settings.adaptive || w->view.settings.aa == 1)) {
         st = render_grid(p, &f);
     } else {
         /* keys for the span's lines and the lines just above and below */

@@ -41,6 +41,11 @@ int render_pool_threads(const RenderPool *p);
 int render_lines(RenderPool *p, const World *w, int width, int height, int first_line, int count, uint8_t *pixels,
                  RayStats *stats, Err *err);
 
+/* Whether w's frames take adaptive light sampling: settings light_sampling
+ * adaptive, an area light of more than one point, and one sample a pixel
+ * or adaptive anti-aliasing (a regular N x N grid takes every point). */
+int render_probes_lights(const World *w);
+
 #define RENDER_CANCELLED 1
 /* Renders pixels [first, first + count) in row-major order (a segment may
  * start or end inside a line).  When cancel is not NULL and becomes non-zero,

@@ -1,10 +1,13 @@
 /* scene.c - a scene description: its construction and its one check. */
 #include "scene/scene.h"
 
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "base/array.h"
+#include "geom/aabb.h"
+#include "geom/intersect.h"
 #include "scene/scene_fields.h"
 
 Scene *scene_create(void)
@@ -345,4 +348,32 @@ uint64_t scene_triangle_count(const Scene *s)
     for (uint32_t i = 0; i < s->instance_count; i++)
         n += s->models[s->instances[i].model]->tri_count;
     return n;
+}
+
+int scene_bounds(const Scene *s, vec3 *centre, real *radius)
+{
+    Aabb b = aabb_empty();
+    for (uint32_t i = 0; i < s->sphere_count; i++) {
+        aabb_grow(&b, v3_sub(s->spheres[i].centre, v3_splat(s->spheres[i].radius)));
+        aabb_grow(&b, v3_add(s->spheres[i].centre, v3_splat(s->spheres[i].radius)));
+    }
+    for (uint32_t i = 0; i < s->tri_count; i++)
+        for (int k = 0; k < 3; k++)
+            aabb_grow(&b, tri_vertex(&s->tris[i], k));
+    for (uint32_t i = 0; i < s->instance_count; i++) {
+        const Instance *in = &s->instances[i];
+        if (in->model >= s->model_count || aabb_is_empty(s->models[in->model]->bounds))
+            continue;
+        /* the model's bounding sphere about its origin, scaled and moved:
+         * whatever its turn, the instance lies inside */
+        const Aabb mb = s->models[in->model]->bounds;
+        const real r = (v3_len(aabb_centre(mb)) + R(0.5) * v3_len(aabb_extent(mb))) * in->scale;
+        aabb_grow(&b, v3_sub(in->translate, v3_splat(r)));
+        aabb_grow(&b, v3_add(in->translate, v3_splat(r)));
+    }
+    if (aabb_is_empty(b) || !isfinite(b.min.x + b.min.y + b.min.z + b.max.x + b.max.y + b.max.z))
+        return -1;
+    *centre = aabb_centre(b);
+    *radius = R(0.5) * v3_len(aabb_extent(b));
+    return 0;
 }

@@ -90,6 +90,11 @@ typedef enum { SHADE_PHONG = 0, SHADE_DIFFUSE = 1 } ShadeModel;
  * effect (every ray takes all of each effect's points: costs multiply). */
 typedef enum { SAMPLING_BUDGET = 0, SAMPLING_PRODUCT = 1 } Sampling;
 
+/* Area lights' shadow rays: every pixel all of a light's points (full), or
+ * one point a pixel first and all of them only where a pixel's 3 x 3
+ * neighbourhood disagrees on surface, lights or colour (adaptive: render.c). */
+typedef enum { LIGHTS_FULL = 0, LIGHTS_ADAPTIVE = 1 } LightSampling;
+
 /* What a mirror's or a dielectric's ray that the depth limit cuts returns
  * in place of what it would see: nothing (black), the background, the
  * ambient light, or the light at the surface where it is cut (what a white
@@ -118,6 +123,7 @@ typedef struct {
     int lens_samples;  /* a camera with an aperture sends lens_samples^2 rays per pixel (budget) or pixel sample
                         * (product); 0: the default */
     Sampling sampling;
+    LightSampling light_sampling;
     real exposure;     /* stops: the 8-bit codes encode light times 2^exposure */
     int hdr;           /* pixels are RGBE, 4 bytes (a .hdr from lanray-render, lanray-server --hdr); not in scene files */
     /* what the scene file asked for, for the programs' defaults; not on the
@@ -188,6 +194,11 @@ static inline int settings_lens_samples(const RenderSettings *rs)
 {
     return rs->lens_samples ? rs->lens_samples : rs->sampling == SAMPLING_PRODUCT ? 4 : 3;
 }
+
+/* A sphere holding the scene's bounded items (spheres, triangles, model
+ * instances; not planes, not lights), for a camera to frame it and to pace
+ * its moves by: 0, or -1 where there is none. */
+int scene_bounds(const Scene *s, vec3 *centre, real *radius);
 
 /* The one check of a scene however it was made: every item by its table,
  * the references between items. */

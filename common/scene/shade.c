@@ -30,19 +30,35 @@
 #include "base/sample.h"
 #include "geom/raydiff.h"
 
-/* The point (u, v) of the unit square on area light l, as seen from p: a
- * rectangle's point, or a sphere's on the disc it shows p. */
-static vec3 area_point(const WorldLight *l, vec3 p, real u, real v)
+/* The axes of the disc a sphere light shows a shading point, kept for
+ * the light's next point (a profile of adaptive light sampling, which
+ * takes every point without its shadow ray, had a sixth of the time in
+ * making them again). */
+typedef struct {
+    vec3 a, b;
+    uint32_t of; /* 1 + the light they are of; 0: none yet */
+} DiscAxes;
+
+/* The point (u, v) of the unit square on area light li, l, as seen from p:
+ * a rectangle's point, or a sphere's on the disc it shows p. */
+static vec3 area_point(const WorldLight *l, uint32_t li, vec3 p, real u, real v, DiscAxes *ax)
 {
     if (l->kind == LIGHT_RECT)
         return v3_add(l->pos, v3_add(v3_scale(l->edge1, u), v3_scale(l->edge2, v)));
     /* a sphere: its disc facing p (what p sees of it), by the concentric map */
-    vec3 w = v3_norm(v3_sub(p, l->pos));
-    vec3 a = v3_norm(v3_cross(fabs(w.x) > R(0.5) ? v3(0, 1, 0) : v3(1, 0, 0), w)), b = v3_cross(w, a);
+    if (ax->of != li + 1) {
+        vec3 w = v3_norm(v3_sub(p, l->pos));
+        ax->a = v3_norm(v3_cross(fabs(w.x) > R(0.5) ? v3(0, 1, 0) : v3(1, 0, 0), w));
+        ax->b = v3_cross(w, ax->a);
+        ax->of = li + 1;
+    }
     real x, y;
     sample_disc(u, v, &x, &y);
-    return v3_add(l->pos, v3_scale(v3_add(v3_scale(a, x), v3_scale(b, y)), l->radius));
+    return v3_add(l->pos, v3_scale(v3_add(v3_scale(ax->a, x), v3_scale(ax->b, y)), l->radius));
 }
+
+/* area_sample's j for stratum s of an adaptive light sampling probe: PROBE_POINT + s */
+#define PROBE_POINT 0x80000000u
 
 /* Area light li's point j for a ray (id: its sample, mixed with the
  * bounce) into (u, v), and the point's share of the light; 0 where the ray
@@ -54,6 +70,11 @@ static inline int area_sample(const World *w, const WorldLight *l, uint32_t li, 
                               real *v, real *share)
 {
     const uint32_t k = (uint32_t)(l->samples * l->samples), key = sample_mix(id->key, 0x4c000000u + li);
+    if (j >= PROBE_POINT) { /* adaptive light sampling's probe: a stratum of the light */
+        sample_stratum(key, j - PROBE_POINT, (uint32_t)l->samples, u, v);
+        *share = R(1);
+        return 1;
+    }
     if (w->view.settings.sampling == SAMPLING_PRODUCT) {
         sample_stratum(key, j, (uint32_t)l->samples, u, v);
         *share = R(1) / (real)k;
@@ -71,7 +92,7 @@ static inline int area_sample(const World *w, const WorldLight *l, uint32_t li, 
  * its point j for the ray's sample id): unit direction towards the light,
  * distance, radiance. */
 static inline __attribute__((always_inline)) int light_at(const World *w, const WorldLight *l, vec3 p, const SampleId *id,
-                                                         uint32_t li, uint32_t j, vec3 *dir, real *dist,
+                                                         DiscAxes *ax, uint32_t li, uint32_t j, vec3 *dir, real *dist,
                                                          vec3 *radiance, const int optional)
 {
     real scale = l->intensity;
@@ -84,7 +105,7 @@ static inline __attribute__((always_inline)) int light_at(const World *w, const 
             real u, v, share;
             if (!area_sample(w, l, li, id, j, &u, &v, &share))
                 return 0;
-            pos = area_point(l, p, u, v);
+            pos = area_point(l, li, p, u, v, ax);
             scale *= share;
         }
         vec3 d = v3_sub(pos, p);
@@ -120,6 +141,7 @@ typedef struct {
     int phong;
     uint32_t lit;
     SampleId id; /* the ray's sample, its key mixed with its bounce */
+    DiscAxes disc;
     /* a scene with textures: the ray's differentials, its footprint on the
      * surface and how the shading normal changes across it (raydiff.h) */
     const RayDiff *rd;
@@ -165,7 +187,8 @@ static inline __attribute__((always_inline)) void shade_start(const World *w, co
                                      * point lifted onto the curved surface (trace_terminator_point) */
         sh->origin = trace_offset_origin(sh->sf.ps, sh->sf.ng, sh->sf.ps_err);
     sh->lit = 0;
-    sh->id = (SampleId){0, 0, 1};
+    sh->disc.of = 0;
+    sh->id = (SampleId){.key = 0, .index = 0, .count = 1};
     if (optional)
         sh->irr = w->ambient;
 }
@@ -229,7 +252,8 @@ static vec3 shade_secondary(const World *w, vec3 org, vec3 d, SampleId id, const
  * mixed with which it is (1 reflected, 2 refracted). */
 static SampleId follow(const SampleId *id, uint32_t which)
 {
-    SampleId c = {sample_mix(id->key, which), id->index, id->count};
+    /* no probe after a bounce: a reflected penumbra takes all its points */
+    SampleId c = {.key = sample_mix(id->key, which), .index = id->index, .count = id->count};
     return c;
 }
 
@@ -274,9 +298,9 @@ static vec3 rough_reflection(const World *w, const Shading *sh, vec3 front, vec3
         real u, v;
         if (product) {
             sample_stratum(key, j, k, &u, &v);
-            child[q] = (SampleId){sample_mix(key, j), 0, 1};
+            child[q] = (SampleId){.key = sample_mix(key, j), .index = 0, .count = 1};
         } else {
-            child[q] = (SampleId){key, sh->id.index * n + j, sh->id.count * n};
+            child[q] = (SampleId){.key = key, .index = sh->id.index * n + j, .count = sh->id.count * n};
             sample_sobol2(child[q].index, key, &u, &v);
         }
         real z = R(1) - R(2) * u, phi = R(2) * REAL_PI * v, rr = sqrt(real_max(R(0), R(1) - z * z));
@@ -390,11 +414,71 @@ static vec3 shade_beyond(const World *w, real t, const Shading *sh, int depth, v
     return col;
 }
 
+/* Adaptive light sampling's probes of area light li: from the hit of each
+ * live ray that probes (the first pass's camera rays), shadow rays to the
+ * strata s = i, i + 9, i + 18, ... of the light's k x k, i being its
+ * pixel's place in its 3 x 3 block: every block of 3 x 3 pixels probes
+ * every stratum once (interleaved sampling), a pixel one stratum of a
+ * light of 3 x 3 or less, two of 4 x 4, at most eight of 8 x 8.  Bit k of
+ * *probed: live ray k's probes agreed, and bit k of *clear, that the light
+ * reaches it; that ray then takes all its points of the light without
+ * shadow rays, the same light as with them where they would all pass, or
+ * none.  A ray whose probes disagree, or one of whose probe points lies
+ * behind its surface, or is tinted by glass, takes its points with their
+ * shadow rays. */
+static void probe_pass(const World *w, Shading *sh, const int *live, int nl, uint32_t li, uint32_t *probed,
+                       uint32_t *clear, RayStats *stats)
+{
+    const WorldLight *l = &w->lights[li];
+    const uint32_t k = (uint32_t)(l->samples * l->samples);
+    const int glass = world_uses(w, FEAT_REFRACT) && w->view.settings.glass_shadows;
+    uint32_t asked = 0, seen_clear = 0, seen_blocked = 0, unsure = 0;
+    for (uint32_t round = 0; round * 9 < k; round++) {
+        Ray sr[TRACE_PACKET];
+        real tmax[TRACE_PACKET];
+        int who[TRACE_PACKET], m = 0;
+        for (int q = 0; q < nl; q++) {
+            Shading *h = &sh[live[q]];
+            const uint32_t s = h->id.px % 3 + 3 * (h->id.py % 3) + 9 * round;
+            if (!h->id.probe || s >= k || (unsure >> q & 1))
+                continue;
+            asked |= 1u << q;
+            vec3 L, rad;
+            real dist;
+            if (!light_at(w, l, h->sf.p, &h->id, &h->disc, li, PROBE_POINT + s, &L, &dist, &rad, 1) ||
+                !(v3_dot(h->sf.ns, L) > R(0))) {
+                unsure |= 1u << q;
+                continue;
+            }
+            tmax[m] = isfinite(dist) ? dist * (R(1) - R(64) * REAL_EPS) : REAL_MAX;
+            ray_set(&sr[m], h->origin, L, v3(R(1) / L.x, R(1) / L.y, R(1) / L.z), R(0), tmax[m]);
+            who[m++] = q;
+        }
+        if (m == 0)
+            continue;
+        stats->shadow += (uint64_t)m;
+        uint32_t blocked =
+            m == 1 ? (uint32_t)trace_occluded(w, &sr[0], tmax[0], l) : trace_occluded_packet(w, sr, m, tmax, l);
+        for (int q = 0; q < m; q++) {
+            const uint32_t bit = 1u << who[q];
+            if (!(blocked >> q & 1))
+                seen_clear |= bit;
+            else if (glass && v3_max_comp(transmittance(w, &sr[q], tmax[q], l, stats)) > R(0))
+                unsure |= bit; /* through glass: tinted, not a yes or no */
+            else
+                seen_blocked |= bit;
+        }
+    }
+    *probed = asked & ~unsure & ~(seen_clear & seen_blocked);
+    *clear = *probed & seen_clear;
+}
+
 /* Light li (for an area light, its point j) at the live rays' hits: the
- * shadow rays as one packet, and what reaches each hit added to it. */
+ * shadow rays as one packet, and what reaches each hit added to it; the
+ * rays whose probe decided (probe_pass) take the light as it said. */
 static inline __attribute__((always_inline)) void light_pass(const World *w, Shading *sh, const int *live, int nl,
-                                                             uint32_t li, uint32_t j, RayStats *stats,
-                                                             const int optional)
+                                                             uint32_t li, uint32_t j, uint32_t probed, uint32_t clear,
+                                                             RayStats *stats, const int optional)
 {
     const int shadows = world_has(w, FEAT_SHADOWS);
     const int glass_shadows = optional && world_uses(w, FEAT_REFRACT) && w->view.settings.glass_shadows;
@@ -409,7 +493,7 @@ static inline __attribute__((always_inline)) void light_pass(const World *w, Sha
     for (int k = 0; k < nl; k++) {
         Shading *h = &sh[live[k]];
         real dist;
-        if (!light_at(w, l, h->sf.p, &h->id, li, j, &L[m], &dist, &rad[m], optional))
+        if (!light_at(w, l, h->sf.p, &h->id, &h->disc, li, j, &L[m], &dist, &rad[m], optional))
             continue;
         /* The shading normal decides.  On a flat surface it is the
          * geometric one, so a light behind the surface is skipped.  On a
@@ -423,7 +507,9 @@ static inline __attribute__((always_inline)) void light_pass(const World *w, Sha
         ndotl[m] = v3_dot(h->sf.ns, L[m]);
         if (ndotl[m] <= R(0))
             continue;
-        if (!shadows) {
+        if (!shadows || (probed >> k & 1)) {
+            if (shadows && !(clear >> k & 1))
+                continue;
             add_light(h, L[m], rad[m], ndotl[m], li);
             if (track)
                 h->irr = v3_madd(h->irr, rad[m], ndotl[m]);
@@ -493,24 +579,29 @@ static inline __attribute__((always_inline)) void shade_rays_at(const World *w, 
      * showed in the instruction count of scenes without) */
     if (optional && world_uses(w, FEAT_AREA | FEAT_ROUGH))
         for (int k = 0; k < nl; k++) {
-            const SampleId id = ids ? ids[live[k]] : (SampleId){0, 0, 1};
-            sh[live[k]].id = (SampleId){sample_mix(id.key, (uint32_t)depth), id.index, id.count};
+            const SampleId id = ids ? ids[live[k]] : (SampleId){.key = 0, .index = 0, .count = 1};
+            sh[live[k]].id = id;
+            sh[live[k]].id.key = sample_mix(id.key, (uint32_t)depth);
         }
     for (uint32_t li = 0; li < w->light_count; li++) {
         const WorldLight *l = &w->lights[li];
-        uint32_t points = 1;
+        uint32_t points = 1, probed = 0, clear = 0;
         if (optional && world_uses(w, FEAT_AREA) && world_light_is_area(l)) {
+            if (w->view.settings.light_sampling == LIGHTS_ADAPTIVE && depth == 0 && l->samples > 1)
+                probe_pass(w, sh, live, nl, li, &probed, &clear, stats);
             /* per effect, every ray all of the light's points; one budget,
              * each ray its share (the most of the packet's rays) */
             const uint32_t k = (uint32_t)(l->samples * l->samples);
-            points = w->view.settings.sampling == SAMPLING_PRODUCT ? k : 0;
+            const int product = w->view.settings.sampling == SAMPLING_PRODUCT;
+            points = 0;
             for (int q = 0; q < nl && points < k; q++) {
-                uint32_t m = sample_share(k, sh[live[q]].id.count);
+                const SampleId *id = &sh[live[q]].id;
+                uint32_t m = product ? k : sample_share(k, id->count);
                 points = m > points ? m : points;
             }
         }
         for (uint32_t j = 0; j < points; j++)
-            light_pass(w, sh, live, nl, li, j, stats, optional);
+            light_pass(w, sh, live, nl, li, j, probed, clear, stats, optional);
     }
     const int beyond = optional && world_uses(w, FEAT_REFLECT | FEAT_REFRACT | FEAT_EMIT);
     for (int k = 0; k < nl; k++) {

@@ -1,0 +1,48 @@
+/* navigate.c - see navigate.h. */
+#include "navigate.h"
+
+#include <math.h>
+
+void nav_init(Nav *n, vec3 centre, real radius)
+{
+    n->vel = v3_splat(0);
+    n->centre = centre;
+    n->radius = radius > R(0) && isfinite(radius) ? radius : R(1);
+    n->speed = n->radius / (real)NAV_CROSS_S;
+}
+
+int nav_move(Nav *n, Camera *c, vec3 want, int fast, double dt)
+{
+    if (!(dt > 0))
+        return 0;
+    if (dt > 0.25) /* a stall (a slow frame) is not a leap */
+        dt = 0.25;
+    const real top = n->speed * (fast ? R(3) : R(1));
+    const vec3 target = v3_scale(want, top);
+    /* exponential ease: the same path whatever the steps' sizes */
+    const real k = (real)(1.0 - exp(-dt / NAV_EASE_S));
+    n->vel = v3_add(n->vel, v3_scale(v3_sub(target, n->vel), k));
+    if (v3_len(n->vel) < R(1e-3) * n->speed && v3_len(want) == R(0)) {
+        n->vel = v3_splat(0);
+        return 0;
+    }
+    vec3 r, u, f;
+    camera_basis(c, &r, &u, &f);
+    const real s = (real)dt;
+    c->pos = v3_add(c->pos, v3_scale(r, n->vel.x * s));
+    c->pos = v3_add(c->pos, v3_scale(v3(0, 1, 0), n->vel.y * s));
+    c->pos = v3_add(c->pos, v3_scale(f, n->vel.z * s));
+    return 1;
+}
+
+void nav_frame_all(const Nav *n, Camera *c, int width, int height)
+{
+    vec3 r, u, f;
+    camera_basis(c, &r, &u, &f);
+    /* the narrower half-angle of the view (its zoom is the wider side's) */
+    real t = c->zoom > R(0) ? R(1) / c->zoom : R(1);
+    if (height < width)
+        t *= (real)height / (real)width;
+    const real half = atan(t);
+    c->pos = v3_sub(n->centre, v3_scale(f, n->radius * R(1.1) / sin(half)));
+}

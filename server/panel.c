@@ -1,0 +1,66 @@
+/* panel.c - see panel.h. */
+#include "panel.h"
+
+#include <stdio.h>
+
+static const double targets[] = {0, 5, 10, 15, 24, 30, 60};
+#define NTARGETS (int)(sizeof targets / sizeof *targets)
+
+double panel_next_target(double target, int up)
+{
+    int i = 0;
+    while (i + 1 < NTARGETS && targets[i + 1] <= target + 1e-9)
+        i++;
+    if (up)
+        return targets[i + 1 < NTARGETS ? i + 1 : i];
+    if (targets[i] < target - 1e-9) /* between two steps: down to the one below */
+        return targets[i];
+    return targets[i > 0 ? i - 1 : 0];
+}
+
+static void sampling_text(char *out, size_t size, int aa, int adaptive)
+{
+    if (adaptive && aa > 1)
+        snprintf(out, size, "adaptive %dx%d", aa, aa);
+    else
+        snprintf(out, size, "%dx%d", aa, aa);
+}
+
+int panel_lines(const PanelInfo *p, char out[][PANEL_LINE])
+{
+    int n = 0;
+#define LINE(...) snprintf(out[n++], PANEL_LINE, __VA_ARGS__)
+    LINE("%.1f fps  %.1f ms a frame  %s", p->fps, p->frame_s * 1e3, p->still ? "still" : "moving");
+    if (p->target_fps > 0)
+        LINE("target %.0f fps [T/Shift+T]  render scale 1/%d", p->target_fps, p->scale);
+    else
+        LINE("target none [T]  render scale 1/%d", p->scale);
+    char moving[32], still[32];
+    sampling_text(moving, sizeof moving, p->aa, p->adaptive);
+    if (p->refine)
+        sampling_text(still, sizeof still, p->still_aa, p->still_adaptive);
+    else
+        snprintf(still, sizeof still, "off");
+    LINE("samples: moving %s, still %s [N]", moving, still);
+    LINE("moving lights %s [L]  %s [M]  shadows %s [H]", p->light_adaptive ? "adaptive" : "full",
+         p->diffuse ? "diffuse" : "phong", p->shadows ? "on" : "off");
+    LINE("segments of %u lines", p->segment_lines);
+    LINE("%u client%s", p->nclients, p->nclients == 1 ? "" : "s");
+    double rest_share = 0, rest_rate = 0;
+    for (uint32_t i = 0; i < p->nclients; i++) {
+        const ServerClientInfo *c = &p->clients[i];
+        if (i < PANEL_MAX_CLIENTS)
+            LINE(" #%d %-21.21s %2u thr %6.0f lines/s %5.1f%%", c->id, c->addr, c->threads, c->lines_per_s,
+                 100 * c->share);
+        else
+            rest_share += c->share, rest_rate += c->lines_per_s;
+    }
+    if (p->nclients > PANEL_MAX_CLIENTS)
+        LINE(" %u more %6.0f lines/s %5.1f%%", p->nclients - PANEL_MAX_CLIENTS, rest_rate, 100 * rest_share);
+    if (p->error)
+        LINE("error: %.90s", p->error);
+    LINE("WASD RF move, Shift fast, V mouse look");
+    LINE("C frame all, Home reset, +/- zoom, Tab panel");
+#undef LINE
+    return n;
+}

@@ -1,0 +1,35 @@
+/* panel.h - the text of the window's panel: what the server is doing and
+ * the keys that change it, as lines (display.c draws them).  Pure text
+ * from numbers, so that tests read it without a window. */
+#ifndef LANRAY_PANEL_H
+#define LANRAY_PANEL_H
+
+#include <stdint.h>
+
+#include "server.h"
+
+#define PANEL_MAX_LINES 24
+#define PANEL_LINE 100
+#define PANEL_MAX_CLIENTS 8 /* more are summed up in one line */
+
+typedef struct {
+    double fps, frame_s;   /* frames a second shown, the last frame's time */
+    double target_fps;     /* 0: none */
+    int scale;             /* the last frame's render scale (1: every pixel) */
+    int still;             /* the last frame was a still one */
+    int aa, adaptive;      /* the moving frames' sampling */
+    int refine, still_aa, still_adaptive;
+    int light_adaptive, diffuse, shadows;
+    uint32_t segment_lines;
+    const ServerClientInfo *clients;
+    uint32_t nclients;
+    const char *error;     /* the last edit's error, or NULL */
+} PanelInfo;
+
+/* The panel's lines into out (at most PANEL_MAX_LINES): how many. */
+int panel_lines(const PanelInfo *p, char out[][PANEL_LINE]);
+
+/* The target frame rates the T key steps through (0: none). */
+double panel_next_target(double target, int up);
+
+#endif

@@ -1,0 +1,138 @@
+/* window.c - see window.h. */
+#include "window.h"
+
+#include <math.h>
+#include <stdio.h>
+
+#include "base/timer.h"
+#include "panel.h"
+
+void window_init(Window *w, Display *d, Server *s, Pace *pace, double target_fps, const Scene *scene, int width,
+                 int height)
+{
+    *w = (Window){.display = d, .server = s, .pace = pace, .home = scene->camera, .knobs = {-1, -1},
+                  .target_fps = target_fps, .width = width, .height = height};
+    vec3 centre = v3_splat(0);
+    real radius = R(1);
+    if (scene_bounds(scene, &centre, &radius))
+        centre = v3_splat(0), radius = R(1);
+    nav_init(&w->nav, centre, radius);
+}
+
+void window_knobs_apply(const Window *w, RenderSettings *rs)
+{
+    if (w->knobs.shading >= 0)
+        rs->shading = (ShadeModel)w->knobs.shading;
+    if (w->knobs.shadows >= 0)
+        rs->shadows = w->knobs.shadows;
+}
+
+/* The still qualities N steps through: off, 2x2, adaptive 4x4, 4x4. */
+static void next_still(Server *s)
+{
+    int refine, aa, adaptive;
+    server_still(s, &refine, &aa, &adaptive);
+    if (!refine)
+        server_set_still(s, 1, 2, 0);
+    else if (aa == 2 && !adaptive)
+        server_set_still(s, 1, 4, 1);
+    else if (adaptive)
+        server_set_still(s, 1, 4, 0);
+    else
+        server_set_still(s, 0, aa, adaptive);
+}
+
+/* The knobs' keys: settings for the next frame, kept for scenes to come. */
+static void turn_knobs(Window *w, const DisplayInput *in)
+{
+    if (in->toggle_lights) { /* the moving frames': a still one is lanray-render's picture */
+        const int now = server_moving_lights(w->server);
+        const int cur = now >= 0 ? now : (int)server_settings(w->server).light_sampling;
+        server_set_moving_lights(w->server, cur == LIGHTS_FULL ? LIGHTS_ADAPTIVE : LIGHTS_FULL);
+    }
+    if (in->toggle_shading || in->toggle_shadows) {
+        RenderSettings rs = server_settings(w->server);
+        if (in->toggle_shading)
+            w->knobs.shading = rs.shading = rs.shading == SHADE_PHONG ? SHADE_DIFFUSE : SHADE_PHONG;
+        if (in->toggle_shadows)
+            w->knobs.shadows = rs.shadows = !rs.shadows;
+        server_set_settings(w->server, &rs);
+    }
+    if (in->next_still)
+        next_still(w->server);
+    if (in->target_up || in->target_down) {
+        w->target_fps = panel_next_target(w->target_fps, in->target_up);
+        pace_set_target(w->pace, w->target_fps);
+        server_set_scale(w->server, w->pace->scale);
+    }
+}
+
+int window_poll(Window *w, int *animate, int *screenshot)
+{
+    DisplayInput in;
+    display_poll(w->display, &in);
+    const double now = timer_now(), dt = w->last_poll > 0 ? now - w->last_poll : 0;
+    w->last_poll = now;
+    if (in.quit)
+        return 1;
+    Camera cam = server_camera(w->server), *c = &cam;
+    int changed = 0;
+    if (in.reset) {
+        *c = w->home;
+        w->nav.vel = v3_splat(0);
+        changed = 1;
+    }
+    if (in.frame_all) {
+        nav_frame_all(&w->nav, c, w->width, w->height);
+        changed = 1;
+    }
+    changed |= nav_move(&w->nav, c, v3((real)in.right, (real)in.up, (real)in.forward), in.fast, dt);
+    const double yaw = in.yaw + in.turn * NAV_TURN_DEG_S * dt;
+    if (yaw || in.pitch) {
+        c->yaw += (real)yaw;
+        c->pitch = real_clamp(c->pitch + (real)in.pitch, -89, 89);
+        changed = 1;
+    }
+    if (in.zoom) {
+        c->zoom *= pow(R(1.1), (real)in.zoom);
+        changed = 1;
+    }
+    if (changed)
+        server_set_camera(w->server, c);
+    if (in.toggle_animation)
+        *animate = !*animate;
+    if (in.screenshot)
+        *screenshot = 1;
+    turn_knobs(w, &in);
+    if (in.toggle_panel) {
+        w->panel_on = !w->panel_on;
+        window_panel(w, w->fps, NULL);
+    }
+    return 0;
+}
+
+void window_panel(Window *w, double fps, const char *error)
+{
+    char lines[PANEL_MAX_LINES][PANEL_LINE];
+    int n = 0;
+    w->fps = fps;
+    if (w->panel_on) {
+        ServerClientInfo clients[PANEL_MAX_CLIENTS + 56];
+        const RenderSettings rs = server_settings(w->server);
+        PanelInfo p = {.fps = fps, .frame_s = server_last_frame_time(w->server), .target_fps = w->target_fps,
+                       .scale = server_frame_scale(w->server), .still = server_frame_still(w->server),
+                       .aa = rs.aa, .adaptive = rs.adaptive,
+                       .light_adaptive = (server_moving_lights(w->server) >= 0 ? server_moving_lights(w->server)
+                                                                                : (int)rs.light_sampling) == LIGHTS_ADAPTIVE,
+                       .diffuse = rs.shading == SHADE_DIFFUSE, .shadows = rs.shadows,
+                       .segment_lines = server_segment_lines(w->server), .clients = clients, .error = error};
+        server_still(w->server, &p.refine, &p.still_aa, &p.still_adaptive);
+        p.nclients = server_clients_info(w->server, clients, sizeof clients / sizeof *clients);
+        n = panel_lines(&p, lines);
+    }
+    Err err;
+    if (display_panel(w->display, lines, n, &err)) {
+        fprintf(stderr, "lanray-server: %s\n", err.msg);
+        w->panel_on = 0;
+    }
+}

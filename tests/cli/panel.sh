@@ -1,0 +1,68 @@
+#!/usr/bin/env bash
+# The window's panel and keys under Xvfb: Tab draws the panel (a box of
+# text lines over the frame's top left corner, the rest of the frame
+# untouched: tests/tools/xwdpanel.py), a second Tab takes it away, and M
+# (shading) changes the setting that the next frame is rendered with: the
+# window then shows lanray-render's --shading diffuse picture.  Keys go in
+# through XTEST (xdotool), as a user's would.
+set -u
+BIN=${BIN:-bin}
+dir=$(mktemp -d)
+pids=()
+cleanup() { for p in "${pids[@]}"; do kill "$p" 2>/dev/null; done; wait 2>/dev/null; rm -rf "$dir"; }
+trap cleanup EXIT
+fail() { echo "FAIL: $*"; tail -5 "$dir"/*.err 2>/dev/null; exit 1; }
+for t in Xvfb xwd xdotool; do command -v $t >/dev/null || fail "$t is needed (make deps installs it)"; done
+
+W=480 H=360
+"$BIN/lanray-render" --width $W --height $H --aa 1 -o "$dir/phong.ppm" --quiet >/dev/null || fail "reference render"
+"$BIN/lanray-render" --width $W --height $H --aa 1 --shading diffuse -o "$dir/diffuse.ppm" --quiet >/dev/null ||
+    fail "diffuse reference"
+! cmp -s "$dir/phong.ppm" "$dir/diffuse.ppm" || fail "the two shadings give one picture: the test cannot tell them apart"
+Xvfb -displayfd 3 -screen 0 800x600x24 -nolisten tcp 3>"$dir/display" 2>"$dir/xvfb.err" &
+pids+=($!)
+for _ in $(seq 100); do [ -s "$dir/display" ] && break; sleep 0.05; done
+[ -s "$dir/display" ] || fail "Xvfb did not start"
+export DISPLAY=":$(head -1 "$dir/display")"
+"$BIN/lanray-server" --port 0 --width $W --height $H >"$dir/server.log" 2>"$dir/server.err" &
+spid=$!
+pids+=($spid)
+port=
+for _ in $(seq 100); do port=$(sed -n 's/.*listening on .*:\([0-9]*\) (.*/\1/p' "$dir/server.log"); [ -n "$port" ] && break; sleep 0.05; done
+[ -n "$port" ] || fail "server did not start"
+grep -q "no display\|cannot open a window" "$dir/server.err" && fail "the server did not open a window"
+"$BIN/lanray-client" "127.0.0.1:$port" --threads 2 2>"$dir/client.err" &
+pids+=($!)
+# appears REF: waits until REF is on the screen; prints where
+appears() {
+    local out=
+    for _ in $(seq 60); do
+        xwd -root -silent >"$dir/screen.xwd" 2>/dev/null
+        out=$(python3 tests/tools/xwdfind.py "$dir/screen.xwd" "$1") && { echo "$out"; return 0; }
+        sleep 0.2
+    done
+    return 1
+}
+at=$(appears "$dir/phong.ppm") || fail "the frame never showed"
+read -r x y <<<"$(sed 's/found at \([0-9]*\),\([0-9]*\)/\1 \2/' <<<"$at")"
+echo "the frame shows at $x,$y"
+# the pointer over the window: without a window manager the keys go where it is
+xdotool mousemove $((x + W / 2)) $((y + H / 2))
+xdotool key Tab
+ok=
+for _ in $(seq 30); do
+    sleep 0.2
+    xwd -root -silent >"$dir/screen.xwd" 2>/dev/null
+    out=$(python3 tests/tools/xwdpanel.py "$dir/screen.xwd" "$dir/phong.ppm" "$x" "$y") && { ok=1; break; }
+done
+[ -n "$ok" ] || fail "Tab drew no panel of text: $out"
+echo "Tab: $out"
+[ -n "${PANEL_SHOT:-}" ] && cp "$dir/screen.xwd" "$PANEL_SHOT"
+xdotool key Tab
+appears "$dir/phong.ppm" >/dev/null || fail "a second Tab left the panel on the frame"
+echo "Tab again: the frame untouched"
+xdotool key m
+appears "$dir/diffuse.ppm" >/dev/null || fail "M: the next frames are not lanray-render's --shading diffuse picture"
+echo "M: the next frame is lanray-render's --shading diffuse picture"
+kill "$spid" 2>/dev/null
+exit 0

@@ -1,0 +1,160 @@
+/* test_controls.c - the window's controls apart from SDL: moves at a speed
+ * the scene's size sets, eased in and out (server/navigate.c), the view
+ * that frames the whole scene, the scene's bounds it frames (scene_bounds),
+ * and the panel's text (server/panel.c): its numbers, its clients, the
+ * target's steps. */
+#include "helpers.h"
+
+#include <math.h>
+
+#include "navigate.h"
+#include "panel.h"
+#include "scene/scene_default.h"
+
+/* Where the camera is after `seconds` of the forward key, in steps of dt. */
+static real travel(real radius, double seconds, double dt)
+{
+    Nav n;
+    nav_init(&n, v3_splat(0), radius);
+    Camera c = camera_from_angles(v3(0, 0, 0), 0, 0, 0, 1);
+    for (double t = 0; t < seconds - 1e-9; t += dt)
+        nav_move(&n, &c, v3(0, 0, 1), 0, dt);
+    return v3_len(c.pos);
+}
+
+static void speed_follows_the_scene_and_eases(void **state)
+{
+    (void)state;
+    /* a scene ten times the size: ten times the way in the same time */
+    real small = travel(1, 2, 1.0 / 60), big = travel(10, 2, 1.0 / 60);
+    assert_true(fabs(big / small - R(10)) < R(1e-2));
+    /* top speed: the radius in NAV_CROSS_S seconds; 2 s of the key gets
+     * near it (less the ease-in), never past */
+    assert_true(small > R(0.8) * R(2) / (real)NAV_CROSS_S && small < R(2) / (real)NAV_CROSS_S);
+    /* no jolt: the first sixtieth of a second moves at under a fifth of top speed */
+    real first = travel(1, 1.0 / 60, 1.0 / 60);
+    assert_true(first < R(0.2) / (real)NAV_CROSS_S / R(60));
+    assert_true(first > R(0));
+    /* the same way at 10 or 60 steps a second, within a tenth */
+    real coarse = travel(1, 2, 0.1);
+    assert_true(fabs(coarse / small - R(1)) < R(0.1));
+    /* let go: it glides to a stop and then reports no move */
+    Nav n;
+    nav_init(&n, v3_splat(0), 1);
+    Camera c = camera_from_angles(v3(0, 0, 0), 0, 0, 0, 1);
+    for (int i = 0; i < 60; i++)
+        nav_move(&n, &c, v3(1, 0, 0), 0, 1.0 / 60);
+    const vec3 at = c.pos;
+    assert_int_equal(nav_move(&n, &c, v3_splat(0), 0, 1.0 / 60), 1);
+    assert_true(c.pos.x > at.x); /* still gliding right */
+    int moved = 1;
+    for (int i = 0; i < 600 && moved; i++)
+        moved = nav_move(&n, &c, v3_splat(0), 0, 1.0 / 60);
+    assert_int_equal(moved, 0);
+    /* Shift: three times as fast */
+    nav_init(&n, v3_splat(0), 1);
+    c = camera_from_angles(v3(0, 0, 0), 0, 0, 0, 1);
+    for (int i = 0; i < 120; i++)
+        nav_move(&n, &c, v3(0, 0, 1), 1, 1.0 / 60);
+    assert_true(fabs(v3_len(c.pos) / small - R(3)) < R(0.01));
+}
+
+static void frame_all_sees_the_whole_scene(void **state)
+{
+    (void)state;
+    Scene *s;
+    Err err;
+    BvhOptions bo = bvh_options_default(BVH_SAH);
+    assert_int_equal(scene_default(&s, &bo, &err), 0);
+    vec3 centre;
+    real radius;
+    assert_int_equal(scene_bounds(s, &centre, &radius), 0);
+    /* every sphere of the default scene lies in the bounding sphere */
+    for (uint32_t i = 0; i < s->sphere_count; i++)
+        assert_true(v3_len(v3_sub(s->spheres[i].centre, centre)) + s->spheres[i].radius <= radius * R(1.0001));
+    Nav n;
+    nav_init(&n, centre, radius);
+    Camera c = camera_from_angles(v3(5, 1, 20), 30, -10, 0, R(1.5));
+    nav_frame_all(&n, &c, 1024, 768);
+    vec3 r, u, f;
+    camera_basis(&c, &r, &u, &f);
+    const vec3 to = v3_sub(centre, c.pos);
+    /* the centre straight ahead, the direction kept (yaw and pitch as they were) */
+    assert_true(v3_dot(v3_norm(to), f) > R(0.9999));
+    assert_true(c.yaw == R(30) && c.pitch == R(-10));
+    /* the sphere inside the narrower (vertical) half-angle, with its margin */
+    const real half = atan(R(0.75) / c.zoom);
+    assert_true(asin(radius / v3_len(to)) < half);
+    assert_true(asin(radius / v3_len(to)) > R(0.8) * half);
+    scene_destroy(s);
+    /* a scene of planes alone has no bounds to frame */
+    Scene *p = scene_create();
+    assert_non_null(p);
+    assert_int_equal(scene_bounds(p, &centre, &radius), -1);
+    scene_destroy(p);
+}
+
+/* Whether a line of the panel holds `text`. */
+static int has(char lines[][PANEL_LINE], int n, const char *text)
+{
+    for (int i = 0; i < n; i++)
+        if (strstr(lines[i], text))
+            return 1;
+    return 0;
+}
+
+static void panel_says_what_runs(void **state)
+{
+    (void)state;
+    ServerClientInfo clients[10];
+    for (int i = 0; i < 10; i++) {
+        clients[i] = (ServerClientInfo){.id = i + 1, .threads = 2, .share = i < 2 ? 0.3 : 0.05, .lines_per_s = 1000 + i};
+        snprintf(clients[i].addr, sizeof clients[i].addr, "10.0.0.%d:4000", i + 1);
+    }
+    PanelInfo p = {.fps = 14.64, .frame_s = 0.0683, .target_fps = 15, .scale = 4, .aa = 1, .refine = 1,
+                   .still_aa = 4, .still_adaptive = 1, .light_adaptive = 1, .shadows = 1, .segment_lines = 8,
+                   .clients = clients, .nclients = 2};
+    char lines[PANEL_MAX_LINES][PANEL_LINE];
+    int n = panel_lines(&p, lines);
+    assert_true(has(lines, n, "14.6 fps") && has(lines, n, "68.3 ms"));
+    assert_true(has(lines, n, "target 15 fps") && has(lines, n, "render scale 1/4"));
+    assert_true(has(lines, n, "moving 1x1, still adaptive 4x4"));
+    assert_true(has(lines, n, "moving lights adaptive") && has(lines, n, "phong") && has(lines, n, "shadows on"));
+    assert_true(has(lines, n, "segments of 8 lines") && has(lines, n, "2 clients"));
+    assert_true(has(lines, n, "10.0.0.2:4000") && has(lines, n, "1001 lines/s") && has(lines, n, "30.0%"));
+    assert_false(has(lines, n, "error"));
+    /* ten clients: eight named, the other two summed */
+    p.nclients = 10;
+    p.error = "e.scene:9: unknown directive 'sphre'";
+    p.target_fps = 0;
+    n = panel_lines(&p, lines);
+    assert_true(n <= PANEL_MAX_LINES);
+    assert_true(has(lines, n, "10.0.0.8:4000") && !has(lines, n, "10.0.0.9:4000"));
+    assert_true(has(lines, n, "2 more") && has(lines, n, "10.0%"));
+    assert_true(has(lines, n, "error: e.scene:9") && has(lines, n, "target none"));
+}
+
+static void target_steps(void **state)
+{
+    (void)state;
+    assert_true(panel_next_target(0, 1) == 5);
+    assert_true(panel_next_target(5, 1) == 10);
+    assert_true(panel_next_target(15, 1) == 24);
+    assert_true(panel_next_target(15, 0) == 10);
+    assert_true(panel_next_target(12, 0) == 10); /* between steps: to the one below */
+    assert_true(panel_next_target(12, 1) == 15);
+    assert_true(panel_next_target(60, 1) == 60);
+    assert_true(panel_next_target(5, 0) == 0);
+    assert_true(panel_next_target(0, 0) == 0);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(speed_follows_the_scene_and_eases),
+        cmocka_unit_test(frame_all_sees_the_whole_scene),
+        cmocka_unit_test(panel_says_what_runs),
+        cmocka_unit_test(target_steps),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
