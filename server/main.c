@@ -256,7 +256,7 @@ static int parse_args(Args *a, int argc, char **argv)
          .seen = &a->moving_lights_given,
          .help = "area lights in the frames that are not still ones: the scene's light_sampling, every point at every "
                  "pixel, or adaptive (one probe a pixel, every point in penumbrae: docs/tradeoff.md)",
-         .def = "adaptive with --still-aa, else scene"},
+         .def = "scene"},
         {.name = "--target-fps", .kind = OPT_REAL, .dst = &a->target_fps, .arg = "F", .rlo = 0, .rhi = 1000,
          .help = "while the view moves, render fewer pixels (a render scale of 1 to 8, chosen from the frame times "
                  "measured) to hold F frames a second; 0 = every pixel", .def = "0"},
@@ -319,10 +319,10 @@ static int parse_args(Args *a, int argc, char **argv)
     cfg->refine = a->still.given;
     cfg->still_aa = a->still.aa;
     cfg->still_adaptive = a->still.adaptive;
-    /* refining, the moving frames take adaptive light sampling (a fifth
-     * faster at one sample a pixel, the error within a few percent:
-     * docs/tradeoff.md); the still one the scene's, lanray-render's */
-    cfg->moving_lights = a->moving_lights_given ? a->moving_lights - 1 : a->still.given ? LIGHTS_ADAPTIVE : -1;
+    /* the scene's by default: adaptive light sampling is a fifth faster on
+     * whole 512x384 frames, but slower on the small frames and segments of
+     * a flight at a render scale (docs/tradeoff.md) */
+    cfg->moving_lights = a->moving_lights_given ? a->moving_lights - 1 : -1;
     a->bvh.kind = (BvhKind)a->bvh_kind;
     a->headless |= a->discard;
     return go;

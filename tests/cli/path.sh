@@ -50,16 +50,17 @@ done
 # refined: the still frame after the flight is lanray-render's full picture
 # (its default, adaptive:4) of the path's end, through 1 and through 2
 # clients, and the moving frames its picture with adaptive light sampling
+# where the server is asked for it
 "$BIN/lanray-render" --path "$dir/fly.path" --at 2.5 --width $W --height $H -o "$dir/still.png" --quiet >/dev/null ||
     fail "lanray-render the still"
 cmp -s "$dir/still.png" "$dir/ref-6.png" && fail "the still quality looks like the moving one: the test cannot fail"
-# refining, the moving frames take adaptive light sampling (--moving-lights)
+# the moving frames with adaptive light sampling (--moving-lights adaptive)
 "$BIN/lanray-render" --path "$dir/fly.path" --at 2.5 --aa 1 --light-sampling adaptive --width $W --height $H \
     -o "$dir/ref-6a.png" --quiet >/dev/null || fail "lanray-render adaptive lights"
 cmp -s "$dir/ref-6a.png" "$dir/ref-6.png" && fail "adaptive light sampling changed no pixel: the test cannot tell"
 for n in 1 2; do
     start_server refine-$n --port 0 --width $W --height $H --path "$dir/fly.path" --path-step 0.5 --wait-clients $n \
-        --still-aa adaptive:4 --out "$dir/r$n"
+        --still-aa adaptive:4 --moving-lights adaptive --out "$dir/r$n"
     run_clients $n refine-$n
     [ "$(ls "$dir/r$n" | wc -l)" = 7 ] || fail "refining, the flight should write 6 moving frames and the still one"
     cmp -s "$dir/r$n/frame-00006.png" "$dir/ref-6a.png" ||
@@ -71,7 +72,7 @@ done
 # second frame's time on, so frame 3 at the latest): a moving
 # frame is lanray-render's picture of W/8 x H/8 pixels, each pixel an 8 x 8
 # block of the full-size frame; the still frame after the flight is whole
-"$BIN/lanray-render" --path "$dir/fly.path" --at 1 --aa 1 --light-sampling adaptive --width $((W / 8)) --height $((H / 8)) -o "$dir/small.png" \
+"$BIN/lanray-render" --path "$dir/fly.path" --at 1 --aa 1 --width $((W / 8)) --height $((H / 8)) -o "$dir/small.png" \
     --quiet >/dev/null || fail "lanray-render small"
 start_server scale --port 0 --width $W --height $H --path "$dir/fly.path" --path-step 0.5 --wait-clients 2 \
     --target-fps 1000 --still-aa adaptive:4 --out "$dir/sc"
