@@ -24,6 +24,7 @@
 #include "render/render.h"
 #include "base/log.h"
 #include "net/net.h"
+#include "net/pixcodec.h"
 #include "base/timer.h"
 #include "net/wire.h"
 
@@ -52,7 +53,9 @@ typedef struct {
     uint32_t frame;
     Segment seg;
     SceneRef *ref;
-    uint8_t *pixels; /* set when done */
+    uint8_t *pixels; /* set when done: as coded */
+    size_t len;      /* their bytes */
+    uint32_t coding; /* PIX_RAW or the session's coding */
     uint32_t render_us;
     uint32_t bpp; /* the pixels' size, set when done (ref is gone by then) */
 } Job;
@@ -69,6 +72,8 @@ typedef struct {
     atomic_int cancel;
     int wake[2];
     RenderPool *pool;
+    PixCodec *codec;  /* the render thread's: it codes each segment it finished */
+    uint32_t coding;  /* what the server asked for (WELCOME), set before any job */
     uint64_t segments, pixels;
     uint64_t scenes; /* descriptions decoded (the network thread's) */
 } Worker;
@@ -189,10 +194,26 @@ static void *render_thread(void *arg)
         last_end = timer_now();
         last_end_cpu = timer_thread_cpu();
         double us = (last_end - t0 + waited) * 1e6;
+        /* coded here, beside the network thread: the server asked for it */
+        size_t len = (size_t)j.seg.count * ref_bpp(j.ref);
+        uint32_t coding = PIX_RAW;
+        if (rc == 0 && w->coding != PIX_RAW) {
+            uint8_t *coded = malloc(pixcodec_bound(len));
+            size_t got;
+            int used = coded ? pixcodec_encode(w->codec, w->coding, px, len, ref_bpp(j.ref), coded, &got, &err) : -1;
+            if (used > PIX_RAW) {
+                free(px);
+                px = coded, len = got, coding = (uint32_t)used;
+            } else {
+                free(coded); /* no gain, or no memory: sent raw */
+            }
+        }
         pthread_mutex_lock(&w->mu);
         w->running = 0;
         if (rc == 0 && j.frame == w->current_frame && w->ndone < MAX_JOBS * 2) {
             j.pixels = px;
+            j.len = len;
+            j.coding = coding;
             j.bpp = ref_bpp(j.ref);
             j.render_us = us < 4e9 ? (uint32_t)us : UINT32_MAX;
             w->done[w->ndone++] = j;
@@ -250,7 +271,7 @@ static int expect(Conn *c, uint32_t type, Err *err)
     return 1;
 }
 
-static int handshake(const ClientConfig *cfg, Conn *c, Err *err)
+static int handshake(const ClientConfig *cfg, Conn *c, uint32_t *coding, Err *err)
 {
     int got = expect(c, PKT_SERVER_HELLO, err);
     if (got != 1)
@@ -272,14 +293,27 @@ static int handshake(const ClientConfig *cfg, Conn *c, Err *err)
     }
     if ((sh.flags & HELLO_TOKEN_REQUIRED) && !cfg->token)
         log_line(cfg->quiet, "lanray-client", "server requires a token; none given (--token or LANRAY_TOKEN)");
-    MsgHello h = {PROTO_MAGIC, PROTO_VERSION, PROTO_BOM, (uint32_t)cfg->threads, (uint32_t)sizeof(real), {0}, {0}};
+    MsgHello h = {.magic = PROTO_MAGIC, .version = PROTO_VERSION, .bom = PROTO_BOM, .threads = (uint32_t)cfg->threads,
+                  .real_size = (uint32_t)sizeof(real), .codecs = PIX_CODEC_MASK};
     auth_random(h.nonce, PROTO_NONCE);
     auth_proof(cfg->token ? cfg->token : "", sh.nonce, h.nonce, h.proof);
     MsgOut out;
     msg_encode_hello(&h, &out);
     if (conn_send_msg(c, &out, CONN_MAX_QUEUE, err) || conn_flush(c, err) < 0)
         return SESSION_FAILED;
-    return expect(c, PKT_WELCOME, err);
+    got = expect(c, PKT_WELCOME, err);
+    if (got != 1)
+        return got;
+    MsgWelcome wm;
+    if (msg_decode_welcome(c->body, c->body_size, &wm, err))
+        return SESSION_FAILED;
+    const uint32_t codec = wm.coding & ~(uint32_t)PIX_PREDICT;
+    if (codec >= PIX_CODECS || !(PIX_CODEC_MASK >> codec & 1) || (wm.coding & ~(uint32_t)(PIX_PREDICT | 0xff))) {
+        err_set(err, "server asked for pixel coding %#x, which this client does not have", wm.coding);
+        return SESSION_REFUSED;
+    }
+    *coding = wm.coding;
+    return 1;
 }
 
 static void queue_job(Worker *w, uint32_t frame, Segment seg, SceneRef *ref)
@@ -287,7 +321,7 @@ static void queue_job(Worker *w, uint32_t frame, Segment seg, SceneRef *ref)
     if (w->nqueue == MAX_JOBS)
         return; /* the server never gives more than a few: a misbehaving server */
     ref->refs++;
-    w->queue[w->nqueue++] = (Job){frame, seg, ref, NULL, 0, 0};
+    w->queue[w->nqueue++] = (Job){.frame = frame, .seg = seg, .ref = ref};
     pthread_cond_signal(&w->cv);
 }
 
@@ -383,11 +417,15 @@ static int session(const ClientConfig *cfg, int fd, Worker *w, AssetCache *cache
         return SESSION_FAILED;
     Conn c;
     conn_init(&c, fd);
-    int hs = handshake(cfg, &c, err);
+    uint32_t coding = PIX_RAW;
+    int hs = handshake(cfg, &c, &coding, err);
     if (hs <= 0) {
         conn_close(&c);
         return hs;
     }
+    pthread_mutex_lock(&w->mu);
+    w->coding = coding; /* no job is running between sessions */
+    pthread_mutex_unlock(&w->mu);
     /* an IPv6 address in brackets, as it is typed: [::1]:7878 */
     const int v6 = strchr(cfg->host, ':') != NULL;
     log_line(cfg->quiet, "lanray-client", "connected to %s%s%s:%d with %d threads", v6 ? "[" : "", cfg->host,
@@ -421,7 +459,10 @@ static int session(const ClientConfig *cfg, int fd, Worker *w, AssetCache *cache
             int bad = 0;
             for (int i = 0; i < n; i++) {
                 MsgOut out;
-                msg_encode_data(&(MsgData){done[i].frame, done[i].seg, done[i].render_us, done[i].pixels, done[i].bpp}, &out);
+                msg_encode_data(&(MsgData){.frame = done[i].frame, .seg = done[i].seg, .render_us = done[i].render_us,
+                                           .coding = done[i].coding, .pixels = done[i].pixels, .len = done[i].len,
+                                           .bpp = done[i].bpp},
+                                &out);
                 if (!bad && conn_send_msg(&c, &out, CONN_MAX_QUEUE, err))
                     bad = 1;
                 free(done[i].pixels);
@@ -466,13 +507,15 @@ static int worker_start(Worker *w, int threads, AssetCache **cache, pthread_t *t
     if (pipe(w->wake) || net_setup(w->wake[0]) || net_setup(w->wake[1]))
         return err_set(err, "cannot create a pipe: %s", strerror(errno));
     w->pool = render_pool_create(threads, err);
+    w->codec = pixcodec_create();
     *cache = asset_cache_create();
-    if (!w->pool || !*cache || pthread_create(th, NULL, render_thread, w)) {
+    if (!w->pool || !w->codec || !*cache || pthread_create(th, NULL, render_thread, w)) {
         render_pool_destroy(w->pool);
+        pixcodec_destroy(w->codec);
         asset_cache_destroy(*cache);
         close(w->wake[0]);
         close(w->wake[1]);
-        return w->pool ? err_set(err, "cannot start the render thread") : -1;
+        return w->pool ? err_set(err, w->codec ? "cannot start the render thread" : "out of memory") : -1;
     }
     return 0;
 }
@@ -488,6 +531,7 @@ static void worker_stop(Worker *w, AssetCache *cache, pthread_t th, ClientStats 
     if (stats)
         *stats = (ClientStats){w->segments, w->pixels, sessions, w->scenes, world_tree_builds()};
     render_pool_destroy(w->pool);
+    pixcodec_destroy(w->codec);
     asset_cache_destroy(cache);
     close(w->wake[0]);
     close(w->wake[1]);

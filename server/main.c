@@ -22,6 +22,7 @@
 #include "render/render.h"
 #include "scene/camera_path.h"
 #include "net/msg.h"
+#include "net/pixcodec.h"
 #include "pace.h"
 #include "server.h"
 #include "watch.h"
@@ -205,11 +206,38 @@ typedef struct {
     double path_step;
     CliAa still;
     int moving_lights, moving_lights_given;
+    int compress;
     double target_fps, max_fps;
 } Args;
 
+/* --compress: how clients code their pixels (net/pixcodec.h) */
+static const char *const compress_words[] = {"raw", "lz4", "zstd", NULL};
+static const uint32_t compress_codings[] = {PIX_RAW, PIX_LZ4, PIX_ZSTD | PIX_PREDICT};
+
 /* --moving-lights: the scene's (-1), or a LightSampling + 1 */
 static const char *const moving_lights_words[] = {"scene", "full", "adaptive", NULL};
+
+/* The server's configuration from what the options said. */
+static void config_from_args(Args *a)
+{
+    ServerConfig *cfg = &a->cfg;
+    if (cfg->token && !*cfg->token)
+        cfg->token = NULL;
+    cfg->tail = sched_tail_rules[a->tail];
+    cfg->warmup = (uint32_t)a->warmup;
+    cfg->stall_timeout = a->stall;
+    cfg->handshake_timeout = a->handshake;
+    cfg->refine = a->still.given;
+    cfg->still_aa = a->still.aa;
+    cfg->still_adaptive = a->still.adaptive;
+    /* the scene's by default: adaptive light sampling is a fifth faster on
+     * whole 512x384 frames, but slower on the small frames and segments of
+     * a flight at a render scale (docs/tradeoff.md) */
+    cfg->moving_lights = a->moving_lights_given ? a->moving_lights - 1 : -1;
+    cfg->coding = compress_codings[a->compress];
+    a->bvh.kind = (BvhKind)a->bvh_kind;
+    a->headless |= a->discard;
+}
 
 /* Parses the command line into a: OPT_GO, or the exit status. */
 static int parse_args(Args *a, int argc, char **argv)
@@ -217,7 +245,7 @@ static int parse_args(Args *a, int argc, char **argv)
     *a = (Args){.cfg = {.listen_addr = "127.0.0.1", .port = PROTO_DEFAULT_PORT, .token = getenv("LANRAY_TOKEN"),
                         .width = 1024, .height = 768, .tail = sched_tail_smart, .stall_timeout = 30,
                         .handshake_timeout = 10},
-                .bvh = bvh_options_default(BVH_SAH), .out_dir = "frames", .tail = 1, .bvh_kind = BVH_SAH,
+                .bvh = bvh_options_default(BVH_SAH), .out_dir = "frames", .tail = 1, .bvh_kind = BVH_SAH, .compress = 2,
                 .stall = 30, .handshake = 10, .aa = {1, 0, 0}};
     ServerConfig *cfg = &a->cfg;
     const Opt opts[] = {
@@ -252,6 +280,11 @@ static int parse_args(Args *a, int argc, char **argv)
          .range = CLI_AA_RANGE, .help = "refine: a frame whose camera and scene did not change since the frame before "
                                        "is rendered with these samples (adaptive:4 is lanray-render's picture)",
          .def = "none: every frame with --aa"},
+        {.name = "--compress", .kind = OPT_CHOICE, .dst = &a->compress, .choices = compress_words,
+         .help = "how clients send their pixels: raw, LZ4, or zstd level 1 after a left-neighbour predictor (a "
+                 "rendered 2-line segment to 0.35 and 0.20 of its bytes: docs/scaling.md); a packet that would not "
+                 "shrink goes raw",
+         .def = "zstd"},
         {.name = "--moving-lights", .kind = OPT_CHOICE, .dst = &a->moving_lights, .choices = moving_lights_words,
          .seen = &a->moving_lights_given,
          .help = "area lights in the frames that are not still ones: the scene's light_sampling, every point at every "
@@ -310,21 +343,7 @@ static int parse_args(Args *a, int argc, char **argv)
                     "  4  stopped (SIGINT, SIGTERM, the window) before the requested frames were done\n"};
     int go = opt_run(&spec, argc, argv);
     a->scene_path = args[0];
-    if (cfg->token && !*cfg->token)
-        cfg->token = NULL;
-    cfg->tail = sched_tail_rules[a->tail];
-    cfg->warmup = (uint32_t)a->warmup;
-    cfg->stall_timeout = a->stall;
-    cfg->handshake_timeout = a->handshake;
-    cfg->refine = a->still.given;
-    cfg->still_aa = a->still.aa;
-    cfg->still_adaptive = a->still.adaptive;
-    /* the scene's by default: adaptive light sampling is a fifth faster on
-     * whole 512x384 frames, but slower on the small frames and segments of
-     * a flight at a render scale (docs/tradeoff.md) */
-    cfg->moving_lights = a->moving_lights_given ? a->moving_lights - 1 : -1;
-    a->bvh.kind = (BvhKind)a->bvh_kind;
-    a->headless |= a->discard;
+    config_from_args(a);
     return go;
 }
 

@@ -216,6 +216,19 @@ int sched_assign(Sched *s, int client, Segment *out)
     return 1;
 }
 
+SchedResult sched_check(const Sched *s, int client, uint32_t frame, Segment seg)
+{
+    if (frame != s->frame)
+        return SCHED_STALE;
+    for (uint32_t i = 0; i < s->nasg; i++) {
+        const Assignment *a = &s->asg[i];
+        const Rec *r = &s->recs[a->rec];
+        if (a->client == client && r->seg.first == seg.first && r->seg.count == seg.count)
+            return r->done ? SCHED_DUPLICATE : SCHED_ACCEPT;
+    }
+    return SCHED_UNKNOWN;
+}
+
 SchedResult sched_complete(Sched *s, int client, uint32_t frame, Segment seg)
 {
     if (frame != s->frame)

@@ -95,6 +95,9 @@ void sched_set_clients(Sched *s, uint32_t clients);
  * there is nothing for it. */
 int sched_assign(Sched *s, int client, Segment *out);
 SchedResult sched_complete(Sched *s, int client, uint32_t frame, Segment seg);
+/* What sched_complete would answer, changing nothing (the server decodes
+ * a coded segment into the frame only where it is to be accepted). */
+SchedResult sched_check(const Sched *s, int client, uint32_t frame, Segment seg);
 /* The client is gone: it holds nothing any more. */
 void sched_release(Sched *s, int client);
 int sched_frame_done(const Sched *s);

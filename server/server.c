@@ -18,6 +18,7 @@
 
 #include "net/auth.h"
 #include "net/conn.h"
+#include "net/pixcodec.h"
 #include "base/array.h"
 #include "base/log.h"
 #include "net/net.h"
@@ -38,6 +39,7 @@ typedef struct {
     char addr[64];
     uint8_t nonce[PROTO_NONCE];
     uint32_t threads;
+    uint32_t coding; /* what its WELCOME asked for: its DATA is raw or coded so */
     double since, last_result;
     uint32_t frame_sent; /* last frame it got an UPDATE for (0: none) */
     uint32_t scene_held; /* the description it was sent last (Server.scene_id; 0: none) */
@@ -92,6 +94,7 @@ struct Server {
     uint32_t gone_clients; /* clients that left, or were dropped */
     int auto_segment;
     Measure m; /* for the summary line and the automatic segment size */
+    PixCodec *codec; /* decodes coded DATA (the loop's one thread) */
 };
 
 /* The per-segment overhead that sched_auto_lines sizes segments by is
@@ -150,8 +153,9 @@ Server *server_create(const ServerConfig *cfg, Scene *scene, Err *err)
     s->shown = calloc((size_t)cfg->width * cfg->height, s->bpp);
     s->scale = s->next_scale = 1;
     s->fw = (uint32_t)cfg->width, s->fh = (uint32_t)cfg->height;
-    if (!s->sched || !s->pixels || !s->shown || build_assets(s, err)) {
-        if (!s->sched || !s->pixels || !s->shown)
+    s->codec = pixcodec_create();
+    if (!s->sched || !s->pixels || !s->shown || !s->codec || build_assets(s, err)) {
+        if (!s->sched || !s->pixels || !s->shown || !s->codec)
             err_set(err, "out of memory or invalid frame size");
         server_destroy(s);
         return NULL;
@@ -199,6 +203,7 @@ void server_destroy(Server *s)
     sink_free(&s->blob);
     sink_free(&s->scene_blob);
     sched_destroy(s->sched);
+    pixcodec_destroy(s->codec);
     free(s->pixels);
     free(s->shown);
     free(s);
@@ -585,8 +590,10 @@ static void on_hello(Server *s, Client *c)
     c->threads = h.threads;
     c->state = CLIENT_ACTIVE;
     c->last_result = timer_now();
+    const uint32_t codec = s->cfg.coding & ~(uint32_t)PIX_PREDICT;
+    c->coding = codec < 32 && (h.codecs >> codec & 1) ? s->cfg.coding : PIX_RAW;
     MsgOut out;
-    msg_encode_welcome(&(MsgWelcome){(uint32_t)c->id}, &out);
+    msg_encode_welcome(&(MsgWelcome){.id = (uint32_t)c->id, .coding = c->coding}, &out);
     send_or_drop(s, c, &out);
     log_line(s->cfg.quiet, "lanray-server", "client %d (%s) joined with %u thread%s", c->id, c->addr, c->threads,
              c->threads == 1 ? "" : "s");
@@ -606,21 +613,40 @@ static void on_data(Server *s, Client *c)
     }
     Segment seg = d.seg;
     const uint32_t frame = d.frame, render_us = d.render_us;
+    char why[PROTO_MAX_ERROR_TEXT];
+    if (d.coding != PIX_RAW && d.coding != c->coding) {
+        snprintf(why, sizeof why, "DATA packet coded %#x; it was asked for %#x or raw", d.coding, c->coding);
+        drop(s, c, why);
+        return;
+    }
     double now = timer_now();
     c->last_result = now;
     measure_data(&s->m, &c->mc, now, frame, s->frame, render_us, sched_held(s->sched, c->id));
-    SchedResult r = sched_complete(s->sched, c->id, frame, seg);
+    SchedResult r = sched_check(s->sched, c->id, frame, seg);
     if (r == SCHED_UNKNOWN) {
-        char why[160];
         snprintf(why, sizeof why, "pixels for segment %u+%u of frame %u, which it was not given", seg.first, seg.count, frame);
         drop(s, c, why);
         return;
     }
+    /* straight into the frame, only where they are taken: a packet that
+     * does not decode to exactly its segment drops its client, and its
+     * segment goes to another, which writes it whole */
+    if (r == SCHED_ACCEPT) {
+        uint8_t *dst = s->pixels + (size_t)seg.first * s->bpp;
+        if (d.coding == PIX_RAW)
+            memcpy(dst, d.pixels, (size_t)seg.count * s->bpp);
+        else if (pixcodec_decode(s->codec, d.coding, d.pixels, d.len, dst, (size_t)seg.count * s->bpp, s->bpp, &e)) {
+            snprintf(why, sizeof why, "DATA packet for segment %u+%u of frame %u: %.200s", seg.first, seg.count, frame,
+                     e.msg);
+            drop(s, c, why);
+            return;
+        }
+    }
+    r = sched_complete(s->sched, c->id, frame, seg);
     measure_result(&s->m, render_us, r != SCHED_STALE, r == SCHED_ACCEPT);
     if (r != SCHED_STALE) /* time spent rendering counts whether or not this copy won */
         c->busy_us += render_us;
     if (r == SCHED_ACCEPT) {
-        memcpy(s->pixels + (size_t)seg.first * s->bpp, d.pixels, (size_t)seg.count * s->bpp);
         c->segments++;
         c->pixels += seg.count;
         c->frame_pixels += seg.count;

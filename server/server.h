@@ -36,6 +36,10 @@ typedef struct {
     /* the light sampling (LightSampling) of the frames that are not still
      * ones; -1: the scene's (lanray-server --moving-lights) */
     int moving_lights;
+    /* how clients are asked to code their pixels (net/pixcodec.h: PIX_RAW,
+     * PIX_LZ4, PIX_ZSTD | PIX_PREDICT; lanray-server --compress); a client
+     * without that codec sends them raw */
+    uint32_t coding;
 } ServerConfig;
 
 typedef struct Server Server;

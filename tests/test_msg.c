@@ -4,6 +4,8 @@
  * has (its generated table is compared line for line). */
 #include "helpers.h"
 
+#include "net/pixcodec.h"
+
 #include "base/fileio.h"
 #include "net/msg.h"
 
@@ -34,7 +36,9 @@ static void packets_round_trip(void **state)
     assert_int_equal(msg_decode_server_hello(buf, n, &sh2, &err), 0);
     assert_memory_equal(&sh, &sh2, sizeof sh);
 
-    MsgHello h = {PROTO_MAGIC, PROTO_VERSION, PROTO_BOM, 16, 4, {0}, {0}}, h2;
+    MsgHello h = {.magic = PROTO_MAGIC, .version = PROTO_VERSION, .bom = PROTO_BOM, .threads = 16, .real_size = 4,
+                  .codecs = PIX_CODEC_MASK},
+             h2;
     for (int i = 0; i < (int)PROTO_NONCE; i++)
         h.nonce[i] = (uint8_t)i, h.proof[i] = (uint8_t)(255 - i);
     msg_encode_hello(&h, &o);
@@ -45,7 +49,7 @@ static void packets_round_trip(void **state)
     memcpy(&first, buf, 4);
     assert_int_equal(first, PROTO_MAGIC); /* the magic leads, as the docs say */
 
-    MsgWelcome w = {42}, w2;
+    MsgWelcome w = {.id = 42, .coding = PIX_LZ4}, w2;
     msg_encode_welcome(&w, &o);
     n = body_of(&o, buf);
     assert_int_equal(msg_decode_welcome(buf, n, &w2, &err), 0);
@@ -79,23 +83,30 @@ static void packets_round_trip(void **state)
     assert_memory_equal(&c, &c2, sizeof c);
 
     const uint8_t px[6] = {1, 2, 3, 4, 5, 6};
-    MsgData d = {3, {5, 2}, 1234, px, 3}, d2;
+    MsgData d = {.frame = 3, .seg = {5, 2}, .render_us = 1234, .pixels = px, .len = 6, .bpp = 3}, d2;
     msg_encode_data(&d, &o);
     n = body_of(&o, buf);
-    assert_int_equal(n, 16 + 6);
+    assert_int_equal(n, 20 + 6);
     assert_int_equal(msg_decode_data(buf, n, 3, &d2, &err), 0);
     assert_true(d2.frame == 3 && d2.seg.first == 5 && d2.seg.count == 2 && d2.render_us == 1234 && d2.bpp == 3);
+    assert_true(d2.coding == PIX_RAW && d2.len == 6);
     assert_memory_equal(d2.pixels, px, 6);
     /* an hdr frame's pixels are RGBE: 4 bytes each, the same 6 bytes no longer fit */
     assert_int_equal(msg_decode_data(buf, n, 4, &d2, &err), -1);
     const uint8_t rgbe[8] = {1, 2, 3, 130, 5, 6, 7, 140};
-    MsgData hd = {4, {7, 2}, 99, rgbe, 4};
+    MsgData hd = {.frame = 4, .seg = {7, 2}, .render_us = 99, .pixels = rgbe, .len = 8, .bpp = 4};
     msg_encode_data(&hd, &o);
     n = body_of(&o, buf);
-    assert_int_equal(n, 16 + 8);
+    assert_int_equal(n, 20 + 8);
     assert_int_equal(msg_decode_data(buf, n, 4, &d2, &err), 0);
     assert_true(d2.frame == 4 && d2.seg.first == 7 && d2.seg.count == 2 && d2.bpp == 4);
     assert_memory_equal(d2.pixels, rgbe, 8);
+    /* coded: fewer bytes than the segment's, the coding carried */
+    MsgData cd = {.frame = 3, .seg = {5, 4}, .coding = PIX_ZSTD | PIX_PREDICT, .pixels = px, .len = 6, .bpp = 3};
+    msg_encode_data(&cd, &o);
+    n = body_of(&o, buf);
+    assert_int_equal(msg_decode_data(buf, n, 3, &d2, &err), 0);
+    assert_true(d2.coding == (PIX_ZSTD | PIX_PREDICT) && d2.len == 6 && d2.seg.count == 4);
 
     MsgAsset a = {ASSET_TEXTURE, {0}, px, sizeof px}, a2;
     a.hash[0] = 0xab, a.hash[31] = 0xcd;
@@ -125,10 +136,10 @@ static void bodies_that_do_not_fit_are_refused(void **state)
     uint8_t buf[256] = {0};
     Err err;
     MsgHello h;
-    assert_int_equal(msg_decode_hello(buf, 83, &h, &err), -1);
-    assert_non_null(strstr(err.msg, "HELLO packet of 83 bytes is too short"));
-    assert_int_equal(msg_decode_hello(buf, 85, &h, &err), -1);
-    assert_non_null(strstr(err.msg, "HELLO packet of 85 bytes, its layout has 84"));
+    assert_int_equal(msg_decode_hello(buf, 87, &h, &err), -1);
+    assert_non_null(strstr(err.msg, "HELLO packet of 87 bytes is too short"));
+    assert_int_equal(msg_decode_hello(buf, 89, &h, &err), -1);
+    assert_non_null(strstr(err.msg, "HELLO packet of 89 bytes, its layout has 88"));
     MsgUpdate u;
     uint32_t three[6] = {1, 2, 3, 1, 0, 3};
     memcpy(buf, three, sizeof three);
@@ -143,13 +154,20 @@ static void bodies_that_do_not_fit_are_refused(void **state)
     assert_int_equal(msg_decode_update(buf, 24 + 9, &u, &err), -1);
     assert_non_null(strstr(err.msg, "view of 10 bytes and 9 bytes left"));
     MsgData d;
-    uint32_t data[4] = {1, 0, 10, 5}; /* 10 pixels claimed */
+    uint32_t data[5] = {1, 0, 10, 5, PIX_RAW}; /* 10 pixels claimed, raw */
     memcpy(buf, data, sizeof data);
-    assert_int_equal(msg_decode_data(buf, 16 + 29, 3, &d, &err), -1);
-    assert_non_null(strstr(err.msg, "DATA packet of 29 pixel bytes for a segment of 10 pixels of 3 bytes"));
-    assert_int_equal(msg_decode_data(buf, 16 + 30, 3, &d, &err), 0);
-    assert_int_equal(msg_decode_data(buf, 16 + 30, 4, &d, &err), -1);
-    assert_int_equal(msg_decode_data(buf, 16 + 40, 4, &d, &err), 0);
+    assert_int_equal(msg_decode_data(buf, 20 + 29, 3, &d, &err), -1);
+    assert_non_null(strstr(err.msg, "DATA packet of 29 raw pixel bytes for a segment of 10 pixels of 3 bytes"));
+    assert_int_equal(msg_decode_data(buf, 20 + 30, 3, &d, &err), 0);
+    assert_int_equal(msg_decode_data(buf, 20 + 30, 4, &d, &err), -1);
+    assert_int_equal(msg_decode_data(buf, 20 + 40, 4, &d, &err), 0);
+    /* coded: a packet that claims as many bytes as its segment's pixels, or more, is refused */
+    uint32_t coded[5] = {1, 0, 10, 5, PIX_LZ4};
+    memcpy(buf, coded, sizeof coded);
+    assert_int_equal(msg_decode_data(buf, 20 + 29, 3, &d, &err), 0);
+    assert_int_equal(msg_decode_data(buf, 20 + 30, 3, &d, &err), -1);
+    assert_non_null(strstr(err.msg, "DATA packet of 30 coded pixel bytes for a segment of 10 pixels"));
+    assert_int_equal(msg_decode_data(buf, 20 + 200, 3, &d, &err), -1);
     MsgAsset a;
     assert_int_equal(msg_decode_asset(buf, 35, &a, &err), -1);
     assert_int_equal(msg_type_name(99)[0], 'u'); /* "unknown" */

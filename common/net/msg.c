@@ -34,9 +34,11 @@ static const Field server_hello_f[] = {
 static const Field hello_f[] = {
     {"magic", offsetof(MsgHello, magic), 4},         {"version", offsetof(MsgHello, version), 4},
     {"bom", offsetof(MsgHello, bom), 4},             {"threads", offsetof(MsgHello, threads), 4},
-    {"real_size", offsetof(MsgHello, real_size), 4}, {"nonce", offsetof(MsgHello, nonce), PROTO_NONCE},
+    {"real_size", offsetof(MsgHello, real_size), 4}, {"codecs", offsetof(MsgHello, codecs), 4},
+    {"nonce", offsetof(MsgHello, nonce), PROTO_NONCE},
     {"proof", offsetof(MsgHello, proof), PROTO_PROOF}, {NULL, 0, 0}};
-static const Field welcome_f[] = {{"id", offsetof(MsgWelcome, id), 4}, {NULL, 0, 0}};
+static const Field welcome_f[] = {{"id", offsetof(MsgWelcome, id), 4}, {"coding", offsetof(MsgWelcome, coding), 4},
+                                  {NULL, 0, 0}};
 static const Field update_f[] = {
     {"frame", offsetof(MsgUpdate, frame), 4},         {"width", offsetof(MsgUpdate, width), 4},
     {"height", offsetof(MsgUpdate, height), 4},       {"scene_id", offsetof(MsgUpdate, scene_id), 4},
@@ -50,6 +52,7 @@ static const Field data_f[] = {{"frame", offsetof(MsgData, frame), 4},
                                {"first", offsetof(MsgData, seg.first), 4},
                                {"count", offsetof(MsgData, seg.count), 4},
                                {"render_us", offsetof(MsgData, render_us), 4},
+                               {"coding", offsetof(MsgData, coding), 4},
                                {NULL, 0, 0}};
 static const Field asset_f[] = {{"kind", offsetof(MsgAsset, kind), 4}, {"hash", offsetof(MsgAsset, hash), PROTO_HASH},
                                 {NULL, 0, 0}};
@@ -61,7 +64,7 @@ static const Layout layouts[PKT_TYPE_END] = {
     [PKT_WELCOME] = {"WELCOME", welcome_f, NULL, 0},
     [PKT_UPDATE] = {"UPDATE", update_f, "view+scene", 64 * MIB},
     [PKT_COMPUTE] = {"COMPUTE", compute_f, NULL, 0},
-    [PKT_DATA] = {"DATA", data_f, "pixels", PROTO_HEADER + 16 + 256 * MIB}, /* a whole 8192x8192 frame of RGBE */
+    [PKT_DATA] = {"DATA", data_f, "pixels", PROTO_HEADER + 20 + 256 * MIB}, /* a whole 8192x8192 frame of RGBE */
     [PKT_ASSET] = {"ASSET", asset_f, "payload", 1024 * MIB},
     [PKT_ERROR] = {"ERROR", none_f, "text", PROTO_HEADER + PROTO_MAX_ERROR_TEXT},
     [PKT_BYE] = {"BYE", none_f, NULL, 0},
@@ -156,7 +159,7 @@ void msg_encode_update(const MsgUpdate *m, MsgOut *out)
 void msg_encode_compute(const MsgCompute *m, MsgOut *out) { encode(PKT_COMPUTE, m, NULL, 0, out); }
 void msg_encode_data(const MsgData *m, MsgOut *out)
 {
-    encode(PKT_DATA, m, m->pixels, (size_t)m->bpp * m->seg.count, out);
+    encode(PKT_DATA, m, m->pixels, m->len, out);
 }
 void msg_encode_asset(const MsgAsset *m, MsgOut *out) { encode(PKT_ASSET, m, m->data, m->len, out); }
 void msg_encode_error(const MsgError *m, MsgOut *out)
@@ -200,12 +203,13 @@ int msg_decode_compute(const uint8_t *body, size_t len, MsgCompute *m, Err *err)
 
 int msg_decode_data(const uint8_t *body, size_t len, uint32_t bpp, MsgData *m, Err *err)
 {
-    size_t n;
-    if (decode(PKT_DATA, body, len, m, &m->pixels, &n, err))
+    if (decode(PKT_DATA, body, len, m, &m->pixels, &m->len, err))
         return -1;
     m->bpp = bpp;
-    if (n != bpp * (uint64_t)m->seg.count)
-        return err_set(err, "DATA packet of %zu pixel bytes for a segment of %u pixels of %u bytes", n, m->seg.count, bpp);
+    const uint64_t raw = bpp * (uint64_t)m->seg.count;
+    if (m->coding == 0 ? m->len != raw : m->len >= raw)
+        return err_set(err, "DATA packet of %zu %s pixel bytes for a segment of %u pixels of %u bytes", m->len,
+                       m->coding == 0 ? "raw" : "coded", m->seg.count, bpp);
     return 0;
 }
 

@@ -17,8 +17,9 @@
 #include "render/segment.h"
 
 #define PROTO_MAGIC 0x5941524cu /* "LRAY" */
-#define PROTO_VERSION 9u /* 8: an UPDATE carries the frame's view apart, and the scene only when it changed;
-                          * 9: the view's settings hold light_sampling (wire 6) */
+#define PROTO_VERSION 10u /* 8: an UPDATE carries the frame's view apart, and the scene only when it changed;
+                           * 9: the view's settings hold light_sampling (wire 6);
+                           * 10: compressed pixels (HELLO codecs, WELCOME coding, DATA coding) */
 #define PROTO_BOM 0x01020304u
 #define PROTO_HEADER 8u
 #define PROTO_NONCE 32u
@@ -29,11 +30,11 @@
 
 typedef enum {
     PKT_SERVER_HELLO = 1, /* server -> client: magic, version, bom, flags, nonce */
-    PKT_HELLO = 2,        /* client -> server: magic, version, bom, threads, real size, nonce, proof */
-    PKT_WELCOME = 3,      /* server -> client: client id */
+    PKT_HELLO = 2,        /* client -> server: magic, version, bom, threads, real size, codecs, nonce, proof */
+    PKT_WELCOME = 3,      /* server -> client: client id, the pixels' coding */
     PKT_UPDATE = 4,       /* server -> client: frame, size, scene id, up to 2 segments, the view, the scene if new */
     PKT_COMPUTE = 5,      /* server -> client: frame, segment */
-    PKT_DATA = 6,         /* client -> server: frame, segment, render time, RGB8 or RGBE pixels */
+    PKT_DATA = 6,         /* client -> server: frame, segment, render time, coding, RGB8 or RGBE pixels as coded */
     PKT_ASSET = 7,        /* server -> client: kind, content hash, payload */
     PKT_ERROR = 8,        /* either way: a reason, then the sender closes */
     PKT_BYE = 9,          /* either way: orderly goodbye */
@@ -50,11 +51,13 @@ typedef struct {
 
 typedef struct {
     uint32_t magic, version, bom, threads, real_size;
+    uint32_t codecs; /* the codecs the client codes pixels with, 1 << PIX_* (net/pixcodec.h) */
     uint8_t nonce[PROTO_NONCE], proof[PROTO_PROOF];
 } MsgHello;
 
 typedef struct {
     uint32_t id;
+    uint32_t coding; /* how the client is to code its DATA: one of its codecs, with PIX_PREDICT or not */
 } MsgWelcome;
 
 /* A frame: its view (wire_encode_view: the camera and the settings), and
@@ -83,7 +86,9 @@ typedef struct {
     uint32_t frame;
     Segment seg;
     uint32_t render_us;
-    const uint8_t *pixels; /* bpp * seg.count bytes */
+    uint32_t coding;       /* PIX_RAW, or the WELCOME's coding (pixcodec.h) */
+    const uint8_t *pixels; /* len bytes: bpp * seg.count raw, fewer coded */
+    size_t len;
     uint32_t bpp;          /* not sent: 3 (RGB8), or 4 (RGBE) where the frame's scene says hdr */
 } MsgData;
 
@@ -130,7 +135,9 @@ int msg_decode_welcome(const uint8_t *body, size_t len, MsgWelcome *m, Err *err)
 int msg_decode_update(const uint8_t *body, size_t len, MsgUpdate *m, Err *err);
 int msg_decode_compute(const uint8_t *body, size_t len, MsgCompute *m, Err *err);
 /* A DATA packet's pixel size is the frame's (3 or 4 bytes), which the
- * receiver knows from the scene it sent: bpp. */
+ * receiver knows from the scene it sent: bpp.  Raw pixels must be the
+ * segment's bytes exactly, coded ones fewer (pixcodec_decode then checks
+ * that they decode to exactly the segment). */
 int msg_decode_data(const uint8_t *body, size_t len, uint32_t bpp, MsgData *m, Err *err);
 int msg_decode_asset(const uint8_t *body, size_t len, MsgAsset *m, Err *err);
 /* The text made printable (other bytes become '?') and NUL-terminated. */

@@ -2,8 +2,9 @@
 # Integration: a real server and real clients on loopback.
 #  - distributed frames are bit-identical to lanray-render's;
 #  - a client killed with SIGKILL, one stopped with SIGSTOP, one sending random
-#    bytes, one lying about a packet size and one sending pixels for a segment
-#    it was not given do not stop the frames from completing, the server's
+#    bytes, one lying about a packet size, one sending pixels for a segment
+#    it was not given, one sending coded pixels that do not decode and one
+#    coded pixels as large as raw ones do not stop the frames from completing, the server's
 #    memory stays within 20 MB of what it was before, and its log names each
 #    cause;
 #  - a wrong token or protocol version is refused with a clear message;
@@ -40,6 +41,8 @@ kill -STOP "$victim_stop"
 garbage=$(python3 tests/tools/fakeclient.py "$port" garbage)
 liar=$(python3 tests/tools/fakeclient.py "$port" lie-size)
 forger=$(python3 tests/tools/fakeclient.py "$port" forge-data)
+badcoded=$(python3 tests/tools/fakeclient.py "$port" bad-coded)
+overclaim=$(python3 tests/tools/fakeclient.py "$port" overclaim)
 # past the stall timeout, frames still complete
 for _ in $(seq 100); do grep -q "stalled: no result in time" "$dir/faults.err" && break; sleep 0.1; done
 grep -q "stalled: no result in time" "$dir/faults.err" || fail "the stopped client was not reported as stalled"
@@ -59,6 +62,8 @@ for f in "$dir"/f/frame-*.png; do same_as_reference "$f" "$dir/ref.png"; frames=
 grep -q "unknown type\|claims" <<<"$garbage" || fail "garbage client got: $garbage"
 grep -q "DATA packet claims 4294967295 bytes" <<<"$liar" || fail "lying client got: $liar"
 grep -q "which it was not given" <<<"$forger" || fail "forging client got: $forger"
+grep -q "DATA packet for segment .*: pixels: a zstd frame of" <<<"$badcoded" || fail "bad coded pixels got: $badcoded"
+grep -q "DATA packet of [0-9]* coded pixel bytes for a segment of" <<<"$overclaim" || fail "overclaiming client got: $overclaim"
 # a killed process's socket closes with FIN, or with RST when data it had not read was still queued
 grep -q "connection closed by peer\|Connection reset by peer" "$dir/faults.err" || fail "the killed client was not reported"
 grep -q "claims 4294967295 bytes" "$dir/faults.err" || fail "the lying client was not logged"

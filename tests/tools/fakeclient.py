@@ -8,6 +8,9 @@ MODE is one of:
   version     a correct handshake but protocol version 99
   lie-size    a valid header that claims a 4 GiB packet
   forge-data  complete the handshake, then send pixels for a segment never given
+  bad-coded   complete the handshake, then send coded pixels that do not decode
+              for the segments it is given
+  overclaim   the same, coded pixels as many bytes as the segment's raw ones
   silent      connect and send nothing, wait for the server to close
   slowloris   send a valid HELLO one byte every half second
   storm N     open N connections at once, hold them silent, report how many the server closed
@@ -44,7 +47,8 @@ def hello(nonce, token, version=VERSION):
     key = hashlib.sha256(token.encode()).digest()
     proof = hmac.new(key, b"lanray-auth-v1" + nonce + cn, hashlib.sha256).digest()
     # the server's precision: 4 (float build) unless LANRAY_REAL_SIZE says 8
-    body = struct.pack("=IIIII", MAGIC, version, BOM, 1, int(os.environ.get("LANRAY_REAL_SIZE", "4"))) + cn + proof
+    # codecs 0b111: raw, zstd, LZ4
+    body = struct.pack("=IIIIII", MAGIC, version, BOM, 1, int(os.environ.get("LANRAY_REAL_SIZE", "4")), 7) + cn + proof
     return struct.pack("=II", HELLO, 8 + len(body)) + body
 
 
@@ -100,7 +104,35 @@ def main():
             if ptype == UPDATE:
                 frame = struct.unpack("=I", body[:4])[0]
                 # a segment at the end of the frame that nobody was given yet
-                body = struct.pack("=IIII", frame, 7, 3, 100) + b"\xff" * 9
+                body = struct.pack("=IIIII", frame, 7, 3, 100, 0) + b"\xff" * 9
+                s.sendall(struct.pack("=II", DATA, 8 + len(body)) + body)
+    elif mode in ("bad-coded", "overclaim"):
+        s.sendall(hello(nonce, token))
+        coding = None
+        while True:
+            ptype, body = read_packet(s)
+            if ptype is None:
+                print("closed")
+                return
+            if ptype == ERROR:
+                print(body.decode(errors="replace"))
+                return
+            if ptype == WELCOME:
+                coding = struct.unpack("=II", body[:8])[1]
+                if coding == 0:
+                    print("the server asked for raw pixels")
+                    return
+            segs = []
+            if ptype == UPDATE:
+                frame, nseg = struct.unpack("=I", body[:4])[0], struct.unpack("=I", body[20:24])[0]
+                segs = [struct.unpack("=II", body[24 + 8 * k:32 + 8 * k]) for k in range(nseg)]
+            elif ptype == COMPUTE:
+                frame, first, count = struct.unpack("=III", body[:12])
+                segs = [(first, count)]
+            for first, count in segs:
+                raw = 3 * count
+                pix = b"\x5a" * (raw // 2 if mode == "bad-coded" else raw)
+                body = struct.pack("=IIIII", frame, first, count, 100, coding) + pix
                 s.sendall(struct.pack("=II", DATA, 8 + len(body)) + body)
     elif mode == "silent":
         pass
