@@ -8,6 +8,7 @@
 #   make fuzz       libFuzzer on every parser of outside bytes (FUZZ_SECONDS each)
 #   make bench      renderer benchmark against Embree (prints ratios)
 #   make tradeoff   quality knobs: time and error against a reference (docs/tradeoff.*)
+#   make bench-compress  compressed pixels: ratios, the server's CPU a packet, fps behind slow links
 #   make bench-scaling  clients x segment size x tail rule, with schedsim (docs/scaling*)
 #   make loadtest   64 clients joining and leaving for 5 minutes, every frame verified
 #   make tools-doc  docs/tools.md from every tool's --help
@@ -78,7 +79,7 @@ REPLAYS := $(FUZZ_NAMES:%=$(BUILD)/fuzz/replay_%)
 
 DEB_PACKAGES := gcc make pkg-config libsdl2-dev libsdl2-ttf-dev fonts-dejavu-core xdotool libnetpbm-dev libpng-dev libjpeg62-turbo-dev zlib1g-dev libassimp-dev libcmocka-dev libembree-dev libsodium-dev libzstd-dev liblz4-dev xvfb x11-apps python3 clang libclang-rt-14-dev
 
-.PHONY: all deps check check-asan bench demo clean tradeoff bench-scaling bench-realtime fuzz loadtest tools-doc architecture scene-doc
+.PHONY: all deps check check-asan bench demo clean tradeoff bench-scaling bench-realtime bench-compress fuzz loadtest tools-doc architecture scene-doc
 .SECONDARY:
 all: $(TOOLS)
 
@@ -96,7 +97,7 @@ deps:
 # says what to do (instead of a compiler error per file).  The targets that
 # run `make deps` first are not held back by it.
 LIB_HEADERS ?= /usr/include/SDL2/SDL.h /usr/include/SDL2/SDL_ttf.h /usr/include/netpbm/pam.h /usr/include/png.h /usr/include/zlib.h /usr/include/sodium.h /usr/include/zstd.h /usr/include/lz4.h /usr/include/cmocka.h /usr/include/assimp/cimport.h /usr/include/jpeglib.h
-INSTALLING_GOALS := deps check check-asan check-tsan demo bench tradeoff bench-scaling fuzz loadtest clean architecture
+INSTALLING_GOALS := deps check check-asan check-tsan demo bench tradeoff bench-scaling bench-compress bench-realtime fuzz loadtest clean architecture
 ifeq ($(filter $(INSTALLING_GOALS),$(MAKECMDGOALS)),)
   MISSING_HEADERS := $(filter-out $(wildcard $(LIB_HEADERS)),$(LIB_HEADERS))
   ifneq ($(MISSING_HEADERS),)
@@ -217,12 +218,22 @@ $(BUILD)/tools/bench/codec_bench: tools/bench/codec_bench.c $(LIB)
 	@mkdir -p $(dir $@)
 	$(CC) $(ALL_CFLAGS) -o $@ $< $(LIB) $(LDLIBS)
 
+$(BUILD)/tools/bench/datagen: tools/bench/datagen.c $(LIB)
+	@mkdir -p $(dir $@)
+	$(CC) $(ALL_CFLAGS) -o $@ $< $(LIB) $(LDLIBS)
+
 bench: deps $(TOOLS) $(BUILD)/tools/bench/embree_ref $(BUILD)/tools/bench/import_bench $(BUILD)/tools/bench/build_bench $(BUILD)/tools/bench/view_bench
 	@$(MAKE) --no-print-directory FEATURES=minimal $(BIN)/minimal/lanray-render
 	@BIN=$(BIN) EMBREE_REF=$(BUILD)/tools/bench/embree_ref BUILD_BENCH=$(BUILD)/tools/bench/build_bench bash tools/bench/bench-render
 	@BIN=$(BIN) bash tools/bench/bench-features
 	@IMPORT_BENCH=$(BUILD)/tools/bench/import_bench bash tools/bench/bench-import
 	@VIEW_BENCH=$(BUILD)/tools/bench/view_bench bash tools/bench/bench-view
+
+# compressed pixels: codings of rendered segments, the server's CPU a DATA
+# packet (datagen), frames a second through rate-limited links (root)
+bench-compress: deps $(TOOLS) $(BUILD)/tools/bench/codec_bench $(BUILD)/tools/bench/datagen
+	@$(MAKE) --no-print-directory DEB_PACKAGES=iproute2 deps
+	@BIN=$(BIN) DATAGEN=$(BUILD)/tools/bench/datagen CODEC_BENCH=$(BUILD)/tools/bench/codec_bench bash tools/bench/bench-compress
 
 # the trade-off study: CSV and plot into docs/ (needs gnuplot, installed here)
 tradeoff: deps $(TOOLS)

@@ -442,10 +442,13 @@ static int session(const ClientConfig *cfg, int fd, Worker *w, AssetCache *cache
             break;
         }
         struct pollfd p[2] = {{c.fd, (short)(POLLIN | (conn_pending(&c) ? POLLOUT : 0)), 0}, {w->wake[0], POLLIN, 0}};
-        if (poll(p, 2, 200) < 0 && errno != EINTR) {
+        const int buffered = conn_buffered(&c); /* read ahead (the handshake's too): no wait */
+        if (poll(p, 2, buffered ? 0 : 200) < 0 && errno != EINTR) {
             err_set(err, "poll failed: %s", strerror(errno));
             break;
         }
+        if (buffered)
+            p[0].revents |= POLLIN;
         if (p[1].revents & POLLIN) {
             char buf[256];
             while (read(w->wake[0], buf, sizeof buf) > 0) {

@@ -7,7 +7,11 @@
 #include "net/pixcodec.h"
 
 #include "base/fileio.h"
+#include "net/conn.h"
 #include "net/msg.h"
+#include "net/net.h"
+
+#include <sys/socket.h>
 
 /* head + tail, as the wire carries the body */
 static size_t body_of(const MsgOut *o, uint8_t *buf)
@@ -227,12 +231,59 @@ static void protocol_doc_matches_the_codec(void **state)
     free(doc);
 }
 
+/* A connection reads ahead: two packets and part of a third sent at once
+ * come out one by one, the second without the socket having anything new
+ * (conn_buffered says so, or a poll() loop would wait on it for ever), the
+ * part only once its rest arrives (conn_buffered does not count it). */
+static void reads_ahead_and_says_so(void **state)
+{
+    (void)state;
+    int sv[2];
+    assert_int_equal(socketpair(AF_UNIX, SOCK_STREAM, 0, sv), 0);
+    assert_int_equal(net_setup(sv[0]), 0);
+    uint8_t wire[3 * 20];
+    for (uint32_t k = 0; k < 3; k++) {
+        MsgOut o;
+        msg_encode_compute(&(MsgCompute){.frame = 7, .seg = {k * 10, 10}}, &o);
+        uint32_t head[2] = {o.type, (uint32_t)(PROTO_HEADER + o.head_len)};
+        memcpy(wire + 20 * k, head, 8);
+        memcpy(wire + 20 * k + 8, o.head, o.head_len);
+    }
+    assert_int_equal(write(sv[1], wire, 50), 50); /* two and a half */
+    Conn c;
+    conn_init(&c, sv[0]);
+    Err err;
+    MsgCompute m;
+    assert_int_equal(conn_read(&c, &err), 1);
+    assert_int_equal(msg_decode_compute(c.body, c.body_size, &m, &err), 0);
+    assert_int_equal(m.seg.first, 0);
+    assert_true(conn_buffered(&c));
+    assert_int_equal(conn_read(&c, &err), 1);
+    assert_int_equal(msg_decode_compute(c.body, c.body_size, &m, &err), 0);
+    assert_int_equal(m.seg.first, 10);
+    assert_false(conn_buffered(&c)); /* half a packet: its rest comes through the socket */
+    assert_int_equal(conn_read(&c, &err), 0);
+    assert_int_equal(write(sv[1], wire + 50, 10), 10);
+    assert_int_equal(conn_read(&c, &err), 1);
+    assert_int_equal(msg_decode_compute(c.body, c.body_size, &m, &err), 0);
+    assert_int_equal(m.seg.first, 20);
+    assert_false(conn_buffered(&c));
+    /* a header the limits refuse is ready at once, so that conn_read says why */
+    uint32_t lie[2] = {PKT_DATA, 0xffffffffu};
+    assert_int_equal(write(sv[1], lie, 8), 8);
+    assert_int_equal(conn_read(&c, &err), -1);
+    assert_non_null(strstr(err.msg, "DATA packet claims 4294967295 bytes"));
+    conn_close(&c);
+    close(sv[1]);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(packets_round_trip),
         cmocka_unit_test(bodies_that_do_not_fit_are_refused),
         cmocka_unit_test(protocol_doc_matches_the_codec),
+        cmocka_unit_test(reads_ahead_and_says_so),
     };
     return cmocka_run_group_tests_name("msg", tests, NULL, NULL);
 }

@@ -17,60 +17,89 @@ void conn_close(Conn *c)
 {
     if (c->fd >= 0)
         close(c->fd);
-    free(c->body);
+    free(c->in);
     free(c->out);
     memset(c, 0, sizeof *c);
     c->fd = -1;
 }
 
+/* Room for `need` bytes from in_at on: what is left moved to the start,
+ * the buffer grown to need (checked by the caller against the packet
+ * limits), and after a big packet shrunk back to the read-ahead size. */
+static int room(Conn *c, size_t need, Err *err)
+{
+    const size_t left = c->in_len - c->in_at;
+    if (c->in_at) {
+        memmove(c->in, c->in + c->in_at, left);
+        c->in_len = left, c->in_at = 0;
+    }
+    size_t cap = need > CONN_READ_AHEAD ? need : CONN_READ_AHEAD;
+    if (cap > c->in_cap || (c->in_cap > 4 * CONN_READ_AHEAD && cap < c->in_cap && left <= cap)) {
+        uint8_t *p = realloc(c->in, cap);
+        if (!p)
+            return err_set(err, "out of memory for a %zu-byte packet", need);
+        c->in = p;
+        c->in_cap = cap;
+    }
+    return 0;
+}
+
+int conn_buffered(const Conn *c)
+{
+    const size_t at = c->in_at + c->handed;
+    if (c->in_len - at < PROTO_HEADER)
+        return 0;
+    uint32_t type, size;
+    memcpy(&type, c->in + at, 4);
+    memcpy(&size, c->in + at + 4, 4);
+    /* a header the limits refuse counts as ready: conn_read then says why */
+    if (msg_max_size(type) == 0 || size < msg_min_size(type) || size > msg_max_size(type))
+        return 1;
+    return size <= c->in_len - at;
+}
+
 int conn_read(Conn *c, Err *err)
 {
-    /* a packet handed out last time is finished: start the next one */
-    if (c->head_got == PROTO_HEADER && c->body_got == c->body_size) {
-        c->head_got = 0;
-        c->body_got = c->body_size = 0;
-    }
+    /* the packet handed out last time is finished */
+    c->in_at += c->handed;
+    c->handed = 0;
+    if (c->in_at == c->in_len)
+        c->in_at = c->in_len = 0;
     for (;;) {
-        if (c->head_got < PROTO_HEADER) {
-            ssize_t n = recv(c->fd, c->head + c->head_got, PROTO_HEADER - c->head_got, 0);
-            if (n == 0)
-                return err_set(err, "connection closed by peer");
-            if (n < 0)
-                return errno == EAGAIN || errno == EWOULDBLOCK ? 0 : (errno == EINTR ? 0 : err_set(err, "receive failed: %s", strerror(errno)));
-            c->head_got += (uint32_t)n;
-            c->bytes_in += (uint64_t)n;
-            if (c->head_got < PROTO_HEADER)
-                continue;
+        const size_t have = c->in_len - c->in_at;
+        size_t need = PROTO_HEADER;
+        if (have >= PROTO_HEADER) {
             uint32_t size;
-            memcpy(&c->type, c->head, 4);
-            memcpy(&size, c->head + 4, 4);
+            memcpy(&c->type, c->in + c->in_at, 4);
+            memcpy(&size, c->in + c->in_at + 4, 4);
             uint32_t max = msg_max_size(c->type);
             if (max == 0)
                 return err_set(err, "packet of unknown type %u", c->type);
             if (size < msg_min_size(c->type) || size > max)
                 return err_set(err, "%s packet claims %u bytes, allowed %u..%u", msg_type_name(c->type), size,
                                msg_min_size(c->type), max);
-            c->body_size = size - PROTO_HEADER;
-            c->body_got = 0;
-            if (c->body_size > c->body_cap) {
-                uint8_t *p = realloc(c->body, c->body_size);
-                if (!p)
-                    return err_set(err, "out of memory for a %u-byte packet", size);
-                c->body = p;
-                c->body_cap = c->body_size;
+            if (have >= size) {
+                c->body = c->in + c->in_at + PROTO_HEADER;
+                c->body_size = size - PROTO_HEADER;
+                c->handed = size;
+                return 1;
             }
+            need = size;
         }
-        if (c->body_got < c->body_size) {
-            ssize_t n = recv(c->fd, c->body + c->body_got, c->body_size - c->body_got, 0);
-            if (n == 0)
-                return err_set(err, "connection closed by peer in the middle of a %s packet", msg_type_name(c->type));
-            if (n < 0)
-                return errno == EAGAIN || errno == EWOULDBLOCK || errno == EINTR ? 0 : err_set(err, "receive failed: %s", strerror(errno));
-            c->body_got += (uint32_t)n;
-            c->bytes_in += (uint64_t)n;
-        }
-        if (c->body_got == c->body_size)
-            return 1;
+        if (c->in_at + need > c->in_cap && room(c, need, err))
+            return -1;
+        ssize_t n = recv(c->fd, c->in + c->in_len, c->in_cap - c->in_len, 0);
+        if (n == 0)
+            return !have ? err_set(err, "connection closed by peer")
+                   : have < PROTO_HEADER
+                       ? err_set(err, "connection closed by peer in the middle of a packet's header")
+                       : err_set(err, "connection closed by peer in the middle of a %s packet", msg_type_name(c->type));
+        if (n < 0)
+            return errno == EAGAIN || errno == EWOULDBLOCK || errno == EINTR
+                       ? 0
+                       : err_set(err, "receive failed: %s", strerror(errno));
+        c->in_len += (size_t)n;
+        c->bytes_in += (uint64_t)n;
     }
 }
 

@@ -17,11 +17,14 @@
 
 typedef struct {
     int fd;
-    /* input: one packet at a time */
-    uint8_t head[PROTO_HEADER];
-    uint32_t head_got;
-    uint8_t *body;
-    uint32_t body_size, body_got, body_cap;
+    /* input: the bytes read ahead, [in_at, in_len) of in, taken by recv
+     * as many as the buffer holds (several packets a call); the packet
+     * handed out (type, body, body_size) points into it */
+    uint8_t *in;
+    size_t in_at, in_len, in_cap;
+    size_t handed; /* bytes of the packet handed out last, dropped at the next read */
+    const uint8_t *body;
+    uint32_t body_size;
     uint32_t type;
     /* output queue */
     uint8_t *out;
@@ -32,9 +35,13 @@ typedef struct {
 void conn_init(Conn *c, int fd);
 void conn_close(Conn *c);
 /* Reads what the socket has.  Returns 1 when a whole packet is ready
- * (c->type, c->body, c->body_size), 0 when more bytes are needed, -1 on
- * error or end of stream (with a reason in err).  Call again after using the
- * packet: the next call starts on the following one. */
+ * (c->type, c->body, c->body_size; the body valid until the next call), 0
+ * when more bytes are needed, -1 on error or end of stream (with a reason
+ * in err).  Call again after using the packet: the next call starts on the
+ * following one, which may already be in the buffer (no system call).
+ * Reads ahead CONN_READ_AHEAD bytes at a time; a packet larger than that is
+ * given room only once its header's size passed the type's limit. */
+#define CONN_READ_AHEAD ((size_t)64 << 10)
 int conn_read(Conn *c, Err *err);
 /* What may wait in a connection's output queue: past it, the peer is not
  * reading, and the connection is dropped rather than the memory grown. */
@@ -46,5 +53,10 @@ int conn_send_msg(Conn *c, const MsgOut *m, size_t max_queue, Err *err);
 /* Writes what the socket takes; returns bytes still queued, or -1 on error. */
 long conn_flush(Conn *c, Err *err);
 static inline size_t conn_pending(const Conn *c) { return c->out_len - c->out_sent; }
+/* Whether a whole packet read ahead waits in the buffer past the one handed
+ * out: the socket may have nothing more to say (poll() stays quiet), so a
+ * loop must call conn_read again before it waits on poll.  (A part of a
+ * packet is not: its rest comes through the socket.) */
+int conn_buffered(const Conn *c);
 
 #endif

@@ -60,7 +60,9 @@ static int reserve(PixCodec *c, size_t n, Err *err)
 
 /* Each byte minus the same channel of the pixel before it (the first
  * pixel as it is), and back: smooth runs of a rendered line become small
- * numbers that repeat. */
+ * numbers that repeat.  The pixel before is kept in locals: through memory
+ * each byte waited on the store of the one bpp before it (decoding a
+ * 2-line segment took 4 us more than zstd alone). */
 static void predict(const uint8_t *px, size_t n, uint32_t bpp, uint8_t *out)
 {
     size_t head = n < bpp ? n : bpp;
@@ -71,7 +73,22 @@ static void predict(const uint8_t *px, size_t n, uint32_t bpp, uint8_t *out)
 
 static void unpredict(uint8_t *px, size_t n, uint32_t bpp)
 {
-    for (size_t i = bpp; i < n; i++)
+    if (n < bpp)
+        return;
+    uint8_t a = px[0], b = px[1], c = px[2], d = bpp == 4 ? px[3] : 0;
+    size_t i = bpp;
+    if (bpp == 3) {
+        for (; i + 3 <= n; i += 3) {
+            a = (uint8_t)(a + px[i]), b = (uint8_t)(b + px[i + 1]), c = (uint8_t)(c + px[i + 2]);
+            px[i] = a, px[i + 1] = b, px[i + 2] = c;
+        }
+    } else {
+        for (; i + 4 <= n; i += 4) {
+            a = (uint8_t)(a + px[i]), b = (uint8_t)(b + px[i + 1]), c = (uint8_t)(c + px[i + 2]), d = (uint8_t)(d + px[i + 3]);
+            px[i] = a, px[i + 1] = b, px[i + 2] = c, px[i + 3] = d;
+        }
+    }
+    for (; i < n; i++) /* a partial pixel at the end (never in a DATA packet) */
         px[i] = (uint8_t)(px[i] + px[i - bpp]);
 }
 
