@@ -11,6 +11,8 @@
 #   make bench-compress  compressed pixels: ratios, the server's CPU a packet, fps behind slow links
 #   make bench-scaling  clients x segment size x tail rule, with schedsim (docs/scaling*)
 #   make loadtest   64 clients joining and leaving for 5 minutes, every frame verified
+#   make install    programs, docs, the client's systemd unit, the Avahi file (PREFIX, DESTDIR)
+#   make deb        a Debian package of the tree in build/, checked by lintian
 #   make tools-doc  docs/tools.md from every tool's --help
 #   make architecture  docs/architecture.dot and .svg from the #include graph (graphviz)
 #   make scene-doc  docs/scene.md's tables of keys from the scene's field tables
@@ -79,7 +81,7 @@ REPLAYS := $(FUZZ_NAMES:%=$(BUILD)/fuzz/replay_%)
 
 DEB_PACKAGES := gcc make pkg-config libsdl2-dev libsdl2-ttf-dev fonts-dejavu-core xdotool libnetpbm-dev libpng-dev libjpeg62-turbo-dev zlib1g-dev libassimp-dev libcmocka-dev libembree-dev libsodium-dev libzstd-dev liblz4-dev xvfb x11-apps python3 clang libclang-rt-14-dev
 
-.PHONY: all deps check check-asan bench demo clean tradeoff bench-scaling bench-realtime bench-compress fuzz loadtest tools-doc architecture scene-doc
+.PHONY: all deps check check-asan bench demo clean tradeoff bench-scaling bench-realtime bench-compress install uninstall deb fuzz loadtest tools-doc architecture scene-doc
 .SECONDARY:
 all: $(TOOLS)
 
@@ -97,7 +99,7 @@ deps:
 # says what to do (instead of a compiler error per file).  The targets that
 # run `make deps` first are not held back by it.
 LIB_HEADERS ?= /usr/include/SDL2/SDL.h /usr/include/SDL2/SDL_ttf.h /usr/include/netpbm/pam.h /usr/include/png.h /usr/include/zlib.h /usr/include/sodium.h /usr/include/zstd.h /usr/include/lz4.h /usr/include/cmocka.h /usr/include/assimp/cimport.h /usr/include/jpeglib.h
-INSTALLING_GOALS := deps check check-asan check-tsan demo bench tradeoff bench-scaling bench-compress bench-realtime fuzz loadtest clean architecture
+INSTALLING_GOALS := deps check check-asan check-tsan demo bench tradeoff bench-scaling bench-compress bench-realtime fuzz loadtest clean architecture deb
 ifeq ($(filter $(INSTALLING_GOALS),$(MAKECMDGOALS)),)
   MISSING_HEADERS := $(filter-out $(wildcard $(LIB_HEADERS)),$(LIB_HEADERS))
   ifneq ($(MISSING_HEADERS),)
@@ -228,6 +230,42 @@ bench: deps $(TOOLS) $(BUILD)/tools/bench/embree_ref $(BUILD)/tools/bench/import
 	@BIN=$(BIN) bash tools/bench/bench-features
 	@IMPORT_BENCH=$(BUILD)/tools/bench/import_bench bash tools/bench/bench-import
 	@VIEW_BENCH=$(BUILD)/tools/bench/view_bench bash tools/bench/bench-view
+
+# make install [PREFIX=/usr/local] [DESTDIR=]: the programs, the docs, the
+# client's systemd unit and its settings file, the server's Avahi service
+# file (settings files kept where they are there already: a farm's own);
+# make uninstall takes them away again (the settings files stay)
+PREFIX ?= /usr/local
+DESTDIR ?=
+SYSCONFDIR ?= $(if $(filter /usr,$(PREFIX)),/etc,$(PREFIX)/etc)
+UNITDIR ?= $(if $(filter /usr,$(PREFIX)),/lib/systemd/system,$(PREFIX)/lib/systemd/system)
+INSTALL_PROGRAMS := lanray-server lanray-client lanray-render obj2tmd lanray-imgdiff
+INSTALL_DOCS := README.md docs/farm.md docs/getting-started.md docs/scene.md docs/protocol.md docs/tools.md docs/tmd.md
+DOCDIR := $(PREFIX)/share/doc/lanray
+PROTO_VERSION = $(shell sed -n 's/^#define PROTO_VERSION \([0-9]*\)u.*/\1/p' common/net/msg.h)
+DIST_SED = sed -e 's|@BINDIR@|$(PREFIX)/bin|g' -e 's|@DOCDIR@|$(DOCDIR)|g' -e 's|@SYSCONFDIR@|$(SYSCONFDIR)|g' \
+	-e 's|@PROTO@|$(PROTO_VERSION)|g'
+install: $(TOOLS)
+	install -d $(DESTDIR)$(PREFIX)/bin $(DESTDIR)$(DOCDIR) $(DESTDIR)$(UNITDIR) $(DESTDIR)$(SYSCONFDIR)/default \
+	  $(DESTDIR)$(SYSCONFDIR)/avahi/services
+	install -m 755 $(addprefix $(BIN)/,$(INSTALL_PROGRAMS)) $(DESTDIR)$(PREFIX)/bin/
+	install -m 644 $(INSTALL_DOCS) $(DESTDIR)$(DOCDIR)/
+	$(DIST_SED) tools/dist/lanray-client.service.in >$(DESTDIR)$(UNITDIR)/lanray-client.service
+	$(DIST_SED) tools/dist/lanray.avahi.service.in >$(DESTDIR)$(SYSCONFDIR)/avahi/services/lanray.service
+	chmod 644 $(DESTDIR)$(UNITDIR)/lanray-client.service $(DESTDIR)$(SYSCONFDIR)/avahi/services/lanray.service
+	[ -e $(DESTDIR)$(SYSCONFDIR)/default/lanray-client ] || \
+	  install -m 644 tools/dist/lanray-client.default $(DESTDIR)$(SYSCONFDIR)/default/lanray-client
+
+uninstall:
+	rm -f $(addprefix $(DESTDIR)$(PREFIX)/bin/,$(INSTALL_PROGRAMS)) $(DESTDIR)$(UNITDIR)/lanray-client.service \
+	  $(DESTDIR)$(SYSCONFDIR)/avahi/services/lanray.service
+	rm -rf $(DESTDIR)$(DOCDIR)
+
+# make deb: a Debian package of the tree (build/lanray_VERSION_ARCH.deb),
+# checked by lintian
+deb: deps $(TOOLS)
+	@$(MAKE) --no-print-directory DEB_PACKAGES="dpkg-dev lintian help2man" deps
+	@BIN=$(BIN) bash tools/dist/make-deb
 
 # compressed pixels: codings of rendered segments, the server's CPU a DATA
 # packet (datagen), frames a second through rate-limited links (root)
