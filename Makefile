@@ -54,7 +54,7 @@ BUILD := build/$(PRECISION)$(if $(SAN),-$(SAN))$(if $(FEATURES),-$(FEATURES))
 CFLAGS ?= $(OPT) -g
 CPPFLAGS := -D_POSIX_C_SOURCE=200809L $(PFLAGS) -Icommon -Iserver -Iclient
 ALL_CFLAGS := -std=c17 -ffp-contract=off -fno-math-errno -Wall -Wextra -Wshadow -Wdouble-promotion -Wmissing-prototypes -Werror -pthread -MMD -MP $(SANFLAGS) $(CPPFLAGS) $(CFLAGS)
-LDLIBS := -lassimp -lsodium -lnetpbm -lpng -ljpeg -lzstd -llz4 -lz -lm -pthread
+LDLIBS := -lassimp -lsodium -lnetpbm -lpng -ljpeg -lzstd -llz4 -lavahi-client -lavahi-common -lz -lm -pthread
 LDFLAGS := $(SANFLAGS)
 
 # one archive per layer of programs: the library every program shares
@@ -79,7 +79,7 @@ TESTS := $(TEST_SRC:%.c=$(BUILD)/%)
 FUZZ_NAMES := $(patsubst tests/fuzz/fuzz_%.c,%,$(wildcard tests/fuzz/fuzz_*.c))
 REPLAYS := $(FUZZ_NAMES:%=$(BUILD)/fuzz/replay_%)
 
-DEB_PACKAGES := gcc make pkg-config libsdl2-dev libsdl2-ttf-dev fonts-dejavu-core xdotool libnetpbm-dev libpng-dev libjpeg62-turbo-dev zlib1g-dev libassimp-dev libcmocka-dev libembree-dev libsodium-dev libzstd-dev liblz4-dev xvfb x11-apps python3 clang libclang-rt-14-dev
+DEB_PACKAGES := gcc make pkg-config libsdl2-dev libsdl2-ttf-dev fonts-dejavu-core xdotool libnetpbm-dev libpng-dev libjpeg62-turbo-dev zlib1g-dev libassimp-dev libcmocka-dev libembree-dev libsodium-dev libzstd-dev liblz4-dev libavahi-client-dev avahi-daemon avahi-utils dbus xvfb x11-apps python3 clang libclang-rt-14-dev
 
 .PHONY: all deps check check-asan bench demo clean tradeoff bench-scaling bench-realtime bench-compress install uninstall deb fuzz loadtest tools-doc architecture scene-doc
 .SECONDARY:
@@ -98,7 +98,7 @@ deps:
 # Before anything compiles: the libraries' headers are there, or one line
 # says what to do (instead of a compiler error per file).  The targets that
 # run `make deps` first are not held back by it.
-LIB_HEADERS ?= /usr/include/SDL2/SDL.h /usr/include/SDL2/SDL_ttf.h /usr/include/netpbm/pam.h /usr/include/png.h /usr/include/zlib.h /usr/include/sodium.h /usr/include/zstd.h /usr/include/lz4.h /usr/include/cmocka.h /usr/include/assimp/cimport.h /usr/include/jpeglib.h
+LIB_HEADERS ?= /usr/include/SDL2/SDL.h /usr/include/SDL2/SDL_ttf.h /usr/include/netpbm/pam.h /usr/include/png.h /usr/include/zlib.h /usr/include/sodium.h /usr/include/zstd.h /usr/include/lz4.h /usr/include/avahi-client/client.h /usr/include/cmocka.h /usr/include/assimp/cimport.h /usr/include/jpeglib.h
 INSTALLING_GOALS := deps check check-asan check-tsan demo bench tradeoff bench-scaling bench-compress bench-realtime fuzz loadtest clean architecture deb
 ifeq ($(filter $(INSTALLING_GOALS),$(MAKECMDGOALS)),)
   MISSING_HEADERS := $(filter-out $(wildcard $(LIB_HEADERS)),$(LIB_HEADERS))

@@ -12,6 +12,7 @@
 #include "client.h"
 #include "base/log.h"
 #include "base/opt.h"
+#include "net/mdns.h"
 #include "net/msg.h"
 
 static volatile sig_atomic_t stop_flag;
@@ -49,6 +50,34 @@ static int split_host(const char *arg, char *host, size_t size, int *port, Err *
     return 0;
 }
 
+/* No address given: the one farm of this protocol version that mDNS shows
+ * on the LAN (1.5 s of looking), into host and port; with none or several,
+ * -1 and the reason (the farms listed). */
+static int find_server(char *host, size_t size, int *port, Err *err)
+{
+    MdnsFarm farms[16];
+    int n = mdns_find(1.5, farms, 16, err);
+    if (n < 0) {
+        char why[sizeof err->msg];
+        memcpy(why, err->msg, sizeof why); /* err_set writes where it would read */
+        return err_set(err, "no address given, and no way to look for one: %s; give HOST[:PORT]", why);
+    }
+    if (n == 0)
+        return err_set(err, "no address given, and no lanray-server of protocol %u announced on the LAN (mDNS); give "
+                       "HOST[:PORT]", PROTO_VERSION);
+    if (n > 1) {
+        fprintf(stderr, "lanray-client: %d farms on the LAN:\n", n);
+        for (int i = 0; i < n; i++)
+            fprintf(stderr, "  %s:%d  %s  (%s%s)\n", farms[i].host, farms[i].port, farms[i].name, farms[i].size,
+                    farms[i].token ? ", token needed" : "");
+        return err_set(err, "%d farms on the LAN: give the address of one", n);
+    }
+    snprintf(host, size, "%s", farms[0].host);
+    *port = farms[0].port;
+    fprintf(stderr, "lanray-client: found %s at %s:%d (mDNS)\n", farms[0].name, host, *port);
+    return 0;
+}
+
 int main(int argc, char **argv)
 {
     ClientConfig cfg = {NULL, PROTO_DEFAULT_PORT, 0, getenv("LANRAY_TOKEN"), 0, 1};
@@ -65,12 +94,13 @@ int main(int argc, char **argv)
         {.name = "--quiet", .kind = OPT_FLAG, .dst = &cfg.quiet, .help = "print errors only"},
         {0},
     };
-    const char *args[1];
-    OptSpec spec = {.prog = "lanray-client", .synopsis = "HOST[:PORT] [options]",
+    const char *args[1] = {NULL};
+    OptSpec spec = {.prog = "lanray-client", .synopsis = "[HOST[:PORT]] [options]",
                     .about = "Renders line segments for a lanray-server.  HOST is a name or an address (IPv6: [ADDRESS]:PORT);\n"
-                    "the port defaults to 7878.  Without --once it reconnects (0.1 s doubling to 5 s) when the server\n"
-                    "goes away or is not there yet.",
-                    .opts = opts, .args = args, .min_args = 1, .max_args = 1, .missing = "which server?",
+                    "the port defaults to 7878.  Without HOST it looks on the LAN for a server of its protocol version\n"
+                    "(DNS-SD over mDNS, through avahi-daemon) and takes it, or lists them where there are several.\n"
+                    "Without --once it reconnects (0.1 s doubling to 5 s) when the server goes away or is not there yet.",
+                    .opts = opts, .args = args, .min_args = 0, .max_args = 1,
                     .exits = "  0  the session ended (the server finished or said goodbye), or SIGINT/SIGTERM\n"
                     "  1  the server refused this client (token, version, precision), or with --once no session started\n"
                     "  2  bad command line\n"};
@@ -83,9 +113,9 @@ int main(int argc, char **argv)
         fprintf(stderr, "lanray-client: %s\n", err.msg);
         return 2;
     }
-    if (split_host(args[0], host, sizeof host, &cfg.port, &err)) {
+    if (args[0] ? split_host(args[0], host, sizeof host, &cfg.port, &err) : find_server(host, sizeof host, &cfg.port, &err)) {
         fprintf(stderr, "lanray-client: %s\n", err.msg);
-        return 2;
+        return args[0] ? 2 : 1;
     }
     cfg.host = host;
     cfg.reconnect = !once;

@@ -21,7 +21,9 @@
 #include "base/srgb.h"
 #include "render/render.h"
 #include "scene/camera_path.h"
+#include "net/mdns.h"
 #include "net/msg.h"
+#include "net/net.h"
 #include "net/pixcodec.h"
 #include "pace.h"
 #include "server.h"
@@ -79,6 +81,7 @@ typedef struct {
     double edit_t;         /* when the last event came (0: none waiting) */
     char edit_error[600];  /* the last read's error, shown in the title until a good read */
     Window win;            /* the window's controls and panel */
+    MdnsAnnounce *mdns;    /* the farm announced on the LAN, or NULL */
 } App;
 
 /* Pixels of a frame that differ from the reference (--verify): a farm test
@@ -206,13 +209,16 @@ typedef struct {
     double path_step;
     CliAa still;
     int moving_lights, moving_lights_given;
-    int compress;
+    int compress, announce;
     double target_fps, max_fps;
 } Args;
 
 /* --compress: how clients code their pixels (net/pixcodec.h) */
 static const char *const compress_words[] = {"raw", "lz4", "zstd", NULL};
 static const uint32_t compress_codings[] = {PIX_RAW, PIX_LZ4, PIX_ZSTD | PIX_PREDICT};
+
+/* --announce */
+static const char *const announce_words[] = {"auto", "yes", "no", NULL};
 
 /* --moving-lights: the scene's (-1), or a LightSampling + 1 */
 static const char *const moving_lights_words[] = {"scene", "full", "adaptive", NULL};
@@ -285,6 +291,10 @@ static int parse_args(Args *a, int argc, char **argv)
                  "rendered 2-line segment to 0.35 and 0.20 of its bytes: docs/scaling.md); a packet that would not "
                  "shrink goes raw",
          .def = "zstd"},
+        {.name = "--announce", .kind = OPT_CHOICE, .dst = &a->announce, .choices = announce_words,
+         .help = "announce the server on the LAN (DNS-SD over mDNS, through avahi-daemon): _lanray._tcp, the protocol "
+                 "version as a subtype, TXT proto, size, token; clients started without an address find it",
+         .def = "auto: where it listens beyond loopback"},
         {.name = "--moving-lights", .kind = OPT_CHOICE, .dst = &a->moving_lights, .choices = moving_lights_words,
          .seen = &a->moving_lights_given,
          .help = "area lights in the frames that are not still ones: the scene's light_sampling, every point at every "
@@ -350,6 +360,7 @@ static int parse_args(Args *a, int argc, char **argv)
 /* Everything main opens, closed by app_close alone, whatever was reached. */
 static void app_close(App *a)
 {
+    mdns_withdraw(a->mdns);
     server_destroy(a->server);
     free(a->verify);
     free(a->view);
@@ -468,6 +479,14 @@ static int open_outputs(App *app, Args *a, Err *err)
         snprintf(segtext, sizeof segtext, "automatic");
     printf("lanray-server: listening on %s (%dx%d, %s segments)\n", server_address(app->server), cfg->width, cfg->height,
            segtext);
+    if (a->announce == 1 || (a->announce == 0 && !net_is_loopback(cfg->listen_addr))) {
+        /* without a daemon the farm goes on: clients take the address as given */
+        app->mdns = mdns_announce(server_port(app->server), cfg->width, cfg->height, cfg->token != NULL, err);
+        if (app->mdns)
+            log_line(cfg->quiet, "lanray-server", "announced on the LAN as %s (protocol %u)", MDNS_TYPE, PROTO_VERSION);
+        else
+            fprintf(stderr, "lanray-server: not announced on the LAN: %s\n", err->msg);
+    }
     fflush(stdout);
     return 0;
 }

@@ -17,7 +17,7 @@ for p in lanray-server lanray-client lanray-render obj2tmd lanray-imgdiff; do
 done
 unit="$root/lib/systemd/system/lanray-client.service"
 [ -r "$unit" ] || fail "no systemd unit"
-grep -q '^ExecStart=/usr/bin/lanray-client ${LANRAY_SERVER} --threads ${LANRAY_THREADS}' "$unit" || fail "the unit does not start the installed client: $(grep ExecStart "$unit")"
+grep -q '^ExecStart=/usr/bin/lanray-client $LANRAY_SERVER --threads ${LANRAY_THREADS}' "$unit" || fail "the unit does not start the installed client: $(grep ExecStart "$unit")"
 grep -q '^EnvironmentFile=-/etc/default/lanray-client$' "$unit" || fail "the unit does not read /etc/default/lanray-client"
 grep -q '^Restart=on-failure$' "$unit" && grep -q '^Nice=' "$unit" || fail "the unit neither restarts nor is nice"
 ! grep -q '@' "$unit" || fail "a placeholder left in the unit"
