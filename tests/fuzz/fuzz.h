@@ -11,6 +11,8 @@
 #include <string.h>
 #include <sys/socket.h>
 
+#include "net/msg.h"
+
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 
 /* The text parsers work in place on a NUL-terminated buffer: a malloc'd copy
@@ -44,6 +46,16 @@ static inline void fuzz_send_all(int fd, const uint8_t *p, size_t n)
         p += w;
         n -= (size_t)w;
     }
+}
+
+/* A packet as conn_send_msg would queue it: header, fixed part, tail. */
+static inline void fuzz_send_msg(int fd, const MsgOut *o)
+{
+    uint32_t head[2] = {o->type, (uint32_t)(PROTO_HEADER + o->head_len + o->tail_len)};
+    fuzz_send_all(fd, (const uint8_t *)head, sizeof head);
+    fuzz_send_all(fd, o->head, o->head_len);
+    if (o->tail_len)
+        fuzz_send_all(fd, (const uint8_t *)o->tail, o->tail_len);
 }
 
 #endif

@@ -16,6 +16,7 @@
 #include "client.h"
 #include "fuzz.h"
 #include "net/msg.h"
+#include "net/pixcodec.h"
 
 typedef struct {
     int fd;
@@ -29,12 +30,12 @@ static void *serve(void *arg)
 {
     Stream *st = arg;
     if (st->data[0] & 1) {
-        uint8_t hello[8 + 16 + PROTO_NONCE] = {0};
-        uint32_t h[6] = {PKT_SERVER_HELLO, sizeof hello, PROTO_MAGIC, PROTO_VERSION, PROTO_BOM, 0};
-        memcpy(hello, h, sizeof h);
-        fuzz_send_all(st->fd, hello, sizeof hello);
-        uint32_t welcome[3] = {PKT_WELCOME, 12, 1};
-        fuzz_send_all(st->fd, (const uint8_t *)welcome, sizeof welcome);
+        /* by the encoders: their layouts are the protocol's, whatever its version */
+        MsgOut o;
+        msg_encode_server_hello(&(MsgServerHello){.magic = PROTO_MAGIC, .version = PROTO_VERSION, .bom = PROTO_BOM}, &o);
+        fuzz_send_msg(st->fd, &o);
+        msg_encode_welcome(&(MsgWelcome){.id = 1, .coding = PIX_ZSTD | PIX_PREDICT}, &o);
+        fuzz_send_msg(st->fd, &o);
     }
     fuzz_send_all(st->fd, st->data + 1, st->size - 1);
     shutdown(st->fd, SHUT_WR);

@@ -16,6 +16,7 @@
 #include "fuzz.h"
 #include "base/real.h"
 #include "net/msg.h"
+#include "net/pixcodec.h"
 #include "scene/scene_parse.h"
 #include "server.h"
 
@@ -44,6 +45,8 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     cfg.stall_timeout = 60;
     cfg.handshake_timeout = 60;
     cfg.quiet = 1;
+    cfg.moving_lights = -1;
+    cfg.coding = PIX_ZSTD | PIX_PREDICT; /* the default: coded DATA decoded, as the seeds send it */
     Err err;
     Server *s = server_create(&cfg, scene, &err);
     int fds[2];
@@ -54,10 +57,12 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     server_adopt(s, fds[0], "fuzz");
     uint8_t sink[65536];
     if (data[0] & 1) {
-        uint8_t hello[8 + 20 + 64] = {0};
-        uint32_t h[7] = {PKT_HELLO, sizeof hello, PROTO_MAGIC, PROTO_VERSION, PROTO_BOM, 1, sizeof(real)};
-        memcpy(hello, h, sizeof h);
-        fuzz_send_all(fds[1], hello, sizeof hello);
+        /* by the encoder: its layout is the protocol's, whatever its version */
+        MsgOut o;
+        msg_encode_hello(&(MsgHello){.magic = PROTO_MAGIC, .version = PROTO_VERSION, .bom = PROTO_BOM, .threads = 1,
+                                     .real_size = (uint32_t)sizeof(real), .codecs = PIX_CODEC_MASK},
+                         &o);
+        fuzz_send_msg(fds[1], &o);
         /* the server welcomes the client and starts frame 1: its UPDATE goes out */
         for (int k = 0; k < 4; k++) {
             if (server_step(s, 0, NULL, NULL, &err))
