@@ -204,23 +204,8 @@ $(BUILD)/tools/bench/embree_ref: tools/bench/embree_ref.c $(LIB)
 	@mkdir -p $(dir $@)
 	$(CC) $(ALL_CFLAGS) -o $@ $< $(LIB) -lembree3 $(LDLIBS)
 
-$(BUILD)/tools/bench/import_bench: tools/bench/import_bench.c $(LIB)
-	@mkdir -p $(dir $@)
-	$(CC) $(ALL_CFLAGS) -o $@ $< $(LIB) $(LDLIBS)
-
-$(BUILD)/tools/bench/build_bench: tools/bench/build_bench.c $(LIB)
-	@mkdir -p $(dir $@)
-	$(CC) $(ALL_CFLAGS) -o $@ $< $(LIB) $(LDLIBS)
-
-$(BUILD)/tools/bench/view_bench: tools/bench/view_bench.c $(LIB)
-	@mkdir -p $(dir $@)
-	$(CC) $(ALL_CFLAGS) -o $@ $< $(LIB) $(LDLIBS)
-
-$(BUILD)/tools/bench/codec_bench: tools/bench/codec_bench.c $(LIB)
-	@mkdir -p $(dir $@)
-	$(CC) $(ALL_CFLAGS) -o $@ $< $(LIB) $(LDLIBS)
-
-$(BUILD)/tools/bench/datagen: tools/bench/datagen.c $(LIB)
+# the benchmark drivers that need no more than the library (embree_ref, above, links Embree too)
+$(BUILD)/tools/bench/%: tools/bench/%.c $(LIB)
 	@mkdir -p $(dir $@)
 	$(CC) $(ALL_CFLAGS) -o $@ $< $(LIB) $(LDLIBS)
 

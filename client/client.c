@@ -307,8 +307,7 @@ static int handshake(const ClientConfig *cfg, Conn *c, uint32_t *coding, Err *er
     MsgWelcome wm;
     if (msg_decode_welcome(c->body, c->body_size, &wm, err))
         return SESSION_FAILED;
-    const uint32_t codec = wm.coding & ~(uint32_t)PIX_PREDICT;
-    if (codec >= PIX_CODECS || !(PIX_CODEC_MASK >> codec & 1) || (wm.coding & ~(uint32_t)(PIX_PREDICT | 0xff))) {
+    if (!pixcodec_known(wm.coding)) {
         err_set(err, "server asked for pixel coding %#x, which this client does not have", wm.coding);
         return SESSION_REFUSED;
     }

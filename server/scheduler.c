@@ -216,39 +216,45 @@ int sched_assign(Sched *s, int client, Segment *out)
     return 1;
 }
 
-SchedResult sched_check(const Sched *s, int client, uint32_t frame, Segment seg)
+/* The assignment of seg to client in the current frame: its index, or -1. */
+static int32_t find_assignment(const Sched *s, int client, Segment seg)
 {
-    if (frame != s->frame)
-        return SCHED_STALE;
     for (uint32_t i = 0; i < s->nasg; i++) {
         const Assignment *a = &s->asg[i];
         const Rec *r = &s->recs[a->rec];
         if (a->client == client && r->seg.first == seg.first && r->seg.count == seg.count)
-            return r->done ? SCHED_DUPLICATE : SCHED_ACCEPT;
+            return (int32_t)i;
     }
-    return SCHED_UNKNOWN;
+    return -1;
+}
+
+SchedResult sched_check(const Sched *s, int client, uint32_t frame, Segment seg)
+{
+    if (frame != s->frame)
+        return SCHED_STALE;
+    const int32_t i = find_assignment(s, client, seg);
+    if (i < 0)
+        return SCHED_UNKNOWN;
+    return s->recs[s->asg[i].rec].done ? SCHED_DUPLICATE : SCHED_ACCEPT;
 }
 
 SchedResult sched_complete(Sched *s, int client, uint32_t frame, Segment seg)
 {
     if (frame != s->frame)
         return SCHED_STALE;
-    for (uint32_t i = 0; i < s->nasg; i++) {
-        Assignment *a = &s->asg[i];
-        Rec *r = &s->recs[a->rec];
-        if (a->client != client || r->seg.first != seg.first || r->seg.count != seg.count)
-            continue;
-        r->holders--;
-        s->asg[i] = s->asg[--s->nasg];
-        if (r->done) {
-            s->stats.duplicate_pixels += seg.count;
-            return SCHED_DUPLICATE;
-        }
-        r->done = 1;
-        s->done_pixels += seg.count;
-        return SCHED_ACCEPT;
+    const int32_t i = find_assignment(s, client, seg);
+    if (i < 0)
+        return SCHED_UNKNOWN;
+    Rec *r = &s->recs[s->asg[i].rec];
+    r->holders--;
+    s->asg[i] = s->asg[--s->nasg];
+    if (r->done) {
+        s->stats.duplicate_pixels += seg.count;
+        return SCHED_DUPLICATE;
     }
-    return SCHED_UNKNOWN;
+    r->done = 1;
+    s->done_pixels += seg.count;
+    return SCHED_ACCEPT;
 }
 
 uint32_t sched_top_up(Sched *s, int client, Segment out[SCHED_IN_FLIGHT])

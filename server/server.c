@@ -307,7 +307,10 @@ uint32_t server_clients_info(const Server *s, ServerClientInfo *out, uint32_t ma
 double server_last_frame_time(const Server *s) { return s->last_frame_s; }
 
 void server_set_moving_lights(Server *s, int lights) { s->cfg.moving_lights = lights; }
-int server_moving_lights(const Server *s) { return s->cfg.moving_lights; }
+int server_moving_lights(const Server *s)
+{
+    return s->cfg.moving_lights >= 0 ? s->cfg.moving_lights : (int)server_settings(s).light_sampling;
+}
 
 /* A new description (a reload): its assets, its camera where it moved the
  * file's, its settings. */

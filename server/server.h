@@ -74,7 +74,9 @@ RenderSettings server_settings(const Server *s);
  * still_adaptive), changed from the window. */
 void server_set_still(Server *s, int refine, int aa, int adaptive);
 void server_still(const Server *s, int *refine, int *aa, int *adaptive);
-/* The moving frames' light sampling (ServerConfig moving_lights), from the window. */
+/* The moving frames' light sampling (ServerConfig moving_lights), from the
+ * window; server_moving_lights says what they take (LightSampling: the
+ * config's, else the settings'). */
 void server_set_moving_lights(Server *s, int lights);
 int server_moving_lights(const Server *s);
 /* The active clients as the window's panel shows them: each one's share of

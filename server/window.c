@@ -46,9 +46,7 @@ static void next_still(Server *s)
 static void turn_knobs(Window *w, const DisplayInput *in)
 {
     if (in->toggle_lights) { /* the moving frames': a still one is lanray-render's picture */
-        const int now = server_moving_lights(w->server);
-        const int cur = now >= 0 ? now : (int)server_settings(w->server).light_sampling;
-        server_set_moving_lights(w->server, cur == LIGHTS_FULL ? LIGHTS_ADAPTIVE : LIGHTS_FULL);
+        server_set_moving_lights(w->server, server_moving_lights(w->server) == LIGHTS_FULL ? LIGHTS_ADAPTIVE : LIGHTS_FULL);
     }
     if (in->toggle_shading || in->toggle_shadows) {
         RenderSettings rs = server_settings(w->server);
@@ -122,8 +120,7 @@ void window_panel(Window *w, double fps, const char *error)
         PanelInfo p = {.fps = fps, .frame_s = server_last_frame_time(w->server), .target_fps = w->target_fps,
                        .scale = server_frame_scale(w->server), .still = server_frame_still(w->server),
                        .aa = rs.aa, .adaptive = rs.adaptive,
-                       .light_adaptive = (server_moving_lights(w->server) >= 0 ? server_moving_lights(w->server)
-                                                                                : (int)rs.light_sampling) == LIGHTS_ADAPTIVE,
+                       .light_adaptive = server_moving_lights(w->server) == LIGHTS_ADAPTIVE,
                        .diffuse = rs.shading == SHADE_DIFFUSE, .shadows = rs.shadows,
                        .segment_lines = server_segment_lines(w->server), .clients = clients, .error = error};
         server_still(w->server, &p.refine, &p.still_aa, &p.still_adaptive);

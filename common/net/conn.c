@@ -44,18 +44,30 @@ static int room(Conn *c, size_t need, Err *err)
     return 0;
 }
 
+/* The header at `at` of the buffer (at least PROTO_HEADER bytes there):
+ * its type and size, checked against the type's limits (-1 and why, in err
+ * where there is one, when they refuse it). */
+static int header_at(const Conn *c, size_t at, uint32_t *type, uint32_t *size, Err *err)
+{
+    memcpy(type, c->in + at, 4);
+    memcpy(size, c->in + at + 4, 4);
+    uint32_t max = msg_max_size(*type);
+    if (max == 0)
+        return err_set(err, "packet of unknown type %u", *type);
+    if (*size < msg_min_size(*type) || *size > max)
+        return err_set(err, "%s packet claims %u bytes, allowed %u..%u", msg_type_name(*type), *size,
+                       msg_min_size(*type), max);
+    return 0;
+}
+
 int conn_buffered(const Conn *c)
 {
     const size_t at = c->in_at + c->handed;
     if (c->in_len - at < PROTO_HEADER)
         return 0;
     uint32_t type, size;
-    memcpy(&type, c->in + at, 4);
-    memcpy(&size, c->in + at + 4, 4);
     /* a header the limits refuse counts as ready: conn_read then says why */
-    if (msg_max_size(type) == 0 || size < msg_min_size(type) || size > msg_max_size(type))
-        return 1;
-    return size <= c->in_len - at;
+    return header_at(c, at, &type, &size, NULL) || size <= c->in_len - at;
 }
 
 int conn_read(Conn *c, Err *err)
@@ -70,14 +82,8 @@ int conn_read(Conn *c, Err *err)
         size_t need = PROTO_HEADER;
         if (have >= PROTO_HEADER) {
             uint32_t size;
-            memcpy(&c->type, c->in + c->in_at, 4);
-            memcpy(&size, c->in + c->in_at + 4, 4);
-            uint32_t max = msg_max_size(c->type);
-            if (max == 0)
-                return err_set(err, "packet of unknown type %u", c->type);
-            if (size < msg_min_size(c->type) || size > max)
-                return err_set(err, "%s packet claims %u bytes, allowed %u..%u", msg_type_name(c->type), size,
-                               msg_min_size(c->type), max);
+            if (header_at(c, c->in_at, &c->type, &size, err))
+                return -1;
             if (have >= size) {
                 c->body = c->in + c->in_at + PROTO_HEADER;
                 c->body_size = size - PROTO_HEADER;

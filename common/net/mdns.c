@@ -116,7 +116,7 @@ void mdns_withdraw(MdnsAnnounce *a)
 typedef struct {
     AvahiClient *client;
     MdnsFarm *out;
-    int max, n, pending;
+    int max, n;
 } Find;
 
 static void txt_value(AvahiStringList *txt, const char *key, char *out, size_t size)
@@ -137,7 +137,6 @@ static void on_resolved(AvahiServiceResolver *r, AvahiIfIndex iface, AvahiProtoc
 {
     (void)iface, (void)proto, (void)type, (void)domain, (void)host, (void)flags;
     Find *f = ctx;
-    f->pending--;
     if (event == AVAHI_RESOLVER_FOUND && f->n < f->max) {
         char proto_v[16];
         txt_value(txt, "proto", proto_v, sizeof proto_v);
@@ -167,15 +166,10 @@ static void on_resolved(AvahiServiceResolver *r, AvahiIfIndex iface, AvahiProtoc
 static void on_browsed(AvahiServiceBrowser *b, AvahiIfIndex iface, AvahiProtocol proto, AvahiBrowserEvent event,
                        const char *name, const char *type, const char *domain, AvahiLookupResultFlags flags, void *ctx)
 {
-    (void)b, (void)flags;
+    (void)b, (void)flags, (void)type; /* the service's own type, not the subtype browsed, names it for the resolver */
     Find *f = ctx;
-    if (event != AVAHI_BROWSER_NEW)
-        return;
-    /* the service's own type, not the subtype browsed, names it for the resolver */
-    (void)type;
-    if (avahi_service_resolver_new(f->client, iface, proto, name, MDNS_TYPE, domain, AVAHI_PROTO_INET, 0, on_resolved,
-                                   f))
-        f->pending++;
+    if (event == AVAHI_BROWSER_NEW)
+        avahi_service_resolver_new(f->client, iface, proto, name, MDNS_TYPE, domain, AVAHI_PROTO_INET, 0, on_resolved, f);
 }
 
 int mdns_find(double seconds, MdnsFarm *out, int max, Err *err)

@@ -121,11 +121,16 @@ int pixcodec_encode(PixCodec *c, uint32_t coding, const uint8_t *px, size_t n, u
     return (int)coding;
 }
 
+int pixcodec_known(uint32_t coding)
+{
+    return (coding & ~(uint32_t)PIX_PREDICT) < PIX_CODECS && coding != (PIX_RAW | PIX_PREDICT);
+}
+
 int pixcodec_decode(PixCodec *c, uint32_t coding, const uint8_t *in, size_t len, uint8_t *dst, size_t n, uint32_t bpp,
                     Err *err)
 {
     const uint32_t codec = coding & ~(uint32_t)PIX_PREDICT;
-    if (codec >= PIX_CODECS || (coding & ~(uint32_t)(PIX_PREDICT | 0xff)) || (codec == PIX_RAW && coding != PIX_RAW))
+    if (!pixcodec_known(coding))
         return err_set(err, "pixels: unknown coding %#x", coding);
     if (codec != PIX_RAW && len >= n)
         return err_set(err, "pixels: %zu coded bytes for %zu raw ones (a coded segment is smaller than its pixels)", len,

@@ -37,6 +37,10 @@ size_t pixcodec_bound(size_t n);
 int pixcodec_encode(PixCodec *c, uint32_t coding, const uint8_t *px, size_t n, uint32_t bpp, uint8_t *out,
                     size_t *out_len, Err *err);
 
+/* Whether coding is one this build decodes: a codec, with PIX_PREDICT or
+ * not (raw without). */
+int pixcodec_known(uint32_t coding);
+
 /* Decodes `len` bytes coded as `coding` into dst, which takes exactly n
  * bytes (bpp each): 0, or -1 with err naming what was wrong (an unknown
  * coding, a coded size larger than the raw one, data that does not decode

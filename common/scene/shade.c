@@ -414,6 +414,16 @@ static vec3 shade_beyond(const World *w, real t, const Shading *sh, int depth, v
     return col;
 }
 
+/* The shadow ray from h's hit towards a light dist away along unit L,
+ * stopping just short of the light so that it does not shadow itself:
+ * its tmax. */
+static inline real shadow_ray(const Shading *h, vec3 L, real dist, Ray *sr)
+{
+    const real tmax = isfinite(dist) ? dist * (R(1) - R(64) * REAL_EPS) : REAL_MAX;
+    ray_set(sr, h->origin, L, v3(R(1) / L.x, R(1) / L.y, R(1) / L.z), R(0), tmax);
+    return tmax;
+}
+
 /* Adaptive light sampling's probes of area light li: from the hit of each
  * live ray that probes (the first pass's camera rays), shadow rays to the
  * strata s = i, i + 9, i + 18, ... of the light's k x k, i being its
@@ -450,8 +460,7 @@ static void probe_pass(const World *w, Shading *sh, const int *live, int nl, uin
                 unsure |= 1u << q;
                 continue;
             }
-            tmax[m] = isfinite(dist) ? dist * (R(1) - R(64) * REAL_EPS) : REAL_MAX;
-            ray_set(&sr[m], h->origin, L, v3(R(1) / L.x, R(1) / L.y, R(1) / L.z), R(0), tmax[m]);
+            tmax[m] = shadow_ray(h, L, dist, &sr[m]);
             who[m++] = q;
         }
         if (m == 0)
@@ -515,9 +524,7 @@ static inline __attribute__((always_inline)) void light_pass(const World *w, Sha
                 h->irr = v3_madd(h->irr, rad[m], ndotl[m]);
             continue;
         }
-        /* stop just short of the light so that it does not shadow itself */
-        tmax[m] = isfinite(dist) ? dist * (R(1) - R(64) * REAL_EPS) : REAL_MAX;
-        ray_set(&sr[m], h->origin, L[m], v3(R(1) / L[m].x, R(1) / L[m].y, R(1) / L[m].z), R(0), tmax[m]);
+        tmax[m] = shadow_ray(h, L[m], dist, &sr[m]);
         who[m++] = live[k];
     }
     if (m == 0)

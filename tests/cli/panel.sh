@@ -19,11 +19,8 @@ W=480 H=360
 "$BIN/lanray-render" --width $W --height $H --aa 1 --shading diffuse -o "$dir/diffuse.ppm" --quiet >/dev/null ||
     fail "diffuse reference"
 ! cmp -s "$dir/phong.ppm" "$dir/diffuse.ppm" || fail "the two shadings give one picture: the test cannot tell them apart"
-Xvfb -displayfd 3 -screen 0 800x600x24 -nolisten tcp 3>"$dir/display" 2>"$dir/xvfb.err" &
-pids+=($!)
-for _ in $(seq 100); do [ -s "$dir/display" ] && break; sleep 0.05; done
-[ -s "$dir/display" ] || fail "Xvfb did not start"
-export DISPLAY=":$(head -1 "$dir/display")"
+source tests/tools/xvfb-lib.sh
+start_xvfb 800x600x24
 "$BIN/lanray-server" --port 0 --width $W --height $H >"$dir/server.log" 2>"$dir/server.err" &
 spid=$!
 pids+=($spid)
@@ -33,16 +30,6 @@ for _ in $(seq 100); do port=$(sed -n 's/.*listening on .*:\([0-9]*\) (.*/\1/p' 
 grep -q "no display\|cannot open a window" "$dir/server.err" && fail "the server did not open a window"
 "$BIN/lanray-client" "127.0.0.1:$port" --threads 2 2>"$dir/client.err" &
 pids+=($!)
-# appears REF: waits until REF is on the screen; prints where
-appears() {
-    local out=
-    for _ in $(seq 60); do
-        xwd -root -silent >"$dir/screen.xwd" 2>/dev/null
-        out=$(python3 tests/tools/xwdfind.py "$dir/screen.xwd" "$1") && { echo "$out"; return 0; }
-        sleep 0.2
-    done
-    return 1
-}
 at=$(appears "$dir/phong.ppm") || fail "the frame never showed"
 read -r x y <<<"$(sed 's/found at \([0-9]*\),\([0-9]*\)/\1 \2/' <<<"$at")"
 echo "the frame shows at $x,$y"

@@ -13,12 +13,8 @@ command -v Xvfb >/dev/null && command -v xwd >/dev/null || fail "Xvfb and xwd ar
 
 W=240 H=160
 "$BIN/lanray-render" --width $W --height $H --aa 1 -o "$dir/ref.ppm" --quiet >/dev/null || fail "reference render"
-# -displayfd: Xvfb picks a free display number and tells us
-Xvfb -displayfd 3 -screen 0 640x480x24 -nolisten tcp 3>"$dir/display" 2>"$dir/xvfb.err" &
-pids+=($!)
-for _ in $(seq 100); do [ -s "$dir/display" ] && break; sleep 0.05; done
-[ -s "$dir/display" ] || fail "Xvfb did not start"
-export DISPLAY=":$(head -1 "$dir/display")"
+source tests/tools/xvfb-lib.sh
+start_xvfb 640x480x24
 # shown NAME REF.ppm SERVER-ARGS...: a server with a window and one client;
 # passes when REF appears on the X screen
 shown() {
@@ -32,17 +28,10 @@ shown() {
     "$BIN/lanray-client" "127.0.0.1:$port" --threads 2 2>"$dir/$name-client.err" &
     local cpid=$!
     pids+=($cpid)
-    for _ in $(seq 50); do
-        xwd -root -silent >"$dir/screen.xwd" 2>/dev/null
-        if out=$(python3 tests/tools/xwdfind.py "$dir/screen.xwd" "$ref"); then
-            echo "$name: window shows the rendered frame: $out"
-            kill "$spid" "$cpid" 2>/dev/null
-            wait "$spid" "$cpid" 2>/dev/null
-            return 0
-        fi
-        sleep 0.2
-    done
-    fail "$name: the rendered frame never appeared on the X screen ($out)"
+    out=$(appears "$ref" 50) || fail "$name: the rendered frame never appeared on the X screen ($out)"
+    echo "$name: window shows the rendered frame: $out"
+    kill "$spid" "$cpid" 2>/dev/null
+    wait "$spid" "$cpid" 2>/dev/null
 }
 shown rgb8 "$dir/ref.ppm"
 # a high dynamic range frame (--hdr: RGBE from the client) is shown as the
@@ -79,12 +68,7 @@ for _ in $(seq 100); do port=$(sed -n 's/.*listening on .*:\([0-9]*\) (.*/\1/p' 
 [ -n "$port" ] || fail "idle: server did not start"
 "$BIN/lanray-client" "127.0.0.1:$port" --threads 2 2>"$dir/idle-client.err" &
 pids+=($!)
-for _ in $(seq 50); do
-    xwd -root -silent >"$dir/screen.xwd" 2>/dev/null
-    python3 tests/tools/xwdfind.py "$dir/screen.xwd" "$dir/still.ppm" >/dev/null && break
-    sleep 0.2
-done
-python3 tests/tools/xwdfind.py "$dir/screen.xwd" "$dir/still.ppm" >/dev/null || fail "idle: the converged picture never showed"
+appears "$dir/still.ppm" 50 >/dev/null || fail "idle: the converged picture never showed"
 started() { kill -USR1 "$spid"; sleep 0.3; sed -n 's/^frames started \([0-9]*\);.*/\1/p' "$dir/idle.log" | tail -1; }
 n1=$(started)
 sleep 1

@@ -52,6 +52,19 @@ def hello(nonce, token, version=VERSION):
     return struct.pack("=II", HELLO, 8 + len(body)) + body
 
 
+def session_packets(s):
+    """The server's packets until it closes or sends an ERROR (then printed)."""
+    while True:
+        ptype, body = read_packet(s)
+        if ptype is None:
+            print("closed")
+            return
+        if ptype == ERROR:
+            print(body.decode(errors="replace"))
+            return
+        yield ptype, body
+
+
 def wait_error(s):
     while True:
         ptype, body = read_packet(s)
@@ -93,30 +106,17 @@ def main():
         s.sendall(hello(nonce, token))
         # forged pixels for every frame: if the frame ended before they
         # arrived, the server drops them as stale, and the next frame's try counts
-        while True:
-            ptype, body = read_packet(s)
-            if ptype is None:
-                print("closed")
-                return
-            if ptype == ERROR:
-                print(body.decode(errors="replace"))
-                return
+        for ptype, body in session_packets(s):
             if ptype == UPDATE:
                 frame = struct.unpack("=I", body[:4])[0]
                 # a segment at the end of the frame that nobody was given yet
                 body = struct.pack("=IIIII", frame, 7, 3, 100, 0) + b"\xff" * 9
                 s.sendall(struct.pack("=II", DATA, 8 + len(body)) + body)
+        return
     elif mode in ("bad-coded", "overclaim"):
         s.sendall(hello(nonce, token))
         coding = None
-        while True:
-            ptype, body = read_packet(s)
-            if ptype is None:
-                print("closed")
-                return
-            if ptype == ERROR:
-                print(body.decode(errors="replace"))
-                return
+        for ptype, body in session_packets(s):
             if ptype == WELCOME:
                 coding = struct.unpack("=II", body[:8])[1]
                 if coding == 0:
@@ -134,6 +134,7 @@ def main():
                 pix = b"\x5a" * (raw // 2 if mode == "bad-coded" else raw)
                 body = struct.pack("=IIIII", frame, first, count, 100, coding) + pix
                 s.sendall(struct.pack("=II", DATA, 8 + len(body)) + body)
+        return
     elif mode == "silent":
         pass
     elif mode == "slowloris":
