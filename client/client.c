@@ -4,7 +4,10 @@
  * UPDATEs and queues segments; the render thread renders them one at a time
  * with render_span and hands finished pixels back through a pipe that wakes
  * the network thread.  An UPDATE for a newer frame drops the queued segments
- * of older frames and cancels the one being rendered. */
+ * of frames older than the one it says to keep, and cancels the one being
+ * rendered if it is one of them: normally every older frame, but a server
+ * that starts a frame before the one before it is finished (pipelined
+ * frames) keeps that one, and its segments are rendered first. */
 #include "client.h"
 
 #include <errno.h>
@@ -67,7 +70,7 @@ typedef struct {
     int nqueue;
     Job done[MAX_JOBS * 2];
     int ndone;
-    uint32_t current_frame, running_frame;
+    uint32_t keep_from, running_frame; /* the oldest frame wanted (UPDATE keep), the one being rendered */
     int running, quit;
     atomic_int cancel;
     int wake[2];
@@ -175,7 +178,7 @@ static void *render_thread(void *arg)
             break;
         Job j = w->queue[0];
         memmove(w->queue, w->queue + 1, (size_t)--w->nqueue * sizeof *w->queue);
-        if (j.frame != w->current_frame) {
+        if (j.frame < w->keep_from) {
             ref_drop(j.ref);
             continue;
         }
@@ -210,7 +213,7 @@ static void *render_thread(void *arg)
         }
         pthread_mutex_lock(&w->mu);
         w->running = 0;
-        if (rc == 0 && j.frame == w->current_frame && w->ndone < MAX_JOBS * 2) {
+        if (rc == 0 && j.frame >= w->keep_from && w->ndone < MAX_JOBS * 2) {
             j.pixels = px;
             j.len = len;
             j.coding = coding;
@@ -337,8 +340,11 @@ static int segment_ok(Segment seg, const SceneRef *ref, const char *packet, Err 
     return 0;
 }
 
-/* Handles one packet from the server; returns -1 to end the session. */
-static int on_packet(const ClientConfig *cfg, Worker *w, Conn *c, AssetCache *cache, SceneRef **cur, Err *err)
+/* Handles one packet from the server; returns -1 to end the session.  cur
+ * is the newest frame, prev the one before it where the server keeps it
+ * (NULL otherwise). */
+static int on_packet(const ClientConfig *cfg, Worker *w, Conn *c, AssetCache *cache, SceneRef **cur, SceneRef **prev,
+                     Err *err)
 {
     switch (c->type) {
     case PKT_ASSET: {
@@ -352,21 +358,33 @@ static int on_packet(const ClientConfig *cfg, Worker *w, Conn *c, AssetCache *ca
         MsgUpdate u;
         if (msg_decode_update(c->body, c->body_size, &u, err))
             return -1;
-        uint32_t frame = u.frame, width = u.width, height = u.height, nseg = u.nseg;
+        uint32_t frame = u.frame, width = u.width, height = u.height, nseg = u.nseg, keep = u.keep;
         if (width < 1 || height < 1 || width > RENDER_MAX_SIDE || height > RENDER_MAX_SIDE)
             return err_set(err, "malformed UPDATE");
+        if (keep > frame || (*cur && frame <= (*cur)->frame))
+            return err_set(err, "UPDATE for frame %u keeping frames from %u (after frame %u)", frame, keep,
+                           *cur ? (*cur)->frame : 0);
         SceneRef *ref = update_ref(&u, cache, *cur, err);
         if (!ref)
             return -1;
         w->scenes += u.scene_len > 0;
         pthread_mutex_lock(&w->mu);
-        w->current_frame = frame;
+        w->keep_from = keep;
+        int kept = 0;
         for (int i = 0; i < w->nqueue; i++)
-            ref_drop(w->queue[i].ref);
-        w->nqueue = 0;
-        if (w->running && w->running_frame != frame)
+            if (w->queue[i].frame >= keep)
+                w->queue[kept++] = w->queue[i];
+            else
+                ref_drop(w->queue[i].ref);
+        w->nqueue = kept;
+        if (w->running && w->running_frame < keep)
             atomic_store(&w->cancel, 1);
-        ref_drop(*cur);
+        ref_drop(*prev);
+        *prev = NULL;
+        if (*cur && (*cur)->frame >= keep)
+            *prev = *cur; /* still wanted: its COMPUTEs may come yet */
+        else
+            ref_drop(*cur);
         *cur = ref;
         for (uint32_t i = 0; i < nseg; i++) {
             Segment seg = u.seg[i];
@@ -385,12 +403,13 @@ static int on_packet(const ClientConfig *cfg, Worker *w, Conn *c, AssetCache *ca
             return -1;
         Segment seg = m.seg;
         pthread_mutex_lock(&w->mu);
-        if (*cur && m.frame == (*cur)->frame) {
-            if (segment_ok(seg, *cur, "COMPUTE", err)) {
+        SceneRef *ref = *cur && m.frame == (*cur)->frame ? *cur : *prev && m.frame == (*prev)->frame ? *prev : NULL;
+        if (ref) {
+            if (segment_ok(seg, ref, "COMPUTE", err)) {
                 pthread_mutex_unlock(&w->mu);
                 return -1;
             }
-            queue_job(w, m.frame, seg, *cur);
+            queue_job(w, m.frame, seg, ref);
         }
         pthread_mutex_unlock(&w->mu);
         return 0;
@@ -429,7 +448,7 @@ static int session(const ClientConfig *cfg, int fd, Worker *w, AssetCache *cache
     const int v6 = strchr(cfg->host, ':') != NULL;
     log_line(cfg->quiet, "lanray-client", "connected to %s%s%s:%d with %d threads", v6 ? "[" : "", cfg->host,
              v6 ? "]" : "", cfg->port, cfg->threads);
-    SceneRef *cur = NULL;
+    SceneRef *cur = NULL, *prev = NULL;
     int rc = SESSION_ENDED;
     for (;;) {
         if (*stop) {
@@ -475,7 +494,7 @@ static int session(const ClientConfig *cfg, int fd, Worker *w, AssetCache *cache
         if (p[0].revents & (POLLIN | POLLHUP | POLLERR)) {
             int got, bad = 0;
             while ((got = conn_read(&c, err)) == 1)
-                if (on_packet(cfg, w, &c, cache, &cur, err)) {
+                if (on_packet(cfg, w, &c, cache, &cur, &prev, err)) {
                     bad = 1;
                     break;
                 }
@@ -487,7 +506,7 @@ static int session(const ClientConfig *cfg, int fd, Worker *w, AssetCache *cache
     }
     /* forget this server's work */
     pthread_mutex_lock(&w->mu);
-    w->current_frame = 0;
+    w->keep_from = UINT32_MAX; /* nothing of this session's frames */
     for (int i = 0; i < w->nqueue; i++)
         ref_drop(w->queue[i].ref);
     w->nqueue = 0;
@@ -496,6 +515,7 @@ static int session(const ClientConfig *cfg, int fd, Worker *w, AssetCache *cache
         free(w->done[i].pixels);
     w->ndone = 0;
     ref_drop(cur);
+    ref_drop(prev);
     pthread_mutex_unlock(&w->mu);
     conn_close(&c);
     return rc;

@@ -81,6 +81,8 @@ typedef struct {
     double edit_t;         /* when the last event came (0: none waiting) */
     char edit_error[600];  /* the last read's error, shown in the title until a good read */
     Window win;            /* the window's controls and panel */
+    int animate;           /* --rotate turns the instances (R toggles it) */
+    double rotate, path_step, max_fps;
     MdnsAnnounce *mdns;    /* the farm announced on the LAN, or NULL */
 } App;
 
@@ -177,21 +179,54 @@ static void on_frame(void *ctx, uint32_t frame, const uint8_t *pixels)
         stop_flag = 1;
 }
 
-/* --path: the next frame's camera, at frames_done x --path-step seconds, or
+/* --path: frame `frame`'s camera, at (frame - 1) x --path-step seconds, or
  * without a step at the time since the first frame was shown (the flight's
  * own speed, whatever the frame rate). */
-static void path_next(App *app, double step)
+static void path_next(App *app, uint32_t frame)
 {
     if (!app->path.count || app->path_final)
         return;
-    double t = step > 0 ? app->frames_done * step : app->frames_done ? timer_now() - app->path_t0 : 0;
+    const double step = app->path_step;
+    double t = step > 0 ? (frame - 1) * step : frame > 1 && app->path_t0 > 0 ? timer_now() - app->path_t0 : 0;
     const double end = (double)camera_path_end(&app->path);
     if (t >= end) {
         t = end;
-        app->path_final = app->frames_done + 1;
+        app->path_final = frame;
     }
     Camera c = camera_path_at(&app->path, (real)t);
     server_set_camera(app->server, &c);
+}
+
+/* Pipelined frames (--pipeline): whether frame `frame` may start before
+ * the one before it is shown, that is whether its view is known now and it
+ * is wanted at all. */
+static int may_start_ahead(const App *a, uint32_t frame)
+{
+    if (a->max_fps > 0 || (a->frames_wanted && frame > a->frames_wanted))
+        return 0;
+    if (a->path.count) {
+        if (a->path_step <= 0 && a->path_t0 <= 0)
+            return 0; /* the flight's clock starts when its first frame is shown */
+        if (a->path_final && !a->frames_wanted && !a->display && frame > a->path_final + (a->refine ? 1 : 0))
+            return 0; /* headless, the flight (and its converged frame) is the job */
+    }
+    /* a window whose newest frame is still (converged): the next waits for a change */
+    const int flying = a->path.count && !a->path_final;
+    return !(a->display && server_newest_still(a->server) && !a->animate && !flying &&
+             !server_changes_pending(a->server) && !a->pending);
+}
+
+/* Before each frame starts: its per-frame changes (the animation's turn,
+ * the camera on its path). */
+static int next_frame(void *ctx, uint32_t frame, int ahead)
+{
+    App *a = ctx;
+    if (ahead && !may_start_ahead(a, frame))
+        return 0;
+    if (a->animate && frame > 1)
+        server_turn_instances(a->server, (real)a->rotate);
+    path_next(a, frame);
+    return 1;
 }
 
 _Static_assert(CLI_MAX_SEGMENT == SERVER_MAX_SIDE, "a segment is at most the tallest frame");
@@ -209,13 +244,16 @@ typedef struct {
     double path_step;
     CliAa still;
     int moving_lights, moving_lights_given;
-    int compress, announce;
+    int compress, announce, pipeline;
     double target_fps, max_fps;
 } Args;
 
 /* --compress: how clients code their pixels (net/pixcodec.h) */
 static const char *const compress_words[] = {"raw", "lz4", "zstd", NULL};
 static const uint32_t compress_codings[] = {PIX_RAW, PIX_LZ4, PIX_ZSTD | PIX_PREDICT};
+
+/* --pipeline */
+static const char *const pipeline_words[] = {"off", "on", NULL};
 
 /* --announce */
 static const char *const announce_words[] = {"auto", "yes", "no", NULL};
@@ -241,6 +279,7 @@ static void config_from_args(Args *a)
      * a flight at a render scale (docs/tradeoff.md) */
     cfg->moving_lights = a->moving_lights_given ? a->moving_lights - 1 : -1;
     cfg->coding = compress_codings[a->compress];
+    cfg->pipeline = a->pipeline;
     a->bvh.kind = (BvhKind)a->bvh_kind;
     a->headless |= a->discard;
 }
@@ -251,7 +290,7 @@ static int parse_args(Args *a, int argc, char **argv)
     *a = (Args){.cfg = {.listen_addr = "127.0.0.1", .port = PROTO_DEFAULT_PORT, .token = getenv("LANRAY_TOKEN"),
                         .width = 1024, .height = 768, .tail = sched_tail_smart, .stall_timeout = 30,
                         .handshake_timeout = 10},
-                .bvh = bvh_options_default(BVH_SAH), .out_dir = "frames", .tail = 1, .bvh_kind = BVH_SAH, .compress = 2,
+                .bvh = bvh_options_default(BVH_SAH), .out_dir = "frames", .tail = 1, .bvh_kind = BVH_SAH, .compress = 2, .pipeline = 1,
                 .stall = 30, .handshake = 10, .aa = {1, 0, 0}};
     ServerConfig *cfg = &a->cfg;
     const Opt opts[] = {
@@ -291,6 +330,11 @@ static int parse_args(Args *a, int argc, char **argv)
                  "rendered 2-line segment to 0.35 and 0.20 of its bytes: docs/scaling.md); a packet that would not "
                  "shrink goes raw",
          .def = "zstd"},
+        {.name = "--pipeline", .kind = OPT_CHOICE, .dst = &a->pipeline, .choices = pipeline_words,
+         .help = "start the next frame as soon as the current one has no fresh work left, where its view is known "
+                 "(a path, an animation, a camera that moves or stays): clients with nothing left render it rather "
+                 "than wait; frames are still shown in order (docs/scaling.md)",
+         .def = "on"},
         {.name = "--announce", .kind = OPT_CHOICE, .dst = &a->announce, .choices = announce_words,
          .help = "announce the server on the LAN (DNS-SD over mDNS, through avahi-daemon): _lanray._tcp, the protocol "
                  "version as a subtype, TXT proto, size, token; clients started without an address find it",
@@ -568,10 +612,10 @@ static void show_status(App *app, double *since, uint32_t *frames)
 
 /* Whether the window has nothing new to show: its last frame was a still
  * one, and no move, turn, edit or flight is on its way. */
-static int idle(const App *app, int animate)
+static int idle(const App *app)
 {
     const int flying = app->path.count && !app->path_final;
-    return app->frames_done > 0 && server_frame_still(app->server) && !animate && !flying &&
+    return app->frames_done > 0 && server_frame_still(app->server) && !app->animate && !flying &&
            !server_changes_pending(app->server) && !app->pending;
 }
 
@@ -583,13 +627,17 @@ static int serve(App *app, const Args *a)
     if (app->display)
         window_init(&app->win, app->display, app->server, &app->pace, a->target_fps, app->scene, app->width,
                     app->height);
-    int animate = a->rotate != 0, wait_clients = a->wait_clients;
-    uint32_t seen = 0, status_frames = 0;
+    int wait_clients = a->wait_clients;
+    uint32_t status_frames = 0;
+    app->animate = a->rotate != 0;
+    app->rotate = a->rotate;
+    app->path_step = a->path_step;
+    app->max_fps = a->max_fps;
+    server_on_next(app->server, next_frame, app);
     app->fps_t0 = timer_now();
     double status_t = app->fps_t0;
     /* --wait-clients: no frame starts before that many clients have joined */
     server_pause(app->server, wait_clients > 0);
-    path_next(app, a->path_step);
     server_set_scale(app->server, app->pace.scale);
     while (!stop_flag) {
         if (wait_clients > 0 && server_client_count(app->server) >= (uint32_t)wait_clients) {
@@ -600,21 +648,15 @@ static int serve(App *app, const Args *a)
          * picture is still (converged, with --still-aa) waits for a change */
         if (wait_clients == 0)
             server_pause(app->server, (a->max_fps > 0 && timer_now() - app->last_frame_t < 1.0 / a->max_fps) ||
-                                          (app->display && idle(app, animate)));
+                                          (app->display && idle(app)));
         if (server_step(app->server, app->display ? 5 : 50, on_frame, app, &err)) {
             fprintf(stderr, "lanray-server: %s\n", err.msg);
             return 1;
         }
         if (app->watch)
             follow_edits(app, a);
-        if (app->frames_done != seen) {
-            seen = app->frames_done;
-            if (animate)
-                server_turn_instances(app->server, (real)a->rotate);
-            path_next(app, a->path_step);
-        }
         if (app->display) {
-            if (window_poll(&app->win, &animate, &app->screenshot))
+            if (window_poll(&app->win, &app->animate, &app->screenshot))
                 break;
             show_title(app);
         } else if (!a->cfg.quiet) {

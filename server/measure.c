@@ -6,9 +6,12 @@
 double measure_frame_start(Measure *m, double now, uint32_t clients, uint64_t bytes, uint64_t dup_pixels,
                            uint64_t segments, int sizing, double *work_us)
 {
-    if (m->frames_done == m->warmup) {
-        /* the measured frames start here: statistics so far were warm-up */
-        m->first_frame_start = now;
+    if (m->frames_started++ == m->warmup) {
+        /* the measured frames start here: statistics so far were warm-up;
+         * the clock too, unless a warm-up frame ends it (measure_frame_end:
+         * with pipelined frames this one starts before that one ends) */
+        if (m->warmup == 0)
+            m->first_frame_start = now;
         m->total_busy_us = 0;
         m->asset_bytes = 0;
         m->measured_bytes_base = bytes;
@@ -77,6 +80,8 @@ void measure_frame_end(Measure *m, double now)
 {
     m->frames_done++;
     m->last_frame_end = now;
+    if (m->frames_done == m->warmup) /* the measured frames' clock: from the last warm-up frame shown */
+        m->first_frame_start = now;
     /* smoothed over frames, as the overhead; not from a frame that sent
      * assets, whose encoding and copying (12 ms per packet with 8 new
      * clients) would take the smoothing most of a benchmark to forget; its

@@ -20,7 +20,7 @@ typedef struct {
 
 typedef struct {
     uint32_t warmup;          /* frames not measured for the summary */
-    uint32_t frames_done, clients_seen_max;
+    uint32_t frames_done, frames_started, clients_seen_max;
     double first_frame_start, last_frame_end;
     /* the automatic segment size: render time of the frame's accepted
      * results, gaps between a busy client's results, CPU per packet */
@@ -37,6 +37,8 @@ typedef struct {
     uint64_t turn_samples;
     /* the summary's bases, taken where the measured frames start */
     uint64_t total_busy_us, asset_bytes, measured_bytes_base, dup_base, seg_base;
+    double latency_sum; /* start to shown, over the measured frames */
+    uint32_t latency_frames;
 } Measure;
 
 /* A frame starts at `now` with `clients` connected; bytes, duplicate pixels
@@ -60,6 +62,15 @@ void measure_result(Measure *m, uint32_t render_us, int counted, int accepted);
 void measure_asset_sent(Measure *m, uint64_t bytes);
 /* The loop's CPU spent on packets in one round. */
 static inline void measure_cpu(Measure *m, double seconds) { m->frame_cpu += seconds; }
+/* A measured frame was shown `seconds` after it started (its view was
+ * taken): the latency of the picture on screen. */
+static inline void measure_latency(Measure *m, double seconds)
+{
+    if (m->frames_done > m->warmup) {
+        m->latency_sum += seconds;
+        m->latency_frames++;
+    }
+}
 /* The frame ended at `now`. */
 void measure_frame_end(Measure *m, double now);
 

@@ -165,7 +165,8 @@ static int queued(const Sched *s, uint32_t rec)
     return any;
 }
 
-int sched_assign(Sched *s, int client, Segment *out)
+/* A segment of pixels nobody was given yet, cut by the tail rule. */
+static int assign_new(Sched *s, int client, Segment *out)
 {
     if (s->next_pixel < s->total) {
         uint32_t remaining = s->total - s->next_pixel;
@@ -192,10 +193,42 @@ int sched_assign(Sched *s, int client, Segment *out)
         *out = r->seg;
         return 1;
     }
-    /* Nothing new: an outstanding segment again, the one with the fewest
-     * holders; among those, one that waits in its holders' queues behind
-     * another of their segments (it will be the last to come back), else
-     * the newest. */
+    return 0;
+}
+
+/* A segment whose holders all left (sched_release): it must be given again
+ * before the frame can end.  The newest first, as assign_again chooses. */
+static int assign_orphan(Sched *s, int client, Segment *out)
+{
+    for (uint32_t i = s->nrec; i-- > 0;)
+        if (!s->recs[i].done && s->recs[i].holders == 0) {
+            if (add_assignment(s, client, i))
+                return 0;
+            s->stats.reissued++;
+            *out = s->recs[i].seg;
+            return 1;
+        }
+    return 0;
+}
+
+int sched_has_fresh(const Sched *s)
+{
+    if (s->next_pixel < s->total)
+        return 1;
+    for (uint32_t i = 0; i < s->nrec; i++)
+        if (!s->recs[i].done && s->recs[i].holders == 0)
+            return 1;
+    return 0;
+}
+
+int sched_assign_fresh(Sched *s, int client, Segment *out) { return assign_new(s, client, out) || assign_orphan(s, client, out); }
+
+/* Nothing new: an outstanding segment again, the one with the fewest
+ * holders; among those, one that waits in its holders' queues behind
+ * another of their segments (it will be the last to come back), else
+ * the newest. */
+static int assign_again(Sched *s, int client, Segment *out)
+{
     uint32_t best = UINT32_MAX;
     int best_queued = 0;
     for (uint32_t i = 0; i < s->nrec; i++) {
@@ -215,6 +248,8 @@ int sched_assign(Sched *s, int client, Segment *out)
     *out = s->recs[best].seg;
     return 1;
 }
+
+int sched_assign(Sched *s, int client, Segment *out) { return assign_new(s, client, out) || assign_again(s, client, out); }
 
 /* The assignment of seg to client in the current frame: its index, or -1. */
 static int32_t find_assignment(const Sched *s, int client, Segment seg)
@@ -259,9 +294,23 @@ SchedResult sched_complete(Sched *s, int client, uint32_t frame, Segment seg)
 
 uint32_t sched_top_up(Sched *s, int client, Segment out[SCHED_IN_FLIGHT])
 {
-    uint32_t n = 0;
-    while (n < SCHED_IN_FLIGHT && sched_held(s, client) < SCHED_IN_FLIGHT && sched_assign(s, client, &out[n]))
-        n++;
+    Sched *from[SCHED_IN_FLIGHT];
+    return sched_top_up_pair(s, NULL, client, out, from);
+}
+
+uint32_t sched_top_up_pair(Sched *older, Sched *newer, int client, Segment out[SCHED_IN_FLIGHT],
+                           Sched *from[SCHED_IN_FLIGHT])
+{
+    uint32_t held = (older ? sched_held(older, client) : 0) + (newer ? sched_held(newer, client) : 0), n = 0;
+    /* the older frame is shown first: its new pixels, then the newer
+     * frame's, and only when neither has any left, outstanding segments
+     * again (the older's first) */
+    Sched *order[4] = {older, newer, older, newer};
+    for (int k = 0; k < 4 && held + n < SCHED_IN_FLIGHT; k++) {
+        Sched *s = order[k];
+        while (s && held + n < SCHED_IN_FLIGHT && (k < 2 ? sched_assign_fresh(s, client, &out[n]) : assign_again(s, client, &out[n])))
+            from[n++] = s;
+    }
     return n;
 }
 

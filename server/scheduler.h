@@ -75,6 +75,21 @@ void sched_start_frame(Sched *s, uint32_t frame, uint32_t clients, int auto_size
  * client that left, or still outstanding at the frame's end, go to the
  * idle ones. */
 uint32_t sched_top_up(Sched *s, int client, Segment out[SCHED_IN_FLIGHT]);
+/* Pipelined frames: two frames in flight, the older one to be shown first
+ * and the newer one started when the older has no fresh work left (below),
+ * so that clients with nothing left of the older render the newer rather
+ * than idle or duplicate.  Tops the client up to SCHED_IN_FLIGHT segments
+ * over both (newer NULL: one frame, as sched_top_up; older NULL: the
+ * client cannot render the older frame, it joined after the newer began):
+ * fresh work of the older, then of the newer, then outstanding segments
+ * again, the older's first.  from[k] is the frame out[k] belongs to. */
+uint32_t sched_top_up_pair(Sched *older, Sched *newer, int client, Segment out[SCHED_IN_FLIGHT],
+                           Sched *from[SCHED_IN_FLIGHT]);
+/* Fresh work is left: pixels nobody was given, or a segment whose holders
+ * all left.  A frame without any is the moment to start the next. */
+int sched_has_fresh(const Sched *s);
+/* Gives client fresh work only (no segment again that someone holds). */
+int sched_assign_fresh(Sched *s, int client, Segment *out);
 /* Changes the segment size from the next frame on (automatic sizing). */
 void sched_set_segment_lines(Sched *s, uint32_t lines);
 /* The frame size of the frames to come (a render scale changes it between

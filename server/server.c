@@ -2,7 +2,11 @@
  *
  * Per client: handshake (SERVER_HELLO -> HELLO -> WELCOME or ERROR), then the
  * assets it lacks, then for every frame an UPDATE with two segments, and a
- * COMPUTE after every DATA so that it always holds two.  Anything a client
+ * COMPUTE after every DATA so that it always holds two.  With pipelined
+ * frames (ServerConfig pipeline) two frames may be in flight: the next one
+ * starts when the current one has no fresh work left, the current one's
+ * state moves to `older`, and the scheduler's pair top-up hands out the
+ * older frame's work first; frames are shown in order.  Anything a client
  * does wrong (garbage, a lying size, pixels for a segment it was not given,
  * a failed proof) ends that client's connection with a logged reason; the
  * others keep rendering and the scheduler hands its work to them. */
@@ -49,8 +53,21 @@ typedef struct {
     uint64_t frame_pixels, last_frame_pixels; /* this frame's, and the last finished one's (the panel) */
     uint64_t busy_us;
     MeasureClient mc;       /* its results' timing, for the segment overhead */
+    int older_ok;           /* it holds the older frame's view (it had that frame's UPDATE) */
     int closing;
 } Client;
+
+/* The older of two frames in flight (pipelined frames): the current
+ * frame's state, moved here when the next frame started before it was
+ * finished. */
+typedef struct {
+    uint32_t id; /* 0: one frame in flight */
+    Sched *sched;
+    uint8_t *pixels;
+    uint32_t fw, fh;
+    int scale, still;
+    double t0;
+} Older;
 
 struct Server {
     ServerConfig cfg;
@@ -95,6 +112,16 @@ struct Server {
     int auto_segment;
     Measure m; /* for the summary line and the automatic segment size */
     PixCodec *codec; /* decodes coded DATA (the loop's one thread) */
+    /* pipelined frames */
+    SchedConfig sched_cfg; /* what a frame's scheduler is made with */
+    Older older;
+    Sched *spare_sched;    /* a frame's scheduler and pixels between frames */
+    uint8_t *spare_pixels;
+    FrameNextFn next_fn;
+    void *next_ctx;
+    int shown_still, shown_scale; /* the frame shown last */
+    uint32_t frames_dropped;      /* older frames nobody left could finish */
+    uint32_t frames_ahead;        /* frames started before the one before was finished */
 };
 
 /* The per-segment overhead that sched_auto_lines sizes segments by is
@@ -148,10 +175,11 @@ Server *server_create(const ServerConfig *cfg, Scene *scene, Err *err)
     SchedConfig sc = {(uint32_t)cfg->width, (uint32_t)cfg->height, cfg->segment_lines ? cfg->segment_lines : 1, cfg->tail,
                       (uint32_t)(cfg->width / 4 > 0 ? cfg->width / 4 : 1)};
     s->sched = sched_create(&sc);
+    s->sched_cfg = sc;
     s->bpp = render_pixel_bytes(&scene->settings);
     s->pixels = calloc((size_t)cfg->width * cfg->height, s->bpp);
     s->shown = calloc((size_t)cfg->width * cfg->height, s->bpp);
-    s->scale = s->next_scale = 1;
+    s->scale = s->next_scale = s->shown_scale = 1;
     s->fw = (uint32_t)cfg->width, s->fh = (uint32_t)cfg->height;
     s->codec = pixcodec_create();
     if (!s->sched || !s->pixels || !s->shown || !s->codec || build_assets(s, err)) {
@@ -203,28 +231,54 @@ void server_destroy(Server *s)
     sink_free(&s->blob);
     sink_free(&s->scene_blob);
     sched_destroy(s->sched);
+    sched_destroy(s->older.sched);
+    sched_destroy(s->spare_sched);
     pixcodec_destroy(s->codec);
     free(s->pixels);
+    free(s->older.pixels);
+    free(s->spare_pixels);
     free(s->shown);
     free(s);
 }
 
 int server_port(const Server *s) { return s->port; }
-int server_frame_still(const Server *s) { return s->still; }
-int server_frame_scale(const Server *s) { return s->scale; }
+int server_frame_still(const Server *s) { return s->shown_still; }
+int server_frame_scale(const Server *s) { return s->shown_scale; }
+int server_newest_still(const Server *s) { return s->still; }
+
+void server_on_next(Server *s, FrameNextFn next, void *ctx)
+{
+    s->next_fn = next;
+    s->next_ctx = ctx;
+}
+
+/* The scheduler statistics of every frame so far (the frames' schedulers
+ * take turns where frames are pipelined). */
+static SchedStats stats_all(const Server *s)
+{
+    SchedStats t = sched_stats(s->sched);
+    const Sched *more[2] = {s->older.sched, s->spare_sched};
+    for (int i = 0; i < 2; i++)
+        if (more[i]) {
+            SchedStats m = sched_stats(more[i]);
+            t.segments += m.segments, t.reissued += m.reissued, t.duplicate_pixels += m.duplicate_pixels;
+        }
+    return t;
+}
 
 void server_set_scale(Server *s, int scale)
 {
     s->next_scale = scale < 1 ? 1 : scale > SERVER_MAX_SCALE ? SERVER_MAX_SCALE : scale;
 }
 
-/* The frame of fw x fh pixels scaled up to the full size: each pixel a
- * block (nearest: the picture as rendered, bytes as they came). */
-static const uint8_t *scaled_up(Server *s)
+/* A frame of fw pixels a line rendered at `scale`, scaled up to the full
+ * size: each pixel a block (nearest: the picture as rendered, bytes as
+ * they came). */
+static const uint8_t *scaled_up(Server *s, const uint8_t *pixels, uint32_t fw, int scale)
 {
-    if (s->scale == 1)
-        return s->pixels;
-    const uint32_t w = (uint32_t)s->cfg.width, h = (uint32_t)s->cfg.height, b = s->bpp, k = (uint32_t)s->scale;
+    if (scale == 1)
+        return pixels;
+    const uint32_t w = (uint32_t)s->cfg.width, h = (uint32_t)s->cfg.height, b = s->bpp, k = (uint32_t)scale;
     const size_t row = (size_t)w * b;
     for (uint32_t y = 0; y < h; y++) {
         uint8_t *dst = s->shown + (size_t)y * row;
@@ -232,7 +286,7 @@ static const uint8_t *scaled_up(Server *s)
             memcpy(dst, dst - row, row);
             continue;
         }
-        const uint8_t *src = s->pixels + (size_t)(y / k) * s->fw * b;
+        const uint8_t *src = pixels + (size_t)(y / k) * fw * b;
         for (uint32_t x = 0; x < w; x++)
             memcpy(dst + (size_t)x * b, src + (size_t)(x / k) * b, b);
     }
@@ -380,6 +434,8 @@ static void drop_as(Server *s, Client *c, DropKind kind, const char *reason)
     }
     c->closing = 1;
     sched_release(s->sched, c->id);
+    if (s->older.id)
+        sched_release(s->older.sched, c->id);
 }
 
 static void drop(Server *s, Client *c, const char *reason) { drop_as(s, c, DROP_TELL, reason); }
@@ -402,17 +458,30 @@ static int client_has(const Client *c, const uint8_t *hash)
     return 0;
 }
 
-/* The segments the scheduler tops the client up with, a COMPUTE each. */
-static void send_computes(Server *s, Client *c)
+/* The older frame's scheduler where the client can render that frame. */
+static Sched *older_for(const Server *s, const Client *c) { return s->older.id && c->older_ok ? s->older.sched : NULL; }
+
+/* The segments the scheduler tops the client up with (over both frames
+ * where two are in flight), a COMPUTE each; with `skip` those of the
+ * newest frame are left out (the UPDATE carries them). */
+static void send_computes_but(Server *s, Client *c, Segment *seg, Sched **from, uint32_t n, int skip)
 {
-    Segment seg[SCHED_IN_FLIGHT];
-    uint32_t n = sched_top_up(s->sched, c->id, seg);
     for (uint32_t k = 0; k < n && !c->closing; k++) {
-        MsgCompute m = {s->frame, seg[k]};
+        if (skip && from[k] == s->sched)
+            continue;
+        MsgCompute m = {from[k] == s->sched ? s->frame : s->older.id, seg[k]};
         MsgOut out;
         msg_encode_compute(&m, &out);
         send_or_drop(s, c, &out);
     }
+}
+
+static void send_computes(Server *s, Client *c)
+{
+    Segment seg[SCHED_IN_FLIGHT];
+    Sched *from[SCHED_IN_FLIGHT];
+    uint32_t n = sched_top_up_pair(older_for(s, c), s->sched, c->id, seg, from);
+    send_computes_but(s, c, seg, from, n, 0);
 }
 
 /* The assets it lacks, then the scene and two segments. */
@@ -443,16 +512,22 @@ static void send_update(Server *s, Client *c)
         }
         s->blob_has_scene = 1;
     }
-    MsgUpdate u = {.frame = s->frame, .width = s->fw, .height = s->fh,
+    MsgUpdate u = {.frame = s->frame, .width = s->fw, .height = s->fh, .keep = older_for(s, c) ? s->older.id : s->frame,
                    .scene_id = s->scene_id, .view_len = s->view_len, .view = s->blob.data,
                    .scene_len = held ? 0 : s->blob.len - s->view_len};
     _Static_assert(sizeof u.seg / sizeof u.seg[0] >= SCHED_IN_FLIGHT, "an UPDATE carries a client's first segments");
-    u.nseg = sched_top_up(s->sched, c->id, u.seg);
+    Segment seg[SCHED_IN_FLIGHT];
+    Sched *from[SCHED_IN_FLIGHT];
+    const uint32_t n = sched_top_up_pair(older_for(s, c), s->sched, c->id, seg, from);
+    for (uint32_t k = 0; k < n; k++)
+        if (from[k] == s->sched)
+            u.seg[u.nseg++] = seg[k];
     MsgOut out;
     msg_encode_update(&u, &out);
     send_or_drop(s, c, &out);
     c->frame_sent = s->frame;
     c->scene_held = s->scene_id;
+    send_computes_but(s, c, seg, from, n, 1); /* the older frame's, after the UPDATE that keeps it */
 }
 
 /* Bytes in and out over every connection so far, closed ones included. */
@@ -483,8 +558,6 @@ static int start_frame(Server *s, Err *err)
     s->last_scene_id = s->scene_id;
     s->last_settings_id = s->settings_id;
     s->frame_t0 = timer_now();
-    for (uint32_t i = 0; i < s->nclients; i++)
-        s->clients[i]->frame_pixels = 0;
     View v = s->view;
     if (s->still && s->cfg.refine)
         v.settings.aa = s->cfg.still_aa, v.settings.adaptive = s->cfg.still_adaptive;
@@ -504,13 +577,38 @@ static int start_frame(Server *s, Err *err)
     s->in_frame = 1;
     uint32_t n = server_client_count(s);
     double work;
-    double o = measure_frame_start(&s->m, timer_now(), n, server_bytes(s), sched_stats(s->sched).duplicate_pixels,
-                                   sched_stats(s->sched).segments, s->auto_segment, &work);
+    double o = measure_frame_start(&s->m, timer_now(), n, server_bytes(s), stats_all(s).duplicate_pixels,
+                                   stats_all(s).segments, s->auto_segment, &work);
     sched_start_frame(s->sched, s->frame, n, s->auto_segment, work, o);
     for (uint32_t i = 0; i < s->nclients; i++)
         if (s->clients[i]->state == CLIENT_ACTIVE && !s->clients[i]->closing)
             send_update(s, s->clients[i]);
     return 0;
+}
+
+/* The next frame, started while the current one still has segments out:
+ * the current one's state moves to `older` (its scheduler and pixels stay
+ * live until it is shown), the new one takes the spare ones.  0 where it
+ * does not start (no memory for a second frame, or the application holds
+ * it back), 1 where it did, -1 on an error. */
+static int start_ahead(Server *s, Err *err)
+{
+    if (!s->spare_sched && !(s->spare_sched = sched_create(&s->sched_cfg)))
+        return 0;
+    if (!s->spare_pixels && !(s->spare_pixels = calloc((size_t)s->cfg.width * s->cfg.height, s->bpp)))
+        return 0;
+    if (s->next_fn && !s->next_fn(s->next_ctx, s->frame + 1, 1))
+        return 0;
+    s->older = (Older){s->frame, s->sched, s->pixels, s->fw, s->fh, s->scale, s->still, s->frame_t0};
+    sched_set_segment_lines(s->spare_sched, sched_config(s->sched)->segment_lines);
+    s->sched = s->spare_sched;
+    s->pixels = s->spare_pixels;
+    s->spare_sched = NULL;
+    s->spare_pixels = NULL;
+    for (uint32_t i = 0; i < s->nclients; i++)
+        s->clients[i]->older_ok = s->clients[i]->frame_sent == s->older.id;
+    s->frames_ahead++;
+    return start_frame(s, err) ? -1 : 1;
 }
 
 int server_adopt(Server *s, int fd, const char *addr)
@@ -602,6 +700,7 @@ static void on_hello(Server *s, Client *c)
              c->threads == 1 ? "" : "s");
     if (s->in_frame) {
         sched_set_clients(s->sched, server_client_count(s));
+        c->older_ok = 0; /* it never had the older frame's view */
         send_update(s, c);
     }
 }
@@ -624,8 +723,13 @@ static void on_data(Server *s, Client *c)
     }
     double now = timer_now();
     c->last_result = now;
-    measure_data(&s->m, &c->mc, now, frame, s->frame, render_us, sched_held(s->sched, c->id));
-    SchedResult r = sched_check(s->sched, c->id, frame, seg);
+    /* the older of two frames in flight, or the current one */
+    const int old = s->older.id && frame == s->older.id;
+    Sched *sc = old ? s->older.sched : s->sched;
+    uint8_t *const frame_px = old ? s->older.pixels : s->pixels;
+    const uint32_t held = sched_held(s->sched, c->id) + (s->older.id ? sched_held(s->older.sched, c->id) : 0);
+    measure_data(&s->m, &c->mc, now, frame, old ? frame : s->frame, render_us, held);
+    SchedResult r = sched_check(sc, c->id, frame, seg);
     if (r == SCHED_UNKNOWN) {
         snprintf(why, sizeof why, "pixels for segment %u+%u of frame %u, which it was not given", seg.first, seg.count, frame);
         drop(s, c, why);
@@ -635,7 +739,7 @@ static void on_data(Server *s, Client *c)
      * does not decode to exactly its segment drops its client, and its
      * segment goes to another, which writes it whole */
     if (r == SCHED_ACCEPT) {
-        uint8_t *dst = s->pixels + (size_t)seg.first * s->bpp;
+        uint8_t *dst = frame_px + (size_t)seg.first * s->bpp;
         if (d.coding == PIX_RAW)
             memcpy(dst, d.pixels, (size_t)seg.count * s->bpp);
         else if (pixcodec_decode(s->codec, d.coding, d.pixels, d.len, dst, (size_t)seg.count * s->bpp, s->bpp, &e)) {
@@ -645,7 +749,7 @@ static void on_data(Server *s, Client *c)
             return;
         }
     }
-    r = sched_complete(s->sched, c->id, frame, seg);
+    r = sched_complete(sc, c->id, frame, seg);
     measure_result(&s->m, render_us, r != SCHED_STALE, r == SCHED_ACCEPT);
     if (r != SCHED_STALE) /* time spent rendering counts whether or not this copy won */
         c->busy_us += render_us;
@@ -705,7 +809,8 @@ static void housekeeping(Server *s)
             continue;
         if (c->state == CLIENT_HANDSHAKE && now - c->since > s->cfg.handshake_timeout)
             drop(s, c, "handshake not completed in time");
-        else if (c->state == CLIENT_ACTIVE && sched_held(s->sched, c->id) && now - c->last_result > s->cfg.stall_timeout)
+        else if (c->state == CLIENT_ACTIVE && (sched_held(s->sched, c->id) || (older_for(s, c) && sched_held(s->older.sched, c->id))) &&
+                 now - c->last_result > s->cfg.stall_timeout)
             drop(s, c, "stalled: no result in time");
     }
     /* every client topped up (the scheduler's policy): segments released by
@@ -727,10 +832,61 @@ static void housekeeping(Server *s)
     }
 }
 
+/* A finished frame to the application: the panel's and the pace's
+ * figures first, then the callback. */
+static void show_frame(Server *s, uint32_t id, const uint8_t *pixels, uint32_t fw, int scale, int still, double t0,
+                       FrameDoneFn done, void *ctx)
+{
+    const double now = timer_now();
+    measure_frame_end(&s->m, now);
+    measure_latency(&s->m, now - t0);
+    s->last_frame_s = now - t0;
+    for (uint32_t i = 0; i < s->nclients; i++) {
+        s->clients[i]->last_frame_pixels = s->clients[i]->frame_pixels;
+        s->clients[i]->frame_pixels = 0;
+    }
+    s->shown_still = still;
+    s->shown_scale = scale;
+    if (done)
+        done(ctx, id, scaled_up(s, pixels, fw, scale));
+}
+
+/* Frames shown in order: the older of two in flight first.  An older frame
+ * with work left that no client still connected can render (all that held
+ * its view left) is dropped, not waited for. */
+static void finish_frames(Server *s, FrameDoneFn done, void *ctx)
+{
+    if (s->older.id) {
+        Older *o = &s->older;
+        int stranded = !sched_frame_done(o->sched) && sched_has_fresh(o->sched);
+        for (uint32_t i = 0; stranded && i < s->nclients; i++)
+            stranded = !(s->clients[i]->state == CLIENT_ACTIVE && !s->clients[i]->closing && s->clients[i]->older_ok);
+        if (!sched_frame_done(o->sched) && !stranded)
+            return;
+        if (stranded) {
+            s->frames_dropped++;
+            log_line(s->cfg.quiet, "lanray-server", "frame %u dropped: the clients that had its view left", o->id);
+        } else {
+            show_frame(s, o->id, o->pixels, o->fw, o->scale, o->still, o->t0, done, ctx);
+        }
+        s->spare_sched = o->sched;
+        s->spare_pixels = o->pixels;
+        *o = (Older){0};
+    }
+    if (s->in_frame && sched_frame_done(s->sched)) {
+        s->in_frame = 0;
+        show_frame(s, s->frame, s->pixels, s->fw, s->scale, s->still, s->frame_t0, done, ctx);
+    }
+}
+
 int server_step(Server *s, int timeout_ms, FrameDoneFn done, void *ctx, Err *err)
 {
-    if (!s->in_frame && !s->paused && server_client_count(s) > 0 && start_frame(s, err))
-        return -1;
+    if (!s->in_frame && !s->paused && server_client_count(s) > 0) {
+        if (s->next_fn)
+            s->next_fn(s->next_ctx, s->frame + 1, 0);
+        if (start_frame(s, err))
+            return -1;
+    }
     struct pollfd pfd[MAX_CLIENTS + 1];
     pfd[0] = (struct pollfd){s->listen_fd, POLLIN, 0};
     uint32_t n = s->nclients;
@@ -776,15 +932,11 @@ int server_step(Server *s, int timeout_ms, FrameDoneFn done, void *ctx, Err *err
     }
     housekeeping(s);
     measure_cpu(&s->m, timer_thread_cpu() - cpu0);
-    if (s->in_frame && sched_frame_done(s->sched)) {
-        s->in_frame = 0;
-        measure_frame_end(&s->m, timer_now());
-        s->last_frame_s = timer_now() - s->frame_t0;
-        for (uint32_t i = 0; i < s->nclients; i++)
-            s->clients[i]->last_frame_pixels = s->clients[i]->frame_pixels;
-        if (done)
-            done(ctx, s->frame, scaled_up(s));
-    }
+    finish_frames(s, done, ctx);
+    /* the next frame as soon as this one has no fresh work left */
+    if (s->cfg.pipeline && s->in_frame && !s->older.id && !s->paused && !sched_has_fresh(s->sched) &&
+        server_client_count(s) > 0 && start_ahead(s, err) < 0)
+        return -1;
     return 0;
 }
 
@@ -798,7 +950,7 @@ void server_print_summary(const Server *s, int machine)
     double wall = frames ? m->last_frame_end - m->first_frame_start : 0;
     double busy = (double)m->total_busy_us * 1e-6;
     uint32_t n = m->clients_seen_max;
-    SchedStats st = sched_stats(s->sched);
+    SchedStats st = stats_all(s);
     double fr = frames ? frames : 1;
     double dup = (double)(st.duplicate_pixels - m->dup_base) / s->cfg.width / fr;
     double per_frame = (double)(bytes - m->measured_bytes_base - m->asset_bytes) / fr;
@@ -812,15 +964,21 @@ void server_print_summary(const Server *s, int machine)
            n, n == 1 ? "" : "s", who, wall > 0 && n ? 100 * busy / (n * wall) : 0.0);
     printf("a frame: %.1f segments of %u lines, %.1f lines rendered twice, %.2f MB on the network\n", segs,
            server_segment_lines(s), dup, per_frame / 1e6);
+    if (s->frames_ahead || s->frames_dropped)
+        printf("pipelined: %u frames started before the one before was finished%s\n", s->frames_ahead,
+               s->frames_dropped ? "; some dropped (their clients left)" : "");
+    if (m->latency_frames)
+        printf("a frame shown %.1f ms after it started, on average\n", 1e3 * m->latency_sum / m->latency_frames);
     if (!machine)
         return;
     printf("summary frames=%u wall_s=%.4f fps=%.3f clients=%u busy_s=%.4f efficiency=%.4f idle_s=%.4f "
            "dup_lines_per_frame=%.2f bytes_per_frame=%.0f segments_per_frame=%.1f segment_lines=%u overhead_us=%.0f packet_cpu_us=%.1f "
-           "turnaround_us=%.0f\n",
+           "turnaround_us=%.0f ahead=%u dropped=%u latency_ms=%.1f\n",
            frames, wall, wall > 0 ? frames / wall : 0.0, n, busy, wall > 0 && n ? busy / (n * wall) : 0.0, n * wall - busy,
            dup, per_frame, segs, server_segment_lines(s), m->overhead_us,
            m->measured_packets ? m->measured_cpu * 1e6 / (double)m->measured_packets : 0.0,
-           m->turn_samples ? m->turn_sum_us / (double)m->turn_samples : 0.0);
+           m->turn_samples ? m->turn_sum_us / (double)m->turn_samples : 0.0, s->frames_ahead, s->frames_dropped,
+           m->latency_frames ? 1e3 * m->latency_sum / m->latency_frames : 0.0);
 }
 
 void server_print_stats(const Server *s)

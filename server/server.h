@@ -40,6 +40,11 @@ typedef struct {
      * PIX_LZ4, PIX_ZSTD | PIX_PREDICT; lanray-server --compress); a client
      * without that codec sends them raw */
     uint32_t coding;
+    /* pipelined frames: the next frame starts (its UPDATE goes out) as
+     * soon as the current one has no fresh work left, if the application's
+     * FrameNextFn lets it, so that clients with nothing left render it
+     * rather than wait or duplicate; frames are still shown in order */
+    int pipeline;
 } ServerConfig;
 
 typedef struct Server Server;
@@ -48,7 +53,16 @@ typedef struct Server Server;
  * where the scene's settings say hdr (render_pixel_bytes). */
 typedef void (*FrameDoneFn)(void *ctx, uint32_t frame, const uint8_t *pixels);
 
+/* Called before a frame starts (its number: frame), for the application's
+ * per-frame changes (a camera path, an animation), which that frame takes.
+ * `ahead`: the frame before it is not finished yet (pipelined): return 0
+ * to let it wait, where its view is not known yet or it is not wanted
+ * (then the call comes again later).  Without ahead the return value is
+ * not looked at (server_pause holds frames back). */
+typedef int (*FrameNextFn)(void *ctx, uint32_t frame, int ahead);
+
 Server *server_create(const ServerConfig *cfg, Scene *scene, Err *err);
+void server_on_next(Server *s, FrameNextFn next, void *ctx);
 void server_destroy(Server *s);
 /* The camera of the next frame (the window's moves), and the instances
  * turned by `degrees` about y from the next frame on (its animation): held
@@ -97,11 +111,14 @@ double server_last_frame_time(const Server *s);
  * A still frame is rendered whole. */
 #define SERVER_MAX_SCALE 8
 void server_set_scale(Server *s, int scale);
-/* The scale of the current (or last) frame. */
+/* The scale of the frame shown last (in the FrameDoneFn: that frame's). */
 int server_frame_scale(const Server *s);
-/* Whether the current (or last) frame was a still one: its camera and scene
- * those of the frame before (rendered with the still quality when refining). */
+/* Whether the frame shown last was a still one: its camera and scene those
+ * of the frame before (rendered with the still quality when refining). */
 int server_frame_still(const Server *s);
+/* Whether the newest frame started is a still one (with pipelined frames
+ * it may be one ahead of the frame shown last). */
+int server_newest_still(const Server *s);
 /* One round of the event loop, waiting at most timeout_ms.  Starts a new frame
  * when the previous one is done and clients are connected, unless paused. */
 int server_step(Server *s, int timeout_ms, FrameDoneFn done, void *ctx, Err *err);

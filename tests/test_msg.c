@@ -8,6 +8,7 @@
 
 #include "base/fileio.h"
 #include "net/conn.h"
+#include "net/mdns.h"
 #include "net/msg.h"
 #include "net/net.h"
 
@@ -63,15 +64,15 @@ static void packets_round_trip(void **state)
     const uint8_t block[8] = {9, 8, 7, 1, 2, 3, 4, 5};
     for (uint32_t nseg = 0; nseg <= 2; nseg++)
         for (size_t scene_len = 0; scene_len <= 5; scene_len += 5) {
-            MsgUpdate u = {.frame = 7, .width = 640, .height = 480, .scene_id = 3, .view_len = 3, .nseg = nseg,
+            MsgUpdate u = {.frame = 7, .width = 640, .height = 480, .keep = 6, .scene_id = 3, .view_len = 3, .nseg = nseg,
                            .seg = {{10, 20}, {30, 40}}, .view = block, .scene_len = scene_len},
                       u2;
             msg_encode_update(&u, &o);
             n = body_of(&o, buf);
-            assert_int_equal(n, 24 + 8 * nseg + 3 + scene_len);
+            assert_int_equal(n, 28 + 8 * nseg + 3 + scene_len);
             assert_int_equal(msg_decode_update(buf, n, &u2, &err), 0);
             assert_true(u2.frame == 7 && u2.width == 640 && u2.height == 480 && u2.nseg == nseg);
-            assert_true(u2.scene_id == 3 && u2.view_len == 3);
+            assert_true(u2.keep == 6 && u2.scene_id == 3 && u2.view_len == 3);
             for (uint32_t k = 0; k < nseg; k++)
                 assert_memory_equal(&u2.seg[k], &u.seg[k], sizeof(Segment));
             assert_memory_equal(u2.view, block, 3);
@@ -145,17 +146,17 @@ static void bodies_that_do_not_fit_are_refused(void **state)
     assert_int_equal(msg_decode_hello(buf, 89, &h, &err), -1);
     assert_non_null(strstr(err.msg, "HELLO packet of 89 bytes, its layout has 88"));
     MsgUpdate u;
-    uint32_t three[6] = {1, 2, 3, 1, 0, 3};
+    uint32_t three[7] = {1, 2, 3, 1, 1, 0, 3}; /* frame, width, height, keep, scene id, view length, nseg */
     memcpy(buf, three, sizeof three);
     assert_int_equal(msg_decode_update(buf, 200, &u, &err), -1);
     assert_non_null(strstr(err.msg, "UPDATE packet with 3 segments"));
-    uint32_t two[6] = {1, 2, 3, 1, 0, 2};
+    uint32_t two[7] = {1, 2, 3, 1, 1, 0, 2};
     memcpy(buf, two, sizeof two);
-    assert_int_equal(msg_decode_update(buf, 24 + 15, &u, &err), -1);
+    assert_int_equal(msg_decode_update(buf, 28 + 15, &u, &err), -1);
     assert_non_null(strstr(err.msg, "too short for its segments"));
-    uint32_t long_view[6] = {1, 2, 3, 1, 10, 0}; /* a view of 10 bytes, 9 there */
+    uint32_t long_view[7] = {1, 2, 3, 1, 1, 10, 0}; /* a view of 10 bytes, 9 there */
     memcpy(buf, long_view, sizeof long_view);
-    assert_int_equal(msg_decode_update(buf, 24 + 9, &u, &err), -1);
+    assert_int_equal(msg_decode_update(buf, 28 + 9, &u, &err), -1);
     assert_non_null(strstr(err.msg, "view of 10 bytes and 9 bytes left"));
     MsgData d;
     uint32_t data[5] = {1, 0, 10, 5, PIX_RAW}; /* 10 pixels claimed, raw */
@@ -277,6 +278,28 @@ static void reads_ahead_and_says_so(void **state)
     close(sv[1]);
 }
 
+/* A farm's discovery records as a resolver hands them over: a server's
+ * announcement reads back; a missing or malformed proto= or records that
+ * run past their data are refused. */
+static void discovery_records_read(void **state)
+{
+    (void)state;
+    static const uint8_t ok[] = "\x08proto=10\x0dsize=1024x768\x09token=yes";
+    static const uint8_t no_proto[] = "\x08size=1x1";
+    static const uint8_t bad_proto[] = "\x08proto=1o";
+    static const uint8_t signed_proto[] = "\x08proto=+9";
+    static const uint8_t past_end[] = "\x08proto=10\x20size";
+    MdnsFarm m;
+    assert_int_equal(mdns_txt_read(ok, sizeof ok - 1, &m), 10);
+    assert_string_equal(m.size, "1024x768");
+    assert_int_equal(m.token, 1);
+    assert_int_equal(mdns_txt_read(no_proto, sizeof no_proto - 1, &m), -1);
+    assert_string_equal(m.size, "1x1");
+    assert_int_equal(mdns_txt_read(bad_proto, sizeof bad_proto - 1, &m), -1);
+    assert_int_equal(mdns_txt_read(signed_proto, sizeof signed_proto - 1, &m), -1);
+    assert_int_equal(mdns_txt_read(past_end, sizeof past_end - 1, &m), -1);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -284,6 +307,7 @@ int main(void)
         cmocka_unit_test(bodies_that_do_not_fit_are_refused),
         cmocka_unit_test(protocol_doc_matches_the_codec),
         cmocka_unit_test(reads_ahead_and_says_so),
+        cmocka_unit_test(discovery_records_read),
     };
     return cmocka_run_group_tests_name("msg", tests, NULL, NULL);
 }

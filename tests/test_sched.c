@@ -217,6 +217,50 @@ static void top_up_keeps_segments_in_flight(void **state)
     sched_destroy(s);
 }
 
+/* Pipelined frames: two frames in flight.  The older frame's fresh work
+ * goes first, then the newer's; segments again only when neither has any
+ * fresh work, the older's first; a client that cannot render the older
+ * frame gets the newer only; orphans of a client that left count as fresh. */
+static void pair_top_up_serves_the_older_frame_first(void **state)
+{
+    (void)state;
+    Sched *older = make(10, 4, 1, sched_tail_static, 2), *newer = make(10, 4, 1, sched_tail_static, 2);
+    sched_begin_frame(newer, 2);
+    Segment g[SCHED_IN_FLIGHT];
+    Sched *from[SCHED_IN_FLIGHT];
+    /* the older frame handed out: client 0 holds lines 0 and 1, client 1 lines 2 and 3 */
+    assert_int_equal(sched_top_up_pair(older, NULL, 0, g, from), 2);
+    assert_true(from[0] == older && from[1] == older && g[0].first == 0 && g[1].first == 10);
+    assert_int_equal(sched_top_up_pair(older, NULL, 1, g, from), 2);
+    assert_false(sched_has_fresh(older)); /* the moment to start the newer frame */
+    assert_true(sched_has_fresh(newer));
+    /* full: nothing more, over both frames */
+    assert_int_equal(sched_top_up_pair(older, newer, 0, g, from), 0);
+    /* line 0 done: the newer frame's first line, not line 2 again */
+    assert_int_equal(sched_complete(older, 0, 1, (Segment){0, 10}), SCHED_ACCEPT);
+    assert_int_equal(sched_top_up_pair(older, newer, 0, g, from), 1);
+    assert_true(from[0] == newer && g[0].first == 0);
+    /* client 1 leaves: its lines 2 and 3 are fresh again and go before the newer frame's */
+    sched_release(older, 1);
+    assert_true(sched_has_fresh(older));
+    assert_int_equal(sched_complete(older, 0, 1, (Segment){10, 10}), SCHED_ACCEPT);
+    assert_int_equal(sched_top_up_pair(older, newer, 0, g, from), 1);
+    assert_true(from[0] == older && g[0].first == 30); /* the newest orphan first, as sched_assign */
+    /* a client that joined after the newer frame began gets only the newer's */
+    assert_int_equal(sched_top_up_pair(NULL, newer, 2, g, from), 2);
+    assert_true(from[0] == newer && from[1] == newer && g[0].first == 10 && g[1].first == 20);
+    /* client 3 may take either: the last fresh lines (older 2, newer 3), then
+     * segments again, the older frame's first */
+    assert_int_equal(sched_top_up_pair(older, newer, 3, g, from), 2);
+    assert_true(from[0] == older && g[0].first == 20 && from[1] == newer && g[1].first == 30);
+    assert_false(sched_has_fresh(older) || sched_has_fresh(newer));
+    assert_int_equal(sched_complete(older, 3, 1, g[0]), SCHED_ACCEPT);
+    assert_int_equal(sched_top_up_pair(older, newer, 3, g, from), 1);
+    assert_true(from[0] == older && g[0].first == 30); /* held by client 0: the older frame's tail again */
+    sched_destroy(older);
+    sched_destroy(newer);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -227,6 +271,7 @@ int main(void)
         cmocka_unit_test(released_clients_hold_nothing),
         cmocka_unit_test(auto_lines_follow_the_rule),
         cmocka_unit_test(top_up_keeps_segments_in_flight),
+        cmocka_unit_test(pair_top_up_serves_the_older_frame_first),
     };
     return cmocka_run_group_tests_name("sched", tests, NULL, NULL);
 }

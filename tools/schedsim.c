@@ -6,6 +6,7 @@
  *            [--latency-us L] [--bandwidth-mbit B] [--client-mbit B2 [--client-burst-kb K]]
  *            [--overhead-us O] [--overhead-cpu Q] [--bg-cpu-us G] [--slice-us S]
  *            [--turnaround-us R] [--server-us P] [--frames F] [--cost-scale K]
+ *            [--pixel-bytes X] [--pipeline on|off]
  *   schedsim --probe-slice C     (measures S on this machine's C cores; --help lists every option)
  *
  * The cost of a pixel comes from a real frame's profile (`lanray-render
@@ -34,7 +35,13 @@
  * client no sooner than the measured turnaround R after that (the server
  * encoding and sending the scene, the client decoding it: about 0.3 ms); a
  * client cancels the render it is in when an UPDATE for a newer frame
- * arrives, as the real one does.  Prints FPS, efficiency (busy / (clients x
+ * arrives, as the real one does.  With --pipeline on the server starts the
+ * next frame as soon as the current one has no fresh work left (the real
+ * server's --pipeline, through the same scheduler calls: sched_has_fresh,
+ * sched_top_up_pair), the UPDATE keeps the older frame, and frames are
+ * counted as they are shown, in order.  A DATA packet carries X bytes a
+ * pixel (--pixel-bytes: 3 raw, about 0.6 after zstd: docs/scaling.md).
+ * Prints FPS, efficiency (busy / (clients x
  * wall)), duplicated lines and bytes per frame. */
 #include <math.h>
 #include <pthread.h>
@@ -60,6 +67,7 @@ typedef struct {
     Segment seg;
     double busy_us;
     uint32_t gen; /* EV_DONE: the client's render generation it ends; EV_ARRIVE_SERVER: 1 once handled */
+    uint32_t keep; /* EV_ARRIVE_CLIENT of an UPDATE: the oldest frame the client keeps (0: a COMPUTE) */
     uint64_t seq; /* push order: events at the same time pop first-in first-out */
 } Event;
 
@@ -138,7 +146,7 @@ typedef struct {
     int waking;         /* idle, given work, waiting for a core (EV_WAKE) */
     int lagging;        /* its segment taken, in the waiting part of the overhead (EV_LAGGED) */
     uint32_t gen;       /* bumped when a render is cancelled: its EV_DONE is void */
-    uint32_t cur_frame; /* the newest frame it knows */
+    uint32_t keep_from; /* the oldest frame it renders (its last UPDATE's keep) */
 } Client;
 
 typedef struct {
@@ -152,6 +160,8 @@ typedef struct {
     double bg_cpu_us;   /* CPU per segment outside the render threads (server, network threads) */
     double turnaround_us; /* from a frame's last pixels to a client starting the next frame */
     double server_us;   /* the server thread's time per DATA packet (and the COMPUTE it sends) */
+    double pixel_bytes; /* a pixel's bytes in a DATA packet (3 raw; fewer coded) */
+    int pipeline;       /* the next frame starts when the current one has no fresh work left */
     int shared;         /* the clients share one group of cores, with the server */
     uint32_t segment; /* 0: auto, as the server */
     SchedTailRule tail;
@@ -226,7 +236,7 @@ static void group_share(const Sim *s, Client *cl, int g, double now, Heap *h)
             continue;
         c->rate = rate;
         c->gen++;
-        heap_push(h, (Event){now + c->left / rate, EV_DONE, i, c->seg_frame, c->seg, 0, c->gen, 0});
+        heap_push(h, (Event){now + c->left / rate, EV_DONE, i, c->seg_frame, c->seg, 0, c->gen, 0, 0});
     }
 }
 
@@ -251,7 +261,7 @@ static void bg_share(const Sim *s, Client *cl, double now, Heap *h)
         if (c->bg_rate == rate)
             continue;
         c->bg_rate = rate;
-        heap_push(h, (Event){now + c->bg_left / rate, EV_BG_IDLE, i, 0, {0, 0}, 0, ++c->bg_gen, 0});
+        heap_push(h, (Event){now + c->bg_left / rate, EV_BG_IDLE, i, 0, {0, 0}, 0, ++c->bg_gen, 0, 0});
     }
     group_share(s, cl, 0, now, h);
 }
@@ -264,7 +274,7 @@ static void bg_add(const Sim *s, Client *cl, int ci, double now, Heap *h)
     if (c->bg_left > 0) { /* more for a thread already at work: same share */
         c->bg_left = fmax(c->bg_left - (now - c->bg_since) * c->bg_rate, 0.0) + s->bg_cpu_us;
         c->bg_since = now;
-        heap_push(h, (Event){now + c->bg_left / c->bg_rate, EV_BG_IDLE, ci, 0, {0, 0}, 0, ++c->bg_gen, 0});
+        heap_push(h, (Event){now + c->bg_left / c->bg_rate, EV_BG_IDLE, ci, 0, {0, 0}, 0, ++c->bg_gen, 0, 0});
         return;
     }
     c->bg_left = s->bg_cpu_us;
@@ -277,30 +287,47 @@ static void bg_add(const Sim *s, Client *cl, int ci, double now, Heap *h)
 typedef struct {
     Sim *s;
     Client *cl;
-    Sched *sc;
+    Sched *sc;          /* the newest frame's scheduler (its number: newest) */
+    Sched *older;       /* pipelined: the frame before it, still in flight (NULL: none) */
+    Sched *spare;
+    uint32_t newest, older_id;
+    int in_frame;       /* the newest frame is not shown yet */
     Heap h;
     Link down, up; /* the server's link, each way */
     double now, bytes, busy, work, server_free;
 } Run;
 
+/* The frame of a segment the pair top-up gave (from[k]). */
+static uint32_t frame_of(const Run *r, const Sched *from) { return from == r->sc ? r->newest : r->older_id; }
+
+/* A DATA packet's bytes: header and fields, and the pixels as coded. */
+static double data_bytes(const Sim *s, Segment g) { return 28.0 + s->pixel_bytes * g.count; }
+
 /* A frame begins: the scheduler sizes and starts it, and every client gets
- * the UPDATE with its first segments. */
+ * the UPDATE with its first segments (and, pipelined, COMPUTEs of the
+ * older frame where it has any fresh work: none, as it starts now). */
 static void frame_begin(Run *r, int frame)
 {
     Sim *s = r->s;
+    r->newest = (uint32_t)frame + 1;
+    r->in_frame = 1;
     /* the server's rule, with the simulated per-segment overhead and CPU
      * outside the render threads standing for what the server measures
      * (the gap between results, and its own CPU per packet twice over) */
     sched_start_frame(r->sc, (uint32_t)frame + 1, (uint32_t)s->clients, s->segment == 0, r->work,
                       s->overhead_us + s->bg_cpu_us);
     r->work = 0;
+    const uint32_t keep = r->older ? r->older_id : r->newest;
     for (int i = 0; i < s->clients; i++) {
         double t = fmax(send_via(s, r->now, &r->down, &r->cl[i].down, UPDATE_BYTES), r->now + s->turnaround_us);
         r->bytes += UPDATE_BYTES;
         Segment g[SCHED_IN_FLIGHT];
-        uint32_t n = sched_top_up(r->sc, i, g);
+        Sched *from[SCHED_IN_FLIGHT];
+        uint32_t n = sched_top_up_pair(r->older, r->sc, i, g, from);
+        /* the UPDATE (keep) reaches the client even where it brings no segment */
+        heap_push(&r->h, (Event){t, EV_ARRIVE_CLIENT, i, r->newest, {0, 0}, 0, 0, keep, 0});
         for (uint32_t k = 0; k < n; k++)
-            heap_push(&r->h, (Event){t, EV_ARRIVE_CLIENT, i, (uint32_t)frame + 1, g[k], 0, 0, 0});
+            heap_push(&r->h, (Event){t, EV_ARRIVE_CLIENT, i, frame_of(r, from[k]), g[k], 0, 0, 0, 0});
     }
 }
 
@@ -310,16 +337,24 @@ static void frame_begin(Run *r, int frame)
 static int on_arrive_client(Run *r, const Event *ev)
 {
     Client *c = &r->cl[ev->client];
-    if (ev->frame > c->cur_frame) { /* newer UPDATE: drop older work, cancel the render */
-        c->cur_frame = ev->frame;
-        c->nq = 0;
-        if (c->busy || c->lagging) {
+    if (ev->keep > c->keep_from) { /* newer UPDATE: drop work older than it keeps, cancel such a render */
+        c->keep_from = ev->keep;
+        int kept = 0;
+        for (int i = 0; i < c->nq; i++)
+            if (c->qframe[i] >= ev->keep) {
+                c->queue[kept] = c->queue[i];
+                c->qframe[kept++] = c->qframe[i];
+            }
+        c->nq = kept;
+        if ((c->busy || c->lagging) && c->seg_frame < ev->keep) {
             c->busy = c->lagging = 0;
             c->gen++;
             group_share(r->s, r->cl, c->group, r->now, &r->h);
         }
     }
-    if (ev->frame < c->cur_frame || c->nq == 64)
+    if (ev->seg.count == 0) /* the UPDATE itself */
+        return 1;
+    if (ev->frame < c->keep_from || c->nq == 64)
         return 0;
     c->queue[c->nq] = ev->seg;
     c->qframe[c->nq++] = ev->frame;
@@ -336,10 +371,9 @@ static int on_done(Run *r, Event ev)
     c->rate = 0;
     ev.busy_us = r->now - c->started;
     group_share(r->s, r->cl, c->group, r->now, &r->h);
-    if (ev.frame == c->cur_frame) {
-        double size = 24.0 + 3.0 * ev.seg.count;
-        double t = send_via(r->s, r->now, &r->up, &c->up, size);
-        heap_push(&r->h, (Event){t, EV_ARRIVE_SERVER, ev.client, ev.frame, ev.seg, ev.busy_us, 0, 0});
+    if (ev.frame >= c->keep_from) {
+        double t = send_via(r->s, r->now, &r->up, &c->up, data_bytes(r->s, ev.seg));
+        heap_push(&r->h, (Event){t, EV_ARRIVE_SERVER, ev.client, ev.frame, ev.seg, ev.busy_us, 0, 0, 0});
     }
     return 1;
 }
@@ -356,24 +390,25 @@ static int on_arrive_server(Run *r, Event ev)
         heap_push(&r->h, ev);
         return 0;
     }
-    r->bytes += 24.0 + 3.0 * ev.seg.count;
+    r->bytes += data_bytes(s, ev.seg);
     bg_add(s, r->cl, ev.client, r->now, &r->h);
-    SchedResult res = sched_complete(r->sc, ev.client, ev.frame, ev.seg);
+    SchedResult res = sched_complete(r->older && ev.frame == r->older_id ? r->older : r->sc, ev.client, ev.frame, ev.seg);
     if (res != SCHED_STALE) {
         r->busy += ev.busy_us;
         if (res == SCHED_ACCEPT)
             r->work += ev.busy_us; /* the server sums the render times clients report */
     }
-    if (res == SCHED_STALE || sched_frame_done(r->sc))
-        return 1;
+    if (res == SCHED_STALE || (!r->older && sched_frame_done(r->sc)))
+        return 1; /* the frame is over: the next one's UPDATE tops the clients up */
     /* every client topped up after a result, a COMPUTE a segment */
     for (int i = 0; i < s->clients; i++) {
         Segment g[SCHED_IN_FLIGHT];
-        uint32_t n = sched_top_up(r->sc, i, g);
+        Sched *from[SCHED_IN_FLIGHT];
+        uint32_t n = sched_top_up_pair(r->older, r->sc, i, g, from);
         for (uint32_t k = 0; k < n; k++) {
             double t = send_via(s, r->now, &r->down, &r->cl[i].down, 20);
             r->bytes += 20;
-            heap_push(&r->h, (Event){t, EV_ARRIVE_CLIENT, i, ev.frame, g[k], 0, 0, 0});
+            heap_push(&r->h, (Event){t, EV_ARRIVE_CLIENT, i, frame_of(r, from[k]), g[k], 0, 0, 0, 0});
         }
     }
     return 1;
@@ -394,7 +429,7 @@ static void start_idle(Run *r, const Event *ev)
             double delay = s->slice_us * floor(group_demand(s, r->cl, d->group) / s->group_cores);
             if (delay > 0) {
                 d->waking = 1;
-                heap_push(&r->h, (Event){r->now + delay, EV_WAKE, i, 0, {0, 0}, 0, 0, 0});
+                heap_push(&r->h, (Event){r->now + delay, EV_WAKE, i, 0, {0, 0}, 0, 0, 0, 0});
                 continue;
             }
         }
@@ -412,7 +447,7 @@ static void start_idle(Run *r, const Event *ev)
         double lag = (1 - s->overhead_cpu) * s->overhead_us;
         if (lag > 0) {
             d->lagging = 1;
-            heap_push(&r->h, (Event){r->now + lag, EV_LAGGED, i, 0, {0, 0}, 0, d->gen, 0});
+            heap_push(&r->h, (Event){r->now + lag, EV_LAGGED, i, 0, {0, 0}, 0, d->gen, 0, 0});
             continue;
         }
         d->busy = 1;
@@ -466,29 +501,60 @@ static void run(Sim *s)
                        .segment_lines = s->segment ? s->segment : 1, .tail = s->tail,
                        .min_pixels = (uint32_t)(s->width / 4 > 0 ? s->width / 4 : 1)};
     r.sc = sched_create(&cfg);
+    r.spare = sched_create(&cfg);
     sched_set_clients(r.sc, (uint32_t)s->clients);
-    int measured = 0;
+    sched_set_clients(r.spare, (uint32_t)s->clients);
+    int measured = 0, started = 0, shown = 0;
+    const int total = s->frames + 1; /* frame 0 is warm-up, as in the benchmark */
     double t_first = 0;
-    for (int frame = 0; frame < s->frames + 1; frame++) { /* frame 0 is warm-up, as in the benchmark */
-        if (frame == 1) {
-            t_first = r.now;
-            r.bytes = r.busy = 0;
+    frame_begin(&r, started++);
+    while (shown < total && r.h.n) {
+        Event ev = heap_pop(&r.h);
+        r.now = ev.t;
+        on_event(&r, &ev);
+        /* frames shown in order, the older of two first; the clock starts
+         * when the warm-up frame is shown */
+        for (;;) {
+            if (r.older && sched_frame_done(r.older)) {
+                r.spare = r.older;
+                r.older = NULL;
+            } else if (!r.older && r.in_frame && sched_frame_done(r.sc)) {
+                r.in_frame = 0;
+            } else {
+                break;
+            }
+            if (++shown == 1) {
+                t_first = r.now;
+                r.bytes = r.busy = 0;
+            } else {
+                measured++;
+            }
         }
-        frame_begin(&r, frame);
-        while (!sched_frame_done(r.sc) && r.h.n) {
-            Event ev = heap_pop(&r.h);
-            r.now = ev.t;
-            on_event(&r, &ev);
+        if (!r.in_frame && started < total) {
+            frame_begin(&r, started++);
+        } else if (s->pipeline && r.in_frame && !r.older && !sched_has_fresh(r.sc) && started < total) {
+            r.older = r.sc;
+            r.older_id = r.newest;
+            r.sc = r.spare;
+            r.spare = NULL;
+            sched_set_segment_lines(r.sc, sched_config(r.older)->segment_lines);
+            frame_begin(&r, started++);
         }
-        if (frame >= 1)
-            measured++;
     }
     double wall = r.now - t_first;
     SchedStats st = sched_stats(r.sc);
+    const Sched *more[2] = {r.older, r.spare};
+    for (int i = 0; i < 2; i++)
+        if (more[i]) {
+            SchedStats m = sched_stats(more[i]);
+            st.duplicate_pixels += m.duplicate_pixels;
+        }
     printf("predicted fps=%.3f efficiency=%.4f dup_lines_per_frame=%.2f bytes_per_frame=%.0f segment_lines=%u\n",
            measured / (wall * 1e-6), r.busy / (s->clients * wall), (double)st.duplicate_pixels / s->width / (s->frames + 1),
            r.bytes / measured, sched_config(r.sc)->segment_lines);
     sched_destroy(r.sc);
+    sched_destroy(r.older);
+    sched_destroy(r.spare);
     free(r.h.e);
     free(r.cl);
 }
@@ -570,9 +636,11 @@ static int parse_speeds(const char *v, void *dst, Err *err)
 
 
 /* What the command line says beyond the simulation's own numbers. */
+static const char *const pipeline_words[] = {"off", "on", NULL};
+
 typedef struct {
     const char *profile;
-    int tail, probe;
+    int tail, probe, pipeline;
     double burst_kb;
 } Args;
 
@@ -580,7 +648,7 @@ typedef struct {
 static int parse_args(Sim *s, Args *a, int argc, char **argv)
 {
     *s = (Sim){.width = 1024, .clients = 1, .threads = 1, .frames = 3, .cores = 1e9, .latency_us = 50, .mbit = 10000,
-               .overhead_us = 100, .segment = 16, .cost_scale = 1, .overhead_cpu = 1};
+               .overhead_us = 100, .segment = 16, .cost_scale = 1, .overhead_cpu = 1, .pixel_bytes = 3};
     *a = (Args){.tail = 1};
     const Opt opts[] = {
         {.name = "--profile", .kind = OPT_STRING, .dst = &a->profile, .arg = "FILE",
@@ -606,6 +674,11 @@ static int parse_args(Sim *s, Args *a, int argc, char **argv)
         {.name = "--slice-us", .kind = OPT_REAL, .dst = &s->slice_us, .arg = "S", .help = "the OS scheduler's time slice"},
         {.name = "--turnaround-us", .kind = OPT_REAL, .dst = &s->turnaround_us, .arg = "R", .help = "frame end to next UPDATE"},
         {.name = "--server-us", .kind = OPT_REAL, .dst = &s->server_us, .arg = "P", .help = "server CPU per DATA packet"},
+        {.name = "--pixel-bytes", .kind = OPT_REAL, .dst = &s->pixel_bytes, .arg = "X", .rlo = 0, .rhi = 16,
+         .help = "bytes a pixel in a DATA packet (3 raw; about 0.6 with --compress zstd)", .def = "3"},
+        {.name = "--pipeline", .kind = OPT_CHOICE, .dst = &a->pipeline, .choices = pipeline_words,
+         .help = "the next frame starts when the current one has no fresh work left (lanray-server --pipeline)",
+         .def = "off"},
         {.name = "--cost-scale", .kind = OPT_REAL, .dst = &s->cost_scale, .arg = "K", .help = "multiplies the profile's costs"},
         {.name = "--probe-slice", .kind = OPT_INT, .dst = &a->probe, .arg = "C", .lo = 1, .hi = 4096,
          .help = "instead: measure the time slice S on C cores of this machine", .def = "off"},
@@ -622,6 +695,7 @@ static int parse_args(Sim *s, Args *a, int argc, char **argv)
         return 2;
     }
     s->tail = sched_tail_rules[a->tail];
+    s->pipeline = a->pipeline;
     s->client_burst = a->burst_kb * 1024;
     return go;
 }

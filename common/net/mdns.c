@@ -130,6 +130,37 @@ static void txt_value(AvahiStringList *txt, const char *key, char *out, size_t s
     avahi_free(v);
 }
 
+/* A farm's TXT records into m (size, token): its protocol version, or -1
+ * where proto= is missing or not a plain decimal number. */
+static long farm_read(AvahiStringList *txt, MdnsFarm *m)
+{
+    char proto_v[16], tok[8];
+    txt_value(txt, "proto", proto_v, sizeof proto_v);
+    txt_value(txt, "size", m->size, sizeof m->size);
+    txt_value(txt, "token", tok, sizeof tok);
+    m->token = strcmp(tok, "yes") == 0;
+    long v = 0;
+    if (!proto_v[0] || strlen(proto_v) > 9)
+        return -1;
+    for (const char *p = proto_v; *p; p++) {
+        if (*p < '0' || *p > '9')
+            return -1;
+        v = v * 10 + (*p - '0');
+    }
+    return v;
+}
+
+long mdns_txt_read(const uint8_t *rdata, size_t len, MdnsFarm *m)
+{
+    AvahiStringList *txt = NULL;
+    memset(m, 0, sizeof *m);
+    if (avahi_string_list_parse(rdata, len, &txt) < 0)
+        return -1;
+    long v = farm_read(txt, m);
+    avahi_string_list_free(txt);
+    return v;
+}
+
 static void on_resolved(AvahiServiceResolver *r, AvahiIfIndex iface, AvahiProtocol proto, AvahiResolverEvent event,
                         const char *name, const char *type, const char *domain, const char *host,
                         const AvahiAddress *addr, uint16_t port, AvahiStringList *txt, AvahiLookupResultFlags flags,
@@ -138,8 +169,9 @@ static void on_resolved(AvahiServiceResolver *r, AvahiIfIndex iface, AvahiProtoc
     (void)iface, (void)proto, (void)type, (void)domain, (void)host, (void)flags;
     Find *f = ctx;
     if (event == AVAHI_RESOLVER_FOUND && f->n < f->max) {
-        char proto_v[16];
-        txt_value(txt, "proto", proto_v, sizeof proto_v);
+        MdnsFarm m;
+        memset(&m, 0, sizeof m);
+        const long version = farm_read(txt, &m);
         /* one farm once: by name (a service seen on several interfaces),
          * and by address and port (the server's own announcement beside a
          * static Avahi service file for it) */
@@ -148,16 +180,11 @@ static void on_resolved(AvahiServiceResolver *r, AvahiIfIndex iface, AvahiProtoc
         int dup = 0;
         for (int i = 0; i < f->n; i++)
             dup |= strcmp(f->out[i].name, name) == 0 || (strcmp(f->out[i].host, at) == 0 && f->out[i].port == port);
-        if (!dup && (unsigned)atoi(proto_v) == PROTO_VERSION) { /* the subtype said so; the record agrees */
-            MdnsFarm *m = &f->out[f->n++];
-            memset(m, 0, sizeof *m);
-            snprintf(m->name, sizeof m->name, "%s", name);
-            avahi_address_snprint(m->host, sizeof m->host, addr);
-            m->port = port;
-            txt_value(txt, "size", m->size, sizeof m->size);
-            char tok[8];
-            txt_value(txt, "token", tok, sizeof tok);
-            m->token = strcmp(tok, "yes") == 0;
+        if (!dup && version == PROTO_VERSION) { /* the subtype said so; the record agrees */
+            snprintf(m.name, sizeof m.name, "%s", name);
+            avahi_address_snprint(m.host, sizeof m.host, addr);
+            m.port = port;
+            f->out[f->n++] = m;
         }
     }
     avahi_service_resolver_free(r);

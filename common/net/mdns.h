@@ -8,6 +8,9 @@
 #ifndef LANRAY_MDNS_H
 #define LANRAY_MDNS_H
 
+#include <stddef.h>
+#include <stdint.h>
+
 #include "base/err.h"
 
 #define MDNS_TYPE "_lanray._tcp"
@@ -27,6 +30,11 @@ typedef struct {
     char size[32];     /* its TXT size=, or "" */
     int token;         /* its TXT token=yes */
 } MdnsFarm;
+
+/* A farm's TXT records as they come on the wire (length-prefixed strings,
+ * RFC 6763) into m's size and token: the protocol version it says
+ * (proto=), or -1 where the records do not parse or say none. */
+long mdns_txt_read(const uint8_t *rdata, size_t len, MdnsFarm *m);
 
 /* The farms of this protocol version seen within `seconds`, resolved: how
  * many (at most max into out), or -1 with the reason in err (no daemon). */

@@ -41,7 +41,8 @@ static const Field welcome_f[] = {{"id", offsetof(MsgWelcome, id), 4}, {"coding"
                                   {NULL, 0, 0}};
 static const Field update_f[] = {
     {"frame", offsetof(MsgUpdate, frame), 4},         {"width", offsetof(MsgUpdate, width), 4},
-    {"height", offsetof(MsgUpdate, height), 4},       {"scene_id", offsetof(MsgUpdate, scene_id), 4},
+    {"height", offsetof(MsgUpdate, height), 4},       {"keep", offsetof(MsgUpdate, keep), 4},
+    {"scene_id", offsetof(MsgUpdate, scene_id), 4},
     {"view_len", offsetof(MsgUpdate, view_len), 4},   {"nseg", offsetof(MsgUpdate, nseg), 4},
     {"segments", offsetof(MsgUpdate, seg), SEGMENTS_BY_NSEG}, {NULL, 0, 0}};
 static const Field compute_f[] = {{"frame", offsetof(MsgCompute, frame), 4},

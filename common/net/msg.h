@@ -17,9 +17,10 @@
 #include "render/segment.h"
 
 #define PROTO_MAGIC 0x5941524cu /* "LRAY" */
-#define PROTO_VERSION 10u /* 8: an UPDATE carries the frame's view apart, and the scene only when it changed;
+#define PROTO_VERSION 11u /* 8: an UPDATE carries the frame's view apart, and the scene only when it changed;
                            * 9: the view's settings hold light_sampling (wire 6);
-                           * 10: compressed pixels (HELLO codecs, WELCOME coding, DATA coding) */
+                           * 10: compressed pixels (HELLO codecs, WELCOME coding, DATA coding);
+                           * 11: pipelined frames (UPDATE keep: the older frame still wanted) */
 #define PROTO_BOM 0x01020304u
 #define PROTO_HEADER 8u
 #define PROTO_NONCE 32u
@@ -32,7 +33,7 @@ typedef enum {
     PKT_SERVER_HELLO = 1, /* server -> client: magic, version, bom, flags, nonce */
     PKT_HELLO = 2,        /* client -> server: magic, version, bom, threads, real size, codecs, nonce, proof */
     PKT_WELCOME = 3,      /* server -> client: client id, the pixels' coding */
-    PKT_UPDATE = 4,       /* server -> client: frame, size, scene id, up to 2 segments, the view, the scene if new */
+    PKT_UPDATE = 4,       /* server -> client: frame, size, frames kept, scene id, up to 2 segments, the view, the scene if new */
     PKT_COMPUTE = 5,      /* server -> client: frame, segment */
     PKT_DATA = 6,         /* client -> server: frame, segment, render time, coding, RGB8 or RGBE pixels as coded */
     PKT_ASSET = 7,        /* server -> client: kind, content hash, payload */
@@ -68,6 +69,8 @@ typedef struct {
  * into the body. */
 typedef struct {
     uint32_t frame, width, height;
+    uint32_t keep;      /* the oldest frame whose segments the client still renders: frame, or the one before it
+                         * where the server started this frame before that one was finished (pipelined) */
     uint32_t scene_id;  /* the description's number (the server counts up from 1 as it changes) */
     uint32_t view_len;
     uint32_t nseg;      /* <= 2 */

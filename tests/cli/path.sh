@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # A camera path (--path): frame k of a served flight with --path-step S is
 # lanray-render's image of the path's camera at (k-1) x S, byte for byte,
-# through two clients; a camera that moves costs a client no scene and no
+# through two clients, with frames pipelined (started before the one before
+# is finished: the summary counts them) and without; a camera that moves costs a client no scene and no
 # top-level tree (it decodes one description and builds one tree for the
 # whole flight), while an animation that turns the model does (one each a
 # frame: the counters can tell); a headless flight without --frames stops
@@ -43,6 +44,18 @@ for k in 1 2 3 4 5 6; do
     cmp -s "$dir/f/frame-0000$k.png" "$dir/ref-$k.png" || fail "frame $k is not the path's camera at $(((k - 1) * 5))/10 s"
 done
 grep -q "^path: frames 1 to 6 in .* fps while moving" "$dir/fly.log" || fail "no frame rate line: $(tail -2 "$dir/fly.log")"
+# pipelined frames (the default): the path's next view is known, so a frame
+# starts while the one before still has segments out; the frames are the
+# same, in order, as without (--pipeline off)
+grep -q "^pipelined: [1-9][0-9]* frames started before" "$dir/fly.log" ||
+    fail "no frame of the flight started ahead: $(grep -E '^pipelined|^summary' "$dir/fly.log")"
+start_server serial --port 0 --width $W --height $H --path "$dir/fly.path" --path-step 0.5 --wait-clients 2 \
+    --pipeline off --out "$dir/serial"
+run_clients 2 serial
+grep -q "^pipelined:" "$dir/serial.log" && fail "--pipeline off started frames ahead"
+for k in 1 2 3 4 5 6; do
+    cmp -s "$dir/serial/frame-0000$k.png" "$dir/ref-$k.png" || fail "frame $k without pipelining differs"
+done
 for c in 1 2; do
     grep -q "1 scenes decoded, 1 top-level trees built" "$dir/fly-$c.err" ||
         fail "client $c decoded or built more than once for camera moves: $(tail -1 "$dir/fly-$c.err")"

@@ -124,8 +124,8 @@ def main():
                     return
             segs = []
             if ptype == UPDATE:
-                frame, nseg = struct.unpack("=I", body[:4])[0], struct.unpack("=I", body[20:24])[0]
-                segs = [struct.unpack("=II", body[24 + 8 * k:32 + 8 * k]) for k in range(nseg)]
+                frame, nseg = struct.unpack("=I", body[:4])[0], struct.unpack("=I", body[24:28])[0]
+                segs = [struct.unpack("=II", body[28 + 8 * k:36 + 8 * k]) for k in range(nseg)]
             elif ptype == COMPUTE:
                 frame, first, count = struct.unpack("=III", body[:12])
                 segs = [(first, count)]

@@ -2,13 +2,16 @@
  * segment at once with valid pre-rendered DATA, as fast as the protocol
  * lets them, so that what is measured is the server's cost a packet.
  *
- *     datagen PORT SERVER_PID [--clients N] [--seconds S] [--warmup S]
+ *     datagen PORT SERVER_PID [--clients N] [--seconds S] [--warmup S] [--host H] [--whole]
  *
- * N connections (8) to 127.0.0.1:PORT do the handshake (no token), then
+ * N connections (8) to H:PORT (127.0.0.1) do the handshake (no token), then
  * answer each UPDATE's and COMPUTE's segments with DATA whose pixels are
  * a rendered segment of the default scene, coded as the WELCOME asks
  * (raw, LZ4 or zstd after the predictor: the server's --compress), coded
- * once per segment size before the clock starts.  After S seconds (10,
+ * once per segment size before the clock starts.  With --whole the pixels
+ * are the segment's own in the whole rendered 1024x768 frame (each coded
+ * the first time it is asked for), so that a frame's bytes are the default
+ * scene's: a farm of clients faster than any link.  After S seconds (10,
  * after a warm-up of 1) it prints the DATA packets a second it sent, the
  * server's CPU time (/proc/SERVER_PID/stat, user + system) a packet and
  * the packets a second one server core would take at that cost.  Timing
@@ -28,6 +31,7 @@
 
 #define MAX_CONNS 64
 #define MAX_SIZES 8
+#define MAX_SEGS 8192 /* --whole: the segments coded so far, by first pixel and count */
 
 typedef struct {
     uint32_t count;
@@ -44,26 +48,58 @@ typedef struct {
     CannedSize sizes[MAX_SIZES];
     int nsizes;
     PixCodec *pc;
+    int whole;               /* frame is the whole 1024x768 frame; segs holds each segment coded */
+    uint32_t seg_first[MAX_SEGS];
+    CannedSize segs[MAX_SEGS];
 } Canned;
 
 static int canned_make(Canned *c, Err *err)
 {
     BvhOptions opt = bvh_options_default(BVH_SAH);
     Scene *s;
-    RenderPool *pool = render_pool_create(1, err);
+    RenderPool *pool = render_pool_create(c->whole ? 2 : 1, err);
     if (!pool || scene_default(&s, &opt, err))
         return -1;
     s->settings.aa = 1, s->settings.adaptive = 0;
     World *w = world_build(s, NULL, err);
-    c->frame_bytes = 1024 * 64 * 3;
+    const int lines = c->whole ? 768 : 64;
+    c->frame_bytes = 1024 * (size_t)lines * 3;
     c->frame = malloc(c->frame_bytes);
-    /* lines 352..415 of a 1024x768 frame: the spheres and the floor */
-    int rc = !w || !c->frame || render_lines(pool, w, 1024, 768, 352, 64, c->frame, NULL, err) ? -1 : 0;
+    /* lines 352..415 of a 1024x768 frame (the spheres and the floor), or all of it */
+    int rc = !w || !c->frame || render_lines(pool, w, 1024, 768, c->whole ? 0 : 352, lines, c->frame, NULL, err) ? -1 : 0;
     world_destroy(w);
     scene_destroy(s);
     render_pool_destroy(pool);
     c->pc = pixcodec_create();
     return rc || !c->pc ? -1 : 0;
+}
+
+/* --whole: segment seg of the frame, coded once. */
+static int canned_seg(Canned *c, Segment seg, const uint8_t **data, size_t *len, uint32_t *coding)
+{
+    const size_t n = (size_t)seg.count * 3;
+    if ((size_t)seg.first * 3 + n > c->frame_bytes)
+        return -1;
+    uint32_t h = (seg.first * 2654435761u ^ seg.count) % MAX_SEGS;
+    for (uint32_t k = 0; k < MAX_SEGS; k++, h = (h + 1) % MAX_SEGS) {
+        CannedSize *e = &c->segs[h];
+        if (e->data && c->seg_first[h] == seg.first && e->count == seg.count) {
+            *data = e->data, *len = e->len, *coding = e->used;
+            return 0;
+        }
+        if (!e->data) {
+            uint8_t *out = malloc(pixcodec_bound(n));
+            Err err;
+            int used = out ? pixcodec_encode(c->pc, c->coding, c->frame + (size_t)seg.first * 3, n, 3, out, &e->len, &err) : -1;
+            if (used < 0)
+                return free(out), -1;
+            e->data = out, e->count = seg.count, e->used = (uint32_t)used;
+            c->seg_first[h] = seg.first;
+            *data = e->data, *len = e->len, *coding = e->used;
+            return 0;
+        }
+    }
+    return -1;
 }
 
 /* The DATA body's pixels for a segment of count pixels. */
@@ -153,8 +189,9 @@ static int answer(Conn *c, Canned *cn, uint64_t *sent, Err *err)
     }
     for (uint32_t i = 0; i < nseg; i++) {
         MsgData d = {.frame = frame, .seg = seg[i], .render_us = 1000, .bpp = 3};
-        if (canned_get(cn, seg[i].count, &d.pixels, &d.len, &d.coding))
-            return err_set(err, "a segment of %u pixels: more than the canned ones", seg[i].count);
+        if (cn->whole ? canned_seg(cn, seg[i], &d.pixels, &d.len, &d.coding)
+                      : canned_get(cn, seg[i].count, &d.pixels, &d.len, &d.coding))
+            return err_set(err, "segment %u+%u: outside the canned pixels", seg[i].first, seg[i].count);
         MsgOut out;
         msg_encode_data(&d, &out);
         if (conn_send_msg(c, &out, CONN_MAX_QUEUE, err))
@@ -164,10 +201,10 @@ static int answer(Conn *c, Canned *cn, uint64_t *sent, Err *err)
     return 0;
 }
 
-static int connect_all(Conn *conns, int nconn, int port, Canned *cn, Err *err)
+static int connect_all(Conn *conns, int nconn, const char *host, int port, Canned *cn, Err *err)
 {
     for (int i = 0; i < nconn; i++) {
-        int fd = net_dial("127.0.0.1", port, err);
+        int fd = net_dial(host, port, err);
         if (fd < 0)
             return -1;
         conn_init(&conns[i], fd);
@@ -177,29 +214,55 @@ static int connect_all(Conn *conns, int nconn, int port, Canned *cn, Err *err)
     return 0;
 }
 
-int main(int argc, char **argv)
+/* What the command line says. */
+typedef struct {
+    int port, pid, nconn;
+    double seconds, warmup;
+    const char *host;
+} Args;
+
+static int parse_args(int argc, char **argv, Args *a, Canned *cn)
 {
     if (argc < 3)
-        return fprintf(stderr, "usage: datagen PORT SERVER_PID [--clients N] [--seconds S] [--warmup S]\n"), 2;
-    const int port = atoi(argv[1]), pid = atoi(argv[2]);
-    int nconn = 8;
-    double seconds = 10, warmup = 1;
-    for (int i = 3; i + 1 < argc; i += 2) {
-        if (!strcmp(argv[i], "--clients"))
-            nconn = atoi(argv[i + 1]);
-        else if (!strcmp(argv[i], "--seconds"))
-            seconds = atof(argv[i + 1]);
-        else if (!strcmp(argv[i], "--warmup"))
-            warmup = atof(argv[i + 1]);
+        return fprintf(stderr, "usage: datagen PORT SERVER_PID [--clients N] [--seconds S] [--warmup S] [--host H] "
+                               "[--whole]\n"), 2;
+    *a = (Args){atoi(argv[1]), atoi(argv[2]), 8, 10, 1, "127.0.0.1"};
+    for (int i = 3; i < argc; i += 2) {
+        if (!strcmp(argv[i], "--whole")) {
+            cn->whole = 1;
+            i--;
+        } else if (i + 1 >= argc) {
+            return fprintf(stderr, "datagen: %s needs a value\n", argv[i]), 2;
+        } else if (!strcmp(argv[i], "--host")) {
+            a->host = argv[i + 1];
+        } else if (!strcmp(argv[i], "--clients")) {
+            a->nconn = atoi(argv[i + 1]);
+        } else if (!strcmp(argv[i], "--seconds")) {
+            a->seconds = atof(argv[i + 1]);
+        } else if (!strcmp(argv[i], "--warmup")) {
+            a->warmup = atof(argv[i + 1]);
+        }
     }
-    if (nconn < 1 || nconn > MAX_CONNS)
+    if (a->nconn < 1 || a->nconn > MAX_CONNS)
         return fprintf(stderr, "datagen: 1..%d clients\n", MAX_CONNS), 2;
-    Err err;
+    return 0;
+}
+
+int main(int argc, char **argv)
+{
+    Args a;
     Canned cn = {0};
+    int bad = parse_args(argc, argv, &a, &cn);
+    if (bad)
+        return bad;
+    const int port = a.port, pid = a.pid, nconn = a.nconn;
+    const double seconds = a.seconds, warmup = a.warmup;
+    const char *host = a.host;
+    Err err;
     if (canned_make(&cn, &err))
         return fprintf(stderr, "datagen: %s\n", err.msg), 1;
     Conn conns[MAX_CONNS];
-    if (connect_all(conns, nconn, port, &cn, &err))
+    if (connect_all(conns, nconn, host, port, &cn, &err))
         return fprintf(stderr, "datagen: %s\n", err.msg), 1;
     uint64_t sent = 0, sent0 = 0;
     double t0 = timer_now(), start = 0, cpu0 = 0;
