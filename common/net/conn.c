@@ -92,9 +92,17 @@ int conn_read(Conn *c, Err *err)
             }
             need = size;
         }
+        /* the socket was emptied by the last recv: no call that would
+         * only say EAGAIN (one a round per connection under load); the
+         * caller's poll says when more has come */
+        if (c->drained) {
+            c->drained = 0;
+            return 0;
+        }
         if (c->in_at + need > c->in_cap && room(c, need, err))
             return -1;
-        ssize_t n = recv(c->fd, c->in + c->in_len, c->in_cap - c->in_len, 0);
+        const size_t space = c->in_cap - c->in_len;
+        ssize_t n = recv(c->fd, c->in + c->in_len, space, 0);
         if (n == 0)
             return !have ? err_set(err, "connection closed by peer")
                    : have < PROTO_HEADER
@@ -106,6 +114,7 @@ int conn_read(Conn *c, Err *err)
                        : err_set(err, "receive failed: %s", strerror(errno));
         c->in_len += (size_t)n;
         c->bytes_in += (uint64_t)n;
+        c->drained = (size_t)n < space;
     }
 }
 

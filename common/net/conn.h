@@ -23,6 +23,7 @@ typedef struct {
     uint8_t *in;
     size_t in_at, in_len, in_cap;
     size_t handed; /* bytes of the packet handed out last, dropped at the next read */
+    int drained;   /* the last recv filled less than it could: the socket had no more */
     const uint8_t *body;
     uint32_t body_size;
     uint32_t type;
