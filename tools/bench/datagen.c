@@ -2,14 +2,15 @@
  * segment at once with valid pre-rendered DATA, as fast as the protocol
  * lets them, so that what is measured is the server's cost a packet.
  *
- *     datagen PORT SERVER_PID [--clients N] [--seconds S] [--warmup S] [--host H] [--whole]
+ *     datagen PORT SERVER_PID [--clients N] [--seconds S] [--warmup S] [--host H] [--whole] [--size WxH]
  *
  * N connections (8) to H:PORT (127.0.0.1) do the handshake (no token), then
  * answer each UPDATE's and COMPUTE's segments with DATA whose pixels are
  * a rendered segment of the default scene, coded as the WELCOME asks
  * (raw, LZ4 or zstd after the predictor: the server's --compress), coded
  * once per segment size before the clock starts.  With --whole the pixels
- * are the segment's own in the whole rendered 1024x768 frame (each coded
+ * are the segment's own in the whole rendered frame of --size WxH
+ * (1024x768: the server's frame size; each coded
  * the first time it is asked for), so that a frame's bytes are the default
  * scene's: a farm of clients faster than any link.  After S seconds (10,
  * after a warm-up of 1) it prints the DATA packets a second it sent, the
@@ -48,7 +49,8 @@ typedef struct {
     CannedSize sizes[MAX_SIZES];
     int nsizes;
     PixCodec *pc;
-    int whole;               /* frame is the whole 1024x768 frame; segs holds each segment coded */
+    int whole;               /* frame is the whole frame of width x height; segs holds each segment coded */
+    int width, height;
     uint32_t seg_first[MAX_SEGS];
     CannedSize segs[MAX_SEGS];
 } Canned;
@@ -62,11 +64,14 @@ static int canned_make(Canned *c, Err *err)
         return -1;
     s->settings.aa = 1, s->settings.adaptive = 0;
     World *w = world_build(s, NULL, err);
-    const int lines = c->whole ? 768 : 64;
-    c->frame_bytes = 1024 * (size_t)lines * 3;
+    const int lines = c->whole ? c->height : 64, width = c->whole ? c->width : 1024;
+    c->frame_bytes = (size_t)width * (size_t)lines * 3;
     c->frame = malloc(c->frame_bytes);
     /* lines 352..415 of a 1024x768 frame (the spheres and the floor), or all of it */
-    int rc = !w || !c->frame || render_lines(pool, w, 1024, 768, c->whole ? 0 : 352, lines, c->frame, NULL, err) ? -1 : 0;
+    int rc = !w || !c->frame ||
+                     render_lines(pool, w, width, c->whole ? c->height : 768, c->whole ? 0 : 352, lines, c->frame, NULL, err)
+                 ? -1
+                 : 0;
     world_destroy(w);
     scene_destroy(s);
     render_pool_destroy(pool);
@@ -225,14 +230,19 @@ static int parse_args(int argc, char **argv, Args *a, Canned *cn)
 {
     if (argc < 3)
         return fprintf(stderr, "usage: datagen PORT SERVER_PID [--clients N] [--seconds S] [--warmup S] [--host H] "
-                               "[--whole]\n"), 2;
+                               "[--whole] [--size WxH]\n"), 2;
     *a = (Args){atoi(argv[1]), atoi(argv[2]), 8, 10, 1, "127.0.0.1"};
+    cn->width = 1024, cn->height = 768;
     for (int i = 3; i < argc; i += 2) {
         if (!strcmp(argv[i], "--whole")) {
             cn->whole = 1;
             i--;
         } else if (i + 1 >= argc) {
             return fprintf(stderr, "datagen: %s needs a value\n", argv[i]), 2;
+        } else if (!strcmp(argv[i], "--size")) {
+            if (sscanf(argv[i + 1], "%dx%d", &cn->width, &cn->height) != 2 || cn->width < 1 || cn->height < 1 ||
+                cn->width > 8192 || cn->height > 8192)
+                return fprintf(stderr, "datagen: --size WxH, up to 8192x8192\n"), 2;
         } else if (!strcmp(argv[i], "--host")) {
             a->host = argv[i + 1];
         } else if (!strcmp(argv[i], "--clients")) {
