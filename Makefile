@@ -179,7 +179,7 @@ check-tsan: deps
 	@echo "[       OK ] distributed.sh under ThreadSanitizer, no reports"
 
 .PHONY: test-run check-tsan
-test-run: $(TESTS) $(TOOLS) $(REPLAYS) $(BUILD)/tools/bench/embree_ref
+test-run: $(TESTS) $(TOOLS) $(REPLAYS) $(BUILD)/tools/bench/embree_ref $(BUILD)/tools/bench/rtweekend
 	@BUILD=$(BUILD) BIN=$(BIN) bash tests/run.sh $(TESTS)
 
 $(BUILD)/fuzz/replay_%: tests/fuzz/fuzz_%.c tests/fuzz/replay.c $(LIB)

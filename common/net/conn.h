@@ -40,6 +40,10 @@ void conn_close(Conn *c);
  * when more bytes are needed, -1 on error or end of stream (with a reason
  * in err).  Call again after using the packet: the next call starts on the
  * following one, which may already be in the buffer (no system call).
+ * After a recv that took less than it could (the socket was emptied), the
+ * next call that needs more bytes returns 0 without another recv: the
+ * caller waits on poll() for the socket before it calls again (a loop that
+ * calls it twice in a row without poll sees that 0 once).
  * Reads ahead CONN_READ_AHEAD bytes at a time; a packet larger than that is
  * given room only once its header's size passed the type's limit. */
 #define CONN_READ_AHEAD ((size_t)64 << 10)
