@@ -120,7 +120,7 @@ typedef struct {
     int depth, fresnel, glass, depth_given, cutoff_given, fresnel_given, glass_given;
     double cutoff;
     int light_samples, rough_samples, lens_samples, exposure_given;
-    int sampling, sampling_given, limit, limit_given, lights, lights_given;
+    int sampling, sampling_given, limit, limit_given, lights, lights_given, integrator, integrator_given;
     double exposure;
     CliAa aa;
 } Args;
@@ -172,6 +172,11 @@ static int parse_args(Args *a, int argc, char **argv)
          .seen = &a->lights_given, .help = "area lights: every point at every pixel, or one point until a pixel's 3 x 3 "
                                           "neighbours disagree (penumbrae, edges) and every point there",
          .def = "the scene's, else full"},
+        {.name = "--integrator", .kind = OPT_CHOICE, .dst = &a->integrator,
+         .choices = field_words(&settings_kind, "integrator"), .seen = &a->integrator_given,
+         .help = "Whitted's (lights, shadows, mirrors, glass; emission lights nothing), or a path tracer's: light that "
+                 "bounces, emission that lights (docs/renderer.md)",
+         .def = "the scene's, else whitted"},
         {.name = "--light-samples", .kind = OPT_INT, .dst = &a->light_samples, .arg = "K", .lo = 0, .hi = LIGHT_MAX_SAMPLES,
          .help = "shadow rays of every sphere and rect light: K x K a pixel (product: a ray); 0 = each light's own",
          .def = "0"},
@@ -259,6 +264,8 @@ static int apply_settings(Scene *scene, Args *a)
         rs->sampling = (Sampling)a->sampling;
     if (a->lights_given)
         rs->light_sampling = (LightSampling)a->lights;
+    if (a->integrator_given)
+        rs->integrator = (Integrator)a->integrator;
     if (a->limit_given)
         rs->depth_limit = (DepthLimit)a->limit;
     if (a->rough_samples)
@@ -419,7 +426,7 @@ static void report(const Job *j, const Args *a, RayStats st, double best, double
         snprintf(second, sizeof second, " + %llu secondary", (unsigned long long)st.secondary);
     printf("%dx%d aa %d%s %s shadows %s bvh %s threads %d simd %s (%s): frame %.4f s (mean %.4f s over %d), "
            "%.2f Mrays/s (%llu camera + %llu shadow%s rays)\n",
-           a->width, a->height, rs->aa, rs->adaptive ? " adaptive" : "", rs->shading == SHADE_PHONG ? "phong" : "diffuse",
+           a->width, a->height, rs->aa, rs->adaptive ? " adaptive" : "", rs->integrator == INTEGRATOR_PATH ? "path-traced" : rs->shading == SHADE_PHONG ? "phong" : "diffuse",
            rs->shadows ? "on" : "off", bvh_kind_name(j->bvh.kind), a->threads, simd_name(simd_path()), REAL_NAME, best,
            sum / a->repeat, a->repeat, rays / best * 1e-6, (unsigned long long)st.primary, (unsigned long long)st.shadow,
            second);

@@ -145,12 +145,13 @@ static uint32_t pixel_key(real x, real y)
 }
 
 /* The samples (base/sample.h) of the camera rays at the positions, where
- * the scene draws random numbers (area lights, rough mirrors, a lens),
- * else NULL.  Per effect, each position its own key; one budget, the
- * pixel's key and the position's number among the pixel's. */
+ * the scene draws random numbers (area lights, rough mirrors, a lens, the
+ * path integrator's bounces), else NULL.  Per effect, each position its
+ * own key; one budget, the pixel's key and the position's number among
+ * the pixel's. */
 static const SampleId *sample_ids(const Frame *f, const Samples *sm, SampleId *ids)
 {
-    if (!world_uses(f->w, FEAT_AREA | FEAT_ROUGH | FEAT_LENS))
+    if (!world_uses(f->w, FEAT_AREA | FEAT_ROUGH | FEAT_LENS) && f->w->view.settings.integrator != INTEGRATOR_PATH)
         return NULL;
     for (int i = 0; i < sm->n; i++) {
         ids[i] = f->w->view.settings.sampling == SAMPLING_PRODUCT

@@ -95,6 +95,11 @@ typedef enum { SAMPLING_BUDGET = 0, SAMPLING_PRODUCT = 1 } Sampling;
  * neighbourhood disagrees on surface, lights or colour (adaptive: render.c). */
 typedef enum { LIGHTS_FULL = 0, LIGHTS_ADAPTIVE = 1 } LightSampling;
 
+/* How light is carried: Whitted's (lights, shadows, mirrors and glass;
+ * emission seen, lighting nothing), or a path tracer's (scene/path.h:
+ * light that bounces, emission that lights). */
+typedef enum { INTEGRATOR_WHITTED = 0, INTEGRATOR_PATH = 1 } Integrator;
+
 /* What a mirror's or a dielectric's ray that the depth limit cuts returns
  * in place of what it would see: nothing (black), the background, the
  * ambient light, or the light at the surface where it is cut (what a white
@@ -124,6 +129,7 @@ typedef struct {
                         * (product); 0: the default */
     Sampling sampling;
     LightSampling light_sampling;
+    Integrator integrator;
     real exposure;     /* stops: the 8-bit codes encode light times 2^exposure */
     int hdr;           /* pixels are RGBE, 4 bytes (a .hdr from lanray-render, lanray-server --hdr); not in scene files */
     /* what the scene file asked for, for the programs' defaults; not on the

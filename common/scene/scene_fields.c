@@ -68,6 +68,7 @@ static const char *const fresnel_words[] = {"exact", "schlick", NULL};
 static const char *const glass_words[] = {"opaque", "tinted", NULL};
 static const char *const sampling_words[] = {"budget", "product", NULL};
 static const char *const light_sampling_words[] = {"full", "adaptive", NULL};
+static const char *const integrator_words[] = {"whitted", "path", NULL};
 static const char *const limit_words[] = {"black", "background", "ambient", "local", NULL};
 
 #define SET(f) offsetof(SettingsSpec, f)
@@ -112,6 +113,9 @@ static const Field settings_fields[] = {
     {.key = "light_sampling", .type = FIELD_CHOICE, .group = SETTINGS_GROUP_SAMPLING, .off = SET(rs.light_sampling),
      .words = light_sampling_words,
      .doc = "area lights: all of their points at every pixel, or one until a pixel's neighbours disagree (a penumbra)"},
+    {.key = "integrator", .type = FIELD_CHOICE, .group = SETTINGS_GROUP_SAMPLING, .off = SET(rs.integrator),
+     .words = integrator_words,
+     .doc = "Whitted's (lights, shadows, mirrors, glass; emission lights nothing), or a path tracer's (light bounces)"},
     {.key = "exposure", .type = FIELD_REAL, .group = SETTINGS_GROUP_OUTPUT, .off = SET(rs.exposure), .lo = -32, .hi = 32,
      .doc = "stops: 8-bit output shows the light times 2^exposure"},
 };

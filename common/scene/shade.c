@@ -27,6 +27,8 @@
  * for: any client renders any pixel the same. */
 #include "scene/shade.h"
 
+#include "scene/path.h"
+
 #include "base/sample.h"
 #include "geom/raydiff.h"
 
@@ -88,26 +90,19 @@ static inline int area_sample(const World *w, const WorldLight *l, uint32_t li, 
     return 1;
 }
 
-/* Light arriving at p from light l, number li (for an area light, from
- * its point j for the ray's sample id): unit direction towards the light,
- * distance, radiance. */
-static inline __attribute__((always_inline)) int light_at(const World *w, const WorldLight *l, vec3 p, const SampleId *id,
-                                                         DiscAxes *ax, uint32_t li, uint32_t j, vec3 *dir, real *dist,
-                                                         vec3 *radiance, const int optional)
+/* Light arriving at p from light l at pos (its position; an area light's
+ * point), `scale` times its intensity so far: unit direction towards the
+ * light, its distance (infinite for directional lights) and the radiance
+ * arriving (colour x intensity, attenuated, a spot's cone, a rectangle's
+ * cosine); 0 where none arrives. */
+static inline __attribute__((always_inline)) int light_towards(const World *w, const WorldLight *l, vec3 pos, vec3 p,
+                                                              real scale, vec3 *dir, real *dist, vec3 *radiance,
+                                                              const int optional)
 {
-    real scale = l->intensity;
     if (l->kind == LIGHT_DIRECTIONAL) {
         *dir = v3_neg(l->axis);
         *dist = REAL_INF;
     } else {
-        vec3 pos = l->pos;
-        if (optional && world_uses(w, FEAT_AREA) && world_light_is_area(l)) {
-            real u, v, share;
-            if (!area_sample(w, l, li, id, j, &u, &v, &share))
-                return 0;
-            pos = area_point(l, li, p, u, v, ax);
-            scale *= share;
-        }
         vec3 d = v3_sub(pos, p);
         real d2 = v3_dot(d, d);
         if (!(d2 > R(0)))
@@ -132,6 +127,32 @@ static inline __attribute__((always_inline)) int light_at(const World *w, const 
         return 0;
     *radiance = v3_scale(l->color, scale);
     return 1;
+}
+
+/* Light arriving at p from light l, number li (for an area light, from
+ * its point j for the ray's sample id), as light_towards says. */
+static inline __attribute__((always_inline)) int light_at(const World *w, const WorldLight *l, vec3 p, const SampleId *id,
+                                                         DiscAxes *ax, uint32_t li, uint32_t j, vec3 *dir, real *dist,
+                                                         vec3 *radiance, const int optional)
+{
+    real scale = l->intensity;
+    vec3 pos = l->pos;
+    if (l->kind != LIGHT_DIRECTIONAL && optional && world_uses(w, FEAT_AREA) && world_light_is_area(l)) {
+        real u, v, share;
+        if (!area_sample(w, l, li, id, j, &u, &v, &share))
+            return 0;
+        pos = area_point(l, li, p, u, v, ax);
+        scale *= share;
+    }
+    return light_towards(w, l, pos, p, scale, dir, dist, radiance, optional);
+}
+
+int shade_light_point(const World *w, uint32_t li, vec3 p, real u, real v, vec3 *dir, real *dist, vec3 *radiance)
+{
+    const WorldLight *l = &w->lights[li];
+    DiscAxes ax = {.of = 0};
+    vec3 pos = world_light_is_area(l) ? area_point(l, li, p, u, v, &ax) : l->pos;
+    return light_towards(w, l, pos, p, l->intensity, dir, dist, radiance, 1);
 }
 
 /* What one camera ray's shading carries from light to light. */
@@ -548,6 +569,12 @@ static inline __attribute__((always_inline)) void light_pass(const World *w, Sha
 void shade_packet(const World *w, const Ray *rays, int n, vec3 *out, RayStats *stats, uint64_t *keys,
                   const SampleId *ids, const RayDiff *diffs)
 {
+    if (w->view.settings.integrator == INTEGRATOR_PATH) {
+        for (int i = 0; i < n; i++)
+            out[i] = path_radiance(w, &rays[i], ids ? ids[i] : (SampleId){.key = 0, .index = 0, .count = 1}, stats,
+                                   keys ? &keys[i] : NULL);
+        return;
+    }
     shade_rays(w, rays, n, out, stats, keys, ids, diffs, 0, v3_splat(R(1)));
 }
 

@@ -39,4 +39,11 @@ vec3 shade_ray(const World *w, const Ray *r, RayStats *stats, uint64_t *key);
 void shade_packet(const World *w, const Ray *rays, int n, vec3 *out, RayStats *stats, uint64_t *keys,
                   const SampleId *ids, const RayDiff *diffs);
 
+/* The path integrator's next-event estimation (scene/path.c): light li's
+ * radiance arriving at p from the point (u, v) of the unit square on it
+ * (an area light's; other lights have one point), the whole light's
+ * (no share of a pixel's budget), with its unit direction and distance; 0
+ * where none arrives. */
+int shade_light_point(const World *w, uint32_t li, vec3 p, real u, real v, vec3 *dir, real *dist, vec3 *radiance);
+
 #endif

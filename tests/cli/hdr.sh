@@ -75,11 +75,7 @@ verify_distributed exposure "$dir/exp.scene" "$dir/exp64.png" "with an exposure"
 "$BIN/lanray-render" "$dir/exp.scene" -o "$dir/ref.hdr" --width 61 --height 37 --quiet >/dev/null || fail ".hdr 61x37"
 start_server hdrsrv "$dir/exp.scene" --port 0 --width 61 --height 37 --frames 2 --wait-clients 2 --segment 3 --hdr \
     --out "$dir/hdrframes"
-for _ in 1 2; do
-    "$BIN/lanray-client" "127.0.0.1:$port" --threads 2 --once --quiet 2>/dev/null &
-    pids+=("$!")
-done
-for _ in $(seq 600); do kill -0 "$server_pid" 2>/dev/null || break; sleep 0.05; done
+clients_until_done 2 2
 ! kill -0 "$server_pid" 2>/dev/null || fail "the --hdr server did not finish 2 frames in 30 s: $(tail -3 "$dir/hdrsrv.err")"
 wait "$server_pid" || fail "the --hdr server failed (exit $?)"
 for f in 1 2; do

@@ -10,7 +10,8 @@ by lookat or by angles, with zoom or fov (a pinhole, perhaps with aperture and
 focus), ortho or fisheye, and roll; ambient, background; every
 settings key and value (depth, cutoff, fresnel, glass_shadows,
 rough_samples, lens_samples, exposure, the four texture filters, the
-sampling and what the depth limit returns among them); textures (PPM
+sampling and what the depth limit returns among them; the path integrator
+in a quarter of the scenes); textures (PPM
 P3/P6, PGM P2/P5, PNG, JPEG, smooth or closest); materials with and without specular
 and textures, mirrors (reflect, roughness), dielectrics (ior, transmit,
 absorb) and emission, on any primitive; a model whose MTL gives
@@ -175,6 +176,11 @@ def scene(seed):
         st += ["exposure", num(r, -2, 2)]
     if r.random() < 0.3:  # the programs' --width/--height override these
         st += ["width", str(r.randrange(1, 2000)), "height", str(r.randrange(1, 2000))]
+    # the integrator from a draw of its own, so that the rest of the scene
+    # is what it was before the path integrator (tests/tools/samepixels.sh
+    # compares with older builds: LANRAY_RANDSCENE_WHITTED=1 leaves it out)
+    if not os.environ.get("LANRAY_RANDSCENE_WHITTED") and random.Random(seed * 7919 + 31).random() < 0.25:
+        st += ["integrator", "path"]
     if st:
         out.append("settings " + " ".join(st))
 

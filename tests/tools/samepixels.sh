@@ -8,6 +8,7 @@
 # (That a served frame equals lanray-render's is tests/cli/randscene.sh.)
 # Exits 1 naming each scene and path that differs.
 set -u
+export LANRAY_RANDSCENE_WHITTED=1 # scenes an older build reads
 before=${1:?usage: samepixels.sh BEFORE_BIN [AFTER_BIN]}
 after=${2:-bin}
 SEEDS=${SEEDS:-60}

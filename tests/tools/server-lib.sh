@@ -1,6 +1,7 @@
 # server-lib.sh - helpers for the integration tests that run real servers
 # and clients (sourced by tests/cli/*.sh).
 # Provides: $dir (a scratch directory), pids (killed on exit), fail,
+# clients_until_done N THREADS,
 # start_server NAME ARGS (sets $port and $server_pid), run_prog (how
 # start_server runs the server; a test may redefine it), verify_distributed
 # (one frame through a server and a client, checked against a reference).
@@ -30,6 +31,15 @@ start_server() {
         sleep 0.05
     done
     fail "$name did not start"
+}
+# clients_until_done N THREADS: N clients of THREADS threads (--once) join
+# the server started last; waits up to 30 s for it to exit
+clients_until_done() {
+    for _ in $(seq "$1"); do
+        "$BIN/lanray-client" "127.0.0.1:$port" --threads "$2" --once --quiet 2>/dev/null &
+        pids+=("$!")
+    done
+    for _ in $(seq 600); do kill -0 "$server_pid" 2>/dev/null || break; sleep 0.05; done
 }
 # verify_distributed NAME SCENE REF.png WHAT: a server with one client renders
 # one frame of SCENE (64x64) and checks it against REF.png bit for bit; fails

@@ -478,7 +478,10 @@ int main(int argc, char **argv)
     double t = timer_now() - t0;
     printf("rtweekend: %dx%d, %d samples a pixel, %d spheres, %d threads: %.3f s\n", sc.width, sc.height, sc.spp, sc.n,
            a.threads, t);
-    if (a.out && write_ppm(&sc, a.out))
-        return fprintf(stderr, "rtweekend: cannot write %s\n", a.out), 1;
-    return 0;
+    rc = a.out && write_ppm(&sc, a.out) ? (fprintf(stderr, "rtweekend: cannot write %s\n", a.out), 1) : 0;
+    pthread_mutex_destroy(&sc.mu);
+    free(sc.s);
+    free(sc.nodes);
+    free(sc.out);
+    return rc;
 }
