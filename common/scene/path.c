@@ -21,8 +21,9 @@
 #include "model/texture.h"
 #include "shading/optics.h"
 
-/* Settings depth bounds a path's bounces; past this many, Russian
- * roulette may end it (surviving paths weighted up by as much). */
+/* Settings depth bounds a path's bounces (0: direct light only); past
+ * this many, Russian roulette may end it (surviving paths weighted up by
+ * as much). */
 #define PATH_ROULETTE_AFTER 3
 
 /* Two numbers of bounce b's dimension `dim` for a ray: one point of a
@@ -163,8 +164,7 @@ vec3 path_radiance(const World *w, const Ray *r, SampleId id, RayStats *st, uint
             beta = v3_mul(beta, v3(exp(-m->absorb.x * h.t), exp(-m->absorb.y * h.t), exp(-m->absorb.z * h.t)));
         if (material_emits(m) && !(after_diffuse && on_lamp(w, &h)))
             L = v3_add(L, v3_mul(beta, m->ke));
-        if (b >= depth)
-            break;
+        const int last = b >= depth; /* the light that reaches this point still counts: depth 0 is direct light */
         const vec3 d = ray.dir;
         real u, v;
         draw2(&id, (uint32_t)b, 1, &u, &v);
@@ -172,6 +172,8 @@ vec3 path_radiance(const World *w, const Ray *r, SampleId id, RayStats *st, uint
         int go;
         after_diffuse = 0;
         if (material_dielectric(m)) {
+            if (last)
+                break;
             go = dielectric_bounce(w, &sf, d, pick, &beta, &ray);
         } else {
             const vec3 kd = diffuse_at(w, &sf);
@@ -179,11 +181,15 @@ vec3 path_radiance(const World *w, const Ray *r, SampleId id, RayStats *st, uint
             if (!(pd + pm > R(0)))
                 break;
             if (pick * (pd + pm) < pm) { /* the mirror lobe, chosen with probability pm / (pd + pm) */
+                if (last)
+                    break;
                 beta = v3_scale(beta, (pd + pm) / pm);
                 go = mirror_bounce(&sf, d, u, v, draw1(&id, (uint32_t)b, 4), &beta, &ray);
             } else {
                 beta = v3_scale(beta, (pd + pm) / pd);
                 L = v3_add(L, v3_mul(beta, direct_light(w, &sf, kd, &id, (uint32_t)b, st)));
+                if (last)
+                    break;
                 vec3 nd = cosine_dir(sf.ns, u, v);
                 go = v3_dot(nd, sf.ng) > R(0);
                 beta = v3_mul(beta, kd);
