@@ -6,7 +6,9 @@
 # the client says so and the server serves anyway.  Everything runs in a
 # network namespace made here (a veth pair inside it, nothing leaves the
 # machine) with a private D-Bus and avahi-daemon (in a mount namespace of
-# its own, so that a system daemon, if any, is left alone).
+# its own, so that a system daemon, if any, is left alone).  CLIENT: the
+# client that looks for the farm (bin's; tests/cli/deb.sh passes the one its
+# package installed, with MDNS_ONLY_FIND=1 to stop once it has joined).
 set -u
 [ -n "${MDNS_TRACE:-}" ] && set -x
 BIN=${BIN:-bin}
@@ -97,11 +99,12 @@ for _ in $(seq 50); do in_ns avahi-browse -t -p _lanray._tcp 2>/dev/null | grep 
 in_ns avahi-browse -t -p _lanray._tcp 2>/dev/null | grep -q 'lanray\\032old' || fail "the farm of protocol 9 was not announced"
 serve one 3
 one=$last
-out=$(in_ns env LANRAY_TOKEN=mdns-test timeout 60 "$BIN/lanray-client" --once --threads 1 2>&1)
+out=$(in_ns env LANRAY_TOKEN=mdns-test timeout 60 "${CLIENT:-$BIN/lanray-client}" --once --threads 1 2>&1)
 wait "$one" || fail "the server ended with an error: $(tail -3 "$dir/one.err")"
 grep -q "found lanray on .* at 10.216.0.1:[0-9]* (mDNS)" <<<"$out" || fail "the client did not find the server: $out"
 grep -q "verify frames=[1-9][0-9]* wrong_frames=0 " "$dir/one.log" || fail "no frames, or wrong ones: $(grep verify "$dir/one.log")"
 echo "mdns: a client without an address found the server ($(grep -o 'found .*' <<<"$out" | head -1)) and rendered $(sed -n 's/.*verify frames=\([0-9]*\).*/\1/p' "$dir/one.log") frames equal to lanray-render's; a farm of protocol 9 ignored"
+[ -n "${MDNS_ONLY_FIND:-}" ] && exit 0 # tests/cli/deb.sh: the installed client found and joined the farm
 serve two 0
 serve three 0
 out=$(in_ns timeout 20 "$BIN/lanray-client" --once 2>&1) && fail "two farms: the client picked one"
