@@ -34,9 +34,17 @@ static void draw2(const SampleId *id, uint32_t b, uint32_t dim, real *u, real *v
     sample_sobol2(id->index, sample_mix(sample_mix(id->key, 0x50000000u + b), dim), u, v);
 }
 
+/* One number of bounce b's dimension `dim`: point `index` (shuffled) of
+ * an Owen-scrambled van der Corput sequence over the pixel's rays, as
+ * sample_sobol2's first dimension: each ray its own, stratified together
+ * (a number of the key alone would be the same for every ray of the
+ * pixel, and all of them would choose alike). */
 static real draw1(const SampleId *id, uint32_t b, uint32_t dim)
 {
-    return sample_unit(sample_mix(sample_mix(id->key, 0x50000000u + b), dim));
+    const uint32_t seed = sample_mix(sample_mix(id->key, 0x50000000u + b), dim);
+    const uint32_t x = sample_reverse(sample_laine_karras(sample_owen(id->index, sample_hash(seed ^ 0x5bd1e995u)),
+                                                         sample_hash(seed ^ 0x68e31da4u)));
+    return (real)(x >> 8) * R(5.9604644775390625e-8);
 }
 
 /* A direction about n by the cosine, from (u, v) in the unit square. */

@@ -7,7 +7,8 @@
 # them.  The inverse-square law: a floor of albedo 0.5 under an emissive
 # sphere of radius 0.5 and radiance 100 at height 5 (and no light) shows
 # albedo x radiance x (r / h)^2 = 0.5 below it, where the Whitted
-# integrator, whose emission lights nothing, shows black.  A path-traced
+# integrator, whose emission lights nothing, shows black.  A glass ball on
+# a floor has no black pixel (each ray of a pixel draws its own numbers).  A path-traced
 # frame through a server and two clients is lanray-render's bit for bit.
 set -u
 source tests/tools/server-lib.sh
@@ -66,6 +67,23 @@ sed 's/integrator path/integrator whitted/' "$dir/lamp.scene" >"$dir/lamp-w.scen
 "$BIN/lanray-render" "$dir/lamp-w.scene" --aa 1 --width 32 --height 32 --linear -o "$dir/lamp-w.ppm" --quiet >/dev/null
 read -r wmean wlo whi <<<"$(ppm_stats "$dir/lamp-w.ppm")"
 [ "$whi" = 0 ] || fail "the Whitted integrator lit the floor by emission (code $whi): the test cannot tell"
+# a glass ball on a floor under the sky: its rays choose reflection or
+# refraction, and Russian roulette ends some of them, each by its own
+# number; when every ray of a pixel drew the same numbers, whole pixels of
+# the ball came out black
+cat >"$dir/ball.scene" <<'S'
+camera position 13 2 3 lookat 0 0.8 0 fov 15
+background 0.75 0.85 1
+settings integrator path depth 49 fresnel schlick
+material glass ior 1.5
+material ground diffuse 0.5 0.5 0.5
+sphere centre 0 1 0 radius 1 material glass
+plane point 0 0 0 normal 0 1 0 material ground
+S
+"$BIN/lanray-render" "$dir/ball.scene" --aa 4 --width 64 --height 48 --linear -o "$dir/ball.ppm" --quiet >/dev/null ||
+    fail "the glass ball did not render"
+read -r bmean blo bhi <<<"$(ppm_stats "$dir/ball.ppm")"
+[ "$blo" -ge 20 ] || fail "a glass ball on a floor has a black pixel (code $blo): the rays of a pixel chose alike"
 # a path-traced frame through a server and two clients
 cat >"$dir/room.scene" <<'S'
 camera position 0 1 5 lookat 0 0.5 0 fov 50
@@ -88,4 +106,4 @@ start_server room "$dir/room.scene" --port 0 --width 64 --height 64 --aa 2 --fra
     --out "$dir/f-room"
 clients_until_done 2 1
 wait "$server_pid" || fail "the path-traced frame through 2 clients differs from lanray-render's (server exit $?)"
-echo "pathtrace: a white furnace of diffuse spheres, a mirror and glass comes out 1 (lowest code $lo; a grey room's $glo); the floor under an emissive sphere follows the inverse-square law (code $lmean, 127.5 expected; Whitted $whi); a path-traced frame through 2 clients = lanray-render's"
+echo "pathtrace: a glass ball's darkest pixel $blo; a white furnace of diffuse spheres, a mirror and glass comes out 1 (lowest code $lo; a grey room's $glo); the floor under an emissive sphere follows the inverse-square law (code $lmean, 127.5 expected; Whitted $whi); a path-traced frame through 2 clients = lanray-render's"

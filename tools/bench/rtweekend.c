@@ -21,9 +21,10 @@
  * come out 1).  Pixels are written as sRGB codes (PPM, P6), each channel
  * the mean of N samples; every random number comes from the pixel and the
  * sample (a hash), so that the picture does not depend on the threads.
- * --write-scene writes the same scene as a lanray scene file (the sky as
- * the background, and as the ambient light where lanray's Whitted
- * integrator needs one). */
+ * --write-scene writes the same scene as a lanray scene file for its path
+ * integrator (the book's depth and Schlick's reflectance; a constant --sky
+ * as the background, else the book's sky's mean, and as the ambient light
+ * where lanray's Whitted integrator is asked for instead). */
 #include <math.h>
 #include <pthread.h>
 #include <stdint.h>
@@ -372,7 +373,10 @@ static int scene_write(const Scene *sc, const char *path, V3 from, V3 at, double
             at.y, at.z, hfov);
     V3 sky = sc->sky_const ? sc->sky : v3(0.75, 0.85, 1.0);
     fprintf(f, "background %.17g %.17g %.17g\nambient %.17g %.17g %.17g\n", sky.x, sky.y, sky.z, sky.x, sky.y, sky.z);
-    fprintf(f, "settings width %d height %d\n", sc->width, sc->height);
+    /* the book's light transport for the path integrator: its depth (the
+     * camera ray and 49 bounces), Schlick's reflectance */
+    fprintf(f, "settings width %d height %d integrator path depth %d fresnel schlick\n", sc->width, sc->height,
+            sc->depth - 1);
     for (int i = 0; i < sc->n; i++) {
         const Sphere *s = &sc->s[i];
         const Mat *m = &s->mat;
