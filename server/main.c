@@ -197,6 +197,14 @@ static void path_next(App *app, uint32_t frame)
     server_set_camera(app->server, &c);
 }
 
+/* Nothing on its way that would change the picture: no animation, no
+ * flight, no move, turn, setting or edit pending. */
+static int nothing_moves(const App *a)
+{
+    const int flying = a->path.count && !a->path_final;
+    return !a->animate && !flying && !server_changes_pending(a->server) && !a->pending;
+}
+
 /* Pipelined frames (--pipeline): whether frame `frame` may start before
  * the one before it is shown, that is whether its view is known now and it
  * is wanted at all. */
@@ -211,9 +219,7 @@ static int may_start_ahead(const App *a, uint32_t frame)
             return 0; /* headless, the flight (and its converged frame) is the job */
     }
     /* a window whose newest frame is still (converged): the next waits for a change */
-    const int flying = a->path.count && !a->path_final;
-    return !(a->display && server_newest_still(a->server) && !a->animate && !flying &&
-             !server_changes_pending(a->server) && !a->pending);
+    return !(a->display && server_newest_still(a->server) && nothing_moves(a));
 }
 
 /* Before each frame starts: its per-frame changes (the animation's turn,
@@ -614,9 +620,7 @@ static void show_status(App *app, double *since, uint32_t *frames)
  * one, and no move, turn, edit or flight is on its way. */
 static int idle(const App *app)
 {
-    const int flying = app->path.count && !app->path_final;
-    return app->frames_done > 0 && server_frame_still(app->server) && !app->animate && !flying &&
-           !server_changes_pending(app->server) && !app->pending;
+    return app->frames_done > 0 && server_frame_still(app->server) && nothing_moves(app);
 }
 
 /* The event loop until the frames are done, the window closes or a signal

@@ -196,30 +196,28 @@ static int assign_new(Sched *s, int client, Segment *out)
     return 0;
 }
 
-/* A segment whose holders all left (sched_release): it must be given again
- * before the frame can end.  The newest first, as assign_again chooses. */
-static int assign_orphan(Sched *s, int client, Segment *out)
+/* The newest segment whose holders all left (sched_release), which must be
+ * given again before the frame can end: its record, or UINT32_MAX. */
+static uint32_t orphan(const Sched *s)
 {
     for (uint32_t i = s->nrec; i-- > 0;)
-        if (!s->recs[i].done && s->recs[i].holders == 0) {
-            if (add_assignment(s, client, i))
-                return 0;
-            s->stats.reissued++;
-            *out = s->recs[i].seg;
-            return 1;
-        }
-    return 0;
+        if (!s->recs[i].done && s->recs[i].holders == 0)
+            return i;
+    return UINT32_MAX;
 }
 
-int sched_has_fresh(const Sched *s)
+/* An orphaned segment again, the newest first, as assign_again chooses. */
+static int assign_orphan(Sched *s, int client, Segment *out)
 {
-    if (s->next_pixel < s->total)
-        return 1;
-    for (uint32_t i = 0; i < s->nrec; i++)
-        if (!s->recs[i].done && s->recs[i].holders == 0)
-            return 1;
-    return 0;
+    const uint32_t i = orphan(s);
+    if (i == UINT32_MAX || add_assignment(s, client, i))
+        return 0;
+    s->stats.reissued++;
+    *out = s->recs[i].seg;
+    return 1;
 }
+
+int sched_has_fresh(const Sched *s) { return s->next_pixel < s->total || orphan(s) != UINT32_MAX; }
 
 int sched_assign_fresh(Sched *s, int client, Segment *out) { return assign_new(s, client, out) || assign_orphan(s, client, out); }
 

@@ -121,5 +121,11 @@ uint32_t sched_held(const Sched *s, int client);
 uint32_t sched_frame(const Sched *s);
 const SchedConfig *sched_config(const Sched *s);
 SchedStats sched_stats(const Sched *s);
+/* The statistics of two schedulers together (the frames' schedulers take
+ * turns where frames are pipelined). */
+static inline SchedStats sched_stats_sum(SchedStats a, SchedStats b)
+{
+    return (SchedStats){a.segments + b.segments, a.reissued + b.reissued, a.duplicate_pixels + b.duplicate_pixels};
+}
 
 #endif

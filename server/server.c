@@ -259,10 +259,8 @@ static SchedStats stats_all(const Server *s)
     SchedStats t = sched_stats(s->sched);
     const Sched *more[2] = {s->older.sched, s->spare_sched};
     for (int i = 0; i < 2; i++)
-        if (more[i]) {
-            SchedStats m = sched_stats(more[i]);
-            t.segments += m.segments, t.reissued += m.reissued, t.duplicate_pixels += m.duplicate_pixels;
-        }
+        if (more[i])
+            t = sched_stats_sum(t, sched_stats(more[i]));
     return t;
 }
 
@@ -461,6 +459,13 @@ static int client_has(const Client *c, const uint8_t *hash)
 /* The older frame's scheduler where the client can render that frame. */
 static Sched *older_for(const Server *s, const Client *c) { return s->older.id && c->older_ok ? s->older.sched : NULL; }
 
+/* The segments the client holds, of both frames in flight. */
+static uint32_t held_by(const Server *s, const Client *c)
+{
+    const Sched *o = older_for(s, c);
+    return sched_held(s->sched, c->id) + (o ? sched_held(o, c->id) : 0);
+}
+
 /* The segments the scheduler tops the client up with (over both frames
  * where two are in flight), a COMPUTE each; with `skip` those of the
  * newest frame are left out (the UPDATE carries them). */
@@ -577,8 +582,9 @@ static int start_frame(Server *s, Err *err)
     s->in_frame = 1;
     uint32_t n = server_client_count(s);
     double work;
-    double o = measure_frame_start(&s->m, timer_now(), n, server_bytes(s), stats_all(s).duplicate_pixels,
-                                   stats_all(s).segments, s->auto_segment, &work);
+    const SchedStats st = stats_all(s);
+    double o = measure_frame_start(&s->m, timer_now(), n, server_bytes(s), st.duplicate_pixels, st.segments,
+                                   s->auto_segment, &work);
     sched_start_frame(s->sched, s->frame, n, s->auto_segment, work, o);
     for (uint32_t i = 0; i < s->nclients; i++)
         if (s->clients[i]->state == CLIENT_ACTIVE && !s->clients[i]->closing)
@@ -727,8 +733,7 @@ static void on_data(Server *s, Client *c)
     const int old = s->older.id && frame == s->older.id;
     Sched *sc = old ? s->older.sched : s->sched;
     uint8_t *const frame_px = old ? s->older.pixels : s->pixels;
-    const uint32_t held = sched_held(s->sched, c->id) + (s->older.id ? sched_held(s->older.sched, c->id) : 0);
-    measure_data(&s->m, &c->mc, now, frame, old ? frame : s->frame, render_us, held);
+    measure_data(&s->m, &c->mc, now, frame, old ? frame : s->frame, render_us, held_by(s, c));
     SchedResult r = sched_check(sc, c->id, frame, seg);
     if (r == SCHED_UNKNOWN) {
         snprintf(why, sizeof why, "pixels for segment %u+%u of frame %u, which it was not given", seg.first, seg.count, frame);
@@ -809,8 +814,7 @@ static void housekeeping(Server *s)
             continue;
         if (c->state == CLIENT_HANDSHAKE && now - c->since > s->cfg.handshake_timeout)
             drop(s, c, "handshake not completed in time");
-        else if (c->state == CLIENT_ACTIVE && (sched_held(s->sched, c->id) || (older_for(s, c) && sched_held(s->older.sched, c->id))) &&
-                 now - c->last_result > s->cfg.stall_timeout)
+        else if (c->state == CLIENT_ACTIVE && held_by(s, c) && now - c->last_result > s->cfg.stall_timeout)
             drop(s, c, "stalled: no result in time");
     }
     /* every client topped up (the scheduler's policy): segments released by

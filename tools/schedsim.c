@@ -545,10 +545,8 @@ static void run(Sim *s)
     SchedStats st = sched_stats(r.sc);
     const Sched *more[2] = {r.older, r.spare};
     for (int i = 0; i < 2; i++)
-        if (more[i]) {
-            SchedStats m = sched_stats(more[i]);
-            st.duplicate_pixels += m.duplicate_pixels;
-        }
+        if (more[i])
+            st = sched_stats_sum(st, sched_stats(more[i]));
     printf("predicted fps=%.3f efficiency=%.4f dup_lines_per_frame=%.2f bytes_per_frame=%.0f segment_lines=%u\n",
            measured / (wall * 1e-6), r.busy / (s->clients * wall), (double)st.duplicate_pixels / s->width / (s->frames + 1),
            r.bytes / measured, sched_config(r.sc)->segment_lines);

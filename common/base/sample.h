@@ -107,6 +107,20 @@ static inline uint32_t sample_laine_karras(uint32_t x, uint32_t seed)
  * bits reversed (Burley, "Practical Hash-based Owen Scrambling", JCGT 2020). */
 static inline uint32_t sample_owen(uint32_t x, uint32_t seed) { return sample_reverse(sample_laine_karras(sample_reverse(x), seed)); }
 
+/* sample_sobol2's index `index` shuffled (an Owen scramble of it). */
+static inline uint32_t sample_sobol_index(uint32_t index, uint32_t seed)
+{
+    return sample_owen(index, sample_hash(seed ^ 0x5bd1e995u));
+}
+
+/* sample_sobol2's first number alone (of its shuffled index i), for a
+ * dimension that needs one. */
+static inline real sample_sobol_first(uint32_t i, uint32_t seed)
+{
+    uint32_t x = sample_reverse(sample_laine_karras(i, sample_hash(seed ^ 0x68e31da4u)));
+    return (real)(x >> 8) * R(5.9604644775390625e-8);
+}
+
 /* Point `index` of an Owen-scrambled Sobol (0,2)-sequence in the unit
  * square, its index shuffled too (Burley's shuffled scrambled Sobol), for
  * one sequence per seed: any 2^k consecutive aligned points are a (0,k,2)-net
@@ -114,7 +128,7 @@ static inline uint32_t sample_owen(uint32_t x, uint32_t seed) { return sample_re
  * are well spread for any n, and two seeds' sequences are independent. */
 static inline void sample_sobol2(uint32_t index, uint32_t seed, real *u, real *v)
 {
-    uint32_t i = sample_owen(index, sample_hash(seed ^ 0x5bd1e995u));
+    uint32_t i = sample_sobol_index(index, seed);
     /* the second Sobol dimension: bit 31 - j of y is the parity of the bits
      * k of i with C(k, j) odd, that is (Lucas) with j's bits a subset of
      * k's: a superset sum over the five bits of a bit's position, five
@@ -126,9 +140,8 @@ static inline void sample_sobol2(uint32_t index, uint32_t seed, real *u, real *v
     z ^= (z >> 8) & 0x00ff00ffu;
     z ^= (z >> 16) & 0x0000ffffu;
     /* sample_owen(sample_reverse(i)) with the two reversals that cancel left out */
-    uint32_t x = sample_reverse(sample_laine_karras(i, sample_hash(seed ^ 0x68e31da4u)));
     uint32_t y = sample_reverse(sample_laine_karras(z, sample_hash(seed ^ 0xb5297a4du)));
-    *u = (real)(x >> 8) * R(5.9604644775390625e-8);
+    *u = sample_sobol_first(i, seed);
     *v = (real)(y >> 8) * R(5.9604644775390625e-8);
 }
 

@@ -42,9 +42,7 @@ static void draw2(const SampleId *id, uint32_t b, uint32_t dim, real *u, real *v
 static real draw1(const SampleId *id, uint32_t b, uint32_t dim)
 {
     const uint32_t seed = sample_mix(sample_mix(id->key, 0x50000000u + b), dim);
-    const uint32_t x = sample_reverse(sample_laine_karras(sample_owen(id->index, sample_hash(seed ^ 0x5bd1e995u)),
-                                                         sample_hash(seed ^ 0x68e31da4u)));
-    return (real)(x >> 8) * R(5.9604644775390625e-8);
+    return sample_sobol_first(sample_sobol_index(id->index, seed), seed);
 }
 
 /* A direction about n by the cosine, from (u, v) in the unit square. */
@@ -107,7 +105,7 @@ static int dielectric_bounce(const World *w, const Surface *sf, vec3 d, real pic
     if (f >= R(1) || !optics_refract(d, sf->ns, eta, &td) || !(v3_dot(td, sf->ng) < R(0)))
         f = R(1);
     if (pick < f) {
-        vec3 r = v3_sub(d, v3_scale(sf->ns, R(2) * v3_dot(d, sf->ns)));
+        vec3 r = optics_reflect(d, sf->ns);
         *next = ray_make(trace_offset_origin(sf->p, sf->ng, sf->err), r, R(0), REAL_MAX);
         return v3_dot(r, sf->ng) > R(0);
     }
@@ -123,7 +121,7 @@ static int dielectric_bounce(const World *w, const Surface *sf, vec3 d, real pic
 static int mirror_bounce(const Surface *sf, vec3 d, real u, real v, real s, vec3 *beta, Ray *next)
 {
     const Material *m = sf->mat;
-    vec3 r = v3_sub(d, v3_scale(sf->ns, R(2) * v3_dot(d, sf->ns)));
+    vec3 r = optics_reflect(d, sf->ns);
     if (m->roughness > R(0)) {
         const real z = R(1) - R(2) * u, rho = sqrt(real_max(R(0), R(1) - z * z)), phi = R(6.283185307179586) * v;
         const real len = cbrt(s) * m->roughness;
