@@ -11,6 +11,7 @@
 #   make bench-compress  compressed pixels: ratios, the server's CPU a packet, fps behind slow links
 #   make bench-pipeline  pipelined frames against serial ones, measured and simulated
 #   make bench-path      the path integrator against the book's renderer (tools/bench/rtweekend)
+#   make bench-cycles    the path integrator against Blender's Cycles at equal error (installs blender)
 #   make bench-scaling  clients x segment size x tail rule, with schedsim (docs/scaling*)
 #   make loadtest   64 clients joining and leaving for 5 minutes, every frame verified
 #   make install    programs, docs, the client's systemd unit, the Avahi file (PREFIX, DESTDIR)
@@ -83,7 +84,7 @@ REPLAYS := $(FUZZ_NAMES:%=$(BUILD)/fuzz/replay_%)
 
 DEB_PACKAGES := gcc make pkg-config libsdl2-dev libsdl2-ttf-dev fonts-dejavu-core xdotool libnetpbm-dev libpng-dev libjpeg62-turbo-dev zlib1g-dev libassimp-dev libcmocka-dev libembree-dev libsodium-dev libzstd-dev liblz4-dev libavahi-client-dev avahi-daemon avahi-utils dbus dpkg-dev help2man xvfb x11-apps python3 clang libclang-rt-14-dev
 
-.PHONY: all deps check check-asan bench demo clean tradeoff bench-scaling bench-realtime bench-compress bench-pipeline bench-path install uninstall deb fuzz loadtest tools-doc architecture scene-doc
+.PHONY: all deps check check-asan bench demo clean tradeoff bench-scaling bench-realtime bench-compress bench-pipeline bench-path bench-cycles install uninstall deb fuzz loadtest tools-doc architecture scene-doc
 .SECONDARY:
 all: $(TOOLS)
 
@@ -101,7 +102,7 @@ deps:
 # says what to do (instead of a compiler error per file).  The targets that
 # run `make deps` first are not held back by it.
 LIB_HEADERS ?= /usr/include/SDL2/SDL.h /usr/include/SDL2/SDL_ttf.h /usr/include/netpbm/pam.h /usr/include/png.h /usr/include/zlib.h /usr/include/sodium.h /usr/include/zstd.h /usr/include/lz4.h /usr/include/avahi-client/client.h /usr/include/cmocka.h /usr/include/assimp/cimport.h /usr/include/jpeglib.h
-INSTALLING_GOALS := deps check check-asan check-tsan demo bench tradeoff bench-scaling bench-compress bench-pipeline bench-path bench-realtime fuzz loadtest clean architecture deb
+INSTALLING_GOALS := deps check check-asan check-tsan demo bench tradeoff bench-scaling bench-compress bench-pipeline bench-path bench-cycles bench-realtime fuzz loadtest clean architecture deb
 ifeq ($(filter $(INSTALLING_GOALS),$(MAKECMDGOALS)),)
   MISSING_HEADERS := $(filter-out $(wildcard $(LIB_HEADERS)),$(LIB_HEADERS))
   ifneq ($(MISSING_HEADERS),)
@@ -265,6 +266,11 @@ bench-pipeline: deps $(TOOLS)
 
 bench-path: deps $(TOOLS) $(BUILD)/tools/bench/rtweekend
 	@BIN=$(BIN) RTWEEKEND=$(BUILD)/tools/bench/rtweekend bash tools/bench/bench-path
+
+# Blender (Cycles) is large: installed here, not by make deps
+bench-cycles: deps $(TOOLS) $(BUILD)/tools/bench/rtweekend
+	@$(MAKE) --no-print-directory DEB_PACKAGES="blender gnuplot" deps
+	@BIN=$(BIN) RTWEEKEND=$(BUILD)/tools/bench/rtweekend bash tools/bench/bench-cycles docs
 
 # the trade-off study: CSV and plot into docs/ (needs gnuplot, installed here)
 tradeoff: deps $(TOOLS)

@@ -68,8 +68,9 @@ typedef struct {
     CameraPath path;
     uint32_t path_final;   /* the frame that shows the path's end (0: not set yet) */
     double path_t0, path_t1; /* when the first and that frame were shown */
-    int refine;            /* --still-aa: the frame after the path's end is the converged one */
-    double converged_t;    /* when it was shown */
+    int refine;            /* --still-aa: still frames after the path's end, up to the converged one */
+    double converged_t;    /* when it was shown, */
+    uint32_t converged_frame; /* and its number */
     /* --target-fps: the render scale of the moving frames */
     Pace pace;
     double last_frame_t;
@@ -168,10 +169,12 @@ static void on_frame(void *ctx, uint32_t frame, const uint8_t *pixels)
     if (a->path_final && a->frames_done == a->path_final)
         a->path_t1 = timer_now();
     /* headless, no count: the flight is the job, and with refinement the
-     * still frame after it (the converged picture) */
-    const uint32_t last = a->path_final ? a->path_final + (a->refine ? 1 : 0) : 0;
-    if (last && a->frames_done == last) {
+     * still frames after it up to the converged picture */
+    const int last = a->path_final && (a->refine ? a->frames_done > a->path_final && server_frame_converged(a->server)
+                                                 : a->frames_done == a->path_final);
+    if (last) {
         a->converged_t = a->refine ? timer_now() : 0;
+        a->converged_frame = a->frames_done;
         if (!a->frames_wanted && !a->display)
             stop_flag = 1;
     }
@@ -215,11 +218,12 @@ static int may_start_ahead(const App *a, uint32_t frame)
     if (a->path.count) {
         if (a->path_step <= 0 && a->path_t0 <= 0)
             return 0; /* the flight's clock starts when its first frame is shown */
-        if (a->path_final && !a->frames_wanted && !a->display && frame > a->path_final + (a->refine ? 1 : 0))
+        if (a->path_final && !a->frames_wanted && !a->display && frame > a->path_final &&
+            (!a->refine || server_newest_converged(a->server)))
             return 0; /* headless, the flight (and its converged frame) is the job */
     }
     /* a window whose newest frame is still (converged): the next waits for a change */
-    return !(a->display && server_newest_still(a->server) && nothing_moves(a));
+    return !(a->display && server_newest_converged(a->server) && nothing_moves(a));
 }
 
 /* Before each frame starts: its per-frame changes (the animation's turn,
@@ -620,7 +624,7 @@ static void show_status(App *app, double *since, uint32_t *frames)
  * one, and no move, turn, edit or flight is on its way. */
 static int idle(const App *app)
 {
-    return app->frames_done > 0 && server_frame_still(app->server) && nothing_moves(app);
+    return app->frames_done > 0 && server_frame_converged(app->server) && nothing_moves(app);
 }
 
 /* The event loop until the frames are done, the window closes or a signal
@@ -687,7 +691,7 @@ static int finish(App *app, const Args *a, int rc)
         printf("pace: target %.1f fps, mean render scale %.2f over %llu moving frames\n", 1.0 / app->pace.target,
                (double)app->scale_sum / (double)app->scaled_frames, (unsigned long long)app->scaled_frames);
     if (app->converged_t > 0)
-        printf("path: converged frame %u, %.2f s after the last move\n", app->path_final + 1,
+        printf("path: converged frame %u, %.2f s after the last move\n", app->converged_frame,
                app->converged_t - app->path_t1);
     if (app->write_failures) {
         fprintf(stderr, "lanray-server: %llu frames could not be written\n", (unsigned long long)app->write_failures);

@@ -65,7 +65,7 @@ typedef struct {
     Sched *sched;
     uint8_t *pixels;
     uint32_t fw, fh;
-    int scale, still;
+    int scale, still, converged;
     double t0;
 } Older;
 
@@ -86,6 +86,8 @@ struct Server {
     Camera last_camera; /* the camera of the frame before, and its description's number: */
     uint32_t last_scene_id;
     int still;          /* the current frame's are the same (refinement) */
+    int still_step;     /* and how many frames they have been: 1 the first still one, 0 a moving one */
+    int converged;      /* the current frame has the still quality (or is still, without refinement) */
     int next_scale;     /* server_set_scale: the moving frames' render scale */
     int scale;          /* the current frame's, and its size: */
     uint32_t fw, fh;
@@ -119,7 +121,7 @@ struct Server {
     uint8_t *spare_pixels;
     FrameNextFn next_fn;
     void *next_ctx;
-    int shown_still, shown_scale; /* the frame shown last */
+    int shown_still, shown_scale, shown_converged; /* the frame shown last */
     uint32_t frames_dropped;      /* older frames nobody left could finish */
     uint32_t frames_ahead;        /* frames started before the one before was finished */
 };
@@ -245,6 +247,8 @@ int server_port(const Server *s) { return s->port; }
 int server_frame_still(const Server *s) { return s->shown_still; }
 int server_frame_scale(const Server *s) { return s->shown_scale; }
 int server_newest_still(const Server *s) { return s->still; }
+int server_frame_converged(const Server *s) { return s->shown_converged; }
+int server_newest_converged(const Server *s) { return s->converged; }
 
 void server_on_next(Server *s, FrameNextFn next, void *ctx)
 {
@@ -544,6 +548,26 @@ static uint64_t server_bytes(const Server *s)
     return bytes;
 }
 
+/* Progressive refinement: the samples of still frame k (1 the first).  A
+ * path-traced view doubles its samples a side each still frame, 2, 4, 8
+ * ... up to the still quality: a picture that sharpens while it is looked
+ * at, for 4/3 of the converged frame's cost where it renders that frame
+ * alone; the Whitted integrator's takes the still quality at once.
+ * Whether frame k has the still quality (the converged picture, which is
+ * lanray-render's). */
+static int refine_step(const ServerConfig *c, int k, RenderSettings *rs)
+{
+    const int side = k < 8 ? 2 << (k - 1) : AA_MAX;
+    if (rs->integrator == INTEGRATOR_PATH && side < c->still_aa) {
+        rs->aa = side;
+        rs->adaptive = 0;
+        return 0;
+    }
+    rs->aa = c->still_aa;
+    rs->adaptive = c->still_adaptive;
+    return 1;
+}
+
 static int start_frame(Server *s, Err *err)
 {
     if (apply_pending(s, err))
@@ -563,10 +587,10 @@ static int start_frame(Server *s, Err *err)
     s->last_scene_id = s->scene_id;
     s->last_settings_id = s->settings_id;
     s->frame_t0 = timer_now();
+    s->still_step = s->still ? s->still_step + 1 : 0;
     View v = s->view;
-    if (s->still && s->cfg.refine)
-        v.settings.aa = s->cfg.still_aa, v.settings.adaptive = s->cfg.still_adaptive;
-    else if (!s->still && s->cfg.moving_lights >= 0)
+    s->converged = s->still && (!s->cfg.refine || refine_step(&s->cfg, s->still_step, &v.settings));
+    if (!s->still && s->cfg.moving_lights >= 0)
         v.settings.light_sampling = (LightSampling)s->cfg.moving_lights;
     /* a moving frame at the render scale, a still one whole */
     s->scale = s->still ? 1 : s->next_scale;
@@ -605,7 +629,7 @@ static int start_ahead(Server *s, Err *err)
         return 0;
     if (s->next_fn && !s->next_fn(s->next_ctx, s->frame + 1, 1))
         return 0;
-    s->older = (Older){s->frame, s->sched, s->pixels, s->fw, s->fh, s->scale, s->still, s->frame_t0};
+    s->older = (Older){s->frame, s->sched, s->pixels, s->fw, s->fh, s->scale, s->still, s->converged, s->frame_t0};
     sched_set_segment_lines(s->spare_sched, sched_config(s->sched)->segment_lines);
     s->sched = s->spare_sched;
     s->pixels = s->spare_pixels;
@@ -838,8 +862,8 @@ static void housekeeping(Server *s)
 
 /* A finished frame to the application: the panel's and the pace's
  * figures first, then the callback. */
-static void show_frame(Server *s, uint32_t id, const uint8_t *pixels, uint32_t fw, int scale, int still, double t0,
-                       FrameDoneFn done, void *ctx)
+static void show_frame(Server *s, uint32_t id, const uint8_t *pixels, uint32_t fw, int scale, int still,
+                       int converged, double t0, FrameDoneFn done, void *ctx)
 {
     const double now = timer_now();
     measure_frame_end(&s->m, now);
@@ -850,6 +874,7 @@ static void show_frame(Server *s, uint32_t id, const uint8_t *pixels, uint32_t f
         s->clients[i]->frame_pixels = 0;
     }
     s->shown_still = still;
+    s->shown_converged = converged;
     s->shown_scale = scale;
     if (done)
         done(ctx, id, scaled_up(s, pixels, fw, scale));
@@ -871,7 +896,7 @@ static void finish_frames(Server *s, FrameDoneFn done, void *ctx)
             s->frames_dropped++;
             log_line(s->cfg.quiet, "lanray-server", "frame %u dropped: the clients that had its view left", o->id);
         } else {
-            show_frame(s, o->id, o->pixels, o->fw, o->scale, o->still, o->t0, done, ctx);
+            show_frame(s, o->id, o->pixels, o->fw, o->scale, o->still, o->converged, o->t0, done, ctx);
         }
         s->spare_sched = o->sched;
         s->spare_pixels = o->pixels;
@@ -879,7 +904,7 @@ static void finish_frames(Server *s, FrameDoneFn done, void *ctx)
     }
     if (s->in_frame && sched_frame_done(s->sched)) {
         s->in_frame = 0;
-        show_frame(s, s->frame, s->pixels, s->fw, s->scale, s->still, s->frame_t0, done, ctx);
+        show_frame(s, s->frame, s->pixels, s->fw, s->scale, s->still, s->converged, s->frame_t0, done, ctx);
     }
 }
 

@@ -119,6 +119,12 @@ int server_frame_still(const Server *s);
 /* Whether the newest frame started is a still one (with pipelined frames
  * it may be one ahead of the frame shown last). */
 int server_newest_still(const Server *s);
+/* Whether the frame shown last, and the newest frame started, is the
+ * converged picture: a still frame with the still quality (a path-traced
+ * view refines over several still frames first: refine_step in server.c),
+ * or any still frame without refinement. */
+int server_frame_converged(const Server *s);
+int server_newest_converged(const Server *s);
 /* One round of the event loop, waiting at most timeout_ms.  Starts a new frame
  * when the previous one is done and clients are connected, unless paused. */
 int server_step(Server *s, int timeout_ms, FrameDoneFn done, void *ctx, Err *err);

@@ -218,6 +218,9 @@ static void directive(const FieldKind *k, int v, int fi, char *buf, size_t size,
     if (k == &material_kind && fi >= 0 &&
         (strcmp(k->fields[fi].key, "transmit") == 0 || strcmp(k->fields[fi].key, "absorb") == 0))
         strncat(buf, " ior 1.5", size - strlen(buf) - 1);
+    if (k == &material_kind && fi >= 0 &&
+        (strcmp(k->fields[fi].key, "checker_size") == 0 || strcmp(k->fields[fi].key, "checker_uv") == 0))
+        strncat(buf, " checker 0.1 0.2 0.3", size - strlen(buf) - 1);
     if (k == &camera_kind && fi >= 0 && (strcmp(k->fields[fi].key, "aperture") == 0))
         strncat(buf, " focus 3", size - strlen(buf) - 1);
     if (k == &camera_kind && fi >= 0 && (strcmp(k->fields[fi].key, "focus") == 0))

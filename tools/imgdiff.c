@@ -1,6 +1,12 @@
 /* lanray-imgdiff - compares two PNG frames of the same size.
  *
  *   lanray-imgdiff [--csv] a.png b.png   (--help lists the options and exit statuses)
+ *   lanray-imgdiff --relative [--block N] a.hdr reference.hdr
+ *
+ * --relative compares light (Radiance .hdr, lanray's or another
+ * renderer's): the mean relative error of N x N block means, the ratio of
+ * the images' means; a reference k times larger a side is taken as k x k
+ * blocks (a reference of k^2 times the samples).
  *
  * Prints the largest channel difference, the number of differing pixels,
  * RMSE (0..255 scale), PSNR in dB and SSIM (structural similarity, Wang et
@@ -13,6 +19,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "base/srgb.h"
+#include "image/hdr_read.h"
 #include "image/image.h"
 #include "model/texture.h"
 #include "base/opt.h"
@@ -112,15 +120,89 @@ static double differences(const uint8_t *a, const uint8_t *b, size_t n, int *max
     return sqrt(sq / (3.0 * (double)n));
 }
 
+/* The means of b x b blocks of an RGBE image (whole blocks only), as
+ * 3 doubles a block. */
+static double *block_means(const uint8_t *px, int w, int h, int b, int *nb)
+{
+    const int bw = w / b, bh = h / b;
+    double *m = calloc((size_t)bw * bh * 3 + 1, sizeof *m);
+    if (!m)
+        return NULL;
+    for (int y = 0; y < bh * b; y++)
+        for (int x = 0; x < bw * b; x++) {
+            double c[3];
+            rgbe_decode(px + 4 * ((size_t)y * w + x), c);
+            for (int k = 0; k < 3; k++)
+                m[3 * ((size_t)(y / b) * bw + x / b) + k] += c[k] / (b * b);
+        }
+    *nb = bw * bh;
+    return m;
+}
+
+/* Light against a reference: the mean relative error of the channels of
+ * b x b block means, |a - r| / (r + 1% of r's mean) (the 1% keeps black
+ * blocks from dividing by zero), and the ratio of the images' means. */
+static int relative(const char *pa, const char *pr, int b, int csv)
+{
+    Err err = {{0}};
+    int wa, ha, wr, hr, na, nr;
+    uint8_t *a = NULL, *r = NULL;
+    if (hdr_read(pa, &wa, &ha, &a, &err) || hdr_read(pr, &wr, &hr, &r, &err)) {
+        fprintf(stderr, "lanray-imgdiff: %s\n", err.msg);
+        free(a);
+        return 1;
+    }
+    /* a reference k times the size: its k x k blocks are the image's pixels (more samples a pixel) */
+    const int k = wr / wa;
+    if (k < 1 || wr != k * wa || hr != k * ha || b > wa || b > ha) {
+        fprintf(stderr, "lanray-imgdiff: the reference is not the image's size or a whole multiple of it, or the block "
+                        "is larger: %dx%d and %dx%d, block %d\n", wa, ha, wr, hr, b);
+        free(a);
+        free(r);
+        return 1;
+    }
+    double *ma = block_means(a, wa, ha, b, &na), *mr = block_means(r, wr, hr, k * b, &nr);
+    free(a);
+    free(r);
+    if (!ma || !mr) {
+        fprintf(stderr, "lanray-imgdiff: out of memory\n");
+        free(ma);
+        free(mr);
+        return 1;
+    }
+    double sa = 0, sr = 0, rel = 0;
+    for (int i = 0; i < 3 * na; i++)
+        sa += ma[i], sr += mr[i];
+    const double floor = 0.01 * sr / (3.0 * na);
+    for (int i = 0; i < 3 * na; i++)
+        rel += fabs(ma[i] - mr[i]) / (mr[i] + floor);
+    rel /= 3.0 * na;
+    const double ratio = sr > 0 ? sa / sr : (double)INFINITY;
+    if (csv)
+        printf("%.6f,%.6f\n", rel, ratio);
+    else
+        printf("mean relative error %.4f (%dx%d blocks), mean light %.6g against %.6g (ratio %.4f)\n", rel, b, b,
+               sa / (3.0 * na), sr / (3.0 * na), ratio);
+    free(ma);
+    free(mr);
+    return 0;
+}
+
 int main(int argc, char **argv)
 {
-    int csv = 0;
+    int csv = 0, rel = 0, block = 1;
     const Opt opts[] = {
-        {.name = "--csv", .kind = OPT_FLAG, .dst = &csv, .help = "print max,differing,rmse,psnr,ssim on one line"},
+        {.name = "--csv", .kind = OPT_FLAG, .dst = &csv,
+         .help = "print max,differing,rmse,psnr,ssim on one line (--relative: error,ratio)"},
+        {.name = "--relative", .kind = OPT_FLAG, .dst = &rel,
+         .help = "compare the light of two .hdr images (the second the reference, its size the first's or a whole "
+                 "multiple, taken in blocks): mean relative error and the ratio of their means"},
+        {.name = "--block", .kind = OPT_INT, .dst = &block, .lo = 1, .hi = 4096, .arg = "N",
+         .help = "--relative: compare means of N x N blocks (noise averages out, bias stays)", .def = "1"},
         {0},
     };
     const char *args[2];
-    OptSpec spec = {.prog = "lanray-imgdiff", .synopsis = "[--csv] a.png b.png",
+    OptSpec spec = {.prog = "lanray-imgdiff", .synopsis = "[--csv] a.png b.png | --relative [--block N] a.hdr reference.hdr",
                     .about = "Compares two images of the same size (PNG, PPM, PGM or JPEG, by their first bytes): the\n"
                     "largest channel difference, the pixels that differ,\n"
                     "RMSE (0..255), PSNR in dB and SSIM (luma, 8x8 windows; 1 = identical).  The numbers are for the\n"
@@ -132,6 +214,8 @@ int main(int argc, char **argv)
     int go = opt_run(&spec, argc, argv);
     if (go != OPT_GO)
         return go;
+    if (rel)
+        return relative(args[0], args[1], block, csv);
     Err err = {{0}};
     int wa, ha, wb, hb;
     uint8_t *a, *b;

@@ -121,6 +121,7 @@ typedef struct {
     double cutoff;
     int light_samples, rough_samples, lens_samples, exposure_given;
     int sampling, sampling_given, limit, limit_given, lights, lights_given, integrator, integrator_given;
+    int emitters, emitters_given, roulette, roulette_given;
     double exposure;
     CliAa aa;
 } Args;
@@ -177,6 +178,14 @@ static int parse_args(Args *a, int argc, char **argv)
          .help = "Whitted's (lights, shadows, mirrors, glass; emission lights nothing), or a path tracer's: light that "
                  "bounces, emission that lights (docs/renderer.md)",
          .def = "the scene's, else whitted"},
+        {.name = "--emitter-sampling", .kind = OPT_CHOICE, .dst = &a->emitters,
+         .choices = field_words(&settings_kind, "emitter_sampling"), .seen = &a->emitters_given,
+         .help = "path: emissive surfaces found by next-event estimation and by bounces, weighed together (MIS), or "
+                 "by one alone (the same picture, other noise)",
+         .def = "the scene's, else mis"},
+        {.name = "--roulette", .kind = OPT_INT, .dst = &a->roulette, .arg = "N", .lo = 0, .hi = SCENE_MAX_DEPTH,
+         .seen = &a->roulette_given, .help = "path: bounces before Russian roulette may end a path",
+         .def = "the scene's, else 3"},
         {.name = "--light-samples", .kind = OPT_INT, .dst = &a->light_samples, .arg = "K", .lo = 0, .hi = LIGHT_MAX_SAMPLES,
          .help = "shadow rays of every sphere and rect light: K x K a pixel (product: a ray); 0 = each light's own",
          .def = "0"},
@@ -266,6 +275,10 @@ static int apply_settings(Scene *scene, Args *a)
         rs->light_sampling = (LightSampling)a->lights;
     if (a->integrator_given)
         rs->integrator = (Integrator)a->integrator;
+    if (a->emitters_given)
+        rs->emitter_sampling = (EmitterSampling)a->emitters;
+    if (a->roulette_given)
+        rs->roulette = a->roulette;
     if (a->limit_given)
         rs->depth_limit = (DepthLimit)a->limit;
     if (a->rough_samples)

@@ -2,29 +2,28 @@
  *
  * Units follow the Whitted integrator's, so that the two agree where light
  * does not bounce: a light's contribution to a diffuse surface is kd x
- * cos x its radiance (shade.c), and a bounce off it carries kd x what the
- * scattered path brings (the cosine-weighted direction's weight: kd / pi
- * x cos over the density cos / pi).  Emission (`emit`) is radiance, added
- * wherever a path meets it, except where a diffuse bounce's path meets a
- * light's lamp (a visible lamp, docs/scene.md: an emissive surface where a
- * light is), whose light next-event estimation took at that bounce: so
- * nothing is counted twice.  An emissive surface without a light lights
- * the scene through the paths that meet it.  This first cut leaves out the
- * Phong highlights (a diffuse surface is Lambertian here), shadow rays
- * through glass (a dielectric stops them; light through glass arrives by
- * the paths that pass it: caustics of emissive surfaces and the sky), and
- * sampling emissive surfaces as lights (multiple importance sampling). */
+ * cos x its radiance (shade.c), which is pi x the BRDF kd / pi x cos x
+ * that radiance; a surface scatters by its lobes (shading/lobes.h: the
+ * Lambertian kd / pi, the Phong highlight as a normalised glossy lobe,
+ * a mirror), and a bounce carries f x cos / the density of its direction.
+ * Emission (`emit`) is radiance, added wherever a path meets it, except
+ * where a bounce from a smooth lobe meets a light's lamp (a visible lamp,
+ * docs/scene.md: an emissive surface where a light is), whose light
+ * next-event estimation took at that point: so nothing is counted twice.
+ * An emissive surface without a light lights the scene both ways: a point
+ * with a smooth lobe samples one of them (scene/emitters.h) and its bounce
+ * may meet one, and the two estimates are weighed by the power heuristic
+ * (settings emitter_sampling: or either alone).  Shadow rays stop at glass
+ * (light through glass arrives by the paths that pass it: caustics). */
 #include "scene/path.h"
 
 #include <math.h>
 
 #include "model/texture.h"
+#include "scene/emitters.h"
+#include "shading/lobes.h"
 #include "shading/optics.h"
 
-/* Settings depth bounds a path's bounces (0: direct light only); past
- * this many, Russian roulette may end it (surviving paths weighted up by
- * as much). */
-#define PATH_ROULETTE_AFTER 3
 
 /* Two numbers of bounce b's dimension `dim` for a ray: one point of a
  * (0,2)-sequence over its pixel's rays (stratified together), scrambled by
@@ -45,31 +44,21 @@ static real draw1(const SampleId *id, uint32_t b, uint32_t dim)
     return sample_sobol_first(sample_sobol_index(id->index, seed), seed);
 }
 
-/* A direction about n by the cosine, from (u, v) in the unit square. */
-static vec3 cosine_dir(vec3 n, real u, real v)
-{
-    real x, y;
-    sample_disc(u, v, &x, &y);
-    /* a point on the disc's rim would give a direction along the surface: kept just above it */
-    real z = sqrt(real_max(R(1e-6), R(1) - x * x - y * y));
-    vec3 a = v3_norm(v3_cross(fabs(n.x) > R(0.5) ? v3(0, 1, 0) : v3(1, 0, 0), n)), b = v3_cross(n, a);
-    return v3_norm(v3_add(v3_add(v3_scale(a, x), v3_scale(b, y)), v3_scale(n, z)));
-}
-
-/* Next-event estimation from a diffuse point: one point of every light,
- * its shadow ray, kd x cos x the radiance that arrives. */
-static vec3 direct_light(const World *w, const Surface *sf, vec3 kd, const SampleId *id, uint32_t b, RayStats *st)
+/* Next-event estimation from a point with smooth lobes: one point of
+ * every light, its shadow ray, pi x f x cos x the radiance that arrives. */
+static vec3 direct_light(const World *w, const Surface *sf, const Lobes *lb, const SampleId *id, uint32_t b,
+                         RayStats *st)
 {
     vec3 sum = v3_splat(R(0));
     const vec3 origin = trace_offset_origin(sf->ps, sf->ng, sf->ps_err);
     for (uint32_t li = 0; li < w->light_count; li++) {
-        real u, v, dist;
+        real u, v, dist, pdf;
         draw2(id, b, 0x100u + li, &u, &v);
         vec3 dir, rad;
-        if (!shade_light_point(w, li, sf->p, u, v, &dir, &dist, &rad))
+        if (!shade_light_point(w, li, sf->p, u, v, &dir, &dist, &rad) || !(v3_dot(dir, sf->ng) > R(0)))
             continue;
-        const real c = v3_dot(dir, sf->ns);
-        if (!(c > R(0)) || !(v3_dot(dir, sf->ng) > R(0)))
+        const vec3 fc = lobes_eval(lb, dir, &pdf);
+        if (!(v3_max_comp(fc) > R(0)))
             continue;
         if (world_has(w, FEAT_SHADOWS)) {
             const real tmax = isfinite(dist) ? dist * (R(1) - R(64) * REAL_EPS) : REAL_MAX;
@@ -78,16 +67,63 @@ static vec3 direct_light(const World *w, const Surface *sf, vec3 kd, const Sampl
             if (trace_occluded(w, &sr, tmax, &w->lights[li]))
                 continue;
         }
-        sum = v3_add(sum, v3_scale(v3_mul(kd, rad), c));
+        sum = v3_add(sum, v3_scale(v3_mul(fc, rad), REAL_PI));
     }
     return sum;
 }
 
-/* The surface's diffuse colour here: its material's, a model's vertex
- * colour, times its texture (read at one point: no ray footprint here). */
+/* The power heuristic's weight of a strategy of density a beside one of b. */
+static real power_weight(real a, real b) { return a * a / (a * a + b * b); }
+
+/* Next-event estimation of emissive geometry from a point with smooth
+ * lobes: one point of one emitter, f x cos x its radiance over its
+ * density, weighed against the bounce that could have found it (at the
+ * last bounce none follows: the whole of it). */
+static vec3 direct_emitters(const World *w, const Surface *sf, const Lobes *lb, int last, const SampleId *id,
+                            uint32_t b, RayStats *st)
+{
+    real u, v, pdf;
+    draw2(id, b, 5, &u, &v);
+    EmitterSample es;
+    if (!emitters_sample(w, sf->p, draw1(id, b, 6), u, v, &es) || !(v3_dot(es.dir, sf->ng) > R(0)))
+        return v3_splat(R(0));
+    const vec3 fc = lobes_eval(lb, es.dir, &pdf);
+    if (!(v3_max_comp(fc) > R(0)))
+        return v3_splat(R(0));
+    if (w->view.settings.shadows) {
+        /* short of the point by more than the rounding of its place, so the emitter does not shadow itself */
+        const real tmax = es.dist * (R(1) - R(1024) * REAL_EPS);
+        Ray sr = ray_make(trace_offset_origin(sf->ps, sf->ng, sf->ps_err), es.dir, R(0), tmax);
+        st->shadow++;
+        if (trace_occluded(w, &sr, tmax, NULL))
+            return v3_splat(R(0));
+    }
+    const real weight = w->view.settings.emitter_sampling == EMITTERS_MIS && !last ? power_weight(es.pdf, pdf) : R(1);
+    return v3_scale(v3_mul(fc, es.radiance), weight / es.pdf);
+}
+
+/* The share of emission that a path meeting h after a bounce from p off
+ * a smooth lobe (density pdf_bounce) adds: all of it where next-event
+ * estimation could not have found it, else the weight of the bounce. */
+static real bounce_share(const World *w, vec3 p, real pdf_bounce, const Ray *r, const Hit *h)
+{
+    const EmitterSampling es = w->view.settings.emitter_sampling;
+    if (es == EMITTERS_BSDF)
+        return R(1);
+    const real pl = emitters_pdf(w, p, r, h);
+    if (!(pl > R(0)))
+        return R(1);
+    return es == EMITTERS_NEE ? R(0) : power_weight(pdf_bounce, pl);
+}
+
+/* The surface's diffuse colour here: its material's (or its checker's
+ * square), a model's vertex colour, times its texture (read at one point:
+ * no ray footprint here). */
 static vec3 diffuse_at(const World *w, const Surface *sf)
 {
     vec3 kd = world_has(w, FEAT_COLOURS) && sf->has_colour ? sf->colour : sf->mat->kd;
+    if (world_has(w, FEAT_CHECKER) && material_checkered(sf->mat))
+        kd = material_checker(sf->mat, kd, sf->p, sf->u, sf->v, sf->has_uv);
     if (world_has(w, FEAT_TEXTURES) && sf->tex && sf->has_uv)
         kd = v3_mul(kd, texture_sample(sf->tex, sf->u, sf->v, NULL, w->view.settings.filter));
     return kd;
@@ -134,7 +170,7 @@ static int mirror_bounce(const Surface *sf, vec3 d, real u, real v, real s, vec3
     return 1;
 }
 
-/* Whether h is on a light's lamp (its light was sampled from a diffuse point). */
+/* Whether h is on a light's lamp (its light was sampled at the point before). */
 static int on_lamp(const World *w, const Hit *h)
 {
     for (uint32_t li = 0; li < w->light_count; li++)
@@ -145,7 +181,10 @@ static int on_lamp(const World *w, const Hit *h)
 
 vec3 path_radiance(const World *w, const Ray *r, SampleId id, RayStats *st, uint64_t *key)
 {
-    int after_diffuse = 0; /* the path left a diffuse point, which took the lights (next-event estimation) */
+    int after_smooth = 0; /* the path left a point by a smooth lobe, which took the lights (next-event estimation) */
+    vec3 from = v3_splat(R(0)); /* that point */
+    real pdf_bounce = R(0);     /* and the density of the bounce's direction */
+    const int emitters = w->emitter_count > 0 && w->view.settings.emitter_sampling != EMITTERS_BSDF;
     vec3 L = v3_splat(R(0)), beta = v3_splat(R(1));
     Ray ray = *r;
     const int depth = w->view.settings.depth;
@@ -168,44 +207,50 @@ vec3 path_radiance(const World *w, const Ray *r, SampleId id, RayStats *st, uint
             *key = (uint64_t)sf.object << 16;
         if (sf.inside && material_dielectric(m) && v3_max_comp(m->absorb) > R(0)) /* crossed its inside */
             beta = v3_mul(beta, v3(exp(-m->absorb.x * h.t), exp(-m->absorb.y * h.t), exp(-m->absorb.z * h.t)));
-        if (material_emits(m) && !(after_diffuse && on_lamp(w, &h)))
-            L = v3_add(L, v3_mul(beta, m->ke));
+        if (material_emits(m) && !(after_smooth && on_lamp(w, &h)))
+            L = v3_add(L, v3_scale(v3_mul(beta, m->ke), after_smooth ? bounce_share(w, from, pdf_bounce, &ray, &h) : R(1)));
         const int last = b >= depth; /* the light that reaches this point still counts: depth 0 is direct light */
         const vec3 d = ray.dir;
         real u, v;
         draw2(&id, (uint32_t)b, 1, &u, &v);
         const real pick = draw1(&id, (uint32_t)b, 2);
         int go;
-        after_diffuse = 0;
+        after_smooth = 0;
         if (material_dielectric(m)) {
             if (last)
                 break;
             go = dielectric_bounce(w, &sf, d, pick, &beta, &ray);
         } else {
-            const vec3 kd = diffuse_at(w, &sf);
-            const real pd = v3_max_comp(kd), pm = material_reflects(m) ? v3_max_comp(m->kr) : R(0);
-            if (!(pd + pm > R(0)))
+            const vec3 ks = w->view.settings.shading == SHADE_PHONG ? m->ks : v3_splat(R(0));
+            Lobes lb;
+            if (!lobes_make(&lb, diffuse_at(w, &sf), ks, m->shininess, material_reflects(m) ? m->kr : v3_splat(R(0)),
+                            sf.ns, d))
                 break;
-            if (pick * (pd + pm) < pm) { /* the mirror lobe, chosen with probability pm / (pd + pm) */
-                if (last)
-                    break;
-                beta = v3_scale(beta, (pd + pm) / pm);
+            if (lobes_smooth(&lb)) { /* next-event estimation: what the smooth lobes take from the lights */
+                L = v3_add(L, v3_mul(beta, direct_light(w, &sf, &lb, &id, (uint32_t)b, st)));
+                if (emitters)
+                    L = v3_add(L, v3_mul(beta, direct_emitters(w, &sf, &lb, last, &id, (uint32_t)b, st)));
+            }
+            if (last)
+                break;
+            if (pick < lb.pm) { /* the mirror, chosen with probability pm */
+                beta = v3_scale(beta, R(1) / lb.pm);
                 go = mirror_bounce(&sf, d, u, v, draw1(&id, (uint32_t)b, 4), &beta, &ray);
-            } else {
-                beta = v3_scale(beta, (pd + pm) / pd);
-                L = v3_add(L, v3_mul(beta, direct_light(w, &sf, kd, &id, (uint32_t)b, st)));
-                if (last)
-                    break;
-                vec3 nd = cosine_dir(sf.ns, u, v);
-                go = v3_dot(nd, sf.ng) > R(0);
-                beta = v3_mul(beta, kd);
-                after_diffuse = 1;
+            } else { /* a smooth lobe's direction, weighed by both smooth lobes */
+                real pdf;
+                const vec3 nd = lobes_sample_smooth(&lb, (pick - lb.pm) / (R(1) - lb.pm), u, v);
+                const vec3 fc = lobes_eval(&lb, nd, &pdf);
+                go = pdf > R(0) && v3_dot(nd, sf.ng) > R(0);
+                beta = v3_mul(beta, v3_scale(fc, go ? R(1) / pdf : R(0)));
+                after_smooth = 1;
+                from = sf.p;
+                pdf_bounce = pdf;
                 ray = ray_make(trace_offset_origin(sf.p, sf.ng, sf.err), nd, R(0), REAL_MAX);
             }
         }
         if (!go)
             break;
-        if (b + 1 >= PATH_ROULETTE_AFTER) {
+        if (b + 1 >= w->view.settings.roulette) { /* Russian roulette: survivors weighed up by as much */
             const real keep = real_min(R(1), v3_max_comp(beta));
             if (!(draw1(&id, (uint32_t)b, 3) < keep))
                 break;

@@ -100,6 +100,12 @@ typedef enum { LIGHTS_FULL = 0, LIGHTS_ADAPTIVE = 1 } LightSampling;
  * light that bounces, emission that lights). */
 typedef enum { INTEGRATOR_WHITTED = 0, INTEGRATOR_PATH = 1 } Integrator;
 
+/* How the path integrator finds emissive geometry (scene/emitters.h): by
+ * next-event estimation and by the paths that meet it, weighed by
+ * multiple importance sampling; or by either alone (the same picture,
+ * with other noise: for tests and make tradeoff). */
+typedef enum { EMITTERS_MIS = 0, EMITTERS_NEE = 1, EMITTERS_BSDF = 2 } EmitterSampling;
+
 /* What a mirror's or a dielectric's ray that the depth limit cuts returns
  * in place of what it would see: nothing (black), the background, the
  * ambient light, or the light at the surface where it is cut (what a white
@@ -130,6 +136,8 @@ typedef struct {
     Sampling sampling;
     LightSampling light_sampling;
     Integrator integrator;
+    EmitterSampling emitter_sampling;
+    int roulette;      /* path: bounces before Russian roulette may end a path */
     real exposure;     /* stops: the 8-bit codes encode light times 2^exposure */
     int hdr;           /* pixels are RGBE, 4 bytes (a .hdr from lanray-render, lanray-server --hdr); not in scene files */
     /* what the scene file asked for, for the programs' defaults; not on the

@@ -69,6 +69,7 @@ static const char *const glass_words[] = {"opaque", "tinted", NULL};
 static const char *const sampling_words[] = {"budget", "product", NULL};
 static const char *const light_sampling_words[] = {"full", "adaptive", NULL};
 static const char *const integrator_words[] = {"whitted", "path", NULL};
+static const char *const emitter_words[] = {"mis", "nee", "bsdf", NULL};
 static const char *const limit_words[] = {"black", "background", "ambient", "local", NULL};
 
 #define SET(f) offsetof(SettingsSpec, f)
@@ -116,6 +117,11 @@ static const Field settings_fields[] = {
     {.key = "integrator", .type = FIELD_CHOICE, .group = SETTINGS_GROUP_SAMPLING, .off = SET(rs.integrator),
      .words = integrator_words,
      .doc = "Whitted's (lights, shadows, mirrors, glass; emission lights nothing), or a path tracer's (light bounces)"},
+    {.key = "emitter_sampling", .type = FIELD_CHOICE, .group = SETTINGS_GROUP_SAMPLING, .off = SET(rs.emitter_sampling),
+     .words = emitter_words,
+     .doc = "path: emissive surfaces found by next-event estimation and bounces weighed together (MIS), or one alone"},
+    {.key = "roulette", .type = FIELD_WHOLE, .group = SETTINGS_GROUP_SAMPLING, .off = SET(rs.roulette), .lo = 0,
+     .hi = SCENE_MAX_DEPTH, .def = 3, .doc = "path: bounces before Russian roulette may end a path"},
     {.key = "exposure", .type = FIELD_REAL, .group = SETTINGS_GROUP_OUTPUT, .off = SET(rs.exposure), .lo = -32, .hi = 32,
      .doc = "stops: 8-bit output shows the light times 2^exposure"},
 };

@@ -198,6 +198,8 @@ static inline __attribute__((always_inline)) void shade_start(const World *w, co
         raydiff_at(rd, r->dir, hit->t, sh->sf.ng, &sh->dpdx, &sh->dpdy);
         trace_surface_change(w, hit, &sh->sf, sh->dpdx, sh->dpdy, &fp, &sh->dndx, &sh->dndy);
     }
+    if (optional && world_uses(w, FEAT_CHECKER) && material_checkered(m))
+        sh->kd = material_checker(m, sh->kd, sh->sf.p, sh->sf.u, sh->sf.v, sh->sf.has_uv);
     if (textured)
         sh->kd = v3_mul(sh->kd, texture_sample(sh->sf.tex, sh->sf.u, sh->sf.v, sh->rd ? &fp : NULL, w->view.settings.filter));
     sh->col = v3_mul(w->ambient, sh->kd);
@@ -652,7 +654,7 @@ static inline __attribute__((always_inline)) void shade_rays_at(const World *w, 
  * bigger function's registers cost a flat hit 50 instructions more than a
  * build with the features compiled out. */
 #define SHADE_OPTIONAL (FEAT_TEXTURES | FEAT_COLOURS | FEAT_SPOT | FEAT_ATTENUATION | FEAT_REFLECT | FEAT_REFRACT | \
-                        FEAT_EMIT | FEAT_AREA | FEAT_ROUGH)
+                        FEAT_EMIT | FEAT_AREA | FEAT_ROUGH | FEAT_CHECKER)
 
 static void shade_rays(const World *w, const Ray *rays, int n, vec3 *out, RayStats *stats, uint64_t *keys,
                        const SampleId *ids, const RayDiff *diffs, int depth, vec3 weight)

@@ -148,6 +148,17 @@ static inline __attribute__((always_inline)) int occluded_planes(const World *w,
     return 0;
 }
 
+const Material *trace_instance_material(const World *w, uint32_t instance, uint32_t tri)
+{
+    const WorldInstance *in = &w->instances[instance];
+    const Model *m = w->models[in->model];
+    if (in->material >= 0)
+        return &w->materials[in->material];
+    if (m->mat_ids)
+        return &m->materials[m->mat_ids[tri]];
+    return w->material_count ? &w->materials[0] : NULL;
+}
+
 int trace_lamp_part(const World *w, const WorldLight *l, const Hit *h)
 {
     if (h->kind == HIT_SPHERE)
@@ -371,7 +382,7 @@ static inline __attribute__((always_inline)) void surface_sphere(const World *w,
     out->err = real_gamma(6) * sp->radius + real_gamma(2) * real_max(v3_max_comp(v3_abs(sp->centre)), v3_max_comp(v3_abs(out->p)));
     out->ns = out->ng;
     out->mat = &w->materials[sp->material];
-    if (optional && world_uses(w, FEAT_TEXTURES) && out->mat->texture >= 0) {
+    if (optional && world_uses(w, FEAT_TEXTURES) && material_wants_uv(out->mat)) {
         /* spherical mapping: u the longitude from +z towards +x, v the
          * latitude from the bottom pole (0) to the top (1); only for a
          * textured material (the arc functions showed in the profile) */
@@ -393,7 +404,7 @@ static inline __attribute__((always_inline)) void surface_plane(const World *w, 
     out->err = real_gamma(4) * real_max(v3_max_comp(v3_abs(out->p)), v3_max_comp(v3_abs(pl->point)));
     out->ng = out->ns = pl->unit;
     out->mat = &w->materials[pl->material];
-    if (optional && world_uses(w, FEAT_TEXTURES) && out->mat->texture >= 0) {
+    if (optional && world_uses(w, FEAT_TEXTURES) && material_wants_uv(out->mat)) {
         vec3 d = v3_sub(out->p, pl->point);
         out->u = v3_dot(d, pl->tu);
         out->v = v3_dot(d, pl->tv);
@@ -467,15 +478,14 @@ static inline __attribute__((always_inline)) int surface_instance(const World *w
         out->colour = bary(c[0], c[1], c[2], h->b1, h->b2);
         out->has_colour = 1;
     }
-    if (in->material >= 0)
-        out->mat = &w->materials[in->material];
-    else if (m->mat_ids) {
-        out->mat = &m->materials[m->mat_ids[h->sub]];
+    const Material *mat = trace_instance_material(w, h->index, h->sub);
+    if (mat)
+        out->mat = mat;
+    if (in->material < 0 && m->mat_ids) {
         /* a model's own material names the model's own texture */
         out->tex = out->mat->texture >= 0 ? m->textures[out->mat->texture] : NULL;
         model_tex = 1;
-    } else if (w->material_count)
-        out->mat = &w->materials[0];
+    }
     out->object = w->sphere_count + w->plane_count + w->material_count + h->index;
     return model_tex;
 }

@@ -37,6 +37,10 @@ typedef struct {
 
 /* The closest hit: the smallest t, ties decided by a fixed rule (trace.c),
  * so that every traversal order and every SIMD path finds the same one. */
+/* The material of triangle `tri` of instance `instance`: the scene's
+ * material overriding the model's, else the model's own, else the scene's
+ * first (NULL where the scene has none). */
+const Material *trace_instance_material(const World *w, uint32_t instance, uint32_t tri);
 int trace_closest(const World *w, const Ray *r, Hit *hit);
 /* n <= TRACE_PACKET rays at once: each gets exactly trace_closest's hit
  * (kind HIT_NONE for a miss); coherent rays (a line of pixels, the

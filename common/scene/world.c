@@ -7,6 +7,7 @@
 #include <string.h>
 
 #include "base/array.h"
+#include "scene/emitters.h"
 
 View scene_view(const Scene *s) { return (View){.camera = s->camera, .settings = s->settings}; }
 
@@ -14,7 +15,8 @@ static uint32_t material_features(const Material *m)
 {
     return (material_reflects(m) ? FEAT_REFLECT : 0u) | (material_dielectric(m) ? FEAT_REFRACT : 0u) |
            (material_emits(m) ? FEAT_EMIT : 0u) | (material_rough(m) ? FEAT_ROUGH : 0u) |
-           (v3_max_comp(m->ks) > R(0) ? FEAT_SPECULAR : 0u);
+           (v3_max_comp(m->ks) > R(0) ? FEAT_SPECULAR : 0u) |
+           (material_checkered(m) ? FEAT_CHECKER | (m->checker_uv ? FEAT_TEXTURES : 0u) : 0u);
 }
 
 /* Planar mapping: u along the world x axis laid onto the plane (z for a
@@ -295,7 +297,7 @@ World *world_build(const Scene *desc, const World *previous, Err *err)
                  .background = desc->background, .tree = &empty_tree};
     uint32_t nb = desc->sphere_count + desc->tri_count + desc->instance_count;
     Aabb *boxes = NULL;
-    if (derive_items(w, desc, err) || pair_lamps(w, err) || (nb && !(boxes = top_boxes(w, nb, err))) ||
+    if (derive_items(w, desc, err) || pair_lamps(w, err) || emitters_build(w, err) || (nb && !(boxes = top_boxes(w, nb, err))) ||
         (nb && build_top(w, previous, boxes, nb, err)) || world_set_view(w, &w->view, err)) {
         world_destroy(w);
         return NULL;
@@ -351,6 +353,7 @@ void world_destroy(World *w)
         free(pt->instances);
         free(pt->lights);
         free(pt->lamps);
+        free(pt->emitters);
         free(pt);
     }
     top_drop(w->top);

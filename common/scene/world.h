@@ -35,6 +35,7 @@ enum {
     FEAT_AREA = 1 << 11,   /* a sphere or rectangle light */
     FEAT_ROUGH = 1 << 12,  /* a mirror with roughness */
     FEAT_LENS = 1 << 13,   /* a camera with an aperture (depth of field) */
+    FEAT_CHECKER = 1 << 14, /* a material with a checker pattern */
 };
 
 /* What one frame is rendered with beside the world. */
@@ -88,11 +89,14 @@ typedef struct {
 
 /* What a world derives from its description item by item, shared by the
  * worlds that differ only in their view (world_with_view). */
+typedef struct Emitter Emitter; /* scene/emitters.h */
+
 typedef struct {
     WorldPlane *planes;
     WorldInstance *instances;
     WorldLight *lights;
     uint32_t *lamps;
+    Emitter *emitters;
     atomic_int refs;
 } WorldParts;
 
@@ -121,7 +125,10 @@ typedef struct {
     uint32_t light_count;
     uint32_t *lamps;  /* the lights' lamps: top-level primitive numbers, by light (WorldLight.lamp_first) */
     uint32_t lamp_total;
-    WorldParts *parts; /* owns planes, instances, lights and lamps */
+    Emitter *emitters; /* emissive geometry that lights the path integrator's scenes (scene/emitters.h) */
+    uint32_t emitter_count;
+    real emit_power;   /* their total power (area x mean emission) */
+    WorldParts *parts; /* owns planes, instances, lights, lamps and emitters */
     WorldTop *top;    /* NULL: nothing but planes */
     const Bvh *tree;  /* &top->bvh, or an empty tree */
     uint32_t features;      /* what the items use (FEAT_*), and what the view adds: */

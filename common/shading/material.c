@@ -8,7 +8,7 @@
 #include <string.h>
 
 #define OFF(f) offsetof(Material, f)
-enum { GROUP_MIRROR = 1, GROUP_DIELECTRIC = 2, GROUP_EMIT = 3 };
+enum { GROUP_MIRROR = 1, GROUP_DIELECTRIC = 2, GROUP_EMIT = 3, GROUP_CHECKER = 4 };
 
 static const Field fields[] = {
     {.key = "diffuse", .type = FIELD_VEC, .off = OFF(kd), .hi = FIELD_INF, .def = 0.8,
@@ -32,19 +32,28 @@ static const Field fields[] = {
      .doc = "a dielectric's absorption per unit length inside it (Beer-Lambert); needs `ior`"},
     {.key = "emit", .type = FIELD_VEC, .group = GROUP_EMIT, .off = OFF(ke), .hi = FIELD_INF,
      .doc = "emitted radiance, seen and reflected (a lamp: see below)"},
+    {.key = "checker", .type = FIELD_VEC, .group = GROUP_CHECKER, .off = OFF(kc), .hi = FIELD_INF,
+     .doc = "a checker pattern's second colour: squares of `diffuse` and this"},
+    {.key = "checker_size", .type = FIELD_REAL, .group = GROUP_CHECKER, .flags = FIELD_ZERO_OK, .off = OFF(checker_size),
+     .lo = 1e-9, .hi = FIELD_INF, .shown_default = "1 (with `checker`)",
+     .doc = "a square's side: world units (a solid pattern), or texture units with `checker_uv`; needs `checker`"},
+    {.key = "checker_uv", .type = FIELD_FLAG, .group = GROUP_CHECKER, .off = OFF(checker_uv),
+     .doc = "the pattern on the surface's texture coordinates (2D), not in space (3D); needs `checker`"},
 };
 
 static const FieldRule rules[] = {
     {RULE_NEEDS, "transmit", "ior", "'transmit' of material needs 'ior' (a dielectric)"},
     {RULE_NEEDS, "absorb", "ior", "'absorb' of material needs 'ior' (a dielectric)"},
     {RULE_NEEDS, "roughness", "reflect", "'roughness' of material needs 'reflect' (a mirror or a metal)"},
+    {RULE_NEEDS, "checker_size", "checker", "'checker_size' of material needs 'checker' (the second colour)"},
+    {RULE_NEEDS, "checker_uv", "checker", "'checker_uv' of material needs 'checker' (the second colour)"},
     {RULE_EXCLUDES, "reflect", "ior",
      "material takes either 'reflect' (a mirror) or 'ior' (a dielectric, reflecting by Fresnel), not both"},
     {0, NULL, NULL, NULL},
 };
 
 const FieldKind material_kind = {.name = "material", .fields = fields, .count = sizeof fields / sizeof *fields,
-                                 .rules = rules, .group_count = 3};
+                                 .rules = rules, .group_count = 4};
 
 Material material_default(void)
 {
@@ -61,6 +70,8 @@ void material_file_defaults(Material *m, FieldSet given)
         m->kd = v3_splat(R(0));
     if (field_given(k, given, "ior") && !field_given(k, given, "transmit"))
         m->kt = v3_splat(R(1));
+    if (field_given(k, given, "checker") && !field_given(k, given, "checker_size"))
+        m->checker_size = R(1);
 }
 
 const char *material_problem(const Material *m, char *buf, size_t size)

@@ -8,6 +8,8 @@
 #include "base/field.h"
 #include "base/vec.h"
 
+#include <math.h>
+
 typedef struct {
     vec3 kd;        /* diffuse colour */
     vec3 ks;        /* specular colour (Phong) */
@@ -23,6 +25,10 @@ typedef struct {
     vec3 kt;         /* a dielectric's transmitted colour (1 1 1: clear) */
     vec3 absorb;     /* a dielectric's absorption per unit length inside (Beer-Lambert) */
     vec3 ke;         /* emitted radiance, seen and reflected */
+    /* a procedural checker pattern: squares of kd and kc */
+    vec3 kc;           /* the second colour */
+    real checker_size; /* > 0: a square's side, in world units (solid) or texture units; 0: no pattern */
+    int checker_uv;    /* 1: on the surface's texture coordinates (2D); 0: in space (3D, solid) */
 } Material;
 
 #define MATERIAL_IOR_MIN R(0.0625)
@@ -32,7 +38,27 @@ static inline int material_reflects(const Material *m) { return m->kr.x > R(0) |
 static inline int material_dielectric(const Material *m) { return m->ior > R(0); }
 static inline int material_emits(const Material *m) { return m->ke.x > R(0) || m->ke.y > R(0) || m->ke.z > R(0); }
 static inline int material_rough(const Material *m) { return material_reflects(m) && m->roughness > R(0); }
+static inline int material_checkered(const Material *m) { return m->checker_size > R(0); }
+/* Whether a surface of this material needs its texture coordinates. */
+static inline int material_wants_uv(const Material *m) { return m->texture >= 0 || (material_checkered(m) && m->checker_uv); }
 
+/* The diffuse colour kd of a checkered material at point p (solid) or
+ * texture coordinates (u, v): kd or kc by the parity of the square, the
+ * squares' corners at whole multiples of the size from the origin.  kd
+ * where the pattern needs coordinates the surface lacks. */
+static inline vec3 material_checker(const Material *m, vec3 kd, vec3 p, real u, real v, int has_uv)
+{
+    const real k = R(1) / m->checker_size;
+    long n;
+    if (m->checker_uv) {
+        if (!has_uv)
+            return kd;
+        n = (long)floor(u * k) + (long)floor(v * k);
+    } else {
+        n = (long)floor(p.x * k) + (long)floor(p.y * k) + (long)floor(p.z * k);
+    }
+    return n & 1 ? m->kc : kd;
+}
 /* Whether the material does anything beyond local shading. */
 static inline int material_has_optics(const Material *m)
 {

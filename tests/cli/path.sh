@@ -8,7 +8,8 @@
 # frame: the counters can tell); a headless flight without --frames stops
 # at the path's end and prints the frame rate it held (with --still-aa, after
 # one more, still frame: the converged one, lanray-render's picture bit for
-# bit); with --target-fps a moving frame is rendered at a render scale and
+# bit; a path-traced scene refines over still frames of 2x2, 4x4 ... samples
+# up to the converged one); with --target-fps a moving frame is rendered at a render scale and
 # shown in blocks, lanray-render's smaller picture; bad path files are
 # refused naming the file and line.
 set -u
@@ -81,6 +82,34 @@ for n in 1 2; do
     cmp -s "$dir/r$n/frame-00007.png" "$dir/still.png" || fail "the converged frame is not lanray-render's ($n clients)"
     grep -q "^path: converged frame 7, .* s after the last move" "$dir/refine-$n.log" || fail "no converged line"
 done
+# a path-traced scene refines over several still frames: 2x2, then 4x4
+# samples a pixel (--still-aa 4), each the whole picture; the last is
+# lanray-render's at 4x4 bit for bit, through 2 clients
+cat >"$dir/room.scene" <<'S'
+camera position 0 1 5 lookat 0 0.5 0 fov 50
+background 0.2 0.25 0.3
+settings integrator path depth 4
+material red diffuse 0.7 0.1 0.1 checker 0.9 0.9 0.9 checker_size 0.25
+material bulb diffuse 0 0 0 emit 8 7 6
+plane point 0 0 0 normal 0 1 0
+sphere centre -1 0.5 0 radius 0.5 material red
+sphere centre 0 2.5 1 radius 0.3 material bulb
+S
+cat >"$dir/room.path" <<'PATH'
+key 0 position 0 1 5 lookat 0 0.5 0 fov 50
+key 1 position 1 1.2 4.5 lookat 0 0.5 0 fov 50
+PATH
+for a in 2 4; do
+    "$BIN/lanray-render" "$dir/room.scene" --path "$dir/room.path" --at 1 --aa $a --width 48 --height 36 \
+        -o "$dir/room-$a.png" --quiet >/dev/null || fail "lanray-render the room at aa $a"
+done
+start_server room --port 0 --width 48 --height 36 --path "$dir/room.path" --path-step 0.5 --wait-clients 2 \
+    "$dir/room.scene" --still-aa 4 --out "$dir/room"
+run_clients 2 room
+[ "$(ls "$dir/room" | wc -l)" = 5 ] || fail "a path-traced flight of 3 frames should refine in 2 still ones: $(ls "$dir/room")"
+cmp -s "$dir/room/frame-00004.png" "$dir/room-2.png" || fail "the first still path-traced frame is not lanray-render's at 2x2"
+cmp -s "$dir/room/frame-00005.png" "$dir/room-4.png" || fail "the converged path-traced frame is not lanray-render's at 4x4"
+grep -q "^path: converged frame 5, " "$dir/room.log" || fail "no converged line for frame 5: $(grep '^path' "$dir/room.log")"
 # a render scale (--target-fps out of reach: the coarsest, 8, from the
 # second frame's time on, so frame 3 at the latest): a moving
 # frame is lanray-render's picture of W/8 x H/8 pixels, each pixel an 8 x 8

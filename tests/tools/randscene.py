@@ -179,8 +179,12 @@ def scene(seed):
     # the integrator from a draw of its own, so that the rest of the scene
     # is what it was before the path integrator (tests/tools/samepixels.sh
     # compares with older builds: LANRAY_RANDSCENE_WHITTED=1 leaves it out)
-    if not os.environ.get("LANRAY_RANDSCENE_WHITTED") and random.Random(seed * 7919 + 31).random() < 0.25:
+    newer = not os.environ.get("LANRAY_RANDSCENE_WHITTED")  # what older builds do not read
+    if newer and random.Random(seed * 7919 + 31).random() < 0.25:
         st += ["integrator", "path"]
+        extra = random.Random(seed * 7919 + 37)
+        if extra.random() < 0.5:
+            st += ["emitter_sampling", extra.choice(["mis", "nee", "bsdf"])]
     if st:
         out.append("settings " + " ".join(st))
 
@@ -213,6 +217,11 @@ def scene(seed):
                 m += ["absorb", colour(r, 2)]
         if r.random() < 0.15:
             m += ["emit", colour(r)]
+        extra = random.Random(seed * 7919 + 41 + i)  # a draw of its own, as the integrator's
+        if newer and extra.random() < 0.2:  # a checker pattern, solid or on the texture coordinates
+            m += ["checker", colour(extra), "checker_size", num(extra, 0.05, 2)]
+            if extra.random() < 0.5:
+                m += ["checker_uv"]
         out.append(" ".join(m))
         materials.append(name)
 

@@ -1,0 +1,231 @@
+/* emitters.c - see emitters.h. */
+#include "scene/emitters.h"
+
+#include <stdlib.h>
+
+#include "base/array.h"
+
+/* The material of an emitter candidate (NULL: none). */
+static const Material *candidate_material(const World *w, HitKind kind, uint32_t index, uint32_t sub)
+{
+    if (kind == HIT_SPHERE)
+        return &w->materials[w->spheres[index].material];
+    if (kind == HIT_TRIANGLE)
+        return &w->materials[w->tri_attrs[index].material];
+    return trace_instance_material(w, index, sub);
+}
+
+/* A triangle's corners in the world: a scene triangle's, or a model's
+ * moved as its instance says (instance_world_box's map). */
+static void corners(const World *w, HitKind kind, uint32_t index, uint32_t sub, vec3 c[3])
+{
+    if (kind == HIT_TRIANGLE) {
+        for (int k = 0; k < 3; k++)
+            c[k] = tri_vertex(&w->tris[index], k);
+        return;
+    }
+    const WorldInstance *in = &w->instances[index];
+    const Tri *t = &w->models[in->model]->tris[sub];
+    for (int k = 0; k < 3; k++)
+        c[k] = v3_add(v3_scale(m3_apply(&in->rot, tri_vertex(t, k)), in->scale), in->translate);
+}
+
+static real area_of(const World *w, HitKind kind, uint32_t index, uint32_t sub)
+{
+    if (kind == HIT_SPHERE)
+        return R(4) * REAL_PI * w->spheres[index].radius * w->spheres[index].radius;
+    vec3 c[3];
+    corners(w, kind, index, sub, c);
+    return R(0.5) * v3_len(v3_cross(v3_sub(c[1], c[0]), v3_sub(c[2], c[0])));
+}
+
+/* What picking an emitter weighs: its area times its mean emission. */
+static real power_of(const World *w, HitKind kind, uint32_t index, uint32_t sub, const Material *m)
+{
+    return area_of(w, kind, index, sub) * (m->ke.x + m->ke.y + m->ke.z) / R(3);
+}
+
+/* Whether top-level primitive p is any light's lamp. */
+static int is_lamp(const World *w, uint32_t p)
+{
+    for (uint32_t k = 0; k < w->lamp_total; k++)
+        if (w->lamps[k] == p)
+            return 1;
+    return 0;
+}
+
+static int push(World *w, uint32_t *cap, HitKind kind, uint32_t index, uint32_t sub, real *total)
+{
+    const Material *m = candidate_material(w, kind, index, sub);
+    if (!m || !material_emits(m))
+        return 0;
+    const real pw = power_of(w, kind, index, sub, m);
+    if (!(pw > R(0)) || !isfinite(pw))
+        return 0;
+    if (array_reserve((void **)&w->parts->emitters, cap, w->emitter_count + 1, sizeof *w->emitters, UINT32_MAX / 64))
+        return -1;
+    w->emitters = w->parts->emitters;
+    *total += pw;
+    w->emitters[w->emitter_count++] = (Emitter){kind, index, sub, *total};
+    return 0;
+}
+
+int emitters_build(World *w, Err *err)
+{
+    w->emitters = NULL;
+    w->emitter_count = 0;
+    w->emit_power = 0;
+    if (!(w->item_features & FEAT_EMIT))
+        return 0;
+    uint32_t cap = 0;
+    real total = 0;
+    int bad = 0;
+    for (uint32_t i = 0; i < w->sphere_count && !bad; i++)
+        bad = !is_lamp(w, i) && push(w, &cap, HIT_SPHERE, i, 0, &total);
+    for (uint32_t i = 0; i < w->tri_count && !bad; i++)
+        bad = !is_lamp(w, w->sphere_count + i) && push(w, &cap, HIT_TRIANGLE, i, 0, &total);
+    for (uint32_t i = 0; i < w->instance_count && !bad; i++)
+        for (uint32_t k = 0; k < w->models[w->instances[i].model]->tri_count && !bad; k++)
+            bad = push(w, &cap, HIT_INSTANCE, i, k, &total);
+    if (bad)
+        return err_set(err, "scene: out of memory for the emitters");
+    /* cumulative power to probability; the last is exactly 1 */
+    for (uint32_t i = 0; i < w->emitter_count; i++)
+        w->emitters[i].cdf /= total;
+    if (w->emitter_count)
+        w->emitters[w->emitter_count - 1].cdf = R(1);
+    w->emit_power = total;
+    return 0;
+}
+
+/* The probability of picking the emitter of this hit's primitive. */
+static real pick_probability(const World *w, HitKind kind, uint32_t index, uint32_t sub, const Material *m)
+{
+    return power_of(w, kind, index, sub, m) / w->emit_power;
+}
+
+/* Sphere sp seen from p: 1 - the cosine of the cone it fills (0: p is
+ * inside or on it).  As sin^2 / (1 + cos), exact for small cones. */
+static real cone_gap(const Sphere *sp, vec3 p)
+{
+    const vec3 to = v3_sub(sp->centre, p);
+    const real d2 = v3_dot(to, to), r2 = sp->radius * sp->radius;
+    if (!(d2 > r2))
+        return 0;
+    const real s2 = r2 / d2;
+    return s2 / (R(1) + sqrt(R(1) - s2));
+}
+
+/* A unit vector's two axes across it. */
+static void frame_of(vec3 n, vec3 *a, vec3 *b)
+{
+    *a = v3_norm(v3_cross(fabs(n.x) > R(0.5) ? v3(0, 1, 0) : v3(1, 0, 0), n));
+    *b = v3_cross(n, *a);
+}
+
+static int sample_sphere(const Sphere *sp, vec3 p, real u, real v, EmitterSample *out)
+{
+    const real gap = cone_gap(sp, p), phi = R(2) * REAL_PI * v;
+    vec3 q;
+    if (gap > R(0)) { /* outside: uniform in the cone of directions it fills */
+        const vec3 to = v3_sub(sp->centre, p);
+        const real dc = v3_len(to), cos_t = R(1) - u * gap, sin_t = sqrt(real_max(R(0), R(1) - cos_t * cos_t));
+        const vec3 axis = v3_scale(to, R(1) / dc);
+        vec3 a, b;
+        frame_of(axis, &a, &b);
+        out->dir = v3_norm(v3_add(v3_scale(axis, cos_t), v3_add(v3_scale(a, sin_t * cos(phi)), v3_scale(b, sin_t * sin(phi)))));
+        const real r2 = sp->radius * sp->radius;
+        out->dist = dc * cos_t - sqrt(real_max(R(0), r2 - dc * dc * sin_t * sin_t));
+        out->pdf = R(1) / (R(2) * REAL_PI * gap);
+        return out->dist > R(0);
+    }
+    /* inside: uniformly over its area */
+    const real z = R(1) - R(2) * u, rho = sqrt(real_max(R(0), R(1) - z * z));
+    const vec3 n = v3(rho * cos(phi), rho * sin(phi), z);
+    q = v3_add(sp->centre, v3_scale(n, sp->radius));
+    const vec3 to = v3_sub(q, p);
+    const real d2 = v3_dot(to, to);
+    if (!(d2 > R(0)))
+        return 0;
+    out->dist = sqrt(d2);
+    out->dir = v3_scale(to, R(1) / out->dist);
+    const real c = fabs(v3_dot(n, out->dir));
+    if (!(c > R(0)))
+        return 0;
+    out->pdf = d2 / (c * R(4) * REAL_PI * sp->radius * sp->radius);
+    return 1;
+}
+
+static int sample_triangle(const vec3 c[3], vec3 p, real u, real v, EmitterSample *out)
+{
+    const real su = sqrt(u), b0 = R(1) - su, b1 = v * su;
+    const vec3 q = v3_add(v3_add(v3_scale(c[0], b0), v3_scale(c[1], b1)), v3_scale(c[2], R(1) - b0 - b1));
+    const vec3 cr = v3_cross(v3_sub(c[1], c[0]), v3_sub(c[2], c[0]));
+    const real area = R(0.5) * v3_len(cr);
+    const vec3 to = v3_sub(q, p);
+    const real d2 = v3_dot(to, to);
+    if (!(d2 > R(0)) || !(area > R(0)))
+        return 0;
+    out->dist = sqrt(d2);
+    out->dir = v3_scale(to, R(1) / out->dist);
+    const real cl = fabs(v3_dot(cr, out->dir)) / (R(2) * area);
+    if (!(cl > R(1e-9)))
+        return 0;
+    out->pdf = d2 / (cl * area);
+    return 1;
+}
+
+int emitters_sample(const World *w, vec3 p, real pick, real u, real v, EmitterSample *out)
+{
+    if (!w->emitter_count)
+        return 0;
+    uint32_t lo = 0, hi = w->emitter_count - 1; /* the first whose cdf exceeds pick */
+    while (lo < hi) {
+        const uint32_t mid = lo + (hi - lo) / 2;
+        if (w->emitters[mid].cdf > pick)
+            hi = mid;
+        else
+            lo = mid + 1;
+    }
+    const Emitter *e = &w->emitters[lo];
+    const Material *m = candidate_material(w, e->kind, e->index, e->sub);
+    int ok;
+    if (e->kind == HIT_SPHERE) {
+        ok = sample_sphere(&w->spheres[e->index], p, u, v, out);
+    } else {
+        vec3 c[3];
+        corners(w, e->kind, e->index, e->sub, c);
+        ok = sample_triangle(c, p, u, v, out);
+    }
+    if (!ok)
+        return 0;
+    out->radiance = m->ke;
+    out->pdf *= pick_probability(w, e->kind, e->index, e->sub, m);
+    return out->pdf > R(0) && isfinite(out->pdf);
+}
+
+real emitters_pdf(const World *w, vec3 p, const Ray *r, const Hit *h)
+{
+    if (!w->emitter_count || h->kind == HIT_PLANE || h->kind == HIT_NONE)
+        return 0;
+    const Material *m = candidate_material(w, h->kind, h->index, h->sub);
+    if (!m || !material_emits(m))
+        return 0;
+    if (h->kind != HIT_INSTANCE && is_lamp(w, h->kind == HIT_SPHERE ? h->index : w->sphere_count + h->index))
+        return 0;
+    const real pick = pick_probability(w, h->kind, h->index, h->sub, m);
+    if (h->kind == HIT_SPHERE) {
+        const Sphere *sp = &w->spheres[h->index];
+        const real gap = cone_gap(sp, p);
+        if (gap > R(0))
+            return pick / (R(2) * REAL_PI * gap);
+        const vec3 q = v3_add(r->org, v3_scale(r->dir, h->t));
+        const real c = fabs(v3_dot(v3_scale(v3_sub(q, sp->centre), R(1) / sp->radius), r->dir));
+        return c > R(0) ? pick * h->t * h->t / (c * R(4) * REAL_PI * sp->radius * sp->radius) : 0;
+    }
+    vec3 c[3];
+    corners(w, h->kind, h->index, h->sub, c);
+    const vec3 cr = v3_cross(v3_sub(c[1], c[0]), v3_sub(c[2], c[0]));
+    const real area = R(0.5) * v3_len(cr), cl = fabs(v3_dot(cr, r->dir)) / (R(2) * area);
+    return cl > R(1e-9) ? pick * h->t * h->t / (cl * area) : 0;
+}

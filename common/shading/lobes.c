@@ -1,0 +1,59 @@
+/* lobes.c - see lobes.h. */
+#include "shading/lobes.h"
+
+#include "base/sample.h"
+
+int lobes_make(Lobes *lb, vec3 kd, vec3 ks, real shininess, vec3 kr, vec3 n, vec3 d)
+{
+    const real wd = v3_max_comp(kd), wg = v3_max_comp(ks), wm = v3_max_comp(kr), sum = wd + wg + wm;
+    if (!(sum > R(0)))
+        return 0;
+    *lb = (Lobes){.kd = kd, .ks = ks, .kr = kr, .shininess = shininess, .pd = wd / sum, .pg = wg / sum,
+                  .pm = wm / sum, .n = n, .r = v3_reflect(d, n)};
+    return 1;
+}
+
+/* The glossy lobe's cos^s a (0 past 90 degrees from the mirror direction). */
+static real glossy_power(const Lobes *lb, vec3 wi)
+{
+    const real ca = v3_dot(wi, lb->r);
+    return ca > R(0) ? pow(ca, lb->shininess) : R(0);
+}
+
+vec3 lobes_eval(const Lobes *lb, vec3 wi, real *pdf)
+{
+    const real c = v3_dot(wi, lb->n);
+    *pdf = R(0);
+    if (!(c > R(0)))
+        return v3_splat(R(0));
+    vec3 f = v3_scale(lb->kd, R(1) / REAL_PI);
+    real p = lb->pd * c / REAL_PI;
+    if (lb->pg > R(0)) {
+        const real g = glossy_power(lb, wi), s = lb->shininess;
+        f = v3_add(f, v3_scale(lb->ks, (s + R(2)) / (R(2) * REAL_PI) * g));
+        p += lb->pg * (s + R(1)) / (R(2) * REAL_PI) * g;
+    }
+    *pdf = p;
+    return v3_scale(f, c);
+}
+
+/* The unit vector of coordinates (x, y, z) in a frame whose third axis is `axis`. */
+static vec3 in_frame(vec3 axis, real x, real y, real z)
+{
+    vec3 a = v3_norm(v3_cross(fabs(axis.x) > R(0.5) ? v3(0, 1, 0) : v3(1, 0, 0), axis)), b = v3_cross(axis, a);
+    return v3_norm(v3_add(v3_add(v3_scale(a, x), v3_scale(b, y)), v3_scale(axis, z)));
+}
+
+vec3 lobes_sample_smooth(const Lobes *lb, real pick, real u, real v)
+{
+    if (pick * (lb->pd + lb->pg) < lb->pd) { /* the cosine about the normal (Malley: a disc's point lifted) */
+        real x, y;
+        sample_disc(u, v, &x, &y);
+        /* a point on the disc's rim would give a direction along the surface: kept just above it */
+        return in_frame(lb->n, x, y, sqrt(real_max(R(1e-6), R(1) - x * x - y * y)));
+    }
+    /* cos^s about the mirror direction: cos a = u^(1 / (s + 1)) */
+    const real z = pow(u, R(1) / (lb->shininess + R(1))), rho = sqrt(real_max(R(0), R(1) - z * z));
+    const real phi = R(2) * REAL_PI * v;
+    return in_frame(lb->r, rho * cos(phi), rho * sin(phi), z);
+}
