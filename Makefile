@@ -265,7 +265,8 @@ bench-pipeline: deps $(TOOLS)
 	@BIN=$(BIN) bash tools/bench/bench-pipeline
 
 bench-path: deps $(TOOLS) $(BUILD)/tools/bench/rtweekend
-	@BIN=$(BIN) RTWEEKEND=$(BUILD)/tools/bench/rtweekend bash tools/bench/bench-path
+	@$(MAKE) --no-print-directory DEB_PACKAGES=gnuplot deps
+	@BIN=$(BIN) RTWEEKEND=$(BUILD)/tools/bench/rtweekend bash tools/bench/bench-path docs
 
 # Blender (Cycles) is large: installed here, not by make deps
 bench-cycles: deps $(TOOLS) $(BUILD)/tools/bench/rtweekend

@@ -16,7 +16,7 @@ typedef struct {
     int aa, adaptive, given;
 } CliAa;
 int cli_parse_aa(const char *value, void *dst, Err *err);
-#define CLI_AA_RANGE "1..16, adaptive or adaptive:1..16"
+#define CLI_AA_RANGE "1..32, adaptive or adaptive:1..32"
 
 
 /* --segment LINES|auto: lines per segment into a uint32_t, 0 for auto; at

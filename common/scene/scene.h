@@ -19,7 +19,7 @@
 
 #define SCENE_MAX_ITEMS (1u << 24)
 #define SCENE_MAX_LIGHTS 65536u
-#define AA_MAX 16
+#define AA_MAX 32 /* 1024 samples a pixel: a path-traced still */
 #define SCENE_MAX_SIDE 65536 /* settings width/height */
 #define SCENE_MAX_DEPTH 64   /* settings depth: reflections and refractions deep */
 #define SCENE_MAX_SAMPLES 16 /* settings rough_samples, lens_samples: a side of the pattern */

@@ -38,7 +38,7 @@ printf 'camera position 0 0 5 lookat 0 0 0\nsphere centre 0 0 0 radius nope\n' >
 err=$("$BIN/lanray-render" "$dir/bad.scene" -o "$dir/bad.png" 2>&1); [ $? -eq 1 ] || fail "bad scene should exit 1"
 grep -q "bad.scene:2: 'radius' of sphere expects 1 finite number, got 'nope'" <<<"$err" || fail "message: $err"
 [ ! -e "$dir/bad.png" ] || fail "image written for a bad scene"
-"$BIN/lanray-render" --aa 17 2>/dev/null; [ $? -eq 2 ] || fail "--aa 17 should exit 2"
+"$BIN/lanray-render" --aa 33 2>/dev/null; [ $? -eq 2 ] || fail "--aa 33 should exit 2"
 "$BIN/lanray-render" --bogus 2>/dev/null; [ $? -eq 2 ] || fail "unknown option should exit 2"
 err=$("$BIN/lanray-render" -o "$dir/x.gif" --width 4 --height 4 2>&1); [ $? -eq 2 ] || fail "gif should exit 2"
 grep -q "unknown image format" <<<"$err" || fail "format message: $err"
