@@ -185,7 +185,7 @@ static int parse_args(Args *a, int argc, char **argv)
          .def = "the scene's, else mis"},
         {.name = "--roulette", .kind = OPT_INT, .dst = &a->roulette, .arg = "N", .lo = 0, .hi = SCENE_MAX_DEPTH,
          .seen = &a->roulette_given, .help = "path: bounces before Russian roulette may end a path",
-         .def = "the scene's, else 3"},
+         .def = "the scene's, else 5"},
         {.name = "--light-samples", .kind = OPT_INT, .dst = &a->light_samples, .arg = "K", .lo = 0, .hi = LIGHT_MAX_SAMPLES,
          .help = "shadow rays of every sphere and rect light: K x K a pixel (product: a ray); 0 = each light's own",
          .def = "0"},
