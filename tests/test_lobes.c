@@ -1,0 +1,175 @@
+/* test_lobes.c - the path integrator's sampling against its own densities:
+ * the lobes' density integrates to their share and their samples follow
+ * it (shading/lobes.h); an emitter's samples cover the solid angle it
+ * fills, and emitters_pdf gives a bounce's direction the density the
+ * emitter's sample had (scene/emitters.h).  Where a sampler and its
+ * density disagreed, next-event estimation and multiple importance
+ * sampling would weigh light wrongly while each picture looked plausible. */
+#include "helpers.h"
+#include "worlds.h"
+
+#include <math.h>
+
+#include "scene/emitters.h"
+#include "shading/lobes.h"
+
+#define TWO_PI 6.283185307179586
+
+/* A uniform direction on the unit sphere. */
+static vec3 sphere_dir(Rng *r)
+{
+    const double z = 1 - 2 * (double)rng_real(r, 0, 1), phi = TWO_PI * (double)rng_real(r, 0, 1);
+    const double rho = sqrt(fmax(0, 1 - z * z));
+    return v3((real)(rho * cos(phi)), (real)(rho * sin(phi)), (real)z);
+}
+
+static void smooth_lobes_density_integrates_to_their_share(void **state)
+{
+    (void)state;
+    /* at normal incidence the glossy lobe lies wholly above the surface */
+    const vec3 n = v3_norm(v3(0.3f, 1, -0.2f));
+    Lobes lb;
+    assert_true(lobes_make(&lb, v3(0.5f, 0.4f, 0.3f), v3(0.3f, 0.3f, 0.3f), 20, v3(0.2f, 0.2f, 0.2f), n, v3_neg(n)));
+    Rng rng = {11};
+    const int N = 400000;
+    double sum = 0;
+    for (int i = 0; i < N; i++) {
+        real pdf;
+        lobes_eval(&lb, sphere_dir(&rng), &pdf);
+        sum += (double)pdf;
+    }
+    const double integral = sum / N * 2 * TWO_PI, share = (double)(lb.pd + lb.pg);
+    if (fabs(integral - share) > 0.01 * share)
+        fail_msg("the smooth lobes' density integrates to %.4f over the sphere, their share is %.4f", integral, share);
+    assert_true(fabs((double)(lb.pd + lb.pg + lb.pm) - 1) < 1e-6);
+}
+
+static void samples_follow_the_density(void **state)
+{
+    (void)state;
+    /* E[share / pdf] over the samples is the solid angle where the density
+     * is not 0: the hemisphere, where the diffuse lobe reaches */
+    Rng rng = {5};
+    for (int t = 0; t < 4; t++) {
+        const vec3 n = v3_norm(rng_dir(&rng));
+        vec3 d = v3_norm(rng_dir(&rng));
+        if (v3_dot(d, n) > 0)
+            d = v3_neg(d);
+        Lobes lb;
+        assert_true(lobes_make(&lb, v3(0.6f, 0.5f, 0.4f), v3(0.4f, 0.4f, 0.4f), t == 0 ? 1 : 30 * t, v3(0, 0, 0), n, d));
+        const int N = 200000;
+        double sum = 0;
+        for (int i = 0; i < N; i++) {
+            const vec3 wi = lobes_sample_smooth(&lb, rng_real(&rng, 0, 1), rng_real(&rng, 0, 1), rng_real(&rng, 0, 1));
+            real pdf;
+            lobes_eval(&lb, wi, &pdf);
+            if (pdf > 0)
+                sum += (double)(lb.pd + lb.pg) / (double)pdf;
+        }
+        const double got = sum / N;
+        if (fabs(got - TWO_PI) > 0.02 * TWO_PI)
+            fail_msg("shininess %d: E[share / pdf] over the samples is %.4f, the hemisphere's solid angle %.4f", 30 * t,
+                     got, TWO_PI);
+    }
+}
+
+static void a_white_lambertian_weighs_one(void **state)
+{
+    (void)state;
+    Lobes lb;
+    const vec3 n = v3(0, 0, 1);
+    assert_true(lobes_make(&lb, v3(1, 1, 1), v3(0, 0, 0), 1, v3(0, 0, 0), n, v3_norm(v3(0.2f, 0.1f, -1))));
+    Rng rng = {3};
+    for (int i = 0; i < 10000; i++) {
+        const vec3 wi = lobes_sample_smooth(&lb, rng_real(&rng, 0, 1), rng_real(&rng, 0, 1), rng_real(&rng, 0, 1));
+        real pdf;
+        const vec3 fc = lobes_eval(&lb, wi, &pdf);
+        assert_true(pdf > 0);
+        for (int k = 0; k < 3; k++)
+            if (fabs((double)(fc.e[k] / pdf) - 1) > 1e-4)
+                fail_msg("a white Lambertian bounce weighs %.6f, not 1", (double)(fc.e[k] / pdf));
+    }
+}
+
+/* The solid angle of triangle abc seen from the origin (Van Oosterom and
+ * Strackee). */
+static double triangle_solid_angle(vec3 a, vec3 b, vec3 c)
+{
+    const double la = (double)v3_len(a), lb = (double)v3_len(b), lc = (double)v3_len(c);
+    const double num = fabs((double)v3_dot(a, v3_cross(b, c)));
+    const double den = la * lb * lc + (double)v3_dot(a, b) * lc + (double)v3_dot(a, c) * lb + (double)v3_dot(b, c) * la;
+    return 2 * atan2(num, den);
+}
+
+static void emitters_cover_their_solid_angle(void **state)
+{
+    (void)state;
+    Scene *s = scene_create();
+    uint32_t dark, glow, dim;
+    Material m = material_default();
+    assert_int_equal(scene_add_material(s, m, &dark, NULL), 0);
+    m.kd = v3(0, 0, 0);
+    m.ke = v3(4, 4, 4);
+    assert_int_equal(scene_add_material(s, m, &glow, NULL), 0);
+    m.ke = v3(1, 2, 3);
+    assert_int_equal(scene_add_material(s, m, &dim, NULL), 0);
+    const vec3 centre = v3(2, 3, -1);
+    const real radius = 0.5f;
+    assert_int_equal(scene_add_sphere(s, (Sphere){centre, radius, glow}, NULL), 0);
+    const vec3 tri[3] = {v3(-2, 2, 1), v3(-1, 2.5f, 2), v3(-2.5f, 3, 2)};
+    assert_int_equal(scene_add_triangle(s, tri, NULL, NULL, dim, NULL), 0);
+    assert_int_equal(scene_add_sphere(s, (Sphere){v3(0, -100, 0), 99, dark}, NULL), 0); /* not an emitter */
+    s->settings.integrator = INTEGRATOR_PATH;
+    const World *w = world_now(s);
+    assert_int_equal(w->emitter_count, 2);
+    const vec3 p = v3(0, 0.5f, 0.5f); /* off the triangle's plane (through (0, 0.5, 0)) */
+    /* E[1 / pdf] = the solid angle both fill (they do not overlap seen from p) */
+    const double d = (double)v3_len(v3_sub(centre, p)), cone = TWO_PI * (1 - sqrt(1 - (double)(radius * radius) / (d * d)));
+    const double want = cone + triangle_solid_angle(v3_sub(tri[0], p), v3_sub(tri[1], p), v3_sub(tri[2], p));
+    Rng rng = {17};
+    const int N = 200000;
+    double sum = 0;
+    int checked = 0, missed = 0;
+    for (int i = 0; i < N; i++) {
+        EmitterSample es;
+        if (!emitters_sample(w, p, rng_real(&rng, 0, 1), rng_real(&rng, 0, 1), rng_real(&rng, 0, 1), &es))
+            continue;
+        sum += 1 / (double)es.pdf;
+        if (i % 97 == 0) { /* the bounce that met the same point has the same density */
+            Ray r = ray_make(p, es.dir, 0, REAL_MAX);
+            Hit h;
+            if (!trace_closest(w, &r, &h)) { /* a grazing ray past a silhouette, by rounding */
+                missed++;
+                continue;
+            }
+            const double back = (double)emitters_pdf(w, p, &r, &h);
+            if (fabs(back - (double)es.pdf) > 2e-3 * (double)es.pdf)
+                fail_msg("emitters_pdf gives %.6g where the sample had %.6g", back, (double)es.pdf);
+            checked++;
+        }
+    }
+    const double got = sum / N;
+    if (fabs(got - want) > 0.01 * want)
+        fail_msg("the emitters' samples cover %.5f sr, they fill %.5f", got, want);
+    assert_true(checked > 1000);
+    if (missed * 200 > checked)
+        fail_msg("%d of %d rays towards an emitter's sampled point missed it", missed, checked + missed);
+    /* a direction that meets no emitter has density 0 */
+    Ray away = ray_make(p, v3(0, -1, 0), 0, REAL_MAX);
+    Hit h;
+    assert_true(trace_closest(w, &away, &h));
+    assert_true(emitters_pdf(w, p, &away, &h) == 0);
+    world_now_free();
+    scene_destroy(s);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(smooth_lobes_density_integrates_to_their_share),
+        cmocka_unit_test(samples_follow_the_density),
+        cmocka_unit_test(a_white_lambertian_weighs_one),
+        cmocka_unit_test(emitters_cover_their_solid_angle),
+    };
+    return cmocka_run_group_tests_name("lobes", tests, NULL, NULL);
+}
