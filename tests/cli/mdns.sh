@@ -16,6 +16,11 @@ dir=$(mktemp -d)
 ns=lrmdns$$
 pids=()
 cleanup() {
+    # what runs in the namespace first: a server started through in_ns &
+    # is a grandchild, which killing the subshell in pids leaves running
+    for p in $(ip netns pids "$ns" 2>/dev/null); do kill "$p" 2>/dev/null; done
+    for _ in $(seq 40); do [ -z "$(ip netns pids "$ns" 2>/dev/null)" ] && break; sleep 0.05; done
+    for p in $(ip netns pids "$ns" 2>/dev/null); do kill -9 "$p" 2>/dev/null; done
     for p in "${pids[@]}"; do kill "$p" 2>/dev/null; done
     wait 2>/dev/null
     ip netns del "$ns" 2>/dev/null
