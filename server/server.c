@@ -246,7 +246,6 @@ void server_destroy(Server *s)
 int server_port(const Server *s) { return s->port; }
 int server_frame_still(const Server *s) { return s->shown_still; }
 int server_frame_scale(const Server *s) { return s->shown_scale; }
-int server_newest_still(const Server *s) { return s->still; }
 int server_frame_converged(const Server *s) { return s->shown_converged; }
 int server_newest_converged(const Server *s) { return s->converged; }
 

@@ -116,9 +116,6 @@ int server_frame_scale(const Server *s);
 /* Whether the frame shown last was a still one: its camera and scene those
  * of the frame before (rendered with the still quality when refining). */
 int server_frame_still(const Server *s);
-/* Whether the newest frame started is a still one (with pipelined frames
- * it may be one ahead of the frame shown last). */
-int server_newest_still(const Server *s);
 /* Whether the frame shown last, and the newest frame started, is the
  * converged picture: a still frame with the still quality (a path-traced
  * view refines over several still frames first: refine_step in server.c),

@@ -14,6 +14,7 @@
 #include <string.h>
 
 #include "base/real.h"
+#include "base/vec.h"
 
 /* An integer hash with good avalanche (Wellons' "lowbias32"). */
 static inline uint32_t sample_hash(uint32_t x)
@@ -143,6 +144,14 @@ static inline void sample_sobol2(uint32_t index, uint32_t seed, real *u, real *v
     uint32_t y = sample_reverse(sample_laine_karras(z, sample_hash(seed ^ 0xb5297a4du)));
     *u = sample_sobol_first(i, seed);
     *v = (real)(y >> 8) * R(5.9604644775390625e-8);
+}
+
+/* (u, v) in the unit square to a unit vector, uniform over the sphere
+ * (z uniform in [-1, 1], the longitude by v). */
+static inline vec3 sample_sphere(real u, real v)
+{
+    real z = R(1) - R(2) * u, phi = R(2) * REAL_PI * v, rr = sqrt(real_max(R(0), R(1) - z * z));
+    return v3(rr * cos(phi), rr * sin(phi), z);
 }
 
 /* (u, v) in the unit square to the unit disc, area-preserving (Shirley and

@@ -44,6 +44,14 @@ static inline int v3_max_axis(vec3 a)
     return a.x >= a.y ? (a.x >= a.z ? 0 : 2) : (a.y >= a.z ? 1 : 2);
 }
 
+/* Two unit axes across unit vector n, so that (a, b, n) is a
+ * right-handed frame: for directions and discs about n. */
+static inline void v3_frame(vec3 n, vec3 *a, vec3 *b)
+{
+    *a = v3_norm(v3_cross(fabs(n.x) > R(0.5) ? v3(0, 1, 0) : v3(1, 0, 0), n));
+    *b = v3_cross(n, *a);
+}
+
 /* A 3x3 matrix, row-major: used for instance rotations. */
 typedef struct { vec3 r[3]; } mat3;
 

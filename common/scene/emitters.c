@@ -4,6 +4,7 @@
 #include <stdlib.h>
 
 #include "base/array.h"
+#include "base/sample.h"
 
 /* The material of an emitter candidate (NULL: none). */
 static const Material *candidate_material(const World *w, HitKind kind, uint32_t index, uint32_t sub)
@@ -30,36 +31,30 @@ static void corners(const World *w, HitKind kind, uint32_t index, uint32_t sub, 
         c[k] = v3_add(v3_scale(m3_apply(&in->rot, tri_vertex(t, k)), in->scale), in->translate);
 }
 
+static real sphere_area(const Sphere *sp) { return R(4) * REAL_PI * sp->radius * sp->radius; }
+
+/* A triangle's area, from its corners' cross product. */
+static real triangle_area(vec3 cr) { return R(0.5) * v3_len(cr); }
+static vec3 corners_cross(const vec3 c[3]) { return v3_cross(v3_sub(c[1], c[0]), v3_sub(c[2], c[0])); }
+
 static real area_of(const World *w, HitKind kind, uint32_t index, uint32_t sub)
 {
     if (kind == HIT_SPHERE)
-        return R(4) * REAL_PI * w->spheres[index].radius * w->spheres[index].radius;
+        return sphere_area(&w->spheres[index]);
     vec3 c[3];
     corners(w, kind, index, sub, c);
-    return R(0.5) * v3_len(v3_cross(v3_sub(c[1], c[0]), v3_sub(c[2], c[0])));
+    return triangle_area(corners_cross(c));
 }
 
 /* What picking an emitter weighs: its area times its mean emission. */
-static real power_of(const World *w, HitKind kind, uint32_t index, uint32_t sub, const Material *m)
-{
-    return area_of(w, kind, index, sub) * (m->ke.x + m->ke.y + m->ke.z) / R(3);
-}
-
-/* Whether top-level primitive p is any light's lamp. */
-static int is_lamp(const World *w, uint32_t p)
-{
-    for (uint32_t k = 0; k < w->lamp_total; k++)
-        if (w->lamps[k] == p)
-            return 1;
-    return 0;
-}
+static real power_of(real area, const Material *m) { return area * (m->ke.x + m->ke.y + m->ke.z) / R(3); }
 
 static int push(World *w, uint32_t *cap, HitKind kind, uint32_t index, uint32_t sub, real *total)
 {
     const Material *m = candidate_material(w, kind, index, sub);
     if (!m || !material_emits(m))
         return 0;
-    const real pw = power_of(w, kind, index, sub, m);
+    const real pw = power_of(area_of(w, kind, index, sub), m);
     if (!(pw > R(0)) || !isfinite(pw))
         return 0;
     if (array_reserve((void **)&w->parts->emitters, cap, w->emitter_count + 1, sizeof *w->emitters, UINT32_MAX / 64))
@@ -81,9 +76,9 @@ int emitters_build(World *w, Err *err)
     real total = 0;
     int bad = 0;
     for (uint32_t i = 0; i < w->sphere_count && !bad; i++)
-        bad = !is_lamp(w, i) && push(w, &cap, HIT_SPHERE, i, 0, &total);
+        bad = !trace_any_lamp(w, &(Hit){.kind = HIT_SPHERE, .index = i}) && push(w, &cap, HIT_SPHERE, i, 0, &total);
     for (uint32_t i = 0; i < w->tri_count && !bad; i++)
-        bad = !is_lamp(w, w->sphere_count + i) && push(w, &cap, HIT_TRIANGLE, i, 0, &total);
+        bad = !trace_any_lamp(w, &(Hit){.kind = HIT_TRIANGLE, .index = i}) && push(w, &cap, HIT_TRIANGLE, i, 0, &total);
     for (uint32_t i = 0; i < w->instance_count && !bad; i++)
         for (uint32_t k = 0; k < w->models[w->instances[i].model]->tri_count && !bad; k++)
             bad = push(w, &cap, HIT_INSTANCE, i, k, &total);
@@ -98,11 +93,8 @@ int emitters_build(World *w, Err *err)
     return 0;
 }
 
-/* The probability of picking the emitter of this hit's primitive. */
-static real pick_probability(const World *w, HitKind kind, uint32_t index, uint32_t sub, const Material *m)
-{
-    return power_of(w, kind, index, sub, m) / w->emit_power;
-}
+/* The probability of picking an emitter of this area and material. */
+static real pick_probability(const World *w, real area, const Material *m) { return power_of(area, m) / w->emit_power; }
 
 /* Sphere sp seen from p: 1 - the cosine of the cone it fills (0: p is
  * inside or on it).  As sin^2 / (1 + cos), exact for small cones. */
@@ -116,14 +108,7 @@ static real cone_gap(const Sphere *sp, vec3 p)
     return s2 / (R(1) + sqrt(R(1) - s2));
 }
 
-/* A unit vector's two axes across it. */
-static void frame_of(vec3 n, vec3 *a, vec3 *b)
-{
-    *a = v3_norm(v3_cross(fabs(n.x) > R(0.5) ? v3(0, 1, 0) : v3(1, 0, 0), n));
-    *b = v3_cross(n, *a);
-}
-
-static int sample_sphere(const Sphere *sp, vec3 p, real u, real v, EmitterSample *out)
+static int sample_ball(const Sphere *sp, vec3 p, real u, real v, EmitterSample *out)
 {
     const real gap = cone_gap(sp, p), phi = R(2) * REAL_PI * v;
     vec3 q;
@@ -132,7 +117,7 @@ static int sample_sphere(const Sphere *sp, vec3 p, real u, real v, EmitterSample
         const real dc = v3_len(to), cos_t = R(1) - u * gap, sin_t = sqrt(real_max(R(0), R(1) - cos_t * cos_t));
         const vec3 axis = v3_scale(to, R(1) / dc);
         vec3 a, b;
-        frame_of(axis, &a, &b);
+        v3_frame(axis, &a, &b);
         out->dir = v3_norm(v3_add(v3_scale(axis, cos_t), v3_add(v3_scale(a, sin_t * cos(phi)), v3_scale(b, sin_t * sin(phi)))));
         const real r2 = sp->radius * sp->radius;
         out->dist = dc * cos_t - sqrt(real_max(R(0), r2 - dc * dc * sin_t * sin_t));
@@ -140,8 +125,7 @@ static int sample_sphere(const Sphere *sp, vec3 p, real u, real v, EmitterSample
         return out->dist > R(0);
     }
     /* inside: uniformly over its area */
-    const real z = R(1) - R(2) * u, rho = sqrt(real_max(R(0), R(1) - z * z));
-    const vec3 n = v3(rho * cos(phi), rho * sin(phi), z);
+    const vec3 n = sample_sphere(u, v);
     q = v3_add(sp->centre, v3_scale(n, sp->radius));
     const vec3 to = v3_sub(q, p);
     const real d2 = v3_dot(to, to);
@@ -152,16 +136,18 @@ static int sample_sphere(const Sphere *sp, vec3 p, real u, real v, EmitterSample
     const real c = fabs(v3_dot(n, out->dir));
     if (!(c > R(0)))
         return 0;
-    out->pdf = d2 / (c * R(4) * REAL_PI * sp->radius * sp->radius);
+    out->pdf = d2 / (c * sphere_area(sp));
     return 1;
 }
 
-static int sample_triangle(const vec3 c[3], vec3 p, real u, real v, EmitterSample *out)
+/* Uniformly over triangle c's area (into *area, for its pick). */
+static int sample_triangle(const vec3 c[3], vec3 p, real u, real v, EmitterSample *out, real *area_out)
 {
     const real su = sqrt(u), b0 = R(1) - su, b1 = v * su;
     const vec3 q = v3_add(v3_add(v3_scale(c[0], b0), v3_scale(c[1], b1)), v3_scale(c[2], R(1) - b0 - b1));
-    const vec3 cr = v3_cross(v3_sub(c[1], c[0]), v3_sub(c[2], c[0]));
-    const real area = R(0.5) * v3_len(cr);
+    const vec3 cr = corners_cross(c);
+    const real area = triangle_area(cr);
+    *area_out = area;
     const vec3 to = v3_sub(q, p);
     const real d2 = v3_dot(to, to);
     if (!(d2 > R(0)) || !(area > R(0)))
@@ -190,17 +176,19 @@ int emitters_sample(const World *w, vec3 p, real pick, real u, real v, EmitterSa
     const Emitter *e = &w->emitters[lo];
     const Material *m = candidate_material(w, e->kind, e->index, e->sub);
     int ok;
+    real area;
     if (e->kind == HIT_SPHERE) {
-        ok = sample_sphere(&w->spheres[e->index], p, u, v, out);
+        area = sphere_area(&w->spheres[e->index]);
+        ok = sample_ball(&w->spheres[e->index], p, u, v, out);
     } else {
         vec3 c[3];
         corners(w, e->kind, e->index, e->sub, c);
-        ok = sample_triangle(c, p, u, v, out);
+        ok = sample_triangle(c, p, u, v, out, &area);
     }
     if (!ok)
         return 0;
     out->radiance = m->ke;
-    out->pdf *= pick_probability(w, e->kind, e->index, e->sub, m);
+    out->pdf *= pick_probability(w, area, m);
     return out->pdf > R(0) && isfinite(out->pdf);
 }
 
@@ -211,21 +199,20 @@ real emitters_pdf(const World *w, vec3 p, const Ray *r, const Hit *h)
     const Material *m = candidate_material(w, h->kind, h->index, h->sub);
     if (!m || !material_emits(m))
         return 0;
-    if (h->kind != HIT_INSTANCE && is_lamp(w, h->kind == HIT_SPHERE ? h->index : w->sphere_count + h->index))
+    if (trace_any_lamp(w, h))
         return 0;
-    const real pick = pick_probability(w, h->kind, h->index, h->sub, m);
     if (h->kind == HIT_SPHERE) {
         const Sphere *sp = &w->spheres[h->index];
-        const real gap = cone_gap(sp, p);
+        const real pick = pick_probability(w, sphere_area(sp), m), gap = cone_gap(sp, p);
         if (gap > R(0))
             return pick / (R(2) * REAL_PI * gap);
         const vec3 q = v3_add(r->org, v3_scale(r->dir, h->t));
         const real c = fabs(v3_dot(v3_scale(v3_sub(q, sp->centre), R(1) / sp->radius), r->dir));
-        return c > R(0) ? pick * h->t * h->t / (c * R(4) * REAL_PI * sp->radius * sp->radius) : 0;
+        return c > R(0) ? pick * h->t * h->t / (c * sphere_area(sp)) : 0;
     }
     vec3 c[3];
     corners(w, h->kind, h->index, h->sub, c);
-    const vec3 cr = v3_cross(v3_sub(c[1], c[0]), v3_sub(c[2], c[0]));
-    const real area = R(0.5) * v3_len(cr), cl = fabs(v3_dot(cr, r->dir)) / (R(2) * area);
-    return cl > R(1e-9) ? pick * h->t * h->t / (cl * area) : 0;
+    const vec3 cr = corners_cross(c);
+    const real area = triangle_area(cr), cl = fabs(v3_dot(cr, r->dir)) / (R(2) * area);
+    return cl > R(1e-9) ? pick_probability(w, area, m) * h->t * h->t / (cl * area) : 0;
 }

@@ -44,6 +44,15 @@ static real draw1(const SampleId *id, uint32_t b, uint32_t dim)
     return sample_sobol_first(sample_sobol_index(id->index, seed), seed);
 }
 
+/* Whether the shadow ray from origin along dir is stopped short of tmax
+ * (passing light `towards`'s own lamp, where given). */
+static int shadowed(const World *w, vec3 origin, vec3 dir, real tmax, const WorldLight *towards, RayStats *st)
+{
+    Ray sr = ray_make(origin, dir, R(0), tmax);
+    st->shadow++;
+    return trace_occluded(w, &sr, tmax, towards);
+}
+
 /* Next-event estimation from a point with smooth lobes: one point of
  * every light, its shadow ray, pi x f x cos x the radiance that arrives. */
 static vec3 direct_light(const World *w, const Surface *sf, const Lobes *lb, const SampleId *id, uint32_t b,
@@ -60,13 +69,9 @@ static vec3 direct_light(const World *w, const Surface *sf, const Lobes *lb, con
         const vec3 fc = lobes_eval(lb, dir, &pdf);
         if (!(v3_max_comp(fc) > R(0)))
             continue;
-        if (world_has(w, FEAT_SHADOWS)) {
-            const real tmax = isfinite(dist) ? dist * (R(1) - R(64) * REAL_EPS) : REAL_MAX;
-            Ray sr = ray_make(origin, dir, R(0), tmax);
-            st->shadow++;
-            if (trace_occluded(w, &sr, tmax, &w->lights[li]))
-                continue;
-        }
+        if (world_has(w, FEAT_SHADOWS) &&
+            shadowed(w, origin, dir, isfinite(dist) ? dist * (R(1) - R(64) * REAL_EPS) : REAL_MAX, &w->lights[li], st))
+            continue;
         sum = v3_add(sum, v3_scale(v3_mul(fc, rad), REAL_PI));
     }
     return sum;
@@ -90,14 +95,10 @@ static vec3 direct_emitters(const World *w, const Surface *sf, const Lobes *lb, 
     const vec3 fc = lobes_eval(lb, es.dir, &pdf);
     if (!(v3_max_comp(fc) > R(0)))
         return v3_splat(R(0));
-    if (w->view.settings.shadows) {
-        /* short of the point by more than the rounding of its place, so the emitter does not shadow itself */
-        const real tmax = es.dist * (R(1) - R(1024) * REAL_EPS);
-        Ray sr = ray_make(trace_offset_origin(sf->ps, sf->ng, sf->ps_err), es.dir, R(0), tmax);
-        st->shadow++;
-        if (trace_occluded(w, &sr, tmax, NULL))
-            return v3_splat(R(0));
-    }
+    /* short of the point by more than the rounding of its place, so the emitter does not shadow itself */
+    if (w->view.settings.shadows && shadowed(w, trace_offset_origin(sf->ps, sf->ng, sf->ps_err), es.dir,
+                                             es.dist * (R(1) - R(1024) * REAL_EPS), NULL, st))
+        return v3_splat(R(0));
     const real weight = w->view.settings.emitter_sampling == EMITTERS_MIS && !last ? power_weight(es.pdf, pdf) : R(1);
     return v3_scale(v3_mul(fc, es.radiance), weight / es.pdf);
 }
@@ -159,24 +160,13 @@ static int mirror_bounce(const Surface *sf, vec3 d, real u, real v, real s, vec3
     const Material *m = sf->mat;
     vec3 r = optics_reflect(d, sf->ns);
     if (m->roughness > R(0)) {
-        const real z = R(1) - R(2) * u, rho = sqrt(real_max(R(0), R(1) - z * z)), phi = R(6.283185307179586) * v;
-        const real len = cbrt(s) * m->roughness;
-        r = v3_norm(v3_add(r, v3_scale(v3(rho * cos(phi), rho * sin(phi), z), len)));
+        r = v3_norm(v3_add(r, v3_scale(sample_sphere(u, v), cbrt(s) * m->roughness)));
     }
     if (!(v3_dot(r, sf->ng) > R(0)))
         return 0;
     *beta = v3_mul(*beta, m->kr);
     *next = ray_make(trace_offset_origin(sf->p, sf->ng, sf->err), r, R(0), REAL_MAX);
     return 1;
-}
-
-/* Whether h is on a light's lamp (its light was sampled at the point before). */
-static int on_lamp(const World *w, const Hit *h)
-{
-    for (uint32_t li = 0; li < w->light_count; li++)
-        if (trace_lamp_part(w, &w->lights[li], h))
-            return 1;
-    return 0;
 }
 
 vec3 path_radiance(const World *w, const Ray *r, SampleId id, RayStats *st, uint64_t *key)
@@ -207,7 +197,7 @@ vec3 path_radiance(const World *w, const Ray *r, SampleId id, RayStats *st, uint
             *key = (uint64_t)sf.object << 16;
         if (sf.inside && material_dielectric(m) && v3_max_comp(m->absorb) > R(0)) /* crossed its inside */
             beta = v3_mul(beta, v3(exp(-m->absorb.x * h.t), exp(-m->absorb.y * h.t), exp(-m->absorb.z * h.t)));
-        if (material_emits(m) && !(after_smooth && on_lamp(w, &h)))
+        if (material_emits(m) && !(after_smooth && trace_any_lamp(w, &h)) /* a lamp's light was sampled at the point before */)
             L = v3_add(L, v3_scale(v3_mul(beta, m->ke), after_smooth ? bounce_share(w, from, pdf_bounce, &ray, &h) : R(1)));
         const int last = b >= depth; /* the light that reaches this point still counts: depth 0 is direct light */
         const vec3 d = ray.dir;

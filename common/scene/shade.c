@@ -50,8 +50,7 @@ static vec3 area_point(const WorldLight *l, uint32_t li, vec3 p, real u, real v,
     /* a sphere: its disc facing p (what p sees of it), by the concentric map */
     if (ax->of != li + 1) {
         vec3 w = v3_norm(v3_sub(p, l->pos));
-        ax->a = v3_norm(v3_cross(fabs(w.x) > R(0.5) ? v3(0, 1, 0) : v3(1, 0, 0), w));
-        ax->b = v3_cross(w, ax->a);
+        v3_frame(w, &ax->a, &ax->b);
         ax->of = li + 1;
     }
     real x, y;
@@ -326,8 +325,7 @@ static vec3 rough_reflection(const World *w, const Shading *sh, vec3 front, vec3
             child[q] = (SampleId){.key = key, .index = sh->id.index * n + j, .count = sh->id.count * n};
             sample_sobol2(child[q].index, key, &u, &v);
         }
-        real z = R(1) - R(2) * u, phi = R(2) * REAL_PI * v, rr = sqrt(real_max(R(0), R(1) - z * z));
-        vec3 d = v3_norm(v3_madd(r, v3(rr * cos(phi), rr * sin(phi), z), m->roughness));
+        vec3 d = v3_norm(v3_madd(r, sample_sphere(u, v), m->roughness));
         real below = v3_dot(d, sf->ng);
         if (below <= R(0))
             d = v3_norm(v3_madd(d, sf->ng, R(-2) * below));

@@ -159,6 +159,17 @@ const Material *trace_instance_material(const World *w, uint32_t instance, uint3
     return w->material_count ? &w->materials[0] : NULL;
 }
 
+int trace_any_lamp(const World *w, const Hit *h)
+{
+    if (h->kind != HIT_SPHERE && h->kind != HIT_TRIANGLE)
+        return 0;
+    const uint32_t p = h->kind == HIT_SPHERE ? h->index : w->sphere_count + h->index;
+    for (uint32_t k = 0; k < w->lamp_total; k++) /* every light's lamp, one after another */
+        if (w->lamps[k] == p)
+            return 1;
+    return 0;
+}
+
 int trace_lamp_part(const World *w, const WorldLight *l, const Hit *h)
 {
     if (h->kind == HIT_SPHERE)

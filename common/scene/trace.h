@@ -58,6 +58,8 @@ vec3 trace_triangle_point(vec3 v0, vec3 v1, vec3 v2, real b1, real b2, real *err
 int trace_occluded(const World *w, const Ray *r, real tmax, const WorldLight *towards);
 /* Whether hit h is on part of light l's lamp. */
 int trace_lamp_part(const World *w, const WorldLight *l, const Hit *h);
+/* Whether h is on any light's lamp. */
+int trace_any_lamp(const World *w, const Hit *h);
 void trace_surface(const World *w, const Ray *r, const Hit *hit, Surface *out);
 
 /* How the surface at hit h changes over a sample's footprint (dpdx,

@@ -40,7 +40,8 @@ vec3 lobes_eval(const Lobes *lb, vec3 wi, real *pdf)
 /* The unit vector of coordinates (x, y, z) in a frame whose third axis is `axis`. */
 static vec3 in_frame(vec3 axis, real x, real y, real z)
 {
-    vec3 a = v3_norm(v3_cross(fabs(axis.x) > R(0.5) ? v3(0, 1, 0) : v3(1, 0, 0), axis)), b = v3_cross(axis, a);
+    vec3 a, b;
+    v3_frame(axis, &a, &b);
     return v3_norm(v3_add(v3_add(v3_scale(a, x), v3_scale(b, y)), v3_scale(axis, z)));
 }
 
