@@ -185,6 +185,8 @@ def scene(seed):
         extra = random.Random(seed * 7919 + 37)
         if extra.random() < 0.5:
             st += ["emitter_sampling", extra.choice(["mis", "nee", "bsdf"])]
+        if extra.random() < 0.3:
+            st += ["roulette", str(extra.choice([0, 1, 3, 8]))]
     if st:
         out.append("settings " + " ".join(st))
 
