@@ -122,14 +122,27 @@ static inline real sample_sobol_first(uint32_t i, uint32_t seed)
     return (real)(x >> 8) * R(5.9604644775390625e-8);
 }
 
+/* One seed's sequence for sample_sobol_point: its three scrambles, hashed
+ * once for all its points (an area light's nine points of a pixel hashed
+ * them nine times; a sixth of the default scene's frame was sampling). */
+typedef struct {
+    uint32_t index, first, second;
+} SampleSobol;
+
+static inline SampleSobol sample_sobol_seq(uint32_t seed)
+{
+    return (SampleSobol){sample_hash(seed ^ 0x5bd1e995u), sample_hash(seed ^ 0x68e31da4u), sample_hash(seed ^ 0xb5297a4du)};
+}
+
 /* Point `index` of an Owen-scrambled Sobol (0,2)-sequence in the unit
  * square, its index shuffled too (Burley's shuffled scrambled Sobol), for
- * one sequence per seed: any 2^k consecutive aligned points are a (0,k,2)-net
- * (one point in every 2^-a x 2^-(k-a) box), the first n of a sequence
- * are well spread for any n, and two seeds' sequences are independent. */
-static inline void sample_sobol2(uint32_t index, uint32_t seed, real *u, real *v)
+ * one sequence per seed (sample_sobol_seq): any 2^k consecutive aligned
+ * points are a (0,k,2)-net (one point in every 2^-a x 2^-(k-a) box), the
+ * first n of a sequence are well spread for any n, and two seeds'
+ * sequences are independent. */
+static inline void sample_sobol_point(const SampleSobol *q, uint32_t index, real *u, real *v)
 {
-    uint32_t i = sample_sobol_index(index, seed);
+    uint32_t i = sample_owen(index, q->index);
     /* the second Sobol dimension: bit 31 - j of y is the parity of the bits
      * k of i with C(k, j) odd, that is (Lucas) with j's bits a subset of
      * k's: a superset sum over the five bits of a bit's position, five
@@ -141,9 +154,16 @@ static inline void sample_sobol2(uint32_t index, uint32_t seed, real *u, real *v
     z ^= (z >> 8) & 0x00ff00ffu;
     z ^= (z >> 16) & 0x0000ffffu;
     /* sample_owen(sample_reverse(i)) with the two reversals that cancel left out */
-    uint32_t y = sample_reverse(sample_laine_karras(z, sample_hash(seed ^ 0xb5297a4du)));
-    *u = sample_sobol_first(i, seed);
+    uint32_t y = sample_reverse(sample_laine_karras(z, q->second));
+    *u = (real)(sample_reverse(sample_laine_karras(i, q->first)) >> 8) * R(5.9604644775390625e-8);
     *v = (real)(y >> 8) * R(5.9604644775390625e-8);
+}
+
+/* Point `index` of seed's sequence (sample_sobol_point). */
+static inline void sample_sobol2(uint32_t index, uint32_t seed, real *u, real *v)
+{
+    const SampleSobol q = sample_sobol_seq(seed);
+    sample_sobol_point(&q, index, u, v);
 }
 
 /* (u, v) in the unit square to a unit vector, uniform over the sphere
@@ -152,6 +172,17 @@ static inline vec3 sample_sphere(real u, real v)
 {
     real z = R(1) - R(2) * u, phi = R(2) * REAL_PI * v, rr = sqrt(real_max(R(0), R(1) - z * z));
     return v3(rr * cos(phi), rr * sin(phi), z);
+}
+
+/* sin and cos of |a| <= pi/4 by Cephes' minimax polynomials of sinf and
+ * cosf (within 1e-7 there): the concentric map's angle, where the C
+ * library's sincos took a sixth of the time of an area light's point, and
+ * the same bits on every machine.  Short: a dependent chain of a point. */
+static inline void sample_sincos_quarter(real a, real *s, real *c)
+{
+    const real a2 = a * a;
+    *s = a + a * a2 * (R(-1.6666654611e-1) + a2 * (R(8.3321608736e-3) + a2 * R(-1.9515295891e-4)));
+    *c = R(1) - R(0.5) * a2 + a2 * a2 * (R(4.166664568298827e-2) + a2 * (R(-1.388731625493765e-3) + a2 * R(2.443315711809948e-5)));
 }
 
 /* (u, v) in the unit square to the unit disc, area-preserving (Shirley and
@@ -163,16 +194,15 @@ static inline void sample_disc(real u, real v, real *x, real *y)
         *x = *y = R(0);
         return;
     }
-    real r, phi;
-    if (a * a > b * b) {
-        r = a;
-        phi = (REAL_PI / R(4)) * (b / a);
-    } else {
-        r = b;
-        phi = (REAL_PI / R(2)) - (REAL_PI / R(4)) * (a / b);
-    }
-    *x = r * cos(phi);
-    *y = r * sin(phi);
+    /* the angle (pi/4)(b/a) where |a| > |b|, else pi/2 - (pi/4)(a/b),
+     * whose cos is the sine of (pi/4)(a/b): chosen without a branch (it
+     * goes either way at random) */
+    const int wide = a * a > b * b;
+    const real r = wide ? a : b, q = wide ? b : a;
+    real s, c;
+    sample_sincos_quarter((REAL_PI / R(4)) * (q / r), &s, &c);
+    *x = r * (wide ? c : s);
+    *y = r * (wide ? s : c);
 }
 
 #endif

@@ -16,6 +16,11 @@
 
 #include "bvh/bvh.h"
 
+#if defined(__x86_64__) && !defined(LANRAY_DOUBLE)
+#include <emmintrin.h>
+#define BVH_PACKET_SSE 1
+#endif
+
 /* Primitive `prim` (a leaf's entry of bvh->prims) against the rays of
  * `rays`: returns those it blocks (occlusion; 0 for closest hits), and
  * lowers far[i] of a ray it finds a nearer hit for. */
@@ -35,10 +40,62 @@ static inline uint32_t bvh_node_rays(const BvhNode *n, const Ray *rays, uint32_t
     return in;
 }
 
+/* The packet's rays as columns, four lanes a group, for bvh_node_rays_soa. */
+typedef struct {
+    real org[3][32] __attribute__((aligned(16)));
+    real inv[3][32] __attribute__((aligned(16)));
+    real tmin[32] __attribute__((aligned(16)));
+    int groups; /* of four rays; 0: the scalar test (LANRAY_SIMD=scalar, double builds) */
+} BvhPacketSoa;
+
+#ifdef BVH_PACKET_SSE
+/* bvh_node_rays with four rays a step: the same operations on the same
+ * numbers (no fused multiply-add), max and min keeping lo and hi where a
+ * distance is NaN as the comparisons do, so the same rays enter (the
+ * wide kernels' argument, wide.h).  far: a multiple of four readable. */
+static inline __attribute__((always_inline)) uint32_t bvh_node_rays_soa(const BvhNode *n, const BvhPacketSoa *s, uint32_t mask, const real *far)
+{
+    uint32_t in = 0;
+    const __m128 zero = _mm_setzero_ps(), fudge = _mm_set1_ps(BVH_FUDGE);
+    for (int g = 0; g < s->groups; g++) {
+        const uint32_t m = mask >> (4 * g) & 15u;
+        if (!m)
+            continue;
+        __m128 lo = _mm_load_ps(&s->tmin[4 * g]), hi = _mm_loadu_ps(&far[4 * g]);
+        for (int a = 0; a < 3; a++) {
+            const __m128 o = _mm_load_ps(&s->org[a][4 * g]), iv = _mm_load_ps(&s->inv[a][4 * g]);
+            const __m128 t0 = _mm_mul_ps(_mm_sub_ps(_mm_set1_ps(n->bmin[a]), o), iv);
+            const __m128 t1 = _mm_mul_ps(_mm_sub_ps(_mm_set1_ps(n->bmax[a]), o), iv);
+            const __m128 pos = _mm_cmpge_ps(iv, zero); /* ray_set's near/far choice */
+            const __m128 tn = _mm_or_ps(_mm_and_ps(pos, t0), _mm_andnot_ps(pos, t1));
+            const __m128 tf = _mm_or_ps(_mm_and_ps(pos, t1), _mm_andnot_ps(pos, t0));
+            lo = _mm_max_ps(tn, lo); /* tn > lo ? tn : lo */
+            hi = _mm_min_ps(tf, hi); /* tf < hi ? tf : hi */
+        }
+        in |= ((uint32_t)_mm_movemask_ps(_mm_cmple_ps(lo, _mm_mul_ps(hi, fudge))) & m) << (4 * g);
+    }
+    return in;
+}
+#endif
+
+/* The rays of `mask` whose slab test enters node n, by s's groups where it has them. */
+static inline __attribute__((always_inline)) uint32_t bvh_packet_node(const BvhNode *n, const BvhPacketSoa *s, const Ray *rays, uint32_t mask,
+                                       const real *far)
+{
+#ifdef BVH_PACKET_SSE
+    if (s->groups)
+        return bvh_node_rays_soa(n, s, mask, far);
+#else
+    (void)s;
+#endif
+    return bvh_node_rays(n, rays, mask, far);
+}
+
 /* n <= 32 rays through b, far[i] each ray's limit (lowered by the leaves);
- * returns the rays blocked. */
+ * returns the rays blocked.  simd: test the boxes four rays at a time, for
+ * which far must have a multiple of four readable. */
 static inline __attribute__((always_inline)) uint32_t bvh_packet(const Bvh *b, const Ray *rays, int n, real *far,
-                                                                 BvhPacketLeaf leaf, void *ctx)
+                                                                 BvhPacketLeaf leaf, void *ctx, int simd)
 {
     uint32_t done = 0; /* occlusion: the rays already blocked */
     const uint32_t all = n >= 32 ? ~0u : (1u << n) - 1;
@@ -48,14 +105,29 @@ static inline __attribute__((always_inline)) uint32_t bvh_packet(const Bvh *b, c
         uint32_t node, rays;
     } stack[BVH_MAX_DEPTH + 1];
     int sp = 0;
+    BvhPacketSoa soa;
+    soa.groups = 0;
+#ifdef BVH_PACKET_SSE
+    if (simd) {
+        soa.groups = (n + 3) / 4;
+        for (int i = 0; i < 4 * soa.groups; i++) {
+            const Ray *r = &rays[i < n ? i : 0]; /* the lanes past n: a copy, masked out */
+            for (int a = 0; a < 3; a++)
+                soa.org[a][i] = r->org.e[a], soa.inv[a][i] = r->inv.e[a];
+            soa.tmin[i] = r->tmin;
+        }
+    }
+#else
+    (void)simd;
+#endif
     /* a root that is a leaf (one model instance, say) is not box-tested:
      * its primitives' own tests (a model's root node) do that work */
-    uint32_t idx = 0, rs = b->nodes[0].count ? all : bvh_node_rays(&b->nodes[0], rays, all, far);
+    uint32_t idx = 0, rs = b->nodes[0].count ? all : bvh_packet_node(&b->nodes[0], &soa, rays, all, far);
     for (;;) {
         const BvhNode *nd = &b->nodes[idx];
         if (rs && nd->count == 0) {
-            uint32_t r0 = bvh_node_rays(&b->nodes[nd->first], rays, rs, far);
-            uint32_t r1 = bvh_node_rays(&b->nodes[nd->first + 1], rays, rs, far);
+            uint32_t r0 = bvh_packet_node(&b->nodes[nd->first], &soa, rays, rs, far);
+            uint32_t r1 = bvh_packet_node(&b->nodes[nd->first + 1], &soa, rays, rs, far);
             if (r0 && r1)
                 stack[sp].node = nd->first + 1, stack[sp++].rays = r1;
             idx = r0 ? nd->first : nd->first + 1;
@@ -73,7 +145,7 @@ static inline __attribute__((always_inline)) uint32_t bvh_packet(const Bvh *b, c
                 return done;
             --sp;
             idx = stack[sp].node;
-            rs = bvh_node_rays(&b->nodes[idx], rays, stack[sp].rays & ~done, far);
+            rs = bvh_packet_node(&b->nodes[idx], &soa, rays, stack[sp].rays & ~done, far);
         } while (!rs);
     }
 }

@@ -3,6 +3,7 @@
 
 #include "bvh/bvh_packet.h"
 #include "bvh/bvh_traverse.h"
+#include "base/simd.h"
 
 #include <string.h>
 
@@ -94,6 +95,7 @@ static int leaf_occluded(const World *w, uint32_t p, const Ray *r, real tmax, co
 typedef struct {
     const World *w;
     Best *best;
+    const uint8_t *only; /* trace_closest_glass: the primitives it looks at (World.glassy), or NULL: all */
 } ClosestCtx;
 
 static inline __attribute__((always_inline)) int top_leaf_closest(void *vctx, uint32_t first, uint32_t count,
@@ -101,8 +103,11 @@ static inline __attribute__((always_inline)) int top_leaf_closest(void *vctx, ui
 {
     ClosestCtx *c = vctx;
     int found = 0;
-    for (uint32_t i = 0; i < count; i++)
-        found |= leaf_closest(c->w, c->w->tree->prims[first + i], r, c->best);
+    for (uint32_t i = 0; i < count; i++) {
+        const uint32_t p = c->w->tree->prims[first + i];
+        if (!c->only || c->only[p])
+            found |= leaf_closest(c->w, p, r, c->best);
+    }
     *tmax = c->best->hit->t;
     return found;
 }
@@ -110,40 +115,55 @@ static inline __attribute__((always_inline)) int top_leaf_closest(void *vctx, ui
 typedef struct {
     const World *w;
     const WorldLight *lamp; /* the light whose lamp the ray passes, or NULL */
+    const uint8_t *glassy;  /* trace_shadow: the primitives it passes (World.glassy), or NULL */
+    int *glass;             /* and where it notes that it passed one */
 } AnyCtx;
 
 static inline __attribute__((always_inline)) int top_leaf_any(const void *vctx, uint32_t first, uint32_t count,
                                                               const Ray *r, real tmax)
 {
     const AnyCtx *c = vctx;
-    for (uint32_t i = 0; i < count; i++)
-        if (leaf_occluded(c->w, c->w->tree->prims[first + i], r, tmax, c->lamp))
+    for (uint32_t i = 0; i < count; i++) {
+        const uint32_t p = c->w->tree->prims[first + i];
+        if (!leaf_occluded(c->w, p, r, tmax, c->lamp))
+            continue;
+        if (!c->glassy || !c->glassy[p])
             return 1;
+        *c->glass = 1;
+    }
     return 0;
 }
 
 /* The light whose lamp shadow rays towards l pass: l, or NULL where it has none. */
 static const WorldLight *lamp_of(const WorldLight *l) { return l && l->lamp_count ? l : NULL; }
 
-static inline __attribute__((always_inline)) void closest_planes(const World *w, const Ray *r, Hit *hit)
+/* The nearest plane (with glass_only, glass plane) r meets, as hit. */
+static inline __attribute__((always_inline)) void closest_planes(const World *w, const Ray *r, Hit *hit, int glass_only)
 {
     hit->t = r->tmax;
     hit->kind = HIT_NONE;
     if (world_uses(w, FEAT_PLANES))
         for (uint32_t i = 0; i < w->plane_count; i++) {
             real t;
+            if (glass_only && !material_dielectric(&w->materials[w->planes[i].material]))
+                continue;
             if (plane_intersect(r, w->planes[i].point, w->planes[i].unit, hit->t, &t))
                 *hit = (Hit){t, 0, 0, HIT_PLANE, i, 0};
         }
 }
 
-static inline __attribute__((always_inline)) int occluded_planes(const World *w, const Ray *r, real tmax)
+/* Whether a plane blocks r before tmax; with glass (trace_shadow), a glass
+ * plane does not, and sets *glass where r crosses it. */
+static inline __attribute__((always_inline)) int occluded_planes(const World *w, const Ray *r, real tmax, int *glass)
 {
     if (world_uses(w, FEAT_PLANES))
         for (uint32_t i = 0; i < w->plane_count; i++) {
             real t;
-            if (plane_intersect(r, w->planes[i].point, w->planes[i].unit, tmax, &t))
+            if (!plane_intersect(r, w->planes[i].point, w->planes[i].unit, tmax, &t))
+                continue;
+            if (!glass || !material_dielectric(&w->materials[w->planes[i].material]))
                 return 1;
+            *glass = 1;
         }
     return 0;
 }
@@ -181,9 +201,26 @@ int trace_lamp_part(const World *w, const WorldLight *l, const Hit *h)
 
 int trace_closest(const World *w, const Ray *r, Hit *hit)
 {
-    closest_planes(w, r, hit);
+    closest_planes(w, r, hit, 0);
     Best b = {hit, 0};
-    ClosestCtx c = {w, &b};
+    ClosestCtx c = {w, &b, NULL};
+    real tmax = hit->t;
+    bvh_closest(w->tree, r, &tmax, top_leaf_closest, &c);
+    return hit->kind != HIT_NONE;
+}
+
+int trace_closest_glass(const World *w, const Ray *r, Hit *hit)
+{
+    if (!w->glassy)
+        return trace_closest(w, r, hit);
+    closest_planes(w, r, hit, 1);
+    Best b = {hit, 0};
+    if (w->glass_count <= WORLD_GLASS_LIST) { /* a few: each alone (the rule makes the order free) */
+        for (uint32_t i = 0; i < w->glass_count; i++)
+            leaf_closest(w, w->glass_list[i], r, &b);
+        return hit->kind != HIT_NONE;
+    }
+    ClosestCtx c = {w, &b, w->glassy};
     real tmax = hit->t;
     bvh_closest(w->tree, r, &tmax, top_leaf_closest, &c);
     return hit->kind != HIT_NONE;
@@ -191,8 +228,21 @@ int trace_closest(const World *w, const Ray *r, Hit *hit)
 
 int trace_occluded(const World *w, const Ray *r, real tmax, const WorldLight *towards)
 {
-    AnyCtx c = {w, lamp_of(towards)};
-    return occluded_planes(w, r, tmax) || bvh_any(w->tree, r, tmax, top_leaf_any, &c);
+    AnyCtx c = {w, lamp_of(towards), NULL, NULL};
+    return occluded_planes(w, r, tmax, NULL) || bvh_any(w->tree, r, tmax, top_leaf_any, &c);
+}
+
+int trace_shadow(const World *w, const Ray *r, real tmax, const WorldLight *towards, int *glass)
+{
+    *glass = 0;
+    if (!w->glassy)
+        return trace_occluded(w, r, tmax, towards);
+    AnyCtx c = {w, lamp_of(towards), w->glassy, glass};
+    if (occluded_planes(w, r, tmax, glass) || bvh_any(w->tree, r, tmax, top_leaf_any, &c)) {
+        *glass = 0;
+        return 1;
+    }
+    return 0;
 }
 
 /* Instance p of the top tree against the rays of `mask`, as one packet in model space. */
@@ -240,6 +290,8 @@ typedef struct {
     Best *best;        /* closest hits; NULL for occlusion */
     const real *tmax;  /* occlusion's limits */
     const WorldLight *lamp; /* occlusion: the lamp its light passes */
+    const uint8_t *glassy;  /* trace_shadow_packet: the primitives it passes, or NULL */
+    uint32_t *glass;        /* and the rays that passed one */
 } PacketCtx;
 
 /* A primitive of the top tree against the packet's rays that reach it:
@@ -262,6 +314,10 @@ static inline __attribute__((always_inline)) uint32_t top_leaf_packet(void *vctx
                 done |= 1u << i;
         }
     }
+    if (!closest && done && c->glassy && c->glassy[p]) { /* passed, noted */
+        *c->glass |= done;
+        done = 0;
+    }
     if (closest)
         for (uint32_t m = rs; m; m &= m - 1) {
             int i = __builtin_ctz(m);
@@ -271,50 +327,74 @@ static inline __attribute__((always_inline)) uint32_t top_leaf_packet(void *vctx
 }
 
 /* The top tree for a packet (bvh_packet.h). */
-static uint32_t top_packet(const World *w, const Ray *rays, int n, Best *best, const real *tmax, const WorldLight *lamp)
+static uint32_t top_packet(const World *w, const Ray *rays, int n, Best *best, const real *tmax, const WorldLight *lamp,
+                           uint32_t *glass)
 {
-    real far[TRACE_PACKET];
+    real far[(TRACE_PACKET + 3) / 4 * 4] = {0}; /* the box tests read it four at a time */
     for (int i = 0; i < n; i++)
         far[i] = best ? best[i].hit->t : tmax[i];
-    PacketCtx c = {w, rays, best, tmax, lamp};
-    return bvh_packet(w->tree, rays, n, far, top_leaf_packet, &c);
+    PacketCtx c = {w, rays, best, tmax, lamp, glass ? w->glassy : NULL, glass};
+    return bvh_packet(w->tree, rays, n, far, top_leaf_packet, &c, simd_path() != SIMD_SCALAR);
 }
 
 void trace_closest_packet(const World *w, const Ray *rays, int n, Hit *hits)
 {
     Best best[TRACE_PACKET];
     for (int i = 0; i < n; i++) {
-        closest_planes(w, &rays[i], &hits[i]);
+        closest_planes(w, &rays[i], &hits[i], 0);
         best[i] = (Best){&hits[i], 0};
     }
-    top_packet(w, rays, n, best, NULL, NULL);
+    top_packet(w, rays, n, best, NULL, NULL, NULL);
+}
+
+/* trace_occluded_packet, and with glass (not NULL) trace_shadow_packet. */
+static uint32_t occluded_packet(const World *w, const Ray *rays, int n, const real *tmax, const WorldLight *towards,
+                                uint32_t *glass)
+{
+    const WorldLight *lamp = lamp_of(towards);
+    uint32_t blocked = 0, gl = 0;
+    for (int i = 0; i < n; i++) {
+        int g = 0;
+        if (occluded_planes(w, &rays[i], tmax[i], glass ? &g : NULL))
+            blocked |= 1u << i;
+        gl |= (uint32_t)g << i;
+    }
+    uint32_t rest = ((1u << n) - 1) & ~blocked, got = 0, ggot = 0;
+    if (rest == (1u << n) - 1) {
+        blocked = top_packet(w, rays, n, NULL, tmax, lamp, glass ? &ggot : NULL);
+        gl |= ggot;
+    } else if (rest) { /* the unblocked rays, packed */
+        Ray rr[TRACE_PACKET];
+        real tm[TRACE_PACKET];
+        int which[TRACE_PACKET], m = 0;
+        for (uint32_t k = rest; k; k &= k - 1) {
+            int i = __builtin_ctz(k);
+            rr[m] = rays[i], tm[m] = tmax[i], which[m++] = i;
+        }
+        got = top_packet(w, rr, m, NULL, tm, lamp, glass ? &ggot : NULL);
+        for (int k = 0; k < m; k++) {
+            blocked |= (got >> k & 1) << which[k];
+            gl |= (ggot >> k & 1) << which[k];
+        }
+    }
+    if (glass)
+        *glass = gl & ~blocked;
+    return blocked;
 }
 
 uint32_t trace_occluded_packet(const World *w, const Ray *rays, int n, const real *tmax, const WorldLight *towards)
 {
-    const WorldLight *lamp = lamp_of(towards);
-    uint32_t blocked = 0;
-    for (int i = 0; i < n; i++)
-        if (occluded_planes(w, &rays[i], tmax[i]))
-            blocked |= 1u << i;
-    uint32_t rest = ((1u << n) - 1) & ~blocked;
-    if (!rest)
-        return blocked;
-    if (!blocked)
-        return top_packet(w, rays, n, NULL, tmax, lamp);
-    /* the unblocked rays, packed */
-    Ray rr[TRACE_PACKET];
-    real tm[TRACE_PACKET];
-    int which[TRACE_PACKET], m = 0;
-    for (uint32_t k = rest; k; k &= k - 1) {
-        int i = __builtin_ctz(k);
-        rr[m] = rays[i], tm[m] = tmax[i], which[m++] = i;
+    return occluded_packet(w, rays, n, tmax, towards, NULL);
+}
+
+uint32_t trace_shadow_packet(const World *w, const Ray *rays, int n, const real *tmax, const WorldLight *towards,
+                             uint32_t *glass)
+{
+    if (!w->glassy) {
+        *glass = 0;
+        return occluded_packet(w, rays, n, tmax, towards, NULL);
     }
-    uint32_t got = top_packet(w, rr, m, NULL, tm, lamp);
-    for (int k = 0; k < m; k++)
-        if (got >> k & 1)
-            blocked |= 1u << which[k];
-    return blocked;
+    return occluded_packet(w, rays, n, tmax, towards, glass);
 }
 
 static vec3 bary(vec3 a, vec3 b, vec3 c, real b1, real b2)

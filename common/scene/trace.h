@@ -49,6 +49,20 @@ int trace_closest(const World *w, const Ray *r, Hit *hit);
 void trace_closest_packet(const World *w, const Ray *rays, int n, Hit *hits);
 /* The mask of the n rays that are blocked before their tmax (trace_occluded each). */
 uint32_t trace_occluded_packet(const World *w, const Ray *rays, int n, const real *tmax, const WorldLight *towards);
+/* Shadow rays that glass lets through (settings glass_shadows): the mask
+ * of the rays blocked before their tmax by something that is no
+ * dielectric, and in *glass those of the others that cross a surface that
+ * may be one (World.glassy): what of a light reaches them is what a walk
+ * through the dielectrics (shade.c) finds.  In a scene without
+ * dielectrics, trace_occluded_packet and *glass = 0. */
+uint32_t trace_shadow_packet(const World *w, const Ray *rays, int n, const real *tmax, const WorldLight *towards,
+                             uint32_t *glass);
+/* trace_closest among the surfaces that may be dielectrics alone (the
+ * glass planes and World.glassy's primitives; all of them in a scene
+ * without): the walk through glass of a shadow ray trace_shadow let pass. */
+int trace_closest_glass(const World *w, const Ray *r, Hit *hit);
+/* trace_shadow_packet for one ray. */
+int trace_shadow(const World *w, const Ray *r, real tmax, const WorldLight *towards, int *glass);
 /* The point at barycentrics (b1, b2) of triangle v0 v1 v2, as trace_surface
  * computes a scene triangle's hit point, and the bound on the rounding error
  * of each of its coordinates (for trace_offset_origin). */

@@ -205,6 +205,50 @@ static int derive_items(World *w, const Scene *s, Err *err)
     return 0;
 }
 
+/* Which top-level primitives may be dielectrics (World.glassy): where
+ * the scene has any, one byte each of spheres, triangles, instances. */
+static int classify_glass(World *w, Err *err)
+{
+    if (!(w->item_features & FEAT_REFRACT))
+        return 0;
+    uint32_t nb = w->sphere_count + w->tri_count + w->instance_count, k = 0;
+    uint8_t *g = w->parts->glassy = malloc(nb ? nb : 1);
+    if (!g)
+        return err_set(err, "scene: out of memory");
+    for (uint32_t i = 0; i < w->sphere_count; i++)
+        g[k++] = material_dielectric(&w->materials[w->spheres[i].material]);
+    for (uint32_t i = 0; i < w->tri_count; i++)
+        g[k++] = material_dielectric(&w->materials[w->tri_attrs[i].material]);
+    for (uint32_t i = 0; i < w->instance_count; i++) {
+        const WorldInstance *in = &w->instances[i];
+        const Model *m = w->models[in->model];
+        int glass = 0;
+        if (in->material >= 0)
+            glass = material_dielectric(&w->materials[in->material]);
+        else if (m->mat_ids)
+            for (uint32_t j = 0; j < m->material_count && !glass; j++)
+                glass = material_dielectric(&m->materials[j]);
+        else
+            glass = w->material_count && material_dielectric(&w->materials[0]);
+        g[k++] = (uint8_t)glass;
+    }
+    uint32_t n = 0, planes = 0;
+    for (uint32_t i = 0; i < nb; i++)
+        if (g[i] && n++ < WORLD_GLASS_LIST)
+            w->parts->glass_list[n - 1] = i;
+    for (uint32_t i = 0; i < w->plane_count; i++)
+        planes += material_dielectric(&w->materials[w->planes[i].material]);
+    if (n == 0 && planes == 0) { /* a glass material that nothing wears */
+        free(g);
+        w->parts->glassy = NULL;
+        return 0;
+    }
+    w->glassy = g;
+    w->glass_list = w->parts->glass_list;
+    w->glass_count = n <= WORLD_GLASS_LIST ? n : UINT32_MAX;
+    return 0;
+}
+
 /* The boxes of the top level: one per sphere, scene triangle and instance. */
 static Aabb *top_boxes(const World *w, uint32_t nb, Err *err)
 {
@@ -297,7 +341,8 @@ World *world_build(const Scene *desc, const World *previous, Err *err)
                  .background = desc->background, .tree = &empty_tree};
     uint32_t nb = desc->sphere_count + desc->tri_count + desc->instance_count;
     Aabb *boxes = NULL;
-    if (derive_items(w, desc, err) || pair_lamps(w, err) || emitters_build(w, err) || (nb && !(boxes = top_boxes(w, nb, err))) ||
+    if (derive_items(w, desc, err) || pair_lamps(w, err) || emitters_build(w, err) || classify_glass(w, err) ||
+        (nb && !(boxes = top_boxes(w, nb, err))) ||
         (nb && build_top(w, previous, boxes, nb, err)) || world_set_view(w, &w->view, err)) {
         world_destroy(w);
         return NULL;
@@ -354,6 +399,7 @@ void world_destroy(World *w)
         free(pt->lights);
         free(pt->lamps);
         free(pt->emitters);
+        free(pt->glassy);
         free(pt);
     }
     top_drop(w->top);

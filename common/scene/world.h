@@ -91,12 +91,16 @@ typedef struct {
  * worlds that differ only in their view (world_with_view). */
 typedef struct Emitter Emitter; /* scene/emitters.h */
 
+#define WORLD_GLASS_LIST 8
+
 typedef struct {
     WorldPlane *planes;
     WorldInstance *instances;
     WorldLight *lights;
     uint32_t *lamps;
     Emitter *emitters;
+    uint8_t *glassy;
+    uint32_t glass_list[WORLD_GLASS_LIST];
     atomic_int refs;
 } WorldParts;
 
@@ -128,6 +132,16 @@ typedef struct {
     Emitter *emitters; /* emissive geometry that lights the path integrator's scenes (scene/emitters.h) */
     uint32_t emitter_count;
     real emit_power;   /* their total power (area x mean emission) */
+    /* glass shadows: 1 for a top-level primitive that may be a dielectric
+     * (a glass sphere or triangle, an instance with a glass material),
+     * whose shadow rays trace_shadow follows through it; NULL in a scene
+     * without dielectrics */
+    const uint8_t *glassy;
+    /* the top-level primitives glassy marks, where they are few (at most
+     * WORLD_GLASS_LIST): a shadow ray's walk through glass tests them
+     * alone, not the tree */
+    const uint32_t *glass_list;
+    uint32_t glass_count; /* UINT32_MAX: too many for the list */
     WorldParts *parts; /* owns planes, instances, lights, lamps and emitters */
     WorldTop *top;    /* NULL: nothing but planes */
     const Bvh *tree;  /* &top->bvh, or an empty tree */
