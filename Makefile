@@ -181,7 +181,7 @@ check-tsan: deps
 	@echo "[       OK ] distributed.sh under ThreadSanitizer, no reports"
 
 .PHONY: test-run check-tsan
-test-run: $(TESTS) $(TOOLS) $(REPLAYS) $(BUILD)/tools/bench/embree_ref $(BUILD)/tools/bench/rtweekend
+test-run: $(TESTS) $(TOOLS) $(REPLAYS) $(BUILD)/tools/bench/embree_ref $(BUILD)/tools/bench/rayclass $(BUILD)/tools/bench/rtweekend
 	@BUILD=$(BUILD) BIN=$(BIN) bash tests/run.sh $(TESTS)
 
 $(BUILD)/fuzz/replay_%: tests/fuzz/fuzz_%.c tests/fuzz/replay.c $(LIB)
@@ -206,18 +206,23 @@ fuzz: deps $(FUZZERS)
 $(BUILD)/tools/bench/embree_ref: tools/bench/embree_ref.c $(LIB)
 	@mkdir -p $(dir $@)
 	$(CC) $(ALL_CFLAGS) -o $@ $< $(LIB) -lembree3 $(LDLIBS)
+$(BUILD)/tools/bench/rayclass: tools/bench/rayclass.c $(LIB)
+	@mkdir -p $(dir $@)
+	$(CC) $(ALL_CFLAGS) -o $@ $< $(LIB) -lembree3 $(LDLIBS)
 
 # the benchmark drivers that need no more than the library (embree_ref, above, links Embree too)
 $(BUILD)/tools/bench/%: tools/bench/%.c $(LIB)
 	@mkdir -p $(dir $@)
 	$(CC) $(ALL_CFLAGS) -o $@ $< $(LIB) $(LDLIBS)
 
-bench: deps $(TOOLS) $(BUILD)/tools/bench/embree_ref $(BUILD)/tools/bench/import_bench $(BUILD)/tools/bench/build_bench $(BUILD)/tools/bench/view_bench
+bench: deps $(TOOLS) $(BUILD)/tools/bench/embree_ref $(BUILD)/tools/bench/import_bench $(BUILD)/tools/bench/build_bench $(BUILD)/tools/bench/view_bench $(BUILD)/tools/bench/rayclass
 	@$(MAKE) --no-print-directory FEATURES=minimal $(BIN)/minimal/lanray-render
 	@BIN=$(BIN) EMBREE_REF=$(BUILD)/tools/bench/embree_ref BUILD_BENCH=$(BUILD)/tools/bench/build_bench bash tools/bench/bench-render
+	@BIN=$(BIN) RAYCLASS=$(BUILD)/tools/bench/rayclass bash tools/bench/bench-rayclass
 	@BIN=$(BIN) bash tools/bench/bench-features
 	@IMPORT_BENCH=$(BUILD)/tools/bench/import_bench bash tools/bench/bench-import
 	@VIEW_BENCH=$(BUILD)/tools/bench/view_bench bash tools/bench/bench-view
+	@BIN=$(BIN) bash tools/bench/bench-frame
 
 # make install [PREFIX=/usr/local] [DESTDIR=]: the programs, the docs, the
 # client's systemd unit and its settings file, the server's Avahi service

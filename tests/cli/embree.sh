@@ -43,3 +43,16 @@ echo "lanray against Embree: $differ of 76800 pixels differ (max $maxd), SSIM $s
 # 4 differ as built; 0.05% is 38
 [ "$differ" -le 38 ] || fail "$differ pixels differ from Embree's image (at most 38)"
 awk -v s="$ssim" 'BEGIN { exit !(s >= 0.999) }' || fail "SSIM $ssim against Embree's image (at least 0.999)"
+
+# every ray class, the same rays through both (tools/bench/rayclass): the
+# built-in default scene (spheres, a plane, a mesh, scene triangles) and
+# the blob; hit or miss and the distance must agree on nearly every ray
+RAYCLASS=${RAYCLASS:-${BUILD:-build/float}/tools/bench/rayclass}
+[ -x "$RAYCLASS" ] || fail "$RAYCLASS not built"
+for scene in "" "$dir/blob.scene"; do
+    out=$("$RAYCLASS" $scene --width 96 --height 72 --repeat 1 --threads 2) || fail "rayclass ${scene:-default}"
+    [ "$(wc -l <<<"$out")" -eq 6 ] || fail "rayclass ${scene:-default}: $out"
+    low=$(awk '$NF < 99.9 || $5 < 100 { print $3 " " $NF "% of " $5 }' <<<"$out")
+    [ -z "$low" ] || fail "rayclass ${scene:-default}: lanray and Embree disagree: $low"
+done
+echo "rayclass: lanray and Embree agree on every class of ray (camera, shadow to point and area lights, mirrored, refracted, diffuse), default scene and blob"
