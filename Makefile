@@ -82,7 +82,7 @@ TESTS := $(TEST_SRC:%.c=$(BUILD)/%)
 FUZZ_NAMES := $(patsubst tests/fuzz/fuzz_%.c,%,$(wildcard tests/fuzz/fuzz_*.c))
 REPLAYS := $(FUZZ_NAMES:%=$(BUILD)/fuzz/replay_%)
 
-DEB_PACKAGES := gcc make pkg-config libsdl2-dev libsdl2-ttf-dev fonts-dejavu-core xdotool libnetpbm-dev libpng-dev libjpeg62-turbo-dev zlib1g-dev libassimp-dev libcmocka-dev libembree-dev libsodium-dev libzstd-dev liblz4-dev libavahi-client-dev avahi-daemon avahi-utils dbus dpkg-dev help2man xvfb x11-apps python3 clang libclang-rt-14-dev
+DEB_PACKAGES := gcc make pkg-config libsdl2-dev libsdl2-ttf-dev fonts-dejavu-core xdotool libnetpbm-dev libpng-dev libjpeg62-turbo-dev zlib1g-dev libassimp-dev libcmocka-dev libembree-dev libsodium-dev libzstd-dev liblz4-dev libavahi-client-dev avahi-daemon avahi-utils dbus dpkg-dev help2man xvfb x11-apps python3 clang libclang-rt-14-dev povray
 
 .PHONY: all deps check check-asan bench demo clean tradeoff bench-scaling bench-realtime bench-compress bench-pipeline bench-path bench-cycles install uninstall deb fuzz loadtest tools-doc architecture scene-doc
 .SECONDARY:
@@ -181,7 +181,7 @@ check-tsan: deps
 	@echo "[       OK ] distributed.sh under ThreadSanitizer, no reports"
 
 .PHONY: test-run check-tsan
-test-run: $(TESTS) $(TOOLS) $(REPLAYS) $(BUILD)/tools/bench/embree_ref $(BUILD)/tools/bench/rayclass $(BUILD)/tools/bench/rtweekend
+test-run: $(TESTS) $(TOOLS) $(REPLAYS) $(BUILD)/tools/bench/embree_ref $(BUILD)/tools/bench/rayclass $(BUILD)/tools/bench/scene2pov $(BUILD)/tools/bench/rtweekend
 	@BUILD=$(BUILD) BIN=$(BIN) bash tests/run.sh $(TESTS)
 
 $(BUILD)/fuzz/replay_%: tests/fuzz/fuzz_%.c tests/fuzz/replay.c $(LIB)
@@ -215,7 +215,7 @@ $(BUILD)/tools/bench/%: tools/bench/%.c $(LIB)
 	@mkdir -p $(dir $@)
 	$(CC) $(ALL_CFLAGS) -o $@ $< $(LIB) $(LDLIBS)
 
-bench: deps $(TOOLS) $(BUILD)/tools/bench/embree_ref $(BUILD)/tools/bench/import_bench $(BUILD)/tools/bench/build_bench $(BUILD)/tools/bench/view_bench $(BUILD)/tools/bench/rayclass
+bench: deps $(TOOLS) $(BUILD)/tools/bench/embree_ref $(BUILD)/tools/bench/import_bench $(BUILD)/tools/bench/build_bench $(BUILD)/tools/bench/view_bench $(BUILD)/tools/bench/rayclass $(BUILD)/tools/bench/scene2pov
 	@$(MAKE) --no-print-directory FEATURES=minimal $(BIN)/minimal/lanray-render
 	@BIN=$(BIN) EMBREE_REF=$(BUILD)/tools/bench/embree_ref BUILD_BENCH=$(BUILD)/tools/bench/build_bench bash tools/bench/bench-render
 	@BIN=$(BIN) RAYCLASS=$(BUILD)/tools/bench/rayclass bash tools/bench/bench-rayclass
@@ -223,6 +223,7 @@ bench: deps $(TOOLS) $(BUILD)/tools/bench/embree_ref $(BUILD)/tools/bench/import
 	@IMPORT_BENCH=$(BUILD)/tools/bench/import_bench bash tools/bench/bench-import
 	@VIEW_BENCH=$(BUILD)/tools/bench/view_bench bash tools/bench/bench-view
 	@BIN=$(BIN) bash tools/bench/bench-frame
+	@BIN=$(BIN) SCENE2POV=$(BUILD)/tools/bench/scene2pov bash tools/bench/bench-pov
 
 # make install [PREFIX=/usr/local] [DESTDIR=]: the programs, the docs, the
 # client's systemd unit and its settings file, the server's Avahi service
