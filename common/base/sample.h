@@ -108,20 +108,6 @@ static inline uint32_t sample_laine_karras(uint32_t x, uint32_t seed)
  * bits reversed (Burley, "Practical Hash-based Owen Scrambling", JCGT 2020). */
 static inline uint32_t sample_owen(uint32_t x, uint32_t seed) { return sample_reverse(sample_laine_karras(sample_reverse(x), seed)); }
 
-/* sample_sobol2's index `index` shuffled (an Owen scramble of it). */
-static inline uint32_t sample_sobol_index(uint32_t index, uint32_t seed)
-{
-    return sample_owen(index, sample_hash(seed ^ 0x5bd1e995u));
-}
-
-/* sample_sobol2's first number alone (of its shuffled index i), for a
- * dimension that needs one. */
-static inline real sample_sobol_first(uint32_t i, uint32_t seed)
-{
-    uint32_t x = sample_reverse(sample_laine_karras(i, sample_hash(seed ^ 0x68e31da4u)));
-    return (real)(x >> 8) * R(5.9604644775390625e-8);
-}
-
 /* One seed's sequence for sample_sobol_point: its three scrambles, hashed
  * once for all its points (an area light's nine points of a pixel hashed
  * them nine times; a sixth of the default scene's frame was sampling). */
@@ -132,6 +118,13 @@ typedef struct {
 static inline SampleSobol sample_sobol_seq(uint32_t seed)
 {
     return (SampleSobol){sample_hash(seed ^ 0x5bd1e995u), sample_hash(seed ^ 0x68e31da4u), sample_hash(seed ^ 0xb5297a4du)};
+}
+
+/* The first number alone of point `index` of q's sequence
+ * (sample_sobol_point's u), for a dimension that needs one. */
+static inline real sample_sobol_first(const SampleSobol *q, uint32_t index)
+{
+    return sample_unit(sample_reverse(sample_laine_karras(sample_owen(index, q->index), q->first)));
 }
 
 /* Point `index` of an Owen-scrambled Sobol (0,2)-sequence in the unit
@@ -155,8 +148,8 @@ static inline void sample_sobol_point(const SampleSobol *q, uint32_t index, real
     z ^= (z >> 16) & 0x0000ffffu;
     /* sample_owen(sample_reverse(i)) with the two reversals that cancel left out */
     uint32_t y = sample_reverse(sample_laine_karras(z, q->second));
-    *u = (real)(sample_reverse(sample_laine_karras(i, q->first)) >> 8) * R(5.9604644775390625e-8);
-    *v = (real)(y >> 8) * R(5.9604644775390625e-8);
+    *u = sample_unit(sample_reverse(sample_laine_karras(i, q->first)));
+    *v = sample_unit(y);
 }
 
 /* Point `index` of seed's sequence (sample_sobol_point). */

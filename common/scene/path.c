@@ -40,8 +40,8 @@ static void draw2(const SampleId *id, uint32_t b, uint32_t dim, real *u, real *v
  * pixel, and all of them would choose alike). */
 static real draw1(const SampleId *id, uint32_t b, uint32_t dim)
 {
-    const uint32_t seed = sample_mix(sample_mix(id->key, 0x50000000u + b), dim);
-    return sample_sobol_first(sample_sobol_index(id->index, seed), seed);
+    const SampleSobol q = sample_sobol_seq(sample_mix(sample_mix(id->key, 0x50000000u + b), dim));
+    return sample_sobol_first(&q, id->index);
 }
 
 /* Whether the shadow ray from origin along dir is stopped short of tmax

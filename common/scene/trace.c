@@ -199,31 +199,28 @@ int trace_lamp_part(const World *w, const WorldLight *l, const Hit *h)
     return 0;
 }
 
-int trace_closest(const World *w, const Ray *r, Hit *hit)
+/* The closest hit among the planes (glass_only: the glass ones) and the
+ * top tree's primitives that `only` marks (NULL: all). */
+static int closest_of(const World *w, const Ray *r, Hit *hit, int glass_only, const uint8_t *only)
 {
-    closest_planes(w, r, hit, 0);
+    closest_planes(w, r, hit, glass_only);
     Best b = {hit, 0};
-    ClosestCtx c = {w, &b, NULL};
+    if (only && w->glass_count <= WORLD_GLASS_LIST) { /* a few: each alone (the rule makes the order free) */
+        for (uint32_t i = 0; i < w->glass_count; i++)
+            leaf_closest(w, w->glass_list[i], r, &b);
+        return hit->kind != HIT_NONE;
+    }
+    ClosestCtx c = {w, &b, only};
     real tmax = hit->t;
     bvh_closest(w->tree, r, &tmax, top_leaf_closest, &c);
     return hit->kind != HIT_NONE;
 }
 
+int trace_closest(const World *w, const Ray *r, Hit *hit) { return closest_of(w, r, hit, 0, NULL); }
+
 int trace_closest_glass(const World *w, const Ray *r, Hit *hit)
 {
-    if (!w->glassy)
-        return trace_closest(w, r, hit);
-    closest_planes(w, r, hit, 1);
-    Best b = {hit, 0};
-    if (w->glass_count <= WORLD_GLASS_LIST) { /* a few: each alone (the rule makes the order free) */
-        for (uint32_t i = 0; i < w->glass_count; i++)
-            leaf_closest(w, w->glass_list[i], r, &b);
-        return hit->kind != HIT_NONE;
-    }
-    ClosestCtx c = {w, &b, w->glassy};
-    real tmax = hit->t;
-    bvh_closest(w->tree, r, &tmax, top_leaf_closest, &c);
-    return hit->kind != HIT_NONE;
+    return w->glassy ? closest_of(w, r, hit, 1, w->glassy) : trace_closest(w, r, hit);
 }
 
 int trace_occluded(const World *w, const Ray *r, real tmax, const WorldLight *towards)
@@ -234,11 +231,9 @@ int trace_occluded(const World *w, const Ray *r, real tmax, const WorldLight *to
 
 int trace_shadow(const World *w, const Ray *r, real tmax, const WorldLight *towards, int *glass)
 {
-    *glass = 0;
-    if (!w->glassy)
-        return trace_occluded(w, r, tmax, towards);
+    *glass = 0; /* and stays so where the world has no glass (glassy NULL) */
     AnyCtx c = {w, lamp_of(towards), w->glassy, glass};
-    if (occluded_planes(w, r, tmax, glass) || bvh_any(w->tree, r, tmax, top_leaf_any, &c)) {
+    if (occluded_planes(w, r, tmax, w->glassy ? glass : NULL) || bvh_any(w->tree, r, tmax, top_leaf_any, &c)) {
         *glass = 0;
         return 1;
     }
@@ -353,6 +348,10 @@ static uint32_t occluded_packet(const World *w, const Ray *rays, int n, const re
 {
     const WorldLight *lamp = lamp_of(towards);
     uint32_t blocked = 0, gl = 0;
+    if (glass && !w->glassy) { /* no glass in the world: plain occlusion */
+        *glass = 0;
+        glass = NULL;
+    }
     for (int i = 0; i < n; i++) {
         int g = 0;
         if (occluded_planes(w, &rays[i], tmax[i], glass ? &g : NULL))
@@ -390,10 +389,6 @@ uint32_t trace_occluded_packet(const World *w, const Ray *rays, int n, const rea
 uint32_t trace_shadow_packet(const World *w, const Ray *rays, int n, const real *tmax, const WorldLight *towards,
                              uint32_t *glass)
 {
-    if (!w->glassy) {
-        *glass = 0;
-        return occluded_packet(w, rays, n, tmax, towards, NULL);
-    }
     return occluded_packet(w, rays, n, tmax, towards, glass);
 }
 

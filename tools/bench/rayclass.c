@@ -3,7 +3,8 @@
  *
  *   rayclass [SCENE] [--width W] [--height H] [--threads T] [--repeat N]
  *
- * SCENE is a scene file, or the built-in default scene without one.  From
+ * SCENE is a scene file, a model (a preview scene, as lanray-render's), or
+ * the built-in default scene without one (cli_open_scene).  From
  * lanray's camera rays (one through each pixel's centre) and their hits
  * it makes six sets of rays, each in the order lanray's renderer traces
  * them (neighbouring pixels side by side, eight to a packet):
@@ -40,12 +41,11 @@
 #include <string.h>
 #include <xmmintrin.h>
 
+#include "app/cli.h"
 #include "base/opt.h"
 #include "base/sample.h"
 #include "base/timer.h"
 #include "geom/camera.h"
-#include "scene/scene_default.h"
-#include "scene/scene_parse.h"
 #include "scene/trace.h"
 #include "shading/optics.h"
 
@@ -465,7 +465,7 @@ int main(int argc, char **argv)
     Err err;
     Scene *s = NULL;
     BvhOptions opt = bvh_options_default(BVH_SAH);
-    if (a.scene_path ? scene_load(a.scene_path, &opt, 0, &s, &err) : scene_default(&s, &opt, &err)) {
+    if (cli_open_scene(a.scene_path, &opt, 0, &s, &err)) {
         fprintf(stderr, "rayclass: %s\n", err.msg);
         return 1;
     }

@@ -3,7 +3,8 @@
  *
  *   scene2pov [SCENE] -o OUT.pov [--width W] [--height H] [--aa N]
  *
- * SCENE is a scene file, or the built-in default scene without one.  What
+ * SCENE is a scene file, a model (a preview scene, as lanray-render's), or
+ * the built-in default scene without one (cli_open_scene).  What
  * it writes, item by item:
  *   camera      the pinhole as explicit location, direction, right and up
  *               vectors (POV-Ray then shoots direction + x right + y up,
@@ -37,11 +38,10 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "app/cli.h"
 #include "base/fileio.h"
 #include "base/opt.h"
 #include "geom/camera.h"
-#include "scene/scene_default.h"
-#include "scene/scene_parse.h"
 #include "scene/world.h"
 
 typedef struct {
@@ -338,7 +338,7 @@ static int parse_args(Args *a, int argc, char **argv)
     };
     const char *args[1] = {NULL};
     OptSpec spec = {.prog = "scene2pov", .synopsis = "[SCENE] -o OUT.pov [options]",
-                    .about = "Writes a lanray scene (the built-in default without one) as a POV-Ray 3.7 scene.",
+                    .about = "Writes a lanray scene, a model's preview or the built-in default scene as a POV-Ray 3.7 scene.",
                     .opts = opts, .args = args, .min_args = 0, .max_args = 1, .missing = "",
                     .exits = "  0  written\n  1  an error, or what POV-Ray has no match for\n  2  bad command line\n"};
     int go = opt_run(&spec, argc, argv);
@@ -359,7 +359,7 @@ int main(int argc, char **argv)
     Err err;
     Scene *s = NULL;
     BvhOptions opt = bvh_options_default(BVH_SAH);
-    if (a.scene_path ? scene_load(a.scene_path, &opt, 0, &s, &err) : scene_default(&s, &opt, &err)) {
+    if (cli_open_scene(a.scene_path, &opt, 0, &s, &err)) {
         fprintf(stderr, "scene2pov: %s\n", err.msg);
         return 1;
     }
