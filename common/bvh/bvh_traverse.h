@@ -25,12 +25,22 @@ typedef struct {
     real tnear;
 } BvhStackEntry;
 
+/* A tree that is one leaf of one primitive (a scene of one model: its top
+ * level) goes straight to the primitive: the box around it would test
+ * what the primitive's own test does (a model's wide tree starts with its
+ * children's boxes), and cost the ray a scalar slab test and a walk. */
+#define BVH_LONE_LEAF(nodes) ((nodes)[0].count == 1)
+
 static inline __attribute__((always_inline)) int bvh_closest(const Bvh *b, const Ray *r, real *tmax,
                                                              BvhLeafClosest leaf, void *ctx)
 {
     const BvhNode *nodes = b->nodes;
     real tn;
-    if (b->node_count == 0 || !bvh_node_hit(&nodes[0], r, *tmax, &tn))
+    if (b->node_count == 0)
+        return 0;
+    if (BVH_LONE_LEAF(nodes))
+        return leaf(ctx, nodes[0].first, 1, r, tmax);
+    if (!bvh_node_hit(&nodes[0], r, *tmax, &tn))
         return 0;
     BvhStackEntry stack[BVH_MAX_DEPTH];
     uint32_t sp = 0, idx = 0;
@@ -69,7 +79,11 @@ static inline __attribute__((always_inline)) int bvh_any(const Bvh *b, const Ray
 {
     const BvhNode *nodes = b->nodes;
     real tn;
-    if (b->node_count == 0 || !bvh_node_hit(&nodes[0], r, tmax, &tn))
+    if (b->node_count == 0)
+        return 0;
+    if (BVH_LONE_LEAF(nodes))
+        return leaf(ctx, nodes[0].first, 1, r, tmax);
+    if (!bvh_node_hit(&nodes[0], r, tmax, &tn))
         return 0;
     uint32_t stack[BVH_MAX_DEPTH];
     uint32_t sp = 0, idx = 0;

@@ -236,6 +236,17 @@ static inline __attribute__((always_inline)) int wide_leaf_closest(const WideTri
     return found;
 }
 
+/* The same for the single-ray walk, out of line: there the node constants
+ * fill the vector registers, and the leaf test inlined spilled and copied
+ * them on every leaf visit.  noipa: the caller must not learn that the ray
+ * survives the call, so that it loads its node constants from the ray again
+ * after it rather than keep them across it. */
+static __attribute__((noipa)) int wide_leaf_closest_call(const WideTris *blk, uint32_t blocks, const WideRay *k,
+                                                         float *best, uint32_t *best_idx, WideHit *hit)
+{
+    return wide_leaf_closest(blk, blocks, k, best, best_idx, hit);
+}
+
 /* Whether any of a leaf's triangles blocks the ray before tmax. */
 static inline __attribute__((always_inline)) int wide_leaf_any(const WideTris *blk, uint32_t blocks, const WideRay *k,
                                                               float tmax)
@@ -255,14 +266,18 @@ static inline __attribute__((always_inline)) int wide_leaf_any(const WideTris *b
 }
 
 /* Per-ray node constants: the row of each axis's entry and exit bound. */
-#define WIDE_NODE_SETUP()                                                                                         \
+#define WIDE_NODE_VECTORS()                                                                                       \
     const VN ox = VN_SET1(r->org.x), oy = VN_SET1(r->org.y), oz = VN_SET1(r->org.z);                              \
     const VN ix = VN_SET1(r->inv.x), iy = VN_SET1(r->inv.y), iz = VN_SET1(r->inv.z);                              \
-    const VN vtmin = VN_SET1(r->tmin), fudge = VN_SET1(BVH_FUDGE);                                                \
+    const VN vtmin = VN_SET1(r->tmin), fudge = VN_SET1(BVH_FUDGE)
+#define WIDE_NODE_ROWS()                                                                                          \
     const int n0 = (r->inv.x >= 0 ? 0 : 3) * NW, n1 = (r->inv.y >= 0 ? 1 : 4) * NW,                               \
               n2 = (r->inv.z >= 0 ? 2 : 5) * NW;                                                                  \
     const int f0 = (r->inv.x >= 0 ? 3 : 0) * NW, f1 = (r->inv.y >= 0 ? 4 : 1) * NW,                               \
               f2 = (r->inv.z >= 0 ? 5 : 2) * NW
+#define WIDE_NODE_SETUP()                                                                                         \
+    WIDE_NODE_VECTORS();                                                                                          \
+    WIDE_NODE_ROWS()
 
 /* Slab test of a node's children against (tmin, tmax]; the mask of those
  * hit and their entry distances.  Conservative as bvh_node_hit: a NaN
@@ -277,79 +292,88 @@ static inline __attribute__((always_inline)) int wide_leaf_any(const WideTris *b
         mask_out = VN_LE_MASK(lo_out, hi_ * fudge);                                                               \
     } while (0)
 
-#define WIDE_NODE(w, i) ((const float *)(const void *)((const char *)(w)->nodes + (size_t)(i) * (w)->node_bytes))
+/* nodes are NW * 32 bytes (wide_build): a shift, not the stored stride */
+#define WIDE_NODE(w, i) ((const float *)(const void *)((const char *)(w)->nodes + (size_t)(i) * (NW * 32)))
 #define WIDE_STACK (BVH_MAX_DEPTH * (NW - 1) + NW)
 
-/* Children hit, nearest last: all but the last go on the stack. */
 /* The start of a child's memory, fetched while its siblings are tested:
  * a big model's nodes and leaves miss the cache.  A node is NW / 2 cache
  * lines (128 or 256 bytes, aligned); a leaf's first block of 160 bytes
  * spans at most three. */
 static inline __attribute__((always_inline)) void wide_prefetch(const Wide *w, uint32_t id, uint32_t blocks)
 {
-    const char *m = blocks ? (const char *)&w->tris[id] : (const char *)WIDE_NODE(w, id);
-    const int lines = blocks ? 3 : NW / 2;
-    for (int i = 0; i < lines; i++)
-        _mm_prefetch(m + 64 * i, _MM_HINT_T0);
-}
-
-static inline __attribute__((always_inline)) WideEntry wide_sort_push(const Wide *w, const float *node, int mask, VN lo,
-                                                                     WideEntry *stack, uint32_t *sp)
-{
-    const uint32_t *child = (const uint32_t *)(const void *)(node + WIDE_BOX_FLOATS(NW));
-    const uint8_t *blocks = (const uint8_t *)node + WIDE_BLOCKS_OFFSET(NW);
-    float tn[NW];
-    VN_STORE(tn, lo);
-    WideEntry e[NW];
-    int n = 0;
-    while (mask) {
-        int i = __builtin_ctz((unsigned)mask);
-        mask &= mask - 1;
-        WideEntry x = {child[i], blocks[i], tn[i], 0};
-        wide_prefetch(w, x.id, x.blocks);
-        int j = n++;
-        while (j > 0 && e[j - 1].t < x.t) { /* farthest first */
-            e[j] = e[j - 1];
-            j--;
-        }
-        e[j] = x;
+    if (blocks) {
+        const char *m = (const char *)&w->tris[id];
+        _mm_prefetch(m, _MM_HINT_T0), _mm_prefetch(m + 64, _MM_HINT_T0), _mm_prefetch(m + 128, _MM_HINT_T0);
+    } else {
+        const char *m = (const char *)WIDE_NODE(w, id);
+        for (int i = 0; i < NW / 2; i++) /* unrolled: NW is a constant */
+            _mm_prefetch(m + 64 * i, _MM_HINT_T0);
     }
-    /* a tree of depth <= BVH_MAX_DEPTH (bvh_validate) pushes at most NW - 1 a level */
-    assert(*sp + (uint32_t)n <= WIDE_STACK + 1);
-    for (int j = 0; j < n - 1; j++)
-        stack[(*sp)++] = e[j];
-    return e[n - 1];
 }
 
-/* The next node of a single ray: the only child hit, or the nearest of
- * several with the others pushed. */
+/* The next node of a single ray: the only child hit; of two, the nearer,
+ * the other pushed; of more, all pushed, sorted in place (farthest
+ * deepest) and the nearest popped.  Pushed children are prefetched. */
 static inline __attribute__((always_inline)) void wide_descend(const Wide *w, const float *box, int mask, VN lo, WideEntry *stack,
                                                               uint32_t *sp, uint32_t *cur, uint32_t *cur_blocks)
 {
-    if ((mask & (mask - 1)) == 0) {
-        int i = __builtin_ctz((unsigned)mask);
-        *cur = ((const uint32_t *)(const void *)(box + WIDE_BOX_FLOATS(NW)))[i];
-        *cur_blocks = ((const uint8_t *)box + WIDE_BLOCKS_OFFSET(NW))[i];
-    } else {
-        WideEntry e = wide_sort_push(w, box, mask, lo, stack, sp);
-        *cur = e.id, *cur_blocks = e.blocks;
+    const uint32_t *child = (const uint32_t *)(const void *)(box + WIDE_BOX_FLOATS(NW));
+    const uint8_t *blocks = (const uint8_t *)box + WIDE_BLOCKS_OFFSET(NW);
+    const int i = __builtin_ctz((unsigned)mask);
+    mask &= mask - 1;
+    if (!mask) {
+        *cur = child[i], *cur_blocks = blocks[i];
+        return;
     }
+    float tn[NW];
+    VN_STORE(tn, lo);
+    const int j = __builtin_ctz((unsigned)mask);
+    mask &= mask - 1;
+    if (!mask) {
+        const int near = tn[j] < tn[i] ? j : i, far = i + j - near;
+        wide_prefetch(w, child[far], blocks[far]);
+        stack[(*sp)++] = (WideEntry){child[far], blocks[far], tn[far], 0};
+        *cur = child[near], *cur_blocks = blocks[near];
+        return;
+    }
+    /* a tree of depth <= BVH_MAX_DEPTH (bvh_validate) pushes at most NW - 1 a level */
+    assert(*sp + NW <= WIDE_STACK + 1);
+    WideEntry *const base = &stack[*sp];
+    uint32_t n = 0;
+    base[n++] = (WideEntry){child[i], blocks[i], tn[i], 0};
+    for (int k = j;; k = __builtin_ctz((unsigned)mask), mask &= mask - 1) {
+        WideEntry x = {child[k], blocks[k], tn[k], 0};
+        wide_prefetch(w, x.id, x.blocks);
+        uint32_t m = n++;
+        while (m > 0 && base[m - 1].t < x.t) { /* farthest first */
+            base[m] = base[m - 1];
+            m--;
+        }
+        base[m] = x;
+        if (!mask)
+            break;
+    }
+    *sp += n - 1;
+    *cur = base[n - 1].id, *cur_blocks = base[n - 1].blocks;
 }
 
 int KERNEL_CLOSEST(const Wide *w, const Ray *r, real tmax, uint32_t tie, WideHit *hit)
 {
     if (wide_ray_nan(r))
         return 0;
-    WideRay k;
-    wide_ray_setup(&k, r);
-    WIDE_NODE_SETUP();
     WideEntry stack[WIDE_STACK];
     uint32_t sp = 0, cur = w->root, cur_blocks = w->root_blocks;
     float best = tmax;
     uint32_t best_idx = tie; /* a hit exactly at tmax is taken if its index is below tie */
     int found = 0;
+    WideRay k;
+    wide_ray_setup(&k, r);
+    WIDE_NODE_ROWS();
     for (;;) {
-        if (cur_blocks == 0) {
+        /* made again after every leaf (wide_leaf_closest_call) */
+        WIDE_NODE_VECTORS();
+        while (cur_blocks == 0) {
             const float *box = WIDE_NODE(w, cur);
             VN lo;
             int mask;
@@ -358,9 +382,14 @@ int KERNEL_CLOSEST(const Wide *w, const Ray *r, real tmax, uint32_t tie, WideHit
                 wide_descend(w, box, mask, lo, stack, &sp, &cur, &cur_blocks);
                 continue;
             }
-        } else {
-            found |= wide_leaf_closest(&w->tris[cur], cur_blocks, &k, &best, &best_idx, hit);
+            do {
+                if (sp == 0)
+                    return found;
+                --sp;
+            } while (stack[sp].t > best * BVH_FUDGE);
+            cur = stack[sp].id, cur_blocks = stack[sp].blocks;
         }
+        found |= wide_leaf_closest_call(&w->tris[cur], cur_blocks, &k, &best, &best_idx, hit);
         do {
             if (sp == 0)
                 return found;
@@ -568,6 +597,159 @@ static inline __attribute__((always_inline)) uint32_t wide_packet_rays(const flo
     return bits & active;
 }
 
+/* ---- a leaf against a packet's rays side by side ----
+ *
+ * Coherent rays (camera rays, shadow rays to one light) mostly enter the
+ * same leaves: there each triangle is tested against the packet's rays at
+ * once, one ray to a lane, instead of each ray against four triangles.
+ * Every lane does wide_tris_hit's arithmetic, operation for operation, for
+ * its ray and the triangle, and the hits are taken by the same rule
+ * (wide_take_lanes), so each ray ends with the hit it finds alone.  The
+ * sheared frame's axis order is the ray's: rays of one packet share it or
+ * the packet's leaves go ray by ray. */
+typedef uint32_t WideLaneIds __attribute__((vector_size(4 * WIDE_PACKET)));
+
+/* Leaves that fewer of a packet's rays enter go ray by ray. */
+#ifndef WIDE_LANES_MIN
+#define WIDE_LANES_MIN 3
+#endif
+
+typedef struct {
+    int kx, ky, kz;
+    WideLanes ox, oy, oz, sx, sy, sz, tmin;
+} WideRayLanes;
+
+/* A lane mask's bits. */
+static inline __attribute__((always_inline)) uint32_t wide_lane_bits(WideLaneBits m)
+{
+#if NW == 8
+    return (uint32_t)_mm256_movemask_ps((__m256)m);
+#else
+    __m128 half[2];
+    memcpy(half, &m, sizeof half);
+    return (uint32_t)(_mm_movemask_ps(half[0]) | _mm_movemask_ps(half[1]) << 4);
+#endif
+}
+
+/* The rays' constants (wide_ray_setup's) as lanes; 0 when their axis
+ * orders differ.  Lanes past n repeat ray 0 (masked off by the callers). */
+static inline __attribute__((always_inline)) int wide_ray_lanes(WideRayLanes *L, const Ray *const *rays, int n)
+{
+    float v[7][WIDE_PACKET];
+    const int kx = rays[0]->kx, ky = rays[0]->ky, kz = rays[0]->kz;
+    L->kx = kx, L->ky = ky, L->kz = kz;
+    for (int i = 0; i < WIDE_PACKET; i++) {
+        const Ray *r = rays[i < n ? i : 0];
+        if (r->kx != kx || r->ky != ky || r->kz != kz)
+            return 0;
+        v[0][i] = r->org.e[kx], v[1][i] = r->org.e[ky], v[2][i] = r->org.e[kz];
+        v[3][i] = r->sx, v[4][i] = r->sy, v[5][i] = r->sz, v[6][i] = r->tmin;
+    }
+    memcpy(&L->ox, v[0], sizeof L->ox), memcpy(&L->oy, v[1], sizeof L->oy), memcpy(&L->oz, v[2], sizeof L->oz);
+    memcpy(&L->sx, v[3], sizeof L->sx), memcpy(&L->sy, v[4], sizeof L->sy), memcpy(&L->sz, v[5], sizeof L->sz);
+    memcpy(&L->tmin, v[6], sizeof L->tmin);
+    return 1;
+}
+
+/* Triangle l of block b against the lanes `active`: the mask of lanes that
+ * hit with tmin < t and t < lim (t <= lim when `upto`), their t, V, W and
+ * 1/det (wide_tris_hit's arithmetic, a lane per ray). */
+static inline __attribute__((always_inline)) uint32_t wide_tri_lanes(const WideTris *b, int l, const WideRayLanes *L,
+                                                                      uint32_t active, WideLanes lim, int upto,
+                                                                      WideLaneBits *ok_out, WideLanes *t_out,
+                                                                      WideLanes *v_out, WideLanes *w_out,
+                                                                      WideLanes *inv_out)
+{
+    const WideLanes ax = b->v[0][L->kx][l] - L->ox, ay = b->v[0][L->ky][l] - L->oy, az = b->v[0][L->kz][l] - L->oz;
+    const WideLanes bx = b->v[1][L->kx][l] - L->ox, by = b->v[1][L->ky][l] - L->oy, bz = b->v[1][L->kz][l] - L->oz;
+    const WideLanes cx = b->v[2][L->kx][l] - L->ox, cy = b->v[2][L->ky][l] - L->oy, cz = b->v[2][L->kz][l] - L->oz;
+    const WideLanes Ax = ax - L->sx * az, Ay = ay - L->sy * az;
+    const WideLanes Bx = bx - L->sx * bz, By = by - L->sy * bz;
+    const WideLanes Cx = cx - L->sx * cz, Cy = cy - L->sy * cz;
+    WideLanes U = Cx * By - Cy * Bx;
+    WideLanes V = Ax * Cy - Ay * Cx;
+    WideLanes W = Bx * Ay - By * Ax;
+    const uint32_t z = wide_lane_bits((U == 0) | (V == 0) | (W == 0)) & active;
+    if (__builtin_expect(z != 0, 0)) { /* an edge through a ray: those lanes in double, as the scalar test does */
+        float fa[6][8], fu[3][8];
+        memcpy(fa[0], &Ax, sizeof Ax), memcpy(fa[1], &Ay, sizeof Ay), memcpy(fa[2], &Bx, sizeof Bx);
+        memcpy(fa[3], &By, sizeof By), memcpy(fa[4], &Cx, sizeof Cx), memcpy(fa[5], &Cy, sizeof Cy);
+        memcpy(fu[0], &U, sizeof U), memcpy(fu[1], &V, sizeof V), memcpy(fu[2], &W, sizeof W);
+        wide_edges_in_double((int)z, (const float(*)[8])fa, fu);
+        memcpy(&U, fu[0], sizeof U), memcpy(&V, fu[1], sizeof V), memcpy(&W, fu[2], sizeof W);
+    }
+    const WideLaneBits outside = ((U < 0) | (V < 0) | (W < 0)) & ((U > 0) | (V > 0) | (W > 0));
+    if ((wide_lane_bits(outside) & active) == active)
+        return 0;
+    const WideLanes det = U + V + W;
+    const WideLanes T = U * (L->sz * az) + V * (L->sz * bz) + W * (L->sz * cz);
+    const WideLanes inv = 1.0f / det;
+    const WideLanes t = T * inv;
+    const WideLaneBits ok = (t > L->tmin) & (upto ? t <= lim : t < lim) & ~outside & ~(det == 0);
+    *ok_out = ok, *t_out = t, *v_out = V, *w_out = W, *inv_out = inv;
+    return wide_lane_bits(ok) & active;
+}
+
+/* A leaf against the rays of `active`, each ray's closest hit so far in
+ * best, best_idx and hits (wide_leaf_closest's rule); the mask of rays
+ * that took a hit. */
+static inline __attribute__((always_inline)) uint32_t wide_leaf_closest_lanes(const WideTris *blk, uint32_t blocks,
+                                                                               const WideRayLanes *L, uint32_t active,
+                                                                               float *best, uint32_t *best_idx,
+                                                                               WideHit *hits)
+{
+    WideLanes vbest;
+    WideLaneIds vidx;
+    memcpy(&vbest, best, sizeof vbest), memcpy(&vidx, best_idx, sizeof vidx);
+    const WideLaneBits on = ((WideLaneBits){1, 2, 4, 8, 16, 32, 64, 128} & (int32_t)active) != 0;
+    uint32_t found = 0;
+    for (uint32_t b = 0; b < blocks; b++)
+        for (int l = 0; l < WIDE_TRIS; l++) {
+            const uint32_t id = blk[b].idx[l];
+            if (l > 0 && id == blk[b].idx[l - 1]) /* the leaf's last triangle, repeated */
+                break;
+            WideLanes t, v, ww, inv;
+            WideLaneBits ok;
+            uint32_t m = wide_tri_lanes(&blk[b], l, L, active, vbest, 1, &ok, &t, &v, &ww, &inv);
+            if (!m)
+                continue;
+            const WideLaneBits take = ok & on & ((t < vbest) | ((t == vbest) & (WideLaneBits)(id < vidx)));
+            m &= wide_lane_bits(take);
+            if (!m)
+                continue;
+            vbest = (WideLanes)(((WideLaneBits)t & take) | ((WideLaneBits)vbest & ~take));
+            vidx = (WideLaneIds)(((WideLaneBits)((WideLaneIds){0} + id) & take) | ((WideLaneBits)vidx & ~take));
+            const WideLanes b1 = v * inv, b2 = ww * inv;
+            for (uint32_t k = m; k; k &= k - 1) {
+                const int i = __builtin_ctz(k);
+                hits[i] = (WideHit){t[i], b1[i], b2[i], id};
+            }
+            found |= m;
+        }
+    memcpy(best, &vbest, sizeof vbest), memcpy(best_idx, &vidx, sizeof vidx);
+    return found;
+}
+
+/* The rays of `active` that a leaf's triangles block before their tmax. */
+static inline __attribute__((always_inline)) uint32_t wide_leaf_any_lanes(const WideTris *blk, uint32_t blocks,
+                                                                           const WideRayLanes *L, uint32_t active,
+                                                                           WideLanes lim)
+{
+    uint32_t hit = 0;
+    for (uint32_t b = 0; b < blocks; b++)
+        for (int l = 0; l < WIDE_TRIS; l++) {
+            const uint32_t id = blk[b].idx[l];
+            if (l > 0 && id == blk[b].idx[l - 1])
+                break;
+            WideLanes t, v, ww, inv;
+            WideLaneBits ok;
+            hit |= wide_tri_lanes(&blk[b], l, L, active & ~hit, lim, 0, &ok, &t, &v, &ww, &inv);
+            if ((hit & active) == active)
+                return hit;
+        }
+    return hit;
+}
+
 /* Pushes the children hit (farthest first) and returns the nearest; leaf
  * children carry the rays that enter them.  sorted: nearest child first
  * (closest hits); else in the node's order,
@@ -663,12 +845,14 @@ uint32_t KERNEL_CLOSEST_PACKET(const Wide *w, const Ray *const *rays, int n, con
         return 0;
     WideRay k[WIDE_PACKET];
     float best[WIDE_PACKET] = {0};
-    uint32_t best_idx[WIDE_PACKET];
+    uint32_t best_idx[WIDE_PACKET] = {0};
     for (int i = 0; i < n; i++) {
         wide_ray_setup(&k[i], rays[i]);
         best[i] = tmax[i];
         best_idx[i] = tie[i];
     }
+    WideRayLanes L;
+    const int lanes = wide_ray_lanes(&L, rays, n);
     WideEntry stack[WIDE_STACK];
     uint32_t sp = 0;
     WideEntry cur = {w->root, w->root_blocks, 0, all};
@@ -684,12 +868,15 @@ uint32_t KERNEL_CLOSEST_PACKET(const Wide *w, const Ray *const *rays, int n, con
             }
         } else {
             uint32_t rs = cur.rays;
-            while (rs) {
-                int i = __builtin_ctz(rs);
-                rs &= rs - 1;
-                if (wide_leaf_closest(&w->tris[cur.id], cur.blocks, &k[i], &best[i], &best_idx[i], &hits[i]))
-                    found |= 1u << i;
-            }
+            if (lanes && __builtin_popcount(rs) >= WIDE_LANES_MIN)
+                found |= wide_leaf_closest_lanes(&w->tris[cur.id], cur.blocks, &L, rs, best, best_idx, hits);
+            else
+                while (rs) {
+                    int i = __builtin_ctz(rs);
+                    rs &= rs - 1;
+                    if (wide_leaf_closest(&w->tris[cur.id], cur.blocks, &k[i], &best[i], &best_idx[i], &hits[i]))
+                        found |= 1u << i;
+                }
             far = wide_max_of(best, all);
         }
         do {
@@ -732,6 +919,10 @@ uint32_t KERNEL_ANY_PACKET(const Wide *w, const Ray *const *rays, int n, const r
         wide_ray_setup(&k[i], rays[i]);
         tm[i] = tmax[i];
     }
+    WideRayLanes L;
+    const int lanes = wide_ray_lanes(&L, rays, n);
+    WideLanes lim;
+    memcpy(&lim, tm, sizeof lim);
     WideEntry stack[WIDE_STACK];
     uint32_t sp = 0;
     WideEntry cur = {w->root, w->root_blocks, 0, all};
@@ -748,12 +939,15 @@ uint32_t KERNEL_ANY_PACKET(const Wide *w, const Ray *const *rays, int n, const r
             }
         } else {
             uint32_t rs = cur.rays & active;
-            while (rs) {
-                int i = __builtin_ctz(rs);
-                rs &= rs - 1;
-                if (wide_leaf_any(&w->tris[cur.id], cur.blocks, &k[i], tm[i]))
-                    hit |= 1u << i;
-            }
+            if (lanes && __builtin_popcount(rs) >= WIDE_LANES_MIN)
+                hit |= wide_leaf_any_lanes(&w->tris[cur.id], cur.blocks, &L, rs, lim);
+            else
+                while (rs) {
+                    int i = __builtin_ctz(rs);
+                    rs &= rs - 1;
+                    if (wide_leaf_any(&w->tris[cur.id], cur.blocks, &k[i], tm[i]))
+                        hit |= 1u << i;
+                }
             if (hit == all)
                 return hit;
             far = wide_max_of(tm, all & ~hit);

@@ -57,9 +57,26 @@ int model_prepare_simd(Model *m, Err *err);
 /* Closest hit nearer than tmax in model space: the smallest t, and of equal
  * t the smallest triangle index, whatever the path (see wide.h).  With
  * `at_tmax`, a hit at exactly tmax counts too (the scene's tie rule, trace.c). */
-int model_intersect(const Model *m, const Ray *r, real tmax, int at_tmax, ModelHit *hit);
+int model_intersect_bvh(const Model *m, const Ray *r, real tmax, int at_tmax, ModelHit *hit);
+static inline int model_intersect(const Model *m, const Ray *r, real tmax, int at_tmax, ModelHit *hit)
+{
+    /* inline: a ray that meets one model (a scene of one) calls the SIMD
+     * walk from the top level directly */
+    if (m->wide) {
+        WideHit wh;
+        if (!m->wide->closest(m->wide, r, tmax, at_tmax ? UINT32_MAX : 0, &wh))
+            return 0;
+        *hit = (ModelHit){wh.t, wh.b1, wh.b2, wh.tri};
+        return 1;
+    }
+    return model_intersect_bvh(m, r, tmax, at_tmax, hit);
+}
 /* Any hit nearer than tmax: shadow rays stop at the first occluder. */
-int model_occluded(const Model *m, const Ray *r, real tmax);
+int model_occluded_bvh(const Model *m, const Ray *r, real tmax);
+static inline int model_occluded(const Model *m, const Ray *r, real tmax)
+{
+    return m->wide ? m->wide->any(m->wide, r, tmax) : model_occluded_bvh(m, r, tmax);
+}
 /* The same for n <= WIDE_PACKET rays at once (a packet where the SIMD path
  * has one): the mask of the rays that hit; each ray's answer is what the
  * single-ray call gives. */

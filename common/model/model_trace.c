@@ -41,26 +41,14 @@ static inline __attribute__((always_inline)) int leaf_any(const void *vctx, uint
     return 0;
 }
 
-int model_intersect(const Model *m, const Ray *r, real tmax, int at_tmax, ModelHit *hit)
+/* Without a wide tree (double builds, other CPUs): the binary walk. */
+int model_intersect_bvh(const Model *m, const Ray *r, real tmax, int at_tmax, ModelHit *hit)
 {
-    uint32_t tie = at_tmax ? UINT32_MAX : 0;
-    if (m->wide) {
-        WideHit wh;
-        if (!m->wide->closest(m->wide, r, tmax, tie, &wh))
-            return 0;
-        *hit = (ModelHit){wh.t, wh.b1, wh.b2, wh.tri};
-        return 1;
-    }
-    ClosestCtx c = {m, hit, tie};
+    ClosestCtx c = {m, hit, at_tmax ? UINT32_MAX : 0};
     return bvh_closest(&m->bvh, r, &tmax, leaf_closest, &c);
 }
 
-int model_occluded(const Model *m, const Ray *r, real tmax)
-{
-    if (m->wide)
-        return m->wide->any(m->wide, r, tmax);
-    return bvh_any(&m->bvh, r, tmax, leaf_any, m);
-}
+int model_occluded_bvh(const Model *m, const Ray *r, real tmax) { return bvh_any(&m->bvh, r, tmax, leaf_any, m); }
 
 uint32_t model_intersect_packet(const Model *m, const Ray *const *rays, int n, const real *tmax, const int *at_tmax,
                                 ModelHit *hits)
