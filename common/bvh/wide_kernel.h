@@ -507,21 +507,73 @@ typedef struct {
     int n[3], f[3];         /* rows of the entry and exit bounds */
 } WidePacket;
 
+/* A packet's rays read side by side: eight floats of each Ray, from float
+ * `first` on, as eight lane vectors (one per field, one lane per ray;
+ * lanes past n repeat ray 0).  With AVX, eight loads and a transpose, not
+ * a store per field and ray. */
+typedef struct {
+    WideLanes a[8]; /* floats 0-7: org x y z, dir x y z, inv x y */
+    WideLanes b[8]; /* floats 8-15: inv z, tmin, tmax, kx, ky, kz (int bits), near[0..1] */
+    WideLanes c[8]; /* floats 15-22: near[1..2], far[0..2], sx, sy, sz */
+} WideRayRows;
+
+_Static_assert(sizeof(real) == 4 && offsetof(Ray, inv) == 24 && offsetof(Ray, tmin) == 36 &&
+                   offsetof(Ray, kx) == 44 && offsetof(Ray, sx) == 80 && sizeof(Ray) == 92,
+               "wide_ray_rows reads a Ray as 23 floats in this order");
+
+static inline __attribute__((always_inline)) void wide_ray_rows8(const float *const *f, int first, WideLanes out[8])
+{
+#if NW == 8
+#define ROW(i) _mm256_loadu_ps(f[i] + first)
+    const __m256 r[8] = {ROW(0), ROW(1), ROW(2), ROW(3), ROW(4), ROW(5), ROW(6), ROW(7)};
+#undef ROW
+    const __m256 t0 = _mm256_unpacklo_ps(r[0], r[1]), t1 = _mm256_unpackhi_ps(r[0], r[1]);
+    const __m256 t2 = _mm256_unpacklo_ps(r[2], r[3]), t3 = _mm256_unpackhi_ps(r[2], r[3]);
+    const __m256 t4 = _mm256_unpacklo_ps(r[4], r[5]), t5 = _mm256_unpackhi_ps(r[4], r[5]);
+    const __m256 t6 = _mm256_unpacklo_ps(r[6], r[7]), t7 = _mm256_unpackhi_ps(r[6], r[7]);
+    const __m256 s0 = _mm256_shuffle_ps(t0, t2, 0x44), s1 = _mm256_shuffle_ps(t0, t2, 0xee);
+    const __m256 s2 = _mm256_shuffle_ps(t1, t3, 0x44), s3 = _mm256_shuffle_ps(t1, t3, 0xee);
+    const __m256 s4 = _mm256_shuffle_ps(t4, t6, 0x44), s5 = _mm256_shuffle_ps(t4, t6, 0xee);
+    const __m256 s6 = _mm256_shuffle_ps(t5, t7, 0x44), s7 = _mm256_shuffle_ps(t5, t7, 0xee);
+    const __m256 o[8] = {_mm256_permute2f128_ps(s0, s4, 0x20), _mm256_permute2f128_ps(s1, s5, 0x20),
+                         _mm256_permute2f128_ps(s2, s6, 0x20), _mm256_permute2f128_ps(s3, s7, 0x20),
+                         _mm256_permute2f128_ps(s0, s4, 0x31), _mm256_permute2f128_ps(s1, s5, 0x31),
+                         _mm256_permute2f128_ps(s2, s6, 0x31), _mm256_permute2f128_ps(s3, s7, 0x31)};
+    memcpy(out, o, sizeof o);
+#else
+    float v[8][WIDE_PACKET];
+    for (int i = 0; i < WIDE_PACKET; i++)
+        for (int j = 0; j < 8; j++)
+            v[j][i] = f[i][first + j];
+    memcpy(out, v, sizeof v);
+#endif
+}
+
+static inline __attribute__((always_inline)) void wide_ray_rows(WideRayRows *R, const Ray *const *rays, int n)
+{
+    const float *f[WIDE_PACKET];
+    for (int i = 0; i < WIDE_PACKET; i++)
+        f[i] = (const float *)(const void *)rays[i < n ? i : 0];
+    wide_ray_rows8(f, 0, R->a);
+    wide_ray_rows8(f, 8, R->b);
+    wide_ray_rows8(f, 15, R->c);
+}
+
 /* Fills the packet bounds and the rays' lanes; 0 when the rays are not
  * coherent enough: a direction component zero, not finite or of another
  * sign than the others' (0 < |1/d| < inf holds exactly when d is finite,
  * nonzero and its reciprocal does not overflow), origins spread wider
  * than `spread` on an axis, or unit directions wider than `dspread`. */
-static inline __attribute__((always_inline)) int wide_packet_setup(WidePacket *p, WideRays *q, const Ray *const *rays,
-                                                                   int n, float spread, float dspread)
+static inline __attribute__((always_inline)) int wide_packet_setup(WidePacket *p, WideRays *q, const WideRayRows *R,
+                                                                   float spread, float dspread)
 {
     float o[3][WIDE_PACKET], inv[3][WIDE_PACKET], tmin[WIDE_PACKET], d[3][WIDE_PACKET];
-    for (int i = 0; i < WIDE_PACKET; i++) {
-        const Ray *r = rays[i < n ? i : 0]; /* lanes past n repeat ray 0: bounds and tests unchanged */
-        for (int a = 0; a < 3; a++)
-            o[a][i] = r->org.e[a], inv[a][i] = r->inv.e[a], d[a][i] = r->dir.e[a];
-        tmin[i] = r->tmin;
+    for (int a = 0; a < 3; a++) {
+        memcpy(o[a], &R->a[a], sizeof o[a]);
+        memcpy(d[a], &R->a[3 + a], sizeof d[a]);
     }
+    memcpy(inv[0], &R->a[6], sizeof inv[0]), memcpy(inv[1], &R->a[7], sizeof inv[1]);
+    memcpy(inv[2], &R->b[0], sizeof inv[2]), memcpy(tmin, &R->b[1], sizeof tmin);
     for (int a = 0; a < 3; a++)
         if (!(wide_hmax(d[a]) - wide_hmin(d[a]) <= dspread))
             return 0;
@@ -633,21 +685,15 @@ static inline __attribute__((always_inline)) uint32_t wide_lane_bits(WideLaneBit
 
 /* The rays' constants (wide_ray_setup's) as lanes; 0 when their axis
  * orders differ.  Lanes past n repeat ray 0 (masked off by the callers). */
-static inline __attribute__((always_inline)) int wide_ray_lanes(WideRayLanes *L, const Ray *const *rays, int n)
+static inline __attribute__((always_inline)) int wide_ray_lanes(WideRayLanes *L, const WideRayRows *R)
 {
-    float v[7][WIDE_PACKET];
-    const int kx = rays[0]->kx, ky = rays[0]->ky, kz = rays[0]->kz;
-    L->kx = kx, L->ky = ky, L->kz = kz;
-    for (int i = 0; i < WIDE_PACKET; i++) {
-        const Ray *r = rays[i < n ? i : 0];
-        if (r->kx != kx || r->ky != ky || r->kz != kz)
-            return 0;
-        v[0][i] = r->org.e[kx], v[1][i] = r->org.e[ky], v[2][i] = r->org.e[kz];
-        v[3][i] = r->sx, v[4][i] = r->sy, v[5][i] = r->sz, v[6][i] = r->tmin;
-    }
-    memcpy(&L->ox, v[0], sizeof L->ox), memcpy(&L->oy, v[1], sizeof L->oy), memcpy(&L->oz, v[2], sizeof L->oz);
-    memcpy(&L->sx, v[3], sizeof L->sx), memcpy(&L->sy, v[4], sizeof L->sy), memcpy(&L->sz, v[5], sizeof L->sz);
-    memcpy(&L->tmin, v[6], sizeof L->tmin);
+    const WideLaneBits kx = (WideLaneBits)R->b[3], ky = (WideLaneBits)R->b[4], kz = (WideLaneBits)R->b[5];
+    L->kx = kx[0], L->ky = ky[0], L->kz = kz[0];
+    if (wide_lane_bits((kx != L->kx) | (ky != L->ky) | (kz != L->kz)))
+        return 0;
+    L->ox = R->a[L->kx], L->oy = R->a[L->ky], L->oz = R->a[L->kz];
+    L->sx = R->c[5], L->sy = R->c[6], L->sz = R->c[7];
+    L->tmin = R->b[1];
     return 1;
 }
 
@@ -834,7 +880,10 @@ uint32_t KERNEL_CLOSEST_PACKET(const Wide *w, const Ray *const *rays, int n, con
     WidePacket p;
     uint32_t found = 0;
     WideRays q;
-    if (n < 2 || !wide_packet_setup(&p, &q, rays, n, INFINITY, WIDE_DIR_SPREAD)) {
+    WideRayRows R;
+    if (n >= 2)
+        wide_ray_rows(&R, rays, n);
+    if (n < 2 || !wide_packet_setup(&p, &q, &R, INFINITY, WIDE_DIR_SPREAD)) {
         for (int i = 0; i < n; i++)
             found |= (uint32_t)KERNEL_CLOSEST(w, rays[i], tmax[i], tie[i], &hits[i]) << i;
         return found;
@@ -843,16 +892,16 @@ uint32_t KERNEL_CLOSEST_PACKET(const Wide *w, const Ray *const *rays, int n, con
     float far = wide_max_of(tmax, all);
     if (wide_packet_misses(w, &p, far))
         return 0;
-    WideRay k[WIDE_PACKET];
+    WideRay k[WIDE_PACKET]; /* set up when a ray first meets a leaf alone (kset) */
+    uint32_t kset = 0;
     float best[WIDE_PACKET] = {0};
     uint32_t best_idx[WIDE_PACKET] = {0};
     for (int i = 0; i < n; i++) {
-        wide_ray_setup(&k[i], rays[i]);
         best[i] = tmax[i];
         best_idx[i] = tie[i];
     }
     WideRayLanes L;
-    const int lanes = wide_ray_lanes(&L, rays, n);
+    const int lanes = wide_ray_lanes(&L, &R);
     WideEntry stack[WIDE_STACK];
     uint32_t sp = 0;
     WideEntry cur = {w->root, w->root_blocks, 0, all};
@@ -867,17 +916,22 @@ uint32_t KERNEL_CLOSEST_PACKET(const Wide *w, const Ray *const *rays, int n, con
                     continue;
             }
         } else {
-            uint32_t rs = cur.rays;
+            uint32_t rs = cur.rays, took = 0;
             if (lanes && __builtin_popcount(rs) >= WIDE_LANES_MIN)
-                found |= wide_leaf_closest_lanes(&w->tris[cur.id], cur.blocks, &L, rs, best, best_idx, hits);
+                took = wide_leaf_closest_lanes(&w->tris[cur.id], cur.blocks, &L, rs, best, best_idx, hits);
             else
                 while (rs) {
                     int i = __builtin_ctz(rs);
                     rs &= rs - 1;
+                    if (!(kset >> i & 1))
+                        wide_ray_setup(&k[i], rays[i]), kset |= 1u << i;
                     if (wide_leaf_closest(&w->tris[cur.id], cur.blocks, &k[i], &best[i], &best_idx[i], &hits[i]))
-                        found |= 1u << i;
+                        took |= 1u << i;
                 }
-            far = wide_max_of(best, all);
+            if (took) { /* a ray's limit came nearer */
+                found |= took;
+                far = wide_max_of(best, all);
+            }
         }
         do {
             if (sp == 0)
@@ -904,7 +958,10 @@ uint32_t KERNEL_ANY_PACKET(const Wide *w, const Ray *const *rays, int n, const r
     WidePacket p;
     uint32_t hit = 0;
     WideRays q;
-    if (n < 2 || !wide_packet_setup(&p, &q, rays, n, WIDE_SPREAD_LEAVES * w->leaf_size, INFINITY)) {
+    WideRayRows R;
+    if (n >= 2)
+        wide_ray_rows(&R, rays, n);
+    if (n < 2 || !wide_packet_setup(&p, &q, &R, WIDE_SPREAD_LEAVES * w->leaf_size, INFINITY)) {
         for (int i = 0; i < n; i++)
             hit |= (uint32_t)KERNEL_ANY(w, rays[i], tmax[i]) << i;
         return hit;
@@ -913,14 +970,13 @@ uint32_t KERNEL_ANY_PACKET(const Wide *w, const Ray *const *rays, int n, const r
     float far = wide_max_of(tmax, all);
     if (wide_packet_misses(w, &p, far))
         return 0;
-    WideRay k[WIDE_PACKET];
+    WideRay k[WIDE_PACKET]; /* set up when a ray first meets a leaf alone (kset) */
+    uint32_t kset = 0;
     float tm[WIDE_PACKET] = {0};
-    for (int i = 0; i < n; i++) {
-        wide_ray_setup(&k[i], rays[i]);
+    for (int i = 0; i < n; i++)
         tm[i] = tmax[i];
-    }
     WideRayLanes L;
-    const int lanes = wide_ray_lanes(&L, rays, n);
+    const int lanes = wide_ray_lanes(&L, &R);
     WideLanes lim;
     memcpy(&lim, tm, sizeof lim);
     WideEntry stack[WIDE_STACK];
@@ -939,18 +995,22 @@ uint32_t KERNEL_ANY_PACKET(const Wide *w, const Ray *const *rays, int n, const r
             }
         } else {
             uint32_t rs = cur.rays & active;
+            const uint32_t before = hit;
             if (lanes && __builtin_popcount(rs) >= WIDE_LANES_MIN)
                 hit |= wide_leaf_any_lanes(&w->tris[cur.id], cur.blocks, &L, rs, lim);
             else
                 while (rs) {
                     int i = __builtin_ctz(rs);
                     rs &= rs - 1;
+                    if (!(kset >> i & 1))
+                        wide_ray_setup(&k[i], rays[i]), kset |= 1u << i;
                     if (wide_leaf_any(&w->tris[cur.id], cur.blocks, &k[i], tm[i]))
                         hit |= 1u << i;
                 }
             if (hit == all)
                 return hit;
-            far = wide_max_of(tm, all & ~hit);
+            if (hit != before) /* a ray left: the farthest limit may come nearer */
+                far = wide_max_of(tm, all & ~hit);
         }
         if (sp == 0)
             return hit;

@@ -30,10 +30,9 @@ typedef struct {
     int wide_path;      /* the SimdPath it was built for */
 } Model;
 
-typedef struct {
-    real t, b1, b2;
-    uint32_t tri;
-} ModelHit;
+/* A hit in a model: t, barycentrics b1 and b2, triangle.  The wide
+ * kernels' own hit, so that their packets write the caller's hits. */
+typedef WideHit ModelHit;
 
 /* Builds a model from a mesh (the mesh is not modified; its textures are copied). */
 int model_from_mesh(Model **out, const Mesh *mesh, const BvhOptions *opt, Err *err);
@@ -62,13 +61,8 @@ static inline int model_intersect(const Model *m, const Ray *r, real tmax, int a
 {
     /* inline: a ray that meets one model (a scene of one) calls the SIMD
      * walk from the top level directly */
-    if (m->wide) {
-        WideHit wh;
-        if (!m->wide->closest(m->wide, r, tmax, at_tmax ? UINT32_MAX : 0, &wh))
-            return 0;
-        *hit = (ModelHit){wh.t, wh.b1, wh.b2, wh.tri};
-        return 1;
-    }
+    if (m->wide)
+        return m->wide->closest(m->wide, r, tmax, at_tmax ? UINT32_MAX : 0, hit);
     return model_intersect_bvh(m, r, tmax, at_tmax, hit);
 }
 /* Any hit nearer than tmax: shadow rays stop at the first occluder. */
@@ -80,8 +74,18 @@ static inline int model_occluded(const Model *m, const Ray *r, real tmax)
 /* The same for n <= WIDE_PACKET rays at once (a packet where the SIMD path
  * has one): the mask of the rays that hit; each ray's answer is what the
  * single-ray call gives. */
-uint32_t model_intersect_packet(const Model *m, const Ray *const *rays, int n, const real *tmax, const int *at_tmax,
-                                ModelHit *hits);
+uint32_t model_intersect_each(const Model *m, const Ray *const *rays, int n, const real *tmax, const int *at_tmax,
+                              ModelHit *hits);
+static inline uint32_t model_intersect_packet(const Model *m, const Ray *const *rays, int n, const real *tmax,
+                                              const int *at_tmax, ModelHit *hits)
+{
+    if (!m->wide || n < 2)
+        return model_intersect_each(m, rays, n, tmax, at_tmax, hits);
+    uint32_t tie[WIDE_PACKET];
+    for (int i = 0; i < n; i++)
+        tie[i] = at_tmax[i] ? UINT32_MAX : 0;
+    return m->wide->closest_packet(m->wide, rays, n, tmax, tie, hits);
+}
 uint32_t model_occluded_packet(const Model *m, const Ray *const *rays, int n, const real *tmax);
 /* Geometric (flat) normal of triangle i, not normalised. */
 static inline vec3 model_face_normal(const Model *m, uint32_t i)

@@ -50,23 +50,13 @@ int model_intersect_bvh(const Model *m, const Ray *r, real tmax, int at_tmax, Mo
 
 int model_occluded_bvh(const Model *m, const Ray *r, real tmax) { return bvh_any(&m->bvh, r, tmax, leaf_any, m); }
 
-uint32_t model_intersect_packet(const Model *m, const Ray *const *rays, int n, const real *tmax, const int *at_tmax,
-                                ModelHit *hits)
+/* A packet ray by ray: no wide tree, or a packet of one. */
+uint32_t model_intersect_each(const Model *m, const Ray *const *rays, int n, const real *tmax, const int *at_tmax,
+                              ModelHit *hits)
 {
     uint32_t found = 0;
-    if (!m->wide || n < 2) {
-        for (int i = 0; i < n; i++)
-            found |= (uint32_t)model_intersect(m, rays[i], tmax[i], at_tmax[i], &hits[i]) << i;
-        return found;
-    }
-    uint32_t tie[WIDE_PACKET];
-    WideHit wh[WIDE_PACKET];
     for (int i = 0; i < n; i++)
-        tie[i] = at_tmax[i] ? UINT32_MAX : 0;
-    found = m->wide->closest_packet(m->wide, rays, n, tmax, tie, wh);
-    for (int i = 0; i < n; i++)
-        if (found >> i & 1)
-            hits[i] = (ModelHit){wh[i].t, wh[i].b1, wh[i].b2, wh[i].tri};
+        found |= (uint32_t)model_intersect(m, rays[i], tmax[i], at_tmax[i], &hits[i]) << i;
     return found;
 }
 
