@@ -244,6 +244,22 @@ static inline __attribute__((always_inline)) int wide_leaf_closest(const WideTri
 static __attribute__((noipa)) int wide_leaf_closest_call(const WideTris *blk, uint32_t blocks, const WideRay *k,
                                                          float *best, uint32_t *best_idx, WideHit *hit)
 {
+    if (blocks == 1) { /* most leaves: one block or two, without the loops' set-up */
+        __m128 t, v, ww, inv;
+        const int m = wide_tris_hit(blk, k, *best, 1, &t, &v, &ww, &inv);
+        return m ? wide_take(blk, m, t, v, ww, inv, best, best_idx, hit) : 0;
+    }
+#if NW == 8
+    if (blocks == 2) {
+        float ts[8], vs[8], ws[8], is[8];
+        const int m = wide_tris_hit8(&blk[0], &blk[1], k, *best, 1, ts, vs, ws, is);
+        if (!m)
+            return 0;
+        uint32_t ids[8];
+        memcpy(ids, blk[0].idx, sizeof blk[0].idx), memcpy(ids + 4, blk[1].idx, sizeof blk[1].idx);
+        return wide_take_lanes(ids, m, ts, vs, ws, is, best, best_idx, hit);
+    }
+#endif
     return wide_leaf_closest(blk, blocks, k, best, best_idx, hit);
 }
 
@@ -263,6 +279,20 @@ static inline __attribute__((always_inline)) int wide_leaf_any(const WideTris *b
             return 1;
     }
     return 0;
+}
+
+/* wide_leaf_any out of line for the single-ray walk, as wide_leaf_closest_call. */
+static __attribute__((noipa)) int wide_leaf_any_call(const WideTris *blk, uint32_t blocks, const WideRay *k, float tmax)
+{
+    if (blocks == 1) {
+        __m128 t, v, ww, inv;
+        return wide_tris_hit(blk, k, tmax, 0, &t, &v, &ww, &inv) != 0;
+    }
+#if NW == 8
+    if (blocks == 2)
+        return wide_tris_hit8(&blk[0], &blk[1], k, tmax, 0, NULL, NULL, NULL, NULL) != 0;
+#endif
+    return wide_leaf_any(blk, blocks, k, tmax);
 }
 
 /* Per-ray node constants: the row of each axis's entry and exit bound. */
@@ -429,11 +459,13 @@ int KERNEL_ANY(const Wide *w, const Ray *r, real tmax)
         return 0;
     WideRay k;
     wide_ray_setup(&k, r);
-    WIDE_NODE_SETUP();
+    WIDE_NODE_ROWS();
     WideEntry stack[WIDE_STACK];
     uint32_t sp = 0, cur = w->root, cur_blocks = w->root_blocks;
     for (;;) {
-        if (cur_blocks == 0) {
+        /* made again after every leaf (wide_leaf_any_call) */
+        WIDE_NODE_VECTORS();
+        while (cur_blocks == 0) {
             const float *box = WIDE_NODE(w, cur);
             VN lo;
             int mask;
@@ -443,10 +475,13 @@ int KERNEL_ANY(const Wide *w, const Ray *r, real tmax)
                 wide_descend_any(box, mask, stack, &sp, &cur, &cur_blocks);
                 continue;
             }
-        } else {
-            if (wide_leaf_any(&w->tris[cur], cur_blocks, &k, tmax))
-                return 1;
+            if (sp == 0)
+                return 0;
+            --sp;
+            cur = stack[sp].id, cur_blocks = stack[sp].blocks;
         }
+        if (wide_leaf_any_call(&w->tris[cur], cur_blocks, &k, tmax))
+            return 1;
         if (sp == 0)
             return 0;
         --sp;
