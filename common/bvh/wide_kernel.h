@@ -74,6 +74,13 @@ static inline void wide_edges_in_double(int z, const float fa[6][8], float fu[3]
         }
 }
 
+/* WIDE_SIGNS_DIFFER: a lane misses where U, V and W have mixed signs.
+ * Where none of them is zero (z, tested first; -0 included), that is where
+ * the sign bits differ: their OR has it and their AND has not, three
+ * logical operations instead of six compares; only the sign bit of the
+ * result counts (a movemask reads it, or an arithmetic shift spreads it).
+ * A NaN lane may come out either way, and never hits: its det is NaN. */
+
 /* Four triangles at once: the lanes that hit with tmin < t and t < tmax
  * (t <= tmax when `upto`), as a bit mask; their t, V, W and 1/det. */
 static inline __attribute__((always_inline)) int wide_tris_hit(const WideTris *b, const WideRay *k, float tmax, int upto,
@@ -102,9 +109,14 @@ static inline __attribute__((always_inline)) int wide_tris_hit(const WideTris *b
         wide_edges_in_double(z, (const float(*)[8])fa, fu); /* z has lanes 0-3 only */
         U = _mm_loadu_ps(fu[0]), V = _mm_loadu_ps(fu[1]), W = _mm_loadu_ps(fu[2]);
     }
-    const __m128 neg = _mm_or_ps(_mm_or_ps(_mm_cmplt_ps(U, zero), _mm_cmplt_ps(V, zero)), _mm_cmplt_ps(W, zero));
-    const __m128 pos = _mm_or_ps(_mm_or_ps(_mm_cmpgt_ps(U, zero), _mm_cmpgt_ps(V, zero)), _mm_cmpgt_ps(W, zero));
-    const __m128 outside = _mm_and_ps(neg, pos);
+    __m128 outside;
+    if (__builtin_expect(z == 0, 1)) { /* no zero: a lane is outside where the signs differ (WIDE_SIGNS_DIFFER) */
+        outside = _mm_andnot_ps(_mm_and_ps(_mm_and_ps(U, V), W), _mm_or_ps(_mm_or_ps(U, V), W));
+    } else {
+        const __m128 neg = _mm_or_ps(_mm_or_ps(_mm_cmplt_ps(U, zero), _mm_cmplt_ps(V, zero)), _mm_cmplt_ps(W, zero));
+        const __m128 pos = _mm_or_ps(_mm_or_ps(_mm_cmpgt_ps(U, zero), _mm_cmpgt_ps(V, zero)), _mm_cmpgt_ps(W, zero));
+        outside = _mm_and_ps(neg, pos);
+    }
     /* most blocks a ray reaches it passes by: stop before the division */
     if (_mm_movemask_ps(outside) == 0xf)
         return 0;
@@ -185,11 +197,18 @@ static inline __attribute__((always_inline)) int wide_tris_hit8(const WideTris *
         wide_edges_in_double(z, (const float(*)[8])fa, fu);
         U = _mm256_loadu_ps(fu[0]), V = _mm256_loadu_ps(fu[1]), W = _mm256_loadu_ps(fu[2]);
     }
-    const __m256 neg = _mm256_or_ps(_mm256_or_ps(_mm256_cmp_ps(U, zero, _CMP_LT_OQ), _mm256_cmp_ps(V, zero, _CMP_LT_OQ)),
-                                    _mm256_cmp_ps(W, zero, _CMP_LT_OQ));
-    const __m256 pos = _mm256_or_ps(_mm256_or_ps(_mm256_cmp_ps(U, zero, _CMP_GT_OQ), _mm256_cmp_ps(V, zero, _CMP_GT_OQ)),
-                                    _mm256_cmp_ps(W, zero, _CMP_GT_OQ));
-    const __m256 outside = _mm256_and_ps(neg, pos);
+    __m256 outside;
+    if (__builtin_expect(z == 0, 1)) { /* WIDE_SIGNS_DIFFER */
+        outside = _mm256_andnot_ps(_mm256_and_ps(_mm256_and_ps(U, V), W), _mm256_or_ps(_mm256_or_ps(U, V), W));
+    } else {
+        const __m256 neg = _mm256_or_ps(
+            _mm256_or_ps(_mm256_cmp_ps(U, zero, _CMP_LT_OQ), _mm256_cmp_ps(V, zero, _CMP_LT_OQ)),
+            _mm256_cmp_ps(W, zero, _CMP_LT_OQ));
+        const __m256 pos = _mm256_or_ps(
+            _mm256_or_ps(_mm256_cmp_ps(U, zero, _CMP_GT_OQ), _mm256_cmp_ps(V, zero, _CMP_GT_OQ)),
+            _mm256_cmp_ps(W, zero, _CMP_GT_OQ));
+        outside = _mm256_and_ps(neg, pos);
+    }
     if (_mm256_movemask_ps(outside) == 0xff)
         return 0;
     const __m256 det = U + V + W;
@@ -759,7 +778,13 @@ static inline __attribute__((always_inline)) uint32_t wide_tri_lanes(const WideT
         wide_edges_in_double((int)z, (const float(*)[8])fa, fu);
         memcpy(&U, fu[0], sizeof U), memcpy(&V, fu[1], sizeof V), memcpy(&W, fu[2], sizeof W);
     }
-    const WideLaneBits outside = ((U < 0) | (V < 0) | (W < 0)) & ((U > 0) | (V > 0) | (W > 0));
+    WideLaneBits outside;
+    if (__builtin_expect(z == 0, 1)) { /* WIDE_SIGNS_DIFFER; the sign spread over the lane */
+        const WideLaneBits u = (WideLaneBits)U, v = (WideLaneBits)V, w = (WideLaneBits)W;
+        outside = ((u | v | w) & ~(u & v & w)) >> 31;
+    } else {
+        outside = ((U < 0) | (V < 0) | (W < 0)) & ((U > 0) | (V > 0) | (W > 0));
+    }
     if ((wide_lane_bits(outside) & active) == active)
         return 0;
     const WideLanes det = U + V + W;
