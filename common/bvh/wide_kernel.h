@@ -314,7 +314,8 @@ static __attribute__((noipa)) int wide_leaf_any_call(const WideTris *blk, uint32
     return wide_leaf_any(blk, blocks, k, tmax);
 }
 
-/* Per-ray node constants: the row of each axis's entry and exit bound. */
+/* Per-ray node constants: the ray's vectors (made again after each leaf
+ * call), and the row of each axis's entry and exit bound. */
 #define WIDE_NODE_VECTORS()                                                                                       \
     const VN ox = VN_SET1(r->org.x), oy = VN_SET1(r->org.y), oz = VN_SET1(r->org.z);                              \
     const VN ix = VN_SET1(r->inv.x), iy = VN_SET1(r->inv.y), iz = VN_SET1(r->inv.z);                              \
@@ -324,9 +325,6 @@ static __attribute__((noipa)) int wide_leaf_any_call(const WideTris *blk, uint32
               n2 = (r->inv.z >= 0 ? 2 : 5) * NW;                                                                  \
     const int f0 = (r->inv.x >= 0 ? 3 : 0) * NW, f1 = (r->inv.y >= 0 ? 4 : 1) * NW,                               \
               f2 = (r->inv.z >= 0 ? 5 : 2) * NW
-#define WIDE_NODE_SETUP()                                                                                         \
-    WIDE_NODE_VECTORS();                                                                                          \
-    WIDE_NODE_ROWS()
 
 /* Slab test of a node's children against (tmin, tmax]; the mask of those
  * hit and their entry distances.  Conservative as bvh_node_hit: a NaN
