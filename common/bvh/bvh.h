@@ -100,6 +100,13 @@ static inline Aabb bvh_node_box(const BvhNode *n)
  * before comparing with an entry distance. */
 #define BVH_FUDGE (R(1) + R(2) * real_gamma(3))
 
+/* A tree that is one leaf of one primitive (a scene of one model: its top
+ * level) goes straight to the primitive, single rays and packets alike:
+ * the box around it would test what the primitive's own test does (a
+ * model's wide tree starts with its children's boxes), and cost the ray a
+ * slab test and the walk's set-up. */
+#define BVH_LONE_LEAF(nodes) ((nodes)[0].count == 1)
+
 /* The slab test reads a node as reals: bmin at 0..2, bmax at 4..6. */
 _Static_assert(offsetof(BvhNode, bmax) == 4 * sizeof(real), "BvhNode layout: bmax must start at real 4");
 

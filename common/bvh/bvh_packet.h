@@ -101,6 +101,20 @@ static inline __attribute__((always_inline)) uint32_t bvh_packet(const Bvh *b, c
     const uint32_t all = n >= 32 ? ~0u : (1u << n) - 1;
     if (b->node_count == 0)
         return 0;
+    /* a root that is a leaf (one model instance, say) is neither box-tested
+     * nor walked: its primitives' own tests (a model's root node) do that
+     * work, and the walk's set-up would be all its cost */
+    if (BVH_LONE_LEAF(b->nodes)) /* called directly, the leaf's updates of far, dead after it, go (through
+                                  * the loop below they cost a bunny camera packet 3% more instructions) */
+        return leaf(ctx, b->prims[b->nodes[0].first], all, far);
+    if (b->nodes[0].count) {
+        uint32_t rs = all;
+        for (uint32_t k = 0; k < b->nodes[0].count && rs; k++) {
+            done |= leaf(ctx, b->prims[b->nodes[0].first + k], rs, far);
+            rs &= ~done;
+        }
+        return done;
+    }
     struct {
         uint32_t node, rays;
     } stack[BVH_MAX_DEPTH + 1];
@@ -120,9 +134,7 @@ static inline __attribute__((always_inline)) uint32_t bvh_packet(const Bvh *b, c
 #else
     (void)simd;
 #endif
-    /* a root that is a leaf (one model instance, say) is not box-tested:
-     * its primitives' own tests (a model's root node) do that work */
-    uint32_t idx = 0, rs = b->nodes[0].count ? all : bvh_packet_node(&b->nodes[0], &soa, rays, all, far);
+    uint32_t idx = 0, rs = bvh_packet_node(&b->nodes[0], &soa, rays, all, far);
     for (;;) {
         const BvhNode *nd = &b->nodes[idx];
         if (rs && nd->count == 0) {

@@ -25,12 +25,6 @@ typedef struct {
     real tnear;
 } BvhStackEntry;
 
-/* A tree that is one leaf of one primitive (a scene of one model: its top
- * level) goes straight to the primitive: the box around it would test
- * what the primitive's own test does (a model's wide tree starts with its
- * children's boxes), and cost the ray a scalar slab test and a walk. */
-#define BVH_LONE_LEAF(nodes) ((nodes)[0].count == 1)
-
 static inline __attribute__((always_inline)) int bvh_closest(const Bvh *b, const Ray *r, real *tmax,
                                                              BvhLeafClosest leaf, void *ctx)
 {

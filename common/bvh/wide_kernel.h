@@ -230,28 +230,41 @@ static inline __attribute__((always_inline)) int wide_tris_hit8(const WideTris *
 
 /* A leaf's blocks against one ray, the hits taken by the rule (wide_take):
  * by pairs in one eight-lane test where the nodes are eight wide (AVX2). */
+/* One block against one ray, the hits taken by the rule. */
+static inline __attribute__((always_inline)) int wide_block_closest(const WideTris *blk, const WideRay *k, float *best,
+                                                                   uint32_t *best_idx, WideHit *hit)
+{
+    __m128 t, v, ww, inv;
+    const int m = wide_tris_hit(blk, k, *best, 1, &t, &v, &ww, &inv);
+    return m ? wide_take(blk, m, t, v, ww, inv, best, best_idx, hit) : 0;
+}
+
+#if NW == 8
+/* Blocks blk[0] and blk[1] in one eight-lane test. */
+static inline __attribute__((always_inline)) int wide_pair_closest(const WideTris *blk, const WideRay *k, float *best,
+                                                                  uint32_t *best_idx, WideHit *hit)
+{
+    float ts[8], vs[8], ws[8], is[8];
+    const int m = wide_tris_hit8(&blk[0], &blk[1], k, *best, 1, ts, vs, ws, is);
+    if (!m)
+        return 0;
+    uint32_t ids[8];
+    memcpy(ids, blk[0].idx, sizeof blk[0].idx), memcpy(ids + 4, blk[1].idx, sizeof blk[1].idx);
+    return wide_take_lanes(ids, m, ts, vs, ws, is, best, best_idx, hit);
+}
+#endif
+
 static inline __attribute__((always_inline)) int wide_leaf_closest(const WideTris *blk, uint32_t blocks, const WideRay *k,
                                                                   float *best, uint32_t *best_idx, WideHit *hit)
 {
     int found = 0;
     uint32_t b = 0;
 #if NW == 8
-    for (; b + 1 < blocks; b += 2) {
-        float ts[8], vs[8], ws[8], is[8];
-        const int m = wide_tris_hit8(&blk[b], &blk[b + 1], k, *best, 1, ts, vs, ws, is);
-        if (m) {
-            uint32_t ids[8];
-            memcpy(ids, blk[b].idx, sizeof blk[b].idx), memcpy(ids + 4, blk[b + 1].idx, sizeof blk[b + 1].idx);
-            found |= wide_take_lanes(ids, m, ts, vs, ws, is, best, best_idx, hit);
-        }
-    }
+    for (; b + 1 < blocks; b += 2)
+        found |= wide_pair_closest(&blk[b], k, best, best_idx, hit);
 #endif
-    for (; b < blocks; b++) {
-        __m128 t, v, ww, inv;
-        const int m = wide_tris_hit(&blk[b], k, *best, 1, &t, &v, &ww, &inv);
-        if (m)
-            found |= wide_take(&blk[b], m, t, v, ww, inv, best, best_idx, hit);
-    }
+    for (; b < blocks; b++)
+        found |= wide_block_closest(&blk[b], k, best, best_idx, hit);
     return found;
 }
 
@@ -263,21 +276,11 @@ static inline __attribute__((always_inline)) int wide_leaf_closest(const WideTri
 static __attribute__((noipa)) int wide_leaf_closest_call(const WideTris *blk, uint32_t blocks, const WideRay *k,
                                                          float *best, uint32_t *best_idx, WideHit *hit)
 {
-    if (blocks == 1) { /* most leaves: one block or two, without the loops' set-up */
-        __m128 t, v, ww, inv;
-        const int m = wide_tris_hit(blk, k, *best, 1, &t, &v, &ww, &inv);
-        return m ? wide_take(blk, m, t, v, ww, inv, best, best_idx, hit) : 0;
-    }
+    if (blocks == 1) /* most leaves: one block or two, without the loops' set-up */
+        return wide_block_closest(blk, k, best, best_idx, hit);
 #if NW == 8
-    if (blocks == 2) {
-        float ts[8], vs[8], ws[8], is[8];
-        const int m = wide_tris_hit8(&blk[0], &blk[1], k, *best, 1, ts, vs, ws, is);
-        if (!m)
-            return 0;
-        uint32_t ids[8];
-        memcpy(ids, blk[0].idx, sizeof blk[0].idx), memcpy(ids + 4, blk[1].idx, sizeof blk[1].idx);
-        return wide_take_lanes(ids, m, ts, vs, ws, is, best, best_idx, hit);
-    }
+    if (blocks == 2)
+        return wide_pair_closest(blk, k, best, best_idx, hit);
 #endif
     return wide_leaf_closest(blk, blocks, k, best, best_idx, hit);
 }
@@ -405,6 +408,21 @@ static inline __attribute__((always_inline)) void wide_descend(const Wide *w, co
     *cur = base[n - 1].id, *cur_blocks = base[n - 1].blocks;
 }
 
+/* Pops the next entry into cur; 0 when the stack runs out.  With `cull`
+ * (closest hits), entries farther than `limit` (the hit so far) are
+ * dropped; an any-hit walk's entries carry no distance. */
+static inline __attribute__((always_inline)) int wide_pop(const WideEntry *stack, uint32_t *sp, int cull, float limit,
+                                                         uint32_t *cur, uint32_t *cur_blocks)
+{
+    do {
+        if (*sp == 0)
+            return 0;
+        --*sp;
+    } while (cull && stack[*sp].t > limit);
+    *cur = stack[*sp].id, *cur_blocks = stack[*sp].blocks;
+    return 1;
+}
+
 int KERNEL_CLOSEST(const Wide *w, const Ray *r, real tmax, uint32_t tie, WideHit *hit)
 {
     if (wide_ray_nan(r))
@@ -429,20 +447,12 @@ int KERNEL_CLOSEST(const Wide *w, const Ray *r, real tmax, uint32_t tie, WideHit
                 wide_descend(w, box, mask, lo, stack, &sp, &cur, &cur_blocks);
                 continue;
             }
-            do {
-                if (sp == 0)
-                    return found;
-                --sp;
-            } while (stack[sp].t > best * BVH_FUDGE);
-            cur = stack[sp].id, cur_blocks = stack[sp].blocks;
+            if (!wide_pop(stack, &sp, 1, best * BVH_FUDGE, &cur, &cur_blocks))
+                return found;
         }
         found |= wide_leaf_closest_call(&w->tris[cur], cur_blocks, &k, &best, &best_idx, hit);
-        do {
-            if (sp == 0)
-                return found;
-            --sp;
-        } while (stack[sp].t > best * BVH_FUDGE);
-        cur = stack[sp].id, cur_blocks = stack[sp].blocks;
+        if (!wide_pop(stack, &sp, 1, best * BVH_FUDGE, &cur, &cur_blocks))
+            return found;
     }
 }
 
@@ -492,17 +502,13 @@ int KERNEL_ANY(const Wide *w, const Ray *r, real tmax)
                 wide_descend_any(box, mask, stack, &sp, &cur, &cur_blocks);
                 continue;
             }
-            if (sp == 0)
+            if (!wide_pop(stack, &sp, 0, 0, &cur, &cur_blocks))
                 return 0;
-            --sp;
-            cur = stack[sp].id, cur_blocks = stack[sp].blocks;
         }
         if (wide_leaf_any_call(&w->tris[cur], cur_blocks, &k, tmax))
             return 1;
-        if (sp == 0)
+        if (!wide_pop(stack, &sp, 0, 0, &cur, &cur_blocks))
             return 0;
-        --sp;
-        cur = stack[sp].id, cur_blocks = stack[sp].blocks;
     }
 }
 

@@ -249,7 +249,7 @@ static uint32_t instance_packet(const World *w, uint32_t p, const Ray *rays, uin
     const Ray *rr[TRACE_PACKET];
     real tm[TRACE_PACKET];
     int at[TRACE_PACKET], which[TRACE_PACKET], n = 0;
-    if (!mask)
+    if (!mask) /* never from the walks, but GCC cannot see that the arrays get filled */
         return 0;
     for (uint32_t m = mask; m; m &= m - 1) {
         int i = __builtin_ctz(m);
@@ -331,8 +331,6 @@ static uint32_t top_packet(const World *w, const Ray *rays, int n, Best *best, c
     for (int i = 0; i < n; i++)
         far[i] = best ? best[i].hit->t : tmax[i];
     PacketCtx c = {w, rays, best, tmax, lamp, glass ? w->glassy : NULL, glass};
-    if (w->tree->node_count && BVH_LONE_LEAF(w->tree->nodes)) /* one primitive (a scene of one model): no walk to set up */
-        return top_leaf_packet(&c, w->tree->prims[w->tree->nodes[0].first], (1u << n) - 1, far);
     return bvh_packet(w->tree, rays, n, far, top_leaf_packet, &c, simd_path() != SIMD_SCALAR);
 }
 

@@ -33,8 +33,9 @@
  * perf or callgrind: --toggle-collect=worker counts the tracing only).
  * Only tracing is timed, no shading.  Embree holds the same geometry:
  * every triangle in world space (one mesh), spheres as its sphere
- * primitive, a plane as two triangles 10^5 wide.  Each class's line says how many rays agree (the same hit or
- * miss and, for a hit, the same distance within 10^-3 of it). */
+ * primitive, a plane as two triangles 10^5 wide.  Each class's line says
+ * how many rays agree (the same hit or miss and, for a hit, the same
+ * distance within 10^-3 of it). */
 #include <embree3/rtcore.h>
 #include <pmmintrin.h>
 #include <pthread.h>
@@ -377,23 +378,18 @@ static void *worker(void *arg)
     return NULL;
 }
 
-/* The best time of `repeat` passes over the set in mode m on `threads` threads. */
-static double time_mode(Job *j, Mode m, int threads, int repeat)
+/* The time of one pass over the set in mode m on `threads` threads. */
+static double time_pass(Job *j, Mode m, int threads)
 {
-    double best = 1e30;
     pthread_t th[256];
     j->mode = m;
-    for (int r = 0; r < repeat; r++) {
-        atomic_store(&j->next, 0);
-        double t0 = timer_now();
-        for (int i = 0; i < threads; i++)
-            pthread_create(&th[i], NULL, worker, j);
-        for (int i = 0; i < threads; i++)
-            pthread_join(th[i], NULL);
-        double dt = timer_now() - t0;
-        best = dt < best ? dt : best;
-    }
-    return best;
+    atomic_store(&j->next, 0);
+    double t0 = timer_now();
+    for (int i = 0; i < threads; i++)
+        pthread_create(&th[i], NULL, worker, j);
+    for (int i = 0; i < threads; i++)
+        pthread_join(th[i], NULL);
+    return timer_now() - t0;
 }
 
 /* Rays on which the two found the same: hit or miss (blocked or not) and the distance within 10^-3 of it. */
@@ -460,7 +456,7 @@ static void measure(const World *w, RTCScene es, RaySet *sets, const Args *a)
         for (int r = 0; r < a->repeat && s->n; r++)
             for (int m = 0; m < MODES; m++)
                 if (a->only_mode == MODES || m == a->only_mode)
-                    t[m] = fmin(t[m], time_mode(&j, (Mode)m, a->threads, 1));
+                    t[m] = fmin(t[m], time_pass(&j, (Mode)m, a->threads));
         /* the renderer's way: packets, but a path's diffuse bounce alone */
         Mode ours = c == DIFFUSE ? OURS_SINGLE : OURS_PACKET;
         j.mode = ours; /* the results compared: the renderer's way against rtcIntersect1 */
@@ -468,8 +464,8 @@ static void measure(const World *w, RTCScene es, RaySet *sets, const Args *a)
         for (int m = 0; m < MODES; m++)
             printf(" %s %.3f", mode_names[m], s->n ? (double)s->n / t[m] * 1e-6 : 0.0);
         if (a->only_mode == MODES) {
-            time_mode(&j, ours, 1, 1);
-            time_mode(&j, EMBREE_1, 1, 1);
+            time_pass(&j, ours, 1);
+            time_pass(&j, EMBREE_1, 1);
             printf(" ours %s agree %.4f\n", mode_names[ours], agreement(s));
         } else {
             printf(" ours %s agree -\n", mode_names[ours]);
