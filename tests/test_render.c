@@ -557,7 +557,7 @@ static void adaptive_refines_only_edges(void **state)
 /* A texture's edges show in no key (one triangle, no lights): adaptive
  * sampling finds them by the contrast of neighbouring samples, and comes
  * out far nearer the full 4x4 image than one sample does.  Without the
- * contrast rule it refines nothing here and equals the 1-sample image. */
+ * contrast rule (contrast 255) it refines only the triangle's edge. */
 static void adaptive_refines_texture_edges(void **state)
 {
     (void)state;
@@ -593,6 +593,18 @@ static void adaptive_refines_texture_edges(void **state)
     assert_true(st_ad.primary > st_one.primary); /* some pixels were refined ... */
     assert_true(st_ad.primary < st_full.primary / 2); /* ... not all */
     assert_true(e_ad < e_one / 10);
+    /* settings contrast 255: no colour differs by more, so only the
+     * triangle's edge (a key) is refined, and the texture's edges stay as
+     * one sample has them */
+    s->settings.contrast = 255;
+    RayStats st_none;
+    assert_int_equal(render_lines(p, world_now(s), W, H, 0, H, ad, &st_none, NULL), 0);
+    double e_none = 0;
+    for (int i = 0; i < W * H * 3; i++)
+        e_none += (double)(ad[i] - full[i]) * (ad[i] - full[i]);
+    assert_true(st_none.primary > st_one.primary);
+    assert_true(st_none.primary < st_ad.primary / 2);
+    assert_true(e_none > e_one / 2);
     free(one);
     free(ad);
     free(full);

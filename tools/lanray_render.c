@@ -121,7 +121,7 @@ typedef struct {
     double cutoff;
     int light_samples, rough_samples, lens_samples, exposure_given;
     int sampling, sampling_given, limit, limit_given, lights, lights_given, integrator, integrator_given;
-    int emitters, emitters_given, roulette, roulette_given;
+    int emitters, emitters_given, roulette, roulette_given, contrast, contrast_given;
     double exposure;
     CliAa aa;
 } Args;
@@ -186,6 +186,11 @@ static int parse_args(Args *a, int argc, char **argv)
         {.name = "--roulette", .kind = OPT_INT, .dst = &a->roulette, .arg = "N", .lo = 0, .hi = SCENE_MAX_DEPTH,
          .seen = &a->roulette_given, .help = "path: bounces before Russian roulette may end a path",
          .def = "the scene's, else 5"},
+        {.name = "--contrast", .kind = OPT_INT, .dst = &a->contrast, .arg = "CODES", .lo = 0, .hi = 255,
+         .seen = &a->contrast_given,
+         .help = "adaptive anti-aliasing also refines where a neighbour's colour differs by more than CODES in a "
+                 "channel; 255: never (surfaces and lights only)",
+         .def = "the scene's, else 15"},
         {.name = "--light-samples", .kind = OPT_INT, .dst = &a->light_samples, .arg = "K", .lo = 0, .hi = LIGHT_MAX_SAMPLES,
          .help = "shadow rays of every sphere and rect light: K x K a pixel (product: a ray); 0 = each light's own",
          .def = "0"},
@@ -279,6 +284,8 @@ static int apply_settings(Scene *scene, Args *a)
         rs->emitter_sampling = (EmitterSampling)a->emitters;
     if (a->roulette_given)
         rs->roulette = a->roulette;
+    if (a->contrast_given)
+        rs->contrast = a->contrast;
     if (a->limit_given)
         rs->depth_limit = (DepthLimit)a->limit;
     if (a->rough_samples)

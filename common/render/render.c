@@ -118,6 +118,7 @@ typedef struct {
     uint64_t key_mask;  /* the bits of a key that refines() compares with the 4 neighbours' */
     uint64_t area_mask; /* the area lights' bits of a key (compared with the 8 neighbours') */
     int colour_test;   /* refines() compares colours too */
+    int contrast;      /* ... differing by more than this many codes in a channel (settings contrast) */
     uint64_t *keys;
     uint8_t *colors; /* 3 codes per pixel: the key lines' centre samples, compared for contrast */
     uint8_t *centre; /* their pixels (bpp per pixel); colors itself when bpp is 3 */
@@ -537,21 +538,18 @@ static void job_keys(void *ctx, uint32_t chunk, RayStats *st)
 }
 
 /* Adaptive sampling also refines where two neighbouring centre samples, as
- * written, differ by more than this many codes in a channel: the edges a
- * key does not see, a texture's, a highlight's, a spot light's soft edge.
- * Measured at 512x384 against the 16x16 double reference (docs/
- * tradeoff.md, sRGB output): the textured scene's RMSE falls from 0.81 (no
- * colour test) to 0.37 (4x4 everywhere: 0.31) for twice the time, the
- * default scene's from 1.01 to 0.89 (0.85); 30 codes bought half of that in
- * the textured scene, 8 little more for 40% more time. */
-#ifndef ADAPTIVE_CONTRAST /* a compile-time knob for the threshold sweep in docs/tradeoff.md */
-#define ADAPTIVE_CONTRAST 15
-#endif
-
-static int contrasts(const uint8_t *a, const uint8_t *b)
+ * written, differ by more than `contrast` codes in a channel (settings
+ * contrast, default 15): the edges a key does not see, a texture's, a
+ * highlight's, a spot light's soft edge.  Measured at 512x384 against the
+ * 16x16 double reference (docs/tradeoff.md, sRGB output): the textured
+ * scene's RMSE falls from 0.81 (no colour test) to 0.37 (4x4 everywhere:
+ * 0.31) for twice the time, the default scene's from 1.01 to 0.89 (0.85);
+ * 30 codes bought half of that in the textured scene, 8 little more for
+ * 40% more time. */
+static int contrasts(const uint8_t *a, const uint8_t *b, int contrast)
 {
     for (int k = 0; k < 3; k++)
-        if (a[k] - b[k] > ADAPTIVE_CONTRAST || b[k] - a[k] > ADAPTIVE_CONTRAST)
+        if (a[k] - b[k] > contrast || b[k] - a[k] > contrast)
             return 1;
     return 0;
 }
@@ -579,8 +577,9 @@ static int refines(const Frame *f, const uint64_t *key, const uint8_t *col, int 
 #undef DIFFERS
     if (!f->colour_test)
         return 0;
-    return (left && contrasts(col - 3, col)) || (right && contrasts(col + 3, col)) || (up && contrasts(col - row, col)) ||
-           (down && contrasts(col + row, col));
+    const int c = f->contrast;
+    return (left && contrasts(col - 3, col, c)) || (right && contrasts(col + 3, col, c)) ||
+           (up && contrasts(col - row, col, c)) || (down && contrasts(col + row, col, c));
 }
 
 /* adaptive pass 2: supersample where refines() says; at one sample a pixel
@@ -715,7 +714,8 @@ int render_span(RenderPool *p, const World *w, int width, int height, uint64_t f
         if (world_light_is_area(&w->lights[i]))
             f.area_mask |= 1u << i;
     f.key_mask = f.probe && w->view.settings.aa == 1 ? f.area_mask : UINT64_MAX;
-    f.colour_test = w->view.settings.aa > 1;
+    f.colour_test = w->view.settings.aa > 1 && w->view.settings.contrast < 255;
+    f.contrast = w->view.settings.contrast;
     RayStats st;
     if (!f.probe && (!w->view.settings.adaptive || w->view.settings.aa == 1)) {
         st = render_grid(p, &f);

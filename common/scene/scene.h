@@ -138,6 +138,8 @@ typedef struct {
     Integrator integrator;
     EmitterSampling emitter_sampling;
     int roulette;      /* path: bounces before Russian roulette may end a path */
+    int contrast;      /* adaptive: a pixel is refined where a neighbour's centre sample differs by more than this
+                        * many codes in a channel (255: never by colour alone) */
     real exposure;     /* stops: the 8-bit codes encode light times 2^exposure */
     int hdr;           /* pixels are RGBE, 4 bytes (a .hdr from lanray-render, lanray-server --hdr); not in scene files */
     /* what the scene file asked for, for the programs' defaults; not on the

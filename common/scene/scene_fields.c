@@ -122,6 +122,9 @@ static const Field settings_fields[] = {
      .doc = "path: emissive surfaces found by next-event estimation and bounces weighed together (MIS), or one alone"},
     {.key = "roulette", .type = FIELD_WHOLE, .group = SETTINGS_GROUP_SAMPLING, .off = SET(rs.roulette), .lo = 0,
      .hi = SCENE_MAX_DEPTH, .def = 5, .doc = "path: bounces before Russian roulette may end a path"},
+    {.key = "contrast", .type = FIELD_WHOLE, .group = SETTINGS_GROUP_SAMPLING, .off = SET(rs.contrast), .lo = 0,
+     .hi = 255, .def = 15,
+     .doc = "adaptive: also refine where a neighbour's colour differs by more than this many codes (255: never)"},
     {.key = "exposure", .type = FIELD_REAL, .group = SETTINGS_GROUP_OUTPUT, .off = SET(rs.exposure), .lo = -32, .hi = 32,
      .doc = "stops: 8-bit output shows the light times 2^exposure"},
 };
