@@ -285,6 +285,7 @@ uint64_t world_tree_builds(void) { return atomic_load(&tree_builds); }
 static void top_drop(WorldTop *t)
 {
     if (t && atomic_fetch_sub(&t->refs, 1) == 1) {
+        bvh4_destroy(&t->wide);
         bvh_destroy(&t->bvh);
         free(t->boxes);
         free(t);
@@ -312,7 +313,7 @@ static int build_top(World *w, const World *previous, Aabb *boxes, uint32_t nb, 
     atomic_init(&t->refs, 1);
     BvhOptions opt = bvh_options_default(BVH_SAH);
     opt.max_leaf = 2;
-    if (bvh_build(&t->bvh, boxes, nb, &opt, err)) {
+    if (bvh_build(&t->bvh, boxes, nb, &opt, err) || bvh4_build(&t->wide, &t->bvh, err)) {
         top_drop(t);
         return err_prefix(err, "scene");
     }

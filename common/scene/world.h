@@ -18,6 +18,7 @@
 
 #include <stdatomic.h>
 
+#include "bvh/bvh4.h"
 #include "scene/scene.h"
 
 enum {
@@ -82,6 +83,7 @@ static inline int world_light_is_area(const WorldLight *l) { return l->kind == L
  * whose boxes are the same (a new camera, new settings, a new material). */
 typedef struct {
     Bvh bvh;      /* prims index spheres, then triangles, then instances */
+    Bvh4 wide;    /* the same tree four-wide (bvh/bvh4.h); node_count 0: none */
     Aabb *boxes;
     uint32_t count;
     atomic_int refs;

@@ -1,0 +1,307 @@
+/* bvh4_walk.h - one ray and a packet through the four-wide top-level tree
+ * (bvh4.h): bvh_closest, bvh_any and bvh_packet on it, with their leaf
+ * callbacks.  Always inlined, as the binary walks are. */
+#ifndef LANRAY_BVH4_WALK_H
+#define LANRAY_BVH4_WALK_H
+
+#include <assert.h>
+
+#include "bvh/bvh4.h"
+#include "bvh/bvh_packet.h"
+#include "bvh/bvh_traverse.h"
+
+#if BVH4_COMPILED
+#include <emmintrin.h>
+
+/* Pushes at most 3 entries a level over a depth of BVH_MAX_DEPTH, and the last node's 4. */
+#define BVH4_STACK (3 * BVH_MAX_DEPTH + 4)
+
+typedef struct {
+    __m128 o[3], inv[3], tmin;
+    int near[3], far[3]; /* rows of Bvh4Node.box */
+} Bvh4Ray;
+
+static inline __attribute__((always_inline)) void bvh4_ray(Bvh4Ray *k, const Ray *r)
+{
+    for (int a = 0; a < 3; a++) {
+        k->o[a] = _mm_set1_ps(r->org.e[a]);
+        k->inv[a] = _mm_set1_ps(r->inv.e[a]);
+        /* ray_set's choice: the entry plane is bmin where inv >= 0 */
+        k->near[a] = r->inv.e[a] >= 0 ? a : a + 3;
+        k->far[a] = r->inv.e[a] >= 0 ? a + 3 : a;
+    }
+    k->tmin = _mm_set1_ps(r->tmin);
+}
+
+/* bvh_node_hit on the node's four boxes: the mask of those entered before
+ * tmax, their entry distances in *lo_out. */
+static inline __attribute__((always_inline)) int bvh4_node_hit(const Bvh4Node *n, const Bvh4Ray *k, float tmax,
+                                                               __m128 *lo_out)
+{
+    __m128 lo = k->tmin, hi = _mm_set1_ps(tmax);
+    for (int a = 0; a < 3; a++) {
+        const __m128 t0 = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(n->box[k->near[a]]), k->o[a]), k->inv[a]);
+        const __m128 t1 = _mm_mul_ps(_mm_sub_ps(_mm_load_ps(n->box[k->far[a]]), k->o[a]), k->inv[a]);
+        lo = _mm_max_ps(t0, lo); /* t0 > lo ? t0 : lo */
+        hi = _mm_min_ps(t1, hi); /* t1 < hi ? t1 : hi */
+    }
+    *lo_out = lo;
+    return _mm_movemask_ps(_mm_cmple_ps(lo, _mm_mul_ps(hi, _mm_set1_ps(BVH_FUDGE)))) & n->lanes;
+}
+
+typedef struct {
+    uint32_t child, count;
+    float t;
+} Bvh4Entry;
+
+/* Pushes the children of `mask`, the farthest deepest (sorted: closest
+ * hits pop the nearest first and drop what lies beyond their hit). */
+static inline __attribute__((always_inline)) void bvh4_push(const Bvh4Node *n, int mask, __m128 lo, Bvh4Entry *stack,
+                                                            uint32_t *sp, int sorted)
+{
+    float tn[4];
+    _mm_storeu_ps(tn, lo);
+    Bvh4Entry *base = &stack[*sp];
+    uint32_t m = 0;
+    while (mask) {
+        const int i = __builtin_ctz((unsigned)mask);
+        mask &= mask - 1;
+        const Bvh4Entry x = {n->child[i], n->count[i], tn[i]};
+        uint32_t j = m++;
+        while (sorted && j > 0 && base[j - 1].t < x.t) {
+            base[j] = base[j - 1];
+            j--;
+        }
+        base[j] = x;
+    }
+    *sp += m;
+}
+
+/* bvh_closest on the four-wide tree: the same leaves, the same callback. */
+static inline __attribute__((always_inline)) int bvh4_closest(const Bvh4 *t, const Ray *r, real *tmax,
+                                                              BvhLeafClosest leaf, void *ctx)
+{
+    Bvh4Ray k;
+    bvh4_ray(&k, r);
+    Bvh4Entry stack[BVH4_STACK];
+    uint32_t sp = 0;
+    int found = 0;
+    Bvh4Entry e = {0, 0, 0};
+    for (;;) {
+        if (e.count) {
+            found |= leaf(ctx, e.child, e.count, r, tmax);
+        } else {
+            const Bvh4Node *n = &t->nodes[e.child];
+            __m128 lo;
+            const int mask = bvh4_node_hit(n, &k, *tmax, &lo);
+            assert(sp + 4 <= BVH4_STACK); /* bvh_validate keeps the binary tree, and so this one, to its depth */
+            bvh4_push(n, mask, lo, stack, &sp, 1);
+        }
+        do {
+            if (sp == 0)
+                return found;
+            e = stack[--sp];
+        } while (e.t > *tmax * BVH_FUDGE);
+    }
+}
+
+/* bvh_any on the four-wide tree. */
+static inline __attribute__((always_inline)) int bvh4_any(const Bvh4 *t, const Ray *r, real tmax, BvhLeafAny leaf,
+                                                          const void *ctx)
+{
+    Bvh4Ray k;
+    bvh4_ray(&k, r);
+    Bvh4Entry stack[BVH4_STACK];
+    uint32_t sp = 0;
+    Bvh4Entry e = {0, 0, 0};
+    for (;;) {
+        if (e.count) {
+            if (leaf(ctx, e.child, e.count, r, tmax))
+                return 1;
+        } else {
+            const Bvh4Node *n = &t->nodes[e.child];
+            __m128 lo;
+            const int mask = bvh4_node_hit(n, &k, tmax, &lo);
+            assert(sp + 4 <= BVH4_STACK);
+            bvh4_push(n, mask, lo, stack, &sp, 1); /* the nearer child more likely occludes */
+        }
+        if (sp == 0)
+            return 0;
+        e = stack[--sp];
+    }
+}
+
+/* The rays of `mask` whose own slab test (bvh_node_hit, lane for lane)
+ * enters child c of node n, four rays a step.  far: a multiple of four
+ * readable. */
+static inline __attribute__((always_inline)) uint32_t bvh4_child_rays(const Bvh4Node *n, int c, const BvhPacketSoa *s,
+                                                                      uint32_t mask, const real *far)
+{
+    uint32_t in = 0;
+    const __m128 zero = _mm_setzero_ps(), fudge = _mm_set1_ps(BVH_FUDGE);
+    for (int g = 0; g < s->groups; g++) {
+        const uint32_t m = mask >> (4 * g) & 15u;
+        if (!m)
+            continue;
+        __m128 lo = _mm_load_ps(&s->tmin[4 * g]), hi = _mm_loadu_ps(&far[4 * g]);
+        for (int a = 0; a < 3; a++) {
+            const __m128 o = _mm_load_ps(&s->org[a][4 * g]), iv = _mm_load_ps(&s->inv[a][4 * g]);
+            const __m128 t0 = _mm_mul_ps(_mm_sub_ps(_mm_set1_ps(n->box[a][c]), o), iv);
+            const __m128 t1 = _mm_mul_ps(_mm_sub_ps(_mm_set1_ps(n->box[a + 3][c]), o), iv);
+            const __m128 pos = _mm_cmpge_ps(iv, zero); /* ray_set's near/far choice */
+            const __m128 tn = _mm_or_ps(_mm_and_ps(pos, t0), _mm_andnot_ps(pos, t1));
+            const __m128 tf = _mm_or_ps(_mm_and_ps(pos, t1), _mm_andnot_ps(pos, t0));
+            lo = _mm_max_ps(tn, lo);
+            hi = _mm_min_ps(tf, hi);
+        }
+        in |= ((uint32_t)_mm_movemask_ps(_mm_cmple_ps(lo, _mm_mul_ps(hi, fudge))) & m) << (4 * g);
+    }
+    return in;
+}
+
+/* A packet's rays as one interval: per axis the least and greatest origin
+ * and reciprocal direction, where every ray's reciprocal has one sign and
+ * is finite and nonzero, and the origins lie within ospread of each other
+ * on every axis (INFINITY: any).  Its slab test of a node's four boxes admits
+ * every box that any of the rays' own tests enters (rounding is monotone:
+ * the interval's entry is at most each ray's, its exit at least). */
+typedef struct {
+    __m128 o_near[3], o_far[3], ilo[3], ihi[3], tmin;
+    int near[3], far[3]; /* rows of Bvh4Node.box */
+} Bvh4Span;
+
+static inline __attribute__((always_inline)) int bvh4_span(Bvh4Span *p, const Ray *rays, int n, float ospread)
+{
+    if (ospread == 0) /* the quick refusal: the rays from one point are few */
+        for (int i = 1; i < n; i++)
+            if (rays[i].org.x != rays[0].org.x || rays[i].org.y != rays[0].org.y || rays[i].org.z != rays[0].org.z)
+                return 0;
+    float tmin = rays[0].tmin;
+    for (int i = 1; i < n; i++)
+        tmin = rays[i].tmin < tmin ? rays[i].tmin : tmin;
+    p->tmin = _mm_set1_ps(tmin);
+    for (int a = 0; a < 3; a++) {
+        float olo = rays[0].org.e[a], ohi = olo, ilo = rays[0].inv.e[a], ihi = ilo;
+        int nan = olo != olo;
+        for (int i = 1; i < n; i++) {
+            const float o = rays[i].org.e[a], v = rays[i].inv.e[a];
+            nan |= o != o; /* a NaN origin: the rays' own tests, which let it into every box */
+            olo = o < olo ? o : olo, ohi = o > ohi ? o : ohi;
+            ilo = v < ilo ? v : ilo, ihi = v > ihi ? v : ihi;
+        }
+        const int pos = ilo > 0 && ihi < INFINITY, neg = ihi < 0 && ilo > -INFINITY;
+        if (nan || (!pos && !neg) || !(ohi - olo <= ospread))
+            return 0;
+        p->o_near[a] = _mm_set1_ps(pos ? ohi : olo);
+        p->o_far[a] = _mm_set1_ps(pos ? olo : ohi);
+        p->ilo[a] = _mm_set1_ps(ilo);
+        p->ihi[a] = _mm_set1_ps(ihi);
+        p->near[a] = pos ? a : a + 3;
+        p->far[a] = pos ? a + 3 : a;
+    }
+    return 1;
+}
+
+static inline __attribute__((always_inline)) int bvh4_span_hit(const Bvh4Node *nd, const Bvh4Span *p, float far,
+                                                               __m128 *lo_out)
+{
+    __m128 lo = p->tmin, hi = _mm_set1_ps(far);
+    for (int a = 0; a < 3; a++) {
+        const __m128 dn = _mm_sub_ps(_mm_load_ps(nd->box[p->near[a]]), p->o_near[a]);
+        const __m128 df = _mm_sub_ps(_mm_load_ps(nd->box[p->far[a]]), p->o_far[a]);
+        lo = _mm_max_ps(_mm_min_ps(_mm_mul_ps(dn, p->ilo[a]), _mm_mul_ps(dn, p->ihi[a])), lo);
+        hi = _mm_min_ps(_mm_max_ps(_mm_mul_ps(df, p->ilo[a]), _mm_mul_ps(df, p->ihi[a])), hi);
+    }
+    *lo_out = lo;
+    return _mm_movemask_ps(_mm_cmple_ps(lo, _mm_mul_ps(hi, _mm_set1_ps(BVH_FUDGE)))) & nd->lanes;
+}
+
+#ifndef BVH4_SPAN_MIN
+#define BVH4_SPAN_MIN 4
+#endif
+
+static inline float bvh4_far_max(const real *far, uint32_t mask)
+{
+    float m = -INFINITY;
+    for (; mask; mask &= mask - 1) {
+        const float f = far[__builtin_ctz(mask)];
+        m = f > m ? f : m;
+    }
+    return m;
+}
+
+/* bvh_packet on the four-wide tree: n <= 32 rays, far[i] each ray's limit
+ * (lowered by the leaves); returns the rays blocked.  Rays whose
+ * directions share their signs and lie within BVH4_DIR_SPREAD of each
+ * other on every axis test a node's four boxes at once as one interval
+ * (bvh4_span) and take an interior child together; a leaf child takes the
+ * rays whose own slab test enters it (bvh4_child_rays, four rays a step).
+ * Other packets' rays each test the node's four boxes at once.  A leaf
+ * hands its primitives one by one to the callback with its rays less
+ * those blocked since.  far: a multiple of four readable. */
+static inline __attribute__((always_inline)) uint32_t bvh4_packet(const Bvh4 *t, const Bvh *binary, const Ray *rays,
+                                                                  int n, real *far, float ospread, BvhPacketLeaf leaf,
+                                                                  void *ctx)
+{
+    struct {
+        uint32_t child, count, rays;
+        uint32_t parent, lane; /* a leaf's box: lane `lane` of node `parent` */
+    } stack[BVH4_STACK];
+    if (n <= 0)
+        return 0;
+    Bvh4Span span;
+    if (n < BVH4_SPAN_MIN || !bvh4_span(&span, rays, n, ospread))
+        return bvh_packet(binary, rays, n, far, leaf, ctx, 1);
+    BvhPacketSoa soa;
+    soa.groups = (n + 3) / 4;
+    for (int i = 0; i < 4 * soa.groups; i++) {
+        const Ray *r = &rays[i < n ? i : 0]; /* the lanes past n: a copy, masked out */
+        for (int a = 0; a < 3; a++)
+            soa.org[a][i] = r->org.e[a], soa.inv[a][i] = r->inv.e[a];
+        soa.tmin[i] = r->tmin;
+    }
+    const uint32_t all = n >= 32 ? ~0u : (1u << n) - 1;
+    uint32_t done = 0, sp = 0;
+    uint32_t child = 0, count = 0, rs = all;
+    float fmax = bvh4_far_max(far, all);
+    for (;;) {
+        rs &= ~done;
+        if (rs && count) {
+            for (uint32_t j = 0; j < count && rs; j++) {
+                done |= leaf(ctx, t->prims[child + j], rs, far);
+                rs &= ~done;
+            }
+            fmax = bvh4_far_max(far, all & ~done); /* a hit or a blocker brings it nearer */
+        } else if (rs) {
+            const Bvh4Node *nd = &t->nodes[child];
+            __m128 lo;
+            int mask = bvh4_span_hit(nd, &span, fmax, &lo);
+            float tn[4];
+            _mm_storeu_ps(tn, lo);
+            assert(sp + 4 <= BVH4_STACK);
+            const uint32_t base = sp;
+            while (mask) { /* the nearest entry popped first: its hits cut the others' rays */
+                const int c = __builtin_ctz((unsigned)mask);
+                mask &= mask - 1;
+                uint32_t j = sp++;
+                for (; j > base && tn[stack[j - 1].lane] < tn[c]; j--)
+                    stack[j] = stack[j - 1];
+                stack[j].child = nd->child[c], stack[j].count = nd->count[c], stack[j].rays = rs;
+                stack[j].parent = child, stack[j].lane = (uint32_t)c;
+            }
+        }
+        do {
+            if (sp == 0)
+                return done;
+            --sp;
+            child = stack[sp].child, count = stack[sp].count, rs = stack[sp].rays & ~done;
+            /* which rays enter a leaf: each ray's own test, when it comes up (a
+             * nearer hit since may keep a ray out) */
+            if (rs && count)
+                rs = bvh4_child_rays(&t->nodes[stack[sp].parent], (int)stack[sp].lane, &soa, rs, far);
+        } while (!rs);
+    }
+}
+#endif
+
+#endif
