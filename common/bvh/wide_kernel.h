@@ -926,18 +926,6 @@ static inline __attribute__((always_inline)) int wide_packet_misses(const Wide *
     return w->root_blocks == 0 && !wide_packet_node(p, WIDE_NODE(w, w->root), far, &lo);
 }
 
-/* Closest-hit packets of rays whose directions spread: the mirrored,
- * refracted and bounced rays of neighbouring pixels off a bumpy surface
- * enter, as one interval box, nodes that no ray does.  Measured
- * (tools/bench/rayclass, the 1M-triangle sphere, 1 thread, Mrays/s
- * packets/single, best of 6): refracted rays with no limit 0.54-0.59 /
- * 1.49-1.68, directions within 0.1 on every axis 1.15-1.38, 0.03
- * 1.59-1.62, 0.01 1.53-1.83; camera rays (8 neighbours spread 0.007)
- * keep their packets. */
-#ifndef WIDE_DIR_SPREAD
-#define WIDE_DIR_SPREAD 0.03f
-#endif
-
 uint32_t KERNEL_CLOSEST_PACKET(const Wide *w, const Ray *const *rays, int n, const real *tmax, const uint32_t *tie,
                                WideHit *hits)
 {

@@ -758,8 +758,10 @@ static inline __attribute__((always_inline)) void shade_rays_at(const World *w, 
     int live[TRACE_PACKET], nl = 0;
     if (n == 1)
         trace_closest(w, &rays[0], &hits[0]);
-    else
+    else if (depth == 0)
         trace_closest_packet(w, rays, n, hits);
+    else
+        trace_closest_bounced(w, rays, n, hits);
     if (depth == 0)
         stats->primary += (uint64_t)n;
     /* the hit triangles' vertices, for every ray at once: on a big model

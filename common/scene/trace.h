@@ -47,6 +47,10 @@ int trace_closest(const World *w, const Ray *r, Hit *hit);
  * sub-samples of a pixel) share the walk down the trees. */
 #define TRACE_PACKET 8
 void trace_closest_packet(const World *w, const Ray *rays, int n, Hit *hits);
+/* The same for rays sent on from surfaces (mirrors, glass), which may
+ * part: where they would go ray by ray inside the model's walk, they go
+ * ray by ray from the start. */
+void trace_closest_bounced(const World *w, const Ray *rays, int n, Hit *hits);
 /* The mask of the n rays that are blocked before their tmax (trace_occluded each). */
 uint32_t trace_occluded_packet(const World *w, const Ray *rays, int n, const real *tmax, const WorldLight *towards);
 /* Shadow rays that glass lets through (settings glass_shadows): the mask

@@ -350,6 +350,7 @@ World *world_build(const Scene *desc, const World *previous, Err *err)
     }
     if (w->top)
         w->tree = &w->top->bvh;
+    w->lone_model = nb == 1 && desc->instance_count == 1 && w->instances[0].identity;
     return w;
 }
 

@@ -147,6 +147,7 @@ typedef struct {
     WorldParts *parts; /* owns planes, instances, lights, lamps and emitters */
     WorldTop *top;    /* NULL: nothing but planes */
     const Bvh *tree;  /* &top->bvh, or an empty tree */
+    int lone_model;   /* the top level is one untransformed instance and nothing else (trace.c) */
     uint32_t features;      /* what the items use (FEAT_*), and what the view adds: */
     uint32_t item_features; /* the items' alone */
 } World;

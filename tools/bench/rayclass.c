@@ -347,8 +347,10 @@ static void ours_trace(const Job *j, size_t i, int n, int packet)
         return;
     }
     Hit h[TRACE_PACKET];
-    if (packet)
+    if (packet && s->coherent) /* camera rays */
         trace_closest_packet(j->w, &s->rays[i], n, h);
+    else if (packet) /* as shading sends on what mirrors and glass (and a diffuse bounce) send */
+        trace_closest_bounced(j->w, &s->rays[i], n, h);
     else
         for (int k = 0; k < n; k++)
             trace_closest(j->w, &s->rays[i + k], &h[k]);
