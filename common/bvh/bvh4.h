@@ -4,10 +4,10 @@
  * model instances (bvh_traverse.h walks it for one ray, bvh_packet.h for a
  * packet).  Collapsed to four children a node (bvh4_build: the binary
  * tree's boxes and leaves, each node opening its largest children), one
- * ray tests a node's four boxes in one SSE slab test and a packet tests
- * them ray by ray, a node's four at once: a scene of a hundred spheres
- * walks a third as many nodes, and each costs about what one binary box
- * test did.  The slab test is bvh_node_hit's, lane for lane (max and min
+ * ray tests a node's four boxes in one SSE slab test, and a coherent
+ * packet tests them as one interval (bvh4_walk.h): a hundred spheres
+ * path-traced took a fifth fewer instructions (docs/renderer.md).  The
+ * slab test is bvh_node_hit's, lane for lane (max and min
  * keep the bound where a distance is NaN, as its comparisons do), and the
  * leaves and their callbacks are the binary walks', so both trees give
  * every ray the same primitives to test and the same hits (trace.c's

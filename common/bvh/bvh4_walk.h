@@ -172,7 +172,7 @@ typedef struct {
 
 static inline __attribute__((always_inline)) int bvh4_span(Bvh4Span *p, const Ray *rays, int n, float ospread)
 {
-    if (ospread == 0) /* the quick refusal: the rays from one point are few */
+    if (ospread == 0) /* closest hits: out at the first ray from another point, before the loops below */
         for (int i = 1; i < n; i++)
             if (rays[i].org.x != rays[0].org.x || rays[i].org.y != rays[0].org.y || rays[i].org.z != rays[0].org.z)
                 return 0;
@@ -216,10 +216,6 @@ static inline __attribute__((always_inline)) int bvh4_span_hit(const Bvh4Node *n
     return _mm_movemask_ps(_mm_cmple_ps(lo, _mm_mul_ps(hi, _mm_set1_ps(BVH_FUDGE)))) & nd->lanes;
 }
 
-#ifndef BVH4_SPAN_MIN
-#define BVH4_SPAN_MIN 4
-#endif
-
 static inline float bvh4_far_max(const real *far, uint32_t mask)
 {
     float m = -INFINITY;
@@ -232,13 +228,16 @@ static inline float bvh4_far_max(const real *far, uint32_t mask)
 
 /* bvh_packet on the four-wide tree: n <= 32 rays, far[i] each ray's limit
  * (lowered by the leaves); returns the rays blocked.  Rays whose
- * directions share their signs and lie within BVH4_DIR_SPREAD of each
- * other on every axis test a node's four boxes at once as one interval
- * (bvh4_span) and take an interior child together; a leaf child takes the
- * rays whose own slab test enters it (bvh4_child_rays, four rays a step).
- * Other packets' rays each test the node's four boxes at once.  A leaf
- * hands its primitives one by one to the callback with its rays less
- * those blocked since.  far: a multiple of four readable. */
+ * reciprocal directions share their signs and whose origins lie within
+ * ospread of each other test a node's four boxes at once as one interval
+ * (bvh4_span), nearest first, and take an interior child together; a leaf
+ * child, when it comes off the stack, takes the rays whose own slab test
+ * enters it with their limits then (bvh4_child_rays, four rays a step).
+ * A leaf hands its primitives one by one to the callback with its rays
+ * less those blocked since.  Other packets go through the binary tree
+ * (bvh_packet): ray by ray their masks part, and its pairs of boxes,
+ * tested again as it pops them, cost them less.  far: a multiple of four
+ * readable. */
 static inline __attribute__((always_inline)) uint32_t bvh4_packet(const Bvh4 *t, const Bvh *binary, const Ray *rays,
                                                                   int n, real *far, float ospread, BvhPacketLeaf leaf,
                                                                   void *ctx)
@@ -250,7 +249,7 @@ static inline __attribute__((always_inline)) uint32_t bvh4_packet(const Bvh4 *t,
     if (n <= 0)
         return 0;
     Bvh4Span span;
-    if (n < BVH4_SPAN_MIN || !bvh4_span(&span, rays, n, ospread))
+    if (!bvh4_span(&span, rays, n, ospread))
         return bvh_packet(binary, rays, n, far, leaf, ctx, 1);
     BvhPacketSoa soa;
     soa.groups = (n + 3) / 4;
