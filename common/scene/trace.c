@@ -218,6 +218,12 @@ int trace_lamp_part(const World *w, const WorldLight *l, const Hit *h)
 static int closest_of(const World *w, const Ray *r, Hit *hit, int glass_only, const uint8_t *only)
 {
     closest_planes(w, r, hit, glass_only);
+    if (w->lone_model && !only) { /* leaf_closest on the one instance, without the walk's set-up */
+        ModelHit mh;
+        if (model_intersect(w->models[w->instances[0].model], r, hit->t, 0, &mh))
+            *hit = (Hit){mh.t, mh.b1, mh.b2, HIT_INSTANCE, 0, mh.tri};
+        return hit->kind != HIT_NONE;
+    }
     Best b = {hit, 0};
     if (only && w->glass_count <= WORLD_GLASS_LIST) { /* a few: each alone (the rule makes the order free) */
         for (uint32_t i = 0; i < w->glass_count; i++)
@@ -247,6 +253,8 @@ int trace_closest_glass(const World *w, const Ray *r, Hit *hit)
 /* Any top-level primitive that blocks r before tmax (top_leaf_any). */
 static int top_any(const World *w, const Ray *r, real tmax, const AnyCtx *c)
 {
+    if (w->lone_model) /* the one leaf, without the walk's set-up */
+        return top_leaf_any(c, 0, 1, r, tmax);
 #if BVH4_COMPILED
     const Bvh4 *t4 = top4(w);
     if (t4)
