@@ -54,10 +54,11 @@ typedef struct {
     float t;
 } Bvh4Entry;
 
-/* Pushes the children of `mask`, the farthest deepest (sorted: closest
- * hits pop the nearest first and drop what lies beyond their hit). */
+/* Pushes the children of `mask`, the farthest deepest: closest hits pop
+ * the nearest first and drop what lies beyond their hit, any-hit rays
+ * meet the nearer, likelier occluder first. */
 static inline __attribute__((always_inline)) void bvh4_push(const Bvh4Node *n, int mask, __m128 lo, Bvh4Entry *stack,
-                                                            uint32_t *sp, int sorted)
+                                                            uint32_t *sp)
 {
     float tn[4];
     _mm_storeu_ps(tn, lo);
@@ -68,7 +69,7 @@ static inline __attribute__((always_inline)) void bvh4_push(const Bvh4Node *n, i
         mask &= mask - 1;
         const Bvh4Entry x = {n->child[i], n->count[i], tn[i]};
         uint32_t j = m++;
-        while (sorted && j > 0 && base[j - 1].t < x.t) {
+        while (j > 0 && base[j - 1].t < x.t) {
             base[j] = base[j - 1];
             j--;
         }
@@ -95,7 +96,7 @@ static inline __attribute__((always_inline)) int bvh4_closest(const Bvh4 *t, con
             __m128 lo;
             const int mask = bvh4_node_hit(n, &k, *tmax, &lo);
             assert(sp + 4 <= BVH4_STACK); /* bvh_validate keeps the binary tree, and so this one, to its depth */
-            bvh4_push(n, mask, lo, stack, &sp, 1);
+            bvh4_push(n, mask, lo, stack, &sp);
         }
         do {
             if (sp == 0)
@@ -123,7 +124,7 @@ static inline __attribute__((always_inline)) int bvh4_any(const Bvh4 *t, const R
             __m128 lo;
             const int mask = bvh4_node_hit(n, &k, tmax, &lo);
             assert(sp + 4 <= BVH4_STACK);
-            bvh4_push(n, mask, lo, stack, &sp, 1); /* the nearer child more likely occludes */
+            bvh4_push(n, mask, lo, stack, &sp);
         }
         if (sp == 0)
             return 0;
@@ -131,32 +132,14 @@ static inline __attribute__((always_inline)) int bvh4_any(const Bvh4 *t, const R
     }
 }
 
-/* The rays of `mask` whose own slab test (bvh_node_hit, lane for lane)
- * enters child c of node n, four rays a step.  far: a multiple of four
- * readable. */
+/* The rays of `mask` whose own slab test enters child c of node n
+ * (bvh_box_rays_soa, four rays a step).  far: a multiple of four readable. */
 static inline __attribute__((always_inline)) uint32_t bvh4_child_rays(const Bvh4Node *n, int c, const BvhPacketSoa *s,
                                                                       uint32_t mask, const real *far)
 {
-    uint32_t in = 0;
-    const __m128 zero = _mm_setzero_ps(), fudge = _mm_set1_ps(BVH_FUDGE);
-    for (int g = 0; g < s->groups; g++) {
-        const uint32_t m = mask >> (4 * g) & 15u;
-        if (!m)
-            continue;
-        __m128 lo = _mm_load_ps(&s->tmin[4 * g]), hi = _mm_loadu_ps(&far[4 * g]);
-        for (int a = 0; a < 3; a++) {
-            const __m128 o = _mm_load_ps(&s->org[a][4 * g]), iv = _mm_load_ps(&s->inv[a][4 * g]);
-            const __m128 t0 = _mm_mul_ps(_mm_sub_ps(_mm_set1_ps(n->box[a][c]), o), iv);
-            const __m128 t1 = _mm_mul_ps(_mm_sub_ps(_mm_set1_ps(n->box[a + 3][c]), o), iv);
-            const __m128 pos = _mm_cmpge_ps(iv, zero); /* ray_set's near/far choice */
-            const __m128 tn = _mm_or_ps(_mm_and_ps(pos, t0), _mm_andnot_ps(pos, t1));
-            const __m128 tf = _mm_or_ps(_mm_and_ps(pos, t1), _mm_andnot_ps(pos, t0));
-            lo = _mm_max_ps(tn, lo);
-            hi = _mm_min_ps(tf, hi);
-        }
-        in |= ((uint32_t)_mm_movemask_ps(_mm_cmple_ps(lo, _mm_mul_ps(hi, fudge))) & m) << (4 * g);
-    }
-    return in;
+    const real bmin[3] = {n->box[0][c], n->box[1][c], n->box[2][c]};
+    const real bmax[3] = {n->box[3][c], n->box[4][c], n->box[5][c]};
+    return bvh_box_rays_soa(bmin, bmax, s, mask, far);
 }
 
 /* A packet's rays as one interval: per axis the least and greatest origin
@@ -252,13 +235,7 @@ static inline __attribute__((always_inline)) uint32_t bvh4_packet(const Bvh4 *t,
     if (!bvh4_span(&span, rays, n, ospread))
         return bvh_packet(binary, rays, n, far, leaf, ctx, 1);
     BvhPacketSoa soa;
-    soa.groups = (n + 3) / 4;
-    for (int i = 0; i < 4 * soa.groups; i++) {
-        const Ray *r = &rays[i < n ? i : 0]; /* the lanes past n: a copy, masked out */
-        for (int a = 0; a < 3; a++)
-            soa.org[a][i] = r->org.e[a], soa.inv[a][i] = r->inv.e[a];
-        soa.tmin[i] = r->tmin;
-    }
+    bvh_packet_soa(&soa, rays, n);
     const uint32_t all = n >= 32 ? ~0u : (1u << n) - 1;
     uint32_t done = 0, sp = 0;
     uint32_t child = 0, count = 0, rs = all;

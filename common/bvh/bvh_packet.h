@@ -49,11 +49,14 @@ typedef struct {
 } BvhPacketSoa;
 
 #ifdef BVH_PACKET_SSE
-/* bvh_node_rays with four rays a step: the same operations on the same
- * numbers (no fused multiply-add), max and min keeping lo and hi where a
- * distance is NaN as the comparisons do, so the same rays enter (the
- * wide kernels' argument, wide.h).  far: a multiple of four readable. */
-static inline __attribute__((always_inline)) uint32_t bvh_node_rays_soa(const BvhNode *n, const BvhPacketSoa *s, uint32_t mask, const real *far)
+/* The rays of `mask` whose slab test enters the box bmin..bmax, four rays
+ * a step: bvh_node_hit's operations on the same numbers (no fused
+ * multiply-add), max and min keeping lo and hi where a distance is NaN as
+ * the comparisons do, so the same rays enter (the wide kernels' argument,
+ * wide.h).  far: a multiple of four readable. */
+static inline __attribute__((always_inline)) uint32_t bvh_box_rays_soa(const real *bmin, const real *bmax,
+                                                                       const BvhPacketSoa *s, uint32_t mask,
+                                                                       const real *far)
 {
     uint32_t in = 0;
     const __m128 zero = _mm_setzero_ps(), fudge = _mm_set1_ps(BVH_FUDGE);
@@ -64,8 +67,8 @@ static inline __attribute__((always_inline)) uint32_t bvh_node_rays_soa(const Bv
         __m128 lo = _mm_load_ps(&s->tmin[4 * g]), hi = _mm_loadu_ps(&far[4 * g]);
         for (int a = 0; a < 3; a++) {
             const __m128 o = _mm_load_ps(&s->org[a][4 * g]), iv = _mm_load_ps(&s->inv[a][4 * g]);
-            const __m128 t0 = _mm_mul_ps(_mm_sub_ps(_mm_set1_ps(n->bmin[a]), o), iv);
-            const __m128 t1 = _mm_mul_ps(_mm_sub_ps(_mm_set1_ps(n->bmax[a]), o), iv);
+            const __m128 t0 = _mm_mul_ps(_mm_sub_ps(_mm_set1_ps(bmin[a]), o), iv);
+            const __m128 t1 = _mm_mul_ps(_mm_sub_ps(_mm_set1_ps(bmax[a]), o), iv);
             const __m128 pos = _mm_cmpge_ps(iv, zero); /* ray_set's near/far choice */
             const __m128 tn = _mm_or_ps(_mm_and_ps(pos, t0), _mm_andnot_ps(pos, t1));
             const __m128 tf = _mm_or_ps(_mm_and_ps(pos, t1), _mm_andnot_ps(pos, t0));
@@ -75,6 +78,24 @@ static inline __attribute__((always_inline)) uint32_t bvh_node_rays_soa(const Bv
         in |= ((uint32_t)_mm_movemask_ps(_mm_cmple_ps(lo, _mm_mul_ps(hi, fudge))) & m) << (4 * g);
     }
     return in;
+}
+
+/* bvh_node_rays with four rays a step. */
+static inline __attribute__((always_inline)) uint32_t bvh_node_rays_soa(const BvhNode *n, const BvhPacketSoa *s, uint32_t mask, const real *far)
+{
+    return bvh_box_rays_soa(n->bmin, n->bmax, s, mask, far);
+}
+
+/* Fills s with the n rays, four lanes a group. */
+static inline __attribute__((always_inline)) void bvh_packet_soa(BvhPacketSoa *s, const Ray *rays, int n)
+{
+    s->groups = (n + 3) / 4;
+    for (int i = 0; i < 4 * s->groups; i++) {
+        const Ray *r = &rays[i < n ? i : 0]; /* the lanes past n: a copy, masked out */
+        for (int a = 0; a < 3; a++)
+            s->org[a][i] = r->org.e[a], s->inv[a][i] = r->inv.e[a];
+        s->tmin[i] = r->tmin;
+    }
 }
 #endif
 
@@ -122,15 +143,8 @@ static inline __attribute__((always_inline)) uint32_t bvh_packet(const Bvh *b, c
     BvhPacketSoa soa;
     soa.groups = 0;
 #ifdef BVH_PACKET_SSE
-    if (simd) {
-        soa.groups = (n + 3) / 4;
-        for (int i = 0; i < 4 * soa.groups; i++) {
-            const Ray *r = &rays[i < n ? i : 0]; /* the lanes past n: a copy, masked out */
-            for (int a = 0; a < 3; a++)
-                soa.org[a][i] = r->org.e[a], soa.inv[a][i] = r->inv.e[a];
-            soa.tmin[i] = r->tmin;
-        }
-    }
+    if (simd)
+        bvh_packet_soa(&soa, rays, n);
 #else
     (void)simd;
 #endif

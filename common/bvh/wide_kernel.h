@@ -228,9 +228,7 @@ static inline __attribute__((always_inline)) int wide_tris_hit8(const WideTris *
 }
 #endif
 
-/* A leaf's blocks against one ray, the hits taken by the rule (wide_take):
- * by pairs in one eight-lane test where the nodes are eight wide (AVX2). */
-/* One block against one ray, the hits taken by the rule. */
+/* One block against one ray, the hits taken by the rule (wide_take). */
 static inline __attribute__((always_inline)) int wide_block_closest(const WideTris *blk, const WideRay *k, float *best,
                                                                    uint32_t *best_idx, WideHit *hit)
 {
@@ -254,6 +252,8 @@ static inline __attribute__((always_inline)) int wide_pair_closest(const WideTri
 }
 #endif
 
+/* A leaf's blocks against one ray, the hits taken by the rule: by pairs
+ * in one eight-lane test where the nodes are eight wide (AVX2). */
 static inline __attribute__((always_inline)) int wide_leaf_closest(const WideTris *blk, uint32_t blocks, const WideRay *k,
                                                                   float *best, uint32_t *best_idx, WideHit *hit)
 {

@@ -218,13 +218,11 @@ int trace_lamp_part(const World *w, const WorldLight *l, const Hit *h)
 static int closest_of(const World *w, const Ray *r, Hit *hit, int glass_only, const uint8_t *only)
 {
     closest_planes(w, r, hit, glass_only);
-    if (w->lone_model && !only) { /* leaf_closest on the one instance, without the walk's set-up */
-        ModelHit mh;
-        if (model_intersect(w->models[w->instances[0].model], r, hit->t, 0, &mh))
-            *hit = (Hit){mh.t, mh.b1, mh.b2, HIT_INSTANCE, 0, mh.tri};
+    Best b = {hit, 0};
+    if (w->lone_model && !only) { /* the one instance (top primitive 0), without the walk's set-up */
+        leaf_closest(w, 0, r, &b);
         return hit->kind != HIT_NONE;
     }
-    Best b = {hit, 0};
     if (only && w->glass_count <= WORLD_GLASS_LIST) { /* a few: each alone (the rule makes the order free) */
         for (uint32_t i = 0; i < w->glass_count; i++)
             leaf_closest(w, w->glass_list[i], r, &b);
