@@ -165,6 +165,8 @@ static void errors_name_file_line_and_expectation(void **state)
     expect_error("settings fresnel fast\n", "'fresnel' of settings must be exact or schlick, not 'fast'");
     expect_error("settings glass_shadows dark\n", "'glass_shadows' of settings must be opaque or tinted, not 'dark'");
     expect_error("settings aa 33\n", "'aa' of settings must be a whole number from 1 to 32");
+    expect_error("settings contrast 256\n", "'contrast' of settings must be a whole number from 0 to 255");
+    expect_error("settings contrast -1\n", "'contrast' of settings must be a whole number from 0 to 255");
     expect_error("settings shading toon\n", "'shading' of settings must be phong or diffuse");
     expect_error("ambient 1 1\n", "ambient expects 3 finite numbers");
     expect_error("instance nothing\n", "unknown model 'nothing'");
