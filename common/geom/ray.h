@@ -49,12 +49,19 @@ static inline void ray_set(Ray *out, vec3 org, vec3 dir, vec3 inv, real tmin, re
     out->sy = dir.e[ky] * out->sz;
 }
 
-static inline Ray ray_make(vec3 org, vec3 dir, real tmin, real tmax)
+/* Fills *out from an origin and a direction: where the ray is to be kept
+ * (an array, a struct), in place of ray_make's copy (ray_set says why). */
+static inline void ray_init(Ray *out, vec3 org, vec3 dir, real tmin, real tmax)
 {
     /* 1/0 gives +-inf, which the slab test handles: a ray parallel to a slab
      * is either inside it for all t or never. */
+    ray_set(out, org, dir, v3(R(1) / dir.x, R(1) / dir.y, R(1) / dir.z), tmin, tmax);
+}
+
+static inline Ray ray_make(vec3 org, vec3 dir, real tmin, real tmax)
+{
     Ray r;
-    ray_set(&r, org, dir, v3(R(1) / dir.x, R(1) / dir.y, R(1) / dir.z), tmin, tmax);
+    ray_init(&r, org, dir, tmin, tmax);
     return r;
 }
 

@@ -294,7 +294,7 @@ static void sample_packet_other(const Frame *f, const Samples *sm, vec3 *out, Ra
     for (int i = 0; i < sm->n; i++) {
         vec3 org, dir;
         if (camera_ray(&f->cam, sm->xs[i], sm->ys[i], &org, &dir)) {
-            rays[m] = ray_make(org, dir, R(0), REAL_INF);
+            ray_init(&rays[m], org, dir, R(0), REAL_INF);
             rs[m] = ids ? ids[i] : (SampleId){.key = 0, .index = 0, .count = 1};
             if (pd)
                 diff[m] = pd[i];
@@ -353,7 +353,7 @@ static void sample_packet(const Frame *f, const Samples *sm, vec3 *out, RayStats
         if (len[i] > R(0))
             ray_set(&rays[i], c->org, v3(dx[i], dy[i], dz[i]), v3(ix[i], iy[i], iz[i]), R(0), REAL_INF);
         else
-            rays[i] = ray_make(c->org, v3_norm(camera_dir(c, px[i], py[i])), R(0), REAL_INF);
+            ray_init(&rays[i], c->org, v3_norm(camera_dir(c, px[i], py[i])), R(0), REAL_INF);
     }
     SampleId id[TRACE_PACKET];
     RayDiff diff[TRACE_PACKET];
@@ -365,31 +365,6 @@ static Samples centres(const real *xs, const real *ys, int n)
 {
     Samples sm = {.xs = xs, .ys = ys, .per_pixel = 1, .step = R(1), .n = n};
     return sm;
-}
-
-/* n x n sub-samples, in packets, summed in the same order as ever */
-static vec3 sample_grid(const Frame *f, int px, int py, int n, RayStats *st)
-{
-    vec3 sum = v3_splat(0);
-    real inv = R(1) / (real)n;
-    real xs[TRACE_PACKET], ys[TRACE_PACKET];
-    uint32_t pos[TRACE_PACKET];
-    vec3 c[TRACE_PACKET];
-    int k = 0;
-    for (int j = 0; j < n; j++)
-        for (int i = 0; i < n; i++) {
-            xs[k] = (real)px + ((real)i + R(0.5)) * inv;
-            ys[k] = (real)py + ((real)j + R(0.5)) * inv;
-            pos[k++] = (uint32_t)(j * n + i);
-            if (k == TRACE_PACKET || (j == n - 1 && i == n - 1)) {
-                Samples sm = {.xs = xs, .ys = ys, .pos = pos, .per_pixel = (uint32_t)(n * n), .step = inv, .n = k};
-                sample_packet(f, &sm, c, st, NULL);
-                for (int q = 0; q < k; q++)
-                    sum = v3_add(sum, c[q]);
-                k = 0;
-            }
-        }
-    return v3_scale(sum, inv * inv);
 }
 
 /* Pixel centres i0.. of a run of `width`-wide lines starting at line offset
@@ -429,6 +404,71 @@ static inline __attribute__((always_inline)) void put_pixel(const Frame *f, uint
         put_codes(f, dst, c);
 }
 
+/* Pixels' n x n sub-samples, gathered across pixels into full packets: a
+ * 2 x 2 pixel alone filled half a packet and a 3 x 3 one a packet and a
+ * ray, and a packet costs its set-up whatever it holds.  Each pixel sums
+ * its colours in the order of its samples, and each colour is what its ray
+ * gives alone, so a pixel is the same whatever packets it shared.  At most
+ * TRACE_PACKET pixels wait (the samples of a packet, the newest pixel's
+ * among them), so that a slot comes round free. */
+#define GRID_SLOTS (TRACE_PACKET + 1)
+
+typedef struct {
+    const Frame *f;
+    RayStats *st;
+    int n;
+    real inv; /* 1 / n */
+    real xs[TRACE_PACKET], ys[TRACE_PACKET];
+    uint32_t pos[TRACE_PACKET];
+    int slot[TRACE_PACKET], m;
+    vec3 sum[GRID_SLOTS];
+    uint8_t *dst[GRID_SLOTS];
+    int left[GRID_SLOTS], next;
+} GridBatch;
+
+static GridBatch grid_start(const Frame *f, RayStats *st, int n)
+{
+    return (GridBatch){.f = f, .st = st, .n = n, .inv = R(1) / (real)n};
+}
+
+/* Traces the gathered samples; writes the pixels they finish. */
+static void grid_flush(GridBatch *g)
+{
+    if (g->m == 0)
+        return;
+    vec3 c[TRACE_PACKET];
+    Samples sm = {.xs = g->xs, .ys = g->ys, .pos = g->pos, .per_pixel = (uint32_t)(g->n * g->n), .step = g->inv,
+                  .n = g->m};
+    sample_packet(g->f, &sm, c, g->st, NULL);
+    for (int q = 0; q < g->m; q++) {
+        const int s = g->slot[q];
+        g->sum[s] = v3_add(g->sum[s], c[q]);
+        if (--g->left[s] == 0)
+            put_pixel(g->f, g->dst[s], v3_scale(g->sum[s], g->inv * g->inv));
+    }
+    g->m = 0;
+}
+
+/* Pixel (px, py), written to dst once its n x n samples are traced. */
+static void grid_add(GridBatch *g, int px, int py, uint8_t *dst)
+{
+    const int s = g->next, n = g->n;
+    g->next = (s + 1) % GRID_SLOTS;
+    g->sum[s] = v3_splat(0);
+    g->dst[s] = dst;
+    g->left[s] = n * n;
+    for (int j = 0; j < n; j++)
+        for (int i = 0; i < n; i++) {
+            const int k = g->m++;
+            g->xs[k] = (real)px + ((real)i + R(0.5)) * g->inv;
+            g->ys[k] = (real)py + ((real)j + R(0.5)) * g->inv;
+            g->pos[k] = (uint32_t)(j * n + i);
+            g->slot[k] = s;
+            if (g->m == TRACE_PACKET)
+                grid_flush(g);
+        }
+}
+
 /* A chunk done: its finished pixels and the rays it took (since `before`). */
 static void count_progress(const Frame *f, uint64_t pixels, const RayStats *st, uint64_t before)
 {
@@ -455,6 +495,7 @@ static void job_grid(void *ctx, uint32_t chunk, RayStats *st)
     chunk_range(f, chunk, f->count, &i0, &i1);
     int n = f->w->view.settings.aa;
     uint64_t before = ray_stats_total(st);
+    GridBatch grid = grid_start(f, st, n);
     for (uint64_t i = i0; i < i1;) {
         uint64_t g = f->first + i;
         if (n == 1) {
@@ -469,9 +510,10 @@ static void job_grid(void *ctx, uint32_t chunk, RayStats *st)
             continue;
         }
         int px = (int)(g % (uint64_t)f->width), py = (int)(g / (uint64_t)f->width);
-        put_pixel(f, &f->pixels[f->bpp * i], sample_grid(f, px, py, n, st));
+        grid_add(&grid, px, py, &f->pixels[f->bpp * i]);
         i++;
     }
+    grid_flush(&grid);
     count_progress(f, i1 - i0, st, before);
 }
 
@@ -597,6 +639,7 @@ static void job_refine(void *ctx, uint32_t chunk, RayStats *st)
     real xs[TRACE_PACKET], ys[TRACE_PACKET];
     uint64_t at_px[TRACE_PACKET];
     int m = 0;
+    GridBatch grid = grid_start(f, st, n);
     for (uint64_t i = i0; i < i1; i++) {
         uint64_t g = f->first + i;
         int px = (int)(g % (uint64_t)f->width), py = (int)(g / (uint64_t)f->width);
@@ -604,7 +647,7 @@ static void job_refine(void *ctx, uint32_t chunk, RayStats *st)
         if (!refines(f, &f->keys[at], &f->colors[3 * at], px, py))
             memcpy(&f->pixels[f->bpp * i], &f->centre[f->bpp * at], (size_t)f->bpp);
         else if (n > 1)
-            put_pixel(f, &f->pixels[f->bpp * i], sample_grid(f, px, py, n, st));
+            grid_add(&grid, px, py, &f->pixels[f->bpp * i]);
         else {
             xs[m] = (real)px + R(0.5), ys[m] = (real)py + R(0.5);
             at_px[m++] = i;
@@ -618,6 +661,7 @@ static void job_refine(void *ctx, uint32_t chunk, RayStats *st)
             m = 0;
         }
     }
+    grid_flush(&grid);
     count_progress(f, i1 - i0, st, before);
 }
 

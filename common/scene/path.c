@@ -143,11 +143,11 @@ static int dielectric_bounce(const World *w, const Surface *sf, vec3 d, real pic
         f = R(1);
     if (pick < f) {
         vec3 r = optics_reflect(d, sf->ns);
-        *next = ray_make(trace_offset_origin(sf->p, sf->ng, sf->err), r, R(0), REAL_MAX);
+        ray_init(next, trace_offset_origin(sf->p, sf->ng, sf->err), r, R(0), REAL_MAX);
         return v3_dot(r, sf->ng) > R(0);
     }
     *beta = v3_mul(*beta, m->kt);
-    *next = ray_make(trace_offset_origin(sf->p, v3_neg(sf->ng), sf->err), v3_norm(td), R(0), REAL_MAX);
+    ray_init(next, trace_offset_origin(sf->p, v3_neg(sf->ng), sf->err), v3_norm(td), R(0), REAL_MAX);
     return 1;
 }
 
@@ -165,7 +165,7 @@ static int mirror_bounce(const Surface *sf, vec3 d, real u, real v, real s, vec3
     if (!(v3_dot(r, sf->ng) > R(0)))
         return 0;
     *beta = v3_mul(*beta, m->kr);
-    *next = ray_make(trace_offset_origin(sf->p, sf->ng, sf->err), r, R(0), REAL_MAX);
+    ray_init(next, trace_offset_origin(sf->p, sf->ng, sf->err), r, R(0), REAL_MAX);
     return 1;
 }
 
@@ -235,7 +235,7 @@ vec3 path_radiance(const World *w, const Ray *r, SampleId id, RayStats *st, uint
                 after_smooth = 1;
                 from = sf.p;
                 pdf_bounce = pdf;
-                ray = ray_make(trace_offset_origin(sf.p, sf.ng, sf.err), nd, R(0), REAL_MAX);
+                ray_init(&ray, trace_offset_origin(sf.p, sf.ng, sf.err), nd, R(0), REAL_MAX);
             }
         }
         if (!go)

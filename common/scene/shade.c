@@ -316,7 +316,7 @@ static void spawn_push(Spawn *sp, int *ns, int parent, vec3 org, vec3 d, SampleI
                        vec3 factor)
 {
     Spawn *s = &sp[(*ns)++];
-    s->ray = ray_make(org, d, R(0), REAL_INF);
+    ray_init(&s->ray, org, d, R(0), REAL_INF);
     s->id = id;
     s->has_rd = rd != NULL;
     if (rd)
@@ -414,7 +414,7 @@ static vec3 rough_reflection(const World *w, const Shading *sh, vec3 front, vec3
         real below = v3_dot(d, sf->ng);
         if (below <= R(0))
             d = v3_norm(v3_madd(d, sf->ng, R(-2) * below));
-        rays[q] = ray_make(front, d, R(0), REAL_INF);
+        ray_init(&rays[q], front, d, R(0), REAL_INF);
         if (rdp)
             diff[q] = *rdp;
         if (++q == TRACE_PACKET || j == n - 1) {

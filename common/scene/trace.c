@@ -10,12 +10,12 @@
 
 /* Ray in an instance's model space.  The map x -> R^T (x - T) / s is affine,
  * so distances t along the ray are the same in both spaces. */
-static Ray instance_ray(const WorldInstance *in, const Ray *r)
+static void instance_ray(Ray *out, const WorldInstance *in, const Ray *r)
 {
     real inv = R(1) / in->scale;
     vec3 o = v3_scale(m3_apply_t(&in->rot, v3_sub(r->org, in->translate)), inv);
     vec3 d = v3_scale(m3_apply_t(&in->rot, r->dir), inv);
-    return ray_make(o, d, r->tmin, r->tmax);
+    ray_init(out, o, d, r->tmin, r->tmax);
 }
 
 /* The scene's closest hit does not depend on the order its parts are
@@ -57,7 +57,7 @@ static inline __attribute__((always_inline)) int leaf_closest(const World *w, ui
     p -= w->tri_count;
     const WorldInstance *in = &w->instances[p];
     Ray mr;
-    const Ray *rr = in->identity ? r : (mr = instance_ray(in, r), &mr);
+    const Ray *rr = in->identity ? r : (instance_ray(&mr, in, r), &mr);
     ModelHit mh;
     if (!model_intersect(w->models[in->model], rr, b->hit->t, key < b->key, &mh))
         return 0;
@@ -89,7 +89,7 @@ static int leaf_occluded(const World *w, uint32_t p, const Ray *r, real tmax, co
     p -= w->tri_count;
     const WorldInstance *in = &w->instances[p];
     Ray mr;
-    const Ray *rr = in->identity ? r : (mr = instance_ray(in, r), &mr);
+    const Ray *rr = in->identity ? r : (instance_ray(&mr, in, r), &mr);
     return model_occluded(w->models[in->model], rr, tmax);
 }
 
@@ -294,7 +294,7 @@ static uint32_t instance_packet(const World *w, uint32_t p, const Ray *rays, uin
         if (in->identity)
             rr[n] = &rays[i];
         else
-            mr[n] = instance_ray(in, &rays[i]), rr[n] = &mr[n];
+            instance_ray(&mr[n], in, &rays[i]), rr[n] = &mr[n];
         tm[n] = closest ? best[i].hit->t : tmax[i];
         at[n] = closest && p + 1 < best[i].key;
         which[n++] = i;
