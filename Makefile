@@ -56,7 +56,12 @@ endif
 BUILD := build/$(PRECISION)$(if $(SAN),-$(SAN))$(if $(FEATURES),-$(FEATURES))
 CFLAGS ?= $(OPT) -g
 CPPFLAGS := -D_POSIX_C_SOURCE=200809L $(PFLAGS) -Icommon -Iserver -Iclient
-ALL_CFLAGS := -std=c17 -ffp-contract=off -fno-math-errno -Wall -Wextra -Wshadow -Wdouble-promotion -Wmissing-prototypes -Werror -pthread -MMD -MP $(SANFLAGS) $(CPPFLAGS) $(CFLAGS)
+# -ffp-contract=off: the same rounding on every SIMD path and compiler (one
+# frame, one picture).  -fno-trapping-math: lanray reads no floating-point
+# exception flags, and without it GCC keeps a lane loop with two selects
+# (a ? x : y) scalar, lest the select's unused side trap (the round lamp's
+# points, scene/shade.c sphere_dirs); the values are IEEE's either way.
+ALL_CFLAGS := -std=c17 -ffp-contract=off -fno-math-errno -fno-trapping-math -Wall -Wextra -Wshadow -Wdouble-promotion -Wmissing-prototypes -Werror -pthread -MMD -MP $(SANFLAGS) $(CPPFLAGS) $(CFLAGS)
 LDLIBS := -lassimp -lsodium -lnetpbm -lpng -ljpeg -lzstd -llz4 -lavahi-client -lavahi-common -lz -lm -pthread
 LDFLAGS := $(SANFLAGS)
 

@@ -538,40 +538,14 @@ static inline real shadow_ray(const Shading *h, vec3 L, real dist, Ray *sr)
     return shadow_ray_inv(h, L, v3(R(1) / L.x, R(1) / L.y, R(1) / L.z), dist, sr);
 }
 
-/* light_at for light li (its point j) at the hits of the live rays, and
- * each direction's inverse for its shadow ray: bit k of the result where
- * light arrives at live ray k.  The square roots and divisions of all the
- * rays lane by lane, in arrays the compiler turns into vector code (one
- * ray's waited on each other: a fifth of the default scene's frame). */
-static inline __attribute__((always_inline)) uint32_t light_dirs(const World *w, Shading *sh, const int *live, int nl,
-                                                                uint32_t li, uint32_t j, vec3 *L, real *dist, vec3 *inv,
-                                                                vec3 *rad, const int optional)
+/* light_dirs' end: from the offsets (dx, dy, dz) of the lanes of `ok` to
+ * their light's points, and the intensity there, light_towards' arithmetic
+ * operation for operation, in arrays the compiler turns into vector code. */
+static inline __attribute__((always_inline)) uint32_t light_dirs_towards(const World *w, const WorldLight *l, uint32_t ok,
+                                                                        const real *dx, const real *dy, const real *dz,
+                                                                        const real *sc, vec3 *L, real *dist, vec3 *inv,
+                                                                        vec3 *rad, const int optional)
 {
-    const WorldLight *l = &w->lights[li];
-    uint32_t ok = 0;
-    if (l->kind == LIGHT_DIRECTIONAL) {
-        for (int k = 0; k < nl; k++) {
-            Shading *h = &sh[live[k]];
-            if (light_at(w, l, h->sf.p, &h->id, &h->disc, li, j, &L[k], &dist[k], &rad[k], optional)) {
-                inv[k] = v3(R(1) / L[k].x, R(1) / L[k].y, R(1) / L[k].z);
-                ok |= 1u << k;
-            }
-        }
-        return ok;
-    }
-    real dx[TRACE_PACKET], dy[TRACE_PACKET], dz[TRACE_PACKET], sc[TRACE_PACKET];
-    for (int k = 0; k < TRACE_PACKET; k++) {
-        vec3 pos = v3_splat(R(1)), p = v3_splat(R(0)); /* a lane past nl: something finite */
-        sc[k] = R(0);
-        if (k < nl) {
-            Shading *h = &sh[live[k]];
-            p = h->sf.p;
-            if (light_pos(w, l, p, &h->id, &h->disc, li, j, &pos, &sc[k], optional))
-                ok |= 1u << k;
-        }
-        dx[k] = pos.x - p.x, dy[k] = pos.y - p.y, dz[k] = pos.z - p.z;
-    }
-    /* light_towards' arithmetic, operation for operation */
     real d2[TRACE_PACKET], ds[TRACE_PACKET], lx[TRACE_PACKET], ly[TRACE_PACKET], lz[TRACE_PACKET];
     real ix[TRACE_PACKET], iy[TRACE_PACKET], iz[TRACE_PACKET];
     for (int k = 0; k < TRACE_PACKET; k++) {
@@ -597,6 +571,122 @@ static inline __attribute__((always_inline)) uint32_t light_dirs(const World *w,
         rad[k] = v3_scale(l->color, scale);
     }
     return ok;
+}
+
+/* light_dirs for a sphere light: light_pos's point of the disc the light
+ * shows each hit (area_point: the disc's axes, v3_frame, where the ray has
+ * none yet; the concentric map, sample_disc) operation for operation, lane
+ * by lane in arrays, where one ray's square roots and divisions waited on
+ * each other (the round lamp's points were a tenth of
+ * models/example.scene's frame).  The axes made are kept as area_point
+ * keeps them, for the ray's next point of the light. */
+static inline __attribute__((always_inline)) uint32_t sphere_dirs(const World *w, Shading *sh, const int *live, int nl,
+                                                                 uint32_t li, uint32_t j, vec3 *L, real *dist, vec3 *inv,
+                                                                 vec3 *rad)
+{
+    const WorldLight *l = &w->lights[li];
+    uint32_t ok = 0, fresh = 0; /* lanes with a point; those whose axes are made here */
+    real px[TRACE_PACKET], py[TRACE_PACKET], pz[TRACE_PACKET], u[TRACE_PACKET], v[TRACE_PACKET], sc[TRACE_PACKET];
+    real ax[3][TRACE_PACKET], bx[3][TRACE_PACKET];
+    for (int k = 0; k < TRACE_PACKET; k++) {
+        px[k] = py[k] = pz[k] = R(0), u[k] = v[k] = R(0.5), sc[k] = R(0); /* a lane past nl: something finite */
+        for (int e = 0; e < 3; e++)
+            ax[e][k] = bx[e][k] = R(0);
+        if (k >= nl)
+            continue;
+        Shading *h = &sh[live[k]];
+        real share;
+        px[k] = h->sf.p.x, py[k] = h->sf.p.y, pz[k] = h->sf.p.z;
+        if (!area_sample(w, l, li, &h->id, &h->disc, j, &u[k], &v[k], &share))
+            continue;
+        ok |= 1u << k;
+        sc[k] = l->intensity * share;
+        if (h->disc.of == li + 1)
+            for (int e = 0; e < 3; e++)
+                ax[e][k] = h->disc.a.e[e], bx[e][k] = h->disc.b.e[e];
+        else
+            fresh |= 1u << k;
+    }
+    const real cx = l->pos.x, cy = l->pos.y, cz = l->pos.z, radius = l->radius;
+    if (fresh) {
+        real fa[3][TRACE_PACKET], fb[3][TRACE_PACKET];
+        for (int k = 0; k < TRACE_PACKET; k++) {
+            /* w = v3_norm(p - centre) */
+            real wx = px[k] - cx, wy = py[k] - cy, wz = pz[k] - cz;
+            const real wl = sqrt(wx * wx + wy * wy + wz * wz), wi = R(1) / wl;
+            const int wok = wl > R(0);
+            wx = wok ? wx * wi : wx, wy = wok ? wy * wi : wy, wz = wok ? wz * wi : wz;
+            /* v3_frame: a = v3_norm(cross(|w.x| > 0.5 ? (0, 1, 0) : (1, 0, 0), w)), b = cross(w, a) */
+            const int side = fabs(wx) > R(0.5);
+            const real ex = side ? R(0) : R(1), ey = side ? R(1) : R(0), ez = R(0);
+            real qx = ey * wz - ez * wy, qy = ez * wx - ex * wz, qz = ex * wy - ey * wx;
+            const real ql = sqrt(qx * qx + qy * qy + qz * qz), qi = R(1) / ql;
+            const int qok = ql > R(0);
+            qx = qok ? qx * qi : qx, qy = qok ? qy * qi : qy, qz = qok ? qz * qi : qz;
+            fa[0][k] = qx, fa[1][k] = qy, fa[2][k] = qz;
+            fb[0][k] = wy * qz - wz * qy, fb[1][k] = wz * qx - wx * qz, fb[2][k] = wx * qy - wy * qx;
+        }
+        for (uint32_t m = fresh; m; m &= m - 1) {
+            const int k = __builtin_ctz(m);
+            DiscAxes *d = &sh[live[k]].disc;
+            for (int e = 0; e < 3; e++)
+                ax[e][k] = d->a.e[e] = fa[e][k], bx[e][k] = d->b.e[e] = fb[e][k];
+            d->of = li + 1;
+        }
+    }
+    real dx[TRACE_PACKET], dy[TRACE_PACKET], dz[TRACE_PACKET];
+    for (int k = 0; k < TRACE_PACKET; k++) {
+        /* sample_disc(u, v) */
+        const real a = R(2) * u[k] - R(1), b = R(2) * v[k] - R(1);
+        const int centre = (a == R(0)) & (b == R(0)), wide = a * a > b * b;
+        const real r = wide ? a : b, q = wide ? b : a;
+        real sn, cs;
+        sample_sincos_quarter((REAL_PI / R(4)) * (q / r), &sn, &cs);
+        const real x = centre ? R(0) : r * (wide ? cs : sn), y = centre ? R(0) : r * (wide ? sn : cs);
+        /* the point: centre + (a x + b y) radius, less p */
+        dx[k] = cx + (ax[0][k] * x + bx[0][k] * y) * radius - px[k];
+        dy[k] = cy + (ax[1][k] * x + bx[1][k] * y) * radius - py[k];
+        dz[k] = cz + (ax[2][k] * x + bx[2][k] * y) * radius - pz[k];
+    }
+    return light_dirs_towards(w, l, ok, dx, dy, dz, sc, L, dist, inv, rad, 1);
+}
+
+/* light_at for light li (its point j) at the hits of the live rays, and
+ * each direction's inverse for its shadow ray: bit k of the result where
+ * light arrives at live ray k.  The square roots and divisions of all the
+ * rays lane by lane, in arrays the compiler turns into vector code (one
+ * ray's waited on each other: a fifth of the default scene's frame). */
+static inline __attribute__((always_inline)) uint32_t light_dirs(const World *w, Shading *sh, const int *live, int nl,
+                                                                uint32_t li, uint32_t j, vec3 *L, real *dist, vec3 *inv,
+                                                                vec3 *rad, const int optional)
+{
+    const WorldLight *l = &w->lights[li];
+    uint32_t ok = 0;
+    if (l->kind == LIGHT_DIRECTIONAL) {
+        for (int k = 0; k < nl; k++) {
+            Shading *h = &sh[live[k]];
+            if (light_at(w, l, h->sf.p, &h->id, &h->disc, li, j, &L[k], &dist[k], &rad[k], optional)) {
+                inv[k] = v3(R(1) / L[k].x, R(1) / L[k].y, R(1) / L[k].z);
+                ok |= 1u << k;
+            }
+        }
+        return ok;
+    }
+    real dx[TRACE_PACKET], dy[TRACE_PACKET], dz[TRACE_PACKET], sc[TRACE_PACKET];
+    if (optional && world_uses(w, FEAT_AREA) && l->kind == LIGHT_SPHERE)
+        return sphere_dirs(w, sh, live, nl, li, j, L, dist, inv, rad);
+    for (int k = 0; k < TRACE_PACKET; k++) {
+        vec3 pos = v3_splat(R(1)), p = v3_splat(R(0)); /* a lane past nl: something finite */
+        sc[k] = R(0);
+        if (k < nl) {
+            Shading *h = &sh[live[k]];
+            p = h->sf.p;
+            if (light_pos(w, l, p, &h->id, &h->disc, li, j, &pos, &sc[k], optional))
+                ok |= 1u << k;
+        }
+        dx[k] = pos.x - p.x, dy[k] = pos.y - p.y, dz[k] = pos.z - p.z;
+    }
+    return light_dirs_towards(w, l, ok, dx, dy, dz, sc, L, dist, inv, rad, optional);
 }
 
 /* The m shadow rays sr towards light l: the mask of those blocked; with
