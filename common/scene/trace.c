@@ -241,7 +241,25 @@ static int closest_of(const World *w, const Ray *r, Hit *hit, int glass_only, co
     return hit->kind != HIT_NONE;
 }
 
-int trace_closest(const World *w, const Ray *r, Hit *hit) { return closest_of(w, r, hit, 0, NULL); }
+/* A world of one untransformed model and no plane (make bench's mesh
+ * scenes, a model's preview) sends a single ray to the model's walk
+ * directly: closest_of's planes, Best and leaf dispatch come to nothing
+ * there, and they were a twentieth of a diffuse bounce's instructions on
+ * the bunny. */
+int trace_closest(const World *w, const Ray *r, Hit *hit)
+{
+    if (w->lone_model && !(world_uses(w, FEAT_PLANES) && w->plane_count)) {
+        ModelHit mh;
+        if (!model_intersect(w->models[w->instances[0].model], r, r->tmax, 0, &mh)) {
+            hit->t = r->tmax;
+            hit->kind = HIT_NONE;
+            return 0;
+        }
+        *hit = (Hit){mh.t, mh.b1, mh.b2, HIT_INSTANCE, 0, mh.tri};
+        return 1;
+    }
+    return closest_of(w, r, hit, 0, NULL);
+}
 
 int trace_closest_glass(const World *w, const Ray *r, Hit *hit)
 {
@@ -453,7 +471,7 @@ void trace_closest_bounced(const World *w, const Ray *rays, int n, Hit *hits)
         const vec3 d = v3_sub(rays[0].dir, rays[n - 1].dir);
         if (!(fabs(d.x) <= R(WIDE_DIR_SPREAD) && fabs(d.y) <= R(WIDE_DIR_SPREAD) && fabs(d.z) <= R(WIDE_DIR_SPREAD))) {
             for (int i = 0; i < n; i++)
-                closest_of(w, &rays[i], &hits[i], 0, NULL);
+                trace_closest(w, &rays[i], &hits[i]);
             return;
         }
     }
