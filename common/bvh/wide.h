@@ -38,6 +38,20 @@
 #define WIDE_DIR_SPREAD 0.03f
 #endif
 
+/* Mirrored and refracted packets in a world of one model whose first and
+ * last origins lie more than this many mean leaf sizes apart go ray by ray
+ * (trace.c trace_closest_bounced): over a fine mesh, where each ray's walk
+ * is its own, the packet's interval walk cost more than it shared.
+ * Measured (tools/bench/rayclass, 1 thread, packets over Embree's best,
+ * two runs): no limit, the 1M sphere's mirrored rays 0.90-0.94 and
+ * refracted 0.86-0.93 (rays one by one 3-5% faster than the packets), the
+ * bunny's 0.99-1.02 and 1.11-1.17; 1 leaf, 0.91-0.96, 0.89-0.91 (as one by
+ * one) and 0.99, 1.11-1.13; a quarter, the bunny's refracted rays lose
+ * their packets (0.96-0.97). */
+#ifndef WIDE_BOUNCE_LEAVES
+#define WIDE_BOUNCE_LEAVES 1
+#endif
+
 /* The SIMD kernels exist in float builds on x86-64 only. */
 #if defined(__x86_64__) && !defined(LANRAY_DOUBLE)
 #define WIDE_COMPILED 1

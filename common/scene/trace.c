@@ -457,9 +457,11 @@ void trace_closest_packet(const World *w, const Ray *rays, int n, Hit *hits)
 }
 
 /* In a world of one untransformed model, a packet whose directions part
- * (its first and last rays more than WIDE_DIR_SPREAD apart on an axis)
- * would reach the model's walk only to go ray by ray there (wide_kernel.h):
- * it goes ray by ray from here, without the layers between (the top
+ * (its first and last rays more than WIDE_DIR_SPREAD apart on an axis), or
+ * whose origins do (more than WIDE_BOUNCE_LEAVES mean leaf sizes: wide.h),
+ * would reach the model's walk only to go ray by ray there (wide_kernel.h),
+ * or walk there as one interval where each ray's walk is its own: it goes
+ * ray by ray from here, without the layers between (the top
  * level's packet, the instance's).  Measured (tools/bench/rayclass, the
  * bunny, 1 thread, Mrays/s, three runs): mirrored rays 7.63-7.76 ->
  * 8.01-8.09, refracted 5.08-5.20 -> 5.23-5.31; the first and last ray
@@ -468,8 +470,11 @@ void trace_closest_packet(const World *w, const Ray *rays, int n, Hit *hits)
 void trace_closest_bounced(const World *w, const Ray *rays, int n, Hit *hits)
 {
     if (w->lone_model && n > 1) {
-        const vec3 d = v3_sub(rays[0].dir, rays[n - 1].dir);
-        if (!(fabs(d.x) <= R(WIDE_DIR_SPREAD) && fabs(d.y) <= R(WIDE_DIR_SPREAD) && fabs(d.z) <= R(WIDE_DIR_SPREAD))) {
+        const Model *m = w->models[w->instances[0].model];
+        const real os = m->wide ? R(WIDE_BOUNCE_LEAVES) * m->wide->leaf_size : REAL_INF;
+        const vec3 d = v3_sub(rays[0].dir, rays[n - 1].dir), o = v3_sub(rays[0].org, rays[n - 1].org);
+        if (!(fabs(d.x) <= R(WIDE_DIR_SPREAD) && fabs(d.y) <= R(WIDE_DIR_SPREAD) && fabs(d.z) <= R(WIDE_DIR_SPREAD)) ||
+            !(fabs(o.x) <= os && fabs(o.y) <= os && fabs(o.z) <= os)) {
             for (int i = 0; i < n; i++)
                 trace_closest(w, &rays[i], &hits[i]);
             return;
