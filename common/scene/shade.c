@@ -30,6 +30,7 @@
 #include "scene/path.h"
 
 #include "base/sample.h"
+#include "base/sample_lanes.h"
 #include "geom/raydiff.h"
 
 /* What a ray's points of one area light share, kept for the light's next
@@ -71,9 +72,10 @@ static inline __attribute__((always_inline)) vec3 area_point(const WorldLight *l
  * takes fewer points.  Per effect (settings sampling product): j of the
  * light's samples^2 stratified points, each ray its own.  One budget (the
  * default): j of the ray's share of the samples^2 points its pixel takes
- * (base/sample.h). */
-static inline int area_sample(const World *w, const WorldLight *l, uint32_t li, const SampleId *id, DiscAxes *ax,
-                              uint32_t j, real *u, real *v, real *share)
+ * (base/sample.h).  2 where (u, v) is the point *index of ax->seq, left to
+ * the caller (sample_sobol_point, or eight rays' at once: light_uvs). */
+static inline int area_plan(const World *w, const WorldLight *l, uint32_t li, const SampleId *id, DiscAxes *ax,
+                            uint32_t j, real *u, real *v, real *share, uint32_t *index)
 {
     const uint32_t k = (uint32_t)(l->samples * l->samples);
     /* a pixel's one point of the light (one ray a pixel, one point a ray):
@@ -101,9 +103,19 @@ static inline int area_sample(const World *w, const WorldLight *l, uint32_t li, 
     const uint32_t m = sample_share(k, id->count);
     if (j >= m)
         return 0;
-    sample_sobol_point(&ax->seq, id->index * m + j, u, v);
+    *index = id->index * m + j;
     *share = R(1) / (real)m;
-    return 1;
+    return 2;
+}
+
+static inline int area_sample(const World *w, const WorldLight *l, uint32_t li, const SampleId *id, DiscAxes *ax,
+                              uint32_t j, real *u, real *v, real *share)
+{
+    uint32_t index;
+    const int got = area_plan(w, l, li, id, ax, j, u, v, share, &index);
+    if (got == 2)
+        sample_sobol_point(&ax->seq, index, u, v);
+    return got != 0;
 }
 
 /* What of `scale` times a light's intensity arrives along unit dir from
@@ -573,6 +585,65 @@ static inline __attribute__((always_inline)) uint32_t light_dirs_towards(const W
     return ok;
 }
 
+_Static_assert(SAMPLE_LANES == TRACE_PACKET, "a packet's rays are the sampler's lanes");
+
+/* Area light li's point j (area_sample) for the hits of the live rays:
+ * the mask of lanes with one, (u, v) and the intensity there (sc), each
+ * hit's position (p); lanes past nl something finite.  The lanes whose
+ * point is a scrambled Sobol point get it eight at once
+ * (sample_sobol_lanes: the chains of hashes side by side). */
+static inline __attribute__((always_inline)) uint32_t light_uvs(const World *w, Shading *sh, const int *live, int nl,
+                                                               uint32_t li, uint32_t j, real *u, real *v, real *sc,
+                                                               real p[3][TRACE_PACKET])
+{
+    const WorldLight *l = &w->lights[li];
+    SampleLanes sl;
+    uint32_t ok = 0, sobol = 0;
+    for (int k = 0; k < TRACE_PACKET; k++) {
+        p[0][k] = p[1][k] = p[2][k] = R(0), u[k] = v[k] = R(0.5), sc[k] = R(0);
+        sl.index[k] = sl.seq_index[k] = sl.seq_first[k] = sl.seq_second[k] = 0;
+        if (k >= nl)
+            continue;
+        Shading *h = &sh[live[k]];
+        real share;
+        p[0][k] = h->sf.p.x, p[1][k] = h->sf.p.y, p[2][k] = h->sf.p.z;
+        const int got = area_plan(w, l, li, &h->id, &h->disc, j, &u[k], &v[k], &share, &sl.index[k]);
+        if (!got)
+            continue;
+        if (got == 2) {
+            sl.seq_index[k] = h->disc.seq.index, sl.seq_first[k] = h->disc.seq.first;
+            sl.seq_second[k] = h->disc.seq.second;
+            sobol |= 1u << k;
+        }
+        ok |= 1u << k;
+        sc[k] = l->intensity * share;
+    }
+    if (sobol) {
+        sample_sobol_lanes(&sl);
+        for (uint32_t m = sobol; m; m &= m - 1) {
+            const int k = __builtin_ctz(m);
+            u[k] = sample_unit(sl.u[k]), v[k] = sample_unit(sl.v[k]);
+        }
+    }
+    return ok;
+}
+
+/* light_dirs for a rectangle light: its point corner + u edge1 + v edge2
+ * (area_point), lane by lane. */
+static inline __attribute__((always_inline)) uint32_t rect_dirs(const World *w, Shading *sh, const int *live, int nl,
+                                                               uint32_t li, uint32_t j, vec3 *L, real *dist, vec3 *inv,
+                                                               vec3 *rad)
+{
+    const WorldLight *l = &w->lights[li];
+    real u[TRACE_PACKET], v[TRACE_PACKET], sc[TRACE_PACKET], p[3][TRACE_PACKET];
+    const uint32_t ok = light_uvs(w, sh, live, nl, li, j, u, v, sc, p);
+    real d[3][TRACE_PACKET];
+    for (int e = 0; e < 3; e++)
+        for (int k = 0; k < TRACE_PACKET; k++)
+            d[e][k] = l->pos.e[e] + (l->edge1.e[e] * u[k] + l->edge2.e[e] * v[k]) - p[e][k];
+    return light_dirs_towards(w, l, ok, d[0], d[1], d[2], sc, L, dist, inv, rad, 1);
+}
+
 /* light_dirs for a sphere light: light_pos's point of the disc the light
  * shows each hit (area_point: the disc's axes, v3_frame, where the ray has
  * none yet; the concentric map, sample_disc) operation for operation, lane
@@ -585,25 +656,20 @@ static inline __attribute__((always_inline)) uint32_t sphere_dirs(const World *w
                                                                  vec3 *rad)
 {
     const WorldLight *l = &w->lights[li];
-    uint32_t ok = 0, fresh = 0; /* lanes with a point; those whose axes are made here */
-    real px[TRACE_PACKET], py[TRACE_PACKET], pz[TRACE_PACKET], u[TRACE_PACKET], v[TRACE_PACKET], sc[TRACE_PACKET];
+    real u[TRACE_PACKET], v[TRACE_PACKET], sc[TRACE_PACKET], p[3][TRACE_PACKET];
+    const uint32_t ok = light_uvs(w, sh, live, nl, li, j, u, v, sc, p);
+    const real *px = p[0], *py = p[1], *pz = p[2];
+    uint32_t fresh = 0; /* lanes whose disc axes are made here */
     real ax[3][TRACE_PACKET], bx[3][TRACE_PACKET];
     for (int k = 0; k < TRACE_PACKET; k++) {
-        px[k] = py[k] = pz[k] = R(0), u[k] = v[k] = R(0.5), sc[k] = R(0); /* a lane past nl: something finite */
         for (int e = 0; e < 3; e++)
             ax[e][k] = bx[e][k] = R(0);
-        if (k >= nl)
+        if (!(ok >> k & 1))
             continue;
-        Shading *h = &sh[live[k]];
-        real share;
-        px[k] = h->sf.p.x, py[k] = h->sf.p.y, pz[k] = h->sf.p.z;
-        if (!area_sample(w, l, li, &h->id, &h->disc, j, &u[k], &v[k], &share))
-            continue;
-        ok |= 1u << k;
-        sc[k] = l->intensity * share;
-        if (h->disc.of == li + 1)
+        const DiscAxes *d = &sh[live[k]].disc;
+        if (d->of == li + 1)
             for (int e = 0; e < 3; e++)
-                ax[e][k] = h->disc.a.e[e], bx[e][k] = h->disc.b.e[e];
+                ax[e][k] = d->a.e[e], bx[e][k] = d->b.e[e];
         else
             fresh |= 1u << k;
     }
@@ -675,6 +741,8 @@ static inline __attribute__((always_inline)) uint32_t light_dirs(const World *w,
     real dx[TRACE_PACKET], dy[TRACE_PACKET], dz[TRACE_PACKET], sc[TRACE_PACKET];
     if (optional && world_uses(w, FEAT_AREA) && l->kind == LIGHT_SPHERE)
         return sphere_dirs(w, sh, live, nl, li, j, L, dist, inv, rad);
+    if (optional && world_uses(w, FEAT_AREA) && l->kind == LIGHT_RECT)
+        return rect_dirs(w, sh, live, nl, li, j, L, dist, inv, rad);
     for (int k = 0; k < TRACE_PACKET; k++) {
         vec3 pos = v3_splat(R(1)), p = v3_splat(R(0)); /* a lane past nl: something finite */
         sc[k] = R(0);

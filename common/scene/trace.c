@@ -471,7 +471,7 @@ void trace_closest_bounced(const World *w, const Ray *rays, int n, Hit *hits)
 {
     if (w->lone_model && n > 1) {
         const Model *m = w->models[w->instances[0].model];
-        const real os = m->wide ? R(WIDE_BOUNCE_LEAVES) * m->wide->leaf_size : REAL_INF;
+        const real os = m->wide ? R(WIDE_BOUNCE_LEAVES) * (real)m->wide->leaf_size : REAL_INF;
         const vec3 d = v3_sub(rays[0].dir, rays[n - 1].dir), o = v3_sub(rays[0].org, rays[n - 1].org);
         if (!(fabs(d.x) <= R(WIDE_DIR_SPREAD) && fabs(d.y) <= R(WIDE_DIR_SPREAD) && fabs(d.z) <= R(WIDE_DIR_SPREAD)) ||
             !(fabs(o.x) <= os && fabs(o.y) <= os && fabs(o.z) <= os)) {

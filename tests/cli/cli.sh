@@ -200,16 +200,17 @@ grep -q "^6 frames in [0-9.]* s: [0-9.]* fps with up to 2 clients, 1 at the end,
 
 # 9. progress: on a terminal only, off with --quiet; the headless server says at most a line a second
 # (each render must outlast the second before a progress line: the default
-# scene at 1024x768, 2x2 samples, one thread takes about 2.3 s since the
-# frame got cheaper (640x480 took 1 s); under the sanitizers 400x300 took
-# 2.3 s, then 1.0 s on a faster machine: 560x420)
+# scene at 1024x768, 2x2 samples, one thread took about 2.3 s, then 1.0 s
+# when its lamp's points got cheaper (2026-11-27): 3x3 samples, about 2.2 s;
+# under the sanitizers 400x300 took 2.3 s, then 1.0 s on a faster machine:
+# 560x420)
 W=1024 H=768
 [ $sanitized = 1 ] && W=560 H=420
-out=$(python3 tests/tools/ptyrun.py "$BIN/lanray-render" --width $W --height $H --aa 2 --threads 1 -o "$dir/p.png")
+out=$(python3 tests/tools/ptyrun.py "$BIN/lanray-render" --width $W --height $H --aa 3 --threads 1 -o "$dir/p.png")
 grep -q "lanray-render: [0-9]* of $H lines ([0-9]*%), [0-9.]* Mrays/s, .* left" <<<"$out" || fail "no progress on a terminal: $out"
-out=$(python3 tests/tools/ptyrun.py "$BIN/lanray-render" --width $W --height $H --aa 2 --threads 1 --quiet -o "$dir/p.png")
+out=$(python3 tests/tools/ptyrun.py "$BIN/lanray-render" --width $W --height $H --aa 3 --threads 1 --quiet -o "$dir/p.png")
 grep -q " lines (" <<<"$out" && fail "progress despite --quiet"
-out=$("$BIN/lanray-render" --width $W --height $H --aa 2 --threads 1 -o "$dir/p.png" 2>&1)
+out=$("$BIN/lanray-render" --width $W --height $H --aa 3 --threads 1 -o "$dir/p.png" 2>&1)
 grep -q " lines (" <<<"$out" && fail "progress on a pipe"
 python3 -c "
 import math

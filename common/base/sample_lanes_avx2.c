@@ -1,0 +1,68 @@
+/* sample_lanes_avx2.c - sample_sobol_lanes' eight chains in AVX2 registers:
+ * the bytes of each lane reversed by one shuffle and their bits by two
+ * nibble tables, the hashes' multiplies eight at once.  Compiled for AVX2
+ * alone (as bvh/wide_avx2.c); called only where the CPU has it. */
+#include "base/sample_lanes.h"
+
+#if defined(__x86_64__)
+#include <immintrin.h>
+
+#if defined(__clang__)
+#pragma clang attribute push(__attribute__((target("avx2"))), apply_to = function)
+#else
+#pragma GCC push_options
+#pragma GCC target("avx2")
+#endif
+
+static inline __m256i reverse8(__m256i x)
+{
+    /* bytes reversed within each 32-bit lane, then each byte's bits by its nibbles */
+    const __m256i bytes = _mm256_setr_epi8(3, 2, 1, 0, 7, 6, 5, 4, 11, 10, 9, 8, 15, 14, 13, 12, 3, 2, 1, 0, 7, 6, 5,
+                                           4, 11, 10, 9, 8, 15, 14, 13, 12);
+    const __m256i nib = _mm256_setr_epi8(0x0, 0x8, 0x4, 0xc, 0x2, 0xa, 0x6, 0xe, 0x1, 0x9, 0x5, 0xd, 0x3, 0xb, 0x7, 0xf,
+                                         0x0, 0x8, 0x4, 0xc, 0x2, 0xa, 0x6, 0xe, 0x1, 0x9, 0x5, 0xd, 0x3, 0xb, 0x7, 0xf);
+    const __m256i low = _mm256_set1_epi8(0x0f);
+    x = _mm256_shuffle_epi8(x, bytes);
+    const __m256i lo = _mm256_shuffle_epi8(nib, _mm256_and_si256(x, low));
+    const __m256i hi = _mm256_shuffle_epi8(nib, _mm256_and_si256(_mm256_srli_epi16(x, 4), low));
+    return _mm256_or_si256(_mm256_slli_epi16(lo, 4), hi);
+}
+
+static inline __m256i laine_karras8(__m256i x, __m256i seed)
+{
+    x = _mm256_add_epi32(x, seed);
+    x = _mm256_xor_si256(x, _mm256_mullo_epi32(x, _mm256_set1_epi32((int)0x6c50b47cu)));
+    x = _mm256_xor_si256(x, _mm256_mullo_epi32(x, _mm256_set1_epi32((int)0xb82f1e52u)));
+    x = _mm256_xor_si256(x, _mm256_mullo_epi32(x, _mm256_set1_epi32((int)0xc7afe638u)));
+    x = _mm256_xor_si256(x, _mm256_mullo_epi32(x, _mm256_set1_epi32((int)0x8d22f6e6u)));
+    return x;
+}
+
+static inline __m256i shift_xor(__m256i z, int by, uint32_t mask)
+{
+    return _mm256_xor_si256(z, _mm256_and_si256(_mm256_srli_epi32(z, by), _mm256_set1_epi32((int)mask)));
+}
+
+void sample_sobol_lanes_avx2(SampleLanes *s)
+{
+#define LOAD(a) _mm256_loadu_si256((const __m256i *)(const void *)(a))
+    const __m256i i = reverse8(laine_karras8(reverse8(LOAD(s->index)), LOAD(s->seq_index)));
+    __m256i z = i;
+    z = shift_xor(z, 1, 0x55555555u);
+    z = shift_xor(z, 2, 0x33333333u);
+    z = shift_xor(z, 4, 0x0f0f0f0fu);
+    z = shift_xor(z, 8, 0x00ff00ffu);
+    z = shift_xor(z, 16, 0x0000ffffu);
+    _mm256_storeu_si256((__m256i *)(void *)s->u, reverse8(laine_karras8(i, LOAD(s->seq_first))));
+    _mm256_storeu_si256((__m256i *)(void *)s->v, reverse8(laine_karras8(z, LOAD(s->seq_second))));
+#undef LOAD
+}
+
+#if defined(__clang__)
+#pragma clang attribute pop
+#else
+#pragma GCC pop_options
+#endif
+#else
+typedef int sample_lanes_avx2_unused; /* no AVX2 path off x86-64 */
+#endif
