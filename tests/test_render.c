@@ -198,9 +198,9 @@ static void plane_and_sphere_texture_coordinates(void **state)
 
 /* A coarse UV sphere (16 x 8 quads, each two triangles) with the true
  * sphere's normals at its vertices, as a modeller exports a smooth ball. */
-static Model *coarse_sphere(void)
+/* A unit sphere of seg x rings quads (the poles' triangles left out). */
+static Model *sphere_model(int SEG, int RINGS)
 {
-    enum { SEG = 16, RINGS = 8 };
     Mesh m;
     assert_int_equal(mesh_init(&m, MESH_NORMALS, NULL), 0);
     for (int j = 0; j < RINGS; j++)
@@ -222,6 +222,8 @@ static Model *coarse_sphere(void)
     mesh_free(&m);
     return model;
 }
+
+static Model *coarse_sphere(void) { return sphere_model(16, 8); }
 
 /* The shadow terminator: where smooth normals face a grazing light, the
  * flat triangles of a coarse mesh shade and shadow themselves, and
@@ -353,6 +355,78 @@ static Model *sphere_with_fin(void)
     assert_int_equal(model_from_mesh(&model, &m, &opt, NULL), 0);
     mesh_free(&m);
     return model;
+}
+
+/* A small model's transformed instance is traced as a placed copy
+ * (world.h WorldInstance.placed; an untransformed or large one is not):
+ * on every SIMD path its hits are the model's own, found with the ray
+ * moved into model space, within rounding (the same triangle away from
+ * its edges, the same distance to 1e-5), and a packet's rays find alone
+ * exactly what they find in the packet. */
+static void small_instances_are_placed(void **state)
+{
+    (void)state;
+    Scene *s = empty_scene();
+    uint32_t small, big;
+    assert_int_equal(scene_add_model(s, sphere_model(6, 4), &small, NULL), 0);
+    assert_int_equal(scene_add_model(s, coarse_sphere(), &big, NULL), 0);
+    const vec3 at = v3(5, R(0.2), R(-1)), turn = v3(10, 35, 20);
+    const real scale = R(0.7);
+    assert_int_equal(scene_add_instance(s, instance_make(small, at, turn, scale), NULL), 0);
+    assert_int_equal(scene_add_instance(s, instance_make(small, v3_splat(0), v3_splat(0), 1), NULL), 0);
+    assert_int_equal(scene_add_instance(s, instance_make(big, v3(-5, 0, 0), turn, scale), NULL), 0);
+    const Model *m = s->models[small];
+    assert_true(m->tri_count <= WORLD_PLACED_TRIS && s->models[big]->tri_count > WORLD_PLACED_TRIS);
+    const mat3 rot = m3_rotation_xyz(turn);
+    int compared = 0;
+    for (int path = 0; path < SIMD_PATH_COUNT; path++) {
+        if (simd_force((SimdPath)path))
+            continue;
+        const World *w = world_now(s);
+        assert_non_null(w->instances[0].placed);
+        assert_null(w->instances[1].placed);
+        assert_null(w->instances[2].placed);
+        const vec3 eyes[2] = {v3(5, R(0.5), 3), v3(R(2.5), 2, R(-2.5))}; /* the others out of sight */
+        for (int e = 0; e < 2; e++)
+            for (int y = 0; y < 24; y++)
+                for (int x0 = 0; x0 < 24; x0 += TRACE_PACKET) {
+                    Ray rays[TRACE_PACKET];
+                    for (int i = 0; i < TRACE_PACKET; i++) {
+                        const vec3 target = v3_add(at, v3(R(-0.9) + R(0.075) * (real)(x0 + i), R(0.9) - R(0.075) * (real)y, 0));
+                        rays[i] = ray_make(eyes[e], v3_norm(v3_sub(target, eyes[e])), 0, REAL_INF);
+                    }
+                    Hit hp[TRACE_PACKET];
+                    trace_closest_packet(w, rays, TRACE_PACKET, hp);
+                    for (int i = 0; i < TRACE_PACKET; i++) {
+                        Hit h;
+                        const int got = trace_closest(w, &rays[i], &h);
+                        assert_int_equal(got, hp[i].kind != HIT_NONE);
+                        assert_true(!got || (h.index == hp[i].index && h.sub == hp[i].sub && h.t == hp[i].t &&
+                                             h.b1 == hp[i].b1 && h.b2 == hp[i].b2));
+                        /* the ray in model space: R^T (o - T) / s, R^T d / s */
+                        const Ray mr = ray_make(v3_scale(m3_apply_t(&rot, v3_sub(rays[i].org, at)), R(1) / scale),
+                                                v3_scale(m3_apply_t(&rot, rays[i].dir), R(1) / scale), 0, REAL_INF);
+                        ModelHit ref;
+                        const int want = model_intersect(m, &mr, REAL_INF, 0, &ref);
+                        const real edge = want ? fmin(fmin(ref.b1, ref.b2), R(1) - ref.b1 - ref.b2) : 1;
+                        const real hedge = got ? fmin(fmin(h.b1, h.b2), R(1) - h.b1 - h.b2) : 1;
+                        if (edge < R(1e-3) || hedge < R(1e-3))
+                            continue; /* an edge: either triangle, or the silhouette, by rounding */
+                        if (got != want)
+                            fail_msg("%s: eye %d ray %d,%d: placed %s (kind %d #%u t %.9g), model %s", simd_name((SimdPath)path),
+                                     e, x0 + i, y, got ? "hit" : "missed", h.kind, h.index, (double)h.t, want ? "hit" : "missed");
+                        if (!want)
+                            continue;
+                        if (h.kind != HIT_INSTANCE || h.index != 0 || h.sub != ref.tri || fabs(h.t - ref.t) > R(1e-5) * ref.t)
+                            fail_msg("%s: ray %d,%d: placed kind %d #%u tri %u t %.9g, model tri %u t %.9g",
+                                     simd_name((SimdPath)path), x0 + i, y, h.kind, h.index, h.sub, (double)h.t,
+                                     ref.tri, (double)ref.t);
+                        compared++;
+                    }
+                }
+    }
+    scene_destroy(s);
+    assert_true(compared > 200);
 }
 
 /* Packets give every ray the hit, the colour and the shadow answer it gets
@@ -860,6 +934,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(diffuse_and_phong_match_the_formula),
         cmocka_unit_test(packets_equal_single_rays),
+        cmocka_unit_test(small_instances_are_placed),
         cmocka_unit_test(shadows_attenuation_and_spot_cone),
         cmocka_unit_test(pixels_are_srgb_unless_linear),
         cmocka_unit_test(plane_and_sphere_texture_coordinates),

@@ -49,6 +49,12 @@ typedef struct {
 } ModelBytes;
 ModelBytes model_bytes(const Model *m);
 
+/* A copy of m for tracing only, its triangles where an instance puts them
+ * (R (s x) + T), in m's order under m's tree refitted, its wide tree made
+ * for the SIMD path in use: no attributes, materials or textures (a hit's
+ * triangle names m's).  For small models (scene/world.c). */
+int model_place(Model **out, const Model *m, const mat3 *rot, vec3 translate, real scale, Err *err);
+
 /* Builds (or drops) the wide tree for the SIMD path in use; called by
  * world_build, before any thread traces. */
 int model_prepare_simd(Model *m, Err *err);

@@ -57,9 +57,9 @@ static inline __attribute__((always_inline)) int leaf_closest(const World *w, ui
     p -= w->tri_count;
     const WorldInstance *in = &w->instances[p];
     Ray mr;
-    const Ray *rr = in->identity ? r : (instance_ray(&mr, in, r), &mr);
+    const Ray *rr = in->identity || in->placed ? r : (instance_ray(&mr, in, r), &mr);
     ModelHit mh;
-    if (!model_intersect(w->models[in->model], rr, b->hit->t, key < b->key, &mh))
+    if (!model_intersect(in->placed ? in->placed : w->models[in->model], rr, b->hit->t, key < b->key, &mh))
         return 0;
     *b->hit = (Hit){mh.t, mh.b1, mh.b2, HIT_INSTANCE, p, mh.tri};
     b->key = key;
@@ -89,8 +89,8 @@ static int leaf_occluded(const World *w, uint32_t p, const Ray *r, real tmax, co
     p -= w->tri_count;
     const WorldInstance *in = &w->instances[p];
     Ray mr;
-    const Ray *rr = in->identity ? r : (instance_ray(&mr, in, r), &mr);
-    return model_occluded(w->models[in->model], rr, tmax);
+    const Ray *rr = in->identity || in->placed ? r : (instance_ray(&mr, in, r), &mr);
+    return model_occluded(in->placed ? in->placed : w->models[in->model], rr, tmax);
 }
 
 typedef struct {
@@ -309,7 +309,7 @@ static uint32_t instance_packet(const World *w, uint32_t p, const Ray *rays, uin
         return 0;
     for (uint32_t m = mask; m; m &= m - 1) {
         int i = __builtin_ctz(m);
-        if (in->identity)
+        if (in->identity || in->placed)
             rr[n] = &rays[i];
         else
             instance_ray(&mr[n], in, &rays[i]), rr[n] = &mr[n];
@@ -317,7 +317,7 @@ static uint32_t instance_packet(const World *w, uint32_t p, const Ray *rays, uin
         at[n] = closest && p + 1 < best[i].key;
         which[n++] = i;
     }
-    const Model *m = w->models[in->model];
+    const Model *m = in->placed ? in->placed : w->models[in->model];
     uint32_t got = 0;
     if (closest) {
         ModelHit mh[TRACE_PACKET];

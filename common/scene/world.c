@@ -173,6 +173,7 @@ static int derive_items(World *w, const Scene *s, Err *err)
     w->parts = pt;
     w->planes = pt->planes = calloc(s->plane_count ? s->plane_count : 1, sizeof *w->planes);
     w->instances = pt->instances = calloc(s->instance_count ? s->instance_count : 1, sizeof *w->instances);
+    pt->instance_count = w->instances ? s->instance_count : 0;
     w->lights = pt->lights = calloc(s->light_count ? s->light_count : 1, sizeof *w->lights);
     if (!w->planes || !w->instances || !w->lights)
         return err_set(err, "scene: out of memory");
@@ -194,6 +195,13 @@ static int derive_items(World *w, const Scene *s, Err *err)
     for (uint32_t i = 0; i < s->model_count; i++)
         if (model_prepare_simd(s->models[i], err))
             return err_prefix(err, "scene");
+    for (uint32_t i = 0; i < s->instance_count; i++) {
+        WorldInstance *in = &w->instances[i];
+        const Model *m = s->models[in->model];
+        if (!in->identity && m->tri_count <= WORLD_PLACED_TRIS &&
+            model_place(&in->placed, m, &in->rot, in->translate, in->scale, err))
+            return err_prefix(err, "scene");
+    }
     for (uint32_t i = 0; i < s->light_count; i++) {
         w->lights[i] = light_derive(&s->lights[i]);
         f |= light_features(&w->lights[i]);
@@ -396,6 +404,8 @@ void world_destroy(World *w)
         return;
     WorldParts *pt = w->parts;
     if (pt && atomic_fetch_sub(&pt->refs, 1) == 1) {
+        for (uint32_t i = 0; i < pt->instance_count; i++)
+            model_destroy(pt->instances[i].placed);
         free(pt->planes);
         free(pt->instances);
         free(pt->lights);
