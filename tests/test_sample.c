@@ -4,6 +4,8 @@
 #include "helpers.h"
 
 #include "base/sample.h"
+#include "base/sample_lanes.h"
+#include "base/simd.h"
 
 static uint32_t reverse_by_loop(uint32_t x)
 {
@@ -103,6 +105,42 @@ static void shares_add_up_to_the_budget(void **state)
         }
 }
 
+/* Eight lanes of Sobol points on every SIMD path this CPU has are
+ * sample_sobol_point's, bit for bit, for random sequences and indices
+ * (the AVX2 path's byte shuffles and nibble tables reverse each lane's
+ * bits; a lane's scrambles must not leak into another's). */
+static void lanes_equal_single_points(void **state)
+{
+    (void)state;
+    const SimdPath best = simd_path();
+    int paths = 0;
+    uint32_t x = 12345;
+    for (int path = 0; path < SIMD_PATH_COUNT; path++) {
+        if (simd_force((SimdPath)path))
+            continue;
+        paths++;
+        for (int round = 0; round < 2000; round++) {
+            SampleLanes sl;
+            for (int k = 0; k < SAMPLE_LANES; k++) {
+                sl.seq_index[k] = x = sample_hash(x + 1), sl.seq_first[k] = x = sample_hash(x + 1);
+                sl.seq_second[k] = x = sample_hash(x + 1);
+                sl.index[k] = round < 1000 ? (uint32_t)(round * SAMPLE_LANES + k) : (x = sample_hash(x + 1));
+            }
+            sample_sobol_lanes(&sl);
+            for (int k = 0; k < SAMPLE_LANES; k++) {
+                const SampleSobol q = {sl.seq_index[k], sl.seq_first[k], sl.seq_second[k]};
+                real u, v;
+                sample_sobol_point(&q, sl.index[k], &u, &v);
+                if (sample_unit(sl.u[k]) != u || sample_unit(sl.v[k]) != v)
+                    fail_msg("%s: lane %d of round %d: (%.9g, %.9g), alone (%.9g, %.9g)", simd_name((SimdPath)path), k,
+                             round, (double)sample_unit(sl.u[k]), (double)sample_unit(sl.v[k]), (double)u, (double)v);
+            }
+        }
+    }
+    simd_force(best);
+    assert_true(paths >= 1);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -111,6 +149,7 @@ int main(void)
         cmocka_unit_test(sobol_blocks_are_nets),
         cmocka_unit_test(sobol_seeds_are_independent),
         cmocka_unit_test(shares_add_up_to_the_budget),
+        cmocka_unit_test(lanes_equal_single_points),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

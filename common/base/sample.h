@@ -127,15 +127,12 @@ static inline real sample_sobol_first(const SampleSobol *q, uint32_t index)
     return sample_unit(sample_reverse(sample_laine_karras(sample_owen(index, q->index), q->first)));
 }
 
-/* Point `index` of an Owen-scrambled Sobol (0,2)-sequence in the unit
- * square, its index shuffled too (Burley's shuffled scrambled Sobol), for
- * one sequence per seed (sample_sobol_seq): any 2^k consecutive aligned
- * points are a (0,k,2)-net (one point in every 2^-a x 2^-(k-a) box), the
- * first n of a sequence are well spread for any n, and two seeds'
- * sequences are independent. */
-static inline void sample_sobol_point(const SampleSobol *q, uint32_t index, real *u, real *v)
+/* sample_sobol_point's two numbers (below) as the 32-bit integers
+ * sample_unit turns into u and v (base/sample_lanes.c makes eight at once). */
+static inline void sample_sobol_bits(uint32_t seq_index, uint32_t seq_first, uint32_t seq_second, uint32_t index,
+                                     uint32_t *u, uint32_t *v)
 {
-    uint32_t i = sample_owen(index, q->index);
+    uint32_t i = sample_owen(index, seq_index);
     /* the second Sobol dimension: bit 31 - j of y is the parity of the bits
      * k of i with C(k, j) odd, that is (Lucas) with j's bits a subset of
      * k's: a superset sum over the five bits of a bit's position, five
@@ -147,9 +144,22 @@ static inline void sample_sobol_point(const SampleSobol *q, uint32_t index, real
     z ^= (z >> 8) & 0x00ff00ffu;
     z ^= (z >> 16) & 0x0000ffffu;
     /* sample_owen(sample_reverse(i)) with the two reversals that cancel left out */
-    uint32_t y = sample_reverse(sample_laine_karras(z, q->second));
-    *u = sample_unit(sample_reverse(sample_laine_karras(i, q->first)));
-    *v = sample_unit(y);
+    *v = sample_reverse(sample_laine_karras(z, seq_second));
+    *u = sample_reverse(sample_laine_karras(i, seq_first));
+}
+
+/* Point `index` of an Owen-scrambled Sobol (0,2)-sequence in the unit
+ * square, its index shuffled too (Burley's shuffled scrambled Sobol), for
+ * one sequence per seed (sample_sobol_seq): any 2^k consecutive aligned
+ * points are a (0,k,2)-net (one point in every 2^-a x 2^-(k-a) box), the
+ * first n of a sequence are well spread for any n, and two seeds'
+ * sequences are independent. */
+static inline void sample_sobol_point(const SampleSobol *q, uint32_t index, real *u, real *v)
+{
+    uint32_t a, b;
+    sample_sobol_bits(q->index, q->first, q->second, index, &a, &b);
+    *u = sample_unit(a);
+    *v = sample_unit(b);
 }
 
 /* Point `index` of seed's sequence (sample_sobol_point). */
