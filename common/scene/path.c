@@ -20,6 +20,7 @@
 #include <math.h>
 
 #include "model/texture.h"
+#include "scene/dielectric.h"
 #include "scene/emitters.h"
 #include "shading/lobes.h"
 #include "shading/optics.h"
@@ -136,11 +137,9 @@ static vec3 diffuse_at(const World *w, const Surface *sf)
 static int dielectric_bounce(const World *w, const Surface *sf, vec3 d, real pick, vec3 *beta, Ray *next)
 {
     const Material *m = sf->mat;
-    const real eta = sf->inside ? m->ior : R(1) / m->ior, cos_i = real_max(R(0), -v3_dot(d, sf->ns));
-    real f = optics_fresnel(w->view.settings.fresnel, cos_i, eta);
-    vec3 td = v3_splat(R(0));
-    if (f >= R(1) || !optics_refract(d, sf->ns, eta, &td) || !(v3_dot(td, sf->ng) < R(0)))
-        f = R(1);
+    real eta;
+    vec3 td;
+    const real f = dielectric_split(w, sf, d, &eta, &td);
     if (pick < f) {
         vec3 r = optics_reflect(d, sf->ns);
         ray_init(next, trace_offset_origin(sf->p, sf->ng, sf->err), r, R(0), REAL_MAX);

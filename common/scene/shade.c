@@ -27,6 +27,7 @@
  * for: any client renders any pixel the same. */
 #include "scene/shade.h"
 
+#include "scene/dielectric.h"
 #include "scene/path.h"
 
 #include "base/sample.h"
@@ -485,11 +486,9 @@ static vec3 shade_beyond(const World *w, int i, const Shading *sh, int depth, ve
         if (reflects) {
             col = v3_add(col, v3_mul(m->kr, seen));
         } else {
-            vec3 d = v3_neg(sh->view), td;
-            real eta = sf->inside ? m->ior : R(1) / m->ior;
-            real f = optics_fresnel(w->view.settings.fresnel, real_max(R(0), -v3_dot(d, sf->ns)), eta);
-            if (f >= R(1) || !optics_refract(d, sf->ns, eta, &td) || !(v3_dot(td, sf->ng) < R(0)))
-                f = R(1);
+            vec3 td;
+            real eta;
+            const real f = dielectric_split(w, sf, v3_neg(sh->view), &eta, &td);
             col = v3_add(col, v3_mul(seen, v3_add(v3_splat(f), v3_scale(m->kt, R(1) - f))));
         }
     } else if (depth < w->view.settings.depth && (reflects || refracts)) {
@@ -507,14 +506,9 @@ static vec3 shade_beyond(const World *w, int i, const Shading *sh, int depth, ve
             else
                 spawn_push(sp, ns, i, front, reflected(d, sf), follow(&sh->id, 1), rdp, wt, m->kr);
         } else {
-            real eta = sf->inside ? m->ior : R(1) / m->ior;
-            real cos_i = real_max(R(0), -v3_dot(d, sf->ns));
-            real f = optics_fresnel(w->view.settings.fresnel, cos_i, eta);
-            vec3 td = v3_splat(0);
-            /* past the critical angle, or bent back through the facet by a
-             * smooth normal: everything is reflected */
-            if (f >= R(1) || !optics_refract(d, sf->ns, eta, &td) || !(v3_dot(td, sf->ng) < R(0)))
-                f = R(1);
+            real eta;
+            vec3 td;
+            const real f = dielectric_split(w, sf, d, &eta, &td);
             vec3 wr = v3_scale(weight, f);
             if (worth_tracing(w, wr))
                 spawn_push(sp, ns, i, front, reflected(d, sf), follow(&sh->id, 1), rdp, wr, v3_splat(f));

@@ -1,0 +1,26 @@
+/* dielectric.h - how a dielectric surface splits a ray, for both
+ * integrators (shade.c, path.c): the share reflected by Fresnel's
+ * equations (or Schlick's: settings fresnel), and where the rest goes. */
+#ifndef LANRAY_DIELECTRIC_H
+#define LANRAY_DIELECTRIC_H
+
+#include "scene/trace.h"
+#include "shading/optics.h"
+
+/* The share of light along unit d reflected at dielectric surface sf, the
+ * ratio of indices *eta it crosses and the refracted direction *td (not
+ * unit; zero where none): all of it reflected past the critical angle, or
+ * where a smooth normal would bend the refracted ray back through the
+ * facet. */
+static inline real dielectric_split(const World *w, const Surface *sf, vec3 d, real *eta, vec3 *td)
+{
+    const Material *m = sf->mat;
+    *eta = sf->inside ? m->ior : R(1) / m->ior;
+    real f = optics_fresnel(w->view.settings.fresnel, real_max(R(0), -v3_dot(d, sf->ns)), *eta);
+    *td = v3_splat(R(0));
+    if (f >= R(1) || !optics_refract(d, sf->ns, *eta, td) || !(v3_dot(*td, sf->ng) < R(0)))
+        f = R(1);
+    return f;
+}
+
+#endif
