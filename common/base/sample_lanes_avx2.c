@@ -1,18 +1,13 @@
 /* sample_lanes_avx2.c - sample_sobol_lanes' eight chains in AVX2 registers:
  * the bytes of each lane reversed by one shuffle and their bits by two
  * nibble tables, the hashes' multiplies eight at once.  Compiled for AVX2
- * alone (as bvh/wide_avx2.c); called only where the CPU has it. */
+ * (base/avx2_begin.h); called only where the CPU has it. */
 #include "base/sample_lanes.h"
 
 #if defined(__x86_64__)
 #include <immintrin.h>
 
-#if defined(__clang__)
-#pragma clang attribute push(__attribute__((target("avx2"))), apply_to = function)
-#else
-#pragma GCC push_options
-#pragma GCC target("avx2")
-#endif
+#include "base/avx2_begin.h"
 
 static inline __m256i reverse8(__m256i x)
 {
@@ -58,11 +53,7 @@ void sample_sobol_lanes_avx2(SampleLanes *s)
 #undef LOAD
 }
 
-#if defined(__clang__)
-#pragma clang attribute pop
-#else
-#pragma GCC pop_options
-#endif
+#include "base/avx2_end.h"
 #else
 typedef int sample_lanes_avx2_unused; /* no AVX2 path off x86-64 */
 #endif

@@ -1,15 +1,8 @@
-/* wide_avx2.c - 8-wide BVH traversal with AVX2.  This file alone is
- * compiled for AVX2 (the pragmas below, for GCC and for Clang, which the
- * fuzz build uses), and never with FMA: a contracted multiply-add would
- * round differently from the other paths.  Only called when the CPU reports
- * AVX2 (simd.c). */
+/* wide_avx2.c - 8-wide BVH traversal with AVX2 (base/avx2_begin.h: the
+ * kernel compiled for AVX2, never FMA; only called when the CPU reports
+ * AVX2). */
 #if defined(__x86_64__) && !defined(LANRAY_DOUBLE)
-#if defined(__clang__)
-#pragma clang attribute push(__attribute__((target("avx2"))), apply_to = function)
-#else
-#pragma GCC push_options
-#pragma GCC target("avx2")
-#endif
+#include "base/avx2_begin.h"
 #define NW 8
 #define VN __m256
 #define VN_SET1 _mm256_set1_ps
@@ -23,11 +16,7 @@
 #define KERNEL_CLOSEST_PACKET wide8_closest_packet_avx2
 #define KERNEL_ANY_PACKET wide8_any_packet_avx2
 #include "bvh/wide_kernel.h"
-#if defined(__clang__)
-#pragma clang attribute pop
-#else
-#pragma GCC pop_options
-#endif
+#include "base/avx2_end.h"
 #else
 typedef int wide_avx2_unused; /* no AVX2 kernel in double or non-x86 builds */
 #endif
