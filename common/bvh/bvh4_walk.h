@@ -153,27 +153,50 @@ typedef struct {
     int near[3], far[3]; /* rows of Bvh4Node.box */
 } Bvh4Span;
 
-static inline __attribute__((always_inline)) int bvh4_span(Bvh4Span *p, const Ray *rays, int n, float ospread)
+/* The least and greatest of a column's groups of four (lanes past n
+ * repeat ray 0, so they change neither). */
+static inline __attribute__((always_inline)) void bvh4_column_range(const float *col, int groups, float *lo, float *hi)
 {
-    if (ospread == 0) /* closest hits: out at the first ray from another point, before the loops below */
-        for (int i = 1; i < n; i++)
-            if (rays[i].org.x != rays[0].org.x || rays[i].org.y != rays[0].org.y || rays[i].org.z != rays[0].org.z)
-                return 0;
-    float tmin = rays[0].tmin;
-    for (int i = 1; i < n; i++)
-        tmin = rays[i].tmin < tmin ? rays[i].tmin : tmin;
+    __m128 l = _mm_load_ps(col), h = l;
+    for (int g = 1; g < groups; g++) {
+        const __m128 v = _mm_load_ps(col + 4 * g);
+        l = _mm_min_ps(l, v), h = _mm_max_ps(h, v);
+    }
+    l = _mm_min_ps(l, _mm_shuffle_ps(l, l, _MM_SHUFFLE(1, 0, 3, 2)));
+    h = _mm_max_ps(h, _mm_shuffle_ps(h, h, _MM_SHUFFLE(1, 0, 3, 2)));
+    *lo = _mm_cvtss_f32(_mm_min_ps(l, _mm_shuffle_ps(l, l, _MM_SHUFFLE(2, 3, 0, 1))));
+    *hi = _mm_cvtss_f32(_mm_max_ps(h, _mm_shuffle_ps(h, h, _MM_SHUFFLE(2, 3, 0, 1))));
+}
+
+/* Whether a column has a NaN. */
+static inline __attribute__((always_inline)) int bvh4_column_nan(const float *col, int groups)
+{
+    __m128 u = _mm_setzero_ps();
+    for (int g = 0; g < groups; g++) {
+        const __m128 v = _mm_load_ps(col + 4 * g);
+        u = _mm_or_ps(u, _mm_cmpunord_ps(v, v));
+    }
+    return _mm_movemask_ps(u) != 0;
+}
+
+/* The interval from the packet's columns (bvh_packet_soa), four rays a
+ * step: 0 where a ray's origin or reciprocal is NaN (its own tests, which
+ * the binary walk keeps), where the reciprocals of an axis differ in sign
+ * or are infinite, or where the origins spread wider than ospread (0 for
+ * closest hits: a caller tests first that they are one point). */
+static inline __attribute__((always_inline)) int bvh4_span(Bvh4Span *p, const BvhPacketSoa *s, float ospread)
+{
+    float tmin, tmax_unused;
+    bvh4_column_range(s->tmin, s->groups, &tmin, &tmax_unused);
     p->tmin = _mm_set1_ps(tmin);
     for (int a = 0; a < 3; a++) {
-        float olo = rays[0].org.e[a], ohi = olo, ilo = rays[0].inv.e[a], ihi = ilo;
-        int nan = olo != olo;
-        for (int i = 1; i < n; i++) {
-            const float o = rays[i].org.e[a], v = rays[i].inv.e[a];
-            nan |= o != o; /* a NaN origin: the rays' own tests, which let it into every box */
-            olo = o < olo ? o : olo, ohi = o > ohi ? o : ohi;
-            ilo = v < ilo ? v : ilo, ihi = v > ihi ? v : ihi;
-        }
+        float olo, ohi, ilo, ihi;
+        if (bvh4_column_nan(s->org[a], s->groups) || bvh4_column_nan(s->inv[a], s->groups))
+            return 0;
+        bvh4_column_range(s->org[a], s->groups, &olo, &ohi);
+        bvh4_column_range(s->inv[a], s->groups, &ilo, &ihi);
         const int pos = ilo > 0 && ihi < INFINITY, neg = ihi < 0 && ilo > -INFINITY;
-        if (nan || (!pos && !neg) || !(ohi - olo <= ospread))
+        if ((!pos && !neg) || !(ohi - olo <= ospread))
             return 0;
         p->o_near[a] = _mm_set1_ps(pos ? ohi : olo);
         p->o_far[a] = _mm_set1_ps(pos ? olo : ohi);
@@ -182,6 +205,16 @@ static inline __attribute__((always_inline)) int bvh4_span(Bvh4Span *p, const Ra
         p->near[a] = pos ? a : a + 3;
         p->far[a] = pos ? a + 3 : a;
     }
+    return 1;
+}
+
+/* Whether the packet's rays start at one point (closest-hit packets take
+ * the interval only then: a pinhole camera's). */
+static inline __attribute__((always_inline)) int bvh4_one_origin(const Ray *rays, int n)
+{
+    for (int i = 1; i < n; i++)
+        if (rays[i].org.x != rays[0].org.x || rays[i].org.y != rays[0].org.y || rays[i].org.z != rays[0].org.z)
+            return 0;
     return 1;
 }
 
@@ -232,10 +265,12 @@ static inline __attribute__((always_inline)) uint32_t bvh4_packet(const Bvh4 *t,
     if (n <= 0)
         return 0;
     Bvh4Span span;
-    if (!bvh4_span(&span, rays, n, ospread))
-        return bvh_packet(binary, rays, n, far, leaf, ctx, 1);
     BvhPacketSoa soa;
+    if (ospread == 0 && !bvh4_one_origin(rays, n)) /* out before the columns are made */
+        return bvh_packet(binary, rays, n, far, leaf, ctx, 1);
     bvh_packet_soa(&soa, rays, n);
+    if (!bvh4_span(&span, &soa, ospread))
+        return bvh_packet(binary, rays, n, far, leaf, ctx, 1);
     const uint32_t all = n >= 32 ? ~0u : (1u << n) - 1;
     uint32_t done = 0, sp = 0;
     uint32_t child = 0, count = 0, rs = all;
