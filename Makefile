@@ -115,7 +115,18 @@ ifeq ($(filter $(INSTALLING_GOALS),$(MAKECMDGOALS)),)
   endif
 endif
 
-$(BUILD)/%.o: %.c
+# The compiler and flags the objects were made with: a change to them (an
+# option here, CFLAGS on the command line) compiles every object again.
+# The stamp is written only when its contents change, so that an unchanged
+# build stays up to date.
+FLAGS_STAMP := $(BUILD)/cflags
+$(FLAGS_STAMP): FORCE
+	@mkdir -p $(dir $@)
+	@echo '$(CC) $(ALL_CFLAGS)' | cmp -s - $@ || echo '$(CC) $(ALL_CFLAGS)' >$@
+.PHONY: FORCE
+FORCE:
+
+$(BUILD)/%.o: %.c $(FLAGS_STAMP)
 	@mkdir -p $(dir $@)
 	$(CC) $(ALL_CFLAGS) -c $< -o $@
 
