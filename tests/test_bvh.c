@@ -121,18 +121,25 @@ static void check_packets(const Model *m, Rng *rng, int packets)
             if (pk % 7 == 6 && i == n / 2) /* a packet the interval test must refuse: a zero, a subnormal component */
                 d.e[pk % 3] = pk % 2 ? R(0) : R(1e-40) * (d.e[pk % 3] < 0 ? -1 : 1);
             rays[i] = ray_make(o, d, 0, REAL_INF);
+            if (pk % 11 == 10 && i == n - 1) /* a degenerate camera's ray: hits nothing, in a packet or a pair */
+                rays[i].org.x = (real)NAN;
             rp[i] = &rays[i];
             tmax[i] = pk % 5 == 4 ? radius * rng_real(rng, R(0.2), R(2)) : REAL_INF;
             at[i] = (int)(rng_next(rng) % 2);
         }
-        ModelHit hits[WIDE_PACKET];
+        ModelHit hits[WIDE_PACKET], each[WIDE_PACKET];
         uint32_t found = model_intersect_packet(m, rp, n, tmax, at, hits);
+        uint32_t found_each = model_intersect_each(m, rp, n, tmax, at, each); /* walked by pairs */
         for (int i = 0; i < n; i++) {
             ModelHit h;
             int got = model_intersect(m, &rays[i], tmax[i], at[i], &h);
             assert_int_equal((int)(found >> i & 1), got);
+            assert_int_equal((int)(found_each >> i & 1), got);
             if (got && (h.t != hits[i].t || h.tri != hits[i].tri || h.b1 != hits[i].b1 || h.b2 != hits[i].b2))
                 fail_msg("packet %d ray %d: %.9g on %u, alone %.9g on %u", pk, i, (double)hits[i].t, hits[i].tri,
+                         (double)h.t, h.tri);
+            if (got && (h.t != each[i].t || h.tri != each[i].tri || h.b1 != each[i].b1 || h.b2 != each[i].b2))
+                fail_msg("pair walk %d ray %d: %.9g on %u, alone %.9g on %u", pk, i, (double)each[i].t, each[i].tri,
                          (double)h.t, h.tri);
             shadow[i] = got && pk % 2 ? h.t * R(0.999) : tmax[i];
         }

@@ -261,6 +261,28 @@ int trace_closest(const World *w, const Ray *r, Hit *hit)
     return closest_of(w, r, hit, 0, NULL);
 }
 
+void trace_closest_each(const World *w, const Ray *rays, int n, Hit *hits)
+{
+    const Model *m = w->lone_model ? w->models[w->instances[0].model] : NULL;
+    if (!m || !m->wide || n < 2 || (world_uses(w, FEAT_PLANES) && w->plane_count)) {
+        for (int i = 0; i < n; i++)
+            trace_closest(w, &rays[i], &hits[i]);
+        return;
+    }
+    const Ray *pr[TRACE_PACKET];
+    real tmax[TRACE_PACKET];
+    int at_tmax[TRACE_PACKET];
+    ModelHit mh[TRACE_PACKET];
+    for (int i = 0; i < n; i++)
+        pr[i] = &rays[i], tmax[i] = rays[i].tmax, at_tmax[i] = 0;
+    const uint32_t got = model_intersect_each(m, pr, n, tmax, at_tmax, mh);
+    for (int i = 0; i < n; i++)
+        if (got >> i & 1)
+            hits[i] = (Hit){mh[i].t, mh[i].b1, mh[i].b2, HIT_INSTANCE, 0, mh[i].tri};
+        else
+            hits[i].t = tmax[i], hits[i].kind = HIT_NONE;
+}
+
 int trace_closest_glass(const World *w, const Ray *r, Hit *hit)
 {
     return w->glassy ? closest_of(w, r, hit, 1, w->glassy) : trace_closest(w, r, hit);
@@ -475,8 +497,7 @@ void trace_closest_bounced(const World *w, const Ray *rays, int n, Hit *hits)
         const vec3 d = v3_sub(rays[0].dir, rays[n - 1].dir), o = v3_sub(rays[0].org, rays[n - 1].org);
         if (!(fabs(d.x) <= R(WIDE_DIR_SPREAD) && fabs(d.y) <= R(WIDE_DIR_SPREAD) && fabs(d.z) <= R(WIDE_DIR_SPREAD)) ||
             !(fabs(o.x) <= os && fabs(o.y) <= os && fabs(o.z) <= os)) {
-            for (int i = 0; i < n; i++)
-                trace_closest(w, &rays[i], &hits[i]);
+            trace_closest_each(w, rays, n, hits);
             return;
         }
     }

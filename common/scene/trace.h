@@ -47,6 +47,10 @@ int trace_closest(const World *w, const Ray *r, Hit *hit);
  * sub-samples of a pixel) share the walk down the trees. */
 #define TRACE_PACKET 8
 void trace_closest_packet(const World *w, const Ray *rays, int n, Hit *hits);
+/* The same for rays that share no walk (a path's bounces, rays that
+ * part): each alone, as trace_closest; in a world of one model their
+ * walks go by pairs, interleaved (wide_kernel.h). */
+void trace_closest_each(const World *w, const Ray *rays, int n, Hit *hits);
 /* The same for rays sent on from surfaces (mirrors, glass), which may
  * part: where they would go ray by ray inside the model's walk, they go
  * ray by ray from the start. */
