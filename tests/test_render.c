@@ -429,6 +429,81 @@ static void small_instances_are_placed(void **state)
     assert_true(compared > 200);
 }
 
+/* Rays traced by pairs (trace_closest_pair: a path's bounces) and each
+ * alone (trace_closest_each: rays that part) get, on every SIMD path,
+ * the hit each gets alone, in a world of one model (its walks by pairs),
+ * of one model and a plane (ray by ray), and of spheres, a triangle,
+ * instances and a plane (the top tree's walks by pairs): rays from random
+ * points in random directions, from points on the surfaces outward (as
+ * bounces), a ray of NaN, and limits short of the hits. */
+static void pairs_equal_single_rays(void **state)
+{
+    (void)state;
+    int compared = 0;
+    for (int kind = 0; kind < 3; kind++) {
+        Scene *s = empty_scene();
+        uint32_t ball;
+        assert_int_equal(scene_add_model(s, sphere_model(24, 12), &ball, NULL), 0);
+        assert_int_equal(scene_add_instance(s, instance_make(ball, v3(0, 0, 0), v3(0, 0, 0), 1), NULL), 0);
+        if (kind >= 1)
+            assert_int_equal(scene_add_plane(s, plane_make(v3(0, -1, 0), v3(0, 1, 0), 0), NULL), 0);
+        if (kind == 2) {
+            for (int i = 0; i < 12; i++)
+                assert_int_equal(scene_add_sphere(s, (Sphere){v3(R(-3) + R(0.5) * (real)i, R(0.4) * (real)(i % 3), R(-1.5)), R(0.3), 0}, NULL), 0);
+            const vec3 flat[3] = {v3(-2, R(-0.5), -2), v3(2, R(-0.5), -2), v3(0, R(-0.5), 2)};
+            assert_int_equal(scene_add_triangle(s, flat, NULL, NULL, 0, NULL), 0);
+            assert_int_equal(
+                scene_add_instance(s, instance_make(ball, v3(R(1.5), R(0.2), R(-1)), v3(10, 35, 0), R(0.7)), NULL), 0);
+        }
+        for (int path = 0; path < SIMD_PATH_COUNT; path++) {
+            if (simd_force((SimdPath)path))
+                continue;
+            const World *w = world_now(s);
+            Rng rng = {0x9e3779b97f4a7c15ull + (uint64_t)kind};
+            for (int k = 0; k < 400; k++) {
+                Ray rays[TRACE_PACKET];
+                const int n = 1 + k % TRACE_PACKET;
+                for (int i = 0; i < n; i++) {
+                    vec3 o = rng_vec(&rng, -3, 3), d = rng_dir(&rng);
+                    if (k % 2) { /* a bounce: from the ball's surface, outward or inward */
+                        const vec3 on = rng_dir(&rng);
+                        o = on;
+                        d = v3_norm(v3_add(on, v3_scale(rng_dir(&rng), k % 4 == 1 ? R(0.9) : R(3))));
+                    }
+                    rays[i] = ray_make(o, d, R(1e-4), k % 5 == 4 ? rng_real(&rng, R(0.1), 2) : REAL_INF);
+                    if (k % 37 == 36 && i == 0)
+                        rays[i].dir.y = (real)NAN;
+                }
+                Hit hp[TRACE_PACKET], he[TRACE_PACKET];
+                uint32_t got_pairs = 0;
+                for (int i = 0; i + 1 < n; i += 2)
+                    got_pairs |= trace_closest_pair(w, &rays[i], &rays[i + 1], &hp[i], &hp[i + 1]) << i;
+                if (n % 2)
+                    got_pairs |= (uint32_t)trace_closest(w, &rays[n - 1], &hp[n - 1]) << (n - 1);
+                trace_closest_each(w, rays, n, he);
+                for (int i = 0; i < n; i++) {
+                    Hit h;
+                    const int got = trace_closest(w, &rays[i], &h);
+                    const Hit *other[2] = {&hp[i], &he[i]};
+                    assert_int_equal(got, (int)(got_pairs >> i & 1));
+                    for (int j = 0; j < 2; j++) {
+                        const Hit *o = other[j];
+                        if (got != (o->kind != HIT_NONE) ||
+                            (got && (h.kind != o->kind || h.index != o->index || h.sub != o->sub || h.t != o->t ||
+                                     h.b1 != o->b1 || h.b2 != o->b2)))
+                            fail_msg("%s, world %d, %s %d ray %d: kind %d #%u/%u t %.9g, alone kind %d #%u/%u t %.9g",
+                                     simd_name((SimdPath)path), kind, j ? "each" : "pair", k, i, o->kind, o->index,
+                                     o->sub, (double)o->t, h.kind, h.index, h.sub, (double)h.t);
+                    }
+                    compared += got;
+                }
+            }
+        }
+        scene_destroy(s);
+    }
+    assert_true(compared > 1000);
+}
+
 /* Packets give every ray the hit, the colour and the shadow answer it gets
  * alone, on every SIMD path, in scenes built for ties: the coarse sphere
  * twice at one place, as a plain model and with a fin that makes a single
@@ -934,6 +1009,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(diffuse_and_phong_match_the_formula),
         cmocka_unit_test(packets_equal_single_rays),
+        cmocka_unit_test(pairs_equal_single_rays),
         cmocka_unit_test(small_instances_are_placed),
         cmocka_unit_test(shadows_attenuation_and_spot_cone),
         cmocka_unit_test(pixels_are_srgb_unless_linear),

@@ -106,6 +106,69 @@ static inline __attribute__((always_inline)) int bvh4_closest(const Bvh4 *t, con
     }
 }
 
+/* Two rays' bvh4_closest interleaved, a step (a node or a leaf) of each
+ * in turn: each walk is bvh4_closest's, with its own limit and leaf
+ * context, so each ray gets the hits it gets alone; the two chains of
+ * dependent loads, tests and divisions (a sphere's) overlap.  A path
+ * tracer's bounces (scene/path.c) go by such pairs. */
+typedef struct {
+    Bvh4Ray k;
+    Bvh4Entry e;
+    uint32_t sp;
+    int found;
+    const Ray *r;
+    real *tmax;
+    void *ctx;
+    Bvh4Entry stack[BVH4_STACK];
+} Bvh4Walk;
+
+static inline __attribute__((always_inline)) void bvh4_walk_start(Bvh4Walk *s, const Ray *r, real *tmax, void *ctx)
+{
+    bvh4_ray(&s->k, r);
+    s->e = (Bvh4Entry){0, 0, 0};
+    s->sp = 0, s->found = 0, s->r = r, s->tmax = tmax, s->ctx = ctx;
+}
+
+/* One pass of bvh4_closest's loop; 0 when the walk is over. */
+static inline __attribute__((always_inline)) int bvh4_walk_step(Bvh4Walk *s, const Bvh4 *t, BvhLeafClosest leaf)
+{
+    if (s->e.count) {
+        s->found |= leaf(s->ctx, s->e.child, s->e.count, s->r, s->tmax);
+    } else {
+        const Bvh4Node *n = &t->nodes[s->e.child];
+        __m128 lo;
+        const int mask = bvh4_node_hit(n, &s->k, *s->tmax, &lo);
+        assert(s->sp + 4 <= BVH4_STACK);
+        bvh4_push(n, mask, lo, s->stack, &s->sp);
+    }
+    do {
+        if (s->sp == 0)
+            return 0;
+        s->e = s->stack[--s->sp];
+    } while (s->e.t > *s->tmax * BVH_FUDGE);
+    return 1;
+}
+
+/* bvh4_closest for rays a and b; bit 0 and bit 1: whether each found a hit. */
+static inline __attribute__((always_inline)) uint32_t bvh4_closest_pair(const Bvh4 *t, const Ray *a, const Ray *b,
+                                                                       real *tmax_a, real *tmax_b,
+                                                                       BvhLeafClosest leaf, void *ctx_a, void *ctx_b)
+{
+    Bvh4Walk x, y;
+    bvh4_walk_start(&x, a, tmax_a, ctx_a);
+    bvh4_walk_start(&y, b, tmax_b, ctx_b);
+    int rx = 1, ry = 1;
+    while (rx && ry) {
+        rx = bvh4_walk_step(&x, t, leaf);
+        ry = bvh4_walk_step(&y, t, leaf);
+    }
+    while (rx)
+        rx = bvh4_walk_step(&x, t, leaf);
+    while (ry)
+        ry = bvh4_walk_step(&y, t, leaf);
+    return (uint32_t)x.found | (uint32_t)y.found << 1;
+}
+
 /* bvh_any on the four-wide tree. */
 static inline __attribute__((always_inline)) int bvh4_any(const Bvh4 *t, const Ray *r, real tmax, BvhLeafAny leaf,
                                                           const void *ctx)

@@ -26,23 +26,35 @@
 #include "shading/optics.h"
 
 
-/* Two numbers of bounce b's dimension `dim` for a ray: one point of a
- * (0,2)-sequence over its pixel's rays (stratified together), scrambled by
- * the key. */
-static void draw2(const SampleId *id, uint32_t b, uint32_t dim, real *u, real *v)
+/* Bounce b's numbers for a ray: its sample's key mixed with the bounce
+ * once, each dimension's key mixed from that (inlined, so that a constant
+ * dimension's own hash folds away: sampling was a sixth of a path-traced
+ * frame), and the ray's index among its pixel's. */
+typedef struct {
+    uint32_t key, index;
+} Draws;
+
+static inline Draws draws_at(const SampleId *id, uint32_t b)
 {
-    sample_sobol2(id->index, sample_mix(sample_mix(id->key, 0x50000000u + b), dim), u, v);
+    return (Draws){sample_mix(id->key, 0x50000000u + b), id->index};
 }
 
-/* One number of bounce b's dimension `dim`: point `index` (shuffled) of
- * an Owen-scrambled van der Corput sequence over the pixel's rays, as
+/* Two numbers of dimension `dim`: one point of a (0,2)-sequence over its
+ * pixel's rays (stratified together), scrambled by the key. */
+static inline __attribute__((always_inline)) void draw2(const Draws *d, uint32_t dim, real *u, real *v)
+{
+    sample_sobol2(d->index, sample_mix(d->key, dim), u, v);
+}
+
+/* One number of dimension `dim`: point `index` (shuffled) of an
+ * Owen-scrambled van der Corput sequence over the pixel's rays, as
  * sample_sobol2's first dimension: each ray its own, stratified together
  * (a number of the key alone would be the same for every ray of the
  * pixel, and all of them would choose alike). */
-static real draw1(const SampleId *id, uint32_t b, uint32_t dim)
+static inline __attribute__((always_inline)) real draw1(const Draws *d, uint32_t dim)
 {
-    const SampleSobol q = sample_sobol_seq(sample_mix(sample_mix(id->key, 0x50000000u + b), dim));
-    return sample_sobol_first(&q, id->index);
+    const SampleSobol q = sample_sobol_seq(sample_mix(d->key, dim));
+    return sample_sobol_first(&q, d->index);
 }
 
 /* Whether the shadow ray from origin along dir is stopped short of tmax
@@ -56,14 +68,13 @@ static int shadowed(const World *w, vec3 origin, vec3 dir, real tmax, const Worl
 
 /* Next-event estimation from a point with smooth lobes: one point of
  * every light, its shadow ray, pi x f x cos x the radiance that arrives. */
-static vec3 direct_light(const World *w, const Surface *sf, const Lobes *lb, const SampleId *id, uint32_t b,
-                         RayStats *st)
+static vec3 direct_light(const World *w, const Surface *sf, const Lobes *lb, const Draws *dr, RayStats *st)
 {
     vec3 sum = v3_splat(R(0));
     const vec3 origin = trace_offset_origin(sf->ps, sf->ng, sf->ps_err);
     for (uint32_t li = 0; li < w->light_count; li++) {
         real u, v, dist, pdf;
-        draw2(id, b, 0x100u + li, &u, &v);
+        draw2(dr, 0x100u + li, &u, &v);
         vec3 dir, rad;
         if (!shade_light_point(w, li, sf->p, u, v, &dir, &dist, &rad) || !(v3_dot(dir, sf->ng) > R(0)))
             continue;
@@ -85,13 +96,13 @@ static real power_weight(real a, real b) { return a * a / (a * a + b * b); }
  * lobes: one point of one emitter, f x cos x its radiance over its
  * density, weighed against the bounce that could have found it (at the
  * last bounce none follows: the whole of it). */
-static vec3 direct_emitters(const World *w, const Surface *sf, const Lobes *lb, int last, const SampleId *id,
-                            uint32_t b, RayStats *st)
+static vec3 direct_emitters(const World *w, const Surface *sf, const Lobes *lb, int last, const Draws *dr,
+                            RayStats *st)
 {
     real u, v, pdf;
-    draw2(id, b, 5, &u, &v);
+    draw2(dr, 5, &u, &v);
     EmitterSample es;
-    if (!emitters_sample(w, sf->p, draw1(id, b, 6), u, v, &es) || !(v3_dot(es.dir, sf->ng) > R(0)))
+    if (!emitters_sample(w, sf->p, draw1(dr, 6), u, v, &es) || !(v3_dot(es.dir, sf->ng) > R(0)))
         return v3_splat(R(0));
     const vec3 fc = lobes_eval(lb, es.dir, &pdf);
     if (!(v3_max_comp(fc) > R(0)))
@@ -168,83 +179,138 @@ static int mirror_bounce(const Surface *sf, vec3 d, real u, real v, real s, vec3
     return 1;
 }
 
-vec3 path_radiance(const World *w, const Ray *r, SampleId id, RayStats *st, uint64_t *key)
+/* A path under way: what it has gathered and the ray it goes on by. */
+typedef struct {
+    vec3 L, beta;
+    Ray ray;       /* the next ray to trace */
+    SampleId id;
+    uint64_t *key; /* the camera ray's first sight (adaptive anti-aliasing), or NULL */
+    int b;         /* the bounce whose hit comes next: 0 for the camera ray */
+    int after_smooth; /* the path left a point by a smooth lobe, which took the lights (next-event estimation) */
+    vec3 from;        /* that point */
+    real pdf_bounce;  /* and the density of the bounce's direction */
+} Path;
+
+static void path_start(Path *p, const Ray *r, SampleId id, uint64_t *key)
 {
-    int after_smooth = 0; /* the path left a point by a smooth lobe, which took the lights (next-event estimation) */
-    vec3 from = v3_splat(R(0)); /* that point */
-    real pdf_bounce = R(0);     /* and the density of the bounce's direction */
+    /* field by field: a compound literal cleared the whole and copied it */
+    p->L = v3_splat(R(0)), p->beta = v3_splat(R(1)), p->from = v3_splat(R(0));
+    p->ray = *r, p->id = id, p->key = key;
+    p->b = 0, p->after_smooth = 0, p->pdf_bounce = R(0);
+}
+
+/* One bounce of path p: the hit h of its ray (found: whether there is
+ * one) lit and scattered.  1 where the path goes on by p->ray. */
+static int path_step(const World *w, Path *p, int found, const Hit *h, RayStats *st)
+{
+    const int b = p->b;
+    if (b == 0)
+        st->primary++;
+    else
+        st->secondary++;
+    if (!found) {
+        p->L = v3_add(p->L, v3_mul(p->beta, w->background));
+        if (b == 0 && p->key)
+            *p->key = UINT64_MAX;
+        return 0;
+    }
     const int emitters = w->emitter_count > 0 && w->view.settings.emitter_sampling != EMITTERS_BSDF;
-    vec3 L = v3_splat(R(0)), beta = v3_splat(R(1));
-    Ray ray = *r;
     const int depth = w->view.settings.depth;
-    for (int b = 0;; b++) {
-        Hit h;
-        if (b == 0)
-            st->primary++;
-        else
-            st->secondary++;
-        if (!trace_closest(w, &ray, &h)) {
-            L = v3_add(L, v3_mul(beta, w->background));
-            if (b == 0 && key)
-                *key = UINT64_MAX;
-            break;
+    Surface sf;
+    trace_surface(w, &p->ray, h, &sf);
+    const Material *m = sf.mat;
+    if (b == 0 && p->key)
+        *p->key = (uint64_t)sf.object << 16;
+    if (sf.inside && material_dielectric(m) && v3_max_comp(m->absorb) > R(0)) /* crossed its inside */
+        p->beta = v3_mul(p->beta, v3(exp(-m->absorb.x * h->t), exp(-m->absorb.y * h->t), exp(-m->absorb.z * h->t)));
+    if (material_emits(m) && !(p->after_smooth && trace_any_lamp(w, h)) /* a lamp's light was sampled at the point before */)
+        p->L = v3_add(p->L, v3_scale(v3_mul(p->beta, m->ke),
+                                     p->after_smooth ? bounce_share(w, p->from, p->pdf_bounce, &p->ray, h) : R(1)));
+    const int last = b >= depth; /* the light that reaches this point still counts: depth 0 is direct light */
+    const vec3 d = p->ray.dir;
+    real u, v;
+    const Draws dr = draws_at(&p->id, (uint32_t)b);
+    draw2(&dr, 1, &u, &v);
+    const real pick = draw1(&dr, 2);
+    int go;
+    p->after_smooth = 0;
+    if (material_dielectric(m)) {
+        if (last)
+            return 0;
+        go = dielectric_bounce(w, &sf, d, pick, &p->beta, &p->ray);
+    } else {
+        const vec3 ks = w->view.settings.shading == SHADE_PHONG ? m->ks : v3_splat(R(0));
+        Lobes lb;
+        if (!lobes_make(&lb, diffuse_at(w, &sf), ks, m->shininess, material_reflects(m) ? m->kr : v3_splat(R(0)),
+                        sf.ns, d))
+            return 0;
+        if (lobes_smooth(&lb)) { /* next-event estimation: what the smooth lobes take from the lights */
+            p->L = v3_add(p->L, v3_mul(p->beta, direct_light(w, &sf, &lb, &dr, st)));
+            if (emitters)
+                p->L = v3_add(p->L, v3_mul(p->beta, direct_emitters(w, &sf, &lb, last, &dr, st)));
         }
-        Surface sf;
-        trace_surface(w, &ray, &h, &sf);
-        const Material *m = sf.mat;
-        if (b == 0 && key)
-            *key = (uint64_t)sf.object << 16;
-        if (sf.inside && material_dielectric(m) && v3_max_comp(m->absorb) > R(0)) /* crossed its inside */
-            beta = v3_mul(beta, v3(exp(-m->absorb.x * h.t), exp(-m->absorb.y * h.t), exp(-m->absorb.z * h.t)));
-        if (material_emits(m) && !(after_smooth && trace_any_lamp(w, &h)) /* a lamp's light was sampled at the point before */)
-            L = v3_add(L, v3_scale(v3_mul(beta, m->ke), after_smooth ? bounce_share(w, from, pdf_bounce, &ray, &h) : R(1)));
-        const int last = b >= depth; /* the light that reaches this point still counts: depth 0 is direct light */
-        const vec3 d = ray.dir;
-        real u, v;
-        draw2(&id, (uint32_t)b, 1, &u, &v);
-        const real pick = draw1(&id, (uint32_t)b, 2);
-        int go;
-        after_smooth = 0;
-        if (material_dielectric(m)) {
-            if (last)
-                break;
-            go = dielectric_bounce(w, &sf, d, pick, &beta, &ray);
-        } else {
-            const vec3 ks = w->view.settings.shading == SHADE_PHONG ? m->ks : v3_splat(R(0));
-            Lobes lb;
-            if (!lobes_make(&lb, diffuse_at(w, &sf), ks, m->shininess, material_reflects(m) ? m->kr : v3_splat(R(0)),
-                            sf.ns, d))
-                break;
-            if (lobes_smooth(&lb)) { /* next-event estimation: what the smooth lobes take from the lights */
-                L = v3_add(L, v3_mul(beta, direct_light(w, &sf, &lb, &id, (uint32_t)b, st)));
-                if (emitters)
-                    L = v3_add(L, v3_mul(beta, direct_emitters(w, &sf, &lb, last, &id, (uint32_t)b, st)));
-            }
-            if (last)
-                break;
-            if (pick < lb.pm) { /* the mirror, chosen with probability pm */
-                beta = v3_scale(beta, R(1) / lb.pm);
-                go = mirror_bounce(&sf, d, u, v, draw1(&id, (uint32_t)b, 4), &beta, &ray);
-            } else { /* a smooth lobe's direction, weighed by both smooth lobes */
-                real pdf;
-                const vec3 nd = lobes_sample_smooth(&lb, (pick - lb.pm) / (R(1) - lb.pm), u, v);
-                const vec3 fc = lobes_eval(&lb, nd, &pdf);
-                go = pdf > R(0) && v3_dot(nd, sf.ng) > R(0);
-                beta = v3_mul(beta, v3_scale(fc, go ? R(1) / pdf : R(0)));
-                after_smooth = 1;
-                from = sf.p;
-                pdf_bounce = pdf;
-                ray_init(&ray, trace_offset_origin(sf.p, sf.ng, sf.err), nd, R(0), REAL_MAX);
-            }
-        }
-        if (!go)
-            break;
-        if (b + 1 >= w->view.settings.roulette) { /* Russian roulette: survivors weighed up by as much */
-            const real keep = real_min(R(1), v3_max_comp(beta));
-            if (!(draw1(&id, (uint32_t)b, 3) < keep))
-                break;
-            beta = v3_scale(beta, R(1) / keep);
+        if (last)
+            return 0;
+        if (pick < lb.pm) { /* the mirror, chosen with probability pm */
+            p->beta = v3_scale(p->beta, R(1) / lb.pm);
+            go = mirror_bounce(&sf, d, u, v, draw1(&dr, 4), &p->beta, &p->ray);
+        } else { /* a smooth lobe's direction, weighed by both smooth lobes */
+            real pdf;
+            const vec3 nd = lobes_sample_smooth(&lb, (pick - lb.pm) / (R(1) - lb.pm), u, v);
+            const vec3 fc = lobes_eval(&lb, nd, &pdf);
+            go = pdf > R(0) && v3_dot(nd, sf.ng) > R(0);
+            p->beta = v3_mul(p->beta, v3_scale(fc, go ? R(1) / pdf : R(0)));
+            p->after_smooth = 1;
+            p->from = sf.p;
+            p->pdf_bounce = pdf;
+            ray_init(&p->ray, trace_offset_origin(sf.p, sf.ng, sf.err), nd, R(0), REAL_MAX);
         }
     }
-    return L;
+    if (!go)
+        return 0;
+    if (b + 1 >= w->view.settings.roulette) { /* Russian roulette: survivors weighed up by as much */
+        const real keep = real_min(R(1), v3_max_comp(p->beta));
+        if (!(draw1(&dr, 3) < keep))
+            return 0;
+        p->beta = v3_scale(p->beta, R(1) / keep);
+    }
+    p->b = b + 1;
+    return 1;
+}
+
+void path_radiance_packet(const World *w, const Ray *rays, int n, const SampleId *ids, vec3 *out, RayStats *st,
+                          uint64_t *keys)
+{
+    Path p[TRACE_PACKET];
+    Hit h[TRACE_PACKET];
+    /* the camera rays together (a packet where they keep together) */
+    trace_closest_packet(w, rays, n, h);
+    int live[TRACE_PACKET], m = 0;
+    for (int i = 0; i < n; i++) {
+        path_start(&p[i], &rays[i], ids ? ids[i] : (SampleId){.key = 0, .index = 0, .count = 1}, keys ? &keys[i] : NULL);
+        if (path_step(w, &p[i], h[i].kind != HIT_NONE, &h[i], st))
+            live[m++] = i;
+    }
+    /* then the bounces two paths at a time, each pair's rays walked
+     * together (trace_closest_pair); a path that ends gives its place
+     * to the next */
+    int next = 2 < m ? 2 : m;
+    int a = m > 0 ? live[0] : -1, c = m > 1 ? live[1] : -1;
+    while (a >= 0 && c >= 0) {
+        Hit ha, hc;
+        const uint32_t got = trace_closest_pair(w, &p[a].ray, &p[c].ray, &ha, &hc);
+        if (!path_step(w, &p[a], got & 1, &ha, st))
+            a = next < m ? live[next++] : -1;
+        if (!path_step(w, &p[c], got >> 1 & 1, &hc, st))
+            c = next < m ? live[next++] : -1;
+    }
+    if (a < 0)
+        a = c;
+    if (a >= 0) {
+        Hit ha;
+        while (path_step(w, &p[a], trace_closest(w, &p[a].ray, &ha), &ha, st))
+            ;
+    }
+    for (int i = 0; i < n; i++)
+        out[i] = p[i].L;
 }

@@ -14,8 +14,12 @@
 #include "base/sample.h"
 #include "scene/shade.h"
 
-/* The light arriving along r (a camera ray of sample id); *key (may be
- * NULL) receives what it saw first, for adaptive anti-aliasing. */
-vec3 path_radiance(const World *w, const Ray *r, SampleId id, RayStats *stats, uint64_t *key);
+/* The light arriving along each of n <= TRACE_PACKET camera rays (ids:
+ * their samples, or NULL) in out[i]; keys[i] (keys may be NULL) receives
+ * what ray i saw first, for adaptive anti-aliasing.  Each path is what it
+ * is alone: the camera rays go as a packet, the bounces two paths at a
+ * time (trace_closest_pair). */
+void path_radiance_packet(const World *w, const Ray *rays, int n, const SampleId *ids, vec3 *out, RayStats *stats,
+                          uint64_t *keys);
 
 #endif

@@ -894,9 +894,7 @@ void shade_packet(const World *w, const Ray *rays, int n, vec3 *out, RayStats *s
                   const SampleId *ids, const RayDiff *diffs)
 {
     if (w->view.settings.integrator == INTEGRATOR_PATH) {
-        for (int i = 0; i < n; i++)
-            out[i] = path_radiance(w, &rays[i], ids ? ids[i] : (SampleId){.key = 0, .index = 0, .count = 1}, stats,
-                                   keys ? &keys[i] : NULL);
+        path_radiance_packet(w, rays, n, ids, out, stats, keys);
         return;
     }
     vec3 ones[TRACE_PACKET];

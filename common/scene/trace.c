@@ -261,6 +261,41 @@ int trace_closest(const World *w, const Ray *r, Hit *hit)
     return closest_of(w, r, hit, 0, NULL);
 }
 
+uint32_t trace_closest_pair(const World *w, const Ray *a, const Ray *b, Hit *ha, Hit *hb)
+{
+    const int planes = world_uses(w, FEAT_PLANES) && w->plane_count;
+    if (w->lone_model) {
+        const Model *m = w->models[w->instances[0].model];
+        if (m->wide && !planes) { /* trace_closest's shortcut, by pairs */
+            const Ray *pr[2] = {a, b};
+            const real tmax[2] = {a->tmax, b->tmax};
+            const int at_tmax[2] = {0, 0};
+            ModelHit mh[2];
+            const uint32_t got = model_intersect_each(m, pr, 2, tmax, at_tmax, mh);
+            Hit *h[2] = {ha, hb};
+            for (int i = 0; i < 2; i++)
+                if (got >> i & 1)
+                    *h[i] = (Hit){mh[i].t, mh[i].b1, mh[i].b2, HIT_INSTANCE, 0, mh[i].tri};
+                else
+                    h[i]->t = tmax[i], h[i]->kind = HIT_NONE;
+            return got;
+        }
+    }
+#if BVH4_COMPILED
+    const Bvh4 *t4 = top4(w);
+    if (t4 && !w->lone_model) { /* closest_of, by pairs */
+        closest_planes(w, a, ha, 0);
+        closest_planes(w, b, hb, 0);
+        Best ba = {ha, 0}, bb = {hb, 0};
+        ClosestCtx ca = {w, &ba, NULL}, cb = {w, &bb, NULL};
+        real ta = ha->t, tb = hb->t;
+        bvh4_closest_pair(t4, a, b, &ta, &tb, top_leaf_closest, &ca, &cb);
+        return (uint32_t)(ha->kind != HIT_NONE) | (uint32_t)(hb->kind != HIT_NONE) << 1;
+    }
+#endif
+    return (uint32_t)trace_closest(w, a, ha) | (uint32_t)trace_closest(w, b, hb) << 1;
+}
+
 void trace_closest_each(const World *w, const Ray *rays, int n, Hit *hits)
 {
     const Model *m = w->lone_model ? w->models[w->instances[0].model] : NULL;

@@ -51,6 +51,9 @@ void trace_closest_packet(const World *w, const Ray *rays, int n, Hit *hits);
  * part): each alone, as trace_closest; in a world of one model their
  * walks go by pairs, interleaved (wide_kernel.h). */
 void trace_closest_each(const World *w, const Ray *rays, int n, Hit *hits);
+/* trace_closest of rays a and b, their walks interleaved where the world
+ * has a tree to walk; bits 0 and 1: whether each hit. */
+uint32_t trace_closest_pair(const World *w, const Ray *a, const Ray *b, Hit *ha, Hit *hb);
 /* The same for rays sent on from surfaces (mirrors, glass), which may
  * part: where they would go ray by ray inside the model's walk, they go
  * ray by ray from the start. */

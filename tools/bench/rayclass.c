@@ -24,8 +24,9 @@
  *                (numbers from the pixel), as a path's bounce.
  * Then it times each set through lanray as its renderer traces that
  * class (packets of eight: trace_closest_packet, trace_occluded_packet;
- * the diffuse bounce one ray at a time, trace_closest, as the path
- * integrator does) and also the other way, and through Embree
+ * the diffuse bounces of two paths at a time, trace_closest_pair, as the
+ * path integrator does), one ray at a time (trace_closest, trace_occluded)
+ * and by pairs, and through Embree
  * (rtcIntersect1 / rtcOccluded1, and rtcIntersect8 / rtcOccluded8 with
  * the coherent flag for camera and shadow rays): the same rays, T threads
  * each taking 64 rays at a time, best of N passes, the modes in turn pass
@@ -273,8 +274,8 @@ static RTCScene embree_scene(RTCDevice dev, const World *w)
 }
 
 /* How a set is traced. */
-typedef enum { OURS_PACKET, OURS_SINGLE, EMBREE_1, EMBREE_8, MODES } Mode;
-static const char *const mode_names[MODES + 2] = {"lanray8", "lanray1", "embree1", "embree8", "all", NULL};
+typedef enum { OURS_PACKET, OURS_SINGLE, OURS_PAIRS, EMBREE_1, EMBREE_8, MODES } Mode;
+static const char *const mode_names[MODES + 2] = {"lanray8", "lanray1", "lanray2", "embree1", "embree8", "all", NULL};
 
 typedef struct {
     const World *w;
@@ -335,9 +336,12 @@ static void embree_trace(const Job *j, struct RTCIntersectContext *ctx, size_t i
     }
 }
 
-/* Rays [i, i + n) of the set (n <= 8) through lanray, as a packet or one by one. */
-static void ours_trace(const Job *j, size_t i, int n, int packet)
+/* Rays [i, i + n) of the set (n <= 8) through lanray: as a packet, one
+ * by one, or by pairs (closest hits: trace_closest_pair, as the path
+ * integrator traces its bounces; shadow rays one by one). */
+static void ours_trace(const Job *j, size_t i, int n, Mode mode)
 {
+    const int packet = mode == OURS_PACKET;
     RaySet *s = j->set;
     if (s->shadow) {
         uint32_t b = 0;
@@ -355,7 +359,13 @@ static void ours_trace(const Job *j, size_t i, int n, int packet)
         trace_closest_packet(j->w, &s->rays[i], n, h);
     else if (packet) /* as shading sends on what mirrors and glass (and a diffuse bounce) send */
         trace_closest_bounced(j->w, &s->rays[i], n, h);
-    else
+    else if (mode == OURS_PAIRS) {
+        int k = 0;
+        for (; k + 1 < n; k += 2)
+            trace_closest_pair(j->w, &s->rays[i + k], &s->rays[i + k + 1], &h[k], &h[k + 1]);
+        if (k < n)
+            trace_closest(j->w, &s->rays[i + k], &h[k]);
+    } else
         for (int k = 0; k < n; k++)
             trace_closest(j->w, &s->rays[i + k], &h[k]);
     for (int k = 0; k < n; k++)
@@ -375,8 +385,8 @@ static void *worker(void *arg)
         size_t end = i + CHUNK < n ? i + CHUNK : n;
         for (size_t p = i; p < end; p += 8) {
             int m = end - p < 8 ? (int)(end - p) : 8;
-            if (j->mode == OURS_PACKET || j->mode == OURS_SINGLE)
-                ours_trace(j, p, m, j->mode == OURS_PACKET);
+            if (j->mode == OURS_PACKET || j->mode == OURS_SINGLE || j->mode == OURS_PAIRS)
+                ours_trace(j, p, m, j->mode);
             else
                 embree_trace(j, &ctx, p, m, j->mode == EMBREE_8);
         }
@@ -466,8 +476,8 @@ static void measure(const World *w, RTCScene es, RaySet *sets, const Args *a)
                         time_pass(&j, (Mode)m, a->threads);
                     t[m] = fmin(t[m], time_pass(&j, (Mode)m, a->threads));
                 }
-        /* the renderer's way: packets, but a path's diffuse bounce alone */
-        Mode ours = c == DIFFUSE ? OURS_SINGLE : OURS_PACKET;
+        /* the renderer's way: packets, but a path's diffuse bounces by pairs */
+        Mode ours = c == DIFFUSE ? OURS_PAIRS : OURS_PACKET;
         j.mode = ours; /* the results compared: the renderer's way against rtcIntersect1 */
         printf("class %s rays %zu threads %d", class_names[c], s->n, a->threads);
         for (int m = 0; m < MODES; m++)
