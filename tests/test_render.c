@@ -448,8 +448,10 @@ static void pairs_equal_single_rays(void **state)
         if (kind >= 1)
             assert_int_equal(scene_add_plane(s, plane_make(v3(0, -1, 0), v3(0, 1, 0), 0), NULL), 0);
         if (kind == 2) {
-            for (int i = 0; i < 12; i++)
-                assert_int_equal(scene_add_sphere(s, (Sphere){v3(R(-3) + R(0.5) * (real)i, R(0.4) * (real)(i % 3), R(-1.5)), R(0.3), 0}, NULL), 0);
+            for (int i = 0; i < 12; i++) {
+                const vec3 c = v3(R(-3) + R(0.5) * (real)i, R(0.4) * (real)(i % 3), R(-1.5));
+                assert_int_equal(scene_add_sphere(s, (Sphere){c, R(0.3), 0}, NULL), 0);
+            }
             const vec3 flat[3] = {v3(-2, R(-0.5), -2), v3(2, R(-0.5), -2), v3(0, R(-0.5), 2)};
             assert_int_equal(scene_add_triangle(s, flat, NULL, NULL, 0, NULL), 0);
             assert_int_equal(

@@ -91,8 +91,8 @@ struct Wide {
     int (*any)(const Wide *w, const Ray *r, real tmax);
     /* n rays each alone, as closest gives them (their walks interleaved
      * by pairs: wide_kernel.h); the mask of the rays hit */
-    uint32_t (*closest_each)(const Wide *w, const Ray *const *rays, int n, const real *tmax, const uint32_t *tie,
-                             WideHit *hits);
+    uint32_t (*closest_pairs)(const Wide *w, const Ray *const *rays, int n, const real *tmax, const uint32_t *tie,
+                              WideHit *hits);
     /* n <= WIDE_PACKET rays at once; the mask of rays hit */
     uint32_t (*closest_packet)(const Wide *w, const Ray *const *rays, int n, const real *tmax, const uint32_t *tie,
                                WideHit *hits);
@@ -118,10 +118,10 @@ size_t wide_bytes(const Wide *w);
 /* The traversal kernels (wide_sse.c, wide_avx2.c). */
 int wide4_closest_sse(const Wide *w, const Ray *r, real tmax, uint32_t tie, WideHit *hit);
 int wide4_any_sse(const Wide *w, const Ray *r, real tmax);
-uint32_t wide4_closest_each_sse(const Wide *w, const Ray *const *rays, int n, const real *tmax, const uint32_t *tie,
-                                WideHit *hits);
-uint32_t wide8_closest_each_avx2(const Wide *w, const Ray *const *rays, int n, const real *tmax, const uint32_t *tie,
+uint32_t wide4_closest_pairs_sse(const Wide *w, const Ray *const *rays, int n, const real *tmax, const uint32_t *tie,
                                  WideHit *hits);
+uint32_t wide8_closest_pairs_avx2(const Wide *w, const Ray *const *rays, int n, const real *tmax, const uint32_t *tie,
+                                  WideHit *hits);
 uint32_t wide4_closest_packet_sse(const Wide *w, const Ray *const *rays, int n, const real *tmax, const uint32_t *tie,
                                   WideHit *hits);
 uint32_t wide4_any_packet_sse(const Wide *w, const Ray *const *rays, int n, const real *tmax);

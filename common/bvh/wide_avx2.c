@@ -13,7 +13,7 @@
 #define VN_LE_MASK(a, b) _mm256_movemask_ps(_mm256_cmp_ps(a, b, _CMP_LE_OQ))
 #define KERNEL_CLOSEST wide8_closest_avx2
 #define KERNEL_ANY wide8_any_avx2
-#define KERNEL_CLOSEST_EACH wide8_closest_each_avx2
+#define KERNEL_CLOSEST_PAIRS wide8_closest_pairs_avx2
 #define KERNEL_CLOSEST_PACKET wide8_closest_packet_avx2
 #define KERNEL_ANY_PACKET wide8_any_packet_avx2
 #include "bvh/wide_kernel.h"

@@ -129,13 +129,13 @@ int wide_build(Wide **out, const Bvh *bvh, const Tri *tris, int path, Err *err)
 #if WIDE_COMPILED
     if (path == SIMD_AVX2) {
         w->closest = wide8_closest_avx2;
-        w->closest_each = wide8_closest_each_avx2;
+        w->closest_pairs = wide8_closest_pairs_avx2;
         w->any = wide8_any_avx2;
         w->closest_packet = wide8_closest_packet_avx2;
         w->any_packet = wide8_any_packet_avx2;
     } else {
         w->closest = wide4_closest_sse;
-        w->closest_each = wide4_closest_each_sse;
+        w->closest_pairs = wide4_closest_pairs_sse;
         w->any = wide4_any_sse;
         w->closest_packet = wide4_closest_packet_sse;
         w->any_packet = wide4_any_packet_sse;

@@ -6,6 +6,7 @@
  *   VN                   a vector of NW floats, and VN_SET1, VN_LOAD, VN_STORE,
  *                        VN_MIN, VN_MAX, VN_LE_MASK (a <= b as a bit mask)
  *   KERNEL_CLOSEST, KERNEL_ANY   the names of the single-ray entry points
+ *   KERNEL_CLOSEST_PAIRS the name of the entry point for rays alone by pairs
  *   KERNEL_CLOSEST_PACKET, KERNEL_ANY_PACKET   and of the packet ones
  * The triangle blocks are always 4 wide (SSE; VEX-encoded in the AVX2 file).
  *
@@ -512,12 +513,16 @@ static inline __attribute__((always_inline)) int wide_walk_step(WideWalk *s, con
             return 1;
         }
     } else {
-        s->found |= wide_leaf_closest_call(&w->tris[s->cur], s->cur_blocks, &s->k, &s->best, &s->best_idx, s->hit);
+        const WideTris *blk = &w->tris[s->cur];
+        if (s->cur_blocks == 1)
+            s->found |= wide_block_closest(blk, &s->k, &s->best, &s->best_idx, s->hit);
+        else
+            s->found |= wide_leaf_closest_call(blk, s->cur_blocks, &s->k, &s->best, &s->best_idx, s->hit);
     }
     return wide_pop(s->stack, &s->sp, 1, s->best * BVH_FUDGE, &s->cur, &s->cur_blocks);
 }
 
-uint32_t KERNEL_CLOSEST_EACH(const Wide *w, const Ray *const *rays, int n, const real *tmax, const uint32_t *tie,
+uint32_t KERNEL_CLOSEST_PAIRS(const Wide *w, const Ray *const *rays, int n, const real *tmax, const uint32_t *tie,
                              WideHit *hits)
 {
     uint32_t found = 0;
@@ -1021,7 +1026,7 @@ uint32_t KERNEL_CLOSEST_PACKET(const Wide *w, const Ray *const *rays, int n, con
     if (n >= 2)
         wide_ray_rows(&R, rays, n);
     if (n < 2 || !wide_packet_setup(&p, &q, &R, INFINITY, WIDE_DIR_SPREAD))
-        return KERNEL_CLOSEST_EACH(w, rays, n, tmax, tie, hits);
+        return KERNEL_CLOSEST_PAIRS(w, rays, n, tmax, tie, hits);
     const uint32_t all = n == 32 ? ~0u : (1u << n) - 1;
     float far = wide_max_of(tmax, all);
     if (wide_packet_misses(w, &p, far))

@@ -10,7 +10,7 @@
 #define VN_LE_MASK(a, b) _mm_movemask_ps(_mm_cmple_ps(a, b))
 #define KERNEL_CLOSEST wide4_closest_sse
 #define KERNEL_ANY wide4_any_sse
-#define KERNEL_CLOSEST_EACH wide4_closest_each_sse
+#define KERNEL_CLOSEST_PAIRS wide4_closest_pairs_sse
 #define KERNEL_CLOSEST_PACKET wide4_closest_packet_sse
 #define KERNEL_ANY_PACKET wide4_any_packet_sse
 #include "bvh/wide_kernel.h"

@@ -59,7 +59,7 @@ uint32_t model_intersect_each(const Model *m, const Ray *const *rays, int n, con
         uint32_t tie[WIDE_PACKET];
         for (int i = 0; i < n; i++)
             tie[i] = at_tmax[i] ? UINT32_MAX : 0;
-        return m->wide->closest_each(m->wide, rays, n, tmax, tie, hits);
+        return m->wide->closest_pairs(m->wide, rays, n, tmax, tie, hits);
     }
     for (int i = 0; i < n; i++)
         found |= (uint32_t)model_intersect(m, rays[i], tmax[i], at_tmax[i], &hits[i]) << i;

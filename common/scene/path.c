@@ -223,7 +223,8 @@ static int path_step(const World *w, Path *p, int found, const Hit *h, RayStats 
         *p->key = (uint64_t)sf.object << 16;
     if (sf.inside && material_dielectric(m) && v3_max_comp(m->absorb) > R(0)) /* crossed its inside */
         p->beta = v3_mul(p->beta, v3(exp(-m->absorb.x * h->t), exp(-m->absorb.y * h->t), exp(-m->absorb.z * h->t)));
-    if (material_emits(m) && !(p->after_smooth && trace_any_lamp(w, h)) /* a lamp's light was sampled at the point before */)
+    /* emission, but not a lamp's whose light was sampled at the point before */
+    if (material_emits(m) && !(p->after_smooth && trace_any_lamp(w, h)))
         p->L = v3_add(p->L, v3_scale(v3_mul(p->beta, m->ke),
                                      p->after_smooth ? bounce_share(w, p->from, p->pdf_bounce, &p->ray, h) : R(1)));
     const int last = b >= depth; /* the light that reaches this point still counts: depth 0 is direct light */
@@ -287,7 +288,8 @@ void path_radiance_packet(const World *w, const Ray *rays, int n, const SampleId
     trace_closest_packet(w, rays, n, h);
     int live[TRACE_PACKET], m = 0;
     for (int i = 0; i < n; i++) {
-        path_start(&p[i], &rays[i], ids ? ids[i] : (SampleId){.key = 0, .index = 0, .count = 1}, keys ? &keys[i] : NULL);
+        const SampleId id = ids ? ids[i] : (SampleId){.key = 0, .index = 0, .count = 1};
+        path_start(&p[i], &rays[i], id, keys ? &keys[i] : NULL);
         if (path_step(w, &p[i], h[i].kind != HIT_NONE, &h[i], st))
             live[m++] = i;
     }

@@ -269,9 +269,9 @@ uint32_t trace_closest_pair(const World *w, const Ray *a, const Ray *b, Hit *ha,
         if (m->wide && !planes) { /* trace_closest's shortcut, by pairs */
             const Ray *pr[2] = {a, b};
             const real tmax[2] = {a->tmax, b->tmax};
-            const int at_tmax[2] = {0, 0};
+            const uint32_t tie[2] = {0, 0};
             ModelHit mh[2];
-            const uint32_t got = model_intersect_each(m, pr, 2, tmax, at_tmax, mh);
+            const uint32_t got = m->wide->closest_pairs(m->wide, pr, 2, tmax, tie, mh);
             Hit *h[2] = {ha, hb};
             for (int i = 0; i < 2; i++)
                 if (got >> i & 1)
