@@ -506,6 +506,71 @@ static void pairs_equal_single_rays(void **state)
     assert_true(compared > 1000);
 }
 
+/* An area light's points for a packet's shading, lane by lane
+ * (shade_light_points: sphere_dirs, rect_dirs), are the scalar code's
+ * (shade_light_point: area_point, light_towards) to the bit: direction,
+ * distance and radiance, for round and rectangular lights with and
+ * without falloff, seen from random points, points on the light's axes
+ * and its centre's level, and (u, v) at the square's centre, corners and
+ * edges. */
+static void area_light_lanes_equal_scalar(void **state)
+{
+    (void)state;
+    Scene *s = empty_scene();
+    const vec3 white = v3(1, 1, 1);
+    const Light lights[4] = {
+        light_sphere(v3(R(0.3), 2, R(-0.7)), R(0.25), 3, v3(1, R(0.8), R(0.6)), R(0.9), 1),
+        light_sphere(v3(-1, R(1.5), 1), R(0.1), 2, white, R(0.5), 0),
+        light_rect(v3(-1, 3, -1), v3(2, 0, 0), v3(0, 0, R(1.5)), 2, white, R(0.4), 1),
+        /* tilted: every coordinate of a point takes both edges */
+        light_rect(v3(2, 1, -1), v3(1, 0, 1), v3(R(0.6), 1, R(-0.6)), 2, v3(R(0.5), 1, 1), R(0.3), 0),
+    };
+    for (int i = 0; i < 4; i++)
+        assert_int_equal(scene_add_light(s, lights[i], NULL), 0);
+    const World *w = world_now(s);
+    Rng rng = {12345};
+    const real edges[5] = {R(0), R(0.5), R(1) - REAL_EPS / 2, R(0.25), R(0.75)};
+    int compared = 0;
+    for (uint32_t li = 0; li < w->light_count; li++) {
+        const vec3 c = w->lights[li].pos;
+        for (int round = 0; round < 200; round++) {
+            vec3 at[TRACE_PACKET];
+            real u[TRACE_PACKET], v[TRACE_PACKET];
+            const int n = 1 + round % TRACE_PACKET;
+            for (int k = 0; k < n; k++) {
+                at[k] = rng_vec(&rng, -3, 3);
+                if (round % 4 == 1) /* straight below or beside the light: its frame's other branch */
+                    at[k].e[k % 3] = c.e[k % 3];
+                if (round % 4 == 2)
+                    at[k] = v3_add(c, v3((real)(k % 2), k % 2 ? R(0) : R(-1), R(0)));
+                u[k] = round % 3 == 0 ? edges[k % 5] : rng_real(&rng, 0, 1);
+                v[k] = round % 3 == 0 ? edges[(k + round / 3) % 5] : rng_real(&rng, 0, 1);
+            }
+            vec3 dl[TRACE_PACKET], rl[TRACE_PACKET];
+            real tl[TRACE_PACKET];
+            const uint32_t ok = shade_light_points(w, li, n, at, u, v, dl, tl, rl);
+            for (int k = 0; k < n; k++) {
+                vec3 d, r;
+                real t;
+                const int got = shade_light_point(w, li, at[k], u[k], v[k], &d, &t, &r);
+                assert_int_equal(got, (int)(ok >> k & 1));
+                if (!got)
+                    continue;
+                if (d.x != dl[k].x || d.y != dl[k].y || d.z != dl[k].z || t != tl[k] || r.x != rl[k].x ||
+                    r.y != rl[k].y || r.z != rl[k].z)
+                    fail_msg("light %u point %d (%g %g %g) at (%g, %g): lanes dir (%.9g %.9g %.9g) dist %.9g rad %.9g, "
+                             "scalar (%.9g %.9g %.9g) %.9g %.9g",
+                             li, k, (double)at[k].x, (double)at[k].y, (double)at[k].z, (double)u[k], (double)v[k],
+                             (double)dl[k].x, (double)dl[k].y, (double)dl[k].z, (double)tl[k], (double)rl[k].x,
+                             (double)d.x, (double)d.y, (double)d.z, (double)t, (double)r.x);
+                compared++;
+            }
+        }
+    }
+    scene_destroy(s);
+    assert_true(compared > 2000);
+}
+
 /* Packets give every ray the hit, the colour and the shadow answer it gets
  * alone, on every SIMD path, in scenes built for ties: the coarse sphere
  * twice at one place, as a plain model and with a fin that makes a single
@@ -1012,6 +1077,7 @@ int main(void)
         cmocka_unit_test(diffuse_and_phong_match_the_formula),
         cmocka_unit_test(packets_equal_single_rays),
         cmocka_unit_test(pairs_equal_single_rays),
+        cmocka_unit_test(area_light_lanes_equal_scalar),
         cmocka_unit_test(small_instances_are_placed),
         cmocka_unit_test(shadows_attenuation_and_spot_cone),
         cmocka_unit_test(pixels_are_srgb_unless_linear),

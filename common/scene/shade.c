@@ -622,8 +622,17 @@ static inline __attribute__((always_inline)) uint32_t light_uvs(const World *w, 
     return ok;
 }
 
-/* light_dirs for a rectangle light: its point corner + u edge1 + v edge2
- * (area_point), lane by lane. */
+/* A rectangle light's points corner + u edge1 + v edge2 (area_point),
+ * less the hits' positions p, lane by lane, into d. */
+static inline __attribute__((always_inline)) void rect_offsets(const WorldLight *l, const real *u, const real *v,
+                                                              real p[3][TRACE_PACKET], real d[3][TRACE_PACKET])
+{
+    for (int e = 0; e < 3; e++)
+        for (int k = 0; k < TRACE_PACKET; k++)
+            d[e][k] = l->pos.e[e] + (l->edge1.e[e] * u[k] + l->edge2.e[e] * v[k]) - p[e][k];
+}
+
+/* light_dirs for a rectangle light (rect_offsets). */
 static inline __attribute__((always_inline)) uint32_t rect_dirs(const World *w, Shading *sh, const int *live, int nl,
                                                                uint32_t li, uint32_t j, vec3 *L, real *dist, vec3 *inv,
                                                                vec3 *rad)
@@ -632,26 +641,23 @@ static inline __attribute__((always_inline)) uint32_t rect_dirs(const World *w, 
     real u[TRACE_PACKET], v[TRACE_PACKET], sc[TRACE_PACKET], p[3][TRACE_PACKET];
     const uint32_t ok = light_uvs(w, sh, live, nl, li, j, u, v, sc, p);
     real d[3][TRACE_PACKET];
-    for (int e = 0; e < 3; e++)
-        for (int k = 0; k < TRACE_PACKET; k++)
-            d[e][k] = l->pos.e[e] + (l->edge1.e[e] * u[k] + l->edge2.e[e] * v[k]) - p[e][k];
+    rect_offsets(l, u, v, p, d);
     return light_dirs_towards(w, l, ok, d[0], d[1], d[2], sc, L, dist, inv, rad, 1);
 }
 
-/* light_dirs for a sphere light: light_pos's point of the disc the light
- * shows each hit (area_point: the disc's axes, v3_frame, where the ray has
- * none yet; the concentric map, sample_disc) operation for operation, lane
- * by lane in arrays, where one ray's square roots and divisions waited on
- * each other (the round lamp's points were a tenth of
- * models/example.scene's frame).  The axes made are kept as area_point
- * keeps them, for the ray's next point of the light. */
-static inline __attribute__((always_inline)) uint32_t sphere_dirs(const World *w, Shading *sh, const int *live, int nl,
-                                                                 uint32_t li, uint32_t j, vec3 *L, real *dist, vec3 *inv,
-                                                                 vec3 *rad)
+/* A sphere light's points of the disc it shows each hit of the lanes of
+ * ok, less the hits' positions p, into (dx, dy, dz): light_pos's point
+ * (area_point: the disc's axes, v3_frame, where the ray has none yet; the
+ * concentric map, sample_disc) operation for operation, lane by lane in
+ * arrays, where one ray's square roots and divisions waited on each other
+ * (the round lamp's points were a tenth of models/example.scene's frame).
+ * The axes made are kept as area_point keeps them, for the ray's next
+ * point of the light. */
+static inline __attribute__((always_inline)) void sphere_offsets(const WorldLight *l, uint32_t li, Shading *sh,
+                                                                const int *live, uint32_t ok, const real *u,
+                                                                const real *v, real p[3][TRACE_PACKET], real *dx,
+                                                                real *dy, real *dz)
 {
-    const WorldLight *l = &w->lights[li];
-    real u[TRACE_PACKET], v[TRACE_PACKET], sc[TRACE_PACKET], p[3][TRACE_PACKET];
-    const uint32_t ok = light_uvs(w, sh, live, nl, li, j, u, v, sc, p);
     const real *px = p[0], *py = p[1], *pz = p[2];
     uint32_t fresh = 0; /* lanes whose disc axes are made here */
     real ax[3][TRACE_PACKET], bx[3][TRACE_PACKET];
@@ -694,7 +700,6 @@ static inline __attribute__((always_inline)) uint32_t sphere_dirs(const World *w
             d->of = li + 1;
         }
     }
-    real dx[TRACE_PACKET], dy[TRACE_PACKET], dz[TRACE_PACKET];
     for (int k = 0; k < TRACE_PACKET; k++) {
         /* sample_disc(u, v) */
         const real a = R(2) * u[k] - R(1), b = R(2) * v[k] - R(1);
@@ -708,7 +713,48 @@ static inline __attribute__((always_inline)) uint32_t sphere_dirs(const World *w
         dy[k] = cy + (ax[1][k] * x + bx[1][k] * y) * radius - py[k];
         dz[k] = cz + (ax[2][k] * x + bx[2][k] * y) * radius - pz[k];
     }
+}
+
+/* light_dirs for a sphere light (sphere_offsets). */
+static inline __attribute__((always_inline)) uint32_t sphere_dirs(const World *w, Shading *sh, const int *live, int nl,
+                                                                 uint32_t li, uint32_t j, vec3 *L, real *dist, vec3 *inv,
+                                                                 vec3 *rad)
+{
+    const WorldLight *l = &w->lights[li];
+    real u[TRACE_PACKET], v[TRACE_PACKET], sc[TRACE_PACKET], p[3][TRACE_PACKET];
+    const uint32_t ok = light_uvs(w, sh, live, nl, li, j, u, v, sc, p);
+    real dx[TRACE_PACKET], dy[TRACE_PACKET], dz[TRACE_PACKET];
+    sphere_offsets(l, li, sh, live, ok, u, v, p, dx, dy, dz);
     return light_dirs_towards(w, l, ok, dx, dy, dz, sc, L, dist, inv, rad, 1);
+}
+
+/* What a packet's shading takes for an area light's points (sphere_dirs,
+ * rect_dirs), for n points given: the twin of shade_light_point's scalar
+ * code, for tests to hold the two to each other. */
+uint32_t shade_light_points(const World *w, uint32_t li, int n, const vec3 *at, const real *u, const real *v,
+                            vec3 *dir, real *dist, vec3 *radiance)
+{
+    const WorldLight *l = &w->lights[li];
+    Shading sh[TRACE_PACKET];
+    int live[TRACE_PACKET];
+    real uu[TRACE_PACKET], vv[TRACE_PACKET], sc[TRACE_PACKET], p[3][TRACE_PACKET], d[3][TRACE_PACKET];
+    vec3 inv[TRACE_PACKET];
+    const uint32_t ok = n >= TRACE_PACKET ? (1u << TRACE_PACKET) - 1 : (1u << n) - 1;
+    for (int k = 0; k < TRACE_PACKET; k++) {
+        const int in = k < n;
+        sh[k].disc = (DiscAxes){.of = 0, .key_of = 0};
+        live[k] = k;
+        uu[k] = in ? u[k] : R(0.5), vv[k] = in ? v[k] : R(0.5), sc[k] = in ? l->intensity : R(0);
+        for (int e = 0; e < 3; e++)
+            p[e][k] = in ? at[k].e[e] : R(0);
+    }
+    if (l->kind == LIGHT_SPHERE)
+        sphere_offsets(l, li, sh, live, ok, uu, vv, p, d[0], d[1], d[2]);
+    else if (l->kind == LIGHT_RECT)
+        rect_offsets(l, uu, vv, p, d);
+    else
+        return 0;
+    return light_dirs_towards(w, l, ok, d[0], d[1], d[2], sc, dir, dist, inv, radiance, 1);
 }
 
 /* light_at for light li (its point j) at the hits of the live rays, and

@@ -45,5 +45,11 @@ void shade_packet(const World *w, const Ray *rays, int n, vec3 *out, RayStats *s
  * (no share of a pixel's budget), with its unit direction and distance; 0
  * where none arrives. */
 int shade_light_point(const World *w, uint32_t li, vec3 p, real u, real v, vec3 *dir, real *dist, vec3 *radiance);
+/* The same for the points of area light li at (u[k], v[k]) seen from n <=
+ * TRACE_PACKET points at[k], by the lane-by-lane code a packet's shading
+ * uses (each point as shade_light_point gives it: tests hold them to it);
+ * the mask of the points light reaches. */
+uint32_t shade_light_points(const World *w, uint32_t li, int n, const vec3 *at, const real *u, const real *v,
+                            vec3 *dir, real *dist, vec3 *radiance);
 
 #endif
