@@ -1,6 +1,7 @@
 /* test_render.c - shading against analytic values, and pixels that do not
  * depend on threads or on how the frame is cut into segments. */
 #include "helpers.h"
+#include "sah_model.h"
 #include "worlds.h"
 
 #include <math.h>
@@ -216,10 +217,7 @@ static Model *sphere_model(int SEG, int RINGS)
             if (!mesh_tri_is_degenerate(t2))
                 assert_int_equal(mesh_add(&m, t2, t2, NULL, NULL, 0, NULL), 0);
         }
-    Model *model;
-    BvhOptions opt = bvh_options_default(BVH_SAH);
-    assert_int_equal(model_from_mesh(&model, &m, &opt, NULL), 0);
-    mesh_free(&m);
+    Model *model = sah_model(&m);
     return model;
 }
 
@@ -310,10 +308,7 @@ static void textured_triangle_and_instances(void **state)
     assert_int_equal(mesh_init(&mesh, 0, NULL), 0);
     const vec3 q[3] = {v3(0, 0, 0), v3(1, 0, 0), v3(0, 1, 0)};
     assert_int_equal(mesh_add(&mesh, q, NULL, NULL, NULL, 0, NULL), 0);
-    Model *model;
-    BvhOptions opt = bvh_options_default(BVH_SAH);
-    assert_int_equal(model_from_mesh(&model, &mesh, &opt, NULL), 0);
-    mesh_free(&mesh);
+    Model *model = sah_model(&mesh);
     uint32_t mid;
     assert_int_equal(scene_add_model(s, model, &mid, NULL), 0);
     assert_int_equal(scene_add_instance(s, instance_make(mid, v3(10, 0, 0), v3(0, 90, 0), 3), NULL), 0);
@@ -350,10 +345,7 @@ static Model *sphere_with_fin(void)
     const vec3 fin[3] = {v3(-3, -3, 6), v3(R(-2.9), -3, 6), v3(-3, R(-2.9), 6)};
     assert_int_equal(mesh_add(&m, fin, fin, NULL, NULL, 0, NULL), 0);
     model_destroy(plain);
-    Model *model;
-    BvhOptions opt = bvh_options_default(BVH_SAH);
-    assert_int_equal(model_from_mesh(&model, &m, &opt, NULL), 0);
-    mesh_free(&m);
+    Model *model = sah_model(&m);
     return model;
 }
 

@@ -2,6 +2,7 @@
  * trace_shadow_packet against worlds holding the opaque or the glass
  * items alone, on every SIMD path and every packet size. */
 #include "helpers.h"
+#include "sah_model.h"
 #include "worlds.h"
 
 #include "base/simd.h"
@@ -21,10 +22,7 @@ static Model *box_model(void)
         const vec3 t[3] = {c[f[i][0]], c[f[i][1]], c[f[i][2]]};
         assert_int_equal(mesh_add(&m, t, NULL, NULL, NULL, 0, NULL), 0);
     }
-    Model *model;
-    BvhOptions opt = bvh_options_default(BVH_SAH);
-    assert_int_equal(model_from_mesh(&model, &m, &opt, NULL), 0);
-    mesh_free(&m);
+    Model *model = sah_model(&m);
     return model;
 }
 

@@ -1,5 +1,6 @@
 /* test_tmd.c - .tmd round trips and a reader that rejects every malformed file cleanly. */
 #include "helpers.h"
+#include "sah_model.h"
 
 #include <sys/stat.h>
 
@@ -31,10 +32,7 @@ static Model *sample_model(unsigned attrs)
         vec3 col[3] = {rng_vec(&rng, 0, 1), rng_vec(&rng, 0, 1), rng_vec(&rng, 0, 1)};
         assert_int_equal(mesh_add(&mesh, p, n, uv, col, i % 2, NULL), 0);
     }
-    Model *m;
-    BvhOptions opt = bvh_options_default(BVH_SAH);
-    assert_int_equal(model_from_mesh(&m, &mesh, &opt, NULL), 0);
-    mesh_free(&mesh);
+    Model *m = sah_model(&mesh);
     return m;
 }
 
@@ -295,10 +293,7 @@ static Model *textured_model(void)
         real uv[6] = {0, 0, 1, 0, 0, 1};
         assert_int_equal(mesh_add(&mesh, p, NULL, uv, NULL, 0, NULL), 0);
     }
-    Model *m;
-    BvhOptions opt = bvh_options_default(BVH_SAH);
-    assert_int_equal(model_from_mesh(&m, &mesh, &opt, NULL), 0);
-    mesh_free(&mesh);
+    Model *m = sah_model(&mesh);
     return m;
 }
 
