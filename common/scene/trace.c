@@ -246,17 +246,23 @@ static int closest_of(const World *w, const Ray *r, Hit *hit, int glass_only, co
  * directly: closest_of's planes, Best and leaf dispatch come to nothing
  * there, and they were a twentieth of a diffuse bounce's instructions on
  * the bunny. */
+/* The scene's hit of a ray to tmax that met the one model (got) at mh, or nothing. */
+static inline int lone_hit(Hit *hit, int got, const ModelHit *mh, real tmax)
+{
+    if (!got) {
+        hit->t = tmax;
+        hit->kind = HIT_NONE;
+        return 0;
+    }
+    *hit = (Hit){mh->t, mh->b1, mh->b2, HIT_INSTANCE, 0, mh->tri};
+    return 1;
+}
+
 int trace_closest(const World *w, const Ray *r, Hit *hit)
 {
     if (w->lone_model && !(world_uses(w, FEAT_PLANES) && w->plane_count)) {
         ModelHit mh;
-        if (!model_intersect(w->models[w->instances[0].model], r, r->tmax, 0, &mh)) {
-            hit->t = r->tmax;
-            hit->kind = HIT_NONE;
-            return 0;
-        }
-        *hit = (Hit){mh.t, mh.b1, mh.b2, HIT_INSTANCE, 0, mh.tri};
-        return 1;
+        return lone_hit(hit, model_intersect(w->models[w->instances[0].model], r, r->tmax, 0, &mh), &mh, r->tmax);
     }
     return closest_of(w, r, hit, 0, NULL);
 }
@@ -272,12 +278,8 @@ uint32_t trace_closest_pair(const World *w, const Ray *a, const Ray *b, Hit *ha,
             const uint32_t tie[2] = {0, 0};
             ModelHit mh[2];
             const uint32_t got = m->wide->closest_pairs(m->wide, pr, 2, tmax, tie, mh);
-            Hit *h[2] = {ha, hb};
-            for (int i = 0; i < 2; i++)
-                if (got >> i & 1)
-                    *h[i] = (Hit){mh[i].t, mh[i].b1, mh[i].b2, HIT_INSTANCE, 0, mh[i].tri};
-                else
-                    h[i]->t = tmax[i], h[i]->kind = HIT_NONE;
+            lone_hit(ha, got & 1, &mh[0], tmax[0]);
+            lone_hit(hb, got >> 1 & 1, &mh[1], tmax[1]);
             return got;
         }
     }
@@ -312,10 +314,7 @@ void trace_closest_each(const World *w, const Ray *rays, int n, Hit *hits)
         pr[i] = &rays[i], tmax[i] = rays[i].tmax, at_tmax[i] = 0;
     const uint32_t got = model_intersect_each(m, pr, n, tmax, at_tmax, mh);
     for (int i = 0; i < n; i++)
-        if (got >> i & 1)
-            hits[i] = (Hit){mh[i].t, mh[i].b1, mh[i].b2, HIT_INSTANCE, 0, mh[i].tri};
-        else
-            hits[i].t = tmax[i], hits[i].kind = HIT_NONE;
+        lone_hit(&hits[i], got >> i & 1, &mh[i], tmax[i]);
 }
 
 int trace_closest_glass(const World *w, const Ray *r, Hit *hit)
