@@ -141,6 +141,42 @@ static void lanes_equal_single_points(void **state)
     assert_true(paths >= 1);
 }
 
+/* A bounce's dimensions drawn at once (sample_draw_lanes) are the
+ * numbers each gives alone: sample_mix's seed, sample_sobol_seq's
+ * scrambles, sample_sobol_point's u and v and sample_sobol_first's u, to
+ * the bit, on every SIMD path. */
+static void draw_lanes_equal_single_draws(void **state)
+{
+    (void)state;
+    const SimdPath best = simd_path();
+    int paths = 0;
+    uint32_t x = 777;
+    for (int path = 0; path < SIMD_PATH_COUNT; path++) {
+        if (simd_force((SimdPath)path))
+            continue;
+        paths++;
+        for (int round = 0; round < 2000; round++) {
+            uint32_t dim[SAMPLE_LANES], u[SAMPLE_LANES], v[SAMPLE_LANES];
+            const uint32_t key = x = sample_hash(x + 1);
+            const uint32_t index = round < 1000 ? (uint32_t)round : (x = sample_hash(x + 1));
+            for (int k = 0; k < SAMPLE_LANES; k++)
+                dim[k] = round % 2 ? (uint32_t)k + 1 : (x = sample_hash(x + 1));
+            sample_draw_lanes(key, index, dim, u, v);
+            for (int k = 0; k < SAMPLE_LANES; k++) {
+                const SampleSobol q = sample_sobol_seq(sample_mix(key, dim[k]));
+                real pu, pv;
+                sample_sobol_point(&q, index, &pu, &pv);
+                const real first = sample_sobol_first(&q, index);
+                if (sample_unit(u[k]) != pu || sample_unit(v[k]) != pv || sample_unit(u[k]) != first)
+                    fail_msg("%s: lane %d of round %d: (%.9g, %.9g), alone (%.9g, %.9g)", simd_name((SimdPath)path), k,
+                             round, (double)sample_unit(u[k]), (double)sample_unit(v[k]), (double)pu, (double)pv);
+            }
+        }
+    }
+    simd_force(best);
+    assert_true(paths >= 1);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -150,6 +186,7 @@ int main(void)
         cmocka_unit_test(sobol_seeds_are_independent),
         cmocka_unit_test(shares_add_up_to_the_budget),
         cmocka_unit_test(lanes_equal_single_points),
+        cmocka_unit_test(draw_lanes_equal_single_draws),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

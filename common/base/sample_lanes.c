@@ -14,3 +14,27 @@ void sample_sobol_lanes(SampleLanes *s)
     for (int k = 0; k < SAMPLE_LANES; k++)
         sample_sobol_bits(s->seq_index[k], s->seq_first[k], s->seq_second[k], s->index[k], &s->u[k], &s->v[k]);
 }
+
+void sample_draw_lanes(uint32_t key, uint32_t index, const uint32_t dim[SAMPLE_LANES], uint32_t u[SAMPLE_LANES],
+                       uint32_t v[SAMPLE_LANES])
+{
+#if defined(__x86_64__)
+    if (simd_path() == SIMD_AVX2) {
+        sample_draw_lanes_avx2(key, index, dim, u, v);
+        return;
+    }
+#endif
+    for (int k = 0; k < SAMPLE_LANES; k++) {
+        const SampleSobol q = sample_sobol_seq(sample_mix(key, dim[k]));
+        sample_sobol_bits(q.index, q.first, q.second, index, &u[k], &v[k]);
+    }
+}
+
+int sample_lanes_wide(void)
+{
+#if defined(__x86_64__)
+    return simd_path() == SIMD_AVX2;
+#else
+    return 0;
+#endif
+}

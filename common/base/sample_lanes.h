@@ -28,4 +28,17 @@ void sample_sobol_lanes(SampleLanes *s);
 /* The AVX2 path (sample_lanes_avx2.c); only where simd_path says AVX2. */
 void sample_sobol_lanes_avx2(SampleLanes *s);
 
+/* Eight dimensions of one ray's numbers at once: lane k, point `index` of
+ * the sequence of seed sample_mix(key, dim[k]) (sample_sobol_seq), as the
+ * 32-bit numbers sample_sobol_bits gives (u[k] is also what
+ * sample_sobol_first gives).  A path's bounce draws four to six such
+ * numbers, each some 100 instructions of hashes alone. */
+void sample_draw_lanes(uint32_t key, uint32_t index, const uint32_t dim[SAMPLE_LANES], uint32_t u[SAMPLE_LANES],
+                       uint32_t v[SAMPLE_LANES]);
+void sample_draw_lanes_avx2(uint32_t key, uint32_t index, const uint32_t dim[SAMPLE_LANES], uint32_t u[SAMPLE_LANES],
+                            uint32_t v[SAMPLE_LANES]);
+/* Whether the lanes run side by side here (AVX2): elsewhere they go one
+ * after another, and a caller that needs only some draws them alone. */
+int sample_lanes_wide(void);
+
 #endif

@@ -38,20 +38,58 @@ static inline __m256i shift_xor(__m256i z, int by, uint32_t mask)
     return _mm256_xor_si256(z, _mm256_and_si256(_mm256_srli_epi32(z, by), _mm256_set1_epi32((int)mask)));
 }
 
-void sample_sobol_lanes_avx2(SampleLanes *s)
-{
 #define LOAD(a) _mm256_loadu_si256((const __m256i *)(const void *)(a))
-    const __m256i i = reverse8(laine_karras8(reverse8(LOAD(s->index)), LOAD(s->seq_index)));
+#define STORE(a, x) _mm256_storeu_si256((__m256i *)(void *)(a), x)
+
+/* sample_sobol_bits on eight lanes: the scrambles and the index in, u and v out. */
+static inline void sobol_bits8(__m256i index, __m256i seq_index, __m256i seq_first, __m256i seq_second, __m256i *u,
+                               __m256i *v)
+{
+    const __m256i i = reverse8(laine_karras8(reverse8(index), seq_index));
     __m256i z = i;
     z = shift_xor(z, 1, 0x55555555u);
     z = shift_xor(z, 2, 0x33333333u);
     z = shift_xor(z, 4, 0x0f0f0f0fu);
     z = shift_xor(z, 8, 0x00ff00ffu);
     z = shift_xor(z, 16, 0x0000ffffu);
-    _mm256_storeu_si256((__m256i *)(void *)s->u, reverse8(laine_karras8(i, LOAD(s->seq_first))));
-    _mm256_storeu_si256((__m256i *)(void *)s->v, reverse8(laine_karras8(z, LOAD(s->seq_second))));
-#undef LOAD
+    *u = reverse8(laine_karras8(i, seq_first));
+    *v = reverse8(laine_karras8(z, seq_second));
 }
+
+void sample_sobol_lanes_avx2(SampleLanes *s)
+{
+    __m256i u, v;
+    sobol_bits8(LOAD(s->index), LOAD(s->seq_index), LOAD(s->seq_first), LOAD(s->seq_second), &u, &v);
+    STORE(s->u, u);
+    STORE(s->v, v);
+}
+
+/* sample_hash on eight lanes. */
+static inline __m256i hash8(__m256i x)
+{
+    x = _mm256_xor_si256(x, _mm256_srli_epi32(x, 16));
+    x = _mm256_mullo_epi32(x, _mm256_set1_epi32(0x7feb352d));
+    x = _mm256_xor_si256(x, _mm256_srli_epi32(x, 15));
+    x = _mm256_mullo_epi32(x, _mm256_set1_epi32((int)0x846ca68bu));
+    return _mm256_xor_si256(x, _mm256_srli_epi32(x, 16));
+}
+
+void sample_draw_lanes_avx2(uint32_t key, uint32_t index, const uint32_t dim[SAMPLE_LANES], uint32_t u[SAMPLE_LANES],
+                            uint32_t v[SAMPLE_LANES])
+{
+    /* sample_mix(key, dim), then sample_sobol_seq's three hashes */
+    const __m256i mixed = hash8(_mm256_add_epi32(LOAD(dim), _mm256_set1_epi32((int)0x9e3779b9u)));
+    const __m256i seed = hash8(_mm256_xor_si256(_mm256_set1_epi32((int)key), mixed));
+    const __m256i si = hash8(_mm256_xor_si256(seed, _mm256_set1_epi32(0x5bd1e995)));
+    const __m256i sf = hash8(_mm256_xor_si256(seed, _mm256_set1_epi32(0x68e31da4)));
+    const __m256i ss = hash8(_mm256_xor_si256(seed, _mm256_set1_epi32((int)0xb5297a4du)));
+    __m256i uu, vv;
+    sobol_bits8(_mm256_set1_epi32((int)index), si, sf, ss, &uu, &vv);
+    STORE(u, uu);
+    STORE(v, vv);
+}
+#undef LOAD
+#undef STORE
 
 #include "base/avx2_end.h"
 #else
