@@ -35,39 +35,58 @@
  * draws of some 100 instructions each were a sixth of a path-traced
  * frame); elsewhere each alone, as asked. */
 typedef struct {
-    uint32_t key, index;
-    int lanes; /* u and v hold the numbers of lane_dims */
-    uint32_t u[SAMPLE_LANES], v[SAMPLE_LANES];
-} Draws;
+    int lanes;                    /* draw the dimensions below at once */
+    uint32_t dims[SAMPLE_LANES]; /* the direction (2D), the lobe's pick, roulette, a rough
+                                  * mirror's bend, an emitter's point (2D) and pick, and
+                                  * the first two area lights' points (0x100 + light; other
+                                  * lights' alone) */
+} DrawPlan;
 
-/* The dimensions of a bounce: the direction (2D), the lobe's pick,
- * roulette, a rough mirror's bend, an emitter's point (2D) and pick, and
- * the first two lights' points (0x100 + light; other lights' alone). */
-static const uint32_t lane_dims[SAMPLE_LANES] = {1, 2, 3, 4, 5, 6, 0x100, 0x101};
-
-static inline int lane_of(uint32_t dim)
+/* The plan of a world's bounces: lanes where a bounce draws four numbers
+ * or more (a scene without lights or emitters draws two or three, which
+ * cost alone what the eight lanes do: the 100 spheres under a sky, 1244M
+ * instructions either way at 2 x 2 samples). */
+static void draw_plan(DrawPlan *pl, const World *w)
 {
-    return dim >= 1 && dim <= 6 ? (int)dim - 1 : dim == 0x100 ? 6 : dim == 0x101 ? 7 : -1;
+    pl->lanes = (w->light_count > 0 || w->emitter_count > 0) && sample_lanes_wide();
+    for (uint32_t k = 0; k < 6; k++)
+        pl->dims[k] = k + 1;
+    pl->dims[6] = 0x100u, pl->dims[7] = 0x101u; /* unused without area lights */
+    for (uint32_t li = 0, k = 6; li < w->light_count && k < SAMPLE_LANES; li++)
+        if (world_light_is_area(&w->lights[li]))
+            pl->dims[k++] = 0x100u + li;
 }
 
-static inline void draws_at(Draws *d, const World *w, const SampleId *id, uint32_t b)
+typedef struct {
+    uint32_t key, index;
+    const DrawPlan *plan;
+    uint32_t u[SAMPLE_LANES], v[SAMPLE_LANES]; /* the plan's dimensions, where it has lanes */
+} Draws;
+
+static inline int lane_of(const DrawPlan *pl, uint32_t dim)
+{
+    if (!pl->lanes)
+        return -1;
+    if (dim >= 1 && dim <= 6)
+        return (int)dim - 1;
+    return dim == pl->dims[6] ? 6 : dim == pl->dims[7] ? 7 : -1;
+}
+
+static inline void draws_at(Draws *d, const DrawPlan *pl, const SampleId *id, uint32_t b)
 {
     d->key = sample_mix(id->key, 0x50000000u + b);
     d->index = id->index;
-    /* without lights a bounce draws two or three numbers: as many alone
-     * cost what the eight lanes do (the 100 spheres under a sky, 1244M
-     * instructions either way at 2 x 2 samples) */
-    d->lanes = (w->light_count > 0 || w->emitter_count > 0) && sample_lanes_wide();
-    if (d->lanes)
-        sample_draw_lanes(d->key, d->index, lane_dims, d->u, d->v);
+    d->plan = pl;
+    if (pl->lanes)
+        sample_draw_lanes(d->key, d->index, pl->dims, d->u, d->v);
 }
 
 /* Two numbers of dimension `dim`: one point of a (0,2)-sequence over its
  * pixel's rays (stratified together), scrambled by the key. */
 static inline __attribute__((always_inline)) void draw2(const Draws *d, uint32_t dim, real *u, real *v)
 {
-    const int k = lane_of(dim);
-    if (d->lanes && k >= 0) {
+    const int k = lane_of(d->plan, dim);
+    if (k >= 0) {
         *u = sample_unit(d->u[k]);
         *v = sample_unit(d->v[k]);
         return;
@@ -82,8 +101,8 @@ static inline __attribute__((always_inline)) void draw2(const Draws *d, uint32_t
  * pixel, and all of them would choose alike). */
 static inline __attribute__((always_inline)) real draw1(const Draws *d, uint32_t dim)
 {
-    const int k = lane_of(dim);
-    if (d->lanes && k >= 0)
+    const int k = lane_of(d->plan, dim);
+    if (k >= 0)
         return sample_unit(d->u[k]);
     const SampleSobol q = sample_sobol_seq(sample_mix(d->key, dim));
     return sample_sobol_first(&q, d->index);
@@ -105,8 +124,9 @@ static vec3 direct_light(const World *w, const Surface *sf, const Lobes *lb, con
     vec3 sum = v3_splat(R(0));
     const vec3 origin = trace_offset_origin(sf->ps, sf->ng, sf->ps_err);
     for (uint32_t li = 0; li < w->light_count; li++) {
-        real u, v, dist, pdf;
-        draw2(dr, 0x100u + li, &u, &v);
+        real u = R(0.5), v = R(0.5), dist, pdf;
+        if (world_light_is_area(&w->lights[li])) /* others have one point */
+            draw2(dr, 0x100u + li, &u, &v);
         vec3 dir, rad;
         if (!shade_light_point(w, li, sf->p, u, v, &dir, &dist, &rad) || !(v3_dot(dir, sf->ng) > R(0)))
             continue;
@@ -221,10 +241,12 @@ typedef struct {
     int after_smooth; /* the path left a point by a smooth lobe, which took the lights (next-event estimation) */
     vec3 from;        /* that point */
     real pdf_bounce;  /* and the density of the bounce's direction */
+    const DrawPlan *plan;
 } Path;
 
-static void path_start(Path *p, const Ray *r, SampleId id, uint64_t *key)
+static void path_start(Path *p, const DrawPlan *plan, const Ray *r, SampleId id, uint64_t *key)
 {
+    p->plan = plan;
     /* field by field: a compound literal cleared the whole and copied it */
     p->L = v3_splat(R(0)), p->beta = v3_splat(R(1)), p->from = v3_splat(R(0));
     p->ray = *r, p->id = id, p->key = key;
@@ -263,7 +285,7 @@ static int path_step(const World *w, Path *p, int found, const Hit *h, RayStats 
     const vec3 d = p->ray.dir;
     real u, v;
     Draws dr;
-    draws_at(&dr, w, &p->id, (uint32_t)b);
+    draws_at(&dr, p->plan, &p->id, (uint32_t)b);
     draw2(&dr, 1, &u, &v);
     const real pick = draw1(&dr, 2);
     int go;
@@ -317,12 +339,14 @@ void path_radiance_packet(const World *w, const Ray *rays, int n, const SampleId
 {
     Path p[TRACE_PACKET];
     Hit h[TRACE_PACKET];
+    DrawPlan plan;
+    draw_plan(&plan, w);
     /* the camera rays together (a packet where they keep together) */
     trace_closest_packet(w, rays, n, h);
     int live[TRACE_PACKET], m = 0;
     for (int i = 0; i < n; i++) {
         const SampleId id = ids ? ids[i] : (SampleId){.key = 0, .index = 0, .count = 1};
-        path_start(&p[i], &rays[i], id, keys ? &keys[i] : NULL);
+        path_start(&p[i], &plan, &rays[i], id, keys ? &keys[i] : NULL);
         if (path_step(w, &p[i], h[i].kind != HIT_NONE, &h[i], st))
             live[m++] = i;
     }
