@@ -59,25 +59,27 @@ static void draw_plan(DrawPlan *pl, const World *w)
 
 typedef struct {
     uint32_t key, index;
-    const DrawPlan *plan;
+    int lanes;                                 /* the plan's */
+    uint32_t light[2];                         /* the plan's dims[6] and dims[7] */
     uint32_t u[SAMPLE_LANES], v[SAMPLE_LANES]; /* the plan's dimensions, where it has lanes */
 } Draws;
 
-static inline int lane_of(const DrawPlan *pl, uint32_t dim)
+static inline int lane_of(const Draws *d, uint32_t dim)
 {
-    if (!pl->lanes)
+    if (!d->lanes)
         return -1;
     if (dim >= 1 && dim <= 6)
         return (int)dim - 1;
-    return dim == pl->dims[6] ? 6 : dim == pl->dims[7] ? 7 : -1;
+    return dim == d->light[0] ? 6 : dim == d->light[1] ? 7 : -1;
 }
 
 static inline void draws_at(Draws *d, const DrawPlan *pl, const SampleId *id, uint32_t b)
 {
     d->key = sample_mix(id->key, 0x50000000u + b);
     d->index = id->index;
-    d->plan = pl;
-    if (pl->lanes)
+    d->lanes = pl->lanes;
+    d->light[0] = pl->dims[6], d->light[1] = pl->dims[7];
+    if (d->lanes)
         sample_draw_lanes(d->key, d->index, pl->dims, d->u, d->v);
 }
 
@@ -85,7 +87,7 @@ static inline void draws_at(Draws *d, const DrawPlan *pl, const SampleId *id, ui
  * pixel's rays (stratified together), scrambled by the key. */
 static inline __attribute__((always_inline)) void draw2(const Draws *d, uint32_t dim, real *u, real *v)
 {
-    const int k = lane_of(d->plan, dim);
+    const int k = lane_of(d, dim);
     if (k >= 0) {
         *u = sample_unit(d->u[k]);
         *v = sample_unit(d->v[k]);
@@ -101,7 +103,7 @@ static inline __attribute__((always_inline)) void draw2(const Draws *d, uint32_t
  * pixel, and all of them would choose alike). */
 static inline __attribute__((always_inline)) real draw1(const Draws *d, uint32_t dim)
 {
-    const int k = lane_of(d->plan, dim);
+    const int k = lane_of(d, dim);
     if (k >= 0)
         return sample_unit(d->u[k]);
     const SampleSobol q = sample_sobol_seq(sample_mix(d->key, dim));
@@ -119,10 +121,10 @@ static int shadowed(const World *w, vec3 origin, vec3 dir, real tmax, const Worl
 
 /* Next-event estimation from a point with smooth lobes: one point of
  * every light, its shadow ray, pi x f x cos x the radiance that arrives. */
-static vec3 direct_light(const World *w, const Surface *sf, const Lobes *lb, const Draws *dr, RayStats *st)
+static vec3 direct_light(const World *w, const Surface *sf, const Lobes *lb, const Draws *dr, vec3 origin,
+                         RayStats *st)
 {
     vec3 sum = v3_splat(R(0));
-    const vec3 origin = trace_offset_origin(sf->ps, sf->ng, sf->ps_err);
     for (uint32_t li = 0; li < w->light_count; li++) {
         real u = R(0.5), v = R(0.5), dist, pdf;
         if (world_light_is_area(&w->lights[li])) /* others have one point */
@@ -149,7 +151,7 @@ static real power_weight(real a, real b) { return a * a / (a * a + b * b); }
  * density, weighed against the bounce that could have found it (at the
  * last bounce none follows: the whole of it). */
 static vec3 direct_emitters(const World *w, const Surface *sf, const Lobes *lb, int last, const Draws *dr,
-                            RayStats *st)
+                            vec3 origin, RayStats *st)
 {
     real u, v, pdf;
     draw2(dr, 5, &u, &v);
@@ -160,8 +162,7 @@ static vec3 direct_emitters(const World *w, const Surface *sf, const Lobes *lb, 
     if (!(v3_max_comp(fc) > R(0)))
         return v3_splat(R(0));
     /* short of the point by more than the rounding of its place, so the emitter does not shadow itself */
-    if (w->view.settings.shadows && shadowed(w, trace_offset_origin(sf->ps, sf->ng, sf->ps_err), es.dir,
-                                             es.dist * (R(1) - R(1024) * REAL_EPS), NULL, st))
+    if (w->view.settings.shadows && shadowed(w, origin, es.dir, es.dist * (R(1) - R(1024) * REAL_EPS), NULL, st))
         return v3_splat(R(0));
     const real weight = w->view.settings.emitter_sampling == EMITTERS_MIS && !last ? power_weight(es.pdf, pdf) : R(1);
     return v3_scale(v3_mul(fc, es.radiance), weight / es.pdf);
@@ -300,10 +301,13 @@ static int path_step(const World *w, Path *p, int found, const Hit *h, RayStats 
         if (!lobes_make(&lb, diffuse_at(w, &sf), ks, m->shininess, material_reflects(m) ? m->kr : v3_splat(R(0)),
                         sf.ns, d))
             return 0;
-        if (lobes_smooth(&lb)) { /* next-event estimation: what the smooth lobes take from the lights */
-            p->L = v3_add(p->L, v3_mul(p->beta, direct_light(w, &sf, &lb, &dr, st)));
+        /* the shadow rays' origin, made once: a flat surface's bounce leaves from it too */
+        const int nee = lobes_smooth(&lb) && (w->light_count > 0 || emitters);
+        const vec3 from_ps = nee ? trace_offset_origin(sf.ps, sf.ng, sf.ps_err) : v3_splat(R(0));
+        if (nee) { /* next-event estimation: what the smooth lobes take from the lights */
+            p->L = v3_add(p->L, v3_mul(p->beta, direct_light(w, &sf, &lb, &dr, from_ps, st)));
             if (emitters)
-                p->L = v3_add(p->L, v3_mul(p->beta, direct_emitters(w, &sf, &lb, last, &dr, st)));
+                p->L = v3_add(p->L, v3_mul(p->beta, direct_emitters(w, &sf, &lb, last, &dr, from_ps, st)));
         }
         if (last)
             return 0;
@@ -319,7 +323,9 @@ static int path_step(const World *w, Path *p, int found, const Hit *h, RayStats 
             p->after_smooth = 1;
             p->from = sf.p;
             p->pdf_bounce = pdf;
-            ray_init(&p->ray, trace_offset_origin(sf.p, sf.ng, sf.err), nd, R(0), REAL_MAX);
+            /* off a flat surface p is ps, err ps_err: the same origin */
+            ray_init(&p->ray, nee && !sf.smooth ? from_ps : trace_offset_origin(sf.p, sf.ng, sf.err), nd, R(0),
+                     REAL_MAX);
         }
     }
     if (!go)
