@@ -499,12 +499,12 @@ static void pairs_equal_single_rays(void **state)
 }
 
 /* An area light's points for a packet's shading, lane by lane
- * (shade_light_points: sphere_dirs, rect_dirs), are the scalar code's
- * (shade_light_point: area_point, light_towards) to the bit: direction,
- * distance and radiance, for round and rectangular lights with and
- * without falloff, seen from random points, points on the light's axes
- * and its centre's level, and (u, v) at the square's centre, corners and
- * edges. */
+ * (shade_light_points: area_dirs, sphere_offsets, rect_offsets), are the
+ * scalar code's (shade_light_point: area_point, light_towards) to the
+ * bit: direction, distance and radiance, for round and rectangular lights
+ * with and without falloff, seen from random points, points on the
+ * light's axes and its centre's level, and (u, v) at the square's centre,
+ * corners and edges. */
 static void area_light_lanes_equal_scalar(void **state)
 {
     (void)state;

@@ -632,19 +632,6 @@ static inline __attribute__((always_inline)) void rect_offsets(const WorldLight 
             d[e][k] = l->pos.e[e] + (l->edge1.e[e] * u[k] + l->edge2.e[e] * v[k]) - p[e][k];
 }
 
-/* light_dirs for a rectangle light (rect_offsets). */
-static inline __attribute__((always_inline)) uint32_t rect_dirs(const World *w, Shading *sh, const int *live, int nl,
-                                                               uint32_t li, uint32_t j, vec3 *L, real *dist, vec3 *inv,
-                                                               vec3 *rad)
-{
-    const WorldLight *l = &w->lights[li];
-    real u[TRACE_PACKET], v[TRACE_PACKET], sc[TRACE_PACKET], p[3][TRACE_PACKET];
-    const uint32_t ok = light_uvs(w, sh, live, nl, li, j, u, v, sc, p);
-    real d[3][TRACE_PACKET];
-    rect_offsets(l, u, v, p, d);
-    return light_dirs_towards(w, l, ok, d[0], d[1], d[2], sc, L, dist, inv, rad, 1);
-}
-
 /* A sphere light's points of the disc it shows each hit of the lanes of
  * ok, less the hits' positions p, into (dx, dy, dz): light_pos's point
  * (area_point: the disc's axes, v3_frame, where the ray has none yet; the
@@ -715,29 +702,35 @@ static inline __attribute__((always_inline)) void sphere_offsets(const WorldLigh
     }
 }
 
-/* light_dirs for a sphere light (sphere_offsets). */
-static inline __attribute__((always_inline)) uint32_t sphere_dirs(const World *w, Shading *sh, const int *live, int nl,
-                                                                 uint32_t li, uint32_t j, vec3 *L, real *dist, vec3 *inv,
-                                                                 vec3 *rad)
+/* The directions, distances, inverses and radiance (light_dirs_towards)
+ * from hits p of the lanes of ok to area light li's points (u, v) there
+ * (sphere_offsets, rect_offsets), sc the light's intensity a lane. */
+static inline __attribute__((always_inline)) uint32_t area_dirs(const World *w, uint32_t li, Shading *sh,
+                                                               const int *live, uint32_t ok, const real *u,
+                                                               const real *v, const real *sc, real p[3][TRACE_PACKET],
+                                                               vec3 *L, real *dist, vec3 *inv, vec3 *rad)
 {
     const WorldLight *l = &w->lights[li];
-    real u[TRACE_PACKET], v[TRACE_PACKET], sc[TRACE_PACKET], p[3][TRACE_PACKET];
-    const uint32_t ok = light_uvs(w, sh, live, nl, li, j, u, v, sc, p);
-    real dx[TRACE_PACKET], dy[TRACE_PACKET], dz[TRACE_PACKET];
-    sphere_offsets(l, li, sh, live, ok, u, v, p, dx, dy, dz);
-    return light_dirs_towards(w, l, ok, dx, dy, dz, sc, L, dist, inv, rad, 1);
+    real d[3][TRACE_PACKET];
+    if (l->kind == LIGHT_SPHERE)
+        sphere_offsets(l, li, sh, live, ok, u, v, p, d[0], d[1], d[2]);
+    else
+        rect_offsets(l, u, v, p, d);
+    return light_dirs_towards(w, l, ok, d[0], d[1], d[2], sc, L, dist, inv, rad, 1);
 }
 
-/* What a packet's shading takes for an area light's points (sphere_dirs,
- * rect_dirs), for n points given: the twin of shade_light_point's scalar
- * code, for tests to hold the two to each other. */
+/* What a packet's shading takes for an area light's points (area_dirs),
+ * for n points given: the twin of shade_light_point's scalar code, for
+ * tests to hold the two to each other. */
 uint32_t shade_light_points(const World *w, uint32_t li, int n, const vec3 *at, const real *u, const real *v,
                             vec3 *dir, real *dist, vec3 *radiance)
 {
     const WorldLight *l = &w->lights[li];
+    if (!world_light_is_area(l))
+        return 0;
     Shading sh[TRACE_PACKET];
     int live[TRACE_PACKET];
-    real uu[TRACE_PACKET], vv[TRACE_PACKET], sc[TRACE_PACKET], p[3][TRACE_PACKET], d[3][TRACE_PACKET];
+    real uu[TRACE_PACKET], vv[TRACE_PACKET], sc[TRACE_PACKET], p[3][TRACE_PACKET];
     vec3 inv[TRACE_PACKET];
     const uint32_t ok = n >= TRACE_PACKET ? (1u << TRACE_PACKET) - 1 : (1u << n) - 1;
     for (int k = 0; k < TRACE_PACKET; k++) {
@@ -748,13 +741,7 @@ uint32_t shade_light_points(const World *w, uint32_t li, int n, const vec3 *at, 
         for (int e = 0; e < 3; e++)
             p[e][k] = in ? at[k].e[e] : R(0);
     }
-    if (l->kind == LIGHT_SPHERE)
-        sphere_offsets(l, li, sh, live, ok, uu, vv, p, d[0], d[1], d[2]);
-    else if (l->kind == LIGHT_RECT)
-        rect_offsets(l, uu, vv, p, d);
-    else
-        return 0;
-    return light_dirs_towards(w, l, ok, d[0], d[1], d[2], sc, dir, dist, inv, radiance, 1);
+    return area_dirs(w, li, sh, live, ok, uu, vv, sc, p, dir, dist, inv, radiance);
 }
 
 /* light_at for light li (its point j) at the hits of the live rays, and
@@ -779,10 +766,11 @@ static inline __attribute__((always_inline)) uint32_t light_dirs(const World *w,
         return ok;
     }
     real dx[TRACE_PACKET], dy[TRACE_PACKET], dz[TRACE_PACKET], sc[TRACE_PACKET];
-    if (optional && world_uses(w, FEAT_AREA) && l->kind == LIGHT_SPHERE)
-        return sphere_dirs(w, sh, live, nl, li, j, L, dist, inv, rad);
-    if (optional && world_uses(w, FEAT_AREA) && l->kind == LIGHT_RECT)
-        return rect_dirs(w, sh, live, nl, li, j, L, dist, inv, rad);
+    if (optional && world_uses(w, FEAT_AREA) && world_light_is_area(l)) { /* lane by lane */
+        real u[TRACE_PACKET], v[TRACE_PACKET], p[3][TRACE_PACKET];
+        const uint32_t got = light_uvs(w, sh, live, nl, li, j, u, v, sc, p);
+        return area_dirs(w, li, sh, live, got, u, v, sc, p, L, dist, inv, rad);
+    }
     for (int k = 0; k < TRACE_PACKET; k++) {
         vec3 pos = v3_splat(R(1)), p = v3_splat(R(0)); /* a lane past nl: something finite */
         sc[k] = R(0);
