@@ -99,7 +99,8 @@ static void check_rays(const Model *m, Rng *rng, int rays)
 
 /* Packets of 8 coherent rays (one origin, directions fanned around a
  * triangle, as a line of pixels) and of 8 scattered ones: each ray's answer
- * is the one it gets alone, hit or miss, closest or any. */
+ * is the one it gets alone, hit or miss, closest or any, in the packet and
+ * walked by pairs (Wide.closest_pairs). */
 static void check_packets(const Model *m, Rng *rng, int packets)
 {
     Aabb b = m->bounds;
@@ -129,7 +130,12 @@ static void check_packets(const Model *m, Rng *rng, int packets)
         }
         ModelHit hits[WIDE_PACKET], each[WIDE_PACKET];
         uint32_t found = model_intersect_packet(m, rp, n, tmax, at, hits);
-        uint32_t found_each = model_intersect_each(m, rp, n, tmax, at, each); /* walked by pairs */
+        /* the wide tree's rays alone by pairs (the scalar path: alone) */
+        uint32_t tie[WIDE_PACKET];
+        for (int i = 0; i < n; i++)
+            tie[i] = at[i] ? UINT32_MAX : 0;
+        uint32_t found_each = m->wide ? m->wide->closest_pairs(m->wide, rp, n, tmax, tie, each)
+                                      : model_intersect_each(m, rp, n, tmax, at, each);
         for (int i = 0; i < n; i++) {
             ModelHit h;
             int got = model_intersect(m, &rays[i], tmax[i], at[i], &h);

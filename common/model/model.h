@@ -77,10 +77,9 @@ static inline int model_occluded(const Model *m, const Ray *r, real tmax)
 {
     return m->wide ? m->wide->any(m->wide, r, tmax) : model_occluded_bvh(m, r, tmax);
 }
-/* The same for n <= WIDE_PACKET rays at once, each ray alone (each, for
- * rays that share no walk: walked by pairs) or as a packet where the SIMD
- * path has one: the mask of the rays that hit; each ray's answer is what
- * the single-ray call gives. */
+/* The same for n <= WIDE_PACKET rays at once (a packet where the SIMD path
+ * has one): the mask of the rays that hit; each ray's answer is what the
+ * single-ray call gives. */
 uint32_t model_intersect_each(const Model *m, const Ray *const *rays, int n, const real *tmax, const int *at_tmax,
                               ModelHit *hits);
 static inline uint32_t model_intersect_packet(const Model *m, const Ray *const *rays, int n, const real *tmax,

@@ -50,17 +50,11 @@ int model_intersect_bvh(const Model *m, const Ray *r, real tmax, int at_tmax, Mo
 
 int model_occluded_bvh(const Model *m, const Ray *r, real tmax) { return bvh_any(&m->bvh, r, tmax, leaf_any, m); }
 
-/* Rays one by one: the wide tree walks them by pairs (wide_kernel.h). */
+/* A packet ray by ray: no wide tree, or a packet of one. */
 uint32_t model_intersect_each(const Model *m, const Ray *const *rays, int n, const real *tmax, const int *at_tmax,
                               ModelHit *hits)
 {
     uint32_t found = 0;
-    if (m->wide && n >= 2) {
-        uint32_t tie[WIDE_PACKET];
-        for (int i = 0; i < n; i++)
-            tie[i] = at_tmax[i] ? UINT32_MAX : 0;
-        return m->wide->closest_pairs(m->wide, rays, n, tmax, tie, hits);
-    }
     for (int i = 0; i < n; i++)
         found |= (uint32_t)model_intersect(m, rays[i], tmax[i], at_tmax[i], &hits[i]) << i;
     return found;

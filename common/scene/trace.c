@@ -8,6 +8,16 @@
 
 #include <string.h>
 
+/* The model an instance's rays meet: its placed copy in world space
+ * (world.h), else the model itself. */
+static inline const Model *instance_model(const World *w, const WorldInstance *in)
+{
+    return in->placed ? in->placed : w->models[in->model];
+}
+
+/* Whether an instance's rays must be moved into its model's space. */
+static inline int instance_moves(const WorldInstance *in) { return !in->identity && !in->placed; }
+
 /* Ray in an instance's model space.  The map x -> R^T (x - T) / s is affine,
  * so distances t along the ray are the same in both spaces. */
 static void instance_ray(Ray *out, const WorldInstance *in, const Ray *r)
@@ -57,9 +67,9 @@ static inline __attribute__((always_inline)) int leaf_closest(const World *w, ui
     p -= w->tri_count;
     const WorldInstance *in = &w->instances[p];
     Ray mr;
-    const Ray *rr = in->identity || in->placed ? r : (instance_ray(&mr, in, r), &mr);
+    const Ray *rr = instance_moves(in) ? (instance_ray(&mr, in, r), &mr) : r;
     ModelHit mh;
-    if (!model_intersect(in->placed ? in->placed : w->models[in->model], rr, b->hit->t, key < b->key, &mh))
+    if (!model_intersect(instance_model(w, in), rr, b->hit->t, key < b->key, &mh))
         return 0;
     *b->hit = (Hit){mh.t, mh.b1, mh.b2, HIT_INSTANCE, p, mh.tri};
     b->key = key;
@@ -89,8 +99,8 @@ static int leaf_occluded(const World *w, uint32_t p, const Ray *r, real tmax, co
     p -= w->tri_count;
     const WorldInstance *in = &w->instances[p];
     Ray mr;
-    const Ray *rr = in->identity || in->placed ? r : (instance_ray(&mr, in, r), &mr);
-    return model_occluded(in->placed ? in->placed : w->models[in->model], rr, tmax);
+    const Ray *rr = instance_moves(in) ? (instance_ray(&mr, in, r), &mr) : r;
+    return model_occluded(instance_model(w, in), rr, tmax);
 }
 
 typedef struct {
@@ -241,11 +251,6 @@ static int closest_of(const World *w, const Ray *r, Hit *hit, int glass_only, co
     return hit->kind != HIT_NONE;
 }
 
-/* A world of one untransformed model and no plane (make bench's mesh
- * scenes, a model's preview) sends a single ray to the model's walk
- * directly: closest_of's planes, Best and leaf dispatch come to nothing
- * there, and they were a twentieth of a diffuse bounce's instructions on
- * the bunny. */
 /* The scene's hit of a ray to tmax that met the one model (got) at mh, or nothing. */
 static inline int lone_hit(Hit *hit, int got, const ModelHit *mh, real tmax)
 {
@@ -258,6 +263,11 @@ static inline int lone_hit(Hit *hit, int got, const ModelHit *mh, real tmax)
     return 1;
 }
 
+/* A world of one untransformed model and no plane (make bench's mesh
+ * scenes, a model's preview) sends a single ray to the model's walk
+ * directly: closest_of's planes, Best and leaf dispatch come to nothing
+ * there, and they were a twentieth of a diffuse bounce's instructions on
+ * the bunny. */
 int trace_closest(const World *w, const Ray *r, Hit *hit)
 {
     if (w->lone_model && !(world_uses(w, FEAT_PLANES) && w->plane_count)) {
@@ -300,21 +310,11 @@ uint32_t trace_closest_pair(const World *w, const Ray *a, const Ray *b, Hit *ha,
 
 void trace_closest_each(const World *w, const Ray *rays, int n, Hit *hits)
 {
-    const Model *m = w->lone_model ? w->models[w->instances[0].model] : NULL;
-    if (!m || !m->wide || n < 2 || (world_uses(w, FEAT_PLANES) && w->plane_count)) {
-        for (int i = 0; i < n; i++)
-            trace_closest(w, &rays[i], &hits[i]);
-        return;
-    }
-    const Ray *pr[TRACE_PACKET];
-    real tmax[TRACE_PACKET];
-    int at_tmax[TRACE_PACKET];
-    ModelHit mh[TRACE_PACKET];
-    for (int i = 0; i < n; i++)
-        pr[i] = &rays[i], tmax[i] = rays[i].tmax, at_tmax[i] = 0;
-    const uint32_t got = model_intersect_each(m, pr, n, tmax, at_tmax, mh);
-    for (int i = 0; i < n; i++)
-        lone_hit(&hits[i], got >> i & 1, &mh[i], tmax[i]);
+    int i = 0;
+    for (; i + 1 < n; i += 2)
+        trace_closest_pair(w, &rays[i], &rays[i + 1], &hits[i], &hits[i + 1]);
+    if (i < n)
+        trace_closest(w, &rays[i], &hits[i]);
 }
 
 int trace_closest_glass(const World *w, const Ray *r, Hit *hit)
@@ -365,15 +365,15 @@ static uint32_t instance_packet(const World *w, uint32_t p, const Ray *rays, uin
         return 0;
     for (uint32_t m = mask; m; m &= m - 1) {
         int i = __builtin_ctz(m);
-        if (in->identity || in->placed)
-            rr[n] = &rays[i];
-        else
+        if (instance_moves(in))
             instance_ray(&mr[n], in, &rays[i]), rr[n] = &mr[n];
+        else
+            rr[n] = &rays[i];
         tm[n] = closest ? best[i].hit->t : tmax[i];
         at[n] = closest && p + 1 < best[i].key;
         which[n++] = i;
     }
-    const Model *m = in->placed ? in->placed : w->models[in->model];
+    const Model *m = instance_model(w, in);
     uint32_t got = 0;
     if (closest) {
         ModelHit mh[TRACE_PACKET];

@@ -47,9 +47,8 @@ int trace_closest(const World *w, const Ray *r, Hit *hit);
  * sub-samples of a pixel) share the walk down the trees. */
 #define TRACE_PACKET 8
 void trace_closest_packet(const World *w, const Ray *rays, int n, Hit *hits);
-/* The same for rays that share no walk (a path's bounces, rays that
- * part): each alone, as trace_closest; in a world of one model their
- * walks go by pairs, interleaved (wide_kernel.h). */
+/* The same for rays that share no walk (rays that part): each alone, as
+ * trace_closest, by pairs (trace_closest_pair). */
 void trace_closest_each(const World *w, const Ray *rays, int n, Hit *hits);
 /* trace_closest of rays a and b, their walks interleaved where the world
  * has a tree to walk; bits 0 and 1: whether each hit. */
