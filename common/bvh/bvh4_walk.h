@@ -78,39 +78,8 @@ static inline __attribute__((always_inline)) void bvh4_push(const Bvh4Node *n, i
     *sp += m;
 }
 
-/* bvh_closest on the four-wide tree: the same leaves, the same callback. */
-static inline __attribute__((always_inline)) int bvh4_closest(const Bvh4 *t, const Ray *r, real *tmax,
-                                                              BvhLeafClosest leaf, void *ctx)
-{
-    Bvh4Ray k;
-    bvh4_ray(&k, r);
-    Bvh4Entry stack[BVH4_STACK];
-    uint32_t sp = 0;
-    int found = 0;
-    Bvh4Entry e = {0, 0, 0};
-    for (;;) {
-        if (e.count) {
-            found |= leaf(ctx, e.child, e.count, r, tmax);
-        } else {
-            const Bvh4Node *n = &t->nodes[e.child];
-            __m128 lo;
-            const int mask = bvh4_node_hit(n, &k, *tmax, &lo);
-            assert(sp + 4 <= BVH4_STACK); /* bvh_validate keeps the binary tree, and so this one, to its depth */
-            bvh4_push(n, mask, lo, stack, &sp);
-        }
-        do {
-            if (sp == 0)
-                return found;
-            e = stack[--sp];
-        } while (e.t > *tmax * BVH_FUDGE);
-    }
-}
-
-/* Two rays' bvh4_closest interleaved, a step (a node or a leaf) of each
- * in turn: each walk is bvh4_closest's, with its own limit and leaf
- * context, so each ray gets the hits it gets alone; the two chains of
- * dependent loads, tests and divisions (a sphere's) overlap.  A path
- * tracer's bounces (scene/path.c) go by such pairs. */
+/* A closest-hit walk of the four-wide tree, by steps (a node or a leaf),
+ * so that two rays' walks can be interleaved (bvh4_closest_pair). */
 typedef struct {
     Bvh4Ray k;
     Bvh4Entry e;
@@ -149,7 +118,22 @@ static inline __attribute__((always_inline)) int bvh4_walk_step(Bvh4Walk *s, con
     return 1;
 }
 
-/* bvh4_closest for rays a and b; bit 0 and bit 1: whether each found a hit. */
+/* bvh_closest on the four-wide tree: the same leaves, the same callback. */
+static inline __attribute__((always_inline)) int bvh4_closest(const Bvh4 *t, const Ray *r, real *tmax,
+                                                              BvhLeafClosest leaf, void *ctx)
+{
+    Bvh4Walk x;
+    bvh4_walk_start(&x, r, tmax, ctx);
+    while (bvh4_walk_step(&x, t, leaf))
+        ;
+    return x.found;
+}
+
+/* bvh4_closest for rays a and b, a step of each in turn: each ray gets
+ * the hits it gets alone, and the two chains of dependent loads, tests
+ * and divisions (a sphere's) overlap.  A path tracer's bounces
+ * (scene/path.c) go by such pairs.  Bit 0 and bit 1: whether each found a
+ * hit. */
 static inline __attribute__((always_inline)) uint32_t bvh4_closest_pair(const Bvh4 *t, const Ray *a, const Ray *b,
                                                                        real *tmax_a, real *tmax_b,
                                                                        BvhLeafClosest leaf, void *ctx_a, void *ctx_b)
