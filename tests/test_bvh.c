@@ -58,6 +58,8 @@ static void check_structure(const Model *m)
 /* Closest hit and any hit agree with testing every triangle, on the binary
  * tree and on the wide tree of every SIMD path this machine has: the same
  * t, barycentrics and triangle (of equal t, the smallest index: wide.h). */
+static SimdPath tested_path; /* the path whose wide tree check_rays walks, for messages */
+
 static void check_rays(const Model *m, Rng *rng, int rays)
 {
     Aabb b = m->bounds;
@@ -87,7 +89,7 @@ static void check_rays(const Model *m, Rng *rng, int rays)
         if (got) {
             if (h.t != best || h.tri != best_tri || h.b1 != bb1 || h.b2 != bb2)
                 fail_msg("%s: closest hit %.9g on %u, brute force %.9g on %u (ray %d)",
-                         m->wide ? (m->wide->width == 8 ? "avx2" : "sse") : "scalar", (double)h.t, h.tri,
+                         simd_name(tested_path), (double)h.t, h.tri,
                          (double)best, best_tri, i);
             hits++;
         }
@@ -167,6 +169,7 @@ static void check_against_brute_force(Model *m, Rng *rng, int rays)
         if (p != SIMD_SCALAR && WIDE_COMPILED)
             assert_non_null(m->wide);
         *rng = start; /* every path sees the same rays */
+        tested_path = (SimdPath)p;
         check_rays(m, rng, rays);
         check_packets(m, rng, rays / 4);
         wide_destroy(m->wide);

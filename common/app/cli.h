@@ -29,7 +29,7 @@ int cli_parse_segment(const char *value, void *dst, Err *err);
  * cli_simd_env checks LANRAY_SIMD the same way (0, or -1 with the reason). */
 int cli_parse_simd(const char *value, void *dst, Err *err);
 int cli_simd_env(Err *err);
-#define CLI_SIMD_RANGE "scalar, sse, avx2 or auto"
+#define CLI_SIMD_RANGE "scalar, sse, avx2, avx512 or auto"
 #define CLI_SIMD_DEFAULT "auto: the CPU's best, or LANRAY_SIMD"
 
 /* --threads: 0 means one per core. */

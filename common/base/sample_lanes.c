@@ -6,7 +6,7 @@
 void sample_sobol_lanes(SampleLanes *s)
 {
 #if defined(__x86_64__)
-    if (simd_path() == SIMD_AVX2) {
+    if (simd_path() >= SIMD_AVX2) {
         sample_sobol_lanes_avx2(s);
         return;
     }
@@ -19,7 +19,7 @@ void sample_draw_lanes(uint32_t key, uint32_t index, const uint32_t dim[SAMPLE_L
                        uint32_t v[SAMPLE_LANES])
 {
 #if defined(__x86_64__)
-    if (simd_path() == SIMD_AVX2) {
+    if (simd_path() >= SIMD_AVX2) {
         sample_draw_lanes_avx2(key, index, dim, u, v);
         return;
     }
@@ -33,7 +33,7 @@ void sample_draw_lanes(uint32_t key, uint32_t index, const uint32_t dim[SAMPLE_L
 int sample_lanes_wide(void)
 {
 #if defined(__x86_64__)
-    return simd_path() == SIMD_AVX2;
+    return simd_path() >= SIMD_AVX2;
 #else
     return 0;
 #endif

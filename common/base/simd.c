@@ -5,7 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-static const char *const names[SIMD_PATH_COUNT] = {"scalar", "sse", "avx2"};
+static const char *const names[SIMD_PATH_COUNT] = {"scalar", "sse", "avx2", "avx512"};
 static int chosen = -1; /* set before the render threads start, read-only after */
 
 int simd_available(SimdPath p)
@@ -19,6 +19,11 @@ int simd_available(SimdPath p)
     case SIMD_AVX2:
         __builtin_cpu_init();
         return __builtin_cpu_supports("avx2");
+    case SIMD_AVX512:
+        __builtin_cpu_init();
+        return __builtin_cpu_supports("avx2") && __builtin_cpu_supports("avx512f") &&
+               __builtin_cpu_supports("avx512vl") && __builtin_cpu_supports("avx512bw") &&
+               __builtin_cpu_supports("avx512dq");
 #endif
     default:
         return 0;
@@ -61,12 +66,12 @@ int simd_select(const char *name, char *msg, unsigned msg_size)
 {
     SimdPath p;
     if (simd_parse(name, &p)) {
-        snprintf(msg, msg_size, "unknown SIMD path '%s' (scalar, sse, avx2 or auto)", name);
+        snprintf(msg, msg_size, "unknown SIMD path '%s' (scalar, sse, avx2, avx512 or auto)", name);
         return -1;
     }
     if (simd_force(p)) {
         snprintf(msg, msg_size, "SIMD path '%s' is not available on this %s", name,
-                 p == SIMD_AVX2 ? "CPU or build" : "build");
+                 p >= SIMD_AVX2 ? "CPU or build" : "build");
         return -1;
     }
     return 0;

@@ -7,7 +7,7 @@
 #ifndef LANRAY_SIMD_H
 #define LANRAY_SIMD_H
 
-typedef enum { SIMD_SCALAR = 0, SIMD_SSE = 1, SIMD_AVX2 = 2, SIMD_PATH_COUNT } SimdPath;
+typedef enum { SIMD_SCALAR = 0, SIMD_SSE = 1, SIMD_AVX2 = 2, SIMD_AVX512 = 3, SIMD_PATH_COUNT } SimdPath;
 
 /* The path in use: the first call picks it (LANRAY_SIMD, else the CPU's best). */
 SimdPath simd_path(void);

@@ -109,7 +109,7 @@ struct Wide {
 #define WIDE_BLOCKS_OFFSET(W) (WIDE_CHILD_OFFSET(W) + 4 * (W))
 
 /* Collapses `bvh` (over `tris`, in leaf order) into a wide tree for `path`
- * (SIMD_SSE or SIMD_AVX2).  *out is NULL for an empty tree. */
+ * (SIMD_SSE, SIMD_AVX2 or SIMD_AVX512).  *out is NULL for an empty tree. */
 int wide_build(Wide **out, const Bvh *bvh, const Tri *tris, int path, Err *err);
 void wide_destroy(Wide *w);
 /* Bytes held: nodes and triangle blocks. */
@@ -130,5 +130,12 @@ int wide8_any_avx2(const Wide *w, const Ray *r, real tmax);
 uint32_t wide8_closest_packet_avx2(const Wide *w, const Ray *const *rays, int n, const real *tmax, const uint32_t *tie,
                                    WideHit *hits);
 uint32_t wide8_any_packet_avx2(const Wide *w, const Ray *const *rays, int n, const real *tmax);
+int wide8_closest_avx512(const Wide *w, const Ray *r, real tmax, uint32_t tie, WideHit *hit);
+int wide8_any_avx512(const Wide *w, const Ray *r, real tmax);
+uint32_t wide8_closest_pairs_avx512(const Wide *w, const Ray *const *rays, int n, const real *tmax,
+                                    const uint32_t *tie, WideHit *hits);
+uint32_t wide8_closest_packet_avx512(const Wide *w, const Ray *const *rays, int n, const real *tmax,
+                                     const uint32_t *tie, WideHit *hits);
+uint32_t wide8_any_packet_avx512(const Wide *w, const Ray *const *rays, int n, const real *tmax);
 
 #endif

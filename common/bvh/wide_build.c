@@ -102,7 +102,7 @@ int wide_build(Wide **out, const Bvh *bvh, const Tri *tris, int path, Err *err)
     *out = NULL;
     if (!WIDE_COMPILED || bvh->node_count == 0)
         return 0;
-    int width = path == SIMD_AVX2 ? 8 : 4;
+    int width = path >= SIMD_AVX2 ? 8 : 4;
     Wide *w = calloc(1, sizeof *w);
     uint32_t blocks_cap = 0;
     for (uint32_t i = 0; i < bvh->node_count; i++)
@@ -127,7 +127,13 @@ int wide_build(Wide **out, const Bvh *bvh, const Tri *tris, int path, Err *err)
         return err_set(err, "wide bvh: out of memory for %u nodes", bvh->node_count);
     }
 #if WIDE_COMPILED
-    if (path == SIMD_AVX2) {
+    if (path == SIMD_AVX512) {
+        w->closest = wide8_closest_avx512;
+        w->closest_pairs = wide8_closest_pairs_avx512;
+        w->any = wide8_any_avx512;
+        w->closest_packet = wide8_closest_packet_avx512;
+        w->any_packet = wide8_any_packet_avx512;
+    } else if (path == SIMD_AVX2) {
         w->closest = wide8_closest_avx2;
         w->closest_pairs = wide8_closest_pairs_avx2;
         w->any = wide8_any_avx2;

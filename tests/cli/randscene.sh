@@ -19,7 +19,7 @@ python3 tests/tools/randscene.py 0 "$dir/s" >/dev/null || fail "randscene.py"
 "$BIN/obj2tmd" "$dir/s/mesh.obj" "$dir/s/mesh.tmd" >/dev/null || fail "obj2tmd mesh.obj"
 W=${W:-160} H=${H:-120}
 simd=(auto) # the paths this build and CPU have
-for p in scalar sse avx2; do
+for p in scalar sse avx2 avx512; do
     "$BIN/lanray-render" --simd "$p" --width 1 --height 1 -o "$dir/probe.png" --quiet >/dev/null 2>&1 && simd+=("$p")
 done
 bad=0

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Every SIMD traversal path gives the same bytes: the scalar binary-tree
-# traversal, SSE (4-wide nodes) and AVX2 (8-wide), each forced in turn with
+# traversal, SSE (4-wide nodes), AVX2 and AVX-512 (8-wide), each forced in turn with
 # --simd, on the built-in scene, a 20k-triangle smooth mesh with each
 # builder, a grid whose rays cross shared edges (ties: wide.h), and random
 # scenes (tests/tools/randscene.py).  Paths this CPU or build lacks are
@@ -11,7 +11,7 @@ dir=$(mktemp -d)
 trap 'rm -rf "$dir"' EXIT
 fail() { echo "FAIL: $*"; exit 1; }
 paths=()
-for p in scalar sse avx2; do
+for p in scalar sse avx2 avx512; do
     if "$BIN/lanray-render" --simd "$p" --width 1 --height 1 -o "$dir/probe.png" --quiet >/dev/null 2>&1; then
         paths+=("$p")
     else

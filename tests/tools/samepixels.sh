@@ -23,8 +23,12 @@ for side in before after; do
     "$b/obj2tmd" "$dir/$side/mesh.obj" "$dir/$side/mesh.tmd" >/dev/null || exit 1
 done
 paths=(auto)
-for p in scalar sse avx2; do
-    "$after/lanray-render" --simd "$p" --width 1 --height 1 -o "$dir/probe.png" --quiet >/dev/null 2>&1 && paths+=("$p")
+declare -A before_path=([auto]=auto) # a path an older build lacks: its best one there
+for p in scalar sse avx2 avx512; do
+    "$after/lanray-render" --simd "$p" --width 1 --height 1 -o "$dir/probe.png" --quiet >/dev/null 2>&1 || continue
+    paths+=("$p") before_path[$p]=auto
+    "$before/lanray-render" --simd "$p" --width 1 --height 1 -o "$dir/probe.png" --quiet >/dev/null 2>&1 &&
+        before_path[$p]=$p
 done
 scenes=("" models/example.scene)
 for seed in $(seq 1 "$SEEDS"); do
@@ -35,9 +39,10 @@ bad=0 n=0
 for scene in "${scenes[@]}"; do
     for p in "${paths[@]}"; do
         for side in before after; do
-            b=${!side}
+            b=${!side} q=$p
+            [ $side = before ] && q=${before_path[$p]}
             scene_of_side=${scene/$dir\/after/$dir\/$side}
-            "$b/lanray-render" $scene_of_side --simd "$p" --width "$W" --height "$H" --threads 2 -o "$dir/$side.png" \
+            "$b/lanray-render" $scene_of_side --simd "$q" --width "$W" --height "$H" --threads 2 -o "$dir/$side.png" \
                 --quiet >/dev/null 2>&1 || { echo "samepixels: ${scene:-default} ($p): $b/lanray-render failed"; bad=$((bad + 1)); }
         done
         n=$((n + 1))
