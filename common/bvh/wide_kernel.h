@@ -15,6 +15,7 @@
  * bit; see wide.h for why the visiting order does not matter. */
 #include <assert.h>
 #include <immintrin.h>
+#include <stddef.h>
 #include <string.h>
 
 #include "bvh/wide.h"
@@ -45,6 +46,16 @@ static inline __attribute__((always_inline)) int wide_ray_nan(const Ray *r)
      * meet, a ray from nowhere that hits nothing either) */
     const real s = r->dir.x + r->dir.y + r->dir.z + r->org.x + r->org.y + r->org.z;
     return s != s;
+}
+
+/* Which of the inverse direction's components are negative, as bits
+ * x, y, z (a component >= 0 is positive, as the scalar walk's rows have
+ * it; NaN rays never get here: wide_ray_nan).  One load reads inv and the
+ * tmin after it. */
+_Static_assert(offsetof(Ray, inv) + 4 * sizeof(float) <= sizeof(Ray), "wide_ray_octant reads 16 bytes at inv");
+static inline __attribute__((always_inline)) int wide_ray_octant(const Ray *r)
+{
+    return _mm_movemask_ps(_mm_cmplt_ps(_mm_loadu_ps(&r->inv.x), _mm_setzero_ps())) & 7;
 }
 
 static inline __attribute__((always_inline)) void wide_ray_setup(WideRay *k, const Ray *r)
@@ -325,10 +336,17 @@ static __attribute__((noipa)) int wide_leaf_any_call(const WideTris *blk, uint32
     const VN ix = VN_SET1(r->inv.x), iy = VN_SET1(r->inv.y), iz = VN_SET1(r->inv.z);                              \
     const VN vtmin = VN_SET1(r->tmin), fudge = VN_SET1(BVH_FUDGE)
 #define WIDE_NODE_ROWS()                                                                                          \
-    const int n0 = (r->inv.x >= 0 ? 0 : 3) * NW, n1 = (r->inv.y >= 0 ? 1 : 4) * NW,                               \
-              n2 = (r->inv.z >= 0 ? 2 : 5) * NW;                                                                  \
-    const int f0 = (r->inv.x >= 0 ? 3 : 0) * NW, f1 = (r->inv.y >= 0 ? 4 : 1) * NW,                               \
-              f2 = (r->inv.z >= 0 ? 5 : 2) * NW
+    const int *const rows_ = wide_rows[wide_ray_octant(r)];                                                      \
+    const int n0 = rows_[0], n1 = rows_[1], n2 = rows_[2], f0 = rows_[3], f1 = rows_[4], f2 = rows_[5]
+
+/* The entry and exit rows (n0, n1, n2, f0, f1, f2) of each octant of
+ * directions (wide_ray_octant): a table, not six compares a ray. */
+#define WIDE_ROWS_OF(o)                                                                                           \
+    {((o)&1 ? 3 : 0) * NW, ((o)&2 ? 4 : 1) * NW, ((o)&4 ? 5 : 2) * NW,                                            \
+     ((o)&1 ? 0 : 3) * NW, ((o)&2 ? 1 : 4) * NW, ((o)&4 ? 2 : 5) * NW}
+static const int wide_rows[8][6] = {WIDE_ROWS_OF(0), WIDE_ROWS_OF(1), WIDE_ROWS_OF(2), WIDE_ROWS_OF(3),
+                                    WIDE_ROWS_OF(4), WIDE_ROWS_OF(5), WIDE_ROWS_OF(6), WIDE_ROWS_OF(7)};
+#undef WIDE_ROWS_OF
 
 /* Slab test of a node's children against (tmin, tmax]; the mask of those
  * hit and their entry distances.  Conservative as bvh_node_hit: a NaN
