@@ -3,13 +3,7 @@
  * AVX2). */
 #if defined(__x86_64__) && !defined(LANRAY_DOUBLE)
 #include "base/avx2_begin.h"
-#define NW 8
-#define VN __m256
-#define VN_SET1 _mm256_set1_ps
-#define VN_LOAD _mm256_load_ps
-#define VN_STORE _mm256_storeu_ps
-#define VN_MIN _mm256_min_ps
-#define VN_MAX _mm256_max_ps
+#include "bvh/wide8.h"
 #define VN_LE_MASK(a, b) _mm256_movemask_ps(_mm256_cmp_ps(a, b, _CMP_LE_OQ))
 #define KERNEL_CLOSEST wide8_closest_avx2
 #define KERNEL_ANY wide8_any_avx2
