@@ -20,7 +20,23 @@
 #define assert_float_equal(a, b, epsilon) \
     _assert_float_equal((float)(a), (float)(b), (float)(epsilon), __FILE__, __LINE__)
 
+#include "base/simd.h"
 #include "base/vec.h"
+
+/* Each SIMD path this build and CPU have, forced in turn:
+ *     for (int path = -1; simd_next(&path);) { ... }
+ * and after the last, the path in use before the first again. */
+static inline int simd_next(int *path)
+{
+    static SimdPath before;
+    if (*path < 0)
+        before = simd_path();
+    while (++*path < SIMD_PATH_COUNT)
+        if (simd_force((SimdPath)*path) == 0)
+            return 1;
+    simd_force(before);
+    return 0;
+}
 
 /* Deterministic xorshift generator: tests must be repeatable. */
 typedef struct {

@@ -371,9 +371,7 @@ static void small_instances_are_placed(void **state)
     assert_true(m->tri_count <= WORLD_PLACED_TRIS && s->models[big]->tri_count > WORLD_PLACED_TRIS);
     const mat3 rot = m3_rotation_xyz(turn);
     int compared = 0;
-    for (int path = 0; path < SIMD_PATH_COUNT; path++) {
-        if (simd_force((SimdPath)path))
-            continue;
+    for (int path = -1; simd_next(&path);) {
         const World *w = world_now(s);
         assert_non_null(w->instances[0].placed);
         assert_null(w->instances[1].placed);
@@ -449,9 +447,7 @@ static void pairs_equal_single_rays(void **state)
             assert_int_equal(
                 scene_add_instance(s, instance_make(ball, v3(R(1.5), R(0.2), R(-1)), v3(10, 35, 0), R(0.7)), NULL), 0);
         }
-        for (int path = 0; path < SIMD_PATH_COUNT; path++) {
-            if (simd_force((SimdPath)path))
-                continue;
+        for (int path = -1; simd_next(&path);) {
             const World *w = world_now(s);
             Rng rng = {0x9e3779b97f4a7c15ull + (uint64_t)kind};
             for (int k = 0; k < 400; k++) {
@@ -590,9 +586,7 @@ static void packets_equal_single_rays(void **state)
         assert_int_equal(
             scene_add_instance(s, instance_make(plain, v3(R(1.5), R(0.2), R(-1)), v3(10, 35, 0), R(0.7)), NULL), 0);
         assert_int_equal(scene_add_light(s, light_point(v3(3, 4, 5), v3(1, 1, 1), 1, 0), NULL), 0);
-        for (int path = 0; path < SIMD_PATH_COUNT; path++) {
-            if (simd_force((SimdPath)path))
-                continue;
+        for (int path = -1; simd_next(&path);) {
             const World *w = world_now(s);
             const vec3 eyes[3] = {v3(0, R(0.5), 4), v3(R(3.5), 2, R(-0.5)), v3(R(0.01), 5, R(0.02))};
             for (int e = 0; e < 3; e++)
@@ -646,9 +640,6 @@ static void packets_equal_single_rays(void **state)
     }
     assert_true(ties > 100);
     assert_true(packets > 100);
-    SimdPath best;
-    simd_parse("auto", &best);
-    simd_force(best);
 }
 
 static uint8_t *render_all(RenderPool *p, Scene *s, int w, int h, int segment)
@@ -948,9 +939,7 @@ static void nan_rays_hit_nothing(void **state)
     const real nan = (real)NAN;
     const vec3 dirs[3] = {v3(nan, nan, nan), v3(0, nan, -1), v3(0, 0, -1)};
     const vec3 orgs[3] = {v3(0, 1, 5), v3(0, 1, 5), v3(nan, 1, 5)};
-    for (int path = 0; path < SIMD_PATH_COUNT; path++) {
-        if (simd_force((SimdPath)path))
-            continue;
+    for (int path = -1; simd_next(&path);) {
         const World *w = world_now(s);
         for (int k = 0; k < 3; k++) {
             Ray r = ray_make(orgs[k], dirs[k], 0, REAL_INF);
@@ -964,9 +953,6 @@ static void nan_rays_hit_nothing(void **state)
                 assert_int_equal(hs[i].kind, HIT_NONE);
         }
     }
-    SimdPath best;
-    simd_parse("auto", &best);
-    simd_force(best);
     scene_destroy(s);
 }
 

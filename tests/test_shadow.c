@@ -92,9 +92,7 @@ static void glass_passes_and_opaque_blocks(void **state)
         assert_non_null(full->glassy);
         assert_null(opaque->glassy);
         int counts[3] = {0, 0, 0};
-        for (int path = 0; path < SIMD_PATH_COUNT; path++) {
-            if (simd_force((SimdPath)path))
-                continue;
+        for (int path = -1; simd_next(&path);) {
             for (int k0 = 0; k0 < 4000; k0 += TRACE_PACKET) {
                 const int n = 1 + (k0 / TRACE_PACKET) % TRACE_PACKET;
                 Ray rays[TRACE_PACKET];
@@ -133,9 +131,6 @@ static void glass_passes_and_opaque_blocks(void **state)
         world_destroy(full), world_destroy(opaque), world_destroy(glass);
         scene_destroy(sf), scene_destroy(so), scene_destroy(sg);
     }
-    SimdPath best;
-    simd_parse("auto", &best);
-    simd_force(best);
 }
 
 /* Without dielectrics a shadow ray is trace_occluded's, and nothing is glass. */
