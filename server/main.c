@@ -253,6 +253,7 @@ typedef struct {
     const char *path;
     double path_step;
     CliAa still;
+    int still_lights;
     int moving_lights, moving_lights_given;
     int compress, announce, pipeline;
     double target_fps, max_fps;
@@ -284,6 +285,7 @@ static void config_from_args(Args *a)
     cfg->refine = a->still.given;
     cfg->still_aa = a->still.aa;
     cfg->still_adaptive = a->still.adaptive;
+    cfg->still_lights = a->still_lights;
     /* the scene's by default: adaptive light sampling is a fifth faster on
      * whole 512x384 frames, but slower on the small frames and segments of
      * a flight at a render scale (docs/tradeoff.md) */
@@ -335,6 +337,11 @@ static int parse_args(Args *a, int argc, char **argv)
          .range = CLI_AA_RANGE, .help = "refine: a frame whose camera and scene did not change since the frame before "
                                        "is rendered with these samples (adaptive:4 is lanray-render's picture)",
          .def = "none: every frame with --aa"},
+        {.name = "--still-light-samples", .kind = OPT_INT, .dst = &a->still_lights, .arg = "K", .hi = LIGHT_MAX_SAMPLES,
+         .help = "with --still-aa, the still frames after the first double the area lights' points a side, from the "
+                 "largest light's own up to K x K (lanray-render's picture with --light-samples K): soft shadows "
+                 "without grain; 0 = each light's own",
+         .def = "0"},
         {.name = "--compress", .kind = OPT_CHOICE, .dst = &a->compress, .choices = compress_words,
          .help = "how clients send their pixels: raw, LZ4, or zstd level 1 after a left-neighbour predictor (a "
                  "rendered 2-line segment to 0.35 and 0.20 of its bytes: docs/scaling.md); a packet that would not "
@@ -448,6 +455,10 @@ static int open_scene(App *app, Args *a, Err *err)
     }
     Scene *scene = app->scene;
     apply_overrides(scene, a);
+    if (a->still_lights && !a->still.given) {
+        fprintf(stderr, "lanray-server: --still-light-samples refines the still frames of --still-aa: give both\n");
+        return 2;
+    }
     if (a->hdr && (a->linear || a->verify_path)) {
         fprintf(stderr, "lanray-server: --hdr frames keep the light itself: %s\n",
                 a->linear ? "--linear is for 8-bit frames" : "--verify compares 8-bit frames (compare the .hdr files instead)");

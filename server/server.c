@@ -547,14 +547,31 @@ static uint64_t server_bytes(const Server *s)
     return bytes;
 }
 
+/* The side of the largest pattern of points of the scene's area lights in
+ * a view of settings rs (0: no area light). */
+static int largest_light_side(const Scene *scene, const RenderSettings *rs)
+{
+    int side = 0;
+    for (uint32_t i = 0; i < scene->light_count; i++)
+        if (light_is_area(&scene->lights[i])) {
+            const int own = rs->light_samples ? rs->light_samples : scene->lights[i].samples;
+            side = own > side ? own : side;
+        }
+    return side;
+}
+
 /* Progressive refinement: the samples of still frame k (1 the first).  A
  * path-traced view doubles its samples a side each still frame, 2, 4, 8
  * ... up to the still quality: a picture that sharpens while it is looked
  * at, for 4/3 of the converged frame's cost where it renders that frame
- * alone; the Whitted integrator's takes the still quality at once.
- * Whether frame k has the still quality (the converged picture, which is
- * lanray-render's). */
-static int refine_step(const ServerConfig *c, int k, RenderSettings *rs)
+ * alone.  The Whitted integrator's takes the still quality at once, and
+ * then, with still_lights, doubles its area lights' points a side each
+ * frame from the largest light's own up to still_lights (its soft shadows'
+ * grain: a round lamp of 3 x 3 points leaves penumbrae of ten grey levels
+ * and noise; docs/realtime.md).  Whether frame k has the still quality
+ * (the converged picture, which is lanray-render's with --aa still_aa and,
+ * with still_lights, --light-samples still_lights). */
+static int refine_step(const ServerConfig *c, const Scene *scene, int k, RenderSettings *rs)
 {
     const int side = k < 8 ? 2 << (k - 1) : AA_MAX;
     if (rs->integrator == INTEGRATOR_PATH && side < c->still_aa) {
@@ -564,7 +581,17 @@ static int refine_step(const ServerConfig *c, int k, RenderSettings *rs)
     }
     rs->aa = c->still_aa;
     rs->adaptive = c->still_adaptive;
-    return 1;
+    const int own = largest_light_side(scene, rs);
+    if (rs->integrator == INTEGRATOR_PATH || c->still_lights == 0 || own == 0) /* no points to add */
+        return 1;
+    if (k == 1)
+        return 0;
+    /* own << (k - 1), stopped at still_lights (k may grow without end) */
+    int lights = own;
+    for (int j = 1; j < k && lights < c->still_lights; j++)
+        lights *= 2;
+    rs->light_samples = lights < c->still_lights ? lights : c->still_lights;
+    return rs->light_samples == c->still_lights;
 }
 
 static int start_frame(Server *s, Err *err)
@@ -588,7 +615,7 @@ static int start_frame(Server *s, Err *err)
     s->frame_t0 = timer_now();
     s->still_step = s->still ? s->still_step + 1 : 0;
     View v = s->view;
-    s->converged = s->still && (!s->cfg.refine || refine_step(&s->cfg, s->still_step, &v.settings));
+    s->converged = s->still && (!s->cfg.refine || refine_step(&s->cfg, s->scene, s->still_step, &v.settings));
     if (!s->still && s->cfg.moving_lights >= 0)
         v.settings.light_sampling = (LightSampling)s->cfg.moving_lights;
     /* a moving frame at the render scale, a still one whole */

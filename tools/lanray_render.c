@@ -292,9 +292,8 @@ static int apply_settings(Scene *scene, Args *a)
         rs->rough_samples = a->rough_samples;
     if (a->lens_samples)
         rs->lens_samples = a->lens_samples;
-    for (uint32_t i = 0; a->light_samples && i < scene->light_count; i++)
-        if (light_is_area(&scene->lights[i]))
-            scene->lights[i].samples = a->light_samples;
+    if (a->light_samples) /* the view's, as a server's still frames take it */
+        rs->light_samples = a->light_samples;
     rs->linear = a->linear;
     if (a->exposure_given)
         rs->exposure = (real)a->exposure;

@@ -672,7 +672,7 @@ int render_probes_lights(const World *w)
         (rs->aa > 1 && !rs->adaptive))
         return 0;
     for (uint32_t i = 0; i < w->light_count; i++)
-        if (world_light_is_area(&w->lights[i]) && w->lights[i].samples > 1)
+        if (world_light_is_area(&w->lights[i]) && world_light_side(w, &w->lights[i]) > 1)
             return 1;
     return 0;
 }

@@ -133,6 +133,8 @@ typedef struct {
     int rough_samples; /* a rough mirror reflects rough_samples^2 rays (per pixel, or per ray with product); 0: the default */
     int lens_samples;  /* a camera with an aperture sends lens_samples^2 rays per pixel (budget) or pixel sample
                         * (product); 0: the default */
+    int light_samples; /* every sphere and rect light takes light_samples^2 points in place of its own samples^2
+                        * (a still frame's refinement: lanray-server --still-light-samples); 0: each its own */
     Sampling sampling;
     LightSampling light_sampling;
     Integrator integrator;

@@ -78,7 +78,7 @@ static inline __attribute__((always_inline)) vec3 area_point(const WorldLight *l
 static inline int area_plan(const World *w, const WorldLight *l, uint32_t li, const SampleId *id, DiscAxes *ax,
                             uint32_t j, real *u, real *v, real *share, uint32_t *index)
 {
-    const uint32_t k = (uint32_t)(l->samples * l->samples);
+    const uint32_t side = (uint32_t)world_light_side(w, l), k = side * side;
     /* a pixel's one point of the light (one ray a pixel, one point a ray):
      * a sequence of one point is any uniform point, two hashes of the key
      * where the scrambled Sobol point cost five times as much (a twentieth
@@ -92,12 +92,12 @@ static inline int area_plan(const World *w, const WorldLight *l, uint32_t li, co
     }
     const uint32_t key = ax->key;
     if (j >= PROBE_POINT) { /* adaptive light sampling's probe: a stratum of the light */
-        sample_stratum(key, j - PROBE_POINT, (uint32_t)l->samples, u, v);
+        sample_stratum(key, j - PROBE_POINT, side, u, v);
         *share = R(1);
         return 1;
     }
     if (single || w->view.settings.sampling == SAMPLING_PRODUCT) {
-        sample_stratum(key, j, (uint32_t)l->samples, u, v);
+        sample_stratum(key, j, side, u, v);
         *share = R(1) / (real)k;
         return 1;
     }
@@ -817,7 +817,7 @@ static void probe_pass(const World *w, Shading *sh, const int *live, int nl, uin
                        uint32_t *clear, RayStats *stats)
 {
     const WorldLight *l = &w->lights[li];
-    const uint32_t k = (uint32_t)(l->samples * l->samples);
+    const uint32_t side = (uint32_t)world_light_side(w, l), k = side * side;
     const int glass = world_uses(w, FEAT_REFRACT) && w->view.settings.glass_shadows;
     uint32_t asked = 0, seen_clear = 0, seen_blocked = 0, unsure = 0;
     for (uint32_t round = 0; round * 9 < k; round++) {
@@ -982,11 +982,11 @@ static inline __attribute__((always_inline)) void shade_rays_at(const World *w, 
         const WorldLight *l = &w->lights[li];
         uint32_t points = 1, probed = 0, clear = 0;
         if (optional && world_uses(w, FEAT_AREA) && world_light_is_area(l)) {
-            if (w->view.settings.light_sampling == LIGHTS_ADAPTIVE && depth == 0 && l->samples > 1)
+            if (w->view.settings.light_sampling == LIGHTS_ADAPTIVE && depth == 0 && world_light_side(w, l) > 1)
                 probe_pass(w, sh, live, nl, li, &probed, &clear, stats);
             /* per effect, every ray all of the light's points; one budget,
              * each ray its share (the most of the packet's rays) */
-            const uint32_t k = (uint32_t)(l->samples * l->samples);
+            const uint32_t side = (uint32_t)world_light_side(w, l), k = side * side;
             const int product = w->view.settings.sampling == SAMPLING_PRODUCT;
             points = 0;
             for (int q = 0; q < nl && points < k; q++) {

@@ -163,6 +163,14 @@ typedef struct {
     uint32_t item_features; /* the items' alone */
 } World;
 
+/* The side of area light l's pattern of points in w's view: its own
+ * samples, or the view's settings light_samples where it sets one (a
+ * still frame's refinement changes the view, not the description). */
+static inline int world_light_side(const World *w, const WorldLight *l)
+{
+    return w->view.settings.light_samples ? w->view.settings.light_samples : l->samples;
+}
+
 /* Builds the world of desc (checked: scene_check), with desc's camera and
  * settings as its view.  previous (may be NULL), a world of an earlier
  * description, gives what did not change: its top-level BVH where the

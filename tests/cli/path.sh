@@ -110,6 +110,22 @@ run_clients 2 room
 cmp -s "$dir/room/frame-00004.png" "$dir/room-2.png" || fail "the first still path-traced frame is not lanray-render's at 2x2"
 cmp -s "$dir/room/frame-00005.png" "$dir/room-4.png" || fail "the converged path-traced frame is not lanray-render's at 4x4"
 grep -q "^path: converged frame 5, " "$dir/room.log" || fail "no converged line for frame 5: $(grep '^path' "$dir/room.log")"
+# soft shadows converge (--still-light-samples 6): after the still frame at
+# adaptive 4x4 with the round lamp's own 3 x 3 points, one more with 6 x 6,
+# lanray-render's --light-samples 6 bit for bit, the converged one; at the
+# lamp's own points the penumbrae differ from it
+"$BIN/lanray-render" --path "$dir/fly.path" --at 2.5 --aa adaptive:4 --light-samples 6 --width $W --height $H \
+    -o "$dir/soft.png" --quiet >/dev/null || fail "lanray-render --light-samples 6"
+cmp -s "$dir/soft.png" "$dir/still.png" && fail "6 x 6 points of the lamp changed no pixel: the test cannot tell"
+start_server soft --port 0 --width $W --height $H --path "$dir/fly.path" --path-step 0.5 --wait-clients 2 \
+    --still-aa adaptive:4 --still-light-samples 6 --frames 8 --out "$dir/soft"
+run_clients 2 soft
+[ "$(ls "$dir/soft" | wc -l)" = 8 ] || fail "refining the lamp's points, 6 moving frames and 2 still ones: $(ls "$dir/soft")"
+cmp -s "$dir/soft/frame-00007.png" "$dir/still.png" || fail "the first still frame is not lanray-render's adaptive:4"
+cmp -s "$dir/soft/frame-00008.png" "$dir/soft.png" || fail "the converged frame is not lanray-render's --light-samples 6"
+grep -q "^path: converged frame 8, " "$dir/soft.log" || fail "no converged line for frame 8: $(grep '^path' "$dir/soft.log")"
+out=$("$BIN/lanray-server" --headless --port 0 --still-light-samples 6 2>&1)
+[ $? -eq 2 ] && grep -q "give both" <<<"$out" || fail "--still-light-samples without --still-aa: $out"
 # a render scale (--target-fps out of reach: the coarsest, 8, to start
 # with; the pace may probe a finer one where a coarse frame takes under
 # 0.75 ms, as a fast machine's 12 x 9 pixels do): a moving frame at scale 8

@@ -7,7 +7,10 @@
 # seed and its scene file.  Every fourth seed is refined instead: the server
 # renders frame 1 with one sample a pixel and the still frame 2 with
 # --still-aa adaptive:4, which must be lanray-render's --aa adaptive:4 (a
-# path-traced scene refines in two still frames: 2x2, then frame 3).
+# path-traced scene refines in two still frames: 2x2, then frame 3); every
+# eighth also with --still-light-samples K (K 2, 3 or 5: the area lights'
+# points doubled a side each still frame up to K), whose last frame must be
+# lanray-render's --aa adaptive:4 --light-samples K.
 # SEEDS=N sets how many (default 60; 20 under the sanitizers, which are slow).
 set -u
 source tests/tools/server-lib.sh
@@ -37,6 +40,12 @@ for seed in $(seq "$FIRST_SEED" $((FIRST_SEED + SEEDS - 1))); do
     if [ $((seed % 4)) -eq 0 ]; then
         aa=(--aa adaptive:4)
         refine=(--aa 1 --still-aa adaptive:4)
+        if [ $((seed % 8)) -eq 0 ]; then
+            k=$((2 + seed / 8 % 3)); k=${k/4/5} # 2, 3 or 5
+            aa+=(--light-samples "$k")
+            refine+=(--still-light-samples "$k")
+            last=7 # from a light's own points (at least 1) to K: at most 1, 2, 4, 5; then the same frame
+        fi
         check=(--frames $last)
     fi
     "$BIN/lanray-render" "$scene" -o "$ref" --width $W --height $H --threads 2 "${linear[@]}" "${aa[@]}" --quiet >"$dir/render.log" 2>&1 ||
@@ -58,7 +67,7 @@ for seed in $(seq "$FIRST_SEED" $((FIRST_SEED + SEEDS - 1))); do
     wait "$c1" "$c2" 2>/dev/null
     if [ $rc -eq 0 ] && [ ${#refine[@]} -gt 0 ] && ! cmp -s "$dir/f/frame-0000$last.png" "$ref"; then
         rc=3
-        echo "seed $seed: the refined frame $last differs from lanray-render --aa adaptive:4" >>"$dir/seed-$seed.err"
+        echo "seed $seed: the refined frame $last differs from lanray-render ${aa[*]}" >>"$dir/seed-$seed.err"
     fi
     if [ $rc -eq 3 ]; then
         bad=$((bad + 1))
@@ -69,4 +78,4 @@ for seed in $(seq "$FIRST_SEED" $((FIRST_SEED + SEEDS - 1))); do
     fi
 done
 [ $bad -eq 0 ] || fail "$bad of $SEEDS random scenes differ between lanray-render and a server with two clients (scenes in build/randscene-failures/)"
-echo "random scenes: $SEEDS of $SEEDS bit-identical to lanray-render's through a server and two clients (every fourth refined: its still frame lanray-render's adaptive:4)"
+echo "random scenes: $SEEDS of $SEEDS bit-identical to lanray-render's through a server and two clients (every fourth refined: its still frame lanray-render's adaptive:4, every eighth with --still-light-samples)"
