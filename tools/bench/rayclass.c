@@ -323,7 +323,7 @@ static void embree_trace1(const Job *j, struct RTCIntersectContext *ctx, size_t 
     {                                                                                                             \
         RaySet *s = j->set;                                                                                       \
         struct RTCRayHit##W rh __attribute__((aligned(64)));                                                     \
-        int valid[W];                                                                                             \
+        int valid[W] __attribute__((aligned(64))); /* Embree reads it as a vector */                          \
         for (int k = 0; k < W; k++) {                                                                             \
             struct RTCRay e;                                                                                      \
             valid[k] = k < n ? -1 : 0;                                                                            \
