@@ -41,7 +41,12 @@ int panel_lines(const PanelInfo *p, char out[][PANEL_LINE])
         sampling_text(still, sizeof still, p->still_aa, p->still_adaptive);
     else
         snprintf(still, sizeof still, "off");
-    LINE("samples: moving %s, still %s [N]", moving, still);
+    if (p->refine && p->still_lights) {
+        char lights[32];
+        snprintf(lights, sizeof lights, "%dx%d", p->still_lights, p->still_lights);
+        LINE("samples: moving %.16s, still %.16s, lights to %.9s [N]", moving, still, lights);
+    } else
+        LINE("samples: moving %s, still %s [N]", moving, still);
     LINE("moving lights %s [L]  %s [M]  shadows %s [H]", p->light_adaptive ? "adaptive" : "full",
          p->diffuse ? "diffuse" : "phong", p->shadows ? "on" : "off");
     LINE("segments of %u lines", p->segment_lines);

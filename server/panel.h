@@ -19,6 +19,7 @@ typedef struct {
     int still;             /* the last frame was a still one */
     int aa, adaptive;      /* the moving frames' sampling */
     int refine, still_aa, still_adaptive;
+    int still_lights; /* the area lights' points a side the still frames refine up to; 0: their own */
     int light_adaptive, diffuse, shadows;
     uint32_t segment_lines;
     const ServerClientInfo *clients;

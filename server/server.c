@@ -339,6 +339,8 @@ void server_still(const Server *s, int *refine, int *aa, int *adaptive)
     *refine = s->cfg.refine, *aa = s->cfg.still_aa, *adaptive = s->cfg.still_adaptive;
 }
 
+int server_still_lights(const Server *s) { return s->cfg.still_lights; }
+
 uint32_t server_clients_info(const Server *s, ServerClientInfo *out, uint32_t max)
 {
     uint64_t total = 0;

@@ -92,6 +92,8 @@ RenderSettings server_settings(const Server *s);
  * still_adaptive), changed from the window. */
 void server_set_still(Server *s, int refine, int aa, int adaptive);
 void server_still(const Server *s, int *refine, int *aa, int *adaptive);
+/* ServerConfig still_lights: the area lights' points a side still frames refine up to (0: their own). */
+int server_still_lights(const Server *s);
 /* The moving frames' light sampling (ServerConfig moving_lights), from the
  * window; server_moving_lights says what they take (LightSampling: the
  * config's, else the settings'). */

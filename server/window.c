@@ -124,6 +124,7 @@ void window_panel(Window *w, double fps, const char *error)
                        .diffuse = rs.shading == SHADE_DIFFUSE, .shadows = rs.shadows,
                        .segment_lines = server_segment_lines(w->server), .clients = clients, .error = error};
         server_still(w->server, &p.refine, &p.still_aa, &p.still_adaptive);
+        p.still_lights = server_still_lights(w->server);
         p.nclients = server_clients_info(w->server, clients, sizeof clients / sizeof *clients);
         n = panel_lines(&p, lines);
     }

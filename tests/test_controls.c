@@ -132,6 +132,11 @@ static void panel_says_what_runs(void **state)
     assert_true(has(lines, n, "10.0.0.8:4000") && !has(lines, n, "10.0.0.9:4000"));
     assert_true(has(lines, n, "2 more") && has(lines, n, "10.0%"));
     assert_true(has(lines, n, "error: e.scene:9") && has(lines, n, "target none"));
+    assert_false(has(lines, n, "lights to"));
+    /* still frames that refine the area lights' points say how far */
+    p.still_lights = 12;
+    n = panel_lines(&p, lines);
+    assert_true(has(lines, n, "moving 1x1, still adaptive 4x4, lights to 12x12"));
 }
 
 static void target_steps(void **state)
