@@ -124,6 +124,7 @@ struct Server {
     int shown_still, shown_scale, shown_converged; /* the frame shown last */
     uint32_t frames_dropped;      /* older frames nobody left could finish */
     uint32_t frames_ahead;        /* frames started before the one before was finished */
+    uint32_t frames_given_way;    /* still frames dropped for a change (a move, a setting, an edit) */
 };
 
 /* The per-segment overhead that sched_auto_lines sizes segments by is
@@ -953,6 +954,15 @@ static void finish_frames(Server *s, FrameDoneFn done, void *ctx)
 
 int server_step(Server *s, int timeout_ms, FrameDoneFn done, void *ctx, Err *err)
 {
+    /* a still frame gives way to a change (a move, a setting, an edit): a
+     * refining one may take many seconds (--still-light-samples) and would
+     * show a view the user has left; dropped, the results of its segments
+     * come back stale, and the next frame starts now */
+    if (s->in_frame && s->still && !s->older.id && server_changes_pending(s)) {
+        s->in_frame = 0;
+        s->frames_given_way++;
+        log_line(s->cfg.quiet, "lanray-server", "frame %u gave way to a change", s->frame);
+    }
     if (!s->in_frame && !s->paused && server_client_count(s) > 0) {
         if (s->next_fn)
             s->next_fn(s->next_ctx, s->frame + 1, 0);

@@ -3,8 +3,9 @@
 # text lines over the frame's top left corner, the rest of the frame
 # untouched: tests/tools/xwdpanel.py), a second Tab takes it away, and M
 # (shading) changes the setting that the next frame is rendered with: the
-# window then shows lanray-render's --shading diffuse picture.  Keys go in
-# through XTEST (xdotool), as a user's would.
+# window then shows lanray-render's --shading diffuse picture; a still
+# frame that refines the lights gives way to a key that changes the view.
+# Keys go in through XTEST (xdotool), as a user's would.
 set -u
 BIN=${BIN:-bin}
 dir=$(mktemp -d)
@@ -51,5 +52,28 @@ echo "Tab again: the frame untouched"
 xdotool key m
 appears "$dir/diffuse.ppm" >/dev/null || fail "M: the next frames are not lanray-render's --shading diffuse picture"
 echo "M: the next frame is lanray-render's --shading diffuse picture"
+kill "$spid" 2>/dev/null
+# a still frame gives way to a change: the still frames refine the lamp's
+# points up to 64 x 64 (minutes of work); once the 12 x 12 one shows, the
+# 24 x 24 one is on its way, and M drops it rather than wait for it
+"$BIN/lanray-render" --width $W --height $H --aa adaptive:4 --light-samples 12 -o "$dir/still12.ppm" --quiet >/dev/null ||
+    fail "12 x 12 reference"
+"$BIN/lanray-server" --port 0 --width $W --height $H --still-aa adaptive:4 --still-light-samples 64 >"$dir/still.log" \
+    2>"$dir/still.err" &
+spid=$!
+pids+=($spid)
+port=
+for _ in $(seq 100); do port=$(sed -n 's/.*listening on .*:\([0-9]*\) (.*/\1/p' "$dir/still.log"); [ -n "$port" ] && break; sleep 0.05; done
+[ -n "$port" ] || fail "the refining server did not start"
+"$BIN/lanray-client" "127.0.0.1:$port" --threads 2 2>"$dir/client2.err" &
+pids+=($!)
+at=$(appears "$dir/still12.ppm" 300) || fail "the still frame of 12 x 12 light points never showed"
+read -r x y <<<"$(sed 's/found at \([0-9]*\),\([0-9]*\)/\1 \2/' <<<"$at")"
+xdotool mousemove $((x + W / 2)) $((y + H / 2))
+xdotool key m
+for _ in $(seq 100); do grep -q "gave way to a change" "$dir/still.err" && break; sleep 0.2; done
+grep -q "^lanray-server: frame [0-9]* gave way to a change$" "$dir/still.err" ||
+    fail "M during a refining still frame: the frame did not give way: $(tail -3 "$dir/still.err")"
+echo "a refining still frame gave way to M: $(grep -o 'frame [0-9]* gave way' "$dir/still.err")"
 kill "$spid" 2>/dev/null
 exit 0
