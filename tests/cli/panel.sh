@@ -22,15 +22,7 @@ W=480 H=360
 ! cmp -s "$dir/phong.ppm" "$dir/diffuse.ppm" || fail "the two shadings give one picture: the test cannot tell them apart"
 source tests/tools/xvfb-lib.sh
 start_xvfb 800x600x24
-"$BIN/lanray-server" --port 0 --width $W --height $H >"$dir/server.log" 2>"$dir/server.err" &
-spid=$!
-pids+=($spid)
-port=
-for _ in $(seq 100); do port=$(sed -n 's/.*listening on .*:\([0-9]*\) (.*/\1/p' "$dir/server.log"); [ -n "$port" ] && break; sleep 0.05; done
-[ -n "$port" ] || fail "server did not start"
-grep -q "no display\|cannot open a window" "$dir/server.err" && fail "the server did not open a window"
-"$BIN/lanray-client" "127.0.0.1:$port" --threads 2 2>"$dir/client.err" &
-pids+=($!)
+window_server server --width $W --height $H
 at=$(appears "$dir/phong.ppm") || fail "the frame never showed"
 read -r x y <<<"$(sed 's/found at \([0-9]*\),\([0-9]*\)/\1 \2/' <<<"$at")"
 echo "the frame shows at $x,$y"
@@ -58,15 +50,7 @@ kill "$spid" 2>/dev/null
 # 24 x 24 one is on its way, and M drops it rather than wait for it
 "$BIN/lanray-render" --width $W --height $H --aa adaptive:4 --light-samples 12 -o "$dir/still12.ppm" --quiet >/dev/null ||
     fail "12 x 12 reference"
-"$BIN/lanray-server" --port 0 --width $W --height $H --still-aa adaptive:4 --still-light-samples 64 >"$dir/still.log" \
-    2>"$dir/still.err" &
-spid=$!
-pids+=($spid)
-port=
-for _ in $(seq 100); do port=$(sed -n 's/.*listening on .*:\([0-9]*\) (.*/\1/p' "$dir/still.log"); [ -n "$port" ] && break; sleep 0.05; done
-[ -n "$port" ] || fail "the refining server did not start"
-"$BIN/lanray-client" "127.0.0.1:$port" --threads 2 2>"$dir/client2.err" &
-pids+=($!)
+window_server still --width $W --height $H --still-aa adaptive:4 --still-light-samples 64
 at=$(appears "$dir/still12.ppm" 300) || fail "the still frame of 12 x 12 light points never showed"
 read -r x y <<<"$(sed 's/found at \([0-9]*\),\([0-9]*\)/\1 \2/' <<<"$at")"
 xdotool mousemove $((x + W / 2)) $((y + H / 2))

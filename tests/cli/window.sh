@@ -18,16 +18,8 @@ start_xvfb 640x480x24
 # shown NAME REF.ppm SERVER-ARGS...: a server with a window and one client;
 # passes when REF appears on the X screen
 shown() {
-    local name=$1 ref=$2 port= out=; shift 2
-    "$BIN/lanray-server" --port 0 --width $W --height $H --frames 0 "$@" >"$dir/$name.log" 2>"$dir/$name.err" &
-    local spid=$!
-    pids+=($spid)
-    for _ in $(seq 100); do port=$(sed -n 's/.*listening on .*:\([0-9]*\) (.*/\1/p' "$dir/$name.log"); [ -n "$port" ] && break; sleep 0.05; done
-    [ -n "$port" ] || fail "$name: server did not start"
-    grep -q "no display\|cannot open a window" "$dir/$name.err" && fail "$name: the server did not open a window"
-    "$BIN/lanray-client" "127.0.0.1:$port" --threads 2 2>"$dir/$name-client.err" &
-    local cpid=$!
-    pids+=($cpid)
+    local name=$1 ref=$2 out=; shift 2
+    window_server "$name" --width $W --height $H --frames 0 "$@"
     out=$(appears "$ref" 50) || fail "$name: the rendered frame never appeared on the X screen ($out)"
     echo "$name: window shows the rendered frame: $out"
     kill "$spid" "$cpid" 2>/dev/null
@@ -60,14 +52,7 @@ shown hdr "$dir/hdr.ppm" --hdr
 # frame is lanray-render's --aa 2 picture, and no frame starts after it
 # while nothing changes (the frames started, read twice a second apart)
 "$BIN/lanray-render" --width $W --height $H --aa 2 -o "$dir/still.ppm" --quiet >/dev/null || fail "reference still"
-"$BIN/lanray-server" --port 0 --width $W --height $H --still-aa 2 >"$dir/idle.log" 2>"$dir/idle.err" &
-spid=$!
-pids+=($spid)
-port=
-for _ in $(seq 100); do port=$(sed -n 's/.*listening on .*:\([0-9]*\) (.*/\1/p' "$dir/idle.log"); [ -n "$port" ] && break; sleep 0.05; done
-[ -n "$port" ] || fail "idle: server did not start"
-"$BIN/lanray-client" "127.0.0.1:$port" --threads 2 2>"$dir/idle-client.err" &
-pids+=($!)
+window_server idle --width $W --height $H --still-aa 2
 appears "$dir/still.ppm" 50 >/dev/null || fail "idle: the converged picture never showed"
 started() { kill -USR1 "$spid"; sleep 0.3; sed -n 's/^frames started \([0-9]*\);.*/\1/p' "$dir/idle.log" | tail -1; }
 n1=$(started)

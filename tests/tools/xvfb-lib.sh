@@ -23,3 +23,20 @@ appears() {
     echo "$out"
     return 1
 }
+
+# window_server NAME SERVER-ARGS...: a server with a window on the X screen
+# (its output in $dir/NAME.log and NAME.err) and one client of two threads
+# (NAME-client.err); sets spid, cpid and port
+window_server() {
+    local name=$1; shift
+    "$BIN/lanray-server" --port 0 "$@" >"$dir/$name.log" 2>"$dir/$name.err" &
+    spid=$!
+    pids+=($spid)
+    port=
+    for _ in $(seq 100); do port=$(sed -n 's/.*listening on .*:\([0-9]*\) (.*/\1/p' "$dir/$name.log"); [ -n "$port" ] && break; sleep 0.05; done
+    [ -n "$port" ] || fail "$name: server did not start"
+    grep -q "no display\|cannot open a window" "$dir/$name.err" && fail "$name: the server did not open a window"
+    "$BIN/lanray-client" "127.0.0.1:$port" --threads 2 2>"$dir/$name-client.err" &
+    cpid=$!
+    pids+=($cpid)
+}
