@@ -317,7 +317,7 @@ static void embree_trace1(const Job *j, struct RTCIntersectContext *ctx, size_t 
 }
 
 /* Rays [i, i + n) of the set (n <= W) through Embree as one packet of W
- * (8 or 16): its RTCRayHitW is the same layout at either width. */
+ * (4, 8 or 16): its RTCRayHitW is the same layout at every width. */
 #define EMBREE_PACKET(W)                                                                                          \
     static void embree_trace##W(const Job *j, struct RTCIntersectContext *ctx, size_t i, int n)                   \
     {                                                                                                             \
@@ -395,18 +395,17 @@ static void *worker(void *arg)
     size_t i, n = j->set->n;
     while ((i = atomic_fetch_add(&j->next, CHUNK)) < n) {
         size_t end = i + CHUNK < n ? i + CHUNK : n;
-        const size_t step = j->mode == EMBREE_16 ? 16 : 8;
+        /* a packet mode's own width; lanray's and single rays by eight */
+        const size_t step = j->mode == EMBREE_16 ? 16 : j->mode == EMBREE_4 ? 4 : 8;
         for (size_t p = i; p < end; p += step) {
             int m = end - p < step ? (int)(end - p) : (int)step;
             if (j->mode == OURS_PACKET || j->mode == OURS_SINGLE || j->mode == OURS_PAIRS)
                 ours_trace(j, p, m, j->mode);
             else if (j->mode == EMBREE_1)
                 embree_trace1(j, &ctx, p, m);
-            else if (j->mode == EMBREE_4) {
-                embree_trace4(j, &ctx, p, m < 4 ? m : 4);
-                if (m > 4)
-                    embree_trace4(j, &ctx, p + 4, m - 4);
-            } else if (j->mode == EMBREE_8)
+            else if (j->mode == EMBREE_4)
+                embree_trace4(j, &ctx, p, m);
+            else if (j->mode == EMBREE_8)
                 embree_trace8(j, &ctx, p, m);
             else
                 embree_trace16(j, &ctx, p, m);
