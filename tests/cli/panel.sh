@@ -46,8 +46,10 @@ appears "$dir/diffuse.ppm" >/dev/null || fail "M: the next frames are not lanray
 echo "M: the next frame is lanray-render's --shading diffuse picture"
 kill "$spid" 2>/dev/null
 # a still frame gives way to a change: the still frames refine the lamp's
-# points up to 64 x 64 (minutes of work); once the 12 x 12 one shows, the
-# 24 x 24 one is on its way, and M drops it rather than wait for it
+# points up to 64 x 64 (a minute of work); once the 12 x 12 one shows, the
+# 24 x 24 one is on its way, and M drops it rather than wait for it (a
+# smaller frame: under AddressSanitizer the 480 x 360 one took a minute)
+W=240 H=180
 "$BIN/lanray-render" --width $W --height $H --aa adaptive:4 --light-samples 12 -o "$dir/still12.ppm" --quiet >/dev/null ||
     fail "12 x 12 reference"
 window_server still --width $W --height $H --still-aa adaptive:4 --still-light-samples 64
