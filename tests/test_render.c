@@ -569,25 +569,38 @@ static void packets_equal_single_rays(void **state)
 {
     (void)state;
     int ties = 0, packets = 0;
-    for (int order = 0; order < 2; order++) {
+    /* orders 0 and 1: two instances tied at one place, in both orders,
+     * beside a plane, a triangle, a sphere and a third instance; 2: a
+     * world of one untransformed model (trace.c's shortcut to its walk);
+     * 3: the same beside a plane (no shortcut) */
+    for (int order = 0; order < 4; order++) {
+        const int lone = order >= 2;
         Scene *s = empty_scene();
         Material red = {.kd = v3(1, R(0.2), R(0.2)), .ks = v3(R(0.5), R(0.5), R(0.5)), .shininess = 20, .texture = -1};
         uint32_t mat;
         assert_int_equal(scene_add_material(s, red, &mat, NULL), 0);
-        assert_int_equal(scene_add_plane(s, plane_make(v3(0, -1, 0), v3(0, 1, 0), 0), NULL), 0);
+        if (order != 2)
+            assert_int_equal(scene_add_plane(s, plane_make(v3(0, -1, 0), v3(0, 1, 0), 0), NULL), 0);
         const vec3 flat[3] = {v3(-2, -1, -2), v3(2, -1, -2), v3(0, -1, 2)};
-        assert_int_equal(scene_add_triangle(s, flat, NULL, NULL, mat, NULL), 0);
-        assert_int_equal(scene_add_sphere(s, (Sphere){v3(R(0.7), R(0.3), 0), R(0.5), mat}, NULL), 0);
         uint32_t plain, fin;
         assert_int_equal(scene_add_model(s, coarse_sphere(), &plain, NULL), 0);
         assert_int_equal(scene_add_model(s, sphere_with_fin(), &fin, NULL), 0);
-        assert_int_equal(scene_add_instance(s, instance_make(order ? fin : plain, v3(0, 0, 0), v3(0, 0, 0), 1), NULL), 0);
-        assert_int_equal(scene_add_instance(s, instance_make(order ? plain : fin, v3(0, 0, 0), v3(0, 0, 0), 1), NULL), 0);
-        assert_int_equal(
-            scene_add_instance(s, instance_make(plain, v3(R(1.5), R(0.2), R(-1)), v3(10, 35, 0), R(0.7)), NULL), 0);
+        if (lone) {
+            assert_int_equal(scene_add_instance(s, instance_make(fin, v3(0, 0, 0), v3(0, 0, 0), 1), NULL), 0);
+        } else {
+            assert_int_equal(scene_add_triangle(s, flat, NULL, NULL, mat, NULL), 0);
+            assert_int_equal(scene_add_sphere(s, (Sphere){v3(R(0.7), R(0.3), 0), R(0.5), mat}, NULL), 0);
+            assert_int_equal(scene_add_instance(s, instance_make(order ? fin : plain, v3(0, 0, 0), v3(0, 0, 0), 1), NULL),
+                             0);
+            assert_int_equal(scene_add_instance(s, instance_make(order ? plain : fin, v3(0, 0, 0), v3(0, 0, 0), 1), NULL),
+                             0);
+            assert_int_equal(
+                scene_add_instance(s, instance_make(plain, v3(R(1.5), R(0.2), R(-1)), v3(10, 35, 0), R(0.7)), NULL), 0);
+        }
         assert_int_equal(scene_add_light(s, light_point(v3(3, 4, 5), v3(1, 1, 1), 1, 0), NULL), 0);
         for (int path = -1; simd_next(&path);) {
             const World *w = world_now(s);
+            assert_int_equal(w->lone_model, lone);
             const vec3 eyes[3] = {v3(0, R(0.5), 4), v3(R(3.5), 2, R(-0.5)), v3(R(0.01), 5, R(0.02))};
             for (int e = 0; e < 3; e++)
                 for (int y = 0; y < 40; y++)
@@ -604,10 +617,12 @@ static void packets_equal_single_rays(void **state)
                         uint64_t kp[TRACE_PACKET];
                         RayStats st = {0, 0, 0};
                         shade_packet(w, rays, n, cp, &st, kp, NULL, NULL);
-                        real tm[TRACE_PACKET];
+                        real tm[TRACE_PACKET], far[TRACE_PACKET];
                         for (int i = 0; i < n; i++)
-                            tm[i] = hp[i].kind ? hp[i].t * R(0.5) : R(100);
+                            tm[i] = hp[i].kind ? hp[i].t * R(0.5) : R(100), far[i] = R(100);
                         uint32_t blocked = trace_occluded_packet(w, rays, n, tm, NULL);
+                        /* and the limits past the hits: blocked where they hit */
+                        uint32_t blocked_far = trace_occluded_packet(w, rays, n, far, NULL);
                         for (int i = 0; i < n; i++) {
                             Hit h;
                             int got = trace_closest(w, &rays[i], &h);
@@ -632,6 +647,7 @@ static void packets_equal_single_rays(void **state)
                             if (memcmp(&c, &cp[i], sizeof c) != 0 || key != kp[i])
                                 fail_msg("%s: ray (%d,%d): packet colour differs", simd_name((SimdPath)path), x0 + i, y);
                             assert_int_equal((int)(blocked >> i & 1), trace_occluded(w, &rays[i], tm[i], NULL));
+                            assert_int_equal((int)(blocked_far >> i & 1), trace_occluded(w, &rays[i], far[i], NULL));
                         }
                         packets++;
                     }

@@ -504,6 +504,26 @@ static uint32_t top_packet(const World *w, const Ray *rays, int n, Best *best, c
 
 void trace_closest_packet(const World *w, const Ray *rays, int n, Hit *hits)
 {
+    if (w->lone_model && n > 1 && !(world_uses(w, FEAT_PLANES) && w->plane_count)) {
+        const Model *m = w->models[w->instances[0].model];
+        /* trace_closest's shortcut, for a packet: no planes, Best keys or
+         * glass to ask about.  Measured (tools/bench/rayclass, the bunny's
+         * camera rays, one thread): instructions of the tracing 284.7M ->
+         * 259.9M (callgrind), 16.8 -> 18.1-18.3 Mrays/s, against Embree's
+         * 16-ray packets' 17.3-17.5 in the same runs */
+        if (m->wide) {
+            const Ray *rr[TRACE_PACKET];
+            real tm[TRACE_PACKET];
+            const uint32_t tie[TRACE_PACKET] = {0};
+            ModelHit mh[TRACE_PACKET];
+            for (int i = 0; i < n; i++)
+                rr[i] = &rays[i], tm[i] = rays[i].tmax;
+            const uint32_t got = m->wide->closest_packet(m->wide, rr, n, tm, tie, mh);
+            for (int i = 0; i < n; i++)
+                lone_hit(&hits[i], got >> i & 1, &mh[i], tm[i]);
+            return;
+        }
+    }
     Best best[TRACE_PACKET];
     for (int i = 0; i < n; i++) {
         closest_planes(w, &rays[i], &hits[i], 0);
@@ -547,6 +567,17 @@ static uint32_t occluded_packet(const World *w, const Ray *rays, int n, const re
     if (glass && !w->glassy) { /* no glass in the world: plain occlusion */
         *glass = 0;
         glass = NULL;
+    }
+    if (!glass && w->lone_model && !(world_uses(w, FEAT_PLANES) && w->plane_count)) {
+        /* straight to the model, as lone_packet would take the packet:
+         * the planes' loop, the packing and the top level's context were
+         * 4% of the bunny's area-light shadow rays' instructions (1355M ->
+         * 1300M, callgrind); 8.5-8.6 Mrays/s against Embree's 16-ray
+         * packets' 7.9-8.0, one thread */
+        const Ray *rr[TRACE_PACKET];
+        for (int i = 0; i < n; i++)
+            rr[i] = &rays[i];
+        return model_occluded_packet(w->models[w->instances[0].model], rr, n, tmax);
     }
     for (int i = 0; i < n; i++) {
         int g = 0;
