@@ -24,9 +24,9 @@
  *                (numbers from the pixel), as a path's bounce.
  * Then it times each set through lanray as its renderer traces that
  * class (packets of eight: trace_closest_packet, trace_occluded_packet;
- * the diffuse bounces of two paths at a time, trace_closest_pair, as the
- * path integrator does), one ray at a time (trace_closest, trace_occluded)
- * and by pairs, and through Embree
+ * the diffuse bounces of eight paths in one call, trace_closest_each, as
+ * the path integrator does: two walks side by side), one ray at a time
+ * (trace_closest, trace_occluded) and by pairs, and through Embree
  * (rtcIntersect1 / rtcOccluded1, and packets of 4, 8 and 16 rays,
  * rtcIntersect4/8/16 / rtcOccluded4/8/16, with the coherent flag for camera
  * and shadow rays: on an AVX-512 CPU Embree's 16-ray packets are its
@@ -349,8 +349,9 @@ EMBREE_PACKET(8)
 EMBREE_PACKET(16)
 
 /* Rays [i, i + n) of the set (n <= 8) through lanray: as a packet, one
- * by one, or by pairs (closest hits: trace_closest_pair, as the path
- * integrator traces its bounces; shadow rays one by one). */
+ * by one, or by pairs (closest hits: trace_closest_each, two walks side
+ * by side, as the path integrator traces its live paths' bounces; shadow
+ * rays one by one). */
 static void ours_trace(const Job *j, size_t i, int n, Mode mode)
 {
     const int packet = mode == OURS_PACKET;
@@ -371,13 +372,9 @@ static void ours_trace(const Job *j, size_t i, int n, Mode mode)
         trace_closest_packet(j->w, &s->rays[i], n, h);
     else if (packet) /* as shading sends on what mirrors and glass (and a diffuse bounce) send */
         trace_closest_bounced(j->w, &s->rays[i], n, h);
-    else if (mode == OURS_PAIRS) {
-        int k = 0;
-        for (; k + 1 < n; k += 2)
-            trace_closest_pair(j->w, &s->rays[i + k], &s->rays[i + k + 1], &h[k], &h[k + 1]);
-        if (k < n)
-            trace_closest(j->w, &s->rays[i + k], &h[k]);
-    } else
+    else if (mode == OURS_PAIRS) /* as the path integrator traces its live paths' bounces */
+        trace_closest_each(j->w, &s->rays[i], n, h);
+    else
         for (int k = 0; k < n; k++)
             trace_closest(j->w, &s->rays[i + k], &h[k]);
     for (int k = 0; k < n; k++)
