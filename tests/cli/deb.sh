@@ -7,6 +7,9 @@
 # to lanray-render's.
 set -u
 BIN=${BIN:-bin}
+# packaging is checked on the plain build: a package of the sanitizers'
+# binaries adds nothing that mdns.sh does not run under them already
+case "$BIN" in *asan* | *tsan*) echo "deb: checked with the plain build only"; exit 0 ;; esac
 dir=$(mktemp -d)
 trap 'rm -rf "$dir"' EXIT
 fail() { echo "FAIL: $*"; exit 1; }
