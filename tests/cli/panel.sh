@@ -46,14 +46,16 @@ appears "$dir/diffuse.ppm" >/dev/null || fail "M: the next frames are not lanray
 echo "M: the next frame is lanray-render's --shading diffuse picture"
 kill "$spid" 2>/dev/null
 # a still frame gives way to a change: the still frames refine the lamp's
-# points up to 64 x 64 (a minute of work); once the 12 x 12 one shows, the
-# 24 x 24 one is on its way, and M drops it rather than wait for it (a
-# smaller frame: under AddressSanitizer the 480 x 360 one took a minute)
+# points up to 64 x 64 (a minute of work); once the 6 x 6 one shows, the
+# 12 x 12 one is on its way (and the 24, 48 and 64 ones after it), and M
+# drops it rather than wait for it (a smaller frame, and 6 x 6 points, not
+# 12 x 12: under AddressSanitizer the 480 x 360 frame took a minute, the
+# 240 x 180 one at 12 x 12 half a minute)
 W=240 H=180
-"$BIN/lanray-render" --width $W --height $H --aa adaptive:4 --light-samples 12 -o "$dir/still12.ppm" --quiet >/dev/null ||
-    fail "12 x 12 reference"
+"$BIN/lanray-render" --width $W --height $H --aa adaptive:4 --light-samples 6 -o "$dir/still6.ppm" --quiet >/dev/null ||
+    fail "6 x 6 reference"
 window_server still --width $W --height $H --still-aa adaptive:4 --still-light-samples 64
-at=$(appears "$dir/still12.ppm" 300) || fail "the still frame of 12 x 12 light points never showed"
+at=$(appears "$dir/still6.ppm" 300) || fail "the still frame of 6 x 6 light points never showed"
 read -r x y <<<"$(sed 's/found at \([0-9]*\),\([0-9]*\)/\1 \2/' <<<"$at")"
 xdotool mousemove $((x + W / 2)) $((y + H / 2))
 xdotool key m
