@@ -7,6 +7,9 @@
 # sample (nothing else builds it: a change once broke it unnoticed).
 set -u
 BIN=${BIN:-bin}
+# once, with the plain build: under the sanitizers this built a second
+# library from scratch (make passes SAN on) for a check of the same code
+case "$BIN" in *asan* | *tsan*) echo "double: checked with the plain build only"; exit 0 ;; esac
 dir=$(mktemp -d)
 trap 'rm -rf "$dir"' EXIT
 fail() { echo "FAIL: $*"; exit 1; }

@@ -11,10 +11,10 @@
 # eighth also with --still-light-samples K (K 2, 3 or 5: the area lights'
 # points doubled a side each still frame up to K), whose last frame must be
 # lanray-render's --aa adaptive:4 --light-samples K.
-# SEEDS=N sets how many (default 60; 20 under the sanitizers, which are slow).
+# SEEDS=N sets how many (default 60; 12 under the sanitizers, which are slow).
 set -u
 source tests/tools/server-lib.sh
-case "$BIN" in *asan* | *tsan*) default_seeds=20 ;; *) default_seeds=60 ;; esac
+case "$BIN" in *asan* | *tsan*) default_seeds=12 ;; *) default_seeds=60 ;; esac
 SEEDS=${SEEDS:-$default_seeds}
 FIRST_SEED=${FIRST_SEED:-1}
 mkdir -p "$dir/s"
