@@ -17,8 +17,8 @@
 /* The light arriving along each of n <= TRACE_PACKET camera rays (ids:
  * their samples, or NULL) in out[i]; keys[i] (keys may be NULL) receives
  * what ray i saw first, for adaptive anti-aliasing.  Each path is what it
- * is alone: the camera rays go as a packet, the bounces two paths at a
- * time (trace_closest_pair). */
+ * is alone: the camera rays go as a packet, the bounces of the live
+ * paths in one call (trace_closest_each). */
 void path_radiance_packet(const World *w, const Ray *rays, int n, const SampleId *ids, vec3 *out, RayStats *stats,
                           uint64_t *keys);
 

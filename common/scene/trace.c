@@ -263,35 +263,39 @@ static inline int lone_hit(Hit *hit, int got, const ModelHit *mh, real tmax)
     return 1;
 }
 
-/* A world of one untransformed model and no plane (make bench's mesh
- * scenes, a model's preview) sends a single ray to the model's walk
- * directly: closest_of's planes, Best and leaf dispatch come to nothing
- * there, and they were a twentieth of a diffuse bounce's instructions on
- * the bunny. */
+/* The model of a world of one untransformed model and no plane (make
+ * bench's mesh scenes, a model's preview), or NULL: there rays go to the
+ * model's walk directly (closest_of's planes, Best and leaf dispatch come
+ * to nothing). */
+static inline const Model *lone_of(const World *w)
+{
+    return w->lone_model && !(world_uses(w, FEAT_PLANES) && w->plane_count) ? w->models[w->instances[0].model] : NULL;
+}
+
+/* (lone_of's shortcut: closest_of's set-up was a twentieth of a diffuse
+ * bounce's instructions on the bunny) */
 int trace_closest(const World *w, const Ray *r, Hit *hit)
 {
-    if (w->lone_model && !(world_uses(w, FEAT_PLANES) && w->plane_count)) {
+    const Model *m = lone_of(w);
+    if (m) {
         ModelHit mh;
-        return lone_hit(hit, model_intersect(w->models[w->instances[0].model], r, r->tmax, 0, &mh), &mh, r->tmax);
+        return lone_hit(hit, model_intersect(m, r, r->tmax, 0, &mh), &mh, r->tmax);
     }
     return closest_of(w, r, hit, 0, NULL);
 }
 
 uint32_t trace_closest_pair(const World *w, const Ray *a, const Ray *b, Hit *ha, Hit *hb)
 {
-    const int planes = world_uses(w, FEAT_PLANES) && w->plane_count;
-    if (w->lone_model) {
-        const Model *m = w->models[w->instances[0].model];
-        if (m->wide && !planes) { /* trace_closest's shortcut, by pairs */
-            const Ray *pr[2] = {a, b};
-            const real tmax[2] = {a->tmax, b->tmax};
-            const uint32_t tie[2] = {0, 0};
-            ModelHit mh[2];
-            const uint32_t got = m->wide->closest_pairs(m->wide, pr, 2, tmax, tie, mh);
-            lone_hit(ha, got & 1, &mh[0], tmax[0]);
-            lone_hit(hb, got >> 1 & 1, &mh[1], tmax[1]);
-            return got;
-        }
+    const Model *lone = lone_of(w);
+    if (lone && lone->wide) { /* trace_closest's shortcut, by pairs */
+        const Ray *pr[2] = {a, b};
+        const real tmax[2] = {a->tmax, b->tmax};
+        const uint32_t tie[2] = {0, 0};
+        ModelHit mh[2];
+        const uint32_t got = lone->wide->closest_pairs(lone->wide, pr, 2, tmax, tie, mh);
+        lone_hit(ha, got & 1, &mh[0], tmax[0]);
+        lone_hit(hb, got >> 1 & 1, &mh[1], tmax[1]);
+        return got;
     }
 #if BVH4_COMPILED
     const Bvh4 *t4 = top4(w);
@@ -318,10 +322,9 @@ uint32_t trace_closest_pair(const World *w, const Ray *a, const Ray *b, Hit *ha,
  * same runs. */
 static int lone_closest(const World *w, const Ray *rays, int n, Hit *hits, int pairs)
 {
-    if (!w->lone_model || n < 2 || (world_uses(w, FEAT_PLANES) && w->plane_count))
-        return 0;
-    const Wide *wd = w->models[w->instances[0].model]->wide;
-    if (!wd)
+    const Model *m = lone_of(w);
+    const Wide *wd = m ? m->wide : NULL;
+    if (!wd || n < 2)
         return 0;
     const Ray *rr[TRACE_PACKET] = {0};
     real tm[TRACE_PACKET] = {0};
@@ -585,7 +588,8 @@ static uint32_t occluded_packet(const World *w, const Ray *rays, int n, const re
         *glass = 0;
         glass = NULL;
     }
-    if (!glass && w->lone_model && !(world_uses(w, FEAT_PLANES) && w->plane_count)) {
+    const Model *lone = glass ? NULL : lone_of(w);
+    if (lone) {
         /* straight to the model, as lone_packet would take the packet:
          * the planes' loop, the packing and the top level's context were
          * 4% of the bunny's area-light shadow rays' instructions (1355M ->
@@ -594,7 +598,7 @@ static uint32_t occluded_packet(const World *w, const Ray *rays, int n, const re
         const Ray *rr[TRACE_PACKET];
         for (int i = 0; i < n; i++)
             rr[i] = &rays[i];
-        return model_occluded_packet(w->models[w->instances[0].model], rr, n, tmax);
+        return model_occluded_packet(lone, rr, n, tmax);
     }
     for (int i = 0; i < n; i++) {
         int g = 0;
