@@ -27,6 +27,7 @@
 #include "net/pixcodec.h"
 #include "pace.h"
 #include "server.h"
+#include "upscale.h"
 #include "watch.h"
 #include "window.h"
 #include "base/timer.h"
@@ -296,6 +297,27 @@ static void config_from_args(Args *a)
     a->headless |= a->discard;
 }
 
+/* lanray-server --help's text above and below the options */
+static const char server_about[] =
+    "Holds the scene (the built-in one without an argument; a model alone gets a preview scene),\n"
+    "hands out segments of each frame to lanray-client processes and shows the frames in a window,\n"
+    "or writes them when headless or without a display.  In the window: W/S A/D R/F move (Shift: faster;\n"
+    "the speed follows the scene's size), a mouse drag or the arrows look, V captures the mouse for\n"
+    "mouse look (Esc lets it go), +/- or the wheel zoom, C frames the whole scene, Home resets, Space\n"
+    "toggles --rotate, P saves a screenshot, Tab shows the panel (frame rate, render scale, samples,\n"
+    "each client's lines/s and share, segment size), T/Shift+T the frame-rate target up/down, N the\n"
+    "still quality (off, 2x2, adaptive 4x4, 4x4), L light sampling, M shading, H shadows; Esc or Q quits.\n"
+    "A scene file is followed while it runs: an edit to it or to the models and textures it names is\n"
+    "read again and sent between frames; an error keeps the last good scene and is shown with its line.\n"
+    "SIGUSR1 prints per-client statistics.";
+static const char server_exits[] =
+    "  0  every requested frame was written (--frames N), or stopped by the window, SIGINT or SIGTERM\n"
+    "     when no count was asked\n"
+    "  1  an error: the scene, the address, memory, a frame that could not be written\n"
+    "  2  bad command line\n"
+    "  3  --verify: a frame differed from the reference\n"
+    "  4  stopped (SIGINT, SIGTERM, the window) before the requested frames were done\n";
+
 /* Parses the command line into a: OPT_GO, or the exit status. */
 static int parse_args(Args *a, int argc, char **argv)
 {
@@ -364,6 +386,10 @@ static int parse_args(Args *a, int argc, char **argv)
         {.name = "--target-fps", .kind = OPT_REAL, .dst = &a->target_fps, .arg = "F", .rlo = 0, .rhi = 1000,
          .help = "while the view moves, render fewer pixels (a render scale of 1 to 8, chosen from the frame times "
                  "measured) to hold F frames a second; 0 = every pixel", .def = "0"},
+        {.name = "--upscale", .kind = OPT_CHOICE, .dst = &cfg->upscale, .choices = upscale_names,
+         .help = "how a frame rendered at a render scale fills the window and the frames written: smooth (bilinear "
+                 "between its pixels) or blocks (its pixels as rendered, each a block)",
+         .def = "smooth"},
         {.name = "--max-fps", .kind = OPT_REAL, .dst = &a->max_fps, .arg = "F", .rlo = 0, .rhi = 1000,
          .help = "start at most F frames a second (the rest of the time the farm idles); 0 = no limit", .def = "0"},
         {.name = "--linear", .kind = OPT_FLAG, .dst = &a->linear,
@@ -394,24 +420,7 @@ static int parse_args(Args *a, int argc, char **argv)
     };
     const char *args[1] = {NULL};
     OptSpec spec = {.prog = "lanray-server", .synopsis = "[scene | model.obj | model.tmd] [options]",
-                    .about = "Holds the scene (the built-in one without an argument; a model alone gets a preview scene),\n"
-                    "hands out segments of each frame to lanray-client processes and shows the frames in a window,\n"
-                    "or writes them when headless or without a display.  In the window: W/S A/D R/F move (Shift: faster;\n"
-                    "the speed follows the scene's size), a mouse drag or the arrows look, V captures the mouse for\n"
-                    "mouse look (Esc lets it go), +/- or the wheel zoom, C frames the whole scene, Home resets, Space\n"
-                    "toggles --rotate, P saves a screenshot, Tab shows the panel (frame rate, render scale, samples,\n"
-                    "each client's lines/s and share, segment size), T/Shift+T the frame-rate target up/down, N the\n"
-                    "still quality (off, 2x2, adaptive 4x4, 4x4), L light sampling, M shading, H shadows; Esc or Q quits.\n"
-                    "A scene file is followed while it runs: an edit to it or to the models and textures it names is\n"
-                    "read again and sent between frames; an error keeps the last good scene and is shown with its line.\n"
-                    "SIGUSR1 prints per-client statistics.",
-                    .opts = opts, .args = args, .max_args = 1,
-                    .exits = "  0  every requested frame was written (--frames N), or stopped by the window, SIGINT or SIGTERM\n"
-                    "     when no count was asked\n"
-                    "  1  an error: the scene, the address, memory, a frame that could not be written\n"
-                    "  2  bad command line\n"
-                    "  3  --verify: a frame differed from the reference\n"
-                    "  4  stopped (SIGINT, SIGTERM, the window) before the requested frames were done\n"};
+                    .about = server_about, .opts = opts, .args = args, .max_args = 1, .exits = server_exits};
     int go = opt_run(&spec, argc, argv);
     a->scene_path = args[0];
     config_from_args(a);

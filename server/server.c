@@ -31,6 +31,7 @@
 #include "render/render.h"
 
 #include "measure.h"
+#include "upscale.h"
 
 #define MAX_CLIENTS 1024
 
@@ -92,6 +93,7 @@ struct Server {
     int scale;          /* the current frame's, and its size: */
     uint32_t fw, fh;
     uint8_t *shown;     /* a scaled frame scaled up to the full size, for the callback */
+    uint16_t *upscale_scratch; /* upscale_smooth's, made at the first scaled frame */
     /* changes held for the next frame (server_set_camera, server_turn_instances) */
     Camera next_camera;
     int camera_pending;
@@ -241,6 +243,7 @@ void server_destroy(Server *s)
     free(s->older.pixels);
     free(s->spare_pixels);
     free(s->shown);
+    free(s->upscale_scratch);
     free(s);
 }
 
@@ -273,25 +276,20 @@ void server_set_scale(Server *s, int scale)
     s->next_scale = scale < 1 ? 1 : scale > SERVER_MAX_SCALE ? SERVER_MAX_SCALE : scale;
 }
 
-/* A frame of fw pixels a line rendered at `scale`, scaled up to the full
- * size: each pixel a block (nearest: the picture as rendered, bytes as
- * they came). */
-static const uint8_t *scaled_up(Server *s, const uint8_t *pixels, uint32_t fw, int scale)
+/* A frame rendered at `scale`, brought up to the full size (upscale.h):
+ * smooth, or in blocks where asked, for RGBE pixels (a shared exponent
+ * does not mix byte by byte) or where the scratch cannot be had. */
+static const uint8_t *scaled_up(Server *s, const uint8_t *pixels, int scale)
 {
     if (scale == 1)
         return pixels;
-    const uint32_t w = (uint32_t)s->cfg.width, h = (uint32_t)s->cfg.height, b = s->bpp, k = (uint32_t)scale;
-    const size_t row = (size_t)w * b;
-    for (uint32_t y = 0; y < h; y++) {
-        uint8_t *dst = s->shown + (size_t)y * row;
-        if (y % k) { /* the line above, again */
-            memcpy(dst, dst - row, row);
-            continue;
-        }
-        const uint8_t *src = pixels + (size_t)(y / k) * fw * b;
-        for (uint32_t x = 0; x < w; x++)
-            memcpy(dst + (size_t)x * b, src + (size_t)(x / k) * b, b);
-    }
+    const uint32_t w = (uint32_t)s->cfg.width, h = (uint32_t)s->cfg.height, k = (uint32_t)scale;
+    if (s->cfg.upscale == UPSCALE_SMOOTH && s->bpp == 3 && !s->upscale_scratch)
+        s->upscale_scratch = malloc(upscale_scratch(w, h, 2) * sizeof *s->upscale_scratch); /* scale 2's is the most */
+    if (s->cfg.upscale == UPSCALE_SMOOTH && s->bpp == 3 && s->upscale_scratch)
+        upscale_smooth(pixels, s->shown, w, h, k, s->upscale_scratch);
+    else
+        upscale_blocks(pixels, s->shown, w, h, s->bpp, k);
     return s->shown;
 }
 const char *server_address(const Server *s) { return s->address; }
@@ -906,7 +904,7 @@ static void housekeeping(Server *s)
 
 /* A finished frame to the application: the panel's and the pace's
  * figures first, then the callback. */
-static void show_frame(Server *s, uint32_t id, const uint8_t *pixels, uint32_t fw, int scale, int still,
+static void show_frame(Server *s, uint32_t id, const uint8_t *pixels, int scale, int still,
                        int converged, double t0, FrameDoneFn done, void *ctx)
 {
     const double now = timer_now();
@@ -921,7 +919,7 @@ static void show_frame(Server *s, uint32_t id, const uint8_t *pixels, uint32_t f
     s->shown_converged = converged;
     s->shown_scale = scale;
     if (done)
-        done(ctx, id, scaled_up(s, pixels, fw, scale));
+        done(ctx, id, scaled_up(s, pixels, scale));
 }
 
 /* Frames shown in order: the older of two in flight first.  An older frame
@@ -940,7 +938,7 @@ static void finish_frames(Server *s, FrameDoneFn done, void *ctx)
             s->frames_dropped++;
             log_line(s->cfg.quiet, "lanray-server", "frame %u dropped: the clients that had its view left", o->id);
         } else {
-            show_frame(s, o->id, o->pixels, o->fw, o->scale, o->still, o->converged, o->t0, done, ctx);
+            show_frame(s, o->id, o->pixels, o->scale, o->still, o->converged, o->t0, done, ctx);
         }
         s->spare_sched = o->sched;
         s->spare_pixels = o->pixels;
@@ -948,7 +946,7 @@ static void finish_frames(Server *s, FrameDoneFn done, void *ctx)
     }
     if (s->in_frame && sched_frame_done(s->sched)) {
         s->in_frame = 0;
-        show_frame(s, s->frame, s->pixels, s->fw, s->scale, s->still, s->converged, s->frame_t0, done, ctx);
+        show_frame(s, s->frame, s->pixels, s->scale, s->still, s->converged, s->frame_t0, done, ctx);
     }
 }
 

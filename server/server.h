@@ -49,6 +49,10 @@ typedef struct {
      * FrameNextFn lets it, so that clients with nothing left render it
      * rather than wait or duplicate; frames are still shown in order */
     int pipeline;
+    /* how a frame at a render scale is brought to the full size for the
+     * callback (UpscaleKind, upscale.h: smooth, the default, or blocks;
+     * lanray-server --upscale) */
+    int upscale;
 } ServerConfig;
 
 typedef struct Server Server;

@@ -129,35 +129,51 @@ out=$("$BIN/lanray-server" --headless --port 0 --still-light-samples 6 2>&1)
 # a render scale (--target-fps out of reach: the coarsest, 8, to start
 # with; the pace may probe a finer one where a coarse frame takes under
 # 0.75 ms, as a fast machine's 12 x 9 pixels do): a moving frame at scale 8
-# is lanray-render's picture of W/8 x H/8 pixels, each pixel an 8 x 8
-# block of the full-size frame, and at least one of the six is; the still
-# frame after the flight is whole
+# is lanray-render's picture of W/8 x H/8 pixels brought to the full size,
+# smooth (the default: the integer bilinear rule of server/upscale.c,
+# computed again here) or, with --upscale blocks, each pixel an 8 x 8
+# block, and at least one of the six is; the still frame after the
+# flight is whole
 for k in 1 2 3 4 5 6; do
     t=$(python3 -c "print(($k - 1) * 0.5)")
     "$BIN/lanray-render" --path "$dir/fly.path" --at "$t" --aa 1 --width $((W / 8)) --height $((H / 8)) \
         -o "$dir/small-$k.png" --quiet >/dev/null || fail "lanray-render small --at $t"
 done
-start_server scale --port 0 --width $W --height $H --path "$dir/fly.path" --path-step 0.5 --wait-clients 2 \
-    --target-fps 1000 --still-aa adaptive:4 --out "$dir/sc"
-run_clients 2 scale
-python3 - "$dir/sc" "$dir" 8 <<'PY' || fail "no moving frame at render scale 8 is lanray-render's small frame scaled up"
+for up in smooth blocks; do
+    start_server "scale-$up" --port 0 --width $W --height $H --path "$dir/fly.path" --path-step 0.5 --wait-clients 2 \
+        --target-fps 1000 --still-aa adaptive:4 --upscale "$up" --out "$dir/sc-$up"
+    run_clients 2 "scale-$up"
+    python3 - "$dir/sc-$up" "$dir" 8 "$up" <<'PY' || fail "no moving frame at render scale 8 is lanray-render's small frame scaled up ($up)"
 import sys
 sys.path.insert(0, "tests/tools")
 from pngpixel import read
-def scaled(bigf, smallf, k):
+def taps(x, k, n):  # the frame pixels about full pixel x and the right one's weight in 1/(2k)
+    u = 2 * x + 1 - k
+    i, r = u // (2 * k), u % (2 * k)
+    return min(max(i, 0), n - 1), min(max(i + 1, 0), n - 1), r
+def scaled(bigf, smallf, k, up):
     (big, _), (small, _) = read(bigf), read(smallf)
     assert len(big) == len(small) * k, "the frame is not full size"
+    sw, k2 = len(small[0]) // 3, 2 * k
     for y, row in enumerate(big):
+        a, b, s = taps(y, k, len(small))
         for x in range(len(row) // 3):
-            if row[3 * x:3 * x + 3] != small[y // k][3 * (x // k):3 * (x // k) + 3]:
+            if up == "blocks":
+                want = small[y // k][3 * (x // k):3 * (x // k) + 3]
+            else:
+                i0, i1, r = taps(x, k, sw)
+                mix = lambda line, c: (k2 - r) * line[3 * i0 + c] + r * line[3 * i1 + c]
+                want = bytes(((k2 - s) * mix(small[a], c) + s * mix(small[b], c) + k2 * k2 // 2) // (k2 * k2) for c in range(3))
+            if row[3 * x:3 * x + 3] != want:
                 return "pixel %d,%d" % (x, y)
     return None
-why = [scaled("%s/frame-%05d.png" % (sys.argv[1], f), "%s/small-%d.png" % (sys.argv[2], f), int(sys.argv[3])) for f in range(1, 7)]
+why = [scaled("%s/frame-%05d.png" % (sys.argv[1], f), "%s/small-%d.png" % (sys.argv[2], f), int(sys.argv[3]), sys.argv[4]) for f in range(1, 7)]
 if all(why):
     sys.exit("; ".join("frame %d: %s" % (f + 1, w) for f, w in enumerate(why)))
 PY
-grep -q "^pace: target 1000.0 fps, mean render scale " "$dir/scale.log" || fail "no pace line: $(tail -3 "$dir/scale.log")"
-cmp -s "$dir/sc/frame-00007.png" "$dir/still.png" || fail "the still frame after a scaled flight is not whole and refined"
+    grep -q "^pace: target 1000.0 fps, mean render scale " "$dir/scale-$up.log" || fail "no pace line: $(tail -3 "$dir/scale-$up.log")"
+    cmp -s "$dir/sc-$up/frame-00007.png" "$dir/still.png" || fail "the still frame after a scaled flight is not whole and refined"
+done
 # the same flight with the model turning: a new description every frame
 start_server turn --port 0 --width $W --height $H --path "$dir/fly.path" --path-step 0.5 --wait-clients 1 --rotate 10 \
     --out "$dir/t"
@@ -180,4 +196,4 @@ bad 'key 0 position 0 1 5 fov 200\n' 'bad.path:1:'
 bad '# nothing\n' 'no camera keys'
 "$BIN/lanray-server" --headless --path "$dir/missing.path" --port 0 2>"$dir/miss.err" && fail "the server took a missing path"
 grep -q "missing.path" "$dir/miss.err" || fail "the server's error does not name the path: $(cat "$dir/miss.err")"
-echo "path: 6 frames of a flight through 2 clients equal lanray-render's cameras on the path, and the converged one its full picture; a frame at render scale 8 is its small picture in blocks; a camera move decodes no scene and builds no tree (6 each with a turning model); bad paths named by line"
+echo "path: 6 frames of a flight through 2 clients equal lanray-render's cameras on the path, and the converged one its full picture; a frame at render scale 8 is its small picture brought up smooth (or in blocks); a camera move decodes no scene and builds no tree (6 each with a turning model); bad paths named by line"

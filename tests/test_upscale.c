@@ -1,0 +1,187 @@
+/* test_upscale.c - a frame at a render scale brought to the full size
+ * (server/upscale.c): in blocks, each full pixel is its block's pixel; smooth,
+ * each byte the exact rounded mix of its four (the vector loop's float
+ * division included), a flat frame stays flat, a ramp stays the ramp sampled at each full
+ * pixel's centre (clamped beyond the first and last centres), every pixel
+ * lies within the four it mixes, and a mirrored frame comes out mirrored
+ * (the centres are where they belong, not half a pixel off). */
+#include "helpers.h"
+
+#include <math.h>
+#include <stdlib.h>
+
+#include "upscale.h"
+
+static uint8_t *frame_of(uint32_t sw, uint32_t sh, uint32_t bpp, uint32_t seed)
+{
+    uint8_t *f = malloc((size_t)sw * sh * bpp);
+    assert_non_null(f);
+    for (size_t i = 0; i < (size_t)sw * sh * bpp; i++)
+        f[i] = (uint8_t)((i * 2654435761u + seed * 40503u) >> 13);
+    return f;
+}
+
+/* upscale_smooth of src (sw x sh at scale k) to w x h, in a fresh buffer */
+static uint8_t *smooth(const uint8_t *src, uint32_t w, uint32_t h, uint32_t k)
+{
+    uint8_t *dst = malloc((size_t)w * h * 3);
+    uint16_t *scratch = malloc(upscale_scratch(w, h, k) * sizeof *scratch);
+    assert_non_null(dst);
+    assert_non_null(scratch);
+    upscale_smooth(src, dst, w, h, k, scratch);
+    free(scratch);
+    return dst;
+}
+
+static void blocks_copy_each_pixel(void **state)
+{
+    (void)state;
+    for (uint32_t bpp = 3; bpp <= 4; bpp++)
+        for (uint32_t k = 2; k <= 8; k++) {
+            const uint32_t w = 13, h = 7, sw = (w + k - 1) / k, sh = (h + k - 1) / k;
+            uint8_t *src = frame_of(sw, sh, bpp, k), *dst = malloc((size_t)w * h * bpp);
+            assert_non_null(dst);
+            upscale_blocks(src, dst, w, h, bpp, k);
+            for (uint32_t y = 0; y < h; y++)
+                for (uint32_t x = 0; x < w; x++)
+                    assert_memory_equal(dst + ((size_t)y * w + x) * bpp, src + ((size_t)(y / k) * sw + x / k) * bpp, bpp);
+            free(src), free(dst);
+        }
+}
+
+/* Every byte the exact rounded mix, (sum of weights x pixels + sum / 2) /
+ * sum in integers, on sizes whose lines end in the vector loop's tail. */
+static void smooth_is_the_rounded_mix(void **state)
+{
+    (void)state;
+    for (uint32_t k = 2; k <= 8; k++) {
+        const uint32_t w = 41 + k, h = 17, sw = (w + k - 1) / k, sh = (h + k - 1) / k, k2 = 2 * k;
+        uint8_t *src = frame_of(sw, sh, 3, 7 * k), *dst = smooth(src, w, h, k);
+        for (uint32_t y = 0; y < h; y++)
+            for (uint32_t x = 0; x < w; x++) {
+                /* the taps as upscale.c's header says: floor((2x + 1 - k) / 2k) */
+                const int u = (int)(2 * x + 1) - (int)k, v = (int)(2 * y + 1) - (int)k;
+                const int i = (int)floor((double)u / k2), j = (int)floor((double)v / k2);
+                const int r = u - i * (int)k2, q = v - j * (int)k2;
+                const int i0 = i < 0 ? 0 : i, i1 = i + 1 >= (int)sw ? (int)sw - 1 : i + 1;
+                const int j0 = j < 0 ? 0 : j, j1 = j + 1 >= (int)sh ? (int)sh - 1 : j + 1;
+                for (int c = 0; c < 3; c++) {
+#define PX(a, b) (int)src[3 * ((size_t)(b) * sw + (size_t)(a)) + (size_t)c]
+                    const int top = ((int)k2 - r) * PX(i0, j0) + r * PX(i1, j0);
+                    const int bottom = ((int)k2 - r) * PX(i0, j1) + r * PX(i1, j1);
+#undef PX
+                    const int sum = (int)(k2 * k2), want = (((int)k2 - q) * top + q * bottom + sum / 2) / sum;
+                    assert_int_equal(dst[3 * ((size_t)y * w + x) + (size_t)c], want);
+                }
+            }
+        free(src), free(dst);
+    }
+}
+
+static void smooth_keeps_a_flat_frame(void **state)
+{
+    (void)state;
+    for (uint32_t k = 2; k <= 8; k++) {
+        const uint32_t w = 21, h = 11, sw = (w + k - 1) / k, sh = (h + k - 1) / k;
+        uint8_t *src = malloc((size_t)sw * sh * 3);
+        assert_non_null(src);
+        for (size_t i = 0; i < (size_t)sw * sh; i++)
+            src[3 * i] = 255, src[3 * i + 1] = 7, src[3 * i + 2] = 128;
+        uint8_t *dst = smooth(src, w, h, k);
+        for (size_t i = 0; i < (size_t)w * h; i++) {
+            assert_int_equal(dst[3 * i], 255);
+            assert_int_equal(dst[3 * i + 1], 7);
+            assert_int_equal(dst[3 * i + 2], 128);
+        }
+        free(src), free(dst);
+    }
+}
+
+/* A ramp across (or down) the frame: each full pixel is the ramp at its
+ * centre's place among the frame's centres, (x + 1/2) / k - 1/2, held at
+ * the ends, within the rounding to a byte. */
+static void smooth_follows_a_ramp(void **state)
+{
+    (void)state;
+    for (int down = 0; down <= 1; down++)
+        for (uint32_t k = 2; k <= 8; k++) {
+            const uint32_t w = down ? 5 : 8 * k + 3, h = down ? 8 * k + 3 : 5;
+            const uint32_t sw = (w + k - 1) / k, sh = (h + k - 1) / k, n = down ? sh : sw;
+            uint8_t *src = malloc((size_t)sw * sh * 3);
+            assert_non_null(src);
+            for (uint32_t j = 0; j < sh; j++)
+                for (uint32_t i = 0; i < sw; i++)
+                    for (int c = 0; c < 3; c++)
+                        src[3 * ((size_t)j * sw + i) + c] = (uint8_t)(10 + (c + 1) * 9 * (down ? j : i));
+            uint8_t *dst = smooth(src, w, h, k);
+            for (uint32_t y = 0; y < h; y++)
+                for (uint32_t x = 0; x < w; x++) {
+                    double u = ((down ? y : x) + 0.5) / k - 0.5;
+                    u = u < 0 ? 0 : u > n - 1 ? n - 1 : u;
+                    for (int c = 0; c < 3; c++) {
+                        const double want = 10 + (c + 1) * 9 * u;
+                        assert_true(fabs(dst[3 * ((size_t)y * w + x) + c] - want) <= 0.5 + 1e-9);
+                    }
+                }
+            free(src), free(dst);
+        }
+}
+
+static void smooth_stays_within_its_taps(void **state)
+{
+    (void)state;
+    for (uint32_t k = 2; k <= 8; k++) {
+        const uint32_t w = 37, h = 29, sw = (w + k - 1) / k, sh = (h + k - 1) / k;
+        uint8_t *src = frame_of(sw, sh, 3, k), *dst = smooth(src, w, h, k);
+        for (uint32_t y = 0; y < h; y++)
+            for (uint32_t x = 0; x < w; x++) {
+                /* the frame pixels whose centres surround this one's */
+                const double u = (x + 0.5) / k - 0.5, v = (y + 0.5) / k - 0.5;
+                int i0 = (int)floor(u), j0 = (int)floor(v);
+                for (int c = 0; c < 3; c++) {
+                    int lo = 255, hi = 0;
+                    for (int j = j0; j <= j0 + 1; j++)
+                        for (int i = i0; i <= i0 + 1; i++) {
+                            const int ci = i < 0 ? 0 : i >= (int)sw ? (int)sw - 1 : i;
+                            const int cj = j < 0 ? 0 : j >= (int)sh ? (int)sh - 1 : j;
+                            const int p = src[3 * ((size_t)cj * sw + (size_t)ci) + (size_t)c];
+                            lo = p < lo ? p : lo, hi = p > hi ? p : hi;
+                        }
+                    const int got = dst[3 * ((size_t)y * w + x) + (size_t)c];
+                    assert_true(got >= lo && got <= hi);
+                }
+            }
+        free(src), free(dst);
+    }
+}
+
+static void smooth_mirrors_a_mirrored_frame(void **state)
+{
+    (void)state;
+    for (uint32_t k = 2; k <= 8; k++) {
+        const uint32_t sw = 9, sh = 6, w = sw * k, h = sh * k;
+        uint8_t *src = frame_of(sw, sh, 3, 3 * k), *mir = malloc((size_t)sw * sh * 3);
+        assert_non_null(mir);
+        for (uint32_t j = 0; j < sh; j++)
+            for (uint32_t i = 0; i < sw; i++)
+                memcpy(mir + 3 * ((size_t)(sh - 1 - j) * sw + (sw - 1 - i)), src + 3 * ((size_t)j * sw + i), 3);
+        uint8_t *a = smooth(src, w, h, k), *b = smooth(mir, w, h, k);
+        for (uint32_t y = 0; y < h; y++)
+            for (uint32_t x = 0; x < w; x++)
+                assert_memory_equal(a + 3 * ((size_t)y * w + x), b + 3 * ((size_t)(h - 1 - y) * w + (w - 1 - x)), 3);
+        free(src), free(mir), free(a), free(b);
+    }
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(blocks_copy_each_pixel),
+        cmocka_unit_test(smooth_is_the_rounded_mix),
+        cmocka_unit_test(smooth_keeps_a_flat_frame),
+        cmocka_unit_test(smooth_follows_a_ramp),
+        cmocka_unit_test(smooth_stays_within_its_taps),
+        cmocka_unit_test(smooth_mirrors_a_mirrored_frame),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
