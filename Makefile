@@ -168,7 +168,7 @@ $(BUILD)/tests/%: $(BUILD)/tests/%.o $(LIB)
 	$(CC) $(LDFLAGS) -o $@ $(LINK_INPUTS) -lcmocka $(LDLIBS)
 # the tests of the server's scheduler and measurements, and the packet
 # handlers' fuzz harnesses, link the archive they test
-$(BUILD)/tests/test_sched $(BUILD)/tests/test_measure $(BUILD)/tests/test_pace $(BUILD)/tests/test_upscale $(BUILD)/tests/test_controls $(BUILD)/fuzz/replay_server: $(SERVER_LIB)
+$(BUILD)/tests/test_sched $(BUILD)/tests/test_measure $(BUILD)/tests/test_pace $(BUILD)/tests/test_upscale $(BUILD)/tests/test_framewriter $(BUILD)/tests/test_controls $(BUILD)/fuzz/replay_server: $(SERVER_LIB)
 $(BUILD)/fuzz/replay_client: $(CLIENT_LIB)
 
 # docs/scene.md's tables of keys, printed from the field tables that the
@@ -190,11 +190,13 @@ check-asan: deps
 	@$(MAKE) --no-print-directory test-run SAN=asan
 
 # ThreadSanitizer on what runs threads: the render pool (render, wire and
-# stability tests render with it), the builders' workers (bvh), and the
-# client's render thread against the server (the integration test)
+# stability tests render with it), the builders' workers (bvh), the
+# server's frame writer, and the client's render thread against the server
+# (the integration test, whose server writes its frames on the writer's thread)
 check-tsan: deps
-	@$(MAKE) --no-print-directory $(PARALLEL) SAN=tsan build/float-tsan/tests/test_render build/float-tsan/tests/test_wire build/float-tsan/tests/test_bvh $(subst bin/,bin/tsan/,$(TOOLS))
+	@$(MAKE) --no-print-directory $(PARALLEL) SAN=tsan build/float-tsan/tests/test_render build/float-tsan/tests/test_wire build/float-tsan/tests/test_bvh build/float-tsan/tests/test_framewriter $(subst bin/,bin/tsan/,$(TOOLS))
 	@TSAN_OPTIONS="halt_on_error=1" build/float-tsan/tests/test_bvh
+	@TSAN_OPTIONS="halt_on_error=1" build/float-tsan/tests/test_framewriter
 	@TSAN_OPTIONS="halt_on_error=1" build/float-tsan/tests/test_render
 	@TSAN_OPTIONS="halt_on_error=1" build/float-tsan/tests/test_wire
 	@rm -f build/float-tsan/report.*

@@ -15,6 +15,7 @@
 
 #include "app/cli.h"
 #include "display.h"
+#include "framewriter.h"
 #include "image/image.h"
 #include "base/log.h"
 #include "base/opt.h"
@@ -65,6 +66,7 @@ typedef struct {
     uint8_t *verify;
     uint64_t wrong_frames, wrong_pixels;
     uint64_t write_failures;
+    FrameWriter *writer;   /* headless: the frames written on a thread of their own (NULL: here) */
     /* --path: the camera flies it; the frames from the first to the one at its end */
     CameraPath path;
     uint32_t path_final;   /* the frame that shows the path's end (0: not set yet) */
@@ -111,14 +113,38 @@ static void verify_frame(App *a, uint32_t frame, const uint8_t *pixels)
     }
 }
 
-/* Writes a frame under its name: .hdr where the frames are high dynamic range. */
-static int write_frame(const App *a, const char *stem, uint32_t n, const uint8_t *pixels, Err *err, char *path,
-                       size_t size)
+/* A frame's name (.hdr where the frames are high dynamic range) and what
+ * its values are. */
+static ImageEncoding frame_name(const App *a, const char *stem, uint32_t n, char *path, size_t size)
 {
     const RenderSettings *rs = &a->scene->settings;
     snprintf(path, size, "%s-%05u.%s", stem, n, rs->hdr ? "hdr" : "png");
-    ImageEncoding enc = rs->hdr ? IMAGE_RGBE : rs->linear ? IMAGE_LINEAR : IMAGE_SRGB;
-    return image_write(path, a->width, a->height, pixels, enc, err);
+    return rs->hdr ? IMAGE_RGBE : rs->linear ? IMAGE_LINEAR : IMAGE_SRGB;
+}
+
+/* Writes a frame under its name, now. */
+static int write_frame(const App *a, const char *stem, uint32_t n, const uint8_t *pixels, Err *err, char *path,
+                       size_t size)
+{
+    return image_write(path, a->width, a->height, pixels, frame_name(a, stem, n, path, size), err);
+}
+
+/* A headless frame to its file: queued for the writer's thread, or
+ * written here where there is none; failures said and counted. */
+static void save_frame(App *a, const uint8_t *pixels)
+{
+    char stem[4096], path[FRAMEWRITER_PATH];
+    Err err;
+    snprintf(stem, sizeof stem, "%s/frame", a->out_dir);
+    int failed;
+    if (a->writer)
+        failed = framewriter_put(a->writer, path, pixels, frame_name(a, stem, a->frames_done, path, sizeof path), &err);
+    else
+        failed = write_frame(a, stem, a->frames_done, pixels, &err, path, sizeof path) != 0;
+    if (failed) {
+        fprintf(stderr, "lanray-server: %s%s\n", err.msg, failed > 1 ? " (and more frames)" : "");
+        a->write_failures += (uint64_t)failed;
+    }
 }
 
 /* --target-fps: a moving frame's time (from the frame before's end) sets
@@ -157,12 +183,7 @@ static void on_frame(void *ctx, uint32_t frame, const uint8_t *pixels)
             a->screenshot = 0;
         }
     } else if (a->out_dir) {
-        char stem[4096], path[4200];
-        snprintf(stem, sizeof stem, "%s/frame", a->out_dir);
-        if (write_frame(a, stem, a->frames_done, pixels, &err, path, sizeof path)) {
-            fprintf(stderr, "lanray-server: %s\n", err.msg);
-            a->write_failures++;
-        }
+        save_frame(a, pixels);
     }
     if (a->path.count && a->frames_done == 1)
         a->path_t0 = timer_now();
@@ -432,6 +453,7 @@ static void app_close(App *a)
 {
     mdns_withdraw(a->mdns);
     server_destroy(a->server);
+    framewriter_destroy(a->writer);
     free(a->verify);
     free(a->view);
     display_close(a->display);
@@ -543,6 +565,12 @@ static int open_outputs(App *app, Args *a, Err *err)
         fprintf(stderr, "lanray-server: %s\n", err->msg);
         return 1;
     }
+    /* frames written beside the loop, two queued (a frame over 64 MB is
+     * written in it: two more copies would be too many) */
+    const size_t frame_bytes = (size_t)cfg->width * (size_t)cfg->height * render_pixel_bytes(&app->scene->settings);
+    if (a->headless && !a->discard && frame_bytes <= ((size_t)64 << 20) &&
+        !(app->writer = framewriter_create(cfg->width, cfg->height, (int)render_pixel_bytes(&app->scene->settings), 2, err)))
+        fprintf(stderr, "lanray-server: frames written in the loop: %s\n", err->msg);
     if (a->scene_path && !(app->watch = watch_open(app->scene, err)))
         fprintf(stderr, "lanray-server: not following edits of %s: %s\n", a->scene_path, err->msg);
     /* the port line is what scripts wait for */
@@ -702,6 +730,12 @@ static int serve(App *app, const Args *a)
 /* The statistics and the summary, and the exit status from how it ended. */
 static int finish(App *app, const Args *a, int rc)
 {
+    Err err;
+    int failed = app->writer ? framewriter_flush(app->writer, &err) : 0;
+    if (failed) {
+        fprintf(stderr, "lanray-server: %s%s\n", err.msg, failed > 1 ? " (and more frames)" : "");
+        app->write_failures += (uint64_t)failed;
+    }
     server_print_stats(app->server);
     server_print_summary(app->server, a->machine_summary);
     if (app->path_t1 > app->path_t0 && app->path_final > 1)
