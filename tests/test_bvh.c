@@ -60,12 +60,23 @@ static void check_structure(const Model *m)
  * t, barycentrics and triangle (of equal t, the smallest index: wide.h). */
 static SimdPath tested_path; /* the path whose wide tree check_rays walks, for messages */
 
-static void check_rays(const Model *m, Rng *rng, int rays)
+/* A ray and what testing every triangle finds for it. */
+typedef struct {
+    Ray r;
+    real best, b1, b2;
+    uint32_t tri;
+} Expected;
+
+/* `rays` rays at the model and each one's brute-force answer, made once
+ * for every SIMD path's walk (the model's triangles, in its order, are the
+ * same for all: the brute force was most of this test's time). */
+static Expected *expected_rays(const Model *m, Rng *rng, int rays)
 {
     Aabb b = m->bounds;
     vec3 c = aabb_centre(b);
     real radius = v3_len(aabb_extent(b));
-    int hits = 0;
+    Expected *ex = calloc((size_t)rays, sizeof *ex);
+    assert_non_null(ex);
     for (int i = 0; i < rays; i++) {
         vec3 org = v3_add(c, v3_scale(rng_dir(rng), radius * rng_real(rng, R(0.1), R(1.5))));
         vec3 target = v3_add(c, v3_scale(rng_vec(rng, -1, 1), radius * R(0.3)));
@@ -75,26 +86,35 @@ static void check_rays(const Model *m, Rng *rng, int rays)
         }
         if (i % 7 == 3) /* and some through a vertex, shared by its neighbours */
             target = tri_vertex(&m->tris[rng_next(rng) % m->tri_count], (int)(rng_next(rng) % 3));
-        Ray r = ray_make(org, v3_sub(target, org), 0, REAL_INF);
-        real best = REAL_INF, bb1 = 0, bb2 = 0;
-        uint32_t best_tri = 0;
+        Expected *e = &ex[i];
+        e->r = ray_make(org, v3_sub(target, org), 0, REAL_INF);
+        e->best = REAL_INF;
         for (uint32_t t = 0; t < m->tri_count; t++) {
             real tt, b1, b2;
-            if (tri_solve(&r, &m->tris[t], &tt, &b1, &b2) && tt < best)
-                best = tt, best_tri = t, bb1 = b1, bb2 = b2; /* ascending t: the first of equal t stays */
+            if (tri_solve(&e->r, &m->tris[t], &tt, &b1, &b2) && tt < e->best)
+                e->best = tt, e->tri = t, e->b1 = b1, e->b2 = b2; /* ascending t: the first of equal t stays */
         }
+    }
+    return ex;
+}
+
+static void check_rays(const Model *m, const Expected *ex, int rays)
+{
+    int hits = 0;
+    for (int i = 0; i < rays; i++) {
+        const Expected *e = &ex[i];
         ModelHit h;
-        int got = model_intersect(m, &r, REAL_INF, 0, &h);
-        assert_int_equal(got, best < REAL_INF);
+        int got = model_intersect(m, &e->r, REAL_INF, 0, &h);
+        assert_int_equal(got, e->best < REAL_INF);
         if (got) {
-            if (h.t != best || h.tri != best_tri || h.b1 != bb1 || h.b2 != bb2)
+            if (h.t != e->best || h.tri != e->tri || h.b1 != e->b1 || h.b2 != e->b2)
                 fail_msg("%s: closest hit %.9g on %u, brute force %.9g on %u (ray %d)",
                          simd_name(tested_path), (double)h.t, h.tri,
-                         (double)best, best_tri, i);
+                         (double)e->best, e->tri, i);
             hits++;
         }
-        assert_int_equal(model_occluded(m, &r, REAL_INF), best < REAL_INF);
-        assert_int_equal(model_occluded(m, &r, best * R(0.999)), 0);
+        assert_int_equal(model_occluded(m, &e->r, REAL_INF), e->best < REAL_INF);
+        assert_int_equal(model_occluded(m, &e->r, e->best * R(0.999)), 0);
     }
     assert_true(hits > rays / 4); /* the rays do reach the geometry */
 }
@@ -159,6 +179,7 @@ static void check_packets(const Model *m, Rng *rng, int packets)
 
 static void check_against_brute_force(Model *m, Rng *rng, int rays)
 {
+    Expected *ex = expected_rays(m, rng, rays);
     Rng start = *rng;
     for (int p = 0; p < SIMD_PATH_COUNT; p++) {
         if (!simd_available((SimdPath)p))
@@ -168,13 +189,14 @@ static void check_against_brute_force(Model *m, Rng *rng, int rays)
             fail_msg("wide bvh: %s", err.msg);
         if (p != SIMD_SCALAR && WIDE_COMPILED)
             assert_non_null(m->wide);
-        *rng = start; /* every path sees the same rays */
+        *rng = start; /* every path sees the same packets */
         tested_path = (SimdPath)p;
-        check_rays(m, rng, rays);
+        check_rays(m, ex, rays);
         check_packets(m, rng, rays / 4);
         wide_destroy(m->wide);
         m->wide = NULL;
     }
+    free(ex);
 }
 
 static void each_builder(Mesh *mesh, Rng *rng, int rays)

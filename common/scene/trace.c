@@ -284,19 +284,10 @@ int trace_closest(const World *w, const Ray *r, Hit *hit)
     return closest_of(w, r, hit, 0, NULL);
 }
 
+/* (a world of one model goes to its pairs' walk in trace_closest_each,
+ * lone_closest, before it gets here) */
 uint32_t trace_closest_pair(const World *w, const Ray *a, const Ray *b, Hit *ha, Hit *hb)
 {
-    const Model *lone = lone_of(w);
-    if (lone && lone->wide) { /* trace_closest's shortcut, by pairs */
-        const Ray *pr[2] = {a, b};
-        const real tmax[2] = {a->tmax, b->tmax};
-        const uint32_t tie[2] = {0, 0};
-        ModelHit mh[2];
-        const uint32_t got = lone->wide->closest_pairs(lone->wide, pr, 2, tmax, tie, mh);
-        lone_hit(ha, got & 1, &mh[0], tmax[0]);
-        lone_hit(hb, got >> 1 & 1, &mh[1], tmax[1]);
-        return got;
-    }
 #if BVH4_COMPILED
     const Bvh4 *t4 = top4(w);
     if (t4 && !w->lone_model) { /* closest_of, by pairs */

@@ -199,18 +199,15 @@ grep -q "^6 frames in [0-9.]* s: [0-9.]* fps with up to 2 clients, 1 at the end,
     fail "summary after a client was killed: $(cat "$dir/gone.log")"
 
 # 9. progress: on a terminal only, off with --quiet; the headless server says at most a line a second
-# (each render must outlast the second before a progress line: the default
-# scene at 1024x768, 2x2 samples, one thread took about 2.3 s, then 1.0 s
-# when its lamp's points got cheaper (2026-11-27): 3x3 samples, about 2.2 s;
-# under the sanitizers 400x300 took 2.3 s, then 1.0 s on a faster machine:
-# 560x420)
-W=1024 H=768
-[ $sanitized = 1 ] && W=560 H=420
-out=$(python3 tests/tools/ptyrun.py "$BIN/lanray-render" --width $W --height $H --aa 3 --threads 1 -o "$dir/p.png")
-grep -q "lanray-render: [0-9]* of $H lines ([0-9]*%), [0-9.]* Mrays/s, .* left" <<<"$out" || fail "no progress on a terminal: $out"
-out=$(python3 tests/tools/ptyrun.py "$BIN/lanray-render" --width $W --height $H --aa 3 --threads 1 --quiet -o "$dir/p.png")
+# (a render of the default scene long on any machine, 1024x768 at 4x4
+# samples on one thread: the first progress line comes after a second,
+# and the render is stopped there, or after 2.5 s where none may come)
+render=("$BIN/lanray-render" --width 1024 --height 768 --aa 4 --threads 1 -o "$dir/p.png")
+out=$(python3 tests/tools/ptyrun.py --for 60 --until "Mrays/s, .* left" "${render[@]}")
+grep -q "lanray-render: [0-9]* of 768 lines ([0-9]*%), [0-9.]* Mrays/s, .* left" <<<"$out" || fail "no progress on a terminal: $out"
+out=$(python3 tests/tools/ptyrun.py --for 2.5 "${render[@]}" --quiet)
 grep -q " lines (" <<<"$out" && fail "progress despite --quiet"
-out=$("$BIN/lanray-render" --width $W --height $H --aa 3 --threads 1 -o "$dir/p.png" 2>&1)
+out=$(timeout 2.5 "${render[@]}" 2>&1)
 grep -q " lines (" <<<"$out" && fail "progress on a pipe"
 python3 -c "
 import math
@@ -224,7 +221,7 @@ with open('$dir/grid.obj', 'w') as f:
             a = j * (n + 1) + i + 1
             f.write('f %d %d %d %d\n' % (a, a + 1, a + n + 2, a + n + 1))
 "
-out=$(python3 tests/tools/ptyrun.py "$BIN/obj2tmd" --bvh mst "$dir/grid.obj" "$dir/grid.tmd")
+out=$(python3 tests/tools/ptyrun.py --for 120 --until "grid.obj \([0-9]+ s\)" "$BIN/obj2tmd" --bvh mst "$dir/grid.obj" "$dir/grid.tmd")
 grep -q "obj2tmd: building the MST tree of .*grid.obj ([0-9]* s)" <<<"$out" || fail "no obj2tmd progress: $out"
 start_server status --port 0 --width 32 --height 24 --out "$dir/st"
 "$BIN/lanray-client" "127.0.0.1:$port" --threads 1 --quiet 2>/dev/null & pids+=($!)
