@@ -4,7 +4,9 @@
 # Renders the default scene, models/example.scene and SEEDS (60) random
 # scenes of tests/tools/randscene.py with lanray-render from two builds'
 # bin folders (an earlier commit's, this one's: AFTER_BIN, default bin),
-# on every SIMD path this CPU has, and compares the PNGs byte for byte.
+# on every SIMD path this CPU has, and compares the pixels byte for byte
+# (as binary PPM: a PNG's bytes follow its encoder's settings too, which
+# changed on 2026-11-28).
 # (That a served frame equals lanray-render's is tests/cli/randscene.sh.)
 # Exits 1 naming each scene and path that differs.
 set -u
@@ -42,11 +44,11 @@ for scene in "${scenes[@]}"; do
             b=${!side} q=$p
             [ $side = before ] && q=${before_path[$p]}
             scene_of_side=${scene/$dir\/after/$dir\/$side}
-            "$b/lanray-render" $scene_of_side --simd "$q" --width "$W" --height "$H" --threads 2 -o "$dir/$side.png" \
+            "$b/lanray-render" $scene_of_side --simd "$q" --width "$W" --height "$H" --threads 2 -o "$dir/$side.ppm" \
                 --quiet >/dev/null 2>&1 || { echo "samepixels: ${scene:-default} ($p): $b/lanray-render failed"; bad=$((bad + 1)); }
         done
         n=$((n + 1))
-        cmp -s "$dir/before.png" "$dir/after.png" ||
+        cmp -s "$dir/before.ppm" "$dir/after.ppm" ||
             { echo "samepixels: ${scene:-default scene} ($p): the pictures differ"; bad=$((bad + 1)); }
     done
 done
