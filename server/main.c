@@ -129,6 +129,15 @@ static int write_frame(const App *a, const char *stem, uint32_t n, const uint8_t
     return image_write(path, a->width, a->height, pixels, frame_name(a, stem, n, path, size), err);
 }
 
+/* `failed` frames that could not be written, the first said in err. */
+static void count_write_failures(App *a, int failed, const Err *err)
+{
+    if (failed) {
+        fprintf(stderr, "lanray-server: %s%s\n", err->msg, failed > 1 ? " (and more frames)" : "");
+        a->write_failures += (uint64_t)failed;
+    }
+}
+
 /* A headless frame to its file: queued for the writer's thread, or
  * written here where there is none; failures said and counted. */
 static void save_frame(App *a, const uint8_t *pixels)
@@ -141,10 +150,7 @@ static void save_frame(App *a, const uint8_t *pixels)
         failed = framewriter_put(a->writer, path, pixels, frame_name(a, stem, a->frames_done, path, sizeof path), &err);
     else
         failed = write_frame(a, stem, a->frames_done, pixels, &err, path, sizeof path) != 0;
-    if (failed) {
-        fprintf(stderr, "lanray-server: %s%s\n", err.msg, failed > 1 ? " (and more frames)" : "");
-        a->write_failures += (uint64_t)failed;
-    }
+    count_write_failures(a, failed, &err);
 }
 
 /* --target-fps: a moving frame's time (from the frame before's end) sets
@@ -567,9 +573,9 @@ static int open_outputs(App *app, Args *a, Err *err)
     }
     /* frames written beside the loop, two queued (a frame over 64 MB is
      * written in it: two more copies would be too many) */
-    const size_t frame_bytes = (size_t)cfg->width * (size_t)cfg->height * render_pixel_bytes(&app->scene->settings);
-    if (a->headless && !a->discard && frame_bytes <= ((size_t)64 << 20) &&
-        !(app->writer = framewriter_create(cfg->width, cfg->height, (int)render_pixel_bytes(&app->scene->settings), 2, err)))
+    const int bpp = (int)render_pixel_bytes(&app->scene->settings);
+    if (a->headless && !a->discard && (size_t)cfg->width * (size_t)cfg->height * (size_t)bpp <= ((size_t)64 << 20) &&
+        !(app->writer = framewriter_create(cfg->width, cfg->height, bpp, 2, err)))
         fprintf(stderr, "lanray-server: frames written in the loop: %s\n", err->msg);
     if (a->scene_path && !(app->watch = watch_open(app->scene, err)))
         fprintf(stderr, "lanray-server: not following edits of %s: %s\n", a->scene_path, err->msg);
@@ -731,11 +737,7 @@ static int serve(App *app, const Args *a)
 static int finish(App *app, const Args *a, int rc)
 {
     Err err;
-    int failed = app->writer ? framewriter_flush(app->writer, &err) : 0;
-    if (failed) {
-        fprintf(stderr, "lanray-server: %s%s\n", err.msg, failed > 1 ? " (and more frames)" : "");
-        app->write_failures += (uint64_t)failed;
-    }
+    count_write_failures(app, app->writer ? framewriter_flush(app->writer, &err) : 0, &err);
     server_print_stats(app->server);
     server_print_summary(app->server, a->machine_summary);
     if (app->path_t1 > app->path_t0 && app->path_final > 1)

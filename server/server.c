@@ -284,9 +284,10 @@ static const uint8_t *scaled_up(Server *s, const uint8_t *pixels, int scale)
     if (scale == 1)
         return pixels;
     const uint32_t w = (uint32_t)s->cfg.width, h = (uint32_t)s->cfg.height, k = (uint32_t)scale;
-    if (s->cfg.upscale == UPSCALE_SMOOTH && s->bpp == 3 && !s->upscale_scratch)
+    const int smooth = s->cfg.upscale == UPSCALE_SMOOTH && s->bpp == 3;
+    if (smooth && !s->upscale_scratch)
         s->upscale_scratch = malloc(upscale_scratch(w, h, 2) * sizeof *s->upscale_scratch); /* scale 2's is the most */
-    if (s->cfg.upscale == UPSCALE_SMOOTH && s->bpp == 3 && s->upscale_scratch)
+    if (smooth && s->upscale_scratch)
         upscale_smooth(pixels, s->shown, w, h, k, s->upscale_scratch);
     else
         upscale_blocks(pixels, s->shown, w, h, s->bpp, k);
