@@ -196,6 +196,7 @@ static void key_down(Display *d, const SDL_KeyboardEvent *k, DisplayInput *in)
     case SDLK_l: in->toggle_lights = 1; break;
     case SDLK_m: in->toggle_shading = 1; break;
     case SDLK_h: in->toggle_shadows = 1; break;
+    case SDLK_u: in->toggle_upscale = 1; break;
     default: break;
     }
 }

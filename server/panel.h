@@ -16,6 +16,7 @@ typedef struct {
     double fps, frame_s;   /* frames a second shown, the last frame's time */
     double target_fps;     /* 0: none */
     int scale;             /* the last frame's render scale (1: every pixel) */
+    int upscale_blocks;    /* frames at a scale shown in blocks, not smooth */
     int still;             /* the last frame was a still one */
     int aa, adaptive;      /* the moving frames' sampling */
     int refine, still_aa, still_adaptive;

@@ -369,6 +369,9 @@ int server_moving_lights(const Server *s)
     return s->cfg.moving_lights >= 0 ? s->cfg.moving_lights : (int)server_settings(s).light_sampling;
 }
 
+void server_set_upscale(Server *s, int upscale) { s->cfg.upscale = upscale; }
+int server_upscale(const Server *s) { return s->cfg.upscale; }
+
 /* A new description (a reload): its assets, its camera where it moved the
  * file's, its settings. */
 static int swap_scene(Server *s, Err *err)

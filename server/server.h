@@ -103,6 +103,10 @@ int server_still_lights(const Server *s);
  * config's, else the settings'). */
 void server_set_moving_lights(Server *s, int lights);
 int server_moving_lights(const Server *s);
+/* How frames at a render scale fill the window from the next one shown
+ * (UpscaleKind: the U key); server_upscale says it. */
+void server_set_upscale(Server *s, int upscale);
+int server_upscale(const Server *s);
 /* The active clients as the window's panel shows them: each one's share of
  * the last finished frame's pixels and its rate over that frame, in lines
  * of the frame's width a second.  Returns how many were written (<= max). */

@@ -6,6 +6,7 @@
 
 #include "base/timer.h"
 #include "panel.h"
+#include "upscale.h"
 
 void window_init(Window *w, Display *d, Server *s, Pace *pace, double target_fps, const Scene *scene, int width,
                  int height)
@@ -56,6 +57,8 @@ static void turn_knobs(Window *w, const DisplayInput *in)
             w->knobs.shadows = rs.shadows = !rs.shadows;
         server_set_settings(w->server, &rs);
     }
+    if (in->toggle_upscale)
+        server_set_upscale(w->server, server_upscale(w->server) == UPSCALE_SMOOTH ? UPSCALE_BLOCKS : UPSCALE_SMOOTH);
     if (in->next_still)
         next_still(w->server);
     if (in->target_up || in->target_down) {
@@ -118,7 +121,8 @@ void window_panel(Window *w, double fps, const char *error)
         ServerClientInfo clients[PANEL_MAX_CLIENTS + 56];
         const RenderSettings rs = server_settings(w->server);
         PanelInfo p = {.fps = fps, .frame_s = server_last_frame_time(w->server), .target_fps = w->target_fps,
-                       .scale = server_frame_scale(w->server), .still = server_frame_still(w->server),
+                       .scale = server_frame_scale(w->server),
+                       .upscale_blocks = server_upscale(w->server) == UPSCALE_BLOCKS, .still = server_frame_still(w->server),
                        .aa = rs.aa, .adaptive = rs.adaptive,
                        .light_adaptive = server_moving_lights(w->server) == LIGHTS_ADAPTIVE,
                        .diffuse = rs.shading == SHADE_DIFFUSE, .shadows = rs.shadows,

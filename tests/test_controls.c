@@ -117,7 +117,7 @@ static void panel_says_what_runs(void **state)
     char lines[PANEL_MAX_LINES][PANEL_LINE];
     int n = panel_lines(&p, lines);
     assert_true(has(lines, n, "14.6 fps") && has(lines, n, "68.3 ms"));
-    assert_true(has(lines, n, "target 15 fps") && has(lines, n, "render scale 1/4"));
+    assert_true(has(lines, n, "target 15 fps") && has(lines, n, "render scale 1/4 smooth [U]"));
     assert_true(has(lines, n, "moving 1x1, still adaptive 4x4"));
     assert_true(has(lines, n, "moving lights adaptive") && has(lines, n, "phong") && has(lines, n, "shadows on"));
     assert_true(has(lines, n, "segments of 8 lines") && has(lines, n, "2 clients"));
@@ -132,6 +132,9 @@ static void panel_says_what_runs(void **state)
     assert_true(has(lines, n, "10.0.0.8:4000") && !has(lines, n, "10.0.0.9:4000"));
     assert_true(has(lines, n, "2 more") && has(lines, n, "10.0%"));
     assert_true(has(lines, n, "error: e.scene:9") && has(lines, n, "target none"));
+    p.upscale_blocks = 1;
+    n = panel_lines(&p, lines);
+    assert_true(has(lines, n, "render scale 1/4 blocks [U]") && !has(lines, n, "smooth"));
     assert_false(has(lines, n, "lights to"));
     /* still frames that refine the area lights' points say how far */
     p.still_lights = 12;

@@ -4,7 +4,8 @@
 # untouched: tests/tools/xwdpanel.py), a second Tab takes it away, and M
 # (shading) changes the setting that the next frame is rendered with: the
 # window then shows lanray-render's --shading diffuse picture; a still
-# frame that refines the lights gives way to a key that changes the view.
+# frame that refines the lights gives way to a key that changes the view;
+# U shows a frame rendered at a render scale in blocks, and smooth again.
 # Keys go in through XTEST (xdotool), as a user's would.
 set -u
 BIN=${BIN:-bin}
@@ -64,4 +65,29 @@ grep -q "^lanray-server: frame [0-9]* gave way to a change$" "$dir/still.err" ||
     fail "M during a refining still frame: the frame did not give way: $(tail -3 "$dir/still.err")"
 echo "a refining still frame gave way to M: $(grep -o 'frame [0-9]* gave way' "$dir/still.err")"
 kill "$spid" 2>/dev/null
+# U: the knot turning (--rotate) at a target out of reach, every frame at
+# render scale 8, brought up smooth (the default: most 8 x 8 blocks of the
+# window hold more than one colour), then in blocks (each one colour)
+W=240 H=176
+window_server scaled --width $W --height $H --target-fps 1000 --rotate 40
+# shows UP: waits until the window's frame is brought up that way
+shows() {
+    local out=
+    for _ in $(seq 40); do
+        xwd -root -silent >"$dir/screen.xwd" 2>/dev/null
+        out=$(python3 tests/tools/xwdblocks.py "$dir/screen.xwd" "$X" "$Y" $W $H 8) && [ "$(tail -1 <<<"$out")" = "$1" ] && return 0
+        sleep 0.2
+    done
+    echo "$out"
+    return 1
+}
+eval "$(xdotool search --sync --name '^lanray' getwindowgeometry --shell %1)"
+xdotool mousemove $((X + W / 2)) $((Y + H / 2))
+out=$(shows smooth) || fail "frames at render scale 8 were not brought up smooth: $out"
+xdotool key u
+out=$(shows blocks) || fail "U: frames at render scale 8 not shown in blocks: $out"
+echo "U: frames at render scale 8 shown in blocks"
+xdotool key u
+out=$(shows smooth) || fail "U again: frames at render scale 8 not smooth again: $out"
+echo "U again: smooth"
 exit 0
