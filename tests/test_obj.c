@@ -140,6 +140,76 @@ static void smooth_normals_average_faces(void **state)
     mesh_free(&m);
 }
 
+/* Smoothing groups (s): faces of one group meet smoothly at a vertex they
+ * share, faces of two groups at a crease, faces after `s off` stay flat;
+ * --smooth smooths those together too. */
+static void smoothing_groups_share_normals(void **state)
+{
+    (void)state;
+    /* a roof: two faces folded along the edge 1-2 (normals -z and -x),
+     * and a third beyond the fold (normal +y) */
+    const char *roof = "v 0 0 0\nv 0 1 0\nv 1 0 0\nv 0 0 1\nv 0 0 -1\n"
+                       "s %s\nf 1 2 3\ns %s\nf 1 4 2\ns %s\nf 1 3 5\n";
+    char text[256];
+    Mesh m;
+    Err err;
+    ObjStats st;
+    /* one group: vertex 1's normal is shared by all three faces */
+    snprintf(text, sizeof text, roof, "1", "1", "1");
+    if (parse(text, &m, &st, &err, 0))
+        fail_msg("%s", err.msg);
+    assert_non_null(m.nrm);
+    assert_int_equal(st.smoothing, 3);
+    assert_int_equal(st.smoothed, 3);
+    const vec3 a = m.nrm[0], b = m.nrm[3], c = m.nrm[6]; /* vertex 1 in each face */
+    assert_float_equal(v3_len(a), 1, R(1e-5));
+    assert_true(v3_len(v3_sub(a, b)) < R(1e-6) && v3_len(v3_sub(a, c)) < R(1e-6));
+    mesh_free(&m);
+    /* two groups: faces 1 and 2 smooth together, face 3 apart (crease) */
+    snprintf(text, sizeof text, roof, "1", "1", "2");
+    if (parse(text, &m, &st, &err, 0))
+        fail_msg("%s", err.msg);
+    assert_true(v3_len(v3_sub(m.nrm[0], m.nrm[3])) < R(1e-6));
+    assert_float_equal(fabs(m.nrm[0].x), fabs(m.nrm[0].z), R(1e-5)); /* the mean of -z and -x */
+    assert_float_equal(m.nrm[0].y, 0, R(1e-6));
+    const vec3 n3 = v3_norm(v3_cross(v3_sub(m.pos[7], m.pos[6]), v3_sub(m.pos[8], m.pos[6])));
+    for (int k = 6; k < 9; k++) /* face 3 alone in its group: its own face normal at every corner */
+        assert_true(v3_len(v3_sub(m.nrm[k], n3)) < R(1e-6));
+    /* the fold's far corners: vertex 3 is shared by faces 1 and 3 only, of two groups */
+    assert_true(v3_len(v3_sub(m.nrm[2], m.nrm[7])) > R(0.5));
+    mesh_free(&m);
+    /* s off and s 0: flat; face 2 flat between two smooth ones */
+    snprintf(text, sizeof text, roof, "1", "off", "1");
+    if (parse(text, &m, &st, &err, 0))
+        fail_msg("%s", err.msg);
+    assert_int_equal(st.smoothed, 2);
+    const vec3 n2 = v3_norm(v3_cross(v3_sub(m.pos[4], m.pos[3]), v3_sub(m.pos[5], m.pos[3])));
+    for (int k = 3; k < 6; k++)
+        assert_true(v3_len(v3_sub(m.nrm[k], n2)) < R(1e-6));
+    assert_true(v3_len(v3_sub(m.nrm[0], m.nrm[6])) < R(1e-6)); /* faces 1 and 3 share group 1 */
+    assert_true(v3_len(v3_sub(m.nrm[0], n2)) > R(0.1));
+    mesh_free(&m);
+    /* every face flat: no normals at all; with --smooth all smooth together */
+    snprintf(text, sizeof text, roof, "off", "0", "off");
+    if (parse(text, &m, &st, &err, 0))
+        fail_msg("%s", err.msg);
+    assert_null(m.nrm);
+    assert_int_equal(st.smoothed, 0);
+    mesh_free(&m);
+    if (parse(text, &m, &st, &err, 1))
+        fail_msg("%s", err.msg);
+    assert_int_equal(st.smoothed, 3);
+    assert_true(v3_len(v3_sub(m.nrm[0], m.nrm[3])) < R(1e-6) && v3_len(v3_sub(m.nrm[0], m.nrm[6])) < R(1e-6));
+    mesh_free(&m);
+    /* a group number that is none: a warning, the faces flat */
+    snprintf(text, sizeof text, roof, "1", "x", "1");
+    if (parse(text, &m, &st, &err, 0))
+        fail_msg("%s", err.msg);
+    assert_int_equal(st.warnings, 1);
+    assert_int_equal(st.smoothed, 2);
+    mesh_free(&m);
+}
+
 static void expect_error(const char *text, const char *what)
 {
     Mesh m;
@@ -283,7 +353,9 @@ static void exporters_habits_convert_with_warnings(void **state)
     /* what a triangle renderer cannot use: skipped, counted by kind, one warning per kind */
     read_file("skipped.obj", &m, &st, &h, 0, 0);
     assert_int_equal(m.tri_count, 1);
-    assert_int_equal(st.skipped[OBJ_SKIP_SMOOTHING], 2);
+    assert_int_equal(st.smoothing, 2); /* s 1, s off: read, not skipped; the face after them flat */
+    assert_int_equal(st.smoothed, 0);
+    assert_null(m.nrm);
     assert_int_equal(st.skipped[OBJ_SKIP_LINE], 1);
     assert_int_equal(st.skipped[OBJ_SKIP_POINT], 1);
     assert_int_equal(st.skipped[OBJ_SKIP_FREEFORM], 5);
@@ -291,7 +363,7 @@ static void exporters_habits_convert_with_warnings(void **state)
     assert_int_equal(st.skipped[OBJ_SKIP_LOD], 1);
     assert_int_equal(st.skipped[OBJ_SKIP_DISPLAY], 1);
     assert_int_equal(st.skipped[OBJ_SKIP_UNKNOWN], 1);
-    assert_int_equal(h.lines, 8);
+    assert_int_equal(h.lines, 7);
     mesh_free(&m);
 }
 
@@ -465,7 +537,7 @@ static void wrong_data_stays_an_error(void **state)
     read_file("undefined-usemtl.obj", &m, &st, &h, 1, -1);
     assert_non_null(strstr(h.last, "undefined-usemtl.obj:6: material 'Default'"));
     read_file("skipped.obj", &m, &st, &h, 1, -1);
-    assert_non_null(strstr(h.last, "skipped.obj:5: 's' skipped"));
+    assert_non_null(strstr(h.last, "skipped.obj:7: 'l' skipped"));
     read_file("habits.obj", &m, &st, &h, 1, 0); /* nothing to warn about */
     mesh_free(&m);
     read_file("colours.obj", &m, &st, &h, 1, 0); /* kept colours are no warning */
@@ -486,6 +558,7 @@ int main(void)
         cmocka_unit_test(materials_from_mtllib),
         cmocka_unit_test(material_extras_are_kept_and_mapped),
         cmocka_unit_test(smooth_normals_average_faces),
+        cmocka_unit_test(smoothing_groups_share_normals),
         cmocka_unit_test(malformed_input_names_file_and_line),
     };
     return cmocka_run_group_tests_name("obj", tests, NULL, NULL);

@@ -79,7 +79,7 @@ static int parse_args(Args *a, int argc, char **argv)
          .help = "SBT split axis: the box's longest, or x, y, z in turn"},
         {.name = "--threads", .kind = OPT_INT, .dst = &a->threads, .arg = "T", .lo = 0, .hi = 64,
          .help = "builder threads, 0 = one per core (the tree is the same for any number)", .def = "0: all cores"},
-        {.name = "--smooth", .kind = OPT_FLAG, .dst = &a->smooth, .help = "compute smooth vertex normals where the OBJ has none"},
+        {.name = "--smooth", .kind = OPT_FLAG, .dst = &a->smooth, .help = "smooth the faces outside any smoothing group (s) where the OBJ has no normals; faces in a group are smoothed by it anyway"},
         {.name = "--strict", .kind = OPT_FLAG, .dst = &a->strict,
          .help = "make every warning an error (an undefined material, a missing library, skipped elements, ...)"},
         {.name = "--quiet", .kind = OPT_FLAG, .dst = &a->quiet, .help = "print errors only: no summary, no progress"},
@@ -181,6 +181,9 @@ static void print_summary(const Args *a, const Model *model, const ObjStats *st,
                "files found by name %lu%s\n",
                st->warnings, st->undefined_mtl, st->missing_mtllib, st->missing_textures, st->found_elsewhere,
                st->colours_ignored ? ", vertex colours ignored" : "");
+    if (st->smoothed)
+        printf("  smooth normals: %lu triangles (%s)\n", st->smoothed,
+               st->smoothing ? "by smoothing group, s" : "--smooth");
     if (st->optics_mtl)
         printf("  materials with reflection, glass, transparency or emission (illum, Ni, d, Ke): %lu\n", st->optics_mtl);
     if (st->coloured)

@@ -12,6 +12,7 @@
 #include "base/fileio.h"
 #include "base/lex.h"
 #include "model/mtl.h"
+#include "model/smooth.h"
 #include "base/textenc.h"
 
 #define OBJ_MAX_BYTES ((size_t)1 << 31)
@@ -19,8 +20,10 @@
 
 typedef struct {
     int32_t p[3], t[3], n[3];
-    int32_t mat; /* index into Obj.used while parsing, into Obj.lib after obj_resolve; -1: none */
+    int32_t mat;    /* index into Obj.used while parsing, into Obj.lib after obj_resolve; -1: none */
+    uint32_t group; /* its smoothing group (s); 0: none (flat) */
 } ObjTri;
+_Static_assert(sizeof(ObjTri) % sizeof(int32_t) == 0, "smooth_normals walks ObjTri in 32-bit words");
 
 /* A material name a usemtl gave, resolved once the whole file is read: a
  * library may come after the faces that use its materials. */
@@ -67,7 +70,7 @@ static int resolve(long idx, uint32_t count, int32_t *out)
 }
 
 static const char *const skip_names[OBJ_SKIP_KINDS] = {
-    "lines (l)", "points (p)", "free-form curves and surfaces", "smoothing groups (s)", "merging groups (mg)",
+    "lines (l)", "points (p)", "free-form curves and surfaces", "merging groups (mg)",
     "level of detail (lod)", "display attributes", "unknown statements",
 };
 
@@ -84,8 +87,6 @@ static ObjSkip skip_kind(const char *k)
         return OBJ_SKIP_LINE;
     if (strcmp(k, "p") == 0)
         return OBJ_SKIP_POINT;
-    if (strcmp(k, "s") == 0)
-        return OBJ_SKIP_SMOOTHING;
     if (strcmp(k, "mg") == 0)
         return OBJ_SKIP_MERGING;
     if (strcmp(k, "lod") == 0)
@@ -322,10 +323,12 @@ static int obj_resolve(Obj *o, Warner *w)
 /* Builds the Mesh from the indexed triangles, keeping only used attributes. */
 static int obj_assemble(Obj *o, const ObjOptions *opt, Mesh *out, ObjStats *st, const char *name, Err *err)
 {
-    int has_n = opt && opt->smooth, has_t = 0, has_m = 0;
+    int has_n = opt && opt->smooth, has_t = 0, has_m = 0, grouped = 0;
     for (uint32_t i = 0; i < o->ntri; i++) {
         const ObjTri *t = &o->tris[i];
-        has_n |= t->n[0] >= 0 && t->n[1] >= 0 && t->n[2] >= 0;
+        const int file_n = t->n[0] >= 0 && t->n[1] >= 0 && t->n[2] >= 0;
+        has_n |= file_n;
+        grouped |= !file_n && t->group != 0;
         has_t |= t->t[0] >= 0 && t->t[1] >= 0 && t->t[2] >= 0;
         has_m |= t->mat >= 0;
     }
@@ -344,20 +347,16 @@ static int obj_assemble(Obj *o, const ObjOptions *opt, Mesh *out, ObjStats *st, 
                 remap[k] = (int32_t)nmat++;
         }
     }
+    /* smooth normals where the file has none: by smoothing group, and
+     * with --smooth the faces outside any group together */
+    has_n |= grouped;
     vec3 *smooth = NULL;
-    if (opt && opt->smooth) {
-        smooth = calloc(o->nv ? o->nv : 1, sizeof *smooth);
-        if (!smooth) {
-            free(remap);
-            return err_set(err, "%s: out of memory", name);
-        }
-        for (uint32_t i = 0; i < o->ntri; i++) {
-            const ObjTri *t = &o->tris[i];
-            vec3 a = o->v[t->p[0]], b = o->v[t->p[1]], c = o->v[t->p[2]];
-            vec3 fn = v3_cross(v3_sub(b, a), v3_sub(c, a)); /* length = 2*area: area weighting */
-            for (int k = 0; k < 3; k++)
-                smooth[t->p[k]] = v3_add(smooth[t->p[k]], fn);
-        }
+    uint32_t *smooth_of = NULL;
+    const SmoothInput sin = {o->v, o->nv, o->tris ? o->tris[0].p : NULL, o->tris ? &o->tris[0].group : NULL,
+                             sizeof(ObjTri) / sizeof(int32_t), o->ntri, opt && opt->smooth};
+    if ((grouped || sin.group0) && smooth_normals(&sin, &smooth_of, &smooth, err)) {
+        free(remap);
+        return err_prefix(err, "%s", name);
     }
     /* vertex colours: the diffuse colour of a model without materials of its own */
     Warner w = {opt, st, name, err};
@@ -406,8 +405,11 @@ static int obj_assemble(Obj *o, const ObjOptions *opt, Mesh *out, ObjStats *st, 
         }
         vec3 fn = v3_norm(v3_cross(v3_sub(p[1], p[0]), v3_sub(p[2], p[0])));
         int file_n = t->n[0] >= 0 && t->n[1] >= 0 && t->n[2] >= 0;
+        if (!file_n && smooth_of && smooth_of[3 * i] != SMOOTH_FLAT)
+            st->smoothed++;
         for (int k = 0; k < 3; k++) {
-            n[k] = file_n ? v3_norm(o->vn[t->n[k]]) : (smooth ? v3_norm(smooth[t->p[k]]) : fn);
+            const uint32_t sk = smooth_of ? smooth_of[3 * i + (uint32_t)k] : SMOOTH_FLAT;
+            n[k] = file_n ? v3_norm(o->vn[t->n[k]]) : (sk != SMOOTH_FLAT ? v3_norm(smooth[sk]) : fn);
             if (!(v3_dot(n[k], n[k]) > R(0.5)))
                 n[k] = fn; /* a zero normal in the file or a cancelling fan */
             if (t->t[k] >= 0) {
@@ -425,6 +427,7 @@ static int obj_assemble(Obj *o, const ObjOptions *opt, Mesh *out, ObjStats *st, 
     }
     free(remap);
     free(smooth);
+    free(smooth_of);
     if (rc == 0)
         st->triangles = out->tri_count;
     else
@@ -515,7 +518,7 @@ typedef struct {
 
 /* A face's corners after the 'f' (any number of them: split without the
  * token limit), fanned into triangles of material mat. */
-static int parse_face(Obj *o, char *p, int32_t mat, ObjStats *st, const Where *at)
+static int parse_face(Obj *o, char *p, int32_t mat, uint32_t group, ObjStats *st, const Where *at)
 {
     uint32_t nc = 0;
     for (;;) {
@@ -554,6 +557,7 @@ static int parse_face(Obj *o, char *p, int32_t mat, ObjStats *st, const Where *a
             tr->n[j] = o->corner[idx[j]][2];
         }
         tr->mat = mat;
+        tr->group = group;
     }
     return 0;
 }
@@ -619,6 +623,24 @@ static int parse_normal(Obj *o, const Tokens *t, const Where *at)
     return 0;
 }
 
+/* s N or s off: the smoothing group of the faces after it (0 and off:
+ * none); anything else is a warning and turns smoothing off. */
+static int parse_smoothing(const Tokens *t, uint32_t *group, ObjStats *st, Warner *w, int line)
+{
+    *group = 0;
+    st->smoothing++;
+    if (t->n == 2 && strcmp(t->tok[1], "off") == 0)
+        return 0;
+    const char *s = t->n == 2 ? t->tok[1] : "";
+    char *end = NULL;
+    unsigned long long g = *s >= '0' && *s <= '9' ? strtoull(s, &end, 10) : 0;
+    if (end && *end == 0 && g <= UINT32_MAX) {
+        *group = (uint32_t)g;
+        return 0;
+    }
+    return warn(w, line, "'s' wants a smoothing group number or 'off': the faces after it are flat");
+}
+
 /* usemtl: the material by name into *mat; the names are resolved against
  * the libraries at the end. */
 static int parse_usemtl(Obj *o, const char *rest, int32_t *mat, const Where *at)
@@ -669,6 +691,7 @@ int obj_parse(char *text, size_t len, const char *name, const char *dir, const O
     Lexer lx = lex_make(text, len);
     Tokens t;
     int32_t mat = -1;
+    uint32_t group = 0; /* the smoothing group of the faces that follow */
     int rc = -1, bad = 0, warned_kind[OBJ_SKIP_KINDS] = {0};
     Warner w = {opt, st, name, err};
     char *line;
@@ -679,7 +702,7 @@ int obj_parse(char *text, size_t len, const char *name, const char *dir, const O
         while (*s == ' ' || *s == '\t')
             s++;
         if (s[0] == 'f' && (s[1] == ' ' || s[1] == '\t')) {
-            bad = parse_face(&o, s + 1, mat, st, &at);
+            bad = parse_face(&o, s + 1, mat, group, st, &at);
             continue;
         }
         char rest[4096];
@@ -700,8 +723,10 @@ int obj_parse(char *text, size_t len, const char *name, const char *dir, const O
             bad = obj_mtllib(&o, rest, dir, &w, lx.line);
         } else if (strcmp(k, "usemtl") == 0) {
             bad = parse_usemtl(&o, rest, &mat, &at);
+        } else if (strcmp(k, "s") == 0) {
+            bad = parse_smoothing(&t, &group, st, &w, lx.line);
         } else {
-            /* s, l, p, curves and the rest do not describe triangles: skipped, counted, one warning per kind */
+            /* l, p, curves and the rest do not describe triangles: skipped, counted, one warning per kind */
             ObjSkip kind = skip_kind(k);
             st->skipped[kind]++;
             bad = !warned_kind[kind]++ &&

@@ -2,7 +2,8 @@
  *
  * Supports v (with or without w and r g b vertex colours), vt, vn, f in all four index forms (v, v/t, v//n, v/t/n) with
  * negative (relative) indices, polygons (fan-triangulated), o/g, mtllib and
- * usemtl.  Keeps only attributes the faces use; zero-area faces are dropped
+ * usemtl, and s (smoothing groups: smooth normals where the file has
+ * none, smooth.h).  Keeps only attributes the faces use; zero-area faces are dropped
  * and counted.  Vertex colours become the mesh's per-vertex diffuse colour
  * when no face uses a material (vertices without one get the default
  * material's); colours below 0 are an error.
@@ -18,7 +19,7 @@
  * materials (ignored: the materials win) or given as whole numbers up to 255
  * (read as 0..255), and
  * the elements a triangle renderer cannot use (lines, points, free-form
- * curves and surfaces, smoothing and merging groups, level of detail,
+ * curves and surfaces, merging groups, level of detail,
  * display attributes, unknown keywords: skipped, counted by kind; one
  * warning per kind).  Also read: UTF-8 and UTF-16 files with a byte-order
  * mark, CRLF, tabs, '\' line continuations, '\' in paths, names with spaces.
@@ -33,7 +34,7 @@
 #include "model/mesh.h"
 
 typedef struct {
-    int smooth; /* compute area-weighted vertex normals where the file has none */
+    int smooth; /* smooth the faces outside any smoothing group (smooth.h) where the file has no normals */
     int strict; /* every warning is an error */
     /* where warnings go, one line each ("file:line: what"), or NULL */
     void (*warn)(void *ctx, const char *msg);
@@ -45,7 +46,6 @@ typedef enum {
     OBJ_SKIP_LINE,      /* l */
     OBJ_SKIP_POINT,     /* p */
     OBJ_SKIP_FREEFORM,  /* vp, cstype, deg, curv, surf, ... */
-    OBJ_SKIP_SMOOTHING, /* s */
     OBJ_SKIP_MERGING,   /* mg */
     OBJ_SKIP_LOD,       /* lod */
     OBJ_SKIP_DISPLAY,   /* usemap, maplib, shadow_obj, trace_obj, ... */
@@ -56,6 +56,8 @@ const char *obj_skip_name(ObjSkip k);
 
 typedef struct {
     unsigned long vertices, faces, triangles, degenerate, groups;
+    unsigned long smoothing;         /* s statements */
+    unsigned long smoothed;          /* triangles given smooth normals (their smoothing group, or --smooth) */
     unsigned long warnings;
     unsigned long skipped[OBJ_SKIP_KINDS];
     unsigned long coloured;          /* vertices with colours */
