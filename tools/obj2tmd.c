@@ -16,6 +16,7 @@
 #include "app/cli.h"
 #include "base/fileio.h"
 #include "model/import.h"
+#include "model/model_load.h"
 #include "model/obj.h"
 #include "base/opt.h"
 #include "base/progress.h"
@@ -133,7 +134,15 @@ static int read_mesh(const Args *a, Mesh *mesh, ObjStats *st)
     Err err = {{0}};
     ObjOptions oo = {.smooth = a->smooth, .strict = a->strict, .warn = a->quiet ? NULL : show_warning};
     memset(st, 0, sizeof *st);
-    if (import_knows(a->in)) {
+    const ModelFormat f = model_format(a->in);
+    if (f == MODEL_FORMAT_UNKNOWN || f == MODEL_FORMAT_TMD) { /* read as OBJ, such a file gave the OBJ reader's puzzles */
+        fprintf(stderr, "obj2tmd: %s: %s; obj2tmd reads .obj, and through Assimp .ply, .stl, .gltf, .glb, .fbx, .dae, "
+                        ".3ds, ... (docs/models.md)\n",
+                a->in, f == MODEL_FORMAT_TMD ? "already a .tmd (lanray-render and scenes read it as it is)"
+                                             : "not a model format by its name's extension");
+        return 1;
+    }
+    if (f == MODEL_FORMAT_IMPORT) {
         ImportStats is;
         if (a->smooth) {
             fprintf(stderr, "obj2tmd: --smooth applies to OBJ input\n");

@@ -37,10 +37,14 @@ int import_knows(const char *path)
         return 0;
     for (size_t i = 0; i <= n; i++)
         low[i] = (char)tolower((unsigned char)e[i]);
+    if (strcmp(low, ".obj") == 0 || strcmp(low, ".tmd") == 0) /* lanray's own readers */
+        return 0;
     for (int i = 0; formats[i]; i++)
         if (strcmp(low, formats[i]) == 0)
             return 1;
-    return 0;
+    /* the rest of what Assimp reads (.blend, .ac, .ase, .ms3d, .nff, ...):
+     * less common, read in the child as the others are */
+    return aiIsExtensionSupported(low) == AI_TRUE;
 }
 
 static Material import_material(const struct aiMaterial *am)

@@ -2,26 +2,35 @@
 #include "model/model_load.h"
 
 #include <string.h>
+#include <strings.h>
 
 #include "model/import.h"
 #include "model/obj.h"
 #include "model/tmd.h"
 
+/* in any case: models from Windows machines are often MODEL.OBJ */
 static int ends_with(const char *s, const char *suffix)
 {
     size_t n = strlen(s), m = strlen(suffix);
-    return n >= m && strcmp(s + n - m, suffix) == 0;
+    return n >= m && strcasecmp(s + n - m, suffix) == 0;
 }
 
-int model_load_knows(const char *path)
+ModelFormat model_format(const char *path)
 {
-    return ends_with(path, ".obj") || ends_with(path, ".tmd") || import_knows(path);
+    if (ends_with(path, ".obj"))
+        return MODEL_FORMAT_OBJ;
+    if (ends_with(path, ".tmd"))
+        return MODEL_FORMAT_TMD;
+    return import_knows(path) ? MODEL_FORMAT_IMPORT : MODEL_FORMAT_UNKNOWN;
 }
+
+int model_load_knows(const char *path) { return model_format(path) != MODEL_FORMAT_UNKNOWN; }
 
 int model_load(const char *path, const BvhOptions *opt, int rebuild, int smooth, Model **out, Err *err)
 {
     *out = NULL;
-    if (ends_with(path, ".obj")) {
+    const ModelFormat f = model_format(path);
+    if (f == MODEL_FORMAT_OBJ) {
         Mesh mesh;
         ObjOptions oo = {.smooth = smooth};
         if (obj_read(path, &oo, &mesh, NULL, err))
@@ -30,7 +39,7 @@ int model_load(const char *path, const BvhOptions *opt, int rebuild, int smooth,
         mesh_free(&mesh);
         return rc ? err_prefix(err, "%s", path) : 0;
     }
-    if (import_knows(path)) { /* PLY, STL, glTF, ... (import.h) */
+    if (f == MODEL_FORMAT_IMPORT) { /* PLY, STL, glTF, ... (import.h) */
         Mesh mesh;
         if (smooth)
             return err_set(err, "%s: 'smooth' applies to OBJ models", path);
@@ -40,8 +49,8 @@ int model_load(const char *path, const BvhOptions *opt, int rebuild, int smooth,
         mesh_free(&mesh);
         return rc ? err_prefix(err, "%s", path) : 0;
     }
-    if (!ends_with(path, ".tmd"))
-        return err_set(err, "model file '%s' must end in .tmd, .obj, or a format the importer reads (.ply, .stl, .gltf, .glb, ...)", path);
+    if (f == MODEL_FORMAT_UNKNOWN)
+        return err_set(err, "model file '%s' must end in .tmd, .obj, or a format the importer reads (.ply, .stl, .gltf, .glb, ...; docs/models.md)", path);
     if (smooth)
         return err_set(err, "%s: 'smooth' applies to OBJ models; convert with obj2tmd --smooth", path);
     if (tmd_read(path, out, err))

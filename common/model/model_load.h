@@ -6,11 +6,15 @@
 
 #include "model/model.h"
 
-/* The file's name decides: .obj or .tmd.  opt builds an OBJ's tree; with
+/* The file's name decides (model_format): .obj, .tmd, or an import.  opt builds an OBJ's tree; with
  * rebuild, a .tmd's tree is built again with it.  smooth: vertex normals
  * for an OBJ without them (refused for a .tmd). */
 int model_load(const char *path, const BvhOptions *opt, int rebuild, int smooth, Model **out, Err *err);
 /* Whether model_load takes this file name. */
 int model_load_knows(const char *path);
+/* What a file's name says it is, the extension in any case: lanray's own
+ * OBJ reader, a .tmd, a format Assimp reads (import.h), or none of them. */
+typedef enum { MODEL_FORMAT_UNKNOWN, MODEL_FORMAT_OBJ, MODEL_FORMAT_TMD, MODEL_FORMAT_IMPORT } ModelFormat;
+ModelFormat model_format(const char *path);
 
 #endif

@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # One model in every format obj2tmd reads (tests/tools/formats.py: OBJ, PLY
 # ASCII and binary, STL ASCII and binary, glTF 2.0 as .gltf + .bin and as
-# .glb), converted and rendered: each image is byte-identical to the OBJ's.
+# .glb), converted and rendered: each image is byte-identical to the OBJ's,
+# as is the OBJ's named MODEL.OBJ; an AC3D file (one of Assimp's other
+# formats) converts, and a name no reader takes is refused with a reason.
 # The one difference the formats force: STL has only facet normals, so the
 # STL files are compared with the OBJ without vertex normals.  A damaged
 # file, and one that crashes Assimp, fail with the name, exit 1, no output.
@@ -31,6 +33,26 @@ done
 # lanray-render previews them directly too
 "$BIN/lanray-render" "$dir/model-bin.ply" --width 160 --height 120 --quiet -o "$dir/direct.png" >/dev/null 2>&1 || fail "preview of a PLY"
 cmp -s "$dir/direct.png" "$dir/model.obj.png" || fail "a PLY previewed directly differs from its .tmd"
+# the extension in any case (models from Windows machines: MODEL.OBJ)
+cp "$dir/model.obj" "$dir/UPPER.OBJ"
+render UPPER.OBJ
+cmp -s "$dir/model.obj.png" "$dir/UPPER.OBJ.png" || fail "MODEL.OBJ renders differently from model.obj"
+"$BIN/lanray-render" "$dir/UPPER.OBJ" --width 160 --height 120 --quiet -o "$dir/upper-direct.png" >/dev/null 2>&1 ||
+    fail "preview of an .OBJ"
+cmp -s "$dir/upper-direct.png" "$dir/model.obj.png" || fail "an .OBJ previewed directly differs from its .tmd"
+# the rest of what Assimp reads: an AC3D tetrahedron (.ac)
+printf '%s\n' AC3Db 'MATERIAL "w" rgb 0.8 0.8 0.8 amb 0.2 0.2 0.2 emis 0 0 0 spec 0 0 0 shi 10 trans 0' \
+    'OBJECT world' 'kids 1' 'OBJECT poly' 'numvert 4' '0 0 0' '1 0 0' '0 1 0' '0 0 1' 'numsurf 4' \
+    'SURF 0x10' 'mat 0' 'refs 3' '0 0 0' '2 0 0' '1 0 0' 'SURF 0x10' 'mat 0' 'refs 3' '0 0 0' '1 0 0' '3 0 0' \
+    'SURF 0x10' 'mat 0' 'refs 3' '0 0 0' '3 0 0' '2 0 0' 'SURF 0x10' 'mat 0' 'refs 3' '1 0 0' '2 0 0' '3 0 0' \
+    'kids 0' >"$dir/tetra.ac"
+render tetra.ac
+grep -q "triangles 4," "$dir/tetra.ac.log" || fail "tetra.ac: $(cat "$dir/tetra.ac.log")"
+# a name no reader takes: said so, not read as an OBJ (whose errors would puzzle)
+echo "not a model" >"$dir/notes.txt"
+err=$("$BIN/obj2tmd" "$dir/notes.txt" "$dir/notes.tmd" 2>&1); [ $? -eq 1 ] || fail "notes.txt should exit 1"
+grep -q "notes.txt: not a model format by its name's extension" <<<"$err" || fail "unknown extension message: $err"
+[ ! -e "$dir/notes.tmd" ] || fail "an unknown format left an output"
 # damaged: a binary PLY cut short
 head -c 2000 "$dir/model-bin.ply" >"$dir/cut.ply"
 err=$("$BIN/obj2tmd" "$dir/cut.ply" "$dir/cut.tmd" 2>&1); [ $? -eq 1 ] || fail "a cut PLY should exit 1"
@@ -44,4 +66,4 @@ err=$("$BIN/obj2tmd" "$dir/crash.ply" "$dir/crash.tmd" 2>&1); rc=$?
 [ $rc -eq 1 ] || fail "a PLY that crashes Assimp: exit $rc ($err)"
 grep -q "crash.ply: the importer (Assimp) crashed on this file" <<<"$err" || fail "crash message: $err"
 [ ! -e "$dir/crash.tmd" ] || fail "a PLY that crashes Assimp left an output"
-echo "formats: PLY, STL, glTF and GLB render byte-identical to the OBJ; a file that crashes Assimp is an error"
+echo "formats: PLY, STL, glTF, GLB and MODEL.OBJ render byte-identical to model.obj; AC3D converts; an unknown extension is named; a file that crashes Assimp is an error"
