@@ -504,6 +504,28 @@ static void named_files_are_found_near(void **state)
     snprintf(path, sizeof path, "%s/tex/stone.png", dir);
     assert_string_equal(buf, path); /* as written, for the message */
     assert_int_equal(file_find_near(dir, "tex/", buf, sizeof buf), FILE_NOT_FOUND);
+    /* a path written on Windows, '\\' its separator: as written, relative */
+    assert_int_equal(file_find_near(dir, ".\\wood.png", buf, sizeof buf), FILE_AS_WRITTEN);
+    /* the end of the written path under the folder or one above: a model in
+     * near/car/ whose texture was D:\\work\\near\\tex\\Stone.PNG on the machine
+     * that wrote it, now near/tex/stone.png */
+    char car[512];
+    snprintf(car, sizeof car, "%s/car", dir);
+    mkdir(car, 0700);
+    snprintf(path, sizeof path, "%s/tex", dir);
+    mkdir(path, 0700);
+    snprintf(path, sizeof path, "%s/tex/stone.png", dir);
+    test_write_file(path, "x");
+    assert_int_equal(file_find_near(car, "D:\\work\\near\\tex\\Stone.PNG", buf, sizeof buf), FILE_NEARBY);
+    struct stat found, stone; /* the very file, whichever way the path goes */
+    assert_int_equal(stat(buf, &found), 0);
+    assert_int_equal(stat(path, &stone), 0);
+    assert_true(found.st_ino == stone.st_ino && found.st_dev == stone.st_dev);
+    assert_int_equal(file_find_near(car, "..\\tex\\stone.png", buf, sizeof buf), FILE_AS_WRITTEN);
+    /* a tail that names no file there, or climbs: not found */
+    assert_int_equal(file_find_near(car, "D:/work/other/stone.png", buf, sizeof buf), FILE_NOT_FOUND);
+    assert_int_equal(file_find_near(car, "D:/work/../gone.png", buf, sizeof buf), FILE_NOT_FOUND);
+    assert_string_equal(file_found_how(FILE_NEARBY, "the model"), "the end of its path, in a folder near the model");
 }
 
 static void wrong_data_stays_an_error(void **state)

@@ -227,22 +227,79 @@ int file_exists(const char *path)
     return stat(path, &st) == 0 && S_ISREG(st.st_mode) && access(path, R_OK) == 0;
 }
 
-FileFound file_find_near(const char *dir, const char *name, char *buf, size_t size)
+/* name's last component, in dir or in another case there: FILE_BY_NAME,
+ * FILE_BY_NAME_CASE (the path in buf), or FILE_NOT_FOUND. */
+static FileFound find_in(const char *dir, const char *base, char *buf, size_t size)
 {
-    if (file_join(dir, name, buf, size) == 0 && file_exists(buf))
-        return FILE_AS_WRITTEN;
-    char written[4096];
-    snprintf(written, sizeof written, "%s", buf);
-    const char *slash = strrchr(name, '/'), *base = slash ? slash + 1 : name;
-    if (*base && base != name && file_join(dir, base, buf, size) == 0 && file_exists(buf))
+    if (!*base)
+        return FILE_NOT_FOUND;
+    if (file_join(dir, base, buf, size) == 0 && file_exists(buf))
         return FILE_BY_NAME;
-    DIR *d = *base ? opendir(dir) : NULL;
+    DIR *d = opendir(dir);
     FileFound how = FILE_NOT_FOUND;
     for (struct dirent *e; d && how == FILE_NOT_FOUND && (e = readdir(d));)
         if (strcasecmp(e->d_name, base) == 0 && file_join(dir, e->d_name, buf, size) == 0 && file_exists(buf))
             how = FILE_BY_NAME_CASE;
     if (d)
         closedir(d);
+    return how;
+}
+
+/* The ends of name's path (two components or more, the longest first),
+ * each under dir and the two folders above it: a texture written as
+ * D:\work\models\tex\wood.png for a model now in models/car/ is
+ * models/tex/wood.png.  The last component may differ in case. */
+static FileFound find_by_tail(const char *dir, const char *name, char *buf, size_t size)
+{
+    for (const char *tail = name; (tail = strchr(tail, '/')) != NULL;) {
+        tail++;
+        const char *last = strrchr(tail, '/');
+        if (!last || strncmp(tail, "../", 3) == 0 || strncmp(tail, "./", 2) == 0 || *tail == '/')
+            continue; /* one component (find_in's), or a tail that climbs */
+        char base[4096], sub[4096];
+        snprintf(base, sizeof base, "%s", dir);
+        for (int up = 0; up < 3; up++) {
+            if (snprintf(sub, sizeof sub, "%s/%.*s", base, (int)(last - tail), tail) < (int)sizeof sub &&
+                find_in(sub, last + 1, buf, size) != FILE_NOT_FOUND)
+                return FILE_NEARBY;
+            if (strlen(base) + 4 >= sizeof base)
+                break;
+            strcat(base, "/..");
+        }
+    }
+    return FILE_NOT_FOUND;
+}
+
+const char *file_found_how(FileFound how, const char *beside)
+{
+    static char out[128];
+    switch (how) {
+    case FILE_BY_NAME: snprintf(out, sizeof out, "its file name beside %s", beside); return out;
+    case FILE_BY_NAME_CASE: return "its file name in another case";
+    case FILE_NEARBY: snprintf(out, sizeof out, "the end of its path, in a folder near %s", beside); return out;
+    default: return "as written";
+    }
+}
+
+FileFound file_find_near(const char *dir, const char *name, char *buf, size_t size)
+{
+    char n[4096]; /* '\' as '/': paths written on Windows */
+    snprintf(n, sizeof n, "%s", name);
+    for (char *q = n; *q; q++)
+        if (*q == '\\')
+            *q = '/';
+    if (file_join(dir, n, buf, size) == 0 && file_exists(buf))
+        return FILE_AS_WRITTEN;
+    char written[4096];
+    snprintf(written, sizeof written, "%s", buf);
+    const char *slash = strrchr(n, '/'), *base = slash ? slash + 1 : n;
+    FileFound how = FILE_NOT_FOUND;
+    if (*base && base != n && file_join(dir, base, buf, size) == 0 && file_exists(buf))
+        how = FILE_BY_NAME;
+    if (how == FILE_NOT_FOUND)
+        how = find_in(dir, base, buf, size) == FILE_BY_NAME_CASE ? FILE_BY_NAME_CASE : FILE_NOT_FOUND;
+    if (how == FILE_NOT_FOUND)
+        how = find_by_tail(dir, n, buf, size);
     if (how == FILE_NOT_FOUND)
         snprintf(buf, size, "%s", written);
     return how;

@@ -45,17 +45,22 @@ int file_join(const char *dir, const char *name, char *buf, size_t size);
 int file_exists(const char *path);
 
 /* Where a file that another file names is (a texture an MTL names, an MTL
- * an OBJ names): as written, relative to dir; else, as viewers do for
- * models moved from the machine that wrote them ("C:\Users\...\wood.png"),
- * its last component in dir; else a file in dir whose name differs from it
- * only in case (names written on Windows).  The path found goes to buf (as
- * written when none is). */
+ * an OBJ names), '\' read as '/': as written, relative to dir; else, as
+ * viewers do for models moved from the machine that wrote them
+ * ("C:\Users\...\wood.png"), its last component in dir; else a file in
+ * dir whose name differs from it only in case (names written on Windows);
+ * else the end of its path ("tex/wood.png") under dir or one of the two
+ * folders above it.  The path found goes to buf (as written when none is). */
 typedef enum {
     FILE_NOT_FOUND = -1,
     FILE_AS_WRITTEN = 0,
     FILE_BY_NAME = 1,      /* the last component, in dir */
     FILE_BY_NAME_CASE = 2, /* the last component in another case, in dir */
+    FILE_NEARBY = 3,       /* the end of its path, under dir or a folder above */
 } FileFound;
 FileFound file_find_near(const char *dir, const char *name, char *buf, size_t size);
+/* How a file was found, for a warning: "its file name beside `beside`", ...
+ * (a static buffer: one call a message). */
+const char *file_found_how(FileFound how, const char *beside);
 
 #endif

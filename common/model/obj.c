@@ -266,10 +266,11 @@ static int obj_textures(Obj *o, const int32_t *remap, Mesh *out, Warner *w)
             if (remap[j] >= 0 && strcmp(o->lib.maps[j].file, map->file) == 0 &&
                 o->lib.maps[j].clamp == map->clamp)
                 id = out->materials[remap[j]].texture;
-        w->st->found_elsewhere += id < 0 && (map->found == FILE_BY_NAME || map->found == FILE_BY_NAME_CASE);
-        if (id < 0 && (map->found == FILE_BY_NAME || map->found == FILE_BY_NAME_CASE) &&
+        const int elsewhere = map->found > FILE_AS_WRITTEN;
+        w->st->found_elsewhere += id < 0 && elsewhere;
+        if (id < 0 && elsewhere &&
             warn(w, 0, "material '%s': texture not where the library says; using %s (%s)", o->lib.names[k], map->file,
-                 map->found == FILE_BY_NAME ? "its file name beside the library" : "its file name in another case"))
+                 file_found_how((FileFound)map->found, "the library")))
             return -1;
         if (id < 0) {
             Texture *t;
@@ -456,8 +457,7 @@ static int mtl_one(Obj *o, char *file, const char *dir, Warner *w, int line)
     }
     w->st->found_elsewhere += how != FILE_AS_WRITTEN;
     if (how != FILE_AS_WRITTEN && warn(w, line, "material library '%s' not where the file says; using %s (%s)", file,
-                                       path, how == FILE_BY_NAME ? "its file name beside the model"
-                                                                 : "its file name in another case"))
+                                       path, file_found_how(how, "the model")))
         return -1;
     if (mtl_read(&o->lib, path, w->err)) {
         err_prefix(w->err, "%s:%d: mtllib", w->name, line);
