@@ -84,8 +84,9 @@ static inline int texture_size_ok(uint32_t w, uint32_t h)
 /* Bytes the texels of all levels take. */
 size_t texture_bytes(const Texture *t);
 
-/* Reads an image file, by its first bytes (not its name): PNG, JPEG, or
- * PPM/PGM (texture_file.c); another format is named in the error. */
+/* Reads an image file, by its first bytes (not its name): PNG, JPEG,
+ * PPM/PGM, BMP, or TGA (which has no magic: by its name or its footer)
+ * (texture_file.c); another format is named in the error. */
 int texture_read(const char *path, Texture **out, Err *err);
 /* The same from bytes in memory (an image embedded in a glTF, say); `name`
  * labels errors.  The bytes are copied where they are kept. */
@@ -94,6 +95,10 @@ int texture_read_memory(const void *data, size_t len, const char *name, Texture 
 int texture_read_stream(FILE *f, const char *name, Texture **out, Err *err);
 /* A JPEG from an open stream (not closed) of `bytes` bytes; `name` labels errors. */
 int texture_read_jpeg_stream(FILE *f, const char *name, size_t bytes, Texture **out, Err *err);
+/* A TGA image (texture_tga.c) and a BMP one (texture_bmp.c) from bytes in
+ * memory, as RGB texels; `name` labels errors. */
+int texture_read_tga(const void *data, size_t len, const char *name, Texture **out, Err *err);
+int texture_read_bmp(const void *data, size_t len, const char *name, Texture **out, Err *err);
 
 /* The texture's byte form, what an ASSET and a .tmd carry (docs/tmd.md):
  * u32 w, h, flags (1: clamp, 2: closest), codec (1 PNG, 2 JPEG), byte

@@ -1,9 +1,10 @@
 /* texture_file.c - texture images by their first bytes: PNG (libpng,
  * through image.c's reader), JPEG (libjpeg-turbo) and PPM/PGM (libnetpbm,
- * texture_ppm.c).  Every reader checks the image's size against
- * TEXTURE_MAX_SIDE before it allocates the pixels.  A PNG or a JPEG keeps
- * its file's bytes (texture.h).  Formats that are recognised but not read
- * (TGA, BMP, GIF, ...) are named in the error, with what to convert them to. */
+ * texture_ppm.c), BMP (texture_bmp.c) and TGA (texture_tga.c).  Every
+ * reader checks the image's size against TEXTURE_MAX_SIDE before it
+ * allocates the pixels.  A PNG or a JPEG keeps its file's bytes
+ * (texture.h).  Formats that are recognised but not read (GIF, TIFF, DDS,
+ * ...) are named in the error, with what to convert them to. */
 #include <errno.h>
 #include <setjmp.h>
 #include <stdio.h>
@@ -116,12 +117,10 @@ static int ends_with(const char *name, const char *ext)
     return n >= e && strcasecmp(name + n - e, ext) == 0;
 }
 
-/* The format of an image lanray does not read, from its bytes or, for a
- * TGA (which has no magic), its name; NULL when it is none of them. */
-static const char *unread_format(const uint8_t *p, size_t len, const char *name)
+/* The format of an image lanray does not read, from its bytes; NULL when
+ * it is none of them. */
+static const char *unread_format(const uint8_t *p, size_t len)
 {
-    if (starts(p, len, "BM", 2))
-        return "BMP";
     if (starts(p, len, "GIF8", 4))
         return "GIF";
     if (starts(p, len, "RIFF", 4) && len >= 12 && memcmp(p + 8, "WEBP", 4) == 0)
@@ -138,9 +137,15 @@ static const char *unread_format(const uint8_t *p, size_t len, const char *name)
         return "Radiance HDR";
     if (starts(p, len, "\xabKTX", 4))
         return "KTX";
-    if (ends_with(name, ".tga") || starts(p + (len >= 18 ? len - 18 : 0), len >= 18 ? 18 : 0, "TRUEVISION-XFILE", 16))
-        return "TGA";
     return NULL;
+}
+
+/* A TGA has no magic: its name says it (".tga", or an embedded image's
+ * format hint "(tga)"), or the footer of a TGA 2.0 file. */
+static int is_tga(const uint8_t *p, size_t len, const char *name)
+{
+    return ends_with(name, ".tga") || ends_with(name, "(tga)") ||
+           starts(p + (len >= 18 ? len - 18 : 0), len >= 18 ? 18 : 0, "TRUEVISION-XFILE", 16);
 }
 
 /* A copy of the image's bytes, to keep with the texture. */
@@ -159,11 +164,15 @@ int texture_read_memory(const void *data, size_t len, const char *name, Texture 
     const int png = starts(p, len, "\x89PNG\r\n\x1a\n", 8), jpeg = starts(p, len, "\xff\xd8\xff", 3);
     const int pnm = len >= 2 && p[0] == 'P' && p[1] >= '1' && p[1] <= '6';
     if (!png && !jpeg && !pnm) {
-        const char *fmt = unread_format(p, len, name);
+        if (starts(p, len, "BM", 2))
+            return texture_read_bmp(p, len, name, out, err);
+        if (is_tga(p, len, name))
+            return texture_read_tga(p, len, name, out, err);
+        const char *fmt = unread_format(p, len);
         if (fmt)
-            return err_set(err, "%s: a %s image: lanray reads PNG, JPEG, PPM and PGM textures (convert it to PNG)", name,
-                           fmt);
-        return err_set(err, "%s: not an image lanray reads (PNG, JPEG, PPM or PGM): %s", name,
+            return err_set(err, "%s: a %s image: lanray reads PNG, JPEG, PPM, PGM, BMP and TGA textures (convert it to PNG)",
+                           name, fmt);
+        return err_set(err, "%s: not an image lanray reads (PNG, JPEG, PPM, PGM, BMP or TGA): %s", name,
                        len == 0 ? "the file is empty" : "its first bytes are none of theirs");
     }
     FILE *f = fmemopen((void *)(uintptr_t)data, len, "rb");

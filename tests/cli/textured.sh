@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Textured models: MTL map_Kd with a PNG and a JPEG texture (and -s/-o
+# Textured models: MTL map_Kd with a PNG, JPEG, TGA and BMP texture (and -s/-o
 # placement) travels in the .tmd (version 5 on: the image file's own bytes)
 # and shows the texture's colours
 # where expected, checked pixel by pixel; a missing texture is a warning and
@@ -32,6 +32,8 @@ check() { # variant, expected quadrant colours (top left, top right, bottom left
 }
 check png "255 0 0|0 255 0|0 0 255|255 255 255|" 0
 check jpg "255 0 0|0 255 0|0 0 255|255 255 255|" 2 # JPEG is lossy: a code or two
+check tga "255 0 0|0 255 0|0 0 255|255 255 255|" 0 # run-length coded, rows bottom first
+check bmp "255 0 0|0 255 0|0 0 255|255 255 255|" 0
 check placed "0 255 0|0 255 0|255 255 255|255 255 255|" 0 # -s 0.5 1 -o 0.5 0: the right half
 check missing "255 255 255|255 255 255|255 255 255|255 255 255|" 0
 grep -q "obj2tmd: warning: $D/quad-missing.obj: material 'tex': texture not read" "$dir/missing.err" || fail "missing texture warning: $(cat "$dir/missing.err")"
