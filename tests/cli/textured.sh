@@ -115,4 +115,4 @@ verify_distributed glb "$dir/glb.scene" "$dir/glb-ref.png" "of the scene naming 
 cp "$dir/quad-png.tmd" "$dir/quad.tmd"
 "$BIN/lanray-render" "$dir/view.scene" --width 64 --height 64 -o "$dir/ref.png" --quiet >/dev/null 2>&1 || fail "reference render"
 verify_distributed tex "$dir/view.scene" "$dir/ref.png" "of the textured model"
-echo "textured: PNG and JPEG textures in .tmd models, placed and missing, local and distributed"
+echo "textured: PNG, JPEG, TGA and BMP textures in .tmd models, placed and missing, local and distributed"
