@@ -153,6 +153,7 @@ static int read_mesh(const Args *a, Mesh *mesh, ObjStats *st)
             st->skipped[OBJ_SKIP_LINE] = is.lines, st->skipped[OBJ_SKIP_POINT] = is.points;
             st->coloured = is.coloured, st->colours = mesh->col != NULL, st->colours_ignored = is.colours_ignored;
             st->warnings = is.warnings, st->missing_textures = is.missing_textures;
+            st->optics_mtl = is.optics;
             return 0;
         }
     } else if (obj_read(a->in, &oo, mesh, st, &err) == 0) {
@@ -194,7 +195,9 @@ static void print_summary(const Args *a, const Model *model, const ObjStats *st,
         printf("  smooth normals: %lu triangles (%s)\n", st->smoothed,
                st->smoothing ? "by smoothing group, s" : "--smooth");
     if (st->optics_mtl)
-        printf("  materials with reflection, glass, transparency or emission (illum, Ni, d, Ke): %lu\n", st->optics_mtl);
+        printf("  materials with reflection, glass, transparency or emission (%s): %lu\n",
+               model_format(a->in) == MODEL_FORMAT_OBJ ? "illum, Ni, d, Ke" : "metal, transmission, opacity, emission",
+               st->optics_mtl);
     if (st->coloured)
         printf("  vertex colours: %lu coloured vertices, %s\n", st->coloured,
                st->colours ? "kept as the diffuse colour" : "ignored (the model has materials)");

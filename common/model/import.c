@@ -47,22 +47,111 @@ int import_knows(const char *path)
     return aiIsExtensionSupported(low) == AI_TRUE;
 }
 
-static Material import_material(const struct aiMaterial *am)
+/* A material's colour key, where the file sets it to finite, non-negative values. */
+static int import_colour(const struct aiMaterial *am, const char *key, unsigned type, unsigned idx, vec3 *out)
+{
+    struct aiColor4D c;
+    if (aiGetMaterialColor(am, key, type, idx, &c) != aiReturn_SUCCESS)
+        return 0;
+    const vec3 v = v3(c.r, c.g, c.b);
+    for (int k = 0; k < 3; k++) /* files can hold anything: keep what shading accepts */
+        if (!(v.e[k] >= 0) || !isfinite(v.e[k]))
+            return 0;
+    *out = v;
+    return 1;
+}
+
+/* A material's number key, where the file sets it within [lo, hi]. */
+static int import_number(const struct aiMaterial *am, const char *key, unsigned type, unsigned idx, real lo, real hi,
+                         real *out)
+{
+    ai_real v;
+    if (aiGetMaterialFloat(am, key, type, idx, &v) != aiReturn_SUCCESS || !(v >= lo && v <= hi))
+        return 0;
+    *out = (real)v;
+    return 1;
+}
+
+/* A metal-roughness material (glTF's, FBX's PBR) in lanray's terms: the
+ * metal's share of the base colour reflects as a mirror of the file's
+ * roughness (the GGX roughness scene2cycles writes for a rough mirror),
+ * with a Phong highlight of the same colour for the lights (exponent
+ * 2 / a^2 - 2, a = roughness^2, the usual match of Phong to a microfacet
+ * lobe); the rest is diffuse.  A non-metal keeps no highlight, as before:
+ * a dielectric's 4% would brighten every rough surface of a Whitted frame. */
+static void import_metal(const struct aiMaterial *am, vec3 base, Material *m)
+{
+    real metal = 0, rough = 1;
+    if (!import_number(am, AI_MATKEY_METALLIC_FACTOR, 0, 1, &metal) || metal <= 0)
+        return;
+    import_number(am, AI_MATKEY_ROUGHNESS_FACTOR, 0, 1, &rough);
+    /* a metalness texture says, texel by texel, where the factor applies
+     * (most often nowhere: the factor left at glTF's default of 1): without
+     * reading it, the material stays as it was, not all metal.  And glTF's
+     * defaults alone (white, metallic 1, roughness 1: what a primitive
+     * without a material gets) stay white diffuse, as geometry without
+     * materials shows elsewhere in lanray. */
+    const int defaults = metal == 1 && rough == 1 && base.x == 1 && base.y == 1 && base.z == 1;
+    if (defaults || aiGetMaterialTextureCount(am, aiTextureType_METALNESS) > 0 ||
+        aiGetMaterialTextureCount(am, aiTextureType_UNKNOWN) > 0)
+        return;
+    const real a = rough * rough;
+    m->kd = v3_scale(base, R(1) - metal);
+    m->kr = v3_scale(base, metal);
+    m->roughness = rough;
+    m->ks = m->kr;
+    m->shininess = a > R(0.01) ? real_max(R(2) / (a * a) - R(2), R(1)) : R(20000);
+}
+
+/* Emission (glTF's emissive factor times KHR_materials_emissive_strength),
+ * transmission (KHR_materials_transmission: glass of the file's index, or
+ * 1.5) and a blended material's opacity (a see-through blend, as an MTL's
+ * dissolve).  Returns whether any of them applied. */
+static int import_optics(const struct aiMaterial *am, vec3 base, Material *m)
+{
+    int did = 0;
+    vec3 ke;
+    real strength = 1, t = 0, opacity = 1;
+    if (import_colour(am, AI_MATKEY_COLOR_EMISSIVE, &ke) && v3_max_comp(ke) > 0) {
+        import_number(am, AI_MATKEY_EMISSIVE_INTENSITY, 0, 1e6, &strength);
+        m->ke = v3_scale(ke, strength);
+        did = 1;
+    }
+    struct aiString mode; /* glTF: an opaque material's alpha means nothing */
+    const int gltf_mode = aiGetMaterialString(am, "$mat.gltf.alphaMode", 0, 0, &mode) == aiReturn_SUCCESS;
+    if (import_number(am, AI_MATKEY_TRANSMISSION_FACTOR, 0, 1, &t) && t > 0) {
+        real ior = R(1.5);
+        import_number(am, AI_MATKEY_REFRACTI, MATERIAL_IOR_MIN, MATERIAL_IOR_MAX, &ior);
+        m->ior = ior;
+        m->kt = v3_scale(base, t);
+        m->kd = v3_scale(m->kd, R(1) - t);
+        did = 1;
+    } else if (import_number(am, AI_MATKEY_OPACITY, 0, 1, &opacity) && opacity < 1 &&
+               (!gltf_mode || strcmp(mode.data, "BLEND") == 0)) {
+        m->ior = R(1);
+        m->kt = v3_splat(R(1) - opacity);
+        m->kd = v3_scale(m->kd, opacity);
+        m->ks = v3_scale(m->ks, opacity);
+        did = 1;
+    }
+    return did;
+}
+
+static Material import_material(const struct aiMaterial *am, int *optics)
 {
     Material m = material_default();
-    struct aiColor4D c;
-    if (aiGetMaterialColor(am, AI_MATKEY_COLOR_DIFFUSE, &c) == aiReturn_SUCCESS)
-        m.kd = v3(c.r, c.g, c.b);
-    if (aiGetMaterialColor(am, AI_MATKEY_COLOR_SPECULAR, &c) == aiReturn_SUCCESS)
-        m.ks = v3(c.r, c.g, c.b);
-    ai_real s;
-    if (aiGetMaterialFloat(am, AI_MATKEY_SHININESS, &s) == aiReturn_SUCCESS && s >= 0)
+    vec3 c;
+    if (import_colour(am, AI_MATKEY_COLOR_DIFFUSE, &c))
+        m.kd = c;
+    if (import_colour(am, AI_MATKEY_COLOR_SPECULAR, &c))
+        m.ks = c;
+    real s;
+    if (import_number(am, AI_MATKEY_SHININESS, 0, 1e6, &s))
         m.shininess = s;
-    for (int k = 0; k < 3; k++) /* files can hold anything: keep what shading accepts */
-        if (!(m.kd.e[k] >= 0) || !isfinite(m.kd.e[k]) || !(m.ks.e[k] >= 0) || !isfinite(m.ks.e[k]))
-            return material_default();
-    if (!isfinite(m.shininess))
-        m.shininess = 1;
+    vec3 base = m.kd;
+    import_colour(am, AI_MATKEY_BASE_COLOR, &base);
+    import_metal(am, base, &m);
+    *optics = import_optics(am, base, &m) || material_reflects(&m);
     return m;
 }
 
@@ -266,7 +355,9 @@ static int import_scene(const struct aiScene *sc, const char *path, const char *
                                 (has_c ? MESH_COLOURS : 0u),
                        err);
     for (unsigned i = 0; rc == 0 && has_m && i < sc->mNumMaterials; i++) {
-        Material mt = import_material(sc->mMaterials[i]);
+        int optics;
+        Material mt = import_material(sc->mMaterials[i], &optics);
+        st->optics += (unsigned long)optics;
         mt.texture = has_t ? import_tex_find(sc, sc->mMaterials[i], model, tl) : -1;
         rc = mesh_add_material(out, mt, err);
     }

@@ -30,6 +30,7 @@ typedef struct {
     unsigned long textures;         /* textures the materials use, read */
     unsigned long missing_textures; /* textures that could not be read (a warning each) */
     unsigned long warnings;
+    unsigned long optics; /* materials with a metal's reflection, glass, see-through or emission */
 } ImportStats;
 
 /* Whether the name's extension is one the importer takes (not .obj or .tmd). */

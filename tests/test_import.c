@@ -1,0 +1,60 @@
+/* test_import.c - what the importer makes of a glTF's metal-roughness
+ * materials (import.c): a metal reflects its base colour at its roughness,
+ * emission, transmission and a blended opacity map onto lanray's terms, and
+ * what cannot be read per texel, or is only glTF's defaults, stays diffuse. */
+#include "helpers.h"
+
+#include "model/import.h"
+
+static void expect_vec(vec3 v, real x, real y, real z)
+{
+    assert_float_equal(v.x, x, 1e-6);
+    assert_float_equal(v.y, y, 1e-6);
+    assert_float_equal(v.z, z, 1e-6);
+}
+
+static void gltf_materials_map_onto_lanrays(void **state)
+{
+    (void)state;
+    Mesh m;
+    ImportStats st;
+    Err err;
+    if (import_read("tests/data/gltf/pbr.gltf", NULL, &m, &st, &err))
+        fail_msg("%s", err.msg);
+    assert_true(m.material_count >= 6);
+    assert_int_equal(st.optics, 4);
+    /* gold: metallic 1, roughness 0.2: all mirror, no diffuse, a tight highlight */
+    const Material *gold = &m.materials[0];
+    expect_vec(gold->kd, 0, 0, 0);
+    expect_vec(gold->kr, 1, 0.8, 0.3);
+    expect_vec(gold->ks, 1, 0.8, 0.3);
+    assert_float_equal(gold->roughness, 0.2, 1e-6);
+    assert_float_equal(gold->shininess, 2 / (0.04 * 0.04) - 2, 1e-2);
+    /* a lamp: its emissive factor (KHR_materials_emissive_strength is not read by Assimp 5.2) */
+    expect_vec(m.materials[1].ke, 1, 0.5, 0.25);
+    expect_vec(m.materials[1].kr, 0, 0, 0);
+    /* glass: transmission through a tint of the base colour, its own index */
+    const Material *glass = &m.materials[2];
+    assert_float_equal(glass->ior, 1.33, 1e-6);
+    expect_vec(glass->kt, 0.9, 1, 0.9);
+    expect_vec(glass->kd, 0, 0, 0);
+    /* a blended veil of alpha 0.25: three quarters see-through, unbent */
+    const Material *veil = &m.materials[3];
+    assert_float_equal(veil->ior, 1, 0);
+    expect_vec(veil->kt, 0.75, 0.75, 0.75);
+    expect_vec(veil->kd, 0.25, 0, 0);
+    /* a metalness texture not read: not all metal; glTF's defaults alone: white diffuse */
+    expect_vec(m.materials[4].kr, 0, 0, 0);
+    expect_vec(m.materials[4].kd, 0.5, 0.5, 0.5);
+    expect_vec(m.materials[5].kr, 0, 0, 0);
+    expect_vec(m.materials[5].kd, 1, 1, 1);
+    mesh_free(&m);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(gltf_materials_map_onto_lanrays),
+    };
+    return cmocka_run_group_tests_name("import", tests, NULL, NULL);
+}
