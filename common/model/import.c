@@ -103,22 +103,27 @@ static void import_metal(const struct aiMaterial *am, vec3 base, Material *m)
     m->shininess = a > R(0.01) ? real_max(R(2) / (a * a) - R(2), R(1)) : R(20000);
 }
 
-/* Emission (glTF's emissive factor times KHR_materials_emissive_strength),
- * transmission (KHR_materials_transmission: glass of the file's index, or
- * 1.5) and a blended material's opacity (a see-through blend, as an MTL's
- * dissolve).  Returns whether any of them applied. */
+/* A glTF material's emission (its emissive factor; Assimp 5.2 does not
+ * read KHR_materials_emissive_strength), transmission
+ * (KHR_materials_transmission: glass of the file's index, or 1.5, tinted by
+ * the base colour) and, for alphaMode BLEND, its alpha (a see-through
+ * blend, as an MTL's dissolve).  Only glTF's: the other formats' emissive
+ * and opacity values mean different things to different exporters
+ * (COLLADA files of assimp-testmodels say opacity 0 for opaque teapots, a
+ * Milkshape jeep an emission of 0.35 for its ambient), and stay unread, as
+ * before.  Returns whether any of them applied. */
 static int import_optics(const struct aiMaterial *am, vec3 base, Material *m)
 {
+    struct aiString mode;
+    if (aiGetMaterialString(am, "$mat.gltf.alphaMode", 0, 0, &mode) != aiReturn_SUCCESS)
+        return 0;
     int did = 0;
     vec3 ke;
-    real strength = 1, t = 0, opacity = 1;
+    real t = 0, opacity = 1;
     if (import_colour(am, AI_MATKEY_COLOR_EMISSIVE, &ke) && v3_max_comp(ke) > 0) {
-        import_number(am, AI_MATKEY_EMISSIVE_INTENSITY, 0, 1e6, &strength);
-        m->ke = v3_scale(ke, strength);
+        m->ke = ke;
         did = 1;
     }
-    struct aiString mode; /* glTF: an opaque material's alpha means nothing */
-    const int gltf_mode = aiGetMaterialString(am, "$mat.gltf.alphaMode", 0, 0, &mode) == aiReturn_SUCCESS;
     if (import_number(am, AI_MATKEY_TRANSMISSION_FACTOR, 0, 1, &t) && t > 0) {
         real ior = R(1.5);
         import_number(am, AI_MATKEY_REFRACTI, MATERIAL_IOR_MIN, MATERIAL_IOR_MAX, &ior);
@@ -126,8 +131,7 @@ static int import_optics(const struct aiMaterial *am, vec3 base, Material *m)
         m->kt = v3_scale(base, t);
         m->kd = v3_scale(m->kd, R(1) - t);
         did = 1;
-    } else if (import_number(am, AI_MATKEY_OPACITY, 0, 1, &opacity) && opacity < 1 &&
-               (!gltf_mode || strcmp(mode.data, "BLEND") == 0)) {
+    } else if (strcmp(mode.data, "BLEND") == 0 && import_number(am, AI_MATKEY_OPACITY, 0, 1, &opacity) && opacity < 1) {
         m->ior = R(1);
         m->kt = v3_splat(R(1) - opacity);
         m->kd = v3_scale(m->kd, opacity);
