@@ -1,7 +1,8 @@
 /* test_import.c - what the importer makes of a glTF's metal-roughness
  * materials (import.c): a metal reflects its base colour at its roughness,
  * emission, transmission and a blended opacity map onto lanray's terms, and
- * what cannot be read per texel, or is only glTF's defaults, stays diffuse. */
+ * what cannot be read per texel, or is only glTF's defaults, stays diffuse;
+ * vertex colours multiply the base colour. */
 #include "helpers.h"
 
 #include "model/import.h"
@@ -51,10 +52,36 @@ static void gltf_materials_map_onto_lanrays(void **state)
     mesh_free(&m);
 }
 
+/* A glTF's COLOR_0 multiplies its material's base colour (the glTF spec):
+ * kept beside the materials, as the diffuse colour at each corner; a mesh
+ * without colours in such a model keeps its material's colour. */
+static void gltf_vertex_colours_multiply_the_base_colour(void **state)
+{
+    (void)state;
+    Mesh m;
+    ImportStats st;
+    Err err;
+    if (import_read("tests/data/gltf/colours.gltf", NULL, &m, &st, &err))
+        fail_msg("%s", err.msg);
+    assert_non_null(m.col);
+    assert_non_null(m.mat);
+    assert_int_equal(st.colours_ignored, 0);
+    assert_int_equal(m.tri_count, 2);
+    const int tinted = m.pos[0].x < R(1.5) ? 0 : 1; /* the coloured triangle is the one at x 0..1 */
+    const vec3 *c = &m.col[3 * tinted], *p = &m.col[3 * (1 - tinted)];
+    expect_vec(c[0], 0.5, 0, 0);
+    expect_vec(c[1], 0, 1, 0);
+    expect_vec(c[2], 0, 0, 1);
+    for (int k = 0; k < 3; k++)
+        expect_vec(p[k], 0.2, 0.3, 0.4);
+    mesh_free(&m);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(gltf_materials_map_onto_lanrays),
+        cmocka_unit_test(gltf_vertex_colours_multiply_the_base_colour),
     };
     return cmocka_run_group_tests_name("import", tests, NULL, NULL);
 }

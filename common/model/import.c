@@ -318,6 +318,26 @@ static int import_read_memory_direct(const void *data, size_t len, const char *h
     return import_scene(sc, name, NULL, strcmp(hint, "stl") == 0, out, tl, st, err);
 }
 
+/* A mesh's material index (0 where the file's is out of range). */
+static uint32_t mesh_material(const struct aiScene *sc, const struct aiMesh *am)
+{
+    return am->mMaterialIndex < sc->mNumMaterials ? am->mMaterialIndex : 0;
+}
+
+/* Whether every mesh with vertex colours has a glTF material: their
+ * colours then multiply its base colour. */
+static int import_gltf_colours(const struct aiScene *sc)
+{
+    for (unsigned i = 0; i < sc->mNumMeshes; i++) {
+        struct aiString mode;
+        const struct aiMesh *am = sc->mMeshes[i];
+        if (am->mColors[0] && aiGetMaterialString(sc->mMaterials[mesh_material(sc, am)], "$mat.gltf.alphaMode", 0, 0,
+                                                  &mode) != aiReturn_SUCCESS)
+            return 0;
+    }
+    return 1;
+}
+
 /* The triangles of an imported scene into *out (stats counted); each
  * material's texture is an index into *tl.  `model`: the file's path, where
  * textures named by a relative path are looked for (NULL: none). */
@@ -349,8 +369,11 @@ static int import_scene(const struct aiScene *sc, const char *path, const char *
                 strcmp(name.data, AI_DEFAULT_MATERIAL_NAME) != 0;
     }
     /* vertex colours (scanners write them in PLY) where the model has no
-     * material colour, as the OBJ reader keeps them */
-    if (has_c && has_m) {
+     * material colour, as the OBJ reader keeps them; and in a glTF, whose
+     * COLOR_0 multiplies its material's base colour (the glTF spec), with
+     * materials too */
+    const int gltf_colours = has_c && has_m && import_gltf_colours(sc);
+    if (has_c && has_m && !gltf_colours) {
         st->colours_ignored = 1;
         has_c = 0;
     }
@@ -398,9 +421,12 @@ static int import_scene(const struct aiScene *sc, const char *path, const char *
                     uv[2 * k] = am->mTextureCoords[0][v].x;
                     uv[2 * k + 1] = am->mTextureCoords[0][v].y;
                 }
-                if (has_c) { /* a mesh without colours beside ones with: the default diffuse colour */
+                if (has_c) { /* a mesh without colours beside ones with: its material's, or the default, diffuse colour */
                     const struct aiColor4D *c = am->mColors[0];
-                    col[k] = c ? v3(c[v].r, c[v].g, c[v].b) : material_default().kd;
+                    const vec3 kd = gltf_colours ? out->materials[mesh_material(sc, am)].kd : material_default().kd;
+                    col[k] = c ? v3(c[v].r, c[v].g, c[v].b) : kd;
+                    if (c && gltf_colours)
+                        col[k] = v3_mul(col[k], kd);
                     if (!v3_is_finite(col[k]) || col[k].x < 0 || col[k].y < 0 || col[k].z < 0)
                         bad = 2;
                 }
@@ -429,7 +455,7 @@ static int import_scene(const struct aiScene *sc, const char *path, const char *
                         n[k] = fn;
                 }
             }
-            uint32_t mat = has_m && am->mMaterialIndex < sc->mNumMaterials ? am->mMaterialIndex : 0;
+            uint32_t mat = has_m ? mesh_material(sc, am) : 0;
             rc = mesh_add(out, p, has_n ? n : NULL, has_t ? uv : NULL, has_c ? col : NULL, mat, err);
         }
     }
