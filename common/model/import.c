@@ -66,7 +66,7 @@ static int import_number(const struct aiMaterial *am, const char *key, unsigned 
                          real *out)
 {
     ai_real v;
-    if (aiGetMaterialFloat(am, key, type, idx, &v) != aiReturn_SUCCESS || !(v >= lo && v <= hi))
+    if (aiGetMaterialFloat(am, key, type, idx, &v) != aiReturn_SUCCESS || !((real)v >= lo && (real)v <= hi))
         return 0;
     *out = (real)v;
     return 1;
