@@ -338,6 +338,34 @@ static int import_gltf_colours(const struct aiScene *sc)
     return 1;
 }
 
+/* Whether the file has materials of its own: one that Assimp makes up for
+ * a file without, unnamed (PLY, glTF) or "DefaultMaterial" (STL), is none,
+ * as an OBJ without usemtl, so the scene's default applies. */
+static int import_has_materials(const struct aiScene *sc)
+{
+    struct aiString name;
+    if (sc->mNumMaterials != 1)
+        return sc->mNumMaterials > 1;
+    return aiGetMaterialString(sc->mMaterials[0], AI_MATKEY_NAME, &name) == aiReturn_SUCCESS && name.length &&
+           strcmp(name.data, AI_DEFAULT_MATERIAL_NAME) != 0;
+}
+
+/* Every material of the file into out, in the file's order, with its
+ * texture (an index into *tl) where the model has texture coordinates. */
+static int import_materials(const struct aiScene *sc, const char *model, int has_t, Mesh *out, ImportTexList *tl,
+                            ImportStats *st, Err *err)
+{
+    int rc = 0;
+    for (unsigned i = 0; rc == 0 && i < sc->mNumMaterials; i++) {
+        int optics;
+        Material mt = import_material(sc->mMaterials[i], &optics);
+        st->optics += (unsigned long)optics;
+        mt.texture = has_t ? import_tex_find(sc, sc->mMaterials[i], model, tl) : -1;
+        rc = mesh_add_material(out, mt, err);
+    }
+    return rc;
+}
+
 /* The triangles of an imported scene into *out (stats counted); each
  * material's texture is an index into *tl.  `model`: the file's path, where
  * textures named by a relative path are looked for (NULL: none). */
@@ -359,15 +387,7 @@ static int import_scene(const struct aiScene *sc, const char *path, const char *
     int rc = 0;
     if (faces > IMPORT_MAX_TRIANGLES)
         rc = err_set(err, "%s: %lu triangles exceed the limit of %u", path, faces, IMPORT_MAX_TRIANGLES);
-    /* a file without materials gets one that Assimp makes up, unnamed (PLY,
-     * glTF) or "DefaultMaterial" (STL): no material then, as an OBJ
-     * without usemtl, so the scene's default applies */
-    int has_m = sc->mNumMaterials > 1;
-    if (sc->mNumMaterials == 1) {
-        struct aiString name;
-        has_m = aiGetMaterialString(sc->mMaterials[0], AI_MATKEY_NAME, &name) == aiReturn_SUCCESS && name.length &&
-                strcmp(name.data, AI_DEFAULT_MATERIAL_NAME) != 0;
-    }
+    const int has_m = import_has_materials(sc);
     /* vertex colours (scanners write them in PLY) where the model has no
      * material colour, as the OBJ reader keeps them; and in a glTF, whose
      * COLOR_0 multiplies its material's base colour (the glTF spec), with
@@ -381,13 +401,8 @@ static int import_scene(const struct aiScene *sc, const char *path, const char *
         rc = mesh_init(out, (has_n ? MESH_NORMALS : 0u) | (has_t ? MESH_UVS : 0u) | (has_m ? MESH_MATERIALS : 0u) |
                                 (has_c ? MESH_COLOURS : 0u),
                        err);
-    for (unsigned i = 0; rc == 0 && has_m && i < sc->mNumMaterials; i++) {
-        int optics;
-        Material mt = import_material(sc->mMaterials[i], &optics);
-        st->optics += (unsigned long)optics;
-        mt.texture = has_t ? import_tex_find(sc, sc->mMaterials[i], model, tl) : -1;
-        rc = mesh_add_material(out, mt, err);
-    }
+    if (rc == 0 && has_m)
+        rc = import_materials(sc, model, has_t, out, tl, st, err);
     for (unsigned i = 0; rc == 0 && i < sc->mNumMeshes; i++) {
         const struct aiMesh *am = sc->mMeshes[i];
         st->meshes++;
