@@ -94,6 +94,7 @@ struct Server {
     uint32_t fw, fh;
     uint8_t *shown;     /* a scaled frame scaled up to the full size, for the callback */
     uint16_t *upscale_scratch; /* upscale_smooth's, made at the first scaled frame */
+    double *upscale_rgbe;      /* upscale_smooth_rgbe's, likewise */
     /* changes held for the next frame (server_set_camera, server_turn_instances) */
     Camera next_camera;
     int camera_pending;
@@ -244,6 +245,7 @@ void server_destroy(Server *s)
     free(s->spare_pixels);
     free(s->shown);
     free(s->upscale_scratch);
+    free(s->upscale_rgbe);
     free(s);
 }
 
@@ -277,18 +279,23 @@ void server_set_scale(Server *s, int scale)
 }
 
 /* A frame rendered at `scale`, brought up to the full size (upscale.h):
- * smooth, or in blocks where asked, for RGBE pixels (a shared exponent
- * does not mix byte by byte) or where the scratch cannot be had. */
+ * smooth (RGB8 or RGBE), or in blocks where asked or where the scratch
+ * cannot be had. */
 static const uint8_t *scaled_up(Server *s, const uint8_t *pixels, int scale)
 {
     if (scale == 1)
         return pixels;
     const uint32_t w = (uint32_t)s->cfg.width, h = (uint32_t)s->cfg.height, k = (uint32_t)scale;
-    const int smooth = s->cfg.upscale == UPSCALE_SMOOTH && s->bpp == 3;
-    if (smooth && !s->upscale_scratch)
-        s->upscale_scratch = malloc(upscale_scratch(w, h, 2) * sizeof *s->upscale_scratch); /* scale 2's is the most */
-    if (smooth && s->upscale_scratch)
+    const int smooth = s->cfg.upscale == UPSCALE_SMOOTH, rgbe = s->bpp == 4;
+    /* scale 2's scratch is the most either needs */
+    if (smooth && !rgbe && !s->upscale_scratch)
+        s->upscale_scratch = malloc(upscale_scratch(w, h, 2) * sizeof *s->upscale_scratch);
+    if (smooth && rgbe && !s->upscale_rgbe)
+        s->upscale_rgbe = malloc(upscale_scratch_rgbe(w, h, 2) * sizeof *s->upscale_rgbe);
+    if (smooth && !rgbe && s->upscale_scratch)
         upscale_smooth(pixels, s->shown, w, h, k, s->upscale_scratch);
+    else if (smooth && rgbe && s->upscale_rgbe)
+        upscale_smooth_rgbe(pixels, s->shown, w, h, k, s->upscale_rgbe);
     else
         upscale_blocks(pixels, s->shown, w, h, s->bpp, k);
     return s->shown;

@@ -11,6 +11,8 @@
 
 #include <assert.h>
 #include <string.h>
+
+#include "base/srgb.h"
 #ifdef __SSE2__
 #include <emmintrin.h>
 #endif
@@ -113,5 +115,36 @@ void upscale_smooth(const uint8_t *src, uint8_t *dst, uint32_t w, uint32_t h, ui
         taps(y, k, sh, &a, &b, &r);
         mix_lines(scratch + (size_t)a * w * 3, scratch + (size_t)b * w * 3, k2 - r, r, sum, k <= 64,
                   dst + (size_t)y * w * 3, (size_t)w * 3);
+    }
+}
+
+size_t upscale_scratch_rgbe(uint32_t w, uint32_t h, uint32_t k)
+{
+    return (size_t)((w + k - 1) / k) * ((h + k - 1) / k) * 3;
+}
+
+void upscale_smooth_rgbe(const uint8_t *src, uint8_t *dst, uint32_t w, uint32_t h, uint32_t k, double *scratch)
+{
+    assert(k >= 1);
+    const uint32_t sw = (w + k - 1) / k, sh = (h + k - 1) / k, k2 = 2 * k;
+    for (size_t i = 0; i < (size_t)sw * sh; i++)
+        rgbe_decode(src + 4 * i, scratch + 3 * i);
+    const double sum = (double)k2 * (double)k2;
+    for (uint32_t y = 0; y < h; y++) {
+        uint32_t j0, j1, q;
+        taps(y, k, sh, &j0, &j1, &q);
+        const double *l0 = scratch + (size_t)j0 * sw * 3, *l1 = scratch + (size_t)j1 * sw * 3;
+        for (uint32_t x = 0; x < w; x++) {
+            uint32_t i0, i1, r;
+            taps(x, k, sw, &i0, &i1, &r);
+            /* whole-number weights, the products and sums in one order: the same bits everywhere */
+            const double w00 = (double)((k2 - r) * (k2 - q)), w10 = (double)(r * (k2 - q));
+            const double w01 = (double)((k2 - r) * q), w11 = (double)(r * q);
+            double c[3];
+            for (int ch = 0; ch < 3; ch++)
+                c[ch] = (w00 * l0[3 * i0 + ch] + w10 * l0[3 * i1 + ch] + w01 * l1[3 * i0 + ch] + w11 * l1[3 * i1 + ch]) /
+                        sum;
+            rgbe_encode((real)c[0], (real)c[1], (real)c[2], dst + 4 * ((size_t)y * w + x));
+        }
     }
 }

@@ -30,4 +30,11 @@ size_t upscale_scratch(uint32_t w, uint32_t h, uint32_t k);
  * linear filter does on a texture not marked sRGB). */
 void upscale_smooth(const uint8_t *src, uint8_t *dst, uint32_t w, uint32_t h, uint32_t k, uint16_t *scratch);
 
+/* The same for RGBE pixels (lanray-server --hdr), whose shared exponent
+ * does not mix byte by byte: the four pixels decoded (rgbe_decode), mixed
+ * in double with the same whole-number weights, and coded again.  The
+ * scratch: upscale_scratch_rgbe(w, h, k) doubles. */
+size_t upscale_scratch_rgbe(uint32_t w, uint32_t h, uint32_t k);
+void upscale_smooth_rgbe(const uint8_t *src, uint8_t *dst, uint32_t w, uint32_t h, uint32_t k, double *scratch);
+
 #endif

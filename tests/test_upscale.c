@@ -4,12 +4,14 @@
  * division included), a flat frame stays flat, a ramp stays the ramp sampled at each full
  * pixel's centre (clamped beyond the first and last centres), every pixel
  * lies within the four it mixes, and a mirrored frame comes out mirrored
- * (the centres are where they belong, not half a pixel off). */
+ * (the centres are where they belong, not half a pixel off); RGBE frames
+ * mix their light, decoded. */
 #include "helpers.h"
 
 #include <math.h>
 #include <stdlib.h>
 
+#include "base/srgb.h"
 #include "upscale.h"
 
 static uint8_t *frame_of(uint32_t sw, uint32_t sh, uint32_t bpp, uint32_t seed)
@@ -173,6 +175,66 @@ static void smooth_mirrors_a_mirrored_frame(void **state)
     }
 }
 
+/* RGBE (--hdr): a frame of random light over four decades, brought up
+ * smooth: each pixel the decoded four mixed in double with the same
+ * weights and coded again (byte for byte); a flat frame stays the same
+ * bytes; and each pixel's light lies within its four's, but for the code's
+ * own step (1/256 of the largest channel). */
+static void smooth_rgbe_mixes_the_light(void **state)
+{
+    (void)state;
+    for (uint32_t k = 2; k <= 8; k++) {
+        const uint32_t w = 23 + k, h = 19, sw = (w + k - 1) / k, sh = (h + k - 1) / k, k2 = 2 * k;
+        uint8_t *src = malloc((size_t)sw * sh * 4), *dst = malloc((size_t)w * h * 4);
+        double *scratch = malloc(upscale_scratch_rgbe(w, h, k) * sizeof *scratch);
+        assert_true(src && dst && scratch);
+        for (size_t i = 0; i < (size_t)sw * sh; i++) {
+            const double s = pow(10.0, (double)((i * 7919u) % 400) / 100.0 - 2.0); /* 0.01 .. 100 */
+            rgbe_encode((real)(s * 0.9), (real)(s * (double)(i % 5) / 4.0), (real)(s * 0.3), src + 4 * i);
+        }
+        upscale_smooth_rgbe(src, dst, w, h, k, scratch);
+        for (uint32_t y = 0; y < h; y++)
+            for (uint32_t x = 0; x < w; x++) {
+                const int u = (int)(2 * x + 1) - (int)k, v = (int)(2 * y + 1) - (int)k;
+                const int i = (int)floor((double)u / k2), j = (int)floor((double)v / k2);
+                const int r = u - i * (int)k2, q = v - j * (int)k2;
+                const int i0 = i < 0 ? 0 : i, i1 = i + 1 >= (int)sw ? (int)sw - 1 : i + 1;
+                const int j0 = j < 0 ? 0 : j, j1 = j + 1 >= (int)sh ? (int)sh - 1 : j + 1;
+                double c00[3], c10[3], c01[3], c11[3], mix[3], got[3];
+                rgbe_decode(src + 4 * ((size_t)j0 * sw + (size_t)i0), c00);
+                rgbe_decode(src + 4 * ((size_t)j0 * sw + (size_t)i1), c10);
+                rgbe_decode(src + 4 * ((size_t)j1 * sw + (size_t)i0), c01);
+                rgbe_decode(src + 4 * ((size_t)j1 * sw + (size_t)i1), c11);
+                const double w00 = (double)(((int)k2 - r) * ((int)k2 - q)), w10 = (double)(r * ((int)k2 - q));
+                const double w01 = (double)(((int)k2 - r) * q), w11 = (double)(r * q), sum = (double)(k2 * k2);
+                double top = 0;
+                for (int c = 0; c < 3; c++) {
+                    mix[c] = (w00 * c00[c] + w10 * c10[c] + w01 * c01[c] + w11 * c11[c]) / sum;
+                    top = mix[c] > top ? mix[c] : top;
+                }
+                uint8_t want[4];
+                rgbe_encode((real)mix[0], (real)mix[1], (real)mix[2], want);
+                const uint8_t *at = dst + 4 * ((size_t)y * w + x);
+                assert_memory_equal(at, want, 4);
+                rgbe_decode(at, got);
+                for (int c = 0; c < 3; c++) {
+                    double lo = c00[c], hi = c00[c];
+                    const double o[3] = {c10[c], c01[c], c11[c]};
+                    for (int n = 0; n < 3; n++)
+                        lo = o[n] < lo ? o[n] : lo, hi = o[n] > hi ? o[n] : hi;
+                    assert_true(got[c] >= lo - top / 128 && got[c] <= hi + top / 128);
+                }
+            }
+        /* flat: the same bytes everywhere */
+        for (size_t i = 0; i < (size_t)sw * sh; i++)
+            rgbe_encode(R(0.7), R(0.2), R(0.05), src + 4 * i);
+        upscale_smooth_rgbe(src, dst, w, h, k, scratch);
+        for (size_t i = 0; i < (size_t)w * h; i++)
+            assert_memory_equal(dst + 4 * i, src, 4);
+        free(src), free(dst), free(scratch);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -182,6 +244,7 @@ int main(void)
         cmocka_unit_test(smooth_follows_a_ramp),
         cmocka_unit_test(smooth_stays_within_its_taps),
         cmocka_unit_test(smooth_mirrors_a_mirrored_frame),
+        cmocka_unit_test(smooth_rgbe_mixes_the_light),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

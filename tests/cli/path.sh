@@ -174,6 +174,62 @@ PY
     grep -q "^pace: target 1000.0 fps, mean render scale " "$dir/scale-$up.log" || fail "no pace line: $(tail -3 "$dir/scale-$up.log")"
     cmp -s "$dir/sc-$up/frame-00007.png" "$dir/still.png" || fail "the still frame after a scaled flight is not whole and refined"
 done
+# RGBE frames (--hdr) at render scale 8, smooth: the small frame's light
+# decoded, mixed with the same weights in double and coded again
+# (server/upscale.c's upscale_smooth_rgbe, computed again here)
+for k in 1 2 3 4 5 6; do
+    t=$(python3 -c "print(($k - 1) * 0.5)")
+    "$BIN/lanray-render" --path "$dir/fly.path" --at "$t" --aa 1 --width $((W / 8)) --height $((H / 8)) \
+        -o "$dir/small-$k.hdr" --quiet >/dev/null || fail "lanray-render small .hdr --at $t"
+done
+start_server scale-hdr --port 0 --width $W --height $H --path "$dir/fly.path" --path-step 0.5 --wait-clients 2 \
+    --target-fps 1000 --hdr --out "$dir/sc-hdr"
+run_clients 2 scale-hdr
+python3 - "$dir/sc-hdr" "$dir" 8 <<'PY' || fail "no RGBE frame at render scale 8 is lanray-render's small .hdr brought up smooth"
+import math, struct, sys
+def read(path):  # lanray's .hdr: a header, a blank line, the size line, flat RGBE pixels
+    head, _, body = open(path, "rb").read().partition(b"\n\n")
+    size, _, px = body.partition(b"\n")
+    h, w = int(size.split()[1]), int(size.split()[3])
+    return w, h, px
+def decode(p):
+    f = math.ldexp(1.0, p[3] - 136) if p[3] else 0.0
+    return [(p[c] + 0.5) * f if p[3] else 0.0 for c in range(3)]
+def f32(v):
+    return struct.unpack("f", struct.pack("f", v))[0]
+def encode(c):
+    c = [f32(v) if v > 0 else 0.0 for v in c]
+    v = max(c)
+    if not v >= 1e-32:
+        return bytes(4)
+    m, e = math.frexp(v)
+    m = m * 256.0 / v
+    return bytes([int(x * m) for x in c] + [e + 128])
+def taps(x, k, n):
+    u = 2 * x + 1 - k
+    i, r = u // (2 * k), u % (2 * k)
+    return min(max(i, 0), n - 1), min(max(i + 1, 0), n - 1), r
+def scaled(bigf, smallf, k):
+    W, H, big = read(bigf)
+    sw, sh, small = read(smallf)
+    if W != sw * k or H != sh * k:
+        return "not full size"
+    lights = [decode(small[4 * i:4 * i + 4]) for i in range(sw * sh)]
+    k2 = 2 * k
+    for y in range(H):
+        j0, j1, q = taps(y, k, sh)
+        for x in range(W):
+            i0, i1, r = taps(x, k, sw)
+            w = [float((k2 - r) * (k2 - q)), float(r * (k2 - q)), float((k2 - r) * q), float(r * q)]
+            p = [lights[j0 * sw + i0], lights[j0 * sw + i1], lights[j1 * sw + i0], lights[j1 * sw + i1]]
+            mix = [(w[0] * p[0][c] + w[1] * p[1][c] + w[2] * p[2][c] + w[3] * p[3][c]) / float(k2 * k2) for c in range(3)]
+            if big[4 * (y * W + x):4 * (y * W + x) + 4] != encode(mix):
+                return "pixel %d,%d" % (x, y)
+    return None
+why = [scaled("%s/frame-%05d.hdr" % (sys.argv[1], f), "%s/small-%d.hdr" % (sys.argv[2], f), int(sys.argv[3])) for f in range(1, 7)]
+if all(why):
+    sys.exit("; ".join("frame %d: %s" % (f + 1, w) for f, w in enumerate(why)))
+PY
 # the same flight with the model turning: a new description every frame
 start_server turn --port 0 --width $W --height $H --path "$dir/fly.path" --path-step 0.5 --wait-clients 1 --rotate 10 \
     --out "$dir/t"
@@ -196,4 +252,4 @@ bad 'key 0 position 0 1 5 fov 200\n' 'bad.path:1:'
 bad '# nothing\n' 'no camera keys'
 "$BIN/lanray-server" --headless --path "$dir/missing.path" --port 0 2>"$dir/miss.err" && fail "the server took a missing path"
 grep -q "missing.path" "$dir/miss.err" || fail "the server's error does not name the path: $(cat "$dir/miss.err")"
-echo "path: 6 frames of a flight through 2 clients equal lanray-render's cameras on the path, and the converged one its full picture; a frame at render scale 8 is its small picture brought up smooth (or in blocks); a camera move decodes no scene and builds no tree (6 each with a turning model); bad paths named by line"
+echo "path: 6 frames of a flight through 2 clients equal lanray-render's cameras on the path, and the converged one its full picture; a frame at render scale 8 is its small picture brought up smooth (or in blocks), an RGBE one too; a camera move decodes no scene and builds no tree (6 each with a turning model); bad paths named by line"
