@@ -80,7 +80,7 @@ static int parse_args(Args *a, int argc, char **argv)
          .help = "SBT split axis: the box's longest, or x, y, z in turn"},
         {.name = "--threads", .kind = OPT_INT, .dst = &a->threads, .arg = "T", .lo = 0, .hi = 64,
          .help = "builder threads, 0 = one per core (the tree is the same for any number)", .def = "0: all cores"},
-        {.name = "--smooth", .kind = OPT_FLAG, .dst = &a->smooth, .help = "smooth the faces outside any smoothing group (s) where the OBJ has no normals; faces in a group are smoothed by it anyway"},
+        {.name = "--smooth", .kind = OPT_FLAG, .dst = &a->smooth, .help = "smooth vertex normals where the model has none: an OBJ's faces outside any smoothing group (s; faces in a group are smoothed by it anyway), another format's faces where they meet at less than 45 degrees (STL)"},
         {.name = "--strict", .kind = OPT_FLAG, .dst = &a->strict,
          .help = "make every warning an error (an undefined material, a missing library, skipped elements, ...)"},
         {.name = "--quiet", .kind = OPT_FLAG, .dst = &a->quiet, .help = "print errors only: no summary, no progress"},
@@ -144,11 +144,8 @@ static int read_mesh(const Args *a, Mesh *mesh, ObjStats *st)
     }
     if (f == MODEL_FORMAT_IMPORT) {
         ImportStats is;
-        if (a->smooth) {
-            fprintf(stderr, "obj2tmd: --smooth applies to OBJ input\n");
-            return 2;
-        }
         if (import_read(a->in, &oo, mesh, &is, &err) == 0) {
+            st->smoothed = is.smoothed;
             st->vertices = is.vertices, st->faces = is.triangles + is.degenerate, st->degenerate = is.degenerate;
             st->skipped[OBJ_SKIP_LINE] = is.lines, st->skipped[OBJ_SKIP_POINT] = is.points;
             st->coloured = is.coloured, st->colours = mesh->col != NULL, st->colours_ignored = is.colours_ignored;
@@ -193,7 +190,9 @@ static void print_summary(const Args *a, const Model *model, const ObjStats *st,
                st->colours_ignored ? ", vertex colours ignored" : "");
     if (st->smoothed)
         printf("  smooth normals: %lu triangles (%s)\n", st->smoothed,
-               st->smoothing ? "by smoothing group, s" : "--smooth");
+               st->smoothing ? "by smoothing group, s"
+               : model_format(a->in) == MODEL_FORMAT_OBJ ? "--smooth"
+                                                         : "--smooth, edges sharper than 45 degrees kept");
     if (st->optics_mtl)
         printf("  materials with reflection, glass, transparency or emission (%s): %lu\n",
                model_format(a->in) == MODEL_FORMAT_OBJ ? "illum, Ni, d, Ke" : "metal, transmission, opacity, emission",

@@ -1,5 +1,6 @@
 /* import.c - see import.h. */
 #include "model/import.h"
+#include "model/smooth.h"
 
 #include <assimp/cimport.h>
 #include <assimp/material.h>
@@ -730,6 +731,15 @@ int import_read(const char *path, const ObjOptions *opt, Mesh *out, ImportStats 
     }
     if (isolated(&job, path, opt, out, st, err))
         return -1;
+    /* opt->smooth: vertex normals for a file that has none (STL, a PLY
+     * without them), sharp edges kept (IMPORT_CREASE_DEG) */
+    if (opt && opt->smooth && !out->nrm) {
+        if (mesh_smooth(out, IMPORT_CREASE_DEG, err)) {
+            mesh_free(out);
+            return err_prefix(err, "%s", path);
+        }
+        st->smoothed = out->tri_count;
+    }
     return import_warnings(opt, path, out, st, err);
 }
 

@@ -31,7 +31,13 @@ typedef struct {
     unsigned long missing_textures; /* textures that could not be read (a warning each) */
     unsigned long warnings;
     unsigned long optics; /* materials with a metal's reflection, glass, see-through or emission */
+    unsigned long smoothed; /* triangles given smooth normals (ObjOptions.smooth, a file without normals) */
 } ImportStats;
+
+/* With ObjOptions.smooth, a file without normals gets them by mesh_smooth
+ * (smooth.h): faces that meet at less than this smoothly, sharper edges
+ * kept (a tessellated cylinder's facets meet at 11 degrees, a box's at 90). */
+#define IMPORT_CREASE_DEG R(45)
 
 /* Whether the name's extension is one the importer takes (not .obj or .tmd). */
 int import_knows(const char *path);

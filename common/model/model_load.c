@@ -41,9 +41,8 @@ int model_load(const char *path, const BvhOptions *opt, int rebuild, int smooth,
     }
     if (f == MODEL_FORMAT_IMPORT) { /* PLY, STL, glTF, ... (import.h) */
         Mesh mesh;
-        if (smooth)
-            return err_set(err, "%s: 'smooth' applies to OBJ models", path);
-        if (import_read(path, NULL, &mesh, NULL, err))
+        ObjOptions oo = {.smooth = smooth};
+        if (import_read(path, &oo, &mesh, NULL, err))
             return -1;
         int rc = model_from_mesh(out, &mesh, opt, err);
         mesh_free(&mesh);
@@ -52,7 +51,7 @@ int model_load(const char *path, const BvhOptions *opt, int rebuild, int smooth,
     if (f == MODEL_FORMAT_UNKNOWN)
         return err_set(err, "model file '%s' must end in .tmd, .obj, or a format the importer reads (.ply, .stl, .gltf, .glb, ...; docs/models.md)", path);
     if (smooth)
-        return err_set(err, "%s: 'smooth' applies to OBJ models; convert with obj2tmd --smooth", path);
+        return err_set(err, "%s: 'smooth' applies to models converted on load; convert with obj2tmd --smooth", path);
     if (tmd_read(path, out, err))
         return -1;
     if (rebuild && model_rebuild(*out, opt, err)) {

@@ -5,7 +5,9 @@
  * and one where groups meet sorts its corners by (group, corner) first. */
 #include "model/smooth.h"
 
+#include <math.h>
 #include <stdlib.h>
+#include <string.h>
 
 /* Triangle i's face normal, its length twice the area: the weight. */
 static vec3 face_normal(const SmoothInput *in, uint32_t i)
@@ -112,4 +114,99 @@ oom:
     free(keys);
     free(normals);
     return err_set(err, "out of memory for smooth normals");
+}
+
+/* A position's hash, -0 read as +0 (the same point). */
+static uint64_t position_hash(vec3 p)
+{
+    uint64_t h = 1469598103934665603ull;
+    for (int k = 0; k < 3; k++) {
+        const real v = p.e[k] + R(0);
+        uint64_t bits = 0;
+        memcpy(&bits, &v, sizeof v);
+        h = (h ^ bits) * 1099511628211ull;
+        h ^= h >> 29;
+    }
+    return h;
+}
+
+static int same_position(vec3 a, vec3 b) { return a.x == b.x && a.y == b.y && a.z == b.z; }
+
+/* Each corner's vertex: the first corner at its position (open addressing). */
+static int weld(const Mesh *m, uint32_t *vertex, Err *err)
+{
+    const size_t n = (size_t)m->tri_count * 3;
+    size_t size = 16;
+    while (size < 2 * n)
+        size *= 2;
+    uint32_t *slot = malloc(size * sizeof *slot);
+    if (!slot)
+        return err_set(err, "out of memory for smooth normals");
+    memset(slot, 0xff, size * sizeof *slot);
+    for (size_t c = 0; c < n; c++) {
+        size_t at = (size_t)position_hash(m->pos[c]) & (size - 1);
+        while (slot[at] != UINT32_MAX && !same_position(m->pos[slot[at]], m->pos[c]))
+            at = (at + 1) & (size - 1);
+        if (slot[at] == UINT32_MAX)
+            slot[at] = (uint32_t)c;
+        vertex[c] = slot[at];
+    }
+    free(slot);
+    return 0;
+}
+
+static vec3 mesh_face_normal(const Mesh *m, uint32_t t)
+{
+    const vec3 *p = &m->pos[3 * (size_t)t];
+    return v3_cross(v3_sub(p[1], p[0]), v3_sub(p[2], p[0]));
+}
+
+/* The corners list[0..k) at one vertex: each one's normal. */
+static void crease_vertex(const Mesh *m, const uint32_t *list, uint32_t k, real cos_crease, vec3 *nrm)
+{
+    for (uint32_t a = 0; a < k; a++) {
+        const vec3 fa = mesh_face_normal(m, list[a] / 3);
+        const real la = v3_len(fa);
+        vec3 s = v3_splat(0);
+        for (uint32_t b = 0; b < k; b++) {
+            const vec3 fb = mesh_face_normal(m, list[b] / 3);
+            if (k > SMOOTH_CREASE_MAX || b == a || v3_dot(fa, fb) >= cos_crease * la * v3_len(fb))
+                s = v3_add(s, fb);
+        }
+        nrm[list[a]] = s;
+    }
+}
+
+int mesh_smooth(Mesh *m, real crease_deg, Err *err)
+{
+    const size_t n = (size_t)m->tri_count * 3;
+    uint32_t *vertex = malloc((n ? n : 1) * sizeof *vertex), *start = calloc(n + 1, sizeof *start);
+    uint32_t *list = malloc((n ? n : 1) * sizeof *list);
+    vec3 *nrm = malloc(((size_t)m->cap ? (size_t)m->cap : 1) * 3 * sizeof *nrm);
+    if (!vertex || !start || !list || !nrm || weld(m, vertex, err)) {
+        free(vertex), free(start), free(list), free(nrm);
+        return err ? err_set(err, "out of memory for smooth normals") : -1;
+    }
+    for (size_t c = 0; c < n; c++) /* the corners of each vertex, in triangle order (by a prefix sum) */
+        start[vertex[c] + 1]++;
+    for (size_t v = 0; v < n; v++)
+        start[v + 1] += start[v];
+    for (size_t c = 0; c < n; c++)
+        list[start[vertex[c]]++] = (uint32_t)c;
+    const real cos_crease = (real)cos((double)crease_deg * 3.14159265358979323846 / 180.0);
+    for (size_t v = 0, first = 0; v < n; v++) { /* start[v] is now where vertex v's run ends */
+        if (start[v] > first)
+            crease_vertex(m, &list[first], start[v] - (uint32_t)first, cos_crease, nrm);
+        first = start[v] > first ? start[v] : first;
+    }
+    for (size_t c = 0; c < n; c++) {
+        const vec3 fn = v3_norm(mesh_face_normal(m, (uint32_t)(c / 3)));
+        nrm[c] = v3_norm(nrm[c]);
+        if (!(v3_dot(nrm[c], nrm[c]) > R(0.5)))
+            nrm[c] = fn; /* a cancelling fan: the face's own */
+    }
+    free(vertex), free(start), free(list);
+    free(m->nrm);
+    m->nrm = nrm;
+    return 0;
 }

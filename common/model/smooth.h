@@ -15,6 +15,7 @@
 
 #include "base/err.h"
 #include "base/vec.h"
+#include "model/mesh.h"
 
 /* The triangles, as a reader keeps them: triangle i's three vertex indices
  * at p[i * stride] and its group at group[i * stride] (stride in 32-bit
@@ -40,5 +41,16 @@ static inline int smooth_tri(const SmoothInput *in, uint32_t i)
 {
     return in->group[(size_t)i * in->stride] != 0 || in->group0;
 }
+
+/* A triangle soup's vertex normals (a Mesh without normals: STL, PLY,
+ * OFF, ...): corners at the same position, bit for bit, share a vertex,
+ * and each corner's normal is the area-weighted sum of the face normals
+ * around its vertex that lie within crease_deg of its own face's, in the
+ * triangles' order (an edge sharper than that stays sharp; a vertex of
+ * more than SMOOTH_CREASE_MAX corners smooths them all, the crease
+ * unchecked, so that no file costs the square of its size).  m gets a
+ * normals array. */
+#define SMOOTH_CREASE_MAX 1024
+int mesh_smooth(Mesh *m, real crease_deg, Err *err);
 
 #endif

@@ -254,7 +254,7 @@ static const Field model_fields[] = {
      .def = BVH_SAH, .shown_default = "sah (a .tmd: its own)",
      .doc = "the tree's builder: spatial median, smallest merged box, or surface area; given, it rebuilds a .tmd's"},
     {.key = "smooth", .type = FIELD_FLAG, .flags = FIELD_FILE, .off = offsetof(ModelSpec, smooth),
-     .doc = "smooth vertex normals where an OBJ has none, its smoothing groups aside"},
+     .doc = "smooth vertex normals where the model has none (an OBJ: its smoothing groups aside; another format: edges under 45 degrees)"},
 };
 const FieldKind model_kind = {.name = "model", .fields = model_fields,
                               .count = sizeof model_fields / sizeof *model_fields};

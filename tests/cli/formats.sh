@@ -3,7 +3,8 @@
 # ASCII and binary, STL ASCII and binary, glTF 2.0 as .gltf + .bin and as
 # .glb), converted and rendered: each image is byte-identical to the OBJ's,
 # as is the OBJ's named MODEL.OBJ; an AC3D file (one of Assimp's other
-# formats) converts, and a name no reader takes is refused with a reason.
+# formats) converts, and a name no reader takes is refused with a reason;
+# --smooth gives an STL sphere smooth normals and leaves a cube's edges sharp.
 # The one difference the formats force: STL has only facet normals, so the
 # STL files are compared with the OBJ without vertex normals.  A damaged
 # file, and one that crashes Assimp, fail with the name, exit 1, no output.
@@ -40,6 +41,56 @@ cmp -s "$dir/model.obj.png" "$dir/UPPER.OBJ.png" || fail "MODEL.OBJ renders diff
 "$BIN/lanray-render" "$dir/UPPER.OBJ" --width 160 --height 120 --quiet -o "$dir/upper-direct.png" >/dev/null 2>&1 ||
     fail "preview of an .OBJ"
 cmp -s "$dir/upper-direct.png" "$dir/model.obj.png" || fail "an .OBJ previewed directly differs from its .tmd"
+# --smooth on a file without normals (STL): a sphere's facets meet smoothly
+# (its picture near an OBJ with the sphere's exact normals, much nearer
+# than the flat one), a cube's edges stay sharp (the same bytes as flat)
+python3 - "$dir" <<'PY' || fail "writing the sphere and the cube"
+import math, sys
+d = sys.argv[1]
+n, m = 16, 32
+def pt(i, j):  # the poles exactly on the axis
+    s = math.sin(math.pi * i / n) if i % n else 0.0
+    return (s * math.cos(2 * math.pi * j / m), math.cos(math.pi * i / n), s * math.sin(2 * math.pi * j / m))
+tris = []
+for i in range(n):
+    for j in range(m):
+        a, b, c, e = pt(i, j), pt(i + 1, j), pt(i + 1, j + 1), pt(i, j + 1)
+        if i > 0:
+            tris.append((a, c, e))
+        if i < n - 1:
+            tris.append((a, b, c))
+def stl(path, faces):
+    with open(path, "w") as f:
+        f.write("solid s\n")
+        for t in faces:
+            f.write(" facet normal 0 0 0\n  outer loop\n" + "".join("   vertex %.9g %.9g %.9g\n" % v for v in t) + "  endloop\n endfacet\n")
+        f.write("endsolid s\n")
+stl(d + "/sphere.stl", tris)
+with open(d + "/sphere.obj", "w") as f:
+    for t in tris:
+        for v in t:
+            f.write("v %.9g %.9g %.9g\nvn %.9g %.9g %.9g\n" % (v + v))
+    for k in range(len(tris)):
+        f.write("f %d//%d %d//%d %d//%d\n" % tuple(x for c in range(3) for x in (3 * k + c + 1,) * 2))
+q = [(x, y, z) for x in (0, 1) for y in (0, 1) for z in (0, 1)]
+quads = [(0, 1, 3, 2), (4, 6, 7, 5), (0, 4, 5, 1), (2, 3, 7, 6), (0, 2, 6, 4), (1, 5, 7, 3)]
+stl(d + "/cube.stl", [t for a, b, c, e in quads for t in ((q[a], q[b], q[c]), (q[a], q[c], q[e]))])
+PY
+for f in sphere.stl:flat sphere.stl:smooth sphere.obj:ref cube.stl:flat cube.stl:smooth; do
+    m=${f%%:*} how=${f##*:}
+    "$BIN/obj2tmd" $([ "$how" = smooth ] && echo --smooth) "$dir/$m" "$dir/$how-$m.tmd" >"$dir/$how-$m.log" 2>&1 ||
+        fail "obj2tmd $how $m: $(cat "$dir/$how-$m.log")"
+    "$BIN/lanray-render" "$dir/$how-$m.tmd" --width 96 --height 72 --quiet -o "$dir/$how-$m.png" >/dev/null 2>&1 ||
+        fail "render $how $m"
+done
+grep -q "smooth normals: 12 triangles (--smooth, edges sharper than 45 degrees kept)" "$dir/smooth-cube.stl.log" ||
+    fail "cube --smooth summary: $(cat "$dir/smooth-cube.stl.log")"
+cmp -s "$dir/smooth-cube.stl.png" "$dir/flat-cube.stl.png" || fail "--smooth rounded a cube's edges"
+rmse() { "$BIN/lanray-imgdiff" "$dir/ref-sphere.obj.png" "$1" | sed -n 's/.*rmse \([0-9.]*\).*/\1/p'; }
+flat=$(rmse "$dir/flat-sphere.stl.png") smooth=$(rmse "$dir/smooth-sphere.stl.png")
+python3 -c "import sys; sys.exit(0 if $smooth < 0.5 * $flat else 1)" ||
+    fail "--smooth on an STL sphere: RMSE $smooth against its exact normals, flat $flat"
+echo "STL --smooth: a sphere RMSE $smooth against exact normals (flat $flat), a cube's edges sharp"
 # the rest of what Assimp reads: an AC3D tetrahedron (.ac)
 printf '%s\n' AC3Db 'MATERIAL "w" rgb 0.8 0.8 0.8 amb 0.2 0.2 0.2 emis 0 0 0 spec 0 0 0 shi 10 trans 0' \
     'OBJECT world' 'kids 1' 'OBJECT poly' 'numvert 4' '0 0 0' '1 0 0' '0 1 0' '0 0 1' 'numsurf 4' \
