@@ -87,11 +87,12 @@ static int parse_args(Args *a, int argc, char **argv)
         {0},
     };
     const char *args[2] = {NULL, NULL};
-    OptSpec spec = {.prog = "obj2tmd", .synopsis = "[options] in.obj|in.ply|in.stl|in.gltf|in.glb|... out.tmd",
+    OptSpec spec = {.prog = "obj2tmd", .synopsis = "[options] in.obj|in.ply|in.stl|in.gltf|in.glb|in.tmd|... out.tmd",
                     .about = "Converts a Wavefront OBJ model (with its MTL materials) into a .tmd file: the triangles in\n"
                     "the order of a bounding volume hierarchy, ready to render (docs/tmd.md).  PLY, STL, glTF 2.0\n"
-                    "and other formats are read through Assimp, chosen by the extension (docs/models.md).  On a\n"
-                    "terminal, a conversion longer than a second shows the step under way.",
+                    "and other formats are read through Assimp, chosen by the extension (docs/models.md); a .tmd\n"
+                    "has its tree built again with the options given.  On a terminal, a conversion longer than a\n"
+                    "second shows the step under way.",
                     .opts = opts, .args = args, .min_args = 2, .max_args = 2, .missing = "needs an input and an output",
                     .exits = "  0  converted\n"
                     "  1  an error in the OBJ (file and line named), no usable triangle, an unwritable output, or the\n"
@@ -135,11 +136,10 @@ static int read_mesh(const Args *a, Mesh *mesh, ObjStats *st)
     ObjOptions oo = {.smooth = a->smooth, .strict = a->strict, .warn = a->quiet ? NULL : show_warning};
     memset(st, 0, sizeof *st);
     const ModelFormat f = model_format(a->in);
-    if (f == MODEL_FORMAT_UNKNOWN || f == MODEL_FORMAT_TMD) { /* read as OBJ, such a file gave the OBJ reader's puzzles */
-        fprintf(stderr, "obj2tmd: %s: %s; obj2tmd reads .obj, and through Assimp .ply, .stl, .gltf, .glb, .fbx, .dae, "
-                        ".3ds, ... (docs/models.md)\n",
-                a->in, f == MODEL_FORMAT_TMD ? "already a .tmd (lanray-render and scenes read it as it is)"
-                                             : "not a model format by its name's extension");
+    if (f == MODEL_FORMAT_UNKNOWN) { /* read as OBJ, such a file gave the OBJ reader's puzzles */
+        fprintf(stderr, "obj2tmd: %s: not a model format by its name's extension; obj2tmd reads .obj, .tmd (its tree "
+                        "built again), and through Assimp .ply, .stl, .gltf, .glb, .fbx, .dae, .3ds, ... (docs/models.md)\n",
+                a->in);
         return 1;
     }
     if (f == MODEL_FORMAT_IMPORT) {
@@ -165,8 +165,11 @@ static void print_summary(const Args *a, const Model *model, const ObjStats *st,
                           double build_s)
 {
     printf("%s -> %s\n", a->in, a->out);
-    printf("  vertices %lu, faces %lu, triangles %u, degenerate dropped %lu\n", st->vertices, st->faces,
-           model->tri_count, st->degenerate);
+    if (model_format(a->in) == MODEL_FORMAT_TMD)
+        printf("  triangles %u (a .tmd: its tree built again)\n", model->tri_count);
+    else
+        printf("  vertices %lu, faces %lu, triangles %u, degenerate dropped %lu\n", st->vertices, st->faces,
+               model->tri_count, st->degenerate);
     printf("  attributes: %s%s%s%s", model->normals ? "normals " : "", model->uvs ? "uvs " : "",
            model->colours ? "vertex-colours " : "",
            model->mat_ids ? "materials" : (model->normals || model->uvs || model->colours ? "" : "positions only"));
@@ -208,6 +211,38 @@ static void print_summary(const Args *a, const Model *model, const ObjStats *st,
         printf("\n");
 }
 
+/* A .tmd's tree built again with the options given (a model converted
+ * once, compared across builders), written to a->out: 0, or the exit status. */
+static int rebuild_tmd(const Args *a, const BvhOptions *bo, Progress *prog, Step *step)
+{
+    Err err = {{0}};
+    Model *model = NULL;
+    ObjStats st = {0};
+    atomic_store(&step->step, "rebuilding the tree of");
+    const double t0 = timer_now();
+    int rc = a->smooth ? (fprintf(stderr, "obj2tmd: %s: --smooth needs the model's source, not a .tmd\n", a->in), 2) : 0;
+    if (rc == 0 && model_load(a->in, bo, 1, 0, &model, &err)) {
+        fprintf(stderr, "obj2tmd: %s\n", err.msg);
+        rc = 1;
+    }
+    const double t1 = timer_now();
+    if (rc == 0) {
+        atomic_store(&step->step, "writing");
+        atomic_store(&step->file, a->out);
+        if (tmd_write(a->out, model, &err)) {
+            fprintf(stderr, "obj2tmd: %s\n", err.msg);
+            rc = 1;
+        }
+    }
+    progress_stop(prog);
+    if (rc == 0 && !a->quiet) {
+        st.faces = model->tri_count;
+        print_summary(a, model, &st, bo, 0, t1 - t0);
+    }
+    model_destroy(model);
+    return rc;
+}
+
 /* Reads, builds and writes, the progress line saying which: 0, or the
  * exit status. */
 static int convert(const Args *a)
@@ -224,6 +259,8 @@ static int convert(const Args *a)
     Mesh mesh;
     ObjStats st;
     double t0 = timer_now();
+    if (model_format(a->in) == MODEL_FORMAT_TMD)
+        return rebuild_tmd(a, &bo, prog, &step);
     int rc = read_mesh(a, &mesh, &st);
     double t1 = timer_now();
     if (rc == 0 && mesh.tri_count == 0) {

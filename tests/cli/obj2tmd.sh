@@ -15,6 +15,18 @@ for kind in sbt mst sah; do
     grep -q "attributes: uvs materials" <<<"$out" || fail "$kind attributes: $out"
 done
 "$BIN/obj2tmd" --bvh sbt --axis alternate --leaf 1 --smooth models/cube.obj "$dir/alt.tmd" >/dev/null || fail "options"
+# a .tmd in: its tree built again with the options given, the same picture
+# (the closest hit does not depend on the tree), textures and all
+"$BIN/lanray-render" "$dir/cube-sah.tmd" --width 64 --height 48 --quiet -o "$dir/sah.png" >/dev/null || fail "render cube-sah"
+for kind in sbt mst; do
+    out=$("$BIN/obj2tmd" --bvh "$kind" "$dir/cube-sah.tmd" "$dir/again-$kind.tmd") || fail "rebuilding a .tmd ($kind): $out"
+    grep -q "triangles 12 (a .tmd: its tree built again)" <<<"$out" && grep -q "bvh $kind: " <<<"$out" ||
+        fail "rebuilt .tmd summary: $out"
+    "$BIN/lanray-render" "$dir/again-$kind.tmd" --width 64 --height 48 --quiet -o "$dir/$kind.png" >/dev/null || fail "render $kind"
+    cmp -s "$dir/$kind.png" "$dir/sah.png" || fail "a .tmd rebuilt with $kind renders differently"
+done
+"$BIN/obj2tmd" --smooth "$dir/cube-sah.tmd" "$dir/s.tmd" 2>/dev/null; [ $? -eq 2 ] || fail "--smooth on a .tmd should exit 2"
+[ -e "$dir/s.tmd" ] && fail "--smooth on a .tmd left an output"
 
 # malformed input: an index past the vertices on line 5
 printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\n# face\nf 1 2 9\n' >"$dir/bad.obj"
