@@ -51,6 +51,21 @@ static void blocks_copy_each_pixel(void **state)
         }
 }
 
+/* The frame pixels about full pixel (x, y) and the right and lower ones'
+ * weights in 1/(2k), as upscale.c's header says: floor((2x + 1 - k) / 2k),
+ * clamped at the edges. */
+typedef struct {
+    int i0, i1, j0, j1, r, q;
+} Taps;
+
+static Taps taps_of(uint32_t x, uint32_t y, uint32_t k, uint32_t sw, uint32_t sh)
+{
+    const int k2 = 2 * (int)k, u = (int)(2 * x + 1) - (int)k, v = (int)(2 * y + 1) - (int)k;
+    const int i = (int)floor((double)u / k2), j = (int)floor((double)v / k2);
+    return (Taps){i < 0 ? 0 : i, i + 1 >= (int)sw ? (int)sw - 1 : i + 1, j < 0 ? 0 : j,
+                  j + 1 >= (int)sh ? (int)sh - 1 : j + 1, u - i * k2, v - j * k2};
+}
+
 /* Every byte the exact rounded mix, (sum of weights x pixels + sum / 2) /
  * sum in integers, on sizes whose lines end in the vector loop's tail. */
 static void smooth_is_the_rounded_mix(void **state)
@@ -61,12 +76,8 @@ static void smooth_is_the_rounded_mix(void **state)
         uint8_t *src = frame_of(sw, sh, 3, 7 * k), *dst = smooth(src, w, h, k);
         for (uint32_t y = 0; y < h; y++)
             for (uint32_t x = 0; x < w; x++) {
-                /* the taps as upscale.c's header says: floor((2x + 1 - k) / 2k) */
-                const int u = (int)(2 * x + 1) - (int)k, v = (int)(2 * y + 1) - (int)k;
-                const int i = (int)floor((double)u / k2), j = (int)floor((double)v / k2);
-                const int r = u - i * (int)k2, q = v - j * (int)k2;
-                const int i0 = i < 0 ? 0 : i, i1 = i + 1 >= (int)sw ? (int)sw - 1 : i + 1;
-                const int j0 = j < 0 ? 0 : j, j1 = j + 1 >= (int)sh ? (int)sh - 1 : j + 1;
+                const Taps t = taps_of(x, y, k, sw, sh);
+                const int r = t.r, q = t.q, i0 = t.i0, i1 = t.i1, j0 = t.j0, j1 = t.j1;
                 for (int c = 0; c < 3; c++) {
 #define PX(a, b) (int)src[3 * ((size_t)(b) * sw + (size_t)(a)) + (size_t)c]
                     const int top = ((int)k2 - r) * PX(i0, j0) + r * PX(i1, j0);
@@ -195,11 +206,8 @@ static void smooth_rgbe_mixes_the_light(void **state)
         upscale_smooth_rgbe(src, dst, w, h, k, scratch);
         for (uint32_t y = 0; y < h; y++)
             for (uint32_t x = 0; x < w; x++) {
-                const int u = (int)(2 * x + 1) - (int)k, v = (int)(2 * y + 1) - (int)k;
-                const int i = (int)floor((double)u / k2), j = (int)floor((double)v / k2);
-                const int r = u - i * (int)k2, q = v - j * (int)k2;
-                const int i0 = i < 0 ? 0 : i, i1 = i + 1 >= (int)sw ? (int)sw - 1 : i + 1;
-                const int j0 = j < 0 ? 0 : j, j1 = j + 1 >= (int)sh ? (int)sh - 1 : j + 1;
+                const Taps t = taps_of(x, y, k, sw, sh);
+                const int r = t.r, q = t.q, i0 = t.i0, i1 = t.i1, j0 = t.j0, j1 = t.j1;
                 double c00[3], c10[3], c01[3], c11[3], mix[3], got[3];
                 rgbe_decode(src + 4 * ((size_t)j0 * sw + (size_t)i0), c00);
                 rgbe_decode(src + 4 * ((size_t)j0 * sw + (size_t)i1), c10);
