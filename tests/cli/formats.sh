@@ -90,7 +90,16 @@ rmse() { "$BIN/lanray-imgdiff" "$dir/ref-sphere.obj.png" "$1" | sed -n 's/.*rmse
 flat=$(rmse "$dir/flat-sphere.stl.png") smooth=$(rmse "$dir/smooth-sphere.stl.png")
 python3 -c "import sys; sys.exit(0 if $smooth < 0.5 * $flat else 1)" ||
     fail "--smooth on an STL sphere: RMSE $smooth against its exact normals, flat $flat"
-echo "STL --smooth: a sphere RMSE $smooth against exact normals (flat $flat), a cube's edges sharp"
+# a scene's 'model ... smooth' of an STL: the picture of obj2tmd --smooth's .tmd
+for src in "sphere.stl smooth" "smooth-sphere.stl.tmd"; do
+    printf 'camera position 0 0.5 4 lookat 0 0 0 fov 40\nlight point position 3 4 5 intensity 1\nmodel m %s\ninstance m\n' \
+        "$src" >"$dir/${src%% *}.scene"
+    "$BIN/lanray-render" "$dir/${src%% *}.scene" --width 64 --height 48 --quiet -o "$dir/${src%% *}-scene.png" >/dev/null 2>&1 ||
+        fail "render a scene of model $src"
+done
+cmp -s "$dir/sphere.stl-scene.png" "$dir/smooth-sphere.stl.tmd-scene.png" ||
+    fail "a scene's 'model sphere.stl smooth' differs from obj2tmd --smooth's .tmd"
+echo "STL --smooth: a sphere RMSE $smooth against exact normals (flat $flat), a cube's edges sharp; a scene's 'model ... smooth' the same"
 # the rest of what Assimp reads: an AC3D tetrahedron (.ac)
 printf '%s\n' AC3Db 'MATERIAL "w" rgb 0.8 0.8 0.8 amb 0.2 0.2 0.2 emis 0 0 0 spec 0 0 0 shi 10 trans 0' \
     'OBJECT world' 'kids 1' 'OBJECT poly' 'numvert 4' '0 0 0' '1 0 0' '0 1 0' '0 0 1' 'numsurf 4' \
