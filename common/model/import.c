@@ -104,6 +104,13 @@ static void import_metal(const struct aiMaterial *am, vec3 base, Material *m)
     m->shininess = a > R(0.01) ? real_max(R(2) / (a * a) - R(2), R(1)) : R(20000);
 }
 
+/* Whether a material is a glTF's (Assimp gives those an alpha mode), the
+ * mode in *mode. */
+static int gltf_material(const struct aiMaterial *am, struct aiString *mode)
+{
+    return aiGetMaterialString(am, "$mat.gltf.alphaMode", 0, 0, mode) == aiReturn_SUCCESS;
+}
+
 /* A glTF material's emission (its emissive factor; Assimp 5.2 does not
  * read KHR_materials_emissive_strength), transmission
  * (KHR_materials_transmission: glass of the file's index, or 1.5, tinted by
@@ -116,7 +123,7 @@ static void import_metal(const struct aiMaterial *am, vec3 base, Material *m)
 static int import_optics(const struct aiMaterial *am, vec3 base, Material *m)
 {
     struct aiString mode;
-    if (aiGetMaterialString(am, "$mat.gltf.alphaMode", 0, 0, &mode) != aiReturn_SUCCESS)
+    if (!gltf_material(am, &mode))
         return 0;
     int did = 0;
     vec3 ke;
@@ -332,8 +339,7 @@ static int import_gltf_colours(const struct aiScene *sc)
     for (unsigned i = 0; i < sc->mNumMeshes; i++) {
         struct aiString mode;
         const struct aiMesh *am = sc->mMeshes[i];
-        if (am->mColors[0] && aiGetMaterialString(sc->mMaterials[mesh_material(sc, am)], "$mat.gltf.alphaMode", 0, 0,
-                                                  &mode) != aiReturn_SUCCESS)
+        if (am->mColors[0] && !gltf_material(sc->mMaterials[mesh_material(sc, am)], &mode))
             return 0;
     }
     return 1;
@@ -404,10 +410,14 @@ static int import_scene(const struct aiScene *sc, const char *path, const char *
                        err);
     if (rc == 0 && has_m)
         rc = import_materials(sc, model, has_t, out, tl, st, err);
+    const vec3 default_kd = material_default().kd;
     for (unsigned i = 0; rc == 0 && i < sc->mNumMeshes; i++) {
         const struct aiMesh *am = sc->mMeshes[i];
         st->meshes++;
         st->vertices += am->mNumVertices;
+        /* a glTF's colours multiply its material's diffuse colour; a mesh
+         * without colours beside ones with takes that, or the default */
+        const vec3 kd = gltf_colours ? out->materials[mesh_material(sc, am)].kd : default_kd;
         for (unsigned f = 0; rc == 0 && f < am->mNumFaces; f++) {
             const struct aiFace *fc = &am->mFaces[f];
             if (fc->mNumIndices == 1) {
@@ -437,9 +447,8 @@ static int import_scene(const struct aiScene *sc, const char *path, const char *
                     uv[2 * k] = am->mTextureCoords[0][v].x;
                     uv[2 * k + 1] = am->mTextureCoords[0][v].y;
                 }
-                if (has_c) { /* a mesh without colours beside ones with: its material's, or the default, diffuse colour */
+                if (has_c) {
                     const struct aiColor4D *c = am->mColors[0];
-                    const vec3 kd = gltf_colours ? out->materials[mesh_material(sc, am)].kd : material_default().kd;
                     col[k] = c ? v3(c[v].r, c[v].g, c[v].b) : kd;
                     if (c && gltf_colours)
                         col[k] = v3_mul(col[k], kd);
