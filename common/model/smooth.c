@@ -1,6 +1,6 @@
 /* smooth.c - see smooth.h.  The corners of the smoothed triangles are
- * gathered by vertex (counts, then a prefix sum: linear, where a hash of
- * (vertex, group) pairs would cost a probe a corner); a vertex whose
+ * gathered by vertex (corners_by_vertex: linear, where a hash of (vertex,
+ * group) pairs would cost a probe a corner); a vertex whose
  * corners all share one group, nearly every vertex, sums them in one pass,
  * and one where groups meet sorts its corners by (group, corner) first. */
 #include "model/smooth.h"
@@ -58,45 +58,51 @@ static void smooth_vertex(const SmoothInput *in, const uint32_t *list, uint32_t 
     }
 }
 
+/* The corners of each vertex, in corner order (a count, a prefix sum and a
+ * fill: linear): vertex[c] is corner c's vertex, below nv, or SMOOTH_FLAT
+ * for a corner left out; vertex v's corners are list[start[v] ..
+ * start[v + 1]) (start: nv + 1 entries).  Returns the most at one vertex. */
+static uint32_t corners_by_vertex(const uint32_t *vertex, size_t n, size_t nv, uint32_t *start, uint32_t *list)
+{
+    memset(start, 0, (nv + 1) * sizeof *start);
+    for (size_t c = 0; c < n; c++)
+        if (vertex[c] != SMOOTH_FLAT)
+            start[vertex[c] + 1]++;
+    uint32_t most = 0;
+    for (size_t v = 0; v < nv; v++) {
+        most = start[v + 1] > most ? start[v + 1] : most;
+        start[v + 1] += start[v];
+    }
+    for (size_t c = 0; c < n; c++) /* each start[v] moves on to its run's end, the next run's start */
+        if (vertex[c] != SMOOTH_FLAT)
+            list[start[vertex[c]]++] = (uint32_t)c;
+    for (size_t v = nv; v > 0; v--)
+        start[v] = start[v - 1];
+    start[0] = 0;
+    return most;
+}
+
 int smooth_normals(const SmoothInput *in, uint32_t **corner_out, vec3 **normals_out, Err *err)
 {
     const size_t corners = (size_t)in->ntri * 3;
-    uint32_t *start = calloc((size_t)in->nv + 1, sizeof *start);
+    uint32_t *start = malloc(((size_t)in->nv + 1) * sizeof *start);
     uint32_t *list = malloc((corners ? corners : 1) * sizeof *list);
     uint32_t *corner = malloc((corners ? corners : 1) * sizeof *corner);
     uint64_t *keys = NULL;
     vec3 *normals = NULL;
     if (!start || !list || !corner)
         goto oom;
-    /* corners a vertex, then where each vertex's run starts */
-    uint32_t most = 0, smoothed = 0;
+    /* corner[] holds each corner's vertex for the gathering (SMOOTH_FLAT:
+     * a flat triangle's), then its normal's index */
     for (uint32_t i = 0; i < in->ntri; i++)
-        if (smooth_tri(in, i))
-            for (int k = 0; k < 3; k++)
-                start[in->p[(size_t)i * in->stride + k] + 1]++;
-    for (uint32_t p = 0; p < in->nv; p++) {
-        most = start[p + 1] > most ? start[p + 1] : most;
-        start[p + 1] += start[p];
-    }
-    smoothed = start[in->nv];
+        for (int k = 0; k < 3; k++)
+            corner[3 * (size_t)i + (size_t)k] =
+                smooth_tri(in, i) ? (uint32_t)in->p[(size_t)i * in->stride + (size_t)k] : SMOOTH_FLAT;
+    const uint32_t most = corners_by_vertex(corner, corners, in->nv, start, list), smoothed = start[in->nv];
     keys = malloc((most ? most : 1) * sizeof *keys);
     normals = malloc((smoothed ? smoothed : 1) * sizeof *normals); /* at most one a corner */
     if (!keys || !normals)
         goto oom;
-    uint32_t *fill = malloc(((size_t)in->nv + 1) * sizeof *fill);
-    if (!fill)
-        goto oom;
-    for (uint32_t p = 0; p <= in->nv; p++)
-        fill[p] = start[p];
-    for (uint32_t i = 0; i < in->ntri; i++) {
-        for (int k = 0; k < 3; k++) {
-            const uint32_t c = 3 * i + (uint32_t)k;
-            corner[c] = SMOOTH_FLAT;
-            if (smooth_tri(in, i))
-                list[fill[in->p[(size_t)i * in->stride + k]]++] = c;
-        }
-    }
-    free(fill);
     uint32_t count = 0;
     for (uint32_t p = 0; p < in->nv; p++)
         if (start[p + 1] > start[p])
@@ -133,7 +139,7 @@ static uint64_t position_hash(vec3 p)
 static int same_position(vec3 a, vec3 b) { return a.x == b.x && a.y == b.y && a.z == b.z; }
 
 /* Each corner's vertex: the first corner at its position (open addressing). */
-static int weld(const Mesh *m, uint32_t *vertex, Err *err)
+static int weld(const Mesh *m, uint32_t *vertex)
 {
     const size_t n = (size_t)m->tri_count * 3;
     size_t size = 16;
@@ -141,7 +147,7 @@ static int weld(const Mesh *m, uint32_t *vertex, Err *err)
         size *= 2;
     uint32_t *slot = malloc(size * sizeof *slot);
     if (!slot)
-        return err_set(err, "out of memory for smooth normals");
+        return -1;
     memset(slot, 0xff, size * sizeof *slot);
     for (size_t c = 0; c < n; c++) {
         size_t at = (size_t)position_hash(m->pos[c]) & (size - 1);
@@ -161,18 +167,27 @@ static vec3 mesh_face_normal(const Mesh *m, uint32_t t)
     return v3_cross(v3_sub(p[1], p[0]), v3_sub(p[2], p[0]));
 }
 
-/* The corners list[0..k) at one vertex: each one's normal. */
+/* The corners list[0..k) at one vertex: each one's normal, its faces'
+ * normals (and lengths) taken once. */
 static void crease_vertex(const Mesh *m, const uint32_t *list, uint32_t k, real cos_crease, vec3 *nrm)
 {
-    for (uint32_t a = 0; a < k; a++) {
-        const vec3 fa = mesh_face_normal(m, list[a] / 3);
-        const real la = v3_len(fa);
+    if (k > SMOOTH_CREASE_MAX) { /* all of them together, the crease unchecked: linear */
         vec3 s = v3_splat(0);
-        for (uint32_t b = 0; b < k; b++) {
-            const vec3 fb = mesh_face_normal(m, list[b] / 3);
-            if (k > SMOOTH_CREASE_MAX || b == a || v3_dot(fa, fb) >= cos_crease * la * v3_len(fb))
-                s = v3_add(s, fb);
-        }
+        for (uint32_t b = 0; b < k; b++)
+            s = v3_add(s, mesh_face_normal(m, list[b] / 3));
+        for (uint32_t a = 0; a < k; a++)
+            nrm[list[a]] = s;
+        return;
+    }
+    vec3 f[SMOOTH_CREASE_MAX];
+    real len[SMOOTH_CREASE_MAX];
+    for (uint32_t b = 0; b < k; b++)
+        f[b] = mesh_face_normal(m, list[b] / 3), len[b] = v3_len(f[b]);
+    for (uint32_t a = 0; a < k; a++) {
+        vec3 s = v3_splat(0);
+        for (uint32_t b = 0; b < k; b++)
+            if (b == a || v3_dot(f[a], f[b]) >= cos_crease * len[a] * len[b])
+                s = v3_add(s, f[b]);
         nrm[list[a]] = s;
     }
 }
@@ -180,30 +195,22 @@ static void crease_vertex(const Mesh *m, const uint32_t *list, uint32_t k, real 
 int mesh_smooth(Mesh *m, real crease_deg, Err *err)
 {
     const size_t n = (size_t)m->tri_count * 3;
-    uint32_t *vertex = malloc((n ? n : 1) * sizeof *vertex), *start = calloc(n + 1, sizeof *start);
+    uint32_t *vertex = malloc((n ? n : 1) * sizeof *vertex), *start = malloc((n + 1) * sizeof *start);
     uint32_t *list = malloc((n ? n : 1) * sizeof *list);
     vec3 *nrm = malloc(((size_t)m->cap ? (size_t)m->cap : 1) * 3 * sizeof *nrm);
-    if (!vertex || !start || !list || !nrm || weld(m, vertex, err)) {
+    if (!vertex || !start || !list || !nrm || weld(m, vertex)) {
         free(vertex), free(start), free(list), free(nrm);
-        return err ? err_set(err, "out of memory for smooth normals") : -1;
+        return err_set(err, "out of memory for smooth normals");
     }
-    for (size_t c = 0; c < n; c++) /* the corners of each vertex, in triangle order (by a prefix sum) */
-        start[vertex[c] + 1]++;
-    for (size_t v = 0; v < n; v++)
-        start[v + 1] += start[v];
-    for (size_t c = 0; c < n; c++)
-        list[start[vertex[c]]++] = (uint32_t)c;
+    corners_by_vertex(vertex, n, n, start, list); /* a vertex is named by its first corner */
     const real cos_crease = (real)cos((double)crease_deg * 3.14159265358979323846 / 180.0);
-    for (size_t v = 0, first = 0; v < n; v++) { /* start[v] is now where vertex v's run ends */
-        if (start[v] > first)
-            crease_vertex(m, &list[first], start[v] - (uint32_t)first, cos_crease, nrm);
-        first = start[v] > first ? start[v] : first;
-    }
+    for (size_t v = 0; v < n; v++)
+        if (start[v + 1] > start[v])
+            crease_vertex(m, &list[start[v]], start[v + 1] - start[v], cos_crease, nrm);
     for (size_t c = 0; c < n; c++) {
-        const vec3 fn = v3_norm(mesh_face_normal(m, (uint32_t)(c / 3)));
         nrm[c] = v3_norm(nrm[c]);
         if (!(v3_dot(nrm[c], nrm[c]) > R(0.5)))
-            nrm[c] = fn; /* a cancelling fan: the face's own */
+            nrm[c] = v3_norm(mesh_face_normal(m, (uint32_t)(c / 3))); /* a cancelling fan: the face's own */
     }
     free(vertex), free(start), free(list);
     free(m->nrm);
