@@ -292,12 +292,8 @@ FileFound file_find_near(const char *dir, const char *name, char *buf, size_t si
         return FILE_AS_WRITTEN;
     char written[4096];
     snprintf(written, sizeof written, "%s", buf);
-    const char *slash = strrchr(n, '/'), *base = slash ? slash + 1 : n;
-    FileFound how = FILE_NOT_FOUND;
-    if (*base && base != n && file_join(dir, base, buf, size) == 0 && file_exists(buf))
-        how = FILE_BY_NAME;
-    if (how == FILE_NOT_FOUND)
-        how = find_in(dir, base, buf, size) == FILE_BY_NAME_CASE ? FILE_BY_NAME_CASE : FILE_NOT_FOUND;
+    const char *slash = strrchr(n, '/');
+    FileFound how = find_in(dir, slash ? slash + 1 : n, buf, size); /* a bare name's exact try repeats the one above */
     if (how == FILE_NOT_FOUND)
         how = find_by_tail(dir, n, buf, size);
     if (how == FILE_NOT_FOUND)
