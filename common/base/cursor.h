@@ -52,6 +52,16 @@ static inline float cursor_f32(Cursor *c)
     return v;
 }
 
+/* n <= 4 bytes as a little-endian number (the image formats' order, not
+ * the host's). */
+static inline uint32_t bytes_le(const uint8_t *b, int n)
+{
+    uint32_t v = 0;
+    for (int i = n - 1; i >= 0; i--)
+        v = v << 8 | b[i];
+    return v;
+}
+
 /* A byte sink that grows; `failed` is set on out-of-memory and sticks. */
 typedef struct {
     uint8_t *data;

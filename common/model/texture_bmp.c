@@ -8,15 +8,8 @@
  * before the texels are allocated. */
 #include <stdlib.h>
 
+#include "base/cursor.h"
 #include "model/texture.h"
-
-static uint32_t le(const uint8_t *b, int n)
-{
-    uint32_t v = 0;
-    for (int i = n - 1; i >= 0; i--)
-        v = v << 8 | b[i];
-    return v;
-}
 
 /* A mask's channel out of a texel, widened to 8 bits. */
 static uint8_t channel(uint32_t v, uint32_t mask)
@@ -48,17 +41,17 @@ static int bmp_head(const uint8_t *p, size_t len, BmpHead *b, const char *name, 
 {
     if (len < 26 || p[0] != 'B' || p[1] != 'M')
         return err_set(err, "%s: not a BMP image, or one cut short in its header", name);
-    b->off = le(p + 10, 4);
-    b->head = le(p + 14, 4);
+    b->off = bytes_le(p + 10, 4);
+    b->head = bytes_le(p + 14, 4);
     if (b->head != 12 && (b->head < 40 || b->head > 124 || 14 + (size_t)b->head > len))
         return err_set(err, "%s: a BMP header of %u bytes: not one lanray knows", name, b->head);
     int32_t hh;
     if (b->head == 12) { /* BITMAPCOREHEADER: 16-bit sizes, 3-byte palette entries */
-        b->w = le(p + 18, 2), hh = (int16_t)le(p + 20, 2), b->bpp = (int)le(p + 24, 2), b->compression = 0;
+        b->w = bytes_le(p + 18, 2), hh = (int16_t)bytes_le(p + 20, 2), b->bpp = (int)bytes_le(p + 24, 2), b->compression = 0;
         b->pal_bytes = 3;
     } else {
-        b->w = le(p + 18, 4), hh = (int32_t)le(p + 22, 4), b->bpp = (int)le(p + 28, 2);
-        b->compression = (int)le(p + 30, 4);
+        b->w = bytes_le(p + 18, 4), hh = (int32_t)bytes_le(p + 22, 4), b->bpp = (int)bytes_le(p + 28, 2);
+        b->compression = (int)bytes_le(p + 30, 4);
         b->pal_bytes = 4;
     }
     b->top_down = hh < 0;
@@ -82,11 +75,11 @@ static int bmp_head(const uint8_t *p, size_t len, BmpHead *b, const char *name, 
         if (at + 12 > len)
             return err_set(err, "%s: a BMP cut short in its colour masks", name);
         for (int k = 0; k < 3; k++)
-            b->mask[k] = le(p + at + 4 * k, 4);
+            b->mask[k] = bytes_le(p + at + 4 * k, 4);
     }
     if (b->bpp <= 8) { /* the palette follows the header (and a BI_BITFIELDS header's masks) */
         const size_t at = masks + (b->head == 40 && b->compression == 3 ? 12 : 0);
-        uint32_t n = b->head >= 40 ? le(p + 46, 4) : 0;
+        uint32_t n = b->head >= 40 ? bytes_le(p + 46, 4) : 0;
         if (n == 0 || n > (1u << b->bpp))
             n = 1u << b->bpp;
         if (at > len || (len - at) / (size_t)b->pal_bytes < n)
@@ -110,7 +103,7 @@ static int bmp_texel(const BmpHead *b, const uint8_t *row, uint32_t x, uint8_t r
         const uint8_t *e = row + 3 * (size_t)x;
         rgb[0] = e[2], rgb[1] = e[1], rgb[2] = e[0];
     } else {
-        const uint32_t v = le(row + (size_t)x * (size_t)(b->bpp / 8), b->bpp / 8);
+        const uint32_t v = bytes_le(row + (size_t)x * (size_t)(b->bpp / 8), b->bpp / 8);
         for (int k = 0; k < 3; k++)
             rgb[k] = channel(v, b->mask[k]);
     }

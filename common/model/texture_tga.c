@@ -11,21 +11,13 @@
 #include "base/cursor.h"
 #include "model/texture.h"
 
-static uint32_t le(const uint8_t *b, int n)
-{
-    uint32_t v = 0;
-    for (int i = n - 1; i >= 0; i--)
-        v = v << 8 | b[i];
-    return v;
-}
-
 /* One texel of `bytes` bytes (little-endian) to RGB: grey, 5-5-5, BGR or BGRA. */
 static void texel_rgb(const uint8_t *b, int bytes, int grey, uint8_t rgb[3])
 {
     if (grey) {
         rgb[0] = rgb[1] = rgb[2] = b[0]; /* a 16-bit grey texel is grey then alpha */
     } else if (bytes == 2) {
-        const uint32_t v = le(b, 2); /* A RRRRR GGGGG BBBBB: 5 bits widened as (x << 3) | (x >> 2) */
+        const uint32_t v = bytes_le(b, 2); /* A RRRRR GGGGG BBBBB: 5 bits widened as (x << 3) | (x >> 2) */
         const uint32_t r = v >> 10 & 31, g = v >> 5 & 31, bl = v & 31;
         rgb[0] = (uint8_t)(r << 3 | r >> 2), rgb[1] = (uint8_t)(g << 3 | g >> 2), rgb[2] = (uint8_t)(bl << 3 | bl >> 2);
     } else {
@@ -48,7 +40,7 @@ static int tga_head(Cursor *c, TgaHead *t, const char *name, Err *err)
         return err_set(err, "%s: a TGA image cut short in its header", name);
     const uint8_t *h = t->h;
     t->type = h[2];
-    t->w = le(h + 12, 2), t->hgt = le(h + 14, 2);
+    t->w = bytes_le(h + 12, 2), t->hgt = bytes_le(h + 14, 2);
     t->rle = t->type >= 9;
     const int base = t->rle ? t->type - 8 : t->type, bpp = h[16];
     t->mapped = base == 1, t->grey = base == 3;
@@ -66,7 +58,7 @@ static int tga_head(Cursor *c, TgaHead *t, const char *name, Err *err)
     uint8_t skip[256];
     if (cursor_get(c, skip, h[0]))
         return err_set(err, "%s: a TGA image cut short in its ID", name);
-    t->map_first = le(h + 3, 2), t->map_len = le(h + 5, 2);
+    t->map_first = bytes_le(h + 3, 2), t->map_len = bytes_le(h + 5, 2);
     const int map_bits = h[7];
     t->map_bytes = (map_bits + 7) / 8;
     if (h[1] == 1 || t->mapped) {
@@ -88,7 +80,7 @@ static int tga_texel(const TgaHead *t, const uint8_t *b, uint8_t rgb[3])
         texel_rgb(b, t->px_bytes, t->grey, rgb);
         return 0;
     }
-    const uint32_t i = le(b, t->px_bytes);
+    const uint32_t i = bytes_le(b, t->px_bytes);
     if (i < t->map_first || i - t->map_first >= t->map_len)
         return -1;
     texel_rgb(t->map + (size_t)(i - t->map_first) * (size_t)t->map_bytes, t->map_bytes, 0, rgb);
