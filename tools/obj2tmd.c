@@ -65,6 +65,7 @@ static int same_file(const char *a, const char *b)
 typedef struct {
     int bvh_kind, leaf, axis, smooth, quiet, threads, strict;
     const char *in, *out;
+    ModelFormat format; /* the input's, by its name (model_format, asked once: it may ask Assimp) */
 } Args;
 
 /* Parses the command line into a: OPT_GO, or the exit status. */
@@ -134,8 +135,7 @@ static int read_mesh(const Args *a, Mesh *mesh, ObjStats *st)
 {
     Err err = {{0}};
     ObjOptions oo = {.smooth = a->smooth, .strict = a->strict, .warn = a->quiet ? NULL : show_warning};
-    memset(st, 0, sizeof *st);
-    const ModelFormat f = model_format(a->in);
+    const ModelFormat f = a->format;
     if (f == MODEL_FORMAT_UNKNOWN) { /* read as OBJ, such a file gave the OBJ reader's puzzles */
         fprintf(stderr, "obj2tmd: %s: not a model format by its name's extension; obj2tmd reads .obj, .tmd (its tree "
                         "built again), and through Assimp .ply, .stl, .gltf, .glb, .fbx, .dae, .3ds, ... (docs/models.md)\n",
@@ -165,7 +165,7 @@ static void print_summary(const Args *a, const Model *model, const ObjStats *st,
                           double build_s)
 {
     printf("%s -> %s\n", a->in, a->out);
-    if (model_format(a->in) == MODEL_FORMAT_TMD)
+    if (a->format == MODEL_FORMAT_TMD)
         printf("  triangles %u (a .tmd: its tree built again)\n", model->tri_count);
     else
         printf("  vertices %lu, faces %lu, triangles %u, degenerate dropped %lu\n", st->vertices, st->faces,
@@ -194,11 +194,11 @@ static void print_summary(const Args *a, const Model *model, const ObjStats *st,
     if (st->smoothed)
         printf("  smooth normals: %lu triangles (%s)\n", st->smoothed,
                st->smoothing ? "by smoothing group, s"
-               : model_format(a->in) == MODEL_FORMAT_OBJ ? "--smooth"
+               : a->format == MODEL_FORMAT_OBJ ? "--smooth"
                                                          : "--smooth, edges sharper than 45 degrees kept");
     if (st->optics_mtl)
         printf("  materials with reflection, glass, transparency or emission (%s): %lu\n",
-               model_format(a->in) == MODEL_FORMAT_OBJ ? "illum, Ni, d, Ke" : "metal, transmission, opacity, emission",
+               a->format == MODEL_FORMAT_OBJ ? "illum, Ni, d, Ke" : "metal, transmission, opacity, emission",
                st->optics_mtl);
     if (st->coloured)
         printf("  vertex colours: %lu coloured vertices, %s\n", st->coloured,
@@ -211,35 +211,46 @@ static void print_summary(const Args *a, const Model *model, const ObjStats *st,
         printf("\n");
 }
 
-/* A .tmd's tree built again with the options given (a model converted
- * once, compared across builders), written to a->out: 0, or the exit status. */
-static int rebuild_tmd(const Args *a, const BvhOptions *bo, Progress *prog, Step *step)
+/* The model to write: the input's mesh with its tree built, or a .tmd's
+ * tree built again with the options given (a model converted once,
+ * compared across builders); the reading's seconds in *parse_s.  0, or
+ * the exit status. */
+static int make_model(const Args *a, const BvhOptions *bo, Step *step, Model **model, ObjStats *st, double *parse_s)
 {
     Err err = {{0}};
-    Model *model = NULL;
-    ObjStats st = {0};
-    atomic_store(&step->step, "rebuilding the tree of");
     const double t0 = timer_now();
-    int rc = a->smooth ? (fprintf(stderr, "obj2tmd: %s: --smooth needs the model's source, not a .tmd\n", a->in), 2) : 0;
-    if (rc == 0 && model_load(a->in, bo, 1, 0, &model, &err)) {
-        fprintf(stderr, "obj2tmd: %s\n", err.msg);
+    memset(st, 0, sizeof *st);
+    *parse_s = 0;
+    if (a->format == MODEL_FORMAT_TMD) {
+        if (a->smooth) {
+            fprintf(stderr, "obj2tmd: %s: --smooth needs the model's source, not a .tmd\n", a->in);
+            return 2;
+        }
+        atomic_store(&step->step, "rebuilding the tree of");
+        if (model_load(a->in, bo, 1, 0, model, &err)) {
+            fprintf(stderr, "obj2tmd: %s\n", err.msg);
+            return 1;
+        }
+        return 0;
+    }
+    Mesh mesh;
+    int rc = read_mesh(a, &mesh, st);
+    *parse_s = timer_now() - t0;
+    if (rc == 0 && mesh.tri_count == 0) {
+        fprintf(stderr, "obj2tmd: %s: no usable triangles (%lu faces, %lu degenerate)\n", a->in, st->faces, st->degenerate);
+        mesh_free(&mesh);
         rc = 1;
     }
-    const double t1 = timer_now();
     if (rc == 0) {
-        atomic_store(&step->step, "writing");
-        atomic_store(&step->file, a->out);
-        if (tmd_write(a->out, model, &err)) {
-            fprintf(stderr, "obj2tmd: %s\n", err.msg);
+        atomic_store(&step->step, bo->kind == BVH_MST   ? "building the MST tree of"
+                                  : bo->kind == BVH_SBT ? "building the SBT tree of"
+                                                        : "building the SAH tree of");
+        if (model_from_mesh(model, &mesh, bo, &err)) {
+            fprintf(stderr, "obj2tmd: %s: %s\n", a->in, err.msg);
             rc = 1;
         }
+        mesh_free(&mesh);
     }
-    progress_stop(prog);
-    if (rc == 0 && !a->quiet) {
-        st.faces = model->tri_count;
-        print_summary(a, model, &st, bo, 0, t1 - t0);
-    }
-    model_destroy(model);
     return rc;
 }
 
@@ -256,30 +267,12 @@ static int convert(const Args *a)
     atomic_init(&step.step, "reading");
     atomic_init(&step.file, a->in);
     Progress *prog = progress_start("obj2tmd", !a->quiet, show_step, &step);
-    Mesh mesh;
-    ObjStats st;
-    double t0 = timer_now();
-    if (model_format(a->in) == MODEL_FORMAT_TMD)
-        return rebuild_tmd(a, &bo, prog, &step);
-    int rc = read_mesh(a, &mesh, &st);
-    double t1 = timer_now();
-    if (rc == 0 && mesh.tri_count == 0) {
-        fprintf(stderr, "obj2tmd: %s: no usable triangles (%lu faces, %lu degenerate)\n", a->in, st.faces, st.degenerate);
-        mesh_free(&mesh);
-        rc = 1;
-    }
     Model *model = NULL;
-    if (rc == 0) {
-        atomic_store(&step.step, bo.kind == BVH_MST   ? "building the MST tree of"
-                                 : bo.kind == BVH_SBT ? "building the SBT tree of"
-                                                      : "building the SAH tree of");
-        if (model_from_mesh(&model, &mesh, &bo, &err)) {
-            fprintf(stderr, "obj2tmd: %s: %s\n", a->in, err.msg);
-            rc = 1;
-        }
-        mesh_free(&mesh);
-    }
-    double t2 = timer_now();
+    ObjStats st;
+    double parse_s;
+    const double t0 = timer_now();
+    int rc = make_model(a, &bo, &step, &model, &st, &parse_s);
+    const double t2 = timer_now();
     if (rc == 0) {
         atomic_store(&step.step, "writing");
         atomic_store(&step.file, a->out);
@@ -290,7 +283,7 @@ static int convert(const Args *a)
     }
     progress_stop(prog);
     if (rc == 0 && !a->quiet)
-        print_summary(a, model, &st, &bo, t1 - t0, t2 - t1);
+        print_summary(a, model, &st, &bo, parse_s, t2 - t0 - parse_s);
     model_destroy(model);
     return rc;
 }
@@ -301,6 +294,7 @@ int main(int argc, char **argv)
     int rc = parse_args(&a, argc, argv);
     if (rc == OPT_GO) {
         file_atomic_on_signals(); /* interrupted, nothing half-written is left */
+        a.format = model_format(a.in);
         rc = check_output(a.in, a.out);
         if (rc == 0)
             rc = convert(&a);
