@@ -2,7 +2,7 @@
  * materials (import.c): a metal reflects its base colour at its roughness,
  * emission, transmission and a blended opacity map onto lanray's terms, and
  * what cannot be read per texel, or is only glTF's defaults, stays diffuse;
- * vertex colours multiply the base colour. */
+ * vertex colours multiply the base colour; samplers wrap each axis. */
 #include "helpers.h"
 
 #include "model/import.h"
@@ -77,11 +77,37 @@ static void gltf_vertex_colours_multiply_the_base_colour(void **state)
     mesh_free(&m);
 }
 
+/* A glTF sampler's wrap modes, each axis its own (wrapS MIRRORED_REPEAT
+ * with wrapT CLAMP_TO_EDGE on the sample models' textured box, whose u
+ * runs to 6): three materials read one image through three samplers and
+ * get three textures, not the first material's. */
+static void gltf_samplers_wrap_each_axis(void **state)
+{
+    (void)state;
+    Mesh m;
+    ImportStats st;
+    Err err;
+    if (import_read("tests/data/gltf/wrap.gltf", NULL, &m, &st, &err))
+        fail_msg("%s", err.msg);
+    assert_true(m.material_count >= 3); /* Assimp adds a default one */
+    assert_int_equal(m.texture_count, 3);
+    const uint8_t want[3][2] = {{TEXTURE_MIRROR, TEXTURE_CLAMP}, {TEXTURE_REPEAT, TEXTURE_REPEAT},
+                                {TEXTURE_CLAMP, TEXTURE_CLAMP}};
+    for (int i = 0; i < 3; i++) {
+        assert_true(m.materials[i].texture >= 0);
+        const Texture *t = m.textures[m.materials[i].texture];
+        assert_int_equal(t->wrap[0], want[i][0]);
+        assert_int_equal(t->wrap[1], want[i][1]);
+    }
+    mesh_free(&m);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(gltf_materials_map_onto_lanrays),
         cmocka_unit_test(gltf_vertex_colours_multiply_the_base_colour),
+        cmocka_unit_test(gltf_samplers_wrap_each_axis),
     };
     return cmocka_run_group_tests_name("import", tests, NULL, NULL);
 }

@@ -26,6 +26,8 @@ static void full_scene(void **state)
                        "ambient 0.1 0.1 0.1\nbackground 0 0 0.2\n"
                        "settings aa 2 shading diffuse shadows off filter nearest\n"
                        "texture checker tex.ppm\n"
+                       "texture tiles tex.ppm closest wrap mirror clamp\n"
+                       "texture edge tex.ppm wrap clamp\n"
                        "material red diffuse 1 0 0 specular 0.5 0.5 0.5 shininess 30\n"
                        "material pic texture checker\n"
                        "sphere centre 0 1 0 radius 1 material red\n"
@@ -49,7 +51,15 @@ static void full_scene(void **state)
     assert_int_equal(s->instance_count, 2);
     assert_int_equal(s->light_count, 3);
     assert_int_equal(s->material_count, 3); /* default, red, pic */
-    assert_int_equal(s->texture_count, 1);
+    assert_int_equal(s->texture_count, 3);
+    assert_int_equal(s->textures[0]->wrap[0], TEXTURE_REPEAT);
+    assert_int_equal(s->textures[0]->wrap[1], TEXTURE_REPEAT);
+    assert_int_equal(s->textures[1]->closest, 1);
+    assert_int_equal(s->textures[1]->wrap[0], TEXTURE_MIRROR);
+    assert_int_equal(s->textures[1]->wrap[1], TEXTURE_CLAMP);
+    assert_int_equal(s->textures[2]->closest, 0);
+    assert_int_equal(s->textures[2]->wrap[0], TEXTURE_CLAMP);
+    assert_int_equal(s->textures[2]->wrap[1], TEXTURE_CLAMP);
     assert_int_equal(s->models[0]->bvh.kind, BVH_MST);
     assert_int_equal(s->settings.aa, 2);
     assert_int_equal(s->settings.shading, SHADE_DIFFUSE);
@@ -174,6 +184,11 @@ static void errors_name_file_line_and_expectation(void **state)
     expect_error("model m thing.xyz\n", "must end in .tmd, .obj, or a format the importer reads");
     expect_error("model m thing.stl\n", "thing.stl: Unable to open file"); /* a format Assimp reads: its error, with the name */
     expect_error("texture t missing.ppm\n", "t.scene:1:");
+    expect_error("texture t a.ppm wrap tile\n", "t.scene:1: texture wrap expects repeat, clamp or mirror (for u and v, or u then v), not 'tile'");
+    expect_error("texture t a.ppm wrap\n", "texture wrap expects repeat, clamp or mirror (for u and v, or u then v)");
+    expect_error("texture t a.ppm wrap clamp sharp\n", "texture wrap expects repeat, clamp or mirror for v, not 'sharp'");
+    expect_error("texture t a.ppm wrap clamp clamp closest\n", "'closest' is none of them");
+    expect_error("texture t\n", "texture expects a name, a file");
     expect_error("sphere centre 0 0 1e999 radius 1\n", "expects 3 finite numbers, got '1e999'");
 }
 

@@ -211,17 +211,97 @@ static void nearest_and_bilinear_sampling(void **state)
     assert_float_equal(c.x, R(0.5), R(1e-6)); /* (0 + 1 + 1 + 0) / 4 */
     assert_float_equal(c.y, R(0.5), R(1e-6));
     /* clamped, the corner is the corner texel: the far side does not bleed in */
-    t->clamp = 1;
+    t->wrap[0] = t->wrap[1] = TEXTURE_CLAMP;
     c = texture_sample(t, 0, 0, NULL, FILTER_BILINEAR);
     assert_float_equal(c.x, 1, R(1e-6));
     assert_float_equal(c.y, 0, R(1e-6));
-    t->clamp = 0;
+    t->wrap[0] = t->wrap[1] = TEXTURE_REPEAT;
     /* non-finite coordinates do not crash */
     c = texture_sample(t, NAN, INFINITY, NULL, FILTER_BILINEAR);
     assert_true(isfinite(c.x));
     TexFootprint inf = {INFINITY, NAN, 0, 1e30f};
     c = texture_sample(t, R(0.3), R(0.3), &inf, FILTER_ANISOTROPIC);
     assert_true(isfinite(c.x));
+    texture_destroy(t);
+}
+
+/* Each axis wraps its own way (glTF's wrapS and wrapT): repeated, clamped
+ * or mirrored, u apart from v. */
+static void wrap_modes_by_axis(void **state)
+{
+    (void)state;
+    /* 4 x 1: red, green, blue, white, left to right */
+    const uint8_t px[12] = {255, 0, 0, 0, 255, 0, 0, 0, 255, 255, 255, 255};
+    Texture *t = texture_from_rgb8(4, 1, px);
+    assert_non_null(t);
+    const real u[] = {R(1.125), R(1.875), R(-0.125), R(2.125), R(-1.875), R(0.625), R(7.375)};
+    /* mirrored: [1, 2] runs back (1.125 reads 0.875: white), [2, 3] forward (2.125: red), and
+     * [-2, -1] forward too (-1.875 reads 0.125) */
+    const int mirrored[] = {3, 0, 0, 0, 0, 2, 2}, repeated[] = {0, 3, 3, 0, 0, 2, 1}, clamped[] = {3, 3, 0, 3, 0, 2, 3};
+    const uint8_t modes[] = {TEXTURE_MIRROR, TEXTURE_REPEAT, TEXTURE_CLAMP};
+    const int *want[] = {mirrored, repeated, clamped};
+    for (int m = 0; m < 3; m++) {
+        t->wrap[0] = modes[m];
+        t->wrap[1] = TEXTURE_REPEAT;
+        for (size_t i = 0; i < sizeof u / sizeof *u; i++) {
+            vec3 c = texture_sample(t, u[i], R(0.5), NULL, FILTER_NEAREST);
+            const uint8_t *e = &px[3 * want[m][i]];
+            if (c.x != srgb_decode8[e[0]] || c.y != srgb_decode8[e[1]] || c.z != srgb_decode8[e[2]])
+                fail_msg("wrap %d, u = %g: not texel %d", modes[m], (double)u[i], want[m][i]);
+        }
+    }
+    /* bilinear at the left edge: mirrored and clamped read red alone, repeated blends in the white */
+    t->wrap[0] = TEXTURE_MIRROR;
+    vec3 c = texture_sample(t, 0, R(0.5), NULL, FILTER_BILINEAR);
+    assert_float_equal(c.x, 1, R(1e-6));
+    assert_float_equal(c.y, 0, R(1e-6));
+    t->wrap[0] = TEXTURE_REPEAT;
+    c = texture_sample(t, 0, R(0.5), NULL, FILTER_BILINEAR);
+    assert_float_equal(c.y, R(0.5), R(1e-6));
+    /* v apart from u: v clamped does not wrap the image's one row, u still repeats */
+    t->wrap[1] = TEXTURE_CLAMP;
+    vec3 a = texture_sample(t, R(1.375), R(3.75), NULL, FILTER_NEAREST);
+    vec3 b = texture_sample(t, R(0.375), R(0.5), NULL, FILTER_NEAREST);
+    assert_memory_equal(&a, &b, sizeof a);
+    texture_destroy(t);
+}
+
+/* The byte form's wrap bits: both axes clamped is the flag every version
+ * wrote (1); other pairs go in bits 2-5 and come back; bits no version
+ * writes are refused. */
+static void byte_form_keeps_the_wrap_modes(void **state)
+{
+    (void)state;
+    const uint8_t px[12] = {1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12};
+    Texture *t = texture_from_rgb8(2, 2, px), *back;
+    const uint8_t pairs[][2] = {{TEXTURE_CLAMP, TEXTURE_CLAMP}, {TEXTURE_MIRROR, TEXTURE_CLAMP},
+                                {TEXTURE_REPEAT, TEXTURE_MIRROR}, {TEXTURE_REPEAT, TEXTURE_REPEAT}};
+    const uint32_t flags[] = {1, 2 << 2 | 1 << 4, 2 << 4, 0};
+    Err err = {{0}};
+    for (int i = 0; i < 4; i++) {
+        t->wrap[0] = pairs[i][0], t->wrap[1] = pairs[i][1];
+        Sink s = {0};
+        assert_int_equal(texture_encode(t, &s), 0);
+        uint32_t head[3];
+        memcpy(head, s.data, sizeof head);
+        assert_int_equal(head[2], flags[i]);
+        if (texture_decode(s.data, s.len, "asset", &back, &err))
+            fail_msg("%s", err.msg);
+        assert_int_equal(back->wrap[0], pairs[i][0]);
+        assert_int_equal(back->wrap[1], pairs[i][1]);
+        texture_destroy(back);
+        sink_free(&s);
+    }
+    const uint32_t bad[] = {3 << 2, 3 << 4, 1 | 1 << 2, 1 << 6};
+    for (int i = 0; i < 4; i++) {
+        Sink s = {0};
+        assert_int_equal(texture_encode(t, &s), 0);
+        memcpy(s.data + 8, &bad[i], 4);
+        assert_int_equal(texture_decode(s.data, s.len, "asset", &back, &err), -1);
+        assert_null(back);
+        assert_contains(err.msg, "not a size, flags and codec");
+        sink_free(&s);
+    }
     texture_destroy(t);
 }
 
@@ -288,6 +368,8 @@ int main(void)
         cmocka_unit_test(byte_form_keeps_the_image_file),
         cmocka_unit_test(mip_maps_average_light),
         cmocka_unit_test(nearest_and_bilinear_sampling),
+        cmocka_unit_test(wrap_modes_by_axis),
+        cmocka_unit_test(byte_form_keeps_the_wrap_modes),
         cmocka_unit_test(footprints_choose_the_level),
         cmocka_unit_test(filters_have_names),
     };

@@ -94,6 +94,13 @@ static void beside(const char *model, const char *key, ImportTex *t)
     snprintf(t->name, sizeof t->name, "%.500s", path);
 }
 
+/* Assimp's wrap mode along one axis as lanray's: a decal (no texture
+ * outside [0, 1]) repeats, as it did before modes were read apart. */
+static TextureWrap wrap_of(enum aiTextureMapMode m)
+{
+    return m == aiTextureMapMode_Clamp ? TEXTURE_CLAMP : m == aiTextureMapMode_Mirror ? TEXTURE_MIRROR : TEXTURE_REPEAT;
+}
+
 int32_t import_tex_find(const struct aiScene *sc, const struct aiMaterial *am, const char *model, ImportTexList *l)
 {
     /* glTF's base colour is also its diffuse texture in Assimp 5.2; other
@@ -109,9 +116,16 @@ int32_t import_tex_find(const struct aiScene *sc, const struct aiMaterial *am, c
             type = types[k];
     if (type == aiTextureType_NONE)
         return -1;
+    uint32_t flags = (uint32_t)wrap_of(mode[0]) << IMPORT_TEX_WRAP_U | (uint32_t)wrap_of(mode[1]) << IMPORT_TEX_WRAP_V;
+    int mag = 0;
+    if (aiGetMaterialIntegerArray(am, "$tex.mappingfiltermag", (unsigned)type, 0, &mag, NULL) == aiReturn_SUCCESS &&
+        mag == GL_NEAREST)
+        flags |= IMPORT_TEX_CLOSEST;
+    /* one texture an image and sampler: glTF materials may share an image
+     * and read it with samplers of their own */
     const char *key = path.data;
     for (uint32_t i = 0; i < l->n; i++)
-        if (strcmp(l->t[i].key, key) == 0)
+        if (strcmp(l->t[i].key, key) == 0 && l->t[i].flags == flags)
             return (int32_t)i;
     ImportTex *t = add(l, key);
     if (!t)
@@ -120,12 +134,7 @@ int32_t import_tex_find(const struct aiScene *sc, const struct aiMaterial *am, c
         embedded(sc, key, t);
     else
         beside(model, key, t);
-    if (mode[0] == aiTextureMapMode_Clamp || mode[1] == aiTextureMapMode_Clamp)
-        t->flags |= IMPORT_TEX_CLAMP;
-    int mag = 0;
-    if (aiGetMaterialIntegerArray(am, "$tex.mappingfiltermag", (unsigned)type, 0, &mag, NULL) == aiReturn_SUCCESS &&
-        mag == GL_NEAREST)
-        t->flags |= IMPORT_TEX_CLOSEST;
+    t->flags = flags;
     return (int32_t)(l->n - 1);
 }
 
@@ -170,6 +179,12 @@ static Texture *from_bgra(uint32_t w, uint32_t h, const uint8_t *bgra)
     return t;
 }
 
+/* Whether a texture's flags are ones import_tex_find writes. */
+static int flags_ok(uint32_t f)
+{
+    return f >> 5 == 0 && (f >> IMPORT_TEX_WRAP_U & 3) < TEXTURE_WRAP_COUNT && (f >> IMPORT_TEX_WRAP_V & 3) < TEXTURE_WRAP_COUNT;
+}
+
 int import_tex_receive(Cursor *c, const char *name, const ObjOptions *opt, unsigned long *warnings,
                        unsigned long *missing, Mesh *out, int32_t *map, uint32_t *count, Err *err)
 {
@@ -181,7 +196,7 @@ int import_tex_receive(Cursor *c, const char *name, const ObjOptions *opt, unsig
         uint32_t head[6];
         map[i] = -1;
         if (cursor_get(c, head, sizeof head) || head[0] > IMPORT_TEX_MISSING || head[4] >= IMPORT_TEX_NAME ||
-            head[3] > (IMPORT_TEX_CLAMP | IMPORT_TEX_CLOSEST) || (size_t)head[4] + head[5] > c->left)
+            !flags_ok(head[3]) || (size_t)head[4] + head[5] > c->left)
             return err_set(err, "%s: the importer's answer is implausible (texture %u)", name, i);
         char what[IMPORT_TEX_NAME];
         cursor_get(c, what, head[4]);
@@ -208,7 +223,7 @@ int import_tex_receive(Cursor *c, const char *name, const ObjOptions *opt, unsig
                 return -1;
             continue;
         }
-        t->clamp = (head[3] & IMPORT_TEX_CLAMP) != 0;
+        t->wrap[0] = (uint8_t)(head[3] >> IMPORT_TEX_WRAP_U & 3), t->wrap[1] = (uint8_t)(head[3] >> IMPORT_TEX_WRAP_V & 3);
         t->closest = (head[3] & IMPORT_TEX_CLOSEST) != 0;
         uint32_t id;
         if (mesh_add_texture(out, t, &id, err))

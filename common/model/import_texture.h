@@ -26,8 +26,9 @@ struct aiMaterial;
 
 typedef enum { IMPORT_TEX_FILE = 0, IMPORT_TEX_BGRA = 1, IMPORT_TEX_MISSING = 2 } ImportTexKind;
 
-#define IMPORT_TEX_CLAMP 1u   /* coordinates clamp to the edge */
-#define IMPORT_TEX_CLOSEST 2u /* magnified, texels stay squares (glTF magFilter NEAREST) */
+#define IMPORT_TEX_CLOSEST 1u /* magnified, texels stay squares (glTF magFilter NEAREST) */
+#define IMPORT_TEX_WRAP_U 1   /* bits 1-2: u's TextureWrap (glTF wrapS) */
+#define IMPORT_TEX_WRAP_V 3   /* bits 3-4: v's (wrapT) */
 #define IMPORT_TEX_NAME 512
 
 typedef struct {

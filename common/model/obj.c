@@ -281,7 +281,7 @@ static int obj_textures(Obj *o, const int32_t *remap, Mesh *out, Warner *w)
                     return -1;
                 continue;
             }
-            t->clamp = map->clamp;
+            t->wrap[0] = t->wrap[1] = map->clamp ? TEXTURE_CLAMP : TEXTURE_REPEAT;
             uint32_t tid;
             if (mesh_add_texture(out, t, &tid, w->err))
                 return -1;

@@ -169,7 +169,7 @@ Texture *texture_copy(const Texture *t)
         memcpy(c->file, t->file, t->file_len);
     c->file_len = t->file_len;
     c->codec = t->codec;
-    c->clamp = t->clamp;
+    c->wrap[0] = t->wrap[0], c->wrap[1] = t->wrap[1];
     c->closest = t->closest;
     memcpy(c->texels, t->texels, texture_bytes(t));
     return c;

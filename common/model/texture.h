@@ -6,8 +6,9 @@
  * image are its mip-map levels, each half the size of the one above (a box
  * filter in linear light, rounded to sRGB codes), down to 1 x 1: a ray
  * whose footprint covers many texels reads a level where it covers about
- * one (texture_sample.c).  Texture coordinates wrap (repeat) unless the
- * texture clamps; v = 0 is the bottom row, as in OBJ.
+ * one (texture_sample.c).  Texture coordinates repeat, clamp to the edge
+ * or repeat mirrored, each axis its own way (glTF's samplers set them
+ * apart); v = 0 is the bottom row, as in OBJ.
  *
  * A texture read from a PNG or JPEG file keeps the file's own bytes: a
  * .tmd and an ASSET carry those (texture_encode), so that a model with a
@@ -33,9 +34,16 @@ typedef struct {
     uint8_t *rgb; /* 3 sRGB codes a texel, row-major, top row first */
 } TextureLevel;
 
+/* How a coordinate outside [0, 1] reads the image, along one axis:
+ * tiles (OBJ's default, glTF's REPEAT), the edge's texels (MTL -clamp on,
+ * glTF's CLAMP_TO_EDGE), or tiles flipped every other time (glTF's
+ * MIRRORED_REPEAT).  The values are the byte form's (texture_encode). */
+typedef enum { TEXTURE_REPEAT = 0, TEXTURE_CLAMP = 1, TEXTURE_MIRROR = 2 } TextureWrap;
+#define TEXTURE_WRAP_COUNT 3
+
 typedef struct {
     uint32_t w, h;   /* the image's size: level 0 */
-    int clamp;       /* coordinates clamp to the edge instead of wrapping (MTL -clamp on) */
+    uint8_t wrap[2]; /* TextureWrap along u and along v */
     int closest;     /* magnified, texels are squares with sharp edges (pixel art, a
                       * checkerboard); else they blend bilinearly */
     uint32_t levels; /* 1 + the mip-map levels below the image */
@@ -101,7 +109,8 @@ int texture_read_tga(const void *data, size_t len, const char *name, Texture **o
 int texture_read_bmp(const void *data, size_t len, const char *name, Texture **out, Err *err);
 
 /* The texture's byte form, what an ASSET and a .tmd carry (docs/tmd.md):
- * u32 w, h, flags (1: clamp, 2: closest), codec (1 PNG, 2 JPEG), byte
+ * u32 w, h, flags (1: clamp both axes, 2: closest; bits 2-3 and 4-5, where
+ * bit 0 is clear: u's and v's TextureWrap), codec (1 PNG, 2 JPEG), byte
  * count, then the image's bytes, padded with zeros to a multiple of 4. */
 int texture_encode(const Texture *t, Sink *out);
 /* Reads one byte form from a cursor: the image is decoded and must be w x

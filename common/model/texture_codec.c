@@ -12,8 +12,30 @@
 
 #include "image/image.h"
 
-#define FORM_CLAMP 1u
+#define FORM_CLAMP 1u /* both axes clamp: what every version wrote */
 #define FORM_CLOSEST 2u
+#define FORM_WRAP_U 2 /* bits 2-3: u's TextureWrap, where FORM_CLAMP is clear */
+#define FORM_WRAP_V 4 /* bits 4-5: v's */
+
+/* The flags' wrap bits: the old clamp bit where both axes clamp (so that
+ * such a texture's form is what it always was), else each axis's mode. */
+static uint32_t form_wrap(const Texture *t)
+{
+    if (t->wrap[0] == TEXTURE_CLAMP && t->wrap[1] == TEXTURE_CLAMP)
+        return FORM_CLAMP;
+    return (uint32_t)t->wrap[0] << FORM_WRAP_U | (uint32_t)t->wrap[1] << FORM_WRAP_V;
+}
+
+/* The wrap modes of flags; -1 for bits no version writes. */
+static int form_unwrap(uint32_t flags, uint8_t wrap[2])
+{
+    const uint32_t u = flags >> FORM_WRAP_U & 3, v = flags >> FORM_WRAP_V & 3;
+    if ((flags >> 6) != 0 || u >= TEXTURE_WRAP_COUNT || v >= TEXTURE_WRAP_COUNT || ((flags & FORM_CLAMP) && (u || v)))
+        return -1;
+    wrap[0] = (flags & FORM_CLAMP) ? TEXTURE_CLAMP : (uint8_t)u;
+    wrap[1] = (flags & FORM_CLAMP) ? TEXTURE_CLAMP : (uint8_t)v;
+    return 0;
+}
 
 int texture_encode(const Texture *t, Sink *out)
 {
@@ -31,7 +53,7 @@ int texture_encode(const Texture *t, Sink *out)
     }
     sink_u32(out, t->w);
     sink_u32(out, t->h);
-    sink_u32(out, (t->clamp ? FORM_CLAMP : 0) | (t->closest ? FORM_CLOSEST : 0));
+    sink_u32(out, form_wrap(t) | (t->closest ? FORM_CLOSEST : 0));
     sink_u32(out, (uint32_t)codec);
     sink_u32(out, (uint32_t)len);
     sink_put(out, bytes, len);
@@ -47,7 +69,8 @@ int texture_read_form(Cursor *c, const char *name, Texture **out, Err *err)
     uint32_t w = cursor_u32(c), h = cursor_u32(c), flags = cursor_u32(c), codec = cursor_u32(c), len = cursor_u32(c);
     if (c->failed)
         return err_set(err, "%s: the texture's header is cut short", name);
-    if (!texture_size_ok(w, h) || (flags & ~(FORM_CLAMP | FORM_CLOSEST)) || (codec != TEXTURE_PNG && codec != TEXTURE_JPEG))
+    uint8_t wrap[2];
+    if (!texture_size_ok(w, h) || form_unwrap(flags, wrap) || (codec != TEXTURE_PNG && codec != TEXTURE_JPEG))
         return err_set(err, "%s: a texture of %ux%u, flags %u, codec %u: not a size, flags and codec (1 PNG, 2 JPEG) "
                        "a texture has", name, w, h, flags, codec);
     size_t padded = (size_t)len + (4 - len % 4) % 4;
@@ -68,7 +91,7 @@ int texture_read_form(Cursor *c, const char *name, Texture **out, Err *err)
     }
     c->p += padded;
     c->left -= padded;
-    t->clamp = (flags & FORM_CLAMP) != 0;
+    t->wrap[0] = wrap[0], t->wrap[1] = wrap[1];
     t->closest = (flags & FORM_CLOSEST) != 0;
     *out = t;
     return 0;

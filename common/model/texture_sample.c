@@ -39,12 +39,30 @@ static inline real wrap01(real u)
 /* Clamps a coordinate into [0,1]; NaN maps to 0. */
 static inline real clamp01(real u) { return u > R(0) ? (u < R(1) ? u : R(1)) : R(0); }
 
-/* A texel index along a side of n, from -1 to n (a coordinate in [0, 1]
- * less half a texel, and the texel after it): wrapped, or clamped to the
- * edge.  No division: it showed in the profile of a textured floor. */
-static inline uint32_t address(const Texture *t, int64_t i, uint32_t n)
+/* Folds a coordinate into [0,1] as mirrored tiles do: [1, 2] runs back
+ * from 1 to 0, [2, 3] forward again; NaN and inf map to 0.  Exact: the
+ * halving, the floor and the subtraction of an even whole number. */
+static inline real mirror01(real u)
 {
-    if (t->clamp)
+    if (!isfinite(u))
+        return R(0);
+    u -= R(2) * floor(u * R(0.5)); /* [0, 2] */
+    return u > R(1) ? R(2) - u : u;
+}
+
+/* A coordinate along one axis into [0, 1] by that axis's wrap mode. */
+static inline real wrap_axis(uint8_t wrap, real u)
+{
+    return wrap == TEXTURE_CLAMP ? clamp01(u) : wrap == TEXTURE_MIRROR ? mirror01(u) : wrap01(u);
+}
+
+/* A texel index along a side of n, from -1 to n (a coordinate in [0, 1]
+ * less half a texel, and the texel after it): wrapped, or held at the
+ * edge, where the mirrored tile beyond starts with the edge's texel too.
+ * No division: it showed in the profile of a textured floor. */
+static inline uint32_t address(uint8_t wrap, int64_t i, uint32_t n)
+{
+    if (wrap != TEXTURE_REPEAT)
         return i < 0 ? 0 : i >= (int64_t)n ? n - 1 : (uint32_t)i;
     return i < 0 ? n - 1 : i >= (int64_t)n ? 0 : (uint32_t)i;
 }
@@ -80,18 +98,19 @@ static inline vec3 bilinear(const Texture *t, uint32_t l, real u, real v, real s
         ay = sharpen(ay, sy);
     }
     int64_t x0 = (int64_t)x0f, y0 = (int64_t)y0f;
-    uint32_t xa = address(t, x0, L->w), xb = address(t, x0 + 1, L->w);
-    uint32_t ya = address(t, y0, L->h), yb = address(t, y0 + 1, L->h);
+    uint32_t xa = address(t->wrap[0], x0, L->w), xb = address(t->wrap[0], x0 + 1, L->w);
+    uint32_t ya = address(t->wrap[1], y0, L->h), yb = address(t->wrap[1], y0 + 1, L->h);
     vec3 top = v3_lerp(texel(L, xa, ya), texel(L, xb, ya), ax);
     vec3 bot = v3_lerp(texel(L, xa, yb), texel(L, xb, yb), ax);
     return v3_lerp(top, bot, ay);
 }
 
-/* A coordinate pair as the levels index them: wrapped or clamped, v from the top. */
+/* A coordinate pair as the levels index them: each axis by its wrap
+ * mode, v from the top. */
 static inline void place(const Texture *t, real *u, real *v)
 {
-    *u = t->clamp ? clamp01(*u) : wrap01(*u);
-    *v = R(1) - (t->clamp ? clamp01(*v) : wrap01(*v));
+    *u = wrap_axis(t->wrap[0], *u);
+    *v = R(1) - wrap_axis(t->wrap[1], *v);
 }
 
 /* log2(x) for x > 0: exact at powers of two, linear between (at most 0.09

@@ -174,7 +174,7 @@ static int tmd_read_textures(Cursor *c, uint32_t version, uint32_t texs, Model *
                                th, (unsigned long long)tw * th * 12, c->left);
             if (texture_read_texels(c, tw, th, label, &t, err))
                 return -1;
-            t->clamp = (int)tf;
+            t->wrap[0] = t->wrap[1] = tf ? TEXTURE_CLAMP : TEXTURE_REPEAT;
         }
         m->textures[m->texture_count++] = t;
     }

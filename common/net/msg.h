@@ -17,14 +17,15 @@
 #include "render/segment.h"
 
 #define PROTO_MAGIC 0x5941524cu /* "LRAY" */
-#define PROTO_VERSION 15u /* 8: an UPDATE carries the frame's view apart, and the scene only when it changed;
+#define PROTO_VERSION 16u /* 8: an UPDATE carries the frame's view apart, and the scene only when it changed;
                            * 9: the view's settings hold light_sampling (wire 6);
                            * 10: compressed pixels (HELLO codecs, WELCOME coding, DATA coding);
                            * 11: pipelined frames (UPDATE keep: the older frame still wanted);
                            * 12: the view's settings hold integrator (wire 7);
                            * 13: and emitter_sampling, roulette; materials a checker (wire 8);
                            * 14: and contrast (wire 9);
-                           * 15: and light_samples (wire 10) */
+                           * 15: and light_samples (wire 10);
+                           * 16: a texture ASSET's flags say each axis's wrap mode */
 #define PROTO_BOM 0x01020304u
 #define PROTO_HEADER 8u
 #define PROTO_NONCE 32u

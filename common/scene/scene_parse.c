@@ -154,17 +154,60 @@ static int do_settings(Ctx *c, const Tokens *t)
     return 0;
 }
 
+/* A wrap mode's name (texture.h's TextureWrap); -1 for another word. */
+static int wrap_named(const char *s)
+{
+    static const char *const names[TEXTURE_WRAP_COUNT] = {"repeat", "clamp", "mirror"};
+    for (int i = 0; i < TEXTURE_WRAP_COUNT; i++)
+        if (strcmp(s, names[i]) == 0)
+            return i;
+    return -1;
+}
+
+/* texture NAME FILE [smooth|closest] [wrap U [V]]: the words after the
+ * file; 0, or -1 with the error said. */
+static int texture_options(Ctx *c, const Tokens *t, int *closest, uint8_t wrap[2])
+{
+    static const char *const usage =
+        "texture expects a name, a file, how magnified texels look and how coordinates wrap: "
+        "texture NAME FILE [smooth|closest] [wrap repeat|clamp|mirror [repeat|clamp|mirror]]";
+    int i = 3;
+    *closest = 0;
+    wrap[0] = wrap[1] = TEXTURE_REPEAT;
+    if (t->n < 3)
+        return fail(c, "%s", usage);
+    if (i < t->n && (strcmp(t->tok[i], "closest") == 0 || strcmp(t->tok[i], "smooth") == 0))
+        *closest = strcmp(t->tok[i++], "closest") == 0;
+    if (i < t->n && strcmp(t->tok[i], "wrap") == 0) {
+        int u = i + 1 < t->n ? wrap_named(t->tok[i + 1]) : -1;
+        if (u < 0)
+            return fail(c, "texture wrap expects repeat, clamp or mirror (for u and v, or u then v)%s%s%s",
+                        i + 1 < t->n ? ", not '" : "", i + 1 < t->n ? t->tok[i + 1] : "", i + 1 < t->n ? "'" : "");
+        int v = i + 2 < t->n ? wrap_named(t->tok[i + 2]) : u;
+        if (v < 0)
+            return fail(c, "texture wrap expects repeat, clamp or mirror for v, not '%s'", t->tok[i + 2]);
+        wrap[0] = (uint8_t)u, wrap[1] = (uint8_t)v;
+        i += 2 + (i + 2 < t->n);
+    }
+    if (i < t->n)
+        return fail(c, "%s; '%s' is none of them", usage, t->tok[i]);
+    return 0;
+}
+
 static int do_texture(Ctx *c, const Tokens *t)
 {
-    if (t->n < 3 || t->n > 4 || (t->n == 4 && strcmp(t->tok[3], "closest") != 0 && strcmp(t->tok[3], "smooth") != 0))
-        return fail(c, "texture expects a name, a file and how magnified texels look: texture NAME FILE [smooth|closest]");
+    int closest;
+    uint8_t wrap[2];
+    if (texture_options(c, t, &closest, wrap))
+        return -1;
     char path[4096];
     if (file_join(c->dir, t->tok[2], path, sizeof path))
         return fail(c, "texture file name '%s' is too long", t->tok[2]);
     Texture *tex;
     if (scene_add_source(c->s, path, c->err) || texture_read(path, &tex, c->err))
         return err_prefix(c->err, "%s:%d", c->file, c->line);
-    tex->closest = t->n == 4 && strcmp(t->tok[3], "closest") == 0;
+    tex->closest = closest;
+    tex->wrap[0] = wrap[0], tex->wrap[1] = wrap[1];
     uint32_t id;
     if (scene_add_texture(c->s, tex, &id, c->err))
         return -1;
