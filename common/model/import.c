@@ -13,6 +13,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -256,6 +257,31 @@ static int is_ply(const char *path)
 static int import_scene(const struct aiScene *sc, const char *path, const char *model, int stl, Mesh *out,
                         ImportTexList *tl, ImportStats *st, Err *err);
 
+/* Blender's scenes are Z-up (its front view looks along +Y), and Assimp
+ * leaves them so: a standing figure lay on its back and Suzanne showed
+ * the top of her head.  lanray is Y-up, as glTF, OBJ and Assimp's other
+ * readers give it (3DS and COLLADA turned by Assimp), so a .blend's
+ * vertices and normals turn as Blender's own glTF and OBJ exports turn
+ * them: (x, y, z) -> (x, z, -y), a rotation (windings kept).  In place:
+ * the scene is this process's own (the child's, isolation below). */
+static void import_upright(const struct aiScene *sc, const char *ext)
+{
+    if (strcasecmp(ext, ".blend") != 0 && strcasecmp(ext, "blend") != 0)
+        return;
+    for (unsigned i = 0; i < sc->mNumMeshes; i++) {
+        struct aiMesh *am = sc->mMeshes[i];
+        for (unsigned v = 0; v < am->mNumVertices; v++) {
+            struct aiVector3D *p = &am->mVertices[v], *n = am->mNormals ? &am->mNormals[v] : NULL;
+            const ai_real y = p->y;
+            p->y = p->z, p->z = -y;
+            if (n) {
+                const ai_real ny = n->y;
+                n->y = n->z, n->z = -ny;
+            }
+        }
+    }
+}
+
 /* In this process: what the child of import_read runs.  The materials'
  * textures are gathered into *tl, undecoded (import_texture.h). */
 static int import_read_direct(const char *path, Mesh *out, ImportTexList *tl, ImportStats *st, Err *err)
@@ -294,6 +320,7 @@ static int import_read_direct(const char *path, Mesh *out, ImportTexList *tl, Im
     if (!sc)
         return err_set(err, "%s: %s", path, aiGetErrorString());
     const char *e = extension(path);
+    import_upright(sc, e);
     /* the scene stays: embedded images' bytes are Assimp's until sent
      * (the child ends after) */
     return import_scene(sc, path, path, strcmp(e, ".stl") == 0 || strcmp(e, ".STL") == 0, out, tl, st, err);
@@ -323,6 +350,7 @@ static int import_read_memory_direct(const void *data, size_t len, const char *h
     const struct aiScene *sc = aiImportFileFromMemory(data, (unsigned)len, IMPORT_FLAGS, hint);
     if (!sc)
         return err_set(err, "%s: %s", name, aiGetErrorString());
+    import_upright(sc, hint);
     return import_scene(sc, name, NULL, strcmp(hint, "stl") == 0, out, tl, st, err);
 }
 

@@ -3,7 +3,8 @@
 # ASCII and binary, STL ASCII and binary, glTF 2.0 as .gltf + .bin and as
 # .glb), converted and rendered: each image is byte-identical to the OBJ's,
 # as is the OBJ's named MODEL.OBJ; an AC3D file (one of Assimp's other
-# formats) converts, and a name no reader takes is refused with a reason;
+# formats) converts, a Blender file stands up (Z-up turned Y-up), and a
+# name no reader takes is refused with a reason;
 # --smooth gives an STL sphere smooth normals and leaves a cube's edges sharp.
 # The one difference the formats force: STL has only facet normals, so the
 # STL files are compared with the OBJ without vertex normals.  A damaged
@@ -108,6 +109,13 @@ printf '%s\n' AC3Db 'MATERIAL "w" rgb 0.8 0.8 0.8 amb 0.2 0.2 0.2 emis 0 0 0 spe
     'kids 0' >"$dir/tetra.ac"
 render tetra.ac
 grep -q "triangles 4," "$dir/tetra.ac.log" || fail "tetra.ac: $(cat "$dir/tetra.ac.log")"
+# Blender's scenes are Z-up: a figure standing along its Z axis stands
+# along lanray's Y (tallest that way), its front (Blender's -Y) toward +Z
+cp tests/data/blend/HUMAN.blend "$dir/human.blend"
+render human.blend
+sizes=$(sed -n 's/.*(size \([^ ]*\) x \([^ ]*\) x \([^ ]*\)).*/\1 \2 \3/p' "$dir/human.blend.log")
+awk -v s="$sizes" 'BEGIN { split(s, a, " "); exit !(a[2] > 2 * a[1] && a[2] > 2 * a[3]) }' ||
+    fail "human.blend is not upright (size x y z: $sizes)"
 # a name no reader takes: said so, not read as an OBJ (whose errors would puzzle)
 echo "not a model" >"$dir/notes.txt"
 err=$("$BIN/obj2tmd" "$dir/notes.txt" "$dir/notes.tmd" 2>&1); [ $? -eq 1 ] || fail "notes.txt should exit 1"
@@ -126,4 +134,4 @@ err=$("$BIN/obj2tmd" "$dir/crash.ply" "$dir/crash.tmd" 2>&1); rc=$?
 [ $rc -eq 1 ] || fail "a PLY that crashes Assimp: exit $rc ($err)"
 grep -q "crash.ply: the importer (Assimp) crashed on this file" <<<"$err" || fail "crash message: $err"
 [ ! -e "$dir/crash.tmd" ] || fail "a PLY that crashes Assimp left an output"
-echo "formats: PLY, STL, glTF, GLB and MODEL.OBJ render byte-identical to model.obj; AC3D converts; an unknown extension is named; a file that crashes Assimp is an error"
+echo "formats: PLY, STL, glTF, GLB and MODEL.OBJ render byte-identical to model.obj; AC3D converts; a .blend stands up; an unknown extension is named; a file that crashes Assimp is an error"
