@@ -257,16 +257,21 @@ static int is_ply(const char *path)
 static int import_scene(const struct aiScene *sc, const char *path, const char *model, int stl, Mesh *out,
                         ImportTexList *tl, ImportStats *st, Err *err);
 
-/* Blender's scenes are Z-up (its front view looks along +Y), and Assimp
- * leaves them so: a standing figure lay on its back and Suzanne showed
- * the top of her head.  lanray is Y-up, as glTF, OBJ and Assimp's other
- * readers give it (3DS and COLLADA turned by Assimp), so a .blend's
- * vertices and normals turn as Blender's own glTF and OBJ exports turn
- * them: (x, y, z) -> (x, z, -y), a rotation (windings kept).  In place:
- * the scene is this process's own (the child's, isolation below). */
+/* Blender's scenes are Z-up (its front view looks along +Y), as are
+ * trueSpace's (.cob), and Assimp leaves them so: a standing figure lay on
+ * its back and Suzanne showed the top of her head.  lanray is Y-up, as
+ * glTF, OBJ and Assimp's other readers give it (3DS and COLLADA turned by
+ * Assimp), so such a file's vertices and normals turn as Blender's own
+ * glTF and OBJ exports turn them: (x, y, z) -> (x, z, -y), a rotation
+ * (windings kept).  In place: the scene is this process's own (the
+ * child's, isolation below).  ext: ".blend", or the memory reader's hint. */
 static void import_upright(const struct aiScene *sc, const char *ext)
 {
-    if (strcasecmp(ext, ".blend") != 0 && strcasecmp(ext, "blend") != 0)
+    static const char *const zup[] = {"blend", "cob"};
+    int turn = 0;
+    for (size_t i = 0; i < sizeof zup / sizeof *zup; i++)
+        turn |= strcasecmp(ext + (ext[0] == '.'), zup[i]) == 0;
+    if (!turn)
         return;
     for (unsigned i = 0; i < sc->mNumMeshes; i++) {
         struct aiMesh *am = sc->mMeshes[i];
