@@ -18,10 +18,10 @@ int simd_available(SimdPath p)
         return 1; /* SSE2 is part of x86-64 */
     case SIMD_AVX2:
         __builtin_cpu_init();
-        return __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma"); /* every AVX2 CPU has FMA */
+        return __builtin_cpu_supports("avx2");
     case SIMD_AVX512:
         __builtin_cpu_init();
-        return __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma") && __builtin_cpu_supports("avx512f") &&
+        return __builtin_cpu_supports("avx2") && __builtin_cpu_supports("avx512f") &&
                __builtin_cpu_supports("avx512vl") && __builtin_cpu_supports("avx512bw") &&
                __builtin_cpu_supports("avx512dq");
 #endif

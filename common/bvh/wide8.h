@@ -9,4 +9,3 @@
 #define VN_STORE _mm256_storeu_ps
 #define VN_MIN _mm256_min_ps
 #define VN_MAX _mm256_max_ps
-#define VN_FMSUB _mm256_fmsub_ps /* a * b - c, one rounding: the slab test (wide_kernel.h) */

@@ -1,9 +1,7 @@
 /* wide_avx2.c - 8-wide BVH traversal with AVX2 (base/avx2_begin.h: the
- * kernel compiled for AVX2 and FMA, the slab test's fused
- * multiply-subtracts called by name and nothing contracted; only called
- * when the CPU reports both). */
+ * kernel compiled for AVX2, never FMA; only called when the CPU reports
+ * AVX2). */
 #if defined(__x86_64__) && !defined(LANRAY_DOUBLE)
-#define LANRAY_TARGET_FMA /* the slab test's fused multiply-subtracts (wide8.h) */
 #include "base/avx2_begin.h"
 #include "bvh/wide8.h"
 #define VN_LE_MASK(a, b) _mm256_movemask_ps(_mm256_cmp_ps(a, b, _CMP_LE_OQ))

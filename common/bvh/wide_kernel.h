@@ -329,65 +329,12 @@ static __attribute__((noipa)) int wide_leaf_any_call(const WideTris *blk, uint32
     return wide_leaf_any(blk, blocks, k, tmax);
 }
 
-/* Per-ray node constants: the ray's vectors (made once a walk; a leaf
- * call's caller-saved registers are reloaded from the stack after it), and
- * the row of each axis's entry and exit bound.
- *
- * With fused multiply-subtracts (VN_FMSUB, the 8-wide kernels) a slab
- * distance is one operation, b * inv - o * inv, as Embree's, instead of a
- * subtraction and a product.  o * inv is rounded once for the whole walk,
- * so it is taken a whole unit in the last place above the exact product
- * for entry bounds and below it for exit bounds (wide_slab_offset): the
- * fused result before its one rounding is then at most the exact entry
- * distance and at least the exact exit distance, and the far-side factor
- * (BVH_FUDGE) covers that rounding, as it covers the two of
- * (b - o) * inv.  Where the product overflows or is 0 * inf (a direction
- * parallel to an axis), an offset is NaN or infinite and the slab leaves
- * the bound as it was: a box entered that need not be, never one missed.
- * The boxes a walk enters differ from the other paths' by rounding only;
- * the hit does not (wide.h). */
-#ifdef VN_FMSUB
-typedef struct {
-    VN ix, iy, iz, nx, ny, nz, fx, fy, fz, tmin;
-} WideSlabs;
-
-/* o * inv rounded, and its units in the last place (2^-126 more for
- * products near or under the smallest normal): p + a lies above the
- * exact product, p - a below it. */
-static inline __attribute__((always_inline)) void wide_slab_offset(float o, float inv, VN *entry, VN *exit)
-{
-    const float p = o * inv, a = __builtin_fabsf(p) * 0x1p-23f + 0x1p-126f;
-    *entry = VN_SET1(p + a), *exit = VN_SET1(p - a);
-}
-
-static inline __attribute__((always_inline)) WideSlabs wide_slabs(const Ray *r)
-{
-    WideSlabs s;
-    s.ix = VN_SET1(r->inv.x), s.iy = VN_SET1(r->inv.y), s.iz = VN_SET1(r->inv.z);
-    wide_slab_offset(r->org.x, r->inv.x, &s.nx, &s.fx);
-    wide_slab_offset(r->org.y, r->inv.y, &s.ny, &s.fy);
-    wide_slab_offset(r->org.z, r->inv.z, &s.nz, &s.fz);
-    s.tmin = VN_SET1(r->tmin);
-    return s;
-}
-#define WIDE_SLAB_ENTRY(b, sl, a) VN_FMSUB(b, (sl).i##a, (sl).n##a)
-#define WIDE_SLAB_EXIT(b, sl, a) VN_FMSUB(b, (sl).i##a, (sl).f##a)
-#else
-typedef struct {
-    VN ox, oy, oz, ix, iy, iz, tmin;
-} WideSlabs;
-
-static inline __attribute__((always_inline)) WideSlabs wide_slabs(const Ray *r)
-{
-    WideSlabs s;
-    s.ox = VN_SET1(r->org.x), s.oy = VN_SET1(r->org.y), s.oz = VN_SET1(r->org.z);
-    s.ix = VN_SET1(r->inv.x), s.iy = VN_SET1(r->inv.y), s.iz = VN_SET1(r->inv.z);
-    s.tmin = VN_SET1(r->tmin);
-    return s;
-}
-#define WIDE_SLAB_ENTRY(b, sl, a) (((b) - (sl).o##a) * (sl).i##a)
-#define WIDE_SLAB_EXIT(b, sl, a) (((b) - (sl).o##a) * (sl).i##a)
-#endif
+/* Per-ray node constants: the ray's vectors (made again after each leaf
+ * call), and the row of each axis's entry and exit bound. */
+#define WIDE_NODE_VECTORS()                                                                                       \
+    const VN ox = VN_SET1(r->org.x), oy = VN_SET1(r->org.y), oz = VN_SET1(r->org.z);                              \
+    const VN ix = VN_SET1(r->inv.x), iy = VN_SET1(r->inv.y), iz = VN_SET1(r->inv.z);                              \
+    const VN vtmin = VN_SET1(r->tmin), fudge = VN_SET1(BVH_FUDGE)
 #define WIDE_NODE_ROWS()                                                                                          \
     const int *const rows_ = wide_rows[wide_ray_octant(r)];                                                      \
     const int n0 = rows_[0], n1 = rows_[1], n2 = rows_[2], f0 = rows_[3], f1 = rows_[4], f2 = rows_[5]
@@ -406,12 +353,12 @@ static const int wide_rows[8][6] = {WIDE_ROWS_OF(0), WIDE_ROWS_OF(1), WIDE_ROWS_
  * (0 * inf) leaves the bound as it was, and far distances are enlarged. */
 #define WIDE_NODE_TEST(box, tmax, lo_out, mask_out)                                                               \
     do {                                                                                                          \
-        const VN t0x = WIDE_SLAB_ENTRY(VN_LOAD((box) + n0), sl, x), t1x = WIDE_SLAB_EXIT(VN_LOAD((box) + f0), sl, x); \
-        const VN t0y = WIDE_SLAB_ENTRY(VN_LOAD((box) + n1), sl, y), t1y = WIDE_SLAB_EXIT(VN_LOAD((box) + f1), sl, y); \
-        const VN t0z = WIDE_SLAB_ENTRY(VN_LOAD((box) + n2), sl, z), t1z = WIDE_SLAB_EXIT(VN_LOAD((box) + f2), sl, z); \
-        lo_out = VN_MAX(t0z, VN_MAX(t0y, VN_MAX(t0x, sl.tmin)));                                                  \
+        const VN t0x = (VN_LOAD((box) + n0) - ox) * ix, t1x = (VN_LOAD((box) + f0) - ox) * ix;                    \
+        const VN t0y = (VN_LOAD((box) + n1) - oy) * iy, t1y = (VN_LOAD((box) + f1) - oy) * iy;                    \
+        const VN t0z = (VN_LOAD((box) + n2) - oz) * iz, t1z = (VN_LOAD((box) + f2) - oz) * iz;                    \
+        lo_out = VN_MAX(t0z, VN_MAX(t0y, VN_MAX(t0x, vtmin)));                                                    \
         const VN hi_ = VN_MIN(t1z, VN_MIN(t1y, VN_MIN(t1x, VN_SET1(tmax))));                                      \
-        mask_out = VN_LE_MASK(lo_out, hi_ * VN_SET1(BVH_FUDGE));                                                  \
+        mask_out = VN_LE_MASK(lo_out, hi_ * fudge);                                                               \
     } while (0)
 
 /* nodes are NW * 32 bytes (wide_build): a shift, not the stored stride */
@@ -507,8 +454,9 @@ int KERNEL_CLOSEST(const Wide *w, const Ray *r, real tmax, uint32_t tie, WideHit
     WideRay k;
     wide_ray_setup(&k, r);
     WIDE_NODE_ROWS();
-    const WideSlabs sl = wide_slabs(r);
     for (;;) {
+        /* made again after every leaf (wide_leaf_closest_call) */
+        WIDE_NODE_VECTORS();
         while (cur_blocks == 0) {
             const float *box = WIDE_NODE(w, cur);
             VN lo;
@@ -543,7 +491,7 @@ int KERNEL_CLOSEST(const Wide *w, const Ray *r, real tmax, uint32_t tie, WideHit
  * slower (bunny diffuse bounces 7.1-7.3 -> 6.3-6.6 Mrays/s, the 1M
  * sphere's mirrored rays 6.0-6.4 -> 5.4-5.7). */
 typedef struct {
-    WideSlabs sl;
+    VN ox, oy, oz, ix, iy, iz, vtmin;
     WideRay k;
     float best;
     uint32_t best_idx, sp, cur, cur_blocks;
@@ -564,7 +512,9 @@ static inline __attribute__((always_inline)) int wide_walk_start(WideWalk *s, co
     wide_ray_setup(&s->k, r);
     WIDE_NODE_ROWS();
     s->n0 = n0, s->n1 = n1, s->n2 = n2, s->f0 = f0, s->f1 = f1, s->f2 = f2;
-    s->sl = wide_slabs(r);
+    s->ox = VN_SET1(r->org.x), s->oy = VN_SET1(r->org.y), s->oz = VN_SET1(r->org.z);
+    s->ix = VN_SET1(r->inv.x), s->iy = VN_SET1(r->inv.y), s->iz = VN_SET1(r->inv.z);
+    s->vtmin = VN_SET1(r->tmin);
     return 1;
 }
 
@@ -575,7 +525,8 @@ static inline __attribute__((always_inline)) int wide_walk_step(WideWalk *s, con
     if (s->cur_blocks == 0) {
         const float *box = WIDE_NODE(w, s->cur);
         const int n0 = s->n0, n1 = s->n1, n2 = s->n2, f0 = s->f0, f1 = s->f1, f2 = s->f2;
-        const WideSlabs sl = s->sl;
+        const VN ox = s->ox, oy = s->oy, oz = s->oz, ix = s->ix, iy = s->iy, iz = s->iz, vtmin = s->vtmin;
+        const VN fudge = VN_SET1(BVH_FUDGE);
         VN lo;
         int mask;
         WIDE_NODE_TEST(box, s->best, lo, mask);
@@ -648,10 +599,11 @@ int KERNEL_ANY(const Wide *w, const Ray *r, real tmax)
     WideRay k;
     wide_ray_setup(&k, r);
     WIDE_NODE_ROWS();
-    const WideSlabs sl = wide_slabs(r);
     WideEntry stack[WIDE_STACK];
     uint32_t sp = 0, cur = w->root, cur_blocks = w->root_blocks;
     for (;;) {
+        /* made again after every leaf (wide_leaf_any_call) */
+        WIDE_NODE_VECTORS();
         while (cur_blocks == 0) {
             const float *box = WIDE_NODE(w, cur);
             VN lo;
