@@ -2,7 +2,8 @@
  * materials (import.c): a metal reflects its base colour at its roughness,
  * emission, transmission and a blended opacity map onto lanray's terms, and
  * what cannot be read per texel, or is only glTF's defaults, stays diffuse;
- * vertex colours multiply the base colour; samplers wrap each axis. */
+ * vertex colours multiply the base colour; samplers wrap each axis; a
+ * MASK material cuts holes by its texture's alpha. */
 #include "helpers.h"
 
 #include "model/import.h"
@@ -102,12 +103,37 @@ static void gltf_samplers_wrap_each_axis(void **state)
     mesh_free(&m);
 }
 
+/* glTF's alphaMode MASK: the material cuts holes where its base colour
+ * texture's alpha is under alphaCutoff (the texture is its own mask, its
+ * alpha kept); an OPAQUE material with the same image stays solid. */
+static void gltf_mask_materials_cut(void **state)
+{
+    (void)state;
+    Mesh m;
+    ImportStats st;
+    Err err;
+    if (import_read("tests/data/gltf/mask.gltf", NULL, &m, &st, &err))
+        fail_msg("%s", err.msg);
+    assert_true(m.material_count >= 2);
+    const Material *leaf = &m.materials[0], *opaque = &m.materials[1];
+    assert_true(material_cuts(leaf));
+    assert_float_equal(leaf->cutoff, 0.3, 1e-6);
+    assert_int_equal(leaf->mask, leaf->texture);
+    assert_false(material_cuts(opaque));
+    const Texture *t = m.textures[leaf->texture];
+    assert_non_null(t->alpha);
+    assert_int_equal(t->alpha[0], 255);
+    assert_int_equal(t->alpha[1], 64);
+    mesh_free(&m);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(gltf_materials_map_onto_lanrays),
         cmocka_unit_test(gltf_vertex_colours_multiply_the_base_colour),
         cmocka_unit_test(gltf_samplers_wrap_each_axis),
+        cmocka_unit_test(gltf_mask_materials_cut),
     };
     return cmocka_run_group_tests_name("import", tests, NULL, NULL);
 }

@@ -4,6 +4,7 @@
 #include <sys/stat.h>
 
 #include "base/fileio.h"
+#include "image/image.h"
 #include "model/mtl.h"
 #include "model/obj.h"
 #include "model/tmd.h"
@@ -119,6 +120,42 @@ static void materials_from_mtllib(void **state)
     assert_float_equal(red->ks.y, R(0.5), 0);
     assert_float_equal(red->shininess, 32, 0);
     assert_true(m.mat[0] != m.mat[1] && m.mat[1] != m.mat[2]);
+    mesh_free(&m);
+}
+
+/* map_d: a cutout's mask (cutoff 0.5), the same file as map_Kd read once
+ * (its alpha the holes); a mask that cannot be read leaves the material
+ * solid, with a warning. */
+static void map_d_makes_a_cutout(void **state)
+{
+    (void)state;
+    const uint8_t rgb[12] = {255, 255, 255, 255, 255, 255, 255, 255, 255, 255, 255, 255}, a[4] = {0, 255, 255, 0};
+    Sink png = {0};
+    assert_int_equal(image_encode_png_alpha(rgb, a, 2, 2, &png), 0);
+    char path[256];
+    snprintf(path, sizeof path, "%s/leaf.png", test_tmpdir());
+    FILE *f = fopen(path, "wb");
+    fwrite(png.data, 1, png.len, f);
+    fclose(f);
+    sink_free(&png);
+    snprintf(path, sizeof path, "%s/cut.mtl", test_tmpdir());
+    test_write_file(path, "newmtl leaf\nmap_Kd leaf.png\nmap_d leaf.png\nnewmtl lost\nmap_d nothere.png\n");
+    const char *text = "mtllib cut.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 0 1\n"
+                       "usemtl leaf\nf 1/1 2/2 3/3\nusemtl lost\nf 1/1 3/3 2/2\n";
+    Mesh m;
+    ObjStats st;
+    Err err;
+    if (parse(text, &m, &st, &err, 0))
+        fail_msg("%s", err.msg);
+    const Material *leaf = &m.materials[m.mat[0]], *lost = &m.materials[m.mat[1]];
+    assert_true(material_cuts(leaf));
+    assert_float_equal(leaf->cutoff, R(0.5), 0);
+    assert_int_equal(leaf->mask, leaf->texture); /* one file, read once */
+    assert_int_equal(m.texture_count, 1);
+    assert_non_null(m.textures[leaf->mask]->alpha);
+    assert_false(material_cuts(lost));
+    assert_int_equal(st.missing_textures, 1);
+    assert_int_equal(st.warnings, 1);
     mesh_free(&m);
 }
 
@@ -578,6 +615,7 @@ int main(void)
         cmocka_unit_test(byte_order_mark_is_skipped),
         cmocka_unit_test(polygons_are_triangulated_and_degenerates_dropped),
         cmocka_unit_test(materials_from_mtllib),
+        cmocka_unit_test(map_d_makes_a_cutout),
         cmocka_unit_test(material_extras_are_kept_and_mapped),
         cmocka_unit_test(smooth_normals_average_faces),
         cmocka_unit_test(smoothing_groups_share_normals),

@@ -305,6 +305,59 @@ static void byte_form_keeps_the_wrap_modes(void **state)
     texture_destroy(t);
 }
 
+/* Opacity for cutouts: a PNG's alpha is kept (none where every texel is
+ * opaque), travels in the byte form (an RGBA PNG for a texture without a
+ * file of its own), and texture_coverage reads it by the nearest texel;
+ * an image without alpha reads its grey level (a map_d mask). */
+static void alpha_is_kept_for_cutouts(void **state)
+{
+    (void)state;
+    const uint8_t rgb[12] = {255, 255, 255, 0, 0, 0, 90, 90, 90, 30, 60, 90};
+    const uint8_t alpha[4] = {0, 255, 128, 255}, opaque[4] = {255, 255, 255, 255};
+    Err err = {{0}};
+    Texture *t;
+    for (int k = 0; k < 2; k++) {
+        Sink png = {0};
+        assert_int_equal(image_encode_png_alpha(rgb, k ? opaque : alpha, 2, 2, &png), 0);
+        const char *path = write_bytes("a.png", png.data, png.len);
+        sink_free(&png);
+        if (texture_read(path, &t, &err))
+            fail_msg("%s", err.msg);
+        if (k) {
+            assert_null(t->alpha); /* all opaque: nothing kept */
+            texture_destroy(t);
+            continue;
+        }
+        assert_non_null(t->alpha);
+        assert_memory_equal(t->alpha, alpha, 4);
+        assert_memory_equal(t->level[0].rgb, rgb, 12);
+        /* top row first: (0.25, 0.75) is the top-left texel, (0.75, 0.25) the bottom-right */
+        assert_float_equal(texture_coverage(t, R(0.25), R(0.75)), 0, 0);
+        assert_float_equal(texture_coverage(t, R(0.75), R(0.75)), 1, 0);
+        assert_float_equal(texture_coverage(t, R(0.25), R(0.25)), R(128) / R(255), R(1e-6));
+        assert_float_equal(texture_coverage(t, R(1.25), R(0.75)), 0, 0); /* repeated */
+        texture_destroy(t);
+    }
+    /* no file of its own: the byte form is an RGBA PNG, and the alphas come back */
+    t = texture_from_rgb8(2, 2, rgb);
+    assert_int_equal(texture_keep_alpha(t, alpha), 0);
+    Sink form = {0};
+    assert_int_equal(texture_encode(t, &form), 0);
+    Texture *back;
+    if (texture_decode(form.data, form.len, "asset", &back, &err))
+        fail_msg("%s", err.msg);
+    assert_non_null(back->alpha);
+    assert_memory_equal(back->alpha, alpha, 4);
+    sink_free(&form);
+    texture_destroy(back);
+    /* without alpha, a grey image's level: the mean of the codes */
+    free(t->alpha);
+    t->alpha = NULL;
+    assert_float_equal(texture_coverage(t, R(0.25), R(0.75)), 1, 0);
+    assert_float_equal(texture_coverage(t, R(0.75), R(0.25)), R(180) / R(765), R(1e-6));
+    texture_destroy(t);
+}
+
 /* The footprint picks the level: a sample that covers the whole of a
  * 64 x 64 checker of one-texel squares reads grey (light 0.5), not a
  * texel; one of a tenth of a texel reads the texel.  A closest texture
@@ -370,6 +423,7 @@ int main(void)
         cmocka_unit_test(nearest_and_bilinear_sampling),
         cmocka_unit_test(wrap_modes_by_axis),
         cmocka_unit_test(byte_form_keeps_the_wrap_modes),
+        cmocka_unit_test(alpha_is_kept_for_cutouts),
         cmocka_unit_test(footprints_choose_the_level),
         cmocka_unit_test(filters_have_names),
     };

@@ -182,6 +182,7 @@ typedef struct {
     png_structp png;
     png_infop info;
     uint8_t *buf;
+    uint8_t *alpha; /* the alphas, where the caller asked and the image has them */
     png_bytep *rows;
 } PngRead;
 
@@ -194,8 +195,10 @@ static void png_read_free(PngRead *r, int keep_pixels)
     if (r->f)
         fclose(r->f);
     free(r->rows);
-    if (!keep_pixels)
+    if (!keep_pixels) {
         free(r->buf);
+        free(r->alpha);
+    }
     free(r);
 }
 
@@ -209,12 +212,23 @@ int image_read_png(const char *path, int *width, int *height, uint8_t **rgb, Err
 
 int image_read_png_stream(FILE *f, const char *path, int *width, int *height, uint8_t **rgb, Err *err)
 {
-    return image_read_png_limited(f, path, 65536, width, height, rgb, err);
+    return image_read_png_limited(f, path, 65536, width, height, rgb, NULL, err);
+}
+
+/* RGBA rows (4 bytes a pixel) into RGB in place, the alphas into a. */
+static void png_split_alpha(uint8_t *px, uint8_t *a, size_t n)
+{
+    for (size_t i = 0; i < n; i++) {
+        a[i] = px[4 * i + 3];
+        px[3 * i] = px[4 * i], px[3 * i + 1] = px[4 * i + 1], px[3 * i + 2] = px[4 * i + 2];
+    }
 }
 
 int image_read_png_limited(FILE *f, const char *path, uint32_t max_side, int *width, int *height, uint8_t **rgb,
-                           Err *err)
+                           uint8_t **alpha, Err *err)
 {
+    if (alpha)
+        *alpha = NULL;
     PngRead *r = calloc(1, sizeof *r);
     if (!r) {
         fclose(f);
@@ -243,22 +257,32 @@ int image_read_png_limited(FILE *f, const char *path, uint32_t max_side, int *wi
     /* a size from outside: checked before the pixels are allocated */
     if (w < 1 || h < 1 || w > max_side || h > max_side || (uint64_t)w * h > ((uint64_t)1 << 30))
         png_error(r->png, "image size out of range");
-    /* any PNG to 8-bit RGB, values as stored */
+    /* any PNG to 8-bit RGB, values as stored; with its alpha (a channel or
+     * a tRNS chunk) beside where the caller asks for it */
+    const int ct = png_get_color_type(r->png, r->info);
+    const int keep_a = alpha && ((ct & PNG_COLOR_MASK_ALPHA) || png_get_valid(r->png, r->info, PNG_INFO_tRNS));
+    const size_t bpp = keep_a ? 4 : 3;
     png_set_expand(r->png);
     png_set_strip_16(r->png);
-    png_set_strip_alpha(r->png);
+    if (!keep_a)
+        png_set_strip_alpha(r->png);
     png_set_gray_to_rgb(r->png);
     png_read_update_info(r->png, r->info);
-    if (png_get_rowbytes(r->png, r->info) != (size_t)w * 3)
+    if (png_get_rowbytes(r->png, r->info) != (size_t)w * bpp)
         png_error(r->png, "unexpected row layout");
-    r->buf = malloc((size_t)w * h * 3);
+    r->buf = malloc((size_t)w * h * bpp);
+    r->alpha = keep_a ? malloc((size_t)w * h) : NULL;
     r->rows = malloc(h * sizeof *r->rows);
-    if (!r->buf || !r->rows)
+    if (!r->buf || !r->rows || (keep_a && !r->alpha))
         png_error(r->png, "out of memory");
     for (png_uint_32 y = 0; y < h; y++)
-        r->rows[y] = r->buf + (size_t)y * w * 3;
+        r->rows[y] = r->buf + (size_t)y * w * bpp;
     png_read_image(r->png, r->rows);
     png_read_end(r->png, NULL);
+    if (keep_a) {
+        png_split_alpha(r->buf, r->alpha, (size_t)w * h);
+        *alpha = r->alpha;
+    }
     *width = (int)w;
     *height = (int)h;
     *rgb = r->buf;
@@ -269,7 +293,9 @@ int image_read_png_limited(FILE *f, const char *path, uint32_t max_side, int *wi
 static void png_to_sink(png_structp png, png_bytep data, png_size_t n) { sink_put(png_get_io_ptr(png), data, n); }
 static void png_flush_nothing(png_structp png) { (void)png; }
 
-int image_encode_png(const uint8_t *rgb, int w, int h, Sink *out)
+int image_encode_png(const uint8_t *rgb, int w, int h, Sink *out) { return image_encode_png_alpha(rgb, NULL, w, h, out); }
+
+int image_encode_png_alpha(const uint8_t *rgb, const uint8_t *alpha, int w, int h, Sink *out)
 {
     Err err;
     png_structp ps = png_create_write_struct(PNG_LIBPNG_VER_STRING, &err, png_error_fn, png_warning_fn);
@@ -278,18 +304,34 @@ int image_encode_png(const uint8_t *rgb, int w, int h, Sink *out)
         png_destroy_write_struct(&ps, NULL);
         return -1;
     }
-    if (setjmp(png_jmpbuf(ps))) {
+    png_set_write_fn(ps, out, png_to_sink, png_flush_nothing);
+    uint8_t *volatile row = alpha ? malloc((size_t)w * 4) : NULL; /* volatile: kept across libpng's longjmp */
+    if (alpha && !row) {
         png_destroy_write_struct(&ps, &info);
         return -1;
     }
-    png_set_write_fn(ps, out, png_to_sink, png_flush_nothing);
-    png_set_IHDR(ps, info, (png_uint_32)w, (png_uint_32)h, 8, PNG_COLOR_TYPE_RGB, PNG_INTERLACE_NONE,
-                 PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
+    if (setjmp(png_jmpbuf(ps))) {
+        free(row);
+        png_destroy_write_struct(&ps, &info);
+        return -1;
+    }
+    png_set_IHDR(ps, info, (png_uint_32)w, (png_uint_32)h, 8, alpha ? PNG_COLOR_TYPE_RGBA : PNG_COLOR_TYPE_RGB,
+                 PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
     png_set_compression_level(ps, 9);
     png_write_info(ps, info);
-    for (int y = 0; y < h; y++)
-        png_write_row(ps, (png_const_bytep)(rgb + (size_t)y * (size_t)w * 3));
+    for (int y = 0; y < h; y++) {
+        const uint8_t *src = rgb + (size_t)y * (size_t)w * 3;
+        if (alpha) {
+            for (int x = 0; x < w; x++) {
+                memcpy(&row[4 * x], &src[3 * x], 3);
+                row[4 * x + 3] = alpha[(size_t)y * (size_t)w + (size_t)x];
+            }
+            src = row;
+        }
+        png_write_row(ps, (png_const_bytep)src);
+    }
     png_write_end(ps, NULL);
+    free(row);
     png_destroy_write_struct(&ps, &info);
     return out->failed ? -1 : 0;
 }

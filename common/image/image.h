@@ -37,12 +37,16 @@ void image_writer_abort(ImageWriter *wr);
 int image_read_png(const char *path, int *width, int *height, uint8_t **rgb, Err *err);
 /* The same from an open stream, which it closes; `name` labels errors. */
 int image_read_png_stream(FILE *f, const char *name, int *width, int *height, uint8_t **rgb, Err *err);
-/* The same, refusing (before allocating) an image wider or taller than max_side. */
+/* The same, refusing (before allocating) an image wider or taller than
+ * max_side; with `alpha`, an image with transparency (an alpha channel or
+ * a tRNS chunk) also gives its w x h alphas there (malloc'd), else NULL. */
 int image_read_png_limited(FILE *f, const char *name, uint32_t max_side, int *width, int *height, uint8_t **rgb,
-                           Err *err);
+                           uint8_t **alpha, Err *err);
 
 /* 8-bit RGB (w x h, as given: no colour chunk) as a PNG into out, compressed
  * hard: for textures that are stored, not frames written often. */
 int image_encode_png(const uint8_t *rgb, int w, int h, Sink *out);
+/* The same with w x h alphas beside the colours (an RGBA PNG), or none (NULL). */
+int image_encode_png_alpha(const uint8_t *rgb, const uint8_t *alpha, int w, int h, Sink *out);
 
 #endif

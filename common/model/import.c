@@ -390,6 +390,22 @@ static int import_has_materials(const struct aiScene *sc)
            strcmp(name.data, AI_DEFAULT_MATERIAL_NAME) != 0;
 }
 
+/* A glTF material of alphaMode MASK cuts holes where its base colour
+ * texture's alpha is under alphaCutoff (0.5 unless given; glTF 2.0 spec,
+ * 3.9.4); the texture is its own mask.  Other materials are solid. */
+static void import_cutout(const struct aiMaterial *am, Material *mt)
+{
+    struct aiString mode;
+    if (mt->texture < 0 || !gltf_material(am, &mode) || strcmp(mode.data, "MASK") != 0)
+        return;
+    ai_real cut = 0.5;
+    aiGetMaterialFloatArray(am, "$mat.gltf.alphaCutoff", 0, 0, &cut, NULL);
+    if (!(cut > 0)) /* a cutoff of 0 keeps every texel: solid */
+        return;
+    mt->mask = mt->texture;
+    mt->cutoff = cut < 1 ? (real)cut : R(1);
+}
+
 /* Every material of the file into out, in the file's order, with its
  * texture (an index into *tl) where the model has texture coordinates. */
 static int import_materials(const struct aiScene *sc, const char *model, int has_t, Mesh *out, ImportTexList *tl,
@@ -401,6 +417,7 @@ static int import_materials(const struct aiScene *sc, const char *model, int has
         Material mt = import_material(sc->mMaterials[i], &optics);
         st->optics += (unsigned long)optics;
         mt.texture = has_t ? import_tex_find(sc, sc->mMaterials[i], model, tl) : -1;
+        import_cutout(sc->mMaterials[i], &mt);
         rc = mesh_add_material(out, mt, err);
     }
     return rc;
@@ -622,12 +639,17 @@ static int receive_mesh(const uint8_t *data, size_t len, const char *name, const
     for (uint32_t i = 0; i < nmat; i++) {
         Material mt;
         memcpy(&mt, mats + (size_t)i * sizeof mt, sizeof mt);
-        if (mt.texture < -1 || mt.texture >= (int32_t)ntex) {
+        if (mt.texture < -1 || mt.texture >= (int32_t)ntex ||
+            (material_cuts(&mt) ? mt.mask < 0 || mt.mask >= (int32_t)ntex : mt.mask != 0)) {
             free(map);
             mesh_free(out);
             return err_set(err, "%s: the importer's answer is implausible (material %u's texture)", name, i);
         }
         mt.texture = mt.texture < 0 ? -1 : map[mt.texture];
+        if (material_cuts(&mt)) /* a mask that could not be read cuts nothing */
+            mt.mask = map[mt.mask];
+        if (mt.mask < 0)
+            mt.mask = 0, mt.cutoff = 0;
         if (mesh_add_material(out, mt, err)) {
             free(map);
             mesh_free(out);

@@ -163,18 +163,23 @@ void import_tex_send(Sink *o, const ImportTexList *l)
     }
 }
 
-/* w x h BGRA texels as a texture (alpha dropped). */
+/* w x h BGRA texels as a texture, its alphas kept for cutouts. */
 static Texture *from_bgra(uint32_t w, uint32_t h, const uint8_t *bgra)
 {
-    uint8_t *rgb = malloc((size_t)w * h * 3);
+    uint8_t *rgb = malloc((size_t)w * h * 4), *a = rgb + (size_t)w * h * 3;
     if (!rgb)
         return NULL;
     for (size_t i = 0; i < (size_t)w * h; i++) {
         rgb[3 * i] = bgra[4 * i + 2];
         rgb[3 * i + 1] = bgra[4 * i + 1];
         rgb[3 * i + 2] = bgra[4 * i];
+        a[i] = bgra[4 * i + 3];
     }
     Texture *t = texture_from_rgb8(w, h, rgb);
+    if (t && texture_keep_alpha(t, a)) {
+        texture_destroy(t);
+        t = NULL;
+    }
     free(rgb);
     return t;
 }

@@ -259,9 +259,22 @@ ModelBytes model_bytes(const Model *m)
     return b;
 }
 
+/* Whether any material of the model cuts holes where it can: triangles
+ * with texture coordinates, materials and textures. */
+static int model_cuts(const Model *m)
+{
+    if (!m->uvs || !m->mat_ids || !m->textures)
+        return 0;
+    for (uint32_t i = 0; i < m->material_count; i++)
+        if (material_cuts(&m->materials[i]))
+            return 1;
+    return 0;
+}
+
 int model_prepare_simd(Model *m, Err *err)
 {
-    SimdPath p = simd_path();
+    m->cutout = model_cuts(m);
+    SimdPath p = m->cutout ? SIMD_SCALAR : simd_path(); /* the binary walk, which tests masks */
     if (m->wide && m->wide_path == (int)p)
         return 0;
     wide_destroy(m->wide);

@@ -28,6 +28,9 @@ typedef struct {
     Aabb bounds;
     Wide *wide;         /* the tree collapsed for the SIMD path, or NULL: binary traversal */
     int wide_path;      /* the SimdPath it was built for */
+    int cutout;         /* some material cuts holes (material.h): set by model_prepare_simd;
+                         * such a model is walked by its binary tree on every path, each
+                         * hit tested against its mask (model_hole) */
 } Model;
 
 /* A hit in a model: t, barycentrics b1 and b2, triangle.  The wide
@@ -55,9 +58,26 @@ ModelBytes model_bytes(const Model *m);
  * triangle names m's).  For small models (scene/world.c). */
 int model_place(Model **out, const Model *m, const mat3 *rot, vec3 translate, real scale, Err *err);
 
-/* Builds (or drops) the wide tree for the SIMD path in use; called by
- * world_build, before any thread traces. */
+/* Builds (or drops) the wide tree for the SIMD path in use, and finds
+ * whether the model cuts holes (none then: the binary walk tests each hit
+ * against the mask, the same on every path); called by world_build,
+ * before any thread traces. */
 int model_prepare_simd(Model *m, Err *err);
+
+/* Whether a hit on triangle `tri` at barycentrics (b1, b2) falls in a hole
+ * of its material's cutout: the mask's opacity at the hit's texture
+ * coordinates (interpolated as shading interpolates them) under the
+ * cutoff.  Only for a model with m->cutout. */
+static inline int model_hole(const Model *m, uint32_t tri, real b1, real b2)
+{
+    const Material *mt = &m->materials[m->mat_ids[tri]];
+    if (!material_cuts(mt))
+        return 0;
+    const real *uv = &m->uvs[6 * tri];
+    const real u = (R(1) - b1 - b2) * uv[0] + b1 * uv[2] + b2 * uv[4];
+    const real v = (R(1) - b1 - b2) * uv[1] + b1 * uv[3] + b2 * uv[5];
+    return texture_coverage(m->textures[mt->mask], u, v) < mt->cutoff;
+}
 
 /* Closest hit nearer than tmax in model space: the smallest t, and of equal
  * t the smallest triangle index, whatever the path (see wide.h).  With

@@ -41,14 +41,56 @@ static inline __attribute__((always_inline)) int leaf_any(const void *vctx, uint
     return 0;
 }
 
-/* Without a wide tree (double builds, other CPUs): the binary walk. */
+/* leaf_closest and leaf_any for a model with cutouts: a hit in a hole of
+ * its material's mask is no hit (model_hole), so camera rays see what is
+ * behind and shadow rays pass.  Apart, so that a model without pays
+ * nothing in its leaves. */
+static inline __attribute__((always_inline)) int leaf_closest_cut(void *vctx, uint32_t first, uint32_t count,
+                                                                  const Ray *r, real *tmax)
+{
+    ClosestCtx *c = vctx;
+    const Tri *tri = &c->m->tris[first];
+    int found = 0;
+    for (uint32_t i = 0; i < count; i++) {
+        real t, b1, b2;
+        if (tri_solve(r, &tri[i], &t, &b1, &b2) && (t < *tmax || (t == *tmax && first + i < c->best)) &&
+            !model_hole(c->m, first + i, b1, b2)) {
+            *tmax = t;
+            *c->hit = (ModelHit){t, b1, b2, first + i};
+            c->best = first + i;
+            found = 1;
+        }
+    }
+    return found;
+}
+
+static inline __attribute__((always_inline)) int leaf_any_cut(const void *vctx, uint32_t first, uint32_t count,
+                                                              const Ray *r, real tmax)
+{
+    const Model *m = vctx;
+    const Tri *tri = &m->tris[first];
+    for (uint32_t i = 0; i < count; i++) {
+        real t, b1, b2;
+        if (tri_intersect(r, &tri[i], tmax, &t, &b1, &b2) && !model_hole(m, first + i, b1, b2))
+            return 1;
+    }
+    return 0;
+}
+
+/* Without a wide tree (double builds, other CPUs, models with cutouts):
+ * the binary walk. */
 int model_intersect_bvh(const Model *m, const Ray *r, real tmax, int at_tmax, ModelHit *hit)
 {
     ClosestCtx c = {m, hit, at_tmax ? UINT32_MAX : 0};
+    if (m->cutout)
+        return bvh_closest(&m->bvh, r, &tmax, leaf_closest_cut, &c);
     return bvh_closest(&m->bvh, r, &tmax, leaf_closest, &c);
 }
 
-int model_occluded_bvh(const Model *m, const Ray *r, real tmax) { return bvh_any(&m->bvh, r, tmax, leaf_any, m); }
+int model_occluded_bvh(const Model *m, const Ray *r, real tmax)
+{
+    return m->cutout ? bvh_any(&m->bvh, r, tmax, leaf_any_cut, m) : bvh_any(&m->bvh, r, tmax, leaf_any, m);
+}
 
 /* A packet ray by ray: no wide tree, or a packet of one. */
 uint32_t model_intersect_each(const Model *m, const Ray *const *rays, int n, const real *tmax, const int *at_tmax,

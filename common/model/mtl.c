@@ -32,12 +32,17 @@ static int add(MtlLib *lib, const char *name, int line)
     if (!mp)
         return -1;
     lib->maps = mp;
+    void *dp = realloc(lib->dmaps, (lib->count + 1) * sizeof *lib->dmaps);
+    if (!dp)
+        return -1;
+    lib->dmaps = dp;
     void *x = realloc(lib->extra, (lib->count + 1) * sizeof *lib->extra);
     if (!x)
         return -1;
     lib->extra = x;
     lib->extra[lib->count] = (MtlExtra){v3_splat(0), v3_splat(0), R(0), R(1), -1, line, lib->file_count - 1};
     lib->maps[lib->count] = (MtlMap){"", {R(1), R(1)}, {R(0), R(0)}, 0, FILE_AS_WRITTEN};
+    lib->dmaps[lib->count] = lib->maps[lib->count];
     snprintf(lib->names[lib->count], MTL_NAME_MAX, "%s", name);
     lib->mats[lib->count] = material_default();
     lib->count++;
@@ -186,11 +191,11 @@ int mtl_parse(MtlLib *lib, char *text, size_t len, const char *name, Err *err)
             if (t.n != 2 || *end || v < 0 || v > 10)
                 return err_set(err, "%s:%d: expected a whole number from 0 to 10 after illum", name, lx.line);
             x->illum = (int)v;
-        } else if (strcmp(k, "map_Kd") == 0) {
+        } else if (strcmp(k, "map_Kd") == 0 || strcmp(k, "map_d") == 0) {
             if (!cur)
-                return err_set(err, "%s:%d: map_Kd before any newmtl", name, lx.line);
-            if (read_map(&t, name, &lib->maps[lib->count - 1]))
-                return err_set(err, "%s:%d: map_Kd: bad option or no file name", name, lx.line);
+                return err_set(err, "%s:%d: %s before any newmtl", name, lx.line, k);
+            if (read_map(&t, name, k[4] == 'K' ? &lib->maps[lib->count - 1] : &lib->dmaps[lib->count - 1]))
+                return err_set(err, "%s:%d: %s: bad option or no file name", name, lx.line, k);
         } else if (strcmp(k, "Ns") == 0) {
             if (!cur)
                 return err_set(err, "%s:%d: Ns before any newmtl", name, lx.line);
@@ -257,6 +262,7 @@ void mtl_free(MtlLib *lib)
     free(lib->names);
     free(lib->mats);
     free(lib->maps);
+    free(lib->dmaps);
     free(lib->extra);
     free(lib->files);
     memset(lib, 0, sizeof *lib);

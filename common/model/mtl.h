@@ -1,6 +1,6 @@
 /* mtl.h - Wavefront MTL material libraries: Kd, Ks, Ns and map_Kd per
- * newmtl, which Phong shading draws; Ka, Ke, Ni, d, Tr and illum, checked
- * and kept (MtlExtra); the other maps read past. */
+ * newmtl, which Phong shading draws; map_d, a cutout's mask; Ka, Ke, Ni,
+ * d, Tr and illum, checked and kept (MtlExtra); the other maps read past. */
 #ifndef LANRAY_MTL_H
 #define LANRAY_MTL_H
 
@@ -40,6 +40,7 @@ typedef struct {
     char (*names)[MTL_NAME_MAX];
     Material *mats;
     MtlMap *maps;
+    MtlMap *dmaps; /* map_d: where its opacity (alpha, or grey level) is under 0.5, a hole */
     MtlExtra *extra;
     unsigned count;
     char (*files)[MTL_PATH_MAX]; /* the libraries read, for messages */

@@ -252,44 +252,69 @@ static void obj_free(Obj *o)
     mtl_free(&o->lib);
 }
 
-/* The diffuse textures of the materials faces use (map_Kd), each file read
- * once; a texture that cannot be read is a warning and leaves its material
- * untextured. */
+/* One map's texture: the id of the same file read before with the same
+ * edge rule (for another material, or as this one's other map), else the
+ * file read now; -1, after a warning, where it cannot be read. */
+static int obj_map_texture(const MtlMap *map, int cutout, const char *mat, const MtlMap **seen, int32_t *seen_id,
+                           uint32_t *nseen, Mesh *out, Warner *w, int32_t *id)
+{
+    const char *what = cutout ? "cutout mask (map_d)" : "texture";
+    *id = -1;
+    for (uint32_t j = 0; j < *nseen && *id < 0; j++)
+        if (strcmp(seen[j]->file, map->file) == 0 && seen[j]->clamp == map->clamp)
+            *id = seen_id[j];
+    if (*id >= 0)
+        return 0;
+    const int elsewhere = map->found > FILE_AS_WRITTEN;
+    w->st->found_elsewhere += elsewhere;
+    if (elsewhere && warn(w, 0, "material '%s': %s not where the library says; using %s (%s)", mat, what, map->file,
+                          file_found_how((FileFound)map->found, "the library")))
+        return -1;
+    Texture *t;
+    Err terr;
+    if (texture_read(map->file, &t, &terr)) {
+        w->st->missing_textures++;
+        return warn(w, 0, "material '%s': %s not read (%s): %s", mat, what, terr.msg,
+                    cutout ? "solid, no cutout" : "untextured");
+    }
+    t->wrap[0] = t->wrap[1] = map->clamp ? TEXTURE_CLAMP : TEXTURE_REPEAT;
+    uint32_t tid;
+    if (mesh_add_texture(out, t, &tid, w->err))
+        return -1;
+    *id = (int32_t)tid;
+    seen[*nseen] = map, seen_id[(*nseen)++] = *id;
+    return 0;
+}
+
+/* The textures of the materials faces use, each file read once: the
+ * diffuse one (map_Kd), and a cutout's mask (map_d: its alpha, or a grey
+ * image's level, under 0.5 a hole).  A texture that cannot be read is a
+ * warning and leaves its material untextured, or solid. */
 static int obj_textures(Obj *o, const int32_t *remap, Mesh *out, Warner *w)
 {
-    for (uint32_t k = 0; k < o->lib.count; k++) {
-        const MtlMap *map = &o->lib.maps[k];
-        if (remap[k] < 0 || !map->file[0])
+    const MtlMap **seen = malloc(2 * (size_t)o->lib.count * sizeof *seen + 1);
+    int32_t *seen_id = malloc(2 * (size_t)o->lib.count * sizeof *seen_id + 1);
+    uint32_t nseen = 0;
+    int rc = seen && seen_id ? 0 : err_set(w->err, "out of memory for the materials' textures");
+    for (uint32_t k = 0; rc == 0 && k < o->lib.count; k++) {
+        if (remap[k] < 0)
             continue;
-        int32_t id = -1;
-        for (uint32_t j = 0; j < k && id < 0; j++) /* the same file for another material */
-            if (remap[j] >= 0 && strcmp(o->lib.maps[j].file, map->file) == 0 &&
-                o->lib.maps[j].clamp == map->clamp)
-                id = out->materials[remap[j]].texture;
-        const int elsewhere = map->found > FILE_AS_WRITTEN;
-        w->st->found_elsewhere += id < 0 && elsewhere;
-        if (id < 0 && elsewhere &&
-            warn(w, 0, "material '%s': texture not where the library says; using %s (%s)", o->lib.names[k], map->file,
-                 file_found_how((FileFound)map->found, "the library")))
-            return -1;
-        if (id < 0) {
-            Texture *t;
-            Err terr;
-            if (texture_read(map->file, &t, &terr)) {
-                w->st->missing_textures++;
-                if (warn(w, 0, "material '%s': texture not read (%s): untextured", o->lib.names[k], terr.msg))
-                    return -1;
-                continue;
-            }
-            t->wrap[0] = t->wrap[1] = map->clamp ? TEXTURE_CLAMP : TEXTURE_REPEAT;
-            uint32_t tid;
-            if (mesh_add_texture(out, t, &tid, w->err))
-                return -1;
-            id = (int32_t)tid;
+        Material *m = &out->materials[remap[k]];
+        int32_t id;
+        if (o->lib.maps[k].file[0]) {
+            rc = obj_map_texture(&o->lib.maps[k], 0, o->lib.names[k], seen, seen_id, &nseen, out, w, &id);
+            if (rc == 0 && id >= 0)
+                m->texture = id;
         }
-        out->materials[remap[k]].texture = id;
+        if (rc == 0 && o->lib.dmaps[k].file[0]) {
+            rc = obj_map_texture(&o->lib.dmaps[k], 1, o->lib.names[k], seen, seen_id, &nseen, out, w, &id);
+            if (rc == 0 && id >= 0)
+                m->mask = id, m->cutoff = R(0.5);
+        }
     }
-    return 0;
+    free(seen);
+    free(seen_id);
+    return rc;
 }
 
 /* The usemtl names against the libraries (all read by now): faces get

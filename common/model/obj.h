@@ -65,7 +65,7 @@ typedef struct {
     int colours_ignored;             /* they were dropped: the model has materials */
     unsigned long undefined_mtl;     /* usemtl of a material no library defines, or of none */
     unsigned long missing_mtllib;    /* material libraries that could not be read */
-    unsigned long missing_textures;  /* map_Kd files that could not be read */
+    unsigned long missing_textures;  /* map_Kd and map_d files that could not be read */
     unsigned long found_elsewhere;   /* libraries and textures found by file name, not where written */
     unsigned long optics_mtl;        /* used materials with reflection, glass, transparency or emission */
 } ObjStats;

@@ -172,7 +172,27 @@ Texture *texture_copy(const Texture *t)
     c->wrap[0] = t->wrap[0], c->wrap[1] = t->wrap[1];
     c->closest = t->closest;
     memcpy(c->texels, t->texels, texture_bytes(t));
+    if (t->alpha && texture_keep_alpha(c, t->alpha)) {
+        texture_destroy(c);
+        return NULL;
+    }
     return c;
+}
+
+int texture_keep_alpha(Texture *t, const uint8_t *a)
+{
+    const size_t n = (size_t)t->w * t->h;
+    size_t i = 0;
+    while (i < n && a[i] == 255)
+        i++;
+    free(t->alpha);
+    t->alpha = NULL;
+    if (i == n)
+        return 0;
+    if (!(t->alpha = malloc(n)))
+        return -1;
+    memcpy(t->alpha, a, n);
+    return 0;
 }
 
 size_t texture_bytes(const Texture *t)
@@ -189,6 +209,7 @@ void texture_destroy(Texture *t)
         return;
     free(t->texels);
     free(t->file);
+    free(t->alpha);
     free(t);
 }
 

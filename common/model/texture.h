@@ -46,6 +46,9 @@ typedef struct {
     uint8_t wrap[2]; /* TextureWrap along u and along v */
     int closest;     /* magnified, texels are squares with sharp edges (pixel art, a
                       * checkerboard); else they blend bilinearly */
+    uint8_t *alpha;  /* w x h opacities of the image (a PNG's alpha channel or tRNS, an
+                      * embedded BGRA bitmap's), top row first; NULL: opaque (none, or
+                      * all 255).  Read only by cutouts (texture_coverage) */
     uint32_t levels; /* 1 + the mip-map levels below the image */
     TextureLevel level[TEXTURE_MAX_LEVELS];
     uint8_t *texels; /* every level's texels, one block */
@@ -84,6 +87,15 @@ Texture *texture_from_file_rgb8(uint32_t w, uint32_t h, const uint8_t *rgb, uint
                                 TextureCodec codec);
 void texture_destroy(Texture *t);
 Texture *texture_copy(const Texture *t);
+/* Gives t the w x h opacities a (copied; none kept where all are 255);
+ * -1 when out of memory. */
+int texture_keep_alpha(Texture *t, const uint8_t *a);
+/* How opaque the texel at (u, v) is, for a cutout's test (material.h):
+ * the image's alpha, or, where it has none (a grey mask: MTL map_d), the
+ * mean of the texel's codes; 0 to 1.  The nearest texel of the image
+ * itself, with the texture's wrap modes: the same answer on every path
+ * and at every distance, whatever the filter. */
+real texture_coverage(const Texture *t, real u, real v);
 /* Whether w x h is a size a texture may have (1..TEXTURE_MAX_SIDE a side). */
 static inline int texture_size_ok(uint32_t w, uint32_t h)
 {

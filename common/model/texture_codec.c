@@ -44,7 +44,7 @@ int texture_encode(const Texture *t, Sink *out)
     size_t len = t->file_len;
     TextureCodec codec = t->codec;
     if (!bytes) {
-        if (image_encode_png(t->level[0].rgb, (int)t->w, (int)t->h, &png) || png.failed) {
+        if (image_encode_png_alpha(t->level[0].rgb, t->alpha, (int)t->w, (int)t->h, &png) || png.failed) {
             sink_free(&png);
             out->failed = 1;
             return -1;

@@ -189,3 +189,16 @@ vec3 texture_sample(const Texture *t, real u, real v, const TexFootprint *fp, Te
     }
     return v3_scale(sum, R(1) / (real)n);
 }
+
+real texture_coverage(const Texture *t, real u, real v)
+{
+    if (!isfinite(u) || !isfinite(v))
+        u = v = R(0);
+    place(t, &u, &v);
+    uint32_t x = (uint32_t)(u * (real)t->w), y = (uint32_t)(v * (real)t->h);
+    const size_t i = (size_t)(y < t->h ? y : t->h - 1) * t->w + (x < t->w ? x : t->w - 1);
+    if (t->alpha)
+        return (real)t->alpha[i] / R(255);
+    const uint8_t *p = &t->level[0].rgb[3 * i];
+    return (real)(p[0] + p[1] + p[2]) / R(765);
+}

@@ -25,7 +25,8 @@
                            * 13: and emitter_sampling, roulette; materials a checker (wire 8);
                            * 14: and contrast (wire 9);
                            * 15: and light_samples (wire 10);
-                           * 16: a texture ASSET's flags say each axis's wrap mode */
+                           * 16: a texture ASSET's flags say each axis's wrap mode, its PNG
+                           *     its alpha; materials a cutout (wire 11) */
 #define PROTO_BOM 0x01020304u
 #define PROTO_HEADER 8u
 #define PROTO_NONCE 32u

@@ -254,6 +254,8 @@ static int check_materials(const Scene *s, Err *err)
             return err_set(err, "scene: material %u: %s", i, why);
         if (m->texture < -1 || m->texture >= (int32_t)s->texture_count)
             return err_set(err, "scene: material %u uses texture %d but the scene has %u", i, m->texture, s->texture_count);
+        if (material_cuts(m))
+            return err_set(err, "scene: material %u is a cutout: only a model's own materials cut holes", i);
     }
     return 0;
 }

@@ -198,7 +198,7 @@ static int derive_items(World *w, const Scene *s, Err *err)
     for (uint32_t i = 0; i < s->instance_count; i++) {
         WorldInstance *in = &w->instances[i];
         const Model *m = s->models[in->model];
-        if (!in->identity && m->tri_count <= WORLD_PLACED_TRIS &&
+        if (!in->identity && m->tri_count <= WORLD_PLACED_TRIS && !m->cutout && /* a copy without masks */
             model_place(&in->placed, m, &in->rot, in->translate, in->scale, err))
             return err_prefix(err, "scene");
     }

@@ -29,6 +29,13 @@ typedef struct {
     vec3 kc;           /* the second colour */
     real checker_size; /* > 0: a square's side, in world units (solid) or texture units; 0: no pattern */
     int checker_uv;    /* 1: on the surface's texture coordinates (2D); 0: in space (3D, solid) */
+    /* a cutout (leaves, a fence, a chain: MTL map_d, glTF alphaMode MASK):
+     * where the opacity of texture `mask` at the hit's texture coordinates
+     * is under `cutoff`, the surface is not there; cutoff 0: solid (as the
+     * initialisers that leave these out give).  A model's own materials
+     * only (model.h's model_cut). */
+    int32_t mask;
+    real cutoff;
 } Material;
 
 #define MATERIAL_IOR_MIN R(0.0625)
@@ -39,6 +46,7 @@ static inline int material_dielectric(const Material *m) { return m->ior > R(0);
 static inline int material_emits(const Material *m) { return m->ke.x > R(0) || m->ke.y > R(0) || m->ke.z > R(0); }
 static inline int material_rough(const Material *m) { return material_reflects(m) && m->roughness > R(0); }
 static inline int material_checkered(const Material *m) { return m->checker_size > R(0); }
+static inline int material_cuts(const Material *m) { return m->cutoff > R(0); }
 /* Whether a surface of this material needs its texture coordinates. */
 static inline int material_wants_uv(const Material *m) { return m->texture >= 0 || (material_checkered(m) && m->checker_uv); }
 
