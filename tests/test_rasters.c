@@ -1,6 +1,7 @@
 /* test_rasters.c - TGA and BMP textures (texture_tga.c, texture_bmp.c):
  * one small picture written in each layout those formats allow, read back
- * texel for texel; damaged and unsupported files refused with the reason. */
+ * texel for texel; damaged and unsupported files refused with the reason;
+ * alpha kept where the file says its texels have it. */
 #include "helpers.h"
 
 #include "model/texture.h"
@@ -237,6 +238,58 @@ static void bmp_layouts(void **state)
     reads_as(&o, "f.bmp", rgb565, W, H);
 }
 
+/* The alpha of a texel i (rows top first) that the alpha tests write. */
+static uint8_t alpha_of(int i) { return (uint8_t)(40 * i + 5); }
+
+/* Alpha, kept for cutouts, where the file says its texels have it: a TGA
+ * with alpha bits in its descriptor (32-bit BGRA, 5-5-5-1), a BMP with an
+ * alpha mask (a V4 header); none where it says none, whatever the fourth
+ * bytes hold. */
+static void alpha_where_the_file_says(void **state)
+{
+    (void)state;
+    Buf o;
+    Texture *t;
+    Err err = {{0}};
+    for (int abits = 0; abits <= 8; abits += 8) { /* 32 bits, top first */
+        tga_head(&o, 2, 0, 0, 0, 32, 0x20 | abits);
+        for (int i = 0; i < W * H; i++)
+            put8(&o, tga_px(i, 1, 0)[2]), put8(&o, tga_px(i, 1, 0)[1]), put8(&o, tga_px(i, 1, 0)[0]), put8(&o, alpha_of(i));
+        if (texture_read_memory(o.b, o.n, "a.tga", &t, &err))
+            fail_msg("%s", err.msg);
+        if (!abits) {
+            assert_null(t->alpha);
+        } else {
+            assert_non_null(t->alpha);
+            for (int i = 0; i < W * H; i++)
+                assert_int_equal(t->alpha[i], alpha_of(i));
+        }
+        texture_destroy(t);
+    }
+    tga_head(&o, 2, 0, 0, 0, 16, 0x01); /* 5-5-5-1: the top bit, bottom row first */
+    for (int i = 0; i < W * H; i++)
+        put16(&o, (i % 2 ? 0x8000u : 0) | 31u);
+    if (texture_read_memory(o.b, o.n, "b.tga", &t, &err))
+        fail_msg("%s", err.msg);
+    assert_non_null(t->alpha);
+    for (int i = 0; i < W * H; i++) /* file texel (H - 1 - y) * W + x is texel y * W + x */
+        assert_int_equal(t->alpha[i], ((H - 1 - i / W) * W + i % W) % 2 ? 255 : 0);
+    texture_destroy(t);
+    bmp_file(&o, 108, 32, 1, 3, 0); /* V4: masks in the header, alpha the high byte */
+    const uint32_t masks[4] = {0xff0000u, 0xff00u, 0xffu, 0xff000000u};
+    for (int k = 0; k < 4; k++)
+        memcpy(o.b + 14 + 40 + 4 * k, &masks[k], 4);
+    for (int i = 0; i < W * H; i++)
+        put8(&o, pic[i / W][i % W][2]), put8(&o, pic[i / W][i % W][1]), put8(&o, pic[i / W][i % W][0]), put8(&o, alpha_of(i));
+    if (texture_read_memory(o.b, o.n, "c.bmp", &t, &err))
+        fail_msg("%s", err.msg);
+    assert_memory_equal(t->level[0].rgb, &pic[0][0][0], W * H * 3);
+    assert_non_null(t->alpha);
+    for (int i = 0; i < W * H; i++)
+        assert_int_equal(t->alpha[i], alpha_of(i));
+    texture_destroy(t);
+}
+
 static void bmp_damage(void **state)
 {
     (void)state;
@@ -270,6 +323,7 @@ int main(void)
         cmocka_unit_test(tga_damage),
         cmocka_unit_test(bmp_layouts),
         cmocka_unit_test(bmp_damage),
+        cmocka_unit_test(alpha_where_the_file_says),
     };
     return cmocka_run_group_tests_name("rasters", tests, NULL, NULL);
 }

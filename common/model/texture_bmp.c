@@ -3,7 +3,8 @@
  * masks or their own (BI_BITFIELDS), 24 bits; every header from
  * BITMAPCOREHEADER (OS/2, 12 bytes) to BITMAPV5HEADER; rows bottom-up or,
  * with a negative height, top-down.  Run-length coded BMPs are refused with
- * their name.  Alpha is dropped (textures are colour).  Every read is
+ * their name.  Alpha, where an alpha mask says there is one (a V3 header
+ * or later, BI_ALPHABITFIELDS), is kept for cutouts.  Every read is
  * bounds-checked: the rows the header claims must lie inside the file
  * before the texels are allocated. */
 #include <stdlib.h>
@@ -31,7 +32,7 @@ static uint8_t channel(uint32_t v, uint32_t mask)
 typedef struct {
     uint32_t w, h, off, head;
     int top_down, bpp, compression;
-    uint32_t mask[3];
+    uint32_t mask[4]; /* red, green, blue, alpha (0: none) */
     const uint8_t *pal;
     uint32_t pal_n;
     int pal_bytes;
@@ -76,6 +77,10 @@ static int bmp_head(const uint8_t *p, size_t len, BmpHead *b, const char *name, 
             return err_set(err, "%s: a BMP cut short in its colour masks", name);
         for (int k = 0; k < 3; k++)
             b->mask[k] = bytes_le(p + at + 4 * k, 4);
+        /* an alpha mask: in a V3 header or later, or the fourth after a
+         * 40-byte one with BI_ALPHABITFIELDS */
+        if ((b->head >= 56 || b->compression == 6) && at + 16 <= len)
+            b->mask[3] = bytes_le(p + at + 12, 4);
     }
     if (b->bpp <= 8) { /* the palette follows the header (and a BI_BITFIELDS header's masks) */
         const size_t at = masks + (b->head == 40 && b->compression == 3 ? 12 : 0);
@@ -89,9 +94,10 @@ static int bmp_head(const uint8_t *p, size_t len, BmpHead *b, const char *name, 
     return 0;
 }
 
-/* Texel x of a row as RGB. */
-static int bmp_texel(const BmpHead *b, const uint8_t *row, uint32_t x, uint8_t rgb[3])
+/* Texel x of a row as RGB, and its alpha (255 without an alpha mask). */
+static int bmp_texel(const BmpHead *b, const uint8_t *row, uint32_t x, uint8_t rgb[3], uint8_t *alpha)
 {
+    *alpha = 255;
     if (b->bpp <= 8) {
         const size_t bit = (size_t)x * (size_t)b->bpp;
         const uint32_t i = (uint32_t)(row[bit / 8] >> (8 - b->bpp - (int)(bit % 8))) & ((1u << b->bpp) - 1);
@@ -106,6 +112,8 @@ static int bmp_texel(const BmpHead *b, const uint8_t *row, uint32_t x, uint8_t r
         const uint32_t v = bytes_le(row + (size_t)x * (size_t)(b->bpp / 8), b->bpp / 8);
         for (int k = 0; k < 3; k++)
             rgb[k] = channel(v, b->mask[k]);
+        if (b->mask[3])
+            *alpha = channel(v, b->mask[3]);
     }
     return 0;
 }
@@ -120,18 +128,23 @@ int texture_read_bmp(const void *data, size_t len, const char *name, Texture **o
     const size_t stride = ((size_t)b.w * (size_t)b.bpp + 31) / 32 * 4; /* rows padded to 4 bytes */
     if (b.off > len || (len - b.off) / stride < b.h)
         return err_set(err, "%s: %zu bytes cannot hold a %ux%u BMP image: the file is cut short", name, len, b.w, b.h);
-    uint8_t *rgb = malloc((size_t)b.w * b.h * 3);
+    const size_t n = (size_t)b.w * b.h;
+    uint8_t *rgb = malloc(n * 4), *alpha = rgb + n * 3;
     if (!rgb)
         return err_set(err, "%s: out of memory for a %ux%u texture", name, b.w, b.h);
     for (uint32_t y = 0; y < b.h; y++) { /* rows top first */
         const uint8_t *row = p + b.off + (size_t)(b.top_down ? y : b.h - 1 - y) * stride;
         for (uint32_t x = 0; x < b.w; x++)
-            if (bmp_texel(&b, row, x, &rgb[3 * ((size_t)y * b.w + x)])) {
+            if (bmp_texel(&b, row, x, &rgb[3 * ((size_t)y * b.w + x)], &alpha[(size_t)y * b.w + x])) {
                 free(rgb);
                 return err_set(err, "%s: a BMP texel's colour index past the palette", name);
             }
     }
     *out = texture_from_rgb8(b.w, b.h, rgb);
+    if (*out && texture_keep_alpha(*out, alpha)) {
+        texture_destroy(*out);
+        *out = NULL;
+    }
     free(rgb);
     return *out ? 0 : err_set(err, "%s: out of memory for a %ux%u texture", name, b.w, b.h);
 }

@@ -2,8 +2,11 @@
  * modellers ship them: true colour (15/16, 24 or 32 bits), grey (8 bits,
  * or 16 with alpha) and colour-mapped (8- or 16-bit indices into a map of
  * 15/16-, 24- or 32-bit entries), each raw or run-length coded; rows
- * bottom-up or top-down, left to right or right to left.  Alpha is
- * dropped (textures are colour).  Every read is bounds-checked (Cursor);
+ * bottom-up or top-down, left to right or right to left.  Alpha, where
+ * the descriptor gives texels alpha bits (32-bit BGRA, 16-bit grey and
+ * alpha, 5-5-5-1, a map's 32-bit entries), is kept for cutouts; a file
+ * that says none has none, whatever its fourth bytes hold.  Every read is
+ * bounds-checked (Cursor);
  * the size is checked before the texels are allocated, and a run-length
  * file must hold at least a byte for every 128 texels it claims. */
 #include <stdlib.h>
@@ -11,17 +14,26 @@
 #include "base/cursor.h"
 #include "model/texture.h"
 
-/* One texel of `bytes` bytes (little-endian) to RGB: grey, 5-5-5, BGR or BGRA. */
-static void texel_rgb(const uint8_t *b, int bytes, int grey, uint8_t rgb[3])
+/* One texel of `bytes` bytes (little-endian) to RGBA: grey, 5-5-5(-1), BGR
+ * or BGRA; alpha 255 unless `abits` (the descriptor's alpha bits) says the
+ * texel has one. */
+static void texel_rgba(const uint8_t *b, int bytes, int grey, int abits, uint8_t rgba[4])
 {
+    rgba[3] = 255;
     if (grey) {
-        rgb[0] = rgb[1] = rgb[2] = b[0]; /* a 16-bit grey texel is grey then alpha */
+        rgba[0] = rgba[1] = rgba[2] = b[0]; /* a 16-bit grey texel is grey then alpha */
+        if (bytes == 2 && abits)
+            rgba[3] = b[1];
     } else if (bytes == 2) {
         const uint32_t v = bytes_le(b, 2); /* A RRRRR GGGGG BBBBB: 5 bits widened as (x << 3) | (x >> 2) */
         const uint32_t r = v >> 10 & 31, g = v >> 5 & 31, bl = v & 31;
-        rgb[0] = (uint8_t)(r << 3 | r >> 2), rgb[1] = (uint8_t)(g << 3 | g >> 2), rgb[2] = (uint8_t)(bl << 3 | bl >> 2);
+        rgba[0] = (uint8_t)(r << 3 | r >> 2), rgba[1] = (uint8_t)(g << 3 | g >> 2), rgba[2] = (uint8_t)(bl << 3 | bl >> 2);
+        if (abits)
+            rgba[3] = v >> 15 ? 255 : 0;
     } else {
-        rgb[0] = b[2], rgb[1] = b[1], rgb[2] = b[0];
+        rgba[0] = b[2], rgba[1] = b[1], rgba[2] = b[0];
+        if (bytes == 4 && abits)
+            rgba[3] = b[3];
     }
 }
 
@@ -73,21 +85,22 @@ static int tga_head(Cursor *c, TgaHead *t, const char *name, Err *err)
     return 0;
 }
 
-/* A texel's bytes as RGB, through the map where there is one. */
-static int tga_texel(const TgaHead *t, const uint8_t *b, uint8_t rgb[3])
+/* A texel's bytes as RGBA, through the map where there is one. */
+static int tga_texel(const TgaHead *t, const uint8_t *b, uint8_t rgba[4])
 {
+    const int abits = t->h[17] & 15;
     if (!t->mapped) {
-        texel_rgb(b, t->px_bytes, t->grey, rgb);
+        texel_rgba(b, t->px_bytes, t->grey, abits, rgba);
         return 0;
     }
     const uint32_t i = bytes_le(b, t->px_bytes);
     if (i < t->map_first || i - t->map_first >= t->map_len)
         return -1;
-    texel_rgb(t->map + (size_t)(i - t->map_first) * (size_t)t->map_bytes, t->map_bytes, 0, rgb);
+    texel_rgba(t->map + (size_t)(i - t->map_first) * (size_t)t->map_bytes, t->map_bytes, 0, abits, rgba);
     return 0;
 }
 
-/* The texels in file order (rows as stored), RGB. */
+/* The texels in file order (rows as stored), RGBA. */
 static int tga_texels(Cursor *c, const TgaHead *t, uint8_t *out, const char *name, Err *err)
 {
     const size_t n = (size_t)t->w * t->hgt;
@@ -106,10 +119,10 @@ static int tga_texels(Cursor *c, const TgaHead *t, uint8_t *out, const char *nam
         for (size_t k = 0; k < count; k++, i++) {
             if ((k == 0 || !run) && cursor_get(c, b, (size_t)t->px_bytes))
                 return err_set(err, "%s: a TGA image cut short after %zu of %zu texels", name, i, n);
-            if ((k == 0 || !run) && tga_texel(t, b, &out[3 * i]))
+            if ((k == 0 || !run) && tga_texel(t, b, &out[4 * i]))
                 return err_set(err, "%s: a TGA texel's colour index past the colour map", name);
             if (k > 0 && run)
-                memcpy(&out[3 * i], &out[3 * (i - 1)], 3);
+                memcpy(&out[4 * i], &out[4 * (i - 1)], 4);
         }
     }
     return 0;
@@ -126,7 +139,7 @@ int texture_read_tga(const void *data, size_t len, const char *name, Texture **o
     /* raw texels must all be there; a run packet of 1 + bytes a texel holds 128 */
     if ((!t.rle && n * (size_t)t.px_bytes > c.left) || (t.rle && n > 128 * c.left))
         return err_set(err, "%s: %zu bytes cannot hold a %ux%u TGA image: the file is cut short", name, len, t.w, t.hgt);
-    uint8_t *raw = malloc(n * 3), *rgb = malloc(n * 3);
+    uint8_t *raw = malloc(n * 4), *rgb = malloc(n * 4), *alpha = rgb ? rgb + n * 3 : NULL;
     if (!raw || !rgb) {
         free(raw), free(rgb);
         return err_set(err, "%s: out of memory for a %ux%u texture", name, t.w, t.hgt);
@@ -137,9 +150,15 @@ int texture_read_tga(const void *data, size_t len, const char *name, Texture **o
         for (uint32_t y = 0; y < t.hgt; y++)
             for (uint32_t x = 0; x < t.w; x++) {
                 const uint32_t sy = top ? y : t.hgt - 1 - y, sx = right ? t.w - 1 - x : x;
-                memcpy(&rgb[3 * ((size_t)y * t.w + x)], &raw[3 * ((size_t)sy * t.w + sx)], 3);
+                const uint8_t *s = &raw[4 * ((size_t)sy * t.w + sx)];
+                memcpy(&rgb[3 * ((size_t)y * t.w + x)], s, 3);
+                alpha[(size_t)y * t.w + x] = s[3];
             }
         *out = texture_from_rgb8(t.w, t.hgt, rgb);
+        if (*out && texture_keep_alpha(*out, alpha)) {
+            texture_destroy(*out);
+            *out = NULL;
+        }
         rc = *out ? 0 : err_set(err, "%s: out of memory for a %ux%u texture", name, t.w, t.hgt);
     }
     free(raw), free(rgb);
