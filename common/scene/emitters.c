@@ -161,6 +161,21 @@ static int sample_triangle(const vec3 c[3], vec3 p, real u, real v, EmitterSampl
     return 1;
 }
 
+/* Whether the point sample_triangle takes for (u, v) on a model's
+ * emitting triangle lies in a hole of its cutout: no light comes from
+ * there.  Sampling the whole triangle and counting a hole's points as
+ * dark stays unbiased, and a path's own rays pass the holes. */
+static int in_hole(const World *w, const Emitter *e, real u, real v)
+{
+    if (e->kind != HIT_INSTANCE)
+        return 0;
+    const Model *m = w->models[w->instances[e->index].model];
+    if (!m->cutout)
+        return 0;
+    const real su = sqrt(u), b0 = R(1) - su, b1 = v * su; /* sample_triangle's weights of corners 0 and 1 */
+    return model_hole(m, e->sub, b1, R(1) - b0 - b1);
+}
+
 int emitters_sample(const World *w, vec3 p, real pick, real u, real v, EmitterSample *out)
 {
     if (!w->emitter_count)
@@ -185,7 +200,7 @@ int emitters_sample(const World *w, vec3 p, real pick, real u, real v, EmitterSa
         corners(w, e->kind, e->index, e->sub, c);
         ok = sample_triangle(c, p, u, v, out, &area);
     }
-    if (!ok)
+    if (!ok || in_hole(w, e, u, v))
         return 0;
     out->radiance = m->ke;
     out->pdf *= pick_probability(w, area, m);
