@@ -42,6 +42,7 @@ void model_destroy(Model *m)
         return;
     bvh_destroy(&m->bvh);
     wide_destroy(m->wide);
+    model_cut_free(m->cut);
     free(m->tris);
     free(m->normals);
     free(m->uvs);
@@ -274,13 +275,17 @@ static int model_cuts(const Model *m)
 int model_prepare_simd(Model *m, Err *err)
 {
     m->cutout = model_cuts(m);
-    SimdPath p = m->cutout ? SIMD_SCALAR : simd_path(); /* the binary walk, which tests masks */
+    SimdPath p = simd_path();
     if (m->wide && m->wide_path == (int)p)
         return 0;
     wide_destroy(m->wide);
     m->wide = NULL;
+    model_cut_free(m->cut);
+    m->cut = NULL;
     m->wide_path = (int)p;
     if (p == SIMD_SCALAR)
         return 0;
+    if (m->cutout)
+        return model_cut_build(m, (int)p, err);
     return wide_build(&m->wide, &m->bvh, m->tris, (int)p, err);
 }

@@ -12,6 +12,16 @@
 #include "model/mesh.h"
 #include "bvh/wide.h"
 
+/* A model's cut triangles on a SIMD path (model_cut.c): their own binary
+ * tree, copies of them in its leaf order, and each one's index in the
+ * model. */
+typedef struct {
+    Bvh bvh;
+    Tri *tris;
+    uint32_t *ids;
+    uint32_t count;
+} ModelCut;
+
 typedef struct {
     Bvh bvh;
     Tri *tris;
@@ -29,8 +39,9 @@ typedef struct {
     Wide *wide;         /* the tree collapsed for the SIMD path, or NULL: binary traversal */
     int wide_path;      /* the SimdPath it was built for */
     int cutout;         /* some material cuts holes (material.h): set by model_prepare_simd;
-                         * such a model is walked by its binary tree on every path, each
-                         * hit tested against its mask (model_hole) */
+                         * each hit on a cut triangle is tested against its mask (model_hole) */
+    ModelCut *cut;      /* on a SIMD path, the cut triangles apart (the wide tree holds the
+                         * rest), or NULL: the scalar path walks the whole binary tree */
 } Model;
 
 /* A hit in a model: t, barycentrics b1 and b2, triangle.  The wide
@@ -59,10 +70,13 @@ ModelBytes model_bytes(const Model *m);
 int model_place(Model **out, const Model *m, const mat3 *rot, vec3 translate, real scale, Err *err);
 
 /* Builds (or drops) the wide tree for the SIMD path in use, and finds
- * whether the model cuts holes (none then: the binary walk tests each hit
- * against the mask, the same on every path); called by world_build,
- * before any thread traces. */
+ * whether the model cuts holes (then its cut triangles go apart:
+ * model_cut_build); called by world_build, before any thread traces. */
 int model_prepare_simd(Model *m, Err *err);
+/* m's wide tree for `path` without its cut triangles, and those in
+ * m->cut (model_cut.c). */
+int model_cut_build(Model *m, int path, Err *err);
+void model_cut_free(ModelCut *c);
 
 /* Whether a hit on triangle `tri` at barycentrics (b1, b2) falls in a hole
  * of its material's cutout: the mask's opacity at the hit's texture
@@ -87,7 +101,7 @@ static inline int model_intersect(const Model *m, const Ray *r, real tmax, int a
 {
     /* inline: a ray that meets one model (a scene of one) calls the SIMD
      * walk from the top level directly */
-    if (m->wide)
+    if (m->wide && !m->cut)
         return m->wide->closest(m->wide, r, tmax, at_tmax ? UINT32_MAX : 0, hit);
     return model_intersect_bvh(m, r, tmax, at_tmax, hit);
 }
@@ -95,13 +109,18 @@ static inline int model_intersect(const Model *m, const Ray *r, real tmax, int a
 int model_occluded_bvh(const Model *m, const Ray *r, real tmax);
 static inline int model_occluded(const Model *m, const Ray *r, real tmax)
 {
-    return m->wide ? m->wide->any(m->wide, r, tmax) : model_occluded_bvh(m, r, tmax);
+    return m->wide && !m->cut ? m->wide->any(m->wide, r, tmax) : model_occluded_bvh(m, r, tmax);
 }
 /* The same for n <= WIDE_PACKET rays at once (a packet where the SIMD path
  * has one): the mask of the rays that hit; each ray's answer is what the
  * single-ray call gives. */
 uint32_t model_intersect_each(const Model *m, const Ray *const *rays, int n, const real *tmax, const int *at_tmax,
                               ModelHit *hits);
+/* After a packet's wide walk of a model with its cut triangles apart
+ * (`found` its hits): each ray's walk of the cut ones, the hit so far its
+ * limit; the mask of the rays that hit either. */
+uint32_t model_cut_closest_each(const Model *m, const Ray *const *rays, int n, const real *tmax, const uint32_t *tie,
+                                ModelHit *hits, uint32_t found);
 static inline uint32_t model_intersect_packet(const Model *m, const Ray *const *rays, int n, const real *tmax,
                                               const int *at_tmax, ModelHit *hits)
 {
@@ -110,7 +129,8 @@ static inline uint32_t model_intersect_packet(const Model *m, const Ray *const *
     uint32_t tie[WIDE_PACKET];
     for (int i = 0; i < n; i++)
         tie[i] = at_tmax[i] ? UINT32_MAX : 0;
-    return m->wide->closest_packet(m->wide, rays, n, tmax, tie, hits);
+    const uint32_t found = m->wide->closest_packet(m->wide, rays, n, tmax, tie, hits);
+    return m->cut ? model_cut_closest_each(m, rays, n, tmax, tie, hits, found) : found;
 }
 uint32_t model_occluded_packet(const Model *m, const Ray *const *rays, int n, const real *tmax);
 /* Geometric (flat) normal of triangle i, not normalised. */

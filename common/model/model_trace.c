@@ -77,18 +77,74 @@ static inline __attribute__((always_inline)) int leaf_any_cut(const void *vctx, 
     return 0;
 }
 
-/* Without a wide tree (double builds, other CPUs, models with cutouts):
- * the binary walk. */
+/* The leaves of a model's cut triangles apart (model_cut.c): copies of
+ * the model's triangles, a hit named by the model's index, so that the
+ * least (t, index) is the whole model's. */
+static inline __attribute__((always_inline)) int leaf_apart_closest(void *vctx, uint32_t first, uint32_t count,
+                                                                    const Ray *r, real *tmax)
+{
+    ClosestCtx *c = vctx;
+    const ModelCut *k = c->m->cut;
+    int found = 0;
+    for (uint32_t i = first; i < first + count; i++) {
+        real t, b1, b2;
+        const uint32_t id = k->ids[i];
+        if (tri_solve(r, &k->tris[i], &t, &b1, &b2) && (t < *tmax || (t == *tmax && id < c->best)) &&
+            !model_hole(c->m, id, b1, b2)) {
+            *tmax = t;
+            *c->hit = (ModelHit){t, b1, b2, id};
+            c->best = id;
+            found = 1;
+        }
+    }
+    return found;
+}
+
+static inline __attribute__((always_inline)) int leaf_apart_any(const void *vctx, uint32_t first, uint32_t count,
+                                                                const Ray *r, real tmax)
+{
+    const Model *m = vctx;
+    for (uint32_t i = first; i < first + count; i++) {
+        real t, b1, b2;
+        if (tri_intersect(r, &m->cut->tris[i], tmax, &t, &b1, &b2) && !model_hole(m, m->cut->ids[i], b1, b2))
+            return 1;
+    }
+    return 0;
+}
+
+/* Without a wide tree (double builds, other CPUs): the binary walk, each
+ * cut triangle's hit tested against its mask; with the cut triangles
+ * apart (a SIMD path), the wide walk of the rest, then theirs. */
 int model_intersect_bvh(const Model *m, const Ray *r, real tmax, int at_tmax, ModelHit *hit)
 {
     ClosestCtx c = {m, hit, at_tmax ? UINT32_MAX : 0};
+    if (m->cut) {
+        const int found = m->wide->closest(m->wide, r, tmax, c.best, hit);
+        if (found)
+            tmax = hit->t, c.best = hit->tri;
+        return bvh_closest(&m->cut->bvh, r, &tmax, leaf_apart_closest, &c) | found;
+    }
     if (m->cutout)
         return bvh_closest(&m->bvh, r, &tmax, leaf_closest_cut, &c);
     return bvh_closest(&m->bvh, r, &tmax, leaf_closest, &c);
 }
 
+uint32_t model_cut_closest_each(const Model *m, const Ray *const *rays, int n, const real *tmax, const uint32_t *tie,
+                                ModelHit *hits, uint32_t found)
+{
+    for (int i = 0; i < n; i++) {
+        const int had = found >> i & 1;
+        ClosestCtx c = {m, &hits[i], had ? hits[i].tri : tie[i]};
+        real t = had ? hits[i].t : tmax[i];
+        found |= (uint32_t)bvh_closest(&m->cut->bvh, rays[i], &t, leaf_apart_closest, &c) << i;
+    }
+    return found;
+}
+
 int model_occluded_bvh(const Model *m, const Ray *r, real tmax)
 {
+    if (m->cut)
+        return m->wide->any(m->wide, r, tmax) || bvh_any(&m->cut->bvh, r, tmax, leaf_apart_any, m);
     return m->cutout ? bvh_any(&m->bvh, r, tmax, leaf_any_cut, m) : bvh_any(&m->bvh, r, tmax, leaf_any, m);
 }
 
@@ -104,8 +160,13 @@ uint32_t model_intersect_each(const Model *m, const Ray *const *rays, int n, con
 
 uint32_t model_occluded_packet(const Model *m, const Ray *const *rays, int n, const real *tmax)
 {
-    if (m->wide && n >= 2)
-        return m->wide->any_packet(m->wide, rays, n, tmax);
+    if (m->wide && n >= 2) {
+        uint32_t hit = m->wide->any_packet(m->wide, rays, n, tmax);
+        for (int i = 0; m->cut && i < n; i++) /* the cut triangles apart, ray by ray */
+            if (!(hit >> i & 1))
+                hit |= (uint32_t)bvh_any(&m->cut->bvh, rays[i], tmax[i], leaf_apart_any, m) << i;
+        return hit;
+    }
     uint32_t hit = 0;
     for (int i = 0; i < n; i++)
         hit |= (uint32_t)model_occluded(m, rays[i], tmax[i]) << i;

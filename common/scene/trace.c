@@ -314,7 +314,7 @@ uint32_t trace_closest_pair(const World *w, const Ray *a, const Ray *b, Hit *ha,
 static int lone_closest(const World *w, const Ray *rays, int n, Hit *hits, int pairs)
 {
     const Model *m = lone_of(w);
-    const Wide *wd = m ? m->wide : NULL;
+    const Wide *wd = m && !m->cut ? m->wide : NULL; /* a cutout's walks are model_intersect's */
     if (!wd || n < 2)
         return 0;
     const Ray *rr[TRACE_PACKET] = {0};

@@ -6,7 +6,9 @@
 # +2 in x.  Looked at straight on (orthographic): through the hole the lit
 # plane; the solid half white; the plane's shadow of the hole (x 2..3) lit,
 # of the solid half (x 3..4) dark.  Without map_d the hole is white and
-# its shadow dark, so a mask that does nothing fails.  Every SIMD path
+# its shadow dark, so a mask that does nothing fails.  The OBJ's cut
+# triangles are fewer than half of its own (the glTF's are all of it), so
+# a SIMD path walks them apart from the wide tree.  Every SIMD path
 # gives the same bytes, a .tmd of the OBJ the OBJ's, and a server with a
 # client lanray-render's.
 set -u
@@ -24,9 +26,12 @@ open(f"{d}/mask.png", "wb").write(png(8, 2, [[0] * 12 + [255] * 12] * 2, 2))
 open(f"{d}/white.png", "wb").write(png(8, 2, [[255] * 24] * 2, 2))
 rgba = png(8, 2, [sum(([255, 255, 255, 0 if x < 4 else 255] for x in range(8)), [])] * 2, 6)
 quad = "v 0 -1 0\nv 2 -1 0\nv 2 1 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n"
+# and, out of view, three solid triangles: the cut ones are fewer than half,
+# so on a SIMD path they go apart from the wide tree (model_cut.c)
+wall = "v 0 -5 0\nv 2 -5 0\nv 2 -4 0\nv 0 -4 0\nusemtl wall\nf 5/1 6/2 7/3\nf 5/1 7/3 8/4\nf 5/1 6/2 8/4\n"
 for name, extra in (("cut", "map_d mask.png\n"), ("solid", "")):
-    open(f"{d}/{name}.mtl", "w").write("newmtl leaf\nKd 1 1 1\nmap_Kd white.png\n" + extra)
-    open(f"{d}/{name}.obj", "w").write(f"mtllib {name}.mtl\n{quad}usemtl leaf\nf 1/1 2/2 3/3\nf 1/1 3/3 4/4\n")
+    open(f"{d}/{name}.mtl", "w").write("newmtl leaf\nKd 1 1 1\nmap_Kd white.png\n" + extra + "newmtl wall\nKd 1 1 1\n")
+    open(f"{d}/{name}.obj", "w").write(f"mtllib {name}.mtl\n{quad}usemtl leaf\nf 1/1 2/2 3/3\nf 1/1 3/3 4/4\n{wall}")
 pos = struct.pack("<12f", 0, -1, 0, 2, -1, 0, 2, 1, 0, 0, 1, 0)
 uv = struct.pack("<8f", 0, 1, 1, 1, 1, 0, 0, 0)  # glTF's v runs down the image
 idx = struct.pack("<6H", 0, 1, 2, 0, 2, 3)
