@@ -9,88 +9,23 @@ typedef struct {
     uint32_t best; /* triangle of the hit so far; at first 0 (a hit at exactly tmax is not taken) or UINT32_MAX */
 } ClosestCtx;
 
-static inline __attribute__((always_inline)) int leaf_closest(void *vctx, uint32_t first, uint32_t count,
-                                                              const Ray *r, real *tmax)
+/* The closest hit among triangles tris[first .. first + count), triangle
+ * i named ids[i] (the model's index; i itself without ids); with `cut`, a
+ * hit in a hole of its material's mask is none (model_hole), so camera
+ * rays see what is behind and shadow rays pass.  Ties go to the smaller
+ * index, so the wide kernels, visiting in another order, find the same
+ * triangle.  Inlined with constant ids and cut: a model without cutouts
+ * pays nothing for them in its leaves. */
+static inline __attribute__((always_inline)) int closest_in(ClosestCtx *c, const Tri *tris, const uint32_t *ids,
+                                                            int cut, uint32_t first, uint32_t count, const Ray *r,
+                                                            real *tmax)
 {
-    ClosestCtx *c = vctx;
-    const Tri *tri = &c->m->tris[first];
-    int found = 0;
-    for (uint32_t i = 0; i < count; i++) {
-        real t, b1, b2;
-        /* ties go to the smaller index, so the wide kernels, visiting in
-         * another order, find the same triangle */
-        if (tri_solve(r, &tri[i], &t, &b1, &b2) && (t < *tmax || (t == *tmax && first + i < c->best))) {
-            *tmax = t;
-            *c->hit = (ModelHit){t, b1, b2, first + i};
-            c->best = first + i;
-            found = 1;
-        }
-    }
-    return found;
-}
-
-static inline __attribute__((always_inline)) int leaf_any(const void *vctx, uint32_t first, uint32_t count,
-                                                          const Ray *r, real tmax)
-{
-    const Tri *tri = &((const Model *)vctx)->tris[first];
-    for (uint32_t i = 0; i < count; i++) {
-        real t, b1, b2;
-        if (tri_intersect(r, &tri[i], tmax, &t, &b1, &b2))
-            return 1;
-    }
-    return 0;
-}
-
-/* leaf_closest and leaf_any for a model with cutouts: a hit in a hole of
- * its material's mask is no hit (model_hole), so camera rays see what is
- * behind and shadow rays pass.  Apart, so that a model without pays
- * nothing in its leaves. */
-static inline __attribute__((always_inline)) int leaf_closest_cut(void *vctx, uint32_t first, uint32_t count,
-                                                                  const Ray *r, real *tmax)
-{
-    ClosestCtx *c = vctx;
-    const Tri *tri = &c->m->tris[first];
-    int found = 0;
-    for (uint32_t i = 0; i < count; i++) {
-        real t, b1, b2;
-        if (tri_solve(r, &tri[i], &t, &b1, &b2) && (t < *tmax || (t == *tmax && first + i < c->best)) &&
-            !model_hole(c->m, first + i, b1, b2)) {
-            *tmax = t;
-            *c->hit = (ModelHit){t, b1, b2, first + i};
-            c->best = first + i;
-            found = 1;
-        }
-    }
-    return found;
-}
-
-static inline __attribute__((always_inline)) int leaf_any_cut(const void *vctx, uint32_t first, uint32_t count,
-                                                              const Ray *r, real tmax)
-{
-    const Model *m = vctx;
-    const Tri *tri = &m->tris[first];
-    for (uint32_t i = 0; i < count; i++) {
-        real t, b1, b2;
-        if (tri_intersect(r, &tri[i], tmax, &t, &b1, &b2) && !model_hole(m, first + i, b1, b2))
-            return 1;
-    }
-    return 0;
-}
-
-/* The leaves of a model's cut triangles apart (model_cut.c): copies of
- * the model's triangles, a hit named by the model's index, so that the
- * least (t, index) is the whole model's. */
-static inline __attribute__((always_inline)) int leaf_apart_closest(void *vctx, uint32_t first, uint32_t count,
-                                                                    const Ray *r, real *tmax)
-{
-    ClosestCtx *c = vctx;
-    const ModelCut *k = c->m->cut;
     int found = 0;
     for (uint32_t i = first; i < first + count; i++) {
         real t, b1, b2;
-        const uint32_t id = k->ids[i];
-        if (tri_solve(r, &k->tris[i], &t, &b1, &b2) && (t < *tmax || (t == *tmax && id < c->best)) &&
-            !model_hole(c->m, id, b1, b2)) {
+        const uint32_t id = ids ? ids[i] : i;
+        if (tri_solve(r, &tris[i], &t, &b1, &b2) && (t < *tmax || (t == *tmax && id < c->best)) &&
+            !(cut && model_hole(c->m, id, b1, b2))) {
             *tmax = t;
             *c->hit = (ModelHit){t, b1, b2, id};
             c->best = id;
@@ -100,16 +35,60 @@ static inline __attribute__((always_inline)) int leaf_apart_closest(void *vctx, 
     return found;
 }
 
+/* Whether any of those triangles blocks the ray before tmax (closest_in's
+ * names and holes). */
+static inline __attribute__((always_inline)) int any_in(const Model *m, const Tri *tris, const uint32_t *ids, int cut,
+                                                        uint32_t first, uint32_t count, const Ray *r, real tmax)
+{
+    for (uint32_t i = first; i < first + count; i++) {
+        real t, b1, b2;
+        if (tri_intersect(r, &tris[i], tmax, &t, &b1, &b2) && !(cut && model_hole(m, ids ? ids[i] : i, b1, b2)))
+            return 1;
+    }
+    return 0;
+}
+
+/* The leaves of the three walks: a model's binary tree, the same with
+ * cutouts (the scalar path), and a model's cut triangles apart
+ * (model_cut.c: copies of the model's triangles, named by its indices). */
+static inline __attribute__((always_inline)) int leaf_closest(void *vctx, uint32_t first, uint32_t count,
+                                                              const Ray *r, real *tmax)
+{
+    ClosestCtx *c = vctx;
+    return closest_in(c, c->m->tris, NULL, 0, first, count, r, tmax);
+}
+
+static inline __attribute__((always_inline)) int leaf_any(const void *vctx, uint32_t first, uint32_t count,
+                                                          const Ray *r, real tmax)
+{
+    return any_in(vctx, ((const Model *)vctx)->tris, NULL, 0, first, count, r, tmax);
+}
+
+static inline __attribute__((always_inline)) int leaf_closest_cut(void *vctx, uint32_t first, uint32_t count,
+                                                                  const Ray *r, real *tmax)
+{
+    ClosestCtx *c = vctx;
+    return closest_in(c, c->m->tris, NULL, 1, first, count, r, tmax);
+}
+
+static inline __attribute__((always_inline)) int leaf_any_cut(const void *vctx, uint32_t first, uint32_t count,
+                                                              const Ray *r, real tmax)
+{
+    return any_in(vctx, ((const Model *)vctx)->tris, NULL, 1, first, count, r, tmax);
+}
+
+static inline __attribute__((always_inline)) int leaf_apart_closest(void *vctx, uint32_t first, uint32_t count,
+                                                                    const Ray *r, real *tmax)
+{
+    ClosestCtx *c = vctx;
+    return closest_in(c, c->m->cut->tris, c->m->cut->ids, 1, first, count, r, tmax);
+}
+
 static inline __attribute__((always_inline)) int leaf_apart_any(const void *vctx, uint32_t first, uint32_t count,
                                                                 const Ray *r, real tmax)
 {
     const Model *m = vctx;
-    for (uint32_t i = first; i < first + count; i++) {
-        real t, b1, b2;
-        if (tri_intersect(r, &m->cut->tris[i], tmax, &t, &b1, &b2) && !model_hole(m, m->cut->ids[i], b1, b2))
-            return 1;
-    }
-    return 0;
+    return any_in(m, m->cut->tris, m->cut->ids, 1, first, count, r, tmax);
 }
 
 /* Without a wide tree (double builds, other CPUs): the binary walk, each
