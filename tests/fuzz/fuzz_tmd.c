@@ -1,4 +1,5 @@
 /* fuzz_tmd.c - the .tmd reader on arbitrary bytes; an accepted model is
+ * prepared as a scene prepares it (its wide tree, a cutout's trees) and
  * traced, so that whatever passes validation is also safe to traverse.
  * A version-5 file carries its length and a checksum, which random bytes
  * almost never match: each input is also read sealed (those two fields
@@ -11,6 +12,10 @@ static void read_model(const uint8_t *data, size_t size)
     Model *m;
     if (tmd_decode(data, size, "fuzz.tmd", &m, NULL) != 0)
         return;
+    if (model_prepare_simd(m, NULL) != 0) { /* the wide tree and a cutout's walks, as a scene's */
+        model_destroy(m);
+        return;
+    }
     for (int i = 0; i < 16; i++) {
         vec3 o = v3((real)(i % 4) - R(1.5), (real)(i / 4) - R(1.5), -10);
         Ray r = ray_make(o, v3(R(0.01) * (real)i, R(0.02), 1), 0, REAL_INF);
