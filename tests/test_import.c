@@ -104,8 +104,9 @@ static void gltf_samplers_wrap_each_axis(void **state)
 }
 
 /* glTF's alphaMode MASK: the material cuts holes where its base colour
- * texture's alpha is under alphaCutoff (the texture is its own mask, its
- * alpha kept); an OPAQUE material with the same image stays solid. */
+ * texture's alpha (times the factor's) is under alphaCutoff (the texture is
+ * its own mask, its alpha kept); an OPAQUE material with the same image
+ * stays solid. */
 static void gltf_mask_materials_cut(void **state)
 {
     (void)state;
@@ -120,6 +121,9 @@ static void gltf_mask_materials_cut(void **state)
     assert_float_equal(leaf->cutoff, 0.3, 1e-6);
     assert_int_equal(leaf->mask, leaf->texture);
     assert_false(material_cuts(opaque));
+    /* the base colour factor's alpha 0.5 halves every texel's: they cut under 0.3 / 0.5 */
+    assert_true(m.material_count >= 3);
+    assert_float_equal(m.materials[2].cutoff, 0.6, 1e-6);
     const Texture *t = m.textures[leaf->texture];
     assert_non_null(t->alpha);
     assert_int_equal(t->alpha[0], 255);

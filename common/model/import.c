@@ -390,9 +390,12 @@ static int import_has_materials(const struct aiScene *sc)
            strcmp(name.data, AI_DEFAULT_MATERIAL_NAME) != 0;
 }
 
-/* A glTF material of alphaMode MASK cuts holes where its base colour
- * texture's alpha is under alphaCutoff (0.5 unless given; glTF 2.0 spec,
- * 3.9.4); the texture is its own mask.  Other materials are solid. */
+/* A glTF material of alphaMode MASK cuts holes where its alpha, the base
+ * colour texture's times the base colour factor's (which Assimp gives as
+ * the opacity), is under alphaCutoff (0.5 unless given; glTF 2.0 spec,
+ * 3.9.4): the texture is its own mask, its texels cut under cutoff /
+ * factor (above 1: every one; a factor of 0 cuts the whole surface).
+ * Other materials are solid. */
 static void import_cutout(const struct aiMaterial *am, Material *mt)
 {
     struct aiString mode;
@@ -400,10 +403,13 @@ static void import_cutout(const struct aiMaterial *am, Material *mt)
         return;
     ai_real cut = 0.5;
     aiGetMaterialFloatArray(am, "$mat.gltf.alphaCutoff", 0, 0, &cut, NULL);
+    real factor = 1;
+    import_number(am, AI_MATKEY_OPACITY, 0, 1, &factor);
     if (!(cut > 0)) /* a cutoff of 0 keeps every texel: solid */
         return;
+    const real c = factor > R(0) ? (real)cut / factor : MATERIAL_CUTOFF_MAX;
     mt->mask = mt->texture;
-    mt->cutoff = cut < 1 ? (real)cut : R(1);
+    mt->cutoff = c < MATERIAL_CUTOFF_MAX ? c : MATERIAL_CUTOFF_MAX;
 }
 
 /* Every material of the file into out, in the file's order, with its

@@ -46,7 +46,7 @@ static const Field fields[] = {
      .doc = "a cutout's texture: where its opacity (its alpha, or a grey image's level) is under `cutoff`, the "
             "surface is not there"},
     {.key = "cutoff", .type = FIELD_REAL, .group = GROUP_CUTOUT, .flags = FIELD_WIRE | FIELD_ZERO_OK, .off = OFF(cutoff),
-     .lo = 1e-6, .hi = 1, .doc = "the opacity under which a cutout's texels are holes; 0: no cutout"},
+     .lo = 1e-6, .hi = 2, .doc = "the opacity under which a cutout's texels are holes (above 1: all); 0: no cutout"},
 };
 
 static const FieldRule rules[] = {

@@ -38,6 +38,7 @@ typedef struct {
     real cutoff;
 } Material;
 
+#define MATERIAL_CUTOFF_MAX R(2) /* above 1: every texel of a mask a hole */
 #define MATERIAL_IOR_MIN R(0.0625)
 #define MATERIAL_IOR_MAX R(16)
 
