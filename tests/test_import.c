@@ -131,6 +131,29 @@ static void gltf_mask_materials_cut(void **state)
     mesh_free(&m);
 }
 
+/* KHR_texture_transform: a material's texture coordinates become offset +
+ * rotation(scale x uv) in glTF's frame (v down), as the extension's sample
+ * model checks it: offset (0.25, 0) with scale 2, and a quarter turn. */
+static void gltf_texture_transforms_apply(void **state)
+{
+    (void)state;
+    Mesh m;
+    ImportStats st;
+    Err err;
+    if (import_read("tests/data/gltf/uvtransform.gltf", NULL, &m, &st, &err))
+        fail_msg("%s", err.msg);
+    assert_int_equal(m.tri_count, 2);
+    /* glTF uv (0,0), (1,0), (0,1) of each: lanray's v runs up (1 - v) */
+    const double want[2][6] = {{0.25, 1, 2.25, 1, 0.25, -1}, {0, 1, 0, 2, 1, 1}};
+    for (uint32_t t = 0; t < 2; t++) {
+        const int k = (int)m.mat[t]; /* the file's material order */
+        for (int j = 0; j < 6; j++)
+            if (fabs((double)m.uv[6 * t + (uint32_t)j] - want[k][j]) > 1e-5)
+                fail_msg("triangle %u uv %d: %g, not %g", t, j, (double)m.uv[6 * t + (uint32_t)j], want[k][j]);
+    }
+    mesh_free(&m);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -138,6 +161,7 @@ int main(void)
         cmocka_unit_test(gltf_vertex_colours_multiply_the_base_colour),
         cmocka_unit_test(gltf_samplers_wrap_each_axis),
         cmocka_unit_test(gltf_mask_materials_cut),
+        cmocka_unit_test(gltf_texture_transforms_apply),
     };
     return cmocka_run_group_tests_name("import", tests, NULL, NULL);
 }

@@ -7,6 +7,7 @@
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
 #include <ctype.h>
+#include <math.h>
 #include <errno.h>
 #include <signal.h>
 #include <stdint.h>
@@ -257,6 +258,37 @@ static int is_ply(const char *path)
 static int import_scene(const struct aiScene *sc, const char *path, const char *model, int stl, Mesh *out,
                         ImportTexList *tl, ImportStats *st, Err *err);
 
+/* glTF's KHR_texture_transform on a material's base colour texture: its
+ * texture coordinates become offset + rotation(scale x uv), in glTF's
+ * frame (v down; Assimp gives v up), the rotation (c s; -s c) as the
+ * extension's sample model checks it (every arrow at its green mark).
+ * Assimp 5.2.5 keeps the transform only as an aiUVTransform whose
+ * translation is made for its own step (TransformUVCoords, which gets an
+ * offset with a scale and every rotation wrong); the file's offset, scale
+ * and rotation are taken back from it by the reader's formulas and
+ * applied here.  In place: the scene is this process's own. */
+static void import_uv_transforms(const struct aiScene *sc)
+{
+    for (unsigned i = 0; i < sc->mNumMeshes; i++) {
+        struct aiMesh *am = sc->mMeshes[i];
+        struct aiUVTransform t;
+        struct aiString mode;
+        const struct aiMaterial *mt = am->mMaterialIndex < sc->mNumMaterials ? sc->mMaterials[am->mMaterialIndex] : NULL;
+        if (!am->mTextureCoords[0] || !mt || !gltf_material(mt, &mode) ||
+            aiGetMaterialUVTransform(mt, AI_MATKEY_UVTRANSFORM(aiTextureType_DIFFUSE, 0), &t) != aiReturn_SUCCESS)
+            continue;
+        const double sx = t.mScaling.x, sy = t.mScaling.y, rot = -(double)t.mRotation, c = cos(rot), s = sin(rot);
+        const double tx = t.mTranslation.x, ty = t.mTranslation.y;
+        const double ox = tx - 0.5 * sx * (-c + s + 1), oy = -(ty - 0.5 * sy * (s + c - 1) - 1 + sy);
+        for (unsigned v = 0; v < am->mNumVertices; v++) {
+            struct aiVector3D *uv = &am->mTextureCoords[0][v];
+            const double u = sx * (double)uv->x, w = sy * (1 - (double)uv->y); /* scaled, in glTF's frame */
+            uv->x = (ai_real)(ox + c * u + s * w);
+            uv->y = (ai_real)(1 - (oy - s * u + c * w));
+        }
+    }
+}
+
 /* Blender's scenes are Z-up (its front view looks along +Y), as are
  * trueSpace's (.cob), and Assimp leaves them so: a standing figure lay on
  * its back and Suzanne showed the top of her head.  lanray is Y-up, as
@@ -326,6 +358,7 @@ static int import_read_direct(const char *path, Mesh *out, ImportTexList *tl, Im
         return err_set(err, "%s: %s", path, aiGetErrorString());
     const char *e = extension(path);
     import_upright(sc, e);
+    import_uv_transforms(sc);
     /* the scene stays: embedded images' bytes are Assimp's until sent
      * (the child ends after) */
     return import_scene(sc, path, path, strcmp(e, ".stl") == 0 || strcmp(e, ".STL") == 0, out, tl, st, err);
@@ -356,6 +389,7 @@ static int import_read_memory_direct(const void *data, size_t len, const char *h
     if (!sc)
         return err_set(err, "%s: %s", name, aiGetErrorString());
     import_upright(sc, hint);
+    import_uv_transforms(sc);
     return import_scene(sc, name, NULL, strcmp(hint, "stl") == 0, out, tl, st, err);
 }
 
