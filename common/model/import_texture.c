@@ -175,11 +175,7 @@ static Texture *from_bgra(uint32_t w, uint32_t h, const uint8_t *bgra)
         rgb[3 * i + 2] = bgra[4 * i];
         a[i] = bgra[4 * i + 3];
     }
-    Texture *t = texture_from_rgb8(w, h, rgb);
-    if (t && texture_keep_alpha(t, a)) {
-        texture_destroy(t);
-        t = NULL;
-    }
+    Texture *t = texture_with_alpha(texture_from_rgb8(w, h, rgb), a);
     free(rgb);
     return t;
 }

@@ -172,11 +172,16 @@ Texture *texture_copy(const Texture *t)
     c->wrap[0] = t->wrap[0], c->wrap[1] = t->wrap[1];
     c->closest = t->closest;
     memcpy(c->texels, t->texels, texture_bytes(t));
-    if (t->alpha && texture_keep_alpha(c, t->alpha)) {
-        texture_destroy(c);
+    return texture_with_alpha(c, t->alpha);
+}
+
+Texture *texture_with_alpha(Texture *t, const uint8_t *a)
+{
+    if (t && a && texture_keep_alpha(t, a)) {
+        texture_destroy(t);
         return NULL;
     }
-    return c;
+    return t;
 }
 
 int texture_keep_alpha(Texture *t, const uint8_t *a)

@@ -90,6 +90,10 @@ Texture *texture_copy(const Texture *t);
 /* Gives t the w x h opacities a (copied; none kept where all are 255);
  * -1 when out of memory. */
 int texture_keep_alpha(Texture *t, const uint8_t *a);
+/* t (just made, or NULL) with the opacities a (none when NULL): t, or
+ * NULL with t destroyed when out of memory.  What every reader with alpha
+ * ends with: *out = texture_with_alpha(texture_from_rgb8(...), a). */
+Texture *texture_with_alpha(Texture *t, const uint8_t *a);
 /* How opaque the texel at (u, v) is, for a cutout's test (material.h):
  * the image's alpha, or, where it has none (a grey mask: MTL map_d), the
  * mean of the texel's codes; 0 to 1.  The nearest texel of the image

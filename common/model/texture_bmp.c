@@ -140,11 +140,7 @@ int texture_read_bmp(const void *data, size_t len, const char *name, Texture **o
                 return err_set(err, "%s: a BMP texel's colour index past the palette", name);
             }
     }
-    *out = texture_from_rgb8(b.w, b.h, rgb);
-    if (*out && texture_keep_alpha(*out, alpha)) {
-        texture_destroy(*out);
-        *out = NULL;
-    }
+    *out = texture_with_alpha(texture_from_rgb8(b.w, b.h, rgb), alpha);
     free(rgb);
     return *out ? 0 : err_set(err, "%s: out of memory for a %ux%u texture", name, b.w, b.h);
 }

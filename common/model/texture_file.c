@@ -202,12 +202,9 @@ int texture_read_memory(const void *data, size_t len, const char *name, Texture 
     uint8_t *rgb, *alpha;
     if (image_read_png_limited(f, name, TEXTURE_MAX_SIDE, &w, &h, &rgb, &alpha, err)) /* closes f */
         return -1;
-    *out = texture_from_file_rgb8((uint32_t)w, (uint32_t)h, rgb, keep_bytes(data, len), len, TEXTURE_PNG);
+    *out = texture_with_alpha(
+        texture_from_file_rgb8((uint32_t)w, (uint32_t)h, rgb, keep_bytes(data, len), len, TEXTURE_PNG), alpha);
     free(rgb);
-    if (*out && alpha && texture_keep_alpha(*out, alpha)) {
-        texture_destroy(*out);
-        *out = NULL;
-    }
     free(alpha);
     if (*out && !(*out)->file) {
         texture_destroy(*out);

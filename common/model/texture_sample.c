@@ -141,11 +141,19 @@ static inline vec3 trilinear(const Texture *t, real u, real v, real lambda, real
     return v3_lerp(bilinear(t, l, u, v, 1, 1), bilinear(t, l + 1, u, v, 1, 1), f);
 }
 
-static vec3 nearest(const Texture *t, real u, real v)
+/* The image's texel nearest to (u, v), after the wrap modes (level 0). */
+static inline void nearest_xy(const Texture *t, real u, real v, uint32_t *x, uint32_t *y)
 {
     place(t, &u, &v);
-    uint32_t x = (uint32_t)(u * (real)t->w), y = (uint32_t)(v * (real)t->h);
-    return texel(&t->level[0], x < t->w ? x : t->w - 1, y < t->h ? y : t->h - 1);
+    const uint32_t nx = (uint32_t)(u * (real)t->w), ny = (uint32_t)(v * (real)t->h);
+    *x = nx < t->w ? nx : t->w - 1, *y = ny < t->h ? ny : t->h - 1;
+}
+
+static vec3 nearest(const Texture *t, real u, real v)
+{
+    uint32_t x, y;
+    nearest_xy(t, u, v, &x, &y);
+    return texel(&t->level[0], x, y);
 }
 
 vec3 texture_sample(const Texture *t, real u, real v, const TexFootprint *fp, TextureFilter filter)
@@ -194,9 +202,9 @@ real texture_coverage(const Texture *t, real u, real v)
 {
     if (!isfinite(u) || !isfinite(v))
         u = v = R(0);
-    place(t, &u, &v);
-    uint32_t x = (uint32_t)(u * (real)t->w), y = (uint32_t)(v * (real)t->h);
-    const size_t i = (size_t)(y < t->h ? y : t->h - 1) * t->w + (x < t->w ? x : t->w - 1);
+    uint32_t x, y;
+    nearest_xy(t, u, v, &x, &y);
+    const size_t i = (size_t)y * t->w + x;
     if (t->alpha)
         return (real)t->alpha[i] / R(255);
     const uint8_t *p = &t->level[0].rgb[3 * i];

@@ -154,11 +154,7 @@ int texture_read_tga(const void *data, size_t len, const char *name, Texture **o
                 memcpy(&rgb[3 * ((size_t)y * t.w + x)], s, 3);
                 alpha[(size_t)y * t.w + x] = s[3];
             }
-        *out = texture_from_rgb8(t.w, t.hgt, rgb);
-        if (*out && texture_keep_alpha(*out, alpha)) {
-            texture_destroy(*out);
-            *out = NULL;
-        }
+        *out = texture_with_alpha(texture_from_rgb8(t.w, t.hgt, rgb), alpha);
         rc = *out ? 0 : err_set(err, "%s: out of memory for a %ux%u texture", name, t.w, t.hgt);
     }
     free(raw), free(rgb);
