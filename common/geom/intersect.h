@@ -6,6 +6,7 @@
 #ifndef LANRAY_INTERSECT_H
 #define LANRAY_INTERSECT_H
 
+#include "geom/aabb.h"
 #include "geom/ray.h"
 
 /* A triangle's vertices, kept apart from its shading attributes so that the
@@ -15,6 +16,15 @@ typedef struct {
 } Tri;
 
 static inline vec3 tri_vertex(const Tri *t, int i) { return v3(t->v[i][0], t->v[i][1], t->v[i][2]); }
+
+/* The box of a triangle's corners (what every tree over triangles is built on). */
+static inline Aabb tri_box(const Tri *t)
+{
+    Aabb b = aabb_point(tri_vertex(t, 0));
+    aabb_grow(&b, tri_vertex(t, 1));
+    aabb_grow(&b, tri_vertex(t, 2));
+    return b;
+}
 
 /* Watertight ray/triangle test (Woop, Benthin & Wald, JCGT 2013).  The ray is
  * sheared onto +z, so the three edge functions are evaluated in the same 2D

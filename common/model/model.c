@@ -80,14 +80,6 @@ static Tri source_tri(const Source *s, uint64_t i)
     return t;
 }
 
-static Aabb tri_box(const Tri *t)
-{
-    Aabb b = aabb_point(tri_vertex(t, 0));
-    aabb_grow(&b, tri_vertex(t, 1));
-    aabb_grow(&b, tri_vertex(t, 2));
-    return b;
-}
-
 /* The passes over every triangle around the tree, on the build's pool
  * (which the tree's passes share: bvh_build_on). */
 typedef struct {

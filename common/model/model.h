@@ -19,7 +19,6 @@ typedef struct {
     Bvh bvh;
     Tri *tris;
     uint32_t *ids;
-    uint32_t count;
 } ModelCut;
 
 typedef struct {

@@ -41,13 +41,8 @@ static int cut_tree(Model *m, uint32_t n, Err *err)
         c->tris = malloc((size_t)n * sizeof *c->tris), c->ids = malloc((size_t)n * sizeof *c->ids);
     int rc = c && which && boxes && c->tris && c->ids ? 0 : err_set(err, "model: out of memory for its cutouts");
     for (uint32_t i = 0, j = 0; rc == 0 && i < m->tri_count; i++)
-        if (cut_at(m, i)) {
-            which[j] = i;
-            const Tri *t = &m->tris[i];
-            boxes[j] = aabb_point(tri_vertex(t, 0));
-            aabb_grow(&boxes[j], tri_vertex(t, 1));
-            aabb_grow(&boxes[j++], tri_vertex(t, 2));
-        }
+        if (cut_at(m, i))
+            which[j] = i, boxes[j++] = tri_box(&m->tris[i]);
     const BvhOptions opt = bvh_options_default(BVH_SAH);
     if (rc == 0)
         rc = bvh_build(&c->bvh, boxes, n, &opt, err);
@@ -58,7 +53,6 @@ static int cut_tree(Model *m, uint32_t n, Err *err)
     if (rc == 0) {
         free(c->bvh.prims);
         c->bvh.prims = NULL;
-        c->count = n;
         m->cut = c;
     } else {
         model_cut_free(c);
@@ -80,14 +74,19 @@ int model_cut_build(Model *m, int path, Err *err)
     if (cut_tree(m, n, err))
         return -1;
     Tri *solid = malloc((size_t)m->tri_count * sizeof *solid);
-    if (!solid)
-        return err_set(err, "model: out of memory for its cutouts");
-    memcpy(solid, m->tris, (size_t)m->tri_count * sizeof *solid);
-    for (uint32_t i = 0; i < m->tri_count; i++)
-        if (cut_at(m, i))
-            for (int k = 1; k < 3; k++)
-                memcpy(solid[i].v[k], solid[i].v[0], sizeof solid[i].v[0]);
-    int rc = wide_build(&m->wide, &m->bvh, solid, path, err);
+    int rc = solid ? 0 : err_set(err, "model: out of memory for its cutouts");
+    if (rc == 0) {
+        memcpy(solid, m->tris, (size_t)m->tri_count * sizeof *solid);
+        for (uint32_t i = 0; i < m->tri_count; i++)
+            if (cut_at(m, i))
+                for (int k = 1; k < 3; k++)
+                    memcpy(solid[i].v[k], solid[i].v[0], sizeof solid[i].v[0]);
+        rc = wide_build(&m->wide, &m->bvh, solid, path, err);
+    }
     free(solid);
+    if (rc) { /* the cut tree is walked after the wide one: not one without the other */
+        model_cut_free(m->cut);
+        m->cut = NULL;
+    }
     return rc;
 }

@@ -271,12 +271,8 @@ static Aabb *top_boxes(const World *w, uint32_t nb, Err *err)
         vec3 r = v3_splat(sp->radius * (R(1) + real_gamma(4)));
         boxes[k++] = (Aabb){v3_sub(sp->centre, r), v3_add(sp->centre, r)};
     }
-    for (uint32_t i = 0; i < w->tri_count; i++) {
-        Aabb b = aabb_point(tri_vertex(&w->tris[i], 0));
-        aabb_grow(&b, tri_vertex(&w->tris[i], 1));
-        aabb_grow(&b, tri_vertex(&w->tris[i], 2));
-        boxes[k++] = b;
-    }
+    for (uint32_t i = 0; i < w->tri_count; i++)
+        boxes[k++] = tri_box(&w->tris[i]);
     for (uint32_t i = 0; i < w->instance_count; i++) {
         const WorldInstance *in = &w->instances[i];
         const Model *m = w->models[in->model];
