@@ -140,11 +140,20 @@ static int sample_ball(const Sphere *sp, vec3 p, real u, real v, EmitterSample *
     return 1;
 }
 
+/* The weights of a triangle's corners at the point (u, v) names, uniform
+ * over its area: where sample_triangle samples and in_hole looks. */
+static inline void triangle_weights(real u, real v, real b[3])
+{
+    const real su = sqrt(u);
+    b[0] = R(1) - su, b[1] = v * su, b[2] = R(1) - b[0] - b[1];
+}
+
 /* Uniformly over triangle c's area (into *area, for its pick). */
 static int sample_triangle(const vec3 c[3], vec3 p, real u, real v, EmitterSample *out, real *area_out)
 {
-    const real su = sqrt(u), b0 = R(1) - su, b1 = v * su;
-    const vec3 q = v3_add(v3_add(v3_scale(c[0], b0), v3_scale(c[1], b1)), v3_scale(c[2], R(1) - b0 - b1));
+    real b[3];
+    triangle_weights(u, v, b);
+    const vec3 q = v3_add(v3_add(v3_scale(c[0], b[0]), v3_scale(c[1], b[1])), v3_scale(c[2], b[2]));
     const vec3 cr = corners_cross(c);
     const real area = triangle_area(cr);
     *area_out = area;
@@ -172,8 +181,9 @@ static int in_hole(const World *w, const Emitter *e, real u, real v)
     const Model *m = w->models[w->instances[e->index].model];
     if (!m->cutout)
         return 0;
-    const real su = sqrt(u), b0 = R(1) - su, b1 = v * su; /* sample_triangle's weights of corners 0 and 1 */
-    return model_hole(m, e->sub, b1, R(1) - b0 - b1);
+    real b[3];
+    triangle_weights(u, v, b);
+    return model_hole(m, e->sub, b[1], b[2]);
 }
 
 int emitters_sample(const World *w, vec3 p, real pick, real u, real v, EmitterSample *out)
