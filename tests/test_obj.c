@@ -509,6 +509,10 @@ static void material_extras_are_kept_and_mapped(void **state)
         {"newmtl a\nKa -1 0 0\n", "t.mtl:2: expected 3 non-negative numbers after Ka"},
         {"newmtl a\nKe 1 nan 0\n", "t.mtl:2: expected 3 non-negative numbers after Ke"},
         {"d 0.5\n", "t.mtl:1: d before any newmtl"},
+        {"map_d m.png\n", "t.mtl:1: map_d before any newmtl"},
+        {"newmtl a\nmap_d\n", "t.mtl:2: map_d: bad option or no file name"},
+        {"newmtl a\nmap_d -zz 1 m.png\n", "t.mtl:2: map_d: bad option or no file name"},
+        {"newmtl a\nmap_Kd -s\n", "t.mtl:2: map_Kd: bad option or no file name"},
     };
     for (size_t i = 0; i < sizeof bad / sizeof *bad; i++) {
         char text[64];
