@@ -131,6 +131,35 @@ static void gltf_mask_materials_cut(void **state)
     mesh_free(&m);
 }
 
+/* glTF normalTexture: a material's normal map and its scale; one on a
+ * second set of texture coordinates (which lanray does not read) is none. */
+static void gltf_normal_maps_are_read(void **state)
+{
+    (void)state;
+    Mesh m;
+    ImportStats st;
+    Err err;
+    if (import_read("tests/data/gltf/normalmap.gltf", NULL, &m, &st, &err))
+        fail_msg("%s", err.msg);
+    assert_true(m.material_count >= 3); /* Assimp adds a default one */
+    const Material *bumpy = &m.materials[0], *second = &m.materials[1], *unscaled = &m.materials[2];
+    assert_true(material_bumps(bumpy));
+    assert_float_equal(bumpy->normal_scale, 0.5, 1e-6);
+    assert_true(bumpy->texture >= 0 && bumpy->normal_map != bumpy->texture);
+    assert_false(material_bumps(second));
+    assert_int_equal(second->normal_map, 0);
+    assert_true(material_bumps(unscaled));
+    assert_float_equal(unscaled->normal_scale, 1, 0);
+    assert_int_equal(unscaled->normal_map, bumpy->normal_map);
+    /* the map's texels as the file has them: left tilts to +u, right to -u */
+    const Texture *t = m.textures[bumpy->normal_map];
+    assert_int_equal(t->w, 2);
+    assert_int_equal(t->level[0].rgb[0], 218);
+    assert_int_equal(t->level[0].rgb[3], 38);
+    assert_true(t->closest);
+    mesh_free(&m);
+}
+
 /* KHR_texture_transform: a material's texture coordinates become offset +
  * rotation(scale x uv) in glTF's frame (v down), as the extension's sample
  * model checks it: offset (0.25, 0) with scale 2, and a quarter turn. */
@@ -162,6 +191,7 @@ int main(void)
         cmocka_unit_test(gltf_samplers_wrap_each_axis),
         cmocka_unit_test(gltf_mask_materials_cut),
         cmocka_unit_test(gltf_texture_transforms_apply),
+        cmocka_unit_test(gltf_normal_maps_are_read),
     };
     return cmocka_run_group_tests_name("import", tests, NULL, NULL);
 }

@@ -123,6 +123,20 @@ static void materials_from_mtllib(void **state)
     mesh_free(&m);
 }
 
+/* Writes a w x h PNG of rgb texels (and alphas a, or none) as name in the
+ * test's folder. */
+static void write_png(const char *name, uint32_t w, uint32_t h, const uint8_t *rgb, const uint8_t *a)
+{
+    Sink png = {0};
+    assert_int_equal(image_encode_png_alpha(rgb, a, w, h, &png), 0);
+    char path[256];
+    snprintf(path, sizeof path, "%s/%s", test_tmpdir(), name);
+    FILE *f = fopen(path, "wb");
+    fwrite(png.data, 1, png.len, f);
+    fclose(f);
+    sink_free(&png);
+}
+
 /* map_d: a cutout's mask (cutoff 0.5), the same file as map_Kd read once
  * (its alpha the holes); a mask that cannot be read leaves the material
  * solid, with a warning. */
@@ -130,14 +144,8 @@ static void map_d_makes_a_cutout(void **state)
 {
     (void)state;
     const uint8_t rgb[12] = {255, 255, 255, 255, 255, 255, 255, 255, 255, 255, 255, 255}, a[4] = {0, 255, 255, 0};
-    Sink png = {0};
-    assert_int_equal(image_encode_png_alpha(rgb, a, 2, 2, &png), 0);
+    write_png("leaf.png", 2, 2, rgb, a);
     char path[256];
-    snprintf(path, sizeof path, "%s/leaf.png", test_tmpdir());
-    FILE *f = fopen(path, "wb");
-    fwrite(png.data, 1, png.len, f);
-    fclose(f);
-    sink_free(&png);
     snprintf(path, sizeof path, "%s/cut.mtl", test_tmpdir());
     test_write_file(path, "newmtl leaf\nmap_Kd leaf.png\nmap_d leaf.png\nnewmtl lost\nmap_d nothere.png\n");
     const char *text = "mtllib cut.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 0 1\n"
@@ -156,6 +164,43 @@ static void map_d_makes_a_cutout(void **state)
     assert_false(material_cuts(lost));
     assert_int_equal(st.missing_textures, 1);
     assert_int_equal(st.warnings, 1);
+    mesh_free(&m);
+}
+
+/* norm is a normal map, -bm its strength; bump and map_Bump are one where
+ * the image is not grey (Blender writes its normal maps so), and a grey
+ * one is a height map: a warning, and the normals as they are. */
+static void norm_and_coloured_bump_maps_are_normal_maps(void **state)
+{
+    (void)state;
+    const uint8_t blue[6] = {128, 128, 255, 200, 128, 230}, grey[6] = {10, 10, 10, 200, 200, 200};
+    write_png("n.png", 2, 1, blue, NULL);
+    write_png("h.png", 2, 1, grey, NULL);
+    char path[256];
+    snprintf(path, sizeof path, "%s/nm.mtl", test_tmpdir());
+    test_write_file(path, "newmtl a\nnorm -bm 0.25 n.png\nnewmtl b\nmap_Bump -bm 1.0 n.png\nnewmtl c\nbump h.png\n"
+                          "newmtl d\nbump h.png\nnorm n.png\n");
+    const char *text = "mtllib nm.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 0 1\n"
+                       "usemtl a\nf 1/1 2/2 3/3\nusemtl b\nf 1/1 3/3 2/2\nusemtl c\nf 1/1 2/2 3/3\n"
+                       "usemtl d\nf 1/1 3/3 2/2\n";
+    Mesh m;
+    ObjStats st;
+    Err err;
+    if (parse(text, &m, &st, &err, 0))
+        fail_msg("%s", err.msg);
+    const Material *a = &m.materials[m.mat[0]], *b = &m.materials[m.mat[1]], *c = &m.materials[m.mat[2]],
+                   *d = &m.materials[m.mat[3]];
+    assert_true(material_bumps(a));
+    assert_float_equal(a->normal_scale, 0.25, 0);
+    assert_true(material_bumps(b));
+    assert_float_equal(b->normal_scale, 1, 0);
+    assert_int_equal(a->normal_map, b->normal_map); /* one file, read once */
+    assert_false(material_bumps(c));
+    assert_int_equal(c->normal_map, 0);
+    assert_true(material_bumps(d)); /* norm wins over the grey bump */
+    assert_int_equal(d->normal_map, a->normal_map);
+    assert_int_equal(m.texture_count, 1);
+    assert_int_equal(st.warnings, 1); /* the height map */
     mesh_free(&m);
 }
 
@@ -513,6 +558,9 @@ static void material_extras_are_kept_and_mapped(void **state)
         {"newmtl a\nmap_d\n", "t.mtl:2: map_d: bad option or no file name"},
         {"newmtl a\nmap_d -zz 1 m.png\n", "t.mtl:2: map_d: bad option or no file name"},
         {"newmtl a\nmap_Kd -s\n", "t.mtl:2: map_Kd: bad option or no file name"},
+        {"bump m.png\n", "t.mtl:1: bump before any newmtl"},
+        {"newmtl a\nnorm -bm\n", "t.mtl:2: norm: bad option or no file name"},
+        {"newmtl a\nmap_Bump -bm inf n.png\n", "t.mtl:2: map_Bump: bad option or no file name"},
     };
     for (size_t i = 0; i < sizeof bad / sizeof *bad; i++) {
         char text[64];
@@ -620,6 +668,7 @@ int main(void)
         cmocka_unit_test(polygons_are_triangulated_and_degenerates_dropped),
         cmocka_unit_test(materials_from_mtllib),
         cmocka_unit_test(map_d_makes_a_cutout),
+        cmocka_unit_test(norm_and_coloured_bump_maps_are_normal_maps),
         cmocka_unit_test(material_extras_are_kept_and_mapped),
         cmocka_unit_test(smooth_normals_average_faces),
         cmocka_unit_test(smoothing_groups_share_normals),

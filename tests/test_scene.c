@@ -113,6 +113,35 @@ static void a_smooth_triangle_needs_its_normals(void **state)
     scene_destroy(s);
 }
 
+/* A scene's own materials neither cut holes nor carry normal maps (their
+ * textures would be the scene's, which no model's frame reads): a sent or
+ * coded one is refused by name; a normal map without its scale is no
+ * material at all. */
+static void scene_materials_have_no_cutouts_or_normal_maps(void **state)
+{
+    (void)state;
+    Material cut = material_default(), bumpy = material_default(), half = material_default();
+    cut.mask = 0, cut.cutoff = R(0.5);
+    bumpy.normal_map = 0, bumpy.normal_scale = 1;
+    half.normal_map = 1;
+    char why[160];
+    assert_null(material_problem(&bumpy, why, sizeof why));
+    assert_non_null(material_problem(&half, why, sizeof why));
+    assert_non_null(strstr(why, "normal_scale"));
+    const struct {
+        Material m;
+        const char *says;
+    } cases[] = {{cut, "is a cutout"}, {bumpy, "has a normal map"}};
+    for (int i = 0; i < 2; i++) {
+        Scene *s = scene_create();
+        assert_int_equal(scene_add_material(s, cases[i].m, NULL, NULL), 0);
+        Err err;
+        assert_int_equal(scene_check(s, &err), -1);
+        assert_contains(err.msg, cases[i].says);
+        scene_destroy(s);
+    }
+}
+
 static void byte_order_mark_and_spellings(void **state)
 {
     (void)state;
@@ -198,6 +227,7 @@ int main(void)
         cmocka_unit_test(full_scene),
         cmocka_unit_test(features_reflect_what_is_used),
         cmocka_unit_test(a_smooth_triangle_needs_its_normals),
+        cmocka_unit_test(scene_materials_have_no_cutouts_or_normal_maps),
         cmocka_unit_test(byte_order_mark_and_spellings),
         cmocka_unit_test(errors_name_file_line_and_expectation),
     };

@@ -2,6 +2,7 @@
 #include "model/import.h"
 #include "model/smooth.h"
 
+#include <assimp/GltfMaterial.h>
 #include <assimp/cimport.h>
 #include <assimp/material.h>
 #include <assimp/postprocess.h>
@@ -446,6 +447,20 @@ static void import_cutout(const struct aiMaterial *am, Material *mt)
     mt->cutoff = c < MATERIAL_CUTOFF_MAX ? c : MATERIAL_CUTOFF_MAX;
 }
 
+/* A material's normal map (glTF normalTexture, whose scale tilts it,
+ * FBX's NormalMap): its index in *tl. */
+static void import_normal_map(const struct aiScene *sc, const struct aiMaterial *am, const char *model,
+                              ImportTexList *tl, Material *mt)
+{
+    const int32_t t = import_tex_find(sc, am, IMPORT_TEX_NORMALS, model, tl);
+    ai_real scale = 1;
+    aiGetMaterialFloatArray(am, AI_MATKEY_GLTF_TEXTURE_SCALE(aiTextureType_NORMALS, 0), &scale, NULL);
+    if (t < 0 || !(scale > 0)) /* a scale of 0 leaves the normal as it is */
+        return;
+    mt->normal_map = t;
+    mt->normal_scale = real_min((real)scale, MATERIAL_NORMAL_SCALE_MAX);
+}
+
 /* Every material of the file into out, in the file's order, with its
  * texture (an index into *tl) where the model has texture coordinates. */
 static int import_materials(const struct aiScene *sc, const char *model, int has_t, Mesh *out, ImportTexList *tl,
@@ -456,8 +471,10 @@ static int import_materials(const struct aiScene *sc, const char *model, int has
         int optics;
         Material mt = import_material(sc->mMaterials[i], &optics);
         st->optics += (unsigned long)optics;
-        mt.texture = has_t ? import_tex_find(sc, sc->mMaterials[i], model, tl) : -1;
+        mt.texture = has_t ? import_tex_find(sc, sc->mMaterials[i], IMPORT_TEX_COLOUR, model, tl) : -1;
         import_cutout(sc->mMaterials[i], &mt);
+        if (has_t)
+            import_normal_map(sc, sc->mMaterials[i], model, tl, &mt);
         rc = mesh_add_material(out, mt, err);
     }
     return rc;
@@ -679,8 +696,7 @@ static int receive_mesh(const uint8_t *data, size_t len, const char *name, const
     for (uint32_t i = 0; i < nmat; i++) {
         Material mt;
         memcpy(&mt, mats + (size_t)i * sizeof mt, sizeof mt);
-        if (mt.texture < -1 || mt.texture >= (int32_t)ntex ||
-            (material_cuts(&mt) ? mt.mask < 0 || mt.mask >= (int32_t)ntex : mt.mask != 0)) {
+        if (!material_textures_in(&mt, (int32_t)ntex)) {
             free(map);
             mesh_free(out);
             return err_set(err, "%s: the importer's answer is implausible (material %u's texture)", name, i);
@@ -690,6 +706,10 @@ static int receive_mesh(const uint8_t *data, size_t len, const char *name, const
             mt.mask = map[mt.mask];
         if (mt.mask < 0)
             mt.mask = 0, mt.cutoff = 0;
+        if (material_bumps(&mt)) /* so does a normal map that could not */
+            mt.normal_map = map[mt.normal_map];
+        if (mt.normal_map < 0)
+            mt.normal_map = 0, mt.normal_scale = 0;
         if (mesh_add_material(out, mt, err)) {
             free(map);
             mesh_free(out);

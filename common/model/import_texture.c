@@ -101,18 +101,24 @@ static TextureWrap wrap_of(enum aiTextureMapMode m)
     return m == aiTextureMapMode_Clamp ? TEXTURE_CLAMP : m == aiTextureMapMode_Mirror ? TEXTURE_MIRROR : TEXTURE_REPEAT;
 }
 
-int32_t import_tex_find(const struct aiScene *sc, const struct aiMaterial *am, const char *model, ImportTexList *l)
+int32_t import_tex_find(const struct aiScene *sc, const struct aiMaterial *am, ImportTexRole role, const char *model,
+                        ImportTexList *l)
 {
     /* glTF's base colour is also its diffuse texture in Assimp 5.2; other
-     * formats name only the diffuse one */
-    static const enum aiTextureType types[] = {aiTextureType_DIFFUSE, aiTextureType_BASE_COLOR};
+     * formats name only the diffuse one.  A normal map (glTF's
+     * normalTexture, FBX's NormalMap) is of type NORMALS */
+    static const enum aiTextureType colour[] = {aiTextureType_DIFFUSE, aiTextureType_BASE_COLOR, aiTextureType_NONE};
+    static const enum aiTextureType normals[] = {aiTextureType_NORMALS, aiTextureType_NONE};
+    const enum aiTextureType *types = role == IMPORT_TEX_NORMALS ? normals : colour;
     struct aiString path;
     enum aiTextureType type = aiTextureType_NONE;
     enum aiTextureMapMode mode[2] = {aiTextureMapMode_Wrap, aiTextureMapMode_Wrap};
-    for (size_t k = 0; k < sizeof types / sizeof *types && type == aiTextureType_NONE; k++)
+    unsigned uv = 0; /* the texture coordinates' set: the first is the only one read (a colour
+                      * texture on another is read on it, as before; a normal map is not) */
+    for (size_t k = 0; types[k] != aiTextureType_NONE && type == aiTextureType_NONE; k++)
         if (aiGetMaterialTextureCount(am, types[k]) > 0 &&
-            aiGetMaterialTexture(am, types[k], 0, &path, NULL, NULL, NULL, NULL, mode, NULL) == aiReturn_SUCCESS &&
-            path.length > 0)
+            aiGetMaterialTexture(am, types[k], 0, &path, NULL, &uv, NULL, NULL, mode, NULL) == aiReturn_SUCCESS &&
+            path.length > 0 && (uv == 0 || role == IMPORT_TEX_COLOUR))
             type = types[k];
     if (type == aiTextureType_NONE)
         return -1;

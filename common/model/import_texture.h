@@ -3,10 +3,10 @@
  * parent (import.c's isolation).
  *
  * The child only finds each material's diffuse (glTF: base colour)
- * texture and collects its bytes, undecoded: an image embedded in the file
- * (a glTF's bufferView or data URI, an FBX's), or the file a relative path
- * names beside the model (file_find_near, as the OBJ reader finds its
- * textures); a texture it cannot find travels as missing, with why.  The
+ * texture and its normal map and collects their bytes, undecoded: an
+ * image embedded in the file (a glTF's bufferView or data URI, an FBX's),
+ * or the file a relative path names beside the model (file_find_near,
+ * as the OBJ reader finds its textures); a texture it cannot find travels as missing, with why.  The
  * parent decodes each with lanray's own readers (texture_read_memory: the
  * same hardened code as every texture file), so that a malformed image is
  * an error of the parent's, named, never a crash inside Assimp's process;
@@ -47,10 +47,16 @@ typedef struct {
     uint32_t n, cap;
 } ImportTexList;
 
-/* The child: material am's diffuse texture, added to l once per key; its
- * index in l, or -1 when the material has none.  `model` is the model
- * file's path (NULL for a model in memory: relative paths are missing). */
-int32_t import_tex_find(const struct aiScene *sc, const struct aiMaterial *am, const char *model, ImportTexList *l);
+/* Which of a material's textures: its colour's (diffuse, base colour) or
+ * its normal map. */
+typedef enum { IMPORT_TEX_COLOUR = 0, IMPORT_TEX_NORMALS = 1 } ImportTexRole;
+
+/* The child: material am's texture of that role, added to l once per key;
+ * its index in l, or -1 when the material has none (or a normal map on a
+ * second set of texture coordinates).  `model` is the model file's path (NULL for
+ * a model in memory: relative paths are missing). */
+int32_t import_tex_find(const struct aiScene *sc, const struct aiMaterial *am, ImportTexRole role, const char *model,
+                        ImportTexList *l);
 void import_tex_free(ImportTexList *l);
 /* The child: the list into the answer it sends. */
 void import_tex_send(Sink *o, const ImportTexList *l);

@@ -8,6 +8,7 @@
 
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 
 #include "base/fileio.h"
 #include "base/lex.h"
@@ -36,13 +37,22 @@ static int add(MtlLib *lib, const char *name, int line)
     if (!dp)
         return -1;
     lib->dmaps = dp;
+    void *np = realloc(lib->nmaps, (lib->count + 1) * sizeof *lib->nmaps);
+    if (!np)
+        return -1;
+    lib->nmaps = np;
+    void *nk = realloc(lib->nkinds, (lib->count + 1) * sizeof *lib->nkinds);
+    if (!nk)
+        return -1;
+    lib->nkinds = nk;
     void *x = realloc(lib->extra, (lib->count + 1) * sizeof *lib->extra);
     if (!x)
         return -1;
     lib->extra = x;
     lib->extra[lib->count] = (MtlExtra){v3_splat(0), v3_splat(0), R(0), R(1), -1, line, lib->file_count - 1};
-    lib->maps[lib->count] = (MtlMap){"", {R(1), R(1)}, {R(0), R(0)}, 0, FILE_AS_WRITTEN};
-    lib->dmaps[lib->count] = lib->maps[lib->count];
+    lib->maps[lib->count] = (MtlMap){"", {R(1), R(1)}, {R(0), R(0)}, 0, FILE_AS_WRITTEN, R(1)};
+    lib->dmaps[lib->count] = lib->nmaps[lib->count] = lib->maps[lib->count];
+    lib->nkinds[lib->count] = MTL_NORMALS_NONE;
     snprintf(lib->names[lib->count], MTL_NAME_MAX, "%s", name);
     lib->mats[lib->count] = material_default();
     lib->count++;
@@ -62,8 +72,9 @@ static int read_vec(const Tokens *t, vec3 *out)
 }
 
 /* map_Kd [-option value...] file: -s and -o set the placement, -clamp the
- * edge rule; the other options (blendu, blendv, bm, boost, cc, imfchan, mm,
- * t, texres, type) are read past with their values.  The file name is the
+ * edge rule, -bm a bump or normal map's strength; the other options
+ * (blendu, blendv, boost, cc, imfchan, mm, t, texres, type) are read past
+ * with their values.  The file name is the
  * rest of the line (names hold spaces), '\' read as '/', relative to the
  * library's directory. */
 static int read_map(const Tokens *t, const char *lib_path, MtlMap *m)
@@ -88,7 +99,10 @@ static int read_map(const Tokens *t, const char *lib_path, MtlMap *m)
             m->clamp = strcmp(t->tok[i++], "on") == 0;
         } else if (strcmp(o, "-mm") == 0) {
             i += 2;
-        } else if (strcmp(o, "-blendu") == 0 || strcmp(o, "-blendv") == 0 || strcmp(o, "-bm") == 0 ||
+        } else if (strcmp(o, "-bm") == 0) {
+            if (i >= t->n || lex_real(t->tok[i++], &m->bm))
+                return -1;
+        } else if (strcmp(o, "-blendu") == 0 || strcmp(o, "-blendv") == 0 ||
                    strcmp(o, "-boost") == 0 || strcmp(o, "-cc") == 0 || strcmp(o, "-imfchan") == 0 ||
                    strcmp(o, "-texres") == 0 || strcmp(o, "-type") == 0) {
             i += 1;
@@ -196,6 +210,15 @@ int mtl_parse(MtlLib *lib, char *text, size_t len, const char *name, Err *err)
                 return err_set(err, "%s:%d: %s before any newmtl", name, lx.line, k);
             if (read_map(&t, name, k[4] == 'K' ? &lib->maps[lib->count - 1] : &lib->dmaps[lib->count - 1]))
                 return err_set(err, "%s:%d: %s: bad option or no file name", name, lx.line, k);
+        } else if (strcmp(k, "norm") == 0 || strcasecmp(k, "map_bump") == 0 || strcmp(k, "bump") == 0) {
+            if (!cur)
+                return err_set(err, "%s:%d: %s before any newmtl", name, lx.line, k);
+            const unsigned n = lib->count - 1, kind = k[0] == 'n' ? MTL_NORMALS_NORM : MTL_NORMALS_BUMP;
+            MtlMap nm = {"", {R(1), R(1)}, {R(0), R(0)}, 0, FILE_AS_WRITTEN, R(1)};
+            if (read_map(&t, name, &nm))
+                return err_set(err, "%s:%d: %s: bad option or no file name", name, lx.line, k);
+            if (kind >= lib->nkinds[n]) /* norm says it is a normal map: it wins over a bump */
+                lib->nmaps[n] = nm, lib->nkinds[n] = (unsigned char)kind;
         } else if (strcmp(k, "Ns") == 0) {
             if (!cur)
                 return err_set(err, "%s:%d: Ns before any newmtl", name, lx.line);
@@ -263,6 +286,8 @@ void mtl_free(MtlLib *lib)
     free(lib->mats);
     free(lib->maps);
     free(lib->dmaps);
+    free(lib->nmaps);
+    free(lib->nkinds);
     free(lib->extra);
     free(lib->files);
     memset(lib, 0, sizeof *lib);

@@ -1,6 +1,7 @@
 /* mtl.h - Wavefront MTL material libraries: Kd, Ks, Ns and map_Kd per
- * newmtl, which Phong shading draws; map_d, a cutout's mask; Ka, Ke, Ni,
- * d, Tr and illum, checked and kept (MtlExtra); the other maps read past. */
+ * newmtl, which Phong shading draws; map_d, a cutout's mask; norm (and
+ * bump or map_Bump where it is one), a normal map; Ka, Ke, Ni, d, Tr and
+ * illum, checked and kept (MtlExtra); the other maps read past. */
 #ifndef LANRAY_MTL_H
 #define LANRAY_MTL_H
 
@@ -21,7 +22,14 @@ typedef struct {
     real s[2], o[2];
     int clamp;
     int found;               /* how file was found (FileFound, fileio.h) */
+    real bm;                 /* -bm: a bump or normal map's strength (1 when not given) */
 } MtlMap;
+
+/* Where a material's normal map came from: `norm` (the PBR extension's
+ * normal map), or `bump` / `map_Bump`, which exporters use for normal maps
+ * (Blender) and for grey height maps (Sponza) alike: read as a normal map
+ * unless its image is grey. */
+typedef enum { MTL_NORMALS_NONE = 0, MTL_NORMALS_BUMP = 1, MTL_NORMALS_NORM = 2 } MtlNormals;
 
 /* What a material says beyond the Phong terms: read, checked and kept, and
  * mapped onto lanray's reflection, refraction and emission by mtl_optics.
@@ -41,6 +49,8 @@ typedef struct {
     Material *mats;
     MtlMap *maps;
     MtlMap *dmaps; /* map_d: where its opacity (alpha, or grey level) is under 0.5, a hole */
+    MtlMap *nmaps; /* norm, bump, map_Bump: a normal map (nkinds says which) */
+    unsigned char *nkinds; /* MtlNormals */
     MtlExtra *extra;
     unsigned count;
     char (*files)[MTL_PATH_MAX]; /* the libraries read, for messages */

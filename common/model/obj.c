@@ -252,18 +252,29 @@ static void obj_free(Obj *o)
     mtl_free(&o->lib);
 }
 
+/* What a map is for: a material's colour (map_Kd), a cutout's mask
+ * (map_d), its normal map (norm), or a bump map (bump, map_Bump) that is a
+ * normal map unless its image is grey (a height map). */
+typedef enum { MAP_COLOUR, MAP_CUTOUT, MAP_NORMALS, MAP_BUMP } MapRole;
+
 /* One map's texture: the id of the same file read before with the same
  * edge rule (for another material, or as this one's other map), else the
- * file read now; -1, after a warning, where it cannot be read. */
-static int obj_map_texture(const MtlMap *map, int cutout, const char *mat, const MtlMap **seen, int32_t *seen_id,
+ * file read now; -1, after a warning, where it cannot be read (or is a
+ * height map). */
+static int obj_map_texture(const MtlMap *map, MapRole role, const char *mat, const MtlMap **seen, int32_t *seen_id,
                            uint32_t *nseen, Mesh *out, Warner *w, int32_t *id)
 {
-    const char *what = cutout ? "cutout mask (map_d)" : "texture";
+    static const char *const whats[] = {"texture", "cutout mask (map_d)", "normal map (norm)", "bump map"};
+    static const char *const left[] = {"untextured", "solid, no cutout", "its normals as they are",
+                                       "its normals as they are"};
+    const char *what = whats[role];
     *id = -1;
     for (uint32_t j = 0; j < *nseen && *id < 0; j++)
         if (strcmp(seen[j]->file, map->file) == 0 && seen[j]->clamp == map->clamp)
             *id = seen_id[j];
-    if (*id >= 0)
+    if (*id >= 0 && role == MAP_BUMP && texture_grey(out->textures[*id])) /* read as another map */
+        *id = -1;
+    else if (*id >= 0)
         return 0;
     const int elsewhere = map->found > FILE_AS_WRITTEN;
     w->st->found_elsewhere += elsewhere;
@@ -274,8 +285,12 @@ static int obj_map_texture(const MtlMap *map, int cutout, const char *mat, const
     Err terr;
     if (texture_read(map->file, &t, &terr)) {
         w->st->missing_textures++;
-        return warn(w, 0, "material '%s': %s not read (%s): %s", mat, what, terr.msg,
-                    cutout ? "solid, no cutout" : "untextured");
+        return warn(w, 0, "material '%s': %s not read (%s): %s", mat, what, terr.msg, left[role]);
+    }
+    if (role == MAP_BUMP && texture_grey(t)) {
+        texture_destroy(t);
+        return warn(w, 0, "material '%s': bump map %s is a height map (grey): not applied (lanray reads normal maps)",
+                    mat, map->file);
     }
     t->wrap[0] = t->wrap[1] = map->clamp ? TEXTURE_CLAMP : TEXTURE_REPEAT;
     uint32_t tid;
@@ -287,13 +302,15 @@ static int obj_map_texture(const MtlMap *map, int cutout, const char *mat, const
 }
 
 /* The textures of the materials faces use, each file read once: the
- * diffuse one (map_Kd), and a cutout's mask (map_d: its alpha, or a grey
- * image's level, under 0.5 a hole).  A texture that cannot be read is a
- * warning and leaves its material untextured, or solid. */
+ * diffuse one (map_Kd), a cutout's mask (map_d: its alpha, or a grey
+ * image's level, under 0.5 a hole), and a normal map (norm; bump or
+ * map_Bump where its image is not grey), its -bm its strength.  A texture
+ * that cannot be read is a warning and leaves its material untextured,
+ * solid, or with its normals as they are. */
 static int obj_textures(Obj *o, const int32_t *remap, Mesh *out, Warner *w)
 {
-    const MtlMap **seen = malloc(2 * (size_t)o->lib.count * sizeof *seen + 1);
-    int32_t *seen_id = malloc(2 * (size_t)o->lib.count * sizeof *seen_id + 1);
+    const MtlMap **seen = malloc(3 * (size_t)o->lib.count * sizeof *seen + 1);
+    int32_t *seen_id = malloc(3 * (size_t)o->lib.count * sizeof *seen_id + 1);
     uint32_t nseen = 0;
     int rc = seen && seen_id ? 0 : err_set(w->err, "out of memory for the materials' textures");
     for (uint32_t k = 0; rc == 0 && k < o->lib.count; k++) {
@@ -302,14 +319,21 @@ static int obj_textures(Obj *o, const int32_t *remap, Mesh *out, Warner *w)
         Material *m = &out->materials[remap[k]];
         int32_t id;
         if (o->lib.maps[k].file[0]) {
-            rc = obj_map_texture(&o->lib.maps[k], 0, o->lib.names[k], seen, seen_id, &nseen, out, w, &id);
+            rc = obj_map_texture(&o->lib.maps[k], MAP_COLOUR, o->lib.names[k], seen, seen_id, &nseen, out, w, &id);
             if (rc == 0 && id >= 0)
                 m->texture = id;
         }
         if (rc == 0 && o->lib.dmaps[k].file[0]) {
-            rc = obj_map_texture(&o->lib.dmaps[k], 1, o->lib.names[k], seen, seen_id, &nseen, out, w, &id);
+            rc = obj_map_texture(&o->lib.dmaps[k], MAP_CUTOUT, o->lib.names[k], seen, seen_id, &nseen, out, w, &id);
             if (rc == 0 && id >= 0)
                 m->mask = id, m->cutoff = R(0.5);
+        }
+        const MtlMap *nm = &o->lib.nmaps[k];
+        if (rc == 0 && nm->file[0] && nm->bm > R(0)) {
+            MapRole role = o->lib.nkinds[k] == MTL_NORMALS_NORM ? MAP_NORMALS : MAP_BUMP;
+            rc = obj_map_texture(nm, role, o->lib.names[k], seen, seen_id, &nseen, out, w, &id);
+            if (rc == 0 && id >= 0)
+                m->normal_map = id, m->normal_scale = real_min(nm->bm, MATERIAL_NORMAL_SCALE_MAX);
         }
     }
     free(seen);

@@ -259,3 +259,12 @@ int texture_filter_parse(const char *s, TextureFilter *out)
         *out = (TextureFilter)i;
     return i >= 0 ? 0 : -1;
 }
+
+int texture_grey(const Texture *t)
+{
+    const uint8_t *p = t->level[0].rgb;
+    for (size_t i = 0, n = (size_t)t->w * t->h; i < n; i++, p += 3)
+        if (p[0] != p[1] || p[1] != p[2])
+            return 0;
+    return 1;
+}

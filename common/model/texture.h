@@ -100,6 +100,9 @@ Texture *texture_with_alpha(Texture *t, const uint8_t *a);
  * itself, with the texture's wrap modes: the same answer on every path
  * and at every distance, whatever the filter. */
 real texture_coverage(const Texture *t, real u, real v);
+/* Whether every texel of the image has equal red, green and blue (a grey
+ * height map, not a normal map). */
+int texture_grey(const Texture *t);
 /* Whether w x h is a size a texture may have (1..TEXTURE_MAX_SIDE a side). */
 static inline int texture_size_ok(uint32_t w, uint32_t h)
 {
@@ -146,5 +149,11 @@ vec3 texture_texel(const Texture *t, uint32_t l, uint32_t x, uint32_t y);
  * over the footprint (texture_sample.c).  Non-finite coordinates read
  * texel (0, 0). */
 vec3 texture_sample(const Texture *t, real u, real v, const TexFootprint *fp, TextureFilter filter);
+/* A normal map's vector at (u, v): the texels read as data, each code c
+ * as c / 255 x 2 - 1 (not as sRGB), blended bilinearly in the image
+ * itself (no mip-map: its levels average colours in linear light), or the
+ * nearest texel of a `closest` texture; not normalised.  Non-finite
+ * coordinates read texel (0, 0). */
+vec3 texture_normal(const Texture *t, real u, real v);
 
 #endif

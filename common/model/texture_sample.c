@@ -78,16 +78,28 @@ static inline real sharpen(real a, real s)
     return w < R(0) ? R(0) : w > R(1) ? R(1) : w;
 }
 
-/* Texel (x, y) of level L in linear light. */
-static inline vec3 texel(const TextureLevel *L, uint32_t x, uint32_t y)
+/* A code as a number: a colour's in linear light (sRGB decoded), or, as
+ * `data`, a normal map's, 0 -> -1 and 255 -> 1 (128 a little above 0, as
+ * glTF's and every exporter's maps have it). */
+static inline real code_value(uint8_t c, const int data)
 {
-    const uint8_t *p = &L->rgb[3 * ((size_t)y * L->w + x)];
-    return v3(srgb_decode8[p[0]], srgb_decode8[p[1]], srgb_decode8[p[2]]);
+    return data ? (real)c * (R(2) / R(255)) - R(1) : (real)srgb_decode8[c];
 }
 
-/* Bilinear at level l; (u, v) wrapped or clamped already, v = 0 at the
- * top; sx, sy: a closest texture's footprint in this level's texels. */
-static inline vec3 bilinear(const Texture *t, uint32_t l, real u, real v, real sx, real sy)
+/* Texel (x, y) of level L, a colour or data (code_value). */
+static inline vec3 texel_by(const TextureLevel *L, uint32_t x, uint32_t y, const int data)
+{
+    const uint8_t *p = &L->rgb[3 * ((size_t)y * L->w + x)];
+    return v3(code_value(p[0], data), code_value(p[1], data), code_value(p[2], data));
+}
+
+/* Texel (x, y) of level L in linear light. */
+static inline vec3 texel(const TextureLevel *L, uint32_t x, uint32_t y) { return texel_by(L, x, y, 0); }
+
+/* Bilinear at level l, colours or data (texel_by); (u, v) wrapped or
+ * clamped already, v = 0 at the top; sx, sy: a closest texture's footprint
+ * in this level's texels. */
+static inline vec3 bilinear_by(const Texture *t, uint32_t l, real u, real v, real sx, real sy, const int data)
 {
     const TextureLevel *L = &t->level[l];
     real fx = u * (real)L->w - R(0.5), fy = v * (real)L->h - R(0.5);
@@ -100,9 +112,14 @@ static inline vec3 bilinear(const Texture *t, uint32_t l, real u, real v, real s
     int64_t x0 = (int64_t)x0f, y0 = (int64_t)y0f;
     uint32_t xa = address(t->wrap[0], x0, L->w), xb = address(t->wrap[0], x0 + 1, L->w);
     uint32_t ya = address(t->wrap[1], y0, L->h), yb = address(t->wrap[1], y0 + 1, L->h);
-    vec3 top = v3_lerp(texel(L, xa, ya), texel(L, xb, ya), ax);
-    vec3 bot = v3_lerp(texel(L, xa, yb), texel(L, xb, yb), ax);
+    vec3 top = v3_lerp(texel_by(L, xa, ya, data), texel_by(L, xb, ya, data), ax);
+    vec3 bot = v3_lerp(texel_by(L, xa, yb, data), texel_by(L, xb, yb, data), ax);
     return v3_lerp(top, bot, ay);
+}
+
+static inline vec3 bilinear(const Texture *t, uint32_t l, real u, real v, real sx, real sy)
+{
+    return bilinear_by(t, l, u, v, sx, sy, 0);
 }
 
 /* A coordinate pair as the levels index them: each axis by its wrap
@@ -209,4 +226,17 @@ real texture_coverage(const Texture *t, real u, real v)
         return (real)t->alpha[i] / R(255);
     const uint8_t *p = &t->level[0].rgb[3 * i];
     return (real)(p[0] + p[1] + p[2]) / R(765);
+}
+
+vec3 texture_normal(const Texture *t, real u, real v)
+{
+    if (!isfinite(u) || !isfinite(v))
+        u = v = R(0);
+    if (t->closest) {
+        uint32_t x, y;
+        nearest_xy(t, u, v, &x, &y);
+        return texel_by(&t->level[0], x, y, 1);
+    }
+    place(t, &u, &v);
+    return bilinear_by(t, 0, u, v, 1, 1, 1);
 }

@@ -14,7 +14,7 @@
 #include "scene/world.h"
 
 #define WIRE_MAGIC 0x4353524cu /* "LRSC" */
-#define WIRE_VERSION 11u /* 2: the output encoding (linear or sRGB), a plane's texture mapping;
+#define WIRE_VERSION 12u /* 2: the output encoding (linear or sRGB), a plane's texture mapping;
                          * 3: the extras word, reflection, refraction and emission;
                          * 4: texture filters trilinear and anisotropic, the sampling
                          * (extras 16), what a ray cut at the depth limit returns;
@@ -22,7 +22,8 @@
                          * the extras word; 6: settings light_sampling; 7: settings integrator;
                          * 8: settings emitter_sampling, roulette; material checker;
                          * 9: settings contrast; 10: settings light_samples;
-                         * 11: material mask, cutoff (a model's cutouts, in its asset) */
+                         * 11: material mask, cutoff (a model's cutouts, in its asset);
+                         * 12: material normal_map, normal_scale (a model's, in its asset) */
 
 /* Serialises s, checked (scene_check); model_assets[i] / texture_assets[i] are the assets of
  * s->models[i] / s->textures[i]. */

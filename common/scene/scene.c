@@ -256,6 +256,8 @@ static int check_materials(const Scene *s, Err *err)
             return err_set(err, "scene: material %u uses texture %d but the scene has %u", i, m->texture, s->texture_count);
         if (material_cuts(m))
             return err_set(err, "scene: material %u is a cutout: only a model's own materials cut holes", i);
+        if (material_bumps(m))
+            return err_set(err, "scene: material %u has a normal map: only a model's own materials have one", i);
     }
     return 0;
 }

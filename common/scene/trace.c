@@ -688,11 +688,67 @@ static __attribute__((noinline)) void surface_lift(Surface *out, const Hit *h, c
 }
 
 /* A smooth triangle's corners and vertex normals, for the terminator point
- * (model space for an instance: pm, and the instance). */
+ * (model space for an instance: pm, and the instance); and a normal-mapped
+ * triangle's map and tangent frame, for surface_bump. */
 typedef struct {
     vec3 tv[3], tn[3], pm;
     const WorldInstance *inst;
+    const Texture *nmap; /* NULL: no normal map */
+    real nscale;
+    vec3 dpdu, dpdv; /* how the point moves with u and with v, in the world */
 } Lift;
+
+/* The tangent frame of a model's triangle whose material has a normal
+ * map: the directions in which u and v grow across it (from its corners'
+ * positions and texture coordinates, as pbrt's triangles without tangents
+ * take them), turned into the world.  None (l->nmap left NULL) where the
+ * texture coordinates do not span the triangle. */
+static __attribute__((noinline)) void bump_frame(const Model *m, uint32_t tri, const WorldInstance *in,
+                                                const Material *mat, Lift *l)
+{
+    const Tri *t = &m->tris[tri];
+    const real *uv = &m->uvs[6 * tri];
+    const vec3 e1 = v3_sub(tri_vertex(t, 1), tri_vertex(t, 0)), e2 = v3_sub(tri_vertex(t, 2), tri_vertex(t, 0));
+    const real du1 = uv[2] - uv[0], dv1 = uv[3] - uv[1], du2 = uv[4] - uv[0], dv2 = uv[5] - uv[1];
+    const real det = du1 * dv2 - du2 * dv1;
+    if (!(fabs(det) > R(0)) || !isfinite(det))
+        return;
+    const vec3 dpdu = v3_scale(v3_sub(v3_scale(e1, dv2), v3_scale(e2, dv1)), R(1) / det);
+    const vec3 dpdv = v3_scale(v3_sub(v3_scale(e2, du1), v3_scale(e1, du2)), R(1) / det);
+    l->dpdu = m3_apply(&in->rot, dpdu);
+    l->dpdv = m3_apply(&in->rot, dpdv);
+    l->nscale = mat->normal_scale;
+    l->nmap = m->textures[mat->normal_map];
+}
+
+/* The shading normal of a normal-mapped surface: the map's vector (x, y
+ * tilted by the scale) in the frame of the tangent (u's direction made
+ * perpendicular to the normal), the bitangent (n x t, turned towards v's
+ * direction, so mirrored texture coordinates mirror it) and the normal the
+ * vertices give, on the side the map was made for (the normal before
+ * surface_at turned it to the viewer: `flip`), then turned as that one
+ * was.  A mapped normal that would face away from the viewer, or a frame
+ * that does not exist, leaves ns as it was. */
+static __attribute__((noinline)) void surface_bump(Surface *out, const Lift *l, int flip)
+{
+    const vec3 n = flip ? v3_neg(out->ns) : out->ns;
+    vec3 t = v3_sub(l->dpdu, v3_scale(n, v3_dot(n, l->dpdu)));
+    const real tl = v3_len(t);
+    if (!(tl > R(0)) || !isfinite(tl))
+        return;
+    t = v3_scale(t, R(1) / tl);
+    vec3 b = v3_cross(n, t);
+    if (v3_dot(b, l->dpdv) < R(0))
+        b = v3_neg(b);
+    const vec3 c = texture_normal(l->nmap, out->u, out->v);
+    vec3 p = v3_madd(v3_madd(v3_scale(n, c.z), t, c.x * l->nscale), b, c.y * l->nscale);
+    const real pl = v3_len(p);
+    if (!(pl > R(0)) || !isfinite(pl))
+        return;
+    p = v3_scale(p, flip ? R(-1) / pl : R(1) / pl);
+    if (v3_dot(p, out->ng) > R(0))
+        out->ns = p;
+}
 
 /* The surfaces of each kind of hit, for surface_at; `optional` as there. */
 static inline __attribute__((always_inline)) void surface_sphere(const World *w, const Ray *r, const Hit *h,
@@ -810,6 +866,8 @@ static inline __attribute__((always_inline)) int surface_instance(const World *w
         /* a model's own material names the model's own texture */
         out->tex = out->mat->texture >= 0 ? m->textures[out->mat->texture] : NULL;
         model_tex = 1;
+        if (optional && world_uses(w, FEAT_NORMAL_MAP) && out->has_uv && material_bumps(out->mat))
+            bump_frame(m, h->sub, in, out->mat, lift);
     }
     out->object = w->sphere_count + w->plane_count + w->material_count + h->index;
     return model_tex;
@@ -830,6 +888,7 @@ static inline __attribute__((always_inline)) void surface_at(const World *w, con
     Lift lift;
     lift.pm = v3_splat(0);
     lift.inst = NULL;
+    lift.nmap = NULL;
     int model_tex = 0;
     switch (h->kind) {
     case HIT_SPHERE: surface_sphere(w, r, h, out, optional); break;
@@ -852,6 +911,8 @@ static inline __attribute__((always_inline)) void surface_at(const World *w, con
     out->ps_err = out->err;
     if (out->smooth)
         surface_lift(out, h, lift.tv, lift.tn, flip, lift.inst, lift.pm);
+    if (optional && lift.nmap)
+        surface_bump(out, &lift, flip);
 }
 
 void trace_surface(const World *w, const Ray *r, const Hit *h, Surface *out)

@@ -37,6 +37,7 @@ enum {
     FEAT_ROUGH = 1 << 12,  /* a mirror with roughness */
     FEAT_LENS = 1 << 13,   /* a camera with an aperture (depth of field) */
     FEAT_CHECKER = 1 << 14, /* a material with a checker pattern */
+    FEAT_NORMAL_MAP = 1 << 15, /* a model's material with a normal map */
 };
 
 /* What one frame is rendered with beside the world. */

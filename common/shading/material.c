@@ -8,7 +8,7 @@
 #include <string.h>
 
 #define OFF(f) offsetof(Material, f)
-enum { GROUP_MIRROR = 1, GROUP_DIELECTRIC = 2, GROUP_EMIT = 3, GROUP_CHECKER = 4, GROUP_CUTOUT = 5 };
+enum { GROUP_MIRROR = 1, GROUP_DIELECTRIC = 2, GROUP_EMIT = 3, GROUP_CHECKER = 4, GROUP_CUTOUT = 5, GROUP_NORMAL = 6 };
 
 static const Field fields[] = {
     {.key = "diffuse", .type = FIELD_VEC, .off = OFF(kd), .hi = FIELD_INF, .def = 0.8,
@@ -39,14 +39,20 @@ static const Field fields[] = {
      .doc = "a square's side: world units (a solid pattern), or texture units with `checker_uv`; needs `checker`"},
     {.key = "checker_uv", .type = FIELD_FLAG, .group = GROUP_CHECKER, .off = OFF(checker_uv),
      .doc = "the pattern on the surface's texture coordinates (2D), not in space (3D); needs `checker`"},
-    /* a model's own materials only (MTL map_d, glTF alphaMode MASK): on the
-     * wire and in .tmd files, not scene-file keywords (a scene's spheres,
-     * planes, triangles and instances are solid) */
+    /* a model's own materials only (cutouts: MTL map_d, glTF alphaMode
+     * MASK; normal maps: MTL norm, glTF normalTexture): on the wire and in
+     * .tmd files, not scene-file keywords (a scene's spheres, planes,
+     * triangles and instances are solid and take their normals as given) */
     {.key = "mask", .type = FIELD_NAME, .group = GROUP_CUTOUT, .flags = FIELD_WIRE, .off = OFF(mask),
      .doc = "a cutout's texture: where its opacity (its alpha, or a grey image's level) is under `cutoff`, the "
             "surface is not there"},
     {.key = "cutoff", .type = FIELD_REAL, .group = GROUP_CUTOUT, .flags = FIELD_WIRE | FIELD_ZERO_OK, .off = OFF(cutoff),
      .lo = 1e-6, .hi = 2, .doc = "the opacity under which a cutout's texels are holes (above 1: all); 0: no cutout"},
+    {.key = "normal_map", .type = FIELD_NAME, .group = GROUP_NORMAL, .flags = FIELD_WIRE, .off = OFF(normal_map),
+     .doc = "a normal map's texture: its texels, read as data, are the shading normal in the surface's tangent frame"},
+    {.key = "normal_scale", .type = FIELD_REAL, .group = GROUP_NORMAL, .flags = FIELD_WIRE | FIELD_ZERO_OK,
+     .off = OFF(normal_scale), .lo = 1e-6, .hi = 16,
+     .doc = "how far the normal map tilts the normal (its x and y times this); 0: no normal map"},
 };
 
 static const FieldRule rules[] = {
@@ -61,7 +67,7 @@ static const FieldRule rules[] = {
 };
 
 const FieldKind material_kind = {.name = "material", .fields = fields, .count = sizeof fields / sizeof *fields,
-                                 .rules = rules, .group_count = 5};
+                                 .rules = rules, .group_count = 6};
 
 Material material_default(void)
 {
@@ -88,6 +94,10 @@ const char *material_problem(const Material *m, char *buf, size_t size)
         return buf;
     if (!material_cuts(m) && m->mask != 0) {
         snprintf(buf, size, "a mask (texture %d) without a cutoff", m->mask);
+        return buf;
+    }
+    if (!material_bumps(m) && m->normal_map != 0) {
+        snprintf(buf, size, "a normal map (texture %d) without a normal_scale", m->normal_map);
         return buf;
     }
     if (material_dielectric(m) && material_reflects(m)) {

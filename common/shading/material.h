@@ -36,9 +36,17 @@ typedef struct {
      * only (model.h's model_cut). */
     int32_t mask;
     real cutoff;
+    /* a normal map (glTF normalTexture, MTL norm): texture `normal_map`'s
+     * texels, read as data (code / 255 x 2 - 1, not sRGB), are the shading
+     * normal in the surface's tangent frame (u, v, normal), their x and y
+     * times normal_scale; normal_scale 0: none (as the initialisers that
+     * leave these out give).  A model's own materials only. */
+    int32_t normal_map;
+    real normal_scale;
 } Material;
 
 #define MATERIAL_CUTOFF_MAX R(2) /* above 1: every texel of a mask a hole */
+#define MATERIAL_NORMAL_SCALE_MAX R(16)
 #define MATERIAL_IOR_MIN R(0.0625)
 #define MATERIAL_IOR_MAX R(16)
 
@@ -48,6 +56,16 @@ static inline int material_emits(const Material *m) { return m->ke.x > R(0) || m
 static inline int material_rough(const Material *m) { return material_reflects(m) && m->roughness > R(0); }
 static inline int material_checkered(const Material *m) { return m->checker_size > R(0); }
 static inline int material_cuts(const Material *m) { return m->cutoff > R(0); }
+static inline int material_bumps(const Material *m) { return m->normal_scale > R(0); }
+/* Whether the textures the material names (its colour's, a cutout's mask,
+ * a normal map) are among `count`; a mask or normal map it does not use
+ * must be 0. */
+static inline int material_textures_in(const Material *m, int32_t count)
+{
+    return m->texture >= -1 && m->texture < count &&
+           (material_cuts(m) ? m->mask >= 0 && m->mask < count : m->mask == 0) &&
+           (material_bumps(m) ? m->normal_map >= 0 && m->normal_map < count : m->normal_map == 0);
+}
 /* Whether a surface of this material needs its texture coordinates. */
 static inline int material_wants_uv(const Material *m) { return m->texture >= 0 || (material_checkered(m) && m->checker_uv); }
 

@@ -1,0 +1,191 @@
+/* test_normalmap.c - a model's normal map: the shading normal its texels
+ * give in the tangent frame of the surface's texture coordinates. */
+#include <math.h>
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+
+#include <cmocka.h>
+
+#include "helpers.h"
+#include "scene/trace.h"
+#include "worlds.h"
+
+typedef struct {
+    uint8_t rgb[3];  /* the map's one texel */
+    real scale;      /* normal_scale; 0: no map */
+    int mirror_u;    /* u runs from 1 at x = 0 to 0 at x = 1 */
+    int flat_uv;     /* every corner at the same texture coordinates */
+    vec3 rotate;     /* the instance's rotation, degrees */
+} Quad;
+
+/* The unit quad x, y in [0, 1] at z = 0, normals +z, u along x (or back),
+ * v along y, its material's normal map one texel, as one instance. */
+static Scene *quad_scene(const Quad *q)
+{
+    Mesh mesh;
+    Err err;
+    assert_int_equal(mesh_init(&mesh, MESH_NORMALS | MESH_UVS | MESH_MATERIALS, &err), 0);
+    uint32_t tex;
+    assert_int_equal(mesh_add_texture(&mesh, texture_from_rgb8(1, 1, q->rgb), &tex, &err), 0);
+    Material m = material_default();
+    if (q->scale > 0)
+        m.normal_map = (int32_t)tex, m.normal_scale = q->scale;
+    assert_int_equal(mesh_add_material(&mesh, m, &err), 0);
+    const vec3 a[3] = {v3(0, 0, 0), v3(1, 0, 0), v3(1, 1, 0)}, b[3] = {v3(0, 0, 0), v3(1, 1, 0), v3(0, 1, 0)};
+    const vec3 n[3] = {v3(0, 0, 1), v3(0, 0, 1), v3(0, 0, 1)};
+    real ua[6] = {0, 0, 1, 0, 1, 1}, ub[6] = {0, 0, 1, 1, 0, 1};
+    for (int i = 0; i < 6; i += 2) {
+        if (q->mirror_u)
+            ua[i] = 1 - ua[i], ub[i] = 1 - ub[i];
+        if (q->flat_uv)
+            ua[i] = ub[i] = R(0.25), ua[i + 1] = ub[i + 1] = R(0.5);
+    }
+    assert_int_equal(mesh_add(&mesh, a, n, ua, NULL, 0, &err), 0);
+    assert_int_equal(mesh_add(&mesh, b, n, ub, NULL, 0, &err), 0);
+    Model *model;
+    BvhOptions opt = bvh_options_default(BVH_SAH);
+    if (model_from_mesh(&model, &mesh, &opt, &err))
+        fail_msg("%s", err.msg);
+    mesh_free(&mesh);
+    Scene *s = scene_create();
+    uint32_t id;
+    assert_int_equal(scene_add_model(s, model, &id, NULL), 0);
+    assert_int_equal(scene_add_instance(s, (Instance){id, v3(0, 0, 0), q->rotate, 1, -1}, NULL), 0);
+    return s;
+}
+
+/* The shading normal where a ray from `from` towards `to` meets the quad. */
+static Surface surface_seen(const Quad *q, vec3 from, vec3 to)
+{
+    Scene *s = quad_scene(q);
+    const World *w = world_now(s);
+    Ray r = ray_make(from, v3_norm(v3_sub(to, from)), 0, REAL_MAX);
+    Hit h;
+    assert_true(trace_closest(w, &r, &h));
+    Surface sf;
+    trace_surface(w, &r, &h, &sf);
+    world_now_free();
+    scene_destroy(s);
+    return sf;
+}
+
+/* A code as the map's number, as glTF defines it. */
+static double code(uint8_t c) { return c / 255.0 * 2 - 1; }
+
+/* normalise(t x sx + b y sy + n z) for the texel's numbers. */
+static vec3 mapped(const uint8_t rgb[3], real scale, vec3 t, vec3 b, vec3 n)
+{
+    vec3 p = v3_add(v3_add(v3_scale(t, (real)code(rgb[0]) * scale), v3_scale(b, (real)code(rgb[1]) * scale)),
+                    v3_scale(n, (real)code(rgb[2])));
+    return v3_norm(p);
+}
+
+static void assert_near(vec3 got, vec3 want, double tol)
+{
+    for (int a = 0; a < 3; a++)
+        if (fabs((double)got.e[a] - (double)want.e[a]) > tol)
+            fail_msg("normal (%.5f %.5f %.5f), expected (%.5f %.5f %.5f)", (double)got.x, (double)got.y, (double)got.z,
+                     (double)want.x, (double)want.y, (double)want.z);
+}
+
+static const vec3 X = {{1, 0, 0}}, Y = {{0, 1, 0}}, Z = {{0, 0, 1}};
+
+static void red_tilts_the_normal_towards_u_and_green_towards_v(void **state)
+{
+    (void)state;
+    Quad q = {.rgb = {218, 128, 218}, .scale = 1};
+    Surface sf = surface_seen(&q, v3(0.3f, 0.6f, 1), v3(0.3f, 0.6f, 0));
+    assert_near(sf.ns, mapped(q.rgb, 1, X, Y, Z), 1e-5);
+    assert_true(sf.ns.x > R(0.6));
+    Quad g = {.rgb = {128, 218, 218}, .scale = 1};
+    sf = surface_seen(&g, v3(0.7f, 0.2f, 1), v3(0.7f, 0.2f, 0));
+    assert_near(sf.ns, mapped(g.rgb, 1, X, Y, Z), 1e-5);
+    assert_true(sf.ns.y > R(0.6));
+    /* the geometric normal stays the triangle's */
+    assert_near(sf.ng, Z, 0);
+}
+
+static void the_scale_tilts_x_and_y_only(void **state)
+{
+    (void)state;
+    Quad q = {.rgb = {218, 80, 218}, .scale = R(0.5)};
+    Surface sf = surface_seen(&q, v3(0.3f, 0.6f, 1), v3(0.3f, 0.6f, 0));
+    assert_near(sf.ns, mapped(q.rgb, R(0.5), X, Y, Z), 1e-5);
+    Quad none = q;
+    none.scale = 0; /* no map: the vertex normals' */
+    sf = surface_seen(&none, v3(0.3f, 0.6f, 1), v3(0.3f, 0.6f, 0));
+    assert_near(sf.ns, Z, 0);
+}
+
+/* Texture coordinates that run against x turn the tangent: the normal
+ * leans to -x, and still to +v. */
+static void mirrored_coordinates_mirror_the_frame(void **state)
+{
+    (void)state;
+    Quad q = {.rgb = {218, 170, 218}, .scale = 1, .mirror_u = 1};
+    Surface sf = surface_seen(&q, v3(0.3f, 0.6f, 1), v3(0.3f, 0.6f, 0));
+    assert_near(sf.ns, mapped(q.rgb, 1, v3(-1, 0, 0), Y, Z), 1e-5);
+    assert_true(sf.ns.x < R(-0.5) && sf.ns.y > R(0.1));
+}
+
+/* Seen from behind, the surface's normal is the front's turned round:
+ * the same tilted surface. */
+static void from_behind_the_normal_is_the_fronts_reversed(void **state)
+{
+    (void)state;
+    Quad q = {.rgb = {218, 170, 218}, .scale = 1};
+    Surface sf = surface_seen(&q, v3(0.3f, 0.6f, -1), v3(0.3f, 0.6f, 0));
+    assert_near(sf.ns, v3_neg(mapped(q.rgb, 1, X, Y, Z)), 1e-5);
+    assert_near(sf.ng, v3(0, 0, -1), 0);
+}
+
+/* An instance's rotation turns the mapped normal with the surface. */
+static void the_instance_turns_the_frame(void **state)
+{
+    (void)state;
+    Quad q = {.rgb = {218, 170, 218}, .scale = 1, .rotate = v3(0, 90, 0)};
+    /* rotated 90 degrees about y: x -> -z, z -> x; the quad at x = 0 faces +x */
+    Surface sf = surface_seen(&q, v3(1, 0.6f, -0.3f), v3(0, 0.6f, -0.3f));
+    assert_near(sf.ng, X, 1e-6);
+    assert_near(sf.ns, mapped(q.rgb, 1, v3(0, 0, -1), Y, X), 1e-5);
+}
+
+/* Where the map's normal would face away from the viewer, or the texture
+ * coordinates give no frame, the vertex normals' stays. */
+static void no_frame_or_a_normal_below_keeps_the_vertex_normal(void **state)
+{
+    (void)state;
+    Quad below = {.rgb = {255, 128, 0}, .scale = 1};
+    Surface sf = surface_seen(&below, v3(0.3f, 0.6f, 1), v3(0.3f, 0.6f, 0));
+    assert_near(sf.ns, Z, 0);
+    Quad flat = {.rgb = {218, 170, 218}, .scale = 1, .flat_uv = 1};
+    sf = surface_seen(&flat, v3(0.3f, 0.6f, 1), v3(0.3f, 0.6f, 0));
+    assert_near(sf.ns, Z, 0);
+}
+
+/* A texel read as data: 128 128 255 is (almost) the normal itself, not
+ * sRGB-decoded (which would read 128 as 0.22, a tilt of 56 degrees). */
+static void the_map_is_read_as_data(void **state)
+{
+    (void)state;
+    const uint8_t rgb[3] = {0, 128, 255};
+    Texture *t = texture_from_rgb8(1, 1, rgb);
+    vec3 c = texture_normal(t, R(0.5), R(0.5));
+    assert_near(c, v3(-1, (real)code(128), 1), 1e-6);
+    texture_destroy(t);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(red_tilts_the_normal_towards_u_and_green_towards_v),
+        cmocka_unit_test(the_scale_tilts_x_and_y_only),
+        cmocka_unit_test(mirrored_coordinates_mirror_the_frame),
+        cmocka_unit_test(from_behind_the_normal_is_the_fronts_reversed),
+        cmocka_unit_test(the_instance_turns_the_frame),
+        cmocka_unit_test(no_frame_or_a_normal_below_keeps_the_vertex_normal),
+        cmocka_unit_test(the_map_is_read_as_data),
+    };
+    return cmocka_run_group_tests_name("normalmap", tests, NULL, NULL);
+}
