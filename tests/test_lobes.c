@@ -163,36 +163,34 @@ static void emitters_cover_their_solid_angle(void **state)
     scene_destroy(s);
 }
 
-/* An emitting model whose material is a cutout (its left half a hole)
- * gives light only from its solid half: every sample that counts lies on
- * it, and the samples cover the solid half's solid angle. */
-static void a_cutout_emits_only_where_it_is(void **state)
+/* An emitting model whose left half gives no light, as a cutout (a hole
+ * there) or by its emission texture (black there, white on the right):
+ * every sample that brings light lies on the right half, and the samples'
+ * light over their density covers the right half's solid angle (the
+ * integral of the radiance, 1 there). */
+static void half_emitter_lights_from_its_bright_half(int glow)
 {
-    (void)state;
     Mesh mesh;
     Err err;
     assert_int_equal(mesh_init(&mesh, MESH_UVS | MESH_MATERIALS, &err), 0);
-    const uint8_t grey[6] = {0, 0, 0, 255, 255, 255}; /* 2 x 1: black (a hole), white */
+    const uint8_t grey[6] = {0, 0, 0, 255, 255, 255}; /* 2 x 1: black (a hole, or dark), white */
+    Texture *t = texture_from_rgb8(2, 1, grey);
+    t->closest = 1; /* read at one point: the nearest texel, no blend across the middle */
     uint32_t tex;
-    assert_int_equal(mesh_add_texture(&mesh, texture_from_rgb8(2, 1, grey), &tex, &err), 0);
+    assert_int_equal(mesh_add_texture(&mesh, t, &tex, &err), 0);
     Material m = material_default();
     m.kd = v3(0, 0, 0), m.ke = v3(1, 1, 1);
-    m.mask = (int32_t)tex, m.cutoff = R(0.5);
+    if (glow)
+        m.emit_map = (int32_t)tex, m.emit_mapped = 1;
+    else
+        m.mask = (int32_t)tex, m.cutoff = R(0.5);
     assert_int_equal(mesh_add_material(&mesh, m, &err), 0);
     /* the quad x 0..2, y 0..1 at z = 0, u = x / 2 */
     const vec3 a[3] = {v3(0, 0, 0), v3(2, 0, 0), v3(2, 1, 0)}, b[3] = {v3(0, 0, 0), v3(2, 1, 0), v3(0, 1, 0)};
     const real ua[6] = {0, 0, 1, 0, 1, 1}, ub[6] = {0, 0, 1, 1, 0, 1};
     assert_int_equal(mesh_add(&mesh, a, NULL, ua, NULL, 0, &err), 0);
     assert_int_equal(mesh_add(&mesh, b, NULL, ub, NULL, 0, &err), 0);
-    Model *model;
-    BvhOptions opt = bvh_options_default(BVH_SAH);
-    if (model_from_mesh(&model, &mesh, &opt, &err))
-        fail_msg("%s", err.msg);
-    mesh_free(&mesh);
-    Scene *s = scene_create();
-    uint32_t id;
-    assert_int_equal(scene_add_model(s, model, &id, NULL), 0);
-    assert_int_equal(scene_add_instance(s, (Instance){id, v3(0, 0, 0), v3(0, 0, 0), 1, -1}, NULL), 0);
+    Scene *s = worlds_scene_of_mesh(&mesh, v3(0, 0, 0));
     s->settings.integrator = INTEGRATOR_PATH;
     const World *w = world_now(s);
     assert_int_equal(w->emitter_count, 2);
@@ -205,17 +203,30 @@ static void a_cutout_emits_only_where_it_is(void **state)
         if (!emitters_sample(w, p, rng_real(&rng, 0, 1), rng_real(&rng, 0, 1), rng_real(&rng, 0, 1), &es))
             continue;
         const vec3 q = v3_add(p, v3_scale(es.dir, es.dist));
-        if (q.x < R(0.999))
-            fail_msg("light from (%g, %g), in the hole", (double)q.x, (double)q.y);
-        sum += 1 / (double)es.pdf;
+        if (q.x < R(0.999) && es.radiance.x > R(0))
+            fail_msg("light %g from (%g, %g), on the dark half", (double)es.radiance.x, (double)q.x, (double)q.y);
+        sum += (double)es.radiance.x / (double)es.pdf;
     }
-    /* the solid half, x 1..2, y 0..1 at distance 1: its solid angle by two triangles */
+    /* the bright half, x 1..2, y 0..1 at distance 1: its solid angle by two triangles */
     const vec3 c0 = v3(0, -0.5f, -1), c1 = v3(1, -0.5f, -1), c2 = v3(1, 0.5f, -1), c3 = v3(0, 0.5f, -1);
     const double want = triangle_solid_angle(c0, c1, c2) + triangle_solid_angle(c0, c2, c3);
     if (fabs(sum / N - want) > 0.01 * want)
-        fail_msg("the cutout's samples cover %.5f sr, its solid half fills %.5f", sum / N, want);
+        fail_msg("the %s's samples bring %.5f, its bright half %.5f", glow ? "emission texture" : "cutout", sum / N,
+                 want);
     world_now_free();
     scene_destroy(s);
+}
+
+static void a_cutout_emits_only_where_it_is(void **state)
+{
+    (void)state;
+    half_emitter_lights_from_its_bright_half(0);
+}
+
+static void an_emission_texture_lights_by_its_texels(void **state)
+{
+    (void)state;
+    half_emitter_lights_from_its_bright_half(1);
 }
 
 int main(void)
@@ -226,6 +237,7 @@ int main(void)
         cmocka_unit_test(a_white_lambertian_weighs_one),
         cmocka_unit_test(emitters_cover_their_solid_angle),
         cmocka_unit_test(a_cutout_emits_only_where_it_is),
+        cmocka_unit_test(an_emission_texture_lights_by_its_texels),
     };
     return cmocka_run_group_tests_name("lobes", tests, NULL, NULL);
 }

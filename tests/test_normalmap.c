@@ -43,16 +43,7 @@ static Scene *quad_scene(const Quad *q)
     }
     assert_int_equal(mesh_add(&mesh, a, n, ua, NULL, 0, &err), 0);
     assert_int_equal(mesh_add(&mesh, b, n, ub, NULL, 0, &err), 0);
-    Model *model;
-    BvhOptions opt = bvh_options_default(BVH_SAH);
-    if (model_from_mesh(&model, &mesh, &opt, &err))
-        fail_msg("%s", err.msg);
-    mesh_free(&mesh);
-    Scene *s = scene_create();
-    uint32_t id;
-    assert_int_equal(scene_add_model(s, model, &id, NULL), 0);
-    assert_int_equal(scene_add_instance(s, (Instance){id, v3(0, 0, 0), q->rotate, 1, -1}, NULL), 0);
-    return s;
+    return worlds_scene_of_mesh(&mesh, q->rotate);
 }
 
 /* The shading normal where a ray from `from` towards `to` meets the quad. */

@@ -204,6 +204,36 @@ static void norm_and_coloured_bump_maps_are_normal_maps(void **state)
     mesh_free(&m);
 }
 
+/* map_Ke is the emission's texture: times Ke, or alone (Ke 1) where the
+ * material gives no Ke; with Ke 0 nothing glows. */
+static void map_Ke_is_the_emission_texture(void **state)
+{
+    (void)state;
+    const uint8_t rgb[6] = {0, 0, 0, 255, 200, 100};
+    write_png("e.png", 2, 1, rgb, NULL);
+    char path[256];
+    snprintf(path, sizeof path, "%s/ke.mtl", test_tmpdir());
+    test_write_file(path, "newmtl alone\nmap_Ke e.png\nnewmtl times\nKe 0.5 0.25 0.5\nmap_Ke e.png\n"
+                          "newmtl off\nKe 0 0 0\nmap_Ke e.png\n");
+    const char *text = "mtllib ke.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 0 1\n"
+                       "usemtl alone\nf 1/1 2/2 3/3\nusemtl times\nf 1/1 3/3 2/2\nusemtl off\nf 1/1 2/2 3/3\n";
+    Mesh m;
+    ObjStats st;
+    Err err;
+    if (parse(text, &m, &st, &err, 0))
+        fail_msg("%s", err.msg);
+    const Material *alone = &m.materials[m.mat[0]], *times = &m.materials[m.mat[1]], *off = &m.materials[m.mat[2]];
+    assert_true(material_emit_mapped(alone) && material_emits(alone));
+    assert_float_equal(alone->ke.y, 1, 0);
+    assert_true(material_emit_mapped(times));
+    assert_float_equal(times->ke.y, 0.25, 0);
+    assert_int_equal(times->emit_map, alone->emit_map); /* one file, read once */
+    assert_false(material_emits(off));
+    assert_int_equal(m.texture_count, 1);
+    assert_int_equal(st.warnings, 0);
+    mesh_free(&m);
+}
+
 static void smooth_normals_average_faces(void **state)
 {
     (void)state;
@@ -669,6 +699,7 @@ int main(void)
         cmocka_unit_test(materials_from_mtllib),
         cmocka_unit_test(map_d_makes_a_cutout),
         cmocka_unit_test(norm_and_coloured_bump_maps_are_normal_maps),
+        cmocka_unit_test(map_Ke_is_the_emission_texture),
         cmocka_unit_test(material_extras_are_kept_and_mapped),
         cmocka_unit_test(smooth_normals_average_faces),
         cmocka_unit_test(smoothing_groups_share_normals),

@@ -31,6 +31,26 @@ static inline const World *world_now(Scene *s)
     return w;
 }
 
+/* A scene of one instance of the model made from *mesh (SAH tree; the
+ * mesh freed), turned by `rotate` (degrees about x, y, z), with the
+ * model's own materials. */
+static inline Scene *worlds_scene_of_mesh(Mesh *mesh, vec3 rotate)
+{
+    Err err;
+    err.msg[0] = 0;
+    Model *model;
+    BvhOptions opt = bvh_options_default(BVH_SAH);
+    Scene *s = scene_create();
+    uint32_t id;
+    if (model_from_mesh(&model, mesh, &opt, &err) || !s || scene_add_model(s, model, &id, &err) ||
+        scene_add_instance(s, (Instance){id, v3(0, 0, 0), rotate, 1, -1}, &err)) {
+        fprintf(stderr, "worlds_scene_of_mesh: %s\n", err.msg);
+        abort();
+    }
+    mesh_free(mesh);
+    return s;
+}
+
 static inline void world_now_free(void)
 {
     world_destroy(worlds_last);

@@ -475,6 +475,12 @@ static int import_materials(const struct aiScene *sc, const char *model, int has
         import_cutout(sc->mMaterials[i], &mt);
         if (has_t)
             import_normal_map(sc, sc->mMaterials[i], model, tl, &mt);
+        /* an emission texture multiplies the emissive factor, which glTF's
+         * exporters set to 1 where a texture glows (glTF 2.0, 3.9.3) */
+        const int32_t glow = has_t && material_emits(&mt)
+                                 ? import_tex_find(sc, sc->mMaterials[i], IMPORT_TEX_EMISSION, model, tl) : -1;
+        if (glow >= 0)
+            mt.emit_map = glow, mt.emit_mapped = 1;
         rc = mesh_add_material(out, mt, err);
     }
     return rc;
@@ -710,6 +716,10 @@ static int receive_mesh(const uint8_t *data, size_t len, const char *name, const
             mt.normal_map = map[mt.normal_map];
         if (mt.normal_map < 0)
             mt.normal_map = 0, mt.normal_scale = 0;
+        if (material_emit_mapped(&mt)) /* and an emission texture: the factor glows alone */
+            mt.emit_map = map[mt.emit_map];
+        if (mt.emit_map < 0)
+            mt.emit_map = 0, mt.emit_mapped = 0;
         if (mesh_add_material(out, mt, err)) {
             free(map);
             mesh_free(out);

@@ -106,15 +106,17 @@ int32_t import_tex_find(const struct aiScene *sc, const struct aiMaterial *am, I
 {
     /* glTF's base colour is also its diffuse texture in Assimp 5.2; other
      * formats name only the diffuse one.  A normal map (glTF's
-     * normalTexture, FBX's NormalMap) is of type NORMALS */
+     * normalTexture, FBX's NormalMap) is of type NORMALS, an emission
+     * texture (glTF's emissiveTexture) EMISSIVE */
     static const enum aiTextureType colour[] = {aiTextureType_DIFFUSE, aiTextureType_BASE_COLOR, aiTextureType_NONE};
     static const enum aiTextureType normals[] = {aiTextureType_NORMALS, aiTextureType_NONE};
-    const enum aiTextureType *types = role == IMPORT_TEX_NORMALS ? normals : colour;
+    static const enum aiTextureType emission[] = {aiTextureType_EMISSIVE, aiTextureType_NONE};
+    const enum aiTextureType *types = role == IMPORT_TEX_NORMALS ? normals : role == IMPORT_TEX_EMISSION ? emission : colour;
     struct aiString path;
     enum aiTextureType type = aiTextureType_NONE;
     enum aiTextureMapMode mode[2] = {aiTextureMapMode_Wrap, aiTextureMapMode_Wrap};
     unsigned uv = 0; /* the texture coordinates' set: the first is the only one read (a colour
-                      * texture on another is read on it, as before; a normal map is not) */
+                      * texture on another is read on it, as before; the others are not) */
     for (size_t k = 0; types[k] != aiTextureType_NONE && type == aiTextureType_NONE; k++)
         if (aiGetMaterialTextureCount(am, types[k]) > 0 &&
             aiGetMaterialTexture(am, types[k], 0, &path, NULL, &uv, NULL, NULL, mode, NULL) == aiReturn_SUCCESS &&

@@ -3,7 +3,8 @@
  * parent (import.c's isolation).
  *
  * The child only finds each material's diffuse (glTF: base colour)
- * texture and its normal map and collects their bytes, undecoded: an
+ * texture, its normal map and its emission texture and collects their
+ * bytes, undecoded: an
  * image embedded in the file (a glTF's bufferView or data URI, an FBX's),
  * or the file a relative path names beside the model (file_find_near,
  * as the OBJ reader finds its textures); a texture it cannot find travels as missing, with why.  The
@@ -47,13 +48,13 @@ typedef struct {
     uint32_t n, cap;
 } ImportTexList;
 
-/* Which of a material's textures: its colour's (diffuse, base colour) or
- * its normal map. */
-typedef enum { IMPORT_TEX_COLOUR = 0, IMPORT_TEX_NORMALS = 1 } ImportTexRole;
+/* Which of a material's textures: its colour's (diffuse, base colour),
+ * its normal map, or its emission's. */
+typedef enum { IMPORT_TEX_COLOUR = 0, IMPORT_TEX_NORMALS = 1, IMPORT_TEX_EMISSION = 2 } ImportTexRole;
 
 /* The child: material am's texture of that role, added to l once per key;
- * its index in l, or -1 when the material has none (or a normal map on a
- * second set of texture coordinates).  `model` is the model file's path (NULL for
+ * its index in l, or -1 when the material has none (or a normal map or
+ * emission texture on a second set of texture coordinates).  `model` is the model file's path (NULL for
  * a model in memory: relative paths are missing). */
 int32_t import_tex_find(const struct aiScene *sc, const struct aiMaterial *am, ImportTexRole role, const char *model,
                         ImportTexList *l);

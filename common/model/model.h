@@ -77,6 +77,15 @@ int model_prepare_simd(Model *m, Err *err);
 int model_cut_build(Model *m, int path, Err *err);
 void model_cut_free(ModelCut *c);
 
+/* The texture coordinates of triangle `tri` at barycentrics (b1, b2), as
+ * shading interpolates them (the model has them). */
+static inline void model_uv(const Model *m, uint32_t tri, real b1, real b2, real *u, real *v)
+{
+    const real *uv = &m->uvs[6 * tri];
+    *u = (R(1) - b1 - b2) * uv[0] + b1 * uv[2] + b2 * uv[4];
+    *v = (R(1) - b1 - b2) * uv[1] + b1 * uv[3] + b2 * uv[5];
+}
+
 /* Whether a hit on triangle `tri` at barycentrics (b1, b2) falls in a hole
  * of its material's cutout: the mask's opacity at the hit's texture
  * coordinates (interpolated as shading interpolates them) under the
@@ -86,9 +95,8 @@ static inline int model_hole(const Model *m, uint32_t tri, real b1, real b2)
     const Material *mt = &m->materials[m->mat_ids[tri]];
     if (!material_cuts(mt))
         return 0;
-    const real *uv = &m->uvs[6 * tri];
-    const real u = (R(1) - b1 - b2) * uv[0] + b1 * uv[2] + b2 * uv[4];
-    const real v = (R(1) - b1 - b2) * uv[1] + b1 * uv[3] + b2 * uv[5];
+    real u, v;
+    model_uv(m, tri, b1, b2, &u, &v);
     return texture_coverage(m->textures[mt->mask], u, v) < mt->cutoff;
 }
 

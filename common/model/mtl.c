@@ -17,41 +17,35 @@
 #define MTL_MAX_BYTES ((size_t)64 << 20)
 #define MTL_MAX_MATERIALS 65536u
 
+/* Grows the array at *pp (a pointer to any pointer) to n elements of
+ * `size` bytes; the pointer is moved by memcpy, so its type is the
+ * caller's own. */
+static int grow(void *pp, size_t n, size_t size)
+{
+    void *old, *q;
+    memcpy(&old, pp, sizeof old);
+    if (!(q = realloc(old, n * size)))
+        return -1;
+    memcpy(pp, &q, sizeof q);
+    return 0;
+}
+
+/* A map not given: no file, unscaled, unmoved, wrapping, strength 1. */
+static const MtlMap map_none = {"", {R(1), R(1)}, {R(0), R(0)}, 0, FILE_AS_WRITTEN, R(1)};
+
 static int add(MtlLib *lib, const char *name, int line)
 {
     if (lib->count >= MTL_MAX_MATERIALS)
         return -1;
-    void *n = realloc(lib->names, (lib->count + 1) * sizeof *lib->names);
-    if (!n)
+    const size_t n = lib->count + 1;
+    if (grow(&lib->names, n, sizeof *lib->names) || grow(&lib->mats, n, sizeof *lib->mats) ||
+        grow(&lib->maps, n, sizeof *lib->maps) || grow(&lib->dmaps, n, sizeof *lib->dmaps) ||
+        grow(&lib->nmaps, n, sizeof *lib->nmaps) || grow(&lib->nkinds, n, sizeof *lib->nkinds) ||
+        grow(&lib->emaps, n, sizeof *lib->emaps) ||
+        grow(&lib->extra, n, sizeof *lib->extra))
         return -1;
-    lib->names = n;
-    void *m = realloc(lib->mats, (lib->count + 1) * sizeof *lib->mats);
-    if (!m)
-        return -1;
-    lib->mats = m;
-    void *mp = realloc(lib->maps, (lib->count + 1) * sizeof *lib->maps);
-    if (!mp)
-        return -1;
-    lib->maps = mp;
-    void *dp = realloc(lib->dmaps, (lib->count + 1) * sizeof *lib->dmaps);
-    if (!dp)
-        return -1;
-    lib->dmaps = dp;
-    void *np = realloc(lib->nmaps, (lib->count + 1) * sizeof *lib->nmaps);
-    if (!np)
-        return -1;
-    lib->nmaps = np;
-    void *nk = realloc(lib->nkinds, (lib->count + 1) * sizeof *lib->nkinds);
-    if (!nk)
-        return -1;
-    lib->nkinds = nk;
-    void *x = realloc(lib->extra, (lib->count + 1) * sizeof *lib->extra);
-    if (!x)
-        return -1;
-    lib->extra = x;
-    lib->extra[lib->count] = (MtlExtra){v3_splat(0), v3_splat(0), R(0), R(1), -1, line, lib->file_count - 1};
-    lib->maps[lib->count] = (MtlMap){"", {R(1), R(1)}, {R(0), R(0)}, 0, FILE_AS_WRITTEN, R(1)};
-    lib->dmaps[lib->count] = lib->nmaps[lib->count] = lib->maps[lib->count];
+    lib->extra[lib->count] = (MtlExtra){v3_splat(0), v3_splat(0), R(0), R(1), -1, line, lib->file_count - 1, 0};
+    lib->maps[lib->count] = lib->dmaps[lib->count] = lib->nmaps[lib->count] = lib->emaps[lib->count] = map_none;
     lib->nkinds[lib->count] = MTL_NORMALS_NONE;
     snprintf(lib->names[lib->count], MTL_NAME_MAX, "%s", name);
     lib->mats[lib->count] = material_default();
@@ -184,7 +178,7 @@ int mtl_parse(MtlLib *lib, char *text, size_t len, const char *name, Err *err)
             else if (k[1] == 'a')
                 x->ka = v;
             else
-                x->ke = v;
+                x->ke = v, x->ke_given = 1;
         } else if (strcmp(k, "Ni") == 0 || strcmp(k, "d") == 0 || strcmp(k, "Tr") == 0) {
             if (!cur)
                 return err_set(err, "%s:%d: %s before any newmtl", name, lx.line, k);
@@ -205,16 +199,17 @@ int mtl_parse(MtlLib *lib, char *text, size_t len, const char *name, Err *err)
             if (t.n != 2 || *end || v < 0 || v > 10)
                 return err_set(err, "%s:%d: expected a whole number from 0 to 10 after illum", name, lx.line);
             x->illum = (int)v;
-        } else if (strcmp(k, "map_Kd") == 0 || strcmp(k, "map_d") == 0) {
+        } else if (strcmp(k, "map_Kd") == 0 || strcmp(k, "map_d") == 0 || strcmp(k, "map_Ke") == 0) {
             if (!cur)
                 return err_set(err, "%s:%d: %s before any newmtl", name, lx.line, k);
-            if (read_map(&t, name, k[4] == 'K' ? &lib->maps[lib->count - 1] : &lib->dmaps[lib->count - 1]))
+            MtlMap *maps = k[4] == 'd' ? lib->dmaps : k[5] == 'e' ? lib->emaps : lib->maps;
+            if (read_map(&t, name, &maps[lib->count - 1]))
                 return err_set(err, "%s:%d: %s: bad option or no file name", name, lx.line, k);
         } else if (strcmp(k, "norm") == 0 || strcasecmp(k, "map_bump") == 0 || strcmp(k, "bump") == 0) {
             if (!cur)
                 return err_set(err, "%s:%d: %s before any newmtl", name, lx.line, k);
             const unsigned n = lib->count - 1, kind = k[0] == 'n' ? MTL_NORMALS_NORM : MTL_NORMALS_BUMP;
-            MtlMap nm = {"", {R(1), R(1)}, {R(0), R(0)}, 0, FILE_AS_WRITTEN, R(1)};
+            MtlMap nm = map_none;
             if (read_map(&t, name, &nm))
                 return err_set(err, "%s:%d: %s: bad option or no file name", name, lx.line, k);
             if (kind >= lib->nkinds[n]) /* norm says it is a normal map: it wins over a bump */
@@ -288,6 +283,7 @@ void mtl_free(MtlLib *lib)
     free(lib->dmaps);
     free(lib->nmaps);
     free(lib->nkinds);
+    free(lib->emaps);
     free(lib->extra);
     free(lib->files);
     memset(lib, 0, sizeof *lib);

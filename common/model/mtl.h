@@ -1,6 +1,7 @@
 /* mtl.h - Wavefront MTL material libraries: Kd, Ks, Ns and map_Kd per
  * newmtl, which Phong shading draws; map_d, a cutout's mask; norm (and
- * bump or map_Bump where it is one), a normal map; Ka, Ke, Ni, d, Tr and
+ * bump or map_Bump where it is one), a normal map; map_Ke, the emission's
+ * texture; Ka, Ke, Ni, d, Tr and
  * illum, checked and kept (MtlExtra); the other maps read past. */
 #ifndef LANRAY_MTL_H
 #define LANRAY_MTL_H
@@ -42,6 +43,7 @@ typedef struct {
     int illum;     /* illumination model 0..10, -1 when not given */
     int line;      /* where its newmtl is, in library `file` */
     unsigned file;
+    int ke_given;  /* a Ke line was read (map_Ke without one glows by its texture alone) */
 } MtlExtra;
 
 typedef struct {
@@ -50,6 +52,7 @@ typedef struct {
     MtlMap *maps;
     MtlMap *dmaps; /* map_d: where its opacity (alpha, or grey level) is under 0.5, a hole */
     MtlMap *nmaps; /* norm, bump, map_Bump: a normal map (nkinds says which) */
+    MtlMap *emaps; /* map_Ke: the emission's texture, multiplying Ke */
     unsigned char *nkinds; /* MtlNormals */
     MtlExtra *extra;
     unsigned count;

@@ -253,9 +253,10 @@ static void obj_free(Obj *o)
 }
 
 /* What a map is for: a material's colour (map_Kd), a cutout's mask
- * (map_d), its normal map (norm), or a bump map (bump, map_Bump) that is a
- * normal map unless its image is grey (a height map). */
-typedef enum { MAP_COLOUR, MAP_CUTOUT, MAP_NORMALS, MAP_BUMP } MapRole;
+ * (map_d), its normal map (norm), a bump map (bump, map_Bump) that is a
+ * normal map unless its image is grey (a height map), or its emission's
+ * colour (map_Ke). */
+typedef enum { MAP_COLOUR, MAP_CUTOUT, MAP_NORMALS, MAP_BUMP, MAP_EMISSION } MapRole;
 
 /* One map's texture: the id of the same file read before with the same
  * edge rule (for another material, or as this one's other map), else the
@@ -264,9 +265,10 @@ typedef enum { MAP_COLOUR, MAP_CUTOUT, MAP_NORMALS, MAP_BUMP } MapRole;
 static int obj_map_texture(const MtlMap *map, MapRole role, const char *mat, const MtlMap **seen, int32_t *seen_id,
                            uint32_t *nseen, Mesh *out, Warner *w, int32_t *id)
 {
-    static const char *const whats[] = {"texture", "cutout mask (map_d)", "normal map (norm)", "bump map"};
+    static const char *const whats[] = {"texture", "cutout mask (map_d)", "normal map (norm)", "bump map",
+                                        "emission texture (map_Ke)"};
     static const char *const left[] = {"untextured", "solid, no cutout", "its normals as they are",
-                                       "its normals as they are"};
+                                       "its normals as they are", "its emission untextured"};
     const char *what = whats[role];
     *id = -1;
     for (uint32_t j = 0; j < *nseen && *id < 0; j++)
@@ -304,13 +306,14 @@ static int obj_map_texture(const MtlMap *map, MapRole role, const char *mat, con
 /* The textures of the materials faces use, each file read once: the
  * diffuse one (map_Kd), a cutout's mask (map_d: its alpha, or a grey
  * image's level, under 0.5 a hole), and a normal map (norm; bump or
- * map_Bump where its image is not grey), its -bm its strength.  A texture
+ * map_Bump where its image is not grey), its -bm its strength, and the
+ * emission's (map_Ke, times Ke, or alone where there is no Ke).  A texture
  * that cannot be read is a warning and leaves its material untextured,
- * solid, or with its normals as they are. */
+ * solid, with its normals as they are, or its emission untextured. */
 static int obj_textures(Obj *o, const int32_t *remap, Mesh *out, Warner *w)
 {
-    const MtlMap **seen = malloc(3 * (size_t)o->lib.count * sizeof *seen + 1);
-    int32_t *seen_id = malloc(3 * (size_t)o->lib.count * sizeof *seen_id + 1);
+    const MtlMap **seen = malloc(4 * (size_t)o->lib.count * sizeof *seen + 1);
+    int32_t *seen_id = malloc(4 * (size_t)o->lib.count * sizeof *seen_id + 1);
     uint32_t nseen = 0;
     int rc = seen && seen_id ? 0 : err_set(w->err, "out of memory for the materials' textures");
     for (uint32_t k = 0; rc == 0 && k < o->lib.count; k++) {
@@ -334,6 +337,13 @@ static int obj_textures(Obj *o, const int32_t *remap, Mesh *out, Warner *w)
             rc = obj_map_texture(nm, role, o->lib.names[k], seen, seen_id, &nseen, out, w, &id);
             if (rc == 0 && id >= 0)
                 m->normal_map = id, m->normal_scale = real_min(nm->bm, MATERIAL_NORMAL_SCALE_MAX);
+        }
+        if (rc == 0 && o->lib.emaps[k].file[0]) {
+            rc = obj_map_texture(&o->lib.emaps[k], MAP_EMISSION, o->lib.names[k], seen, seen_id, &nseen, out, w, &id);
+            if (rc == 0 && id >= 0 && !o->lib.extra[k].ke_given) /* map_Ke alone: the texture is the glow */
+                m->ke = v3_splat(R(1));
+            if (rc == 0 && id >= 0)
+                m->emit_map = id, m->emit_mapped = 1;
         }
     }
     free(seen);

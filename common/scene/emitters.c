@@ -186,6 +186,22 @@ static int in_hole(const World *w, const Emitter *e, real u, real v)
     return model_hole(m, e->sub, b[1], b[2]);
 }
 
+/* What emitter e's point at (u, v) emits: its material's `emit`, times the
+ * emission texture's colour there where a model's own material has one
+ * (read at one point, as path.c reads it at a hit). */
+static vec3 glow_at(const World *w, const Emitter *e, const Material *m, real u, real v)
+{
+    if (e->kind != HIT_INSTANCE || !material_emit_mapped(m) || w->instances[e->index].material >= 0)
+        return m->ke;
+    const Model *mo = w->models[w->instances[e->index].model];
+    if (!mo->uvs)
+        return m->ke;
+    real b[3], tu, tv;
+    triangle_weights(u, v, b);
+    model_uv(mo, e->sub, b[1], b[2], &tu, &tv);
+    return v3_mul(m->ke, texture_sample(mo->textures[m->emit_map], tu, tv, NULL, w->view.settings.filter));
+}
+
 int emitters_sample(const World *w, vec3 p, real pick, real u, real v, EmitterSample *out)
 {
     if (!w->emitter_count)
@@ -212,7 +228,7 @@ int emitters_sample(const World *w, vec3 p, real pick, real u, real v, EmitterSa
     }
     if (!ok || in_hole(w, e, u, v))
         return 0;
-    out->radiance = m->ke;
+    out->radiance = glow_at(w, e, m, u, v);
     out->pdf *= pick_probability(w, area, m);
     return out->pdf > R(0) && isfinite(out->pdf);
 }

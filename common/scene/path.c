@@ -280,7 +280,7 @@ static int path_step(const World *w, Path *p, int found, const Hit *h, RayStats 
         p->beta = v3_mul(p->beta, v3(exp(-m->absorb.x * h->t), exp(-m->absorb.y * h->t), exp(-m->absorb.z * h->t)));
     /* emission, but not a lamp's whose light was sampled at the point before */
     if (material_emits(m) && !(p->after_smooth && trace_any_lamp(w, h)))
-        p->L = v3_add(p->L, v3_scale(v3_mul(p->beta, m->ke),
+        p->L = v3_add(p->L, v3_scale(v3_mul(p->beta, trace_emission(w, &sf, NULL)),
                                      p->after_smooth ? bounce_share(w, p->from, p->pdf_bounce, &p->ray, h) : R(1)));
     const int last = b >= depth; /* the light that reaches this point still counts: depth 0 is direct light */
     const vec3 d = p->ray.dir;

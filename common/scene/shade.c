@@ -211,6 +211,7 @@ int shade_light_point(const World *w, uint32_t li, vec3 p, real u, real v, vec3 
 typedef struct {
     Surface sf;
     vec3 kd, col, view, origin;
+    vec3 ke; /* what the surface emits here (trace_emission) */
     int phong;
     uint32_t lit;
     SampleId id; /* the ray's sample, its key mixed with its bounce */
@@ -243,7 +244,7 @@ static inline __attribute__((always_inline)) void shade_start(const World *w, co
     sh->kd = optional && world_uses(w, FEAT_COLOURS) && sh->sf.has_colour ? sh->sf.colour : m->kd;
     const int textured = optional && world_uses(w, FEAT_TEXTURES) && sh->sf.tex && sh->sf.has_uv;
     /* the footprint where a texture reads it or a mirror's or glass's rays carry it on */
-    sh->rd = optional && (textured || material_reflects(m) || material_dielectric(m)) ? rd : NULL;
+    sh->rd = optional && (textured || sh->sf.etex || material_reflects(m) || material_dielectric(m)) ? rd : NULL;
     sh->t = hit->t;
     TexFootprint fp;
     if (sh->rd) {
@@ -254,6 +255,8 @@ static inline __attribute__((always_inline)) void shade_start(const World *w, co
         sh->kd = material_checker(m, sh->kd, sh->sf.p, sh->sf.u, sh->sf.v, sh->sf.has_uv);
     if (textured)
         sh->kd = v3_mul(sh->kd, texture_sample(sh->sf.tex, sh->sf.u, sh->sf.v, sh->rd ? &fp : NULL, w->view.settings.filter));
+    if (world_uses(w, FEAT_EMIT))
+        sh->ke = optional && sh->sf.etex ? trace_emission(w, &sh->sf, sh->rd ? &fp : NULL) : m->ke;
     sh->col = v3_mul(w->ambient, sh->kd);
     sh->view = v3_neg(v3_norm(r->dir));
     sh->phong = w->view.settings.shading == SHADE_PHONG && v3_max_comp(m->ks) > R(0);
@@ -475,7 +478,7 @@ static vec3 shade_beyond(const World *w, int i, const Shading *sh, int depth, ve
     const Material *m = sf->mat;
     vec3 col = sh->col;
     if (world_uses(w, FEAT_EMIT))
-        col = v3_add(col, m->ke);
+        col = v3_add(col, sh->ke);
     const int reflects = world_uses(w, FEAT_REFLECT) && material_reflects(m);
     const int refracts = world_uses(w, FEAT_REFRACT) && material_dielectric(m);
     if (depth >= w->view.settings.depth && (reflects || refracts) && w->view.settings.depth_limit != LIMIT_BLACK) {

@@ -868,6 +868,8 @@ static inline __attribute__((always_inline)) int surface_instance(const World *w
         model_tex = 1;
         if (optional && world_uses(w, FEAT_NORMAL_MAP) && out->has_uv && material_bumps(out->mat))
             bump_frame(m, h->sub, in, out->mat, lift);
+        if (optional && out->has_uv && material_emit_mapped(out->mat))
+            out->etex = m->textures[out->mat->emit_map];
     }
     out->object = w->sphere_count + w->plane_count + w->material_count + h->index;
     return model_tex;
@@ -884,6 +886,7 @@ static inline __attribute__((always_inline)) void surface_at(const World *w, con
     out->u = out->v = out->err = 0;
     out->has_uv = out->has_colour = out->smooth = out->inside = 0;
     out->mat = &fallback_material;
+    out->etex = NULL;
     out->object = 0;
     Lift lift;
     lift.pm = v3_splat(0);
@@ -925,6 +928,13 @@ void trace_surface(const World *w, const Ray *r, const Hit *h, Surface *out)
         surface_at(w, r, h, out, 1);
     else
         surface_at(w, r, h, out, 0);
+}
+
+vec3 trace_emission(const World *w, const Surface *sf, const TexFootprint *fp)
+{
+    if (!sf->etex)
+        return sf->mat->ke;
+    return v3_mul(sf->mat->ke, texture_sample(sf->etex, sf->u, sf->v, fp, w->view.settings.filter));
 }
 
 vec3 trace_offset_origin(vec3 p, vec3 n, real err)

@@ -22,6 +22,8 @@ typedef struct {
     int has_uv;
     const Material *mat;
     const Texture *tex; /* the material's texture (the scene's, or a model's own), or NULL */
+    const Texture *etex; /* a model's own material's emission texture (where it has texture
+                          * coordinates), or NULL: trace_emission */
     vec3 colour;      /* a model's vertex colour here, the diffuse colour in place of mat->kd (when has_colour) */
     int has_colour;
     uint32_t object;  /* identifies the surface for adaptive anti-aliasing */
@@ -85,6 +87,10 @@ int trace_lamp_part(const World *w, const WorldLight *l, const Hit *h);
 /* Whether h is on any light's lamp. */
 int trace_any_lamp(const World *w, const Hit *h);
 void trace_surface(const World *w, const Ray *r, const Hit *hit, Surface *out);
+/* The radiance the surface emits: its material's `emit`, times its
+ * emission texture's colour at the hit where it has one (read over the
+ * footprint fp, or at one point where fp is NULL, by the view's filter). */
+vec3 trace_emission(const World *w, const Surface *sf, const TexFootprint *fp);
 
 /* How the surface at hit h changes over a sample's footprint (dpdx,
  * dpdy: raydiff.h): its texture coordinates (*fp) and its shading normal

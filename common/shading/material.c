@@ -8,7 +8,7 @@
 #include <string.h>
 
 #define OFF(f) offsetof(Material, f)
-enum { GROUP_MIRROR = 1, GROUP_DIELECTRIC = 2, GROUP_EMIT = 3, GROUP_CHECKER = 4, GROUP_CUTOUT = 5, GROUP_NORMAL = 6 };
+enum { GROUP_MIRROR = 1, GROUP_DIELECTRIC = 2, GROUP_EMIT = 3, GROUP_CHECKER = 4, GROUP_CUTOUT = 5, GROUP_NORMAL = 6, GROUP_EMIT_MAP = 7 };
 
 static const Field fields[] = {
     {.key = "diffuse", .type = FIELD_VEC, .off = OFF(kd), .hi = FIELD_INF, .def = 0.8,
@@ -40,7 +40,8 @@ static const Field fields[] = {
     {.key = "checker_uv", .type = FIELD_FLAG, .group = GROUP_CHECKER, .off = OFF(checker_uv),
      .doc = "the pattern on the surface's texture coordinates (2D), not in space (3D); needs `checker`"},
     /* a model's own materials only (cutouts: MTL map_d, glTF alphaMode
-     * MASK; normal maps: MTL norm, glTF normalTexture): on the wire and in
+     * MASK; normal maps: MTL norm, glTF normalTexture; emission textures:
+     * MTL map_Ke, glTF emissiveTexture): on the wire and in
      * .tmd files, not scene-file keywords (a scene's spheres, planes,
      * triangles and instances are solid and take their normals as given) */
     {.key = "mask", .type = FIELD_NAME, .group = GROUP_CUTOUT, .flags = FIELD_WIRE, .off = OFF(mask),
@@ -53,6 +54,10 @@ static const Field fields[] = {
     {.key = "normal_scale", .type = FIELD_REAL, .group = GROUP_NORMAL, .flags = FIELD_WIRE | FIELD_ZERO_OK,
      .off = OFF(normal_scale), .lo = 1e-6, .hi = 16,
      .doc = "how far the normal map tilts the normal (its x and y times this); 0: no normal map"},
+    {.key = "emit_map", .type = FIELD_NAME, .group = GROUP_EMIT_MAP, .flags = FIELD_WIRE, .off = OFF(emit_map),
+     .doc = "an emission texture: the emitted radiance is `emit` times its colour"},
+    {.key = "emit_mapped", .type = FIELD_FLAG, .group = GROUP_EMIT_MAP, .flags = FIELD_WIRE, .off = OFF(emit_mapped),
+     .doc = "whether `emit_map` names a texture (0: no emission texture)"},
 };
 
 static const FieldRule rules[] = {
@@ -67,7 +72,7 @@ static const FieldRule rules[] = {
 };
 
 const FieldKind material_kind = {.name = "material", .fields = fields, .count = sizeof fields / sizeof *fields,
-                                 .rules = rules, .group_count = 6};
+                                 .rules = rules, .group_count = 7};
 
 Material material_default(void)
 {
@@ -98,6 +103,10 @@ const char *material_problem(const Material *m, char *buf, size_t size)
     }
     if (!material_bumps(m) && m->normal_map != 0) {
         snprintf(buf, size, "a normal map (texture %d) without a normal_scale", m->normal_map);
+        return buf;
+    }
+    if (!material_emit_mapped(m) && m->emit_map != 0) {
+        snprintf(buf, size, "an emission texture (texture %d) without emit_mapped", m->emit_map);
         return buf;
     }
     if (material_dielectric(m) && material_reflects(m)) {

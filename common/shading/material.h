@@ -43,6 +43,12 @@ typedef struct {
      * leave these out give).  A model's own materials only. */
     int32_t normal_map;
     real normal_scale;
+    /* an emission texture (glTF emissiveTexture, MTL map_Ke): the emitted
+     * radiance is ke times its colour at the hit (a screen, a lit panel);
+     * emit_mapped 0: none (as the initialisers that leave these out give).
+     * A model's own materials only. */
+    int32_t emit_map;
+    int emit_mapped;
 } Material;
 
 #define MATERIAL_CUTOFF_MAX R(2) /* above 1: every texel of a mask a hole */
@@ -57,14 +63,16 @@ static inline int material_rough(const Material *m) { return material_reflects(m
 static inline int material_checkered(const Material *m) { return m->checker_size > R(0); }
 static inline int material_cuts(const Material *m) { return m->cutoff > R(0); }
 static inline int material_bumps(const Material *m) { return m->normal_scale > R(0); }
+static inline int material_emit_mapped(const Material *m) { return m->emit_mapped != 0; }
 /* Whether the textures the material names (its colour's, a cutout's mask,
- * a normal map) are among `count`; a mask or normal map it does not use
- * must be 0. */
+ * a normal map, an emission texture) are among `count`; a mask, normal
+ * map or emission texture it does not use must be 0. */
 static inline int material_textures_in(const Material *m, int32_t count)
 {
     return m->texture >= -1 && m->texture < count &&
            (material_cuts(m) ? m->mask >= 0 && m->mask < count : m->mask == 0) &&
-           (material_bumps(m) ? m->normal_map >= 0 && m->normal_map < count : m->normal_map == 0);
+           (material_bumps(m) ? m->normal_map >= 0 && m->normal_map < count : m->normal_map == 0) &&
+           (material_emit_mapped(m) ? m->emit_map >= 0 && m->emit_map < count : m->emit_map == 0);
 }
 /* Whether a surface of this material needs its texture coordinates. */
 static inline int material_wants_uv(const Material *m) { return m->texture >= 0 || (material_checkered(m) && m->checker_uv); }
