@@ -56,6 +56,7 @@ static Surface surface_seen(const Quad *q, vec3 from, vec3 to)
     assert_true(trace_closest(w, &r, &h));
     Surface sf;
     trace_surface(w, &r, &h, &sf);
+    trace_surface_bump(&sf, NULL);
     world_now_free();
     scene_destroy(s);
     return sf;
@@ -162,8 +163,35 @@ static void the_map_is_read_as_data(void **state)
     (void)state;
     const uint8_t rgb[3] = {0, 128, 255};
     Texture *t = texture_from_rgb8(1, 1, rgb);
-    vec3 c = texture_normal(t, R(0.5), R(0.5));
+    vec3 c = texture_normal(t, R(0.5), R(0.5), NULL);
     assert_near(c, v3(-1, (real)code(128), 1), 1e-6);
+    texture_destroy(t);
+}
+
+/* A normal map seen from afar reads its levels, which average its codes
+ * as numbers: a checker of tilts to +u and -u is, four texels to a sample,
+ * the untilted normal (the colour levels, averaged as light, would lean to
+ * +u: code 161, not 128); without the levels, or at a point, one texel. */
+static void far_off_a_normal_map_reads_the_mean_of_its_normals(void **state)
+{
+    (void)state;
+    const uint8_t rgb[12] = {218, 128, 218, 38, 128, 218, 38, 128, 218, 218, 128, 218};
+    Texture *t = texture_from_rgb8(2, 2, rgb);
+    const TexFootprint wide = {R(1), 0, 0, R(1)}; /* a sample spans the image */
+    vec3 c = texture_normal(t, R(0.25), R(0.75), &wide);
+    assert_true(c.x > R(0.6)); /* no levels yet: the texel */
+    assert_int_equal(texture_make_data_levels(t), 0);
+    assert_int_equal(t->data_level[1].rgb[0], 128);
+    assert_int_equal(t->data_level[1].rgb[2], 218);
+    assert_true(t->level[1].rgb[0] > 150); /* the colour level: light, not numbers */
+    c = texture_normal(t, R(0.25), R(0.75), &wide);
+    assert_near(c, v3((real)code(128), (real)code(128), (real)code(218)), 1e-6);
+    c = texture_normal(t, R(0.25), R(0.75), NULL);
+    assert_true(c.x > R(0.6));
+    /* a footprint of half a texel: the image itself */
+    const TexFootprint near = {R(0.25), 0, 0, R(0.25)};
+    c = texture_normal(t, R(0.25), R(0.75), &near);
+    assert_true(c.x > R(0.6));
     texture_destroy(t);
 }
 
@@ -177,6 +205,7 @@ int main(void)
         cmocka_unit_test(the_instance_turns_the_frame),
         cmocka_unit_test(no_frame_or_a_normal_below_keeps_the_vertex_normal),
         cmocka_unit_test(the_map_is_read_as_data),
+        cmocka_unit_test(far_off_a_normal_map_reads_the_mean_of_its_normals),
     };
     return cmocka_run_group_tests_name("normalmap", tests, NULL, NULL);
 }

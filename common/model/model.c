@@ -267,6 +267,9 @@ static int model_cuts(const Model *m)
 int model_prepare_simd(Model *m, Err *err)
 {
     m->cutout = model_cuts(m);
+    for (uint32_t i = 0; m->uvs && m->textures && i < m->material_count; i++)
+        if (material_bumps(&m->materials[i]) && texture_make_data_levels(m->textures[m->materials[i].normal_map]))
+            return err_set(err, "out of memory for a normal map's levels");
     SimdPath p = simd_path();
     if (m->wide && m->wide_path == (int)p)
         return 0;

@@ -68,9 +68,11 @@ ModelBytes model_bytes(const Model *m);
  * triangle names m's).  For small models (scene/world.c). */
 int model_place(Model **out, const Model *m, const mat3 *rot, vec3 translate, real scale, Err *err);
 
-/* Builds (or drops) the wide tree for the SIMD path in use, and finds
+/* Builds (or drops) the wide tree for the SIMD path in use, finds
  * whether the model cuts holes (then its cut triangles go apart:
- * model_cut_build); called by world_build, before any thread traces. */
+ * model_cut_build), and gives its normal maps their levels
+ * (texture_make_data_levels); called by world_build, before any thread
+ * traces. */
 int model_prepare_simd(Model *m, Err *err);
 /* m's wide tree for `path` without its cut triangles, and those in
  * m->cut (model_cut.c). */

@@ -2,7 +2,8 @@
  *
  * Each level is the one above box-filtered to half its size (rounded
  * down, at least 1): in linear light, since texels are averaged as light,
- * then rounded to the nearest sRGB code.  A side of odd length is shrunk by
+ * then rounded to the nearest sRGB code; a normal map's own levels
+ * (texture_make_data_levels) average the codes themselves, its numbers.  A side of odd length is shrunk by
  * a box of 2 to 3 texels with fractional weights at its ends, so that every
  * texel of the level above counts by the area it covers (no texel is
  * dropped, none counted twice).  The arithmetic is float in every build and
@@ -58,8 +59,9 @@ static void box_weights(uint32_t in, uint32_t out, uint32_t x, uint32_t *first, 
 }
 
 /* Level `to` from the level above it, a row at a time (`row`: 3 floats a
- * texel of the level above; `acc`: 3 a texel of this one). */
-static void shrink(const TextureLevel *src, TextureLevel *dst, float *row, float *acc)
+ * texel of the level above; `acc`: 3 a texel of this one): colours in
+ * linear light, or `data` (a normal map's numbers) code by code. */
+static void shrink(const TextureLevel *src, TextureLevel *dst, float *row, float *acc, int data)
 {
     for (uint32_t y = 0; y < dst->h; y++) {
         uint32_t r0, rn;
@@ -69,7 +71,7 @@ static void shrink(const TextureLevel *src, TextureLevel *dst, float *row, float
         for (uint32_t k = 0; k < rn; k++) {
             const uint8_t *p = &src->rgb[(size_t)(r0 + k) * src->w * 3];
             for (size_t i = 0; i < (size_t)src->w * 3; i++)
-                row[i] += wy[k] * srgb_decode8[p[i]];
+                row[i] += wy[k] * (data ? (float)p[i] : srgb_decode8[p[i]]);
         }
         for (uint32_t x = 0; x < dst->w; x++) {
             uint32_t c0, cn;
@@ -84,7 +86,7 @@ static void shrink(const TextureLevel *src, TextureLevel *dst, float *row, float
         }
         uint8_t *q = &dst->rgb[(size_t)y * dst->w * 3];
         for (size_t i = 0; i < (size_t)dst->w * 3; i++)
-            q[i] = srgb_encode8((real)acc[i]);
+            q[i] = data ? (uint8_t)fminf(fmaxf(acc[i] + 0.5f, 0.0f), 255.0f) : srgb_encode8((real)acc[i]);
     }
 }
 
@@ -113,8 +115,8 @@ static Texture *texture_alloc(uint32_t w, uint32_t h)
     return t;
 }
 
-/* The mip-map levels below level 0. */
-static int build_levels(Texture *t)
+/* The levels below level 0 of lv (t's own, or its data levels). */
+static int build_levels_of(const Texture *t, TextureLevel *lv, int data)
 {
     if (t->levels < 2)
         return 0;
@@ -125,9 +127,34 @@ static int build_levels(Texture *t)
         return -1;
     }
     for (uint32_t l = 1; l < t->levels; l++)
-        shrink(&t->level[l - 1], &t->level[l], row, acc);
+        shrink(&lv[l - 1], &lv[l], row, acc, data);
     free(row);
     free(acc);
+    return 0;
+}
+
+/* The mip-map levels below level 0. */
+static int build_levels(Texture *t) { return build_levels_of(t, t->level, 0); }
+
+int texture_make_data_levels(Texture *t)
+{
+    if (t->data_texels || t->levels < 2)
+        return 0;
+    const size_t first = (size_t)t->w * t->h * 3;
+    uint8_t *px = malloc(texture_bytes(t) - first);
+    if (!px)
+        return -1;
+    t->data_level[0] = t->level[0]; /* the image itself is the same */
+    size_t at = 0;
+    for (uint32_t l = 1; l < t->levels; l++) {
+        t->data_level[l] = (TextureLevel){t->level[l].w, t->level[l].h, px + at};
+        at += (size_t)t->level[l].w * t->level[l].h * 3;
+    }
+    if (build_levels_of(t, t->data_level, 1)) {
+        free(px);
+        return -1;
+    }
+    t->data_texels = px;
     return 0;
 }
 
@@ -213,6 +240,7 @@ void texture_destroy(Texture *t)
     if (!t)
         return;
     free(t->texels);
+    free(t->data_texels);
     free(t->file);
     free(t->alpha);
     free(t);

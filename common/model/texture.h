@@ -52,6 +52,10 @@ typedef struct {
     uint32_t levels; /* 1 + the mip-map levels below the image */
     TextureLevel level[TEXTURE_MAX_LEVELS];
     uint8_t *texels; /* every level's texels, one block */
+    /* a normal map's levels (texture_make_data_levels): level 0 the image,
+     * those below averaging its codes as numbers; data_texels NULL: none */
+    TextureLevel data_level[TEXTURE_MAX_LEVELS];
+    uint8_t *data_texels;
     /* the image file's own bytes, kept for the byte form; NULL where the
      * texture came from elsewhere (PPM, generated, an embedded bitmap):
      * texture_encode then writes a PNG of the texels */
@@ -149,11 +153,18 @@ vec3 texture_texel(const Texture *t, uint32_t l, uint32_t x, uint32_t y);
  * over the footprint (texture_sample.c).  Non-finite coordinates read
  * texel (0, 0). */
 vec3 texture_sample(const Texture *t, real u, real v, const TexFootprint *fp, TextureFilter filter);
+/* Gives t the mip-map levels a normal map reads (texture_normal): the
+ * codes averaged as numbers, not as light (the sRGB levels would bend an
+ * average of normals towards the brighter codes).  Made once, when a scene
+ * is prepared (model_prepare_simd), for the textures that are normal maps;
+ * -1 when out of memory. */
+int texture_make_data_levels(Texture *t);
 /* A normal map's vector at (u, v): the texels read as data, each code c
- * as c / 255 x 2 - 1 (not as sRGB), blended bilinearly in the image
- * itself (no mip-map: its levels average colours in linear light), or the
- * nearest texel of a `closest` texture; not normalised.  Non-finite
- * coordinates read texel (0, 0). */
-vec3 texture_normal(const Texture *t, real u, real v);
+ * as c / 255 x 2 - 1 (not as sRGB); over the footprint fp (NULL: at the
+ * point) trilinearly in the data levels where t has them, else blended
+ * bilinearly in the image itself; the nearest texel of a `closest`
+ * texture.  Not normalised (an average of normals is shorter).
+ * Non-finite coordinates read texel (0, 0). */
+vec3 texture_normal(const Texture *t, real u, real v, const TexFootprint *fp);
 
 #endif

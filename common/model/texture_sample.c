@@ -96,12 +96,12 @@ static inline vec3 texel_by(const TextureLevel *L, uint32_t x, uint32_t y, const
 /* Texel (x, y) of level L in linear light. */
 static inline vec3 texel(const TextureLevel *L, uint32_t x, uint32_t y) { return texel_by(L, x, y, 0); }
 
-/* Bilinear at level l, colours or data (texel_by); (u, v) wrapped or
+/* Bilinear in level L of t, colours or data (texel_by); (u, v) wrapped or
  * clamped already, v = 0 at the top; sx, sy: a closest texture's footprint
  * in this level's texels. */
-static inline vec3 bilinear_by(const Texture *t, uint32_t l, real u, real v, real sx, real sy, const int data)
+static inline vec3 bilinear_by(const Texture *t, const TextureLevel *L, real u, real v, real sx, real sy,
+                               const int data)
 {
-    const TextureLevel *L = &t->level[l];
     real fx = u * (real)L->w - R(0.5), fy = v * (real)L->h - R(0.5);
     real x0f = floor(fx), y0f = floor(fy);
     real ax = fx - x0f, ay = fy - y0f;
@@ -119,7 +119,7 @@ static inline vec3 bilinear_by(const Texture *t, uint32_t l, real u, real v, rea
 
 static inline vec3 bilinear(const Texture *t, uint32_t l, real u, real v, real sx, real sy)
 {
-    return bilinear_by(t, l, u, v, sx, sy, 0);
+    return bilinear_by(t, &t->level[l], u, v, sx, sy, 0);
 }
 
 /* A coordinate pair as the levels index them: each axis by its wrap
@@ -228,7 +228,7 @@ real texture_coverage(const Texture *t, real u, real v)
     return (real)(p[0] + p[1] + p[2]) / R(765);
 }
 
-vec3 texture_normal(const Texture *t, real u, real v)
+vec3 texture_normal(const Texture *t, real u, real v, const TexFootprint *fp)
 {
     if (!isfinite(u) || !isfinite(v))
         u = v = R(0);
@@ -238,5 +238,18 @@ vec3 texture_normal(const Texture *t, real u, real v)
         return texel_by(&t->level[0], x, y, 1);
     }
     place(t, &u, &v);
-    return bilinear_by(t, 0, u, v, 1, 1, 1);
+    real lambda = R(0);
+    if (fp && t->data_texels) { /* the footprint's longer side in texels of the image, as trilinear takes it */
+        const real W = (real)t->w, H = (real)t->h;
+        const real ax = fp->dudx * W, ay = fp->dvdx * H, bx = fp->dudy * W, by = fp->dvdy * H;
+        lambda = lod_log2(real_max(sqrt(ax * ax + ay * ay), sqrt(bx * bx + by * by)));
+    }
+    if (!(lambda > R(0)))
+        return bilinear_by(t, &t->level[0], u, v, 1, 1, 1);
+    const real last = (real)(t->levels - 1);
+    if (lambda >= last)
+        return bilinear_by(t, &t->data_level[t->levels - 1], u, v, 1, 1, 1);
+    const uint32_t l = (uint32_t)lambda;
+    return v3_lerp(bilinear_by(t, &t->data_level[l], u, v, 1, 1, 1), bilinear_by(t, &t->data_level[l + 1], u, v, 1, 1, 1),
+                   lambda - (real)l);
 }

@@ -244,13 +244,17 @@ static inline __attribute__((always_inline)) void shade_start(const World *w, co
     sh->kd = optional && world_uses(w, FEAT_COLOURS) && sh->sf.has_colour ? sh->sf.colour : m->kd;
     const int textured = optional && world_uses(w, FEAT_TEXTURES) && sh->sf.tex && sh->sf.has_uv;
     /* the footprint where a texture reads it or a mirror's or glass's rays carry it on */
-    sh->rd = optional && (textured || sh->sf.etex || material_reflects(m) || material_dielectric(m)) ? rd : NULL;
+    sh->rd = optional && (textured || sh->sf.etex || sh->sf.nmap || material_reflects(m) || material_dielectric(m))
+                 ? rd
+                 : NULL;
     sh->t = hit->t;
     TexFootprint fp;
     if (sh->rd) {
         raydiff_at(rd, r->dir, hit->t, sh->sf.ng, &sh->dpdx, &sh->dpdy);
         trace_surface_change(w, hit, &sh->sf, sh->dpdx, sh->dpdy, &fp, &sh->dndx, &sh->dndy);
     }
+    if (optional) /* a normal map over the footprint: the far-off one's mean, not one texel */
+        trace_surface_bump(&sh->sf, sh->rd ? &fp : NULL);
     if (optional && world_uses(w, FEAT_CHECKER) && material_checkered(m))
         sh->kd = material_checker(m, sh->kd, sh->sf.p, sh->sf.u, sh->sf.v, sh->sf.has_uv);
     if (textured)

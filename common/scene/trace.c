@@ -688,23 +688,19 @@ static __attribute__((noinline)) void surface_lift(Surface *out, const Hit *h, c
 }
 
 /* A smooth triangle's corners and vertex normals, for the terminator point
- * (model space for an instance: pm, and the instance); and a normal-mapped
- * triangle's map and tangent frame, for surface_bump. */
+ * (model space for an instance: pm, and the instance). */
 typedef struct {
     vec3 tv[3], tn[3], pm;
     const WorldInstance *inst;
-    const Texture *nmap; /* NULL: no normal map */
-    real nscale;
-    vec3 dpdu, dpdv; /* how the point moves with u and with v, in the world */
 } Lift;
 
 /* The tangent frame of a model's triangle whose material has a normal
  * map: the directions in which u and v grow across it (from its corners'
  * positions and texture coordinates, as pbrt's triangles without tangents
- * take them), turned into the world.  None (l->nmap left NULL) where the
- * texture coordinates do not span the triangle. */
+ * take them), turned into the world, into the surface.  None (sf->nmap
+ * left NULL) where the texture coordinates do not span the triangle. */
 static __attribute__((noinline)) void bump_frame(const Model *m, uint32_t tri, const WorldInstance *in,
-                                                const Material *mat, Lift *l)
+                                                const Material *mat, Surface *sf)
 {
     const Tri *t = &m->tris[tri];
     const real *uv = &m->uvs[6 * tri];
@@ -715,10 +711,10 @@ static __attribute__((noinline)) void bump_frame(const Model *m, uint32_t tri, c
         return;
     const vec3 dpdu = v3_scale(v3_sub(v3_scale(e1, dv2), v3_scale(e2, dv1)), R(1) / det);
     const vec3 dpdv = v3_scale(v3_sub(v3_scale(e2, du1), v3_scale(e1, du2)), R(1) / det);
-    l->dpdu = m3_apply(&in->rot, dpdu);
-    l->dpdv = m3_apply(&in->rot, dpdv);
-    l->nscale = mat->normal_scale;
-    l->nmap = m->textures[mat->normal_map];
+    sf->dpdu = m3_apply(&in->rot, dpdu);
+    sf->dpdv = m3_apply(&in->rot, dpdv);
+    sf->nscale = mat->normal_scale;
+    sf->nmap = m->textures[mat->normal_map];
 }
 
 /* The shading normal of a normal-mapped surface: the map's vector (x, y
@@ -726,22 +722,27 @@ static __attribute__((noinline)) void bump_frame(const Model *m, uint32_t tri, c
  * perpendicular to the normal), the bitangent (n x t, turned towards v's
  * direction, so mirrored texture coordinates mirror it) and the normal the
  * vertices give, on the side the map was made for (the normal before
- * surface_at turned it to the viewer: `flip`), then turned as that one
- * was.  A mapped normal that would face away from the viewer, or a frame
- * that does not exist, leaves ns as it was. */
-static __attribute__((noinline)) void surface_bump(Surface *out, const Lift *l, int flip)
+ * surface_at turned it to the viewer), then turned as that one was
+ * (ns_turned).  A mapped normal that would face away from the
+ * viewer, or a frame that does not exist, leaves ns as it was. */
+void trace_surface_bump(Surface *out, const TexFootprint *fp)
 {
+    const Texture *map = out->nmap;
+    if (!map)
+        return;
+    out->nmap = NULL; /* applied once */
+    const int flip = out->ns_turned;
     const vec3 n = flip ? v3_neg(out->ns) : out->ns;
-    vec3 t = v3_sub(l->dpdu, v3_scale(n, v3_dot(n, l->dpdu)));
+    vec3 t = v3_sub(out->dpdu, v3_scale(n, v3_dot(n, out->dpdu)));
     const real tl = v3_len(t);
     if (!(tl > R(0)) || !isfinite(tl))
         return;
     t = v3_scale(t, R(1) / tl);
     vec3 b = v3_cross(n, t);
-    if (v3_dot(b, l->dpdv) < R(0))
+    if (v3_dot(b, out->dpdv) < R(0))
         b = v3_neg(b);
-    const vec3 c = texture_normal(l->nmap, out->u, out->v);
-    vec3 p = v3_madd(v3_madd(v3_scale(n, c.z), t, c.x * l->nscale), b, c.y * l->nscale);
+    const vec3 c = texture_normal(map, out->u, out->v, fp);
+    vec3 p = v3_madd(v3_madd(v3_scale(n, c.z), t, c.x * out->nscale), b, c.y * out->nscale);
     const real pl = v3_len(p);
     if (!(pl > R(0)) || !isfinite(pl))
         return;
@@ -867,7 +868,7 @@ static inline __attribute__((always_inline)) int surface_instance(const World *w
         out->tex = out->mat->texture >= 0 ? m->textures[out->mat->texture] : NULL;
         model_tex = 1;
         if (optional && world_uses(w, FEAT_NORMAL_MAP) && out->has_uv && material_bumps(out->mat))
-            bump_frame(m, h->sub, in, out->mat, lift);
+            bump_frame(m, h->sub, in, out->mat, out);
         if (optional && out->has_uv && material_emit_mapped(out->mat))
             out->etex = m->textures[out->mat->emit_map];
     }
@@ -891,7 +892,7 @@ static inline __attribute__((always_inline)) void surface_at(const World *w, con
     Lift lift;
     lift.pm = v3_splat(0);
     lift.inst = NULL;
-    lift.nmap = NULL;
+    out->nmap = NULL;
     int model_tex = 0;
     switch (h->kind) {
     case HIT_SPHERE: surface_sphere(w, r, h, out, optional); break;
@@ -914,8 +915,7 @@ static inline __attribute__((always_inline)) void surface_at(const World *w, con
     out->ps_err = out->err;
     if (out->smooth)
         surface_lift(out, h, lift.tv, lift.tn, flip, lift.inst, lift.pm);
-    if (optional && lift.nmap)
-        surface_bump(out, &lift, flip);
+    out->ns_turned = flip;
 }
 
 void trace_surface(const World *w, const Ray *r, const Hit *h, Surface *out)

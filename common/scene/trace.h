@@ -35,6 +35,13 @@ typedef struct {
     int smooth;       /* ns comes from vertex normals */
     int inside;       /* the ray arrived from behind the surface's outward normal
                        * (a sphere's centre side, a triangle's back): it leaves a solid */
+    /* a model's normal-mapped triangle (where its texture coordinates span
+     * it): the map, its tilt and the triangle's tangent frame, which
+     * trace_surface_bump applies to ns; nmap NULL: none */
+    const Texture *nmap;
+    real nscale;
+    vec3 dpdu, dpdv;  /* how the point moves with u and with v, in the world */
+    int ns_turned;    /* ns was turned round to face the viewer */
 } Surface;
 
 /* The closest hit: the smallest t, ties decided by a fixed rule (trace.c),
@@ -87,6 +94,10 @@ int trace_lamp_part(const World *w, const WorldLight *l, const Hit *h);
 /* Whether h is on any light's lamp. */
 int trace_any_lamp(const World *w, const Hit *h);
 void trace_surface(const World *w, const Ray *r, const Hit *hit, Surface *out);
+/* Tilts sf->ns as its normal map says (nothing without one, or a second
+ * time), the map read over the footprint fp (NULL: at the point): after
+ * trace_surface, once the caller knows the footprint. */
+void trace_surface_bump(Surface *sf, const TexFootprint *fp);
 /* The radiance the surface emits: its material's `emit`, times its
  * emission texture's colour at the hit where it has one (read over the
  * footprint fp, or at one point where fp is NULL, by the view's filter). */
