@@ -82,29 +82,65 @@ static int import_number(const struct aiMaterial *am, const char *key, unsigned 
  * with a Phong highlight of the same colour for the lights (exponent
  * 2 / a^2 - 2, a = roughness^2, the usual match of Phong to a microfacet
  * lobe); the rest is diffuse.  A non-metal keeps no highlight, as before:
- * a dielectric's 4% would brighten every rough surface of a Whitted frame. */
-static void import_metal(const struct aiMaterial *am, vec3 base, Material *m)
+ * a dielectric's 4% would brighten every rough surface of a Whitted frame.
+ * With `mapped` (a metal-roughness texture says where, texel by texel) kd
+ * keeps the whole base colour and kr the factor's share of it: a hit
+ * takes the texel's share of each (trace.c). */
+static void import_metal_as(vec3 base, real metal, real rough, int mapped, Material *m)
 {
-    real metal = 0, rough = 1;
-    if (!import_number(am, AI_MATKEY_METALLIC_FACTOR, 0, 1, &metal) || metal <= 0)
-        return;
-    import_number(am, AI_MATKEY_ROUGHNESS_FACTOR, 0, 1, &rough);
-    /* a metalness texture says, texel by texel, where the factor applies
-     * (most often nowhere: the factor left at glTF's default of 1): without
-     * reading it, the material stays as it was, not all metal.  And glTF's
-     * defaults alone (white, metallic 1, roughness 1: what a primitive
-     * without a material gets) stay white diffuse, as geometry without
-     * materials shows elsewhere in lanray. */
-    const int defaults = metal == 1 && rough == 1 && base.x == 1 && base.y == 1 && base.z == 1;
-    if (defaults || aiGetMaterialTextureCount(am, aiTextureType_METALNESS) > 0 ||
-        aiGetMaterialTextureCount(am, aiTextureType_UNKNOWN) > 0)
-        return;
     const real a = rough * rough;
-    m->kd = v3_scale(base, R(1) - metal);
+    m->kd = mapped ? base : v3_scale(base, R(1) - metal);
     m->kr = v3_scale(base, metal);
     m->roughness = rough;
     m->ks = m->kr;
     m->shininess = a > R(0.01) ? real_max(R(2) / (a * a) - R(2), R(1)) : R(20000);
+}
+
+/* Whether the material's metal share is a texture's (then import_materials
+ * looks for it), else it applies the factors (import_metal_as). */
+static int import_metal(const struct aiMaterial *am, vec3 base, Material *m)
+{
+    real metal = 0, rough = 1;
+    if (!import_number(am, AI_MATKEY_METALLIC_FACTOR, 0, 1, &metal) || metal <= 0)
+        return 0;
+    import_number(am, AI_MATKEY_ROUGHNESS_FACTOR, 0, 1, &rough);
+    /* a metalness texture says, texel by texel, where the factor applies
+     * (most often nowhere: the factor left at glTF's default of 1); until
+     * it is found, the material stays as it was, not all metal.  And glTF's
+     * defaults alone (white, metallic 1, roughness 1, no texture: what a
+     * primitive without a material gets) stay white diffuse, as geometry
+     * without materials shows elsewhere in lanray. */
+    if (aiGetMaterialTextureCount(am, aiTextureType_METALNESS) > 0 ||
+        aiGetMaterialTextureCount(am, aiTextureType_UNKNOWN) > 0)
+        return 1;
+    const int defaults = metal == 1 && rough == 1 && base.x == 1 && base.y == 1 && base.z == 1;
+    if (!defaults)
+        import_metal_as(base, metal, rough, 0, m);
+    return 0;
+}
+
+/* A material whose metal-roughness texture was found (index t): its
+ * factors, the texture's to scale. */
+static void import_metal_mapped(const struct aiMaterial *am, int32_t t, Material *m)
+{
+    real metal = 0, rough = 1;
+    vec3 base = m->kd;
+    import_colour(am, AI_MATKEY_BASE_COLOR, &base);
+    import_number(am, AI_MATKEY_METALLIC_FACTOR, 0, 1, &metal);
+    import_number(am, AI_MATKEY_ROUGHNESS_FACTOR, 0, 1, &rough);
+    import_metal_as(base, metal, rough, 1, m);
+    m->metal_map = t, m->metal_mapped = 1;
+}
+
+/* A mapped metal whose texture could not be read: diffuse, as a material
+ * whose texture is not read at all. */
+static Material import_unmetal(Material m)
+{
+    m.metal_map = 0, m.metal_mapped = 0;
+    m.kr = m.ks = v3_splat(R(0));
+    m.roughness = 0;
+    m.shininess = R(1);
+    return m;
 }
 
 /* Whether a material is a glTF's (Assimp gives those an alpha mode), the
@@ -152,7 +188,7 @@ static int import_optics(const struct aiMaterial *am, vec3 base, Material *m)
     return did;
 }
 
-static Material import_material(const struct aiMaterial *am, int *optics)
+static Material import_material(const struct aiMaterial *am, int *optics, int *metal_mapped)
 {
     Material m = material_default();
     vec3 c;
@@ -165,7 +201,7 @@ static Material import_material(const struct aiMaterial *am, int *optics)
         m.shininess = s;
     vec3 base = m.kd;
     import_colour(am, AI_MATKEY_BASE_COLOR, &base);
-    import_metal(am, base, &m);
+    *metal_mapped = import_metal(am, base, &m);
     *optics = import_optics(am, base, &m) || material_reflects(&m);
     return m;
 }
@@ -469,7 +505,8 @@ static int import_materials(const struct aiScene *sc, const char *model, int has
     int rc = 0;
     for (unsigned i = 0; rc == 0 && i < sc->mNumMaterials; i++) {
         int optics;
-        Material mt = import_material(sc->mMaterials[i], &optics);
+        int metal_mapped;
+        Material mt = import_material(sc->mMaterials[i], &optics, &metal_mapped);
         st->optics += (unsigned long)optics;
         mt.texture = has_t ? import_tex_find(sc, sc->mMaterials[i], IMPORT_TEX_COLOUR, model, tl) : -1;
         import_cutout(sc->mMaterials[i], &mt);
@@ -481,6 +518,10 @@ static int import_materials(const struct aiScene *sc, const char *model, int has
                                  ? import_tex_find(sc, sc->mMaterials[i], IMPORT_TEX_EMISSION, model, tl) : -1;
         if (glow >= 0)
             mt.emit_map = glow, mt.emit_mapped = 1;
+        const int32_t metal = has_t && metal_mapped
+                                  ? import_tex_find(sc, sc->mMaterials[i], IMPORT_TEX_METAL, model, tl) : -1;
+        if (metal >= 0)
+            import_metal_mapped(sc->mMaterials[i], metal, &mt);
         rc = mesh_add_material(out, mt, err);
     }
     return rc;
@@ -720,6 +761,10 @@ static int receive_mesh(const uint8_t *data, size_t len, const char *name, const
             mt.emit_map = map[mt.emit_map];
         if (mt.emit_map < 0)
             mt.emit_map = 0, mt.emit_mapped = 0;
+        if (material_metal_mapped(&mt)) /* and a metal-roughness texture: all diffuse, as before */
+            mt.metal_map = map[mt.metal_map];
+        if (mt.metal_map < 0)
+            mt = import_unmetal(mt);
         if (mesh_add_material(out, mt, err)) {
             free(map);
             mesh_free(out);

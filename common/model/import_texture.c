@@ -111,7 +111,12 @@ int32_t import_tex_find(const struct aiScene *sc, const struct aiMaterial *am, I
     static const enum aiTextureType colour[] = {aiTextureType_DIFFUSE, aiTextureType_BASE_COLOR, aiTextureType_NONE};
     static const enum aiTextureType normals[] = {aiTextureType_NORMALS, aiTextureType_NONE};
     static const enum aiTextureType emission[] = {aiTextureType_EMISSIVE, aiTextureType_NONE};
-    const enum aiTextureType *types = role == IMPORT_TEX_NORMALS ? normals : role == IMPORT_TEX_EMISSION ? emission : colour;
+    /* glTF's metallicRoughnessTexture: UNKNOWN in Assimp 5.2 (and METALNESS) */
+    static const enum aiTextureType metal[] = {aiTextureType_UNKNOWN, aiTextureType_METALNESS, aiTextureType_NONE};
+    const enum aiTextureType *types = role == IMPORT_TEX_NORMALS    ? normals
+                                      : role == IMPORT_TEX_EMISSION ? emission
+                                      : role == IMPORT_TEX_METAL    ? metal
+                                                                    : colour;
     struct aiString path;
     enum aiTextureType type = aiTextureType_NONE;
     enum aiTextureMapMode mode[2] = {aiTextureMapMode_Wrap, aiTextureMapMode_Wrap};

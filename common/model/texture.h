@@ -166,5 +166,9 @@ int texture_make_data_levels(Texture *t);
  * texture.  Not normalised (an average of normals is shorter).
  * Non-finite coordinates read texel (0, 0). */
 vec3 texture_normal(const Texture *t, real u, real v, const TexFootprint *fp);
+/* A data texture's channels at (u, v) as fractions, each code c as
+ * c / 255 (not as sRGB: a metal-roughness texture's), blended bilinearly
+ * in the image itself, or the nearest texel of a `closest` texture. */
+vec3 texture_fractions(const Texture *t, real u, real v);
 
 #endif

@@ -78,12 +78,13 @@ static inline real sharpen(real a, real s)
     return w < R(0) ? R(0) : w > R(1) ? R(1) : w;
 }
 
-/* A code as a number: a colour's in linear light (sRGB decoded), or, as
- * `data`, a normal map's, 0 -> -1 and 255 -> 1 (128 a little above 0, as
- * glTF's and every exporter's maps have it). */
+/* A code as a number: a colour's in linear light (sRGB decoded, `data`
+ * 0); a normal map's (data 1), 0 -> -1 and 255 -> 1 (128 a little above 0,
+ * as glTF's and every exporter's maps have it); a fraction's (data 2: a
+ * metal-roughness texture's), c / 255. */
 static inline real code_value(uint8_t c, const int data)
 {
-    return data ? (real)c * (R(2) / R(255)) - R(1) : (real)srgb_decode8[c];
+    return data == 1 ? (real)c * (R(2) / R(255)) - R(1) : data == 2 ? (real)c / R(255) : (real)srgb_decode8[c];
 }
 
 /* Texel (x, y) of level L, a colour or data (code_value). */
@@ -252,4 +253,17 @@ vec3 texture_normal(const Texture *t, real u, real v, const TexFootprint *fp)
     const uint32_t l = (uint32_t)lambda;
     return v3_lerp(bilinear_by(t, &t->data_level[l], u, v, 1, 1, 1), bilinear_by(t, &t->data_level[l + 1], u, v, 1, 1, 1),
                    lambda - (real)l);
+}
+
+vec3 texture_fractions(const Texture *t, real u, real v)
+{
+    if (!isfinite(u) || !isfinite(v))
+        u = v = R(0);
+    if (t->closest) {
+        uint32_t x, y;
+        nearest_xy(t, u, v, &x, &y);
+        return texel_by(&t->level[0], x, y, 2);
+    }
+    place(t, &u, &v);
+    return bilinear_by(t, &t->level[0], u, v, 1, 1, 2);
 }

@@ -751,6 +751,30 @@ void trace_surface_bump(Surface *out, const TexFootprint *fp)
         out->ns = p;
 }
 
+/* A mapped metal's material at the hit (glTF's metal-roughness texture:
+ * material.h): the texel's blue scales the metal share (kr = base x
+ * factor x blue, tinted by the base colour texture there; kd the rest of
+ * the base), its green the roughness (and the highlight's exponent with
+ * it, as import.c matches them), into sf->local, which sf->mat then
+ * names.  Read at the point, as the path integrator reads textures. */
+static __attribute__((noinline)) void surface_metal(const World *w, const Model *m, Surface *sf)
+{
+    const Material *mt = sf->mat;
+    const vec3 c = texture_fractions(m->textures[mt->metal_map], sf->u, sf->v);
+    Material *l = &sf->local;
+    *l = *mt;
+    l->metal_map = 0, l->metal_mapped = 0;
+    l->kr = v3_scale(mt->kr, c.z);
+    l->kd = v3_max(v3_sub(mt->kd, l->kr), v3_splat(R(0)));
+    if (sf->tex)
+        l->kr = v3_mul(l->kr, texture_sample(sf->tex, sf->u, sf->v, NULL, w->view.settings.filter));
+    l->ks = l->kr;
+    l->roughness = mt->roughness * c.y;
+    const real a = l->roughness * l->roughness;
+    l->shininess = a > R(0.01) ? real_max(R(2) / (a * a) - R(2), R(1)) : R(20000);
+    sf->mat = l;
+}
+
 /* The surfaces of each kind of hit, for surface_at; `optional` as there. */
 static inline __attribute__((always_inline)) void surface_sphere(const World *w, const Ray *r, const Hit *h,
                                                                  Surface *out, const int optional)
@@ -871,6 +895,8 @@ static inline __attribute__((always_inline)) int surface_instance(const World *w
             bump_frame(m, h->sub, in, out->mat, out);
         if (optional && out->has_uv && material_emit_mapped(out->mat))
             out->etex = m->textures[out->mat->emit_map];
+        if (optional && out->has_uv && material_metal_mapped(out->mat))
+            surface_metal(w, m, out);
     }
     out->object = w->sphere_count + w->plane_count + w->material_count + h->index;
     return model_tex;

@@ -42,6 +42,7 @@ typedef struct {
     real nscale;
     vec3 dpdu, dpdv;  /* how the point moves with u and with v, in the world */
     int ns_turned;    /* ns was turned round to face the viewer */
+    Material local;   /* a mapped metal's material at this hit, which mat then names */
 } Surface;
 
 /* The closest hit: the smallest t, ties decided by a fixed rule (trace.c),

@@ -8,7 +8,7 @@
 #include <string.h>
 
 #define OFF(f) offsetof(Material, f)
-enum { GROUP_MIRROR = 1, GROUP_DIELECTRIC = 2, GROUP_EMIT = 3, GROUP_CHECKER = 4, GROUP_CUTOUT = 5, GROUP_NORMAL = 6, GROUP_EMIT_MAP = 7 };
+enum { GROUP_MIRROR = 1, GROUP_DIELECTRIC = 2, GROUP_EMIT = 3, GROUP_CHECKER = 4, GROUP_CUTOUT = 5, GROUP_NORMAL = 6, GROUP_EMIT_MAP = 7, GROUP_METAL_MAP = 8 };
 
 static const Field fields[] = {
     {.key = "diffuse", .type = FIELD_VEC, .off = OFF(kd), .hi = FIELD_INF, .def = 0.8,
@@ -41,7 +41,8 @@ static const Field fields[] = {
      .doc = "the pattern on the surface's texture coordinates (2D), not in space (3D); needs `checker`"},
     /* a model's own materials only (cutouts: MTL map_d, glTF alphaMode
      * MASK; normal maps: MTL norm, glTF normalTexture; emission textures:
-     * MTL map_Ke, glTF emissiveTexture): on the wire and in
+     * MTL map_Ke, glTF emissiveTexture; glTF's metal-roughness textures):
+     * on the wire and in
      * .tmd files, not scene-file keywords (a scene's spheres, planes,
      * triangles and instances are solid and take their normals as given) */
     {.key = "mask", .type = FIELD_NAME, .group = GROUP_CUTOUT, .flags = FIELD_WIRE, .off = OFF(mask),
@@ -58,6 +59,11 @@ static const Field fields[] = {
      .doc = "an emission texture: the emitted radiance is `emit` times its colour"},
     {.key = "emit_mapped", .type = FIELD_FLAG, .group = GROUP_EMIT_MAP, .flags = FIELD_WIRE, .off = OFF(emit_mapped),
      .doc = "whether `emit_map` names a texture (0: no emission texture)"},
+    {.key = "metal_map", .type = FIELD_NAME, .group = GROUP_METAL_MAP, .flags = FIELD_WIRE, .off = OFF(metal_map),
+     .doc = "a metal-roughness texture: its blue scales the metal share (`reflect` over `diffuse`), its green "
+            "`roughness`"},
+    {.key = "metal_mapped", .type = FIELD_FLAG, .group = GROUP_METAL_MAP, .flags = FIELD_WIRE,
+     .off = OFF(metal_mapped), .doc = "whether `metal_map` names a texture (0: none)"},
 };
 
 static const FieldRule rules[] = {
@@ -72,7 +78,7 @@ static const FieldRule rules[] = {
 };
 
 const FieldKind material_kind = {.name = "material", .fields = fields, .count = sizeof fields / sizeof *fields,
-                                 .rules = rules, .group_count = 7};
+                                 .rules = rules, .group_count = 8};
 
 Material material_default(void)
 {
@@ -107,6 +113,10 @@ const char *material_problem(const Material *m, char *buf, size_t size)
     }
     if (!material_emit_mapped(m) && m->emit_map != 0) {
         snprintf(buf, size, "an emission texture (texture %d) without emit_mapped", m->emit_map);
+        return buf;
+    }
+    if (!material_metal_mapped(m) && m->metal_map != 0) {
+        snprintf(buf, size, "a metal-roughness texture (texture %d) without metal_mapped", m->metal_map);
         return buf;
     }
     if (material_dielectric(m) && material_reflects(m)) {

@@ -49,6 +49,13 @@ typedef struct {
      * A model's own materials only. */
     int32_t emit_map;
     int emit_mapped;
+    /* a metal-roughness texture (glTF metallicRoughnessTexture): where it
+     * is, a hit's metal share is its blue times the factor kr holds (kr =
+     * kd x metallicFactor) and its roughness its green times `roughness`,
+     * kd the base colour (trace.c's surface_metal); metal_mapped 0: none.
+     * A model's own materials only. */
+    int32_t metal_map;
+    int metal_mapped;
 } Material;
 
 #define MATERIAL_CUTOFF_MAX R(2) /* above 1: every texel of a mask a hole */
@@ -64,15 +71,17 @@ static inline int material_checkered(const Material *m) { return m->checker_size
 static inline int material_cuts(const Material *m) { return m->cutoff > R(0); }
 static inline int material_bumps(const Material *m) { return m->normal_scale > R(0); }
 static inline int material_emit_mapped(const Material *m) { return m->emit_mapped != 0; }
+static inline int material_metal_mapped(const Material *m) { return m->metal_mapped != 0; }
 /* Whether the textures the material names (its colour's, a cutout's mask,
- * a normal map, an emission texture) are among `count`; a mask, normal
- * map or emission texture it does not use must be 0. */
+ * a normal map, an emission texture, a metal-roughness texture) are among
+ * `count`; one of the others it does not use must be 0. */
 static inline int material_textures_in(const Material *m, int32_t count)
 {
     return m->texture >= -1 && m->texture < count &&
            (material_cuts(m) ? m->mask >= 0 && m->mask < count : m->mask == 0) &&
            (material_bumps(m) ? m->normal_map >= 0 && m->normal_map < count : m->normal_map == 0) &&
-           (material_emit_mapped(m) ? m->emit_map >= 0 && m->emit_map < count : m->emit_map == 0);
+           (material_emit_mapped(m) ? m->emit_map >= 0 && m->emit_map < count : m->emit_map == 0) &&
+           (material_metal_mapped(m) ? m->metal_map >= 0 && m->metal_map < count : m->metal_map == 0);
 }
 /* Whether a surface of this material needs its texture coordinates. */
 static inline int material_wants_uv(const Material *m) { return m->texture >= 0 || (material_checkered(m) && m->checker_uv); }
