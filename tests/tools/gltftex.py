@@ -66,10 +66,18 @@ def write_gltf(path, image, geo, bin_name):
         json.dump(doc, out)
 
 
-def write_glb(path, img_bytes, mime, sampler=None):
+def write_glb(path, img_bytes, mime, sampler=None, maps=False):
+    """maps: the image is the material's normal map, emission texture (factor 0.3) and
+    metal-roughness texture too (metallic factor 1, roughness factor 0.5)."""
     geo = quad()
     blob = geo + img_bytes
     doc = document(len(blob), {"bufferView": 3, "mimeType": mime}, sampler)
+    if maps:
+        m = doc["materials"][0]
+        m["normalTexture"] = {"index": 0}
+        m["emissiveTexture"] = {"index": 0}
+        m["emissiveFactor"] = [0.3, 0.3, 0.3]
+        m["pbrMetallicRoughness"].update(metallicFactor=1, roughnessFactor=0.5, metallicRoughnessTexture={"index": 0})
     doc["bufferViews"].append({"buffer": 0, "byteOffset": len(geo), "byteLength": len(img_bytes)})
     js = json.dumps(doc).encode()
     js += b" " * (-len(js) % 4)

@@ -17,7 +17,8 @@ P3/P6, PGM P2/P5, PNG, JPEG, smooth or closest, wrapping each axis its way); mat
 and textures, mirrors (reflect, roughness), dielectrics (ior, transmit,
 absorb) and emission, on any primitive; a model whose MTL gives
 one material a texture (map_Kd with -s and -o) and a cutout (map_d), the other a normal map (norm), one with vertex colours
-and no materials, and a GLB with its texture embedded; lamps (an emissive
+and no materials, and a GLB with its texture embedded (and one whose image is also its normal map,
+emission and metal-roughness texture); lamps (an emissive
 sphere at a light); spheres, planes (with and
 without their texture mapping keys) and triangles (with normals and uv); models from OBJ (with and without smooth, each builder) and from
 .tmd (converted by the caller as DIR/mesh.tmd); instances with transforms and
@@ -80,8 +81,11 @@ def write_assets(d):
         data = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "data", "textured")
         shutil.copy(os.path.join(data, "quadrants.png"), os.path.join(d, "tq.png"))
         shutil.copy(os.path.join(data, "quadrants.jpg"), os.path.join(d, "tq.jpg"))
-        gltftex.write_glb(os.path.join(d, "quad.glb"), open(os.path.join(data, "quadrants.png"), "rb").read(),
-                          "image/png", {"magFilter": 9728} if rng.random() < 0.5 else None)
+        sampler = {"magFilter": 9728} if rng.random() < 0.5 else None
+        png = open(os.path.join(data, "quadrants.png"), "rb").read()
+        gltftex.write_glb(os.path.join(d, "quad.glb"), png, "image/png", sampler)
+        # the same with the image as its normal map, emission and metal-roughness texture too
+        gltftex.write_glb(os.path.join(d, "maps.glb"), png, "image/png", sampler, maps=True)
     if not os.path.exists(os.path.join(d, "mesh.obj")):
         # a bumpy 6x6 grid with texture coordinates, two materials, normals on one half
         n = 6
@@ -260,7 +264,7 @@ def scene(seed):
     for i in range(r.choice([0, 0, 1, 2])):
         name = "mod%d" % i
         if r.random() < 0.15:
-            m = ["model", name, "quad.glb"]
+            m = ["model", name, "maps.glb" if r.random() < 0.5 else "quad.glb"]
         elif r.random() < 0.2:
             m = ["model", name, "painted.obj"]
             if r.random() < 0.5:
