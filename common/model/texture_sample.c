@@ -229,24 +229,37 @@ real texture_coverage(const Texture *t, real u, real v)
     return (real)(p[0] + p[1] + p[2]) / R(765);
 }
 
-vec3 texture_normal(const Texture *t, real u, real v, const TexFootprint *fp)
+/* A data texture's texel values at (u, v) in the image itself, codes read
+ * as `data` (code_value): the nearest texel of a `closest` texture, else
+ * bilinear; *placed the coordinates as the levels index them (NULL for a
+ * closest texture, which reads no level below). */
+static vec3 data_at(const Texture *t, real *u, real *v, const int data, int *placed)
 {
-    if (!isfinite(u) || !isfinite(v))
-        u = v = R(0);
+    if (!isfinite(*u) || !isfinite(*v))
+        *u = *v = R(0);
+    *placed = 0;
     if (t->closest) {
         uint32_t x, y;
-        nearest_xy(t, u, v, &x, &y);
-        return texel_by(&t->level[0], x, y, 1);
+        nearest_xy(t, *u, *v, &x, &y);
+        return texel_by(&t->level[0], x, y, data);
     }
-    place(t, &u, &v);
-    real lambda = R(0);
-    if (fp && t->data_texels) { /* the footprint's longer side in texels of the image, as trilinear takes it */
-        const real W = (real)t->w, H = (real)t->h;
-        const real ax = fp->dudx * W, ay = fp->dvdx * H, bx = fp->dudy * W, by = fp->dvdy * H;
-        lambda = lod_log2(real_max(sqrt(ax * ax + ay * ay), sqrt(bx * bx + by * by)));
-    }
+    place(t, u, v);
+    *placed = 1;
+    return bilinear_by(t, &t->level[0], *u, *v, 1, 1, data);
+}
+
+vec3 texture_normal(const Texture *t, real u, real v, const TexFootprint *fp)
+{
+    int placed;
+    const vec3 here = data_at(t, &u, &v, 1, &placed);
+    if (!placed || !fp || !t->data_texels)
+        return here;
+    /* the footprint's longer side in texels of the image, as trilinear takes it */
+    const real W = (real)t->w, H = (real)t->h;
+    const real ax = fp->dudx * W, ay = fp->dvdx * H, bx = fp->dudy * W, by = fp->dvdy * H;
+    const real lambda = lod_log2(real_max(sqrt(ax * ax + ay * ay), sqrt(bx * bx + by * by)));
     if (!(lambda > R(0)))
-        return bilinear_by(t, &t->level[0], u, v, 1, 1, 1);
+        return here;
     const real last = (real)(t->levels - 1);
     if (lambda >= last)
         return bilinear_by(t, &t->data_level[t->levels - 1], u, v, 1, 1, 1);
@@ -257,13 +270,6 @@ vec3 texture_normal(const Texture *t, real u, real v, const TexFootprint *fp)
 
 vec3 texture_fractions(const Texture *t, real u, real v)
 {
-    if (!isfinite(u) || !isfinite(v))
-        u = v = R(0);
-    if (t->closest) {
-        uint32_t x, y;
-        nearest_xy(t, u, v, &x, &y);
-        return texel_by(&t->level[0], x, y, 2);
-    }
-    place(t, &u, &v);
-    return bilinear_by(t, &t->level[0], u, v, 1, 1, 2);
+    int placed;
+    return data_at(t, &u, &v, 2, &placed);
 }

@@ -103,22 +103,20 @@ const char *material_problem(const Material *m, char *buf, size_t size)
 {
     if (field_problem(&material_kind, m, 0, buf, size))
         return buf;
-    if (!material_cuts(m) && m->mask != 0) {
-        snprintf(buf, size, "a mask (texture %d) without a cutoff", m->mask);
-        return buf;
-    }
-    if (!material_bumps(m) && m->normal_map != 0) {
-        snprintf(buf, size, "a normal map (texture %d) without a normal_scale", m->normal_map);
-        return buf;
-    }
-    if (!material_emit_mapped(m) && m->emit_map != 0) {
-        snprintf(buf, size, "an emission texture (texture %d) without emit_mapped", m->emit_map);
-        return buf;
-    }
-    if (!material_metal_mapped(m) && m->metal_map != 0) {
-        snprintf(buf, size, "a metal-roughness texture (texture %d) without metal_mapped", m->metal_map);
-        return buf;
-    }
+    /* a texture index a material does not use (its gate off) stays 0 */
+    const struct {
+        int32_t index;
+        int used;
+        const char *what, *gate;
+    } maps[] = {{m->mask, material_cuts(m), "a mask", "a cutoff"},
+                {m->normal_map, material_bumps(m), "a normal map", "a normal_scale"},
+                {m->emit_map, material_emit_mapped(m), "an emission texture", "emit_mapped"},
+                {m->metal_map, material_metal_mapped(m), "a metal-roughness texture", "metal_mapped"}};
+    for (size_t i = 0; i < sizeof maps / sizeof *maps; i++)
+        if (!maps[i].used && maps[i].index != 0) {
+            snprintf(buf, size, "%s (texture %d) without %s", maps[i].what, maps[i].index, maps[i].gate);
+            return buf;
+        }
     if (material_dielectric(m) && material_reflects(m)) {
         snprintf(buf, size, "a dielectric reflects by Fresnel's equations and takes no mirror reflectance");
         return buf;

@@ -14,16 +14,13 @@
 set -u
 source tests/tools/server-lib.sh
 python3 - "$dir" <<'PY'
-import base64, json, struct, sys, zlib
+import sys
+sys.path.insert(0, "tests/tools")
+from quads import png, gltf_quad
 d = sys.argv[1]
-def png(w, h, rows, ctype):
-    def chunk(t, b): return struct.pack(">I", len(b)) + t + b + struct.pack(">I", zlib.crc32(t + b) & 0xffffffff)
-    raw = b"".join(b"\0" + bytes(r) for r in rows)
-    return (b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", w, h, 8, ctype, 0, 0, 0)) +
-            chunk(b"IDAT", zlib.compress(raw)) + chunk(b"IEND", b""))
 # 8 x 2: the left half black (a hole), the right half white; the colour white
-open(f"{d}/mask.png", "wb").write(png(8, 2, [[0] * 12 + [255] * 12] * 2, 2))
-open(f"{d}/white.png", "wb").write(png(8, 2, [[255] * 24] * 2, 2))
+open(f"{d}/mask.png", "wb").write(png(8, 2, [[0] * 12 + [255] * 12] * 2))
+open(f"{d}/white.png", "wb").write(png(8, 2, [[255] * 24] * 2))
 rgba = png(8, 2, [sum(([255, 255, 255, 0 if x < 4 else 255] for x in range(8)), [])] * 2, 6)
 quad = "v 0 -1 0\nv 2 -1 0\nv 2 1 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n"
 # and, out of view, three solid triangles: the cut ones are fewer than half,
@@ -32,23 +29,8 @@ wall = "v 0 -5 0\nv 2 -5 0\nv 2 -4 0\nv 0 -4 0\nusemtl wall\nf 5/1 6/2 7/3\nf 5/
 for name, extra in (("cut", "map_d mask.png\n"), ("solid", "")):
     open(f"{d}/{name}.mtl", "w").write("newmtl leaf\nKd 1 1 1\nmap_Kd white.png\n" + extra + "newmtl wall\nKd 1 1 1\n")
     open(f"{d}/{name}.obj", "w").write(f"mtllib {name}.mtl\n{quad}usemtl leaf\nf 1/1 2/2 3/3\nf 1/1 3/3 4/4\n{wall}")
-pos = struct.pack("<12f", 0, -1, 0, 2, -1, 0, 2, 1, 0, 0, 1, 0)
-uv = struct.pack("<8f", 0, 1, 1, 1, 1, 0, 0, 0)  # glTF's v runs down the image
-idx = struct.pack("<6H", 0, 1, 2, 0, 2, 3)
-buf = pos + uv + idx
-g = {"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}],
-     "buffers": [{"byteLength": len(buf), "uri": "data:application/octet-stream;base64," + base64.b64encode(buf).decode()}],
-     "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 48}, {"buffer": 0, "byteOffset": 48, "byteLength": 32},
-                     {"buffer": 0, "byteOffset": 80, "byteLength": 12}],
-     "accessors": [{"bufferView": 0, "componentType": 5126, "count": 4, "type": "VEC3", "min": [0, -1, 0], "max": [2, 1, 0]},
-                   {"bufferView": 1, "componentType": 5126, "count": 4, "type": "VEC2"},
-                   {"bufferView": 2, "componentType": 5123, "count": 6, "type": "SCALAR"}],
-     "meshes": [{"primitives": [{"attributes": {"POSITION": 0, "TEXCOORD_0": 1}, "indices": 2, "material": 0}]}],
-     "images": [{"uri": "data:image/png;base64," + base64.b64encode(rgba).decode()}],
-     "textures": [{"source": 0}],
-     "materials": [{"alphaMode": "MASK", "alphaCutoff": 0.5,
-                    "pbrMetallicRoughness": {"baseColorTexture": {"index": 0}, "metallicFactor": 0}}]}
-open(f"{d}/cut.gltf", "w").write(json.dumps(g))
+gltf_quad(f"{d}/cut.gltf", {"alphaMode": "MASK", "alphaCutoff": 0.5,
+                            "pbrMetallicRoughness": {"baseColorTexture": {"index": 0}, "metallicFactor": 0}}, [rgba])
 for name in ("cut", "solid", "gltf"):
     model = "cut.gltf" if name == "gltf" else f"{name}.obj"
     open(f"{d}/{name}.scene", "w").write(
@@ -71,16 +53,9 @@ for s in cut gltf; do
     got=$(bright "$(px "$dir/$s.png")")
     [ "$got" = RWRr ] || fail "$s: hole, solid, their shadows should read RWRr, got $got ($(px "$dir/$s.png"))"
 done
-for p in scalar sse avx2 avx512; do
-    "$BIN/lanray-render" "$dir/cut.scene" --width 64 --height 32 --aa 1 --simd "$p" -o "$dir/cut-$p.png" --quiet >/dev/null 2>&1 ||
-        continue # a path this CPU or build lacks
-    cmp -s "$dir/cut.png" "$dir/cut-$p.png" || fail "the $p path renders the cutout differently"
-done
+same_on_simd_paths "$dir/cut.scene" "$dir/cut.png" 64 32 "the cutout"
 # through a .tmd: the mask and its texture travel in the file
-"$BIN/obj2tmd" "$dir/cut.obj" "$dir/cut.tmd" >"$dir/tmd.log" 2>&1 || fail "obj2tmd: $(cat "$dir/tmd.log")"
-sed 's/cut.obj/cut.tmd/' "$dir/cut.scene" >"$dir/tmd.scene"
-"$BIN/lanray-render" "$dir/tmd.scene" --width 64 --height 32 --aa 1 -o "$dir/tmd.png" --quiet >/dev/null 2>&1 || fail "render tmd"
-cmp -s "$dir/cut.png" "$dir/tmd.png" || fail "the .tmd's cutout renders differently from the OBJ's"
+same_through_tmd "$dir/cut.obj" "$dir/cut.scene" "$dir/cut.png" 64 32 "cutout"
 "$BIN/lanray-render" "$dir/gltf.scene" --width 64 --height 64 -o "$dir/gltf-ref.png" --quiet >/dev/null 2>&1 || fail "reference"
 verify_distributed cutout "$dir/gltf.scene" "$dir/gltf-ref.png" "of the glTF cutout"
 echo "cutout: MTL map_d and glTF MASK holes show what is behind and let light through, on every SIMD path, in a .tmd and through a server"

@@ -13,35 +13,18 @@
 set -u
 source tests/tools/server-lib.sh
 python3 - "$dir" <<'PY'
-import base64, json, struct, sys, zlib
+import sys
+sys.path.insert(0, "tests/tools")
+from quads import png, gltf_quad
 d = sys.argv[1]
-def png(w, h, rows):
-    def chunk(t, b): return struct.pack(">I", len(b)) + t + b + struct.pack(">I", zlib.crc32(t + b) & 0xffffffff)
-    raw = b"".join(b"\0" + bytes(r) for r in rows)
-    return (b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", w, h, 8, 2, 0, 0, 0)) +
-            chunk(b"IDAT", zlib.compress(raw)) + chunk(b"IEND", b""))
 half = png(4, 1, [[0, 0, 0] * 2 + [255, 255, 255] * 2])
 open(f"{d}/half.png", "wb").write(half)
 quad = "v 0 -1 0\nv 2 -1 0\nv 2 1 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n"
 open(f"{d}/glow.mtl", "w").write("newmtl panel\nKd 0 0 0\nmap_Ke -clamp on half.png\n")
 open(f"{d}/glow.obj", "w").write(f"mtllib glow.mtl\n{quad}usemtl panel\nf 1/1 2/2 3/3\nf 1/1 3/3 4/4\n")
-pos = struct.pack("<12f", 0, -1, 0, 2, -1, 0, 2, 1, 0, 0, 1, 0)
-uv = struct.pack("<8f", 0, 1, 1, 1, 1, 0, 0, 0)  # glTF's v runs down the image
-idx = struct.pack("<6H", 0, 1, 2, 0, 2, 3)
-buf = pos + uv + idx
-g = {"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}],
-     "buffers": [{"byteLength": len(buf), "uri": "data:application/octet-stream;base64," + base64.b64encode(buf).decode()}],
-     "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 48}, {"buffer": 0, "byteOffset": 48, "byteLength": 32},
-                     {"buffer": 0, "byteOffset": 80, "byteLength": 12}],
-     "accessors": [{"bufferView": 0, "componentType": 5126, "count": 4, "type": "VEC3", "min": [0, -1, 0], "max": [2, 1, 0]},
-                   {"bufferView": 1, "componentType": 5126, "count": 4, "type": "VEC2"},
-                   {"bufferView": 2, "componentType": 5123, "count": 6, "type": "SCALAR"}],
-     "meshes": [{"primitives": [{"attributes": {"POSITION": 0, "TEXCOORD_0": 1}, "indices": 2, "material": 0}]}],
-     "images": [{"uri": "data:image/png;base64," + base64.b64encode(half).decode()}],
-     "samplers": [{"wrapS": 33071, "wrapT": 33071}], "textures": [{"source": 0, "sampler": 0}],
-     "materials": [{"emissiveFactor": [1, 0.5, 0], "emissiveTexture": {"index": 0},
-                    "pbrMetallicRoughness": {"baseColorFactor": [0, 0, 0, 1], "metallicFactor": 0}}]}
-open(f"{d}/glow.gltf", "w").write(json.dumps(g))
+gltf_quad(f"{d}/glow.gltf", {"emissiveFactor": [1, 0.5, 0], "emissiveTexture": {"index": 0},
+                             "pbrMetallicRoughness": {"baseColorFactor": [0, 0, 0, 1], "metallicFactor": 0}},
+          [half], sampler={"wrapS": 33071, "wrapT": 33071})
 head = "camera position 1 0 5 lookat 1 0 0 ortho 2\nambient 0 0 0\nbackground 0 0 0\n"
 for name, model in (("obj", "glow.obj"), ("gltf", "glow.gltf")):
     open(f"{d}/{name}.scene", "w").write(f"{head}model quad {model}\ninstance quad\n")
@@ -66,16 +49,8 @@ sed -i 's/^map_Ke.*//' "$dir/glow.mtl"
     fail "render without map_Ke"
 [ "$(px "$dir/plain.png")" = "0 0 0|0 0 0|" ] || fail "without map_Ke the quad glows: $(px "$dir/plain.png")"
 printf 'newmtl panel\nKd 0 0 0\nmap_Ke -clamp on half.png\n' >"$dir/glow.mtl"
-for p in scalar sse avx2 avx512; do
-    "$BIN/lanray-render" "$dir/obj.scene" --width 32 --height 32 --aa 1 --simd "$p" -o "$dir/obj-$p.png" --quiet \
-        >/dev/null 2>&1 || continue # a path this CPU or build lacks
-    cmp -s "$dir/obj.png" "$dir/obj-$p.png" || fail "the $p path renders the emission texture differently"
-done
-"$BIN/obj2tmd" "$dir/glow.obj" "$dir/glow.tmd" >"$dir/tmd.log" 2>&1 || fail "obj2tmd: $(cat "$dir/tmd.log")"
-sed 's/glow.obj/glow.tmd/' "$dir/obj.scene" >"$dir/tmd.scene"
-"$BIN/lanray-render" "$dir/tmd.scene" --width 32 --height 32 --aa 1 -o "$dir/tmd.png" --quiet >/dev/null 2>&1 ||
-    fail "render tmd"
-cmp -s "$dir/obj.png" "$dir/tmd.png" || fail "the .tmd's emission texture renders differently from the OBJ's"
+same_on_simd_paths "$dir/obj.scene" "$dir/obj.png" 32 32 "the emission texture"
+same_through_tmd "$dir/glow.obj" "$dir/obj.scene" "$dir/obj.png" 32 32 "emission texture"
 # path-traced: the floor in front of the bright half against in front of the dark one
 "$BIN/lanray-render" "$dir/floor.scene" --width 64 --height 64 --aa 4 -o "$dir/floor.png" --quiet >/dev/null 2>&1 ||
     fail "render the floor"

@@ -13,13 +13,10 @@
 set -u
 source tests/tools/server-lib.sh
 python3 - "$dir" <<'PY'
-import base64, json, struct, sys, zlib
+import sys
+sys.path.insert(0, "tests/tools")
+from quads import png, gltf_quad
 d = sys.argv[1]
-def png(w, h, rows):
-    def chunk(t, b): return struct.pack(">I", len(b)) + t + b + struct.pack(">I", zlib.crc32(t + b) & 0xffffffff)
-    raw = b"".join(b"\0" + bytes(r) for r in rows)
-    return (b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", w, h, 8, 2, 0, 0, 0)) +
-            chunk(b"IDAT", zlib.compress(raw)) + chunk(b"IEND", b""))
 # 45 degrees: (cos, sin) = 0.7071 -> code 218 (x), 38 for -0.7071; 128 is 0
 open(f"{d}/lean.png", "wb").write(png(4, 1, [[218, 128, 218] * 2 + [38, 128, 218] * 2]))
 quad = "v 0 -1 0\nv 2 -1 0\nv 2 1 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nvn 0 0 1\n"
@@ -27,30 +24,9 @@ for name, extra in (("bumpy", "norm lean.png\n"), ("flat", "")):
     open(f"{d}/{name}.mtl", "w").write("newmtl quad\nKd 1 1 1\n" + extra)
     open(f"{d}/{name}.obj", "w").write(f"mtllib {name}.mtl\n{quad}usemtl quad\nf 1/1/1 2/2/1 3/3/1\nf 1/1/1 3/3/1 4/4/1\n")
 up = png(1, 1, [[128, 218, 218]])
-pos = struct.pack("<12f", 0, -1, 0, 2, -1, 0, 2, 1, 0, 0, 1, 0)
-nrm = struct.pack("<12f", *([0, 0, 1] * 4))
-uv = struct.pack("<8f", 0, 1, 1, 1, 1, 0, 0, 0)  # glTF's v runs down the image: +y is its "up"
-idx = struct.pack("<6H", 0, 1, 2, 0, 2, 3)
-buf = pos + nrm + uv + idx
 for name, mat in (("up", {"normalTexture": {"index": 0}}), ("level", {})):
     mat["pbrMetallicRoughness"] = {"metallicFactor": 0}
-    g = {"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}],
-         "buffers": [{"byteLength": len(buf),
-                      "uri": "data:application/octet-stream;base64," + base64.b64encode(buf).decode()}],
-         "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 48},
-                         {"buffer": 0, "byteOffset": 48, "byteLength": 48},
-                         {"buffer": 0, "byteOffset": 96, "byteLength": 32},
-                         {"buffer": 0, "byteOffset": 128, "byteLength": 12}],
-         "accessors": [{"bufferView": 0, "componentType": 5126, "count": 4, "type": "VEC3",
-                        "min": [0, -1, 0], "max": [2, 1, 0]},
-                       {"bufferView": 1, "componentType": 5126, "count": 4, "type": "VEC3"},
-                       {"bufferView": 2, "componentType": 5126, "count": 4, "type": "VEC2"},
-                       {"bufferView": 3, "componentType": 5123, "count": 6, "type": "SCALAR"}],
-         "meshes": [{"primitives": [{"attributes": {"POSITION": 0, "NORMAL": 1, "TEXCOORD_0": 2}, "indices": 3,
-                                     "material": 0}]}],
-         "images": [{"uri": "data:image/png;base64," + base64.b64encode(up).decode()}],
-         "textures": [{"source": 0}], "materials": [mat]}
-    open(f"{d}/{name}.gltf", "w").write(json.dumps(g))
+    gltf_quad(f"{d}/{name}.gltf", mat, [up], normals=True)
 for name, model, lamp in (("bumpy", "bumpy.obj", "-1 0 -1"), ("flat", "flat.obj", "-1 0 -1"),
                           ("up", "up.gltf", "0 -1 -1"), ("level", "level.gltf", "0 -1 -1")):
     open(f"{d}/{name}.scene", "w").write(
@@ -72,17 +48,8 @@ read -r l r <<<"$(px "$dir/up.png")"
 [ "$l" -ge 250 ] && [ "$r" -ge 250 ] || fail "the glTF's normal map (green: up): $l and $r, not lit"
 read -r l r <<<"$(px "$dir/level.png")"
 [ "$l" -ge 225 ] && [ "$l" -le 238 ] || fail "the glTF without a map: $l, not at cos 45"
-for p in scalar sse avx2 avx512; do
-    "$BIN/lanray-render" "$dir/bumpy.scene" --width 32 --height 32 --aa 1 --simd "$p" -o "$dir/bumpy-$p.png" --quiet \
-        >/dev/null 2>&1 || continue # a path this CPU or build lacks
-    cmp -s "$dir/bumpy.png" "$dir/bumpy-$p.png" || fail "the $p path renders the normal map differently"
-done
-# through a .tmd: the map travels in the file
-"$BIN/obj2tmd" "$dir/bumpy.obj" "$dir/bumpy.tmd" >"$dir/tmd.log" 2>&1 || fail "obj2tmd: $(cat "$dir/tmd.log")"
-sed 's/bumpy.obj/bumpy.tmd/' "$dir/bumpy.scene" >"$dir/tmd.scene"
-"$BIN/lanray-render" "$dir/tmd.scene" --width 32 --height 32 --aa 1 -o "$dir/tmd.png" --quiet >/dev/null 2>&1 ||
-    fail "render tmd"
-cmp -s "$dir/bumpy.png" "$dir/tmd.png" || fail "the .tmd's normal map renders differently from the OBJ's"
+same_on_simd_paths "$dir/bumpy.scene" "$dir/bumpy.png" 32 32 "the normal map"
+same_through_tmd "$dir/bumpy.obj" "$dir/bumpy.scene" "$dir/bumpy.png" 32 32 "normal map"
 "$BIN/lanray-render" "$dir/up.scene" --width 64 --height 64 -o "$dir/up-ref.png" --quiet >/dev/null 2>&1 ||
     fail "reference"
 verify_distributed normalmap "$dir/up.scene" "$dir/up-ref.png" "of the glTF normal map"

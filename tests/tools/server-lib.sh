@@ -4,7 +4,9 @@
 # clients_until_done N THREADS,
 # start_server NAME ARGS (sets $port and $server_pid), run_prog (how
 # start_server runs the server; a test may redefine it), verify_distributed
-# (one frame through a server and a client, checked against a reference).
+# (one frame through a server and a client, checked against a reference),
+# same_on_simd_paths and same_through_tmd (a picture on every SIMD path and
+# from a model's .tmd).
 BIN=${BIN:-bin}
 dir=$(mktemp -d)
 pids=()
@@ -51,4 +53,26 @@ verify_distributed() {
     pids+=("$!")
     for _ in $(seq 300); do kill -0 "$server_pid" 2>/dev/null || break; sleep 0.05; done
     wait "$server_pid" || fail "the distributed frame $what differs from lanray-render's (server exit $?): $(tail -3 "$dir/$name.err")"
+}
+# same_on_simd_paths SCENE PNG W H WHAT: lanray-render of SCENE at W x H
+# (--aa 1) on each SIMD path this CPU and build have gives PNG's bytes
+same_on_simd_paths() {
+    local scene=$1 png=$2 w=$3 h=$4 what=$5 p
+    for p in scalar sse avx2 avx512; do
+        "$BIN/lanray-render" "$scene" --width "$w" --height "$h" --aa 1 --simd "$p" -o "$dir/simd-$p.png" --quiet \
+            >/dev/null 2>&1 || continue # a path this CPU or build lacks
+        cmp -s "$png" "$dir/simd-$p.png" || fail "the $p path renders $what differently"
+    done
+}
+# same_through_tmd MODEL SCENE PNG W H WHAT: SCENE, which names MODEL by its
+# file name, renders (W x H, --aa 1) to PNG's bytes with MODEL converted to
+# a .tmd: what the material says travels in the file
+same_through_tmd() {
+    local model=$1 scene=$2 png=$3 w=$4 h=$5 what=$6 base
+    base=$(basename "$model")
+    "$BIN/obj2tmd" "$model" "$dir/through.tmd" >"$dir/tmd.log" 2>&1 || fail "obj2tmd: $(cat "$dir/tmd.log")"
+    sed "s/$base/through.tmd/" "$scene" >"$dir/through.scene"
+    "$BIN/lanray-render" "$dir/through.scene" --width "$w" --height "$h" --aa 1 -o "$dir/through.png" --quiet \
+        >/dev/null 2>&1 || fail "render the .tmd of $base"
+    cmp -s "$png" "$dir/through.png" || fail "the .tmd's $what renders differently from $base's"
 }
