@@ -114,17 +114,18 @@ static void a_smooth_triangle_needs_its_normals(void **state)
 }
 
 /* A scene's own materials neither cut holes nor carry normal maps,
- * emission or metal-roughness textures (a model's own materials do): a sent or coded one is
+ * emission, metal-roughness or occlusion textures (a model's own do): a sent or coded one is
  * refused by name; a normal map without its scale is no material at all. */
 static void scene_materials_have_no_cutouts_or_normal_maps(void **state)
 {
     (void)state;
     Material cut = material_default(), bumpy = material_default(), half = material_default(),
-             glow = material_default(), metal = material_default();
+             glow = material_default(), metal = material_default(), dark = material_default();
     cut.mask = 0, cut.cutoff = R(0.5);
     bumpy.normal_map = 0, bumpy.normal_scale = 1;
     glow.ke = v3(1, 1, 1), glow.emit_map = 0, glow.emit_mapped = 1;
     metal.kr = v3(1, 1, 1), metal.metal_map = 0, metal.metal_mapped = 1;
+    dark.ao_map = 0, dark.ao_strength = 1;
     half.normal_map = 1;
     char why[160];
     assert_null(material_problem(&bumpy, why, sizeof why));
@@ -136,8 +137,9 @@ static void scene_materials_have_no_cutouts_or_normal_maps(void **state)
     } cases[] = {{cut, "is a cutout"},
                  {bumpy, "has a normal map"},
                  {glow, "has an emission texture"},
-                 {metal, "has a metal-roughness texture"}};
-    for (int i = 0; i < 4; i++) {
+                 {metal, "has a metal-roughness texture"},
+                 {dark, "has an occlusion texture"}};
+    for (int i = 0; i < 5; i++) {
         Scene *s = scene_create();
         assert_int_equal(scene_add_material(s, cases[i].m, NULL, NULL), 0);
         Err err;

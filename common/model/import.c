@@ -497,6 +497,20 @@ static void import_normal_map(const struct aiScene *sc, const struct aiMaterial 
     mt->normal_scale = real_min((real)scale, MATERIAL_NORMAL_SCALE_MAX);
 }
 
+/* A glTF material's occlusion texture (occlusionTexture, its strength):
+ * its index in *tl. */
+static void import_occlusion(const struct aiScene *sc, const struct aiMaterial *am, const char *model,
+                             ImportTexList *tl, Material *mt)
+{
+    const int32_t t = import_tex_find(sc, am, IMPORT_TEX_OCCLUSION, model, tl);
+    ai_real strength = 1;
+    aiGetMaterialFloatArray(am, AI_MATKEY_GLTF_TEXTURE_STRENGTH(aiTextureType_LIGHTMAP, 0), &strength, NULL);
+    if (t < 0 || !(strength > 0)) /* a strength of 0 occludes nothing */
+        return;
+    mt->ao_map = t;
+    mt->ao_strength = real_min((real)strength, R(1));
+}
+
 /* Every material of the file into out, in the file's order, with its
  * texture (an index into *tl) where the model has texture coordinates. */
 static int import_materials(const struct aiScene *sc, const char *model, int has_t, Mesh *out, ImportTexList *tl,
@@ -522,6 +536,8 @@ static int import_materials(const struct aiScene *sc, const char *model, int has
                                   ? import_tex_find(sc, sc->mMaterials[i], IMPORT_TEX_METAL, model, tl) : -1;
         if (metal >= 0)
             import_metal_mapped(sc->mMaterials[i], metal, &mt);
+        if (has_t)
+            import_occlusion(sc, sc->mMaterials[i], model, tl, &mt);
         rc = mesh_add_material(out, mt, err);
     }
     return rc;
@@ -765,6 +781,10 @@ static int receive_mesh(const uint8_t *data, size_t len, const char *name, const
             mt.metal_map = map[mt.metal_map];
         if (mt.metal_map < 0)
             mt = import_unmetal(mt);
+        if (material_occludes(&mt)) /* and an occlusion texture: no occlusion */
+            mt.ao_map = map[mt.ao_map];
+        if (mt.ao_map < 0)
+            mt.ao_map = 0, mt.ao_strength = 0;
         if (mesh_add_material(out, mt, err)) {
             free(map);
             mesh_free(out);

@@ -113,10 +113,14 @@ int32_t import_tex_find(const struct aiScene *sc, const struct aiMaterial *am, I
     static const enum aiTextureType emission[] = {aiTextureType_EMISSIVE, aiTextureType_NONE};
     /* glTF's metallicRoughnessTexture: UNKNOWN in Assimp 5.2 (and METALNESS) */
     static const enum aiTextureType metal[] = {aiTextureType_UNKNOWN, aiTextureType_METALNESS, aiTextureType_NONE};
-    const enum aiTextureType *types = role == IMPORT_TEX_NORMALS    ? normals
-                                      : role == IMPORT_TEX_EMISSION ? emission
-                                      : role == IMPORT_TEX_METAL    ? metal
-                                                                    : colour;
+    /* glTF's occlusionTexture: LIGHTMAP in Assimp 5.2 */
+    static const enum aiTextureType occlusion[] = {aiTextureType_LIGHTMAP, aiTextureType_AMBIENT_OCCLUSION,
+                                                   aiTextureType_NONE};
+    const enum aiTextureType *types = role == IMPORT_TEX_NORMALS     ? normals
+                                      : role == IMPORT_TEX_EMISSION  ? emission
+                                      : role == IMPORT_TEX_METAL     ? metal
+                                      : role == IMPORT_TEX_OCCLUSION ? occlusion
+                                                                     : colour;
     struct aiString path;
     enum aiTextureType type = aiTextureType_NONE;
     enum aiTextureMapMode mode[2] = {aiTextureMapMode_Wrap, aiTextureMapMode_Wrap};

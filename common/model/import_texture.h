@@ -49,8 +49,15 @@ typedef struct {
 } ImportTexList;
 
 /* Which of a material's textures: its colour's (diffuse, base colour),
- * its normal map, its emission's, or its metal-roughness texture. */
-typedef enum { IMPORT_TEX_COLOUR = 0, IMPORT_TEX_NORMALS = 1, IMPORT_TEX_EMISSION = 2, IMPORT_TEX_METAL = 3 } ImportTexRole;
+ * its normal map, its emission's, its metal-roughness texture, or its
+ * occlusion texture. */
+typedef enum {
+    IMPORT_TEX_COLOUR = 0,
+    IMPORT_TEX_NORMALS = 1,
+    IMPORT_TEX_EMISSION = 2,
+    IMPORT_TEX_METAL = 3,
+    IMPORT_TEX_OCCLUSION = 4
+} ImportTexRole;
 
 /* The child: material am's texture of that role, added to l once per key;
  * its index in l, or -1 when the material has none (or a normal map or

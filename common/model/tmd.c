@@ -92,6 +92,7 @@ int tmd_encode(const Model *m, int wide, void **data, size_t *len, Err *err)
                 mt.normal_map = 0, mt.normal_scale = 0;
                 mt.emit_map = 0, mt.emit_mapped = 0;
                 mt.metal_map = 0, mt.metal_mapped = 0;
+                mt.ao_map = 0, mt.ao_strength = 0;
             }
             field_encode(&material_kind, &mt, &s);
         }
@@ -306,9 +307,10 @@ static int read_materials(Cursor *c, const Header *hd, Model *m, const char *nam
             return err_set(err, "%s: material %u is %s", name, i, c->failed ? "cut short" : "malformed (unknown groups)");
         if (!material_textures_in(mt, (int32_t)hd->texs))
             return err_set(err,
-                           "%s: material %u names texture %d (colour), %d (cutout), %d (normal map), %d (emission) or %d "
-                           "(metal) of %u",
-                           name, i, mt->texture, mt->mask, mt->normal_map, mt->emit_map, mt->metal_map, hd->texs);
+                           "%s: material %u names texture %d (colour), %d (cutout), %d (normal map), %d (emission), %d "
+                           "(metal) or %d (occlusion) of %u",
+                           name, i, mt->texture, mt->mask, mt->normal_map, mt->emit_map, mt->metal_map, mt->ao_map,
+                           hd->texs);
     }
     for (uint32_t i = 0; i < hd->mats && hd->version < TMD_VERSION_FIELDS; i++) {
         Material *mt = &m->materials[i];

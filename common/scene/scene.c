@@ -260,6 +260,8 @@ static int check_materials(const Scene *s, Err *err)
             return err_set(err, "scene: material %u has a normal map: only a model's own materials have one", i);
         if (material_emit_mapped(m))
             return err_set(err, "scene: material %u has an emission texture: only a model's own materials have one", i);
+        if (material_occludes(m))
+            return err_set(err, "scene: material %u has an occlusion texture: only a model's own materials have one", i);
         if (material_metal_mapped(m))
             return err_set(err, "scene: material %u has a metal-roughness texture: only a model's own materials have one",
                            i);

@@ -262,6 +262,8 @@ static inline __attribute__((always_inline)) void shade_start(const World *w, co
     if (world_uses(w, FEAT_EMIT))
         sh->ke = optional && sh->sf.etex ? trace_emission(w, &sh->sf, sh->rd ? &fp : NULL) : m->ke;
     sh->col = v3_mul(w->ambient, sh->kd);
+    if (optional && sh->sf.aotex) /* an occlusion texture: crevices take less of the ambient light */
+        sh->col = v3_scale(sh->col, trace_occlusion(&sh->sf));
     sh->view = v3_neg(v3_norm(r->dir));
     sh->phong = w->view.settings.shading == SHADE_PHONG && v3_max_comp(m->ks) > R(0);
     sh->origin = sh->sf.p;

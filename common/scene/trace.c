@@ -895,6 +895,8 @@ static inline __attribute__((always_inline)) int surface_instance(const World *w
             bump_frame(m, h->sub, in, out->mat, out);
         if (optional && out->has_uv && material_emit_mapped(out->mat))
             out->etex = m->textures[out->mat->emit_map];
+        if (optional && out->has_uv && material_occludes(out->mat))
+            out->aotex = m->textures[out->mat->ao_map];
         if (optional && out->has_uv && material_metal_mapped(out->mat))
             surface_metal(w, m, out);
     }
@@ -913,7 +915,7 @@ static inline __attribute__((always_inline)) void surface_at(const World *w, con
     out->u = out->v = out->err = 0;
     out->has_uv = out->has_colour = out->smooth = out->inside = 0;
     out->mat = &fallback_material;
-    out->etex = NULL;
+    out->etex = out->aotex = NULL;
     out->object = 0;
     Lift lift;
     lift.pm = v3_splat(0);
@@ -961,6 +963,15 @@ vec3 trace_emission(const World *w, const Surface *sf, const TexFootprint *fp)
     if (!sf->etex)
         return sf->mat->ke;
     return v3_mul(sf->mat->ke, texture_sample(sf->etex, sf->u, sf->v, fp, w->view.settings.filter));
+}
+
+real trace_occlusion(const Surface *sf)
+{
+    if (!sf->aotex)
+        return R(1);
+    /* glTF 2.0, 3.9.3: 1 + strength (r - 1) */
+    const real r = texture_fractions(sf->aotex, sf->u, sf->v).x;
+    return R(1) + sf->mat->ao_strength * (r - R(1));
 }
 
 vec3 trace_offset_origin(vec3 p, vec3 n, real err)

@@ -43,6 +43,8 @@ typedef struct {
     vec3 dpdu, dpdv;  /* how the point moves with u and with v, in the world */
     int ns_turned;    /* ns was turned round to face the viewer */
     Material local;   /* a mapped metal's material at this hit, which mat then names */
+    const Texture *aotex; /* a model's own material's occlusion texture (where it has texture
+                           * coordinates), or NULL: trace_occlusion */
 } Surface;
 
 /* The closest hit: the smallest t, ties decided by a fixed rule (trace.c),
@@ -103,6 +105,10 @@ void trace_surface_bump(Surface *sf, const TexFootprint *fp);
  * emission texture's colour at the hit where it has one (read over the
  * footprint fp, or at one point where fp is NULL, by the view's filter). */
 vec3 trace_emission(const World *w, const Surface *sf, const TexFootprint *fp);
+/* What share of the ambient light reaches the surface: 1, or where its
+ * material has an occlusion texture, 1 + strength x (its red there - 1),
+ * the texel read as a fraction (c / 255: the data it is) at the point. */
+real trace_occlusion(const Surface *sf);
 
 /* How the surface at hit h changes over a sample's footprint (dpdx,
  * dpdy: raydiff.h): its texture coordinates (*fp) and its shading normal

@@ -8,7 +8,8 @@
 #include <string.h>
 
 #define OFF(f) offsetof(Material, f)
-enum { GROUP_MIRROR = 1, GROUP_DIELECTRIC = 2, GROUP_EMIT = 3, GROUP_CHECKER = 4, GROUP_CUTOUT = 5, GROUP_NORMAL = 6, GROUP_EMIT_MAP = 7, GROUP_METAL_MAP = 8 };
+enum { GROUP_MIRROR = 1, GROUP_DIELECTRIC = 2, GROUP_EMIT = 3, GROUP_CHECKER = 4, GROUP_CUTOUT = 5, GROUP_NORMAL = 6, GROUP_EMIT_MAP = 7, GROUP_METAL_MAP = 8,
+       GROUP_OCCLUSION = 9 };
 
 static const Field fields[] = {
     {.key = "diffuse", .type = FIELD_VEC, .off = OFF(kd), .hi = FIELD_INF, .def = 0.8,
@@ -41,7 +42,8 @@ static const Field fields[] = {
      .doc = "the pattern on the surface's texture coordinates (2D), not in space (3D); needs `checker`"},
     /* a model's own materials only (cutouts: MTL map_d, glTF alphaMode
      * MASK; normal maps: MTL norm, glTF normalTexture; emission textures:
-     * MTL map_Ke, glTF emissiveTexture; glTF's metal-roughness textures):
+     * MTL map_Ke, glTF emissiveTexture; glTF's metal-roughness and
+     * occlusion textures):
      * on the wire and in
      * .tmd files, not scene-file keywords (a scene's spheres, planes,
      * triangles and instances are solid and take their normals as given) */
@@ -64,6 +66,11 @@ static const Field fields[] = {
             "`roughness`"},
     {.key = "metal_mapped", .type = FIELD_FLAG, .group = GROUP_METAL_MAP, .flags = FIELD_WIRE,
      .off = OFF(metal_mapped), .doc = "whether `metal_map` names a texture (0: none)"},
+    {.key = "ao_map", .type = FIELD_NAME, .group = GROUP_OCCLUSION, .flags = FIELD_WIRE, .off = OFF(ao_map),
+     .doc = "an occlusion texture: its red darkens the ambient light"},
+    {.key = "ao_strength", .type = FIELD_REAL, .group = GROUP_OCCLUSION, .flags = FIELD_WIRE | FIELD_ZERO_OK,
+     .off = OFF(ao_strength), .lo = 1e-6, .hi = 1,
+     .doc = "how much: the ambient light times 1 + this x (red - 1); 0: no occlusion texture"},
 };
 
 static const FieldRule rules[] = {
@@ -78,7 +85,7 @@ static const FieldRule rules[] = {
 };
 
 const FieldKind material_kind = {.name = "material", .fields = fields, .count = sizeof fields / sizeof *fields,
-                                 .rules = rules, .group_count = 8};
+                                 .rules = rules, .group_count = 9};
 
 Material material_default(void)
 {
@@ -111,7 +118,8 @@ const char *material_problem(const Material *m, char *buf, size_t size)
     } maps[] = {{m->mask, material_cuts(m), "a mask", "a cutoff"},
                 {m->normal_map, material_bumps(m), "a normal map", "a normal_scale"},
                 {m->emit_map, material_emit_mapped(m), "an emission texture", "emit_mapped"},
-                {m->metal_map, material_metal_mapped(m), "a metal-roughness texture", "metal_mapped"}};
+                {m->metal_map, material_metal_mapped(m), "a metal-roughness texture", "metal_mapped"},
+                {m->ao_map, material_occludes(m), "an occlusion texture", "an ao_strength"}};
     for (size_t i = 0; i < sizeof maps / sizeof *maps; i++)
         if (!maps[i].used && maps[i].index != 0) {
             snprintf(buf, size, "%s (texture %d) without %s", maps[i].what, maps[i].index, maps[i].gate);

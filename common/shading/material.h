@@ -56,6 +56,11 @@ typedef struct {
      * A model's own materials only. */
     int32_t metal_map;
     int metal_mapped;
+    /* an occlusion texture (glTF occlusionTexture): the ambient light a
+     * hit takes is times 1 + ao_strength x (its red - 1); ao_strength 0:
+     * none.  A model's own materials only. */
+    int32_t ao_map;
+    real ao_strength;
 } Material;
 
 #define MATERIAL_CUTOFF_MAX R(2) /* above 1: every texel of a mask a hole */
@@ -72,8 +77,9 @@ static inline int material_cuts(const Material *m) { return m->cutoff > R(0); }
 static inline int material_bumps(const Material *m) { return m->normal_scale > R(0); }
 static inline int material_emit_mapped(const Material *m) { return m->emit_mapped != 0; }
 static inline int material_metal_mapped(const Material *m) { return m->metal_mapped != 0; }
+static inline int material_occludes(const Material *m) { return m->ao_strength > R(0); }
 /* Whether the textures the material names (its colour's, a cutout's mask,
- * a normal map, an emission texture, a metal-roughness texture) are among
+ * a normal map, an emission, metal-roughness or occlusion texture) are among
  * `count`; one of the others it does not use must be 0. */
 static inline int material_textures_in(const Material *m, int32_t count)
 {
@@ -81,7 +87,8 @@ static inline int material_textures_in(const Material *m, int32_t count)
            (material_cuts(m) ? m->mask >= 0 && m->mask < count : m->mask == 0) &&
            (material_bumps(m) ? m->normal_map >= 0 && m->normal_map < count : m->normal_map == 0) &&
            (material_emit_mapped(m) ? m->emit_map >= 0 && m->emit_map < count : m->emit_map == 0) &&
-           (material_metal_mapped(m) ? m->metal_map >= 0 && m->metal_map < count : m->metal_map == 0);
+           (material_metal_mapped(m) ? m->metal_map >= 0 && m->metal_map < count : m->metal_map == 0) &&
+           (material_occludes(m) ? m->ao_map >= 0 && m->ao_map < count : m->ao_map == 0);
 }
 /* Whether a surface of this material needs its texture coordinates. */
 static inline int material_wants_uv(const Material *m) { return m->texture >= 0 || (material_checkered(m) && m->checker_uv); }

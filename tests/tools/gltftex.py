@@ -67,8 +67,8 @@ def write_gltf(path, image, geo, bin_name):
 
 
 def write_glb(path, img_bytes, mime, sampler=None, maps=False):
-    """maps: the image is the material's normal map, emission texture (factor 0.3) and
-    metal-roughness texture too (metallic factor 1, roughness factor 0.5)."""
+    """maps: the image is the material's normal map, emission texture (factor 0.3),
+    metal-roughness texture (metallic factor 1, roughness factor 0.5) and occlusion texture too."""
     geo = quad()
     blob = geo + img_bytes
     doc = document(len(blob), {"bufferView": 3, "mimeType": mime}, sampler)
@@ -77,6 +77,7 @@ def write_glb(path, img_bytes, mime, sampler=None, maps=False):
         m["normalTexture"] = {"index": 0}
         m["emissiveTexture"] = {"index": 0}
         m["emissiveFactor"] = [0.3, 0.3, 0.3]
+        m["occlusionTexture"] = {"index": 0, "strength": 0.8}
         m["pbrMetallicRoughness"].update(metallicFactor=1, roughnessFactor=0.5, metallicRoughnessTexture={"index": 0})
     doc["bufferViews"].append({"buffer": 0, "byteOffset": len(geo), "byteLength": len(img_bytes)})
     js = json.dumps(doc).encode()

@@ -18,7 +18,7 @@ and textures, mirrors (reflect, roughness), dielectrics (ior, transmit,
 absorb) and emission, on any primitive; a model whose MTL gives
 one material a texture (map_Kd with -s and -o) and a cutout (map_d), the other a normal map (norm), one with vertex colours
 and no materials, and a GLB with its texture embedded (and one whose image is also its normal map,
-emission and metal-roughness texture); lamps (an emissive
+emission, metal-roughness and occlusion texture); lamps (an emissive
 sphere at a light); spheres, planes (with and
 without their texture mapping keys) and triangles (with normals and uv); models from OBJ (with and without smooth, each builder) and from
 .tmd (converted by the caller as DIR/mesh.tmd); instances with transforms and
@@ -84,7 +84,7 @@ def write_assets(d):
         sampler = {"magFilter": 9728} if rng.random() < 0.5 else None
         png = open(os.path.join(data, "quadrants.png"), "rb").read()
         gltftex.write_glb(os.path.join(d, "quad.glb"), png, "image/png", sampler)
-        # the same with the image as its normal map, emission and metal-roughness texture too
+        # the same with the image as its normal map, emission, metal-roughness and occlusion texture too
         gltftex.write_glb(os.path.join(d, "maps.glb"), png, "image/png", sampler, maps=True)
     if not os.path.exists(os.path.join(d, "mesh.obj")):
         # a bumpy 6x6 grid with texture coordinates, two materials, normals on one half
