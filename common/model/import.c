@@ -76,71 +76,51 @@ static int import_number(const struct aiMaterial *am, const char *key, unsigned 
     return 1;
 }
 
-/* A metal-roughness material (glTF's, FBX's PBR) in lanray's terms: the
- * metal's share of the base colour reflects as a mirror of the file's
- * roughness (the GGX roughness scene2cycles writes for a rough mirror),
- * with a Phong highlight of the same colour for the lights (exponent
- * 2 / a^2 - 2, a = roughness^2, the usual match of Phong to a microfacet
- * lobe); the rest is diffuse.  A non-metal keeps no highlight, as before:
- * a dielectric's 4% would brighten every rough surface of a Whitted frame.
- * With `mapped` (a metal-roughness texture says where, texel by texel) kd
+/* A metal-roughness material's factors (glTF's, FBX's PBR), and whether
+ * a texture scales them (then import_materials looks for it). */
+typedef struct {
+    vec3 base;
+    real metal, rough;
+    int mapped;
+} MetalFactors;
+
+/* The factors in lanray's terms: the metal's share of the base colour
+ * reflects as a mirror of the file's roughness (the GGX roughness
+ * scene2cycles writes for a rough mirror), with a Phong highlight of the
+ * same colour for the lights (material_phong_exponent); the rest is
+ * diffuse.  A non-metal keeps no highlight, as before: a dielectric's 4%
+ * would brighten every rough surface of a Whitted frame.  With a
+ * metal-roughness texture (f->mapped: it says where, texel by texel) kd
  * keeps the whole base colour and kr the factor's share of it: a hit
  * takes the texel's share of each (trace.c). */
-static void import_metal_as(vec3 base, real metal, real rough, int mapped, Material *m)
+static void import_metal_as(const MetalFactors *f, Material *m)
 {
-    const real a = rough * rough;
-    m->kd = mapped ? base : v3_scale(base, R(1) - metal);
-    m->kr = v3_scale(base, metal);
-    m->roughness = rough;
+    m->kd = f->mapped ? f->base : v3_scale(f->base, R(1) - f->metal);
+    m->kr = v3_scale(f->base, f->metal);
+    m->roughness = f->rough;
     m->ks = m->kr;
-    m->shininess = a > R(0.01) ? real_max(R(2) / (a * a) - R(2), R(1)) : R(20000);
+    m->shininess = material_phong_exponent(f->rough);
 }
 
-/* Whether the material's metal share is a texture's (then import_materials
- * looks for it), else it applies the factors (import_metal_as). */
-static int import_metal(const struct aiMaterial *am, vec3 base, Material *m)
+/* Reads a metal's factors into *f and applies them, unless a texture
+ * scales them (f->mapped: applied once it is found). */
+static void import_metal(const struct aiMaterial *am, vec3 base, Material *m, MetalFactors *f)
 {
-    real metal = 0, rough = 1;
-    if (!import_number(am, AI_MATKEY_METALLIC_FACTOR, 0, 1, &metal) || metal <= 0)
-        return 0;
-    import_number(am, AI_MATKEY_ROUGHNESS_FACTOR, 0, 1, &rough);
+    *f = (MetalFactors){base, 0, 1, 0};
+    if (!import_number(am, AI_MATKEY_METALLIC_FACTOR, 0, 1, &f->metal) || f->metal <= 0)
+        return;
+    import_number(am, AI_MATKEY_ROUGHNESS_FACTOR, 0, 1, &f->rough);
     /* a metalness texture says, texel by texel, where the factor applies
      * (most often nowhere: the factor left at glTF's default of 1); until
      * it is found, the material stays as it was, not all metal.  And glTF's
      * defaults alone (white, metallic 1, roughness 1, no texture: what a
      * primitive without a material gets) stay white diffuse, as geometry
      * without materials shows elsewhere in lanray. */
-    if (aiGetMaterialTextureCount(am, aiTextureType_METALNESS) > 0 ||
-        aiGetMaterialTextureCount(am, aiTextureType_UNKNOWN) > 0)
-        return 1;
-    const int defaults = metal == 1 && rough == 1 && base.x == 1 && base.y == 1 && base.z == 1;
-    if (!defaults)
-        import_metal_as(base, metal, rough, 0, m);
-    return 0;
-}
-
-/* A material whose metal-roughness texture was found (index t): its
- * factors, the texture's to scale. */
-static void import_metal_mapped(const struct aiMaterial *am, int32_t t, Material *m)
-{
-    real metal = 0, rough = 1;
-    vec3 base = m->kd;
-    import_colour(am, AI_MATKEY_BASE_COLOR, &base);
-    import_number(am, AI_MATKEY_METALLIC_FACTOR, 0, 1, &metal);
-    import_number(am, AI_MATKEY_ROUGHNESS_FACTOR, 0, 1, &rough);
-    import_metal_as(base, metal, rough, 1, m);
-    m->metal_map = t, m->metal_mapped = 1;
-}
-
-/* A mapped metal whose texture could not be read: diffuse, as a material
- * whose texture is not read at all. */
-static Material import_unmetal(Material m)
-{
-    m.metal_map = 0, m.metal_mapped = 0;
-    m.kr = m.ks = v3_splat(R(0));
-    m.roughness = 0;
-    m.shininess = R(1);
-    return m;
+    f->mapped = aiGetMaterialTextureCount(am, aiTextureType_METALNESS) > 0 ||
+                aiGetMaterialTextureCount(am, aiTextureType_UNKNOWN) > 0;
+    const int defaults = f->metal == 1 && f->rough == 1 && base.x == 1 && base.y == 1 && base.z == 1;
+    if (!f->mapped && !defaults)
+        import_metal_as(f, m);
 }
 
 /* Whether a material is a glTF's (Assimp gives those an alpha mode), the
@@ -188,7 +168,7 @@ static int import_optics(const struct aiMaterial *am, vec3 base, Material *m)
     return did;
 }
 
-static Material import_material(const struct aiMaterial *am, int *optics, int *metal_mapped)
+static Material import_material(const struct aiMaterial *am, int *optics, MetalFactors *metal)
 {
     Material m = material_default();
     vec3 c;
@@ -201,7 +181,7 @@ static Material import_material(const struct aiMaterial *am, int *optics, int *m
         m.shininess = s;
     vec3 base = m.kd;
     import_colour(am, AI_MATKEY_BASE_COLOR, &base);
-    *metal_mapped = import_metal(am, base, &m);
+    import_metal(am, base, &m, metal);
     *optics = import_optics(am, base, &m) || material_reflects(&m);
     return m;
 }
@@ -519,8 +499,8 @@ static int import_materials(const struct aiScene *sc, const char *model, int has
     int rc = 0;
     for (unsigned i = 0; rc == 0 && i < sc->mNumMaterials; i++) {
         int optics;
-        int metal_mapped;
-        Material mt = import_material(sc->mMaterials[i], &optics, &metal_mapped);
+        MetalFactors mf;
+        Material mt = import_material(sc->mMaterials[i], &optics, &mf);
         st->optics += (unsigned long)optics;
         mt.texture = has_t ? import_tex_find(sc, sc->mMaterials[i], IMPORT_TEX_COLOUR, model, tl) : -1;
         import_cutout(sc->mMaterials[i], &mt);
@@ -532,10 +512,12 @@ static int import_materials(const struct aiScene *sc, const char *model, int has
                                  ? import_tex_find(sc, sc->mMaterials[i], IMPORT_TEX_EMISSION, model, tl) : -1;
         if (glow >= 0)
             mt.emit_map = glow, mt.emit_mapped = 1;
-        const int32_t metal = has_t && metal_mapped
+        const int32_t metal = has_t && mf.mapped
                                   ? import_tex_find(sc, sc->mMaterials[i], IMPORT_TEX_METAL, model, tl) : -1;
-        if (metal >= 0)
-            import_metal_mapped(sc->mMaterials[i], metal, &mt);
+        if (metal >= 0) {
+            import_metal_as(&mf, &mt);
+            mt.metal_map = metal, mt.metal_mapped = 1;
+        }
         if (has_t)
             import_occlusion(sc, sc->mMaterials[i], model, tl, &mt);
         rc = mesh_add_material(out, mt, err);
@@ -707,6 +689,18 @@ static void send_mesh(int fd, int rc, const Mesh *m, const ImportTexList *tl, co
     sink_free(&o);
 }
 
+/* A material's map (*idx, an entry of the child's list) as the mesh's
+ * texture (map: -1 where it could not be read): whether the map is used
+ * and stands; else *idx is 0, as a material without the map has it. */
+static int map_stands(int32_t *idx, int used, const int32_t *map)
+{
+    *idx = used ? map[*idx] : 0;
+    if (*idx >= 0)
+        return used;
+    *idx = 0;
+    return 0;
+}
+
 static int receive_mesh(const uint8_t *data, size_t len, const char *name, const ObjOptions *opt, Mesh *out,
                         ImportStats *st, Err *err)
 {
@@ -765,26 +759,20 @@ static int receive_mesh(const uint8_t *data, size_t len, const char *name, const
             return err_set(err, "%s: the importer's answer is implausible (material %u's texture)", name, i);
         }
         mt.texture = mt.texture < 0 ? -1 : map[mt.texture];
-        if (material_cuts(&mt)) /* a mask that could not be read cuts nothing */
-            mt.mask = map[mt.mask];
-        if (mt.mask < 0)
-            mt.mask = 0, mt.cutoff = 0;
-        if (material_bumps(&mt)) /* so does a normal map that could not */
-            mt.normal_map = map[mt.normal_map];
-        if (mt.normal_map < 0)
-            mt.normal_map = 0, mt.normal_scale = 0;
-        if (material_emit_mapped(&mt)) /* and an emission texture: the factor glows alone */
-            mt.emit_map = map[mt.emit_map];
-        if (mt.emit_map < 0)
-            mt.emit_map = 0, mt.emit_mapped = 0;
-        if (material_metal_mapped(&mt)) /* and a metal-roughness texture: all diffuse, as before */
-            mt.metal_map = map[mt.metal_map];
-        if (mt.metal_map < 0)
-            mt = import_unmetal(mt);
-        if (material_occludes(&mt)) /* and an occlusion texture: no occlusion */
-            mt.ao_map = map[mt.ao_map];
-        if (mt.ao_map < 0)
-            mt.ao_map = 0, mt.ao_strength = 0;
+        /* a map that could not be read does nothing: a mask cuts nothing, a
+         * normal map tilts nothing, an emission's factor glows alone, a
+         * metal-roughness texture leaves the material diffuse (as before),
+         * an occlusion texture occludes nothing */
+        if (!map_stands(&mt.mask, material_cuts(&mt), map))
+            mt.cutoff = 0;
+        if (!map_stands(&mt.normal_map, material_bumps(&mt), map))
+            mt.normal_scale = 0;
+        if (!map_stands(&mt.emit_map, material_emit_mapped(&mt), map))
+            mt.emit_mapped = 0;
+        if (material_metal_mapped(&mt) && !map_stands(&mt.metal_map, 1, map))
+            mt = material_unmetal(mt);
+        if (!map_stands(&mt.ao_map, material_occludes(&mt), map))
+            mt.ao_strength = 0;
         if (mesh_add_material(out, mt, err)) {
             free(map);
             mesh_free(out);

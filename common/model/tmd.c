@@ -85,15 +85,8 @@ int tmd_encode(const Model *m, int wide, void **data, size_t *len, Err *err)
     if (m->mat_ids) {
         /* each by the material's table: what the scene's wire carries */
         for (uint32_t i = 0; i < m->material_count; i++) {
-            Material mt = m->materials[i];
-            if (!textured) { /* a texture that did not come along is none: no holes, tilt or glow */
-                mt.texture = -1;
-                mt.mask = 0, mt.cutoff = 0;
-                mt.normal_map = 0, mt.normal_scale = 0;
-                mt.emit_map = 0, mt.emit_mapped = 0;
-                mt.metal_map = 0, mt.metal_mapped = 0;
-                mt.ao_map = 0, mt.ao_strength = 0;
-            }
+            /* a texture that did not come along is none: no holes, tilt, glow or metal map */
+            const Material mt = textured ? m->materials[i] : material_untextured(m->materials[i]);
             field_encode(&material_kind, &mt, &s);
         }
         sink_put(&s, m->mat_ids, m->tri_count * sizeof *m->mat_ids);

@@ -256,15 +256,16 @@ static int check_materials(const Scene *s, Err *err)
             return err_set(err, "scene: material %u uses texture %d but the scene has %u", i, m->texture, s->texture_count);
         if (material_cuts(m))
             return err_set(err, "scene: material %u is a cutout: only a model's own materials cut holes", i);
-        if (material_bumps(m))
-            return err_set(err, "scene: material %u has a normal map: only a model's own materials have one", i);
-        if (material_emit_mapped(m))
-            return err_set(err, "scene: material %u has an emission texture: only a model's own materials have one", i);
-        if (material_occludes(m))
-            return err_set(err, "scene: material %u has an occlusion texture: only a model's own materials have one", i);
-        if (material_metal_mapped(m))
-            return err_set(err, "scene: material %u has a metal-roughness texture: only a model's own materials have one",
-                           i);
+        const struct {
+            int has;
+            const char *what;
+        } own[] = {{material_bumps(m), "a normal map"},
+                   {material_emit_mapped(m), "an emission texture"},
+                   {material_occludes(m), "an occlusion texture"},
+                   {material_metal_mapped(m), "a metal-roughness texture"}};
+        for (size_t k = 0; k < sizeof own / sizeof *own; k++)
+            if (own[k].has)
+                return err_set(err, "scene: material %u has %s: only a model's own materials have one", i, own[k].what);
     }
     return 0;
 }

@@ -770,8 +770,7 @@ static __attribute__((noinline)) void surface_metal(const World *w, const Model 
         l->kr = v3_mul(l->kr, texture_sample(sf->tex, sf->u, sf->v, NULL, w->view.settings.filter));
     l->ks = l->kr;
     l->roughness = mt->roughness * c.y;
-    const real a = l->roughness * l->roughness;
-    l->shininess = a > R(0.01) ? real_max(R(2) / (a * a) - R(2), R(1)) : R(20000);
+    l->shininess = material_phong_exponent(l->roughness);
     sf->mat = l;
 }
 

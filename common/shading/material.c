@@ -106,6 +106,27 @@ void material_file_defaults(Material *m, FieldSet given)
         m->checker_size = R(1);
 }
 
+Material material_unmetal(Material m)
+{
+    m.metal_map = 0, m.metal_mapped = 0;
+    m.kr = m.ks = v3_splat(R(0));
+    m.roughness = 0;
+    m.shininess = R(1);
+    return m;
+}
+
+Material material_untextured(Material m)
+{
+    if (material_metal_mapped(&m))
+        m = material_unmetal(m);
+    m.texture = -1;
+    m.mask = 0, m.cutoff = 0;
+    m.normal_map = 0, m.normal_scale = 0;
+    m.emit_map = 0, m.emit_mapped = 0;
+    m.ao_map = 0, m.ao_strength = 0;
+    return m;
+}
+
 const char *material_problem(const Material *m, char *buf, size_t size)
 {
     if (field_problem(&material_kind, m, 0, buf, size))

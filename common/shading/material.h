@@ -123,6 +123,23 @@ extern const FieldKind material_kind;
 /* Every field at its default: a grey diffuse surface, no texture. */
 Material material_default(void);
 
+/* The Phong exponent that matches a microfacet lobe of this (GGX)
+ * roughness: 2 / a^2 - 2, a = roughness^2, at least 1; 20000 (a point of
+ * light) for a nearly smooth one.  How a metal's highlight follows its
+ * roughness, in the importer and at a metal-roughness texture's texel. */
+static inline real material_phong_exponent(real roughness)
+{
+    const real a = roughness * roughness;
+    return a > R(0.01) ? real_max(R(2) / (a * a) - R(2), R(1)) : R(20000);
+}
+
+/* m without its metal-roughness texture: diffuse in its base colour (kd),
+ * no mirror, no highlight, as a material whose texture is not read at all. */
+Material material_unmetal(Material m);
+/* m without any texture (where its textures did not come along): no
+ * colour texture, holes, tilt, glow, metal map or occlusion. */
+Material material_untextured(Material m);
+
 /* The defaults that follow from what a scene file gave: a mirror or a
  * glass is that alone unless a diffuse colour is given, and a glass is
  * clear unless a transmitted colour is. */

@@ -5,8 +5,9 @@
 # 0 (metal, smooth: a mirror), the right half blue 0 (not metal).  Seen
 # straight on (orthographic) under a lamp from the front, before a red
 # background: the left half mirrors the red background, the right half is
-# lit white-grey.  Without the texture the material stays diffuse (glTF's
-# defaults: white), both halves grey.  Every SIMD path gives the same
+# lit white-grey.  Without the texture, or with one that cannot be read
+# (a warning), the material stays diffuse (glTF's defaults: white), both
+# halves grey.  Every SIMD path gives the same
 # bytes, a .tmd the glTF's, and a server with a client lanray-render's.
 set -u
 source tests/tools/server-lib.sh
@@ -16,8 +17,9 @@ sys.path.insert(0, "tests/tools")
 from quads import png, gltf_quad
 d = sys.argv[1]
 mr = png(4, 1, [[0, 0, 255] * 2 + [0, 255, 0] * 2])
-for name, pbr in (("metal", {"metallicRoughnessTexture": {"index": 0}}), ("plain", {})):
-    gltf_quad(f"{d}/{name}.gltf", {"pbrMetallicRoughness": pbr}, [mr], normals=True,
+for name, pbr, image in (("metal", {"metallicRoughnessTexture": {"index": 0}}, mr), ("plain", {}, mr),
+                         ("broken", {"metallicRoughnessTexture": {"index": 0}}, b"not a PNG")):
+    gltf_quad(f"{d}/{name}.gltf", {"pbrMetallicRoughness": pbr}, [image], normals=True,
               sampler={"wrapS": 33071, "wrapT": 33071})
     open(f"{d}/{name}.scene", "w").write(
         "camera position 1 0 5 lookat 1 0 0 ortho 2\nambient 0 0 0\nbackground 1 0 0\nsettings shading diffuse\n"
@@ -25,10 +27,13 @@ for name, pbr in (("metal", {"metallicRoughnessTexture": {"index": 0}}), ("plain
 PY
 # the left and the right half's middle pixels (32 pixels across x 0..2), row 16
 px() { python3 tests/tools/pngpixel.py "$1" 8 16 24 16 | tr '\n' '|'; }
-for s in metal plain; do
+for s in metal plain broken; do
     "$BIN/lanray-render" "$dir/$s.scene" --width 32 --height 32 --aa 1 -o "$dir/$s.png" --quiet >"$dir/$s.log" 2>&1 ||
         fail "render $s: $(cat "$dir/$s.log")"
 done
+"$BIN/obj2tmd" "$dir/broken.gltf" "$dir/broken.tmd" >"$dir/broken-tmd.log" 2>&1 || fail "obj2tmd of the broken one"
+grep -q "warning: .*embedded image 0" "$dir/broken-tmd.log" || fail "a broken metal-roughness texture gives no warning"
+cmp -s "$dir/plain.png" "$dir/broken.png" || fail "a metal-roughness texture that cannot be read does not leave the material diffuse"
 python3 - "$(px "$dir/metal.png")" "$(px "$dir/plain.png")" <<'PY' || fail "metal: $(px "$dir/metal.png"), plain: $(px "$dir/plain.png")"
 import sys
 (lr, lg, lb), (rr, rg, rb) = [tuple(map(int, p.split())) for p in sys.argv[1].strip("|").split("|")]
