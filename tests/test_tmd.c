@@ -332,6 +332,47 @@ static void textures_round_trip_and_every_bit_is_checked(void **state)
     model_destroy(m);
 }
 
+/* A material's maps (a cutout's mask, a normal map, an emission, metal-
+ * roughness or occlusion texture) travel with it, and one that names a
+ * texture the file does not hold is refused, naming the material. */
+static void material_maps_travel_and_are_checked(void **state)
+{
+    (void)state;
+    Model *m = textured_model(), *back = NULL;
+    Material *mt = &m->materials[0];
+    mt->mask = 0, mt->cutoff = R(0.5);
+    mt->normal_map = 0, mt->normal_scale = R(0.75);
+    mt->ke = v3(1, 1, 1), mt->emit_map = 0, mt->emit_mapped = 1;
+    mt->kr = v3(R(0.5), R(0.5), R(0.5)), mt->metal_map = 0, mt->metal_mapped = 1;
+    mt->ao_map = 0, mt->ao_strength = R(0.25);
+    uint8_t *data;
+    size_t len;
+    Err err = {{0}};
+    assert_int_equal(tmd_encode(m, 0, (void **)&data, &len, NULL), 0);
+    if (tmd_decode(data, len, "maps.tmd", &back, &err))
+        fail_msg("%s", err.msg);
+    const Material *b = &back->materials[0];
+    assert_true(material_cuts(b) && material_bumps(b) && material_emit_mapped(b) && material_metal_mapped(b) &&
+                material_occludes(b));
+    assert_float_equal(b->normal_scale, 0.75, 0);
+    assert_float_equal(b->ao_strength, 0.25, 0);
+    model_destroy(back);
+    free(data);
+    int32_t *maps[] = {&mt->mask, &mt->normal_map, &mt->emit_map, &mt->metal_map, &mt->ao_map};
+    for (size_t k = 0; k < sizeof maps / sizeof *maps; k++) {
+        *maps[k] = 1; /* the file holds texture 0 alone */
+        assert_int_equal(tmd_encode(m, 0, (void **)&data, &len, NULL), 0);
+        back = NULL;
+        assert_int_equal(tmd_decode(data, len, "maps.tmd", &back, &err), -1);
+        assert_null(back);
+        assert_contains(err.msg, "maps.tmd: material 0 names texture");
+        assert_contains(err.msg, "of 1");
+        free(data);
+        *maps[k] = 0;
+    }
+    model_destroy(m);
+}
+
 static void unwritable_destination_leaves_nothing(void **state)
 {
     (void)state;
@@ -353,6 +394,7 @@ int main(void)
         cmocka_unit_test(truncated_files_are_rejected),
         cmocka_unit_test(corrupted_fields_are_rejected),
         cmocka_unit_test(corrupted_colours_are_rejected),
+        cmocka_unit_test(material_maps_travel_and_are_checked),
         cmocka_unit_test(textures_round_trip_and_every_bit_is_checked),
         cmocka_unit_test(unwritable_destination_leaves_nothing),
     };
