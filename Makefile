@@ -193,8 +193,11 @@ check-asan: deps
 # stability tests render with it), the builders' workers (bvh), the
 # server's frame writer, and the client's render thread against the server
 # (the integration test, whose server writes its frames on the writer's thread)
+TSAN_BUILD := build/float-tsan/tests/test_render build/float-tsan/tests/test_wire build/float-tsan/tests/test_bvh build/float-tsan/tests/test_framewriter bin/tsan/lanray-render bin/tsan/lanray-server bin/tsan/lanray-client bin/tsan/lanray-imgdiff
+tsan-build:
+	@$(MAKE) --no-print-directory SAN=tsan $(TSAN_BUILD)
 check-tsan: deps
-	@$(MAKE) --no-print-directory $(PARALLEL) SAN=tsan build/float-tsan/tests/test_render build/float-tsan/tests/test_wire build/float-tsan/tests/test_bvh build/float-tsan/tests/test_framewriter $(subst bin/,bin/tsan/,$(TOOLS))
+	@$(MAKE) --no-print-directory $(PARALLEL) tsan-build
 	@TSAN_OPTIONS="halt_on_error=1" build/float-tsan/tests/test_bvh
 	@TSAN_OPTIONS="halt_on_error=1" build/float-tsan/tests/test_framewriter
 	@TSAN_OPTIONS="halt_on_error=1" build/float-tsan/tests/test_render
@@ -205,7 +208,7 @@ check-tsan: deps
 	@if ls build/float-tsan/report.* >/dev/null 2>&1; then cat build/float-tsan/report.*; exit 1; fi
 	@echo "[       OK ] distributed.sh under ThreadSanitizer, no reports"
 
-.PHONY: test-run test-build check-tsan
+.PHONY: test-run test-build check-tsan tsan-build
 test-run: test-build
 	@BUILD=$(BUILD) BIN=$(BIN) bash tests/run.sh $(TESTS)
 test-build: $(TESTS) $(TOOLS) $(REPLAYS) $(BUILD)/tools/bench/embree_ref $(BUILD)/tools/bench/rayclass $(BUILD)/tools/bench/scene2pov $(BUILD)/tools/bench/rtweekend
