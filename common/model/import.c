@@ -512,8 +512,17 @@ static int import_materials(const struct aiScene *sc, const char *model, int has
                                  ? import_tex_find(sc, sc->mMaterials[i], IMPORT_TEX_EMISSION, model, tl) : -1;
         if (glow >= 0)
             mt.emit_map = glow, mt.emit_mapped = 1;
-        const int32_t metal = has_t && mf.mapped
-                                  ? import_tex_find(sc, sc->mMaterials[i], IMPORT_TEX_METAL, model, tl) : -1;
+        int32_t metal = has_t && mf.mapped
+                            ? import_tex_find(sc, sc->mMaterials[i], IMPORT_TEX_METAL, model, tl) : -1;
+        /* glTF's metal reflects its base colour, texel by texel: a metal by
+         * its factors alone whose base colour is a texture takes a uniform
+         * metal-roughness texture (import_tex_white), so that its mirror
+         * is tinted by the texture where its factors tinted it with the
+         * base colour factor alone (a gold texture's mirror was white) */
+        if (metal < 0 && mt.texture >= 0 && !mf.mapped && v3_max_comp(mt.kr) > R(0)) {
+            metal = import_tex_white(tl);
+            mf.mapped = 1;
+        }
         if (metal >= 0) {
             import_metal_as(&mf, &mt);
             mt.metal_map = metal, mt.metal_mapped = 1;

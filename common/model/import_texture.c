@@ -155,6 +155,23 @@ int32_t import_tex_find(const struct aiScene *sc, const struct aiMaterial *am, I
     return (int32_t)(l->n - 1);
 }
 
+int32_t import_tex_white(ImportTexList *l)
+{
+    static const uint8_t white[4] = {255, 255, 255, 255};
+    for (uint32_t i = 0; i < l->n; i++)
+        if (l->t[i].key[0] == 0) /* a material's path is never empty (import_tex_find) */
+            return (int32_t)i;
+    ImportTex *t = add(l, "");
+    if (!t)
+        return -1;
+    t->kind = IMPORT_TEX_BGRA;
+    t->w = t->h = 1;
+    t->bytes = white;
+    t->len = sizeof white;
+    snprintf(t->name, sizeof t->name, "a metal's uniform factors (one white texel)");
+    return (int32_t)(l->n - 1);
+}
+
 void import_tex_free(ImportTexList *l)
 {
     for (uint32_t i = 0; i < l->n; i++)

@@ -65,6 +65,13 @@ typedef enum {
  * a model in memory: relative paths are missing). */
 int32_t import_tex_find(const struct aiScene *sc, const struct aiMaterial *am, ImportTexRole role, const char *model,
                         ImportTexList *l);
+/* The child: a texture of one white texel, added to l once; its index, or
+ * -1.  The metal-roughness texture of a metal whose base colour is a
+ * texture and whose metal share is its factors' alone: through it a hit
+ * takes the texel's colour for its mirror's tint (trace.c surface_metal),
+ * as a mapped metal's does, where the factors alone tint every texel's
+ * mirror with the base colour factor. */
+int32_t import_tex_white(ImportTexList *l);
 void import_tex_free(ImportTexList *l);
 /* The child: the list into the answer it sends. */
 void import_tex_send(Sink *o, const ImportTexList *l);

@@ -7,7 +7,11 @@
 # background: the left half mirrors the red background, the right half is
 # lit white-grey.  Without the texture, or with one that cannot be read
 # (a warning), the material stays diffuse (glTF's defaults: white), both
-# halves grey.  Every SIMD path gives the same
+# halves grey.  A metal by its factors alone (metallicFactor 1,
+# roughnessFactor 0, no metal-roughness texture) whose base colour is a
+# texture, yellow on the left and cyan on the right, mirrors the red
+# background tinted by it: red on the left, black on the right (its mirror
+# was the base colour factor's, white: red on both).  Every SIMD path gives the same
 # bytes, a .tmd the glTF's, and a server with a client lanray-render's.
 set -u
 source tests/tools/server-lib.sh
@@ -18,7 +22,9 @@ from quads import png, gltf_quad
 d = sys.argv[1]
 mr = png(4, 1, [[0, 0, 255] * 2 + [0, 255, 0] * 2])
 for name, pbr, image in (("metal", {"metallicRoughnessTexture": {"index": 0}}, mr), ("plain", {}, mr),
-                         ("broken", {"metallicRoughnessTexture": {"index": 0}}, b"not a PNG")):
+                         ("broken", {"metallicRoughnessTexture": {"index": 0}}, b"not a PNG"),
+                         ("tinted", {"baseColorTexture": {"index": 0}, "metallicFactor": 1, "roughnessFactor": 0},
+                          png(4, 1, [[255, 255, 0] * 2 + [0, 255, 255] * 2]))):
     gltf_quad(f"{d}/{name}.gltf", {"pbrMetallicRoughness": pbr}, [image], normals=True,
               sampler={"wrapS": 33071, "wrapT": 33071})
     open(f"{d}/{name}.scene", "w").write(
@@ -27,7 +33,7 @@ for name, pbr, image in (("metal", {"metallicRoughnessTexture": {"index": 0}}, m
 PY
 # the left and the right half's middle pixels (32 pixels across x 0..2), row 16
 px() { python3 tests/tools/pngpixel.py "$1" 8 16 24 16 | tr '\n' '|'; }
-for s in metal plain broken; do
+for s in metal plain broken tinted; do
     "$BIN/lanray-render" "$dir/$s.scene" --width 32 --height 32 --aa 1 -o "$dir/$s.png" --quiet >"$dir/$s.log" 2>&1 ||
         fail "render $s: $(cat "$dir/$s.log")"
 done
@@ -43,9 +49,16 @@ ok = ok and rg > 150 and abs(rr - rg) < 5        # not metal: lit white, no red
 ok = ok and all(p[1] > 150 and abs(p[0] - p[1]) < 5 for p in plain)  # no texture: diffuse both
 sys.exit(0 if ok else 1)
 PY
+python3 - "$(px "$dir/tinted.png")" <<'PY' || fail "a factor metal with a base colour texture: $(px "$dir/tinted.png") (red, then black)"
+import sys
+(lr, lg, lb), (rr, rg, rb) = [tuple(map(int, p.split())) for p in sys.argv[1].strip("|").split("|")]
+sys.exit(0 if lr > 200 and max(lg, lb) < 30 and max(rr, rg, rb) < 30 else 1)
+PY
+same_on_simd_paths "$dir/tinted.scene" "$dir/tinted.png" 32 32 "the factor metal's tint"
+same_through_tmd "$dir/tinted.gltf" "$dir/tinted.scene" "$dir/tinted.png" 32 32 "factor metal's tint"
 same_on_simd_paths "$dir/metal.scene" "$dir/metal.png" 32 32 "the metal-roughness texture"
 same_through_tmd "$dir/metal.gltf" "$dir/metal.scene" "$dir/metal.png" 32 32 "metal-roughness texture"
 "$BIN/lanray-render" "$dir/metal.scene" --width 64 --height 64 -o "$dir/ref.png" --quiet >/dev/null 2>&1 ||
     fail "reference"
 verify_distributed metalmap "$dir/metal.scene" "$dir/ref.png" "of the metal-roughness texture"
-echo "metalmap: a glTF metallicRoughnessTexture makes a surface metal where its blue says, on every SIMD path, in a .tmd and through a server"
+echo "metalmap: a glTF metallicRoughnessTexture makes a surface metal where its blue says, and a factor metal mirrors through its base colour texture, on every SIMD path, in a .tmd and through a server"
