@@ -55,6 +55,7 @@ static Material material_at(Scene *s, real x)
     assert_true(trace_closest(w, &r, &h));
     Surface sf;
     trace_surface(w, &r, &h, &sf);
+    trace_surface_metal(w, &sf, NULL);
     return *sf.mat;
 }
 
@@ -104,11 +105,59 @@ static void the_factor_scales_and_the_colour_texture_tints(void **state)
     scene_destroy(g);
 }
 
+/* A metal-roughness texture seen from afar reads its levels, which
+ * average its codes as numbers: a checker of metal (blue 255) and
+ * dielectric (blue 0) texels is, four texels to a sample, half metal
+ * (blue 128: kr half the base, kd the other half); at a point, or over a
+ * footprint of half a texel, one texel, all metal.  An occlusion texture
+ * likewise (the same image's red: none on the metal texels, all on the
+ * others). */
+static void far_off_a_metal_map_reads_the_mean_of_its_texels(void **state)
+{
+    (void)state;
+    Mesh mesh;
+    Err err;
+    assert_int_equal(mesh_init(&mesh, MESH_UVS | MESH_MATERIALS, &err), 0);
+    const uint8_t mr[12] = {0, 0, 255, 255, 0, 0, 255, 0, 0, 0, 0, 255}; /* metal texels no red, the others all */
+    uint32_t tex;
+    assert_int_equal(mesh_add_texture(&mesh, texture_from_rgb8(2, 2, mr), &tex, &err), 0);
+    Material m = material_default();
+    m.kd = BASE, m.kr = BASE, m.ks = m.kr, m.roughness = 1;
+    m.metal_map = (int32_t)tex, m.metal_mapped = 1;
+    m.ao_map = (int32_t)tex, m.ao_strength = 1;
+    assert_int_equal(mesh_add_material(&mesh, m, &err), 0);
+    const vec3 a[3] = {v3(0, 0, 0), v3(1, 0, 0), v3(1, 1, 0)}, b[3] = {v3(0, 0, 0), v3(1, 1, 0), v3(0, 1, 0)};
+    const real ua[6] = {0, 0, 1, 0, 1, 1}, ub[6] = {0, 0, 1, 1, 0, 1};
+    assert_int_equal(mesh_add(&mesh, a, NULL, ua, NULL, 0, &err), 0);
+    assert_int_equal(mesh_add(&mesh, b, NULL, ub, NULL, 0, &err), 0);
+    Scene *s = worlds_scene_of_mesh(&mesh, v3(0, 0, 0)); /* world_build makes the data levels */
+    const World *w = world_now(s);
+    Ray r = ray_make(v3(R(0.25), R(0.75), 1), v3(0, 0, -1), 0, REAL_MAX); /* the metal texel, row 0 */
+    Hit h;
+    assert_true(trace_closest(w, &r, &h));
+    const TexFootprint wide = {R(1), 0, 0, R(1)}, near = {R(0.25), 0, 0, R(0.25)};
+    const TexFootprint *fps[3] = {&wide, &near, NULL};
+    const real share[3] = {R(128) / R(255), 1, 1}, ao[3] = {R(128) / R(255), 0, 0};
+    for (int i = 0; i < 3; i++) {
+        Surface sf;
+        trace_surface(w, &r, &h, &sf);
+        assert_non_null(sf.aotex);
+        trace_surface_metal(w, &sf, fps[i]);
+        assert_vec(sf.mat->kr, v3_scale(BASE, share[i]));
+        assert_vec(sf.mat->kd, v3_scale(BASE, R(1) - share[i]));
+        /* occlusion: the red channel, the checker's mean from afar */
+        assert_float_equal(trace_occlusion(&sf, fps[i]), ao[i], 1e-6);
+    }
+    world_now_free();
+    scene_destroy(s);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(the_texture_says_where_the_surface_is_metal),
         cmocka_unit_test(the_factor_scales_and_the_colour_texture_tints),
+        cmocka_unit_test(far_off_a_metal_map_reads_the_mean_of_its_texels),
     };
     return cmocka_run_group_tests_name("metalmap", tests, NULL, NULL);
 }

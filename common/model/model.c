@@ -267,9 +267,13 @@ static int model_cuts(const Model *m)
 int model_prepare_simd(Model *m, Err *err)
 {
     m->cutout = model_cuts(m);
-    for (uint32_t i = 0; m->uvs && m->textures && i < m->material_count; i++)
-        if (material_bumps(&m->materials[i]) && texture_make_data_levels(m->textures[m->materials[i].normal_map]))
-            return err_set(err, "out of memory for a normal map's levels");
+    for (uint32_t i = 0; m->uvs && m->textures && i < m->material_count; i++) {
+        const Material *mt = &m->materials[i];
+        if ((material_bumps(mt) && texture_make_data_levels(m->textures[mt->normal_map])) ||
+            (material_metal_mapped(mt) && texture_make_data_levels(m->textures[mt->metal_map])) ||
+            (material_occludes(mt) && texture_make_data_levels(m->textures[mt->ao_map])))
+            return err_set(err, "out of memory for a data texture's levels");
+    }
     SimdPath p = simd_path();
     if (m->wide && m->wide_path == (int)p)
         return 0;

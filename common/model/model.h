@@ -70,7 +70,8 @@ int model_place(Model **out, const Model *m, const mat3 *rot, vec3 translate, re
 
 /* Builds (or drops) the wide tree for the SIMD path in use, finds
  * whether the model cuts holes (then its cut triangles go apart:
- * model_cut_build), and gives its normal maps their levels
+ * model_cut_build), and gives its data textures (normal maps,
+ * metal-roughness and occlusion textures) their levels
  * (texture_make_data_levels); called by world_build, before any thread
  * traces. */
 int model_prepare_simd(Model *m, Err *err);

@@ -153,11 +153,13 @@ vec3 texture_texel(const Texture *t, uint32_t l, uint32_t x, uint32_t y);
  * over the footprint (texture_sample.c).  Non-finite coordinates read
  * texel (0, 0). */
 vec3 texture_sample(const Texture *t, real u, real v, const TexFootprint *fp, TextureFilter filter);
-/* Gives t the mip-map levels a normal map reads (texture_normal): the
- * codes averaged as numbers, not as light (the sRGB levels would bend an
- * average of normals towards the brighter codes).  Made once, when a scene
- * is prepared (model_prepare_simd), for the textures that are normal maps;
- * -1 when out of memory. */
+/* Gives t the mip-map levels a data texture reads (texture_normal,
+ * texture_fractions): the codes averaged as numbers, not as light (the
+ * sRGB levels would bend an average of normals towards the brighter
+ * codes, and a metal share or an occlusion towards the larger).  Made
+ * once, when a scene is prepared (model_prepare_simd), for the textures
+ * that are normal maps, metal-roughness or occlusion textures; -1 when out
+ * of memory. */
 int texture_make_data_levels(Texture *t);
 /* A normal map's vector at (u, v): the texels read as data, each code c
  * as c / 255 x 2 - 1 (not as sRGB); over the footprint fp (NULL: at the
@@ -167,8 +169,9 @@ int texture_make_data_levels(Texture *t);
  * Non-finite coordinates read texel (0, 0). */
 vec3 texture_normal(const Texture *t, real u, real v, const TexFootprint *fp);
 /* A data texture's channels at (u, v) as fractions, each code c as
- * c / 255 (not as sRGB: a metal-roughness texture's), blended bilinearly
- * in the image itself, or the nearest texel of a `closest` texture. */
-vec3 texture_fractions(const Texture *t, real u, real v);
+ * c / 255 (not as sRGB: a metal-roughness or occlusion texture's), read
+ * as texture_normal reads its codes: over the footprint fp in the data
+ * levels where t has them, else at the point. */
+vec3 texture_fractions(const Texture *t, real u, real v, const TexFootprint *fp);
 
 #endif

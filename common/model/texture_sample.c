@@ -248,10 +248,13 @@ static vec3 data_at(const Texture *t, real *u, real *v, const int data, int *pla
     return bilinear_by(t, &t->level[0], *u, *v, 1, 1, data);
 }
 
-vec3 texture_normal(const Texture *t, real u, real v, const TexFootprint *fp)
+/* A data texture's values over the footprint fp (NULL: at the point),
+ * codes read as `data`: trilinearly in the data levels where t has them
+ * (texture_make_data_levels), else at the point. */
+static vec3 data_over(const Texture *t, real u, real v, const TexFootprint *fp, const int data)
 {
     int placed;
-    const vec3 here = data_at(t, &u, &v, 1, &placed);
+    const vec3 here = data_at(t, &u, &v, data, &placed);
     if (!placed || !fp || !t->data_texels)
         return here;
     /* the footprint's longer side in texels of the image, as trilinear takes it */
@@ -262,14 +265,12 @@ vec3 texture_normal(const Texture *t, real u, real v, const TexFootprint *fp)
         return here;
     const real last = (real)(t->levels - 1);
     if (lambda >= last)
-        return bilinear_by(t, &t->data_level[t->levels - 1], u, v, 1, 1, 1);
+        return bilinear_by(t, &t->data_level[t->levels - 1], u, v, 1, 1, data);
     const uint32_t l = (uint32_t)lambda;
-    return v3_lerp(bilinear_by(t, &t->data_level[l], u, v, 1, 1, 1), bilinear_by(t, &t->data_level[l + 1], u, v, 1, 1, 1),
+    return v3_lerp(bilinear_by(t, &t->data_level[l], u, v, 1, 1, data), bilinear_by(t, &t->data_level[l + 1], u, v, 1, 1, data),
                    lambda - (real)l);
 }
 
-vec3 texture_fractions(const Texture *t, real u, real v)
-{
-    int placed;
-    return data_at(t, &u, &v, 2, &placed);
-}
+vec3 texture_normal(const Texture *t, real u, real v, const TexFootprint *fp) { return data_over(t, u, v, fp, 1); }
+
+vec3 texture_fractions(const Texture *t, real u, real v, const TexFootprint *fp) { return data_over(t, u, v, fp, 2); }

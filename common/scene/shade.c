@@ -240,11 +240,12 @@ static inline __attribute__((always_inline)) void shade_start(const World *w, co
                                                               Shading *sh, const RayDiff *rd, const int optional)
 {
     trace_surface(w, r, hit, &sh->sf);
-    const Material *m = sh->sf.mat;
-    sh->kd = optional && world_uses(w, FEAT_COLOURS) && sh->sf.has_colour ? sh->sf.colour : m->kd;
+    const Material *m = sh->sf.mat; /* a mapped metal's as the file gives it, until its texel is read */
     const int textured = optional && world_uses(w, FEAT_TEXTURES) && sh->sf.tex && sh->sf.has_uv;
-    /* the footprint where a texture reads it or a mirror's or glass's rays carry it on */
-    sh->rd = optional && (textured || sh->sf.etex || sh->sf.nmap || material_reflects(m) || material_dielectric(m))
+    /* the footprint where a texture reads it or a mirror's or glass's rays carry it on (a
+     * mapped metal reflects: its factor's share, kr, is the texels' most) */
+    sh->rd = optional && (textured || sh->sf.etex || sh->sf.nmap || sh->sf.aotex || material_reflects(m) ||
+                          material_dielectric(m))
                  ? rd
                  : NULL;
     sh->t = hit->t;
@@ -253,8 +254,12 @@ static inline __attribute__((always_inline)) void shade_start(const World *w, co
         raydiff_at(rd, r->dir, hit->t, sh->sf.ng, &sh->dpdx, &sh->dpdy);
         trace_surface_change(w, hit, &sh->sf, sh->dpdx, sh->dpdy, &fp, &sh->dndx, &sh->dndy);
     }
-    if (optional) /* a normal map over the footprint: the far-off one's mean, not one texel */
+    if (optional) { /* the data maps over the footprint: the far-off ones' means, not one texel */
         trace_surface_bump(&sh->sf, sh->rd ? &fp : NULL);
+        trace_surface_metal(w, &sh->sf, sh->rd ? &fp : NULL);
+        m = sh->sf.mat;
+    }
+    sh->kd = optional && world_uses(w, FEAT_COLOURS) && sh->sf.has_colour ? sh->sf.colour : m->kd;
     if (optional && world_uses(w, FEAT_CHECKER) && material_checkered(m))
         sh->kd = material_checker(m, sh->kd, sh->sf.p, sh->sf.u, sh->sf.v, sh->sf.has_uv);
     if (textured)
@@ -263,7 +268,7 @@ static inline __attribute__((always_inline)) void shade_start(const World *w, co
         sh->ke = optional && sh->sf.etex ? trace_emission(w, &sh->sf, sh->rd ? &fp : NULL) : m->ke;
     sh->col = v3_mul(w->ambient, sh->kd);
     if (optional && sh->sf.aotex) /* an occlusion texture: crevices take less of the ambient light */
-        sh->col = v3_scale(sh->col, trace_occlusion(&sh->sf));
+        sh->col = v3_scale(sh->col, trace_occlusion(&sh->sf, sh->rd ? &fp : NULL));
     sh->view = v3_neg(v3_norm(r->dir));
     sh->phong = w->view.settings.shading == SHADE_PHONG && v3_max_comp(m->ks) > R(0);
     sh->origin = sh->sf.p;

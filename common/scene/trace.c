@@ -751,27 +751,24 @@ void trace_surface_bump(Surface *out, const TexFootprint *fp)
         out->ns = p;
 }
 
-/* A mapped metal's material at the hit (glTF's metal-roughness texture:
- * material.h): the texel's blue scales the metal share (kr = base x
- * factor x blue, tinted by the base colour texture there; kd the rest of
- * the base), its green the roughness (and the highlight's exponent with
- * it, as import.c matches them), into sf->local, which sf->mat then
- * names.  Read at the point, as the path integrator reads textures. */
-static __attribute__((noinline)) void surface_metal(const World *w, const Model *m, Surface *sf)
+void trace_surface_metal(const World *w, Surface *sf, const TexFootprint *fp)
 {
+    if (!sf->mtex)
+        return;
     const Material *mt = sf->mat;
-    const vec3 c = texture_fractions(m->textures[mt->metal_map], sf->u, sf->v);
+    const vec3 c = texture_fractions(sf->mtex, sf->u, sf->v, fp);
     Material *l = &sf->local;
     *l = *mt;
     l->metal_map = 0, l->metal_mapped = 0;
     l->kr = v3_scale(mt->kr, c.z);
     l->kd = v3_max(v3_sub(mt->kd, l->kr), v3_splat(R(0)));
     if (sf->tex)
-        l->kr = v3_mul(l->kr, texture_sample(sf->tex, sf->u, sf->v, NULL, w->view.settings.filter));
+        l->kr = v3_mul(l->kr, texture_sample(sf->tex, sf->u, sf->v, fp, w->view.settings.filter));
     l->ks = l->kr;
     l->roughness = mt->roughness * c.y;
     l->shininess = material_phong_exponent(l->roughness);
     sf->mat = l;
+    sf->mtex = NULL; /* applied: not a second time */
 }
 
 /* The surfaces of each kind of hit, for surface_at; `optional` as there. */
@@ -897,7 +894,7 @@ static inline __attribute__((always_inline)) int surface_instance(const World *w
         if (optional && out->has_uv && material_occludes(out->mat))
             out->aotex = m->textures[out->mat->ao_map];
         if (optional && out->has_uv && material_metal_mapped(out->mat))
-            surface_metal(w, m, out);
+            out->mtex = m->textures[out->mat->metal_map];
     }
     out->object = w->sphere_count + w->plane_count + w->material_count + h->index;
     return model_tex;
@@ -914,7 +911,7 @@ static inline __attribute__((always_inline)) void surface_at(const World *w, con
     out->u = out->v = out->err = 0;
     out->has_uv = out->has_colour = out->smooth = out->inside = 0;
     out->mat = &fallback_material;
-    out->etex = out->aotex = NULL;
+    out->etex = out->aotex = out->mtex = NULL;
     out->object = 0;
     Lift lift;
     lift.pm = v3_splat(0);
@@ -964,12 +961,12 @@ vec3 trace_emission(const World *w, const Surface *sf, const TexFootprint *fp)
     return v3_mul(sf->mat->ke, texture_sample(sf->etex, sf->u, sf->v, fp, w->view.settings.filter));
 }
 
-real trace_occlusion(const Surface *sf)
+real trace_occlusion(const Surface *sf, const TexFootprint *fp)
 {
     if (!sf->aotex)
         return R(1);
     /* glTF 2.0, 3.9.3: 1 + strength (r - 1) */
-    const real r = texture_fractions(sf->aotex, sf->u, sf->v).x;
+    const real r = texture_fractions(sf->aotex, sf->u, sf->v, fp).x;
     return R(1) + sf->mat->ao_strength * (r - R(1));
 }
 

@@ -43,6 +43,8 @@ typedef struct {
     vec3 dpdu, dpdv;  /* how the point moves with u and with v, in the world */
     int ns_turned;    /* ns was turned round to face the viewer */
     Material local;   /* a mapped metal's material at this hit, which mat then names */
+    const Texture *mtex; /* a model's own material's metal-roughness texture (where it has texture
+                          * coordinates) not yet applied, or NULL: trace_surface_metal */
     const Texture *aotex; /* a model's own material's occlusion texture (where it has texture
                            * coordinates), or NULL: trace_occlusion */
 } Surface;
@@ -107,8 +109,18 @@ void trace_surface_bump(Surface *sf, const TexFootprint *fp);
 vec3 trace_emission(const World *w, const Surface *sf, const TexFootprint *fp);
 /* What share of the ambient light reaches the surface: 1, or where its
  * material has an occlusion texture, 1 + strength x (its red there - 1),
- * the texel read as a fraction (c / 255: the data it is) at the point. */
-real trace_occlusion(const Surface *sf);
+ * the texel read as a fraction (c / 255: the data it is) over the
+ * footprint fp (NULL: at the point). */
+real trace_occlusion(const Surface *sf, const TexFootprint *fp);
+/* A mapped metal's material at the hit (glTF's metal-roughness texture:
+ * material.h), where sf->mtex says it has one not yet applied: the texel's
+ * blue scales the metal share (kr = base x factor x blue, tinted by the
+ * base colour texture there; kd the rest of the base), its green the
+ * roughness (and the highlight's exponent with it, as import.c matches
+ * them), into sf->local, which sf->mat then names.  Read over the
+ * footprint fp (NULL: at the point): after trace_surface, once the caller
+ * knows the footprint, before it reads the material. */
+void trace_surface_metal(const World *w, Surface *sf, const TexFootprint *fp);
 
 /* How the surface at hit h changes over a sample's footprint (dpdx,
  * dpdy: raydiff.h): its texture coordinates (*fp) and its shading normal
