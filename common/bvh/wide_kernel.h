@@ -536,6 +536,7 @@ int KERNEL_CLOSEST(const Wide *w, const Ray *r, real tmax, uint32_t tie, WideHit
  * sphere's mirrored rays 6.0-6.4 -> 5.4-5.7). */
 typedef struct {
     VN ox, oy, oz, ix, iy, iz, fx, fy, fz, vtmin;
+    VN vlim; /* best x WIDE_FAR, made again when a leaf moves best */
     WideRay k;
     float best;
     uint32_t best_idx, sp, cur, cur_blocks;
@@ -553,6 +554,7 @@ static inline __attribute__((always_inline)) int wide_walk_start(WideWalk *s, co
         return 0;
     s->sp = 0, s->cur = w->root, s->cur_blocks = w->root_blocks;
     s->best = tmax, s->best_idx = tie, s->hit = hit;
+    s->vlim = VN_SET1(s->best * WIDE_FAR);
     wide_ray_setup(&s->k, r);
     WIDE_NODE_ROWS();
     s->n0 = n0, s->n1 = n1, s->n2 = n2, s->f0 = f0, s->f1 = f1, s->f2 = f2;
@@ -571,7 +573,7 @@ static inline __attribute__((always_inline)) int wide_walk_step(WideWalk *s, con
         const float *box = WIDE_NODE(w, s->cur);
         const int n0 = s->n0, n1 = s->n1, n2 = s->n2, f0 = s->f0, f1 = s->f1, f2 = s->f2;
         const VN ox = s->ox, oy = s->oy, oz = s->oz, ix = s->ix, iy = s->iy, iz = s->iz, vtmin = s->vtmin;
-        const VN fx = s->fx, fy = s->fy, fz = s->fz, vlim = VN_SET1(s->best * WIDE_FAR);
+        const VN fx = s->fx, fy = s->fy, fz = s->fz, vlim = s->vlim;
         VN lo;
         int mask;
         WIDE_NODE_TEST(box, vlim, lo, mask);
@@ -585,6 +587,7 @@ static inline __attribute__((always_inline)) int wide_walk_step(WideWalk *s, con
             s->found |= wide_block_closest(blk, &s->k, &s->best, &s->best_idx, s->hit);
         else
             s->found |= wide_leaf_closest_call(blk, s->cur_blocks, &s->k, &s->best, &s->best_idx, s->hit);
+        s->vlim = VN_SET1(s->best * WIDE_FAR);
     }
     return wide_pop(s->stack, &s->sp, 1, s->best * BVH_FUDGE, &s->cur, &s->cur_blocks);
 }
