@@ -41,7 +41,7 @@ typedef struct {
 /* A ray's constants for the triangle test, splatted. */
 typedef struct {
     int kx, ky, kz;
-    int ahead; /* tmin >= 0: only hits ahead of the origin count (wide_tris_behind) */
+    int ahead; /* tmin >= 0: only hits ahead of the origin count (WIDE_BEHIND) */
     __m128 ox, oy, oz; /* origin in the sheared frame's axis order */
     __m128 sx, sy, sz, tmin;
 } WideRay;
