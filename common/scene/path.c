@@ -191,7 +191,7 @@ static vec3 diffuse_at(const World *w, const Surface *sf)
     if (world_has(w, FEAT_CHECKER) && material_checkered(sf->mat))
         kd = material_checker(sf->mat, kd, sf->p, sf->u, sf->v, sf->has_uv);
     if (world_has(w, FEAT_TEXTURES) && sf->tex && sf->has_uv)
-        kd = v3_mul(kd, texture_sample(sf->tex, sf->u, sf->v, NULL, w->view.settings.filter));
+        kd = v3_mul(kd, trace_surface_texel(w, sf, NULL));
     return kd;
 }
 

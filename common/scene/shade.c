@@ -263,7 +263,7 @@ static inline __attribute__((always_inline)) void shade_start(const World *w, co
     if (optional && world_uses(w, FEAT_CHECKER) && material_checkered(m))
         sh->kd = material_checker(m, sh->kd, sh->sf.p, sh->sf.u, sh->sf.v, sh->sf.has_uv);
     if (textured)
-        sh->kd = v3_mul(sh->kd, texture_sample(sh->sf.tex, sh->sf.u, sh->sf.v, sh->rd ? &fp : NULL, w->view.settings.filter));
+        sh->kd = v3_mul(sh->kd, trace_surface_texel(w, &sh->sf, sh->rd ? &fp : NULL));
     if (world_uses(w, FEAT_EMIT))
         sh->ke = optional && sh->sf.etex ? trace_emission(w, &sh->sf, sh->rd ? &fp : NULL) : m->ke;
     sh->col = v3_mul(w->ambient, sh->kd);

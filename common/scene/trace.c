@@ -762,8 +762,10 @@ void trace_surface_metal(const World *w, Surface *sf, const TexFootprint *fp)
     l->metal_map = 0, l->metal_mapped = 0;
     l->kr = v3_scale(mt->kr, c.z);
     l->kd = v3_max(v3_sub(mt->kd, l->kr), v3_splat(R(0)));
-    if (sf->tex)
-        l->kr = v3_mul(l->kr, texture_sample(sf->tex, sf->u, sf->v, fp, w->view.settings.filter));
+    if (sf->tex) {
+        sf->local_tex = texture_sample(sf->tex, sf->u, sf->v, fp, w->view.settings.filter);
+        l->kr = v3_mul(l->kr, sf->local_tex);
+    }
     l->ks = l->kr;
     l->roughness = mt->roughness * c.y;
     l->shininess = material_phong_exponent(l->roughness);

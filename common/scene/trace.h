@@ -43,6 +43,8 @@ typedef struct {
     vec3 dpdu, dpdv;  /* how the point moves with u and with v, in the world */
     int ns_turned;    /* ns was turned round to face the viewer */
     Material local;   /* a mapped metal's material at this hit, which mat then names */
+    vec3 local_tex;   /* where mat names local and tex is set: the colour texture's sample that tinted
+                       * its mirror, which the diffuse colour takes too (read once: trace_surface_texel) */
     const Texture *mtex; /* a model's own material's metal-roughness texture (where it has texture
                           * coordinates) not yet applied, or NULL: trace_surface_metal */
     const Texture *aotex; /* a model's own material's occlusion texture (where it has texture
@@ -121,6 +123,13 @@ real trace_occlusion(const Surface *sf, const TexFootprint *fp);
  * footprint fp (NULL: at the point): after trace_surface, once the caller
  * knows the footprint, before it reads the material. */
 void trace_surface_metal(const World *w, Surface *sf, const TexFootprint *fp);
+/* The colour texture's sample at the hit (sf->tex set), over fp (NULL:
+ * at the point): read by trace_surface_metal already where it made the
+ * hit's metal with the same footprint, else now. */
+static inline vec3 trace_surface_texel(const World *w, const Surface *sf, const TexFootprint *fp)
+{
+    return sf->mat == &sf->local ? sf->local_tex : texture_sample(sf->tex, sf->u, sf->v, fp, w->view.settings.filter);
+}
 
 /* How the surface at hit h changes over a sample's footprint (dpdx,
  * dpdy: raydiff.h): its texture coordinates (*fp) and its shading normal
