@@ -7,7 +7,6 @@ set -u
 passed=0
 failed=0
 failed_names=()
-log=$(mktemp)
 # the unit tests keep their files in /tmp/lanray-test-*, which they remove
 # (helpers.h): one left behind is a failure, naming the folder
 tmpdirs() { ls -d /tmp/lanray-test-* 2>/dev/null | sort; }
@@ -18,7 +17,7 @@ before=$(tmpdirs)
 # Each one's output is kept apart and shown whole, in order, when all are
 # done; its seconds are its own, beside another.
 units=$(mktemp -d)
-trap 'rm -f "$log"; rm -rf "$units"' EXIT
+trap 'rm -rf "$units"' EXIT
 i=0
 for t in "$@"; do
     while [ "$(jobs -rp | wc -l)" -ge "${TEST_JOBS:-2}" ]; do wait -n; done
@@ -28,7 +27,7 @@ done
 wait
 i=0
 for t in "$@"; do
-    cp "$units/$i.log" "$log"
+    log=$units/$i.log
     cat "$log"
     rc=$(cat "$units/$i.rc" 2>/dev/null || echo 1)
     echo "[ TIME     ] $(basename "$t") $(cat "$units/$i.s" 2>/dev/null) s"
