@@ -33,7 +33,7 @@ xdotool key Tab
 ok=
 for _ in $(seq 30); do
     sleep 0.2
-    xwd -root -silent >"$dir/screen.xwd" 2>/dev/null
+    screenshot
     out=$(python3 tests/tools/xwdpanel.py "$dir/screen.xwd" "$dir/phong.ppm" "$x" "$y") && { ok=1; break; }
 done
 [ -n "$ok" ] || fail "Tab drew no panel of text: $out"
@@ -45,7 +45,7 @@ echo "Tab again: the frame untouched"
 xdotool key m
 appears "$dir/diffuse.ppm" >/dev/null || fail "M: the next frames are not lanray-render's --shading diffuse picture"
 echo "M: the next frame is lanray-render's --shading diffuse picture"
-kill "$spid" 2>/dev/null
+stop_window_server server
 # a still frame gives way to a change: the still frames refine the lamp's
 # points up to 64 x 64 (a minute of work); once the 6 x 6 one shows, the
 # 12 x 12 one is on its way (and the 24, 48 and 64 ones after it), and M
@@ -64,7 +64,7 @@ for _ in $(seq 100); do grep -q "gave way to a change" "$dir/still.err" && break
 grep -q "^lanray-server: frame [0-9]* gave way to a change$" "$dir/still.err" ||
     fail "M during a refining still frame: the frame did not give way: $(tail -3 "$dir/still.err")"
 echo "a refining still frame gave way to M: $(grep -o 'frame [0-9]* gave way' "$dir/still.err")"
-kill "$spid" 2>/dev/null
+stop_window_server still
 # U: the knot turning (--rotate) at a target out of reach, every frame at
 # render scale 8, brought up smooth (the default: most 8 x 8 blocks of the
 # window hold more than one colour), then in blocks (each one colour)
@@ -74,14 +74,14 @@ window_server scaled --width $W --height $H --target-fps 1000 --rotate 40
 shows() {
     local out=
     for _ in $(seq 40); do
-        xwd -root -silent >"$dir/screen.xwd" 2>/dev/null
+        screenshot
         out=$(python3 tests/tools/xwdblocks.py "$dir/screen.xwd" "$X" "$Y" $W $H 8) && [ "$(tail -1 <<<"$out")" = "$1" ] && return 0
         sleep 0.2
     done
     echo "$out"
     return 1
 }
-eval "$(xdotool search --sync --name '^lanray' getwindowgeometry --shell %1)"
+window_at
 xdotool mousemove $((X + W / 2)) $((Y + H / 2))
 out=$(shows smooth) || fail "frames at render scale 8 were not brought up smooth: $out"
 xdotool key u

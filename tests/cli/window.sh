@@ -22,8 +22,7 @@ shown() {
     window_server "$name" --width $W --height $H --frames 0 "$@"
     out=$(appears "$ref" 50) || fail "$name: the rendered frame never appeared on the X screen ($out)"
     echo "$name: window shows the rendered frame: $out"
-    kill "$spid" "$cpid" 2>/dev/null
-    wait "$spid" "$cpid" 2>/dev/null
+    stop_window_server "$name"
 }
 shown rgb8 "$dir/ref.ppm"
 # a high dynamic range frame (--hdr: RGBE from the client) is shown as the

@@ -10,13 +10,18 @@ start_xvfb() {
     export DISPLAY=":$(head -1 "$dir/display")"
 }
 
+# screenshot: the whole screen into $dir/screen.xwd.  Every call to the X
+# server is bounded (here and in window_at): a CI run once sat 85 minutes
+# in this test's window steps until CI's own limit ended it, naming nothing.
+screenshot() { timeout 10 xwd -root -silent >"$dir/screen.xwd" 2>/dev/null; }
+
 # appears REF.ppm [TRIES]: waits (0.2 s a try, 60 tries) until REF is on
 # the screen, pixel for pixel; prints 'found at X,Y', or what xwdfind said
 # and returns 1.  The last screen stays in $dir/screen.xwd.
 appears() {
     local out=
     for _ in $(seq "${2:-60}"); do
-        xwd -root -silent >"$dir/screen.xwd" 2>/dev/null
+        screenshot
         out=$(python3 tests/tools/xwdfind.py "$dir/screen.xwd" "$1") && { echo "$out"; return 0; }
         sleep 0.2
     done
@@ -39,4 +44,30 @@ window_server() {
     "$BIN/lanray-client" "127.0.0.1:$port" --threads 2 2>"$dir/$name-client.err" &
     cpid=$!
     pids+=($cpid)
+}
+
+# window_at: the geometry of the one window titled lanray... (X, Y, WIDTH,
+# HEIGHT set), waiting up to 10 s for it; fails naming how many there were
+window_at() {
+    local ids=
+    for _ in $(seq 50); do
+        ids=$(timeout 5 xdotool search --name '^lanray' 2>/dev/null)
+        [ "$(wc -w <<<"$ids")" -eq 1 ] && break
+        sleep 0.2
+    done
+    [ "$(wc -w <<<"$ids")" -eq 1 ] || fail "not one lanray window on the screen but $(wc -w <<<"$ids")"
+    eval "$(timeout 5 xdotool getwindowgeometry --shell "$ids")"
+    [ -n "${X:-}" ] && [ -n "${Y:-}" ] || fail "the window's geometry could not be read"
+}
+
+# stop_window_server NAME: SIGTERM to the server that window_server started
+# and to its client; the server must end (exit 0, as its --help says) within
+# 10 s and take its window with it
+stop_window_server() {
+    kill "$spid" "$cpid" 2>/dev/null
+    for _ in $(seq 100); do kill -0 "$spid" 2>/dev/null || break; sleep 0.1; done
+    kill -0 "$spid" 2>/dev/null && fail "$1: the server did not end within 10 s of SIGTERM"
+    wait "$spid"; local rc=$?
+    [ "$rc" -eq 0 ] || fail "$1: the server ended with exit $rc on SIGTERM"
+    wait "$cpid" 2>/dev/null
 }
