@@ -908,7 +908,8 @@ static void lamps_do_not_shadow_their_light(void **state)
 
 /* A glass ray cut by the depth limit returns the chosen estimate times
  * what the cut rays would carry: nothing, the background, the ambient, or
- * the light at the point; a mirror the same times its reflectance. */
+ * the light at the point; a mirror the same times its reflectance; a
+ * mirror share over glass the sum of its shares. */
 static void depth_limit_returns_the_choice(void **state)
 {
     (void)state;
@@ -939,6 +940,21 @@ static void depth_limit_returns_the_choice(void **state)
     s->settings.depth_limit = LIMIT_BACKGROUND;
     prepare(s);
     assert_float_equal(look(s, eye, v3(0, 0, 0)).z, R(0.35), R(1e-4));
+    /* a half mirror over glass that transmits the other half (a glTF metal
+     * with transmission): the mirror's 0.5, the glass's Fresnel reflection
+     * at half strength and its transmitted 0.5 (1 - Fresnel) add up to 1,
+     * cut at once or traced through the ball (no cutoff: every ray) */
+    s->materials[mg] = (Material){.kr = v3_splat(R(0.5)), .ior = R(1.5), .kt = v3_splat(R(0.5)), .texture = -1};
+    s->settings.cutoff = 0;
+    for (int depth = 0; depth <= 8; depth += 8) {
+        s->settings.depth = depth;
+        prepare(s);
+        for (int i = 0; i < 3; i++) { /* head on, and two rays nearer the rim */
+            const vec3 c = look(s, eye, v3(R(0.3) * (real)i, R(0.2) * (real)i, 0));
+            for (int k = 0; k < 3; k++)
+                assert_float_equal(c.e[k], s->background.e[k], R(1e-4));
+        }
+    }
     scene_destroy(s);
 }
 

@@ -202,7 +202,7 @@ static void errors_name_file_line_and_expectation(void **state)
     expect_error("camera position 0 0 1 fov 60 fisheye 180\n", "camera takes one of 'zoom', 'fov' (a pinhole), 'ortho' and 'fisheye'");
     expect_error("camera position 0 0 1 ortho 0\n", "t.scene:1: 'ortho' of camera must be positive");
     expect_error("camera position 0 0 1 fisheye 361\n", "'fisheye' of camera must be above 0 and at most 360");
-    expect_error("material m reflect 1 1 1 ior 1.5\n", "either 'reflect' (a mirror) or 'ior'");
+    expect_error("material m transmit 1 1 1 reflect 1 1 1\n", "'transmit' of material needs 'ior'");
     expect_error("material m ior 20\n", "'ior' of material must be from 0.0625 to 16");
     expect_error("material m absorb 1 1 1\n", "'absorb' of material needs 'ior'");
     expect_error("material m emit -1 0 0\n", "'emit' of material must not be negative");

@@ -82,6 +82,7 @@ typedef struct {
     vec3 base;
     real metal, rough;
     int mapped;
+    int applied; /* the material is a metal by them (import_metal_as made it) */
 } MetalFactors;
 
 /* The factors in lanray's terms: the metal's share of the base colour
@@ -93,8 +94,9 @@ typedef struct {
  * metal-roughness texture (f->mapped: it says where, texel by texel) kd
  * keeps the whole base colour and kr the factor's share of it: a hit
  * takes the texel's share of each (trace.c). */
-static void import_metal_as(const MetalFactors *f, Material *m)
+static void import_metal_as(MetalFactors *f, Material *m)
 {
+    f->applied = 1;
     m->kd = f->mapped ? f->base : v3_scale(f->base, R(1) - f->metal);
     m->kr = v3_scale(f->base, f->metal);
     m->roughness = f->rough;
@@ -106,7 +108,7 @@ static void import_metal_as(const MetalFactors *f, Material *m)
  * scales them (f->mapped: applied once it is found). */
 static void import_metal(const struct aiMaterial *am, vec3 base, Material *m, MetalFactors *f)
 {
-    *f = (MetalFactors){base, 0, 1, 0};
+    *f = (MetalFactors){base, 0, 1, 0, 0};
     if (!import_number(am, AI_MATKEY_METALLIC_FACTOR, 0, 1, &f->metal) || f->metal <= 0)
         return;
     import_number(am, AI_MATKEY_ROUGHNESS_FACTOR, 0, 1, &f->rough);
@@ -133,13 +135,17 @@ static int gltf_material(const struct aiMaterial *am, struct aiString *mode)
 /* A glTF material's emission (its emissive factor; Assimp 5.2 does not
  * read KHR_materials_emissive_strength), transmission
  * (KHR_materials_transmission: glass of the file's index, or 1.5, tinted by
- * the base colour) and, for alphaMode BLEND, its alpha (a see-through
- * blend, as an MTL's dissolve).  Only glTF's: the other formats' emissive
+ * the base colour; the dielectric share's, glTF says, so a metal by factors
+ * f (f->applied) transmits 1 - its metallic of it, and its mirror lies over
+ * the glass) and, for alphaMode BLEND, its alpha (a see-through blend, as
+ * an MTL's dissolve, of every reflecting term).  Applied over what
+ * import_metal_as made, and again after it where a metal-roughness texture
+ * makes the material a metal later (import_materials).  Only glTF's: the other formats' emissive
  * and opacity values mean different things to different exporters
  * (COLLADA files of assimp-testmodels say opacity 0 for opaque teapots, a
  * Milkshape jeep an emission of 0.35 for its ambient), and stay unread, as
  * before.  Returns whether any of them applied. */
-static int import_optics(const struct aiMaterial *am, vec3 base, Material *m)
+static int import_optics(const struct aiMaterial *am, vec3 base, const MetalFactors *f, Material *m)
 {
     struct aiString mode;
     if (!gltf_material(am, &mode))
@@ -155,7 +161,7 @@ static int import_optics(const struct aiMaterial *am, vec3 base, Material *m)
         real ior = R(1.5);
         import_number(am, AI_MATKEY_REFRACTI, MATERIAL_IOR_MIN, MATERIAL_IOR_MAX, &ior);
         m->ior = ior;
-        m->kt = v3_scale(base, t);
+        m->kt = v3_scale(base, t * (f->applied ? R(1) - f->metal : R(1)));
         m->kd = v3_scale(m->kd, R(1) - t);
         did = 1;
     } else if (strcmp(mode.data, "BLEND") == 0 && import_number(am, AI_MATKEY_OPACITY, 0, 1, &opacity) && opacity < 1) {
@@ -163,6 +169,7 @@ static int import_optics(const struct aiMaterial *am, vec3 base, Material *m)
         m->kt = v3_splat(R(1) - opacity);
         m->kd = v3_scale(m->kd, opacity);
         m->ks = v3_scale(m->ks, opacity);
+        m->kr = v3_scale(m->kr, opacity);
         did = 1;
     }
     return did;
@@ -182,7 +189,7 @@ static Material import_material(const struct aiMaterial *am, int *optics, MetalF
     vec3 base = m.kd;
     import_colour(am, AI_MATKEY_BASE_COLOR, &base);
     import_metal(am, base, &m, metal);
-    *optics = import_optics(am, base, &m) || material_reflects(&m);
+    *optics = import_optics(am, base, metal, &m) || material_reflects(&m);
     return m;
 }
 
@@ -525,6 +532,7 @@ static int import_materials(const struct aiScene *sc, const char *model, int has
         }
         if (metal >= 0) {
             import_metal_as(&mf, &mt);
+            import_optics(sc->mMaterials[i], mf.base, &mf, &mt);
             mt.metal_map = metal, mt.metal_mapped = 1;
         }
         if (has_t)

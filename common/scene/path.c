@@ -195,23 +195,33 @@ static vec3 diffuse_at(const World *w, const Surface *sf)
     return kd;
 }
 
-/* A dielectric: the path reflected or refracted, chosen by Fresnel's
+/* Glass: the path reflected (its weight times fr, the share of Fresnel's
+ * reflection the material keeps) or refracted (times the transmitted
+ * colour), chosen by Fresnel's reflectance f (td: the refracted
+ * direction, dielectric_split's).  0 where the path ends. */
+static int glass_bounce(const Surface *sf, vec3 d, real f, vec3 td, real fr, real pick, vec3 *beta, Ray *next)
+{
+    if (pick < f) {
+        vec3 r = optics_reflect(d, sf->ns);
+        if (fr < R(1))
+            *beta = v3_scale(*beta, fr);
+        ray_init(next, trace_offset_origin(sf->p, sf->ng, sf->err), r, R(0), REAL_MAX);
+        return v3_dot(r, sf->ng) > R(0);
+    }
+    *beta = v3_mul(*beta, sf->mat->kt);
+    ray_init(next, trace_offset_origin(sf->p, v3_neg(sf->ng), sf->err), v3_norm(td), R(0), REAL_MAX);
+    return 1;
+}
+
+/* A dielectric that is glass alone: reflected or refracted by Fresnel's
  * reflectance (so the weight stays; refraction takes the transmitted
  * colour).  0 where the path ends. */
 static int dielectric_bounce(const World *w, const Surface *sf, vec3 d, real pick, vec3 *beta, Ray *next)
 {
-    const Material *m = sf->mat;
     real eta;
     vec3 td;
     const real f = dielectric_split(w, sf, d, &eta, &td);
-    if (pick < f) {
-        vec3 r = optics_reflect(d, sf->ns);
-        ray_init(next, trace_offset_origin(sf->p, sf->ng, sf->err), r, R(0), REAL_MAX);
-        return v3_dot(r, sf->ng) > R(0);
-    }
-    *beta = v3_mul(*beta, m->kt);
-    ray_init(next, trace_offset_origin(sf->p, v3_neg(sf->ng), sf->err), v3_norm(td), R(0), REAL_MAX);
-    return 1;
+    return glass_bounce(sf, d, f, td, R(1), pick, beta, next);
 }
 
 /* A mirror or metal: the mirror direction, bent by the roughness (a point
@@ -254,6 +264,65 @@ static void path_start(Path *p, const DrawPlan *plan, const Ray *r, SampleId id,
     p->b = 0, p->after_smooth = 0, p->pdf_bounce = R(0);
 }
 
+/* A surface of smooth lobes (diffuse, the Phong highlight) and delta ones
+ * (a mirror share; a dielectric's glass: Fresnel's reflection, less the
+ * mirror's share, and the transmission): next-event estimation for the
+ * smooth ones, then one lobe chosen by weight for the path's next ray.
+ * 0 where the path ends. */
+static int surface_bounce(const World *w, Path *p, const Surface *sf, vec3 kd, vec3 ks, const Draws *dr, int last,
+                          RayStats *st)
+{
+    const Material *m = sf->mat;
+    const vec3 d = p->ray.dir;
+    const vec3 kr = material_reflects(m) ? m->kr : v3_splat(R(0));
+    real f = R(0), fr = R(1), eta, u, v;
+    vec3 td = v3_splat(R(0)), kg = v3_splat(R(0));
+    if (material_dielectric(m)) {
+        f = dielectric_split(w, sf, d, &eta, &td);
+        fr = real_max(R(0), R(1) - v3_max_comp(kr));
+        kg = v3_add(v3_splat(f * fr), v3_scale(m->kt, R(1) - f));
+    }
+    Lobes lb;
+    if (!lobes_make(&lb, kd, ks, m->shininess, v3_add(kr, kg), sf->ns, d))
+        return 0;
+    /* the shadow rays' origin, made once: a flat surface's bounce leaves from it too */
+    const int emitters = w->emitter_count > 0 && w->view.settings.emitter_sampling != EMITTERS_BSDF;
+    const int nee = lobes_smooth(&lb) && (w->light_count > 0 || emitters);
+    const vec3 from_ps = nee ? trace_offset_origin(sf->ps, sf->ng, sf->ps_err) : v3_splat(R(0));
+    if (nee) { /* next-event estimation: what the smooth lobes take from the lights */
+        p->L = v3_add(p->L, v3_mul(p->beta, direct_light(w, sf, &lb, dr, from_ps, st)));
+        if (emitters)
+            p->L = v3_add(p->L, v3_mul(p->beta, direct_emitters(w, sf, &lb, last, dr, from_ps, st)));
+    }
+    if (last)
+        return 0;
+    draw2(dr, 1, &u, &v);
+    const real pick = draw1(dr, 2), wm = v3_max_comp(kr), wg = v3_max_comp(kg);
+    if (pick < lb.pm && !(wg > R(0))) { /* the mirror, chosen with probability pm */
+        p->beta = v3_scale(p->beta, R(1) / lb.pm);
+        return mirror_bounce(sf, d, u, v, draw1(dr, 4), &p->beta, &p->ray);
+    }
+    if (pick < lb.pm) { /* the mirror or the glass, each by its share of pm */
+        const real s = pick / lb.pm * (wm + wg);
+        const int mirror = s < wm;
+        p->beta = v3_scale(p->beta, (wm + wg) / (lb.pm * (mirror ? wm : wg)));
+        return mirror ? mirror_bounce(sf, d, u, v, draw1(dr, 4), &p->beta, &p->ray)
+                      : glass_bounce(sf, d, f, td, fr, (s - wm) / wg, &p->beta, &p->ray);
+    }
+    /* a smooth lobe's direction, weighed by both smooth lobes */
+    real pdf;
+    const vec3 nd = lobes_sample_smooth(&lb, (pick - lb.pm) / (R(1) - lb.pm), u, v);
+    const vec3 fc = lobes_eval(&lb, nd, &pdf);
+    const int go = pdf > R(0) && v3_dot(nd, sf->ng) > R(0);
+    p->beta = v3_mul(p->beta, v3_scale(fc, go ? R(1) / pdf : R(0)));
+    p->after_smooth = 1;
+    p->from = sf->p;
+    p->pdf_bounce = pdf;
+    /* off a flat surface p is ps, err ps_err: the same origin */
+    ray_init(&p->ray, nee && !sf->smooth ? from_ps : trace_offset_origin(sf->p, sf->ng, sf->err), nd, R(0), REAL_MAX);
+    return go;
+}
+
 /* One bounce of path p: the hit h of its ray (found: whether there is
  * one) lit and scattered.  1 where the path goes on by p->ray. */
 static int path_step(const World *w, Path *p, int found, const Hit *h, RayStats *st)
@@ -269,7 +338,6 @@ static int path_step(const World *w, Path *p, int found, const Hit *h, RayStats 
             *p->key = UINT64_MAX;
         return 0;
     }
-    const int emitters = w->emitter_count > 0 && w->view.settings.emitter_sampling != EMITTERS_BSDF;
     const int depth = w->view.settings.depth;
     Surface sf;
     trace_surface(w, &p->ray, h, &sf);
@@ -285,50 +353,22 @@ static int path_step(const World *w, Path *p, int found, const Hit *h, RayStats 
         p->L = v3_add(p->L, v3_scale(v3_mul(p->beta, trace_emission(w, &sf, NULL)),
                                      p->after_smooth ? bounce_share(w, p->from, p->pdf_bounce, &p->ray, h) : R(1)));
     const int last = b >= depth; /* the light that reaches this point still counts: depth 0 is direct light */
-    const vec3 d = p->ray.dir;
-    real u, v;
     Draws dr;
     draws_at(&dr, p->plan, &p->id, (uint32_t)b);
-    draw2(&dr, 1, &u, &v);
-    const real pick = draw1(&dr, 2);
     int go;
     p->after_smooth = 0;
-    if (material_dielectric(m)) {
+    /* a dielectric's highlight is its Fresnel reflection, traced here (its
+     * Phong `specular` stands in for it under the Whitted integrator, which
+     * cannot reflect a point light: here it would add a second) */
+    const int glass = material_dielectric(m);
+    const vec3 kd = diffuse_at(w, &sf),
+               ks = w->view.settings.shading == SHADE_PHONG && !glass ? m->ks : v3_splat(R(0));
+    if (glass && !(v3_max_comp(kd) > R(0) || material_reflects(m))) {
         if (last)
             return 0;
-        go = dielectric_bounce(w, &sf, d, pick, &p->beta, &p->ray);
+        go = dielectric_bounce(w, &sf, p->ray.dir, draw1(&dr, 2), &p->beta, &p->ray);
     } else {
-        const vec3 ks = w->view.settings.shading == SHADE_PHONG ? m->ks : v3_splat(R(0));
-        Lobes lb;
-        if (!lobes_make(&lb, diffuse_at(w, &sf), ks, m->shininess, material_reflects(m) ? m->kr : v3_splat(R(0)),
-                        sf.ns, d))
-            return 0;
-        /* the shadow rays' origin, made once: a flat surface's bounce leaves from it too */
-        const int nee = lobes_smooth(&lb) && (w->light_count > 0 || emitters);
-        const vec3 from_ps = nee ? trace_offset_origin(sf.ps, sf.ng, sf.ps_err) : v3_splat(R(0));
-        if (nee) { /* next-event estimation: what the smooth lobes take from the lights */
-            p->L = v3_add(p->L, v3_mul(p->beta, direct_light(w, &sf, &lb, &dr, from_ps, st)));
-            if (emitters)
-                p->L = v3_add(p->L, v3_mul(p->beta, direct_emitters(w, &sf, &lb, last, &dr, from_ps, st)));
-        }
-        if (last)
-            return 0;
-        if (pick < lb.pm) { /* the mirror, chosen with probability pm */
-            p->beta = v3_scale(p->beta, R(1) / lb.pm);
-            go = mirror_bounce(&sf, d, u, v, draw1(&dr, 4), &p->beta, &p->ray);
-        } else { /* a smooth lobe's direction, weighed by both smooth lobes */
-            real pdf;
-            const vec3 nd = lobes_sample_smooth(&lb, (pick - lb.pm) / (R(1) - lb.pm), u, v);
-            const vec3 fc = lobes_eval(&lb, nd, &pdf);
-            go = pdf > R(0) && v3_dot(nd, sf.ng) > R(0);
-            p->beta = v3_mul(p->beta, v3_scale(fc, go ? R(1) / pdf : R(0)));
-            p->after_smooth = 1;
-            p->from = sf.p;
-            p->pdf_bounce = pdf;
-            /* off a flat surface p is ps, err ps_err: the same origin */
-            ray_init(&p->ray, nee && !sf.smooth ? from_ps : trace_offset_origin(sf.p, sf.ng, sf.err), nd, R(0),
-                     REAL_MAX);
-        }
+        go = surface_bounce(w, p, &sf, kd, ks, &dr, last, st);
     }
     if (!go)
         return 0;

@@ -492,18 +492,21 @@ static vec3 shade_beyond(const World *w, int i, const Shading *sh, int depth, ve
         col = v3_add(col, sh->ke);
     const int reflects = world_uses(w, FEAT_REFLECT) && material_reflects(m);
     const int refracts = world_uses(w, FEAT_REFRACT) && material_dielectric(m);
+    /* a dielectric's Fresnel reflection keeps 1 - max(reflect) of its
+     * strength: a mirror share (a glTF metal's over glass) takes the rest */
+    const real fr = reflects ? real_max(R(0), R(1) - v3_max_comp(m->kr)) : R(1);
     if (depth >= w->view.settings.depth && (reflects || refracts) && w->view.settings.depth_limit != LIMIT_BLACK) {
         /* cut by the depth limit: what the untraced rays would carry, an
          * estimate of what they see times their weight */
         const DepthLimit lim = w->view.settings.depth_limit;
         vec3 seen = lim == LIMIT_BACKGROUND ? w->background : lim == LIMIT_AMBIENT ? w->ambient : sh->irr;
-        if (reflects) {
+        if (reflects)
             col = v3_add(col, v3_mul(m->kr, seen));
-        } else {
+        if (refracts) {
             vec3 td;
             real eta;
             const real f = dielectric_split(w, sf, v3_neg(sh->view), &eta, &td);
-            col = v3_add(col, v3_mul(seen, v3_add(v3_splat(f), v3_scale(m->kt, R(1) - f))));
+            col = v3_add(col, v3_mul(seen, v3_add(v3_splat(f * fr), v3_scale(m->kt, R(1) - f))));
         }
     } else if (depth < w->view.settings.depth && (reflects || refracts)) {
         vec3 d = v3_neg(sh->view);
@@ -511,21 +514,21 @@ static vec3 shade_beyond(const World *w, int i, const Shading *sh, int depth, ve
         vec3 front = trace_offset_origin(sf->p, sf->ng, sf->err);
         RayDiff rrd, trd;
         const RayDiff *rdp = reflected_diff(sh, d, &rrd);
-        if (reflects) {
-            vec3 wt = v3_mul(weight, m->kr);
-            if (!worth_tracing(w, wt))
-                ;
-            else if (world_uses(w, FEAT_ROUGH) && m->roughness > R(0))
-                col = v3_add(col, rough_reflection(w, sh, front, reflected(d, sf), depth, weight, stats));
-            else
-                spawn_push(sp, ns, i, front, reflected(d, sf), follow(&sh->id, 1), rdp, wt, m->kr);
-        } else {
-            real eta;
-            vec3 td;
-            const real f = dielectric_split(w, sf, d, &eta, &td);
-            vec3 wr = v3_scale(weight, f);
-            if (worth_tracing(w, wr))
-                spawn_push(sp, ns, i, front, reflected(d, sf), follow(&sh->id, 1), rdp, wr, v3_splat(f));
+        const int rough = reflects && world_uses(w, FEAT_ROUGH) && m->roughness > R(0);
+        if (rough && worth_tracing(w, v3_mul(weight, m->kr)))
+            col = v3_add(col, rough_reflection(w, sh, front, reflected(d, sf), depth, weight, stats));
+        real eta, f = R(0);
+        vec3 td;
+        if (refracts)
+            f = dielectric_split(w, sf, d, &eta, &td);
+        /* one sharp reflected ray: the mirror's and the glass's shares */
+        vec3 kref = reflects && !rough ? m->kr : v3_splat(R(0));
+        if (refracts)
+            kref = reflects && !rough ? v3_add(kref, v3_splat(f * fr)) : v3_splat(f * fr);
+        vec3 wr = v3_mul(weight, kref);
+        if (worth_tracing(w, wr))
+            spawn_push(sp, ns, i, front, reflected(d, sf), follow(&sh->id, 1), rdp, wr, kref);
+        if (refracts) {
             vec3 kt = v3_scale(m->kt, R(1) - f);
             vec3 wt = v3_mul(weight, kt);
             if (f < R(1) && worth_tracing(w, wt)) {

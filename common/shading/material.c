@@ -21,7 +21,8 @@ static const Field fields[] = {
     {.key = "texture", .type = FIELD_NAME, .off = OFF(texture), .def = -1,
      .doc = "a `texture` by its name, multiplying the diffuse colour"},
     {.key = "reflect", .type = FIELD_VEC, .group = GROUP_MIRROR, .off = OFF(kr), .hi = FIELD_INF,
-     .doc = "mirror reflectance: the colour of a metal"},
+     .doc = "mirror reflectance: the colour of a metal; with `ior`, a mirror share over the glass, whose "
+            "Fresnel reflection keeps 1 - max(reflect) of its strength"},
     {.key = "roughness", .type = FIELD_REAL, .group = GROUP_MIRROR, .off = OFF(roughness), .hi = 1,
      .doc = "how far reflected rays spread (0: a perfect mirror); needs `reflect`"},
     {.key = "ior", .type = FIELD_REAL, .group = GROUP_DIELECTRIC, .flags = FIELD_ZERO_OK, .off = OFF(ior),
@@ -79,8 +80,6 @@ static const FieldRule rules[] = {
     {RULE_NEEDS, "roughness", "reflect", "'roughness' of material needs 'reflect' (a mirror or a metal)"},
     {RULE_NEEDS, "checker_size", "checker", "'checker_size' of material needs 'checker' (the second colour)"},
     {RULE_NEEDS, "checker_uv", "checker", "'checker_uv' of material needs 'checker' (the second colour)"},
-    {RULE_EXCLUDES, "reflect", "ior",
-     "material takes either 'reflect' (a mirror) or 'ior' (a dielectric, reflecting by Fresnel), not both"},
     {0, NULL, NULL, NULL},
 };
 
@@ -146,9 +145,5 @@ const char *material_problem(const Material *m, char *buf, size_t size)
             snprintf(buf, size, "%s (texture %d) without %s", maps[i].what, maps[i].index, maps[i].gate);
             return buf;
         }
-    if (material_dielectric(m) && material_reflects(m)) {
-        snprintf(buf, size, "a dielectric reflects by Fresnel's equations and takes no mirror reflectance");
-        return buf;
-    }
     return NULL;
 }

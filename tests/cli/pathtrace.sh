@@ -2,7 +2,9 @@
 # The path integrator (settings integrator path): light transport checked
 # where the answer is known.  A white furnace: inside a sphere that emits
 # radiance 1 everywhere, surfaces that lose no energy (diffuse spheres of
-# albedo 1 that light each other, a perfect mirror, clear glass) look like
+# albedo 1 that light each other, a perfect mirror, clear glass, a half
+# mirror over glass that transmits the other half, a veil that scatters
+# half diffusely and lets half through) look like
 # the emitter, radiance 1 at every pixel, whatever the bounces between
 # them.  The inverse-square law: a floor of albedo 0.5 under an emissive
 # sphere of radius 0.5 and radiance 100 at height 5 (and no light) shows
@@ -34,7 +36,11 @@ material sky diffuse 0 0 0 emit 1 1 1
 material white diffuse 1 1 1
 material mirror reflect 1 1 1
 material glass ior 1.5
+material coated reflect 0.5 0.5 0.5 ior 1.5 transmit 0.5 0.5 0.5
+material veil diffuse 0.5 0.5 0.5 ior 1 transmit 0.5 0.5 0.5
 sphere centre 0 0 0 radius 20 material sky
+sphere centre -1.6 1.3 0.5 radius 0.4 material coated
+sphere centre 1.6 -0.4 1.2 radius 0.4 material veil
 sphere centre -1 0 0 radius 0.8 material white
 sphere centre 0.6 0 0 radius 0.7 material white
 sphere centre 0.2 1.2 0 radius 0.5 material mirror
@@ -178,4 +184,4 @@ start_server room "$dir/room.scene" --port 0 --width 64 --height 64 --aa 2 --fra
     --out "$dir/f-room"
 clients_until_done 2 1
 wait "$server_pid" || fail "the path-traced frame through 2 clients differs from lanray-render's (server exit $?)"
-echo "pathtrace: the Cornell box $cb_err from Cycles' (4x4 blocks, light ratio $cb_ratio); white furnace under MIS within $fur_err (6x6 blocks, light ratio $fur_ratio); emitters by NEE alone and by bounces alone = MIS (6x6 blocks: error $nee_err and $bsdf_err, light ratio $nee_ratio and $bsdf_ratio); a glass ball's darkest pixel $blo; a white furnace of diffuse spheres, a mirror and glass comes out 1 (lowest code $lo; a grey room's $glo); the floor under an emissive sphere follows the inverse-square law (code $lmean, 127.5 expected; Whitted $whi); a path-traced frame through 2 clients = lanray-render's"
+echo "pathtrace: the Cornell box $cb_err from Cycles' (4x4 blocks, light ratio $cb_ratio); white furnace under MIS within $fur_err (6x6 blocks, light ratio $fur_ratio); emitters by NEE alone and by bounces alone = MIS (6x6 blocks: error $nee_err and $bsdf_err, light ratio $nee_ratio and $bsdf_ratio); a glass ball's darkest pixel $blo; a white furnace of diffuse spheres, a mirror, glass, a mirror over glass and a see-through diffuse veil comes out 1 (lowest code $lo; a grey room's $glo); the floor under an emissive sphere follows the inverse-square law (code $lmean, 127.5 expected; Whitted $whi); a path-traced frame through 2 clients = lanray-render's"

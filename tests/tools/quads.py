@@ -19,7 +19,7 @@ def png(w, h, rows, ctype=2):
 
 def gltf_quad(path, material, images, normals=False, sampler=None):
     """Writes the quad as glTF: `material` its one material, texture i image i (read through
-    `sampler` where given)."""
+    `sampler` where given); the extensions the material names are declared used."""
     pos = struct.pack("<12f", 0, -1, 0, 2, -1, 0, 2, 1, 0, 0, 1, 0)
     nrm = struct.pack("<12f", *([0, 0, 1] * 4)) if normals else b""
     uv = struct.pack("<8f", 0, 1, 1, 1, 1, 0, 0, 0)
@@ -46,6 +46,8 @@ def gltf_quad(path, material, images, normals=False, sampler=None):
          "meshes": [{"primitives": [{"attributes": attributes, "indices": len(accessors) - 1, "material": 0}]}],
          "images": [{"uri": "data:image/png;base64," + base64.b64encode(i).decode()} for i in images],
          "textures": [{"source": i} for i in range(len(images))], "materials": [material]}
+    if material.get("extensions"):
+        g["extensionsUsed"] = sorted(material["extensions"])
     if sampler:
         g["samplers"] = [sampler]
         for t in g["textures"]:

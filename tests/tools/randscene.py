@@ -15,7 +15,7 @@ in a quarter of the scenes, adaptive sampling's contrast and the area
 lights' light_samples in some); textures (PPM
 P3/P6, PGM P2/P5, PNG, JPEG, smooth or closest, wrapping each axis its way); materials with and without specular
 and textures, mirrors (reflect, roughness), dielectrics (ior, transmit,
-absorb) and emission, on any primitive; a model whose MTL gives
+absorb; some with a mirror share, reflect) and emission, on any primitive; a model whose MTL gives
 one material a texture (map_Kd with -s and -o) and a cutout (map_d), the other a normal map (norm), one with vertex colours
 and no materials, and a GLB with its texture embedded (and one whose image is also its normal map,
 emission, metal-roughness and occlusion texture); lamps (an emissive
@@ -231,6 +231,9 @@ def scene(seed):
                 m += ["transmit", colour(r)]
             if r.random() < 0.5:
                 m += ["absorb", colour(r, 2)]
+            coat = random.Random(seed * 7919 + 59 + i)  # a draw of its own: older builds refuse the pair
+            if newer and coat.random() < 0.3:  # a mirror share over the glass
+                m += ["reflect", colour(coat, 0.6)]
         if r.random() < 0.15:
             m += ["emit", colour(r)]
         extra = random.Random(seed * 7919 + 41 + i)  # a draw of its own, as the integrator's
