@@ -62,7 +62,7 @@ CPPFLAGS := -D_POSIX_C_SOURCE=200809L $(PFLAGS) -Icommon -Iserver -Iclient
 # (a ? x : y) scalar, lest the select's unused side trap (the round lamp's
 # points, scene/shade.c sphere_dirs); the values are IEEE's either way.
 ALL_CFLAGS := -std=c17 -ffp-contract=off -fno-math-errno -fno-trapping-math -Wall -Wextra -Wshadow -Wdouble-promotion -Wmissing-prototypes -Werror -pthread -MMD -MP $(SANFLAGS) $(CPPFLAGS) $(CFLAGS)
-LDLIBS := -lassimp -lsodium -lnetpbm -lpng -ljpeg -lzstd -llz4 -lavahi-client -lavahi-common -lz -lm -pthread
+LDLIBS := -lassimp -ljson-c -lsodium -lnetpbm -lpng -ljpeg -lzstd -llz4 -lavahi-client -lavahi-common -lz -lm -pthread
 LDFLAGS := $(SANFLAGS)
 
 # one archive per layer of programs: the library every program shares
@@ -87,7 +87,7 @@ TESTS := $(TEST_SRC:%.c=$(BUILD)/%)
 FUZZ_NAMES := $(patsubst tests/fuzz/fuzz_%.c,%,$(wildcard tests/fuzz/fuzz_*.c))
 REPLAYS := $(FUZZ_NAMES:%=$(BUILD)/fuzz/replay_%)
 
-DEB_PACKAGES := gcc make pkg-config libsdl2-dev libsdl2-ttf-dev fonts-dejavu-core xdotool libnetpbm-dev libpng-dev libjpeg62-turbo-dev zlib1g-dev libassimp-dev libcmocka-dev libembree-dev libsodium-dev libzstd-dev liblz4-dev libavahi-client-dev avahi-daemon avahi-utils dbus dpkg-dev help2man xvfb x11-apps python3 clang libclang-rt-14-dev povray
+DEB_PACKAGES := gcc make pkg-config libjson-c-dev libsdl2-dev libsdl2-ttf-dev fonts-dejavu-core xdotool libnetpbm-dev libpng-dev libjpeg62-turbo-dev zlib1g-dev libassimp-dev libcmocka-dev libembree-dev libsodium-dev libzstd-dev liblz4-dev libavahi-client-dev avahi-daemon avahi-utils dbus dpkg-dev help2man xvfb x11-apps python3 clang libclang-rt-14-dev povray
 
 .PHONY: all deps check check-asan bench demo clean tradeoff bench-scaling bench-realtime bench-compress bench-pipeline bench-path bench-cycles install uninstall deb fuzz loadtest tools-doc architecture scene-doc
 .SECONDARY:
@@ -106,7 +106,7 @@ deps:
 # Before anything compiles: the libraries' headers are there, or one line
 # says what to do (instead of a compiler error per file).  The targets that
 # run `make deps` first are not held back by it.
-LIB_HEADERS ?= /usr/include/SDL2/SDL.h /usr/include/SDL2/SDL_ttf.h /usr/include/netpbm/pam.h /usr/include/png.h /usr/include/zlib.h /usr/include/sodium.h /usr/include/zstd.h /usr/include/lz4.h /usr/include/avahi-client/client.h /usr/include/cmocka.h /usr/include/assimp/cimport.h /usr/include/jpeglib.h
+LIB_HEADERS ?= /usr/include/json-c/json.h /usr/include/SDL2/SDL.h /usr/include/SDL2/SDL_ttf.h /usr/include/netpbm/pam.h /usr/include/png.h /usr/include/zlib.h /usr/include/sodium.h /usr/include/zstd.h /usr/include/lz4.h /usr/include/avahi-client/client.h /usr/include/cmocka.h /usr/include/assimp/cimport.h /usr/include/jpeglib.h
 INSTALLING_GOALS := deps check check-asan check-tsan demo bench tradeoff bench-scaling bench-compress bench-pipeline bench-path bench-cycles bench-realtime fuzz loadtest clean architecture deb
 ifeq ($(filter $(INSTALLING_GOALS),$(MAKECMDGOALS)),)
   MISSING_HEADERS := $(filter-out $(wildcard $(LIB_HEADERS)),$(LIB_HEADERS))

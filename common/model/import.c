@@ -20,6 +20,7 @@
 #include <unistd.h>
 
 #include "base/cursor.h"
+#include "model/import_emissive.h"
 #include "model/import_texture.h"
 
 #define IMPORT_MAX_TRIANGLES (1u << 26) /* BVH_MAX_PRIMS */
@@ -133,7 +134,8 @@ static int gltf_material(const struct aiMaterial *am, struct aiString *mode)
 }
 
 /* A glTF material's emission (its emissive factor; Assimp 5.2 does not
- * read KHR_materials_emissive_strength), transmission
+ * read KHR_materials_emissive_strength: import_emissive.h applies it
+ * after), transmission
  * (KHR_materials_transmission: glass of the file's index, or 1.5, tinted by
  * the base colour; the dielectric share's, glTF says, so a metal by factors
  * f (f->applied) transmits 1 - its metallic of it, and its mirror lies over
@@ -385,7 +387,10 @@ static int import_read_direct(const char *path, Mesh *out, ImportTexList *tl, Im
     import_uv_transforms(sc);
     /* the scene stays: embedded images' bytes are Assimp's until sent
      * (the child ends after) */
-    return import_scene(sc, path, path, strcmp(e, ".stl") == 0 || strcmp(e, ".STL") == 0, out, tl, st, err);
+    if (import_scene(sc, path, path, strcmp(e, ".stl") == 0 || strcmp(e, ".STL") == 0, out, tl, st, err))
+        return -1;
+    import_emissive_strengths(sc, path, NULL, 0, NULL, out, st);
+    return 0;
 }
 
 static int import_read_memory_direct(const void *data, size_t len, const char *hint, const char *name, Mesh *out,
@@ -414,7 +419,10 @@ static int import_read_memory_direct(const void *data, size_t len, const char *h
         return err_set(err, "%s: %s", name, aiGetErrorString());
     import_upright(sc, hint);
     import_uv_transforms(sc);
-    return import_scene(sc, name, NULL, strcmp(hint, "stl") == 0, out, tl, st, err);
+    if (import_scene(sc, name, NULL, strcmp(hint, "stl") == 0, out, tl, st, err))
+        return -1;
+    import_emissive_strengths(sc, NULL, data, len, hint, out, st);
+    return 0;
 }
 
 /* A mesh's material index (0 where the file's is out of range). */
@@ -913,12 +921,22 @@ static int isolated(const Job *job, const char *name, const ObjOptions *opt, Mes
 /* The parent's own warnings about what the child reported. */
 static int import_warnings(const ObjOptions *opt, const char *name, Mesh *out, ImportStats *st, Err *err)
 {
-    if (!st->colours_ignored)
-        return 0;
     char msg[4200];
-    snprintf(msg, sizeof msg, "%s: vertex colours ignored: the model's materials give its colours", name);
-    if (obj_warning(opt, &st->warnings, err, msg) == 0)
-        return 0;
+    if (st->colours_ignored) {
+        snprintf(msg, sizeof msg, "%s: vertex colours ignored: the model's materials give its colours", name);
+        if (obj_warning(opt, &st->warnings, err, msg))
+            goto fail;
+    }
+    if (st->strength_unknown) {
+        snprintf(msg, sizeof msg,
+                 "%s: emission strength (KHR_materials_emissive_strength) of %lu material%s not applied: "
+                 "materials of one name, emissive and base colour differ in it only",
+                 name, st->strength_unknown, st->strength_unknown == 1 ? "" : "s");
+        if (obj_warning(opt, &st->warnings, err, msg))
+            goto fail;
+    }
+    return 0;
+fail:
     mesh_free(out);
     return -1;
 }

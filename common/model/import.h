@@ -32,6 +32,8 @@ typedef struct {
     unsigned long warnings;
     unsigned long optics; /* materials with a metal's reflection, glass, see-through or emission */
     unsigned long smoothed; /* triangles given smooth normals (ObjOptions.smooth, a file without normals) */
+    unsigned long strengths;        /* glTF materials whose emission took KHR_materials_emissive_strength */
+    unsigned long strength_unknown; /* emitting glTF materials alike but for their strengths (a warning) */
 } ImportStats;
 
 /* With ObjOptions.smooth, a file without normals gets them by mesh_smooth

@@ -1,0 +1,132 @@
+/* gltf_json.c - see gltf_json.h.  The JSON is parsed by json-c. */
+#include "model/gltf_json.h"
+
+#include <json-c/json.h>
+#include <limits.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* A GLB's JSON chunk (glTF 2.0, 4.4: a 12-byte header, then chunks of a
+ * u32 length and a u32 type, the JSON's first), in place; NULL where the
+ * bytes do not hold one. */
+static const uint8_t *glb_json(const uint8_t *b, size_t len, size_t *json_len)
+{
+    uint32_t head[5];
+    if (len < sizeof head)
+        return NULL;
+    memcpy(head, b, sizeof head);
+    if (memcmp(b, "glTF", 4) != 0 || head[1] != 2 || head[4] != 0x4E4F534Au /* "JSON" */)
+        return NULL;
+    if (head[3] > len - sizeof head)
+        return NULL;
+    *json_len = head[3];
+    return b + sizeof head;
+}
+
+static json_object *member(json_object *o, const char *key)
+{
+    json_object *v = NULL;
+    return o && json_object_is_type(o, json_type_object) && json_object_object_get_ex(o, key, &v) ? v : NULL;
+}
+
+static int number(json_object *v, double *out)
+{
+    if (!v || !(json_object_is_type(v, json_type_double) || json_object_is_type(v, json_type_int)))
+        return 0;
+    *out = json_object_get_double(v);
+    return isfinite(*out);
+}
+
+/* n numbers of array a into out, where a is an array of at least n
+ * numbers; else out keeps its defaults */
+static void numbers(json_object *a, int n, float *out)
+{
+    if (!a || !json_object_is_type(a, json_type_array) || json_object_array_length(a) < (size_t)n)
+        return;
+    float v[4];
+    for (int k = 0; k < n; k++) {
+        double d;
+        if (!number(json_object_array_get_idx(a, (size_t)k), &d))
+            return;
+        v[k] = (float)d;
+    }
+    memcpy(out, v, (size_t)n * sizeof *v);
+}
+
+/* One material's values, glTF's defaults where it gives none. */
+static int material_read(json_object *o, GltfMaterial *m)
+{
+    *m = (GltfMaterial){.emissive = {0, 0, 0}, .base = {1, 1, 1}, .strength = 1};
+    json_object *name = member(o, "name");
+    m->name = strdup(name && json_object_is_type(name, json_type_string) ? json_object_get_string(name) : "");
+    if (!m->name)
+        return -1;
+    numbers(member(o, "emissiveFactor"), 3, m->emissive);
+    numbers(member(member(o, "pbrMetallicRoughness"), "baseColorFactor"), 3, m->base);
+    double s;
+    if (number(member(member(member(o, "extensions"), "KHR_materials_emissive_strength"), "emissiveStrength"), &s) &&
+        s >= 0 && s <= 1e30)
+        m->strength = (float)s;
+    return 0;
+}
+
+void gltf_materials_read(const uint8_t *bytes, size_t len, int glb, GltfMaterials *out)
+{
+    memset(out, 0, sizeof *out);
+    size_t n = len;
+    const uint8_t *text = glb ? glb_json(bytes, len, &n) : bytes;
+    if (!text || n == 0 || n > INT_MAX)
+        return;
+    json_tokener *tok = json_tokener_new();
+    if (!tok)
+        return;
+    json_object *root = json_tokener_parse_ex(tok, (const char *)text, (int)n);
+    json_object *mats = json_tokener_get_error(tok) == json_tokener_success ? member(root, "materials") : NULL;
+    size_t count = mats && json_object_is_type(mats, json_type_array) ? json_object_array_length(mats) : 0;
+    out->m = count ? calloc(count, sizeof *out->m) : NULL;
+    for (size_t i = 0; out->m && i < count; i++) {
+        if (material_read(json_object_array_get_idx(mats, i), &out->m[out->n]))
+            break;
+        out->strong += out->m[out->n].strength != 1;
+        out->n++;
+    }
+    json_object_put(root);
+    json_tokener_free(tok);
+}
+
+/* Whether two of Assimp's floats and the file's are one number (each read
+ * the decimal its own way: the last bits may differ) */
+static int same(float a, float b)
+{
+    return fabsf(a - b) <= 1e-6f * fmaxf(1, fmaxf(fabsf(a), fabsf(b)));
+}
+
+float gltf_strength_of(const GltfMaterials *gm, const char *name, const float emissive[3], const float base[3],
+                       int *ambiguous)
+{
+    float found = 1;
+    int any = 0;
+    for (size_t i = 0; i < gm->n; i++) {
+        const GltfMaterial *m = &gm->m[i];
+        int alike = strcmp(m->name, name) == 0;
+        for (int k = 0; alike && k < 3; k++)
+            alike = same(m->emissive[k], emissive[k]) && same(m->base[k], base[k]);
+        if (!alike)
+            continue;
+        if (any && m->strength != found) {
+            *ambiguous = 1;
+            return 1;
+        }
+        found = m->strength, any = 1;
+    }
+    return found;
+}
+
+void gltf_materials_free(GltfMaterials *gm)
+{
+    for (size_t i = 0; i < gm->n; i++)
+        free(gm->m[i].name);
+    free(gm->m);
+    memset(gm, 0, sizeof *gm);
+}

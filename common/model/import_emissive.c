@@ -1,0 +1,93 @@
+/* import_emissive.c - see import_emissive.h. */
+#include "model/import_emissive.h"
+
+#include <assimp/material.h>
+#include <assimp/scene.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <strings.h>
+
+#include "model/gltf_json.h"
+
+/* A .glb's header and JSON chunk, or a .gltf's whole text, from the file
+ * at path into a buffer of the caller's (*len its size); NULL where it
+ * cannot be read (Assimp, which read it, would have said why). */
+static uint8_t *gltf_file_json(const char *path, int glb, size_t *len)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f)
+        return NULL;
+    long size = fseek(f, 0, SEEK_END) == 0 ? ftell(f) : -1;
+    uint8_t head[20];
+    size_t want = (size_t)size;
+    if (size < 0 || fseek(f, 0, SEEK_SET) != 0)
+        want = 0;
+    else if (glb) {
+        uint32_t chunk;
+        if (fread(head, 1, sizeof head, f) != sizeof head || fseek(f, 0, SEEK_SET) != 0)
+            want = 0;
+        memcpy(&chunk, head + 12, sizeof chunk);
+        if (want && (uint64_t)chunk <= (uint64_t)size - sizeof head)
+            want = sizeof head + chunk; /* gltf_materials_read checks the rest */
+    }
+    uint8_t *b = want ? malloc(want) : NULL;
+    if (b && fread(b, 1, want, f) != want) {
+        free(b);
+        b = NULL;
+    }
+    fclose(f);
+    *len = want;
+    return b;
+}
+
+static const char *file_hint(const char *path)
+{
+    const char *dot = strrchr(path, '.');
+    return !dot ? "" : strcasecmp(dot, ".glb") == 0 ? "glb" : strcasecmp(dot, ".gltf") == 0 ? "gltf" : "";
+}
+
+/* What Assimp keeps of a material that the file's JSON is matched by. */
+static void assimp_values(const struct aiMaterial *am, struct aiString *name, float emissive[3], float base[3])
+{
+    struct aiColor4D c = {0, 0, 0, 1};
+    if (aiGetMaterialString(am, AI_MATKEY_NAME, name) != aiReturn_SUCCESS)
+        name->length = 0, name->data[0] = 0;
+    aiGetMaterialColor(am, AI_MATKEY_COLOR_EMISSIVE, &c);
+    emissive[0] = c.r, emissive[1] = c.g, emissive[2] = c.b;
+    c = (struct aiColor4D){1, 1, 1, 1};
+    aiGetMaterialColor(am, AI_MATKEY_BASE_COLOR, &c);
+    base[0] = c.r, base[1] = c.g, base[2] = c.b;
+}
+
+void import_emissive_strengths(const struct aiScene *sc, const char *path, const void *bytes, size_t len,
+                               const char *hint, Mesh *out, ImportStats *st)
+{
+    if (path)
+        hint = file_hint(path);
+    const int glb = strcmp(hint, "glb") == 0;
+    if (!glb && strcmp(hint, "gltf") != 0)
+        return;
+    uint8_t *own = path ? gltf_file_json(path, glb, &len) : NULL;
+    GltfMaterials gm;
+    gltf_materials_read(path ? own : bytes, path && !own ? 0 : len, glb, &gm);
+    for (unsigned i = 0; gm.strong && i < sc->mNumMaterials && i < out->material_count; i++) {
+        Material *m = &out->materials[i];
+        if (!material_emits(m))
+            continue;
+        struct aiString name;
+        float e[3], b[3];
+        assimp_values(sc->mMaterials[i], &name, e, b);
+        int unknown = 0;
+        const float s = gltf_strength_of(&gm, name.data, e, b, &unknown);
+        st->strength_unknown += (unsigned long)unknown;
+        if (s == 1)
+            continue;
+        st->strengths++;
+        m->ke = v3_scale(m->ke, (real)s);
+        if (!material_emits(m)) /* a strength of 0: no emission, nor its texture */
+            m->emit_map = 0, m->emit_mapped = 0;
+    }
+    gltf_materials_free(&gm);
+    free(own);
+}
