@@ -34,7 +34,12 @@ appears() {
 # (NAME-client.err); sets spid, cpid and port
 window_server() {
     local name=$1; shift
-    "$BIN/lanray-server" --port 0 "$@" >"$dir/$name.log" 2>"$dir/$name.err" &
+    # under AddressSanitizer (make check-asan) without leak detection: SDL
+    # opens a D-Bus connection for a window and libdbus keeps a kilobyte of
+    # it to the end (its own stack, and 112 bytes more that LeakSanitizer
+    # cannot place); the headless tests check the server's own leaks
+    ASAN_OPTIONS="detect_leaks=0${ASAN_OPTIONS:+:$ASAN_OPTIONS}" \
+        "$BIN/lanray-server" --port 0 "$@" >"$dir/$name.log" 2>"$dir/$name.err" &
     spid=$!
     pids+=($spid)
     port=
@@ -68,6 +73,6 @@ stop_window_server() {
     for _ in $(seq 100); do kill -0 "$spid" 2>/dev/null || break; sleep 0.1; done
     kill -0 "$spid" 2>/dev/null && fail "$1: the server did not end within 10 s of SIGTERM"
     wait "$spid"; local rc=$?
-    [ "$rc" -eq 0 ] || fail "$1: the server ended with exit $rc on SIGTERM"
+    [ "$rc" -eq 0 ] || { tail -20 "$dir/$1.err"; fail "$1: the server ended with exit $rc on SIGTERM"; }
     wait "$cpid" 2>/dev/null
 }
