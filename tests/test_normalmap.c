@@ -17,7 +17,20 @@ typedef struct {
     int mirror_u;    /* u runs from 1 at x = 0 to 0 at x = 1 */
     int flat_uv;     /* every corner at the same texture coordinates */
     vec3 rotate;     /* the instance's rotation, degrees */
+    real height;     /* > 0: the map is the grey ramp below, a height map of this height (bump_height) */
+    int ramp_v;      /* the ramp rises along v, not u */
 } Quad;
+
+/* A height map: a ramp of 64 grey texels, code 4 i at the i-th from u = 0
+ * (or, ramp_v, from v = 0: the bottom row, v growing up the image). */
+static Texture *ramp(int along_v)
+{
+    uint8_t g[64 * 3];
+    for (int i = 0; i < 64; i++)
+        g[3 * (along_v ? 63 - i : i)] = g[3 * (along_v ? 63 - i : i) + 1] = g[3 * (along_v ? 63 - i : i) + 2] =
+            (uint8_t)(4 * i);
+    return along_v ? texture_from_rgb8(1, 64, g) : texture_from_rgb8(64, 1, g);
+}
 
 /* The unit quad x, y in [0, 1] at z = 0, normals +z, u along x (or back),
  * v along y, its material's normal map one texel, as one instance. */
@@ -27,10 +40,14 @@ static Scene *quad_scene(const Quad *q)
     Err err;
     assert_int_equal(mesh_init(&mesh, MESH_NORMALS | MESH_UVS | MESH_MATERIALS, &err), 0);
     uint32_t tex;
-    assert_int_equal(mesh_add_texture(&mesh, texture_from_rgb8(1, 1, q->rgb), &tex, &err), 0);
+    assert_int_equal(mesh_add_texture(&mesh, q->height > 0 ? ramp(q->ramp_v) : texture_from_rgb8(1, 1, q->rgb), &tex,
+                                      &err),
+                     0);
     Material m = material_default();
     if (q->scale > 0)
         m.normal_map = (int32_t)tex, m.normal_scale = q->scale;
+    if (q->height > 0)
+        m.normal_map = (int32_t)tex, m.normal_scale = 1, m.bump_height = q->height;
     assert_int_equal(mesh_add_material(&mesh, m, &err), 0);
     const vec3 a[3] = {v3(0, 0, 0), v3(1, 0, 0), v3(1, 1, 0)}, b[3] = {v3(0, 0, 0), v3(1, 1, 0), v3(0, 1, 0)};
     const vec3 n[3] = {v3(0, 0, 1), v3(0, 0, 1), v3(0, 0, 1)};
@@ -108,6 +125,33 @@ static void the_scale_tilts_x_and_y_only(void **state)
     none.scale = 0; /* no map: the vertex normals' */
     sf = surface_seen(&none, v3(0.3f, 0.6f, 1), v3(0.3f, 0.6f, 0));
     assert_near(sf.ns, Z, 0);
+}
+
+/* A grey height map (MTL bump) bumps the surface as a displacement would
+ * (Blinn): the ramp rises 4/255 of bump_height a texel, 64 texels to the
+ * unit quad, so the surface climbs 0.5 x 1.0039 a unit along u and the
+ * normal leans back from the climb: (-0.502, 0, 1), normalised.  Mirrored
+ * coordinates climb along -x; a ramp along v leans it to -y; a rotated
+ * instance turns it with the quad; no height: the vertex normal. */
+static void a_height_map_leans_the_normal_down_its_slope(void **state)
+{
+    (void)state;
+    const real slope = R(0.5) * R(4) / R(255) * R(64);
+    Quad q = {.height = R(0.5)};
+    Surface sf = surface_seen(&q, v3(0.3f, 0.6f, 1), v3(0.3f, 0.6f, 0));
+    assert_near(sf.ns, v3_norm(v3(-slope, 0, 1)), 1e-5);
+    Quad m = {.height = R(0.5), .mirror_u = 1};
+    sf = surface_seen(&m, v3(0.3f, 0.6f, 1), v3(0.3f, 0.6f, 0));
+    assert_near(sf.ns, v3_norm(v3(slope, 0, 1)), 1e-5);
+    Quad v = {.height = R(0.5), .ramp_v = 1};
+    sf = surface_seen(&v, v3(0.3f, 0.6f, 1), v3(0.3f, 0.6f, 0));
+    assert_near(sf.ns, v3_norm(v3(0, -slope, 1)), 1e-5);
+    Quad r = {.height = R(0.5), .rotate = {{0, 0, 90}}}; /* u along +y now */
+    sf = surface_seen(&r, v3(-0.6f, 0.3f, 1), v3(-0.6f, 0.3f, 0));
+    assert_near(sf.ns, v3_norm(v3(0, -slope, 1)), 1e-5);
+    Quad low = {.height = R(0.05)}; /* a tenth the height: a tenth the lean */
+    sf = surface_seen(&low, v3(0.3f, 0.6f, 1), v3(0.3f, 0.6f, 0));
+    assert_near(sf.ns, v3_norm(v3(-slope / 10, 0, 1)), 1e-5);
 }
 
 /* Texture coordinates that run against x turn the tangent: the normal
@@ -199,6 +243,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(red_tilts_the_normal_towards_u_and_green_towards_v),
+        cmocka_unit_test(a_height_map_leans_the_normal_down_its_slope),
         cmocka_unit_test(the_scale_tilts_x_and_y_only),
         cmocka_unit_test(mirrored_coordinates_mirror_the_frame),
         cmocka_unit_test(from_behind_the_normal_is_the_fronts_reversed),

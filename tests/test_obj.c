@@ -169,7 +169,7 @@ static void map_d_makes_a_cutout(void **state)
 
 /* norm is a normal map, -bm its strength; bump and map_Bump are one where
  * the image is not grey (Blender writes its normal maps so), and a grey
- * one is a height map: a warning, and the normals as they are. */
+ * one is a height map, -bm the height of its white (1 when not given). */
 static void norm_and_coloured_bump_maps_are_normal_maps(void **state)
 {
     (void)state;
@@ -179,28 +179,34 @@ static void norm_and_coloured_bump_maps_are_normal_maps(void **state)
     char path[256];
     snprintf(path, sizeof path, "%s/nm.mtl", test_tmpdir());
     test_write_file(path, "newmtl a\nnorm -bm 0.25 n.png\nnewmtl b\nmap_Bump -bm 1.0 n.png\nnewmtl c\nbump h.png\n"
-                          "newmtl d\nbump h.png\nnorm n.png\n");
+                          "newmtl d\nbump h.png\nnorm n.png\nnewmtl e\nbump -bm 0.02 h.png\n");
     const char *text = "mtllib nm.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 0 1\n"
                        "usemtl a\nf 1/1 2/2 3/3\nusemtl b\nf 1/1 3/3 2/2\nusemtl c\nf 1/1 2/2 3/3\n"
-                       "usemtl d\nf 1/1 3/3 2/2\n";
+                       "usemtl d\nf 1/1 3/3 2/2\nusemtl e\nf 1/1 2/2 3/3\n";
     Mesh m;
     ObjStats st;
     Err err;
     if (parse(text, &m, &st, &err, 0))
         fail_msg("%s", err.msg);
     const Material *a = &m.materials[m.mat[0]], *b = &m.materials[m.mat[1]], *c = &m.materials[m.mat[2]],
-                   *d = &m.materials[m.mat[3]];
+                   *d = &m.materials[m.mat[3]], *e = &m.materials[m.mat[4]];
     assert_true(material_bumps(a));
     assert_float_equal(a->normal_scale, 0.25, 0);
     assert_true(material_bumps(b));
     assert_float_equal(b->normal_scale, 1, 0);
     assert_int_equal(a->normal_map, b->normal_map); /* one file, read once */
-    assert_false(material_bumps(c));
-    assert_int_equal(c->normal_map, 0);
+    assert_false(material_heights(a) || material_heights(b));
+    assert_true(material_bumps(c) && material_heights(c)); /* the grey one: a height map */
+    assert_float_equal(c->bump_height, 1, 0);
+    assert_int_not_equal(c->normal_map, a->normal_map);
     assert_true(material_bumps(d)); /* norm wins over the grey bump */
+    assert_false(material_heights(d));
     assert_int_equal(d->normal_map, a->normal_map);
-    assert_int_equal(m.texture_count, 1);
-    assert_int_equal(st.warnings, 1); /* the height map */
+    assert_true(material_heights(e));
+    assert_float_equal(e->bump_height, 0.02, 1e-7);
+    assert_int_equal(e->normal_map, c->normal_map); /* one file, read once */
+    assert_int_equal(m.texture_count, 2);
+    assert_int_equal(st.warnings, 0);
     mesh_free(&m);
 }
 

@@ -254,16 +254,16 @@ static void obj_free(Obj *o)
 
 /* What a map is for: a material's colour (map_Kd), a cutout's mask
  * (map_d), its normal map (norm), a bump map (bump, map_Bump) that is a
- * normal map unless its image is grey (a height map), or its emission's
- * colour (map_Ke). */
+ * normal map unless its image is grey (then a height map), or its
+ * emission's colour (map_Ke). */
 typedef enum { MAP_COLOUR, MAP_CUTOUT, MAP_NORMALS, MAP_BUMP, MAP_EMISSION } MapRole;
 
 /* One map's texture: the id of the same file read before with the same
  * edge rule (for another material, or as this one's other map), else the
- * file read now; -1, after a warning, where it cannot be read (or is a
- * height map). */
+ * file read now; -1, after a warning, where it cannot be read.  A bump
+ * map's image that is grey is a height map (*height set). */
 static int obj_map_texture(const MtlMap *map, MapRole role, const char *mat, const MtlMap **seen, int32_t *seen_id,
-                           uint32_t *nseen, Mesh *out, Warner *w, int32_t *id)
+                           uint32_t *nseen, Mesh *out, Warner *w, int32_t *id, int *height)
 {
     static const char *const whats[] = {"texture", "cutout mask (map_d)", "normal map (norm)", "bump map",
                                         "emission texture (map_Ke)"};
@@ -271,13 +271,14 @@ static int obj_map_texture(const MtlMap *map, MapRole role, const char *mat, con
                                        "its normals as they are", "its emission untextured"};
     const char *what = whats[role];
     *id = -1;
+    *height = 0;
     for (uint32_t j = 0; j < *nseen && *id < 0; j++)
         if (strcmp(seen[j]->file, map->file) == 0 && seen[j]->clamp == map->clamp)
             *id = seen_id[j];
-    if (*id >= 0 && role == MAP_BUMP && texture_grey(out->textures[*id])) /* read as another map */
-        *id = -1;
-    else if (*id >= 0)
+    if (*id >= 0) {
+        *height = role == MAP_BUMP && texture_grey(out->textures[*id]);
         return 0;
+    }
     const int elsewhere = map->found > FILE_AS_WRITTEN;
     w->st->found_elsewhere += elsewhere;
     if (elsewhere && warn(w, 0, "material '%s': %s not where the library says; using %s (%s)", mat, what, map->file,
@@ -289,11 +290,7 @@ static int obj_map_texture(const MtlMap *map, MapRole role, const char *mat, con
         w->st->missing_textures++;
         return warn(w, 0, "material '%s': %s not read (%s): %s", mat, what, terr.msg, left[role]);
     }
-    if (role == MAP_BUMP && texture_grey(t)) {
-        texture_destroy(t);
-        return warn(w, 0, "material '%s': bump map %s is a height map (grey): not applied (lanray reads normal maps)",
-                    mat, map->file);
-    }
+    *height = role == MAP_BUMP && texture_grey(t);
     t->wrap[0] = t->wrap[1] = map->clamp ? TEXTURE_CLAMP : TEXTURE_REPEAT;
     uint32_t tid;
     if (mesh_add_texture(out, t, &tid, w->err))
@@ -306,7 +303,8 @@ static int obj_map_texture(const MtlMap *map, MapRole role, const char *mat, con
 /* The textures of the materials faces use, each file read once: the
  * diffuse one (map_Kd), a cutout's mask (map_d: its alpha, or a grey
  * image's level, under 0.5 a hole), and a normal map (norm; bump or
- * map_Bump where its image is not grey), its -bm its strength, and the
+ * map_Bump where its image is not grey; a grey one is a height map), its
+ * -bm its strength (a height map's: the height of its white), and the
  * emission's (map_Ke, times Ke, or alone where there is no Ke).  A texture
  * that cannot be read is a warning and leaves its material untextured,
  * solid, with its normals as they are, or its emission untextured. */
@@ -321,25 +319,29 @@ static int obj_textures(Obj *o, const int32_t *remap, Mesh *out, Warner *w)
             continue;
         Material *m = &out->materials[remap[k]];
         int32_t id;
+        int height;
         if (o->lib.maps[k].file[0]) {
-            rc = obj_map_texture(&o->lib.maps[k], MAP_COLOUR, o->lib.names[k], seen, seen_id, &nseen, out, w, &id);
+            rc = obj_map_texture(&o->lib.maps[k], MAP_COLOUR, o->lib.names[k], seen, seen_id, &nseen, out, w, &id, &height);
             if (rc == 0 && id >= 0)
                 m->texture = id;
         }
         if (rc == 0 && o->lib.dmaps[k].file[0]) {
-            rc = obj_map_texture(&o->lib.dmaps[k], MAP_CUTOUT, o->lib.names[k], seen, seen_id, &nseen, out, w, &id);
+            rc = obj_map_texture(&o->lib.dmaps[k], MAP_CUTOUT, o->lib.names[k], seen, seen_id, &nseen, out, w, &id, &height);
             if (rc == 0 && id >= 0)
                 m->mask = id, m->cutoff = R(0.5);
         }
         const MtlMap *nm = &o->lib.nmaps[k];
         if (rc == 0 && nm->file[0] && nm->bm > R(0)) {
             MapRole role = o->lib.nkinds[k] == MTL_NORMALS_NORM ? MAP_NORMALS : MAP_BUMP;
-            rc = obj_map_texture(nm, role, o->lib.names[k], seen, seen_id, &nseen, out, w, &id);
-            if (rc == 0 && id >= 0)
+            rc = obj_map_texture(nm, role, o->lib.names[k], seen, seen_id, &nseen, out, w, &id, &height);
+            if (rc == 0 && id >= 0 && height) /* -bm: the height of its white, in the model's units */
+                m->normal_map = id, m->normal_scale = 1, m->bump_height = real_min(nm->bm, MATERIAL_BUMP_HEIGHT_MAX);
+            else if (rc == 0 && id >= 0)
                 m->normal_map = id, m->normal_scale = real_min(nm->bm, MATERIAL_NORMAL_SCALE_MAX);
         }
         if (rc == 0 && o->lib.emaps[k].file[0]) {
-            rc = obj_map_texture(&o->lib.emaps[k], MAP_EMISSION, o->lib.names[k], seen, seen_id, &nseen, out, w, &id);
+            rc = obj_map_texture(&o->lib.emaps[k], MAP_EMISSION, o->lib.names[k], seen, seen_id, &nseen, out, w, &id,
+                                 &height);
             if (rc == 0 && id >= 0 && !o->lib.extra[k].ke_given) /* map_Ke alone: the texture is the glow */
                 m->ke = v3_splat(R(1));
             if (rc == 0 && id >= 0)

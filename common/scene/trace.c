@@ -714,7 +714,30 @@ static __attribute__((noinline)) void bump_frame(const Model *m, uint32_t tri, c
     sf->dpdu = m3_apply(&in->rot, dpdu);
     sf->dpdv = m3_apply(&in->rot, dpdv);
     sf->nscale = mat->normal_scale;
+    sf->nheight = mat->bump_height;
     sf->nmap = m->textures[mat->normal_map];
+}
+
+/* The normal of a surface bumped by a height map, on n's side, not unit
+ * (Blinn's bump mapping, "Simulation of wrinkled surfaces", 1978, as
+ * pbrt's BumpMap takes it): displaced along n by the map's height (its
+ * red as a fraction, times nheight), the surface moves with u by
+ * dpdu + n dh/du and with v by dpdv + n dh/dv, and their cross product is
+ * its normal.  The slopes are central differences a texel apart, or the
+ * footprint's width apart where that is wider (a far surface's bumps
+ * average out as its texels do). */
+static vec3 height_normal(const Surface *sf, const Texture *map, const TexFootprint *fp, vec3 n)
+{
+    real du = R(1) / (real)map->w, dv = R(1) / (real)map->h;
+    if (fp) {
+        du = real_max(du, R(0.5) * (fabs(fp->dudx) + fabs(fp->dudy)));
+        dv = real_max(dv, R(0.5) * (fabs(fp->dvdx) + fabs(fp->dvdy)));
+    }
+    const real u = sf->u, v = sf->v, k = sf->nheight;
+    const real bu = k * (texture_fractions(map, u + du, v, fp).x - texture_fractions(map, u - du, v, fp).x) / (R(2) * du);
+    const real bv = k * (texture_fractions(map, u, v + dv, fp).x - texture_fractions(map, u, v - dv, fp).x) / (R(2) * dv);
+    const vec3 p = v3_cross(v3_madd(sf->dpdu, n, bu), v3_madd(sf->dpdv, n, bv));
+    return v3_dot(p, n) < R(0) ? v3_neg(p) : p;
 }
 
 /* The shading normal of a normal-mapped surface: the map's vector (x, y
@@ -733,16 +756,21 @@ void trace_surface_bump(Surface *out, const TexFootprint *fp)
     out->nmap = NULL; /* applied once */
     const int flip = out->ns_turned;
     const vec3 n = flip ? v3_neg(out->ns) : out->ns;
-    vec3 t = v3_sub(out->dpdu, v3_scale(n, v3_dot(n, out->dpdu)));
-    const real tl = v3_len(t);
-    if (!(tl > R(0)) || !isfinite(tl))
-        return;
-    t = v3_scale(t, R(1) / tl);
-    vec3 b = v3_cross(n, t);
-    if (v3_dot(b, out->dpdv) < R(0))
-        b = v3_neg(b);
-    const vec3 c = texture_normal(map, out->u, out->v, fp);
-    vec3 p = v3_madd(v3_madd(v3_scale(n, c.z), t, c.x * out->nscale), b, c.y * out->nscale);
+    vec3 p;
+    if (out->nheight > R(0)) {
+        p = height_normal(out, map, fp, n);
+    } else {
+        vec3 t = v3_sub(out->dpdu, v3_scale(n, v3_dot(n, out->dpdu)));
+        const real tl = v3_len(t);
+        if (!(tl > R(0)) || !isfinite(tl))
+            return;
+        t = v3_scale(t, R(1) / tl);
+        vec3 b = v3_cross(n, t);
+        if (v3_dot(b, out->dpdv) < R(0))
+            b = v3_neg(b);
+        const vec3 c = texture_normal(map, out->u, out->v, fp);
+        p = v3_madd(v3_madd(v3_scale(n, c.z), t, c.x * out->nscale), b, c.y * out->nscale);
+    }
     const real pl = v3_len(p);
     if (!(pl > R(0)) || !isfinite(pl))
         return;

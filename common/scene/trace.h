@@ -40,6 +40,7 @@ typedef struct {
      * trace_surface_bump applies to ns; nmap NULL: none */
     const Texture *nmap;
     real nscale;
+    real nheight;     /* > 0: nmap is a height map, its white this far up (material.h's bump_height) */
     vec3 dpdu, dpdv;  /* how the point moves with u and with v, in the world */
     int ns_turned;    /* ns was turned round to face the viewer */
     Material local;   /* a mapped metal's material at this hit, which mat then names */

@@ -9,7 +9,7 @@
 
 #define OFF(f) offsetof(Material, f)
 enum { GROUP_MIRROR = 1, GROUP_DIELECTRIC = 2, GROUP_EMIT = 3, GROUP_CHECKER = 4, GROUP_CUTOUT = 5, GROUP_NORMAL = 6, GROUP_EMIT_MAP = 7, GROUP_METAL_MAP = 8,
-       GROUP_OCCLUSION = 9 };
+       GROUP_OCCLUSION = 9, GROUP_BUMP = 10 };
 
 static const Field fields[] = {
     {.key = "diffuse", .type = FIELD_VEC, .off = OFF(kd), .hi = FIELD_INF, .def = 0.8,
@@ -58,6 +58,10 @@ static const Field fields[] = {
     {.key = "normal_scale", .type = FIELD_REAL, .group = GROUP_NORMAL, .flags = FIELD_WIRE | FIELD_ZERO_OK,
      .off = OFF(normal_scale), .lo = 1e-6, .hi = 16,
      .doc = "how far the normal map tilts the normal (its x and y times this); 0: no normal map"},
+    {.key = "bump_height", .type = FIELD_REAL, .group = GROUP_BUMP, .flags = FIELD_WIRE | FIELD_ZERO_OK,
+     .off = OFF(bump_height), .lo = 1e-9, .hi = 1e9,
+     .doc = "with a normal map: it is a grey height map instead, its white this far above its black (the model's "
+            "units), shading as the displaced surface would; 0: a normal map"},
     {.key = "emit_map", .type = FIELD_NAME, .group = GROUP_EMIT_MAP, .flags = FIELD_WIRE, .off = OFF(emit_map),
      .doc = "an emission texture: the emitted radiance is `emit` times its colour"},
     {.key = "emit_mapped", .type = FIELD_FLAG, .group = GROUP_EMIT_MAP, .flags = FIELD_WIRE, .off = OFF(emit_mapped),
@@ -84,7 +88,7 @@ static const FieldRule rules[] = {
 };
 
 const FieldKind material_kind = {.name = "material", .fields = fields, .count = sizeof fields / sizeof *fields,
-                                 .rules = rules, .group_count = 9};
+                                 .rules = rules, .group_count = 10};
 
 Material material_default(void)
 {
@@ -120,7 +124,7 @@ Material material_untextured(Material m)
         m = material_unmetal(m);
     m.texture = -1;
     m.mask = 0, m.cutoff = 0;
-    m.normal_map = 0, m.normal_scale = 0;
+    m.normal_map = 0, m.normal_scale = 0, m.bump_height = 0;
     m.emit_map = 0, m.emit_mapped = 0;
     m.ao_map = 0, m.ao_strength = 0;
     return m;
@@ -145,5 +149,9 @@ const char *material_problem(const Material *m, char *buf, size_t size)
             snprintf(buf, size, "%s (texture %d) without %s", maps[i].what, maps[i].index, maps[i].gate);
             return buf;
         }
+    if (material_heights(m) && !material_bumps(m)) {
+        snprintf(buf, size, "a bump_height without a normal map (a normal_scale) to be its height map");
+        return buf;
+    }
     return NULL;
 }

@@ -43,6 +43,11 @@ typedef struct {
      * leave these out give).  A model's own materials only. */
     int32_t normal_map;
     real normal_scale;
+    /* > 0: normal_map is a grey height map (MTL bump, map_Bump), not a
+     * normal map: its white lies this far above its black, in the model's
+     * units, and the shading normal is the displaced surface's (Blinn's
+     * bump mapping); 0: a normal map (normal_scale then tilts it). */
+    real bump_height;
     /* an emission texture (glTF emissiveTexture, MTL map_Ke): the emitted
      * radiance is ke times its colour at the hit (a screen, a lit panel);
      * emit_mapped 0: none (as the initialisers that leave these out give).
@@ -65,6 +70,7 @@ typedef struct {
 
 #define MATERIAL_CUTOFF_MAX R(2) /* above 1: every texel of a mask a hole */
 #define MATERIAL_NORMAL_SCALE_MAX R(16)
+#define MATERIAL_BUMP_HEIGHT_MAX R(1e9)
 #define MATERIAL_IOR_MIN R(0.0625)
 #define MATERIAL_IOR_MAX R(16)
 
@@ -75,6 +81,7 @@ static inline int material_rough(const Material *m) { return material_reflects(m
 static inline int material_checkered(const Material *m) { return m->checker_size > R(0); }
 static inline int material_cuts(const Material *m) { return m->cutoff > R(0); }
 static inline int material_bumps(const Material *m) { return m->normal_scale > R(0); }
+static inline int material_heights(const Material *m) { return m->bump_height > R(0); }
 static inline int material_emit_mapped(const Material *m) { return m->emit_mapped != 0; }
 static inline int material_metal_mapped(const Material *m) { return m->metal_mapped != 0; }
 static inline int material_occludes(const Material *m) { return m->ao_strength > R(0); }
