@@ -16,7 +16,7 @@ lights' light_samples in some); textures (PPM
 P3/P6, PGM P2/P5, PNG, JPEG, smooth or closest, wrapping each axis its way); materials with and without specular
 and textures, mirrors (reflect, roughness), dielectrics (ior, transmit,
 absorb; some with a mirror share, reflect) and emission, on any primitive; a model whose MTL gives
-one material a texture (map_Kd with -s and -o) and a cutout (map_d), the other a normal map (norm), one with vertex colours
+one material a texture (map_Kd with -s and -o), a cutout (map_d) and a height map (bump), the other a normal map (norm), one with vertex colours
 and no materials, and a GLB with its texture embedded (and one whose image is also its normal map,
 emission, metal-roughness and occlusion texture); lamps (an emissive
 sphere at a light); spheres, planes (with and
@@ -112,10 +112,12 @@ def write_assets(d):
             # a ray-traced reflection (illum 3: a mirror of Ks) and an emission (Ke), carried too;
             # the matte half a cutout (map_d: a random grey mask, holes under half), half the
             # triangles, so that a SIMD path walks them apart from the wide tree; the shiny
-            # half normal-mapped (norm: a random image's texels as normals, half tilted)
+            # half normal-mapped (norm: a random image's texels as normals, half tilted), the
+            # matte half bumped by the grey mask as a height map (what older builds leave out)
+            bump = "" if os.environ.get("LANRAY_RANDSCENE_WHITTED") else "bump -bm 0.03 t5.pgm\n"
             f.write("newmtl shiny\nKd 0.7 0.6 0.2\nKs 0.5 0.5 0.5\nNs 33\nillum 3\nnorm -bm 0.5 t6.ppm\n"
                     "newmtl matte\nKd 0.2 0.5 0.7\n"
-                    "Ke 0.05 0.1 0.05\nmap_Kd -s 0.75 1.5 1 -o 0.1 0.2 t6.ppm\nmap_d t5.pgm\n")
+                    "Ke 0.05 0.1 0.05\nmap_Kd -s 0.75 1.5 1 -o 0.1 0.2 t6.ppm\nmap_d t5.pgm\n" + bump)
     if not os.path.exists(os.path.join(d, "painted.obj")):
         # a bumpy 5x5 grid with vertex colours and no materials (some in the x y z w r g b form)
         n = 5
