@@ -49,19 +49,64 @@ static real area_of(const World *w, HitKind kind, uint32_t index, uint32_t sub)
 /* What picking an emitter weighs: its area times its mean emission. */
 static real power_of(real area, const Material *m) { return area * (m->ke.x + m->ke.y + m->ke.z) / R(3); }
 
+/* The weights of a triangle's corners at the point (u, v) names, uniform
+ * over its area: where sample_triangle samples and in_hole looks. */
+static inline void triangle_weights(real u, real v, real b[3])
+{
+    const real su = sqrt(u);
+    b[0] = R(1) - su, b[1] = v * su, b[2] = R(1) - b[0] - b[1];
+}
+
+/* Whether emitter candidate's emission is a texture's (glow_at reads it). */
+static int glow_mapped(const World *w, HitKind kind, uint32_t index, const Material *m)
+{
+    return kind == HIT_INSTANCE && material_emit_mapped(m) && w->instances[index].material < 0 &&
+           w->models[w->instances[index].model]->uvs;
+}
+
+/* How bright a model's triangle's emission texture is, for its pick: the
+ * mean (r + g + b) / 3 of the texture over the box of the triangle's
+ * texture coordinates (one trilinear read, the mip-map level as wide as
+ * the box, at its centre, whatever the view's filter, so that a
+ * client that builds the world later weighs it alike), and no less than
+ * GLOW_SHARE_MIN, so that a triangle with light in a corner the mean
+ * misses is still picked now and then: any weights that leave none that
+ * glows out keep next-event estimation unbiased, and these put its samples
+ * on the bright triangles of a finely made emitter (a sign's letters, a
+ * facade's lit windows), not its black ones.  1 without a texture. */
+#define GLOW_SHARE_MIN R(1.0 / 64)
+static real glow_share(const World *w, HitKind kind, uint32_t index, uint32_t sub, const Material *m)
+{
+    if (!glow_mapped(w, kind, index, m))
+        return R(1);
+    const Model *mo = w->models[w->instances[index].model];
+    real lo[2] = {REAL_MAX, REAL_MAX}, hi[2] = {-REAL_MAX, -REAL_MAX};
+    for (int k = 0; k < 3; k++) {
+        real uv[2];
+        model_uv(mo, sub, k == 1 ? R(1) : R(0), k == 2 ? R(1) : R(0), &uv[0], &uv[1]);
+        for (int a = 0; a < 2; a++)
+            lo[a] = real_min(lo[a], uv[a]), hi[a] = real_max(hi[a], uv[a]);
+    }
+    const TexFootprint fp = {.dudx = hi[0] - lo[0], .dvdx = 0, .dudy = 0, .dvdy = hi[1] - lo[1]};
+    const vec3 c = texture_sample(mo->textures[m->emit_map], R(0.5) * (lo[0] + hi[0]), R(0.5) * (lo[1] + hi[1]), &fp,
+                                  FILTER_TRILINEAR);
+    const real share = (c.x + c.y + c.z) / R(3);
+    return share > GLOW_SHARE_MIN ? share : GLOW_SHARE_MIN; /* NaN coordinates: the least */
+}
+
 static int push(World *w, uint32_t *cap, HitKind kind, uint32_t index, uint32_t sub, real *total)
 {
     const Material *m = candidate_material(w, kind, index, sub);
     if (!m || !material_emits(m))
         return 0;
-    const real pw = power_of(area_of(w, kind, index, sub), m);
+    const real share = glow_share(w, kind, index, sub, m), pw = power_of(area_of(w, kind, index, sub), m) * share;
     if (!(pw > R(0)) || !isfinite(pw))
         return 0;
     if (array_reserve((void **)&w->parts->emitters, cap, w->emitter_count + 1, sizeof *w->emitters, UINT32_MAX / 64))
         return -1;
     w->emitters = w->parts->emitters;
     *total += pw;
-    w->emitters[w->emitter_count++] = (Emitter){kind, index, sub, *total};
+    w->emitters[w->emitter_count++] = (Emitter){kind, index, sub, *total, share};
     return 0;
 }
 
@@ -138,14 +183,6 @@ static int sample_ball(const Sphere *sp, vec3 p, real u, real v, EmitterSample *
         return 0;
     out->pdf = d2 / (c * sphere_area(sp));
     return 1;
-}
-
-/* The weights of a triangle's corners at the point (u, v) names, uniform
- * over its area: where sample_triangle samples and in_hole looks. */
-static inline void triangle_weights(real u, real v, real b[3])
-{
-    const real su = sqrt(u);
-    b[0] = R(1) - su, b[1] = v * su, b[2] = R(1) - b[0] - b[1];
 }
 
 /* Uniformly over triangle c's area (into *area, for its pick). */
@@ -229,8 +266,27 @@ int emitters_sample(const World *w, vec3 p, real pick, real u, real v, EmitterSa
     if (!ok || in_hole(w, e, u, v))
         return 0;
     out->radiance = glow_at(w, e, m, u, v);
-    out->pdf *= pick_probability(w, area, m);
+    out->pdf *= pick_probability(w, area, m) * e->share;
     return out->pdf > R(0) && isfinite(out->pdf);
+}
+
+/* The glow share emitters_build gave the model's triangle that h met:
+ * found by halving, as the table lists a model's emitters by instance,
+ * then triangle (after the spheres and the scene's triangles). */
+static real share_of(const World *w, const Hit *h)
+{
+    uint32_t lo = 0, hi = w->emitter_count;
+    while (lo < hi) { /* the first instance emitter at or past (index, sub) */
+        const uint32_t mid = lo + (hi - lo) / 2;
+        const Emitter *e = &w->emitters[mid];
+        const int before = e->kind != HIT_INSTANCE || e->index < h->index || (e->index == h->index && e->sub < h->sub);
+        if (before)
+            lo = mid + 1;
+        else
+            hi = mid;
+    }
+    const Emitter *e = lo < w->emitter_count ? &w->emitters[lo] : NULL;
+    return e && e->kind == HIT_INSTANCE && e->index == h->index && e->sub == h->sub ? e->share : R(1);
 }
 
 real emitters_pdf(const World *w, vec3 p, const Ray *r, const Hit *h)
@@ -255,5 +311,6 @@ real emitters_pdf(const World *w, vec3 p, const Ray *r, const Hit *h)
     corners(w, h->kind, h->index, h->sub, c);
     const vec3 cr = corners_cross(c);
     const real area = triangle_area(cr), cl = fabs(v3_dot(cr, r->dir)) / (R(2) * area);
-    return cl > R(1e-9) ? pick_probability(w, area, m) * h->t * h->t / (cl * area) : 0;
+    const real share = glow_mapped(w, h->kind, h->index, m) ? share_of(w, h) : R(1);
+    return cl > R(1e-9) ? pick_probability(w, area, m) * share * h->t * h->t / (cl * area) : 0;
 }

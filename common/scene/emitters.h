@@ -18,6 +18,7 @@ struct Emitter {
     HitKind kind;  /* HIT_SPHERE, HIT_TRIANGLE or HIT_INSTANCE */
     uint32_t index, sub; /* as in a Hit */
     real cdf;      /* the probability of picking this emitter or one before it */
+    real share;    /* its emission texture's mean over it (emitters.c's glow_share), 1 without one */
 };
 
 /* Builds w's table (w->emitters; none where nothing emits).  After the
