@@ -167,11 +167,13 @@ static void emitters_cover_their_solid_angle(void **state)
  * there) or by its emission texture (black there, white on the right):
  * every sample that brings light lies on the right half, and the samples'
  * light over their density covers the right half's solid angle (the
- * integral of the radiance, 1 there).  Made of two quads that meet at the
- * middle (split), the texture's dark triangles are picked by their glow
- * share, 1/64 of the bright ones' (emitters.c's glow_share): 98% of the
- * samples bring light, where half did when the pick weighed area alone;
- * the light they bring stays the bright half's. */
+ * integral of the radiance, 1 there).  The texture draws the samples to
+ * its bright half (emitters.c): each triangle's points by 8 x 8 cells of
+ * its area, each as likely as its mean (1/64 for black), so that 90% of
+ * the samples bring light, where half did when the points were uniform;
+ * made of two quads that meet at the middle (split), the dark quad's
+ * triangles are also picked by their share, 1/64 of the bright ones':
+ * 98%.  The light they bring stays the bright half's. */
 static void half_emitter_lights_from_its_bright_half(int glow, int split)
 {
     Mesh mesh;
@@ -230,8 +232,9 @@ static void half_emitter_lights_from_its_bright_half(int glow, int split)
         }
     }
     assert_true(checked > 1000);
-    if (glow && split && lit < N * 97 / 100)
-        fail_msg("%d of %d samples of the split emission texture bring light: the dark half is picked as often", lit, N);
+    if (glow && lit < N * (split ? 97 : 85) / 100)
+        fail_msg("%d of %d samples of the emission texture bring light (split %d): the dark half is drawn as often",
+                 lit, N, split);
     /* the bright half, x 1..2, y 0..1 at distance 1: its solid angle by two triangles */
     const vec3 c0 = v3(0, -0.5f, -1), c1 = v3(1, -0.5f, -1), c2 = v3(1, 0.5f, -1), c3 = v3(0, 0.5f, -1);
     const double want = triangle_solid_angle(c0, c1, c2) + triangle_solid_angle(c0, c2, c3);

@@ -64,6 +64,30 @@ static int glow_mapped(const World *w, HitKind kind, uint32_t index, const Mater
            w->models[w->instances[index].model]->uvs;
 }
 
+/* The box of a model's triangle's texture coordinates. */
+static void uv_box(const Model *mo, uint32_t sub, real lo[2], real hi[2])
+{
+    lo[0] = lo[1] = REAL_MAX, hi[0] = hi[1] = -REAL_MAX;
+    for (int k = 0; k < 3; k++) {
+        real uv[2];
+        model_uv(mo, sub, k == 1 ? R(1) : R(0), k == 2 ? R(1) : R(0), &uv[0], &uv[1]);
+        for (int a = 0; a < 2; a++)
+            lo[a] = real_min(lo[a], uv[a]), hi[a] = real_max(hi[a], uv[a]);
+    }
+}
+
+#define GLOW_SHARE_MIN R(1.0 / 64)
+
+/* An emission texture's (r + g + b) / 3 over footprint fp at (u, v),
+ * trilinear whatever the view's filter (a client that builds the world
+ * later must weigh it alike), at least GLOW_SHARE_MIN (NaN: that). */
+static real glow_read(const Texture *t, real u, real v, const TexFootprint *fp)
+{
+    const vec3 c = texture_sample(t, u, v, fp, FILTER_TRILINEAR);
+    const real g = (c.x + c.y + c.z) / R(3);
+    return g > GLOW_SHARE_MIN ? g : GLOW_SHARE_MIN;
+}
+
 /* How bright a model's triangle's emission texture is, for its pick: the
  * mean (r + g + b) / 3 of the texture over the box of the triangle's
  * texture coordinates (one trilinear read, the mip-map level as wide as
@@ -74,24 +98,69 @@ static int glow_mapped(const World *w, HitKind kind, uint32_t index, const Mater
  * glows out keep next-event estimation unbiased, and these put its samples
  * on the bright triangles of a finely made emitter (a sign's letters, a
  * facade's lit windows), not its black ones.  1 without a texture. */
-#define GLOW_SHARE_MIN R(1.0 / 64)
 static real glow_share(const World *w, HitKind kind, uint32_t index, uint32_t sub, const Material *m)
 {
     if (!glow_mapped(w, kind, index, m))
         return R(1);
     const Model *mo = w->models[w->instances[index].model];
-    real lo[2] = {REAL_MAX, REAL_MAX}, hi[2] = {-REAL_MAX, -REAL_MAX};
-    for (int k = 0; k < 3; k++) {
-        real uv[2];
-        model_uv(mo, sub, k == 1 ? R(1) : R(0), k == 2 ? R(1) : R(0), &uv[0], &uv[1]);
-        for (int a = 0; a < 2; a++)
-            lo[a] = real_min(lo[a], uv[a]), hi[a] = real_max(hi[a], uv[a]);
-    }
+    real lo[2], hi[2];
+    uv_box(mo, sub, lo, hi);
     const TexFootprint fp = {.dudx = hi[0] - lo[0], .dvdx = 0, .dudy = 0, .dvdy = hi[1] - lo[1]};
-    const vec3 c = texture_sample(mo->textures[m->emit_map], R(0.5) * (lo[0] + hi[0]), R(0.5) * (lo[1] + hi[1]), &fp,
-                                  FILTER_TRILINEAR);
-    const real share = (c.x + c.y + c.z) / R(3);
-    return share > GLOW_SHARE_MIN ? share : GLOW_SHARE_MIN; /* NaN coordinates: the least */
+    return glow_read(mo->textures[m->emit_map], R(0.5) * (lo[0] + hi[0]), R(0.5) * (lo[1] + hi[1]), &fp);
+}
+
+/* The cells of a textured emitter triangle: the unit square that
+ * triangle_weights spreads evenly over it, cut into GLOW_CELLS x GLOW_CELLS
+ * cells of equal area on the triangle, each as likely as its texture's
+ * mean there (read at its centre, a cell's share of the triangle's box
+ * wide), at least GLOW_SHARE_MIN: into cdf, their running sum over the
+ * whole (cell k = i x GLOW_CELLS + j: u in [i, i + 1) / GLOW_CELLS, v in
+ * [j, j + 1) / GLOW_CELLS). */
+static void glow_cells(const World *w, const Emitter *e, real *cdf)
+{
+    const WorldInstance *in = &w->instances[e->index];
+    const Model *mo = w->models[in->model];
+    const Material *m = candidate_material(w, e->kind, e->index, e->sub);
+    real lo[2], hi[2];
+    uv_box(mo, e->sub, lo, hi);
+    const TexFootprint fp = {.dudx = (hi[0] - lo[0]) / GLOW_CELLS, .dvdx = 0, .dudy = 0,
+                             .dvdy = (hi[1] - lo[1]) / GLOW_CELLS};
+    real sum = 0;
+    for (int k = 0; k < GLOW_CELL_COUNT; k++) {
+        real b[3], tu, tv;
+        triangle_weights(((real)(k / GLOW_CELLS) + R(0.5)) / GLOW_CELLS, ((real)(k % GLOW_CELLS) + R(0.5)) / GLOW_CELLS, b);
+        model_uv(mo, e->sub, b[1], b[2], &tu, &tv);
+        sum += glow_read(mo->textures[m->emit_map], tu, tv, &fp);
+        cdf[k] = sum;
+    }
+    for (int k = 0; k < GLOW_CELL_COUNT; k++)
+        cdf[k] /= sum;
+    cdf[GLOW_CELL_COUNT - 1] = R(1);
+}
+
+/* Cells for the first GLOW_CELL_EMITTERS textured emitters (World.emit_cells). */
+static int glow_cells_build(World *w)
+{
+    uint32_t n = 0;
+    for (uint32_t i = 0; i < w->emitter_count && n < GLOW_CELL_EMITTERS; i++) {
+        const Emitter *e = &w->emitters[i];
+        n += (uint32_t)glow_mapped(w, e->kind, e->index, candidate_material(w, e->kind, e->index, e->sub));
+    }
+    if (!n)
+        return 0;
+    w->parts->emit_cells = malloc((size_t)n * GLOW_CELL_COUNT * sizeof *w->emit_cells);
+    if (!w->parts->emit_cells)
+        return -1;
+    w->emit_cells = w->parts->emit_cells;
+    uint32_t k = 0;
+    for (uint32_t i = 0; i < w->emitter_count && k < n; i++) {
+        Emitter *e = &w->emitters[i];
+        if (!glow_mapped(w, e->kind, e->index, candidate_material(w, e->kind, e->index, e->sub)))
+            continue;
+        glow_cells(w, e, &w->emit_cells[(size_t)k * GLOW_CELL_COUNT]);
+        e->cells = k++;
+    }
+    return 0;
 }
 
 static int push(World *w, uint32_t *cap, HitKind kind, uint32_t index, uint32_t sub, real *total)
@@ -106,12 +175,13 @@ static int push(World *w, uint32_t *cap, HitKind kind, uint32_t index, uint32_t 
         return -1;
     w->emitters = w->parts->emitters;
     *total += pw;
-    w->emitters[w->emitter_count++] = (Emitter){kind, index, sub, *total, share};
+    w->emitters[w->emitter_count++] = (Emitter){kind, index, sub, *total, share, EMITTER_NO_CELLS};
     return 0;
 }
 
 int emitters_build(World *w, Err *err)
 {
+    w->emit_cells = NULL;
     w->emitters = NULL;
     w->emitter_count = 0;
     w->emit_power = 0;
@@ -127,7 +197,7 @@ int emitters_build(World *w, Err *err)
     for (uint32_t i = 0; i < w->instance_count && !bad; i++)
         for (uint32_t k = 0; k < w->models[w->instances[i].model]->tri_count && !bad; k++)
             bad = push(w, &cap, HIT_INSTANCE, i, k, &total);
-    if (bad)
+    if (bad || glow_cells_build(w))
         return err_set(err, "scene: out of memory for the emitters");
     /* cumulative power to probability; the last is exactly 1 */
     for (uint32_t i = 0; i < w->emitter_count; i++)
@@ -239,6 +309,53 @@ static vec3 glow_at(const World *w, const Emitter *e, const Material *m, real u,
     return v3_mul(m->ke, texture_sample(mo->textures[m->emit_map], tu, tv, NULL, w->view.settings.filter));
 }
 
+/* The emitter entry of the model's triangle that h met: found by halving,
+ * as the table lists a model's emitters by instance, then triangle (after
+ * the spheres and the scene's triangles); NULL where it has none. */
+static const Emitter *emitter_of(const World *w, const Hit *h)
+{
+    uint32_t lo = 0, hi = w->emitter_count;
+    while (lo < hi) { /* the first instance emitter at or past (index, sub) */
+        const uint32_t mid = lo + (hi - lo) / 2;
+        const Emitter *e = &w->emitters[mid];
+        const int before = e->kind != HIT_INSTANCE || e->index < h->index || (e->index == h->index && e->sub < h->sub);
+        if (before)
+            lo = mid + 1;
+        else
+            hi = mid;
+    }
+    const Emitter *e = lo < w->emitter_count ? &w->emitters[lo] : NULL;
+    return e && e->kind == HIT_INSTANCE && e->index == h->index && e->sub == h->sub ? e : NULL;
+}
+
+/* A cell of a textured emitter's cdf (glow_cells) by u: the cell whose
+ * running sum first passes it; (u, v) become the point of the square in
+ * it that u's place in the cell's interval and v say.  Its density over
+ * the square's (uniform: 1), which multiplies the point's density. */
+static real cell_pick(const real *cdf, real *u, real *v)
+{
+    int k = 0;
+    while (k < GLOW_CELL_COUNT - 1 && !(cdf[k] > *u))
+        k++;
+    const real before = k ? cdf[k - 1] : R(0), p = cdf[k] - before;
+    const real in = real_min((*u - before) / p, R(1) - REAL_EPS);
+    *u = ((real)(k / GLOW_CELLS) + in) / GLOW_CELLS;
+    *v = ((real)(k % GLOW_CELLS) + *v) / GLOW_CELLS;
+    return p * GLOW_CELL_COUNT;
+}
+
+/* The same density for the point of the triangle with barycentrics b1, b2
+ * (of its corners 1 and 2): the square's point triangle_weights maps
+ * there, u = (b1 + b2)^2, v = b1 / (b1 + b2), and its cell. */
+static real cell_density(const real *cdf, real b1, real b2)
+{
+    const real su = b1 + b2, u = su * su, v = su > R(0) ? b1 / su : R(0);
+    const int i = (int)real_min(real_max(u * GLOW_CELLS, R(0)), GLOW_CELLS - 1);
+    const int j = (int)real_min(real_max(v * GLOW_CELLS, R(0)), GLOW_CELLS - 1);
+    const int k = i * GLOW_CELLS + j;
+    return (cdf[k] - (k ? cdf[k - 1] : R(0))) * GLOW_CELL_COUNT;
+}
+
 int emitters_sample(const World *w, vec3 p, real pick, real u, real v, EmitterSample *out)
 {
     if (!w->emitter_count)
@@ -254,7 +371,9 @@ int emitters_sample(const World *w, vec3 p, real pick, real u, real v, EmitterSa
     const Emitter *e = &w->emitters[lo];
     const Material *m = candidate_material(w, e->kind, e->index, e->sub);
     int ok;
-    real area;
+    real area, cell = R(1);
+    if (e->cells != EMITTER_NO_CELLS) /* a textured triangle: a cell by its brightness, the point in it */
+        cell = cell_pick(&w->emit_cells[(size_t)e->cells * GLOW_CELL_COUNT], &u, &v);
     if (e->kind == HIT_SPHERE) {
         area = sphere_area(&w->spheres[e->index]);
         ok = sample_ball(&w->spheres[e->index], p, u, v, out);
@@ -266,27 +385,8 @@ int emitters_sample(const World *w, vec3 p, real pick, real u, real v, EmitterSa
     if (!ok || in_hole(w, e, u, v))
         return 0;
     out->radiance = glow_at(w, e, m, u, v);
-    out->pdf *= pick_probability(w, area, m) * e->share;
+    out->pdf *= pick_probability(w, area, m) * e->share * cell;
     return out->pdf > R(0) && isfinite(out->pdf);
-}
-
-/* The glow share emitters_build gave the model's triangle that h met:
- * found by halving, as the table lists a model's emitters by instance,
- * then triangle (after the spheres and the scene's triangles). */
-static real share_of(const World *w, const Hit *h)
-{
-    uint32_t lo = 0, hi = w->emitter_count;
-    while (lo < hi) { /* the first instance emitter at or past (index, sub) */
-        const uint32_t mid = lo + (hi - lo) / 2;
-        const Emitter *e = &w->emitters[mid];
-        const int before = e->kind != HIT_INSTANCE || e->index < h->index || (e->index == h->index && e->sub < h->sub);
-        if (before)
-            lo = mid + 1;
-        else
-            hi = mid;
-    }
-    const Emitter *e = lo < w->emitter_count ? &w->emitters[lo] : NULL;
-    return e && e->kind == HIT_INSTANCE && e->index == h->index && e->sub == h->sub ? e->share : R(1);
 }
 
 real emitters_pdf(const World *w, vec3 p, const Ray *r, const Hit *h)
@@ -311,6 +411,13 @@ real emitters_pdf(const World *w, vec3 p, const Ray *r, const Hit *h)
     corners(w, h->kind, h->index, h->sub, c);
     const vec3 cr = corners_cross(c);
     const real area = triangle_area(cr), cl = fabs(v3_dot(cr, r->dir)) / (R(2) * area);
-    const real share = glow_mapped(w, h->kind, h->index, m) ? share_of(w, h) : R(1);
+    real share = R(1);
+    if (glow_mapped(w, h->kind, h->index, m)) { /* its texture's share and, where it has them, its cell's */
+        const Emitter *e = emitter_of(w, h);
+        share = !e ? R(1)
+                : e->cells == EMITTER_NO_CELLS
+                    ? e->share
+                    : e->share * cell_density(&w->emit_cells[(size_t)e->cells * GLOW_CELL_COUNT], h->b1, h->b2);
+    }
     return cl > R(1e-9) ? pick_probability(w, area, m) * share * h->t * h->t / (cl * area) : 0;
 }

@@ -408,6 +408,7 @@ void world_destroy(World *w)
         free(pt->lights);
         free(pt->lamps);
         free(pt->emitters);
+        free(pt->emit_cells);
         free(pt->glassy);
         free(pt);
     }

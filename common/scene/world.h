@@ -113,6 +113,7 @@ typedef struct {
     WorldLight *lights;
     uint32_t *lamps;
     Emitter *emitters;
+    real *emit_cells;
     uint8_t *glassy;
     uint32_t glass_list[WORLD_GLASS_LIST];
     atomic_int refs;
@@ -146,6 +147,7 @@ typedef struct {
     Emitter *emitters; /* emissive geometry that lights the path integrator's scenes (scene/emitters.h) */
     uint32_t emitter_count;
     real emit_power;   /* their total power (area x mean emission) */
+    real *emit_cells;  /* textured emitters' points by brightness (scene/emitters.h) */
     /* glass shadows: 1 for a top-level primitive that may be a dielectric
      * (a glass sphere or triangle, an instance with a glass material),
      * whose shadow rays trace_shadow follows through it; NULL in a scene
