@@ -68,6 +68,7 @@ typedef struct {
     unsigned long missing_textures;  /* map_Kd and map_d files that could not be read */
     unsigned long found_elsewhere;   /* libraries and textures found by file name, not where written */
     unsigned long optics_mtl;        /* used materials with reflection, glass, transparency or emission */
+    unsigned long emit_strengths;    /* glTF materials whose emission took KHR_materials_emissive_strength */
 } ObjStats;
 
 /* One warning under these options, for every reader that takes them (the

@@ -25,6 +25,10 @@ for kind in sbt mst; do
     "$BIN/lanray-render" "$dir/again-$kind.tmd" --width 64 --height 48 --quiet -o "$dir/$kind.png" >/dev/null || fail "render $kind"
     cmp -s "$dir/$kind.png" "$dir/sah.png" || fail "a .tmd rebuilt with $kind renders differently"
 done
+# a glTF's emission strengths (read from its JSON: Assimp does not) are counted, the twins warned about
+out=$("$BIN/obj2tmd" tests/data/gltf/strength.gltf "$dir/strength.tmd" 2>&1) || fail "strength.gltf: $out"
+grep -q "emission strengths (KHR_materials_emissive_strength): 2 materials" <<<"$out" || fail "strengths summary: $out"
+grep -q "emissive_strength) of 2 materials not applied" <<<"$out" || fail "the twins' warning: $out"
 "$BIN/obj2tmd" --smooth "$dir/cube-sah.tmd" "$dir/s.tmd" 2>/dev/null; [ $? -eq 2 ] || fail "--smooth on a .tmd should exit 2"
 [ -e "$dir/s.tmd" ] && fail "--smooth on a .tmd left an output"
 
