@@ -1,6 +1,7 @@
 /* test_import.c - what the importer makes of a glTF's metal-roughness
  * materials (import.c): a metal reflects its base colour at its roughness,
- * emission, transmission and a blended opacity map onto lanray's terms, and
+ * emission, transmission (its volume's attenuation too) and a blended
+ * opacity map onto lanray's terms, and
  * what cannot be read per texel, or is only glTF's defaults, stays diffuse;
  * vertex colours multiply the base colour; samplers wrap each axis; a
  * MASK material cuts holes by its texture's alpha. */
@@ -23,8 +24,8 @@ static void gltf_materials_map_onto_lanrays(void **state)
     Err err;
     if (import_read("tests/data/gltf/pbr.gltf", NULL, &m, &st, &err))
         fail_msg("%s", err.msg);
-    assert_true(m.material_count >= 8);
-    assert_int_equal(st.optics, 6);
+    assert_true(m.material_count >= 9);
+    assert_int_equal(st.optics, 7);
     /* gold: metallic 1, roughness 0.2: all mirror, no diffuse, a tight highlight */
     const Material *gold = &m.materials[0];
     expect_vec(gold->kd, 0, 0, 0);
@@ -68,6 +69,12 @@ static void gltf_materials_map_onto_lanrays(void **state)
     expect_vec(bm->kt, 0.5, 0.5, 0.5);
     assert_float_equal(bm->ior, 1, 0);
     assert_null(material_problem(bm, why, sizeof why));
+    /* KHR_materials_volume: attenuation colour (0.5 0.8 1) over distance 2
+     * is Beer-Lambert absorption -ln(c) / 2; the glass above has none */
+    const Material *vol = &m.materials[8];
+    expect_vec(vol->absorb, -log(0.5) / 2, -log(0.8) / 2, 0);
+    expect_vec(glass->absorb, 0, 0, 0);
+    assert_null(material_problem(vol, why, sizeof why));
     mesh_free(&m);
 }
 

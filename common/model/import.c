@@ -147,6 +147,22 @@ static int gltf_material(const struct aiMaterial *am, struct aiString *mode)
  * (COLLADA files of assimp-testmodels say opacity 0 for opaque teapots, a
  * Milkshape jeep an emission of 0.35 for its ambient), and stay unread, as
  * before.  Returns whether any of them applied. */
+/* KHR_materials_volume (Assimp reads it): light that crosses attenuation
+ * distance d inside keeps attenuation colour c of itself, so the
+ * Beer-Lambert absorption is -ln(c) / d a unit, per channel (a channel of
+ * c at 0 absorbs as one of 1e-6 would).  Only where the file gives a
+ * finite distance; in the model's units, as its distances are. */
+static void import_volume(const struct aiMaterial *am, Material *m)
+{
+    vec3 c;
+    real d;
+    if (!import_number(am, AI_MATKEY_VOLUME_ATTENUATION_DISTANCE, R(1e-9), R(1e30), &d) ||
+        !import_colour(am, AI_MATKEY_VOLUME_ATTENUATION_COLOR, &c))
+        return;
+    for (int k = 0; k < 3; k++)
+        m->absorb.e[k] = c.e[k] >= R(1) ? R(0) : -log(real_max(c.e[k], R(1e-6))) / d;
+}
+
 static int import_optics(const struct aiMaterial *am, vec3 base, const MetalFactors *f, Material *m)
 {
     struct aiString mode;
@@ -165,6 +181,7 @@ static int import_optics(const struct aiMaterial *am, vec3 base, const MetalFact
         m->ior = ior;
         m->kt = v3_scale(base, t * (f->applied ? R(1) - f->metal : R(1)));
         m->kd = v3_scale(m->kd, R(1) - t);
+        import_volume(am, m);
         did = 1;
     } else if (strcmp(mode.data, "BLEND") == 0 && import_number(am, AI_MATKEY_OPACITY, 0, 1, &opacity) && opacity < 1) {
         m->ior = R(1);
