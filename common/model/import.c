@@ -133,20 +133,6 @@ static int gltf_material(const struct aiMaterial *am, struct aiString *mode)
     return aiGetMaterialString(am, "$mat.gltf.alphaMode", 0, 0, mode) == aiReturn_SUCCESS;
 }
 
-/* A glTF material's emission (its emissive factor; Assimp 5.2 does not
- * read KHR_materials_emissive_strength: import_emissive.h applies it
- * after), transmission
- * (KHR_materials_transmission: glass of the file's index, or 1.5, tinted by
- * the base colour; the dielectric share's, glTF says, so a metal by factors
- * f (f->applied) transmits 1 - its metallic of it, and its mirror lies over
- * the glass) and, for alphaMode BLEND, its alpha (a see-through blend, as
- * an MTL's dissolve, of every reflecting term).  Applied over what
- * import_metal_as made, and again after it where a metal-roughness texture
- * makes the material a metal later (import_materials).  Only glTF's: the other formats' emissive
- * and opacity values mean different things to different exporters
- * (COLLADA files of assimp-testmodels say opacity 0 for opaque teapots, a
- * Milkshape jeep an emission of 0.35 for its ambient), and stay unread, as
- * before.  Returns whether any of them applied. */
 /* KHR_materials_volume (Assimp reads it): light that crosses attenuation
  * distance d inside keeps attenuation colour c of itself, so the
  * Beer-Lambert absorption is -ln(c) / d a unit, per channel (a channel of
@@ -163,6 +149,20 @@ static void import_volume(const struct aiMaterial *am, Material *m)
         m->absorb.e[k] = c.e[k] >= R(1) ? R(0) : -log(real_max(c.e[k], R(1e-6))) / d;
 }
 
+/* A glTF material's emission (its emissive factor; Assimp 5.2 does not
+ * read KHR_materials_emissive_strength: import_emissive.h applies it
+ * after), transmission
+ * (KHR_materials_transmission: glass of the file's index, or 1.5, tinted by
+ * the base colour; the dielectric share's, glTF says, so a metal by factors
+ * f (f->applied) transmits 1 - its metallic of it, and its mirror lies over
+ * the glass) and, for alphaMode BLEND, its alpha (a see-through blend, as
+ * an MTL's dissolve, of every reflecting term).  Applied over what
+ * import_metal_as made, and again after it where a metal-roughness texture
+ * makes the material a metal later (import_materials).  Only glTF's: the other formats' emissive
+ * and opacity values mean different things to different exporters
+ * (COLLADA files of assimp-testmodels say opacity 0 for opaque teapots, a
+ * Milkshape jeep an emission of 0.35 for its ambient), and stay unread, as
+ * before.  Returns whether any of them applied. */
 static int import_optics(const struct aiMaterial *am, vec3 base, const MetalFactors *f, Material *m)
 {
     struct aiString mode;
@@ -406,7 +406,7 @@ static int import_read_direct(const char *path, Mesh *out, ImportTexList *tl, Im
      * (the child ends after) */
     if (import_scene(sc, path, path, strcmp(e, ".stl") == 0 || strcmp(e, ".STL") == 0, out, tl, st, err))
         return -1;
-    import_emissive_strengths(sc, path, NULL, 0, NULL, out, st);
+    import_emissive_strengths(sc, path, NULL, 0, e[0] ? e + 1 : e, out, st);
     return 0;
 }
 

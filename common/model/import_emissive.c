@@ -41,12 +41,6 @@ static uint8_t *gltf_file_json(const char *path, int glb, size_t *len)
     return b;
 }
 
-static const char *file_hint(const char *path)
-{
-    const char *dot = strrchr(path, '.');
-    return !dot ? "" : strcasecmp(dot, ".glb") == 0 ? "glb" : strcasecmp(dot, ".gltf") == 0 ? "gltf" : "";
-}
-
 /* What Assimp keeps of a material that the file's JSON is matched by. */
 static void assimp_values(const struct aiMaterial *am, struct aiString *name, float emissive[3], float base[3])
 {
@@ -63,10 +57,8 @@ static void assimp_values(const struct aiMaterial *am, struct aiString *name, fl
 void import_emissive_strengths(const struct aiScene *sc, const char *path, const void *bytes, size_t len,
                                const char *hint, Mesh *out, ImportStats *st)
 {
-    if (path)
-        hint = file_hint(path);
-    const int glb = strcmp(hint, "glb") == 0;
-    if (!glb && strcmp(hint, "gltf") != 0)
+    const int glb = strcasecmp(hint, "glb") == 0;
+    if (!glb && strcasecmp(hint, "gltf") != 0)
         return;
     uint8_t *own = path ? gltf_file_json(path, glb, &len) : NULL;
     GltfMaterials gm;

@@ -12,8 +12,9 @@ struct aiScene;
 
 /* Each emitting material of out (made from scene sc, material i from sc's
  * material i) takes its emission times its strength: from the glTF at
- * path, or (path NULL) in bytes[0..len) whose format `hint` names ("gltf",
- * "glb"; any other: nothing to do).  Materials that cannot be told apart
+ * path, or (path NULL) in bytes[0..len); `hint` names the format ("gltf",
+ * "glb", in any case: a file's extension without its dot; any other:
+ * nothing to do).  Materials that cannot be told apart
  * are counted in st->strength_unknown. */
 void import_emissive_strengths(const struct aiScene *sc, const char *path, const void *bytes, size_t len,
                                const char *hint, Mesh *out, ImportStats *st);
