@@ -524,7 +524,7 @@ static vec3 shade_beyond(const World *w, int i, const Shading *sh, int depth, ve
         /* one sharp reflected ray: the mirror's and the glass's shares */
         vec3 kref = reflects && !rough ? m->kr : v3_splat(R(0));
         if (refracts)
-            kref = reflects && !rough ? v3_add(kref, v3_splat(f * fr)) : v3_splat(f * fr);
+            kref = v3_add(kref, v3_splat(f * fr));
         vec3 wr = v3_mul(weight, kref);
         if (worth_tracing(w, wr))
             spawn_push(sp, ns, i, front, reflected(d, sf), follow(&sh->id, 1), rdp, wr, kref);
