@@ -77,6 +77,9 @@ static void uv_box(const Model *mo, uint32_t sub, real lo[2], real hi[2])
 }
 
 #define GLOW_SHARE_MIN R(1.0 / 64)
+#define GLOW_CELLS 8 /* a side of the grid of cells over a textured emitter triangle */
+#define GLOW_CELL_COUNT (GLOW_CELLS * GLOW_CELLS)
+#define GLOW_CELL_EMITTERS 16384 /* textured triangles given cells, at most (the rest: uniform) */
 
 /* An emission texture's (r + g + b) / 3 over footprint fp at (u, v),
  * trilinear whatever the view's filter (a client that builds the world

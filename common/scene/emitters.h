@@ -19,14 +19,11 @@ struct Emitter {
     uint32_t index, sub; /* as in a Hit */
     real cdf;      /* the probability of picking this emitter or one before it */
     real share;    /* its emission texture's mean over it (emitters.c's glow_share), 1 without one */
-    uint32_t cells; /* a textured triangle's cells (World.emit_cells, from cells x GLOW_CELL_COUNT):
+    uint32_t cells; /* a textured triangle's cells in World.emit_cells (emitters.c's glow_cells):
                      * where its points are drawn by brightness; EMITTER_NO_CELLS: uniformly */
 };
 
 #define EMITTER_NO_CELLS UINT32_MAX
-#define GLOW_CELLS 8 /* a side of the grid of cells over a textured emitter triangle */
-#define GLOW_CELL_COUNT (GLOW_CELLS * GLOW_CELLS)
-#define GLOW_CELL_EMITTERS 16384 /* textured triangles given cells, at most (the rest: uniform) */
 
 /* Builds w's table (w->emitters; none where nothing emits).  After the
  * lamps are paired. */
