@@ -7,6 +7,7 @@
  * MASK material cuts holes by its texture's alpha. */
 #include "helpers.h"
 
+#include "model/gltf_json.h"
 #include "model/import.h"
 
 static void expect_vec(vec3 v, real x, real y, real z)
@@ -266,6 +267,65 @@ static void gltf_emissive_strength_applies(void **state)
     }
 }
 
+/* gltf_json.c on bytes that are not what they claim: a GLB cut short, one
+ * whose JSON chunk claims more bytes than there are (by one, and by
+ * 2^32 - 1), one whose first chunk is not JSON or of another version,
+ * JSON that does not parse or stops halfway, materials that are not an
+ * array, and members of the wrong types: no materials, or the glTF
+ * defaults where a member is wrong, and never a read past the bytes
+ * (AddressSanitizer in check-asan). */
+static void gltf_json_takes_nothing_from_bad_bytes(void **state)
+{
+    (void)state;
+    GltfMaterials gm;
+    const char json[] = "{\"materials\":[{\"name\":\"a\",\"emissiveFactor\":[1,1,1],"
+                        "\"extensions\":{\"KHR_materials_emissive_strength\":{\"emissiveStrength\":3}}}]}";
+    const uint32_t jl = (uint32_t)strlen(json);
+    uint8_t glb[20 + sizeof json];
+    memcpy(glb, "glTF", 4);
+    const uint32_t head[4] = {2, 20 + jl, jl, 0x4E4F534Au};
+    memcpy(glb + 4, head, sizeof head);
+    memcpy(glb + 20, json, jl);
+    gltf_materials_read(glb, 20 + jl, 1, &gm); /* the good one, as a check that the bad ones are bad */
+    assert_int_equal(gm.n, 1);
+    assert_float_equal(gm.m[0].strength, 3, 0);
+    gltf_materials_free(&gm);
+    const size_t cuts[] = {0, 3, 12, 19, 20, 20 + jl / 2, 20 + jl - 1};
+    for (size_t i = 0; i < sizeof cuts / sizeof *cuts; i++) {
+        gltf_materials_read(glb, cuts[i], 1, &gm);
+        assert_int_equal(gm.n, 0);
+    }
+    const struct {
+        size_t at;
+        uint32_t value;
+    } bad[] = {{12, jl + 1}, {12, UINT32_MAX}, {16, 0x004E4942u /* BIN */}, {4, 1}};
+    for (size_t i = 0; i < sizeof bad / sizeof *bad; i++) {
+        uint8_t b[sizeof glb];
+        memcpy(b, glb, sizeof b);
+        memcpy(b + bad[i].at, &bad[i].value, 4);
+        gltf_materials_read(b, 20 + jl, 1, &gm);
+        assert_int_equal(gm.n, 0);
+    }
+    const char *texts[] = {"", "not json", "{\"materials\":[{\"name\":", "{\"materials\":{}}", "[1,2,3]",
+                           "{\"materials\":7}"};
+    for (size_t i = 0; i < sizeof texts / sizeof *texts; i++) {
+        gltf_materials_read((const uint8_t *)texts[i], strlen(texts[i]), 0, &gm);
+        assert_int_equal(gm.n, 0);
+    }
+    /* members of the wrong types: the material is there, with glTF's defaults */
+    const char *odd = "{\"materials\":[{\"name\":5,\"emissiveFactor\":[1,\"x\",1],"
+                      "\"pbrMetallicRoughness\":{\"baseColorFactor\":[0.5]},"
+                      "\"extensions\":{\"KHR_materials_emissive_strength\":{\"emissiveStrength\":-2}}}, 3]}";
+    gltf_materials_read((const uint8_t *)odd, strlen(odd), 0, &gm);
+    assert_int_equal(gm.n, 2);
+    assert_string_equal(gm.m[0].name, "");
+    assert_float_equal(gm.m[0].emissive[0], 0, 0);
+    assert_float_equal(gm.m[0].base[0], 1, 0);
+    assert_float_equal(gm.m[0].strength, 1, 0);
+    assert_int_equal(gm.strong, 0);
+    gltf_materials_free(&gm);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -276,6 +336,7 @@ int main(void)
         cmocka_unit_test(gltf_texture_transforms_apply),
         cmocka_unit_test(gltf_normal_maps_are_read),
         cmocka_unit_test(gltf_emissive_strength_applies),
+        cmocka_unit_test(gltf_json_takes_nothing_from_bad_bytes),
     };
     return cmocka_run_group_tests_name("import", tests, NULL, NULL);
 }
