@@ -120,9 +120,11 @@ static int shadowed(const World *w, vec3 origin, vec3 dir, real tmax, const Worl
 }
 
 /* Next-event estimation from a point with smooth lobes: one point of
- * every light, its shadow ray, pi x f x cos x the radiance that arrives. */
-static vec3 direct_light(const World *w, const Surface *sf, const Lobes *lb, const Draws *dr, vec3 origin,
-                         RayStats *st)
+ * every light, its shadow ray, pi x f x cos x the radiance that arrives.
+ * lb (or NULL): lobes that take every light; hl (or NULL): a highlight
+ * that takes only the lights without a lamp (highlight_make's). */
+static vec3 direct_light(const World *w, const Surface *sf, const Lobes *lb, const Lobes *hl, const Draws *dr,
+                         vec3 origin, RayStats *st)
 {
     vec3 sum = v3_splat(R(0));
     for (uint32_t li = 0; li < w->light_count; li++) {
@@ -132,7 +134,9 @@ static vec3 direct_light(const World *w, const Surface *sf, const Lobes *lb, con
         vec3 dir, rad;
         if (!shade_light_point(w, li, sf->p, u, v, &dir, &dist, &rad) || !(v3_dot(dir, sf->ng) > R(0)))
             continue;
-        const vec3 fc = lobes_eval(lb, dir, &pdf);
+        vec3 fc = lb ? lobes_eval(lb, dir, &pdf) : v3_splat(R(0));
+        if (hl && w->lights[li].lamp_count == 0)
+            fc = v3_add(fc, lobes_eval(hl, dir, &pdf));
         if (!(v3_max_comp(fc) > R(0)))
             continue;
         if (world_has(w, FEAT_SHADOWS) &&
@@ -264,6 +268,29 @@ static void path_start(Path *p, const DrawPlan *plan, const Ray *r, SampleId id,
     p->b = 0, p->after_smooth = 0, p->pdf_bounce = R(0);
 }
 
+/* Whether the world has a light without a lamp: one that no ray can meet. */
+static int lampless_light(const World *w)
+{
+    for (uint32_t li = 0; li < w->light_count; li++)
+        if (w->lights[li].lamp_count == 0)
+            return 1;
+    return 0;
+}
+
+/* The Phong highlight (ks) of a surface that reflects rays itself (a
+ * mirror, a metal; a dielectric's has none here, path_step), into *hl: it stands here for the reflection of
+ * the lights no ray can meet (points, spots, directions, area lights
+ * without a lamp), as it does for every light under Whitted's integrator.
+ * What a ray can meet (lamps, emitters, the background) the surface's
+ * reflected ray brings: a whole glossy lobe beside it counted that twice
+ * (an imported metal, whose highlight is its mirror's colour, reflected
+ * twice its colour of a white sky).  0 where there is none. */
+static int highlight_make(const World *w, const Surface *sf, vec3 ks, vec3 d, Lobes *hl)
+{
+    const vec3 zero = v3_splat(R(0));
+    return v3_max_comp(ks) > R(0) && lampless_light(w) && lobes_make(hl, zero, ks, sf->mat->shininess, zero, sf->ns, d);
+}
+
 /* A surface of smooth lobes (diffuse, the Phong highlight) and delta ones
  * (a mirror share; a dielectric's glass: Fresnel's reflection, less the
  * mirror's share, and the transmission): next-event estimation for the
@@ -282,16 +309,21 @@ static int surface_bounce(const World *w, Path *p, const Surface *sf, vec3 kd, v
         fr = real_max(R(0), R(1) - v3_max_comp(kr));
         kg = v3_add(v3_splat(f * fr), v3_scale(m->kt, R(1) - f));
     }
-    Lobes lb;
-    if (!lobes_make(&lb, kd, ks, m->shininess, v3_add(kr, kg), sf->ns, d))
+    /* a mirror keeps its highlight for the lights no ray meets */
+    const int own = material_reflects(m);
+    Lobes lb, hl;
+    const int highlight = own && highlight_make(w, sf, ks, d, &hl);
+    if (!lobes_make(&lb, kd, own ? v3_splat(R(0)) : ks, m->shininess, v3_add(kr, kg), sf->ns, d))
         return 0;
     /* the shadow rays' origin, made once: a flat surface's bounce leaves from it too */
     const int emitters = w->emitter_count > 0 && w->view.settings.emitter_sampling != EMITTERS_BSDF;
-    const int nee = lobes_smooth(&lb) && (w->light_count > 0 || emitters);
+    const int smooth = lobes_smooth(&lb) && (w->light_count > 0 || emitters);
+    const int nee = smooth || highlight;
     const vec3 from_ps = nee ? trace_offset_origin(sf->ps, sf->ng, sf->ps_err) : v3_splat(R(0));
     if (nee) { /* next-event estimation: what the smooth lobes take from the lights */
-        p->L = v3_add(p->L, v3_mul(p->beta, direct_light(w, sf, &lb, dr, from_ps, st)));
-        if (emitters)
+        p->L = v3_add(p->L, v3_mul(p->beta, direct_light(w, sf, smooth ? &lb : NULL, highlight ? &hl : NULL, dr,
+                                                         from_ps, st)));
+        if (smooth && emitters)
             p->L = v3_add(p->L, v3_mul(p->beta, direct_emitters(w, sf, &lb, last, dr, from_ps, st)));
     }
     if (last)
@@ -359,7 +391,9 @@ static int path_step(const World *w, Path *p, int found, const Hit *h, RayStats 
     p->after_smooth = 0;
     /* a dielectric's highlight is its Fresnel reflection, traced here (its
      * Phong `specular` stands in for it under the Whitted integrator, which
-     * cannot reflect a point light: here it would add a second) */
+     * cannot reflect a point light; here a highlight of the point lights, as
+     * a metal keeps (highlight_make), made a caustic of each on the floor
+     * around the example's bottle, a speckle of fireflies at 64 samples) */
     const int glass = material_dielectric(m);
     const vec3 kd = diffuse_at(w, &sf),
                ks = w->view.settings.shading == SHADE_PHONG && !glass ? m->ks : v3_splat(R(0));

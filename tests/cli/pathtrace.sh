@@ -4,9 +4,10 @@
 # radiance 1 everywhere, surfaces that lose no energy (diffuse spheres of
 # albedo 1 that light each other, a perfect mirror, clear glass, a half
 # mirror over glass that transmits the other half, a veil that scatters
-# half diffusely and lets half through) look like
+# half diffusely and lets half through, a metal with a Phong highlight of
+# its colour, as the importer makes one) look like
 # the emitter, radiance 1 at every pixel, whatever the bounces between
-# them.  The inverse-square law: a floor of albedo 0.5 under an emissive
+# them (seen at an exposure of -1, so that more than 1 shows).  The inverse-square law: a floor of albedo 0.5 under an emissive
 # sphere of radius 0.5 and radiance 100 at height 5 (and no light) shows
 # albedo x radiance x (r / h)^2 = 0.5 below it, where the Whitted
 # integrator, whose emission lights nothing, shows black.  A glass ball on
@@ -38,9 +39,11 @@ material mirror reflect 1 1 1
 material glass ior 1.5
 material coated reflect 0.5 0.5 0.5 ior 1.5 transmit 0.5 0.5 0.5
 material veil diffuse 0.5 0.5 0.5 ior 1 transmit 0.5 0.5 0.5
+material metal reflect 1 1 1 roughness 0.2 specular 1 1 1 shininess 40
 sphere centre 0 0 0 radius 20 material sky
 sphere centre -1.6 1.3 0.5 radius 0.4 material coated
 sphere centre 1.6 -0.4 1.2 radius 0.4 material veil
+sphere centre -0.3 -0.5 1.6 radius 0.35 material metal
 sphere centre -1 0 0 radius 0.8 material white
 sphere centre 0.6 0 0 radius 0.7 material white
 sphere centre 0.2 1.2 0 radius 0.5 material mirror
@@ -49,15 +52,36 @@ plane point 0 -0.9 0 normal 0 1 0 material white
 S
 # found by the paths alone, every path brings exactly the emitter's 1
 "$BIN/lanray-render" "$dir/furnace.scene" --emitter-sampling bsdf --aa 2 --width 48 --height 36 --linear \
-    -o "$dir/furnace.ppm" --quiet >/dev/null || fail "the furnace did not render"
+    --exposure -1 -o "$dir/furnace.ppm" --quiet >/dev/null || fail "the furnace did not render"
 read -r mean lo hi <<<"$(ppm_stats "$dir/furnace.ppm")"
-[ "$lo" -ge 253 ] || fail "white furnace: a pixel of code $lo where every pixel is the emitter's 255 (mean $mean)"
-# the same room of albedo 0.5: it must not look like the emitter (the test can tell)
+[ "$lo" -ge 126 ] && [ "$hi" -le 129 ] ||
+    fail "white furnace: codes $lo to $hi where every pixel is the emitter's 127.5 at exposure -1 (mean $mean)"
+# the same room of albedo 0.5: it must not look like the emitter (the
+# test can tell; the metal with its highlight as a whole glossy lobe
+# beside its mirror, as before 2026-11-29, failed it: codes 96 to 255)
 sed 's/material white diffuse 1 1 1/material white diffuse 0.5 0.5 0.5/' "$dir/furnace.scene" >"$dir/grey.scene"
 "$BIN/lanray-render" "$dir/grey.scene" --emitter-sampling bsdf --aa 2 --width 48 --height 36 --linear \
-    -o "$dir/grey.ppm" --quiet >/dev/null
+    --exposure -1 -o "$dir/grey.ppm" --quiet >/dev/null
 read -r gmean glo ghi <<<"$(ppm_stats "$dir/grey.ppm")"
-[ "$glo" -lt 200 ] || fail "a grey room in the furnace looks white: the test cannot tell"
+[ "$glo" -lt 100 ] || fail "a grey room in the furnace looks white: the test cannot tell"
+# that highlight still shows the lights no ray can meet (a point light)
+cat >"$dir/shine.scene" <<'S'
+camera position 0 0 4 lookat 0 0 0 fov 30
+background 0.1 0.1 0.1
+settings integrator path depth 4
+material metal reflect 0.5 0.5 0.5 specular 0.5 0.5 0.5 shininess 100
+sphere centre 0 0 0 radius 0.8 material metal
+light point position 2 2 5 intensity 1
+S
+sed 's/ specular 0.5 0.5 0.5 shininess 100//' "$dir/shine.scene" >"$dir/dull.scene"
+for s in shine dull; do
+    "$BIN/lanray-render" "$dir/$s.scene" --aa 2 --width 48 --height 48 --linear -o "$dir/$s.ppm" --quiet >/dev/null ||
+        fail "$s.scene did not render"
+done
+read -r smean slo shi <<<"$(ppm_stats "$dir/shine.ppm")"
+read -r dmean dlo dhi <<<"$(ppm_stats "$dir/dull.ppm")"
+[ "$shi" -ge 250 ] && [ "$dhi" -lt 100 ] ||
+    fail "a metal's highlight of a point light: brightest code $shi with it, $dhi without"
 cat >"$dir/lamp.scene" <<'S'
 camera position 0 4 0 yaw 0 pitch -90 ortho 0.2
 background 0 0 0
@@ -184,4 +208,4 @@ start_server room "$dir/room.scene" --port 0 --width 64 --height 64 --aa 2 --fra
     --out "$dir/f-room"
 clients_until_done 2 1
 wait "$server_pid" || fail "the path-traced frame through 2 clients differs from lanray-render's (server exit $?)"
-echo "pathtrace: the Cornell box $cb_err from Cycles' (4x4 blocks, light ratio $cb_ratio); white furnace under MIS within $fur_err (6x6 blocks, light ratio $fur_ratio); emitters by NEE alone and by bounces alone = MIS (6x6 blocks: error $nee_err and $bsdf_err, light ratio $nee_ratio and $bsdf_ratio); a glass ball's darkest pixel $blo; a white furnace of diffuse spheres, a mirror, glass, a mirror over glass and a see-through diffuse veil comes out 1 (lowest code $lo; a grey room's $glo); the floor under an emissive sphere follows the inverse-square law (code $lmean, 127.5 expected; Whitted $whi); a path-traced frame through 2 clients = lanray-render's"
+echo "pathtrace: the Cornell box $cb_err from Cycles' (4x4 blocks, light ratio $cb_ratio); white furnace under MIS within $fur_err (6x6 blocks, light ratio $fur_ratio); emitters by NEE alone and by bounces alone = MIS (6x6 blocks: error $nee_err and $bsdf_err, light ratio $nee_ratio and $bsdf_ratio); a glass ball's darkest pixel $blo; a white furnace of diffuse spheres, a mirror, glass, a mirror over glass, a see-through diffuse veil and a metal with a highlight come out 1 (codes $lo to $hi at exposure -1; the highlight shows a point light: $shi, without it $dhi; a grey room's $glo); the floor under an emissive sphere follows the inverse-square law (code $lmean, 127.5 expected; Whitted $whi); a path-traced frame through 2 clients = lanray-render's"
