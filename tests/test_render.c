@@ -199,11 +199,14 @@ static void plane_and_sphere_texture_coordinates(void **state)
 
 /* A coarse UV sphere (16 x 8 quads, each two triangles) with the true
  * sphere's normals at its vertices, as a modeller exports a smooth ball. */
-/* A unit sphere of seg x rings quads (the poles' triangles left out). */
-static Model *sphere_model(int SEG, int RINGS)
+/* A unit sphere of seg x rings quads (the poles' triangles left out), of
+ * material *mat (or none: the scene's first). */
+static Model *sphere_model_of(int SEG, int RINGS, const Material *mat)
 {
     Mesh m;
-    assert_int_equal(mesh_init(&m, MESH_NORMALS, NULL), 0);
+    assert_int_equal(mesh_init(&m, MESH_NORMALS | (mat ? MESH_MATERIALS : 0u), NULL), 0);
+    if (mat)
+        assert_int_equal(mesh_add_material(&m, *mat, NULL), 0);
     for (int j = 0; j < RINGS; j++)
         for (int i = 0; i < SEG; i++) {
             vec3 v[4];
@@ -221,6 +224,7 @@ static Model *sphere_model(int SEG, int RINGS)
     return model;
 }
 
+static Model *sphere_model(int SEG, int RINGS) { return sphere_model_of(SEG, RINGS, NULL); }
 static Model *coarse_sphere(void) { return sphere_model(16, 8); }
 
 /* The shadow terminator: where smooth normals face a grazing light, the
@@ -282,6 +286,44 @@ static void smooth_mesh_has_no_shadow_terminator(void **state)
         assert_true(worst <= R(0.15));
     }
     scene_destroy(s);
+}
+
+/* A model's own glass absorbs per unit of the model (glTF's attenuation
+ * distance is the model's): an instance scaled by 2 doubles the world's
+ * path through it, not the light it absorbs; a scene material set on the
+ * instance absorbs per unit of the world, so there it doubles.  Glass of
+ * index 1 (no bend, no Fresnel reflection) before a white background: a
+ * ray along one line of the model keeps exp(-absorb x length).  Before the
+ * fix the model's glass absorbed per unit of the world (ratio 2). */
+static void scaled_instance_absorbs_in_model_units(void **state)
+{
+    (void)state;
+    const Material glass = {.kd = v3_splat(0), .kt = v3_splat(1), .ior = 1, .absorb = v3_splat(R(0.3)),
+                            .shininess = 1, .texture = -1};
+    real logt[2][2]; /* [override][scale 1, 2] */
+    for (int over = 0; over < 2; over++)
+        for (int k = 0; k < 2; k++) {
+            Scene *s = empty_scene();
+            s->background = v3_splat(1);
+            s->ambient = v3_splat(0);
+            uint32_t id, gm;
+            Model *ball = sphere_model_of(16, 8, &glass);
+            assert_int_equal(scene_add_model(s, ball, &id, NULL), 0);
+            assert_int_equal(scene_add_material(s, glass, &gm, NULL), 0);
+            Instance in = instance_make(id, v3_splat(0), v3_splat(0), k ? 2 : 1);
+            in.material = over ? (int32_t)gm : -1;
+            assert_int_equal(scene_add_instance(s, in, NULL), 0);
+            prepare(s);
+            const real x = R(0.05) * (real)(k + 1), y = R(0.07) * (real)(k + 1); /* one line of the model */
+            const vec3 c = look(s, v3(x, y, 10), v3(x, y, 0));
+            assert_true(c.x > 0 && c.x < R(0.9));
+            logt[over][k] = log(c.x);
+            scene_destroy(s);
+        }
+    print_message("absorbed through scale 2 over scale 1: model's glass %.4f, scene's %.4f\n",
+                  (double)(logt[0][1] / logt[0][0]), (double)(logt[1][1] / logt[1][0]));
+    assert_float_equal(logt[0][1] / logt[0][0], 1, 1e-3);
+    assert_float_equal(logt[1][1] / logt[1][0], 2, 1e-3);
 }
 
 static void textured_triangle_and_instances(void **state)
@@ -1102,6 +1144,7 @@ int main(void)
         cmocka_unit_test(depth_limit_returns_the_choice),
         cmocka_unit_test(frame_sizes_and_bad_requests),
         cmocka_unit_test(nan_rays_hit_nothing),
+        cmocka_unit_test(scaled_instance_absorbs_in_model_units),
         cmocka_unit_test(worlds_reuse_what_did_not_change),
     };
     int rc = cmocka_run_group_tests_name("render", tests, NULL, NULL);

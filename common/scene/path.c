@@ -378,8 +378,10 @@ static int path_step(const World *w, Path *p, int found, const Hit *h, RayStats 
     const Material *m = sf.mat;
     if (b == 0 && p->key)
         *p->key = (uint64_t)sf.object << 16;
-    if (sf.inside && material_dielectric(m) && v3_max_comp(m->absorb) > R(0)) /* crossed its inside */
-        p->beta = v3_mul(p->beta, v3(exp(-m->absorb.x * h->t), exp(-m->absorb.y * h->t), exp(-m->absorb.z * h->t)));
+    if (sf.inside && material_dielectric(m) && v3_max_comp(m->absorb) > R(0)) { /* crossed its inside */
+        const real t = trace_absorb_t(w, h);
+        p->beta = v3_mul(p->beta, v3(exp(-m->absorb.x * t), exp(-m->absorb.y * t), exp(-m->absorb.z * t)));
+    }
     /* emission, but not a lamp's whose light was sampled at the point before */
     if (material_emits(m) && !(p->after_smooth && trace_any_lamp(w, h)))
         p->L = v3_add(p->L, v3_scale(v3_mul(p->beta, trace_emission(w, &sf, NULL)),

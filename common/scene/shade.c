@@ -314,7 +314,7 @@ static vec3 transmittance(const World *w, const Ray *sr, real tmax, const WorldL
         if (!lamp)
             T = v3_mul(T, sf.mat->kt);
         if (!lamp && sf.inside && v3_max_comp(sf.mat->absorb) > R(0))
-            T = v3_mul(T, beer_lambert(sf.mat->absorb, h.t));
+            T = v3_mul(T, beer_lambert(sf.mat->absorb, trace_absorb_t(w, &h)));
         if (!(v3_max_comp(T) > R(0)))
             break;
         /* on through the surface: from just past it, the rest of the way */
@@ -1031,7 +1031,7 @@ static inline __attribute__((always_inline)) void shade_rays_at(const World *w, 
         for (int k = 0; k < nl; k++) {
             const Surface *sf = &sh[live[k]].sf;
             if (sf->inside && material_dielectric(sf->mat) && v3_max_comp(sf->mat->absorb) > R(0))
-                out[live[k]] = v3_mul(out[live[k]], beer_lambert(sf->mat->absorb, hits[live[k]].t));
+                out[live[k]] = v3_mul(out[live[k]], beer_lambert(sf->mat->absorb, trace_absorb_t(w, &hits[live[k]])));
         }
 }
 

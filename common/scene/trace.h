@@ -101,6 +101,20 @@ int trace_occluded(const World *w, const Ray *r, real tmax, const WorldLight *to
 int trace_lamp_part(const World *w, const WorldLight *l, const Hit *h);
 /* Whether h is on any light's lamp. */
 int trace_any_lamp(const World *w, const Hit *h);
+/* How far a ray that ends at h came, in the units of the absorption
+ * (`absorb`) of the material there: a model's own material absorbs per
+ * unit of the model (glTF's attenuation distance is the model's), so on
+ * an instance scaled by s the world's t is s of them; a scene's material
+ * (an instance's override too) per unit of the world. */
+static inline real trace_absorb_t(const World *w, const Hit *h)
+{
+    if (h->kind == HIT_INSTANCE) {
+        const WorldInstance *in = &w->instances[h->index];
+        if (in->material < 0 && in->scale != R(1))
+            return h->t / in->scale;
+    }
+    return h->t;
+}
 void trace_surface(const World *w, const Ray *r, const Hit *hit, Surface *out);
 /* Tilts sf->ns as its normal map says (nothing without one, or a second
  * time), the map read over the footprint fp (NULL: at the point): after
