@@ -221,6 +221,8 @@ static void directive(const FieldKind *k, int v, int fi, char *buf, size_t size,
     if (k == &material_kind && fi >= 0 &&
         (strcmp(k->fields[fi].key, "checker_size") == 0 || strcmp(k->fields[fi].key, "checker_uv") == 0))
         strncat(buf, " checker 0.1 0.2 0.3", size - strlen(buf) - 1);
+    if (k == &material_kind && fi >= 0 && strcmp(k->fields[fi].key, "coat_roughness") == 0)
+        strncat(buf, " coat 0.5", size - strlen(buf) - 1);
     if (k == &camera_kind && fi >= 0 && (strcmp(k->fields[fi].key, "aperture") == 0))
         strncat(buf, " focus 3", size - strlen(buf) - 1);
     if (k == &camera_kind && fi >= 0 && (strcmp(k->fields[fi].key, "focus") == 0))

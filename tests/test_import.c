@@ -1,7 +1,8 @@
 /* test_import.c - what the importer makes of a glTF's metal-roughness
  * materials (import.c): a metal reflects its base colour at its roughness,
  * emission, transmission (its volume's attenuation too) and a blended
- * opacity map onto lanray's terms, and
+ * opacity map onto lanray's terms, a non-metal's specular reflection
+ * (and KHR_materials_clearcoat) onto a clear coat, and
  * what cannot be read per texel, or is only glTF's defaults, stays diffuse;
  * vertex colours multiply the base colour; samplers wrap each axis; a
  * MASK material cuts holes by its texture's alpha. */
@@ -26,7 +27,7 @@ static void gltf_materials_map_onto_lanrays(void **state)
     if (import_read("tests/data/gltf/pbr.gltf", NULL, &m, &st, &err))
         fail_msg("%s", err.msg);
     assert_true(m.material_count >= 9);
-    assert_int_equal(st.optics, 7);
+    assert_int_equal(st.optics, 8); /* the half metal reflects too */
     /* gold: metallic 1, roughness 0.2: all mirror, no diffuse, a tight highlight */
     const Material *gold = &m.materials[0];
     expect_vec(gold->kd, 0, 0, 0);
@@ -76,6 +77,26 @@ static void gltf_materials_map_onto_lanrays(void **state)
     expect_vec(vol->absorb, -log(0.5) / 2, -log(0.8) / 2, 0);
     expect_vec(glass->absorb, 0, 0, 0);
     assert_null(material_problem(vol, why, sizeof why));
+    /* clear coats: a non-metal's base is a dielectric of index 1.5, its
+     * specular reflection a coat of its roughness; a metal by its factors
+     * keeps the coat of its dielectric share; glass and glTF's defaults
+     * none; KHR_materials_clearcoat's factor and roughness in its place */
+    assert_true(m.material_count >= 12);
+    assert_float_equal(m.materials[9].coat, 1, 1e-6);
+    assert_float_equal(m.materials[9].coat_roughness, 0.3, 1e-6);
+    expect_vec(m.materials[9].kd, 0.2, 0.4, 0.8);
+    assert_float_equal(m.materials[10].coat, 0.75, 1e-6);
+    assert_float_equal(m.materials[10].coat_roughness, 0.5, 1e-6);
+    expect_vec(m.materials[10].kr, 0.2, 0.2, 0.2);
+    assert_float_equal(m.materials[11].coat, 0.8, 1e-6);
+    assert_float_equal(m.materials[11].coat_roughness, 0.05, 1e-6);
+    assert_float_equal(gold->coat, 0, 0);
+    assert_float_equal(glass->coat, 0, 0);
+    assert_float_equal(vol->coat, 0, 0);
+    assert_float_equal(m.materials[5].coat, 0, 0);
+    assert_float_equal(m.materials[4].coat, 1, 1e-6); /* its texture unread: a non-metal */
+    for (uint32_t i = 0; i < 12; i++)
+        assert_null(material_problem(&m.materials[i], why, sizeof why));
     mesh_free(&m);
 }
 

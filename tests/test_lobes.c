@@ -29,7 +29,9 @@ static void smooth_lobes_density_integrates_to_their_share(void **state)
     /* at normal incidence the glossy lobe lies wholly above the surface */
     const vec3 n = v3_norm(v3(0.3f, 1, -0.2f));
     Lobes lb;
-    assert_true(lobes_make(&lb, v3(0.5f, 0.4f, 0.3f), v3(0.3f, 0.3f, 0.3f), 20, v3(0.2f, 0.2f, 0.2f), n, v3_neg(n)));
+    /* and a clear coat's lobe of another exponent */
+    assert_true(
+        lobes_make(&lb, v3(0.5f, 0.4f, 0.3f), v3(0.3f, 0.3f, 0.3f), 20, v3(0.2f, 0.2f, 0.2f), 0.25f, 60, n, v3_neg(n)));
     Rng rng = {11};
     const int N = 400000;
     double sum = 0;
@@ -38,10 +40,11 @@ static void smooth_lobes_density_integrates_to_their_share(void **state)
         lobes_eval(&lb, sphere_dir(&rng), &pdf);
         sum += (double)pdf;
     }
-    const double integral = sum / N * 2 * TWO_PI, share = (double)(lb.pd + lb.pg);
+    const double integral = sum / N * 2 * TWO_PI, share = (double)(lb.pd + lb.pg + lb.pc);
     if (fabs(integral - share) > 0.01 * share)
         fail_msg("the smooth lobes' density integrates to %.4f over the sphere, their share is %.4f", integral, share);
-    assert_true(fabs((double)(lb.pd + lb.pg + lb.pm) - 1) < 1e-6);
+    assert_true(lb.pc > 0);
+    assert_true(fabs((double)(lb.pd + lb.pg + lb.pc + lb.pm) - 1) < 1e-6);
 }
 
 static void samples_follow_the_density(void **state)
@@ -56,7 +59,8 @@ static void samples_follow_the_density(void **state)
         if (v3_dot(d, n) > 0)
             d = v3_neg(d);
         Lobes lb;
-        assert_true(lobes_make(&lb, v3(0.6f, 0.5f, 0.4f), v3(0.4f, 0.4f, 0.4f), t == 0 ? 1 : 30 * t, v3(0, 0, 0), n, d));
+        assert_true(lobes_make(&lb, v3(0.6f, 0.5f, 0.4f), v3(0.4f, 0.4f, 0.4f), t == 0 ? 1 : 30 * t, v3(0, 0, 0),
+                               t == 3 ? 0 : 0.3f, (real)(200 - 50 * t), n, d));
         const int N = 200000;
         double sum = 0;
         for (int i = 0; i < N; i++) {
@@ -64,7 +68,7 @@ static void samples_follow_the_density(void **state)
             real pdf;
             lobes_eval(&lb, wi, &pdf);
             if (pdf > 0)
-                sum += (double)(lb.pd + lb.pg) / (double)pdf;
+                sum += (double)(lb.pd + lb.pg + lb.pc) / (double)pdf;
         }
         const double got = sum / N;
         if (fabs(got - TWO_PI) > 0.02 * TWO_PI)
@@ -78,7 +82,7 @@ static void a_white_lambertian_weighs_one(void **state)
     (void)state;
     Lobes lb;
     const vec3 n = v3(0, 0, 1);
-    assert_true(lobes_make(&lb, v3(1, 1, 1), v3(0, 0, 0), 1, v3(0, 0, 0), n, v3_norm(v3(0.2f, 0.1f, -1))));
+    assert_true(lobes_make(&lb, v3(1, 1, 1), v3(0, 0, 0), 1, v3(0, 0, 0), 0, 0, n, v3_norm(v3(0.2f, 0.1f, -1))));
     Rng rng = {3};
     for (int i = 0; i < 10000; i++) {
         const vec3 wi = lobes_sample_smooth(&lb, rng_real(&rng, 0, 1), rng_real(&rng, 0, 1), rng_real(&rng, 0, 1));

@@ -18,8 +18,9 @@ static const vec3 BASE = {{0.8f, 0.6f, 0.4f}};
  * metal (factor `metal`, roughness factor 1) of base colour BASE with a
  * 2 x 1 metal-roughness texture: left texel blue 255 green 0 (metal,
  * smooth), right blue 0 green 128 (not metal, half rough); `colour`, a
- * base colour texture (2 x 1: grey, white) too. */
-static Scene *metal_scene(real metal, int colour)
+ * base colour texture (2 x 1: grey, white) too; a clear coat of strength
+ * `coat` (the importer's 1 for a glTF's) and roughness 0.5. */
+static Scene *metal_scene(real metal, int colour, real coat)
 {
     Mesh mesh;
     Err err;
@@ -32,6 +33,7 @@ static Scene *metal_scene(real metal, int colour)
     Material m = material_default();
     m.kd = BASE, m.kr = v3_scale(BASE, metal), m.ks = m.kr, m.roughness = 1;
     m.metal_map = (int32_t)tex, m.metal_mapped = 1;
+    m.coat = coat, m.coat_roughness = coat > 0 ? R(0.5) : R(0);
     if (colour) {
         Texture *c = texture_from_rgb8(2, 1, grey);
         c->closest = 1;
@@ -70,7 +72,7 @@ static void assert_vec(vec3 got, vec3 want)
 static void the_texture_says_where_the_surface_is_metal(void **state)
 {
     (void)state;
-    Scene *s = metal_scene(1, 0);
+    Scene *s = metal_scene(1, 0, 0);
     Material left = material_at(s, R(0.25)), right = material_at(s, R(0.75));
     /* metal and smooth: a perfect mirror of the base colour, no diffuse */
     assert_true(material_reflects(&left) && !material_rough(&left));
@@ -91,18 +93,37 @@ static void the_texture_says_where_the_surface_is_metal(void **state)
 static void the_factor_scales_and_the_colour_texture_tints(void **state)
 {
     (void)state;
-    Scene *s = metal_scene(R(0.5), 0);
+    Scene *s = metal_scene(R(0.5), 0, 0);
     Material left = material_at(s, R(0.25));
     assert_vec(left.kr, v3_scale(BASE, R(0.5)));
     assert_vec(left.kd, v3_scale(BASE, R(0.5)));
     world_now_free();
     scene_destroy(s);
-    Scene *g = metal_scene(1, 1);
+    Scene *g = metal_scene(1, 1, 0);
     left = material_at(g, R(0.25)); /* the grey texel: code 128, 0.2158 in linear light */
     assert_vec(left.kr, v3_scale(BASE, srgb_decode8[128]));
     assert_vec(left.kd, v3(0, 0, 0));
     world_now_free();
     scene_destroy(g);
+}
+
+/* A glTF's coat is its dielectric share's: where the texel is all metal
+ * none, where it is no metal all of it (at the texel's roughness), and a
+ * metallic factor of 0.5 leaves half of it on the metal texel. */
+static void the_coat_is_the_dielectric_shares(void **state)
+{
+    (void)state;
+    Scene *s = metal_scene(1, 0, 1);
+    Material left = material_at(s, R(0.25)), right = material_at(s, R(0.75));
+    assert_float_equal(left.coat, 0, 1e-6);
+    assert_float_equal(right.coat, 1, 1e-6);
+    assert_float_equal(right.coat_roughness, 0.5 * 128.0 / 255.0, 1e-6);
+    world_now_free();
+    scene_destroy(s);
+    s = metal_scene(R(0.5), 0, 1);
+    assert_float_equal(material_at(s, R(0.25)).coat, 0.5, 1e-6);
+    world_now_free();
+    scene_destroy(s);
 }
 
 /* A metal-roughness texture seen from afar reads its levels, which
@@ -157,6 +178,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(the_texture_says_where_the_surface_is_metal),
         cmocka_unit_test(the_factor_scales_and_the_colour_texture_tints),
+        cmocka_unit_test(the_coat_is_the_dielectric_shares),
         cmocka_unit_test(far_off_a_metal_map_reads_the_mean_of_its_texels),
     };
     return cmocka_run_group_tests_name("metalmap", tests, NULL, NULL);

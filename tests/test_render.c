@@ -288,6 +288,40 @@ static void smooth_mesh_has_no_shadow_terminator(void **state)
     scene_destroy(s);
 }
 
+/* A clear coat (Whitted): a smooth one reflects Fresnel's share for index
+ * 1.5 times its strength, 0.04 head on ((1.5 - 1) / (1.5 + 1))^2, more
+ * towards the rim, and the surface under it takes the rest (the ambient
+ * light on a white one: 0.96); a rough one traces no ray here. */
+static void clear_coat_reflects_fresnels_share(void **state)
+{
+    (void)state;
+    Scene *s = empty_scene();
+    s->background = v3_splat(1);
+    Material varnish = {.kd = v3_splat(0), .coat = 1, .shininess = 1, .texture = -1};
+    uint32_t mv;
+    assert_int_equal(scene_add_material(s, varnish, &mv, NULL), 0);
+    assert_int_equal(scene_add_sphere(s, (Sphere){v3(0, 0, 0), 1, mv}, NULL), 0);
+    const vec3 eye = v3(0, 0, 5);
+    prepare(s);
+    assert_float_equal(look(s, eye, v3(0, 0, 0)).x, R(0.04), R(1e-5));
+    const real rim = look(s, eye, v3(R(0.97), 0, 0)).x;
+    assert_true(rim > R(0.1) && rim < R(1));
+    s->materials[mv].coat = R(0.5);
+    prepare(s);
+    assert_float_equal(look(s, eye, v3(0, 0, 0)).x, R(0.02), R(1e-5));
+    s->materials[mv] = (Material){.kd = v3_splat(1), .coat = 1, .shininess = 1, .texture = -1};
+    s->background = v3_splat(0);
+    s->ambient = v3_splat(1);
+    prepare(s);
+    assert_float_equal(look(s, eye, v3(0, 0, 0)).x, R(0.96), R(1e-5));
+    s->materials[mv].coat_roughness = R(0.5); /* rough: the surface and the ambient light alone */
+    s->background = v3_splat(1);
+    s->ambient = v3_splat(0);
+    prepare(s);
+    assert_float_equal(look(s, eye, v3(0, 0, 0)).x, R(0), R(1e-6));
+    scene_destroy(s);
+}
+
 /* A model's own glass absorbs per unit of the model (glTF's attenuation
  * distance is the model's): an instance scaled by 2 doubles the world's
  * path through it, not the light it absorbs; a scene material set on the
@@ -1145,6 +1179,7 @@ int main(void)
         cmocka_unit_test(frame_sizes_and_bad_requests),
         cmocka_unit_test(nan_rays_hit_nothing),
         cmocka_unit_test(scaled_instance_absorbs_in_model_units),
+        cmocka_unit_test(clear_coat_reflects_fresnels_share),
         cmocka_unit_test(worlds_reuse_what_did_not_change),
     };
     int rc = cmocka_run_group_tests_name("render", tests, NULL, NULL);

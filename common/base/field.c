@@ -482,8 +482,11 @@ void field_wire_doc(const FieldKind *k, Sink *out)
             int n = reals_of(f);
             char type[16];
             snprintf(type, sizeof type, n > 1 ? "f64[%d]" : n ? "f64" : f->type == FIELD_NAME ? "i32" : "u32", n);
-            snprintf(line + l, sizeof line - l, "%s%s `%s` %s", first && g ? " group " : first ? "" : ",",
-                     first && g ? (char[]){(char)('0' + g), ':', 0} : "", f->key, type);
+            char num[16] = ""; /* "10:", not the character after '9' */
+            if (first && g)
+                snprintf(num, sizeof num, "%u:", g);
+            snprintf(line + l, sizeof line - l, "%s%s `%s` %s", first && g ? " group " : first ? "" : ",", num, f->key,
+                     type);
             char vars[128] = "";
             for (int v = 0; k->variants && f->variants && k->variants[v]; v++)
                 if (takes(f, v)) {

@@ -84,6 +84,8 @@ typedef struct {
     real metal, rough;
     int mapped;
     int applied; /* the material is a metal by them (import_metal_as made it) */
+    int pbr;     /* the file gives them (a metallic factor) */
+    int plain;   /* glTF's defaults alone: white, metallic 1, roughness 1, no texture */
 } MetalFactors;
 
 /* The factors in lanray's terms: the metal's share of the base colour
@@ -109,10 +111,13 @@ static void import_metal_as(MetalFactors *f, Material *m)
  * scales them (f->mapped: applied once it is found). */
 static void import_metal(const struct aiMaterial *am, vec3 base, Material *m, MetalFactors *f)
 {
-    *f = (MetalFactors){base, 0, 1, 0, 0};
-    if (!import_number(am, AI_MATKEY_METALLIC_FACTOR, 0, 1, &f->metal) || f->metal <= 0)
+    *f = (MetalFactors){base, 0, 1, 0, 0, 0, 0};
+    if (!import_number(am, AI_MATKEY_METALLIC_FACTOR, 0, 1, &f->metal))
         return;
+    f->pbr = 1;
     import_number(am, AI_MATKEY_ROUGHNESS_FACTOR, 0, 1, &f->rough);
+    if (f->metal <= 0)
+        return;
     /* a metalness texture says, texel by texel, where the factor applies
      * (most often nowhere: the factor left at glTF's default of 1); until
      * it is found, the material stays as it was, not all metal.  And glTF's
@@ -121,8 +126,8 @@ static void import_metal(const struct aiMaterial *am, vec3 base, Material *m, Me
      * without materials shows elsewhere in lanray. */
     f->mapped = aiGetMaterialTextureCount(am, aiTextureType_METALNESS) > 0 ||
                 aiGetMaterialTextureCount(am, aiTextureType_UNKNOWN) > 0;
-    const int defaults = f->metal == 1 && f->rough == 1 && base.x == 1 && base.y == 1 && base.z == 1;
-    if (!f->mapped && !defaults)
+    f->plain = !f->mapped && f->metal == 1 && f->rough == 1 && base.x == 1 && base.y == 1 && base.z == 1;
+    if (!f->mapped && !f->plain)
         import_metal_as(f, m);
 }
 
@@ -194,6 +199,32 @@ static int import_optics(const struct aiMaterial *am, vec3 base, const MetalFact
     return did;
 }
 
+/* A glTF material's clear coat: the specular reflection of its dielectric
+ * share (glTF's base is a dielectric of index 1.5 where it is not metal:
+ * Fresnel's 4% head on, the base colour diffuse under it), of the
+ * material's roughness; 1 - metallic of it for a metal by its factors, all
+ * of it where a metal-roughness texture says texel by texel (trace.c's
+ * surface_metal takes the texel's metal off).  KHR_materials_clearcoat's
+ * coat, where the file has one, in its place (its factor and roughness:
+ * the dielectric's own reflection under it is not kept).  None for glass
+ * (its Fresnel reflection is its coat), glTF's defaults alone, or other
+ * formats (their specular colour is their highlight). */
+static void import_coat(const struct aiMaterial *am, const MetalFactors *f, Material *m)
+{
+    struct aiString mode;
+    m->coat = 0, m->coat_roughness = 0;
+    if (!f->pbr || f->plain || material_dielectric(m) || !gltf_material(am, &mode))
+        return;
+    real cc = 0;
+    if (import_number(am, AI_MATKEY_CLEARCOAT_FACTOR, 0, 1, &cc) && cc > 0) {
+        m->coat = cc;
+        import_number(am, AI_MATKEY_CLEARCOAT_ROUGHNESS_FACTOR, 0, 1, &m->coat_roughness);
+        return;
+    }
+    m->coat = f->applied && !f->mapped ? R(1) - f->metal : R(1);
+    m->coat_roughness = m->coat > R(0) ? f->rough : R(0);
+}
+
 static Material import_material(const struct aiMaterial *am, int *optics, MetalFactors *metal)
 {
     Material m = material_default();
@@ -209,6 +240,7 @@ static Material import_material(const struct aiMaterial *am, int *optics, MetalF
     import_colour(am, AI_MATKEY_BASE_COLOR, &base);
     import_metal(am, base, &m, metal);
     *optics = import_optics(am, base, metal, &m) || material_reflects(&m);
+    import_coat(am, metal, &m);
     return m;
 }
 
@@ -558,6 +590,7 @@ static int import_materials(const struct aiScene *sc, const char *model, int has
         if (metal >= 0) {
             import_metal_as(&mf, &mt);
             import_optics(sc->mMaterials[i], mf.base, &mf, &mt);
+            import_coat(sc->mMaterials[i], &mf, &mt);
             mt.metal_map = metal, mt.metal_mapped = 1;
         }
         if (has_t)

@@ -1,6 +1,7 @@
 /* dielectric.h - how a dielectric surface splits a ray, for both
  * integrators (shade.c, path.c): the share reflected by Fresnel's
- * equations (or Schlick's: settings fresnel), and where the rest goes. */
+ * equations (or Schlick's: settings fresnel), and where the rest goes;
+ * and the share a clear coat reflects. */
 #ifndef LANRAY_DIELECTRIC_H
 #define LANRAY_DIELECTRIC_H
 
@@ -21,6 +22,17 @@ static inline real dielectric_split(const World *w, const Surface *sf, vec3 d, r
     if (f >= R(1) || !optics_refract(d, sf->ns, *eta, td) || !(v3_dot(*td, sf->ng) < R(0)))
         f = R(1);
     return f;
+}
+
+/* The share of the light a clear coat (material.h's `coat`) at surface sf
+ * reflects towards unit direction `view` (to the viewer): coat x Fresnel's
+ * reflectance of index MATERIAL_COAT_IOR at the angle to the shading
+ * normal (settings fresnel's model).  The rest of the surface takes
+ * 1 - this. */
+static inline real dielectric_coat_share(const World *w, const Surface *sf, vec3 view)
+{
+    const real c = real_clamp(v3_dot(sf->ns, view), R(0), R(1));
+    return sf->mat->coat * optics_fresnel(w->view.settings.fresnel, c, R(1) / MATERIAL_COAT_IOR);
 }
 
 #endif

@@ -232,7 +232,7 @@ static int dielectric_bounce(const World *w, const Surface *sf, vec3 d, real pic
  * of a ball of that radius, from u, v and s: the Whitted integrator's rough
  * mirror, one ray), weighted by its colour.  0 where the path ends (bent
  * into the surface). */
-static int mirror_bounce(const Surface *sf, vec3 d, real u, real v, real s, vec3 *beta, Ray *next)
+static int mirror_bounce(const Surface *sf, vec3 kr, vec3 d, real u, real v, real s, vec3 *beta, Ray *next)
 {
     const Material *m = sf->mat;
     vec3 r = optics_reflect(d, sf->ns);
@@ -241,7 +241,7 @@ static int mirror_bounce(const Surface *sf, vec3 d, real u, real v, real s, vec3
     }
     if (!(v3_dot(r, sf->ng) > R(0)))
         return 0;
-    *beta = v3_mul(*beta, m->kr);
+    *beta = v3_mul(*beta, kr);
     ray_init(next, trace_offset_origin(sf->p, sf->ng, sf->err), r, R(0), REAL_MAX);
     return 1;
 }
@@ -288,7 +288,7 @@ static int lampless_light(const World *w)
 static int highlight_make(const World *w, const Surface *sf, vec3 ks, vec3 d, Lobes *hl)
 {
     const vec3 zero = v3_splat(R(0));
-    return v3_max_comp(ks) > R(0) && lampless_light(w) && lobes_make(hl, zero, ks, sf->mat->shininess, zero, sf->ns, d);
+    return v3_max_comp(ks) > R(0) && lampless_light(w) && lobes_make(hl, zero, ks, sf->mat->shininess, zero, R(0), R(0), sf->ns, d);
 }
 
 /* A surface of smooth lobes (diffuse, the Phong highlight) and delta ones
@@ -301,7 +301,16 @@ static int surface_bounce(const World *w, Path *p, const Surface *sf, vec3 kd, v
 {
     const Material *m = sf->mat;
     const vec3 d = p->ray.dir;
-    const vec3 kr = material_reflects(m) ? m->kr : v3_splat(R(0));
+    vec3 kr = material_reflects(m) ? m->kr : v3_splat(R(0));
+    real kc = R(0), coat_exp = R(0);
+    if (world_has(w, FEAT_COAT) && material_coats(m) && w->view.settings.shading == SHADE_PHONG) {
+        /* a clear coat: its Fresnel share a glossy lobe, the rest of the surface what it lets through */
+        kc = dielectric_coat_share(w, sf, v3_neg(d));
+        coat_exp = material_phong_exponent(m->coat_roughness);
+        kd = v3_scale(kd, R(1) - kc), ks = v3_scale(ks, R(1) - kc), kr = v3_scale(kr, R(1) - kc);
+        if (material_coat_smooth(m)) /* a mirror share (material.h) */
+            kr = v3_add(kr, v3_splat(kc)), kc = R(0);
+    }
     real f = R(0), fr = R(1), eta, u, v;
     vec3 td = v3_splat(R(0)), kg = v3_splat(R(0));
     if (material_dielectric(m)) {
@@ -313,7 +322,7 @@ static int surface_bounce(const World *w, Path *p, const Surface *sf, vec3 kd, v
     const int own = material_reflects(m);
     Lobes lb, hl;
     const int highlight = own && highlight_make(w, sf, ks, d, &hl);
-    if (!lobes_make(&lb, kd, own ? v3_splat(R(0)) : ks, m->shininess, v3_add(kr, kg), sf->ns, d))
+    if (!lobes_make(&lb, kd, own ? v3_splat(R(0)) : ks, m->shininess, v3_add(kr, kg), kc, coat_exp, sf->ns, d))
         return 0;
     /* the shadow rays' origin, made once: a flat surface's bounce leaves from it too */
     const int emitters = w->emitter_count > 0 && w->view.settings.emitter_sampling != EMITTERS_BSDF;
@@ -332,13 +341,13 @@ static int surface_bounce(const World *w, Path *p, const Surface *sf, vec3 kd, v
     const real pick = draw1(dr, 2), wm = v3_max_comp(kr), wg = v3_max_comp(kg);
     if (pick < lb.pm && !(wg > R(0))) { /* the mirror, chosen with probability pm */
         p->beta = v3_scale(p->beta, R(1) / lb.pm);
-        return mirror_bounce(sf, d, u, v, draw1(dr, 4), &p->beta, &p->ray);
+        return mirror_bounce(sf, kr, d, u, v, draw1(dr, 4), &p->beta, &p->ray);
     }
     if (pick < lb.pm) { /* the mirror or the glass, each by its share of pm */
         const real s = pick / lb.pm * (wm + wg);
         const int mirror = s < wm;
         p->beta = v3_scale(p->beta, (wm + wg) / (lb.pm * (mirror ? wm : wg)));
-        return mirror ? mirror_bounce(sf, d, u, v, draw1(dr, 4), &p->beta, &p->ray)
+        return mirror ? mirror_bounce(sf, kr, d, u, v, draw1(dr, 4), &p->beta, &p->ray)
                       : glass_bounce(sf, d, f, td, fr, (s - wm) / wg, &p->beta, &p->ray);
     }
     /* a smooth lobe's direction, weighed by both smooth lobes */

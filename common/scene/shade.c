@@ -213,6 +213,8 @@ typedef struct {
     vec3 kd, col, view, origin;
     vec3 ke; /* what the surface emits here (trace_emission) */
     int phong;
+    real coat;     /* a clear coat's share of the light here (dielectric_coat_share), 0 without one */
+    real coat_exp; /* and its highlight's exponent */
     uint32_t lit;
     SampleId id; /* the ray's sample, its key mixed with its bounce */
     DiscAxes disc;
@@ -224,8 +226,10 @@ typedef struct {
     vec3 irr; /* settings depth_limit local: the ambient and the light that reaches the point */
 } Shading;
 
-/* Light l's contribution to ray sh, already known to reach it. */
-static void add_light(Shading *sh, vec3 L, vec3 rad, real ndotl, uint32_t i)
+/* Light l's contribution to ray sh, already known to reach it (`optional`
+ * as shade_rays_at's: a coat's highlight only where the world has coats). */
+static inline __attribute__((always_inline)) void add_light(Shading *sh, vec3 L, vec3 rad, real ndotl, uint32_t i,
+                                                            const int optional)
 {
     sh->lit |= i < 16 ? 1u << i : 0;
     sh->col = v3_add(sh->col, v3_scale(v3_mul(sh->kd, rad), ndotl));
@@ -233,6 +237,11 @@ static void add_light(Shading *sh, vec3 L, vec3 rad, real ndotl, uint32_t i)
         real rv = v3_dot(v3_reflect(v3_neg(L), sh->sf.ns), sh->view);
         if (rv > R(0))
             sh->col = v3_add(sh->col, v3_scale(v3_mul(sh->sf.mat->ks, rad), pow(rv, sh->sf.mat->shininess)));
+    }
+    if (optional && sh->coat > R(0)) { /* the coat's highlight, normalised as the path integrator's lobe (lobes.h) */
+        const real rv = v3_dot(v3_reflect(v3_neg(L), sh->sf.ns), sh->view), s = sh->coat_exp;
+        if (rv > R(0))
+            sh->col = v3_add(sh->col, v3_scale(rad, sh->coat * (s + R(2)) * R(0.5) * pow(rv, s) * ndotl));
     }
 }
 
@@ -245,7 +254,7 @@ static inline __attribute__((always_inline)) void shade_start(const World *w, co
     /* the footprint where a texture reads it or a mirror's or glass's rays carry it on (a
      * mapped metal reflects: its factor's share, kr, is the texels' most) */
     sh->rd = optional && (textured || sh->sf.etex || sh->sf.nmap || sh->sf.aotex || material_reflects(m) ||
-                          material_dielectric(m))
+                          material_dielectric(m) || material_coats(m))
                  ? rd
                  : NULL;
     sh->t = hit->t;
@@ -264,12 +273,18 @@ static inline __attribute__((always_inline)) void shade_start(const World *w, co
         sh->kd = material_checker(m, sh->kd, sh->sf.p, sh->sf.u, sh->sf.v, sh->sf.has_uv);
     if (textured)
         sh->kd = v3_mul(sh->kd, trace_surface_texel(w, &sh->sf, sh->rd ? &fp : NULL));
+    sh->view = v3_neg(v3_norm(r->dir));
+    sh->coat = R(0);
+    if (optional && world_uses(w, FEAT_COAT) && material_coats(m) && w->view.settings.shading == SHADE_PHONG) {
+        sh->coat = dielectric_coat_share(w, &sh->sf, sh->view);
+        sh->coat_exp = material_phong_exponent(m->coat_roughness);
+        sh->kd = v3_scale(sh->kd, R(1) - sh->coat); /* what the coat lets through */
+    }
     if (world_uses(w, FEAT_EMIT))
         sh->ke = optional && sh->sf.etex ? trace_emission(w, &sh->sf, sh->rd ? &fp : NULL) : m->ke;
     sh->col = v3_mul(w->ambient, sh->kd);
     if (optional && sh->sf.aotex) /* an occlusion texture: crevices take less of the ambient light */
         sh->col = v3_scale(sh->col, trace_occlusion(&sh->sf, sh->rd ? &fp : NULL));
-    sh->view = v3_neg(v3_norm(r->dir));
     sh->phong = w->view.settings.shading == SHADE_PHONG && v3_max_comp(m->ks) > R(0);
     sh->origin = sh->sf.p;
     if (world_has(w, FEAT_SHADOWS)) /* every light ray leaves on the viewer's side, a smooth triangle's from its
@@ -492,23 +507,29 @@ static vec3 shade_beyond(const World *w, int i, const Shading *sh, int depth, ve
         col = v3_add(col, sh->ke);
     const int reflects = world_uses(w, FEAT_REFLECT) && material_reflects(m);
     const int refracts = world_uses(w, FEAT_REFRACT) && material_dielectric(m);
+    /* a smooth coat's share is a mirror's (a rough one's reflection this
+     * integrator leaves out: its highlight stands for it) */
+    const real coat = world_uses(w, FEAT_COAT) && material_coat_smooth(m) ? sh->coat : R(0);
+    const int mirrors = reflects || coat > R(0);
     /* a dielectric's Fresnel reflection keeps 1 - max(reflect) of its
      * strength: a mirror share (a glTF metal's over glass) takes the rest */
     const real fr = reflects ? real_max(R(0), R(1) - v3_max_comp(m->kr)) : R(1);
-    if (depth >= w->view.settings.depth && (reflects || refracts) && w->view.settings.depth_limit != LIMIT_BLACK) {
+    if (depth >= w->view.settings.depth && (mirrors || refracts) && w->view.settings.depth_limit != LIMIT_BLACK) {
         /* cut by the depth limit: what the untraced rays would carry, an
          * estimate of what they see times their weight */
         const DepthLimit lim = w->view.settings.depth_limit;
         vec3 seen = lim == LIMIT_BACKGROUND ? w->background : lim == LIMIT_AMBIENT ? w->ambient : sh->irr;
         if (reflects)
             col = v3_add(col, v3_mul(m->kr, seen));
+        if (coat > R(0))
+            col = v3_add(col, v3_scale(seen, coat));
         if (refracts) {
             vec3 td;
             real eta;
             const real f = dielectric_split(w, sf, v3_neg(sh->view), &eta, &td);
             col = v3_add(col, v3_mul(seen, v3_add(v3_splat(f * fr), v3_scale(m->kt, R(1) - f))));
         }
-    } else if (depth < w->view.settings.depth && (reflects || refracts)) {
+    } else if (depth < w->view.settings.depth && (mirrors || refracts)) {
         vec3 d = v3_neg(sh->view);
         /* a reflected ray leaves on the side the ray came from, a refracted one on the other */
         vec3 front = trace_offset_origin(sf->p, sf->ng, sf->err);
@@ -523,6 +544,8 @@ static vec3 shade_beyond(const World *w, int i, const Shading *sh, int depth, ve
             f = dielectric_split(w, sf, d, &eta, &td);
         /* one sharp reflected ray: the mirror's and the glass's shares */
         vec3 kref = reflects && !rough ? m->kr : v3_splat(R(0));
+        if (coat > R(0))
+            kref = v3_add(kref, v3_splat(coat));
         if (refracts)
             kref = v3_add(kref, v3_splat(f * fr));
         vec3 wr = v3_mul(weight, kref);
@@ -914,7 +937,7 @@ static inline __attribute__((always_inline)) void light_pass(const World *w, Sha
         if (!shadows || (probed >> k & 1)) {
             if (shadows && !(clear >> k & 1))
                 continue;
-            add_light(h, L[m], rad[m], ndotl[m], li);
+            add_light(h, L[m], rad[m], ndotl[m], li, optional);
             if (track)
                 h->irr = v3_madd(h->irr, rad[m], ndotl[m]);
             continue;
@@ -935,7 +958,7 @@ static inline __attribute__((always_inline)) void light_pass(const World *w, Sha
             if (!(v3_max_comp(got) > R(0)))
                 continue;
         }
-        add_light(&sh[who[k]], L[k], got, ndotl[k], li);
+        add_light(&sh[who[k]], L[k], got, ndotl[k], li, optional);
         if (track)
             sh[who[k]].irr = v3_madd(sh[who[k]].irr, got, ndotl[k]);
     }
@@ -1015,7 +1038,7 @@ static inline __attribute__((always_inline)) void shade_rays_at(const World *w, 
         for (uint32_t j = 0; j < points; j++)
             light_pass(w, sh, live, nl, li, j, probed, clear, stats, optional);
     }
-    const int beyond = optional && world_uses(w, FEAT_REFLECT | FEAT_REFRACT | FEAT_EMIT);
+    const int beyond = optional && world_uses(w, FEAT_REFLECT | FEAT_REFRACT | FEAT_EMIT | FEAT_COAT);
     Spawn sp[SPAWN_MAX];
     int ns = 0;
     for (int k = 0; k < nl; k++) {
@@ -1041,7 +1064,7 @@ static inline __attribute__((always_inline)) void shade_rays_at(const World *w, 
  * bigger function's registers cost a flat hit 50 instructions more than a
  * build with the features compiled out. */
 #define SHADE_OPTIONAL (FEAT_TEXTURES | FEAT_COLOURS | FEAT_SPOT | FEAT_ATTENUATION | FEAT_REFLECT | FEAT_REFRACT | \
-                        FEAT_EMIT | FEAT_AREA | FEAT_ROUGH | FEAT_CHECKER)
+                        FEAT_EMIT | FEAT_AREA | FEAT_ROUGH | FEAT_CHECKER | FEAT_COAT)
 
 static void shade_rays(const World *w, const Ray *rays, int n, vec3 *out, RayStats *stats, uint64_t *keys,
                        const SampleId *ids, const RayDiff *diffs, int depth, const vec3 *weights)

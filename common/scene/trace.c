@@ -797,6 +797,11 @@ void trace_surface_metal(const World *w, Surface *sf, const TexFootprint *fp)
     l->ks = l->kr;
     l->roughness = mt->roughness * c.y;
     l->shininess = material_phong_exponent(l->roughness);
+    if (material_coats(mt)) { /* the coat of the dielectric share: 1 - the texel's metal */
+        const real kd = v3_max_comp(mt->kd), factor = kd > R(0) ? v3_max_comp(mt->kr) / kd : R(0);
+        l->coat = mt->coat * real_max(R(0), R(1) - c.z * factor);
+        l->coat_roughness = mt->coat_roughness * c.y;
+    }
     sf->mat = l;
     sf->mtex = NULL; /* applied: not a second time */
 }

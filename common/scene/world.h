@@ -38,6 +38,7 @@ enum {
     FEAT_LENS = 1 << 13,   /* a camera with an aperture (depth of field) */
     FEAT_CHECKER = 1 << 14, /* a material with a checker pattern */
     FEAT_NORMAL_MAP = 1 << 15, /* a model's material with a normal map */
+    FEAT_COAT = 1 << 16,       /* a material with a clear coat */
 };
 
 /* What one frame is rendered with beside the world. */

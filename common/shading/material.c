@@ -9,7 +9,7 @@
 
 #define OFF(f) offsetof(Material, f)
 enum { GROUP_MIRROR = 1, GROUP_DIELECTRIC = 2, GROUP_EMIT = 3, GROUP_CHECKER = 4, GROUP_CUTOUT = 5, GROUP_NORMAL = 6, GROUP_EMIT_MAP = 7, GROUP_METAL_MAP = 8,
-       GROUP_OCCLUSION = 9, GROUP_BUMP = 10 };
+       GROUP_OCCLUSION = 9, GROUP_BUMP = 10, GROUP_COAT = 11 };
 
 static const Field fields[] = {
     {.key = "diffuse", .type = FIELD_VEC, .off = OFF(kd), .hi = FIELD_INF, .def = 0.8,
@@ -76,6 +76,11 @@ static const Field fields[] = {
     {.key = "ao_strength", .type = FIELD_REAL, .group = GROUP_OCCLUSION, .flags = FIELD_WIRE | FIELD_ZERO_OK,
      .off = OFF(ao_strength), .lo = 1e-6, .hi = 1,
      .doc = "how much: the ambient light times 1 + this x (red - 1); 0: no occlusion texture"},
+    {.key = "coat", .type = FIELD_REAL, .group = GROUP_COAT, .off = OFF(coat), .hi = 1,
+     .doc = "a clear coat's strength: a varnish of index 1.5 over the surface, reflecting Fresnel's share of the "
+            "light (4% head on, all at grazing) times this, the rest of the surface lit by what it lets through"},
+    {.key = "coat_roughness", .type = FIELD_REAL, .group = GROUP_COAT, .off = OFF(coat_roughness), .hi = 1,
+     .doc = "how far the coat's reflection spreads (0: a mirror-smooth varnish); needs `coat`"},
 };
 
 static const FieldRule rules[] = {
@@ -84,11 +89,12 @@ static const FieldRule rules[] = {
     {RULE_NEEDS, "roughness", "reflect", "'roughness' of material needs 'reflect' (a mirror or a metal)"},
     {RULE_NEEDS, "checker_size", "checker", "'checker_size' of material needs 'checker' (the second colour)"},
     {RULE_NEEDS, "checker_uv", "checker", "'checker_uv' of material needs 'checker' (the second colour)"},
+    {RULE_NEEDS, "coat_roughness", "coat", "'coat_roughness' of material needs 'coat' (a clear coat)"},
     {0, NULL, NULL, NULL},
 };
 
 const FieldKind material_kind = {.name = "material", .fields = fields, .count = sizeof fields / sizeof *fields,
-                                 .rules = rules, .group_count = 10};
+                                 .rules = rules, .group_count = 11};
 
 Material material_default(void)
 {
@@ -149,6 +155,10 @@ const char *material_problem(const Material *m, char *buf, size_t size)
             snprintf(buf, size, "%s (texture %d) without %s", maps[i].what, maps[i].index, maps[i].gate);
             return buf;
         }
+    if (material_coats(m) && material_dielectric(m)) {
+        snprintf(buf, size, "a coat on a dielectric (its own Fresnel reflection is its coat)");
+        return buf;
+    }
     if (material_heights(m) && !material_bumps(m)) {
         snprintf(buf, size, "a bump_height without a normal map (a normal_scale) to be its height map");
         return buf;

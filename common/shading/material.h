@@ -66,7 +66,19 @@ typedef struct {
      * none.  A model's own materials only. */
     int32_t ao_map;
     real ao_strength;
+    /* a clear coat (a varnish; a plastic's or a glTF non-metal's own
+     * specular reflection): a dielectric layer of index MATERIAL_COAT_IOR
+     * over the rest of the surface.  Seen at cosine c it reflects coat x
+     * Fresnel's share at c (4% head on, all of it at grazing) as a glossy
+     * lobe of coat_roughness (the GGX roughness a glTF gives: the lobe's
+     * exponent is material_phong_exponent's), and the rest of the surface
+     * takes 1 - that; coat 0: none (as the initialisers that leave these
+     * out give). */
+    real coat;
+    real coat_roughness;
 } Material;
+
+#define MATERIAL_COAT_IOR R(1.5)
 
 #define MATERIAL_CUTOFF_MAX R(2) /* above 1: every texel of a mask a hole */
 #define MATERIAL_NORMAL_SCALE_MAX R(16)
@@ -85,6 +97,7 @@ static inline int material_heights(const Material *m) { return m->bump_height > 
 static inline int material_emit_mapped(const Material *m) { return m->emit_mapped != 0; }
 static inline int material_metal_mapped(const Material *m) { return m->metal_mapped != 0; }
 static inline int material_occludes(const Material *m) { return m->ao_strength > R(0); }
+static inline int material_coats(const Material *m) { return m->coat > R(0); }
 /* Whether the textures the material names (its colour's, a cutout's mask,
  * a normal map, an emission, metal-roughness or occlusion texture) are among
  * `count`; one of the others it does not use must be 0. */
@@ -139,6 +152,14 @@ static inline real material_phong_exponent(real roughness)
     const real a = roughness * roughness;
     return a > R(0.01) ? real_max(R(2) / (a * a) - R(2), R(1)) : R(20000);
 }
+
+/* Whether a clear coat is smooth enough to be a mirror: a roughness up to
+ * 0.1, whose lobe material_phong_exponent makes a point of light.  The
+ * Whitted integrator traces its reflected ray (and shows the point of a
+ * light); the path integrator takes it as a mirror share, which a point
+ * light, having no size, does not show in (a lobe of that exponent made
+ * fireflies of every diffuse bounce that met it: a point light's caustic). */
+static inline int material_coat_smooth(const Material *m) { return m->coat_roughness <= R(0.1); }
 
 /* m without its metal-roughness texture: diffuse in its base colour (kd),
  * no mirror, no highlight, as a material whose texture is not read at all. */

@@ -15,7 +15,7 @@ in a quarter of the scenes, adaptive sampling's contrast and the area
 lights' light_samples in some); textures (PPM
 P3/P6, PGM P2/P5, PNG, JPEG, smooth or closest, wrapping each axis its way); materials with and without specular
 and textures, mirrors (reflect, roughness), dielectrics (ior, transmit,
-absorb; some with a mirror share, reflect) and emission, on any primitive; a model whose MTL gives
+absorb; some with a mirror share, reflect), clear coats (coat, coat_roughness) and emission, on any primitive; a model whose MTL gives
 one material a texture (map_Kd with -s and -o), a cutout (map_d) and a height map (bump), the other a normal map (norm), one with vertex colours
 and no materials, and a GLB with its texture embedded (and one whose image is also its normal map,
 emission, metal-roughness and occlusion texture); lamps (an emissive
@@ -238,6 +238,11 @@ def scene(seed):
                 m += ["reflect", colour(coat, 0.6)]
         if r.random() < 0.15:
             m += ["emit", colour(r)]
+        varnish = random.Random(seed * 7919 + 61 + i)  # a clear coat, a draw of its own (older builds refuse it)
+        if newer and not 0.25 <= z < 0.5 and varnish.random() < 0.3:  # over anything but a dielectric
+            m += ["coat", num(varnish, 0.2, 1)]
+            if varnish.random() < 0.6:
+                m += ["coat_roughness", num(varnish, 0, 0.8)]
         extra = random.Random(seed * 7919 + 41 + i)  # a draw of its own, as the integrator's
         if newer and extra.random() < 0.2:  # a checker pattern, solid or on the texture coordinates
             m += ["checker", colour(extra), "checker_size", num(extra, 0.05, 2)]

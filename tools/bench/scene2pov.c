@@ -24,16 +24,18 @@
  *               `phong_size` the shininess, mirrors as reflection kr,
  *               dielectrics as an interior of their index with Fresnel
  *               reflection, conserve_energy, a filter of kt and absorption
- *               as exponential fade, emission as `emission`;
+ *               as exponential fade, emission as `emission`, a clear coat
+ *               as Fresnel reflection of its strength over an interior of
+ *               index 1.5;
  *   geometry    spheres, planes, scene triangles and each model once as a
  *               mesh2 (normals and texture coordinates where it has them)
  *               placed by a matrix per instance.
  * Settings: the depth as max_trace_level, the cutoff as adc_bailout, the
  * background, and with --aa N > 1 POV-Ray's own anti-aliasing (+A0.0,
  * method 1, depth N) in the file's comment for the caller to pass.
- * What POV-Ray has no match for is refused or told: a rough mirror is
- * written as a plain one (a warning), a model's own materials as its
- * first. */
+ * What POV-Ray has no match for is refused or told: a rough mirror or
+ * clear coat is written as a plain one (a warning), a coat over a mirror
+ * left out (a warning), a model's own materials as its first. */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -110,7 +112,8 @@ static void write_surface(FILE *f, const World *w, const Material *m)
         fprintf(f, " reflection { ");
         rgb(f, m->kr);
         fprintf(f, " }");
-    }
+    } else if (material_coats(m)) /* Fresnel's share of the interior's index (1.5), the rest to the surface */
+        fprintf(f, " reflection { 0, %.9g fresnel on } conserve_energy", (double)m->coat);
     if (material_emits(m)) { /* ke over the pigment's colour, channel by channel */
         vec3 e = m->ke;
         for (int k = 0; k < 3 && !black_emitter; k++)
@@ -126,6 +129,8 @@ static void write_material(FILE *f, const World *w, const Material *m, const cha
 {
     fprintf(f, "#declare %s = material {\n", name);
     write_surface(f, w, m);
+    if (material_coats(m) && !material_reflects(m))
+        fprintf(f, "  interior { ior %.9g }\n", (double)MATERIAL_COAT_IOR);
     if (material_dielectric(m)) {
         fprintf(f, "  interior { ior %.9g", (double)m->ior);
         if (v3_max_comp(m->absorb) > R(0))
@@ -319,6 +324,10 @@ static int write_pov(FILE *f, void *ctx, Err *err)
         write_material(f, w, &w->materials[i], name);
         if (material_rough(&w->materials[i]))
             fprintf(stderr, "scene2pov: warning: material %u is a rough mirror, written as a smooth one\n", i + 1);
+        if (material_coats(&w->materials[i]) && material_reflects(&w->materials[i]))
+            fprintf(stderr, "scene2pov: warning: material %u: a clear coat over a mirror, left out\n", i + 1);
+        else if (material_coats(&w->materials[i]) && !material_coat_smooth(&w->materials[i]))
+            fprintf(stderr, "scene2pov: warning: material %u: a rough clear coat, written as a smooth one\n", i + 1);
     }
     for (uint32_t i = 0; rc == 0 && i < w->desc->texture_count; i++)
         rc = write_texture(a->out, i, w->textures[i], err);
