@@ -288,7 +288,8 @@ static int lampless_light(const World *w)
 static int highlight_make(const World *w, const Surface *sf, vec3 ks, vec3 d, Lobes *hl)
 {
     const vec3 zero = v3_splat(R(0));
-    return v3_max_comp(ks) > R(0) && lampless_light(w) && lobes_make(hl, zero, ks, sf->mat->shininess, zero, R(0), R(0), sf->ns, d);
+    return v3_max_comp(ks) > R(0) && lampless_light(w) &&
+           lobes_make(hl, zero, ks, sf->mat->shininess, zero, R(0), R(0), sf->ns, d);
 }
 
 /* A surface of smooth lobes (diffuse, the Phong highlight) and delta ones

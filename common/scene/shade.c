@@ -235,8 +235,9 @@ static inline __attribute__((always_inline)) void add_light(Shading *sh, vec3 L,
     sh->col = v3_add(sh->col, v3_scale(v3_mul(sh->kd, rad), ndotl));
     if (sh->phong) {
         real rv = v3_dot(v3_reflect(v3_neg(L), sh->sf.ns), sh->view);
-        if (rv > R(0))
-            sh->col = v3_add(sh->col, v3_scale(v3_mul(sh->sf.mat->ks, rad), pow(rv, sh->sf.mat->shininess)));
+        if (rv > R(0)) /* under a coat, what it lets through */
+            sh->col = v3_add(sh->col, v3_scale(v3_mul(sh->sf.mat->ks, rad),
+                                               pow(rv, sh->sf.mat->shininess) * (optional ? R(1) - sh->coat : R(1))));
     }
     if (optional && sh->coat > R(0)) { /* the coat's highlight, normalised as the path integrator's lobe (lobes.h) */
         const real rv = v3_dot(v3_reflect(v3_neg(L), sh->sf.ns), sh->view), s = sh->coat_exp;
@@ -520,7 +521,7 @@ static vec3 shade_beyond(const World *w, int i, const Shading *sh, int depth, ve
         const DepthLimit lim = w->view.settings.depth_limit;
         vec3 seen = lim == LIMIT_BACKGROUND ? w->background : lim == LIMIT_AMBIENT ? w->ambient : sh->irr;
         if (reflects)
-            col = v3_add(col, v3_mul(m->kr, seen));
+            col = v3_add(col, v3_scale(v3_mul(m->kr, seen), R(1) - sh->coat));
         if (coat > R(0))
             col = v3_add(col, v3_scale(seen, coat));
         if (refracts) {
@@ -536,14 +537,15 @@ static vec3 shade_beyond(const World *w, int i, const Shading *sh, int depth, ve
         RayDiff rrd, trd;
         const RayDiff *rdp = reflected_diff(sh, d, &rrd);
         const int rough = reflects && world_uses(w, FEAT_ROUGH) && m->roughness > R(0);
-        if (rough && worth_tracing(w, v3_mul(weight, m->kr)))
-            col = v3_add(col, rough_reflection(w, sh, front, reflected(d, sf), depth, weight, stats));
+        const real under = R(1) - sh->coat; /* what a coat lets through to the mirror */
+        if (rough && worth_tracing(w, v3_mul(weight, v3_scale(m->kr, under))))
+            col = v3_add(col, v3_scale(rough_reflection(w, sh, front, reflected(d, sf), depth, weight, stats), under));
         real eta, f = R(0);
         vec3 td;
         if (refracts)
             f = dielectric_split(w, sf, d, &eta, &td);
         /* one sharp reflected ray: the mirror's and the glass's shares */
-        vec3 kref = reflects && !rough ? m->kr : v3_splat(R(0));
+        vec3 kref = reflects && !rough ? v3_scale(m->kr, under) : v3_splat(R(0));
         if (coat > R(0))
             kref = v3_add(kref, v3_splat(coat));
         if (refracts)
