@@ -150,7 +150,7 @@ static int read_mesh(const Args *a, Mesh *mesh, ObjStats *st)
             st->skipped[OBJ_SKIP_LINE] = is.lines, st->skipped[OBJ_SKIP_POINT] = is.points;
             st->coloured = is.coloured, st->colours = mesh->col != NULL, st->colours_ignored = is.colours_ignored;
             st->warnings = is.warnings, st->missing_textures = is.missing_textures;
-            st->optics_mtl = is.optics, st->emit_strengths = is.strengths;
+            st->optics_mtl = is.optics, st->emit_strengths = is.strengths, st->speculars = is.speculars;
             return 0;
         }
     } else if (obj_read(a->in, &oo, mesh, st, &err) == 0) {
@@ -202,6 +202,8 @@ static void print_summary(const Args *a, const Model *model, const ObjStats *st,
                st->optics_mtl);
     if (st->emit_strengths)
         printf("  emission strengths (KHR_materials_emissive_strength): %lu materials\n", st->emit_strengths);
+    if (st->speculars)
+        printf("  speculars (KHR_materials_specular): %lu materials\n", st->speculars);
     if (st->coloured)
         printf("  vertex colours: %lu coloured vertices, %s\n", st->coloured,
                st->colours ? "kept as the diffuse colour" : "ignored (the model has materials)");

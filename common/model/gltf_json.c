@@ -1,6 +1,7 @@
 /* gltf_json.c - see gltf_json.h.  The JSON is parsed by json-c. */
 #include "model/gltf_json.h"
 
+#include <float.h>
 #include <json-c/json.h>
 #include <limits.h>
 #include <math.h>
@@ -39,7 +40,9 @@ static int number(json_object *v, double *out)
 }
 
 /* n numbers of array a into out, where a is an array of at least n
- * numbers; else out keeps its defaults */
+ * numbers that a float holds; else out keeps its defaults (a number past
+ * a float's range became infinity, and a material no longer matched its
+ * own values: fuzz_gltfjson) */
 static void numbers(json_object *a, int n, float *out)
 {
     if (!a || !json_object_is_type(a, json_type_array) || json_object_array_length(a) < (size_t)n)
@@ -47,7 +50,7 @@ static void numbers(json_object *a, int n, float *out)
     float v[4];
     for (int k = 0; k < n; k++) {
         double d;
-        if (!number(json_object_array_get_idx(a, (size_t)k), &d))
+        if (!number(json_object_array_get_idx(a, (size_t)k), &d) || fabs(d) > FLT_MAX)
             return;
         v[k] = (float)d;
     }
@@ -57,7 +60,7 @@ static void numbers(json_object *a, int n, float *out)
 /* One material's values, glTF's defaults where it gives none. */
 static int material_read(json_object *o, GltfMaterial *m)
 {
-    *m = (GltfMaterial){.emissive = {0, 0, 0}, .base = {1, 1, 1}, .strength = 1};
+    *m = (GltfMaterial){.emissive = {0, 0, 0}, .base = {1, 1, 1}, .strength = 1, .specular = 1};
     json_object *name = member(o, "name");
     m->name = strdup(name && json_object_is_type(name, json_type_string) ? json_object_get_string(name) : "");
     if (!m->name)
@@ -68,6 +71,16 @@ static int material_read(json_object *o, GltfMaterial *m)
     if (number(member(member(member(o, "extensions"), "KHR_materials_emissive_strength"), "emissiveStrength"), &s) &&
         s >= 0 && s <= 1e30)
         m->strength = (float)s;
+    json_object *spec = member(member(o, "extensions"), "KHR_materials_specular");
+    if (spec) { /* glTF's defaults: factor 1, colour factor 1 1 1 */
+        double f = 1;
+        float c[3] = {1, 1, 1};
+        if (!number(member(spec, "specularFactor"), &f) || f < 0 || f > 1)
+            f = 1;
+        numbers(member(spec, "specularColorFactor"), 3, c);
+        const float cmax = fmaxf(c[0], fmaxf(c[1], c[2]));
+        m->specular = (float)f * (isfinite(cmax) && cmax >= 0 && cmax <= 1e6f ? cmax : 1);
+    }
     return 0;
 }
 
@@ -88,7 +101,7 @@ void gltf_materials_read(const uint8_t *bytes, size_t len, int glb, GltfMaterial
     for (size_t i = 0; out->m && i < count; i++) {
         if (material_read(json_object_array_get_idx(mats, i), &out->m[out->n]))
             break;
-        out->strong += out->m[out->n].strength != 1;
+        out->extra += out->m[out->n].strength != 1 || out->m[out->n].specular != 1;
         out->n++;
     }
     json_object_put(root);
@@ -102,11 +115,10 @@ static int same(float a, float b)
     return fabsf(a - b) <= 1e-6f * fmaxf(1, fmaxf(fabsf(a), fabsf(b)));
 }
 
-float gltf_strength_of(const GltfMaterials *gm, const char *name, const float emissive[3], const float base[3],
-                       int *ambiguous)
+const GltfMaterial *gltf_material_of(const GltfMaterials *gm, const char *name, const float emissive[3],
+                                     const float base[3], int *ambiguous)
 {
-    float found = 1;
-    int any = 0;
+    const GltfMaterial *found = NULL;
     for (size_t i = 0; i < gm->n; i++) {
         const GltfMaterial *m = &gm->m[i];
         int alike = strcmp(m->name, name) == 0;
@@ -114,11 +126,11 @@ float gltf_strength_of(const GltfMaterials *gm, const char *name, const float em
             alike = same(m->emissive[k], emissive[k]) && same(m->base[k], base[k]);
         if (!alike)
             continue;
-        if (any && m->strength != found) {
+        if (found && (m->strength != found->strength || m->specular != found->specular)) {
             *ambiguous = 1;
-            return 1;
+            return NULL;
         }
-        found = m->strength, any = 1;
+        found = m;
     }
     return found;
 }

@@ -2,13 +2,15 @@
  * 5.2.5 does not: each material's KHR_materials_emissive_strength (the
  * factor by which Blender's exporter, and others, carry an emission
  * brighter than 1; without it a glowing panel lights a path-traced scene
- * that many times too dimly).
+ * that many times too dimly) and KHR_materials_specular (how strong the
+ * dielectric base's specular reflection is: Blender's exporter writes it
+ * where a Principled BSDF's Specular is not 0.5, 0 for a matte one).
  *
  * Assimp numbers its materials in the order it meets them, not the
  * file's, so a material is found by what Assimp keeps of it: its name, its
  * emissive factor and its base colour factor.  Materials alike in all
- * three whose strengths differ cannot be told apart (gltf_strength_of says
- * so). */
+ * three whose extensions' values differ cannot be told apart
+ * (gltf_material_of says so). */
 #ifndef LANRAY_GLTF_JSON_H
 #define LANRAY_GLTF_JSON_H
 
@@ -19,12 +21,13 @@ typedef struct {
     char *name;      /* "" where the file gives none */
     float emissive[3], base[3];
     float strength;  /* 1 without the extension */
+    float specular;  /* specularFactor x the largest of specularColorFactor: 1 without the extension */
 } GltfMaterial;
 
 typedef struct {
     GltfMaterial *m;
     size_t n;
-    size_t strong; /* materials whose strength is not 1 */
+    size_t extra; /* materials whose strength or specular is not 1 */
 } GltfMaterials;
 
 /* The materials of the glTF whose bytes are bytes[0..len): a .gltf's JSON
@@ -33,11 +36,11 @@ typedef struct {
  * materials (Assimp, which read the file, says what is wrong with it). */
 void gltf_materials_read(const uint8_t *bytes, size_t len, int glb, GltfMaterials *out);
 
-/* The emission strength of the material Assimp shows with this name,
- * emissive factor and base colour: 1 where none matches; where several
- * match and their strengths differ, 1 and *ambiguous set. */
-float gltf_strength_of(const GltfMaterials *gm, const char *name, const float emissive[3], const float base[3],
-                       int *ambiguous);
+/* The file's material that Assimp shows with this name, emissive factor
+ * and base colour; NULL where none matches, or where several match whose
+ * strengths or speculars differ (then *ambiguous set). */
+const GltfMaterial *gltf_material_of(const GltfMaterials *gm, const char *name, const float emissive[3],
+                                     const float base[3], int *ambiguous);
 
 void gltf_materials_free(GltfMaterials *gm);
 

@@ -20,7 +20,7 @@
 #include <unistd.h>
 
 #include "base/cursor.h"
-#include "model/import_emissive.h"
+#include "model/import_extensions.h"
 #include "model/import_texture.h"
 
 #define IMPORT_MAX_TRIANGLES (1u << 26) /* BVH_MAX_PRIMS */
@@ -155,7 +155,7 @@ static void import_volume(const struct aiMaterial *am, Material *m)
 }
 
 /* A glTF material's emission (its emissive factor; Assimp 5.2 does not
- * read KHR_materials_emissive_strength: import_emissive.h applies it
+ * read KHR_materials_emissive_strength: import_extensions.h applies it
  * after), transmission
  * (KHR_materials_transmission: glass of the file's index, or 1.5, tinted by
  * the base colour; the dielectric share's, glTF says, so a metal by factors
@@ -438,7 +438,7 @@ static int import_read_direct(const char *path, Mesh *out, ImportTexList *tl, Im
      * (the child ends after) */
     if (import_scene(sc, path, path, strcmp(e, ".stl") == 0 || strcmp(e, ".STL") == 0, out, tl, st, err))
         return -1;
-    import_emissive_strengths(sc, path, NULL, 0, e[0] ? e + 1 : e, out, st);
+    import_gltf_extensions(sc, path, NULL, 0, e[0] ? e + 1 : e, out, st);
     return 0;
 }
 
@@ -470,7 +470,7 @@ static int import_read_memory_direct(const void *data, size_t len, const char *h
     import_uv_transforms(sc);
     if (import_scene(sc, name, NULL, strcmp(hint, "stl") == 0, out, tl, st, err))
         return -1;
-    import_emissive_strengths(sc, NULL, data, len, hint, out, st);
+    import_gltf_extensions(sc, NULL, data, len, hint, out, st);
     return 0;
 }
 
@@ -982,6 +982,14 @@ static int import_warnings(const ObjOptions *opt, const char *name, Mesh *out, I
                  "%s: emission strength (KHR_materials_emissive_strength) of %lu material%s not applied: "
                  "materials of one name, emissive and base colour differ in it only",
                  name, st->strength_unknown, st->strength_unknown == 1 ? "" : "s");
+        if (obj_warning(opt, &st->warnings, err, msg))
+            goto fail;
+    }
+    if (st->specular_unknown) {
+        snprintf(msg, sizeof msg,
+                 "%s: specular (KHR_materials_specular) of %lu material%s not applied: "
+                 "materials of one name, emissive and base colour differ in it only",
+                 name, st->specular_unknown, st->specular_unknown == 1 ? "" : "s");
         if (obj_warning(opt, &st->warnings, err, msg))
             goto fail;
     }

@@ -34,6 +34,8 @@ typedef struct {
     unsigned long smoothed; /* triangles given smooth normals (ObjOptions.smooth, a file without normals) */
     unsigned long strengths;        /* glTF materials whose emission took KHR_materials_emissive_strength */
     unsigned long strength_unknown; /* emitting glTF materials alike but for their strengths (a warning) */
+    unsigned long speculars;        /* glTF materials whose coat took KHR_materials_specular */
+    unsigned long specular_unknown; /* coated glTF materials alike but for their speculars (a warning) */
 } ImportStats;
 
 /* With ObjOptions.smooth, a file without normals gets them by mesh_smooth

@@ -69,6 +69,7 @@ typedef struct {
     unsigned long found_elsewhere;   /* libraries and textures found by file name, not where written */
     unsigned long optics_mtl;        /* used materials with reflection, glass, transparency or emission */
     unsigned long emit_strengths;    /* glTF materials whose emission took KHR_materials_emissive_strength */
+    unsigned long speculars;         /* glTF materials whose clear coat took KHR_materials_specular */
 } ObjStats;
 
 /* One warning under these options, for every reader that takes them (the

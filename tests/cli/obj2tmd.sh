@@ -29,6 +29,9 @@ done
 out=$("$BIN/obj2tmd" tests/data/gltf/strength.gltf "$dir/strength.tmd" 2>&1) || fail "strength.gltf: $out"
 grep -q "emission strengths (KHR_materials_emissive_strength): 2 materials" <<<"$out" || fail "strengths summary: $out"
 grep -q "emissive_strength) of 2 materials not applied" <<<"$out" || fail "the twins' warning: $out"
+# and its speculars (KHR_materials_specular, also the JSON's): the coats they scale
+out=$("$BIN/obj2tmd" tests/data/gltf/pbr.gltf "$dir/pbr.tmd" 2>&1) || fail "pbr.gltf: $out"
+grep -q "speculars (KHR_materials_specular): 2 materials" <<<"$out" || fail "speculars summary: $out"
 "$BIN/obj2tmd" --smooth "$dir/cube-sah.tmd" "$dir/s.tmd" 2>/dev/null; [ $? -eq 2 ] || fail "--smooth on a .tmd should exit 2"
 [ -e "$dir/s.tmd" ] && fail "--smooth on a .tmd left an output"
 

@@ -1,5 +1,5 @@
-/* import_emissive.c - see import_emissive.h. */
-#include "model/import_emissive.h"
+/* import_extensions.c - see import_extensions.h. */
+#include "model/import_extensions.h"
 
 #include <assimp/material.h>
 #include <assimp/scene.h>
@@ -54,8 +54,26 @@ static void assimp_values(const struct aiMaterial *am, struct aiString *name, fl
     base[0] = c.r, base[1] = c.g, base[2] = c.b;
 }
 
-void import_emissive_strengths(const struct aiScene *sc, const char *path, const void *bytes, size_t len,
-                               const char *hint, Mesh *out, ImportStats *st)
+/* Material m takes the file's g: its emission times g's strength (st
+ * counts it), its coat times g's specular (at most 1). */
+static void apply(const GltfMaterial *g, Material *m, ImportStats *st)
+{
+    if (material_emits(m) && g->strength != 1) {
+        st->strengths++;
+        m->ke = v3_scale(m->ke, (real)g->strength);
+        if (!material_emits(m)) /* a strength of 0: no emission, nor its texture */
+            m->emit_map = 0, m->emit_mapped = 0;
+    }
+    if (material_coats(m) && g->specular != 1) {
+        st->speculars++;
+        m->coat = real_min(R(1), m->coat * (real)g->specular);
+        if (!material_coats(m))
+            m->coat_roughness = 0;
+    }
+}
+
+void import_gltf_extensions(const struct aiScene *sc, const char *path, const void *bytes, size_t len,
+                            const char *hint, Mesh *out, ImportStats *st)
 {
     const int glb = strcasecmp(hint, "glb") == 0;
     if (!glb && strcasecmp(hint, "gltf") != 0)
@@ -63,22 +81,19 @@ void import_emissive_strengths(const struct aiScene *sc, const char *path, const
     uint8_t *own = path ? gltf_file_json(path, glb, &len) : NULL;
     GltfMaterials gm;
     gltf_materials_read(path ? own : bytes, path && !own ? 0 : len, glb, &gm);
-    for (unsigned i = 0; gm.strong && i < sc->mNumMaterials && i < out->material_count; i++) {
+    for (unsigned i = 0; gm.extra && i < sc->mNumMaterials && i < out->material_count; i++) {
         Material *m = &out->materials[i];
-        if (!material_emits(m))
+        if (!material_emits(m) && !material_coats(m))
             continue;
         struct aiString name;
         float e[3], b[3];
         assimp_values(sc->mMaterials[i], &name, e, b);
         int unknown = 0;
-        const float s = gltf_strength_of(&gm, name.data, e, b, &unknown);
-        st->strength_unknown += (unsigned long)unknown;
-        if (s == 1)
-            continue;
-        st->strengths++;
-        m->ke = v3_scale(m->ke, (real)s);
-        if (!material_emits(m)) /* a strength of 0: no emission, nor its texture */
-            m->emit_map = 0, m->emit_mapped = 0;
+        const GltfMaterial *g = gltf_material_of(&gm, name.data, e, b, &unknown);
+        st->strength_unknown += (unsigned long)(unknown && material_emits(m));
+        st->specular_unknown += (unsigned long)(unknown && material_coats(m));
+        if (g)
+            apply(g, m, st);
     }
     gltf_materials_free(&gm);
     free(own);
