@@ -50,7 +50,7 @@ static void numbers(json_object *a, int n, float *out)
     float v[4];
     for (int k = 0; k < n; k++) {
         double d;
-        if (!number(json_object_array_get_idx(a, (size_t)k), &d) || fabs(d) > FLT_MAX)
+        if (!number(json_object_array_get_idx(a, (size_t)k), &d) || fabs(d) > (double)FLT_MAX)
             return;
         v[k] = (float)d;
     }
