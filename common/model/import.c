@@ -968,35 +968,32 @@ static int isolated(const Job *job, const char *name, const ObjOptions *opt, Mes
     return rc;
 }
 
+/* The warning for n glTF materials whose extension's value (`what`) was
+ * not applied: twins of theirs differ in it alone (import_extensions.h). */
+static int twins_warning(const ObjOptions *opt, const char *name, unsigned long n, const char *what, ImportStats *st,
+                         Err *err)
+{
+    char msg[4200];
+    if (!n)
+        return 0;
+    snprintf(msg, sizeof msg,
+             "%s: %s of %lu material%s not applied: materials of one name, emissive and base colour differ in it only",
+             name, what, n, n == 1 ? "" : "s");
+    return obj_warning(opt, &st->warnings, err, msg);
+}
+
 /* The parent's own warnings about what the child reported. */
 static int import_warnings(const ObjOptions *opt, const char *name, Mesh *out, ImportStats *st, Err *err)
 {
     char msg[4200];
-    if (st->colours_ignored) {
-        snprintf(msg, sizeof msg, "%s: vertex colours ignored: the model's materials give its colours", name);
-        if (obj_warning(opt, &st->warnings, err, msg))
-            goto fail;
-    }
-    if (st->strength_unknown) {
-        snprintf(msg, sizeof msg,
-                 "%s: emission strength (KHR_materials_emissive_strength) of %lu material%s not applied: "
-                 "materials of one name, emissive and base colour differ in it only",
-                 name, st->strength_unknown, st->strength_unknown == 1 ? "" : "s");
-        if (obj_warning(opt, &st->warnings, err, msg))
-            goto fail;
-    }
-    if (st->specular_unknown) {
-        snprintf(msg, sizeof msg,
-                 "%s: specular (KHR_materials_specular) of %lu material%s not applied: "
-                 "materials of one name, emissive and base colour differ in it only",
-                 name, st->specular_unknown, st->specular_unknown == 1 ? "" : "s");
-        if (obj_warning(opt, &st->warnings, err, msg))
-            goto fail;
+    snprintf(msg, sizeof msg, "%s: vertex colours ignored: the model's materials give its colours", name);
+    if ((st->colours_ignored && obj_warning(opt, &st->warnings, err, msg)) ||
+        twins_warning(opt, name, st->strength_unknown, "emission strength (KHR_materials_emissive_strength)", st, err) ||
+        twins_warning(opt, name, st->specular_unknown, "specular (KHR_materials_specular)", st, err)) {
+        mesh_free(out);
+        return -1;
     }
     return 0;
-fail:
-    mesh_free(out);
-    return -1;
 }
 
 int import_read(const char *path, const ObjOptions *opt, Mesh *out, ImportStats *st, Err *err)
