@@ -23,9 +23,12 @@ SCENE
 render() { "$BIN/lanray-render" "$@" --width 320 --height 240 --quiet >/dev/null 2>"$dir/render.err" || fail "render $*: $(cat "$dir/render.err")"; }
 rmse() { "$BIN/lanray-imgdiff" --csv "$1" "$2" | cut -d, -f3; }
 check_floor() { # scene, what
-    render "$dir/$1.scene" -o "$dir/ref.png" --aa 8
     render "$dir/$1.scene" -o "$dir/def.png" --aa 1
     render "$dir/$1.scene" -o "$dir/bil.png" --aa 1 --filter bilinear
+    # (the 8 x 8 reference, two thirds of the test's time under a
+    # sanitizer, only measures: the sanitizers' pass runs the filters alone)
+    [ "$sanitized" = 1 ] && { echo "$2: rendered (not measured under a sanitizer)"; return 0; }
+    render "$dir/$1.scene" -o "$dir/ref.png" --aa 8
     local d b
     d=$(rmse "$dir/ref.png" "$dir/def.png")
     b=$(rmse "$dir/ref.png" "$dir/bil.png")

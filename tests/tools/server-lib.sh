@@ -8,6 +8,12 @@
 # same_on_simd_paths and same_through_tmd (a picture on every SIMD path and
 # from a model's .tmd).
 BIN=${BIN:-bin}
+# 1 where the build under test is a sanitizer's (make check-asan,
+# check-tsan): its checks want every code path run, not again the long
+# renders that measure accuracy (the same code, several times slower:
+# the plain pass measures them)
+sanitized=0
+case "$BIN" in *asan* | *tsan*) sanitized=1 ;; esac
 dir=$(mktemp -d)
 pids=()
 lib_cleanup() {
