@@ -23,6 +23,16 @@
 #include "base/simd.h"
 #include "base/vec.h"
 
+/* 1 in a sanitizer's build (make check-asan, check-tsan; gcc says so): a
+ * test that repeats one computation over a large input only for its
+ * numbers takes a part of it there, where it runs several times slower;
+ * the plain pass takes all of it (the same code). */
+#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
+#define TEST_SANITIZED 1
+#else
+#define TEST_SANITIZED 0
+#endif
+
 /* Each SIMD path this build and CPU have, forced in turn:
  *     for (int path = -1; simd_next(&path);) { ... }
  * and after the last, the path in use before the first again. */

@@ -68,14 +68,17 @@ static void encoding_matches_the_thresholds_everywhere(void **state)
     f = (float)srgb_threshold[254];
     memcpy(&last, &f, sizeof last);
     uint64_t checked = 0;
-    for (uint32_t b = bits - 1; b <= last + 1; b++) {
+    /* every float between the first and last threshold; every 7th under a
+     * sanitizer (each bucket of 0x8000 floats still seen, 10 s of ASan's pass) */
+    const uint32_t stride = TEST_SANITIZED ? 7 : 1;
+    for (uint32_t b = bits - 1; b <= last + 1; b += stride) {
         float x;
         memcpy(&x, &b, sizeof x);
         if (srgb_encode8((real)x) != code_by_search((double)x))
             fail_msg("%.9g: code %d, thresholds say %d", (double)x, srgb_encode8((real)x), code_by_search((double)x));
         checked++;
     }
-    assert_true(checked > 100000000);
+    assert_true(checked > 100000000 / stride);
     for (uint32_t b = bits & ~0x7fffu; b <= last; b += 0x8000u) { /* each bucket's first float */
         float x;
         memcpy(&x, &b, sizeof x);
