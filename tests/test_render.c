@@ -291,7 +291,8 @@ static void smooth_mesh_has_no_shadow_terminator(void **state)
 /* A clear coat (Whitted): a smooth one reflects Fresnel's share for index
  * 1.5 times its strength, 0.04 head on ((1.5 - 1) / (1.5 + 1))^2, more
  * towards the rim, and the surface under it takes the rest (the ambient
- * light on a white one: 0.96); a rough one traces no ray here. */
+ * light on a white one: 0.96); a rough one traces no ray here and
+ * reflects the ambient light. */
 static void clear_coat_reflects_fresnels_share(void **state)
 {
     (void)state;
@@ -314,7 +315,13 @@ static void clear_coat_reflects_fresnels_share(void **state)
     s->ambient = v3_splat(1);
     prepare(s);
     assert_float_equal(look(s, eye, v3(0, 0, 0)).x, R(0.96), R(1e-5));
-    s->materials[mv].coat_roughness = R(0.5); /* rough: the surface and the ambient light alone */
+    /* rough: no ray; the coat reflects the ambient light, so a white one
+     * under the ambient light is white, at the rim too (it was dark
+     * there, where Fresnel's share nears 1), and no background */
+    s->materials[mv].coat_roughness = R(0.5);
+    prepare(s);
+    assert_float_equal(look(s, eye, v3(0, 0, 0)).x, R(1), R(1e-5));
+    assert_float_equal(look(s, eye, v3(R(0.97), 0, 0)).x, R(1), R(1e-5));
     s->background = v3_splat(1);
     s->ambient = v3_splat(0);
     prepare(s);

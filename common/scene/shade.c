@@ -284,6 +284,13 @@ static inline __attribute__((always_inline)) void shade_start(const World *w, co
     if (world_uses(w, FEAT_EMIT))
         sh->ke = optional && sh->sf.etex ? trace_emission(w, &sh->sf, sh->rd ? &fp : NULL) : m->ke;
     sh->col = v3_mul(w->ambient, sh->kd);
+    /* a rough coat reflects the light from everywhere that the ambient
+     * light stands for (its reflected rays are the path integrator's); a
+     * smooth one's ray brings what it sees.  Without it a coated white
+     * surface lost its coat's share of the ambient light: dark rims, where
+     * Fresnel's share nears 1 */
+    if (optional && sh->coat > R(0) && !material_coat_smooth(m))
+        sh->col = v3_add(sh->col, v3_scale(w->ambient, sh->coat));
     if (optional && sh->sf.aotex) /* an occlusion texture: crevices take less of the ambient light */
         sh->col = v3_scale(sh->col, trace_occlusion(&sh->sf, sh->rd ? &fp : NULL));
     sh->phong = w->view.settings.shading == SHADE_PHONG && v3_max_comp(m->ks) > R(0);

@@ -2,11 +2,9 @@
 # Occlusion textures: a glTF quad (x 0..2, y -1..1 at z = 0) of base
 # colour white whose occlusionTexture is 4 x 1 texels, red 0 on the left
 # half and 255 on the right, seen straight on (orthographic) with no lamp:
-# the ambient light alone (0.5), of which the white takes the 96% that
-# glTF's dielectric base lets through its clear coat head on (0.48).
-# Strength 1: the left half black, the right half the ambient's white
-# (code 184); strength 0.5: the left half half that (code 134); without
-# the texture both halves 184.
+# the ambient light alone (0.5).  Strength 1: the left half black, the
+# right half the ambient's white (code 188); strength 0.5: the left half
+# half the ambient (code 137); without the texture both halves 188.
 # Every SIMD path gives the same bytes, a .tmd the glTF's, and a server
 # with a client lanray-render's.
 set -u
@@ -32,9 +30,9 @@ for s in full half none; do
     "$BIN/lanray-render" "$dir/$s.scene" --width 32 --height 32 --aa 1 -o "$dir/$s.png" --quiet >"$dir/$s.log" 2>&1 ||
         fail "render $s: $(cat "$dir/$s.log")"
 done
-[ "$(px "$dir/full.png")" = "0 184 " ] || fail "strength 1: halves $(px "$dir/full.png"), not black and the ambient's"
-[ "$(px "$dir/half.png")" = "134 184 " ] || fail "strength 0.5: halves $(px "$dir/half.png"), not half and whole"
-[ "$(px "$dir/none.png")" = "184 184 " ] || fail "no occlusion texture: halves $(px "$dir/none.png")"
+[ "$(px "$dir/full.png")" = "0 188 " ] || fail "strength 1: halves $(px "$dir/full.png"), not black and the ambient's"
+[ "$(px "$dir/half.png")" = "137 188 " ] || fail "strength 0.5: halves $(px "$dir/half.png"), not half and whole"
+[ "$(px "$dir/none.png")" = "188 188 " ] || fail "no occlusion texture: halves $(px "$dir/none.png")"
 same_on_simd_paths "$dir/full.scene" "$dir/full.png" 32 32 "the occlusion texture"
 same_through_tmd "$dir/full.gltf" "$dir/full.scene" "$dir/full.png" 32 32 "occlusion texture"
 "$BIN/lanray-render" "$dir/full.scene" --width 64 --height 64 -o "$dir/ref.png" --quiet >/dev/null 2>&1 || fail "reference"
