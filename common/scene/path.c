@@ -229,15 +229,14 @@ static int dielectric_bounce(const World *w, const Surface *sf, vec3 d, real pic
 }
 
 /* A mirror or metal: the mirror direction, bent by the roughness (a point
- * of a ball of that radius, from u, v and s: the Whitted integrator's rough
- * mirror, one ray), weighted by its colour.  0 where the path ends (bent
+ * `rough` (a point of a ball of that radius, from u, v and s: the Whitted
+ * integrator's rough mirror, one ray), weighted by its colour kr.  0 where the path ends (bent
  * into the surface). */
-static int mirror_bounce(const Surface *sf, vec3 kr, vec3 d, real u, real v, real s, vec3 *beta, Ray *next)
+static int mirror_bounce(const Surface *sf, vec3 kr, real rough, vec3 d, real u, real v, real s, vec3 *beta, Ray *next)
 {
-    const Material *m = sf->mat;
     vec3 r = optics_reflect(d, sf->ns);
-    if (m->roughness > R(0)) {
-        r = v3_norm(v3_add(r, v3_scale(sample_sphere(u, v), cbrt(s) * m->roughness)));
+    if (rough > R(0)) {
+        r = v3_norm(v3_add(r, v3_scale(sample_sphere(u, v), cbrt(s) * rough)));
     }
     if (!(v3_dot(r, sf->ng) > R(0)))
         return 0;
@@ -302,7 +301,7 @@ static int surface_bounce(const World *w, Path *p, const Surface *sf, vec3 kd, v
 {
     const Material *m = sf->mat;
     const vec3 d = p->ray.dir;
-    vec3 kr = material_reflects(m) ? m->kr : v3_splat(R(0));
+    vec3 kr = material_reflects(m) ? m->kr : v3_splat(R(0)), kcm = v3_splat(R(0)); /* kcm: a smooth coat's mirror */
     real kc = R(0), coat_exp = R(0);
     if (world_has(w, FEAT_COAT) && material_coats(m) && w->view.settings.shading == SHADE_PHONG) {
         /* a clear coat: its Fresnel share a glossy lobe, the rest of the surface what it lets through */
@@ -310,7 +309,7 @@ static int surface_bounce(const World *w, Path *p, const Surface *sf, vec3 kd, v
         coat_exp = material_phong_exponent(m->coat_roughness);
         kd = v3_scale(kd, R(1) - kc), ks = v3_scale(ks, R(1) - kc), kr = v3_scale(kr, R(1) - kc);
         if (material_coat_smooth(m)) /* a mirror share (material.h) */
-            kr = v3_add(kr, v3_splat(kc)), kc = R(0);
+            kcm = v3_splat(kc), kc = R(0);
     }
     real f = R(0), fr = R(1), eta, u, v;
     vec3 td = v3_splat(R(0)), kg = v3_splat(R(0));
@@ -323,7 +322,8 @@ static int surface_bounce(const World *w, Path *p, const Surface *sf, vec3 kd, v
     const int own = material_reflects(m);
     Lobes lb, hl;
     const int highlight = own && highlight_make(w, sf, ks, d, &hl);
-    if (!lobes_make(&lb, kd, own ? v3_splat(R(0)) : ks, m->shininess, v3_add(kr, kg), kc, coat_exp, sf->ns, d))
+    if (!lobes_make(&lb, kd, own ? v3_splat(R(0)) : ks, m->shininess, v3_add(v3_add(kr, kcm), kg), kc, coat_exp, sf->ns,
+                    d))
         return 0;
     /* the shadow rays' origin, made once: a flat surface's bounce leaves from it too */
     const int emitters = w->emitter_count > 0 && w->view.settings.emitter_sampling != EMITTERS_BSDF;
@@ -340,15 +340,23 @@ static int surface_bounce(const World *w, Path *p, const Surface *sf, vec3 kd, v
         return 0;
     draw2(dr, 1, &u, &v);
     const real pick = draw1(dr, 2), wm = v3_max_comp(kr), wg = v3_max_comp(kg);
+    const real wc = v3_max_comp(kcm);
+    if (pick < lb.pm && wc > R(0) && material_rough(m)) { /* a rough metal under a smooth coat: a mirror each */
+        const real s = pick / lb.pm * (wm + wc);
+        const int coat = s < wc;
+        p->beta = v3_scale(p->beta, (wm + wc) / (lb.pm * (coat ? wc : wm)));
+        return coat ? mirror_bounce(sf, kcm, R(0), d, u, v, draw1(dr, 4), &p->beta, &p->ray)
+                    : mirror_bounce(sf, kr, m->roughness, d, u, v, draw1(dr, 4), &p->beta, &p->ray);
+    }
     if (pick < lb.pm && !(wg > R(0))) { /* the mirror, chosen with probability pm */
         p->beta = v3_scale(p->beta, R(1) / lb.pm);
-        return mirror_bounce(sf, kr, d, u, v, draw1(dr, 4), &p->beta, &p->ray);
+        return mirror_bounce(sf, v3_add(kr, kcm), m->roughness, d, u, v, draw1(dr, 4), &p->beta, &p->ray);
     }
-    if (pick < lb.pm) { /* the mirror or the glass, each by its share of pm */
+    if (pick < lb.pm) { /* the mirror or the glass, each by its share of pm (a dielectric has no coat) */
         const real s = pick / lb.pm * (wm + wg);
         const int mirror = s < wm;
         p->beta = v3_scale(p->beta, (wm + wg) / (lb.pm * (mirror ? wm : wg)));
-        return mirror ? mirror_bounce(sf, kr, d, u, v, draw1(dr, 4), &p->beta, &p->ray)
+        return mirror ? mirror_bounce(sf, kr, m->roughness, d, u, v, draw1(dr, 4), &p->beta, &p->ray)
                       : glass_bounce(sf, d, f, td, fr, (s - wm) / wg, &p->beta, &p->ray);
     }
     /* a smooth lobe's direction, weighed by both smooth lobes */
