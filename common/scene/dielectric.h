@@ -1,7 +1,7 @@
 /* dielectric.h - how a dielectric surface splits a ray, for both
  * integrators (shade.c, path.c): the share reflected by Fresnel's
  * equations (or Schlick's: settings fresnel), and where the rest goes;
- * and the share a clear coat reflects. */
+ * what its inside absorbs; and the share a clear coat reflects. */
 #ifndef LANRAY_DIELECTRIC_H
 #define LANRAY_DIELECTRIC_H
 
@@ -22,6 +22,16 @@ static inline real dielectric_split(const World *w, const Surface *sf, vec3 d, r
     if (f >= R(1) || !optics_refract(d, sf->ns, *eta, td) || !(v3_dot(*td, sf->ng) < R(0)))
         f = R(1);
     return f;
+}
+
+/* What light keeps of itself per channel crossing the inside of
+ * dielectric material m to hit h: exp(-absorb x t) (Beer-Lambert), t in
+ * the absorption's units (trace_absorb_t: a model's own glass by its
+ * model's).  For both integrators and the Whitted shadow rays. */
+static inline vec3 dielectric_absorbed(const World *w, const Material *m, const Hit *h)
+{
+    const real t = trace_absorb_t(w, h);
+    return v3(exp(-m->absorb.x * t), exp(-m->absorb.y * t), exp(-m->absorb.z * t));
 }
 
 /* The share of the light a clear coat (material.h's `coat`) at surface sf

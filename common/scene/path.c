@@ -35,6 +35,7 @@
  * draws of some 100 instructions each were a sixth of a path-traced
  * frame); elsewhere each alone, as asked. */
 typedef struct {
+    int lampless;                 /* the world has a light without a lamp (highlight_make) */
     int lanes;                    /* draw the dimensions below at once */
     uint32_t dims[SAMPLE_LANES]; /* the direction (2D), the lobe's pick, roulette, a rough
                                   * mirror's bend, an emitter's point (2D) and pick, and
@@ -45,10 +46,14 @@ typedef struct {
 /* The plan of a world's bounces: lanes where a bounce draws four numbers
  * or more (a scene without lights or emitters draws two or three, which
  * cost alone what the eight lanes do: the 100 spheres under a sky, 1244M
- * instructions either way at 2 x 2 samples). */
+ * instructions either way at 2 x 2 samples); and whether a light has no
+ * lamp (no ray can meet it), found once a packet, not at every bounce. */
 static void draw_plan(DrawPlan *pl, const World *w)
 {
     pl->lanes = (w->light_count > 0 || w->emitter_count > 0) && sample_lanes_wide();
+    pl->lampless = 0;
+    for (uint32_t li = 0; li < w->light_count; li++)
+        pl->lampless |= w->lights[li].lamp_count == 0;
     for (uint32_t k = 0; k < 6; k++)
         pl->dims[k] = k + 1;
     pl->dims[6] = 0x100u, pl->dims[7] = 0x101u; /* unused without area lights */
@@ -267,15 +272,6 @@ static void path_start(Path *p, const DrawPlan *plan, const Ray *r, SampleId id,
     p->b = 0, p->after_smooth = 0, p->pdf_bounce = R(0);
 }
 
-/* Whether the world has a light without a lamp: one that no ray can meet. */
-static int lampless_light(const World *w)
-{
-    for (uint32_t li = 0; li < w->light_count; li++)
-        if (w->lights[li].lamp_count == 0)
-            return 1;
-    return 0;
-}
-
 /* The Phong highlight (ks) of a surface that reflects rays itself (a
  * mirror, a metal; a dielectric's has none here, path_step), into *hl: it stands here for the reflection of
  * the lights no ray can meet (points, spots, directions, area lights
@@ -283,11 +279,12 @@ static int lampless_light(const World *w)
  * What a ray can meet (lamps, emitters, the background) the surface's
  * reflected ray brings: a whole glossy lobe beside it counted that twice
  * (an imported metal, whose highlight is its mirror's colour, reflected
- * twice its colour of a white sky).  0 where there is none. */
-static int highlight_make(const World *w, const Surface *sf, vec3 ks, vec3 d, Lobes *hl)
+ * twice its colour of a white sky).  0 where there is none (or the
+ * world, as plan pl says, has no such light). */
+static int highlight_make(const DrawPlan *pl, const Surface *sf, vec3 ks, vec3 d, Lobes *hl)
 {
     const vec3 zero = v3_splat(R(0));
-    return v3_max_comp(ks) > R(0) && lampless_light(w) &&
+    return v3_max_comp(ks) > R(0) && pl->lampless &&
            lobes_make(hl, zero, ks, sf->mat->shininess, zero, R(0), R(0), sf->ns, d);
 }
 
@@ -321,7 +318,7 @@ static int surface_bounce(const World *w, Path *p, const Surface *sf, vec3 kd, v
     /* a mirror keeps its highlight for the lights no ray meets */
     const int own = material_reflects(m);
     Lobes lb, hl;
-    const int highlight = own && highlight_make(w, sf, ks, d, &hl);
+    const int highlight = own && highlight_make(p->plan, sf, ks, d, &hl);
     if (!lobes_make(&lb, kd, own ? v3_splat(R(0)) : ks, m->shininess, v3_add(v3_add(kr, kcm), kg), kc, coat_exp, sf->ns,
                     d))
         return 0;
@@ -396,10 +393,8 @@ static int path_step(const World *w, Path *p, int found, const Hit *h, RayStats 
     const Material *m = sf.mat;
     if (b == 0 && p->key)
         *p->key = (uint64_t)sf.object << 16;
-    if (sf.inside && material_dielectric(m) && v3_max_comp(m->absorb) > R(0)) { /* crossed its inside */
-        const real t = trace_absorb_t(w, h);
-        p->beta = v3_mul(p->beta, v3(exp(-m->absorb.x * t), exp(-m->absorb.y * t), exp(-m->absorb.z * t)));
-    }
+    if (sf.inside && material_dielectric(m) && v3_max_comp(m->absorb) > R(0)) /* crossed its inside */
+        p->beta = v3_mul(p->beta, dielectric_absorbed(w, m, h));
     /* emission, but not a lamp's whose light was sampled at the point before */
     if (material_emits(m) && !(p->after_smooth && trace_any_lamp(w, h)))
         p->L = v3_add(p->L, v3_scale(v3_mul(p->beta, trace_emission(w, &sf, NULL)),

@@ -309,10 +309,6 @@ static inline __attribute__((always_inline)) void shade_start(const World *w, co
 /* Shadow rays through dielectrics: at most this many surfaces crossed. */
 #define GLASS_MAX_CROSSINGS 32
 
-static vec3 beer_lambert(vec3 absorb, real t)
-{
-    return v3(exp(-absorb.x * t), exp(-absorb.y * t), exp(-absorb.z * t));
-}
 
 /* What of a light's radiance passes along shadow ray sr, which
  * trace_shadow let pass (nothing opaque in its way but in an instance
@@ -337,7 +333,7 @@ static vec3 transmittance(const World *w, const Ray *sr, real tmax, const WorldL
         if (!lamp)
             T = v3_mul(T, sf.mat->kt);
         if (!lamp && sf.inside && v3_max_comp(sf.mat->absorb) > R(0))
-            T = v3_mul(T, beer_lambert(sf.mat->absorb, trace_absorb_t(w, &h)));
+            T = v3_mul(T, dielectric_absorbed(w, sf.mat, &h));
         if (!(v3_max_comp(T) > R(0)))
             break;
         /* on through the surface: from just past it, the rest of the way */
@@ -1063,7 +1059,7 @@ static inline __attribute__((always_inline)) void shade_rays_at(const World *w, 
         for (int k = 0; k < nl; k++) {
             const Surface *sf = &sh[live[k]].sf;
             if (sf->inside && material_dielectric(sf->mat) && v3_max_comp(sf->mat->absorb) > R(0))
-                out[live[k]] = v3_mul(out[live[k]], beer_lambert(sf->mat->absorb, trace_absorb_t(w, &hits[live[k]])));
+                out[live[k]] = v3_mul(out[live[k]], dielectric_absorbed(w, sf->mat, &hits[live[k]]));
         }
 }
 
