@@ -48,6 +48,7 @@ void model_destroy(Model *m)
     free(m->uvs);
     free(m->mat_ids);
     free(m->colours);
+    free(m->tangents);
     free(m->materials);
     for (uint32_t i = 0; i < m->texture_count; i++)
         texture_destroy(m->textures[i]);
@@ -185,6 +186,8 @@ static int model_build_bvh(Model *m, const Source *src, const BvhOptions *opt, P
     m->uvs = uvs;
     m->mat_ids = mids;
     m->colours = cols;
+    free(m->tangents); /* in the old order: model_prepare_simd makes them again */
+    m->tangents = NULL;
     free(bvh.prims);
     bvh.prims = NULL;
     bvh_destroy(&m->bvh);
@@ -247,7 +250,8 @@ ModelBytes model_bytes(const Model *m)
     b.wide = wide_bytes(m->wide);
     b.attributes = (size_t)m->tri_count * ((m->normals ? 3 * sizeof(vec3) : 0) + (m->uvs ? 6 * sizeof(real) : 0) +
                                            (m->mat_ids ? sizeof(uint32_t) : 0) +
-                                           (m->colours ? 3 * sizeof(vec3) : 0)) +
+                                           (m->colours ? 3 * sizeof(vec3) : 0) +
+                                           (m->tangents ? 3 * sizeof(vec3) : 0)) +
                    (size_t)m->material_count * sizeof(Material);
     return b;
 }
@@ -274,6 +278,8 @@ int model_prepare_simd(Model *m, Err *err)
             (material_occludes(mt) && texture_make_data_levels(m->textures[mt->ao_map])))
             return err_set(err, "out of memory for a data texture's levels");
     }
+    if (model_tangents_build(m, err))
+        return -1;
     SimdPath p = simd_path();
     if (m->wide && m->wide_path == (int)p)
         return 0;

@@ -30,6 +30,9 @@ typedef struct {
     uint32_t *mat_ids;  /* 1 per triangle, or NULL (one material for all) */
     vec3 *colours;      /* 3 per triangle: vertex colours, the diffuse colour
                          * where the model's material applies; or NULL */
+    vec3 *tangents;     /* 3 per triangle: each corner's unit tangent, smooth across
+                         * the triangles of a vertex, for normal maps (zero where
+                         * none); made by model_tangents_build, or NULL */
     Material *materials;
     uint32_t material_count;
     Texture **textures;  /* the materials' textures (MTL map_Kd), or NULL */
@@ -75,6 +78,9 @@ int model_place(Model **out, const Model *m, const mat3 *rot, vec3 translate, re
  * (texture_make_data_levels); called by world_build, before any thread
  * traces. */
 int model_prepare_simd(Model *m, Err *err);
+/* The tangents of a model whose materials read a normal map, once
+ * (model_tangents.c); nothing for other models. */
+int model_tangents_build(Model *m, Err *err);
 /* m's wide tree for `path` without its cut triangles, and those in
  * m->cut (model_cut.c). */
 int model_cut_build(Model *m, int path, Err *err);

@@ -697,11 +697,16 @@ typedef struct {
 /* The tangent frame of a model's triangle whose material has a normal
  * map: the directions in which u and v grow across it (from its corners'
  * positions and texture coordinates, as pbrt's triangles without tangents
- * take them), turned into the world, into the surface.  None (sf->nmap
- * left NULL) where the texture coordinates do not span the triangle. */
-static __attribute__((noinline)) void bump_frame(const Model *m, uint32_t tri, const WorldInstance *in,
+ * take them), turned into the world, into the surface; for a normal map
+ * (not a height map) u's direction is the corners' smooth tangents
+ * interpolated where the model has them (model_tangents.c), so that the
+ * frame does not break at the triangle's edges, and v's only says which
+ * way the bitangent points.  None (sf->nmap left NULL) where the texture
+ * coordinates do not span the triangle. */
+static __attribute__((noinline)) void bump_frame(const Model *m, const Hit *h, const WorldInstance *in,
                                                 const Material *mat, Surface *sf)
 {
+    const uint32_t tri = h->sub;
     const Tri *t = &m->tris[tri];
     const real *uv = &m->uvs[6 * tri];
     const vec3 e1 = v3_sub(tri_vertex(t, 1), tri_vertex(t, 0)), e2 = v3_sub(tri_vertex(t, 2), tri_vertex(t, 0));
@@ -709,8 +714,14 @@ static __attribute__((noinline)) void bump_frame(const Model *m, uint32_t tri, c
     const real det = du1 * dv2 - du2 * dv1;
     if (!(fabs(det) > R(0)) || !isfinite(det))
         return;
-    const vec3 dpdu = v3_scale(v3_sub(v3_scale(e1, dv2), v3_scale(e2, dv1)), R(1) / det);
+    vec3 dpdu = v3_scale(v3_sub(v3_scale(e1, dv2), v3_scale(e2, dv1)), R(1) / det);
     const vec3 dpdv = v3_scale(v3_sub(v3_scale(e2, du1), v3_scale(e1, du2)), R(1) / det);
+    if (m->tangents && !material_heights(mat)) {
+        const vec3 *tg = &m->tangents[3 * tri];
+        const vec3 s = bary(tg[0], tg[1], tg[2], h->b1, h->b2);
+        if (v3_dot(s, s) > R(0))
+            dpdu = s;
+    }
     sf->dpdu = m3_apply(&in->rot, dpdu);
     sf->dpdv = m3_apply(&in->rot, dpdv);
     sf->nscale = mat->normal_scale;
@@ -923,7 +934,7 @@ static inline __attribute__((always_inline)) int surface_instance(const World *w
         out->tex = out->mat->texture >= 0 ? m->textures[out->mat->texture] : NULL;
         model_tex = 1;
         if (optional && world_uses(w, FEAT_NORMAL_MAP) && out->has_uv && material_bumps(out->mat))
-            bump_frame(m, h->sub, in, out->mat, out);
+            bump_frame(m, h, in, out->mat, out);
         if (optional && out->has_uv && material_emit_mapped(out->mat))
             out->etex = m->textures[out->mat->emit_map];
         if (optional && out->has_uv && material_occludes(out->mat))
