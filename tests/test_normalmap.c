@@ -20,6 +20,8 @@ typedef struct {
     vec3 rotate;     /* the instance's rotation, degrees */
     real height;     /* > 0: the map is the grey ramp below, a height map of this height (bump_height) */
     int ramp_v;      /* the ramp rises along v, not u */
+    int level;       /* with height: the map is one grey texel, level */
+    real lean;       /* the vertex normals lean to +x by this much: (lean, 0, 1), normalised */
 } Quad;
 
 /* A height map: a ramp of 64 grey texels, code 4 i at the i-th from u = 0
@@ -41,9 +43,11 @@ static Scene *quad_scene(const Quad *q)
     Err err;
     assert_int_equal(mesh_init(&mesh, MESH_NORMALS | MESH_UVS | MESH_MATERIALS, &err), 0);
     uint32_t tex;
-    assert_int_equal(mesh_add_texture(&mesh, q->height > 0 ? ramp(q->ramp_v) : texture_from_rgb8(1, 1, q->rgb), &tex,
-                                      &err),
-                     0);
+    const uint8_t grey[3] = {128, 128, 128};
+    Texture *map = q->height > 0 && q->level ? texture_from_rgb8(1, 1, grey)
+                   : q->height > 0           ? ramp(q->ramp_v)
+                                             : texture_from_rgb8(1, 1, q->rgb);
+    assert_int_equal(mesh_add_texture(&mesh, map, &tex, &err), 0);
     Material m = material_default();
     if (q->scale > 0)
         m.normal_map = (int32_t)tex, m.normal_scale = q->scale;
@@ -51,7 +55,7 @@ static Scene *quad_scene(const Quad *q)
         m.normal_map = (int32_t)tex, m.normal_scale = 1, m.bump_height = q->height;
     assert_int_equal(mesh_add_material(&mesh, m, &err), 0);
     const vec3 a[3] = {v3(0, 0, 0), v3(1, 0, 0), v3(1, 1, 0)}, b[3] = {v3(0, 0, 0), v3(1, 1, 0), v3(0, 1, 0)};
-    const vec3 n[3] = {v3(0, 0, 1), v3(0, 0, 1), v3(0, 0, 1)};
+    const vec3 up = v3_norm(v3(q->lean, 0, 1)), n[3] = {up, up, up};
     real ua[6] = {0, 0, 1, 0, 1, 1}, ub[6] = {0, 0, 1, 1, 0, 1};
     for (int i = 0; i < 6; i += 2) {
         if (q->mirror_u)
@@ -153,6 +157,26 @@ static void a_height_map_leans_the_normal_down_its_slope(void **state)
     Quad low = {.height = R(0.05)}; /* a tenth the height: a tenth the lean */
     sf = surface_seen(&low, v3(0.3f, 0.6f, 1), v3(0.3f, 0.6f, 0));
     assert_near(sf.ns, v3_norm(v3(-slope / 10, 0, 1)), 1e-5);
+}
+
+/* A height map bumps the smooth surface the vertex normals describe, not
+ * the triangle's flat one: a level map leaves the interpolated normal (the
+ * renderer before gave the face's, and a smooth low-poly model under a
+ * height map showed its facets), and a ramp leans that normal back from
+ * its climb. */
+static void a_height_map_bumps_the_smooth_surface(void **state)
+{
+    (void)state;
+    const vec3 lean = v3_norm(v3(R(0.4), 0, 1));
+    Quad q = {.height = R(0.5), .level = 1, .lean = R(0.4)};
+    Surface sf = surface_seen(&q, v3(0.3f, 0.6f, 1), v3(0.3f, 0.6f, 0));
+    assert_near(sf.ns, lean, 1e-6);
+    Quad r = {.height = R(0.5), .lean = R(0.4)};
+    sf = surface_seen(&r, v3(0.3f, 0.6f, 1), v3(0.3f, 0.6f, 0));
+    /* u's direction in the plane of the leaning normal, climbing 0.502 a unit of it */
+    const vec3 t = v3_norm(v3_sub(X, v3_scale(lean, v3_dot(lean, X))));
+    const real slope = R(0.5) * R(4) / R(255) * R(64) / v3_dot(t, X);
+    assert_near(sf.ns, v3_norm(v3_sub(lean, v3_scale(t, slope))), 1e-5);
 }
 
 /* Texture coordinates that run against x turn the tangent: the normal
@@ -299,6 +323,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(red_tilts_the_normal_towards_u_and_green_towards_v),
         cmocka_unit_test(a_map_baked_in_smooth_frames_reads_its_normals_back),
+        cmocka_unit_test(a_height_map_bumps_the_smooth_surface),
         cmocka_unit_test(a_height_map_leans_the_normal_down_its_slope),
         cmocka_unit_test(the_scale_tilts_x_and_y_only),
         cmocka_unit_test(mirrored_coordinates_mirror_the_frame),

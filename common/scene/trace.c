@@ -734,9 +734,13 @@ static __attribute__((noinline)) void bump_frame(const Model *m, const Hit *h, c
  * pbrt's BumpMap takes it): displaced along n by the map's height (its
  * red as a fraction, times nheight), the surface moves with u by
  * dpdu + n dh/du and with v by dpdv + n dh/dv, and their cross product is
- * its normal.  The slopes are central differences a texel apart, or the
- * footprint's width apart where that is wider (a far surface's bumps
- * average out as its texels do). */
+ * its normal.  dpdu and dpdv are the shading surface's, in the plane of
+ * the smooth normal n (pbrt's shading geometry), so that a level map
+ * leaves n as it is; the triangle's own would give its flat normal, and a
+ * smooth low-poly model under a height map showed every facet.  The
+ * slopes are central differences a texel apart, or the footprint's width
+ * apart where that is wider (a far surface's bumps average out as its
+ * texels do). */
 static vec3 height_normal(const Surface *sf, const Texture *map, const TexFootprint *fp, vec3 n)
 {
     real du = R(1) / (real)map->w, dv = R(1) / (real)map->h;
@@ -747,7 +751,9 @@ static vec3 height_normal(const Surface *sf, const Texture *map, const TexFootpr
     const real u = sf->u, v = sf->v, k = sf->nheight;
     const real bu = k * (texture_fractions(map, u + du, v, fp).x - texture_fractions(map, u - du, v, fp).x) / (R(2) * du);
     const real bv = k * (texture_fractions(map, u, v + dv, fp).x - texture_fractions(map, u, v - dv, fp).x) / (R(2) * dv);
-    const vec3 p = v3_cross(v3_madd(sf->dpdu, n, bu), v3_madd(sf->dpdv, n, bv));
+    const vec3 su = v3_sub(sf->dpdu, v3_scale(n, v3_dot(n, sf->dpdu)));
+    const vec3 sv = v3_sub(sf->dpdv, v3_scale(n, v3_dot(n, sf->dpdv)));
+    const vec3 p = v3_cross(v3_madd(su, n, bu), v3_madd(sv, n, bv));
     return v3_dot(p, n) < R(0) ? v3_neg(p) : p;
 }
 
