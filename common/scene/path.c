@@ -127,7 +127,14 @@ static int shadowed(const World *w, vec3 origin, vec3 dir, real tmax, const Worl
 /* Next-event estimation from a point with smooth lobes: one point of
  * every light, its shadow ray, pi x f x cos x the radiance that arrives.
  * lb (or NULL): lobes that take every light; hl (or NULL): a highlight
- * that takes only the lights without a lamp (highlight_make's). */
+ * that takes only the lights without a lamp (highlight_make's).  The
+ * shading normal decides which lights can reach the point, as in
+ * Whitted's shading (shade.c): near the boundary between light and dark
+ * on a smooth triangle, a light behind the flat facet but in front of the
+ * curved surface its normals describe lights the point, and the shadow ray
+ * from the lifted point (sf->ps) says whether anything is in the way.
+ * (Deciding by the facet cut a low-poly ball's terminator into the
+ * polygon of its triangles: tests/test_render.c, the shadow terminator.) */
 static vec3 direct_light(const World *w, const Surface *sf, const Lobes *lb, const Lobes *hl, const Draws *dr,
                          vec3 origin, RayStats *st)
 {
@@ -137,7 +144,7 @@ static vec3 direct_light(const World *w, const Surface *sf, const Lobes *lb, con
         if (world_light_is_area(&w->lights[li])) /* others have one point */
             draw2(dr, 0x100u + li, &u, &v);
         vec3 dir, rad;
-        if (!shade_light_point(w, li, sf->p, u, v, &dir, &dist, &rad) || !(v3_dot(dir, sf->ng) > R(0)))
+        if (!shade_light_point(w, li, sf->p, u, v, &dir, &dist, &rad) || !(v3_dot(dir, sf->ns) > R(0)))
             continue;
         vec3 fc = lb ? lobes_eval(lb, dir, &pdf) : v3_splat(R(0));
         if (hl && w->lights[li].lamp_count == 0)
@@ -158,14 +165,15 @@ static real power_weight(real a, real b) { return a * a / (a * a + b * b); }
 /* Next-event estimation of emissive geometry from a point with smooth
  * lobes: one point of one emitter, f x cos x its radiance over its
  * density, weighed against the bounce that could have found it (at the
- * last bounce none follows: the whole of it). */
-static vec3 direct_emitters(const World *w, const Surface *sf, const Lobes *lb, int last, const Draws *dr,
+ * last bounce none follows, and no bounce leaves below the flat facet:
+ * the whole of it).  The shading normal decides, as in direct_light. */
+static vec3 direct_emitters(const World *w, const Surface *sf, vec3 nv, const Lobes *lb, int last, const Draws *dr,
                             vec3 origin, RayStats *st)
 {
     real u, v, pdf;
     draw2(dr, 5, &u, &v);
     EmitterSample es;
-    if (!emitters_sample(w, sf->p, draw1(dr, 6), u, v, &es) || !(v3_dot(es.dir, sf->ng) > R(0)))
+    if (!emitters_sample(w, sf->p, draw1(dr, 6), u, v, &es) || !(v3_dot(es.dir, sf->ns) > R(0)))
         return v3_splat(R(0));
     const vec3 fc = lobes_eval(lb, es.dir, &pdf);
     if (!(v3_max_comp(fc) > R(0)))
@@ -173,7 +181,8 @@ static vec3 direct_emitters(const World *w, const Surface *sf, const Lobes *lb, 
     /* short of the point by more than the rounding of its place, so the emitter does not shadow itself */
     if (w->view.settings.shadows && shadowed(w, origin, es.dir, es.dist * (R(1) - R(1024) * REAL_EPS), NULL, st))
         return v3_splat(R(0));
-    const real weight = w->view.settings.emitter_sampling == EMITTERS_MIS && !last ? power_weight(es.pdf, pdf) : R(1);
+    const int bsdf_finds = w->view.settings.emitter_sampling == EMITTERS_MIS && !last && v3_dot(es.dir, nv) > R(0);
+    const real weight = bsdf_finds ? power_weight(es.pdf, pdf) : R(1);
     return v3_scale(v3_mul(fc, es.radiance), weight / es.pdf);
 }
 
@@ -211,7 +220,7 @@ static vec3 diffuse_at(const World *w, const Surface *sf)
 static int glass_bounce(const Surface *sf, vec3 d, real f, vec3 td, real fr, real pick, vec3 *beta, Ray *next)
 {
     if (pick < f) {
-        vec3 r = optics_reflect(d, sf->ns);
+        vec3 r = trace_reflected(d, sf);
         if (fr < R(1))
             *beta = v3_scale(*beta, fr);
         ray_init(next, trace_offset_origin(sf->p, sf->ng, sf->err), r, R(0), REAL_MAX);
@@ -239,7 +248,7 @@ static int dielectric_bounce(const World *w, const Surface *sf, vec3 d, real pic
  * into the surface). */
 static int mirror_bounce(const Surface *sf, vec3 kr, real rough, vec3 d, real u, real v, real s, vec3 *beta, Ray *next)
 {
-    vec3 r = optics_reflect(d, sf->ns);
+    vec3 r = trace_reflected(d, sf);
     if (rough > R(0)) {
         r = v3_norm(v3_add(r, v3_scale(sample_sphere(u, v), cbrt(s) * rough)));
     }
@@ -293,8 +302,8 @@ static int highlight_make(const DrawPlan *pl, const Surface *sf, vec3 ks, vec3 d
  * mirror's share, and the transmission): next-event estimation for the
  * smooth ones, then one lobe chosen by weight for the path's next ray.
  * 0 where the path ends. */
-static int surface_bounce(const World *w, Path *p, const Surface *sf, vec3 kd, vec3 ks, const Draws *dr, int last,
-                          RayStats *st)
+static int surface_bounce(const World *w, Path *p, const Surface *sf, vec3 nv, vec3 kd, vec3 ks, const Draws *dr,
+                          int last, RayStats *st)
 {
     const Material *m = sf->mat;
     const vec3 d = p->ray.dir;
@@ -331,7 +340,7 @@ static int surface_bounce(const World *w, Path *p, const Surface *sf, vec3 kd, v
         p->L = v3_add(p->L, v3_mul(p->beta, direct_light(w, sf, smooth ? &lb : NULL, highlight ? &hl : NULL, dr,
                                                          from_ps, st)));
         if (smooth && emitters)
-            p->L = v3_add(p->L, v3_mul(p->beta, direct_emitters(w, sf, &lb, last, dr, from_ps, st)));
+            p->L = v3_add(p->L, v3_mul(p->beta, direct_emitters(w, sf, nv, &lb, last, dr, from_ps, st)));
     }
     if (last)
         return 0;
@@ -360,13 +369,13 @@ static int surface_bounce(const World *w, Path *p, const Surface *sf, vec3 kd, v
     real pdf;
     const vec3 nd = lobes_sample_smooth(&lb, (pick - lb.pm) / (R(1) - lb.pm), u, v);
     const vec3 fc = lobes_eval(&lb, nd, &pdf);
-    const int go = pdf > R(0) && v3_dot(nd, sf->ng) > R(0);
+    const int go = pdf > R(0) && v3_dot(nd, nv) > R(0);
     p->beta = v3_mul(p->beta, v3_scale(fc, go ? R(1) / pdf : R(0)));
     p->after_smooth = 1;
     p->from = sf->p;
     p->pdf_bounce = pdf;
-    /* off a flat surface p is ps, err ps_err: the same origin */
-    ray_init(&p->ray, nee && !sf->smooth ? from_ps : trace_offset_origin(sf->p, sf->ng, sf->err), nd, R(0), REAL_MAX);
+    /* from the lifted point, as the shadow rays (off a flat surface p is ps) */
+    ray_init(&p->ray, nee ? from_ps : trace_offset_origin(sf->ps, sf->ng, sf->ps_err), nd, R(0), REAL_MAX);
     return go;
 }
 
@@ -388,6 +397,9 @@ static int path_step(const World *w, Path *p, int found, const Hit *h, RayStats 
     const int depth = w->view.settings.depth;
     Surface sf;
     trace_surface(w, &p->ray, h, &sf);
+    /* the smooth surface's normal, before a normal map tilts it: a bounce
+     * leaves the surface above it (see surface_bounce) */
+    const vec3 nv = sf.ns;
     trace_surface_bump(&sf, NULL); /* samples accumulate: the maps at a point each */
     trace_surface_metal(w, &sf, NULL);
     const Material *m = sf.mat;
@@ -417,7 +429,7 @@ static int path_step(const World *w, Path *p, int found, const Hit *h, RayStats 
             return 0;
         go = dielectric_bounce(w, &sf, p->ray.dir, draw1(&dr, 2), &p->beta, &p->ray);
     } else {
-        go = surface_bounce(w, p, &sf, kd, ks, &dr, last, st);
+        go = surface_bounce(w, p, &sf, nv, kd, ks, &dr, last, st);
     }
     if (!go)
         return 0;

@@ -488,15 +488,6 @@ static int worth_tracing(const World *w, vec3 weight)
     return wt > R(0) && wt >= w->view.settings.cutoff;
 }
 
-/* The mirror direction of unit d at the surface: about the shading normal,
- * or about the geometric one where a smooth normal would send it into the
- * surface. */
-static vec3 reflected(vec3 d, const Surface *sf)
-{
-    vec3 r = optics_reflect(d, sf->ns);
-    return v3_dot(r, sf->ng) > R(0) ? r : optics_reflect(d, sf->ng);
-}
-
 /* Emission, reflection and refraction at sh's hit, for ray `i` of its
  * packet at bounce `depth` carrying `weight`: the colour without what its
  * mirrored and refracted rays see, those rays pushed to sp (spawn_trace
@@ -542,7 +533,7 @@ static vec3 shade_beyond(const World *w, int i, const Shading *sh, int depth, ve
         const int rough = reflects && world_uses(w, FEAT_ROUGH) && m->roughness > R(0);
         const real under = R(1) - sh->coat; /* what a coat lets through to the mirror */
         if (rough && worth_tracing(w, v3_mul(weight, v3_scale(m->kr, under))))
-            col = v3_add(col, v3_scale(rough_reflection(w, sh, front, reflected(d, sf), depth, weight, stats), under));
+            col = v3_add(col, v3_scale(rough_reflection(w, sh, front, trace_reflected(d, sf), depth, weight, stats), under));
         real eta, f = R(0);
         vec3 td;
         if (refracts)
@@ -555,7 +546,7 @@ static vec3 shade_beyond(const World *w, int i, const Shading *sh, int depth, ve
             kref = v3_add(kref, v3_splat(f * fr));
         vec3 wr = v3_mul(weight, kref);
         if (worth_tracing(w, wr))
-            spawn_push(sp, ns, i, front, reflected(d, sf), follow(&sh->id, 1), rdp, wr, kref);
+            spawn_push(sp, ns, i, front, trace_reflected(d, sf), follow(&sh->id, 1), rdp, wr, kref);
         if (refracts) {
             vec3 kt = v3_scale(m->kt, R(1) - f);
             vec3 wt = v3_mul(weight, kt);

@@ -162,6 +162,14 @@ void trace_surface_change(const World *w, const Hit *h, const Surface *sf, vec3 
  * each coordinate is then rounded away from the surface (nextafter) so the
  * addition cannot land back on it. */
 vec3 trace_offset_origin(vec3 p, vec3 n, real err);
+/* The mirror direction of a ray along d off sf: about the shading
+ * normal, or about the flat facet where that would send it into the
+ * surface (a smooth low-poly mirror near its outline): both integrators. */
+static inline vec3 trace_reflected(vec3 d, const Surface *sf)
+{
+    const vec3 r = v3_reflect(d, sf->ns);
+    return v3_dot(r, sf->ng) > R(0) ? r : v3_reflect(d, sf->ng);
+}
 
 /* The shadow terminator (Hanika, "Hacking the Shadow Terminator", Ray
  * Tracing Gems II ch. 4, 2021): a coarse mesh with smooth vertex normals is

@@ -2,7 +2,7 @@
 # The path integrator (settings integrator path): light transport checked
 # where the answer is known.  A white furnace: inside a sphere that emits
 # radiance 1 everywhere, surfaces that lose no energy (diffuse spheres of
-# albedo 1 that light each other, a perfect mirror, clear glass, a half
+# albedo 1 that light each other, coarse balls of smooth triangles, a perfect mirror, clear glass, a half
 # mirror over glass that transmits the other half, a veil that scatters
 # half diffusely and lets half through, a metal with a Phong highlight of
 # its colour, as the importer makes one, a smooth clear coat over white)
@@ -53,6 +53,14 @@ sphere centre 0.2 1.2 0 radius 0.5 material mirror
 sphere centre 1.4 1.1 0.5 radius 0.45 material glass
 plane point 0 -0.9 0 normal 0 1 0 material white
 S
+# and coarse balls of smooth triangles (12 x 6), white and a mirror: their
+# bounces leave above the smooth surface, from the point lifted onto it,
+# not above each flat facet, and a mirror direction that would go into
+# the surface is the facet's (the paths that left below a facet were
+# lost: codes 96 at the white ball's triangles' corners and 64 at the
+# mirror's rim before 2026-11-29)
+printf 'model ball %s/tests/data/mikk/ball.obj\ninstance ball translate 2.2 0.9 -0.5 scale 0.5 material white\n%s\n' \
+    "$PWD" "instance ball translate -2.4 1.3 -0.8 scale 0.5 material mirror" >>"$dir/furnace.scene"
 # found by the paths alone, every path brings exactly the emitter's 1
 "$BIN/lanray-render" "$dir/furnace.scene" --emitter-sampling bsdf --aa 2 --width 48 --height 36 --linear \
     --exposure -1 -o "$dir/furnace.ppm" --quiet >/dev/null || fail "the furnace did not render"
@@ -283,4 +291,4 @@ start_server room "$dir/room.scene" --port 0 --width 64 --height 64 --aa 2 --fra
     --out "$dir/f-room"
 clients_until_done 2 1
 wait "$server_pid" || fail "the path-traced frame through 2 clients differs from lanray-render's (server exit $?)"
-echo "pathtrace: the Cornell box $cb_err from Cycles' (4x4 blocks, light ratio $cb_ratio); white furnace under MIS within $fur_err (6x6 blocks, light ratio $fur_ratio); emitters by NEE alone and by bounces alone = MIS (6x6 blocks: error $nee_err and $bsdf_err, light ratio $nee_ratio and $bsdf_ratio); a glass ball's darkest pixel $blo; a white furnace of diffuse spheres, a mirror, glass, a mirror over glass, a see-through diffuse veil and a metal with a highlight and a smooth clear coat come out 1 (codes $lo to $hi at exposure -1; a rough coat $clo to $chi, its direct light Whitted's within $ag_err, coats $co_err from Cycles' (uncoated $un_err), a smooth coat over a rough metal sharp (RMSE $sh_rmse); the highlight shows a point light: $shi, without it $dhi; a grey room's $glo); the floor under an emissive sphere follows the inverse-square law (code $lmean, 127.5 expected; Whitted $whi); a path-traced frame through 2 clients = lanray-render's"
+echo "pathtrace: the Cornell box $cb_err from Cycles' (4x4 blocks, light ratio $cb_ratio); white furnace under MIS within $fur_err (6x6 blocks, light ratio $fur_ratio); emitters by NEE alone and by bounces alone = MIS (6x6 blocks: error $nee_err and $bsdf_err, light ratio $nee_ratio and $bsdf_ratio); a glass ball's darkest pixel $blo; a white furnace of diffuse spheres, coarse balls of smooth triangles (white and a mirror), a mirror, glass, a mirror over glass, a see-through diffuse veil and a metal with a highlight and a smooth clear coat come out 1 (codes $lo to $hi at exposure -1; a rough coat $clo to $chi, its direct light Whitted's within $ag_err, coats $co_err from Cycles' (uncoated $un_err), a smooth coat over a rough metal sharp (RMSE $sh_rmse); the highlight shows a point light: $shi, without it $dhi; a grey room's $glo); the floor under an emissive sphere follows the inverse-square law (code $lmean, 127.5 expected; Whitted $whi); a path-traced frame through 2 clients = lanray-render's"
