@@ -104,7 +104,7 @@ typedef struct {
     const atomic_int *cancel;
     RenderProgress *progress;
     int linear; /* write linear codes instead of sRGB (--linear) */
-    int diffs;  /* the scene has textures: camera rays carry differentials (raydiff.h) */
+    int diffs;  /* the scene has textures or checkers: camera rays carry differentials (raydiff.h) */
     int bpp;    /* bytes a pixel: 3 codes, or 4 of RGBE (settings hdr) */
     uint32_t chunk; /* pixels per work item (chunk_size) */
     /* the grid's pairs of whole lines (job_tiles): from line tile_line on,
@@ -746,7 +746,7 @@ int render_span(RenderPool *p, const World *w, int width, int height, uint64_t f
     f.cancel = cancel;
     f.progress = p->progress;
     f.linear = w->view.settings.linear;
-    f.diffs = world_uses(w, FEAT_TEXTURES);
+    f.diffs = world_uses(w, FEAT_TEXTURES | FEAT_CHECKER);
     f.bpp = (int)render_pixel_bytes(&w->view.settings);
     f.gain = pow(R(2), w->view.settings.exposure);
     f.chunk = chunk_size(count, pool_threads(p->pool));

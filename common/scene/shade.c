@@ -254,8 +254,9 @@ static inline __attribute__((always_inline)) void shade_start(const World *w, co
     const int textured = optional && world_uses(w, FEAT_TEXTURES) && sh->sf.tex && sh->sf.has_uv;
     /* the footprint where a texture reads it or a mirror's or glass's rays carry it on (a
      * mapped metal reflects: its factor's share, kr, is the texels' most) */
+    const int checker = optional && world_uses(w, FEAT_CHECKER) && material_checkered(m);
     sh->rd = optional && (textured || sh->sf.etex || sh->sf.nmap || sh->sf.aotex || material_reflects(m) ||
-                          material_dielectric(m) || material_coats(m))
+                          material_dielectric(m) || material_coats(m) || checker)
                  ? rd
                  : NULL;
     sh->t = hit->t;
@@ -270,7 +271,11 @@ static inline __attribute__((always_inline)) void shade_start(const World *w, co
         m = sh->sf.mat;
     }
     sh->kd = optional && world_uses(w, FEAT_COLOURS) && sh->sf.has_colour ? sh->sf.colour : m->kd;
-    if (optional && world_uses(w, FEAT_CHECKER) && material_checkered(m))
+    if (checker && sh->rd && w->view.settings.filter != FILTER_NEAREST) /* over the sample's footprint */
+        sh->kd = material_checker_box(m, sh->kd, sh->sf.p, sh->sf.u, sh->sf.v, sh->sf.has_uv,
+                                      m->checker_uv ? v3(fabs(fp.dudx) + fabs(fp.dudy), fabs(fp.dvdx) + fabs(fp.dvdy), 0)
+                                                    : v3_add(v3_abs(sh->dpdx), v3_abs(sh->dpdy)));
+    else if (checker)
         sh->kd = material_checker(m, sh->kd, sh->sf.p, sh->sf.u, sh->sf.v, sh->sf.has_uv);
     if (textured)
         sh->kd = v3_mul(sh->kd, trace_surface_texel(w, &sh->sf, sh->rd ? &fp : NULL));

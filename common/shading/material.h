@@ -130,6 +130,41 @@ static inline vec3 material_checker(const Material *m, vec3 kd, vec3 p, real u, 
     }
     return n & 1 ? m->kc : kd;
 }
+/* The mean over [x - w/2, x + w/2] of the square wave that is +1 on the
+ * even squares (floor(x) even) and -1 on the odd ones: the difference of
+ * its integral, a triangle wave, at the box's ends over the width (Inigo
+ * Quilez's filtered checkerboard); the wave itself at a point (w ~ 0). */
+static inline real material_square_mean(real x, real w)
+{
+    if (!(w > R(1e-4)))
+        return (long)floor(x) & 1 ? R(-1) : R(1);
+    const real a = (x - R(0.5) * w) * R(0.5), b = (x + R(0.5) * w) * R(0.5);
+    return R(2) * (fabs(a - floor(a) - R(0.5)) - fabs(b - floor(b) - R(0.5))) / w;
+}
+
+/* material_checker averaged over a sample's footprint, a box `width`
+ * wide on each axis (world units for the solid pattern, texture units on
+ * x and y with checker_uv): its two colours in the shares of the box that
+ * each covers, which the parity of a product of square waves gives, axis
+ * by axis (the box is separable).  Far off, where a footprint covers many
+ * squares, the floor turns to their mean instead of the moire that one
+ * point a sample makes of them. */
+static inline vec3 material_checker_box(const Material *m, vec3 kd, vec3 p, real u, real v, int has_uv, vec3 width)
+{
+    const real k = R(1) / m->checker_size;
+    real even;
+    if (m->checker_uv) {
+        if (!has_uv)
+            return kd;
+        even = material_square_mean(u * k, width.x * k) * material_square_mean(v * k, width.y * k);
+    } else {
+        even = material_square_mean(p.x * k, width.x * k) * material_square_mean(p.y * k, width.y * k) *
+               material_square_mean(p.z * k, width.z * k);
+    }
+    const real t = R(0.5) - R(0.5) * even; /* the odd squares' share */
+    return v3_add(v3_scale(kd, R(1) - t), v3_scale(m->kc, t));
+}
+
 /* Whether the material does anything beyond local shading. */
 static inline int material_has_optics(const Material *m)
 {
