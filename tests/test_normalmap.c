@@ -9,6 +9,8 @@
 
 #include "helpers.h"
 #include "model/obj.h"
+#include "scene/path.h"
+#include "scene/shade.h"
 #include "scene/trace.h"
 #include "worlds.h"
 
@@ -179,6 +181,56 @@ static void a_height_map_bumps_the_smooth_surface(void **state)
     assert_near(sf.ns, v3_norm(v3_sub(lean, v3_scale(t, slope))), 1e-5);
 }
 
+/* A normal map's tilt towards a light that the smooth surface meets at a
+ * grazing angle takes a share of it that falls to 0 at the smooth
+ * surface's horizon (lobes_bump_shadowing; Chiang et al.'s term, as
+ * Cycles applies it): the quad's map leans 45 degrees to +u, the lamp
+ * stands 10 degrees over the quad towards +x, so the tilted normal faces
+ * it at cos 35 degrees but the quad's relief would shadow most of it: g =
+ * sin 10 / (cos 35 cos 45) = 0.300, the share g + g^2 - g^3 = 0.363.
+ * Under both integrators' direct light; a lamp high above (g >= 1) lights
+ * it fully. */
+static void a_tilt_towards_a_grazing_light_takes_a_share_of_it(void **state)
+{
+    (void)state;
+    const double el = 10 * 3.14159265358979 / 180, g = sin(el) / (cos(35 * 3.14159265358979 / 180) * sqrt(0.5));
+    const double share = g + g * g - g * g * g;
+    Quad q = {.rgb = {218, 128, 218}, .scale = 1};
+    for (int path = 0; path < 2; path++)
+        for (int high = 0; high < 2; high++) {
+            Scene *s = quad_scene(&q);
+            s->ambient = v3_splat(R(0));
+            s->settings.shading = SHADE_DIFFUSE;
+            s->settings.shadows = 0;
+            s->settings.integrator = path ? INTEGRATOR_PATH : INTEGRATOR_WHITTED;
+            s->settings.depth = 0;
+            const vec3 to_light = high ? v3_norm(v3(1, 0, 1)) : v3((real)cos(el), 0, (real)sin(el));
+            assert_int_equal(scene_add_light(s, light_directional(v3_neg(to_light), v3_splat(1), 1), NULL), 0);
+            const World *w = world_now(s);
+            Ray r = ray_make(v3(0.3f, 0.6f, 1), v3(0, 0, -1), 0, REAL_MAX);
+            Hit h;
+            assert_true(trace_closest(w, &r, &h));
+            Surface sf;
+            trace_surface(w, &r, &h, &sf);
+            trace_surface_bump(&sf, NULL);
+            const double cosine = (double)v3_dot(sf.ns, to_light);
+            RayStats st = {0, 0, 0};
+            vec3 c;
+            if (path) {
+                const SampleId id = {.key = 1, .index = 0, .count = 1};
+                path_radiance_packet(w, &r, 1, &id, &c, &st, NULL);
+            } else {
+                c = shade_ray(w, &r, &st, NULL);
+            }
+            const double want = 0.8 * cosine * (high ? 1 : share); /* the default diffuse colour 0.8 */
+            if (fabs((double)c.x - want) > 1e-4)
+                fail_msg("%s, lamp %s: %.5f, expected %.5f (cos %.4f)", path ? "path" : "Whitted", high ? "high" : "grazing",
+                         (double)c.x, want, cosine);
+            world_now_free();
+            scene_destroy(s);
+        }
+}
+
 /* Texture coordinates that run against x turn the tangent: the normal
  * leans to -x, and still to +v. */
 static void mirrored_coordinates_mirror_the_frame(void **state)
@@ -324,6 +376,7 @@ int main(void)
         cmocka_unit_test(red_tilts_the_normal_towards_u_and_green_towards_v),
         cmocka_unit_test(a_map_baked_in_smooth_frames_reads_its_normals_back),
         cmocka_unit_test(a_height_map_bumps_the_smooth_surface),
+        cmocka_unit_test(a_tilt_towards_a_grazing_light_takes_a_share_of_it),
         cmocka_unit_test(a_height_map_leans_the_normal_down_its_slope),
         cmocka_unit_test(the_scale_tilts_x_and_y_only),
         cmocka_unit_test(mirrored_coordinates_mirror_the_frame),

@@ -331,6 +331,7 @@ static int surface_bounce(const World *w, Path *p, const Surface *sf, vec3 nv, v
     if (!lobes_make(&lb, kd, own ? v3_splat(R(0)) : ks, m->shininess, v3_add(v3_add(kr, kcm), kg), kc, coat_exp, sf->ns,
                     d))
         return 0;
+    lb.nv = sf->nv, lb.bumped = sf->bumped; /* a normal map's diffuse shadowing (lobes.h) */
     /* the shadow rays' origin, made once: a flat surface's bounce leaves from it too */
     const int emitters = w->emitter_count > 0 && w->view.settings.emitter_sampling != EMITTERS_BSDF;
     const int smooth = lobes_smooth(&lb) && (w->light_count > 0 || emitters);
@@ -397,10 +398,10 @@ static int path_step(const World *w, Path *p, int found, const Hit *h, RayStats 
     const int depth = w->view.settings.depth;
     Surface sf;
     trace_surface(w, &p->ray, h, &sf);
-    /* the smooth surface's normal, before a normal map tilts it: a bounce
-     * leaves the surface above it (see surface_bounce) */
-    const vec3 nv = sf.ns;
     trace_surface_bump(&sf, NULL); /* samples accumulate: the maps at a point each */
+    /* the smooth surface's normal, before a normal map tilted it: a bounce
+     * leaves the surface above it (see surface_bounce) */
+    const vec3 nv = sf.bumped ? sf.nv : sf.ns;
     trace_surface_metal(w, &sf, NULL);
     const Material *m = sf.mat;
     if (b == 0 && p->key)

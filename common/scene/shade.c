@@ -29,6 +29,7 @@
 
 #include "scene/dielectric.h"
 #include "scene/path.h"
+#include "shading/lobes.h"
 
 #include "base/sample.h"
 #include "base/sample_lanes.h"
@@ -232,7 +233,8 @@ static inline __attribute__((always_inline)) void add_light(Shading *sh, vec3 L,
                                                             const int optional)
 {
     sh->lit |= i < 16 ? 1u << i : 0;
-    sh->col = v3_add(sh->col, v3_scale(v3_mul(sh->kd, rad), ndotl));
+    const real shadowing = optional && sh->sf.bumped ? lobes_bump_shadowing(sh->sf.nv, sh->sf.ns, L) : R(1);
+    sh->col = v3_add(sh->col, v3_scale(v3_mul(sh->kd, rad), ndotl * shadowing));
     if (sh->phong) {
         real rv = v3_dot(v3_reflect(v3_neg(L), sh->sf.ns), sh->view);
         if (rv > R(0)) /* under a coat, what it lets through */

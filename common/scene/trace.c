@@ -792,8 +792,11 @@ void trace_surface_bump(Surface *out, const TexFootprint *fp)
     if (!(pl > R(0)) || !isfinite(pl))
         return;
     p = v3_scale(p, flip ? R(-1) / pl : R(1) / pl);
-    if (v3_dot(p, out->ng) > R(0))
+    if (v3_dot(p, out->ng) > R(0)) {
+        out->nv = out->ns;
+        out->bumped = 1;
         out->ns = p;
+    }
 }
 
 void trace_surface_metal(const World *w, Surface *sf, const TexFootprint *fp)
@@ -961,7 +964,7 @@ static inline __attribute__((always_inline)) void surface_at(const World *w, con
      * every hit (every case below sets p, the normals, err, mat, object) */
     out->p = out->ng = out->ns = out->colour = v3_splat(0);
     out->u = out->v = out->err = 0;
-    out->has_uv = out->has_colour = out->smooth = out->inside = 0;
+    out->has_uv = out->has_colour = out->smooth = out->inside = out->bumped = 0;
     out->mat = &fallback_material;
     out->etex = out->aotex = out->mtex = NULL;
     out->object = 0;

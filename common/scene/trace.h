@@ -43,6 +43,8 @@ typedef struct {
     real nheight;     /* > 0: nmap is a height map, its white this far up (material.h's bump_height) */
     vec3 dpdu, dpdv;  /* how the point moves with u and with v, in the world */
     int ns_turned;    /* ns was turned round to face the viewer */
+    int bumped;       /* trace_surface_bump tilted ns from nv, the smooth normal */
+    vec3 nv;
     Material local;   /* a mapped metal's material at this hit, which mat then names */
     vec3 local_tex;   /* where mat names local and tex is set: the colour texture's sample that tinted
                        * its mirror, which the diffuse colour takes too (read once: trace_surface_texel) */

@@ -27,7 +27,7 @@ vec3 lobes_eval(const Lobes *lb, vec3 wi, real *pdf)
     *pdf = R(0);
     if (!(c > R(0)))
         return v3_splat(R(0));
-    vec3 f = v3_scale(lb->kd, R(1) / REAL_PI);
+    vec3 f = v3_scale(lb->kd, (lb->bumped ? lobes_bump_shadowing(lb->nv, lb->n, wi) : R(1)) / REAL_PI);
     real p = lb->pd * c / REAL_PI;
     if (lb->pg > R(0)) {
         const real s = lb->shininess, g = glossy_power(lb, wi, s);

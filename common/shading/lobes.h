@@ -22,7 +22,30 @@ typedef struct {
     real pd, pg, pc, pm; /* the probability of sampling each lobe; they sum to 1 */
     vec3 n;          /* unit shading normal, on the side the ray came from */
     vec3 r;          /* the mirror direction of the incoming ray about n */
+    vec3 nv;         /* with bumped: the smooth normal a normal map tilted n from */
+    int bumped;
 } Lobes;
+
+/* How much of the light from wi a normal-mapped surface's diffuse lobe
+ * takes (Chiang, Li and Burley, "Taming the Shadow Terminator", 2019, as
+ * Cycles applies it): the map tilts the shading normal n towards a light
+ * that the smooth surface nv meets at a grazing angle, where the surface's
+ * own relief would shadow it; the share falls smoothly to 0 as the light
+ * nears nv's horizon instead of lighting the tilted normal fully up to a
+ * hard shadow edge (a low-poly model's facets cutting scallops into its
+ * lit side).  1 where n and nv agree. */
+static inline real lobes_bump_shadowing(vec3 nv, vec3 n, vec3 wi)
+{
+    const real d = v3_dot(n, wi) * v3_dot(nv, n);
+    if (!(d > R(0)))
+        return R(0);
+    const real g = v3_dot(nv, wi) / d;
+    if (g >= R(1))
+        return R(1);
+    if (!(g > R(0)))
+        return R(0);
+    return g + g * g - g * g * g;
+}
 
 /* The lobes of a surface with these colours seen along unit direction d,
  * and a clear coat's lobe (a second glossy one, of grey kc and exponent
