@@ -78,6 +78,12 @@ int model_place(Model **out, const Model *m, const mat3 *rot, vec3 translate, re
  * (texture_make_data_levels); called by world_build, before any thread
  * traces. */
 int model_prepare_simd(Model *m, Err *err);
+/* Triangle tri's dp/du and dp/dv (how its points move with its texture
+ * coordinates, as pbrt's triangles without tangents take them), and the
+ * side its texture lies on: 1 or 2 by the sign of its coordinates'
+ * determinant, 0 where they span no area (nothing written).  The model
+ * has texture coordinates. */
+int model_tri_frame(const Model *m, uint32_t tri, vec3 *dpdu, vec3 *dpdv);
 /* The tangents of a model whose materials read a normal map, once
  * (model_tangents.c); nothing for other models. */
 int model_tangents_build(Model *m, Err *err);

@@ -81,9 +81,7 @@ static uint64_t corner_hash(const Corner *c)
     return h ^ h >> 32;
 }
 
-/* The triangle's dp/du, and the side its texture lies on (1 or 2; 0 where
- * its texture coordinates span no area). */
-static int tri_dpdu(const Model *m, uint32_t tri, vec3 *dpdu)
+int model_tri_frame(const Model *m, uint32_t tri, vec3 *dpdu, vec3 *dpdv)
 {
     const Tri *t = &m->tris[tri];
     const real *uv = &m->uvs[6 * tri];
@@ -93,6 +91,7 @@ static int tri_dpdu(const Model *m, uint32_t tri, vec3 *dpdu)
     if (!(fabs(det) > R(0)) || !isfinite(det))
         return 0;
     *dpdu = v3_scale(v3_sub(v3_scale(e1, dv2), v3_scale(e2, dv1)), R(1) / det);
+    *dpdv = v3_scale(v3_sub(v3_scale(e2, du1), v3_scale(e1, du2)), R(1) / det);
     return det > R(0) ? 1 : 2;
 }
 
@@ -132,14 +131,14 @@ int model_tangents_build(Model *m, Err *err)
     uint8_t *side = malloc(m->tri_count);
     vec3 *out = malloc(corners * sizeof *out);
     int rc = slot && group && sum && side && out ? 0 : err_set(err, "model: out of memory for its tangents");
-    vec3 dpdu;
+    vec3 dpdu, dpdv;
     for (uint32_t i = 0; rc == 0 && i < m->tri_count; i++)
-        side[i] = (uint8_t)tri_dpdu(m, i, &dpdu);
+        side[i] = (uint8_t)model_tri_frame(m, i, &dpdu, &dpdv);
     uint32_t vertices = 0;
     for (uint32_t i = 0; rc == 0 && i < m->tri_count; i++) {
         dpdu = v3_splat(R(0));
         if (side[i])
-            tri_dpdu(m, i, &dpdu);
+            model_tri_frame(m, i, &dpdu, &dpdv);
         for (int k = 0; k < 3; k++) {
             const uint32_t c = 3 * i + (uint32_t)k;
             const Corner key = corner_of(m, i, k, side[i]);

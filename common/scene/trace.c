@@ -707,15 +707,9 @@ static __attribute__((noinline)) void bump_frame(const Model *m, const Hit *h, c
                                                 const Material *mat, Surface *sf)
 {
     const uint32_t tri = h->sub;
-    const Tri *t = &m->tris[tri];
-    const real *uv = &m->uvs[6 * tri];
-    const vec3 e1 = v3_sub(tri_vertex(t, 1), tri_vertex(t, 0)), e2 = v3_sub(tri_vertex(t, 2), tri_vertex(t, 0));
-    const real du1 = uv[2] - uv[0], dv1 = uv[3] - uv[1], du2 = uv[4] - uv[0], dv2 = uv[5] - uv[1];
-    const real det = du1 * dv2 - du2 * dv1;
-    if (!(fabs(det) > R(0)) || !isfinite(det))
+    vec3 dpdu, dpdv;
+    if (!model_tri_frame(m, tri, &dpdu, &dpdv))
         return;
-    vec3 dpdu = v3_scale(v3_sub(v3_scale(e1, dv2), v3_scale(e2, dv1)), R(1) / det);
-    const vec3 dpdv = v3_scale(v3_sub(v3_scale(e2, du1), v3_scale(e1, du2)), R(1) / det);
     if (m->tangents && !material_heights(mat)) {
         const vec3 *tg = &m->tangents[3 * tri];
         const vec3 s = bary(tg[0], tg[1], tg[2], h->b1, h->b2);
