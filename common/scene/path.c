@@ -152,7 +152,8 @@ static vec3 direct_light(const World *w, const Surface *sf, const Lobes *lb, con
         if (!(v3_max_comp(fc) > R(0)))
             continue;
         if (world_has(w, FEAT_SHADOWS) &&
-            shadowed(w, origin, dir, isfinite(dist) ? dist * (R(1) - R(64) * REAL_EPS) : REAL_MAX, &w->lights[li], st))
+            shadowed(w, sf->smooth ? trace_leave_origin(sf, dir) : origin, dir,
+                     isfinite(dist) ? dist * (R(1) - R(64) * REAL_EPS) : REAL_MAX, &w->lights[li], st))
             continue;
         sum = v3_add(sum, v3_scale(v3_mul(fc, rad), REAL_PI));
     }
@@ -179,7 +180,8 @@ static vec3 direct_emitters(const World *w, const Surface *sf, vec3 nv, const Lo
     if (!(v3_max_comp(fc) > R(0)))
         return v3_splat(R(0));
     /* short of the point by more than the rounding of its place, so the emitter does not shadow itself */
-    if (w->view.settings.shadows && shadowed(w, origin, es.dir, es.dist * (R(1) - R(1024) * REAL_EPS), NULL, st))
+    if (w->view.settings.shadows && shadowed(w, sf->smooth ? trace_leave_origin(sf, es.dir) : origin, es.dir,
+                                             es.dist * (R(1) - R(1024) * REAL_EPS), NULL, st))
         return v3_splat(R(0));
     const int bsdf_finds = w->view.settings.emitter_sampling == EMITTERS_MIS && !last && v3_dot(es.dir, nv) > R(0);
     const real weight = bsdf_finds ? power_weight(es.pdf, pdf) : R(1);
@@ -336,12 +338,14 @@ static int surface_bounce(const World *w, Path *p, const Surface *sf, vec3 nv, v
     const int emitters = w->emitter_count > 0 && w->view.settings.emitter_sampling != EMITTERS_BSDF;
     const int smooth = lobes_smooth(&lb) && (w->light_count > 0 || emitters);
     const int nee = smooth || highlight;
-    const vec3 from_ps = nee ? trace_offset_origin(sf->ps, sf->ng, sf->ps_err) : v3_splat(R(0));
+    /* the light rays' origin off a flat surface, made once (a smooth
+     * triangle's each by its direction: trace_leave_origin) */
+    const vec3 from_p = nee || !sf->smooth ? trace_offset_origin(sf->p, sf->ng, sf->err) : v3_splat(R(0));
     if (nee) { /* next-event estimation: what the smooth lobes take from the lights */
         p->L = v3_add(p->L, v3_mul(p->beta, direct_light(w, sf, smooth ? &lb : NULL, highlight ? &hl : NULL, dr,
-                                                         from_ps, st)));
+                                                         from_p, st)));
         if (smooth && emitters)
-            p->L = v3_add(p->L, v3_mul(p->beta, direct_emitters(w, sf, nv, &lb, last, dr, from_ps, st)));
+            p->L = v3_add(p->L, v3_mul(p->beta, direct_emitters(w, sf, nv, &lb, last, dr, from_p, st)));
     }
     if (last)
         return 0;
@@ -375,8 +379,8 @@ static int surface_bounce(const World *w, Path *p, const Surface *sf, vec3 nv, v
     p->after_smooth = 1;
     p->from = sf->p;
     p->pdf_bounce = pdf;
-    /* from the lifted point, as the shadow rays (off a flat surface p is ps) */
-    ray_init(&p->ray, nee ? from_ps : trace_offset_origin(sf->ps, sf->ng, sf->ps_err), nd, R(0), REAL_MAX);
+    /* lifted as the shadow rays are, by how nearly it grazes the facet */
+    ray_init(&p->ray, sf->smooth ? trace_leave_origin(sf, nd) : from_p, nd, R(0), REAL_MAX);
     return go;
 }
 

@@ -211,7 +211,7 @@ int shade_light_point(const World *w, uint32_t li, vec3 p, real u, real v, vec3 
 /* What one camera ray's shading carries from light to light. */
 typedef struct {
     Surface sf;
-    vec3 kd, col, view, origin;
+    vec3 kd, col, view, origin, origin_ps; /* where light rays leave: off p, and a smooth triangle's off ps */
     vec3 ke; /* what the surface emits here (trace_emission) */
     int phong;
     real coat;     /* a clear coat's share of the light here (dielectric_coat_share), 0 without one */
@@ -301,10 +301,13 @@ static inline __attribute__((always_inline)) void shade_start(const World *w, co
     if (optional && sh->sf.aotex) /* an occlusion texture: crevices take less of the ambient light */
         sh->col = v3_scale(sh->col, trace_occlusion(&sh->sf, sh->rd ? &fp : NULL));
     sh->phong = w->view.settings.shading == SHADE_PHONG && v3_max_comp(m->ks) > R(0);
-    sh->origin = sh->sf.p;
-    if (world_has(w, FEAT_SHADOWS)) /* every light ray leaves on the viewer's side, a smooth triangle's from its
-                                     * point lifted onto the curved surface (trace_terminator_point) */
-        sh->origin = trace_offset_origin(sh->sf.ps, sh->sf.ng, sh->sf.ps_err);
+    sh->origin = sh->origin_ps = sh->sf.p;
+    if (world_has(w, FEAT_SHADOWS)) { /* every light ray leaves on the viewer's side, a smooth triangle's towards
+                                       * its point lifted onto the curved surface as the light grazes its facet
+                                       * (trace_lift_share) */
+        sh->origin = trace_offset_origin(sh->sf.p, sh->sf.ng, sh->sf.err);
+        sh->origin_ps = sh->sf.smooth ? trace_offset_origin(sh->sf.ps, sh->sf.ng, sh->sf.ps_err) : sh->origin;
+    }
     sh->lit = 0;
     sh->disc.of = 0;
     sh->disc.key_of = 0;
@@ -578,7 +581,12 @@ static vec3 shade_beyond(const World *w, int i, const Shading *sh, int depth, ve
 static inline real shadow_ray_inv(const Shading *h, vec3 L, vec3 inv, real dist, Ray *sr)
 {
     const real tmax = isfinite(dist) ? dist * (R(1) - R(64) * REAL_EPS) : REAL_MAX;
-    ray_set(sr, h->origin, L, inv, R(0), tmax);
+    vec3 o = h->origin;
+    if (h->sf.smooth) {
+        const real a = trace_lift_share(&h->sf, L);
+        o = a >= R(1) ? h->origin_ps : a > R(0) ? trace_leave_origin(&h->sf, L) : o;
+    }
+    ray_set(sr, o, L, inv, R(0), tmax);
     return tmax;
 }
 

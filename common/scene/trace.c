@@ -1019,6 +1019,20 @@ real trace_occlusion(const Surface *sf, const TexFootprint *fp)
     return R(1) + sf->mat->ao_strength * (r - R(1));
 }
 
+vec3 trace_leave_origin(const Surface *sf, vec3 l)
+{
+    const real a = sf->smooth ? trace_lift_share(sf, l) : R(0);
+    if (!(a > R(0)))
+        return trace_offset_origin(sf->p, sf->ng, sf->err);
+    if (a >= R(1))
+        return trace_offset_origin(sf->ps, sf->ng, sf->ps_err);
+    const vec3 q = v3_madd(sf->p, v3_sub(sf->ps, sf->p), a);
+    /* p and ps each within their bounds; the difference, product and sum round */
+    const real e = real_max(sf->err, sf->ps_err) +
+                   real_gamma(3) * (v3_max_comp(v3_abs(sf->p)) + v3_max_comp(v3_abs(sf->ps)));
+    return trace_offset_origin(q, sf->ng, e);
+}
+
 vec3 trace_offset_origin(vec3 p, vec3 n, real err)
 {
     /* distance along n that covers the error box of p: |n| . err (PBRT 3.9.5) */
