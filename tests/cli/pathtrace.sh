@@ -112,28 +112,29 @@ fi
 # 1%.  Before 2026-11-29 every light ray of a smooth triangle left from
 # the point lifted onto its curved surface, inside the next fold of this
 # mesh's ridges: 1.9% off, its light 2% short (14% of its direct light).
-dr_err="(not measured under a sanitizer)"
-if [ "$sanitized" = 0 ]; then
-    "$BIN/lanray-render" tests/data/cycles/dragon.scene --aa 8 -o "$dir/dragon.hdr" --quiet >/dev/null ||
-        fail "dragon.scene did not render"
-    IFS=, read -r dr_err dr_ratio <<<"$("$BIN/lanray-imgdiff" --relative --block 4 --csv "$dir/dragon.hdr" tests/data/cycles/dragon-96.hdr)"
-    python3 -c "import sys; sys.exit(0 if $dr_err <= 0.008 and abs($dr_ratio - 1) <= 0.01 else 1)" ||
-        fail "a scanned dragon: $dr_err (mean relative error, 4x4 blocks; light ratio $dr_ratio) from Cycles'"
-fi
+# against_cycles NAME AA MAX_ERR WHAT: tests/data/cycles/NAME.scene at AA x
+# AA samples within MAX_ERR (mean relative error in 4x4 blocks) of Cycles'
+# stored NAME-96.hdr, its light within 1%; the error in $err
+against_cycles() {
+    err="(not measured under a sanitizer)"
+    [ "$sanitized" = 0 ] || return 0
+    "$BIN/lanray-render" "tests/data/cycles/$1.scene" --aa "$2" -o "$dir/$1.hdr" --quiet >/dev/null ||
+        fail "$1.scene did not render"
+    local ratio
+    IFS=, read -r err ratio <<<"$("$BIN/lanray-imgdiff" --relative --block 4 --csv "$dir/$1.hdr" "tests/data/cycles/$1-96.hdr")"
+    python3 -c "import sys; sys.exit(0 if $err <= $3 and abs($ratio - 1) <= 0.01 else 1)" ||
+        fail "$4: $err (mean relative error, 4x4 blocks; light ratio $ratio) from Cycles'"
+}
+against_cycles dragon 8 0.008 "a scanned dragon"
+dr_err=$err
 # a normal map against Cycles' (tests/data/cycles/mapped.scene: the
 # 12 x 6 ball whose map was baked in Blender's tangent frames, under the
 # same lamp and sky; Cycles reads it through a tangent-space Normal Map
 # node): within 1.5% in 4x4 blocks, its light within 1%.  Before
 # 2026-11-29 (each triangle's own frame, the facets deciding what a light
 # or a bounce may do, no shadowing term for the map): 3.9% off.
-nm_err="(not measured under a sanitizer)"
-if [ "$sanitized" = 0 ]; then
-    "$BIN/lanray-render" tests/data/cycles/mapped.scene --aa 8 -o "$dir/mapped.hdr" --quiet >/dev/null ||
-        fail "mapped.scene did not render"
-    IFS=, read -r nm_err nm_ratio <<<"$("$BIN/lanray-imgdiff" --relative --block 4 --csv "$dir/mapped.hdr" tests/data/cycles/mapped-96.hdr)"
-    python3 -c "import sys; sys.exit(0 if $nm_err <= 0.015 and abs($nm_ratio - 1) <= 0.01 else 1)" ||
-        fail "a normal-mapped ball: $nm_err (mean relative error, 4x4 blocks; light ratio $nm_ratio) from Cycles'"
-fi
+against_cycles mapped 8 0.015 "a normal-mapped ball"
+nm_err=$err
 # a smooth coat over a rough metal reflects sharply: its mirror is not
 # bent by the metal's roughness (a metal of 0.1% under it: the picture is
 # the coat's alone within RMSE 5; bent with it, as before, RMSE 14.4)
