@@ -693,6 +693,28 @@ static void wrong_data_stays_an_error(void **state)
     assert_non_null(strstr(h.last, "colours-mtl.obj:2: vertex colours ignored"));
 }
 
+/* A triangle is degenerate by its normal's largest component, not its
+ * squared length, which overflowed at 1e10 (and underflowed at 1e-11)
+ * and dropped every triangle of a model measured in such units; a
+ * straight or pointlike one, or one with a coordinate not finite, still is. */
+static void degenerates_are_told_at_any_scale(void **state)
+{
+    (void)state;
+    const real scales[] = {R(1e-15), R(1e-11), R(1e-9), 1, R(1e9), R(1e10), R(1e15)};
+    for (size_t i = 0; i < sizeof scales / sizeof scales[0]; i++) {
+        const real k = scales[i];
+        const vec3 tri[3] = {v3(0, 0, 0), v3(k, 0, 0), v3(0, k, 0)};
+        const vec3 line[3] = {v3(0, 0, 0), v3(k, k, 0), v3(2 * k, 2 * k, 0)};
+        const vec3 point[3] = {v3(k, k, k), v3(k, k, k), v3(k, k, k)};
+        if (mesh_tri_is_degenerate(tri))
+            fail_msg("a right triangle of side %g taken for degenerate", (double)k);
+        assert_true(mesh_tri_is_degenerate(line));
+        assert_true(mesh_tri_is_degenerate(point));
+    }
+    const vec3 inf[3] = {v3(0, 0, 0), v3(REAL_INF, 0, 0), v3(0, 1, 0)};
+    assert_true(mesh_tri_is_degenerate(inf));
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -702,6 +724,7 @@ int main(void)
         cmocka_unit_test(named_files_are_found_near),
         cmocka_unit_test(byte_order_mark_is_skipped),
         cmocka_unit_test(polygons_are_triangulated_and_degenerates_dropped),
+        cmocka_unit_test(degenerates_are_told_at_any_scale),
         cmocka_unit_test(materials_from_mtllib),
         cmocka_unit_test(map_d_makes_a_cutout),
         cmocka_unit_test(norm_and_coloured_bump_maps_are_normal_maps),

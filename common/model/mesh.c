@@ -141,6 +141,9 @@ int mesh_add_material(Mesh *m, Material mat, Err *err)
 int mesh_tri_is_degenerate(const vec3 p[3])
 {
     vec3 n = v3_cross(v3_sub(p[1], p[0]), v3_sub(p[2], p[0]));
-    real a = v3_dot(n, n);
+    /* the normal's largest component, not its squared length: that
+     * overflowed (or underflowed) for a model measured in units 1e9 times
+     * too small (or 1e-10 too large) for it, and dropped every triangle */
+    real a = v3_max_comp(v3_abs(n));
     return !(a > R(0)) || !isfinite(a) || !v3_is_finite(p[0]) || !v3_is_finite(p[1]) || !v3_is_finite(p[2]);
 }
