@@ -247,10 +247,32 @@ static void next_up_and_down_are_nextafter(void **state)
     assert_true(isnan(real_next_up(n)) && isnan(real_next_down(n)));
 }
 
+/* A face normal of any size normalises: the cross product of edges of a
+ * model measured in units 1e10 too small has a square past a float's
+ * range, of one 1e-12 too large one under it (v3_norm gave infinities and
+ * zeros there, and the model's shading went wrong); within the range the
+ * very bits of v3_norm. */
+static void normals_of_any_size_normalise(void **state)
+{
+    (void)state;
+    const real big[] = {R(1e20), R(1e30), R(1e-20), R(1e-30)};
+    for (size_t i = 0; i < sizeof big / sizeof big[0]; i++) {
+        const vec3 n = v3_norm_any(v3(big[i], 0, big[i]));
+        assert_float_equal(n.x, R(0.70710678), R(1e-6));
+        assert_float_equal(n.y, R(0), R(0));
+        assert_float_equal(n.z, R(0.70710678), R(1e-6));
+    }
+    const vec3 a = v3(R(1.5), R(-2.25), R(3.125)), x = v3_norm(a), y = v3_norm_any(a);
+    assert_memory_equal(&x, &y, sizeof x);
+    const vec3 z = v3_norm_any(v3(0, 0, 0));
+    assert_true(z.x == 0 && z.y == 0 && z.z == 0);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(sphere_from_outside),
+        cmocka_unit_test(normals_of_any_size_normalise),
         cmocka_unit_test(sphere_from_inside_and_misses),
         cmocka_unit_test(plane_hits_and_parallel),
         cmocka_unit_test(triangle_barycentrics),

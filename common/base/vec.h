@@ -30,6 +30,20 @@ static inline vec3 v3_norm(vec3 a)
     real l = v3_len(a);
     return l > R(0) ? v3_scale(a, R(1) / l) : a;
 }
+/* v3_norm of a vector of any size (a face normal, the cross product of
+ * edges: the square of coordinates past 1e9 overflows a float, of ones
+ * under 1e-19 underflows): scaled by its largest component first where its
+ * length is out of that range; v3_norm's very bits within it. */
+static inline vec3 v3_norm_any(vec3 a)
+{
+    const real l = v3_len(a);
+    if (l > R(1e-18) && l < R(1e18))
+        return v3_scale(a, R(1) / l);
+    const real m = real_max(real_max(fabs(a.x), fabs(a.y)), fabs(a.z));
+    if (!(m > R(0)) || !isfinite(m))
+        return a;
+    return v3_norm(v3_scale(a, R(1) / m));
+}
 static inline vec3 v3_min(vec3 a, vec3 b) { return v3(real_min(a.x, b.x), real_min(a.y, b.y), real_min(a.z, b.z)); }
 static inline vec3 v3_max(vec3 a, vec3 b) { return v3(real_max(a.x, b.x), real_max(a.y, b.y), real_max(a.z, b.z)); }
 static inline vec3 v3_abs(vec3 a) { return v3(fabs(a.x), fabs(a.y), fabs(a.z)); }

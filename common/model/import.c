@@ -700,7 +700,7 @@ static int import_scene(const struct aiScene *sc, const char *path, const char *
                 continue;
             }
             if (has_n) { /* a face without usable normals gets its geometric one, as the OBJ reader does */
-                vec3 fn = v3_norm(v3_cross(v3_sub(p[1], p[0]), v3_sub(p[2], p[0])));
+                vec3 fn = v3_norm_any(v3_cross(v3_sub(p[1], p[0]), v3_sub(p[2], p[0])));
                 for (int k = 0; k < 3; k++) {
                     n[k] = v3_norm(n[k]);
                     if (!(v3_dot(n[k], n[k]) > R(0.5)))

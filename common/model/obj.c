@@ -465,7 +465,7 @@ static int obj_assemble(Obj *o, const ObjOptions *opt, Mesh *out, ObjStats *st, 
             st->degenerate++;
             continue;
         }
-        vec3 fn = v3_norm(v3_cross(v3_sub(p[1], p[0]), v3_sub(p[2], p[0])));
+        vec3 fn = v3_norm_any(v3_cross(v3_sub(p[1], p[0]), v3_sub(p[2], p[0])));
         int file_n = t->n[0] >= 0 && t->n[1] >= 0 && t->n[2] >= 0;
         if (!file_n && smooth_of && smooth_of[3 * i] != SMOOTH_FLAT)
             st->smoothed++;

@@ -208,9 +208,9 @@ int mesh_smooth(Mesh *m, real crease_deg, Err *err)
         if (start[v + 1] > start[v])
             crease_vertex(m, &list[start[v]], start[v + 1] - start[v], cos_crease, nrm);
     for (size_t c = 0; c < n; c++) {
-        nrm[c] = v3_norm(nrm[c]);
+        nrm[c] = v3_norm_any(nrm[c]);
         if (!(v3_dot(nrm[c], nrm[c]) > R(0.5)))
-            nrm[c] = v3_norm(mesh_face_normal(m, (uint32_t)(c / 3))); /* a cancelling fan: the face's own */
+            nrm[c] = v3_norm_any(mesh_face_normal(m, (uint32_t)(c / 3))); /* a cancelling fan: the face's own */
     }
     free(vertex), free(start), free(list);
     free(m->nrm);

@@ -871,7 +871,7 @@ static inline __attribute__((always_inline)) void surface_triangle(const World *
     const TriAttr *a = &w->tri_attrs[h->index];
     vec3 v0 = tri_vertex(t, 0), v1 = tri_vertex(t, 1), v2 = tri_vertex(t, 2);
     out->p = trace_triangle_point(v0, v1, v2, h->b1, h->b2, &out->err);
-    out->ng = v3_norm(v3_cross(v3_sub(v1, v0), v3_sub(v2, v0)));
+    out->ng = v3_norm_any(v3_cross(v3_sub(v1, v0), v3_sub(v2, v0)));
     out->ns = out->ng;
     if (optional && world_uses(w, FEAT_SMOOTH) && a->smooth) {
         out->ns = v3_norm(bary(a->n[0], a->n[1], a->n[2], h->b1, h->b2));
@@ -907,7 +907,7 @@ static inline __attribute__((always_inline)) int surface_instance(const World *w
     out->err = real_gamma(10) * R(3) * in->scale * vmax +
                real_gamma(2) * real_max(v3_max_comp(v3_abs(in->translate)), v3_max_comp(v3_abs(out->p)));
     /* uniform scale: normals transform by the rotation alone */
-    out->ng = v3_norm(m3_apply(&in->rot, v3_cross(v3_sub(v1, v0), v3_sub(v2, v0))));
+    out->ng = v3_norm_any(m3_apply(&in->rot, v3_cross(v3_sub(v1, v0), v3_sub(v2, v0))));
     if (optional && world_uses(w, FEAT_SMOOTH) && m->normals) {
         const vec3 *n = &m->normals[3 * h->sub];
         out->ns = v3_norm(m3_apply(&in->rot, bary(n[0], n[1], n[2], h->b1, h->b2)));
