@@ -192,6 +192,57 @@ static void no_acne_at_any_translation_or_scale(void **state)
 }
 
 
+/* A model measured in any unit renders as it does in metres: an
+ * icosphere built at radius 0.8 S in its own coordinates (flat, so that
+ * every hit's normal is a face's), seen and lit from S-scaled places.
+ * Before 2026-11-29 a model of S = 1e10 lost every triangle (the squared
+ * length of a face normal overflowed: mesh_tri_is_degenerate) and its
+ * shading broke past 1e9 (v3_norm of face normals); at 1e-11 its
+ * triangles went the same way by underflow.  Below 1e-12 and past 3e12
+ * the float products of the triangle test leave float's range. */
+static Scene *measured_scene(real S)
+{
+    Scene *s = scene_create();
+    Mesh m;
+    mesh_icosphere(&m, R(0.8) * S, 2);
+    BvhOptions opt = bvh_options_default(BVH_SAH);
+    Model *model;
+    assert_int_equal(model_from_mesh(&model, &m, &opt, NULL), 0);
+    mesh_free(&m);
+    uint32_t mid;
+    assert_int_equal(scene_add_model(s, model, &mid, NULL), 0);
+    assert_int_equal(scene_add_instance(s, instance_make(mid, v3(0, 0, 0), v3(10, 20, 30), 1), NULL), 0);
+    scene_add_light(s, light_point(v3_scale(v3(-3, 6, 4), S), v3(1, 1, 1), R(0.9), 0), NULL);
+    camera_look_at(&s->camera, v3_scale(v3(0, 1, 3), S), v3(0, 0, 0), 0, camera_zoom_for_fov(50));
+    assert_int_equal(scene_check(s, NULL), 0);
+    return s;
+}
+
+static void a_model_in_any_unit_renders_as_in_metres(void **state)
+{
+    (void)state;
+    enum { W = 80, H = 60 };
+    RenderPool *pool = render_pool_create(2, NULL);
+    uint8_t ref[W * H * 3], img[W * H * 3];
+    Scene *s = measured_scene(1);
+    assert_int_equal(render_lines(pool, world_now(s), W, H, 0, H, ref, NULL, NULL), 0);
+    scene_destroy(s);
+    int lit = 0;
+    for (int i = 0; i < W * H; i++)
+        lit += ref[3 * i] > 40;
+    assert_true(lit > W * H / 10); /* the ball is there to compare */
+    const real scales[] = {R(1e-12), R(1e-9), R(1e9), R(1e10), R(1e12)};
+    for (size_t i = 0; i < sizeof scales / sizeof scales[0]; i++) {
+        s = measured_scene(scales[i]);
+        assert_int_equal(render_lines(pool, world_now(s), W, H, 0, H, img, NULL, NULL), 0);
+        const double diff = share_differing(ref, img, W * H);
+        printf("model measured at %g: pixels differing %.4f\n", (double)scales[i], diff);
+        assert_true(diff <= 0.005);
+        scene_destroy(s);
+    }
+    render_pool_destroy(pool);
+}
+
 /* ---- reflected and refracted rays at every translation and scale ---- */
 
 /* A sphere and a convex mesh (an icosphere instance, rotated), both of
@@ -637,6 +688,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(closed_meshes_do_not_leak),
         cmocka_unit_test(no_acne_at_any_translation_or_scale),
+        cmocka_unit_test(a_model_in_any_unit_renders_as_in_metres),
         cmocka_unit_test(reflection_and_refraction_at_any_translation_or_scale),
         cmocka_unit_test(parallel_and_grazing_rays),
         cmocka_unit_test(degenerate_and_sliver_triangles),
