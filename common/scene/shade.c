@@ -578,15 +578,19 @@ static vec3 shade_beyond(const World *w, int i, const Shading *sh, int depth, ve
 /* The shadow ray from h's hit towards a light dist away along unit L
  * (inv: its inverse, 1/L.x ...), stopping just short of the light so that
  * it does not shadow itself: its tmax. */
-static inline real shadow_ray_inv(const Shading *h, vec3 L, vec3 inv, real dist, Ray *sr)
+/* A smooth triangle's shadow-ray origin towards L (trace_lift_share):
+ * apart, so that the flat surfaces' shadow rays stay inline. */
+static __attribute__((noinline)) vec3 smooth_origin(const Shading *h, vec3 L)
+{
+    const real a = trace_lift_share(&h->sf, L);
+    return a >= R(1) ? h->origin_ps : a > R(0) ? trace_leave_origin(&h->sf, L) : h->origin;
+}
+
+static inline __attribute__((always_inline)) real shadow_ray_inv(const Shading *h, vec3 L, vec3 inv, real dist,
+                                                                 Ray *sr)
 {
     const real tmax = isfinite(dist) ? dist * (R(1) - R(64) * REAL_EPS) : REAL_MAX;
-    vec3 o = h->origin;
-    if (h->sf.smooth) {
-        const real a = trace_lift_share(&h->sf, L);
-        o = a >= R(1) ? h->origin_ps : a > R(0) ? trace_leave_origin(&h->sf, L) : o;
-    }
-    ray_set(sr, o, L, inv, R(0), tmax);
+    ray_set(sr, h->sf.smooth ? smooth_origin(h, L) : h->origin, L, inv, R(0), tmax);
     return tmax;
 }
 
