@@ -30,6 +30,10 @@ static inline vec3 v3_norm(vec3 a)
     real l = v3_len(a);
     return l > R(0) ? v3_scale(a, R(1) / l) : a;
 }
+static inline vec3 v3_min(vec3 a, vec3 b) { return v3(real_min(a.x, b.x), real_min(a.y, b.y), real_min(a.z, b.z)); }
+static inline vec3 v3_max(vec3 a, vec3 b) { return v3(real_max(a.x, b.x), real_max(a.y, b.y), real_max(a.z, b.z)); }
+static inline vec3 v3_abs(vec3 a) { return v3(fabs(a.x), fabs(a.y), fabs(a.z)); }
+static inline real v3_max_comp(vec3 a) { return real_max(a.x, real_max(a.y, a.z)); }
 /* v3_norm of a vector of any size (a face normal, the cross product of
  * edges: the square of coordinates past 1e9 overflows a float, of ones
  * under 1e-19 underflows): scaled by its largest component first where its
@@ -39,15 +43,11 @@ static inline vec3 v3_norm_any(vec3 a)
     const real l = v3_len(a);
     if (l > R(1e-18) && l < R(1e18))
         return v3_scale(a, R(1) / l);
-    const real m = real_max(real_max(fabs(a.x), fabs(a.y)), fabs(a.z));
+    const real m = v3_max_comp(v3_abs(a));
     if (!(m > R(0)) || !isfinite(m))
         return a;
     return v3_norm(v3_scale(a, R(1) / m));
 }
-static inline vec3 v3_min(vec3 a, vec3 b) { return v3(real_min(a.x, b.x), real_min(a.y, b.y), real_min(a.z, b.z)); }
-static inline vec3 v3_max(vec3 a, vec3 b) { return v3(real_max(a.x, b.x), real_max(a.y, b.y), real_max(a.z, b.z)); }
-static inline vec3 v3_abs(vec3 a) { return v3(fabs(a.x), fabs(a.y), fabs(a.z)); }
-static inline real v3_max_comp(vec3 a) { return real_max(a.x, real_max(a.y, a.z)); }
 static inline real v3_min_comp(vec3 a) { return real_min(a.x, real_min(a.y, a.z)); }
 static inline int v3_is_finite(vec3 a) { return isfinite(a.x) && isfinite(a.y) && isfinite(a.z); }
 static inline vec3 v3_lerp(vec3 a, vec3 b, real t) { return v3_madd(a, v3_sub(b, a), t); }

@@ -131,14 +131,12 @@ int model_tangents_build(Model *m, Err *err)
     uint8_t *side = malloc(m->tri_count);
     vec3 *out = malloc(corners * sizeof *out);
     int rc = slot && group && sum && side && out ? 0 : err_set(err, "model: out of memory for its tangents");
-    vec3 dpdu, dpdv;
-    for (uint32_t i = 0; rc == 0 && i < m->tri_count; i++)
-        side[i] = (uint8_t)model_tri_frame(m, i, &dpdu, &dpdv);
     uint32_t vertices = 0;
     for (uint32_t i = 0; rc == 0 && i < m->tri_count; i++) {
-        dpdu = v3_splat(R(0));
-        if (side[i])
-            model_tri_frame(m, i, &dpdu, &dpdv);
+        /* (a vertex's first corner lies in this triangle or an earlier
+         * one, whose side is known by then) */
+        vec3 dpdu = v3_splat(R(0)), dpdv;
+        side[i] = (uint8_t)model_tri_frame(m, i, &dpdu, &dpdv);
         for (int k = 0; k < 3; k++) {
             const uint32_t c = 3 * i + (uint32_t)k;
             const Corner key = corner_of(m, i, k, side[i]);

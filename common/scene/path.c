@@ -132,7 +132,8 @@ static int shadowed(const World *w, vec3 origin, vec3 dir, real tmax, const Worl
  * Whitted's shading (shade.c): near the boundary between light and dark
  * on a smooth triangle, a light behind the flat facet but in front of the
  * curved surface its normals describe lights the point, and the shadow ray
- * from the lifted point (sf->ps) says whether anything is in the way.
+ * (from the point lifted towards that surface as it grazes the facet:
+ * trace_leave_origin) says whether anything is in the way.
  * (Deciding by the facet cut a low-poly ball's terminator into the
  * polygon of its triangles: tests/test_render.c, the shadow terminator.) */
 static vec3 direct_light(const World *w, const Surface *sf, const Lobes *lb, const Lobes *hl, const Draws *dr,
@@ -166,9 +167,10 @@ static real power_weight(real a, real b) { return a * a / (a * a + b * b); }
 /* Next-event estimation of emissive geometry from a point with smooth
  * lobes: one point of one emitter, f x cos x its radiance over its
  * density, weighed against the bounce that could have found it (at the
- * last bounce none follows, and no bounce leaves below the flat facet:
- * the whole of it).  The shading normal decides, as in direct_light. */
-static vec3 direct_emitters(const World *w, const Surface *sf, vec3 nv, const Lobes *lb, int last, const Draws *dr,
+ * last bounce none follows, and no bounce leaves below the smooth normal
+ * sf->nv, which a normal map's shading normal may dip under: the whole of
+ * it).  The shading normal decides, as in direct_light. */
+static vec3 direct_emitters(const World *w, const Surface *sf, const Lobes *lb, int last, const Draws *dr,
                             vec3 origin, RayStats *st)
 {
     real u, v, pdf;
@@ -183,7 +185,7 @@ static vec3 direct_emitters(const World *w, const Surface *sf, vec3 nv, const Lo
     if (w->view.settings.shadows && shadowed(w, sf->smooth ? trace_leave_origin(sf, es.dir) : origin, es.dir,
                                              es.dist * (R(1) - R(1024) * REAL_EPS), NULL, st))
         return v3_splat(R(0));
-    const int bsdf_finds = w->view.settings.emitter_sampling == EMITTERS_MIS && !last && v3_dot(es.dir, nv) > R(0);
+    const int bsdf_finds = w->view.settings.emitter_sampling == EMITTERS_MIS && !last && v3_dot(es.dir, sf->nv) > R(0);
     const real weight = bsdf_finds ? power_weight(es.pdf, pdf) : R(1);
     return v3_scale(v3_mul(fc, es.radiance), weight / es.pdf);
 }
@@ -304,8 +306,8 @@ static int highlight_make(const DrawPlan *pl, const Surface *sf, vec3 ks, vec3 d
  * mirror's share, and the transmission): next-event estimation for the
  * smooth ones, then one lobe chosen by weight for the path's next ray.
  * 0 where the path ends. */
-static int surface_bounce(const World *w, Path *p, const Surface *sf, vec3 nv, vec3 kd, vec3 ks, const Draws *dr,
-                          int last, RayStats *st)
+static int surface_bounce(const World *w, Path *p, const Surface *sf, vec3 kd, vec3 ks, const Draws *dr, int last,
+                          RayStats *st)
 {
     const Material *m = sf->mat;
     const vec3 d = p->ray.dir;
@@ -345,7 +347,7 @@ static int surface_bounce(const World *w, Path *p, const Surface *sf, vec3 nv, v
         p->L = v3_add(p->L, v3_mul(p->beta, direct_light(w, sf, smooth ? &lb : NULL, highlight ? &hl : NULL, dr,
                                                          from_p, st)));
         if (smooth && emitters)
-            p->L = v3_add(p->L, v3_mul(p->beta, direct_emitters(w, sf, nv, &lb, last, dr, from_p, st)));
+            p->L = v3_add(p->L, v3_mul(p->beta, direct_emitters(w, sf, &lb, last, dr, from_p, st)));
     }
     if (last)
         return 0;
@@ -374,7 +376,7 @@ static int surface_bounce(const World *w, Path *p, const Surface *sf, vec3 nv, v
     real pdf;
     const vec3 nd = lobes_sample_smooth(&lb, (pick - lb.pm) / (R(1) - lb.pm), u, v);
     const vec3 fc = lobes_eval(&lb, nd, &pdf);
-    const int go = pdf > R(0) && v3_dot(nd, nv) > R(0);
+    const int go = pdf > R(0) && v3_dot(nd, sf->nv) > R(0); /* leaves the smooth surface (sf->nv) */
     p->beta = v3_mul(p->beta, v3_scale(fc, go ? R(1) / pdf : R(0)));
     p->after_smooth = 1;
     p->from = sf->p;
@@ -403,9 +405,6 @@ static int path_step(const World *w, Path *p, int found, const Hit *h, RayStats 
     Surface sf;
     trace_surface(w, &p->ray, h, &sf);
     trace_surface_bump(&sf, NULL); /* samples accumulate: the maps at a point each */
-    /* the smooth surface's normal, before a normal map tilted it: a bounce
-     * leaves the surface above it (see surface_bounce) */
-    const vec3 nv = sf.bumped ? sf.nv : sf.ns;
     trace_surface_metal(w, &sf, NULL);
     const Material *m = sf.mat;
     if (b == 0 && p->key)
@@ -434,7 +433,7 @@ static int path_step(const World *w, Path *p, int found, const Hit *h, RayStats 
             return 0;
         go = dielectric_bounce(w, &sf, p->ray.dir, draw1(&dr, 2), &p->beta, &p->ray);
     } else {
-        go = surface_bounce(w, p, &sf, nv, kd, ks, &dr, last, st);
+        go = surface_bounce(w, p, &sf, kd, ks, &dr, last, st);
     }
     if (!go)
         return 0;

@@ -583,7 +583,7 @@ static vec3 shade_beyond(const World *w, int i, const Shading *sh, int depth, ve
 static __attribute__((noinline)) vec3 smooth_origin(const Shading *h, vec3 L)
 {
     const real a = trace_lift_share(&h->sf, L);
-    return a >= R(1) ? h->origin_ps : a > R(0) ? trace_leave_origin(&h->sf, L) : h->origin;
+    return a >= R(1) ? h->origin_ps : a > R(0) ? trace_lifted_origin(&h->sf, a) : h->origin;
 }
 
 static inline __attribute__((always_inline)) real shadow_ray_inv(const Shading *h, vec3 L, vec3 inv, real dist,

@@ -787,7 +787,6 @@ void trace_surface_bump(Surface *out, const TexFootprint *fp)
         return;
     p = v3_scale(p, flip ? R(-1) / pl : R(1) / pl);
     if (v3_dot(p, out->ng) > R(0)) {
-        out->nv = out->ns;
         out->bumped = 1;
         out->ns = p;
     }
@@ -989,6 +988,7 @@ static inline __attribute__((always_inline)) void surface_at(const World *w, con
     if (out->smooth)
         surface_lift(out, h, lift.tv, lift.tn, flip, lift.inst, lift.pm);
     out->ns_turned = flip;
+    out->nv = out->ns;
 }
 
 void trace_surface(const World *w, const Ray *r, const Hit *h, Surface *out)
@@ -1019,9 +1019,8 @@ real trace_occlusion(const Surface *sf, const TexFootprint *fp)
     return R(1) + sf->mat->ao_strength * (r - R(1));
 }
 
-vec3 trace_leave_origin(const Surface *sf, vec3 l)
+vec3 trace_lifted_origin(const Surface *sf, real a)
 {
-    const real a = sf->smooth ? trace_lift_share(sf, l) : R(0);
     if (!(a > R(0)))
         return trace_offset_origin(sf->p, sf->ng, sf->err);
     if (a >= R(1))

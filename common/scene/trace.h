@@ -43,8 +43,8 @@ typedef struct {
     real nheight;     /* > 0: nmap is a height map, its white this far up (material.h's bump_height) */
     vec3 dpdu, dpdv;  /* how the point moves with u and with v, in the world */
     int ns_turned;    /* ns was turned round to face the viewer */
-    int bumped;       /* trace_surface_bump tilted ns from nv, the smooth normal */
-    vec3 nv;
+    vec3 nv;          /* the smooth normal: ns before a normal map tilts it */
+    int bumped;       /* trace_surface_bump tilted ns from nv */
     Material local;   /* a mapped metal's material at this hit, which mat then names */
     vec3 local_tex;   /* where mat names local and tex is set: the colour texture's sample that tinted
                        * its mirror, which the diffuse colour takes too (read once: trace_surface_texel) */
@@ -176,13 +176,19 @@ vec3 trace_offset_origin(vec3 p, vec3 n, real err);
 #define TRACE_LIFT_CUTOFF R(0.1)
 static inline real trace_lift_share(const Surface *sf, vec3 l)
 {
-    const real c = TRACE_LIFT_CUTOFF, ngl = v3_dot(sf->ng, l), nl = v3_dot(sf->bumped ? sf->nv : sf->ns, l);
+    const real c = TRACE_LIFT_CUTOFF, ngl = v3_dot(sf->ng, l), nl = v3_dot(sf->nv, l);
     return real_clamp(nl < c ? R(2) - (ngl + nl) / c : R(1) - ngl / c, R(0), R(1));
 }
-/* The origin of a ray along unit l leaving sf on the side it was seen
- * from, offset off it (trace_offset_origin): from p, or a smooth
- * triangle's p lifted towards ps by trace_lift_share. */
-vec3 trace_leave_origin(const Surface *sf, vec3 l);
+/* The origin of a ray leaving sf on the side it was seen from, offset off
+ * it (trace_offset_origin): from p lifted a share a (0..1) of the way to
+ * ps. */
+vec3 trace_lifted_origin(const Surface *sf, real a);
+/* That origin for a ray along unit l: from p, or a smooth triangle's p
+ * lifted towards ps by trace_lift_share. */
+static inline vec3 trace_leave_origin(const Surface *sf, vec3 l)
+{
+    return trace_lifted_origin(sf, sf->smooth ? trace_lift_share(sf, l) : R(0));
+}
 
 /* The mirror direction of a ray along d off sf: about the shading
  * normal, or about the flat facet where that would send it into the
