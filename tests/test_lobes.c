@@ -11,6 +11,7 @@
 #include <math.h>
 
 #include "scene/emitters.h"
+#include "shading/ggx.h"
 #include "shading/lobes.h"
 
 #define TWO_PI 6.283185307179586
@@ -29,9 +30,10 @@ static void smooth_lobes_density_integrates_to_their_share(void **state)
     /* at normal incidence the glossy lobe lies wholly above the surface */
     const vec3 n = v3_norm(v3(0.3f, 1, -0.2f));
     Lobes lb;
-    /* and a clear coat's lobe of another exponent */
-    assert_true(
-        lobes_make(&lb, v3(0.5f, 0.4f, 0.3f), v3(0.3f, 0.3f, 0.3f), 20, v3(0.2f, 0.2f, 0.2f), 0.25f, 60, n, v3_neg(n)));
+    /* and a clear coat's lobe and a rough metal's */
+    const LobeColours c = {v3(0.5f, 0.4f, 0.3f), v3(0.3f, 0.3f, 0.3f), 20, v3(0.2f, 0.2f, 0.2f), 0.25f, 0.3f,
+                           v3(0.3f, 0.2f, 0.1f), 0.6f};
+    assert_true(lobes_make(&lb, &c, n, v3_neg(n)));
     Rng rng = {11};
     const int N = 400000;
     double sum = 0;
@@ -40,11 +42,22 @@ static void smooth_lobes_density_integrates_to_their_share(void **state)
         lobes_eval(&lb, sphere_dir(&rng), &pdf);
         sum += (double)pdf;
     }
-    const double integral = sum / N * 2 * TWO_PI, share = (double)(lb.pd + lb.pg + lb.pc);
+    /* less what the microfacet lobes' samples send below the surface
+     * (mirrored about a facet tilted far enough), counted from the sampler */
+    double below[2] = {0, 0};
+    for (int i = 0; i < N; i++)
+        for (int k = 0; k < 2; k++) {
+            const vec3 wi = ggx_sample(n, lb.wo, k ? lb.alpha : lb.coat_alpha, rng_real(&rng, 0, 1), rng_real(&rng, 0, 1));
+            below[k] += v3_dot(wi, n) <= 0;
+        }
+    const double integral = sum / N * 2 * TWO_PI;
+    const double share = (double)(lb.pd + lb.pg) + (double)lb.pc * (1 - below[0] / N) + (double)lb.pr * (1 - below[1] / N);
     if (fabs(integral - share) > 0.01 * share)
-        fail_msg("the smooth lobes' density integrates to %.4f over the sphere, their share is %.4f", integral, share);
-    assert_true(lb.pc > 0);
-    assert_true(fabs((double)(lb.pd + lb.pg + lb.pc + lb.pm) - 1) < 1e-6);
+        fail_msg("the smooth lobes' density integrates to %.4f over the sphere, their share above it is %.4f", integral,
+                 share);
+    assert_true(below[1] > 0.01 * N); /* the test tells a lobe that loses light */
+    assert_true(lb.pc > 0 && lb.pr > 0);
+    assert_true(fabs((double)(lb.pd + lb.pg + lb.pc + lb.pr + lb.pm) - 1) < 1e-6);
 }
 
 static void samples_follow_the_density(void **state)
@@ -59,8 +72,10 @@ static void samples_follow_the_density(void **state)
         if (v3_dot(d, n) > 0)
             d = v3_neg(d);
         Lobes lb;
-        assert_true(lobes_make(&lb, v3(0.6f, 0.5f, 0.4f), v3(0.4f, 0.4f, 0.4f), t == 0 ? 1 : 30 * t, v3(0, 0, 0),
-                               t == 3 ? 0 : 0.3f, (real)(200 - 50 * t), n, d));
+        const LobeColours c = {v3(0.6f, 0.5f, 0.4f), v3(0.4f, 0.4f, 0.4f), t == 0 ? 1 : 30 * t, v3(0, 0, 0),
+                               t == 3 ? 0 : 0.3f, (real)(0.05 + 0.2 * t), t == 1 ? v3(0.5f, 0.4f, 0.3f) : v3(0, 0, 0),
+                               0.4f};
+        assert_true(lobes_make(&lb, &c, n, d));
         const int N = 200000;
         double sum = 0;
         for (int i = 0; i < N; i++) {
@@ -68,7 +83,7 @@ static void samples_follow_the_density(void **state)
             real pdf;
             lobes_eval(&lb, wi, &pdf);
             if (pdf > 0)
-                sum += (double)(lb.pd + lb.pg + lb.pc) / (double)pdf;
+                sum += (double)(lb.pd + lb.pg + lb.pc + lb.pr) / (double)pdf;
         }
         const double got = sum / N;
         if (fabs(got - TWO_PI) > 0.02 * TWO_PI)
@@ -82,7 +97,8 @@ static void a_white_lambertian_weighs_one(void **state)
     (void)state;
     Lobes lb;
     const vec3 n = v3(0, 0, 1);
-    assert_true(lobes_make(&lb, v3(1, 1, 1), v3(0, 0, 0), 1, v3(0, 0, 0), 0, 0, n, v3_norm(v3(0.2f, 0.1f, -1))));
+    const LobeColours c = {.kd = v3(1, 1, 1), .shininess = 1};
+    assert_true(lobes_make(&lb, &c, n, v3_norm(v3(0.2f, 0.1f, -1))));
     Rng rng = {3};
     for (int i = 0; i < 10000; i++) {
         const vec3 wi = lobes_sample_smooth(&lb, rng_real(&rng, 0, 1), rng_real(&rng, 0, 1), rng_real(&rng, 0, 1));
@@ -93,6 +109,72 @@ static void a_white_lambertian_weighs_one(void **state)
             if (fabs((double)(fc.e[k] / pdf) - 1) > 1e-4)
                 fail_msg("a white Lambertian bounce weighs %.6f, not 1", (double)(fc.e[k] / pdf));
     }
+}
+
+/* A white GGX metal (shading/ggx.h) seen from wo at angle `deg` to its
+ * normal, with roughness `rough`: what it reflects of light from
+ * everywhere (its albedo) estimated twice, from its own samples weighed by
+ * their density and from uniform directions; where the sampler and the
+ * density disagreed, the two would part. */
+static void ggx_albedo(real rough, double deg, double *by_samples, double *by_uniform, double *max_weight)
+{
+    const vec3 n = v3_norm(v3(0.2f, 1, 0.3f));
+    vec3 t = v3_norm(v3_cross(n, v3(1, 0, 0)));
+    const double th = deg * TWO_PI / 360;
+    const vec3 wo = v3_norm(v3_add(v3_scale(n, (real)cos(th)), v3_scale(t, (real)sin(th))));
+    Lobes lb;
+    const LobeColours c = {.km = v3(1, 1, 1), .alpha = ggx_alpha(rough)};
+    assert_true(lobes_make(&lb, &c, n, v3_neg(wo)));
+    assert_true(lb.pr == 1);
+    Rng rng = {17};
+    const int N = 400000;
+    double a = 0, b = 0, mw = 0;
+    for (int i = 0; i < N; i++) {
+        real pdf;
+        const vec3 wi = lobes_sample_smooth(&lb, rng_real(&rng, 0, 1), rng_real(&rng, 0, 1), rng_real(&rng, 0, 1));
+        const vec3 fc = lobes_eval(&lb, wi, &pdf);
+        if (pdf > 0) {
+            a += (double)(fc.x / pdf);
+            mw = fmax(mw, (double)(fc.x / pdf));
+        }
+        b += (double)lobes_eval(&lb, sphere_dir(&rng), &pdf).x * 2 * TWO_PI;
+    }
+    *by_samples = a / N, *by_uniform = b / N, *max_weight = mw;
+}
+
+static void ggx_samples_follow_their_density(void **state)
+{
+    (void)state;
+    const real rough[] = {0.45f, 0.7f, 0.95f, 0.7f};
+    const double deg[] = {0, 45, 70, 85};
+    for (int k = 0; k < 4; k++) {
+        double s, u, mw;
+        ggx_albedo(rough[k], deg[k], &s, &u, &mw);
+        if (fabs(s - u) > 0.015 * u)
+            fail_msg("roughness %.2f at %.0f degrees: albedo %.4f by the lobe's samples, %.4f by uniform directions",
+                     (double)rough[k], deg[k], s, u);
+        /* a sample weighs G2 / G1 of the colour: at most 1 */
+        if (mw > 1 + 1e-4)
+            fail_msg("roughness %.2f at %.0f degrees: a sample weighs %.5f of a white metal's colour", (double)rough[k],
+                     deg[k], mw);
+    }
+}
+
+/* A near-smooth metal reflects almost all of the light head on (what the
+ * single-scattering lobe loses, light that meets a second facet, grows
+ * with roughness and at grazing angles: Kulla and Conty's plots). */
+static void a_smooth_ggx_metal_reflects_nearly_all(void **state)
+{
+    (void)state;
+    double s, u, mw;
+    ggx_albedo(0.2f, 0, &s, &u, &mw);
+    if (!(s > 0.99 && s <= 1.0001))
+        fail_msg("a white GGX metal of roughness 0.2 reflects %.4f of the light from everywhere head on", s);
+    /* a rough one loses some: Kulla and Conty's figure, about half at
+     * alpha 0.9 seen 70 degrees off its normal */
+    ggx_albedo(0.95f, 70, &s, &u, &mw);
+    if (!(s > 0.45 && s < 0.7))
+        fail_msg("a white GGX metal of roughness 0.95 reflects %.4f of the light at 70 degrees", s);
 }
 
 /* The solid angle of triangle abc seen from the origin (Van Oosterom and
@@ -273,6 +355,8 @@ int main(void)
         cmocka_unit_test(smooth_lobes_density_integrates_to_their_share),
         cmocka_unit_test(samples_follow_the_density),
         cmocka_unit_test(a_white_lambertian_weighs_one),
+        cmocka_unit_test(ggx_samples_follow_their_density),
+        cmocka_unit_test(a_smooth_ggx_metal_reflects_nearly_all),
         cmocka_unit_test(emitters_cover_their_solid_angle),
         cmocka_unit_test(a_cutout_emits_only_where_it_is),
         cmocka_unit_test(an_emission_texture_lights_by_its_texels),

@@ -66,6 +66,17 @@ static inline void v3_frame(vec3 n, vec3 *a, vec3 *b)
     *b = v3_cross(n, *a);
 }
 
+/* The same without a square root (Duff et al., "Building an orthonormal
+ * basis, revisited", JCGT 2017: one division): for the path integrator's
+ * bounces, where v3_frame's took 9% of a path-traced frame.  Other axes
+ * than v3_frame's. */
+static inline void v3_frame_fast(vec3 n, vec3 *a, vec3 *b)
+{
+    const real sign = copysign(R(1), n.z), k = R(-1) / (sign + n.z), c = n.x * n.y * k;
+    *a = v3(R(1) + sign * n.x * n.x * k, sign * c, -sign * n.x);
+    *b = v3(c, sign + n.y * n.y * k, -n.y);
+}
+
 /* A 3x3 matrix, row-major: used for instance rotations. */
 typedef struct { vec3 r[3]; } mat3;
 

@@ -23,6 +23,7 @@
 #include "model/texture.h"
 #include "scene/dielectric.h"
 #include "scene/emitters.h"
+#include "shading/ggx.h"
 #include "shading/lobes.h"
 #include "shading/optics.h"
 
@@ -246,16 +247,12 @@ static int dielectric_bounce(const World *w, const Surface *sf, vec3 d, real pic
     return glass_bounce(sf, d, f, td, R(1), pick, beta, next);
 }
 
-/* A mirror or metal: the mirror direction, bent by the roughness (a point
- * `rough` (a point of a ball of that radius, from u, v and s: the Whitted
- * integrator's rough mirror, one ray), weighted by its colour kr.  0 where the path ends (bent
- * into the surface). */
-static int mirror_bounce(const Surface *sf, vec3 kr, real rough, vec3 d, real u, real v, real s, vec3 *beta, Ray *next)
+/* A mirror (a smooth metal; a smooth coat): the mirror direction,
+ * weighted by its colour kr.  0 where the path ends (mirrored into the
+ * surface).  A rough metal's lobe is a smooth one (lobes.h). */
+static int mirror_bounce(const Surface *sf, vec3 kr, vec3 d, vec3 *beta, Ray *next)
 {
-    vec3 r = trace_reflected(d, sf);
-    if (rough > R(0)) {
-        r = v3_norm(v3_add(r, v3_scale(sample_sphere(u, v), cbrt(s) * rough)));
-    }
+    const vec3 r = trace_reflected(d, sf);
     if (!(v3_dot(r, sf->ng) > R(0)))
         return 0;
     *beta = v3_mul(*beta, kr);
@@ -297,8 +294,8 @@ static void path_start(Path *p, const DrawPlan *plan, const Ray *r, SampleId id,
 static int highlight_make(const DrawPlan *pl, const Surface *sf, vec3 ks, vec3 d, Lobes *hl)
 {
     const vec3 zero = v3_splat(R(0));
-    return v3_max_comp(ks) > R(0) && pl->lampless &&
-           lobes_make(hl, zero, ks, sf->mat->shininess, zero, R(0), R(0), sf->ns, d);
+    const LobeColours c = {.kd = zero, .ks = ks, .shininess = sf->mat->shininess, .kr = zero, .km = zero};
+    return v3_max_comp(ks) > R(0) && pl->lampless && lobes_make(hl, &c, sf->ns, d);
 }
 
 /* A surface of smooth lobes (diffuse, the Phong highlight) and delta ones
@@ -312,11 +309,11 @@ static int surface_bounce(const World *w, Path *p, const Surface *sf, vec3 kd, v
     const Material *m = sf->mat;
     const vec3 d = p->ray.dir;
     vec3 kr = material_reflects(m) ? m->kr : v3_splat(R(0)), kcm = v3_splat(R(0)); /* kcm: a smooth coat's mirror */
-    real kc = R(0), coat_exp = R(0);
+    real kc = R(0), coat_alpha = R(0);
     if (world_has(w, FEAT_COAT) && material_coats(m) && w->view.settings.shading == SHADE_PHONG) {
-        /* a clear coat: its Fresnel share a glossy lobe, the rest of the surface what it lets through */
+        /* a clear coat: its Fresnel share a GGX lobe, the rest of the surface what it lets through */
         kc = dielectric_coat_share(w, sf, v3_neg(d));
-        coat_exp = material_phong_exponent(m->coat_roughness);
+        coat_alpha = ggx_alpha(m->coat_roughness);
         kd = v3_scale(kd, R(1) - kc), ks = v3_scale(ks, R(1) - kc), kr = v3_scale(kr, R(1) - kc);
         if (material_coat_smooth(m)) /* a mirror share (material.h) */
             kcm = v3_splat(kc), kc = R(0);
@@ -328,12 +325,18 @@ static int surface_bounce(const World *w, Path *p, const Surface *sf, vec3 kd, v
         fr = real_max(R(0), R(1) - v3_max_comp(kr));
         kg = v3_add(v3_splat(f * fr), v3_scale(m->kt, R(1) - f));
     }
-    /* a mirror keeps its highlight for the lights no ray meets */
-    const int own = material_reflects(m);
+    /* a rough metal reflects by its GGX lobe (ggx.h), a smooth one, lit
+     * by every light and emitter as the other smooth lobes are: it shows
+     * the lights itself, so it keeps no Phong highlight; a smooth mirror
+     * keeps its highlight for the lights no ray meets */
+    const int rough = material_rough(m), own = material_reflects(m) && !rough;
+    LobeColours lc = {.kd = kd, .ks = material_reflects(m) ? v3_splat(R(0)) : ks, .shininess = m->shininess,
+                      .kr = v3_add(v3_add(kr, kcm), kg), .kc = kc, .coat_alpha = coat_alpha, .km = v3_splat(R(0))};
+    if (rough)
+        lc.km = kr, lc.alpha = ggx_alpha(m->roughness), lc.kr = v3_add(kcm, kg), kr = v3_splat(R(0));
     Lobes lb, hl;
     const int highlight = own && highlight_make(p->plan, sf, ks, d, &hl);
-    if (!lobes_make(&lb, kd, own ? v3_splat(R(0)) : ks, m->shininess, v3_add(v3_add(kr, kcm), kg), kc, coat_exp, sf->ns,
-                    d))
+    if (!lobes_make(&lb, &lc, sf->ns, d))
         return 0;
     lb.nv = sf->nv, lb.bumped = sf->bumped; /* a normal map's diffuse shadowing (lobes.h) */
     /* the shadow rays' origin, made once: a flat surface's bounce leaves from it too */
@@ -353,23 +356,15 @@ static int surface_bounce(const World *w, Path *p, const Surface *sf, vec3 kd, v
         return 0;
     draw2(dr, 1, &u, &v);
     const real pick = draw1(dr, 2), wm = v3_max_comp(kr), wg = v3_max_comp(kg);
-    const real wc = v3_max_comp(kcm);
-    if (pick < lb.pm && wc > R(0) && material_rough(m)) { /* a rough metal under a smooth coat: a mirror each */
-        const real s = pick / lb.pm * (wm + wc);
-        const int coat = s < wc;
-        p->beta = v3_scale(p->beta, (wm + wc) / (lb.pm * (coat ? wc : wm)));
-        return coat ? mirror_bounce(sf, kcm, R(0), d, u, v, draw1(dr, 4), &p->beta, &p->ray)
-                    : mirror_bounce(sf, kr, m->roughness, d, u, v, draw1(dr, 4), &p->beta, &p->ray);
-    }
     if (pick < lb.pm && !(wg > R(0))) { /* the mirror, chosen with probability pm */
         p->beta = v3_scale(p->beta, R(1) / lb.pm);
-        return mirror_bounce(sf, v3_add(kr, kcm), m->roughness, d, u, v, draw1(dr, 4), &p->beta, &p->ray);
+        return mirror_bounce(sf, v3_add(kr, kcm), d, &p->beta, &p->ray);
     }
     if (pick < lb.pm) { /* the mirror or the glass, each by its share of pm (a dielectric has no coat) */
         const real s = pick / lb.pm * (wm + wg);
         const int mirror = s < wm;
         p->beta = v3_scale(p->beta, (wm + wg) / (lb.pm * (mirror ? wm : wg)));
-        return mirror ? mirror_bounce(sf, kr, m->roughness, d, u, v, draw1(dr, 4), &p->beta, &p->ray)
+        return mirror ? mirror_bounce(sf, kr, d, &p->beta, &p->ray)
                       : glass_bounce(sf, d, f, td, fr, (s - wm) / wg, &p->beta, &p->ray);
     }
     /* a smooth lobe's direction, weighed by both smooth lobes */

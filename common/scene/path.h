@@ -2,8 +2,10 @@
  * bounces.  A camera ray's path goes on from every surface it meets:
  * diffuse surfaces take the explicit lights by next-event estimation (a
  * shadow ray to one point of each light a bounce) and scatter the path by
- * the cosine; mirrors and metals reflect it (bent by their roughness),
- * dielectrics reflect or refract it by Fresnel's reflectance; emissive
+ * the cosine; mirrors reflect it, rough metals and rough clear coats
+ * scatter it by their GGX lobes (lit by next-event estimation as diffuse
+ * surfaces are), dielectrics reflect or refract it by Fresnel's
+ * reflectance; emissive
  * surfaces and the background add what they emit wherever a path meets
  * them.  Russian roulette ends paths after a few bounces.  Every number
  * comes from the ray's sample key, mixed with the bounce, so that a pixel

@@ -29,6 +29,7 @@
 
 #include "scene/dielectric.h"
 #include "scene/path.h"
+#include "shading/ggx.h"
 #include "shading/lobes.h"
 
 #include "base/sample.h"
@@ -215,7 +216,7 @@ typedef struct {
     vec3 ke; /* what the surface emits here (trace_emission) */
     int phong;
     real coat;     /* a clear coat's share of the light here (dielectric_coat_share), 0 without one */
-    real coat_exp; /* and its highlight's exponent */
+    real coat_alpha; /* and its GGX width */
     uint32_t lit;
     SampleId id; /* the ray's sample, its key mixed with its bounce */
     DiscAxes disc;
@@ -241,10 +242,10 @@ static inline __attribute__((always_inline)) void add_light(Shading *sh, vec3 L,
             sh->col = v3_add(sh->col, v3_scale(v3_mul(sh->sf.mat->ks, rad),
                                                pow(rv, sh->sf.mat->shininess) * (optional ? R(1) - sh->coat : R(1))));
     }
-    if (optional && sh->coat > R(0)) { /* the coat's highlight, normalised as the path integrator's lobe (lobes.h) */
-        const real rv = v3_dot(v3_reflect(v3_neg(L), sh->sf.ns), sh->view), s = sh->coat_exp;
-        if (rv > R(0))
-            sh->col = v3_add(sh->col, v3_scale(rad, sh->coat * (s + R(2)) * R(0.5) * pow(rv, s) * ndotl));
+    if (optional && sh->coat > R(0)) { /* the coat's highlight: the path integrator's GGX lobe (lobes.h) */
+        real pdf;
+        const real f = ggx_eval(sh->sf.ns, sh->view, L, sh->coat_alpha, &pdf);
+        sh->col = v3_add(sh->col, v3_scale(rad, sh->coat * REAL_PI * f));
     }
 }
 
@@ -285,7 +286,7 @@ static inline __attribute__((always_inline)) void shade_start(const World *w, co
     sh->coat = R(0);
     if (optional && world_uses(w, FEAT_COAT) && material_coats(m) && w->view.settings.shading == SHADE_PHONG) {
         sh->coat = dielectric_coat_share(w, &sh->sf, sh->view);
-        sh->coat_exp = material_phong_exponent(m->coat_roughness);
+        sh->coat_alpha = ggx_alpha(m->coat_roughness);
         sh->kd = v3_scale(sh->kd, R(1) - sh->coat); /* what the coat lets through */
     }
     if (world_uses(w, FEAT_EMIT))
@@ -435,14 +436,15 @@ static const RayDiff *reflected_diff(const Shading *sh, vec3 d, RayDiff *out)
     return out;
 }
 
-/* A rough mirror: rays about the mirror direction r, each bent by a
- * stratified point of a sphere of radius `roughness` (a ray bent into the
- * surface is mirrored back out of it), each carrying its share.  Per
- * effect: rough_samples^2 rays; one budget: the ray's share of the
- * rough_samples^2 its pixel takes, each a ray of the pixel's count at the
- * next bounce (base/sample.h). */
-static vec3 rough_reflection(const World *w, const Shading *sh, vec3 front, vec3 r, int depth, vec3 weight,
-                             RayStats *stats)
+/* A rough mirror: rays drawn from its GGX lobe (shading/ggx.h: the
+ * visible normals of a microfacet surface of its roughness, as the path
+ * integrator's metal and Cycles' Glossy BSDF reflect), stratified, each
+ * carrying its share times what the lobe keeps of it (G2 / G1: a ray
+ * shadowed by the facets, or mirrored into the surface, keeps less or
+ * nothing).  Per effect: rough_samples^2 rays; one budget: the ray's share
+ * of the rough_samples^2 its pixel takes, each a ray of the pixel's count
+ * at the next bounce (base/sample.h). */
+static vec3 rough_reflection(const World *w, const Shading *sh, vec3 front, int depth, vec3 weight, RayStats *stats)
 {
     const Surface *sf = &sh->sf;
     const Material *m = sf->mat;
@@ -453,16 +455,16 @@ static vec3 rough_reflection(const World *w, const Shading *sh, vec3 front, vec3
     uint32_t key = sample_mix(sh->id.key, 0x52000000u);
     RayDiff rd; /* the mirror's, its cone widened by each ray's share of the lobe */
     const RayDiff *rdp = reflected_diff(sh, v3_neg(sh->view), &rd);
-    if (rdp)
-        raydiff_lobe(&rd, sh->rd, sh->t, m->roughness, product ? n : sh->id.count * n);
+    const real alpha = ggx_alpha(m->roughness);
+    if (rdp) /* the reflected lobe is some 2 alpha wide */
+        raydiff_lobe(&rd, sh->rd, sh->t, real_min(R(2) * alpha, R(1)), product ? n : sh->id.count * n);
     /* the rays leave one point into one lobe: traced as packets, each
      * colour what the ray gives alone, summed in order */
     Ray rays[TRACE_PACKET];
     SampleId child[TRACE_PACKET];
     RayDiff diff[TRACE_PACKET];
     vec3 col[TRACE_PACKET], wts[TRACE_PACKET];
-    for (int i = 0; i < TRACE_PACKET; i++)
-        wts[i] = wt;
+    real keep[TRACE_PACKET];
     uint32_t q = 0;
     for (uint32_t j = 0; j < n; j++) {
         real u, v;
@@ -473,18 +475,22 @@ static vec3 rough_reflection(const World *w, const Shading *sh, vec3 front, vec3
             child[q] = (SampleId){.key = key, .index = sh->id.index * n + j, .count = sh->id.count * n};
             sample_sobol2(child[q].index, key, &u, &v);
         }
-        vec3 d = v3_norm(v3_madd(r, sample_sphere(u, v), m->roughness));
-        real below = v3_dot(d, sf->ng);
-        if (below <= R(0))
-            d = v3_norm(v3_madd(d, sf->ng, R(-2) * below));
-        ray_init(&rays[q], front, d, R(0), REAL_INF);
-        if (rdp)
-            diff[q] = *rdp;
-        if (++q == TRACE_PACKET || j == n - 1) {
+        const vec3 d = ggx_sample(sf->ns, sh->view, alpha, u, v);
+        real pdf;
+        const real f = ggx_eval(sf->ns, sh->view, d, alpha, &pdf);
+        if (f > R(0) && v3_dot(d, sf->ng) > R(0)) { /* else the ray brings nothing: not traced */
+            keep[q] = f / pdf;
+            wts[q] = v3_scale(wt, keep[q]);
+            ray_init(&rays[q], front, d, R(0), REAL_INF);
+            if (rdp)
+                diff[q] = *rdp;
+            q++;
+        }
+        if (q == TRACE_PACKET || (j == n - 1 && q > 0)) {
             stats->secondary += q;
             shade_rays(w, rays, (int)q, col, stats, NULL, child, rdp ? diff : NULL, depth + 1, wts);
             for (uint32_t i = 0; i < q; i++)
-                sum = v3_add(sum, col[i]);
+                sum = v3_add(sum, v3_scale(col[i], keep[i]));
             q = 0;
         }
     }
@@ -543,7 +549,7 @@ static vec3 shade_beyond(const World *w, int i, const Shading *sh, int depth, ve
         const int rough = reflects && world_uses(w, FEAT_ROUGH) && m->roughness > R(0);
         const real under = R(1) - sh->coat; /* what a coat lets through to the mirror */
         if (rough && worth_tracing(w, v3_mul(weight, v3_scale(m->kr, under))))
-            col = v3_add(col, v3_scale(rough_reflection(w, sh, front, trace_reflected(d, sf), depth, weight, stats), under));
+            col = v3_add(col, v3_scale(rough_reflection(w, sh, front, depth, weight, stats), under));
         real eta, f = R(0);
         vec3 td;
         if (refracts)

@@ -2,9 +2,9 @@
  * lobe (kd / pi), a glossy lobe for the Phong highlight (the normalised
  * modified Phong of Lafortune and Willems: ks (s + 2) / (2 pi) cos^s a,
  * a the angle between the direction and the mirror direction, s the
- * shininess), a second glossy lobe of the same form for a clear coat
- * (grey: its Fresnel share kc, its own exponent), and a mirror (kr, a
- * delta).  One of them is sampled in proportion to its largest channel;
+ * shininess), the GGX microfacet lobes (shading/ggx.h) of a rough clear
+ * coat (grey: its Fresnel share kc, its width coat_alpha) and of a rough
+ * metal (km, of width alpha), and a mirror (kr, a delta).  One of them is sampled in proportion to its largest channel;
  * the smooth ones are evaluated together, so that next-event estimation and multiple importance
  * sampling see the whole of them (lobes_eval: f x cos and the density of
  * lobes_sample's choice, solid angle).  Radiometric units: a light given
@@ -18,9 +18,12 @@
 typedef struct {
     vec3 kd, ks, kr;
     real shininess;
-    real kc, coat_exp; /* a clear coat's glossy lobe: grey kc (its share here), exponent coat_exp */
-    real pd, pg, pc, pm; /* the probability of sampling each lobe; they sum to 1 */
+    real kc, coat_alpha; /* a clear coat's GGX lobe: grey kc (its share here), width coat_alpha */
+    vec3 km;           /* a rough metal's GGX lobe: its colour, and its width alpha */
+    real alpha;
+    real pd, pg, pc, pr, pm; /* the probability of sampling each lobe; they sum to 1 */
     vec3 n;          /* unit shading normal, on the side the ray came from */
+    vec3 wo;         /* towards where the ray came from */
     vec3 r;          /* the mirror direction of the incoming ray about n */
     vec3 nv;         /* with bumped: the smooth normal a normal map tilted n from */
     int bumped;
@@ -47,23 +50,36 @@ static inline real lobes_bump_shadowing(vec3 nv, vec3 n, vec3 wi)
     return g + g * g - g * g * g;
 }
 
-/* The lobes of a surface with these colours seen along unit direction d,
- * and a clear coat's lobe (a second glossy one, of grey kc and exponent
- * coat_exp; kc 0: none); 0 where it scatters nothing. */
-int lobes_make(Lobes *lb, vec3 kd, vec3 ks, real shininess, vec3 kr, real kc, real coat_exp, vec3 n, vec3 d);
+/* What a surface scatters by: colours (0 where it has no such lobe), the
+ * highlight's exponent, a clear coat's lobe (grey kc, of GGX width
+ * coat_alpha: ggx_alpha; kc 0: none) and a rough metal's (km, of GGX width
+ * alpha). */
+typedef struct {
+    vec3 kd, ks;
+    real shininess;
+    vec3 kr;
+    real kc, coat_alpha;
+    vec3 km;
+    real alpha;
+} LobeColours;
+
+/* The lobes of a surface of colours c at unit shading normal n seen along
+ * unit direction d; 0 where it scatters nothing. */
+int lobes_make(Lobes *lb, const LobeColours *c, vec3 n, vec3 d);
 
 /* Whether it has a smooth (not delta) lobe: what next-event estimation
  * serves. */
-static inline int lobes_smooth(const Lobes *lb) { return lb->pd + lb->pg + lb->pc > R(0); }
+static inline int lobes_smooth(const Lobes *lb) { return lb->pd + lb->pg + lb->pc + lb->pr > R(0); }
 
 /* f(wi) x cos(n, wi) of the smooth lobes, and into *pdf the density with
  * which lobes_sample_smooth (after the mirror's pick) gives wi: pd x the
- * cosine's + pg x the glossy lobe's + pc x the coat's.  0 below the
- * surface. */
+ * cosine's + pg x the highlight's + pc x the coat's + pr x the metal's.
+ * 0 below the surface. */
 vec3 lobes_eval(const Lobes *lb, vec3 wi, real *pdf);
 
 /* A direction of the smooth lobes: `pick` in [0, 1) chooses diffuse,
- * glossy or coat by their shares, (u, v) in the unit square places it. */
+ * glossy, coat or metal by their shares, (u, v) in the unit square places
+ * it. */
 vec3 lobes_sample_smooth(const Lobes *lb, real pick, real u, real v);
 
 #endif

@@ -24,7 +24,7 @@ static const Field fields[] = {
      .doc = "mirror reflectance: the colour of a metal; with `ior`, a mirror share over the glass, whose "
             "Fresnel reflection keeps 1 - max(reflect) of its strength"},
     {.key = "roughness", .type = FIELD_REAL, .group = GROUP_MIRROR, .off = OFF(roughness), .hi = 1,
-     .doc = "how far reflected rays spread (0: a perfect mirror); needs `reflect`"},
+     .doc = "a rough metal's GGX roughness: how far its reflection spreads (0: a perfect mirror); needs `reflect`"},
     {.key = "ior", .type = FIELD_REAL, .group = GROUP_DIELECTRIC, .flags = FIELD_ZERO_OK, .off = OFF(ior),
      .lo = 0.0625, .hi = 16, .shown_default = "none",
      .doc = "index of refraction: a dielectric (glass, water), reflecting by Fresnel and transmitting the rest"},

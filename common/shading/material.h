@@ -18,8 +18,8 @@ typedef struct {
     /* what a ray does at the surface beyond local shading; all zero (as
      * the initialisers that leave them out give) for a plain surface */
     vec3 kr;         /* mirror reflectance: the colour of a metal */
-    real roughness;  /* 0: a perfect mirror; up to 1: reflected rays spread
-                      * over a lobe this wide (settings rough_samples of them) */
+    real roughness;  /* 0: a perfect mirror; up to 1: a rough metal's GGX
+                      * roughness (shading/ggx.h: a lobe of width roughness^2) */
     real ior;        /* > 0: a dielectric (glass) of this index of refraction,
                       * reflecting by Fresnel and transmitting the rest */
     vec3 kt;         /* a dielectric's transmitted colour (1 1 1: clear) */
@@ -69,9 +69,9 @@ typedef struct {
     /* a clear coat (a varnish; a plastic's or a glTF non-metal's own
      * specular reflection): a dielectric layer of index MATERIAL_COAT_IOR
      * over the rest of the surface.  Seen at cosine c it reflects coat x
-     * Fresnel's share at c (4% head on, all of it at grazing) as a glossy
-     * lobe of coat_roughness (the GGX roughness a glTF gives: the lobe's
-     * exponent is material_phong_exponent's), and the rest of the surface
+     * Fresnel's share at c (4% head on, all of it at grazing) as the GGX
+     * lobe of coat_roughness (the roughness a glTF gives; shading/ggx.h),
+     * and the rest of the surface
      * takes 1 - that; coat 0: none (as the initialisers that leave these
      * out give). */
     real coat;
@@ -180,8 +180,9 @@ Material material_default(void);
 
 /* The Phong exponent that matches a microfacet lobe of this (GGX)
  * roughness: 2 / a^2 - 2, a = roughness^2, at least 1; 20000 (a point of
- * light) for a nearly smooth one.  How a metal's highlight follows its
- * roughness, in the importer and at a metal-roughness texture's texel. */
+ * light) for a nearly smooth one.  How an imported metal's highlight
+ * (the Whitted integrator's light on it) follows its roughness, in the
+ * importer and at a metal-roughness texture's texel. */
 static inline real material_phong_exponent(real roughness)
 {
     const real a = roughness * roughness;
@@ -189,7 +190,7 @@ static inline real material_phong_exponent(real roughness)
 }
 
 /* Whether a clear coat is smooth enough to be a mirror: a roughness up to
- * 0.1, whose lobe material_phong_exponent makes a point of light.  The
+ * 0.1, whose GGX lobe (width 0.01) is nearly a point of light.  The
  * Whitted integrator traces its reflected ray (and shows the point of a
  * light); the path integrator takes it as a mirror share, which a point
  * light, having no size, does not show in (a lobe of that exponent made

@@ -77,7 +77,7 @@ same_on_simd_paths "$dir/tinted.scene" "$dir/tinted.png" 32 32 "the factor metal
 same_through_tmd "$dir/tinted.gltf" "$dir/tinted.scene" "$dir/tinted.png" 32 32 "factor metal's tint"
 same_on_simd_paths "$dir/metal.scene" "$dir/metal.png" 32 32 "the metal-roughness texture"
 same_through_tmd "$dir/metal.gltf" "$dir/metal.scene" "$dir/metal.png" 32 32 "metal-roughness texture"
-"$BIN/lanray-render" "$dir/metal.scene" --width 64 --height 64 -o "$dir/ref.png" --quiet >/dev/null 2>&1 ||
+"$BIN/lanray-render" "$dir/metal.scene" --width 64 --height 64 --aa 1 -o "$dir/ref.png" --quiet >/dev/null 2>&1 ||
     fail "reference"
 verify_distributed metalmap "$dir/metal.scene" "$dir/ref.png" "of the metal-roughness texture"
 echo "metalmap: a glTF metallicRoughnessTexture makes a surface metal where its blue says, and a factor metal mirrors through its base colour texture, on every SIMD path, in a .tmd and through a server; a metal over glass (metallic with transmission) shows both ($(px "$dir/coated.png"))"

@@ -1,0 +1,71 @@
+/* ggx.h - the GGX (Trowbridge-Reitz) microfacet lobe of a rough metal, for
+ * the path integrator: Walter et al.'s distribution D of width alpha, the
+ * height-correlated Smith shadowing G2 (Heitz, "Understanding the
+ * masking-shadowing function", 2014), directions drawn from the normals
+ * the viewer sees (Heitz, "Sampling the GGX distribution of visible
+ * normals", JCGT 2018), so that a sample weighs G2 / G1 of its colour.
+ * It is the lobe Cycles' Glossy BSDF and Principled metals reflect by and
+ * a glTF's roughness means: a long-tailed blur, where the Phong lobe of
+ * material_phong_exponent has none.  Isotropic: only cosines to the
+ * normal enter, except in the sampling's frame. */
+#ifndef LANRAY_GGX_H
+#define LANRAY_GGX_H
+
+#include <math.h>
+
+#include "base/vec.h"
+
+/* alpha = roughness^2 (glTF's and Cycles' mapping), kept above 1e-3: a
+ * narrower D's peak, 1 / (pi alpha^2), depends on n.h past what a float
+ * cosine resolves (roughness 0.03: a blur of a thousandth of a radian) */
+static inline real ggx_alpha(real roughness) { return real_max(roughness * roughness, R(1e-3)); }
+
+/* Smith's Lambda of a direction at cosine c to the normal. */
+static inline real ggx_lambda(real c, real a2)
+{
+    const real c2 = c * c, t2 = real_max(R(0), R(1) - c2) / c2;
+    return (sqrt(R(1) + a2 * t2) - R(1)) * R(0.5);
+}
+
+/* f x cos(n, wi) of a white GGX reflector at n seen from wo (unit, towards
+ * the viewer), towards wi, and into *pdf the density ggx_sample gives wi
+ * (solid angle); 0 where either lies below the surface. */
+static inline real ggx_eval(vec3 n, vec3 wo, vec3 wi, real alpha, real *pdf)
+{
+    *pdf = R(0);
+    const real co = v3_dot(n, wo), ci = v3_dot(n, wi);
+    if (!(co > R(0) && ci > R(0)))
+        return R(0);
+    const vec3 h = v3_norm(v3_add(wo, wi));
+    const real a2 = alpha * alpha, ch = v3_dot(n, h), k = ch * ch * (a2 - R(1)) + R(1);
+    const real d = a2 / (REAL_PI * k * k);
+    const real lo = ggx_lambda(co, a2), li = ggx_lambda(ci, a2);
+    const real q = d / (R(4) * co);
+    *pdf = q / (R(1) + lo);     /* G1(wo) D(h) (wo.h) / co / (4 wo.h) */
+    return q / (R(1) + lo + li); /* D G2 / (4 co ci) x ci */
+}
+
+/* A direction from (u, v) in the unit square: a visible normal of the
+ * lobe at n seen from wo, wo mirrored about it (it may fall below the
+ * surface: ggx_eval gives it 0). */
+static inline vec3 ggx_sample(vec3 n, vec3 wo, real alpha, real u, real v)
+{
+    vec3 t, b;
+    v3_frame_fast(n, &t, &b);
+    /* wo in the frame, stretched to the unit-roughness configuration */
+    const vec3 vh = v3_norm(v3(alpha * v3_dot(wo, t), alpha * v3_dot(wo, b), v3_dot(wo, n)));
+    const real l2 = vh.x * vh.x + vh.y * vh.y;
+    const vec3 t1 = l2 > R(0) ? v3_scale(v3(-vh.y, vh.x, R(0)), R(1) / sqrt(l2)) : v3(R(1), R(0), R(0));
+    const vec3 t2 = v3_cross(vh, t1);
+    const real r = sqrt(u), phi = R(2) * REAL_PI * v, s = R(0.5) * (R(1) + vh.z);
+    const real p1 = r * cos(phi), p2r = r * sin(phi);
+    const real p2 = (R(1) - s) * sqrt(real_max(R(0), R(1) - p1 * p1)) + s * p2r;
+    const real p3 = sqrt(real_max(R(0), R(1) - p1 * p1 - p2 * p2));
+    const vec3 nh = v3_add(v3_add(v3_scale(t1, p1), v3_scale(t2, p2)), v3_scale(vh, p3));
+    /* back to the lobe's roughness, then to world space */
+    const vec3 m = v3_norm(v3_add(v3_add(v3_scale(t, alpha * nh.x), v3_scale(b, alpha * nh.y)),
+                                  v3_scale(n, real_max(R(1e-6), nh.z))));
+    return v3_sub(v3_scale(m, R(2) * v3_dot(wo, m)), wo);
+}
+
+#endif
