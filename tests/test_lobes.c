@@ -177,6 +177,44 @@ static void a_smooth_ggx_metal_reflects_nearly_all(void **state)
         fail_msg("a white GGX metal of roughness 0.95 reflects %.4f of the light at 70 degrees", s);
 }
 
+/* The lobe at the extremes: the narrowest (roughness 0: alpha's floor)
+ * and the widest, seen head on and at grazing cosines down to 1e-7, with
+ * (u, v) at the unit square's corners: every sample a finite unit
+ * vector, every value and density finite and not negative, no sample
+ * weighing more than its colour. */
+static void ggx_holds_at_the_extremes(void **state)
+{
+    (void)state;
+    const vec3 n = v3_norm(v3(0.3f, -0.8f, 0.5f));
+    vec3 t, b;
+    v3_frame_fast(n, &t, &b);
+    const real rough[] = {0, 0.001f, 0.03f, 0.5f, 1};
+    const real cosines[] = {1, 0.5f, 1e-2f, 1e-4f, 1e-7f};
+    const real corners[] = {0, 1e-7f, 0.5f, 1 - 1e-7f};
+    for (int r = 0; r < 5; r++)
+        for (int c = 0; c < 5; c++) {
+            const real co = cosines[c], si = sqrt(1 - co * co);
+            const vec3 wo = v3_norm(v3_add(v3_scale(n, co), v3_scale(t, si)));
+            const real alpha = ggx_alpha(rough[r]);
+            for (int i = 0; i < 4; i++)
+                for (int j = 0; j < 4; j++) {
+                    const vec3 wi = ggx_sample(n, wo, alpha, corners[i], corners[j]);
+                    const double len = (double)v3_len(wi);
+                    if (!(fabs(len - 1) < 1e-4))
+                        fail_msg("roughness %g, cosine %g, (u, v) = (%g, %g): a sample of length %g", (double)rough[r],
+                                 (double)co, (double)corners[i], (double)corners[j], len);
+                    real pdf;
+                    const real f = ggx_eval(n, wo, wi, alpha, &pdf);
+                    if (!(isfinite(f) && isfinite(pdf) && f >= 0 && pdf >= 0 && (f == 0 || pdf > 0)))
+                        fail_msg("roughness %g, cosine %g: f %g, density %g", (double)rough[r], (double)co, (double)f,
+                                 (double)pdf);
+                    if (f > 0 && (double)(f / pdf) > 1 + 1e-3)
+                        fail_msg("roughness %g, cosine %g: a sample weighs %g", (double)rough[r], (double)co,
+                                 (double)(f / pdf));
+                }
+        }
+}
+
 /* The solid angle of triangle abc seen from the origin (Van Oosterom and
  * Strackee). */
 static double triangle_solid_angle(vec3 a, vec3 b, vec3 c)
@@ -357,6 +395,7 @@ int main(void)
         cmocka_unit_test(a_white_lambertian_weighs_one),
         cmocka_unit_test(ggx_samples_follow_their_density),
         cmocka_unit_test(a_smooth_ggx_metal_reflects_nearly_all),
+        cmocka_unit_test(ggx_holds_at_the_extremes),
         cmocka_unit_test(emitters_cover_their_solid_angle),
         cmocka_unit_test(a_cutout_emits_only_where_it_is),
         cmocka_unit_test(an_emission_texture_lights_by_its_texels),

@@ -38,10 +38,11 @@
 typedef struct {
     int lampless;                 /* the world has a light without a lamp (highlight_make) */
     int lanes;                    /* draw the dimensions below at once */
-    uint32_t dims[SAMPLE_LANES]; /* the direction (2D), the lobe's pick, roulette, a rough
-                                  * mirror's bend, an emitter's point (2D) and pick, and
-                                  * the first two area lights' points (0x100 + light; other
-                                  * lights' alone) */
+    uint32_t dims[SAMPLE_LANES]; /* the direction (2D), the lobe's pick, roulette, 4 (a
+                                  * rough mirror's bend before its GGX lobe: unused, its
+                                  * lane kept so that dimension k is lane k - 1), an
+                                  * emitter's point (2D) and pick, and the first two area
+                                  * lights' points (0x100 + light; other lights' alone) */
 } DrawPlan;
 
 /* The plan of a world's bounces: lanes where a bounce draws four numbers
