@@ -13,6 +13,22 @@ static int parse(const char *text, Scene **s, Err *err)
     return rc;
 }
 
+/* `roughness` goes with `reflect` (a rough metal) or with `ior` (frosted
+ * glass): either parses, neither is refused (test errors below). */
+static void roughness_goes_with_a_mirror_or_glass(void **state)
+{
+    (void)state;
+    Scene *s;
+    Err err;
+    if (parse("material frost ior 1.5 roughness 0.4\nmaterial brushed reflect 1 1 1 roughness 0.2\n", &s, &err))
+        fail_msg("%s", err.msg);
+    assert_int_equal(s->material_count, 3);
+    assert_true(material_frosted(&s->materials[1]) && !material_rough(&s->materials[1]));
+    assert_float_equal(s->materials[1].roughness, 0.4, 1e-6);
+    assert_true(material_rough(&s->materials[2]) && !material_frosted(&s->materials[2]));
+    scene_destroy(s);
+}
+
 static void full_scene(void **state)
 {
     (void)state;
@@ -205,6 +221,7 @@ static void errors_name_file_line_and_expectation(void **state)
     expect_error("material m transmit 1 1 1 reflect 1 1 1\n", "'transmit' of material needs 'ior'");
     expect_error("material m ior 20\n", "'ior' of material must be from 0.0625 to 16");
     expect_error("material m absorb 1 1 1\n", "'absorb' of material needs 'ior'");
+    expect_error("material m roughness 0.3\n", "'roughness' of material needs 'reflect' (a rough metal) or 'ior' (frosted glass)");
     expect_error("material m emit -1 0 0\n", "'emit' of material must not be negative");
     expect_error("settings depth 65\n", "'depth' of settings must be a whole number from 0 to 64");
     expect_error("settings cutoff 1\n", "'cutoff' of settings must be from 0 up to");
@@ -234,6 +251,7 @@ int main(void)
         cmocka_unit_test(full_scene),
         cmocka_unit_test(features_reflect_what_is_used),
         cmocka_unit_test(a_smooth_triangle_needs_its_normals),
+        cmocka_unit_test(roughness_goes_with_a_mirror_or_glass),
         cmocka_unit_test(scene_materials_have_no_cutouts_or_normal_maps),
         cmocka_unit_test(byte_order_mark_and_spellings),
         cmocka_unit_test(errors_name_file_line_and_expectation),

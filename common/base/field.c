@@ -248,7 +248,8 @@ static int check_rules(const FieldKind *k, FieldSet given, const char *dname, co
 {
     for (const FieldRule *r = k->rules; r && r->a; r++) {
         int a = field_index(k, r->a), b = field_index(k, r->b);
-        int ha = a >= 0 && (given >> a & 1), hb = b >= 0 && (given >> b & 1);
+        const int b2 = r->or_b ? field_index(k, r->or_b) : -1;
+        int ha = a >= 0 && (given >> a & 1), hb = (b >= 0 && (given >> b & 1)) || (b2 >= 0 && (given >> b2 & 1));
         int broken = r->kind == RULE_NEEDS ? ha && !hb : r->kind == RULE_EXCLUDES ? ha && hb : ha != hb;
         if (!broken)
             continue;

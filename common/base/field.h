@@ -74,6 +74,7 @@ typedef struct {
     RuleKind kind;
     const char *a, *b;
     const char *why; /* the error, or NULL for the rule's own words */
+    const char *or_b; /* RULE_NEEDS: a is given with b or with this one (NULL: b alone) */
 } FieldRule;
 
 typedef struct {

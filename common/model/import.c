@@ -158,7 +158,7 @@ static void import_volume(const struct aiMaterial *am, Material *m)
  * read KHR_materials_emissive_strength: import_extensions.h applies it
  * after), transmission
  * (KHR_materials_transmission: glass of the file's index, or 1.5, tinted by
- * the base colour; the dielectric share's, glTF says, so a metal by factors
+ * the base colour, frosted by the material's roughness; the dielectric share's, glTF says, so a metal by factors
  * f (f->applied) transmits 1 - its metallic of it, and its mirror lies over
  * the glass) and, for alphaMode BLEND, its alpha (a see-through blend, as
  * an MTL's dissolve, of every reflecting term).  Applied over what
@@ -186,6 +186,7 @@ static int import_optics(const struct aiMaterial *am, vec3 base, const MetalFact
         m->ior = ior;
         m->kt = v3_scale(base, t * (f->applied ? R(1) - f->metal : R(1)));
         m->kd = v3_scale(m->kd, R(1) - t);
+        m->roughness = f->pbr ? f->rough : R(0); /* frosted by the file's roughness (glTF's default: 1) */
         import_volume(am, m);
         did = 1;
     } else if (strcmp(mode.data, "BLEND") == 0 && import_number(am, AI_MATKEY_OPACITY, 0, 1, &opacity) && opacity < 1) {

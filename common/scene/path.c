@@ -237,15 +237,52 @@ static int glass_bounce(const Surface *sf, vec3 d, real f, vec3 td, real fr, rea
     return 1;
 }
 
+/* Frosted glass (material_frosted): a facet of its GGX lobe that the ray
+ * sees, drawn from (u, v) (ggx_visible_normal), reflects or refracts it
+ * as clear glass would (Fresnel's reflectance at the facet deciding), and
+ * the path keeps G2 / G1 of its weight (the facets that shadow where it
+ * goes: Walter et al.'s microfacet BSDF, sampled as Heitz's visible
+ * normals make it, whose weight is that alone).  What would leave on the
+ * wrong side of the surface (a facet's reflection into it, or its
+ * refraction out of it) ends the path.  fr as glass_bounce's. */
+static int frosted_bounce(const World *w, const Surface *sf, vec3 d, real fr, real pick, real u, real v, vec3 *beta,
+                          Ray *next)
+{
+    const real alpha = ggx_alpha(sf->mat->roughness);
+    Surface fs = *sf;
+    fs.ns = ggx_visible_normal(sf->ns, v3_neg(d), alpha, u, v);
+    real eta;
+    vec3 td;
+    const real f = dielectric_split(w, &fs, d, &eta, &td);
+    vec3 wi;
+    if (pick < f) {
+        wi = v3_reflect(d, fs.ns);
+        if (!(v3_dot(wi, sf->ng) > R(0)))
+            return 0;
+        *beta = v3_scale(*beta, fr * ggx_keep(sf->ns, v3_neg(d), wi, alpha));
+        ray_init(next, trace_offset_origin(sf->p, sf->ng, sf->err), wi, R(0), REAL_MAX);
+        return 1;
+    }
+    wi = v3_norm(td); /* dielectric_split took it for a reflection where it would not go below the facet */
+    *beta = v3_scale(v3_mul(*beta, sf->mat->kt), ggx_keep(sf->ns, v3_neg(d), wi, alpha));
+    ray_init(next, trace_offset_origin(sf->p, v3_neg(sf->ng), sf->err), wi, R(0), REAL_MAX);
+    return 1;
+}
+
 /* A dielectric that is glass alone: reflected or refracted by Fresnel's
  * reflectance (so the weight stays; refraction takes the transmitted
  * colour).  0 where the path ends. */
-static int dielectric_bounce(const World *w, const Surface *sf, vec3 d, real pick, vec3 *beta, Ray *next)
+static int dielectric_bounce(const World *w, const Surface *sf, vec3 d, const Draws *dr, vec3 *beta, Ray *next)
 {
+    if (material_frosted(sf->mat)) {
+        real u, v;
+        draw2(dr, 1, &u, &v);
+        return frosted_bounce(w, sf, d, R(1), draw1(dr, 2), u, v, beta, next);
+    }
     real eta;
     vec3 td;
     const real f = dielectric_split(w, sf, d, &eta, &td);
-    return glass_bounce(sf, d, f, td, R(1), pick, beta, next);
+    return glass_bounce(sf, d, f, td, R(1), draw1(dr, 2), beta, next);
 }
 
 /* A mirror (a smooth metal; a smooth coat): the mirror direction,
@@ -365,8 +402,10 @@ static int surface_bounce(const World *w, Path *p, const Surface *sf, vec3 kd, v
         const real s = pick / lb.pm * (wm + wg);
         const int mirror = s < wm;
         p->beta = v3_scale(p->beta, (wm + wg) / (lb.pm * (mirror ? wm : wg)));
-        return mirror ? mirror_bounce(sf, kr, d, &p->beta, &p->ray)
-                      : glass_bounce(sf, d, f, td, fr, (s - wm) / wg, &p->beta, &p->ray);
+        if (mirror)
+            return mirror_bounce(sf, kr, d, &p->beta, &p->ray);
+        return material_frosted(m) ? frosted_bounce(w, sf, d, fr, (s - wm) / wg, u, v, &p->beta, &p->ray)
+                                   : glass_bounce(sf, d, f, td, fr, (s - wm) / wg, &p->beta, &p->ray);
     }
     /* a smooth lobe's direction, weighed by both smooth lobes */
     real pdf;
@@ -427,7 +466,7 @@ static int path_step(const World *w, Path *p, int found, const Hit *h, RayStats 
     if (glass && !(v3_max_comp(kd) > R(0) || material_reflects(m))) {
         if (last)
             return 0;
-        go = dielectric_bounce(w, &sf, p->ray.dir, draw1(&dr, 2), &p->beta, &p->ray);
+        go = dielectric_bounce(w, &sf, p->ray.dir, &dr, &p->beta, &p->ray);
     } else {
         go = surface_bounce(w, p, &sf, kd, ks, &dr, last, st);
     }

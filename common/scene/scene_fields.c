@@ -44,18 +44,18 @@ static const Field camera_fields[] = {
 
 #define ONE_PROJECTION "camera takes one of 'zoom', 'fov' (a pinhole), 'ortho' and 'fisheye'"
 static const FieldRule camera_rules[] = {
-    {RULE_EXCLUDES, "zoom", "fov", "camera takes either 'zoom' or 'fov', not both"},
-    {RULE_EXCLUDES, "zoom", "ortho", ONE_PROJECTION},
-    {RULE_EXCLUDES, "zoom", "fisheye", ONE_PROJECTION},
-    {RULE_EXCLUDES, "fov", "ortho", ONE_PROJECTION},
-    {RULE_EXCLUDES, "fov", "fisheye", ONE_PROJECTION},
-    {RULE_EXCLUDES, "ortho", "fisheye", ONE_PROJECTION},
-    {RULE_TOGETHER, "aperture", "focus", "camera takes 'aperture' and 'focus' together (a thin lens)"},
-    {RULE_EXCLUDES, "aperture", "ortho", "'aperture' is a pinhole camera's lens, not an orthographic or fisheye camera's"},
-    {RULE_EXCLUDES, "aperture", "fisheye", "'aperture' is a pinhole camera's lens, not an orthographic or fisheye camera's"},
-    {RULE_EXCLUDES, "lookat", "yaw", "camera takes either 'lookat' or 'yaw'/'pitch', not both"},
-    {RULE_EXCLUDES, "lookat", "pitch", "camera takes either 'lookat' or 'yaw'/'pitch', not both"},
-    {0, NULL, NULL, NULL},
+    {RULE_EXCLUDES, "zoom", "fov", "camera takes either 'zoom' or 'fov', not both", NULL},
+    {RULE_EXCLUDES, "zoom", "ortho", ONE_PROJECTION, NULL},
+    {RULE_EXCLUDES, "zoom", "fisheye", ONE_PROJECTION, NULL},
+    {RULE_EXCLUDES, "fov", "ortho", ONE_PROJECTION, NULL},
+    {RULE_EXCLUDES, "fov", "fisheye", ONE_PROJECTION, NULL},
+    {RULE_EXCLUDES, "ortho", "fisheye", ONE_PROJECTION, NULL},
+    {RULE_TOGETHER, "aperture", "focus", "camera takes 'aperture' and 'focus' together (a thin lens)", NULL},
+    {RULE_EXCLUDES, "aperture", "ortho", "'aperture' is a pinhole camera's lens, not an orthographic or fisheye camera's", NULL},
+    {RULE_EXCLUDES, "aperture", "fisheye", "'aperture' is a pinhole camera's lens, not an orthographic or fisheye camera's", NULL},
+    {RULE_EXCLUDES, "lookat", "yaw", "camera takes either 'lookat' or 'yaw'/'pitch', not both", NULL},
+    {RULE_EXCLUDES, "lookat", "pitch", "camera takes either 'lookat' or 'yaw'/'pitch', not both", NULL},
+    {0, NULL, NULL, NULL, NULL},
 };
 
 const FieldKind camera_kind = {.name = "camera", .fields = camera_fields,
@@ -134,8 +134,8 @@ static const Field settings_fields[] = {
 };
 
 static const FieldRule settings_rules[] = {
-    {RULE_EXCLUDES, "aa", "adaptive", "settings takes either 'aa' or 'adaptive', not both"},
-    {0, NULL, NULL, NULL},
+    {RULE_EXCLUDES, "aa", "adaptive", "settings takes either 'aa' or 'adaptive', not both", NULL},
+    {0, NULL, NULL, NULL, NULL},
 };
 
 const FieldKind settings_kind = {.name = "settings", .fields = settings_fields,
@@ -183,8 +183,8 @@ static const Field light_fields[] = {
 };
 
 static const FieldRule light_rules[] = {
-    {RULE_EXCLUDES, "direction", "target", "a spot light takes either 'direction' or 'target', not both"},
-    {0, NULL, NULL, NULL},
+    {RULE_EXCLUDES, "direction", "target", "a spot light takes either 'direction' or 'target', not both", NULL},
+    {0, NULL, NULL, NULL, NULL},
 };
 
 const FieldKind light_kind = {.name = "light", .fields = light_fields,

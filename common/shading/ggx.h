@@ -45,10 +45,9 @@ static inline real ggx_eval(vec3 n, vec3 wo, vec3 wi, real alpha, real *pdf)
     return q / (R(1) + lo + li); /* D G2 / (4 co ci) x ci */
 }
 
-/* A direction from (u, v) in the unit square: a visible normal of the
- * lobe at n seen from wo, wo mirrored about it (it may fall below the
- * surface: ggx_eval gives it 0). */
-static inline vec3 ggx_sample(vec3 n, vec3 wo, real alpha, real u, real v)
+/* A facet normal from (u, v) in the unit square: one of those the lobe
+ * at n shows to wo, drawn by their visible area. */
+static inline vec3 ggx_visible_normal(vec3 n, vec3 wo, real alpha, real u, real v)
 {
     vec3 t, b;
     v3_frame_fast(n, &t, &b);
@@ -63,9 +62,26 @@ static inline vec3 ggx_sample(vec3 n, vec3 wo, real alpha, real u, real v)
     const real p3 = sqrt(real_max(R(0), R(1) - p1 * p1 - p2 * p2));
     const vec3 nh = v3_add(v3_add(v3_scale(t1, p1), v3_scale(t2, p2)), v3_scale(vh, p3));
     /* back to the lobe's roughness, then to world space */
-    const vec3 m = v3_norm(v3_add(v3_add(v3_scale(t, alpha * nh.x), v3_scale(b, alpha * nh.y)),
-                                  v3_scale(n, real_max(R(1e-6), nh.z))));
+    return v3_norm(v3_add(v3_add(v3_scale(t, alpha * nh.x), v3_scale(b, alpha * nh.y)),
+                          v3_scale(n, real_max(R(1e-6), nh.z))));
+}
+
+/* A direction from (u, v) in the unit square: wo mirrored about a visible
+ * facet (ggx_visible_normal; it may fall below the surface: ggx_eval
+ * gives it 0). */
+static inline vec3 ggx_sample(vec3 n, vec3 wo, real alpha, real u, real v)
+{
+    const vec3 m = ggx_visible_normal(n, wo, alpha, u, v);
     return v3_sub(v3_scale(m, R(2) * v3_dot(wo, m)), wo);
+}
+
+/* What a path that left wo by a visible facet towards wi keeps, G2 / G1
+ * (wo): the facets that shadow wi, reflected or refracted (wi on either
+ * side of n: its cosine taken whole). */
+static inline real ggx_keep(vec3 n, vec3 wo, vec3 wi, real alpha)
+{
+    const real a2 = alpha * alpha, lo = ggx_lambda(fabs(v3_dot(n, wo)), a2);
+    return (R(1) + lo) / (R(1) + lo + ggx_lambda(fabs(v3_dot(n, wi)), a2));
 }
 
 #endif

@@ -24,7 +24,8 @@ static const Field fields[] = {
      .doc = "mirror reflectance: the colour of a metal; with `ior`, a mirror share over the glass, whose "
             "Fresnel reflection keeps 1 - max(reflect) of its strength"},
     {.key = "roughness", .type = FIELD_REAL, .group = GROUP_MIRROR, .off = OFF(roughness), .hi = 1,
-     .doc = "a rough metal's GGX roughness: how far its reflection spreads (0: a perfect mirror); needs `reflect`"},
+     .doc = "a rough metal's or frosted glass's GGX roughness: how far its reflection (and refraction) spreads "
+            "(0: a perfect mirror, clear glass); needs `reflect` or `ior`"},
     {.key = "ior", .type = FIELD_REAL, .group = GROUP_DIELECTRIC, .flags = FIELD_ZERO_OK, .off = OFF(ior),
      .lo = 0.0625, .hi = 16, .shown_default = "none",
      .doc = "index of refraction: a dielectric (glass, water), reflecting by Fresnel and transmitting the rest"},
@@ -84,13 +85,14 @@ static const Field fields[] = {
 };
 
 static const FieldRule rules[] = {
-    {RULE_NEEDS, "transmit", "ior", "'transmit' of material needs 'ior' (a dielectric)"},
-    {RULE_NEEDS, "absorb", "ior", "'absorb' of material needs 'ior' (a dielectric)"},
-    {RULE_NEEDS, "roughness", "reflect", "'roughness' of material needs 'reflect' (a mirror or a metal)"},
-    {RULE_NEEDS, "checker_size", "checker", "'checker_size' of material needs 'checker' (the second colour)"},
-    {RULE_NEEDS, "checker_uv", "checker", "'checker_uv' of material needs 'checker' (the second colour)"},
-    {RULE_NEEDS, "coat_roughness", "coat", "'coat_roughness' of material needs 'coat' (a clear coat)"},
-    {0, NULL, NULL, NULL},
+    {RULE_NEEDS, "transmit", "ior", "'transmit' of material needs 'ior' (a dielectric)", NULL},
+    {RULE_NEEDS, "absorb", "ior", "'absorb' of material needs 'ior' (a dielectric)", NULL},
+    {RULE_NEEDS, "roughness", "reflect",
+     "'roughness' of material needs 'reflect' (a rough metal) or 'ior' (frosted glass)", "ior"},
+    {RULE_NEEDS, "checker_size", "checker", "'checker_size' of material needs 'checker' (the second colour)", NULL},
+    {RULE_NEEDS, "checker_uv", "checker", "'checker_uv' of material needs 'checker' (the second colour)", NULL},
+    {RULE_NEEDS, "coat_roughness", "coat", "'coat_roughness' of material needs 'coat' (a clear coat)", NULL},
+    {0, NULL, NULL, NULL, NULL},
 };
 
 const FieldKind material_kind = {.name = "material", .fields = fields, .count = sizeof fields / sizeof *fields,

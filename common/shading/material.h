@@ -18,8 +18,9 @@ typedef struct {
     /* what a ray does at the surface beyond local shading; all zero (as
      * the initialisers that leave them out give) for a plain surface */
     vec3 kr;         /* mirror reflectance: the colour of a metal */
-    real roughness;  /* 0: a perfect mirror; up to 1: a rough metal's GGX
-                      * roughness (shading/ggx.h: a lobe of width roughness^2) */
+    real roughness;  /* 0: a perfect mirror; up to 1: a rough metal's or a
+                      * frosted dielectric's GGX roughness (shading/ggx.h: a
+                      * lobe of width roughness^2) */
     real ior;        /* > 0: a dielectric (glass) of this index of refraction,
                       * reflecting by Fresnel and transmitting the rest */
     vec3 kt;         /* a dielectric's transmitted colour (1 1 1: clear) */
@@ -90,6 +91,10 @@ static inline int material_reflects(const Material *m) { return m->kr.x > R(0) |
 static inline int material_dielectric(const Material *m) { return m->ior > R(0); }
 static inline int material_emits(const Material *m) { return m->ke.x > R(0) || m->ke.y > R(0) || m->ke.z > R(0); }
 static inline int material_rough(const Material *m) { return material_reflects(m) && m->roughness > R(0); }
+/* Frosted glass: a dielectric whose facets, of GGX roughness `roughness`,
+ * reflect and refract (the path integrator's; the Whitted integrator's
+ * glass stays clear). */
+static inline int material_frosted(const Material *m) { return material_dielectric(m) && m->roughness > R(0); }
 static inline int material_checkered(const Material *m) { return m->checker_size > R(0); }
 static inline int material_cuts(const Material *m) { return m->cutoff > R(0); }
 static inline int material_bumps(const Material *m) { return m->normal_scale > R(0); }
