@@ -126,6 +126,70 @@ static int shadowed(const World *w, vec3 origin, vec3 dir, real tmax, const Worl
     return trace_occluded(w, &sr, tmax, towards);
 }
 
+/* f x cos of frosted glass at sf (material_frosted) seen from wo (unit,
+ * on the side of sf->ns) towards wi, on either side of it, and into *pdf
+ * the density frosted_bounce gives wi: its facet h drawn from the visible
+ * normals, reflected with Fresnel's share at h (all of it where the
+ * refraction fails, as dielectric_split says), refracted otherwise; the
+ * reflection's half vector h = wo + wi, the refraction's -(eta wo + wi)
+ * (eta: the index on wo's side over wi's; Walter et al. 2007), whose
+ * Jacobian |wi.h| / (eta wo.h + wi.h)^2.  Written so that a sample
+ * weighs G2 / G1 (times the transmitted colour), as frosted_bounce's do:
+ * no radiance scaling across the interface, as clear glass has none. */
+static vec3 frosted_eval(const World *w, const Surface *sf, vec3 wo, vec3 wi, real alpha, real *pdf)
+{
+    *pdf = R(0);
+    const vec3 n = sf->ns;
+    const real co = v3_dot(n, wo), ci = v3_dot(n, wi), cg = v3_dot(sf->ng, wi);
+    const int refl = ci > R(0);
+    if (!(co > R(0)) || !(refl ? cg > R(0) : ci < R(0) && cg < R(0)))
+        return v3_splat(R(0));
+    const Material *m = sf->mat;
+    const real eta = sf->inside ? m->ior : R(1) / m->ior;
+    vec3 h = v3_norm(refl ? v3_add(wo, wi) : v3_neg(v3_add(v3_scale(wo, eta), wi)));
+    if (v3_dot(h, n) < R(0))
+        h = v3_neg(h);
+    const real oh = v3_dot(wo, h), ih = v3_dot(wi, h);
+    if (!(oh > R(0)) || !(refl ? ih > R(0) : ih < R(0)))
+        return v3_splat(R(0));
+    Surface fs = *sf; /* Fresnel's share at the facet, as frosted_bounce takes it */
+    fs.ns = h;
+    real e;
+    vec3 td;
+    const real f = dielectric_split(w, &fs, v3_neg(wo), &e, &td);
+    const real a2 = alpha * alpha, ch = v3_dot(n, h), k = ch * ch * (a2 - R(1)) + R(1);
+    const real d = a2 / (REAL_PI * k * k), lo = ggx_lambda(co, a2), li = ggx_lambda(fabs(ci), a2);
+    const real g1 = R(1) / (R(1) + lo), g2 = R(1) / (R(1) + lo + li);
+    if (refl) {
+        const real q = d / (R(4) * co);
+        *pdf = f * g1 * q;
+        return v3_splat(f * g2 * q);
+    }
+    const real den = eta * oh + ih, q = oh * d / co * fabs(ih) / (den * den);
+    *pdf = (R(1) - f) * g1 * q;
+    return v3_scale(m->kt, (R(1) - f) * g2 * q);
+}
+
+/* f x cos of lobes lb at sf towards wi and its density: frosted glass's
+ * (lb->frost) or the lobes'. */
+static vec3 surface_eval(const World *w, const Surface *sf, const Lobes *lb, vec3 wi, real *pdf)
+{
+    return lb->frost > R(0) ? frosted_eval(w, sf, lb->wo, wi, lb->frost, pdf) : lobes_eval(lb, wi, pdf);
+}
+
+/* Whether a light along dir can reach the point through its lobes: above
+ * the shading normal, or through frosted glass from either side; and the
+ * shadow ray's origin for it. */
+static int light_side(const Surface *sf, const Lobes *lb, vec3 dir, vec3 origin, vec3 *from)
+{
+    if (v3_dot(dir, sf->ns) > R(0)) {
+        *from = sf->smooth ? trace_leave_origin(sf, dir) : origin;
+        return 1;
+    }
+    *from = trace_offset_origin(sf->p, v3_neg(sf->ng), sf->err); /* through the glass */
+    return lb && lb->frost > R(0);
+}
+
 /* Next-event estimation from a point with smooth lobes: one point of
  * every light, its shadow ray, pi x f x cos x the radiance that arrives.
  * lb (or NULL): lobes that take every light; hl (or NULL): a highlight
@@ -146,17 +210,16 @@ static vec3 direct_light(const World *w, const Surface *sf, const Lobes *lb, con
         real u = R(0.5), v = R(0.5), dist, pdf;
         if (world_light_is_area(&w->lights[li])) /* others have one point */
             draw2(dr, 0x100u + li, &u, &v);
-        vec3 dir, rad;
-        if (!shade_light_point(w, li, sf->p, u, v, &dir, &dist, &rad) || !(v3_dot(dir, sf->ns) > R(0)))
+        vec3 dir, rad, from;
+        if (!shade_light_point(w, li, sf->p, u, v, &dir, &dist, &rad) || !light_side(sf, lb, dir, origin, &from))
             continue;
-        vec3 fc = lb ? lobes_eval(lb, dir, &pdf) : v3_splat(R(0));
+        vec3 fc = lb ? surface_eval(w, sf, lb, dir, &pdf) : v3_splat(R(0));
         if (hl && w->lights[li].lamp_count == 0)
             fc = v3_add(fc, lobes_eval(hl, dir, &pdf));
         if (!(v3_max_comp(fc) > R(0)))
             continue;
         if (world_has(w, FEAT_SHADOWS) &&
-            shadowed(w, sf->smooth ? trace_leave_origin(sf, dir) : origin, dir,
-                     isfinite(dist) ? dist * (R(1) - R(64) * REAL_EPS) : REAL_MAX, &w->lights[li], st))
+            shadowed(w, from, dir, isfinite(dist) ? dist * (R(1) - R(64) * REAL_EPS) : REAL_MAX, &w->lights[li], st))
             continue;
         sum = v3_add(sum, v3_scale(v3_mul(fc, rad), REAL_PI));
     }
@@ -178,16 +241,18 @@ static vec3 direct_emitters(const World *w, const Surface *sf, const Lobes *lb, 
     real u, v, pdf;
     draw2(dr, 5, &u, &v);
     EmitterSample es;
-    if (!emitters_sample(w, sf->p, draw1(dr, 6), u, v, &es) || !(v3_dot(es.dir, sf->ns) > R(0)))
+    vec3 from;
+    if (!emitters_sample(w, sf->p, draw1(dr, 6), u, v, &es) || !light_side(sf, lb, es.dir, origin, &from))
         return v3_splat(R(0));
-    const vec3 fc = lobes_eval(lb, es.dir, &pdf);
+    const vec3 fc = surface_eval(w, sf, lb, es.dir, &pdf);
     if (!(v3_max_comp(fc) > R(0)))
         return v3_splat(R(0));
     /* short of the point by more than the rounding of its place, so the emitter does not shadow itself */
-    if (w->view.settings.shadows && shadowed(w, sf->smooth ? trace_leave_origin(sf, es.dir) : origin, es.dir,
-                                             es.dist * (R(1) - R(1024) * REAL_EPS), NULL, st))
+    if (w->view.settings.shadows && shadowed(w, from, es.dir, es.dist * (R(1) - R(1024) * REAL_EPS), NULL, st))
         return v3_splat(R(0));
-    const int bsdf_finds = w->view.settings.emitter_sampling == EMITTERS_MIS && !last && v3_dot(es.dir, sf->nv) > R(0);
+    /* (frosted glass's bounce goes to either side) */
+    const int bsdf_finds = w->view.settings.emitter_sampling == EMITTERS_MIS && !last &&
+                           (lb->frost > R(0) || v3_dot(es.dir, sf->nv) > R(0));
     const real weight = bsdf_finds ? power_weight(es.pdf, pdf) : R(1);
     return v3_scale(v3_mul(fc, es.radiance), weight / es.pdf);
 }
@@ -272,17 +337,12 @@ static int frosted_bounce(const World *w, const Surface *sf, vec3 d, real fr, re
 /* A dielectric that is glass alone: reflected or refracted by Fresnel's
  * reflectance (so the weight stays; refraction takes the transmitted
  * colour).  0 where the path ends. */
-static int dielectric_bounce(const World *w, const Surface *sf, vec3 d, const Draws *dr, vec3 *beta, Ray *next)
+static int dielectric_bounce(const World *w, const Surface *sf, vec3 d, real pick, vec3 *beta, Ray *next)
 {
-    if (material_frosted(sf->mat)) {
-        real u, v;
-        draw2(dr, 1, &u, &v);
-        return frosted_bounce(w, sf, d, R(1), draw1(dr, 2), u, v, beta, next);
-    }
     real eta;
     vec3 td;
     const real f = dielectric_split(w, sf, d, &eta, &td);
-    return glass_bounce(sf, d, f, td, R(1), draw1(dr, 2), beta, next);
+    return glass_bounce(sf, d, f, td, R(1), pick, beta, next);
 }
 
 /* A mirror (a smooth metal; a smooth coat): the mirror direction,
@@ -421,6 +481,36 @@ static int surface_bounce(const World *w, Path *p, const Surface *sf, vec3 kd, v
     return go;
 }
 
+/* Frosted glass alone: the lights and emitters through its facets, from
+ * either side (next-event estimation: frosted_eval), then the path on by
+ * one facet (frosted_bounce), weighed against the emitters it may meet
+ * (multiple importance sampling), as a smooth lobe's.  0 where the path
+ * ends. */
+static int frosted_step(const World *w, Path *p, const Surface *sf, const Draws *dr, int last, RayStats *st)
+{
+    const vec3 d = p->ray.dir;
+    const real alpha = ggx_alpha(sf->mat->roughness);
+    const Lobes lb = {.n = sf->ns, .wo = v3_neg(d), .frost = alpha};
+    const int emitters = w->emitter_count > 0 && w->view.settings.emitter_sampling != EMITTERS_BSDF;
+    if (w->light_count > 0 || emitters) {
+        const vec3 from_p = trace_offset_origin(sf->p, sf->ng, sf->err);
+        p->L = v3_add(p->L, v3_mul(p->beta, direct_light(w, sf, &lb, NULL, dr, from_p, st)));
+        if (emitters)
+            p->L = v3_add(p->L, v3_mul(p->beta, direct_emitters(w, sf, &lb, last, dr, from_p, st)));
+    }
+    if (last)
+        return 0;
+    real u, v, pdf;
+    draw2(dr, 1, &u, &v);
+    if (!frosted_bounce(w, sf, d, R(1), draw1(dr, 2), u, v, &p->beta, &p->ray))
+        return 0;
+    frosted_eval(w, sf, v3_neg(d), p->ray.dir, alpha, &pdf);
+    p->after_smooth = pdf > R(0);
+    p->from = sf->p;
+    p->pdf_bounce = pdf;
+    return 1;
+}
+
 /* One bounce of path p: the hit h of its ray (found: whether there is
  * one) lit and scattered.  1 where the path goes on by p->ray. */
 static int path_step(const World *w, Path *p, int found, const Hit *h, RayStats *st)
@@ -463,10 +553,12 @@ static int path_step(const World *w, Path *p, int found, const Hit *h, RayStats 
     const int glass = material_dielectric(m);
     const vec3 kd = diffuse_at(w, &sf),
                ks = w->view.settings.shading == SHADE_PHONG && !glass ? m->ks : v3_splat(R(0));
-    if (glass && !(v3_max_comp(kd) > R(0) || material_reflects(m))) {
+    if (glass && !(v3_max_comp(kd) > R(0) || material_reflects(m)) && material_frosted(m)) {
+        go = frosted_step(w, p, &sf, &dr, last, st);
+    } else if (glass && !(v3_max_comp(kd) > R(0) || material_reflects(m))) {
         if (last)
             return 0;
-        go = dielectric_bounce(w, &sf, p->ray.dir, &dr, &p->beta, &p->ray);
+        go = dielectric_bounce(w, &sf, p->ray.dir, draw1(&dr, 2), &p->beta, &p->ray);
     } else {
         go = surface_bounce(w, p, &sf, kd, ks, &dr, last, st);
     }

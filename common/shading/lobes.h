@@ -27,6 +27,8 @@ typedef struct {
     vec3 r;          /* the mirror direction of the incoming ray about n */
     vec3 nv;         /* with bumped: the smooth normal a normal map tilted n from */
     int bumped;
+    real frost;      /* > 0: frosted glass of this GGX width, both sides of n (the path
+                      * integrator's frosted_eval; the other lobes none) */
 } Lobes;
 
 /* How much of the light from wi a normal-mapped surface's diffuse lobe

@@ -212,6 +212,19 @@ read -r smean slo shi <<<"$(ppm_stats "$dir/shine.ppm")"
 read -r dmean dlo dhi <<<"$(ppm_stats "$dir/dull.ppm")"
 [ "$shi" -ge 250 ] && [ "$dhi" -lt 100 ] ||
     fail "a metal's highlight of a point light: brightest code $shi with it, $dhi without"
+# frosted glass shows a point light, which no path can meet: its facets
+# take it by next-event estimation from either side (clear glass, a
+# mirror to it, does not)
+sed 's/^material metal .*/material metal ior 1.5 roughness 0.3/' "$dir/shine.scene" >"$dir/frost.scene"
+sed 's/^material metal .*/material metal ior 1.5/' "$dir/shine.scene" >"$dir/clear.scene"
+for s in frost clear; do
+    "$BIN/lanray-render" "$dir/$s.scene" --aa 2 --width 48 --height 48 --linear -o "$dir/$s.ppm" --quiet >/dev/null ||
+        fail "$s.scene did not render"
+done
+read -r fmean flo fhi <<<"$(ppm_stats "$dir/frost.ppm")"
+read -r cmean2 clo2 chi2 <<<"$(ppm_stats "$dir/clear.ppm")"
+[ "$fhi" -ge 250 ] && [ "$chi2" -lt 100 ] ||
+    fail "frosted glass under a point light: brightest code $fhi (clear glass $chi2)"
 cat >"$dir/lamp.scene" <<'S'
 camera position 0 4 0 yaw 0 pitch -90 ortho 0.2
 background 0 0 0
@@ -250,8 +263,9 @@ S
 read -r bmean blo bhi <<<"$(ppm_stats "$dir/ball.ppm")"
 [ "$blo" -ge 20 ] || fail "a glass ball on a floor has a black pixel (code $blo): the rays of a pixel chose alike"
 # emissive geometry (a ceiling panel of two triangles, a small bright
-# sphere; no light) lighting a floor, a rough metal and a sphere with a
-# glossy Phong lobe, found three ways: by next-event estimation alone, by
+# sphere; no light) lighting a floor, a rough metal, a sphere with a
+# glossy Phong lobe and a frosted glass ball (its facets lit from both
+# sides), found three ways: by next-event estimation alone, by
 # the bounces that meet it alone, and by both weighed by multiple
 # importance sampling: one picture, in the light of 6x6-pixel blocks
 # (their noise averaged; a bias stays).  A panel 4% brighter is told apart.
@@ -263,11 +277,13 @@ settings integrator path depth 4
 material floor diffuse 0.6 0.6 0.6
 material red diffuse 0.5 0.15 0.1 specular 0.4 0.4 0.4 shininess 40
 material metal reflect 0.8 0.8 0.8 roughness 0.3
+material frost ior 1.5 roughness 0.4
 material panel diffuse 0 0 0 emit 1.5 1.5 1.3
 material bulb diffuse 0 0 0 emit 40 32 24
 plane point 0 0 0 normal 0 1 0 material floor
 sphere centre -0.6 0.5 0 radius 0.5 material red
 sphere centre 0.7 0.4 0.3 radius 0.4 material metal
+sphere centre -0.2 0.25 1.0 radius 0.25 material frost
 sphere centre 2.5 1.2 -0.5 radius 0.12 material bulb
 triangle vertices -2 2.5 -2.5 2 2.5 -2.5 2 2.5 0.5 material panel
 triangle vertices -2 2.5 -2.5 2 2.5 0.5 -2 2.5 0.5 material panel
@@ -342,4 +358,4 @@ start_server room "$dir/room.scene" --port 0 --width 64 --height 64 --aa 2 --fra
     --out "$dir/f-room"
 clients_until_done 2 1
 wait "$server_pid" || fail "the path-traced frame through 2 clients differs from lanray-render's (server exit $?)"
-echo "pathtrace: the Cornell box $cb_err from Cycles' (4x4 blocks, light ratio $cb_ratio); a scanned dragon $dr_err; a normal-mapped ball $nm_err; rough metals $mt_err; frosted glass $fg_err; white furnace under MIS within $fur_err (6x6 blocks, light ratio $fur_ratio); emitters by NEE alone and by bounces alone = MIS (6x6 blocks: error $nee_err and $bsdf_err, light ratio $nee_ratio and $bsdf_ratio); a glass ball's darkest pixel $blo; a white furnace of diffuse spheres, coarse balls of smooth triangles (white and a mirror), a mirror, glass, a mirror over glass, a see-through diffuse veil and a metal with a highlight and a smooth clear coat come out 1 (codes $lo to $hi at exposure -1; a rough coat $clo to $chi, its direct light Whitted's within $ag_err, coats $co_err from Cycles' (uncoated $un_err), a smooth coat over a rough metal sharp (RMSE $sh_rmse); the highlight shows a point light: $shi, without it $dhi; a grey room's $glo); the floor under an emissive sphere follows the inverse-square law (code $lmean, 127.5 expected; Whitted $whi); a path-traced frame through 2 clients = lanray-render's"
+echo "pathtrace: the Cornell box $cb_err from Cycles' (4x4 blocks, light ratio $cb_ratio); a scanned dragon $dr_err; a normal-mapped ball $nm_err; rough metals $mt_err; frosted glass $fg_err; white furnace under MIS within $fur_err (6x6 blocks, light ratio $fur_ratio); emitters by NEE alone and by bounces alone = MIS (6x6 blocks: error $nee_err and $bsdf_err, light ratio $nee_ratio and $bsdf_ratio); a glass ball's darkest pixel $blo; a white furnace of diffuse spheres, coarse balls of smooth triangles (white and a mirror), a mirror, glass, a mirror over glass, a see-through diffuse veil and a metal with a highlight and a smooth clear coat come out 1 (codes $lo to $hi at exposure -1; a rough coat $clo to $chi, its direct light Whitted's within $ag_err, coats $co_err from Cycles' (uncoated $un_err), a smooth coat over a rough metal sharp (RMSE $sh_rmse); the highlight shows a point light: $shi, without it $dhi, frosted glass $fhi, clear $chi2; a grey room's $glo); the floor under an emissive sphere follows the inverse-square law (code $lmean, 127.5 expected; Whitted $whi); a path-traced frame through 2 clients = lanray-render's"
