@@ -204,7 +204,12 @@ sphere centre 0 0 0 radius 0.8 material metal
 light point position 2 2 5 intensity 1
 S
 sed 's/ specular 0.5 0.5 0.5 shininess 100//' "$dir/shine.scene" >"$dir/dull.scene"
-for s in shine dull; do
+# and frosted glass shows a point light, which no path can meet: its
+# facets take it by next-event estimation from either side (clear glass, a
+# mirror to it, does not)
+sed 's/^material metal .*/material metal ior 1.5 roughness 0.3/' "$dir/shine.scene" >"$dir/frost.scene"
+sed 's/^material metal .*/material metal ior 1.5/' "$dir/shine.scene" >"$dir/clear.scene"
+for s in shine dull frost clear; do
     "$BIN/lanray-render" "$dir/$s.scene" --aa 2 --width 48 --height 48 --linear -o "$dir/$s.ppm" --quiet >/dev/null ||
         fail "$s.scene did not render"
 done
@@ -212,15 +217,6 @@ read -r smean slo shi <<<"$(ppm_stats "$dir/shine.ppm")"
 read -r dmean dlo dhi <<<"$(ppm_stats "$dir/dull.ppm")"
 [ "$shi" -ge 250 ] && [ "$dhi" -lt 100 ] ||
     fail "a metal's highlight of a point light: brightest code $shi with it, $dhi without"
-# frosted glass shows a point light, which no path can meet: its facets
-# take it by next-event estimation from either side (clear glass, a
-# mirror to it, does not)
-sed 's/^material metal .*/material metal ior 1.5 roughness 0.3/' "$dir/shine.scene" >"$dir/frost.scene"
-sed 's/^material metal .*/material metal ior 1.5/' "$dir/shine.scene" >"$dir/clear.scene"
-for s in frost clear; do
-    "$BIN/lanray-render" "$dir/$s.scene" --aa 2 --width 48 --height 48 --linear -o "$dir/$s.ppm" --quiet >/dev/null ||
-        fail "$s.scene did not render"
-done
 read -r fmean flo fhi <<<"$(ppm_stats "$dir/frost.ppm")"
 read -r cmean2 clo2 chi2 <<<"$(ppm_stats "$dir/clear.ppm")"
 [ "$fhi" -ge 250 ] && [ "$chi2" -lt 100 ] ||
