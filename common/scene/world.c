@@ -14,7 +14,7 @@ View scene_view(const Scene *s) { return (View){.camera = s->camera, .settings =
 static uint32_t material_features(const Material *m)
 {
     return (material_reflects(m) ? FEAT_REFLECT : 0u) | (material_dielectric(m) ? FEAT_REFRACT : 0u) |
-           (material_emits(m) ? FEAT_EMIT : 0u) | (material_rough(m) ? FEAT_ROUGH : 0u) |
+           (material_emits(m) ? FEAT_EMIT : 0u) | (material_rough(m) || material_frosted(m) ? FEAT_ROUGH : 0u) |
            (v3_max_comp(m->ks) > R(0) ? FEAT_SPECULAR : 0u) |
            (material_checkered(m) ? FEAT_CHECKER | (m->checker_uv ? FEAT_TEXTURES : 0u) : 0u) |
            (material_bumps(m) ? FEAT_NORMAL_MAP : 0u) | (material_coats(m) ? FEAT_COAT : 0u);

@@ -34,7 +34,7 @@ enum {
     FEAT_REFRACT = 1 << 9, /* a dielectric material */
     FEAT_EMIT = 1 << 10,   /* an emissive material */
     FEAT_AREA = 1 << 11,   /* a sphere or rectangle light */
-    FEAT_ROUGH = 1 << 12,  /* a mirror with roughness */
+    FEAT_ROUGH = 1 << 12,  /* a rough metal or frosted glass (rough_samples) */
     FEAT_LENS = 1 << 13,   /* a camera with an aperture (depth of field) */
     FEAT_CHECKER = 1 << 14, /* a material with a checker pattern */
     FEAT_NORMAL_MAP = 1 << 15, /* a model's material with a normal map */
