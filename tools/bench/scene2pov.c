@@ -33,9 +33,10 @@
  * Settings: the depth as max_trace_level, the cutoff as adc_bailout, the
  * background, and with --aa N > 1 POV-Ray's own anti-aliasing (+A0.0,
  * method 1, depth N) in the file's comment for the caller to pass.
- * What POV-Ray has no match for is refused or told: a rough mirror or
- * clear coat is written as a plain one (a warning), a coat over a mirror
- * left out (a warning), a model's own materials as its first. */
+ * What POV-Ray has no match for is refused or told: a rough mirror,
+ * frosted glass or rough clear coat is written as a plain one (a
+ * warning), a coat over a mirror left out (a warning), a model's own
+ * materials as its first. */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -324,6 +325,8 @@ static int write_pov(FILE *f, void *ctx, Err *err)
         write_material(f, w, &w->materials[i], name);
         if (material_rough(&w->materials[i]))
             fprintf(stderr, "scene2pov: warning: material %u is a rough mirror, written as a smooth one\n", i + 1);
+        if (material_frosted(&w->materials[i]))
+            fprintf(stderr, "scene2pov: warning: material %u is frosted glass, written as clear glass\n", i + 1);
         if (material_coats(&w->materials[i]) && material_reflects(&w->materials[i]))
             fprintf(stderr, "scene2pov: warning: material %u: a clear coat over a mirror, left out\n", i + 1);
         else if (material_coats(&w->materials[i]) && !material_coat_smooth(&w->materials[i]))
