@@ -43,6 +43,10 @@ static void gltf_materials_map_onto_lanrays(void **state)
     assert_float_equal(glass->ior, 1.33, 1e-6);
     expect_vec(glass->kt, 0.9, 1, 0.9);
     expect_vec(glass->kd, 0, 0, 0);
+    /* frosted by the material's roughness: glTF's default, 1, where the
+     * file gives none (the metal over glass below gives 0: clear) */
+    assert_float_equal(glass->roughness, 1, 0);
+    assert_true(material_frosted(glass));
     /* a blended veil of alpha 0.25: three quarters see-through, unbent */
     const Material *veil = &m.materials[3];
     assert_float_equal(veil->ior, 1, 0);
@@ -63,6 +67,7 @@ static void gltf_materials_map_onto_lanrays(void **state)
     expect_vec(mg->kd, 0.2, 0.25, 0.15);
     expect_vec(mg->kt, 0.2, 0.25, 0.15);
     assert_float_equal(mg->ior, 1.5, 1e-6);
+    assert_false(material_frosted(mg));
     assert_null(material_problem(mg, why, sizeof why));
     /* a blended metal of alpha 0.5: half see-through, half mirror */
     const Material *bm = &m.materials[7];

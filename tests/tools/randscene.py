@@ -15,7 +15,7 @@ in a quarter of the scenes, adaptive sampling's contrast and the area
 lights' light_samples in some); textures (PPM
 P3/P6, PGM P2/P5, PNG, JPEG, smooth or closest, wrapping each axis its way); materials with and without specular
 and textures, mirrors (reflect, roughness), dielectrics (ior, transmit,
-absorb; some with a mirror share, reflect), clear coats (coat, coat_roughness) and emission, on any primitive; a model whose MTL gives
+absorb; some with a mirror share, reflect, some frosted, roughness), clear coats (coat, coat_roughness) and emission, on any primitive; a model whose MTL gives
 one material a texture (map_Kd with -s and -o), a cutout (map_d) and a height map (bump), the other a normal map (norm), one with vertex colours
 and no materials, and a GLB with its texture embedded (and one whose image is also its normal map,
 emission, metal-roughness and occlusion texture); lamps (an emissive
@@ -236,6 +236,9 @@ def scene(seed):
             coat = random.Random(seed * 7919 + 59 + i)  # a draw of its own: older builds refuse the pair
             if newer and coat.random() < 0.3:  # a mirror share over the glass
                 m += ["reflect", colour(coat, 0.6)]
+            frost = random.Random(seed * 7919 + 67 + i)  # frosted glass, a draw of its own (older builds refuse it)
+            if newer and frost.random() < 0.3:
+                m += ["roughness", num(frost, 0.05, 0.8)]
         if r.random() < 0.15:
             m += ["emit", colour(r)]
         varnish = random.Random(seed * 7919 + 61 + i)  # a clear coat, a draw of its own (older builds refuse it)
