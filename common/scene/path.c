@@ -5,7 +5,9 @@
  * cos x its radiance (shade.c), which is pi x the BRDF kd / pi x cos x
  * that radiance; a surface scatters by its lobes (shading/lobes.h: the
  * Lambertian kd / pi, the Phong highlight as a normalised glossy lobe,
- * a mirror), and a bounce carries f x cos / the density of its direction.
+ * the GGX lobes of rough metals and rough coats, a mirror; frosted glass
+ * its facets, frosted_eval), and a bounce carries f x cos / the density
+ * of its direction.
  * Emission (`emit`) is radiance, added wherever a path meets it, except
  * where a bounce from a smooth lobe meets a light's lamp (a visible lamp,
  * docs/scene.md: an emissive surface where a light is), whose light
@@ -396,9 +398,10 @@ static int highlight_make(const DrawPlan *pl, const Surface *sf, vec3 ks, vec3 d
     return v3_max_comp(ks) > R(0) && pl->lampless && lobes_make(hl, &c, sf->ns, d);
 }
 
-/* A surface of smooth lobes (diffuse, the Phong highlight) and delta ones
- * (a mirror share; a dielectric's glass: Fresnel's reflection, less the
- * mirror's share, and the transmission): next-event estimation for the
+/* A surface of smooth lobes (diffuse, the Phong highlight, a rough coat's
+ * and a rough metal's GGX lobes) and delta ones (a mirror share; a
+ * dielectric's glass: Fresnel's reflection, less the mirror's share, and
+ * the transmission, or frosted glass's facets, by the paths alone here): next-event estimation for the
  * smooth ones, then one lobe chosen by weight for the path's next ray.
  * 0 where the path ends. */
 static int surface_bounce(const World *w, Path *p, const Surface *sf, vec3 kd, vec3 ks, const Draws *dr, int last,

@@ -19,8 +19,9 @@
  * that crossed a dielectric's inside is absorbed by exp(-absorb t)
  * (Beer-Lambert).  Secondary rays recurse up to settings.depth bounces and
  * are not traced where their weight, the most they can add to the pixel,
- * is below settings.cutoff.  A rough mirror spreads its reflection over
- * rough_samples^2 rays about the mirror direction, and an area light (a
+ * is below settings.cutoff.  A rough metal spreads its reflection over
+ * rough_samples^2 rays drawn from its GGX lobe (frosted glass its
+ * reflection and refraction), and an area light (a
  * sphere, a rectangle) is samples^2 shadow rays to stratified points of it:
  * soft shadows.  Their random numbers come from the ray's key (the pixel
  * sample's, base/sample.h), mixed with the bounce and what they are drawn
