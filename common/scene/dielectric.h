@@ -8,20 +8,27 @@
 #include "scene/trace.h"
 #include "shading/optics.h"
 
-/* The share of light along unit d reflected at dielectric surface sf, the
- * ratio of indices *eta it crosses and the refracted direction *td (not
- * unit; zero where none): all of it reflected past the critical angle, or
- * where a smooth normal would bend the refracted ray back through the
- * facet. */
-static inline real dielectric_split(const World *w, const Surface *sf, vec3 d, real *eta, vec3 *td)
+/* The share of light along unit d reflected at dielectric surface sf by
+ * its part of unit normal n (its shading normal, or a frosted surface's
+ * facet), the ratio of indices *eta it crosses and the refracted
+ * direction *td (not unit; zero where none): all of it reflected past the
+ * critical angle, or where n would bend the refracted ray back through
+ * the facet. */
+static inline real dielectric_split_at(const World *w, const Surface *sf, vec3 n, vec3 d, real *eta, vec3 *td)
 {
     const Material *m = sf->mat;
     *eta = sf->inside ? m->ior : R(1) / m->ior;
-    real f = optics_fresnel(w->view.settings.fresnel, real_max(R(0), -v3_dot(d, sf->ns)), *eta);
+    real f = optics_fresnel(w->view.settings.fresnel, real_max(R(0), -v3_dot(d, n)), *eta);
     *td = v3_splat(R(0));
-    if (f >= R(1) || !optics_refract(d, sf->ns, *eta, td) || !(v3_dot(*td, sf->ng) < R(0)))
+    if (f >= R(1) || !optics_refract(d, n, *eta, td) || !(v3_dot(*td, sf->ng) < R(0)))
         f = R(1);
     return f;
+}
+
+/* dielectric_split_at the shading normal. */
+static inline real dielectric_split(const World *w, const Surface *sf, vec3 d, real *eta, vec3 *td)
+{
+    return dielectric_split_at(w, sf, sf->ns, d, eta, td);
 }
 
 /* What light keeps of itself per channel crossing the inside of

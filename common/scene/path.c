@@ -154,13 +154,10 @@ static vec3 frosted_eval(const World *w, const Surface *sf, vec3 wo, vec3 wi, re
     const real oh = v3_dot(wo, h), ih = v3_dot(wi, h);
     if (!(oh > R(0)) || !(refl ? ih > R(0) : ih < R(0)))
         return v3_splat(R(0));
-    Surface fs = *sf; /* Fresnel's share at the facet, as frosted_bounce takes it */
-    fs.ns = h;
-    real e;
+    real e; /* Fresnel's share at the facet, as frosted_bounce takes it */
     vec3 td;
-    const real f = dielectric_split(w, &fs, v3_neg(wo), &e, &td);
-    const real a2 = alpha * alpha, ch = v3_dot(n, h), k = ch * ch * (a2 - R(1)) + R(1);
-    const real d = a2 / (REAL_PI * k * k), lo = ggx_lambda(co, a2), li = ggx_lambda(fabs(ci), a2);
+    const real f = dielectric_split_at(w, sf, h, v3_neg(wo), &e, &td);
+    const real a2 = alpha * alpha, d = ggx_d(v3_dot(n, h), a2), lo = ggx_lambda(co, a2), li = ggx_lambda(fabs(ci), a2);
     const real g1 = R(1) / (R(1) + lo), g2 = R(1) / (R(1) + lo + li);
     if (refl) {
         const real q = d / (R(4) * co);
@@ -188,8 +185,10 @@ static int light_side(const Surface *sf, const Lobes *lb, vec3 dir, vec3 origin,
         *from = sf->smooth ? trace_leave_origin(sf, dir) : origin;
         return 1;
     }
+    if (!(lb && lb->frost > R(0)))
+        return 0;
     *from = trace_offset_origin(sf->p, v3_neg(sf->ng), sf->err); /* through the glass */
-    return lb && lb->frost > R(0);
+    return 1;
 }
 
 /* Next-event estimation from a point with smooth lobes: one point of
@@ -316,14 +315,13 @@ static int frosted_bounce(const World *w, const Surface *sf, vec3 d, real fr, re
                           Ray *next)
 {
     const real alpha = ggx_alpha(sf->mat->roughness);
-    Surface fs = *sf;
-    fs.ns = ggx_visible_normal(sf->ns, v3_neg(d), alpha, u, v);
+    const vec3 m = ggx_visible_normal(sf->ns, v3_neg(d), alpha, u, v);
     real eta;
     vec3 td;
-    const real f = dielectric_split(w, &fs, d, &eta, &td);
+    const real f = dielectric_split_at(w, sf, m, d, &eta, &td);
     vec3 wi;
     if (pick < f) {
-        wi = v3_reflect(d, fs.ns);
+        wi = v3_reflect(d, m);
         if (!(v3_dot(wi, sf->ng) > R(0)))
             return 0;
         *beta = v3_scale(*beta, fr * ggx_keep(sf->ns, v3_neg(d), wi, alpha));

@@ -437,6 +437,32 @@ static const RayDiff *reflected_diff(const Shading *sh, vec3 d, RayDiff *out)
     return out;
 }
 
+/* How many rays a sampled surface effect (a rough mirror, frosted glass)
+ * of rough_samples k a side traces from ray sh: per effect (*product) all
+ * k x k, one budget sh's share of them. */
+static uint32_t effect_rays(const World *w, const Shading *sh, uint32_t *k, int *product)
+{
+    *product = w->view.settings.sampling == SAMPLING_PRODUCT;
+    *k = (uint32_t)settings_rough_samples(&w->view.settings);
+    return *product ? *k * *k : sample_share(*k * *k, sh->id.count);
+}
+
+/* Ray j of those n: its point (u, v) of the unit square, stratum j of
+ * k x k (product), or point sh->id.index x n + j of the pixel's sequence
+ * for key (one budget); and its sample, a ray of the pixel's count at the
+ * next bounce. */
+static SampleId effect_sample(const Shading *sh, uint32_t key, uint32_t j, uint32_t k, uint32_t n, int product,
+                              real *u, real *v)
+{
+    if (product) {
+        sample_stratum(key, j, k, u, v);
+        return (SampleId){.key = sample_mix(key, j), .index = 0, .count = 1};
+    }
+    const SampleId id = {.key = key, .index = sh->id.index * n + j, .count = sh->id.count * n};
+    sample_sobol2(id.index, key, u, v);
+    return id;
+}
+
 /* A rough mirror: rays drawn from its GGX lobe (shading/ggx.h: the
  * visible normals of a microfacet surface of its roughness, as the path
  * integrator's metal and Cycles' Glossy BSDF reflect), stratified, each
@@ -449,8 +475,9 @@ static vec3 rough_reflection(const World *w, const Shading *sh, vec3 front, int 
 {
     const Surface *sf = &sh->sf;
     const Material *m = sf->mat;
-    const int product = w->view.settings.sampling == SAMPLING_PRODUCT;
-    uint32_t k = (uint32_t)settings_rough_samples(&w->view.settings), n = product ? k * k : sample_share(k * k, sh->id.count);
+    uint32_t k;
+    int product;
+    const uint32_t n = effect_rays(w, sh, &k, &product);
     real share = R(1) / (real)n;
     vec3 wt = v3_scale(v3_mul(weight, m->kr), share), sum = v3_splat(0);
     uint32_t key = sample_mix(sh->id.key, 0x52000000u);
@@ -469,13 +496,7 @@ static vec3 rough_reflection(const World *w, const Shading *sh, vec3 front, int 
     uint32_t q = 0;
     for (uint32_t j = 0; j < n; j++) {
         real u, v;
-        if (product) {
-            sample_stratum(key, j, k, &u, &v);
-            child[q] = (SampleId){.key = sample_mix(key, j), .index = 0, .count = 1};
-        } else {
-            child[q] = (SampleId){.key = key, .index = sh->id.index * n + j, .count = sh->id.count * n};
-            sample_sobol2(child[q].index, key, &u, &v);
-        }
+        child[q] = effect_sample(sh, key, j, k, n, product, &u, &v);
         const vec3 d = ggx_sample(sf->ns, sh->view, alpha, u, v);
         real pdf;
         const real f = ggx_eval(sf->ns, sh->view, d, alpha, &pdf);
@@ -513,9 +534,9 @@ static vec3 frosted_glass(const World *w, const Shading *sh, real fr, int depth,
 {
     const Surface *sf = &sh->sf;
     const Material *m = sf->mat;
-    const int product = w->view.settings.sampling == SAMPLING_PRODUCT;
-    const uint32_t k = (uint32_t)settings_rough_samples(&w->view.settings);
-    const uint32_t n = product ? k * k : sample_share(k * k, sh->id.count);
+    uint32_t k;
+    int product;
+    const uint32_t n = effect_rays(w, sh, &k, &product);
     const real share = R(1) / (real)n, alpha = ggx_alpha(m->roughness);
     const uint32_t key = sample_mix(sh->id.key, 0x46000000u);
     const vec3 d = v3_neg(sh->view), front = trace_offset_origin(sf->p, sf->ng, sf->err),
@@ -526,21 +547,13 @@ static vec3 frosted_glass(const World *w, const Shading *sh, real fr, int depth,
     uint32_t q = 0;
     for (uint32_t j = 0; j < n; j++) {
         real u, v;
-        SampleId id;
-        if (product) {
-            sample_stratum(key, j, k, &u, &v);
-            id = (SampleId){.key = sample_mix(key, j), .index = 0, .count = 1};
-        } else {
-            id = (SampleId){.key = key, .index = sh->id.index * n + j, .count = sh->id.count * n};
-            sample_sobol2(id.index, key, &u, &v);
-        }
-        Surface fs = *sf;
-        fs.ns = ggx_visible_normal(sf->ns, sh->view, alpha, u, v);
+        const SampleId id = effect_sample(sh, key, j, k, n, product, &u, &v);
+        const vec3 facet = ggx_visible_normal(sf->ns, sh->view, alpha, u, v);
         real eta;
         vec3 td;
-        const real f = dielectric_split(w, &fs, d, &eta, &td);
+        const real f = dielectric_split_at(w, sf, facet, d, &eta, &td);
         if (sample_unit(sample_mix(id.key ^ id.index, 0x46u)) < f) { /* the facet's reflection */
-            const vec3 r = v3_reflect(d, fs.ns);
+            const vec3 r = v3_reflect(d, facet);
             if (fr > R(0) && v3_dot(r, sf->ng) > R(0)) {
                 kept[q] = v3_splat(fr * ggx_keep(sf->ns, sh->view, r, alpha));
                 ray_init(&rays[q], front, r, R(0), REAL_INF);

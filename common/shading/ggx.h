@@ -27,6 +27,13 @@ static inline real ggx_lambda(real c, real a2)
     return (sqrt(R(1) + a2 * t2) - R(1)) * R(0.5);
 }
 
+/* The distribution D of facet normal h at cosine ch to the normal. */
+static inline real ggx_d(real ch, real a2)
+{
+    const real k = ch * ch * (a2 - R(1)) + R(1);
+    return a2 / (REAL_PI * k * k);
+}
+
 /* f x cos(n, wi) of a white GGX reflector at n seen from wo (unit, towards
  * the viewer), towards wi, and into *pdf the density ggx_sample gives wi
  * (solid angle); 0 where either lies below the surface. */
@@ -37,8 +44,7 @@ static inline real ggx_eval(vec3 n, vec3 wo, vec3 wi, real alpha, real *pdf)
     if (!(co > R(0) && ci > R(0)))
         return R(0);
     const vec3 h = v3_norm(v3_add(wo, wi));
-    const real a2 = alpha * alpha, ch = v3_dot(n, h), k = ch * ch * (a2 - R(1)) + R(1);
-    const real d = a2 / (REAL_PI * k * k);
+    const real a2 = alpha * alpha, d = ggx_d(v3_dot(n, h), a2);
     const real lo = ggx_lambda(co, a2), li = ggx_lambda(ci, a2);
     const real q = d / (R(4) * co);
     *pdf = q / (R(1) + lo);     /* G1(wo) D(h) (wo.h) / co / (4 wo.h) */
