@@ -116,7 +116,7 @@ static void a_white_lambertian_weighs_one(void **state)
  * everywhere (its albedo) estimated twice, from its own samples weighed by
  * their density and from uniform directions; where the sampler and the
  * density disagreed, the two would part. */
-static void ggx_albedo(real rough, double deg, double *by_samples, double *by_uniform, double *max_weight)
+static void metal_albedo(real rough, double deg, double *by_samples, double *by_uniform, double *max_weight)
 {
     const vec3 n = v3_norm(v3(0.2f, 1, 0.3f));
     vec3 t = v3_norm(v3_cross(n, v3(1, 0, 0)));
@@ -149,7 +149,7 @@ static void ggx_samples_follow_their_density(void **state)
     const double deg[] = {0, 45, 70, 85};
     for (int k = 0; k < 4; k++) {
         double s, u, mw;
-        ggx_albedo(rough[k], deg[k], &s, &u, &mw);
+        metal_albedo(rough[k], deg[k], &s, &u, &mw);
         if (fabs(s - u) > 0.015 * u)
             fail_msg("roughness %.2f at %.0f degrees: albedo %.4f by the lobe's samples, %.4f by uniform directions",
                      (double)rough[k], deg[k], s, u);
@@ -167,14 +167,44 @@ static void a_smooth_ggx_metal_reflects_nearly_all(void **state)
 {
     (void)state;
     double s, u, mw;
-    ggx_albedo(0.2f, 0, &s, &u, &mw);
+    metal_albedo(0.2f, 0, &s, &u, &mw);
     if (!(s > 0.99 && s <= 1.0001))
         fail_msg("a white GGX metal of roughness 0.2 reflects %.4f of the light from everywhere head on", s);
     /* a rough one loses some: Kulla and Conty's figure, about half at
      * alpha 0.9 seen 70 degrees off its normal */
-    ggx_albedo(0.95f, 70, &s, &u, &mw);
+    metal_albedo(0.95f, 70, &s, &u, &mw);
     if (!(s > 0.45 && s < 0.7))
         fail_msg("a white GGX metal of roughness 0.95 reflects %.4f of the light at 70 degrees", s);
+}
+
+/* The table of the lobe's albedo (tools/ggx-tables, ggx_albedo) against
+ * the albedo of the C lobe's own samples, at rows, columns and between
+ * them, head on to grazing; and a white rough metal weighed by ggx_metal
+ * reflects all the light from everywhere (without it, down to 0.31 head
+ * on at roughness 1). */
+static void ggx_albedo_table_is_the_lobes(void **state)
+{
+    (void)state;
+    const real rough[] = {0.12f, 0.5f, 0.77f, 1};
+    const double deg[] = {0, 40, 75, 87};
+    for (int r = 0; r < 4; r++)
+        for (int k = 0; k < 4; k++) {
+            double s, u, mw;
+            metal_albedo(rough[r], deg[k], &s, &u, &mw);
+            const real mu = (real)cos(deg[k] * TWO_PI / 360), e = ggx_albedo(mu, rough[r]);
+            if (fabs((double)e - s) > 0.006)
+                fail_msg("roughness %.2f at %.0f degrees: the table's albedo %.4f, the lobe's samples' %.4f",
+                         (double)rough[r], deg[k], (double)e, s);
+            const double white = s * (double)ggx_metal(v3(1, 1, 1), mu, rough[r]).x;
+            if (fabs(white - 1) > 0.01)
+                fail_msg("roughness %.2f at %.0f degrees: a white metal weighed by ggx_metal reflects %.4f",
+                         (double)rough[r], deg[k], white);
+        }
+    /* the table's ends and what lies past them */
+    assert_true(ggx_albedo(1, 0) > R(0.999) && ggx_albedo(1, 0) <= 1);
+    assert_true(ggx_albedo(2, -1) == ggx_albedo(1, 0));
+    assert_true(ggx_albedo(NAN, NAN) == ggx_albedo(0, 0));
+    assert_true(ggx_albedo(1, 1) < R(0.35) && ggx_albedo(1, 5) == ggx_albedo(1, 1));
 }
 
 /* The lobe at the extremes: the narrowest (roughness 0: alpha's floor)
@@ -396,6 +426,7 @@ int main(void)
         cmocka_unit_test(ggx_samples_follow_their_density),
         cmocka_unit_test(a_smooth_ggx_metal_reflects_nearly_all),
         cmocka_unit_test(ggx_holds_at_the_extremes),
+        cmocka_unit_test(ggx_albedo_table_is_the_lobes),
         cmocka_unit_test(emitters_cover_their_solid_angle),
         cmocka_unit_test(a_cutout_emits_only_where_it_is),
         cmocka_unit_test(an_emission_texture_lights_by_its_texels),

@@ -408,12 +408,13 @@ static int surface_bounce(const World *w, Path *p, const Surface *sf, vec3 kd, v
     const Material *m = sf->mat;
     const vec3 d = p->ray.dir;
     vec3 kr = material_reflects(m) ? m->kr : v3_splat(R(0)), kcm = v3_splat(R(0)); /* kcm: a smooth coat's mirror */
-    real kc = R(0), coat_alpha = R(0);
+    real kc = R(0), coat_alpha = R(0), under = R(1); /* under: what the coat lets through */
     if (world_has(w, FEAT_COAT) && material_coats(m) && w->view.settings.shading == SHADE_PHONG) {
         /* a clear coat: its Fresnel share a GGX lobe, the rest of the surface what it lets through */
         kc = dielectric_coat_share(w, sf, v3_neg(d));
         coat_alpha = ggx_alpha(m->coat_roughness);
-        kd = v3_scale(kd, R(1) - kc), ks = v3_scale(ks, R(1) - kc), kr = v3_scale(kr, R(1) - kc);
+        under = R(1) - kc;
+        kd = v3_scale(kd, under), ks = v3_scale(ks, under), kr = v3_scale(kr, under);
         if (material_coat_smooth(m)) /* a mirror share (material.h) */
             kcm = v3_splat(kc), kc = R(0);
     }
@@ -431,8 +432,10 @@ static int surface_bounce(const World *w, Path *p, const Surface *sf, vec3 kd, v
     const int rough = material_rough(m), own = material_reflects(m) && !rough;
     LobeColours lc = {.kd = kd, .ks = material_reflects(m) ? v3_splat(R(0)) : ks, .shininess = m->shininess,
                       .kr = v3_add(v3_add(kr, kcm), kg), .kc = kc, .coat_alpha = coat_alpha, .km = v3_splat(R(0))};
-    if (rough)
-        lc.km = kr, lc.alpha = ggx_alpha(m->roughness), lc.kr = v3_add(kcm, kg), kr = v3_splat(R(0));
+    if (rough) { /* weighed for the light its facets pass between them (ggx_metal) */
+        lc.km = v3_scale(ggx_metal(m->kr, v3_dot(sf->ns, v3_neg(d)), m->roughness), under);
+        lc.alpha = ggx_alpha(m->roughness), lc.kr = v3_add(kcm, kg), kr = v3_splat(R(0));
+    }
     Lobes lb, hl;
     const int highlight = own && highlight_make(p->plan, sf, ks, d, &hl);
     if (!lobes_make(&lb, &lc, sf->ns, d))

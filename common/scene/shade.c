@@ -479,7 +479,9 @@ static vec3 rough_reflection(const World *w, const Shading *sh, vec3 front, int 
     int product;
     const uint32_t n = effect_rays(w, sh, &k, &product);
     real share = R(1) / (real)n;
-    vec3 wt = v3_scale(v3_mul(weight, m->kr), share), sum = v3_splat(0);
+    /* weighed for the light its facets pass between them (ggx_metal) */
+    const vec3 kr = ggx_metal(m->kr, v3_dot(sf->ns, sh->view), m->roughness);
+    vec3 wt = v3_scale(v3_mul(weight, kr), share), sum = v3_splat(0);
     uint32_t key = sample_mix(sh->id.key, 0x52000000u);
     RayDiff rd; /* the mirror's, its cone widened by each ray's share of the lobe */
     const RayDiff *rdp = reflected_diff(sh, v3_neg(sh->view), &rd);
@@ -516,7 +518,7 @@ static vec3 rough_reflection(const World *w, const Shading *sh, vec3 front, int 
             q = 0;
         }
     }
-    return v3_mul(m->kr, v3_scale(sum, share));
+    return v3_mul(kr, v3_scale(sum, share));
 }
 
 /* Frosted glass (material_frosted): rough_samples^2 facets drawn from

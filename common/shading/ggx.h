@@ -81,6 +81,38 @@ static inline vec3 ggx_sample(vec3 n, vec3 wo, real alpha, real u, real v)
     return v3_sub(v3_scale(m, R(2) * v3_dot(wo, m)), wo);
 }
 
+/* The directional albedo E of a white GGX reflector of `roughness` seen at
+ * cosine mu (tools/ggx-tables writes the table: rows of roughness, columns
+ * of sqrt(mu), bilinear between them): what its lobe reflects of the light
+ * from a direction after one facet.  The rest, 1 - E (two thirds head on
+ * at roughness 1), meets a second facet first, which the lobe leaves out. */
+#define GGX_TABLE_N 32
+extern const float ggx_albedo_table[GGX_TABLE_N][GGX_TABLE_N];
+
+static inline real ggx_albedo(real mu, real roughness)
+{
+    /* NaN-safe: a NaN reads the first row or column */
+    const real x = sqrt(mu > R(0) ? real_min(mu, R(1)) : R(0)) * (GGX_TABLE_N - 1),
+               y = (roughness > R(0) ? real_min(roughness, R(1)) : R(0)) * (GGX_TABLE_N - 1);
+    const int i = x < GGX_TABLE_N - 2 ? (int)x : GGX_TABLE_N - 2, j = y < GGX_TABLE_N - 2 ? (int)y : GGX_TABLE_N - 2;
+    const real fx = x - (real)i, fy = y - (real)j;
+    const float *a = ggx_albedo_table[j], *b = ggx_albedo_table[j + 1];
+    const real lo = (real)a[i] + ((real)a[i + 1] - (real)a[i]) * fx, hi = (real)b[i] + ((real)b[i + 1] - (real)b[i]) * fx;
+    return lo + (hi - lo) * fy;
+}
+
+/* The colour a rough metal of colour kr lends its single-scattering lobe
+ * seen at cosine mu, so that the light its facets pass between them comes
+ * back: kr (1 + kr (1 - E) / E) (Turquin 2019, as Cycles 4 weighs its GGX:
+ * each further facet takes kr once more, a white metal loses nothing; the
+ * lobe's shape stays, only its weight grows, most where E is least).  What
+ * Cycles 3.4's "Multiscatter GGX" gives by walking the facets. */
+static inline vec3 ggx_metal(vec3 kr, real mu, real roughness)
+{
+    const real e = ggx_albedo(mu, roughness);
+    return v3_mul(kr, v3_add(v3_splat(R(1)), v3_scale(kr, (R(1) - e) / e)));
+}
+
 /* What a path that left wo by a visible facet towards wi keeps, G2 / G1
  * (wo): the facets that shadow wi, reflected or refracted (wi on either
  * side of n: its cosine taken whole). */
