@@ -179,9 +179,12 @@ static void a_smooth_ggx_metal_reflects_nearly_all(void **state)
 
 /* The table of the lobe's albedo (tools/ggx-tables, ggx_albedo) against
  * the albedo of the C lobe's own samples, at rows, columns and between
- * them, head on to grazing; and a white rough metal weighed by ggx_metal
+ * them, head on to grazing; a white rough metal weighed by ggx_metal
  * reflects all the light from everywhere (without it, down to 0.31 head
- * on at roughness 1). */
+ * on at roughness 1), a grey one what one facet gives and part of the
+ * rest (its light between facets takes its colour at least twice: kr^2 of
+ * what one facet loses at most; some of it: 0.05 of it at least for
+ * kr 0.5, where Kulla and Conty's colour gives 0.14-0.25). */
 static void ggx_albedo_table_is_the_lobes(void **state)
 {
     (void)state;
@@ -199,12 +202,19 @@ static void ggx_albedo_table_is_the_lobes(void **state)
             if (fabs(white - 1) > 0.01)
                 fail_msg("roughness %.2f at %.0f degrees: a white metal weighed by ggx_metal reflects %.4f",
                          (double)rough[r], deg[k], white);
+            /* a coloured one gets back less: its light between facets
+             * takes its colour at least twice (kr^2 of it at most) */
+            const double grey = (double)ggx_metal(v3(0.5f, 0.5f, 0.5f), mu, rough[r]).x, lost = (1 - e) / e;
+            if (!(grey >= 0.5 + 0.05 * lost && grey <= 0.5 + 0.25 * lost + 1e-6))
+                fail_msg("roughness %.2f at %.0f degrees: a metal of 0.5 weighed by ggx_metal as %.4f, not between "
+                         "%.4f and %.4f", (double)rough[r], deg[k], grey, 0.5 + 0.05 * lost, 0.5 + 0.25 * lost);
         }
     /* the table's ends and what lies past them */
     assert_true(ggx_albedo(1, 0) > R(0.999) && ggx_albedo(1, 0) <= 1);
     assert_true(ggx_albedo(2, -1) == ggx_albedo(1, 0));
     assert_true(ggx_albedo(NAN, NAN) == ggx_albedo(0, 0));
     assert_true(ggx_albedo(1, 1) < R(0.35) && ggx_albedo(1, 5) == ggx_albedo(1, 1));
+    assert_true(ggx_albedo_mean(0) > R(0.999) && ggx_albedo_mean(1) < R(0.45) && ggx_albedo_mean(NAN) == ggx_albedo_mean(0));
 }
 
 /* The lobe at the extremes: the narrowest (roughness 0: alpha's floor)
