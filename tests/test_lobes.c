@@ -12,6 +12,7 @@
 
 #include "scene/emitters.h"
 #include "shading/ggx.h"
+#include "shading/optics.h"
 #include "shading/lobes.h"
 
 #define TWO_PI 6.283185307179586
@@ -215,6 +216,55 @@ static void ggx_albedo_table_is_the_lobes(void **state)
     assert_true(ggx_albedo(NAN, NAN) == ggx_albedo(0, 0));
     assert_true(ggx_albedo(1, 1) < R(0.35) && ggx_albedo(1, 5) == ggx_albedo(1, 1));
     assert_true(ggx_albedo_mean(0) > R(0.999) && ggx_albedo_mean(1) < R(0.45) && ggx_albedo_mean(NAN) == ggx_albedo_mean(0));
+}
+
+/* The table of frosted glass's albedo (tools/ggx-tables, ggx_glass_albedo)
+ * against the same mean taken here from the C lobe's visible facets and
+ * optics.h (a facet reflects by Fresnel's exact share or refracts; a
+ * refraction that fails or would go back out reflects; a reflection into
+ * the surface is lost; each keeps G2 / G1), from outside and inside, at
+ * and between the table's rows and planes; and its weight gives a clear
+ * frosted surface all its light back. */
+static void ggx_glass_table_is_the_lobes(void **state)
+{
+    (void)state;
+    const vec3 n = v3(0, 0, 1);
+    const real rough[] = {0.2f, 0.55f, 0.9f};
+    const real cosines[] = {1, 0.6f, 0.3f};
+    const real etas[] = {1 / 1.5f, 1.5f, 1 / 2.2f, 2.2f};
+    const int K = 128;
+    for (int a = 0; a < 3; a++)
+        for (int c = 0; c < 3; c++)
+            for (int e = 0; e < 4; e++) {
+                const real mu = cosines[c], eta = etas[e], alpha = ggx_alpha(rough[a]);
+                const vec3 wo = v3(sqrt(1 - mu * mu), 0, mu);
+                double sum = 0;
+                for (int i = 0; i < K; i++)
+                    for (int j = 0; j < K; j++) {
+                        const vec3 m = ggx_visible_normal(n, wo, alpha, (real)((i + 0.5) / K), (real)((j + 0.5) / K));
+                        const vec3 d = v3_neg(wo);
+                        real f = optics_fresnel_exact(real_max(0, v3_dot(wo, m)), eta);
+                        vec3 t = v3(0, 0, 0);
+                        if (f >= 1 || !optics_refract(d, m, eta, &t) || !(t.z < 0))
+                            f = 1;
+                        const vec3 r = v3_reflect(d, m);
+                        if (r.z > 0)
+                            sum += (double)(f * ggx_keep(n, wo, r, alpha));
+                        if (f < 1)
+                            sum += (double)((1 - f) * ggx_keep(n, wo, v3_norm(t), alpha));
+                    }
+                const double mean = sum / (K * K), table = (double)ggx_glass_albedo(mu, rough[a], eta);
+                if (fabs(table - mean) > 0.012)
+                    fail_msg("frosted glass of roughness %.2f, eta %.3f, cosine %.1f: the table keeps %.4f, the lobe %.4f",
+                             (double)rough[a], (double)eta, (double)mu, table, mean);
+                if (fabs(mean * (double)ggx_glass_weight(mu, rough[a], eta) - 1) > 0.015)
+                    fail_msg("frosted glass of roughness %.2f, eta %.3f, cosine %.1f: weighed, it keeps %.4f",
+                             (double)rough[a], (double)eta, (double)mu, mean * (double)ggx_glass_weight(mu, rough[a], eta));
+            }
+    /* past the table's ends: its last planes; a NaN reads the first */
+    assert_true(ggx_glass_albedo(1, 1, 16) == ggx_glass_albedo(1, 1, 3));
+    assert_true(ggx_glass_albedo(0.5f, 0.5f, 0.01f) == ggx_glass_albedo(0.5f, 0.5f, 1e-6f));
+    assert_true(isfinite(ggx_glass_weight(NAN, NAN, NAN)) && ggx_glass_weight(NAN, NAN, NAN) >= 1);
 }
 
 /* The lobe at the extremes: the narrowest (roughness 0: alpha's floor)
@@ -437,6 +487,7 @@ int main(void)
         cmocka_unit_test(a_smooth_ggx_metal_reflects_nearly_all),
         cmocka_unit_test(ggx_holds_at_the_extremes),
         cmocka_unit_test(ggx_albedo_table_is_the_lobes),
+        cmocka_unit_test(ggx_glass_table_is_the_lobes),
         cmocka_unit_test(emitters_cover_their_solid_angle),
         cmocka_unit_test(a_cutout_emits_only_where_it_is),
         cmocka_unit_test(an_emission_texture_lights_by_its_texels),

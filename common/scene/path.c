@@ -158,7 +158,8 @@ static vec3 frosted_eval(const World *w, const Surface *sf, vec3 wo, vec3 wi, re
     vec3 td;
     const real f = dielectric_split_at(w, sf, h, v3_neg(wo), &e, &td);
     const real a2 = alpha * alpha, d = ggx_d(v3_dot(n, h), a2), lo = ggx_lambda(co, a2), li = ggx_lambda(fabs(ci), a2);
-    const real g1 = R(1) / (R(1) + lo), g2 = R(1) / (R(1) + lo + li);
+    /* weighed for the light between facets, as frosted_bounce's paths (ggx_glass_weight) */
+    const real g1 = R(1) / (R(1) + lo), g2 = ggx_glass_weight(co, m->roughness, eta) / (R(1) + lo + li);
     if (refl) {
         const real q = d / (R(4) * co);
         *pdf = f * g1 * q;
@@ -319,17 +320,19 @@ static int frosted_bounce(const World *w, const Surface *sf, vec3 d, real fr, re
     real eta;
     vec3 td;
     const real f = dielectric_split_at(w, sf, m, d, &eta, &td);
+    /* weighed for the light its facets pass between them (ggx_glass_weight) */
+    const real wt = ggx_glass_weight(-v3_dot(sf->ns, d), sf->mat->roughness, eta);
     vec3 wi;
     if (pick < f) {
         wi = v3_reflect(d, m);
         if (!(v3_dot(wi, sf->ng) > R(0)))
             return 0;
-        *beta = v3_scale(*beta, fr * ggx_keep(sf->ns, v3_neg(d), wi, alpha));
+        *beta = v3_scale(*beta, fr * wt * ggx_keep(sf->ns, v3_neg(d), wi, alpha));
         ray_init(next, trace_offset_origin(sf->p, sf->ng, sf->err), wi, R(0), REAL_MAX);
         return 1;
     }
     wi = v3_norm(td); /* dielectric_split took it for a reflection where it would not go below the facet */
-    *beta = v3_scale(v3_mul(*beta, sf->mat->kt), ggx_keep(sf->ns, v3_neg(d), wi, alpha));
+    *beta = v3_scale(v3_mul(*beta, sf->mat->kt), wt * ggx_keep(sf->ns, v3_neg(d), wi, alpha));
     ray_init(next, trace_offset_origin(sf->p, v3_neg(sf->ng), sf->err), wi, R(0), REAL_MAX);
     return 1;
 }

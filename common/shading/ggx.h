@@ -134,6 +134,49 @@ static inline vec3 ggx_metal(vec3 kr, real mu, real roughness)
     return out;
 }
 
+/* The same for frosted glass (path.c's frosted_bounce: a visible facet
+ * reflects or refracts by Fresnel's exact share at it, G2 / G1 kept, a
+ * reflection into the surface lost), seen at cosine mu with eta = n1 / n2
+ * (the index the ray leaves over the one it enters): rows of roughness
+ * and columns of sqrt(mu) as ggx_albedo's, planes of eta from 1/3 to 3
+ * (3^(k/8 - 1)), trilinear; eta outside that range reads its end.  What
+ * a path keeps at one surface: the rest, lost between facets, is most
+ * from inside at high roughness (0.42 of the light kept head on at
+ * roughness 1, index 1.5). */
+#define GGX_GLASS_N 16
+#define GGX_GLASS_ETAS 17
+extern const float ggx_glass_table[GGX_GLASS_ETAS][GGX_GLASS_N][GGX_GLASS_N];
+
+static inline real ggx_glass_albedo(real mu, real roughness, real eta)
+{
+    const real x = sqrt(mu > R(0) ? real_min(mu, R(1)) : R(0)) * (GGX_GLASS_N - 1),
+               y = (roughness > R(0) ? real_min(roughness, R(1)) : R(0)) * (GGX_GLASS_N - 1);
+    /* log3(eta) in [-1, 1] over the planes; a NaN or eta <= 0 reads the first */
+    const real le = eta > R(0) ? log(eta) * (R(1) / R(1.0986122886681098)) : R(-1);
+    const real z = (real_clamp(le, R(-1), R(1)) + R(1)) * (R(0.5) * (GGX_GLASS_ETAS - 1));
+    const int i = x < GGX_GLASS_N - 2 ? (int)x : GGX_GLASS_N - 2, j = y < GGX_GLASS_N - 2 ? (int)y : GGX_GLASS_N - 2;
+    const int k = z < GGX_GLASS_ETAS - 2 ? (int)z : GGX_GLASS_ETAS - 2;
+    const real fx = x - (real)i, fy = y - (real)j, fz = z - (real)k;
+    real e[2];
+    for (int p = 0; p < 2; p++) {
+        const float *a = ggx_glass_table[k + p][j], *b = ggx_glass_table[k + p][j + 1];
+        const real lo = (real)a[i] + ((real)a[i + 1] - (real)a[i]) * fx;
+        const real hi = (real)b[i] + ((real)b[i + 1] - (real)b[i]) * fx;
+        e[p] = lo + (hi - lo) * fy;
+    }
+    return e[0] + (e[1] - e[0]) * fz;
+}
+
+/* What frosted glass's single-scattering lobe is weighed by, at cosine mu
+ * and eta as ggx_glass_albedo, so that it gives back the light its facets
+ * pass between them: 1 / E (Turquin 2019, as Cycles 4 weighs its rough
+ * glass): in a white furnace a clear frosted ball vanishes; reflection and
+ * refraction keep their single-scattering shares. */
+static inline real ggx_glass_weight(real mu, real roughness, real eta)
+{
+    return R(1) / real_max(ggx_glass_albedo(mu, roughness, eta), R(0.05));
+}
+
 /* What a path that left wo by a visible facet towards wi keeps, G2 / G1
  * (wo): the facets that shadow wi, reflected or refracted (wi on either
  * side of n: its cosine taken whole). */

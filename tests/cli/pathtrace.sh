@@ -30,6 +30,18 @@ data = parts[4]
 print("%.3f %d %d" % (sum(data) / len(data), min(data), max(data)))
 PY
 }
+# halves_mean FILE.ppm: the mean channel code of a 48-wide PPM's left and right halves
+halves_mean() {
+    python3 - "$1" <<'PY'
+import sys
+raw = open(sys.argv[1], 'rb').read()
+data = raw.split(maxsplit=4)[4]
+halves = [[], []]
+for i, c in enumerate(data):
+    halves[(i // 3) % 48 >= 24].append(c)
+print(" ".join("%.3f" % (sum(h) / len(h)) for h in halves))
+PY
+}
 cat >"$dir/furnace.scene" <<'S'
 camera position 0 0.5 6 lookat 0 0.3 0 fov 50
 background 0 0 0
@@ -107,18 +119,20 @@ sphere centre 0.9 0 0 radius 0.85 material rough
 S
 "$BIN/lanray-render" "$dir/metals.scene" --aa 8 --width 48 --height 36 --linear --exposure -1 -o "$dir/metals.ppm" \
     --quiet >/dev/null || fail "the rough metals' furnace did not render"
-read -r ml mr <<<"$(python3 - "$dir/metals.ppm" <<'PY'
-import sys
-raw = open(sys.argv[1], 'rb').read()
-data = raw.split(maxsplit=4)[4]
-halves = [[], []]
-for i, c in enumerate(data):
-    halves[(i // 3) % 48 >= 24].append(c)
-print(" ".join("%.3f" % (sum(h) / len(h)) for h in halves))
-PY
-)"
+read -r ml mr <<<"$(halves_mean "$dir/metals.ppm")"
 python3 -c "import sys; sys.exit(0 if abs($ml - 127.5) <= 1.3 and abs($mr - 127.5) <= 1.3 else 1)" ||
     fail "rough white metals in the furnace: means $ml and $mr, 127.5 expected (within 1%)"
+# and clear frosted glass, index 1.5 of roughness 0.5 and index 2 of
+# roughness 1: each lobe weighed by ggx_glass_weight (its light kept at a
+# surface, by index and side: tools/ggx-tables), the balls vanish into
+# the furnace, means within 1%; the lobe alone: 114 and 81
+sed 's/^material satin .*/material satin ior 1.5 roughness 0.5/; s/^material rough .*/material rough ior 2 roughness 1/' \
+    "$dir/metals.scene" >"$dir/frosted-furnace.scene"
+"$BIN/lanray-render" "$dir/frosted-furnace.scene" --aa 8 --width 48 --height 36 --linear --exposure -1 \
+    -o "$dir/metals.ppm" --quiet >/dev/null || fail "the frosted glass furnace did not render"
+read -r gl gr <<<"$(halves_mean "$dir/metals.ppm")"
+python3 -c "import sys; sys.exit(0 if abs($gl - 127.5) <= 1.3 and abs($gr - 127.5) <= 1.3 else 1)" ||
+    fail "frosted glass in the furnace: means $gl and $gr, 127.5 expected (within 1%)"
 # clear coats against Cycles: a smooth and a rough coat (Cycles: a sharp
 # and a GGX glossy mixed over the diffuse by a Fresnel node, written by
 # tools/bench/scene2cycles) under a sky and a lamp; the stored reference
@@ -145,9 +159,9 @@ fi
 # 1%.  Before 2026-11-29 every light ray of a smooth triangle left from
 # the point lifted onto its curved surface, inside the next fold of this
 # mesh's ridges: 1.9% off, its light 2% short (14% of its direct light).
-# against_cycles NAME AA MAX_ERR WHAT: tests/data/cycles/NAME.scene at AA x
-# AA samples within MAX_ERR (mean relative error in 4x4 blocks) of Cycles'
-# stored NAME-96.hdr, its light within 1%; the error in $err
+# against_cycles NAME AA MAX_ERR WHAT [MAX_RATIO]: tests/data/cycles/NAME.scene
+# at AA x AA samples within MAX_ERR (mean relative error in 4x4 blocks) of
+# Cycles' stored NAME-96.hdr, its light within MAX_RATIO (1%); the error in $err
 against_cycles() {
     err="(not measured under a sanitizer)"
     [ "$sanitized" = 0 ] || return 0
@@ -155,7 +169,7 @@ against_cycles() {
         fail "$1.scene did not render"
     local ratio
     IFS=, read -r err ratio <<<"$("$BIN/lanray-imgdiff" --relative --block 4 --csv "$dir/$1.hdr" "tests/data/cycles/$1-96.hdr")"
-    python3 -c "import sys; sys.exit(0 if $err <= $3 and abs($ratio - 1) <= 0.01 else 1)" ||
+    python3 -c "import sys; sys.exit(0 if $err <= $3 and abs($ratio - 1) <= ${5:-0.01} else 1)" ||
         fail "$4: $err (mean relative error, 4x4 blocks; light ratio $ratio) from Cycles'"
 }
 against_cycles dragon 8 0.008 "a scanned dragon"
@@ -178,13 +192,15 @@ nm_err=$err
 # 0.933.
 against_cycles metals 16 0.01 "rough metals"
 mt_err=$err
-# frosted glass against Cycles' rough Glass BSDF (tests/data/cycles/
-# frosted.scene: balls of roughness 0.1, 0.3 and 0.6 and a clear one
-# before a red wall; Cycles' frame at 4096 samples, its glass balls fine
-# meshes): within 3% in 4x4 blocks (the frosted balls' noise at 256
-# samples, which only the paths find), its light within 1%.  The same
-# balls clear: 4.7% off, light 1.028.
-against_cycles frosted 16 0.03 "frosted glass"
+# frosted glass against Cycles' rough Glass BSDF, Multiscatter GGX
+# (tests/data/cycles/frosted.scene: balls of roughness 0.1, 0.3 and 0.6
+# and a clear one before a red wall; Cycles' frame at 4096 samples, its
+# glass balls fine meshes): within 4% in 4x4 blocks, its light within 3%
+# (3.4%, 1.025: the light lanray gives back to the single-scattering lobe
+# (ggx_glass_weight) is distributed as that lobe's, Cycles walks it from
+# facet to facet; the furnace below holds its total).  The lobe alone:
+# 4.8%, 0.975; the balls clear 4.7% off Cycles' plain GGX.
+against_cycles frosted 16 0.04 "frosted glass" 0.03
 fg_err=$err
 # a smooth coat over a rough metal reflects sharply: its mirror is not
 # bent by the metal's roughness (a metal of 0.1% under it: the picture is
@@ -416,4 +432,4 @@ start_server room "$dir/room.scene" --port 0 --width 64 --height 64 --aa 2 --fra
     --out "$dir/f-room"
 clients_until_done 2 1
 wait "$server_pid" || fail "the path-traced frame through 2 clients differs from lanray-render's (server exit $?)"
-echo "pathtrace: the Cornell box $cb_err from Cycles' (4x4 blocks, light ratio $cb_ratio); a scanned dragon $dr_err; a normal-mapped ball $nm_err; rough metals $mt_err; frosted glass $fg_err; white furnace under MIS within $fur_err (6x6 blocks, light ratio $fur_ratio); emitters by NEE alone and by bounces alone = MIS (6x6 blocks: error $nee_err and $bsdf_err, light ratio $nee_ratio and $bsdf_ratio); a glass ball's darkest pixel $blo; a white furnace of diffuse spheres, coarse balls of smooth triangles (white and a mirror), a mirror, glass, a mirror over glass, a see-through diffuse veil and a metal with a highlight and a smooth clear coat come out 1 (codes $lo to $hi at exposure -1; rough white metals $ml and $mr (127.5; single scattering alone 118 and 92), a rough coat $clo to $chi, its direct light Whitted's within $ag_err, coats $co_err from Cycles' (uncoated $un_err), a smooth coat over a rough metal sharp (RMSE $sh_rmse); the highlight shows a point light: $shi, without it $dhi, frosted glass $fhi, clear $chi2; frosted glass under Whitted the path integrator's within $fw_err (clear $cw_err); a grey room's $glo); the floor under an emissive sphere follows the inverse-square law (code $lmean, 127.5 expected; Whitted $whi); a path-traced frame through 2 clients = lanray-render's"
+echo "pathtrace: the Cornell box $cb_err from Cycles' (4x4 blocks, light ratio $cb_ratio); a scanned dragon $dr_err; a normal-mapped ball $nm_err; rough metals $mt_err; frosted glass $fg_err; white furnace under MIS within $fur_err (6x6 blocks, light ratio $fur_ratio); emitters by NEE alone and by bounces alone = MIS (6x6 blocks: error $nee_err and $bsdf_err, light ratio $nee_ratio and $bsdf_ratio); a glass ball's darkest pixel $blo; a white furnace of diffuse spheres, coarse balls of smooth triangles (white and a mirror), a mirror, glass, a mirror over glass, a see-through diffuse veil and a metal with a highlight and a smooth clear coat come out 1 (codes $lo to $hi at exposure -1; rough white metals $ml and $mr (127.5; single scattering alone 118 and 92), frosted glass $gl and $gr, a rough coat $clo to $chi, its direct light Whitted's within $ag_err, coats $co_err from Cycles' (uncoated $un_err), a smooth coat over a rough metal sharp (RMSE $sh_rmse); the highlight shows a point light: $shi, without it $dhi, frosted glass $fhi, clear $chi2; frosted glass under Whitted the path integrator's within $fw_err (clear $cw_err); a grey room's $glo); the floor under an emissive sphere follows the inverse-square law (code $lmean, 127.5 expected; Whitted $whi); a path-traced frame through 2 clients = lanray-render's"
