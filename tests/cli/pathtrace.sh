@@ -102,7 +102,7 @@ python3 -c "import sys; sys.exit(0 if $clo >= 80 and $chi <= 129 and $cmean >= 1
     fail "a rough coat in the furnace: codes $clo to $chi (mean $cmean), 80 to 128 expected (mean 125 or more) at exposure -1"
 # rough white metals (GGX roughness 0.5 and 1) filling the frame in the
 # furnace: each lobe weighed by ggx_metal for the light that meets a
-# second facet (Turquin's compensation, tools/ggx-tables' albedo), each
+# second facet (Turquin's and Kulla and Conty's compensation, tools/ggx-tables), each
 # ball's mean the emitter's 127.5 within 1%.  The single-scattering lobe
 # alone (before 2026-11-29, as Cycles 3.4's plain GGX) lost it: 118 and 92.
 cat >"$dir/metals.scene" <<'S'
