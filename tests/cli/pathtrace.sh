@@ -129,8 +129,8 @@ python3 -c "import sys; sys.exit(0 if abs($ml - 127.5) <= 1.3 and abs($mr - 127.
 sed 's/^material satin .*/material satin ior 1.5 roughness 0.5/; s/^material rough .*/material rough ior 2 roughness 1/' \
     "$dir/metals.scene" >"$dir/frosted-furnace.scene"
 "$BIN/lanray-render" "$dir/frosted-furnace.scene" --aa 8 --width 48 --height 36 --linear --exposure -1 \
-    -o "$dir/metals.ppm" --quiet >/dev/null || fail "the frosted glass furnace did not render"
-read -r gl gr <<<"$(halves_mean "$dir/metals.ppm")"
+    -o "$dir/frosted-furnace.ppm" --quiet >/dev/null || fail "the frosted glass furnace did not render"
+read -r gl gr <<<"$(halves_mean "$dir/frosted-furnace.ppm")"
 python3 -c "import sys; sys.exit(0 if abs($gl - 127.5) <= 1.3 and abs($gr - 127.5) <= 1.3 else 1)" ||
     fail "frosted glass in the furnace: means $gl and $gr, 127.5 expected (within 1%)"
 # clear coats against Cycles: a smooth and a rough coat (Cycles: a sharp
