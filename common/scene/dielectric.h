@@ -6,7 +6,21 @@
 #define LANRAY_DIELECTRIC_H
 
 #include "scene/trace.h"
+#include "shading/ggx.h"
 #include "shading/optics.h"
+
+/* The ratio of indices a ray at dielectric surface sf crosses: the one
+ * it leaves over the one it enters. */
+static inline real dielectric_eta(const Surface *sf) { return sf->inside ? sf->mat->ior : R(1) / sf->mat->ior; }
+
+/* What frosted glass at sf seen from unit `view` (on the side of sf->ns)
+ * weighs its single-scattering lobe by, for the light its facets pass
+ * between them (ggx_glass_weight): the same for every direction the
+ * light leaves in, so made once a hit. */
+static inline real dielectric_frost_weight(const Surface *sf, vec3 view)
+{
+    return ggx_glass_weight(v3_dot(sf->ns, view), sf->mat->roughness, dielectric_eta(sf));
+}
 
 /* The share of light along unit d reflected at dielectric surface sf by
  * its part of unit normal n (its shading normal, or a frosted surface's
@@ -16,8 +30,7 @@
  * the facet. */
 static inline real dielectric_split_at(const World *w, const Surface *sf, vec3 n, vec3 d, real *eta, vec3 *td)
 {
-    const Material *m = sf->mat;
-    *eta = sf->inside ? m->ior : R(1) / m->ior;
+    *eta = dielectric_eta(sf);
     real f = optics_fresnel(w->view.settings.fresnel, real_max(R(0), -v3_dot(d, n)), *eta);
     *td = v3_splat(R(0));
     if (f >= R(1) || !optics_refract(d, n, *eta, td) || !(v3_dot(*td, sf->ng) < R(0)))

@@ -137,8 +137,10 @@ static int shadowed(const World *w, vec3 origin, vec3 dir, real tmax, const Worl
  * (eta: the index on wo's side over wi's; Walter et al. 2007), whose
  * Jacobian |wi.h| / (eta wo.h + wi.h)^2.  Written so that a sample
  * weighs G2 / G1 (times the transmitted colour), as frosted_bounce's do:
- * no radiance scaling across the interface, as clear glass has none. */
-static vec3 frosted_eval(const World *w, const Surface *sf, vec3 wo, vec3 wi, real alpha, real *pdf)
+ * no radiance scaling across the interface, as clear glass has none; and
+ * times wt, the lobe's weight for the light between facets
+ * (dielectric_frost_weight at wo). */
+static vec3 frosted_eval(const World *w, const Surface *sf, vec3 wo, vec3 wi, real alpha, real wt, real *pdf)
 {
     *pdf = R(0);
     const vec3 n = sf->ns;
@@ -147,7 +149,7 @@ static vec3 frosted_eval(const World *w, const Surface *sf, vec3 wo, vec3 wi, re
     if (!(co > R(0)) || !(refl ? cg > R(0) : ci < R(0) && cg < R(0)))
         return v3_splat(R(0));
     const Material *m = sf->mat;
-    const real eta = sf->inside ? m->ior : R(1) / m->ior;
+    const real eta = dielectric_eta(sf);
     vec3 h = v3_norm(refl ? v3_add(wo, wi) : v3_neg(v3_add(v3_scale(wo, eta), wi)));
     if (v3_dot(h, n) < R(0))
         h = v3_neg(h);
@@ -158,8 +160,7 @@ static vec3 frosted_eval(const World *w, const Surface *sf, vec3 wo, vec3 wi, re
     vec3 td;
     const real f = dielectric_split_at(w, sf, h, v3_neg(wo), &e, &td);
     const real a2 = alpha * alpha, d = ggx_d(v3_dot(n, h), a2), lo = ggx_lambda(co, a2), li = ggx_lambda(fabs(ci), a2);
-    /* weighed for the light between facets, as frosted_bounce's paths (ggx_glass_weight) */
-    const real g1 = R(1) / (R(1) + lo), g2 = ggx_glass_weight(co, m->roughness, eta) / (R(1) + lo + li);
+    const real g1 = R(1) / (R(1) + lo), g2 = wt / (R(1) + lo + li);
     if (refl) {
         const real q = d / (R(4) * co);
         *pdf = f * g1 * q;
@@ -174,7 +175,8 @@ static vec3 frosted_eval(const World *w, const Surface *sf, vec3 wo, vec3 wi, re
  * (lb->frost) or the lobes'. */
 static vec3 surface_eval(const World *w, const Surface *sf, const Lobes *lb, vec3 wi, real *pdf)
 {
-    return lb->frost > R(0) ? frosted_eval(w, sf, lb->wo, wi, lb->frost, pdf) : lobes_eval(lb, wi, pdf);
+    return lb->frost > R(0) ? frosted_eval(w, sf, lb->wo, wi, lb->frost, lb->frost_wt, pdf)
+                            : lobes_eval(lb, wi, pdf);
 }
 
 /* Whether a light along dir can reach the point through its lobes: above
@@ -311,17 +313,16 @@ static int glass_bounce(const Surface *sf, vec3 d, real f, vec3 td, real fr, rea
  * goes: Walter et al.'s microfacet BSDF, sampled as Heitz's visible
  * normals make it, whose weight is that alone).  What would leave on the
  * wrong side of the surface (a facet's reflection into it, or its
- * refraction out of it) ends the path.  fr as glass_bounce's. */
-static int frosted_bounce(const World *w, const Surface *sf, vec3 d, real fr, real pick, real u, real v, vec3 *beta,
-                          Ray *next)
+ * refraction out of it) ends the path.  fr as glass_bounce's; wt the
+ * lobe's weight for the light between facets (dielectric_frost_weight). */
+static int frosted_bounce(const World *w, const Surface *sf, vec3 d, real fr, real wt, real pick, real u, real v,
+                          vec3 *beta, Ray *next)
 {
     const real alpha = ggx_alpha(sf->mat->roughness);
     const vec3 m = ggx_visible_normal(sf->ns, v3_neg(d), alpha, u, v);
     real eta;
     vec3 td;
     const real f = dielectric_split_at(w, sf, m, d, &eta, &td);
-    /* weighed for the light its facets pass between them (ggx_glass_weight) */
-    const real wt = ggx_glass_weight(-v3_dot(sf->ns, d), sf->mat->roughness, eta);
     vec3 wi;
     if (pick < f) {
         wi = v3_reflect(d, m);
@@ -471,7 +472,8 @@ static int surface_bounce(const World *w, Path *p, const Surface *sf, vec3 kd, v
         p->beta = v3_scale(p->beta, (wm + wg) / (lb.pm * (mirror ? wm : wg)));
         if (mirror)
             return mirror_bounce(sf, kr, d, &p->beta, &p->ray);
-        return material_frosted(m) ? frosted_bounce(w, sf, d, fr, (s - wm) / wg, u, v, &p->beta, &p->ray)
+        return material_frosted(m) ? frosted_bounce(w, sf, d, fr, dielectric_frost_weight(sf, v3_neg(d)),
+                                                    (s - wm) / wg, u, v, &p->beta, &p->ray)
                                    : glass_bounce(sf, d, f, td, fr, (s - wm) / wg, &p->beta, &p->ray);
     }
     /* a smooth lobe's direction, weighed by both smooth lobes */
@@ -497,7 +499,9 @@ static int frosted_step(const World *w, Path *p, const Surface *sf, const Draws 
 {
     const vec3 d = p->ray.dir;
     const real alpha = ggx_alpha(sf->mat->roughness);
-    const Lobes lb = {.n = sf->ns, .wo = v3_neg(d), .frost = alpha};
+    const vec3 wo = v3_neg(d);
+    /* the weight for the light between facets, once for the lights, the emitters and the bounce */
+    const Lobes lb = {.n = sf->ns, .wo = wo, .frost = alpha, .frost_wt = dielectric_frost_weight(sf, wo)};
     const int emitters = w->emitter_count > 0 && w->view.settings.emitter_sampling != EMITTERS_BSDF;
     if (w->light_count > 0 || emitters) {
         const vec3 from_p = trace_offset_origin(sf->p, sf->ng, sf->err);
@@ -509,9 +513,9 @@ static int frosted_step(const World *w, Path *p, const Surface *sf, const Draws 
         return 0;
     real u, v, pdf;
     draw2(dr, 1, &u, &v);
-    if (!frosted_bounce(w, sf, d, R(1), draw1(dr, 2), u, v, &p->beta, &p->ray))
+    if (!frosted_bounce(w, sf, d, R(1), lb.frost_wt, draw1(dr, 2), u, v, &p->beta, &p->ray))
         return 0;
-    frosted_eval(w, sf, v3_neg(d), p->ray.dir, alpha, &pdf);
+    frosted_eval(w, sf, wo, p->ray.dir, alpha, lb.frost_wt, &pdf);
     p->after_smooth = pdf > R(0);
     p->from = sf->p;
     p->pdf_bounce = pdf;

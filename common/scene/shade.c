@@ -539,9 +539,8 @@ static vec3 frosted_glass(const World *w, const Shading *sh, real fr, int depth,
     uint32_t k;
     int product;
     const uint32_t n = effect_rays(w, sh, &k, &product);
-    /* each facet's share, weighed for the light its facets pass between them (ggx_glass_weight) */
-    const real share = ggx_glass_weight(v3_dot(sf->ns, sh->view), m->roughness,
-                                        sf->inside ? m->ior : R(1) / m->ior) / (real)n;
+    /* each facet's share, weighed for the light its facets pass between them */
+    const real share = dielectric_frost_weight(sf, sh->view) / (real)n;
     const real alpha = ggx_alpha(m->roughness);
     const uint32_t key = sample_mix(sh->id.key, 0x46000000u);
     const vec3 d = v3_neg(sh->view), front = trace_offset_origin(sf->p, sf->ng, sf->err),

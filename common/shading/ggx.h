@@ -89,16 +89,30 @@ static inline vec3 ggx_sample(vec3 n, vec3 wo, real alpha, real u, real v)
 #define GGX_TABLE_N 32
 extern const float ggx_albedo_table[GGX_TABLE_N][GGX_TABLE_N];
 
-static inline real ggx_albedo(real mu, real roughness)
+/* The tables' lookups.  t in [0, 1] over an axis of n points (below 0,
+ * and a NaN, read 0; above 1 reads 1): the cell *i (0..n-2) it falls in,
+ * and the fraction of the cell, returned. */
+static inline real ggx_cell(real t, int n, int *i)
 {
-    /* NaN-safe: a NaN reads the first row or column */
-    const real x = sqrt(mu > R(0) ? real_min(mu, R(1)) : R(0)) * (GGX_TABLE_N - 1),
-               y = (roughness > R(0) ? real_min(roughness, R(1)) : R(0)) * (GGX_TABLE_N - 1);
-    const int i = x < GGX_TABLE_N - 2 ? (int)x : GGX_TABLE_N - 2, j = y < GGX_TABLE_N - 2 ? (int)y : GGX_TABLE_N - 2;
-    const real fx = x - (real)i, fy = y - (real)j;
-    const float *a = ggx_albedo_table[j], *b = ggx_albedo_table[j + 1];
+    const real x = (t > R(0) ? real_min(t, R(1)) : R(0)) * (real)(n - 1);
+    *i = x < (real)(n - 2) ? (int)x : n - 2;
+    return x - (real)*i;
+}
+
+/* Rows a and b (one cell of the next axis apart) at column cell i:
+ * linear along each row by fx, then between them by fy. */
+static inline real ggx_bilinear(const float *a, const float *b, int i, real fx, real fy)
+{
     const real lo = (real)a[i] + ((real)a[i + 1] - (real)a[i]) * fx, hi = (real)b[i] + ((real)b[i + 1] - (real)b[i]) * fx;
     return lo + (hi - lo) * fy;
+}
+
+static inline real ggx_albedo(real mu, real roughness)
+{
+    int i, j;
+    const real fx = ggx_cell(sqrt(mu > R(0) ? real_min(mu, R(1)) : R(0)), GGX_TABLE_N, &i);
+    const real fy = ggx_cell(roughness, GGX_TABLE_N, &j);
+    return ggx_bilinear(ggx_albedo_table[j], ggx_albedo_table[j + 1], i, fx, fy);
 }
 
 /* E's cosine-weighted mean over the hemisphere, row by row of roughness
@@ -107,9 +121,9 @@ extern const float ggx_albedo_avg[GGX_TABLE_N];
 
 static inline real ggx_albedo_mean(real roughness)
 {
-    const real y = (roughness > R(0) ? real_min(roughness, R(1)) : R(0)) * (GGX_TABLE_N - 1);
-    const int j = y < GGX_TABLE_N - 2 ? (int)y : GGX_TABLE_N - 2;
-    return (real)ggx_albedo_avg[j] + ((real)ggx_albedo_avg[j + 1] - (real)ggx_albedo_avg[j]) * (y - (real)j);
+    int j;
+    const real fy = ggx_cell(roughness, GGX_TABLE_N, &j);
+    return (real)ggx_albedo_avg[j] + ((real)ggx_albedo_avg[j + 1] - (real)ggx_albedo_avg[j]) * fy;
 }
 
 /* The colour a rough metal of colour kr lends its single-scattering lobe
@@ -149,22 +163,15 @@ extern const float ggx_glass_table[GGX_GLASS_ETAS][GGX_GLASS_N][GGX_GLASS_N];
 
 static inline real ggx_glass_albedo(real mu, real roughness, real eta)
 {
-    const real x = sqrt(mu > R(0) ? real_min(mu, R(1)) : R(0)) * (GGX_GLASS_N - 1),
-               y = (roughness > R(0) ? real_min(roughness, R(1)) : R(0)) * (GGX_GLASS_N - 1);
+    int i, j, k;
+    const real fx = ggx_cell(sqrt(mu > R(0) ? real_min(mu, R(1)) : R(0)), GGX_GLASS_N, &i);
+    const real fy = ggx_cell(roughness, GGX_GLASS_N, &j);
     /* log3(eta) in [-1, 1] over the planes; a NaN or eta <= 0 reads the first */
     const real le = eta > R(0) ? log(eta) * (R(1) / R(1.0986122886681098)) : R(-1);
-    const real z = (real_clamp(le, R(-1), R(1)) + R(1)) * (R(0.5) * (GGX_GLASS_ETAS - 1));
-    const int i = x < GGX_GLASS_N - 2 ? (int)x : GGX_GLASS_N - 2, j = y < GGX_GLASS_N - 2 ? (int)y : GGX_GLASS_N - 2;
-    const int k = z < GGX_GLASS_ETAS - 2 ? (int)z : GGX_GLASS_ETAS - 2;
-    const real fx = x - (real)i, fy = y - (real)j, fz = z - (real)k;
-    real e[2];
-    for (int p = 0; p < 2; p++) {
-        const float *a = ggx_glass_table[k + p][j], *b = ggx_glass_table[k + p][j + 1];
-        const real lo = (real)a[i] + ((real)a[i + 1] - (real)a[i]) * fx;
-        const real hi = (real)b[i] + ((real)b[i + 1] - (real)b[i]) * fx;
-        e[p] = lo + (hi - lo) * fy;
-    }
-    return e[0] + (e[1] - e[0]) * fz;
+    const real fz = ggx_cell((real_clamp(le, R(-1), R(1)) + R(1)) * R(0.5), GGX_GLASS_ETAS, &k);
+    const real e0 = ggx_bilinear(ggx_glass_table[k][j], ggx_glass_table[k][j + 1], i, fx, fy);
+    const real e1 = ggx_bilinear(ggx_glass_table[k + 1][j], ggx_glass_table[k + 1][j + 1], i, fx, fy);
+    return e0 + (e1 - e0) * fz;
 }
 
 /* What frosted glass's single-scattering lobe is weighed by, at cosine mu

@@ -29,6 +29,7 @@ typedef struct {
     int bumped;
     real frost;      /* > 0: frosted glass of this GGX width, both sides of n (the path
                       * integrator's frosted_eval; the other lobes none) */
+    real frost_wt;   /* and its weight for the light between its facets (dielectric_frost_weight) */
 } Lobes;
 
 /* How much of the light from wi a normal-mapped surface's diffuse lobe
