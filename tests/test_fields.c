@@ -213,7 +213,8 @@ static void directive(const FieldKind *k, int v, int fi, char *buf, size_t size,
                  f->type == FIELD_FLAG ? "" : val);
     }
     /* what the kinds' own rules ask for besides */
-    if (k == &material_kind && fi >= 0 && strcmp(k->fields[fi].key, "roughness") == 0)
+    if (k == &material_kind && fi >= 0 &&
+        (strcmp(k->fields[fi].key, "roughness") == 0 || strcmp(k->fields[fi].key, "reflect_edge") == 0))
         strncat(buf, " reflect 1 1 1", size - strlen(buf) - 1);
     if (k == &material_kind && fi >= 0 &&
         (strcmp(k->fields[fi].key, "transmit") == 0 || strcmp(k->fields[fi].key, "absorb") == 0))

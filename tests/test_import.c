@@ -35,6 +35,11 @@ static void gltf_materials_map_onto_lanrays(void **state)
     expect_vec(gold->ks, 1, 0.8, 0.3);
     assert_float_equal(gold->roughness, 0.2, 1e-6);
     assert_float_equal(gold->shininess, 2 / (0.04 * 0.04) - 2, 1e-2);
+    /* its colour head on, rising to white at grazing angles (glTF's Schlick, F0 the base colour) */
+    expect_vec(gold->kre, 1, 1, 1);
+    assert_true(material_edged(gold));
+    expect_vec(material_mirror_at(gold, 1), 1, 0.8, 0.3);
+    expect_vec(material_mirror_at(gold, 0), 1, 1, 1);
     /* a lamp: its emissive factor times KHR_materials_emissive_strength's 4 (read by lanray: not by Assimp 5.2) */
     expect_vec(m.materials[1].ke, 4, 2, 1);
     expect_vec(m.materials[1].kr, 0, 0, 0);
@@ -66,6 +71,7 @@ static void gltf_materials_map_onto_lanrays(void **state)
     expect_vec(mg->kr, 0.4, 0.5, 0.3);
     expect_vec(mg->kd, 0.2, 0.25, 0.15);
     expect_vec(mg->kt, 0.2, 0.25, 0.15);
+    expect_vec(mg->kre, 0.5, 0.5, 0.5); /* the metal half's rim: half of white */
     assert_float_equal(mg->ior, 1.5, 1e-6);
     assert_false(material_frosted(mg));
     assert_null(material_problem(mg, why, sizeof why));
@@ -74,6 +80,7 @@ static void gltf_materials_map_onto_lanrays(void **state)
     expect_vec(bm->kr, 0.45, 0.45, 0.45);
     expect_vec(bm->kd, 0, 0, 0);
     expect_vec(bm->kt, 0.5, 0.5, 0.5);
+    expect_vec(bm->kre, 0.5, 0.5, 0.5); /* its rim blended as its colour */
     assert_float_equal(bm->ior, 1, 0);
     assert_null(material_problem(bm, why, sizeof why));
     /* KHR_materials_volume: attenuation colour (0.5 0.8 1) over distance 2
@@ -93,6 +100,9 @@ static void gltf_materials_map_onto_lanrays(void **state)
     assert_float_equal(m.materials[10].coat, 0.75, 1e-6);
     assert_float_equal(m.materials[10].coat_roughness, 0.5, 1e-6);
     expect_vec(m.materials[10].kr, 0.2, 0.2, 0.2);
+    expect_vec(m.materials[10].kre, 0.25, 0.25, 0.25); /* metallic 0.25 of white at grazing */
+    expect_vec(m.materials[9].kre, 0, 0, 0);          /* a non-metal: no rim of its own */
+    expect_vec(glass->kre, 0, 0, 0);
     assert_float_equal(m.materials[11].coat, 0.8, 1e-6);
     assert_float_equal(m.materials[11].coat_roughness, 0.05, 1e-6);
     assert_float_equal(gold->coat, 0, 0);
@@ -301,6 +311,48 @@ static void gltf_emissive_strength_applies(void **state)
     }
 }
 
+/* A GLB whose header lies is refused before Assimp reads it (Assimp 5.2.5
+ * allocates a chunk's length as its header gives it): a total length of 0
+ * with a JSON chunk claiming 2.9 GB (fuzz_import's out-of-memory inputs
+ * of 2026-11-29: the chunks were checked only within the total length),
+ * a total under a header and a chunk's, a chunk past the file; the file
+ * itself loads. */
+static void a_glb_that_lies_is_refused(void **state)
+{
+    (void)state;
+    FILE *f = fopen("tests/data/gltf/strength.glb", "rb");
+    assert_non_null(f);
+    uint8_t *good = malloc(1 << 16), *bytes = malloc(1 << 16);
+    const size_t n = fread(good, 1, 1 << 16, f);
+    fclose(f);
+    assert_true(n > 20 && n < (1 << 16));
+    const struct {
+        size_t at;
+        uint32_t value;
+        const char *says;
+    } lies[] = {{8, 0, "the GLB header says 0 bytes"},
+                {8, 19, "the GLB header says 19 bytes"},
+                {12, 0xab070000u, "GLB chunk 0 claims 2869362688 bytes"},
+                {8, (uint32_t)n + 1, "the GLB header says"}};
+    Mesh m;
+    ImportStats st;
+    Err err;
+    for (size_t i = 0; i <= sizeof lies / sizeof *lies; i++) {
+        memcpy(bytes, good, n);
+        if (i == sizeof lies / sizeof *lies) {
+            if (import_read_memory(bytes, n, "glb", "good.glb", NULL, &m, &st, &err))
+                fail_msg("the GLB itself: %s", err.msg);
+            mesh_free(&m);
+            break;
+        }
+        memcpy(bytes + lies[i].at, &lies[i].value, 4);
+        assert_int_not_equal(import_read_memory(bytes, n, "glb", "lie.glb", NULL, &m, &st, &err), 0);
+        if (!strstr(err.msg, lies[i].says) || !strstr(err.msg, "lie.glb"))
+            fail_msg("lie %zu: '%s', expected '%s'", i, err.msg, lies[i].says);
+    }
+    free(good), free(bytes);
+}
+
 /* gltf_json.c on bytes that are not what they claim: a GLB cut short, one
  * whose JSON chunk claims more bytes than there are (by one, and by
  * 2^32 - 1), one whose first chunk is not JSON or of another version,
@@ -372,6 +424,7 @@ int main(void)
         cmocka_unit_test(gltf_texture_transforms_apply),
         cmocka_unit_test(gltf_normal_maps_are_read),
         cmocka_unit_test(gltf_emissive_strength_applies),
+        cmocka_unit_test(a_glb_that_lies_is_refused),
         cmocka_unit_test(gltf_json_takes_nothing_from_bad_bytes),
     };
     return cmocka_run_group_tests_name("import", tests, NULL, NULL);

@@ -14,6 +14,7 @@
 #include "shading/ggx.h"
 #include "shading/optics.h"
 #include "shading/lobes.h"
+#include "shading/material.h"
 
 #define TWO_PI 6.283185307179586
 
@@ -33,7 +34,7 @@ static void smooth_lobes_density_integrates_to_their_share(void **state)
     Lobes lb;
     /* and a clear coat's lobe and a rough metal's */
     const LobeColours c = {v3(0.5f, 0.4f, 0.3f), v3(0.3f, 0.3f, 0.3f), 20, v3(0.2f, 0.2f, 0.2f), 0.25f, 0.3f,
-                           v3(0.3f, 0.2f, 0.1f), 0.6f};
+                           v3(0.3f, 0.2f, 0.1f), 0.6f, v3(0.4f, 0.5f, 0.6f)}; /* an edged metal */
     assert_true(lobes_make(&lb, &c, n, v3_neg(n)));
     Rng rng = {11};
     const int N = 400000;
@@ -75,7 +76,7 @@ static void samples_follow_the_density(void **state)
         Lobes lb;
         const LobeColours c = {v3(0.6f, 0.5f, 0.4f), v3(0.4f, 0.4f, 0.4f), t == 0 ? 1 : 30 * t, v3(0, 0, 0),
                                t == 3 ? 0 : 0.3f, (real)(0.05 + 0.2 * t), t == 1 ? v3(0.5f, 0.4f, 0.3f) : v3(0, 0, 0),
-                               0.4f};
+                               0.4f, t == 1 ? v3(0.3f, 0.3f, 0.3f) : v3(0, 0, 0)};
         assert_true(lobes_make(&lb, &c, n, d));
         const int N = 200000;
         double sum = 0;
@@ -117,15 +118,14 @@ static void a_white_lambertian_weighs_one(void **state)
  * everywhere (its albedo) estimated twice, from its own samples weighed by
  * their density and from uniform directions; where the sampler and the
  * density disagreed, the two would part. */
-static void metal_albedo(real rough, double deg, double *by_samples, double *by_uniform, double *max_weight)
+static void lobe_albedo(const LobeColours *c, double deg, double *by_samples, double *by_uniform, double *max_weight)
 {
     const vec3 n = v3_norm(v3(0.2f, 1, 0.3f));
     vec3 t = v3_norm(v3_cross(n, v3(1, 0, 0)));
     const double th = deg * TWO_PI / 360;
     const vec3 wo = v3_norm(v3_add(v3_scale(n, (real)cos(th)), v3_scale(t, (real)sin(th))));
     Lobes lb;
-    const LobeColours c = {.km = v3(1, 1, 1), .alpha = ggx_alpha(rough)};
-    assert_true(lobes_make(&lb, &c, n, v3_neg(wo)));
+    assert_true(lobes_make(&lb, c, n, v3_neg(wo)));
     assert_true(lb.pr == 1);
     Rng rng = {17};
     const int N = 400000;
@@ -141,6 +141,60 @@ static void metal_albedo(real rough, double deg, double *by_samples, double *by_
         b += (double)lobes_eval(&lb, sphere_dir(&rng), &pdf).x * 2 * TWO_PI;
     }
     *by_samples = a / N, *by_uniform = b / N, *max_weight = mw;
+}
+
+static void metal_albedo(real rough, double deg, double *by_samples, double *by_uniform, double *max_weight)
+{
+    const LobeColours c = {.km = v3(1, 1, 1), .alpha = ggx_alpha(rough)};
+    lobe_albedo(&c, deg, by_samples, by_uniform, max_weight);
+}
+
+/* A metal whose colour kr rises towards white at grazing angles
+ * (material.h's reflect_edge; glTF's metals): nearly smooth, it reflects
+ * Schlick's kr + (1 - kr)(1 - cos)^5 of the light from everywhere at each
+ * viewing angle (its facets nearly the normal; the plain lobe kr at every
+ * angle, which fails this past 60 degrees); rough, its samples and its
+ * density agree as the plain lobe's do, and it reflects more than the
+ * plain lobe of kr and no more than a white metal.  Schlick's weight's
+ * cosine-weighted mean is 1 / 21 (material_mirror_mean). */
+static void an_edged_metal_rises_to_white_at_grazing(void **state)
+{
+    (void)state;
+    const real kr = 0.2f;
+    Material m = material_default();
+    m.kr = v3_splat(kr), m.kre = v3(1, 1, 1);
+    const double deg[] = {0, 60, 80, 87};
+    for (int k = 0; k < 4; k++) {
+        const real mu = (real)cos(deg[k] * TWO_PI / 360);
+        double s, u, mw;
+        LobeColours c = {.km = ggx_metal_edged(m.kr, material_mirror_mean(&m), mu, 0.05f),
+                         .kme = v3_sub(m.kre, m.kr), .alpha = ggx_alpha(0.05f)};
+        lobe_albedo(&c, deg[k], &s, &u, &mw);
+        const double want = (double)material_mirror_at(&m, mu).x;
+        if (fabs(s - want) > 0.01 * want)
+            fail_msg("a smooth edged metal of 0.2 at %.0f degrees reflects %.4f, Schlick's %.4f", deg[k], s, want);
+        const real rough = 0.6f;
+        c = (LobeColours){.km = ggx_metal_edged(m.kr, material_mirror_mean(&m), mu, rough), .kme = v3_sub(m.kre, m.kr),
+                          .alpha = ggx_alpha(rough)};
+        lobe_albedo(&c, deg[k], &s, &u, &mw);
+        if (fabs(s - u) > 0.015 * u)
+            fail_msg("an edged metal of roughness 0.6 at %.0f degrees: albedo %.4f by its samples, %.4f by uniform "
+                     "directions", deg[k], s, u);
+        double plain, white, ignore;
+        metal_albedo(rough, deg[k], &white, &ignore, &mw);
+        plain = white * (double)ggx_metal(m.kr, mu, rough).x;
+        white *= (double)ggx_metal(v3(1, 1, 1), mu, rough).x;
+        if (!(s > plain && s <= white))
+            fail_msg("an edged metal of roughness 0.6 at %.0f degrees reflects %.4f: not between the plain lobe's "
+                     "%.4f and white's %.4f", deg[k], s, plain, white);
+    }
+    double mean = 0;
+    for (int i = 0; i < 100000; i++) { /* the midpoint rule over c^2, uniform for weight 2c */
+        const double c = sqrt((i + 0.5) / 100000);
+        mean += (double)optics_schlick_weight((real)c) / 100000;
+    }
+    assert_float_equal(material_mirror_mean(&m).x, 0.2 + 0.8 * mean, 1e-5);
+    assert_float_equal(mean, 1.0 / 21, 1e-5);
 }
 
 static void ggx_samples_follow_their_density(void **state)
@@ -487,6 +541,7 @@ int main(void)
         cmocka_unit_test(a_smooth_ggx_metal_reflects_nearly_all),
         cmocka_unit_test(ggx_holds_at_the_extremes),
         cmocka_unit_test(ggx_albedo_table_is_the_lobes),
+        cmocka_unit_test(an_edged_metal_rises_to_white_at_grazing),
         cmocka_unit_test(ggx_glass_table_is_the_lobes),
         cmocka_unit_test(emitters_cover_their_solid_angle),
         cmocka_unit_test(a_cutout_emits_only_where_it_is),

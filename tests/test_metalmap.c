@@ -32,6 +32,7 @@ static Scene *metal_scene(real metal, int colour, real coat)
     assert_int_equal(mesh_add_texture(&mesh, t, &tex, &err), 0);
     Material m = material_default();
     m.kd = BASE, m.kr = v3_scale(BASE, metal), m.ks = m.kr, m.roughness = 1;
+    m.kre = v3_splat(metal); /* glTF's metal rises to white at grazing (import.c) */
     m.metal_map = (int32_t)tex, m.metal_mapped = 1;
     m.coat = coat, m.coat_roughness = coat > 0 ? R(0.5) : R(0);
     if (colour) {
@@ -79,8 +80,10 @@ static void the_texture_says_where_the_surface_is_metal(void **state)
     assert_vec(left.kr, BASE);
     assert_vec(left.kd, v3(0, 0, 0));
     assert_vec(left.ks, BASE);
+    assert_vec(left.kre, v3(1, 1, 1)); /* and its rim white */
     /* not metal: the base colour diffuse, no mirror, roughness 128 / 255 of the factor's */
     assert_false(material_reflects(&right));
+    assert_false(material_edged(&right));
     assert_vec(right.kd, BASE);
     assert_float_equal(right.roughness, 128.0 / 255.0, 1e-6);
     world_now_free();
@@ -97,12 +100,14 @@ static void the_factor_scales_and_the_colour_texture_tints(void **state)
     Material left = material_at(s, R(0.25));
     assert_vec(left.kr, v3_scale(BASE, R(0.5)));
     assert_vec(left.kd, v3_scale(BASE, R(0.5)));
+    assert_vec(left.kre, v3_splat(R(0.5))); /* the factor's share of white */
     world_now_free();
     scene_destroy(s);
     Scene *g = metal_scene(1, 1, 0);
     left = material_at(g, R(0.25)); /* the grey texel: code 128, 0.2158 in linear light */
     assert_vec(left.kr, v3_scale(BASE, srgb_decode8[128]));
     assert_vec(left.kd, v3(0, 0, 0));
+    assert_vec(left.kre, v3(1, 1, 1)); /* the colour texture tints its colour, not its rim */
     world_now_free();
     scene_destroy(g);
 }

@@ -78,6 +78,25 @@ static void noise_goes_raw(void **state)
     pixcodec_destroy(c);
 }
 
+/* An empty segment (what a hostile server's WORK can ask for) encodes as
+ * no bytes, raw, in every coding, from a fresh codec that has no scratch
+ * to predict into (the client fuzzer found predict's memcpy into NULL). */
+static void an_empty_segment_is_no_bytes(void **state)
+{
+    (void)state;
+    for (size_t k = 0; k < sizeof codings / sizeof *codings; k++) {
+        PixCodec *c = pixcodec_create();
+        uint8_t px[4] = {1, 2, 3, 4}, out[64], back[4] = {9, 9, 9, 9};
+        size_t len = 99;
+        Err err;
+        assert_int_equal(pixcodec_encode(c, codings[k], px, 0, 3, out, &len, &err), PIX_RAW);
+        assert_int_equal(len, 0);
+        assert_int_equal(pixcodec_decode(c, PIX_RAW, out, 0, back, 0, 3, &err), 0);
+        assert_int_equal(back[0], 9);
+        pixcodec_destroy(c);
+    }
+}
+
 /* decode must fail with a message holding `what`, and leave the guard after the segment alone */
 static void refused(PixCodec *c, uint32_t coding, const uint8_t *in, size_t len, size_t n, const char *what)
 {
@@ -134,6 +153,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(every_coding_round_trips),
         cmocka_unit_test(noise_goes_raw),
+        cmocka_unit_test(an_empty_segment_is_no_bytes),
         cmocka_unit_test(bad_data_is_refused),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -102,6 +102,8 @@ static void import_metal_as(MetalFactors *f, Material *m)
     f->applied = 1;
     m->kd = f->mapped ? f->base : v3_scale(f->base, R(1) - f->metal);
     m->kr = v3_scale(f->base, f->metal);
+    /* glTF's metal brightens towards white at grazing angles (Schlick, its F0 the base colour) */
+    m->kre = material_reflects(m) ? v3_splat(f->metal) : v3_splat(R(0));
     m->roughness = f->rough;
     m->ks = m->kr;
     m->shininess = material_phong_exponent(f->rough);
@@ -195,6 +197,7 @@ static int import_optics(const struct aiMaterial *am, vec3 base, const MetalFact
         m->kd = v3_scale(m->kd, opacity);
         m->ks = v3_scale(m->ks, opacity);
         m->kr = v3_scale(m->kr, opacity);
+        m->kre = v3_scale(m->kre, opacity);
         did = 1;
     }
     return did;
@@ -293,7 +296,10 @@ static int ply_header_check(const char *head, size_t n, uint64_t file_size, cons
 /* Assimp 5.2.5 allocates a GLB chunk's length as its header gives it (a
  * 1.8 KB file claiming a 3.3 GB JSON chunk: fuzz_import's out-of-memory
  * findings), so a GLB's header and chunk headers are checked here first:
- * magic, version 2, a total length and chunks that fit in the file. */
+ * magic, version 2, a total length that holds the header and a chunk's
+ * header, and chunks that fit in the file, up to its end (Assimp reads
+ * the JSON chunk whatever the total length says: a total of 0 let a
+ * chunk of 2.9 GB through). */
 static int glb_check(FILE *f, uint64_t size, const char *name, Err *err)
 {
     uint32_t head[3];
@@ -301,17 +307,17 @@ static int glb_check(FILE *f, uint64_t size, const char *name, Err *err)
         return err_set(err, "%s: not a GLB file (no glTF header)", name);
     if (head[1] != 2)
         return err_set(err, "%s: GLB version %u, lanray reads version 2", name, head[1]);
-    if (head[2] > size)
-        return err_set(err, "%s: the GLB header says %u bytes, the file has %llu", name, head[2],
-                       (unsigned long long)size);
+    if (head[2] > size || head[2] < 20)
+        return err_set(err, "%s: the GLB header says %u bytes, the file has %llu (and a GLB at least 20)", name,
+                       head[2], (unsigned long long)size);
     uint64_t at = 12;
-    for (int chunk = 0; at + 8 <= head[2]; chunk++) {
+    for (int chunk = 0; at + 8 <= size; chunk++) {
         uint32_t ch[2];
         if (fseek(f, (long)at, SEEK_SET) != 0 || fread(ch, 4, 2, f) != 2)
             return err_set(err, "%s: GLB chunk %d cut short", name, chunk);
-        if ((uint64_t)ch[0] > head[2] - at - 8)
+        if ((uint64_t)ch[0] > size - at - 8)
             return err_set(err, "%s: GLB chunk %d claims %u bytes, %llu are left", name, chunk, ch[0],
-                           (unsigned long long)(head[2] - at - 8));
+                           (unsigned long long)(size - at - 8));
         at += 8 + (uint64_t)ch[0];
     }
     return 0;

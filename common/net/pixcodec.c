@@ -103,6 +103,10 @@ int pixcodec_encode(PixCodec *c, uint32_t coding, const uint8_t *px, size_t n, u
 {
     const uint32_t codec = coding & ~(uint32_t)PIX_PREDICT;
     const uint8_t *src = px;
+    if (n == 0) { /* an empty segment (a hostile server's WORK): no bytes, and no scratch to predict into */
+        *out_len = 0;
+        return PIX_RAW;
+    }
     if (codec != PIX_RAW && (coding & PIX_PREDICT)) {
         if (reserve(c, n, err))
             return -1;

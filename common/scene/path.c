@@ -411,7 +411,9 @@ static int surface_bounce(const World *w, Path *p, const Surface *sf, vec3 kd, v
 {
     const Material *m = sf->mat;
     const vec3 d = p->ray.dir;
-    vec3 kr = material_reflects(m) ? m->kr : v3_splat(R(0)), kcm = v3_splat(R(0)); /* kcm: a smooth coat's mirror */
+    const real mu = v3_dot(sf->ns, v3_neg(d));
+    /* kcm: a smooth coat's mirror */
+    vec3 kr = material_reflects(m) ? material_mirror_at(m, mu) : v3_splat(R(0)), kcm = v3_splat(R(0));
     real kc = R(0), coat_alpha = R(0), under = R(1); /* under: what the coat lets through */
     if (world_has(w, FEAT_COAT) && material_coats(m) && w->view.settings.shading == SHADE_PHONG) {
         /* a clear coat: its Fresnel share a GGX lobe, the rest of the surface what it lets through */
@@ -437,7 +439,12 @@ static int surface_bounce(const World *w, Path *p, const Surface *sf, vec3 kd, v
     LobeColours lc = {.kd = kd, .ks = material_reflects(m) ? v3_splat(R(0)) : ks, .shininess = m->shininess,
                       .kr = v3_add(v3_add(kr, kcm), kg), .kc = kc, .coat_alpha = coat_alpha, .km = v3_splat(R(0))};
     if (rough) { /* weighed for the light its facets pass between them (ggx_metal) */
-        lc.km = v3_scale(ggx_metal(m->kr, v3_dot(sf->ns, v3_neg(d)), m->roughness), under);
+        if (material_edged(m)) { /* its colour by each facet's angle (lobes.h) */
+            lc.km = v3_scale(ggx_metal_edged(m->kr, material_mirror_mean(m), mu, m->roughness), under);
+            lc.kme = v3_scale(v3_sub(m->kre, m->kr), under);
+        } else {
+            lc.km = v3_scale(ggx_metal(m->kr, mu, m->roughness), under);
+        }
         lc.alpha = ggx_alpha(m->roughness), lc.kr = v3_add(kcm, kg), kr = v3_splat(R(0));
     }
     Lobes lb, hl;

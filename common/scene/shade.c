@@ -479,9 +479,15 @@ static vec3 rough_reflection(const World *w, const Shading *sh, vec3 front, int 
     int product;
     const uint32_t n = effect_rays(w, sh, &k, &product);
     real share = R(1) / (real)n;
-    /* weighed for the light its facets pass between them (ggx_metal) */
-    const vec3 kr = ggx_metal(m->kr, v3_dot(sf->ns, sh->view), m->roughness);
-    vec3 wt = v3_scale(v3_mul(weight, kr), share), sum = v3_splat(0);
+    /* weighed for the light its facets pass between them (ggx_metal); an
+     * edged metal's colour rises by kme x Schlick's weight at each ray's
+     * facet (sume gathers what the rays bring times that weight) */
+    const real mu = v3_dot(sf->ns, sh->view);
+    const int edged = material_edged(m);
+    const vec3 kr = edged ? ggx_metal_edged(m->kr, material_mirror_mean(m), mu, m->roughness)
+                          : ggx_metal(m->kr, mu, m->roughness);
+    const vec3 kme = edged ? v3_sub(m->kre, m->kr) : v3_splat(R(0));
+    vec3 wt = v3_scale(v3_mul(weight, kr), share), sum = v3_splat(0), sume = v3_splat(0);
     uint32_t key = sample_mix(sh->id.key, 0x52000000u);
     RayDiff rd; /* the mirror's, its cone widened by each ray's share of the lobe */
     const RayDiff *rdp = reflected_diff(sh, v3_neg(sh->view), &rd);
@@ -494,7 +500,7 @@ static vec3 rough_reflection(const World *w, const Shading *sh, vec3 front, int 
     SampleId child[TRACE_PACKET];
     RayDiff diff[TRACE_PACKET];
     vec3 col[TRACE_PACKET], wts[TRACE_PACKET];
-    real keep[TRACE_PACKET];
+    real keep[TRACE_PACKET], gain[TRACE_PACKET];
     uint32_t q = 0;
     for (uint32_t j = 0; j < n; j++) {
         real u, v;
@@ -505,6 +511,10 @@ static vec3 rough_reflection(const World *w, const Shading *sh, vec3 front, int 
         if (f > R(0) && v3_dot(d, sf->ng) > R(0)) { /* else the ray brings nothing: not traced */
             keep[q] = f / pdf;
             wts[q] = v3_scale(wt, keep[q]);
+            if (edged) {
+                gain[q] = ggx_schlick_gain(sh->view, d);
+                wts[q] = v3_add(wts[q], v3_scale(v3_mul(weight, kme), share * keep[q] * gain[q]));
+            }
             ray_init(&rays[q], front, d, R(0), REAL_INF);
             if (rdp)
                 diff[q] = *rdp;
@@ -513,12 +523,16 @@ static vec3 rough_reflection(const World *w, const Shading *sh, vec3 front, int 
         if (q == TRACE_PACKET || (j == n - 1 && q > 0)) {
             stats->secondary += q;
             shade_rays(w, rays, (int)q, col, stats, NULL, child, rdp ? diff : NULL, depth + 1, wts);
-            for (uint32_t i = 0; i < q; i++)
+            for (uint32_t i = 0; i < q; i++) {
                 sum = v3_add(sum, v3_scale(col[i], keep[i]));
+                if (edged)
+                    sume = v3_add(sume, v3_scale(col[i], keep[i] * gain[i]));
+            }
             q = 0;
         }
     }
-    return v3_mul(kr, v3_scale(sum, share));
+    const vec3 out = v3_mul(kr, v3_scale(sum, share));
+    return edged ? v3_add(out, v3_mul(kme, v3_scale(sume, share))) : out;
 }
 
 /* Frosted glass (material_frosted): rough_samples^2 facets drawn from
@@ -609,14 +623,16 @@ static vec3 shade_beyond(const World *w, int i, const Shading *sh, int depth, ve
     const int mirrors = reflects || coat > R(0);
     /* a dielectric's Fresnel reflection keeps 1 - max(reflect) of its
      * strength: a mirror share (a glTF metal's over glass) takes the rest */
-    const real fr = reflects ? real_max(R(0), R(1) - v3_max_comp(m->kr)) : R(1);
+    /* the mirror's colour at this angle (an edged metal's rises towards its rim) */
+    const vec3 kr = reflects ? material_mirror_at(m, v3_dot(sf->ns, sh->view)) : m->kr;
+    const real fr = reflects ? real_max(R(0), R(1) - v3_max_comp(kr)) : R(1);
     if (depth >= w->view.settings.depth && (mirrors || refracts) && w->view.settings.depth_limit != LIMIT_BLACK) {
         /* cut by the depth limit: what the untraced rays would carry, an
          * estimate of what they see times their weight */
         const DepthLimit lim = w->view.settings.depth_limit;
         vec3 seen = lim == LIMIT_BACKGROUND ? w->background : lim == LIMIT_AMBIENT ? w->ambient : sh->irr;
         if (reflects)
-            col = v3_add(col, v3_scale(v3_mul(m->kr, seen), R(1) - sh->coat));
+            col = v3_add(col, v3_scale(v3_mul(kr, seen), R(1) - sh->coat));
         if (coat > R(0))
             col = v3_add(col, v3_scale(seen, coat));
         if (refracts) {
@@ -633,7 +649,7 @@ static vec3 shade_beyond(const World *w, int i, const Shading *sh, int depth, ve
         const RayDiff *rdp = reflected_diff(sh, d, &rrd);
         const int rough = reflects && world_uses(w, FEAT_ROUGH) && m->roughness > R(0);
         const real under = R(1) - sh->coat; /* what a coat lets through to the mirror */
-        if (rough && worth_tracing(w, v3_mul(weight, v3_scale(m->kr, under))))
+        if (rough && worth_tracing(w, v3_mul(weight, v3_scale(kr, under))))
             col = v3_add(col, v3_scale(rough_reflection(w, sh, front, depth, weight, stats), under));
         real eta, f = R(0);
         vec3 td;
@@ -643,7 +659,7 @@ static vec3 shade_beyond(const World *w, int i, const Shading *sh, int depth, ve
         if (refracts && !frosted)
             f = dielectric_split(w, sf, d, &eta, &td);
         /* one sharp reflected ray: the mirror's and the glass's shares */
-        vec3 kref = reflects && !rough ? v3_scale(m->kr, under) : v3_splat(R(0));
+        vec3 kref = reflects && !rough ? v3_scale(kr, under) : v3_splat(R(0));
         if (coat > R(0))
             kref = v3_add(kref, v3_splat(coat));
         if (refracts && !frosted)

@@ -802,6 +802,7 @@ void trace_surface_metal(const World *w, Surface *sf, const TexFootprint *fp)
     *l = *mt;
     l->metal_map = 0, l->metal_mapped = 0;
     l->kr = v3_scale(mt->kr, c.z);
+    l->kre = v3_scale(mt->kre, c.z); /* the metal's rim: its share, white (not tinted by the colour texture) */
     l->kd = v3_max(v3_sub(mt->kd, l->kr), v3_splat(R(0)));
     if (sf->tex) {
         sf->local_tex = texture_sample(sf->tex, sf->u, sf->v, fp, w->view.settings.filter);

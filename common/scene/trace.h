@@ -134,7 +134,8 @@ real trace_occlusion(const Surface *sf, const TexFootprint *fp);
 /* A mapped metal's material at the hit (glTF's metal-roughness texture:
  * material.h), where sf->mtex says it has one not yet applied: the texel's
  * blue scales the metal share (kr = base x factor x blue, tinted by the
- * base colour texture there; kd the rest of the base), its green the
+ * base colour texture there; kd the rest of the base; its rim kre, white,
+ * factor x blue), its green the
  * roughness (and the highlight's exponent with it, as import.c matches
  * them), into sf->local, which sf->mat then names.  Read over the
  * footprint fp (NULL: at the point): after trace_surface, once the caller

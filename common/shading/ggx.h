@@ -14,6 +14,7 @@
 #include <math.h>
 
 #include "base/vec.h"
+#include "shading/optics.h"
 
 /* alpha = roughness^2 (glTF's and Cycles' mapping), kept above 1e-3: a
  * narrower D's peak, 1 / (pi alpha^2), depends on n.h past what a float
@@ -146,6 +147,34 @@ static inline vec3 ggx_metal(vec3 kr, real mu, real roughness)
         out.e[i] = f + f * f * ea / (R(1) - f * (R(1) - ea)) * k;
     }
     return out;
+}
+
+/* The same for a metal whose colour rises from kr head on towards a
+ * grazing one (material_mirror_at: the single-scattering lobe takes that
+ * at each facet, by the cosine between the view and the facet's normal):
+ * kr plus the light between facets, whose colour c takes fa, the mean
+ * reflectance over the hemisphere (material_mirror_mean), in kr's place
+ * (Kulla and Conty's F_avg).  The lobe then adds the rise at each facet
+ * (ggx_schlick_gain). */
+static inline vec3 ggx_metal_edged(vec3 kr, vec3 fa, real mu, real roughness)
+{
+    const real e = ggx_albedo(mu, roughness), ea = ggx_albedo_mean(roughness), k = (R(1) - e) / e;
+    vec3 out;
+    for (int i = 0; i < 3; i++) {
+        const real f = fa.e[i];
+        out.e[i] = kr.e[i] + f * f * ea / (R(1) - f * (R(1) - ea)) * k;
+    }
+    return out;
+}
+
+/* Schlick's (1 - c)^5 at the facet that mirrors wo into wi: c the cosine
+ * between wo and their half vector (what an edged metal's lobe adds of
+ * kre - kr in that direction). */
+static inline real ggx_schlick_gain(vec3 wo, vec3 wi)
+{
+    const vec3 h = v3_add(wo, wi);
+    const real l = v3_len(h);
+    return optics_schlick_weight(l > R(0) ? v3_dot(wo, h) / l : R(0));
 }
 
 /* The same for frosted glass (path.c's frosted_bounce: a visible facet

@@ -6,13 +6,16 @@
 
 int lobes_make(Lobes *lb, const LobeColours *c, vec3 n, vec3 d)
 {
+    const int edged = c->kme.x != R(0) || c->kme.y != R(0) || c->kme.z != R(0);
+    /* an edged metal's lobe weighs as its colour seen along the normal's mirror direction */
+    const vec3 km = edged ? v3_add(c->km, v3_scale(c->kme, optics_schlick_weight(-v3_dot(n, d)))) : c->km;
     const real wd = v3_max_comp(c->kd), wg = v3_max_comp(c->ks), wm = v3_max_comp(c->kr), wc = real_max(c->kc, R(0)),
-               wr = v3_max_comp(c->km), sum = wd + wg + wm + wc + wr;
+               wr = v3_max_comp(km), sum = wd + wg + wm + wc + wr;
     if (!(sum > R(0)))
         return 0;
     *lb = (Lobes){.kd = c->kd, .ks = c->ks, .kr = c->kr, .shininess = c->shininess, .kc = wc, .coat_alpha = c->coat_alpha,
-                  .km = c->km, .alpha = c->alpha, .pd = wd / sum, .pg = wg / sum, .pc = wc / sum, .pr = wr / sum,
-                  .pm = wm / sum, .n = n, .wo = v3_neg(d), .r = v3_reflect(d, n)};
+                  .km = c->km, .alpha = c->alpha, .kme = c->kme, .edged = edged, .pd = wd / sum, .pg = wg / sum,
+                  .pc = wc / sum, .pr = wr / sum, .pm = wm / sum, .n = n, .wo = v3_neg(d), .r = v3_reflect(d, n)};
     return 1;
 }
 
@@ -45,7 +48,10 @@ vec3 lobes_eval(const Lobes *lb, vec3 wi, real *pdf)
     }
     if (lb->pr > R(0)) {
         real q;
-        f = v3_add(f, v3_scale(lb->km, ggx_eval(lb->n, lb->wo, wi, lb->alpha, &q)));
+        const real g = ggx_eval(lb->n, lb->wo, wi, lb->alpha, &q);
+        f = v3_add(f, v3_scale(lb->km, g));
+        if (lb->edged) /* the facet that mirrors wo into wi grazes it by Schlick's weight */
+            f = v3_add(f, v3_scale(lb->kme, g * ggx_schlick_gain(lb->wo, wi)));
         p += lb->pr * q;
     }
     *pdf = p;

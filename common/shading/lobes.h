@@ -21,6 +21,8 @@ typedef struct {
     real kc, coat_alpha; /* a clear coat's GGX lobe: grey kc (its share here), width coat_alpha */
     vec3 km;           /* a rough metal's GGX lobe: its colour, and its width alpha */
     real alpha;
+    vec3 kme;          /* and what its colour gains towards grazing facets (ggx_schlick_gain) */
+    int edged;         /* kme is not 0 */
     real pd, pg, pc, pr, pm; /* the probability of sampling each lobe; they sum to 1 */
     vec3 n;          /* unit shading normal, on the side the ray came from */
     vec3 wo;         /* towards where the ray came from */
@@ -56,7 +58,7 @@ static inline real lobes_bump_shadowing(vec3 nv, vec3 n, vec3 wi)
 /* What a surface scatters by: colours (0 where it has no such lobe), the
  * highlight's exponent, a clear coat's lobe (grey kc, of GGX width
  * coat_alpha: ggx_alpha; kc 0: none) and a rough metal's (km, of GGX width
- * alpha). */
+ * alpha, rising by kme towards its facets' grazing angles). */
 typedef struct {
     vec3 kd, ks;
     real shininess;
@@ -64,6 +66,7 @@ typedef struct {
     real kc, coat_alpha;
     vec3 km;
     real alpha;
+    vec3 kme; /* an edged metal's rise: its colour km + kme x (1 - cos)^5 at a facet (0: none) */
 } LobeColours;
 
 /* The lobes of a surface of colours c at unit shading normal n seen along

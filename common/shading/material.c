@@ -9,7 +9,8 @@
 
 #define OFF(f) offsetof(Material, f)
 enum { GROUP_MIRROR = 1, GROUP_DIELECTRIC = 2, GROUP_EMIT = 3, GROUP_CHECKER = 4, GROUP_CUTOUT = 5, GROUP_NORMAL = 6, GROUP_EMIT_MAP = 7, GROUP_METAL_MAP = 8,
-       GROUP_OCCLUSION = 9, GROUP_BUMP = 10, GROUP_COAT = 11 };
+       GROUP_OCCLUSION = 9, GROUP_BUMP = 10, GROUP_COAT = 11,
+       GROUP_EDGE = 12 };
 
 static const Field fields[] = {
     {.key = "diffuse", .type = FIELD_VEC, .off = OFF(kd), .hi = FIELD_INF, .def = 0.8,
@@ -82,6 +83,10 @@ static const Field fields[] = {
             "light (4% head on, all at grazing) times this, the rest of the surface lit by what it lets through"},
     {.key = "coat_roughness", .type = FIELD_REAL, .group = GROUP_COAT, .off = OFF(coat_roughness), .hi = 1,
      .doc = "how far the coat's reflection spreads (0: a mirror-smooth varnish); needs `coat`"},
+    {.key = "reflect_edge", .type = FIELD_VEC, .group = GROUP_EDGE, .off = OFF(kre), .hi = 1,
+     .shown_default = "none", .doc = "a metal's reflectance at grazing angles (1 1 1 for a real metal, glTF's): "
+                                     "`reflect` is then its colour head on, rising to this as the view grazes "
+                                     "(Schlick's (1 - cos)^5); needs `reflect`"},
 };
 
 static const FieldRule rules[] = {
@@ -92,11 +97,13 @@ static const FieldRule rules[] = {
     {RULE_NEEDS, "checker_size", "checker", "'checker_size' of material needs 'checker' (the second colour)", NULL},
     {RULE_NEEDS, "checker_uv", "checker", "'checker_uv' of material needs 'checker' (the second colour)", NULL},
     {RULE_NEEDS, "coat_roughness", "coat", "'coat_roughness' of material needs 'coat' (a clear coat)", NULL},
+    {RULE_NEEDS, "reflect_edge", "reflect", "'reflect_edge' of material needs 'reflect' (a metal's colour head on)",
+     NULL},
     {0, NULL, NULL, NULL, NULL},
 };
 
 const FieldKind material_kind = {.name = "material", .fields = fields, .count = sizeof fields / sizeof *fields,
-                                 .rules = rules, .group_count = 11};
+                                 .rules = rules, .group_count = 12};
 
 Material material_default(void)
 {
@@ -120,7 +127,7 @@ void material_file_defaults(Material *m, FieldSet given)
 Material material_unmetal(Material m)
 {
     m.metal_map = 0, m.metal_mapped = 0;
-    m.kr = m.ks = v3_splat(R(0));
+    m.kr = m.ks = m.kre = v3_splat(R(0));
     m.roughness = 0;
     m.shininess = R(1);
     return m;

@@ -7,6 +7,7 @@
 
 #include "base/field.h"
 #include "base/vec.h"
+#include "shading/optics.h"
 
 #include <math.h>
 
@@ -77,6 +78,13 @@ typedef struct {
      * out give). */
     real coat;
     real coat_roughness;
+    /* a metal's reflectance at grazing angles (glTF's metals, Cycles'
+     * Principled metals: white): kr is then its colour head on, and at
+     * cosine c between the view and the mirror's (or a facet's) normal it
+     * reflects kr + (kre - kr) (1 - c)^5 (Schlick; material_mirror_at);
+     * all 0: kr at every angle (as the initialisers that leave it out
+     * give).  A real metal's rim brightens towards white. */
+    vec3 kre;
 } Material;
 
 #define MATERIAL_COAT_IOR R(1.5)
@@ -103,6 +111,21 @@ static inline int material_emit_mapped(const Material *m) { return m->emit_mappe
 static inline int material_metal_mapped(const Material *m) { return m->metal_mapped != 0; }
 static inline int material_occludes(const Material *m) { return m->ao_strength > R(0); }
 static inline int material_coats(const Material *m) { return m->coat > R(0); }
+static inline int material_edged(const Material *m) { return m->kre.x > R(0) || m->kre.y > R(0) || m->kre.z > R(0); }
+
+/* The mirror reflectance of m seen at cosine c to its normal: kr, or
+ * with kre the colour that rises from kr towards kre as the view grazes. */
+static inline vec3 material_mirror_at(const Material *m, real c)
+{
+    return material_edged(m) ? v3_add(m->kr, v3_scale(v3_sub(m->kre, m->kr), optics_schlick_weight(c))) : m->kr;
+}
+
+/* The mean of material_mirror_at over the hemisphere's cosine-weighted
+ * directions: kr + (kre - kr) / 21 (the mean of (1 - c)^5 at weight 2c). */
+static inline vec3 material_mirror_mean(const Material *m)
+{
+    return material_edged(m) ? v3_add(m->kr, v3_scale(v3_sub(m->kre, m->kr), R(1) / R(21))) : m->kr;
+}
 /* Whether the textures the material names (its colour's, a cutout's mask,
  * a normal map, an emission, metal-roughness or occlusion texture) are among
  * `count`; one of the others it does not use must be 0. */

@@ -42,6 +42,15 @@ static inline real optics_fresnel_exact(real cos_i, real eta)
     return R(0.5) * (rs * rs + rp * rp);
 }
 
+/* Schlick's weight of the grazing reflectance at cosine c, (1 - c)^5:
+ * the share by which a reflectance rises from its value head on to its
+ * value at grazing (1 for a dielectric, white for a metal). */
+static inline real optics_schlick_weight(real c)
+{
+    const real m = R(1) - real_clamp(c, R(0), R(1)), m2 = m * m;
+    return m2 * m2 * m;
+}
+
 /* Schlick's approximation, R0 + (1 - R0)(1 - cos)^5 with R0 the reflectance
  * at normal incidence; cos is the angle in the rarer medium (the
  * transmitted one when the ray leaves the denser medium), and 1 past the
@@ -59,8 +68,7 @@ static inline real optics_fresnel_schlick(real cos_i, real eta)
             return R(1);
         c = sqrt(R(1) - sin2_t);
     }
-    real m = R(1) - c, m2 = m * m;
-    return r0 + (R(1) - r0) * m2 * m2 * m;
+    return r0 + (R(1) - r0) * optics_schlick_weight(c);
 }
 
 static inline real optics_fresnel(FresnelModel model, real cos_i, real eta)

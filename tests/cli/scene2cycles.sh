@@ -57,7 +57,8 @@ refuse() { # refuse WHAT LINE WORDS...: the scene with LINE added is refused, na
 refuse "a spot" "light spot position 0 2 0 direction 0 -1 0 angle 30 attenuate" "spot light"
 refuse "a light without attenuate" "light point position 0 2 0" "without attenuate"
 refuse "an unknown keyword" "fog 0.1" "'fog' is not read"
+refuse "a tinted rim" "material tint reflect 0.5 0.5 0.5 reflect_edge 1 0.9 0.8" "grey reflect_edge"
 { base; echo "material frost ior 1.5 roughness 0.4"; echo "light point position 0 2 0 attenuate"; } >"$dir/bad.scene"
 out=$(python3 "$S2C" --check "$dir/bad.scene" 2>&1) && fail "a light beside frosted glass taken: $out"
 case "$out" in *"beside frosted glass"*) ;; *) fail "a light beside frosted glass refused for another reason: $out" ;; esac
-echo "scene2cycles: $n Python tools compile; --check reads the Cycles reference scenes, maps point, round, sun and panel lights, refuses spots, unattenuated lights, lights beside frosted glass and unread keywords with their lines"
+echo "scene2cycles: $n Python tools compile; --check reads the Cycles reference scenes, maps point, round, sun and panel lights, refuses spots, unattenuated lights, lights beside frosted glass, tinted metal rims and unread keywords with their lines"
