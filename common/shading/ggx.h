@@ -132,30 +132,16 @@ static inline real ggx_albedo_mean(real roughness)
  * back: kr + c (1 - E) / E, so that it reflects kr E + c (1 - E) of the
  * light from everywhere (Turquin 2019: the lobe's shape stays, only its
  * weight grows, most where E is least).  c, the colour of the light
- * between facets, takes kr at each facet it meets and leaves after each
- * by E_avg's share (Kulla and Conty 2017): kr^2 E_avg / (1 - kr (1 -
- * E_avg)), 1 for a white metal, which then loses nothing.  Cycles 4's
+ * between facets, takes fa at each facet it meets and leaves after each
+ * by E_avg's share (Kulla and Conty 2017): fa^2 E_avg / (1 - fa (1 -
+ * E_avg)), 1 for a white metal, which then loses nothing.  fa is the
+ * metal's mean reflectance over the hemisphere (Kulla and Conty's F_avg):
+ * kr itself (ggx_metal), or, for a metal whose colour rises from kr head
+ * on towards a grazing one (material_mirror_at, the lobe adding the rise
+ * at each facet: ggx_schlick_gain), material_mirror_mean.  Cycles 4's
  * weighing; Cycles 3.4's "Multiscatter GGX", which walks the light from
  * facet to facet, is within 0.5% up to roughness 0.6, 5-10% brighter at 1
  * on coloured metals (docs/renderer.md). */
-static inline vec3 ggx_metal(vec3 kr, real mu, real roughness)
-{
-    const real e = ggx_albedo(mu, roughness), ea = ggx_albedo_mean(roughness), k = (R(1) - e) / e;
-    vec3 out;
-    for (int i = 0; i < 3; i++) {
-        const real f = kr.e[i];
-        out.e[i] = f + f * f * ea / (R(1) - f * (R(1) - ea)) * k;
-    }
-    return out;
-}
-
-/* The same for a metal whose colour rises from kr head on towards a
- * grazing one (material_mirror_at: the single-scattering lobe takes that
- * at each facet, by the cosine between the view and the facet's normal):
- * kr plus the light between facets, whose colour c takes fa, the mean
- * reflectance over the hemisphere (material_mirror_mean), in kr's place
- * (Kulla and Conty's F_avg).  The lobe then adds the rise at each facet
- * (ggx_schlick_gain). */
 static inline vec3 ggx_metal_edged(vec3 kr, vec3 fa, real mu, real roughness)
 {
     const real e = ggx_albedo(mu, roughness), ea = ggx_albedo_mean(roughness), k = (R(1) - e) / e;
@@ -166,6 +152,8 @@ static inline vec3 ggx_metal_edged(vec3 kr, vec3 fa, real mu, real roughness)
     }
     return out;
 }
+
+static inline vec3 ggx_metal(vec3 kr, real mu, real roughness) { return ggx_metal_edged(kr, kr, mu, roughness); }
 
 /* Schlick's (1 - c)^5 at the facet that mirrors wo into wi: c the cosine
  * between wo and their half vector (what an edged metal's lobe adds of
