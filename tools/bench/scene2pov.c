@@ -21,7 +21,9 @@
  *               an image map on the texture coordinates, written beside
  *               OUT.pov as texN.ppm), ambient (the scene's ambient),
  *               diffuse 1, Phong as `phong` (the mean of ks) with
- *               `phong_size` the shininess, mirrors as reflection kr,
+ *               `phong_size` the shininess, mirrors as reflection kr
+ *               (with reflect_edge a variable reflection from kr to it,
+ *               falloff 5: Schlick's (1 - cos)^5),
  *               dielectrics as an interior of their index with Fresnel
  *               reflection, conserve_energy, a filter of kt and absorption
  *               as exponential fade, emission as `emission`, a clear coat
@@ -112,6 +114,11 @@ static void write_surface(FILE *f, const World *w, const Material *m)
     else if (material_reflects(m)) {
         fprintf(f, " reflection { ");
         rgb(f, m->kr);
+        if (material_edged(m)) { /* rising to kre as (1 - cos)^5: POV-Ray's variable reflection is that form */
+            fprintf(f, ", ");
+            rgb(f, m->kre);
+            fprintf(f, " falloff 5");
+        }
         fprintf(f, " }");
     } else if (material_coats(m)) /* Fresnel's share of the interior's index (1.5), the rest to the surface */
         fprintf(f, " reflection { 0, %.9g fresnel on } conserve_energy", (double)m->coat);
