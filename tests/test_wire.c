@@ -457,7 +457,7 @@ static void malformed_scenes_and_assets_are_rejected(void **state)
                      {140, FILTER_COUNT, "settings: 'filter' is not one of its words"},
                      {136, 2, "settings: 'shadows' is not one of its words"},
                      {144, 2, "settings: 'linear' is not 0 or 1"},
-                     {184, 1u << 13, "bad material"},
+                     {184, 1u << 14, "bad material"},
                      {248, 1u << 2, "bad plane"},
                      {248, 1u << 1, "truncated"}, /* a plane mapped, its two numbers missing */
                      {12, 1u << 3, "bad camera"}};

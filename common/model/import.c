@@ -16,6 +16,8 @@
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
+#include <sys/resource.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -300,6 +302,17 @@ static int ply_header_check(const char *head, size_t n, uint64_t file_size, cons
  * header, and chunks that fit in the file, up to its end (Assimp reads
  * the JSON chunk whatever the total length says: a total of 0 let a
  * chunk of 2.9 GB through). */
+/* Assimp's refusal, in words: its running out of the child's memory cap
+ * (child_memory_cap) says what that means. */
+static int assimp_failed(const char *name, Err *err)
+{
+    const char *why = aiGetErrorString();
+    if (strstr(why, "bad_alloc"))
+        return err_set(err, "%s: the importer ran out of memory reading it (a file that claims more than it holds, "
+                            "or a model too big for this machine)", name);
+    return err_set(err, "%s: %s", name, why);
+}
+
 static int glb_check(FILE *f, uint64_t size, const char *name, Err *err)
 {
     uint32_t head[3];
@@ -437,7 +450,7 @@ static int import_read_direct(const char *path, Mesh *out, ImportTexList *tl, Im
     }
     const struct aiScene *sc = aiImportFile(path, IMPORT_FLAGS);
     if (!sc)
-        return err_set(err, "%s: %s", path, aiGetErrorString());
+        return assimp_failed(path, err);
     const char *e = extension(path);
     import_upright(sc, e);
     import_uv_transforms(sc);
@@ -472,7 +485,7 @@ static int import_read_memory_direct(const void *data, size_t len, const char *h
     }
     const struct aiScene *sc = aiImportFileFromMemory(data, (unsigned)len, IMPORT_FLAGS, hint);
     if (!sc)
-        return err_set(err, "%s: %s", name, aiGetErrorString());
+        return assimp_failed(name, err);
     import_upright(sc, hint);
     import_uv_transforms(sc);
     if (import_scene(sc, name, NULL, strcmp(hint, "stl") == 0, out, tl, st, err))
@@ -512,6 +525,9 @@ static int import_has_materials(const struct aiScene *sc)
            strcmp(name.data, AI_DEFAULT_MATERIAL_NAME) != 0;
 }
 
+/* A texel of a BLEND material's alpha under this (half a code) is a hole. */
+#define IMPORT_BLEND_CUTOFF (R(0.5) / R(255))
+
 /* A glTF material of alphaMode MASK cuts holes where its alpha, the base
  * colour texture's times the base colour factor's (which Assimp gives as
  * the opacity), is under alphaCutoff (0.5 unless given; glTF 2.0 spec,
@@ -521,7 +537,24 @@ static int import_has_materials(const struct aiScene *sc)
 static void import_cutout(const struct aiMaterial *am, Material *mt)
 {
     struct aiString mode;
-    if (mt->texture < 0 || !gltf_material(am, &mode) || strcmp(mode.data, "MASK") != 0)
+    if (mt->texture < 0 || !gltf_material(am, &mode))
+        return;
+    if (strcmp(mode.data, "BLEND") == 0 && !material_dielectric(mt)) {
+        /* a BLEND whose factor is opaque: a see-through blend all the same,
+         * its texels' alpha saying how much (import_optics made the others) */
+        mt->ior = R(1);
+        mt->kt = v3_splat(R(0));
+        mt->coat = 0, mt->coat_roughness = 0; /* a see-through blend's reflection is its own (import_coat) */
+    }
+    if (strcmp(mode.data, "BLEND") == 0 && mt->ior == R(1)) {
+        /* its texels blend by their alpha (glTF 2.0, 3.9.4); those of none
+         * are holes, so that nothing is hit there at all */
+        mt->mask = mt->texture;
+        mt->cutoff = IMPORT_BLEND_CUTOFF;
+        mt->mask_blend = 1;
+        return;
+    }
+    if (strcmp(mode.data, "MASK") != 0)
         return;
     ai_real cut = 0.5;
     aiGetMaterialFloatArray(am, "$mat.gltf.alphaCutoff", 0, 0, &cut, NULL);
@@ -783,6 +816,20 @@ static int map_stands(int32_t *idx, int used, const int32_t *map)
     return 0;
 }
 
+/* A glTF's mask (MASK or BLEND: import.c's are glTF's) whose texture has
+ * no alpha: its texels are opaque (glTF 2.0, 3.9.4), not as grey as their
+ * colour (an MTL map_d's reading): a BLEND blends by its factor alone, a
+ * MASK cuts everywhere where its factor is under the cutoff (cutoff > 1),
+ * else nowhere. */
+static void opaque_mask(Material *mt)
+{
+    mt->mask_blend = 0;
+    if (mt->cutoff > R(1))
+        return;
+    mt->cutoff = 0;
+    mt->mask = 0;
+}
+
 static int receive_mesh(const uint8_t *data, size_t len, const char *name, const ObjOptions *opt, Mesh *out,
                         ImportStats *st, Err *err)
 {
@@ -846,7 +893,9 @@ static int receive_mesh(const uint8_t *data, size_t len, const char *name, const
          * metal-roughness texture leaves the material diffuse (as before),
          * an occlusion texture occludes nothing */
         if (!map_stands(&mt.mask, material_cuts(&mt), map))
-            mt.cutoff = 0;
+            mt.cutoff = 0, mt.mask_blend = 0;
+        if (material_cuts(&mt) && !out->textures[mt.mask]->alpha)
+            opaque_mask(&mt);
         if (!map_stands(&mt.normal_map, material_bumps(&mt), map))
             mt.normal_scale = 0;
         if (!map_stands(&mt.emit_map, material_emit_mapped(&mt), map))
@@ -901,15 +950,50 @@ void __sanitizer_set_death_callback(void (*callback)(void)) __attribute__((weak)
 
 static void child_die(void) { _exit(3); }
 
+#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
+#define IMPORT_SANITIZED 1
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer) || __has_feature(thread_sanitizer)
+#define IMPORT_SANITIZED 1
+#endif
+#endif
+
+/* The importer's address space: 4 GiB, or 256 bytes a byte of the file
+ * where that is more.  Assimp 5.2.5 believes what a file says: a 2 KB
+ * COLLADA file whose triangle list held a stray '=' made it take 12.6 GB
+ * and 45 s (fuzz_import, 2026-11-29); capped, its allocation fails and
+ * the import is an error naming the file.  Not under a sanitizer, whose
+ * shadow memory is a reservation of terabytes already. */
+#define IMPORT_MEMORY_MIN ((uint64_t)4 << 30)
+#define IMPORT_MEMORY_PER_BYTE 256u
+
+static void child_memory_cap(const Job *job)
+{
+#ifndef IMPORT_SANITIZED
+    uint64_t size = job->len;
+    struct stat sb;
+    if (job->path && stat(job->path, &sb) == 0)
+        size = (uint64_t)sb.st_size;
+    const uint64_t cap = size > IMPORT_MEMORY_MIN / IMPORT_MEMORY_PER_BYTE ? size * IMPORT_MEMORY_PER_BYTE
+                                                                            : IMPORT_MEMORY_MIN;
+    const struct rlimit rl = {.rlim_cur = (rlim_t)cap, .rlim_max = (rlim_t)cap};
+    setrlimit(RLIMIT_AS, &rl); /* where it cannot be set, the import runs uncapped, as before */
+#else
+    (void)job;
+#endif
+}
+
 /* The child dies of a crash by the default action, whatever handlers its
- * parent had installed (a fuzzer's, a sanitizer's). */
-static void child_defaults(void)
+ * parent had installed (a fuzzer's, a sanitizer's), and within its memory
+ * cap. */
+static void child_defaults(const Job *job)
 {
     static const int fatal[] = {SIGSEGV, SIGBUS, SIGILL, SIGFPE, SIGABRT};
     for (size_t i = 0; i < sizeof fatal / sizeof *fatal; i++)
         signal(fatal[i], SIG_DFL);
     if (__sanitizer_set_death_callback)
         __sanitizer_set_death_callback(child_die);
+    child_memory_cap(job);
 }
 
 static int isolated(const Job *job, const char *name, const ObjOptions *opt, Mesh *out, ImportStats *st, Err *err)
@@ -927,7 +1011,7 @@ static int isolated(const Job *job, const char *name, const ObjOptions *opt, Mes
     }
     if (pid == 0) {
         close(fds[0]);
-        child_defaults();
+        child_defaults(job);
         Mesh m;
         ImportStats cs;
         ImportTexList tl = {0};

@@ -549,6 +549,7 @@ static int path_step(const World *w, Path *p, int found, const Hit *h, RayStats 
     trace_surface(w, &p->ray, h, &sf);
     trace_surface_bump(&sf, NULL); /* samples accumulate: the maps at a point each */
     trace_surface_metal(w, &sf, NULL);
+    trace_surface_blend(&sf);
     const Material *m = sf.mat;
     if (b == 0 && p->key)
         *p->key = (uint64_t)sf.object << 16;

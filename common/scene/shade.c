@@ -272,6 +272,7 @@ static inline __attribute__((always_inline)) void shade_start(const World *w, co
     if (optional) { /* the data maps over the footprint: the far-off ones' means, not one texel */
         trace_surface_bump(&sh->sf, sh->rd ? &fp : NULL);
         trace_surface_metal(w, &sh->sf, sh->rd ? &fp : NULL);
+        trace_surface_blend(&sh->sf);
         m = sh->sf.mat;
     }
     sh->kd = optional && world_uses(w, FEAT_COLOURS) && sh->sf.has_colour ? sh->sf.colour : m->kd;
@@ -339,6 +340,7 @@ static vec3 transmittance(const World *w, const Ray *sr, real tmax, const WorldL
             return T;
         Surface sf;
         trace_surface(w, &r, &h, &sf);
+        trace_surface_blend(&sf); /* a blend's see-through share by its texel */
         const int lamp = trace_lamp_part(w, l, &h); /* the light's own lamp: passed, untinted */
         if (!lamp && !material_dielectric(sf.mat))
             break;

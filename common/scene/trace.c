@@ -806,6 +806,7 @@ void trace_surface_metal(const World *w, Surface *sf, const TexFootprint *fp)
     l->kd = v3_max(v3_sub(mt->kd, l->kr), v3_splat(R(0)));
     if (sf->tex) {
         sf->local_tex = texture_sample(sf->tex, sf->u, sf->v, fp, w->view.settings.filter);
+        sf->local_read = 1;
         l->kr = v3_mul(l->kr, sf->local_tex);
     }
     l->ks = l->kr;
@@ -818,6 +819,22 @@ void trace_surface_metal(const World *w, Surface *sf, const TexFootprint *fp)
     }
     sf->mat = l;
     sf->mtex = NULL; /* applied: not a second time */
+}
+
+void trace_surface_blend(Surface *sf)
+{
+    if (!sf->btex)
+        return;
+    const real a = texture_coverage(sf->btex, sf->u, sf->v);
+    Material *l = &sf->local;
+    if (sf->mat != l)
+        *l = *sf->mat;
+    l->mask_blend = 0;
+    l->kd = v3_scale(l->kd, a), l->ks = v3_scale(l->ks, a);
+    l->kr = v3_scale(l->kr, a), l->kre = v3_scale(l->kre, a);
+    l->kt = v3_sub(v3_splat(R(1)), v3_scale(v3_sub(v3_splat(R(1)), l->kt), a));
+    sf->mat = l;
+    sf->btex = NULL; /* applied: not a second time */
 }
 
 /* The surfaces of each kind of hit, for surface_at; `optional` as there. */
@@ -944,6 +961,8 @@ static inline __attribute__((always_inline)) int surface_instance(const World *w
             out->aotex = m->textures[out->mat->ao_map];
         if (optional && out->has_uv && material_metal_mapped(out->mat))
             out->mtex = m->textures[out->mat->metal_map];
+        if (optional && out->has_uv && material_blends(out->mat))
+            out->btex = m->textures[out->mat->mask];
     }
     out->object = w->sphere_count + w->plane_count + w->material_count + h->index;
     return model_tex;
@@ -958,9 +977,9 @@ static inline __attribute__((always_inline)) void surface_at(const World *w, con
      * every hit (every case below sets p, the normals, err, mat, object) */
     out->p = out->ng = out->ns = out->colour = v3_splat(0);
     out->u = out->v = out->err = 0;
-    out->has_uv = out->has_colour = out->smooth = out->inside = out->bumped = 0;
+    out->has_uv = out->has_colour = out->smooth = out->inside = out->bumped = out->local_read = 0;
     out->mat = &fallback_material;
-    out->etex = out->aotex = out->mtex = NULL;
+    out->etex = out->aotex = out->mtex = out->btex = NULL;
     out->object = 0;
     Lift lift;
     lift.pm = v3_splat(0);

@@ -46,12 +46,15 @@ typedef struct {
     vec3 nv;          /* the smooth normal: ns before a normal map tilts it */
     int bumped;       /* trace_surface_bump tilted ns from nv */
     Material local;   /* a mapped metal's material at this hit, which mat then names */
-    vec3 local_tex;   /* where mat names local and tex is set: the colour texture's sample that tinted
-                       * its mirror, which the diffuse colour takes too (read once: trace_surface_texel) */
+    vec3 local_tex;   /* where local_read: the colour texture's sample that tinted a mapped metal's
+                       * mirror, which the diffuse colour takes too (read once: trace_surface_texel) */
+    int local_read;   /* local_tex holds it */
     const Texture *mtex; /* a model's own material's metal-roughness texture (where it has texture
                           * coordinates) not yet applied, or NULL: trace_surface_metal */
     const Texture *aotex; /* a model's own material's occlusion texture (where it has texture
                            * coordinates), or NULL: trace_occlusion */
+    const Texture *btex; /* a model's own material's blending mask (material_blends) not yet
+                          * applied, or NULL: trace_surface_blend */
 } Surface;
 
 /* The closest hit: the smallest t, ties decided by a fixed rule (trace.c),
@@ -141,12 +144,20 @@ real trace_occlusion(const Surface *sf, const TexFootprint *fp);
  * footprint fp (NULL: at the point): after trace_surface, once the caller
  * knows the footprint, before it reads the material. */
 void trace_surface_metal(const World *w, Surface *sf, const TexFootprint *fp);
+/* A blending material's see-through share at the hit (material.h's
+ * mask_blend: glTF's alphaMode BLEND with an alpha texture), where
+ * sf->btex says it is not yet applied: the mask's opacity a there scales
+ * what the surface reflects (diffuse, highlight, mirror) and it lets
+ * 1 - (1 - transmit) a through, into sf->local, which sf->mat then names
+ * (after trace_surface_metal, over what it made).  The texel at the point,
+ * as the cutout's test reads it. */
+void trace_surface_blend(Surface *sf);
 /* The colour texture's sample at the hit (sf->tex set), over fp (NULL:
  * at the point): read by trace_surface_metal already where it made the
  * hit's metal with the same footprint, else now. */
 static inline vec3 trace_surface_texel(const World *w, const Surface *sf, const TexFootprint *fp)
 {
-    return sf->mat == &sf->local ? sf->local_tex : texture_sample(sf->tex, sf->u, sf->v, fp, w->view.settings.filter);
+    return sf->local_read ? sf->local_tex : texture_sample(sf->tex, sf->u, sf->v, fp, w->view.settings.filter);
 }
 
 /* How the surface at hit h changes over a sample's footprint (dpdx,

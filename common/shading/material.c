@@ -10,7 +10,7 @@
 #define OFF(f) offsetof(Material, f)
 enum { GROUP_MIRROR = 1, GROUP_DIELECTRIC = 2, GROUP_EMIT = 3, GROUP_CHECKER = 4, GROUP_CUTOUT = 5, GROUP_NORMAL = 6, GROUP_EMIT_MAP = 7, GROUP_METAL_MAP = 8,
        GROUP_OCCLUSION = 9, GROUP_BUMP = 10, GROUP_COAT = 11,
-       GROUP_EDGE = 12 };
+       GROUP_EDGE = 12, GROUP_BLEND = 13 };
 
 static const Field fields[] = {
     {.key = "diffuse", .type = FIELD_VEC, .off = OFF(kd), .hi = FIELD_INF, .def = 0.8,
@@ -87,6 +87,9 @@ static const Field fields[] = {
      .shown_default = "none", .doc = "a metal's reflectance at grazing angles (1 1 1 for a real metal, glTF's): "
                                      "`reflect` is then its colour head on, rising to this as the view grazes "
                                      "(Schlick's (1 - cos)^5); needs `reflect`"},
+    {.key = "mask_blend", .type = FIELD_FLAG, .group = GROUP_BLEND, .flags = FIELD_WIRE, .off = OFF(mask_blend),
+     .doc = "the cutout's opacity above its cutoff blends the surface with what lies behind (glTF's alphaMode BLEND) "
+            "instead of leaving it solid"},
 };
 
 static const FieldRule rules[] = {
@@ -103,7 +106,7 @@ static const FieldRule rules[] = {
 };
 
 const FieldKind material_kind = {.name = "material", .fields = fields, .count = sizeof fields / sizeof *fields,
-                                 .rules = rules, .group_count = 12};
+                                 .rules = rules, .group_count = 13};
 
 Material material_default(void)
 {
@@ -138,7 +141,7 @@ Material material_untextured(Material m)
     if (material_metal_mapped(&m))
         m = material_unmetal(m);
     m.texture = -1;
-    m.mask = 0, m.cutoff = 0;
+    m.mask = 0, m.cutoff = 0, m.mask_blend = 0;
     m.normal_map = 0, m.normal_scale = 0, m.bump_height = 0;
     m.emit_map = 0, m.emit_mapped = 0;
     m.ao_map = 0, m.ao_strength = 0;
@@ -166,6 +169,10 @@ const char *material_problem(const Material *m, char *buf, size_t size)
         }
     if (material_coats(m) && material_dielectric(m)) {
         snprintf(buf, size, "a coat on a dielectric (its own Fresnel reflection is its coat)");
+        return buf;
+    }
+    if (m->mask_blend && !(material_cuts(m) && material_dielectric(m) && m->ior == R(1))) {
+        snprintf(buf, size, "a mask_blend without a cutout's mask or a see-through blend (ior 1) to blend");
         return buf;
     }
     if (material_heights(m) && !material_bumps(m)) {

@@ -85,6 +85,14 @@ typedef struct {
      * all 0: kr at every angle (as the initialisers that leave it out
      * give).  A real metal's rim brightens towards white. */
     vec3 kre;
+    /* 1: the cutout's mask does not only cut (its texels under cutoff are
+     * holes) but blends: where its opacity a is above the cutoff the
+     * surface is a see-through blend of a of itself (glTF's alphaMode
+     * BLEND, its base colour texture's alpha; trace_surface_blend: its
+     * reflecting terms times a, what it lets through 1 - (1 - transmit) a);
+     * 0: solid there.  A model's own materials only, with a cutout and a
+     * see-through blend (ior 1). */
+    int mask_blend;
 } Material;
 
 #define MATERIAL_COAT_IOR R(1.5)
@@ -105,6 +113,7 @@ static inline int material_rough(const Material *m) { return material_reflects(m
 static inline int material_frosted(const Material *m) { return material_dielectric(m) && m->roughness > R(0); }
 static inline int material_checkered(const Material *m) { return m->checker_size > R(0); }
 static inline int material_cuts(const Material *m) { return m->cutoff > R(0); }
+static inline int material_blends(const Material *m) { return m->mask_blend != 0 && material_cuts(m); }
 static inline int material_bumps(const Material *m) { return m->normal_scale > R(0); }
 static inline int material_heights(const Material *m) { return m->bump_height > R(0); }
 static inline int material_emit_mapped(const Material *m) { return m->emit_mapped != 0; }

@@ -134,4 +134,17 @@ err=$("$BIN/obj2tmd" "$dir/crash.ply" "$dir/crash.tmd" 2>&1); rc=$?
 [ $rc -eq 1 ] || fail "a PLY that crashes Assimp: exit $rc ($err)"
 grep -q "crash.ply: the importer (Assimp) crashed on this file" <<<"$err" || fail "crash message: $err"
 [ ! -e "$dir/crash.tmd" ] || fail "a PLY that crashes Assimp left an output"
-echo "formats: PLY, STL, glTF, GLB and MODEL.OBJ render byte-identical to model.obj; AC3D converts; a .blend stands up; an unknown extension is named; a file that crashes Assimp is an error"
+# a 2 KB COLLADA file whose triangle list holds a stray '=' (found by
+# fuzz_import, 2026-11-29) made Assimp take 12.6 GB and 45 s; the
+# importer's child is capped (4 GiB, or 256 bytes a byte of the file), so
+# it is an error naming the file, with no output (under a sanitizer the
+# cap is off: its shadow memory is a reservation of terabytes)
+dae="skipped under a sanitizer"
+case "$BIN" in *asan* | *tsan*) ;; *)
+    err=$(timeout 120 "$BIN/obj2tmd" tests/data/dae/claims.dae "$dir/claims.tmd" 2>&1); rc=$?
+    [ $rc -eq 1 ] || fail "a COLLADA file that claims 12 GB: exit $rc ($err)"
+    grep -q "claims.dae: the importer ran out of memory reading it" <<<"$err" || fail "claims.dae message: $err"
+    [ ! -e "$dir/claims.tmd" ] || fail "claims.dae left an output"
+    dae="is an error" ;;
+esac
+echo "formats: PLY, STL, glTF, GLB and MODEL.OBJ render byte-identical to model.obj; AC3D converts; a .blend stands up; an unknown extension is named; a file that crashes Assimp is an error; one that claims gigabytes $dae"
