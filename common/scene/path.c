@@ -119,13 +119,42 @@ static inline __attribute__((always_inline)) real draw1(const Draws *d, uint32_t
     return sample_sobol_first(&q, d->index);
 }
 
-/* Whether the shadow ray from origin along dir is stopped short of tmax
- * (passing light `towards`'s own lamp, where given). */
-static int shadowed(const World *w, vec3 origin, vec3 dir, real tmax, const WorldLight *towards, RayStats *st)
+#define NULL_MAX_CROSSINGS 32
+
+/* What of the light passes the shadow ray from origin along dir short of
+ * tmax (passing light `towards`'s own lamp, where given): all of it or
+ * none, except through see-through blends (material_null: unbent, so
+ * the light's direction holds), times each one's transmitted colour; any
+ * other dielectric stops it (its light comes by the paths). */
+static vec3 passed(const World *w, vec3 origin, vec3 dir, real tmax, const WorldLight *towards, RayStats *st)
 {
-    Ray sr = ray_make(origin, dir, R(0), tmax);
+    Ray r = ray_make(origin, dir, R(0), tmax);
     st->shadow++;
-    return trace_occluded(w, &sr, tmax, towards);
+    int glass = 0;
+    if (!world_has(w, FEAT_NULL) ? trace_occluded(w, &r, tmax, towards) : trace_shadow(w, &r, tmax, towards, &glass))
+        return v3_splat(R(0));
+    vec3 T = v3_splat(R(1));
+    real left = tmax;
+    for (int i = 0; glass && i < NULL_MAX_CROSSINGS; i++) {
+        Hit h;
+        r.tmax = left;
+        if (!trace_closest_glass(w, &r, &h))
+            return T;
+        Surface sf;
+        trace_surface(w, &r, &h, &sf);
+        trace_surface_blend(&sf);
+        if (!(towards && trace_lamp_part(w, towards, &h))) { /* a light's own lamp: passed, untinted */
+            if (!material_dielectric(sf.mat) || !material_null(sf.mat))
+                return v3_splat(R(0));
+            T = v3_mul(T, sf.mat->kt);
+            if (!(v3_max_comp(T) > R(0)))
+                return T;
+        }
+        left = left == REAL_MAX ? left : left - h.t;
+        st->shadow++;
+        ray_set(&r, trace_offset_origin(sf.p, v3_neg(sf.ng), sf.err), r.dir, r.inv, R(0), left);
+    }
+    return glass ? v3_splat(R(0)) : T;
 }
 
 /* f x cos of frosted glass at sf (material_frosted) seen from wo (unit,
@@ -222,9 +251,12 @@ static vec3 direct_light(const World *w, const Surface *sf, const Lobes *lb, con
             fc = v3_add(fc, lobes_eval(hl, dir, &pdf));
         if (!(v3_max_comp(fc) > R(0)))
             continue;
-        if (world_has(w, FEAT_SHADOWS) &&
-            shadowed(w, from, dir, isfinite(dist) ? dist * (R(1) - R(64) * REAL_EPS) : REAL_MAX, &w->lights[li], st))
-            continue;
+        if (world_has(w, FEAT_SHADOWS)) {
+            rad = v3_mul(rad, passed(w, from, dir, isfinite(dist) ? dist * (R(1) - R(64) * REAL_EPS) : REAL_MAX,
+                                     &w->lights[li], st));
+            if (!(v3_max_comp(rad) > R(0)))
+                continue;
+        }
         sum = v3_add(sum, v3_scale(v3_mul(fc, rad), REAL_PI));
     }
     return sum;
@@ -252,23 +284,36 @@ static vec3 direct_emitters(const World *w, const Surface *sf, const Lobes *lb, 
     if (!(v3_max_comp(fc) > R(0)))
         return v3_splat(R(0));
     /* short of the point by more than the rounding of its place, so the emitter does not shadow itself */
-    if (w->view.settings.shadows && shadowed(w, from, es.dir, es.dist * (R(1) - R(1024) * REAL_EPS), NULL, st))
-        return v3_splat(R(0));
+    vec3 through = v3_splat(R(1));
+    if (w->view.settings.shadows) {
+        through = passed(w, from, es.dir, es.dist * (R(1) - R(1024) * REAL_EPS), NULL, st);
+        if (!(v3_max_comp(through) > R(0)))
+            return v3_splat(R(0));
+    }
     /* (frosted glass's bounce goes to either side) */
     const int bsdf_finds = w->view.settings.emitter_sampling == EMITTERS_MIS && !last &&
                            (lb->frost > R(0) || v3_dot(es.dir, sf->nv) > R(0));
     const real weight = bsdf_finds ? power_weight(es.pdf, pdf) : R(1);
-    return v3_scale(v3_mul(fc, es.radiance), weight / es.pdf);
+    return v3_scale(v3_mul(v3_mul(fc, es.radiance), through), weight / es.pdf);
 }
 
 /* The share of emission that a path meeting h after a bounce from p off
  * a smooth lobe (density pdf_bounce) adds: all of it where next-event
  * estimation could not have found it, else the weight of the bounce. */
-static real bounce_share(const World *w, vec3 p, real pdf_bounce, const Ray *r, const Hit *h)
+static real bounce_share(const World *w, vec3 p, real pdf_bounce, const Ray *r, const Hit *h, int through)
 {
     const EmitterSampling es = w->view.settings.emitter_sampling;
     if (es == EMITTERS_BSDF)
         return R(1);
+    Ray rp;
+    Hit hp;
+    if (through) { /* the ray from p itself, as next-event estimation's: its distance from there */
+        const vec3 q = ray_at(r, h->t);
+        rp = *r, hp = *h;
+        rp.org = p;
+        hp.t = v3_dot(v3_sub(q, p), r->dir);
+        r = &rp, h = &hp;
+    }
     const real pl = emitters_pdf(w, p, r, h);
     if (!(pl > R(0)))
         return R(1);
@@ -372,6 +417,7 @@ typedef struct {
     int after_smooth; /* the path left a point by a smooth lobe, which took the lights (next-event estimation) */
     vec3 from;        /* that point */
     real pdf_bounce;  /* and the density of the bounce's direction */
+    int through;      /* the ray left a see-through blend it passed straight, not that point */
     const DrawPlan *plan;
 } Path;
 
@@ -381,7 +427,7 @@ static void path_start(Path *p, const DrawPlan *plan, const Ray *r, SampleId id,
     /* field by field: a compound literal cleared the whole and copied it */
     p->L = v3_splat(R(0)), p->beta = v3_splat(R(1)), p->from = v3_splat(R(0));
     p->ray = *r, p->id = id, p->key = key;
-    p->b = 0, p->after_smooth = 0, p->pdf_bounce = R(0);
+    p->b = 0, p->after_smooth = 0, p->pdf_bounce = R(0), p->through = 0;
 }
 
 /* The Phong highlight (ks) of a surface that reflects rays itself (a
@@ -558,12 +604,17 @@ static int path_step(const World *w, Path *p, int found, const Hit *h, RayStats 
     /* emission, but not a lamp's whose light was sampled at the point before */
     if (material_emits(m) && !(p->after_smooth && trace_any_lamp(w, h)))
         p->L = v3_add(p->L, v3_scale(v3_mul(p->beta, trace_emission(w, &sf, NULL)),
-                                     p->after_smooth ? bounce_share(w, p->from, p->pdf_bounce, &p->ray, h) : R(1)));
+                                     p->after_smooth ? bounce_share(w, p->from, p->pdf_bounce, &p->ray, h, p->through)
+                                                     : R(1)));
     const int last = b >= depth; /* the light that reaches this point still counts: depth 0 is direct light */
     Draws dr;
     draws_at(&dr, p->plan, &p->id, (uint32_t)b);
     int go;
-    p->after_smooth = 0;
+    /* the bounce before, kept where the path passes a see-through blend
+     * straight (next-event estimation saw through it: passed) */
+    const int was_smooth = p->after_smooth;
+    const vec3 was_from = p->from, was_dir = p->ray.dir;
+    p->after_smooth = 0, p->through = 0;
     /* a dielectric's highlight is its Fresnel reflection, traced here (its
      * Phong `specular` stands in for it under the Whitted integrator, which
      * cannot reflect a point light; here a highlight of the point lights, as
@@ -583,6 +634,9 @@ static int path_step(const World *w, Path *p, int found, const Hit *h, RayStats 
     }
     if (!go)
         return 0;
+    if (was_smooth && !p->after_smooth && material_dielectric(m) && material_null(m) &&
+        v3_dot(p->ray.dir, was_dir) > R(1) - R(1e-6))
+        p->after_smooth = 1, p->from = was_from, p->through = 1; /* pdf_bounce is still that bounce's */
     if (b + 1 >= w->view.settings.roulette) { /* Russian roulette: survivors weighed up by as much */
         const real keep = real_min(R(1), v3_max_comp(p->beta));
         if (!(draw1(&dr, 3) < keep))

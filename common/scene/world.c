@@ -17,7 +17,8 @@ static uint32_t material_features(const Material *m)
            (material_emits(m) ? FEAT_EMIT : 0u) | (material_rough(m) || material_frosted(m) ? FEAT_ROUGH : 0u) |
            (v3_max_comp(m->ks) > R(0) ? FEAT_SPECULAR : 0u) |
            (material_checkered(m) ? FEAT_CHECKER | (m->checker_uv ? FEAT_TEXTURES : 0u) : 0u) |
-           (material_bumps(m) ? FEAT_NORMAL_MAP : 0u) | (material_coats(m) ? FEAT_COAT : 0u);
+           (material_bumps(m) ? FEAT_NORMAL_MAP : 0u) | (material_coats(m) ? FEAT_COAT : 0u) |
+           (material_null(m) ? FEAT_NULL : 0u);
 }
 
 /* Planar mapping: u along the world x axis laid onto the plane (z for a

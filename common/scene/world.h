@@ -39,6 +39,7 @@ enum {
     FEAT_CHECKER = 1 << 14, /* a material with a checker pattern */
     FEAT_NORMAL_MAP = 1 << 15, /* a model's material with a normal map */
     FEAT_COAT = 1 << 16,       /* a material with a clear coat */
+    FEAT_NULL = 1 << 17,       /* a see-through blend (material_null): the path integrator's shadow rays pass it */
 };
 
 /* What one frame is rendered with beside the world. */

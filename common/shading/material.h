@@ -112,6 +112,10 @@ static inline int material_rough(const Material *m) { return material_reflects(m
  * glass stays clear). */
 static inline int material_frosted(const Material *m) { return material_dielectric(m) && m->roughness > R(0); }
 static inline int material_checkered(const Material *m) { return m->checker_size > R(0); }
+/* A see-through blend (glTF's alphaMode BLEND, an MTL's dissolve): a
+ * clear dielectric of index 1, which lets light through unbent, times its
+ * transmitted colour. */
+static inline int material_null(const Material *m) { return m->ior == R(1) && m->roughness == R(0); }
 static inline int material_cuts(const Material *m) { return m->cutoff > R(0); }
 static inline int material_blends(const Material *m) { return m->mask_blend != 0 && material_cuts(m); }
 static inline int material_bumps(const Material *m) { return m->normal_scale > R(0); }

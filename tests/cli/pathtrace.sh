@@ -216,6 +216,32 @@ fg_err=$err
 # a smooth coat over a rough metal reflects sharply: its mirror is not
 # bent by the metal's roughness (a metal of 0.1% under it: the picture is
 # the coat's alone within RMSE 5; bent with it, as before, RMSE 14.4)
+# a see-through blend (a dielectric of index 1: glTF's BLEND, an MTL's
+# dissolve) over the left half of a floor under a point light, seen from
+# above through it: the path integrator's shadow rays pass it times its
+# transmit (0.5), as the Whitted integrator's do, so the left half is a
+# quarter of the right (half the light, seen through half); before
+# 2026-11-29 they stopped there, and since no path meets a point light
+# the floor under it was black
+cat >"$dir/veil.scene" <<'S'
+camera position 0 3 0.001 lookat 0 0 0 fov 60
+background 0 0 0
+ambient 0 0 0
+settings integrator path depth 4 width 48 height 36 aa 4
+material floor diffuse 0.8 0.8 0.8
+material veil ior 1 transmit 0.5 0.5 0.5
+plane point 0 0 0 normal 0 1 0 material floor
+triangle vertices -3 1 -3  0 1 -3  0 1 3 material veil
+triangle vertices -3 1 -3  0 1 3  -3 1 3 material veil
+light point position 0 2.5 0 intensity 0.5
+S
+"$BIN/lanray-render" "$dir/veil.scene" --linear -o "$dir/veil.ppm" --quiet >/dev/null || fail "veil.scene did not render"
+"$BIN/lanray-render" "$dir/veil.scene" --integrator whitted --linear -o "$dir/veil-w.ppm" --quiet >/dev/null ||
+    fail "veil.scene (Whitted) did not render"
+read -r vl vr <<<"$(halves_mean "$dir/veil.ppm")"
+read -r wl wr <<<"$(halves_mean "$dir/veil-w.ppm")"
+python3 -c "import sys; sys.exit(0 if abs($vl / $vr - 0.25) < 0.01 and abs($vl / $wl - 1) < 0.03 else 1)" ||
+    fail "a point light through a see-through blend: path $vl | $vr, Whitted $wl | $wr (the left half a quarter of the right, as Whitted's)"
 cat >"$dir/sharp.scene" <<'S'
 camera position 0 0 4 lookat 0 0 0 fov 30
 background 0 0 0
@@ -443,4 +469,4 @@ start_server room "$dir/room.scene" --port 0 --width 64 --height 64 --aa 2 --fra
     --out "$dir/f-room"
 clients_until_done 2 1
 wait "$server_pid" || fail "the path-traced frame through 2 clients differs from lanray-render's (server exit $?)"
-echo "pathtrace: the Cornell box $cb_err from Cycles' (4x4 blocks, light ratio $cb_ratio); a scanned dragon $dr_err; a normal-mapped ball $nm_err; rough metals $mt_err; edged metals $eg_err; frosted glass $fg_err; white furnace under MIS within $fur_err (6x6 blocks, light ratio $fur_ratio); emitters by NEE alone and by bounces alone = MIS (6x6 blocks: error $nee_err and $bsdf_err, light ratio $nee_ratio and $bsdf_ratio); a glass ball's darkest pixel $blo; a white furnace of diffuse spheres, coarse balls of smooth triangles (white and a mirror), a mirror, glass, a mirror over glass, a see-through diffuse veil and a metal with a highlight and a smooth clear coat come out 1 (codes $lo to $hi at exposure -1; rough white metals $ml and $mr (127.5; single scattering alone 118 and 92), frosted glass $gl and $gr, a rough coat $clo to $chi, its direct light Whitted's within $ag_err, coats $co_err from Cycles' (uncoated $un_err), a smooth coat over a rough metal sharp (RMSE $sh_rmse); the highlight shows a point light: $shi, without it $dhi, frosted glass $fhi, clear $chi2; frosted glass under Whitted the path integrator's within $fw_err (clear $cw_err); a grey room's $glo); the floor under an emissive sphere follows the inverse-square law (code $lmean, 127.5 expected; Whitted $whi); a path-traced frame through 2 clients = lanray-render's"
+echo "pathtrace: the Cornell box $cb_err from Cycles' (4x4 blocks, light ratio $cb_ratio); a scanned dragon $dr_err; a normal-mapped ball $nm_err; rough metals $mt_err; edged metals $eg_err; frosted glass $fg_err; white furnace under MIS within $fur_err (6x6 blocks, light ratio $fur_ratio); emitters by NEE alone and by bounces alone = MIS (6x6 blocks: error $nee_err and $bsdf_err, light ratio $nee_ratio and $bsdf_ratio); a glass ball's darkest pixel $blo; a white furnace of diffuse spheres, coarse balls of smooth triangles (white and a mirror), a mirror, glass, a mirror over glass, a see-through diffuse veil and a metal with a highlight and a smooth clear coat come out 1 (codes $lo to $hi at exposure -1; rough white metals $ml and $mr (127.5; single scattering alone 118 and 92), frosted glass $gl and $gr, a rough coat $clo to $chi, its direct light Whitted's within $ag_err, coats $co_err from Cycles' (uncoated $un_err), a smooth coat over a rough metal sharp (RMSE $sh_rmse); the highlight shows a point light: $shi, without it $dhi, frosted glass $fhi, clear $chi2; frosted glass under Whitted the path integrator's within $fw_err (clear $cw_err); a grey room's $glo); a point light through a see-through blend $vl of $vr (Whitted $wl of $wr); the floor under an emissive sphere follows the inverse-square law (code $lmean, 127.5 expected; Whitted $whi); a path-traced frame through 2 clients = lanray-render's"
