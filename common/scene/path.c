@@ -119,8 +119,6 @@ static inline __attribute__((always_inline)) real draw1(const Draws *d, uint32_t
     return sample_sobol_first(&q, d->index);
 }
 
-#define NULL_MAX_CROSSINGS 32
-
 /* What of the light passes the shadow ray from origin along dir short of
  * tmax (passing light `towards`'s own lamp, where given): all of it or
  * none, except through see-through blends (material_null: unbent, so
@@ -128,33 +126,12 @@ static inline __attribute__((always_inline)) real draw1(const Draws *d, uint32_t
  * other dielectric stops it (its light comes by the paths). */
 static vec3 passed(const World *w, vec3 origin, vec3 dir, real tmax, const WorldLight *towards, RayStats *st)
 {
-    Ray r = ray_make(origin, dir, R(0), tmax);
+    const Ray r = ray_make(origin, dir, R(0), tmax);
     st->shadow++;
     int glass = 0;
     if (!world_has(w, FEAT_NULL) ? trace_occluded(w, &r, tmax, towards) : trace_shadow(w, &r, tmax, towards, &glass))
         return v3_splat(R(0));
-    vec3 T = v3_splat(R(1));
-    real left = tmax;
-    for (int i = 0; glass && i < NULL_MAX_CROSSINGS; i++) {
-        Hit h;
-        r.tmax = left;
-        if (!trace_closest_glass(w, &r, &h))
-            return T;
-        Surface sf;
-        trace_surface(w, &r, &h, &sf);
-        trace_surface_blend(&sf);
-        if (!(towards && trace_lamp_part(w, towards, &h))) { /* a light's own lamp: passed, untinted */
-            if (!material_dielectric(sf.mat) || !material_null(sf.mat))
-                return v3_splat(R(0));
-            T = v3_mul(T, sf.mat->kt);
-            if (!(v3_max_comp(T) > R(0)))
-                return T;
-        }
-        left = left == REAL_MAX ? left : left - h.t;
-        st->shadow++;
-        ray_set(&r, trace_offset_origin(sf.p, v3_neg(sf.ng), sf.err), r.dir, r.inv, R(0), left);
-    }
-    return glass ? v3_splat(R(0)) : T;
+    return glass ? shade_transmittance(w, &r, tmax, towards, 1, st) : v3_splat(R(1));
 }
 
 /* f x cos of frosted glass at sf (material_frosted) seen from wo (unit,

@@ -323,12 +323,8 @@ static inline __attribute__((always_inline)) void shade_start(const World *w, co
 #define GLASS_MAX_CROSSINGS 32
 
 
-/* What of a light's radiance passes along shadow ray sr, which
- * trace_shadow let pass (nothing opaque in its way but in an instance
- * that is partly glass, so the walk looks at glass alone): the product of
- * the transmitted colours (and absorption) of the dielectrics it crosses
- * before tmax, 0 at anything opaque. */
-static vec3 transmittance(const World *w, const Ray *sr, real tmax, const WorldLight *l, RayStats *stats)
+vec3 shade_transmittance(const World *w, const Ray *sr, real tmax, const WorldLight *l, int nulls_only,
+                         RayStats *stats)
 {
     vec3 T = v3_splat(R(1));
     Ray r = *sr;
@@ -341,8 +337,8 @@ static vec3 transmittance(const World *w, const Ray *sr, real tmax, const WorldL
         Surface sf;
         trace_surface(w, &r, &h, &sf);
         trace_surface_blend(&sf); /* a blend's see-through share by its texel */
-        const int lamp = trace_lamp_part(w, l, &h); /* the light's own lamp: passed, untinted */
-        if (!lamp && !material_dielectric(sf.mat))
+        const int lamp = l && trace_lamp_part(w, l, &h); /* the light's own lamp: passed, untinted */
+        if (!lamp && (!material_dielectric(sf.mat) || (nulls_only && !material_null(sf.mat))))
             break;
         if (!lamp)
             T = v3_mul(T, sf.mat->kt);
@@ -1017,7 +1013,7 @@ static void probe_pass(const World *w, Shading *sh, const int *live, int nl, uin
                 seen_blocked |= bit;
             else if (!(through >> q & 1))
                 seen_clear |= bit;
-            else if (v3_max_comp(transmittance(w, &sr[q], tmax[q], l, stats)) > R(0))
+            else if (v3_max_comp(shade_transmittance(w, &sr[q], tmax[q], l, 0, stats)) > R(0))
                 unsure |= bit; /* through glass: tinted, not a yes or no */
             else
                 seen_blocked |= bit;
@@ -1081,7 +1077,7 @@ static inline __attribute__((always_inline)) void light_pass(const World *w, Sha
         if (blocked >> k & 1)
             continue;
         if (through >> k & 1) {
-            got = v3_mul(rad[k], transmittance(w, &sr[k], tmax[k], l, stats));
+            got = v3_mul(rad[k], shade_transmittance(w, &sr[k], tmax[k], l, 0, stats));
             if (!(v3_max_comp(got) > R(0)))
                 continue;
         }

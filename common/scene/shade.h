@@ -23,6 +23,16 @@ static inline void ray_stats_add(RayStats *to, RayStats st)
     to->secondary += st.secondary;
 }
 
+/* What of a light's radiance passes along shadow ray sr, which
+ * trace_shadow let pass (nothing opaque in its way but in an instance
+ * that is partly glass, so the walk looks at glass alone): the product of
+ * the transmitted colours (and absorption) of the dielectrics it crosses
+ * before tmax, passing light l's own lamp (l may be NULL); 0 at anything
+ * opaque, and with nulls_only at any dielectric that bends light (the
+ * path integrator's: only see-through blends, material_null, pass). */
+vec3 shade_transmittance(const World *w, const Ray *sr, real tmax, const WorldLight *l, int nulls_only,
+                         RayStats *stats);
+
 /* Traces r and returns its colour.  *key (may be NULL) receives an identifier
  * of what the ray saw, for adaptive anti-aliasing: the surface and which of
  * the first 16 lights reached it. */
