@@ -539,19 +539,21 @@ static void import_cutout(const struct aiMaterial *am, Material *mt)
     struct aiString mode;
     if (mt->texture < 0 || !gltf_material(am, &mode))
         return;
-    if (strcmp(mode.data, "BLEND") == 0 && !material_dielectric(mt)) {
-        /* a BLEND whose factor is opaque: a see-through blend all the same,
-         * its texels' alpha saying how much (import_optics made the others) */
-        mt->ior = R(1);
-        mt->kt = v3_splat(R(0));
-        mt->coat = 0, mt->coat_roughness = 0; /* a see-through blend's reflection is its own (import_coat) */
-    }
-    if (strcmp(mode.data, "BLEND") == 0 && mt->ior == R(1)) {
-        /* its texels blend by their alpha (glTF 2.0, 3.9.4); those of none
-         * are holes, so that nothing is hit there at all */
-        mt->mask = mt->texture;
-        mt->cutoff = IMPORT_BLEND_CUTOFF;
-        mt->mask_blend = 1;
+    if (strcmp(mode.data, "BLEND") == 0) {
+        if (!material_dielectric(mt)) {
+            /* a BLEND whose factor is opaque: a see-through blend all the same,
+             * its texels' alpha saying how much (import_optics made the others) */
+            mt->ior = R(1);
+            mt->kt = v3_splat(R(0));
+            mt->coat = 0, mt->coat_roughness = 0; /* a see-through blend's reflection is its own (import_coat) */
+        }
+        if (mt->ior == R(1)) { /* not glass of its own (KHR_materials_transmission) */
+            /* its texels blend by their alpha (glTF 2.0, 3.9.4); those of none
+             * are holes, so that nothing is hit there at all */
+            mt->mask = mt->texture;
+            mt->cutoff = IMPORT_BLEND_CUTOFF;
+            mt->mask_blend = 1;
+        }
         return;
     }
     if (strcmp(mode.data, "MASK") != 0)

@@ -462,12 +462,8 @@ static int surface_bounce(const World *w, Path *p, const Surface *sf, vec3 kd, v
     LobeColours lc = {.kd = kd, .ks = material_reflects(m) ? v3_splat(R(0)) : ks, .shininess = m->shininess,
                       .kr = v3_add(v3_add(kr, kcm), kg), .kc = kc, .coat_alpha = coat_alpha, .km = v3_splat(R(0))};
     if (rough) { /* weighed for the light its facets pass between them (ggx_metal) */
-        if (material_edged(m)) { /* its colour by each facet's angle (lobes.h) */
-            lc.km = v3_scale(ggx_metal_edged(m->kr, material_mirror_mean(m), mu, m->roughness), under);
-            lc.kme = v3_scale(v3_sub(m->kre, m->kr), under);
-        } else {
-            lc.km = v3_scale(ggx_metal(m->kr, mu, m->roughness), under);
-        }
+        lc.km = v3_scale(ggx_metal_of(m, mu, &lc.kme), under); /* an edged one's colour by each facet (lobes.h) */
+        lc.kme = v3_scale(lc.kme, under);
         lc.alpha = ggx_alpha(m->roughness), lc.kr = v3_add(kcm, kg), kr = v3_splat(R(0));
     }
     Lobes lb, hl;
@@ -611,7 +607,7 @@ static int path_step(const World *w, Path *p, int found, const Hit *h, RayStats 
     }
     if (!go)
         return 0;
-    if (was_smooth && !p->after_smooth && material_dielectric(m) && material_null(m) &&
+    if (was_smooth && !p->after_smooth && material_null(m) &&
         v3_dot(p->ray.dir, was_dir) > R(1) - R(1e-6))
         p->after_smooth = 1, p->from = was_from, p->through = 1; /* pdf_bounce is still that bounce's */
     if (b + 1 >= w->view.settings.roulette) { /* Russian roulette: survivors weighed up by as much */

@@ -480,11 +480,9 @@ static vec3 rough_reflection(const World *w, const Shading *sh, vec3 front, int 
     /* weighed for the light its facets pass between them (ggx_metal); an
      * edged metal's colour rises by kme x Schlick's weight at each ray's
      * facet (sume gathers what the rays bring times that weight) */
-    const real mu = v3_dot(sf->ns, sh->view);
     const int edged = material_edged(m);
-    const vec3 kr = edged ? ggx_metal_edged(m->kr, material_mirror_mean(m), mu, m->roughness)
-                          : ggx_metal(m->kr, mu, m->roughness);
-    const vec3 kme = edged ? v3_sub(m->kre, m->kr) : v3_splat(R(0));
+    vec3 kme;
+    const vec3 kr = ggx_metal_of(m, v3_dot(sf->ns, sh->view), &kme);
     vec3 wt = v3_scale(v3_mul(weight, kr), share), sum = v3_splat(0), sume = v3_splat(0);
     uint32_t key = sample_mix(sh->id.key, 0x52000000u);
     RayDiff rd; /* the mirror's, its cone widened by each ray's share of the lobe */

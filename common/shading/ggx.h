@@ -14,6 +14,7 @@
 #include <math.h>
 
 #include "base/vec.h"
+#include "shading/material.h"
 #include "shading/optics.h"
 
 /* alpha = roughness^2 (glTF's and Cycles' mapping), kept above 1e-3: a
@@ -154,6 +155,17 @@ static inline vec3 ggx_metal_edged(vec3 kr, vec3 fa, real mu, real roughness)
 }
 
 static inline vec3 ggx_metal(vec3 kr, real mu, real roughness) { return ggx_metal_edged(kr, kr, mu, roughness); }
+
+/* Rough metal m's lobe seen at cosine mu, as both integrators weigh it:
+ * the colour its single-scattering lobe takes (ggx_metal_edged with the
+ * metal's mean reflectance; for a metal without a rim, ggx_metal's), and
+ * into *kme what it gains towards grazing facets (reflect_edge - reflect,
+ * times ggx_schlick_gain in each direction; 0 without a rim). */
+static inline vec3 ggx_metal_of(const Material *m, real mu, vec3 *kme)
+{
+    *kme = material_edged(m) ? v3_sub(m->kre, m->kr) : v3_splat(R(0));
+    return ggx_metal_edged(m->kr, material_mirror_mean(m), mu, m->roughness);
+}
 
 /* Schlick's (1 - c)^5 at the facet that mirrors wo into wi: c the cosine
  * between wo and their half vector (what an edged metal's lobe adds of
