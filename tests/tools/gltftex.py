@@ -66,12 +66,15 @@ def write_gltf(path, image, geo, bin_name):
         json.dump(doc, out)
 
 
-def write_glb(path, img_bytes, mime, sampler=None, maps=False):
+def write_glb(path, img_bytes, mime, sampler=None, maps=False, blend=False):
     """maps: the image is the material's normal map, emission texture (factor 0.3),
-    metal-roughness texture (metallic factor 1, roughness factor 0.5) and occlusion texture too."""
+    metal-roughness texture (metallic factor 1, roughness factor 0.5) and occlusion texture too;
+    blend: the material's alphaMode BLEND (the image's alpha a see-through blend)."""
     geo = quad()
     blob = geo + img_bytes
     doc = document(len(blob), {"bufferView": 3, "mimeType": mime}, sampler)
+    if blend:
+        doc["materials"][0]["alphaMode"] = "BLEND"
     if maps:
         m = doc["materials"][0]
         m["normalTexture"] = {"index": 0}

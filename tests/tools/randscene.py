@@ -14,11 +14,12 @@ sampling and what the depth limit returns among them; the path integrator
 in a quarter of the scenes, adaptive sampling's contrast and the area
 lights' light_samples in some); textures (PPM
 P3/P6, PGM P2/P5, PNG, JPEG, smooth or closest, wrapping each axis its way); materials with and without specular
-and textures, mirrors (reflect, roughness), dielectrics (ior, transmit,
+and textures, mirrors (reflect, roughness, some with a rim, reflect_edge), dielectrics (ior, transmit,
 absorb; some with a mirror share, reflect, some frosted, roughness), clear coats (coat, coat_roughness) and emission, on any primitive; a model whose MTL gives
 one material a texture (map_Kd with -s and -o), a cutout (map_d) and a height map (bump), the other a normal map (norm), one with vertex colours
 and no materials, and a GLB with its texture embedded (and one whose image is also its normal map,
-emission, metal-roughness and occlusion texture); lamps (an emissive
+emission, metal-roughness and occlusion texture, and one of alphaMode BLEND whose image's alpha
+runs from holes to whole); lamps (an emissive
 sphere at a light); spheres, planes (with and
 without their texture mapping keys) and triangles (with normals and uv); models from OBJ (with and without smooth, each builder) and from
 .tmd (converted by the caller as DIR/mesh.tmd); instances with transforms and
@@ -86,6 +87,11 @@ def write_assets(d):
         gltftex.write_glb(os.path.join(d, "quad.glb"), png, "image/png", sampler)
         # the same with the image as its normal map, emission, metal-roughness and occlusion texture too
         gltftex.write_glb(os.path.join(d, "maps.glb"), png, "image/png", sampler, maps=True)
+        # alphaMode BLEND over a 4 x 4 image whose alpha runs from none (holes) to whole
+        from quads import png as make_png
+        rgba = make_png(4, 4, [sum(([rng.randrange(256) for _ in range(3)] + [(85 * (x + y)) % 256]
+                                    for x in range(4)), []) for y in range(4)], 6)
+        gltftex.write_glb(os.path.join(d, "blend.glb"), rgba, "image/png", sampler, blend=True)
     if not os.path.exists(os.path.join(d, "mesh.obj")):
         # a bumpy 6x6 grid with texture coordinates, two materials, normals on one half
         n = 6
@@ -227,6 +233,9 @@ def scene(seed):
             m += ["reflect", colour(r)]
             if r.random() < 0.4:
                 m += ["roughness", num(r, 0, 1)]
+            rim = random.Random(seed * 7919 + 73 + i)  # a rim, a draw of its own (older builds refuse it)
+            if newer and rim.random() < 0.4:
+                m += ["reflect_edge", colour(rim)]
         elif z < 0.5:  # a dielectric: glass, coloured or absorbing
             m += ["ior", num(r, 1.1, 2.4)]
             if r.random() < 0.5:
@@ -278,6 +287,8 @@ def scene(seed):
         name = "mod%d" % i
         if r.random() < 0.15:
             m = ["model", name, "maps.glb" if r.random() < 0.5 else "quad.glb"]
+            if newer and random.Random(seed * 7919 + 79 + i).random() < 0.3:  # a draw of its own
+                m[2] = "blend.glb"
         elif r.random() < 0.2:
             m = ["model", name, "painted.obj"]
             if r.random() < 0.5:
