@@ -163,6 +163,8 @@ static const void *parsed_item(const Scene *s, const FieldKind *k, void *spec)
         ((LightSpec *)spec)->l = s->lights[0];
         return spec;
     }
+    if (k == &environment_kind)
+        return &s->environment;
     if (k == &settings_kind) {
         memset(spec, 0, sizeof(SettingsSpec));
         ((SettingsSpec *)spec)->rs = s->settings;
@@ -297,6 +299,7 @@ static void every_key_parses_and_travels(void **state)
                     Sphere sp;
                     Plane p;
                     Instance in;
+                    SceneEnvironment env;
                     CameraSpec c;
                     SettingsSpec st;
                     LightSpec l;

@@ -70,7 +70,7 @@ static void expect_error(const char *name, const void *data, size_t len, const c
 static void rejects_bad_images(void **state)
 {
     (void)state;
-    expect_error("magic.ppm", "GIF89a", 6, "a GIF image: lanray reads PNG, JPEG, PPM, PGM, BMP and TGA");
+    expect_error("magic.ppm", "GIF89a", 6, "a GIF image: lanray reads PNG, JPEG, PPM, PGM, BMP, TGA and Radiance HDR");
     expect_error("empty.ppm", "", 0, "the file is empty");
     expect_error("noise.ppm", "\x01\x02\x03\x04", 4, "not an image lanray reads");
     /* a TGA has no magic: its name says what it is (test_rasters reads them) */

@@ -130,6 +130,7 @@ static void assert_scenes_identical(const Scene *a, const Scene *b)
     SAME(a->camera, b->camera);
     SAME(a->ambient, b->ambient);
     SAME(a->background, b->background);
+    SAME(a->environment, b->environment);
     assert_int_equal(a->settings.linear, b->settings.linear);
     assert_int_equal(a->material_count, b->material_count);
     for (uint32_t i = 0; i < a->material_count; i++) {
@@ -252,6 +253,58 @@ static void only_used_parts_travel(void **state)
     assert_int_equal(sb.len - sa.len, 6 * 8 + 5 * 8); /* uv: 6 f64; spot: dir (3) + angle + soft */
     sink_free(&sa);
     sink_free(&sb);
+    scene_destroy(a);
+    scene_destroy(b);
+}
+
+/* An environment travels with its .hdr as a texture asset: the client's
+ * scene has it, its light the server's to the bit (the same pixels), and
+ * a scene without one pays its group bits alone. */
+static void an_environment_travels(void **state)
+{
+    (void)state;
+    /* a 4 x 2 .hdr, flat scanlines, one texel 12 times white */
+    uint8_t hdr[128];
+    const char *head = "#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 2 +X 4\n";
+    size_t n = strlen(head);
+    memcpy(hdr, head, n);
+    for (int i = 0; i < 8; i++) {
+        const uint8_t px[4] = {(uint8_t)(40 + 20 * i), 120, i == 1 ? 191 : 200, (uint8_t)(i == 1 ? 132 : 127)};
+        memcpy(hdr + n, px, 4);
+        n += 4;
+    }
+    Scene *a = scene_create(), *b = scene_create();
+    Err err;
+    for (int k = 0; k < 2; k++) {
+        Scene *s = k ? b : a;
+        scene_add_material(s, material_default(), NULL, NULL);
+        scene_add_sphere(s, (Sphere){.centre = v3(0, 1, 0), .radius = R(0.8), .material = 0}, NULL);
+        s->camera.pos = v3(0, 1, 4);
+    }
+    Texture *t;
+    if (texture_read_memory(hdr, n, "sky.hdr", &t, &err))
+        fail_msg("%s", err.msg);
+    uint32_t id;
+    assert_int_equal(scene_add_texture(b, t, &id, NULL), 0);
+    b->environment = (SceneEnvironment){.texture = (int32_t)id, .strength = R(2), .rotate = R(33)};
+    assert_int_equal(scene_check(a, NULL), 0);
+    assert_int_equal(scene_check(b, NULL), 0);
+    Encoded ea = encode(a), eb = encode(b);
+    /* the group (texture i32, strength and rotate f64) and the texture's hash */
+    assert_int_equal(eb.len - ea.len, 4 + 2 * 8 + PROTO_HASH);
+    AssetCache *c = cache_of(b, &eb);
+    Scene *back;
+    if (wire_decode_scene(eb.blob, eb.len, c, &back, &err))
+        fail_msg("%s", err.msg);
+    assert_scenes_identical(b, back);
+    assert_non_null(back->textures[0]->hdr);
+    assert_same_pixels(b, back);
+    b->settings.integrator = back->settings.integrator = INTEGRATOR_PATH;
+    assert_same_pixels(b, back);
+    scene_destroy(back);
+    asset_cache_destroy(c);
+    free_encoded(a, &ea);
+    free_encoded(b, &eb);
     scene_destroy(a);
     scene_destroy(b);
 }
@@ -434,11 +487,12 @@ static void malformed_scenes_and_assets_are_rejected(void **state)
     scene_destroy(s);
     /* Every item travels by its field table (docs/protocol.md): a 12-byte
      * header; the camera, a group word (at 12) and position, yaw, pitch,
-     * roll, zoom (60 bytes); the colours (48); the settings, a group word
-     * at 120, then aa, adaptive, shading, shadows, filter (at 140), linear
-     * and hdr; the counts (32, at 152); a material, its group word (184),
-     * diffuse, specular, shininess and texture (64); a plane, its group
-     * word (248), point, normal and material: 304 bytes. */
+     * roll, zoom (60 bytes); the colours (48); the environment's group
+     * word (at 120: none); the settings, a group word at 124, then aa,
+     * adaptive, shading, shadows, filter (at 144), linear and hdr; the
+     * counts (32, at 156); a material, its group word (188), diffuse,
+     * specular, shininess and texture (64); a plane, its group word (252),
+     * point, normal and material: 308 bytes. */
     Scene *one = scene_create();
     assert_int_equal(scene_add_material(one, material_default(), NULL, NULL), 0);
     assert_int_equal(scene_add_plane(one, plane_make(v3(0, 0, 0), v3(0, 1, 0), 0), NULL), 0);
@@ -450,35 +504,37 @@ static void malformed_scenes_and_assets_are_rejected(void **state)
     sk = (Sink){0};
     assert_int_equal(scene_check(one, NULL), 0);
     assert_int_equal(wire_encode_scene(one, NULL, NULL, &sk, NULL), 0);
-    assert_int_equal(sk.len, 304);
+    assert_int_equal(sk.len, 308);
     assert_int_equal(wire_decode_scene(sk.data, sk.len, c = asset_cache_create(), &back, &err), 0);
     scene_destroy(back);
-    const BadWord bad_words[] = {{120, 1u << 5, "bad settings"},
-                     {140, FILTER_COUNT, "settings: 'filter' is not one of its words"},
-                     {136, 2, "settings: 'shadows' is not one of its words"},
-                     {144, 2, "settings: 'linear' is not 0 or 1"},
-                     {184, 1u << 14, "bad material"},
-                     {248, 1u << 2, "bad plane"},
-                     {248, 1u << 1, "truncated"}, /* a plane mapped, its two numbers missing */
+    const BadWord bad_words[] = {{124, 1u << 5, "bad settings"},
+                     {120, 1u << 2, "bad environment"}, /* a group it does not have */
+                     {120, 1u << 0, "bad environment"},
+                     {144, FILTER_COUNT, "settings: 'filter' is not one of its words"},
+                     {140, 2, "settings: 'shadows' is not one of its words"},
+                     {148, 2, "settings: 'linear' is not 0 or 1"},
+                     {188, 1u << 14, "bad material"},
+                     {252, 1u << 2, "bad plane"},
+                     {252, 1u << 1, "truncated"}, /* a plane mapped, its two numbers missing */
                      {12, 1u << 3, "bad camera"}};
     refused(&sk, c, bad_words, sizeof bad_words / sizeof bad_words[0]);
     sink_free(&sk);
     /* a mirror pays for its reflectance and roughness (32 bytes after the
-     * material's texture, at 248); settings of secondary rays away from
+     * material's texture, at 252); settings of secondary rays away from
      * their defaults travel in the settings' first group (28 bytes after
-     * hdr, at 152: depth, depth limit, cutoff, Fresnel, glass shadows,
+     * hdr, at 156: depth, depth limit, cutoff, Fresnel, glass shadows,
      * rough samples), moving the rest along */
     one->materials[0].kr = v3_splat(R(0.5));
     assert_int_equal(scene_check(one, NULL), 0);
     sk = (Sink){0};
     assert_int_equal(wire_encode_scene(one, NULL, NULL, &sk, NULL), 0);
-    assert_int_equal(sk.len, 304 + 32);
+    assert_int_equal(sk.len, 308 + 32);
     assert_int_equal(wire_decode_scene(sk.data, sk.len, c, &back, &err), 0);
     assert_true(back->materials[0].kr.y == R(0.5));
     scene_destroy(back);
     /* a mirror's reflectance must not be negative: the scene's own checks */
     double neg = -1;
-    memcpy(sk.data + 248, &neg, 8);
+    memcpy(sk.data + 252, &neg, 8);
     assert_int_equal(wire_decode_scene(sk.data, sk.len, c, &back, &err), -1);
     assert_contains(err.msg, "'reflect' must not be negative");
     sink_free(&sk);
@@ -486,15 +542,15 @@ static void malformed_scenes_and_assets_are_rejected(void **state)
     assert_int_equal(scene_check(one, NULL), 0);
     sk = (Sink){0};
     assert_int_equal(wire_encode_scene(one, NULL, NULL, &sk, NULL), 0);
-    assert_int_equal(sk.len, 304 + 32 + 28);
+    assert_int_equal(sk.len, 308 + 32 + 28);
     assert_int_equal(wire_decode_scene(sk.data, sk.len, c, &back, &err), 0);
     assert_true(back->settings.depth == 8 && back->settings.cutoff == one->settings.cutoff);
     scene_destroy(back);
-    const BadWord bad_optics[] = {{152, SCENE_MAX_DEPTH + 1, "'depth' must be a whole number from 0 to 64"},
-                      {156, LIMIT_COUNT, "'depth_limit' is not one of its words"},
-                      {168, 2, "'fresnel' is not one of its words"},
-                      {172, 2, "'glass_shadows' is not one of its words"},
-                      {176, SCENE_MAX_SAMPLES + 1, "'rough_samples' must be 0 or from 1 to 16"}};
+    const BadWord bad_optics[] = {{156, SCENE_MAX_DEPTH + 1, "'depth' must be a whole number from 0 to 64"},
+                      {160, LIMIT_COUNT, "'depth_limit' is not one of its words"},
+                      {172, 2, "'fresnel' is not one of its words"},
+                      {176, 2, "'glass_shadows' is not one of its words"},
+                      {180, SCENE_MAX_SAMPLES + 1, "'rough_samples' must be 0 or from 1 to 16"}};
     refused(&sk, c, bad_optics, sizeof bad_optics / sizeof bad_optics[0]);
     sink_free(&sk);
     one->settings.depth = 5;
@@ -505,7 +561,7 @@ static void malformed_scenes_and_assets_are_rejected(void **state)
     assert_int_equal(scene_check(one, NULL), 0);
     sk = (Sink){0};
     assert_int_equal(wire_encode_scene(one, NULL, NULL, &sk, NULL), 0);
-    assert_int_equal(sk.len, 304 + 32 + 20);
+    assert_int_equal(sk.len, 308 + 32 + 20);
     assert_int_equal(wire_decode_scene(sk.data, sk.len, c, &back, &err), 0);
     assert_true(back->camera.kind == CAMERA_FISHEYE && back->camera.fov == R(200));
     scene_destroy(back);
@@ -584,6 +640,7 @@ int main(void)
         cmocka_unit_test(scenes_round_trip),
         cmocka_unit_test(a_view_travels_alone),
         cmocka_unit_test(only_used_parts_travel),
+        cmocka_unit_test(an_environment_travels),
         cmocka_unit_test(a_models_optics_carry_the_settings),
         cmocka_unit_test(hdr_travels_as_a_flag),
         cmocka_unit_test(sampling_limit_and_filter_travel),

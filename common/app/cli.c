@@ -94,8 +94,9 @@ int cli_open_scene(const char *path, const BvhOptions *bvh, int force, Scene **o
 
 void cli_warn_scene(const char *prog, const Scene *s)
 {
-    /* (a path-traced scene is lit by its emitters and its background as well) */
-    if (s->light_count == 0 && s->settings.integrator != INTEGRATOR_PATH)
+    /* (a path-traced scene is lit by its emitters and its background as
+     * well; an environment lights both integrators' scenes) */
+    if (s->light_count == 0 && s->settings.integrator != INTEGRATOR_PATH && s->environment.texture < 0)
         fprintf(stderr, "%s: warning: the scene has no light; only its ambient light (%g %g %g) shows it\n", prog,
                 (double)s->ambient.x, (double)s->ambient.y, (double)s->ambient.z);
 }

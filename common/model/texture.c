@@ -199,6 +199,14 @@ Texture *texture_copy(const Texture *t)
     c->wrap[0] = t->wrap[0], c->wrap[1] = t->wrap[1];
     c->closest = t->closest;
     memcpy(c->texels, t->texels, texture_bytes(t));
+    if (t->hdr) {
+        const size_t n = (size_t)t->w * t->h * 3 * sizeof *t->hdr;
+        if (!(c->hdr = malloc(n))) {
+            texture_destroy(c);
+            return NULL;
+        }
+        memcpy(c->hdr, t->hdr, n);
+    }
     return texture_with_alpha(c, t->alpha);
 }
 
@@ -243,6 +251,7 @@ void texture_destroy(Texture *t)
     free(t->data_texels);
     free(t->file);
     free(t->alpha);
+    free(t->hdr);
     free(t);
 }
 

@@ -27,7 +27,7 @@
 #define TEXTURE_MAX_SIDE 16384u
 #define TEXTURE_MAX_LEVELS 15 /* 16384 = 2^14: 15 levels down to 1 x 1 */
 
-typedef enum { TEXTURE_RAW = 0, TEXTURE_PNG = 1, TEXTURE_JPEG = 2 } TextureCodec;
+typedef enum { TEXTURE_RAW = 0, TEXTURE_PNG = 1, TEXTURE_JPEG = 2, TEXTURE_HDR = 3 } TextureCodec;
 
 typedef struct {
     uint32_t w, h;
@@ -62,6 +62,9 @@ typedef struct {
     uint8_t *file;
     size_t file_len;
     TextureCodec codec;
+    /* a Radiance .hdr's light, 3 floats a texel, top row first (its sRGB
+     * codes above are clipped to white); NULL for any other image */
+    float *hdr;
 } Texture;
 
 /* How a lookup reads the texels: one texel of the image (nearest), the
@@ -117,7 +120,7 @@ size_t texture_bytes(const Texture *t);
 
 /* Reads an image file, by its first bytes (not its name): PNG, JPEG,
  * PPM/PGM, BMP, or TGA (which has no magic: by its name or its footer)
- * (texture_file.c); another format is named in the error. */
+ * Radiance HDR (texture_hdr.c) (texture_file.c); another format is named in the error. */
 int texture_read(const char *path, Texture **out, Err *err);
 /* The same from bytes in memory (an image embedded in a glTF, say); `name`
  * labels errors.  The bytes are copied where they are kept. */
@@ -130,10 +133,13 @@ int texture_read_jpeg_stream(FILE *f, const char *name, size_t bytes, Texture **
  * memory, as RGB texels; `name` labels errors. */
 int texture_read_tga(const void *data, size_t len, const char *name, Texture **out, Err *err);
 int texture_read_bmp(const void *data, size_t len, const char *name, Texture **out, Err *err);
+/* A Radiance .hdr (texture_hdr.c): its light in Texture.hdr, its file's
+ * bytes kept (codec TEXTURE_HDR). */
+int texture_read_hdr(const void *data, size_t len, const char *name, Texture **out, Err *err);
 
 /* The texture's byte form, what an ASSET and a .tmd carry (docs/tmd.md):
  * u32 w, h, flags (1: clamp both axes, 2: closest; bits 2-3 and 4-5, where
- * bit 0 is clear: u's and v's TextureWrap), codec (1 PNG, 2 JPEG), byte
+ * bit 0 is clear: u's and v's TextureWrap), codec (1 PNG, 2 JPEG, 3 Radiance HDR), byte
  * count, then the image's bytes, padded with zeros to a multiple of 4. */
 int texture_encode(const Texture *t, Sink *out);
 /* Reads one byte form from a cursor: the image is decoded and must be w x

@@ -1,6 +1,6 @@
 /* texture_codec.c - a texture's byte form, as a .tmd and an ASSET carry it.
  *
- * The form is the image file's own bytes (PNG or JPEG) behind a small
+ * The form is the image file's own bytes (PNG, JPEG or Radiance HDR) behind a small
  * header that states the size they must decode to; a texture without a
  * file of its own (PPM, generated, an embedded bitmap) is written as a PNG
  * of its texels.  A reader decodes the bytes with the same libraries and
@@ -70,8 +70,8 @@ int texture_read_form(Cursor *c, const char *name, Texture **out, Err *err)
     if (c->failed)
         return err_set(err, "%s: the texture's header is cut short", name);
     uint8_t wrap[2];
-    if (!texture_size_ok(w, h) || form_unwrap(flags, wrap) || (codec != TEXTURE_PNG && codec != TEXTURE_JPEG))
-        return err_set(err, "%s: a texture of %ux%u, flags %u, codec %u: not a size, flags and codec (1 PNG, 2 JPEG) "
+    if (!texture_size_ok(w, h) || form_unwrap(flags, wrap) || (codec != TEXTURE_PNG && codec != TEXTURE_JPEG && codec != TEXTURE_HDR))
+        return err_set(err, "%s: a texture of %ux%u, flags %u, codec %u: not a size, flags and codec (1 PNG, 2 JPEG, 3 HDR) "
                        "a texture has", name, w, h, flags, codec);
     size_t padded = (size_t)len + (4 - len % 4) % 4;
     if (padded > c->left)
@@ -87,7 +87,7 @@ int texture_read_form(Cursor *c, const char *name, Texture **out, Err *err)
         uint32_t tw = t->w, th = t->h;
         texture_destroy(t);
         return err_set(err, "%s: the texture says %ux%u %s, its image is %ux%u", name, w, h,
-                       codec == TEXTURE_PNG ? "PNG" : "JPEG", tw, th);
+                       codec == TEXTURE_PNG ? "PNG" : codec == TEXTURE_JPEG ? "JPEG" : "HDR", tw, th);
     }
     c->p += padded;
     c->left -= padded;

@@ -1,6 +1,7 @@
 /* texture_file.c - texture images by their first bytes: PNG (libpng,
  * through image.c's reader), JPEG (libjpeg-turbo) and PPM/PGM (libnetpbm,
- * texture_ppm.c), BMP (texture_bmp.c) and TGA (texture_tga.c).  Every
+ * texture_ppm.c), BMP (texture_bmp.c), TGA (texture_tga.c) and Radiance HDR
+ * (texture_hdr.c).  Every
  * reader checks the image's size against TEXTURE_MAX_SIDE before it
  * allocates the pixels.  A PNG or a JPEG keeps its file's bytes
  * (texture.h).  Formats that are recognised but not read (GIF, TIFF, DDS,
@@ -133,8 +134,6 @@ static const char *unread_format(const uint8_t *p, size_t len)
         return "Photoshop";
     if (starts(p, len, "\x76\x2f\x31\x01", 4))
         return "OpenEXR";
-    if (starts(p, len, "#?RADIANCE", 10) || starts(p, len, "#?RGBE", 6))
-        return "Radiance HDR";
     if (starts(p, len, "\xabKTX", 4))
         return "KTX";
     return NULL;
@@ -168,11 +167,13 @@ int texture_read_memory(const void *data, size_t len, const char *name, Texture 
             return texture_read_bmp(p, len, name, out, err);
         if (is_tga(p, len, name))
             return texture_read_tga(p, len, name, out, err);
+        if (starts(p, len, "#?RADIANCE", 10) || starts(p, len, "#?RGBE", 6))
+            return texture_read_hdr(p, len, name, out, err);
         const char *fmt = unread_format(p, len);
         if (fmt)
-            return err_set(err, "%s: a %s image: lanray reads PNG, JPEG, PPM, PGM, BMP and TGA textures (convert it to PNG)",
+            return err_set(err, "%s: a %s image: lanray reads PNG, JPEG, PPM, PGM, BMP, TGA and Radiance HDR textures (convert it to PNG)",
                            name, fmt);
-        return err_set(err, "%s: not an image lanray reads (PNG, JPEG, PPM, PGM, BMP or TGA): %s", name,
+        return err_set(err, "%s: not an image lanray reads (PNG, JPEG, PPM, PGM, BMP, TGA or Radiance HDR): %s", name,
                        len == 0 ? "the file is empty" : "its first bytes are none of theirs");
     }
     FILE *f = fmemopen((void *)(uintptr_t)data, len, "rb");

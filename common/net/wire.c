@@ -39,6 +39,7 @@ int wire_encode_scene(const Scene *s, const Asset *model_assets, const Asset *te
     field_encode(&camera_kind, &cam, o);
     put_vec(o, s->ambient);
     put_vec(o, s->background);
+    field_encode(&environment_kind, &s->environment, o);
     SettingsSpec set = {.rs = s->settings};
     field_encode(&settings_kind, &set, o);
     uint32_t counts[SECTIONS] = {s->texture_count, s->material_count, s->sphere_count, s->plane_count,
@@ -78,6 +79,11 @@ static const char *decode_head(Cursor *c, Scene *s, uint32_t n[SECTIONS])
     s->camera = cam.cam;
     s->ambient = get_vec(c);
     s->background = get_vec(c);
+    SceneEnvironment env;
+    memset(&env, 0, sizeof env);
+    if (field_decode(&environment_kind, c, &env))
+        return c->failed ? "truncated header" : "bad environment";
+    s->environment = env;
     SettingsSpec set;
     memset(&set, 0, sizeof set);
     if (field_decode(&settings_kind, c, &set))

@@ -274,6 +274,49 @@ static vec3 direct_emitters(const World *w, const Surface *sf, const Lobes *lb, 
     return v3_scale(v3_mul(v3_mul(fc, es.radiance), through), weight / es.pdf);
 }
 
+/* Next-event estimation of the environment from a point with smooth
+ * lobes: one direction drawn by the image's light (environment.h), its
+ * shadow ray out of the scene, f x cos x the light over its density,
+ * weighed against the bounce that could have left that way, as
+ * direct_emitters weighs an emitter's point. */
+static vec3 direct_environment(const World *w, const Surface *sf, const Lobes *lb, int last, const Draws *dr,
+                               vec3 origin, RayStats *st)
+{
+    real u, v, pdf_env, pdf;
+    vec3 dir, light, from;
+    draw2(dr, 7, &u, &v);
+    if (!environment_sample(w->env, u, v, &dir, &light, &pdf_env) || !light_side(sf, lb, dir, origin, &from))
+        return v3_splat(R(0));
+    const vec3 fc = surface_eval(w, sf, lb, dir, &pdf);
+    if (!(v3_max_comp(fc) > R(0)) || !(v3_max_comp(light) > R(0)))
+        return v3_splat(R(0));
+    vec3 through = v3_splat(R(1));
+    if (w->view.settings.shadows) {
+        through = passed(w, from, dir, REAL_MAX, NULL, st);
+        if (!(v3_max_comp(through) > R(0)))
+            return v3_splat(R(0));
+    }
+    const int bsdf_finds = w->view.settings.emitter_sampling == EMITTERS_MIS && !last &&
+                           (lb->frost > R(0) || v3_dot(dir, sf->nv) > R(0));
+    const real weight = bsdf_finds ? power_weight(pdf_env, pdf) : R(1);
+    return v3_scale(v3_mul(v3_mul(fc, light), through), weight / pdf_env);
+}
+
+/* The share of the environment's light that a path leaving the scene
+ * along dir after a bounce off a smooth lobe (density pdf_bounce) adds:
+ * all of it where next-event estimation could not have drawn dir, else
+ * the weight of the bounce. */
+static real environment_share(const World *w, real pdf_bounce, vec3 dir)
+{
+    const EmitterSampling es = w->view.settings.emitter_sampling;
+    if (es == EMITTERS_BSDF)
+        return R(1);
+    const real pl = environment_pdf(w->env, dir);
+    if (!(pl > R(0)))
+        return R(1);
+    return es == EMITTERS_NEE ? R(0) : power_weight(pdf_bounce, pl);
+}
+
 /* The share of emission that a path meeting h after a bounce from p off
  * a smooth lobe (density pdf_bounce) adds: all of it where next-event
  * estimation could not have found it, else the weight of the bounce. */
@@ -473,7 +516,8 @@ static int surface_bounce(const World *w, Path *p, const Surface *sf, vec3 kd, v
     lb.nv = sf->nv, lb.bumped = sf->bumped; /* a normal map's diffuse shadowing (lobes.h) */
     /* the shadow rays' origin, made once: a flat surface's bounce leaves from it too */
     const int emitters = w->emitter_count > 0 && w->view.settings.emitter_sampling != EMITTERS_BSDF;
-    const int smooth = lobes_smooth(&lb) && (w->light_count > 0 || emitters);
+    const int envs = w->env && w->view.settings.emitter_sampling != EMITTERS_BSDF;
+    const int smooth = lobes_smooth(&lb) && (w->light_count > 0 || emitters || envs);
     const int nee = smooth || highlight;
     /* the light rays' origin off a flat surface, made once (a smooth
      * triangle's each by its direction: trace_leave_origin) */
@@ -483,6 +527,8 @@ static int surface_bounce(const World *w, Path *p, const Surface *sf, vec3 kd, v
                                                          from_p, st)));
         if (smooth && emitters)
             p->L = v3_add(p->L, v3_mul(p->beta, direct_emitters(w, sf, &lb, last, dr, from_p, st)));
+        if (smooth && envs)
+            p->L = v3_add(p->L, v3_mul(p->beta, direct_environment(w, sf, &lb, last, dr, from_p, st)));
     }
     if (last)
         return 0;
@@ -529,11 +575,14 @@ static int frosted_step(const World *w, Path *p, const Surface *sf, const Draws 
     /* the weight for the light between facets, once for the lights, the emitters and the bounce */
     const Lobes lb = {.n = sf->ns, .wo = wo, .frost = alpha, .frost_wt = dielectric_frost_weight(sf, wo)};
     const int emitters = w->emitter_count > 0 && w->view.settings.emitter_sampling != EMITTERS_BSDF;
-    if (w->light_count > 0 || emitters) {
+    const int envs = w->env && w->view.settings.emitter_sampling != EMITTERS_BSDF;
+    if (w->light_count > 0 || emitters || envs) {
         const vec3 from_p = trace_offset_origin(sf->p, sf->ng, sf->err);
         p->L = v3_add(p->L, v3_mul(p->beta, direct_light(w, sf, &lb, NULL, dr, from_p, st)));
         if (emitters)
             p->L = v3_add(p->L, v3_mul(p->beta, direct_emitters(w, sf, &lb, last, dr, from_p, st)));
+        if (envs)
+            p->L = v3_add(p->L, v3_mul(p->beta, direct_environment(w, sf, &lb, last, dr, from_p, st)));
     }
     if (last)
         return 0;
@@ -558,7 +607,13 @@ static int path_step(const World *w, Path *p, int found, const Hit *h, RayStats 
     else
         st->secondary++;
     if (!found) {
-        p->L = v3_add(p->L, v3_mul(p->beta, w->background));
+        vec3 seen = w->background;
+        if (w->env) { /* weighed against the environment's next-event estimation after a smooth bounce */
+            seen = environment_radiance(w->env, p->ray.dir);
+            if (p->after_smooth)
+                seen = v3_scale(seen, environment_share(w, p->pdf_bounce, p->ray.dir));
+        }
+        p->L = v3_add(p->L, v3_mul(p->beta, seen));
         if (b == 0 && p->key)
             *p->key = UINT64_MAX;
         return 0;

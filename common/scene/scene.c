@@ -19,6 +19,7 @@ Scene *scene_create(void)
     /* linear light: what shows as 0.1 and 0.25-0.3 on screen */
     s->ambient = v3_splat(R(0.01));
     s->background = v3(R(0.004), R(0.004), R(0.007));
+    s->environment = (SceneEnvironment){.texture = -1, .strength = R(1), .rotate = R(0)};
     s->settings = render_settings_default();
     return s;
 }
@@ -322,6 +323,19 @@ static int check_instances(const Scene *s, Err *err)
     return 0;
 }
 
+static int check_environment(const Scene *s, Err *err)
+{
+    const SceneEnvironment *e = &s->environment;
+    char buf[160];
+    const char *why = field_problem(&environment_kind, e, 0, buf, sizeof buf);
+    if (why)
+        return err_set(err, "scene: environment: %s", why);
+    if (e->texture < -1 || e->texture >= (int32_t)s->texture_count)
+        return err_set(err, "scene: the environment uses texture %d but the scene has %u", e->texture,
+                       s->texture_count);
+    return 0;
+}
+
 static int check_lights(const Scene *s, Err *err)
 {
     for (uint32_t i = 0; i < s->light_count; i++) {
@@ -339,7 +353,8 @@ int scene_check(Scene *s, Err *err)
         return -1;
     if (!v3_is_finite(s->ambient) || !v3_is_finite(s->background))
         return err_set(err, "scene: ambient and background colours must be finite");
-    if (check_materials(s, err) || check_primitives(s, err) || check_instances(s, err) || check_lights(s, err))
+    if (check_materials(s, err) || check_primitives(s, err) || check_instances(s, err) || check_lights(s, err) ||
+        check_environment(s, err))
         return -1;
     s->checked = 1;
     return 0;

@@ -150,9 +150,17 @@ typedef struct {
     int sampling_given; /* the file set aa or adaptive */
 } RenderSettings;
 
+/* Light from everywhere (scene/environment.h): an image around the scene. */
+typedef struct {
+    int32_t texture; /* the panorama, or -1: none (the background colour) */
+    real strength;   /* its light times this */
+    real rotate;     /* turned by these degrees about +y */
+} SceneEnvironment;
+
 typedef struct {
     Camera camera;
     vec3 ambient, background;
+    SceneEnvironment environment;
     RenderSettings settings;
 
     Material *materials;   uint32_t material_count, material_cap;

@@ -260,8 +260,21 @@ static const Field model_fields[] = {
 const FieldKind model_kind = {.name = "model", .fields = model_fields,
                               .count = sizeof model_fields / sizeof *model_fields};
 
+#define ENV(f) offsetof(SceneEnvironment, f)
+static const Field environment_fields[] = {
+    {.key = "texture", .type = FIELD_NAME, .group = 1, .flags = FIELD_REQUIRED, .off = ENV(texture), .def = -1,
+     .doc = "a `texture` by its name: an equirectangular panorama (a Radiance .hdr keeps light brighter than white)"},
+    {.key = "strength", .type = FIELD_REAL, .group = 1, .off = ENV(strength), .hi = FIELD_INF, .def = 1,
+     .doc = "its light times this"},
+    {.key = "rotate", .type = FIELD_REAL, .group = 1, .off = ENV(rotate), .lo = -FIELD_INF, .hi = FIELD_INF,
+     .doc = "turned by these degrees about +y (as a camera's yaw turns)"},
+};
+const FieldKind environment_kind = {.name = "environment", .fields = environment_fields,
+                                    .count = sizeof environment_fields / sizeof *environment_fields,
+                                    .group_count = 1};
+
 const FieldKind *const scene_kinds[] = {&camera_kind, &settings_kind,  &material_kind, &sphere_kind, &plane_kind,
-                                        &triangle_kind, &model_kind, &instance_kind, &light_kind, NULL};
+                                        &triangle_kind, &model_kind, &instance_kind, &light_kind, &environment_kind, NULL};
 
 int scene_fields_finish_camera(CameraSpec *sp, FieldSet given)
 {

@@ -44,6 +44,7 @@ typedef struct {
 } ModelSpec;
 
 extern const FieldKind model_kind;
+extern const FieldKind environment_kind;
 extern const FieldKind camera_kind, settings_kind, light_kind, sphere_kind, plane_kind, triangle_kind, instance_kind;
 
 /* The directives whose tables docs/scene.md shows, in its order. */

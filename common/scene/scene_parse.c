@@ -351,6 +351,24 @@ static int do_light(Ctx *c, const Tokens *t)
     return scene_add_light(c->s, sp.l, c->err);
 }
 
+static int do_environment(Ctx *c, const Tokens *t)
+{
+    if (c->s->environment.texture >= 0)
+        return fail(c, "a scene has one environment");
+    SceneEnvironment e;
+    FieldSet given;
+    const char *names[FIELD_MAX];
+    if (read_new(c, &environment_kind, t, 1, 0, &e, sizeof e, &given, names))
+        return -1;
+    const char *tex = names[field_index(&environment_kind, "texture")];
+    uint32_t id;
+    if (names_find(&c->textures, tex, &id))
+        return fail(c, "unknown texture '%s' (define it with 'texture %s FILE' first)", tex, tex);
+    e.texture = (int32_t)id;
+    c->s->environment = e;
+    return 0;
+}
+
 typedef struct {
     const char *name;
     int (*fn)(Ctx *, const Tokens *);
@@ -363,7 +381,7 @@ static const Directive directives[] = {
     {"camera", do_camera},     {"ambient", do_ambient},   {"background", do_background}, {"settings", do_settings},
     {"texture", do_texture},   {"material", do_material}, {"sphere", do_sphere},         {"plane", do_plane},
     {"triangle", do_triangle}, {"model", do_model},       {"instance", do_instance},     {"light", do_light},
-    {NULL, NULL}};
+    {"environment", do_environment}, {NULL, NULL}};
 
 int scene_parse(char *text, size_t len, const char *name, const char *dir, const BvhOptions *bvh, int force,
                 Scene **out, Err *err)
@@ -396,7 +414,7 @@ int scene_parse(char *text, size_t len, const char *name, const char *dir, const
             d++;
         if (!d->name)
             rc = fail(&c, "unknown directive '%s' (expected camera, ambient, background, settings, texture, material, "
-                          "sphere, plane, triangle, model, instance or light)", t.tok[0]);
+                          "sphere, plane, triangle, model, instance, light or environment)", t.tok[0]);
         else
             rc = d->fn(&c, &t);
     }

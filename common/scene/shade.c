@@ -293,14 +293,16 @@ static inline __attribute__((always_inline)) void shade_start(const World *w, co
     }
     if (world_uses(w, FEAT_EMIT))
         sh->ke = optional && sh->sf.etex ? trace_emission(w, &sh->sf, sh->rd ? &fp : NULL) : m->ke;
-    sh->col = v3_mul(w->ambient, sh->kd);
+    /* the light from everywhere: the ambient, and an environment's at the normal */
+    const vec3 amb = w->env ? v3_add(w->ambient, environment_diffuse(w->env, sh->sf.ns)) : w->ambient;
+    sh->col = v3_mul(amb, sh->kd);
     /* a rough coat reflects the light from everywhere that the ambient
      * light stands for (its reflected rays are the path integrator's); a
      * smooth one's ray brings what it sees.  Without it a coated white
      * surface lost its coat's share of the ambient light: dark rims, where
      * Fresnel's share nears 1 */
     if (optional && sh->coat > R(0) && !material_coat_smooth(m))
-        sh->col = v3_add(sh->col, v3_scale(w->ambient, sh->coat));
+        sh->col = v3_add(sh->col, v3_scale(amb, sh->coat));
     if (optional && sh->sf.aotex) /* an occlusion texture: crevices take less of the ambient light */
         sh->col = v3_scale(sh->col, trace_occlusion(&sh->sf, sh->rd ? &fp : NULL));
     sh->phong = w->view.settings.shading == SHADE_PHONG && v3_max_comp(m->ks) > R(0);
@@ -316,7 +318,7 @@ static inline __attribute__((always_inline)) void shade_start(const World *w, co
     sh->disc.key_of = 0;
     sh->id = (SampleId){.key = 0, .index = 0, .count = 1};
     if (optional)
-        sh->irr = w->ambient;
+        sh->irr = amb;
 }
 
 /* Shadow rays through dielectrics: at most this many surfaces crossed. */
@@ -627,6 +629,8 @@ static vec3 shade_beyond(const World *w, int i, const Shading *sh, int depth, ve
          * estimate of what they see times their weight */
         const DepthLimit lim = w->view.settings.depth_limit;
         vec3 seen = lim == LIMIT_BACKGROUND ? w->background : lim == LIMIT_AMBIENT ? w->ambient : sh->irr;
+        if (lim == LIMIT_BACKGROUND && w->env) /* what the environment shows the reflected ray */
+            seen = environment_radiance(w->env, trace_reflected(v3_neg(sh->view), sf));
         if (reflects)
             col = v3_add(col, v3_scale(v3_mul(kr, seen), R(1) - sh->coat));
         if (coat > R(0))
@@ -1123,7 +1127,7 @@ static inline __attribute__((always_inline)) void shade_rays_at(const World *w, 
             __builtin_prefetch(&w->models[w->instances[hits[i].index].model]->tris[hits[i].sub]);
     for (int i = 0; i < n; i++) {
         if (hits[i].kind == HIT_NONE) {
-            out[i] = w->background;
+            out[i] = w->env ? environment_radiance(w->env, rays[i].dir) : w->background;
             if (keys)
                 keys[i] = UINT64_MAX;
             continue;
@@ -1139,7 +1143,7 @@ static inline __attribute__((always_inline)) void shade_rays_at(const World *w, 
             sh[live[k]].id = id;
             sh[live[k]].id.key = sample_mix(id.key, (uint32_t)depth);
         }
-    for (uint32_t li = 0; li < w->light_count; li++) {
+    for (uint32_t li = 0; li < w->light_count + w->whitted_lights; li++) {
         const WorldLight *l = &w->lights[li];
         uint32_t points = 1, probed = 0, clear = 0;
         if (optional && world_uses(w, FEAT_AREA) && world_light_is_area(l)) {

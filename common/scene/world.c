@@ -284,6 +284,30 @@ static Aabb *top_boxes(const World *w, uint32_t nb, Err *err)
     return boxes;
 }
 
+/* The environment of the description, where it has one. */
+static int build_environment(World *w, const Scene *desc, Err *err)
+{
+    const SceneEnvironment *e = &desc->environment;
+    if (e->texture < 0)
+        return 0;
+    const Environment *env = w->parts->env = environment_create(desc->textures[e->texture], e->strength, e->rotate, err);
+    if (!env)
+        return -1;
+    w->env = env;
+    if (!env->has_sun)
+        return 0;
+    /* its sun, a directional light after the scene's for the Whitted integrator */
+    WorldLight *l = realloc(w->parts->lights, (w->light_count + 1) * sizeof *l);
+    if (!l)
+        return err_set(err, "scene: out of memory");
+    w->lights = w->parts->lights = l;
+    const Light sun = light_directional(v3_neg(env->sun_dir), env->sun_light, R(1));
+    w->lights[w->light_count] = light_derive(&sun);
+    w->whitted_lights = 1;
+    w->item_features |= light_features(&w->lights[w->light_count]);
+    return 0;
+}
+
 static atomic_uint_fast64_t tree_builds;
 
 uint64_t world_tree_builds(void) { return atomic_load(&tree_builds); }
@@ -349,6 +373,7 @@ World *world_build(const Scene *desc, const World *previous, Err *err)
     uint32_t nb = desc->sphere_count + desc->tri_count + desc->instance_count;
     Aabb *boxes = NULL;
     if (derive_items(w, desc, err) || pair_lamps(w, err) || emitters_build(w, err) || classify_glass(w, err) ||
+        build_environment(w, desc, err) ||
         (nb && !(boxes = top_boxes(w, nb, err))) ||
         (nb && build_top(w, previous, boxes, nb, err)) || world_set_view(w, &w->view, err)) {
         world_destroy(w);
@@ -366,7 +391,7 @@ int world_set_view(World *w, const View *v, Err *err)
         return -1;
     w->view = *v;
     w->features = w->item_features | (v->camera.aperture > R(0) ? FEAT_LENS : 0u) |
-                  (v->settings.shadows && w->light_count ? FEAT_SHADOWS : 0u);
+                  (v->settings.shadows && w->light_count + w->whitted_lights ? FEAT_SHADOWS : 0u);
     return 0;
 }
 
@@ -411,6 +436,7 @@ void world_destroy(World *w)
         free(pt->emitters);
         free(pt->emit_cells);
         free(pt->glassy);
+        environment_destroy(pt->env);
         free(pt);
     }
     top_drop(w->top);

@@ -19,6 +19,7 @@
 #include <stdatomic.h>
 
 #include "bvh/bvh4.h"
+#include "scene/environment.h"
 #include "scene/scene.h"
 
 enum {
@@ -118,6 +119,7 @@ typedef struct {
     real *emit_cells;
     uint8_t *glassy;
     uint32_t glass_list[WORLD_GLASS_LIST];
+    Environment *env;
     atomic_int refs;
 } WorldParts;
 
@@ -144,6 +146,10 @@ typedef struct {
     uint32_t instance_count;
     WorldLight *lights;
     uint32_t light_count;
+    /* lights the Whitted integrator alone takes, after the scene's
+     * (lights[light_count ..]): an environment's sun, as a directional
+     * light (the path integrator samples the environment itself) */
+    uint32_t whitted_lights;
     uint32_t *lamps;  /* the lights' lamps: top-level primitive numbers, by light (WorldLight.lamp_first) */
     uint32_t lamp_total;
     Emitter *emitters; /* emissive geometry that lights the path integrator's scenes (scene/emitters.h) */
@@ -160,7 +166,8 @@ typedef struct {
      * alone, not the tree */
     const uint32_t *glass_list;
     uint32_t glass_count; /* UINT32_MAX: too many for the list */
-    WorldParts *parts; /* owns planes, instances, lights, lamps and emitters */
+    const Environment *env; /* light from everywhere, or NULL: the background colour */
+    WorldParts *parts; /* owns planes, instances, lights, lamps, emitters and the environment */
     WorldTop *top;    /* NULL: nothing but planes */
     const Bvh *tree;  /* &top->bvh, or an empty tree */
     int lone_model;   /* the top level is one untransformed instance and nothing else (trace.c) */

@@ -24,7 +24,8 @@ sphere at a light); spheres, planes (with and
 without their texture mapping keys) and triangles (with normals and uv); models from OBJ (with and without smooth, each builder) and from
 .tmd (converted by the caller as DIR/mesh.tmd); instances with transforms and
 material overrides; point, spot, directional, sphere and rect lights with position,
-target, direction, soft, attenuate, colour and intensity.  Numbers are drawn
+target, direction, soft, attenuate, colour and intensity; an environment
+(a .hdr sky with a sun, or a PNG, some strength and turn).  Numbers are drawn
 with many digits, so that values that are normalised, converted or derived
 differ in their last bits when they take another path.
 
@@ -38,6 +39,7 @@ import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import gltftex  # noqa: E402  (the textured quad as a GLB)
+import envmap  # noqa: E402  (a sky panorama with a sun)
 
 
 def num(r, lo, hi):
@@ -69,6 +71,8 @@ def direction(r):
 def write_assets(d):
     """Textures and models every scene may name; written once per directory."""
     rng = random.Random(12345)
+    if not os.path.exists(os.path.join(d, "sky.hdr")):
+        envmap.write_hdr(os.path.join(d, "sky.hdr"), 32, 16, envmap.sky(0.3, 0.25, 0.2, 60.0))
     if not os.path.exists(os.path.join(d, "t6.ppm")):
         with open(os.path.join(d, "t6.ppm"), "wb") as f:
             f.write(b"P6\n7 5\n255\n" + bytes(rng.randrange(256) for _ in range(7 * 5 * 3)))
@@ -353,6 +357,15 @@ def scene(seed):
             rad = float(l[l.index("radius") + 1]) if kind == "sphere" else 0.1
             out.append("material lamp%d emit %s" % (len(out), colour(r, 4)))
             out.append("sphere centre %s radius %.9g material lamp%d" % (at, rad * r.uniform(0.5, 1.5), len(out) - 1))
+    env = random.Random(seed * 7919 + 83)  # an environment, a draw of its own (older builds refuse it)
+    if newer and env.random() < 0.15:
+        out.append("texture envtex %s" % env.choice(["sky.hdr", "sky.hdr", "tq.png"]))
+        e = ["environment texture envtex"]
+        if env.random() < 0.5:
+            e += ["strength", num(env, 0, 3)]
+        if env.random() < 0.5:
+            e += ["rotate", num(env, -360, 360)]
+        out.append(" ".join(e))
     text = "\n".join(out) + "\n"
     # a byte-order mark, as editors on Windows write one
     return ("\ufeff" if r.random() < 0.1 else "") + text

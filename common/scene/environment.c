@@ -1,0 +1,280 @@
+/* environment.c - see environment.h. */
+#include "scene/environment.h"
+
+#include <math.h>
+#include <stdlib.h>
+
+#include "base/srgb.h"
+
+#define PI 3.14159265358979323846
+/* the most light a texel may hold: a float's range over the texels' sums and a bilinear blend */
+#define ENV_MAX_LIGHT 1e30
+
+/* The polar angle's sine and cosine (from +y) of row coordinate t in [0, 1]
+ * (0 the top row's edge). */
+static void polar(double t, double *sn, double *cs)
+{
+    *sn = sin(t * PI);
+    *cs = cos(t * PI);
+}
+
+/* The unit direction of image point (u, v): u across, t down, both [0, 1]. */
+static vec3 env_dir(const Environment *e, double u, double t)
+{
+    double sn, cs;
+    polar(t, &sn, &cs);
+    const double phi = (u - (double)e->turn - 0.5) * 2.0 * PI;
+    return v3((real)(sn * cos(phi)), (real)cs, (real)(sn * sin(phi)));
+}
+
+/* Image coordinates of direction d: u across, t down, each in [0, 1]. */
+static void env_uv(const Environment *e, vec3 d, real *u, real *t)
+{
+    real a = atan2(d.z, d.x) / (R(2) * REAL_PI) + R(0.5) + e->turn;
+    a -= floor(a);
+    *u = a < R(1) ? a : R(0);
+    const real el = atan2(d.y, sqrt(d.x * d.x + d.z * d.z)); /* -pi/2 .. pi/2 */
+    *t = real_clamp(R(0.5) - el / REAL_PI, R(0), R(1));
+    if (!(*t >= R(0))) /* a direction of NaNs reads the top row */
+        *t = R(0);
+}
+
+/* The weight a texel's light gives its solid angle: its channels' mean. */
+static double texel_weight(const float *c) { return ((double)c[0] + (double)c[1] + (double)c[2]) / 3.0; }
+
+/* The nine real spherical harmonics at unit direction (x, y, z). */
+static void sh_basis(double x, double y, double z, double b[9])
+{
+    b[0] = 0.282095;
+    b[1] = 0.488603 * y, b[2] = 0.488603 * z, b[3] = 0.488603 * x;
+    b[4] = 1.092548 * x * y, b[5] = 1.092548 * y * z, b[6] = 0.315392 * (3.0 * z * z - 1.0);
+    b[7] = 1.092548 * x * z, b[8] = 0.546274 * (x * x - y * y);
+}
+
+/* The solid angles of the rows' texels, scaled to 4 pi in all (the
+ * midpoint rule's sum of sines is 2 only as h grows): a constant image's
+ * first band of harmonics exact at any size, the others' sums off by some
+ * 0.6 / h^2 of it (0.2% at 16 rows: tests/test_environment.c). */
+static double texel_solid_angle(const Environment *e, uint32_t y, double rings)
+{
+    return (2.0 * PI / e->w) * (PI / e->h) * sin((y + 0.5) / e->h * PI) * (2.0 / rings);
+}
+
+/* Whether a texel of light t in direction dir is the sun's (environment.h:
+ * near its brightest texel, and bright). */
+static int sun_texel(const Environment *e, const float *t, vec3 dir)
+{
+    return e->sun_peak > 0.0 && texel_weight(t) >= ENV_SUN_SHARE * e->sun_peak &&
+           (double)v3_dot(dir, e->sun_at) >= cos(ENV_SUN_DEGREES * PI / 180.0);
+}
+
+/* The sun (environment.h): its texels' light and direction, summed; 0
+ * where the image has none.  `rings`: texel_solid_angle's. */
+static int env_find_sun(Environment *e, double rings)
+{
+    const uint32_t w = e->w, h = e->h;
+    double power = 0.0, peak = 0.0;
+    uint32_t px = 0, py = 0;
+    for (uint32_t y = 0; y < h; y++) {
+        const double dw = texel_solid_angle(e, y, rings);
+        for (uint32_t x = 0; x < w; x++) {
+            const double l = texel_weight(&e->light[3 * ((size_t)y * w + x)]);
+            power += l * dw;
+            if (l > peak)
+                peak = l, px = x, py = y;
+        }
+    }
+    if (!(peak > ENV_SUN_CONTRAST * power / (4.0 * PI)))
+        return 0;
+    e->sun_peak = peak;
+    e->sun_at = env_dir(e, (px + 0.5) / w, (py + 0.5) / h);
+    double d[3] = {0, 0, 0}, c[3] = {0, 0, 0};
+    for (uint32_t y = 0; y < h; y++) {
+        const double dw = texel_solid_angle(e, y, rings);
+        for (uint32_t x = 0; x < w; x++) {
+            const float *t = &e->light[3 * ((size_t)y * w + x)];
+            const vec3 dir = env_dir(e, (x + 0.5) / w, (y + 0.5) / h);
+            if (!sun_texel(e, t, dir))
+                continue;
+            for (int k = 0; k < 3; k++) {
+                d[k] += texel_weight(t) * dw * (double)dir.e[k];
+                c[k] += (double)t[k] * dw / PI;
+            }
+        }
+    }
+    const double n = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+    if (!(n > 0.0)) {
+        e->sun_peak = 0.0;
+        return 0;
+    }
+    e->sun_dir = v3((real)(d[0] / n), (real)(d[1] / n), (real)(d[2] / n));
+    e->sun_light = v3((real)c[0], (real)c[1], (real)c[2]);
+    e->has_sun = 1;
+    return 1;
+}
+
+/* The sampling tables and the harmonics (without the sun's texels where
+ * there is one), from the light (in row order); `acc`: w + 1 doubles. */
+static void env_tables(Environment *e, double *acc)
+{
+    const uint32_t w = e->w, h = e->h;
+    const double band[9] = {PI, 2.0 * PI / 3.0, 2.0 * PI / 3.0, 2.0 * PI / 3.0, PI / 4.0,
+                            PI / 4.0, PI / 4.0, PI / 4.0, PI / 4.0};
+    double sh[9][3] = {{0}}, rings = 0.0;
+    for (uint32_t y = 0; y < h; y++)
+        rings += sin((y + 0.5) / h * PI) * (PI / h);
+    env_find_sun(e, rings);
+    e->rows[0] = 0.0;
+    for (uint32_t y = 0; y < h; y++) {
+        const double sn = sin((y + 0.5) / h * PI), dw = texel_solid_angle(e, y, rings);
+        acc[0] = 0.0;
+        for (uint32_t x = 0; x < w; x++) {
+            const float *c = &e->light[3 * ((size_t)y * w + x)];
+            acc[x + 1] = acc[x] + texel_weight(c) * sn;
+            const vec3 d = env_dir(e, (x + 0.5) / w, (y + 0.5) / h);
+            if (sun_texel(e, c, d))
+                continue; /* the sun's: its own light for the Whitted integrator */
+            double b[9];
+            sh_basis(d.x, d.y, d.z, b);
+            for (int k = 0; k < 9; k++)
+                for (int ch = 0; ch < 3; ch++)
+                    sh[k][ch] += (double)c[ch] * b[k] * dw;
+        }
+        const double sum = acc[w];
+        double *col = &e->cols[(size_t)y * (w + 1)];
+        for (uint32_t x = 0; x <= w; x++) /* the row's shares, 0 to 1 (a black row: even) */
+            col[x] = x == w ? 1.0 : sum > 0.0 ? acc[x] / sum : (double)x / w;
+        e->rows[y + 1] = e->rows[y] + sum;
+    }
+    e->total = e->rows[h];
+    for (uint32_t y = 1; y <= h; y++)
+        e->rows[y] = y == h ? 1.0 : e->total > 0.0 ? e->rows[y] / e->total : (double)y / h;
+    for (int k = 0; k < 9; k++)
+        for (int ch = 0; ch < 3; ch++)
+            e->sh[k][ch] = sh[k][ch] * band[k];
+}
+
+Environment *environment_create(const Texture *t, real strength, real rotate, Err *err)
+{
+    Environment *e = calloc(1, sizeof *e);
+    const size_t n = (size_t)t->w * t->h;
+    double *acc = malloc((t->w + 1) * sizeof *acc);
+    if (!e || !acc || !(e->light = malloc(n * 3 * sizeof *e->light)) ||
+        !(e->rows = malloc((t->h + 1) * sizeof *e->rows)) ||
+        !(e->cols = malloc((size_t)t->h * (t->w + 1) * sizeof *e->cols))) {
+        free(acc);
+        environment_destroy(e);
+        err_set(err, "scene: out of memory for the environment's %ux%u texels", t->w, t->h);
+        return NULL;
+    }
+    e->w = t->w, e->h = t->h;
+    e->turn = rotate / R(360);
+    e->turn -= floor(e->turn);
+    for (size_t i = 0; i < n * 3; i++) { /* held finite: the sums of a sun's light times a strength */
+        const double l = (t->hdr ? (double)t->hdr[i] : (double)srgb_decode8[t->level[0].rgb[i]]) * (double)strength;
+        e->light[i] = (float)fmin(l, ENV_MAX_LIGHT);
+    }
+    env_tables(e, acc);
+    free(acc);
+    return e;
+}
+
+void environment_destroy(Environment *e)
+{
+    if (!e)
+        return;
+    free(e->light);
+    free(e->rows);
+    free(e->cols);
+    free(e);
+}
+
+vec3 environment_radiance(const Environment *e, vec3 d)
+{
+    real u, t;
+    env_uv(e, d, &u, &t);
+    /* bilinear between texel centres: across the seam in u, held at the poles in t */
+    const real fx = u * (real)e->w - R(0.5), fy = t * (real)e->h - R(0.5);
+    const real x0f = floor(fx), y0f = floor(fy), ax = fx - x0f, ay = fy - y0f;
+    const int64_t x0 = (int64_t)x0f, y0 = (int64_t)y0f;
+    const uint32_t xa = (uint32_t)((x0 % e->w + e->w) % e->w), xb = (xa + 1) % e->w;
+    const uint32_t ya = y0 < 0 ? 0 : (uint32_t)y0, yb = y0 + 1 >= (int64_t)e->h ? e->h - 1 : (uint32_t)(y0 + 1);
+    const float *p00 = &e->light[3 * ((size_t)ya * e->w + xa)], *p01 = &e->light[3 * ((size_t)ya * e->w + xb)];
+    const float *p10 = &e->light[3 * ((size_t)yb * e->w + xa)], *p11 = &e->light[3 * ((size_t)yb * e->w + xb)];
+    vec3 c;
+    for (int k = 0; k < 3; k++) {
+        const real top = (R(1) - ax) * (real)p00[k] + ax * (real)p01[k],
+                   bottom = (R(1) - ax) * (real)p10[k] + ax * (real)p11[k];
+        c.e[k] = (R(1) - ay) * top + ay * bottom;
+    }
+    return c;
+}
+
+/* The first i of the n + 1 ascending cdf values with cdf[i] <= x < cdf[i + 1]
+ * (skipping empty intervals). */
+static uint32_t find_double(const double *cdf, uint32_t n, double x)
+{
+    uint32_t lo = 0, hi = n; /* cdf[lo] <= x < cdf[hi] */
+    while (hi - lo > 1) {
+        const uint32_t mid = lo + (hi - lo) / 2;
+        if (cdf[mid] <= x)
+            lo = mid;
+        else
+            hi = mid;
+    }
+    return lo;
+}
+
+/* The density of image point (x, y) (a texel) over the unit square. */
+static double texel_density(const Environment *e, uint32_t x, uint32_t y)
+{
+    const double *col = &e->cols[(size_t)y * (e->w + 1)];
+    return (e->rows[y + 1] - e->rows[y]) * (col[x + 1] - col[x]) * e->w * e->h;
+}
+
+int environment_sample(const Environment *e, real u1, real u2, vec3 *dir, vec3 *light, real *pdf)
+{
+    if (!(e->total > 0.0))
+        return 0;
+    const uint32_t y = find_double(e->rows, e->h, (double)u1);
+    const double ry = e->rows[y + 1] - e->rows[y];
+    const double fy = ry > 0.0 ? ((double)u1 - e->rows[y]) / ry : 0.5;
+    const double *col = &e->cols[(size_t)y * (e->w + 1)];
+    const uint32_t x = find_double(col, e->w, (double)u2);
+    const double rx = col[x + 1] - col[x];
+    const double fx = rx > 0.0 ? ((double)u2 - col[x]) / rx : 0.5;
+    const double t = (y + fmin(fmax(fy, 0.0), 1.0)) / e->h, u = (x + fmin(fmax(fx, 0.0), 1.0)) / e->w;
+    const double sn = sin(t * PI), density = texel_density(e, x, y);
+    if (!(sn > 0.0) || !(density > 0.0))
+        return 0;
+    *dir = env_dir(e, u, t);
+    *pdf = (real)(density / (2.0 * PI * PI * sn));
+    *light = environment_radiance(e, *dir);
+    return 1;
+}
+
+real environment_pdf(const Environment *e, vec3 d)
+{
+    if (!(e->total > 0.0))
+        return R(0);
+    real u, t;
+    env_uv(e, d, &u, &t);
+    const uint32_t x = (uint32_t)real_min(u * (real)e->w, (real)(e->w - 1));
+    const uint32_t y = (uint32_t)real_min(t * (real)e->h, (real)(e->h - 1));
+    const double sn = sin((double)t * PI);
+    return sn > 0.0 ? (real)(texel_density(e, x, y) / (2.0 * PI * PI * sn)) : R(0);
+}
+
+vec3 environment_diffuse(const Environment *e, vec3 n)
+{
+    double b[9];
+    sh_basis(n.x, n.y, n.z, b);
+    vec3 c;
+    for (int ch = 0; ch < 3; ch++) {
+        double s = 0.0;
+        for (int k = 0; k < 9; k++)
+            s += e->sh[k][ch] * b[k];
+        c.e[ch] = (real)fmax(s / PI, 0.0); /* a sun's ringing dips below zero */
+    }
+    return c;
+}

@@ -1,0 +1,74 @@
+/* environment.h - light from everywhere: an image around the scene (an
+ * equirectangular panorama, a Radiance .hdr's light) that rays which leave
+ * the scene see, and that lights it.
+ *
+ * The image wraps the sphere of directions as Blender's Environment
+ * Texture does (so that tools/bench/scene2cycles hands Cycles the same
+ * world): u = atan2(z, x) / 2 pi + 1/2 plus the turn, the image's centre
+ * along +x, its left and right edges along -x and a quarter in along -z
+ * (where a camera of yaw 0 looks); v its elevation, the top row straight
+ * up.  The path integrator
+ * samples it by importance: a direction drawn in proportion to each
+ * texel's light times the solid angle it spans (sin of its polar angle),
+ * by a row picked from the rows' sums and a texel from the row's
+ * (piecewise constant: environment_pdf is that density), weighed against
+ * the paths that meet it by multiple importance sampling.  The Whitted
+ * integrator lights a diffuse surface by the image's irradiance at its
+ * normal from nine spherical harmonics (Ramamoorthi and Hanrahan, "An
+ * efficient representation for irradiance environment maps", 2001): no
+ * shadow, as its ambient light has none, and no noise; and a sun in the
+ * image (a small patch far brighter than the rest, environment_sun) as a
+ * directional light of its own, with its shadows and highlights, the
+ * harmonics made without it.
+ *
+ * Everything is made from the texels in a fixed order in double, so that
+ * every client of a farm derives the same numbers. */
+#ifndef LANRAY_ENVIRONMENT_H
+#define LANRAY_ENVIRONMENT_H
+
+#include "base/err.h"
+#include "base/vec.h"
+#include "model/texture.h"
+
+typedef struct {
+    uint32_t w, h;
+    float *light;    /* w x h x 3: the image's light times the strength, top row first */
+    real turn;       /* the turn about +y as a fraction of a circle */
+    double *rows;    /* h + 1: the rows' cumulative shares, 0 to 1 */
+    double *cols;    /* h x (w + 1): each row's texels' cumulative shares, 0 to 1 */
+    double total;    /* the sum of the texels' weights: 0 where the image is black */
+    double sh[9][3]; /* the irradiance's spherical harmonics, each band's convolution applied
+                      * (without the sun's texels where it has one) */
+    int has_sun;
+    vec3 sun_dir;    /* towards the sun: its texels' directions weighed by their light */
+    vec3 sun_light;  /* its irradiance head on over pi: a directional light's colour */
+    double sun_peak; /* its brightest texel's light (0: no sun) ... */
+    vec3 sun_at;     /* ... and direction: which texels are the sun's */
+} Environment;
+
+/* The environment of texture t (its .hdr light where it has one, else its
+ * sRGB colours), times strength, turned by rotate degrees about +y; NULL
+ * with err set when out of memory. */
+Environment *environment_create(const Texture *t, real strength, real rotate, Err *err);
+void environment_destroy(Environment *e);
+
+/* The light arriving from direction d (any length; bilinear in the image). */
+vec3 environment_radiance(const Environment *e, vec3 d);
+/* A direction drawn by importance from two numbers in [0, 1): its light
+ * and its density over solid angle; 0 where the image is black. */
+int environment_sample(const Environment *e, real u1, real u2, vec3 *dir, vec3 *light, real *pdf);
+/* The density environment_sample draws direction d with (0 for a black image). */
+real environment_pdf(const Environment *e, vec3 d);
+/* What a white diffuse surface of normal n (unit) shows of it, unshadowed:
+ * its irradiance / pi (less the sun's, where it has one). */
+vec3 environment_diffuse(const Environment *e, vec3 n);
+
+/* The image's sun, if it has one: its brightest texel at least
+ * ENV_SUN_CONTRAST times the image's mean light, and with it every texel
+ * within ENV_SUN_DEGREES of it that holds at least ENV_SUN_SHARE of its
+ * light.  Found when the environment is made (Environment.has_sun). */
+#define ENV_SUN_CONTRAST 50.0
+#define ENV_SUN_DEGREES 12.0
+#define ENV_SUN_SHARE 0.02
+
+#endif
