@@ -285,6 +285,7 @@ typedef struct {
     int moving_lights, moving_lights_given;
     int compress, announce, pipeline;
     double target_fps, max_fps;
+    CliEnvironment env;
 } Args;
 
 /* --compress: how clients code their pixels (net/pixcodec.h) */
@@ -422,6 +423,7 @@ static int parse_args(Args *a, int argc, char **argv)
          .help = "start at most F frames a second (the rest of the time the farm idles); 0 = no limit", .def = "0"},
         {.name = "--linear", .kind = OPT_FLAG, .dst = &a->linear,
          .help = "frames in linear light (PNG tagged gAMA 1.0) instead of sRGB"},
+        CLI_ENVIRONMENT_OPTS(&a->env),
         {.name = "--hdr", .kind = OPT_FLAG, .dst = &a->hdr,
          .help = "high dynamic range frames: clients send RGBE, frames are written as .hdr (Radiance); the window shows "
                  "them after the scene's exposure"},
@@ -471,8 +473,8 @@ static void app_close(App *a)
 }
 
 /* The command line's settings over a scene's own (at the start, and on every
- * reading of an edited scene). */
-static void apply_overrides(Scene *scene, const Args *a)
+ * reading of an edited scene); -1 where its environment cannot be put. */
+static int apply_overrides(Scene *scene, const Args *a, Err *err)
 {
     if (a->aa.given) {
         scene->settings.aa = a->aa.aa;
@@ -480,6 +482,7 @@ static void apply_overrides(Scene *scene, const Args *a)
     }
     scene->settings.linear = a->linear;
     scene->settings.hdr = a->hdr;
+    return cli_put_environment(scene, &a->env, err);
 }
 
 /* The scene, with the command line's settings over its own, and the frame
@@ -492,7 +495,10 @@ static int open_scene(App *app, Args *a, Err *err)
         return 1;
     }
     Scene *scene = app->scene;
-    apply_overrides(scene, a);
+    if (apply_overrides(scene, a, err)) {
+        fprintf(stderr, "lanray-server: %s\n", err->msg);
+        return 1;
+    }
     if (a->still_lights && !a->still.given) {
         fprintf(stderr, "lanray-server: --still-light-samples refines the still frames of --still-aa: give both\n");
         return 2;
@@ -646,7 +652,13 @@ static void follow_edits(App *app, const Args *a)
         app->last_title = 0;
         return;
     }
-    apply_overrides(next, a);
+    if (apply_overrides(next, a, &err)) {
+        fprintf(stderr, "lanray-server: %s (the last good scene stays)\n", err.msg);
+        snprintf(app->edit_error, sizeof app->edit_error, "%s", err.msg);
+        app->last_title = 0;
+        scene_destroy(next);
+        return;
+    }
     if (app->display)
         window_knobs_apply(&app->win, &next->settings);
     scene_destroy(app->pending);

@@ -124,6 +124,7 @@ typedef struct {
     int emitters, emitters_given, roulette, roulette_given, contrast, contrast_given;
     double exposure;
     CliAa aa;
+    CliEnvironment env;
 } Args;
 
 /* Parses the command line into a: OPT_GO, or the exit status. */
@@ -205,6 +206,7 @@ static int parse_args(Args *a, int argc, char **argv)
          .seen = &a->exposure_given, .help = "8-bit output shows the light times 2^STOPS", .def = "the scene's, else 0"},
         {.name = "--linear", .kind = OPT_FLAG, .dst = &a->linear,
          .help = "write linear light (PNG tagged gAMA 1.0) instead of sRGB"},
+        CLI_ENVIRONMENT_OPTS(&a->env),
         {.name = "--path", .kind = OPT_STRING, .dst = &a->path, .arg = "FILE",
          .help = "a camera path (docs/scene.md): render its camera at --at in place of the scene's"},
         {.name = "--at", .kind = OPT_REAL, .dst = &a->at, .arg = "T", .rlo = 0, .rhi = 1e9,
@@ -356,6 +358,10 @@ static int job_open(Job *j, Args *a, Err *err)
         return 1;
     }
     int rc = apply_settings(j->scene, a);
+    if (rc == 0 && cli_put_environment(j->scene, &a->env, err)) {
+        fprintf(stderr, "lanray-render: %s\n", err->msg);
+        rc = 1;
+    }
     if (rc == 0)
         rc = apply_path(j->scene, a, err);
     if (rc)

@@ -92,6 +92,26 @@ int cli_open_scene(const char *path, const BvhOptions *bvh, int force, Scene **o
     return scene_load(path, bvh, force, out, err);
 }
 
+int cli_put_environment(Scene *s, const CliEnvironment *e, Err *err)
+{
+    if (e->file) {
+        Texture *t;
+        uint32_t id;
+        if (scene_add_source(s, e->file, err) || texture_read(e->file, &t, err) || scene_add_texture(s, t, &id, err))
+            return err_prefix(err, "--environment");
+        s->environment = (SceneEnvironment){.texture = (int32_t)id, .strength = R(1), .rotate = R(0)};
+    }
+    if ((e->strength_given || e->rotate_given) && s->environment.texture < 0)
+        return err_set(err, "--environment-strength and --environment-rotate change an environment, and the scene has "
+                            "none: give --environment FILE");
+    if (e->strength_given)
+        s->environment.strength = (real)e->strength;
+    if (e->rotate_given)
+        s->environment.rotate = (real)e->rotate;
+    s->checked = 0;
+    return 0;
+}
+
 void cli_warn_scene(const char *prog, const Scene *s)
 {
     /* (a path-traced scene is lit by its emitters and its background as

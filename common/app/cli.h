@@ -8,6 +8,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "base/opt.h"
 #include "scene/scene.h"
 
 /* --aa N | adaptive[:N]: N x N samples everywhere, or one and N x N where
@@ -39,6 +40,28 @@ int cli_threads(int requested);
  * or an .obj/.tmd model, which gets a preview scene (camera framed on its
  * bounding box, two lights).  force: rebuild .tmd models with bvh. */
 int cli_open_scene(const char *path, const BvhOptions *bvh, int force, Scene **out, Err *err);
+
+/* --environment FILE, --environment-strength S, --environment-rotate D:
+ * an image around any scene (scene.md's `environment`: a model's preview
+ * lit by a studio or a sky), in place of the scene's own; or the scene's
+ * own made stronger or turned. */
+typedef struct {
+    const char *file;
+    double strength, rotate;
+    int strength_given, rotate_given;
+} CliEnvironment;
+/* Its three entries of a program's option table (base/opt.h), into e. */
+#define CLI_ENVIRONMENT_OPTS(e) \
+    {.name = "--environment", .kind = OPT_STRING, .dst = &(e)->file, .arg = "FILE", \
+     .help = "an equirectangular panorama (a Radiance .hdr) around the scene, lighting it, in place of its own"}, \
+    {.name = "--environment-strength", .kind = OPT_REAL, .dst = &(e)->strength, .arg = "S", .rlo = 0, .rhi = 1e30, \
+     .seen = &(e)->strength_given, .help = "the environment's light times S", .def = "the scene's, else 1"}, \
+    {.name = "--environment-rotate", .kind = OPT_REAL, .dst = &(e)->rotate, .arg = "DEG", .rlo = -1e6, .rhi = 1e6, \
+     .seen = &(e)->rotate_given, .help = "the environment turned by DEG degrees about +y", .def = "the scene's, else 0"}
+/* Puts e into s (after the file's settings: a server does again after
+ * every edit); -1 with err naming the file, or saying that there is no
+ * environment to make stronger or to turn. */
+int cli_put_environment(Scene *s, const CliEnvironment *e, Err *err);
 
 /* Warns on standard error about what a user would not want in a scene:
  * no light (only the ambient colour would show it). */

@@ -189,15 +189,14 @@ void environment_destroy(Environment *e)
     free(e);
 }
 
-vec3 environment_radiance(const Environment *e, vec3 d)
+/* The light at image point (u, t), each in [0, 1]: bilinear between texel
+ * centres, across the seam in u, held at the poles in t. */
+static vec3 light_at(const Environment *e, real u, real t)
 {
-    real u, t;
-    env_uv(e, d, &u, &t);
-    /* bilinear between texel centres: across the seam in u, held at the poles in t */
     const real fx = u * (real)e->w - R(0.5), fy = t * (real)e->h - R(0.5);
     const real x0f = floor(fx), y0f = floor(fy), ax = fx - x0f, ay = fy - y0f;
-    const int64_t x0 = (int64_t)x0f, y0 = (int64_t)y0f;
-    const uint32_t xa = (uint32_t)((x0 % e->w + e->w) % e->w), xb = (xa + 1) % e->w;
+    const int64_t x0 = (int64_t)x0f, y0 = (int64_t)y0f; /* u in [0, 1): x0 from -1 to w - 1 */
+    const uint32_t xa = x0 < 0 ? e->w - 1 : (uint32_t)x0, xb = xa + 1 < e->w ? xa + 1 : 0;
     const uint32_t ya = y0 < 0 ? 0 : (uint32_t)y0, yb = y0 + 1 >= (int64_t)e->h ? e->h - 1 : (uint32_t)(y0 + 1);
     const float *p00 = &e->light[3 * ((size_t)ya * e->w + xa)], *p01 = &e->light[3 * ((size_t)ya * e->w + xb)];
     const float *p10 = &e->light[3 * ((size_t)yb * e->w + xa)], *p11 = &e->light[3 * ((size_t)yb * e->w + xb)];
@@ -208,6 +207,13 @@ vec3 environment_radiance(const Environment *e, vec3 d)
         c.e[k] = (R(1) - ay) * top + ay * bottom;
     }
     return c;
+}
+
+vec3 environment_radiance(const Environment *e, vec3 d)
+{
+    real u, t;
+    env_uv(e, d, &u, &t);
+    return light_at(e, u, t);
 }
 
 /* The first i of the n + 1 ascending cdf values with cdf[i] <= x < cdf[i + 1]
@@ -244,25 +250,39 @@ int environment_sample(const Environment *e, real u1, real u2, vec3 *dir, vec3 *
     const double rx = col[x + 1] - col[x];
     const double fx = rx > 0.0 ? ((double)u2 - col[x]) / rx : 0.5;
     const double t = (y + fmin(fmax(fy, 0.0), 1.0)) / e->h, u = (x + fmin(fmax(fx, 0.0), 1.0)) / e->w;
-    const double sn = sin(t * PI), density = texel_density(e, x, y);
-    if (!(sn > 0.0) || !(density > 0.0))
+    /* env_dir's direction in the precision of the rays, its sine kept */
+    const real theta = (real)(t * PI), phi = (real)((u - (double)e->turn - 0.5) * 2.0 * PI);
+    const real sn = sin(theta), cs = cos(theta);
+    const double density = texel_density(e, x, y);
+    if (!(sn > R(0)) || !(density > 0.0))
         return 0;
-    *dir = env_dir(e, u, t);
-    *pdf = (real)(density / (2.0 * PI * PI * sn));
-    *light = environment_radiance(e, *dir);
+    *dir = v3(sn * cos(phi), cs, sn * sin(phi));
+    *pdf = (real)(density / (2.0 * PI * PI * (double)sn));
+    *light = light_at(e, (real)u, (real)t); /* where it was drawn: no way back from the direction */
     return 1;
+}
+
+vec3 environment_seen(const Environment *e, vec3 d, real *pdf)
+{
+    real u, t;
+    env_uv(e, d, &u, &t);
+    *pdf = R(0);
+    /* the polar angle's sine: the direction's length across +y */
+    const double across = sqrt((double)d.x * (double)d.x + (double)d.z * (double)d.z),
+                 sn = across / sqrt(across * across + (double)d.y * (double)d.y);
+    if (e->total > 0.0 && sn > 0.0) {
+        const uint32_t x = (uint32_t)real_min(u * (real)e->w, (real)(e->w - 1));
+        const uint32_t y = (uint32_t)real_min(t * (real)e->h, (real)(e->h - 1));
+        *pdf = (real)(texel_density(e, x, y) / (2.0 * PI * PI * sn));
+    }
+    return light_at(e, u, t);
 }
 
 real environment_pdf(const Environment *e, vec3 d)
 {
-    if (!(e->total > 0.0))
-        return R(0);
-    real u, t;
-    env_uv(e, d, &u, &t);
-    const uint32_t x = (uint32_t)real_min(u * (real)e->w, (real)(e->w - 1));
-    const uint32_t y = (uint32_t)real_min(t * (real)e->h, (real)(e->h - 1));
-    const double sn = sin((double)t * PI);
-    return sn > 0.0 ? (real)(texel_density(e, x, y) / (2.0 * PI * PI * sn)) : R(0);
+    real pdf;
+    environment_seen(e, d, &pdf);
+    return pdf;
 }
 
 vec3 environment_diffuse(const Environment *e, vec3 n)

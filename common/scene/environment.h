@@ -59,6 +59,9 @@ vec3 environment_radiance(const Environment *e, vec3 d);
 int environment_sample(const Environment *e, real u1, real u2, vec3 *dir, vec3 *light, real *pdf);
 /* The density environment_sample draws direction d with (0 for a black image). */
 real environment_pdf(const Environment *e, vec3 d);
+/* Both at once, for a path that leaves the scene along d: the light
+ * arriving from d, and the density into *pdf (one look-up of d). */
+vec3 environment_seen(const Environment *e, vec3 d, real *pdf);
 /* What a white diffuse surface of normal n (unit) shows of it, unshadowed:
  * its irradiance / pi (less the sun's, where it has one). */
 vec3 environment_diffuse(const Environment *e, vec3 n);

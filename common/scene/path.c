@@ -43,7 +43,8 @@ typedef struct {
     uint32_t dims[SAMPLE_LANES]; /* the direction (2D), the lobe's pick, roulette, 4 (a
                                   * rough mirror's bend before its GGX lobe: unused, its
                                   * lane kept so that dimension k is lane k - 1), an
-                                  * emitter's point (2D) and pick, and the first two area
+                                  * emitter's point (2D) and pick, then the environment's
+                                  * direction (7) where there is one and the first area
                                   * lights' points (0x100 + light; other lights' alone) */
 } DrawPlan;
 
@@ -54,14 +55,17 @@ typedef struct {
  * lamp (no ray can meet it), found once a packet, not at every bounce. */
 static void draw_plan(DrawPlan *pl, const World *w)
 {
-    pl->lanes = (w->light_count > 0 || w->emitter_count > 0) && sample_lanes_wide();
+    pl->lanes = (w->light_count > 0 || w->emitter_count > 0 || w->env) && sample_lanes_wide();
     pl->lampless = 0;
     for (uint32_t li = 0; li < w->light_count; li++)
         pl->lampless |= w->lights[li].lamp_count == 0;
     for (uint32_t k = 0; k < 6; k++)
         pl->dims[k] = k + 1;
-    pl->dims[6] = 0x100u, pl->dims[7] = 0x101u; /* unused without area lights */
-    for (uint32_t li = 0, k = 6; li < w->light_count && k < SAMPLE_LANES; li++)
+    pl->dims[6] = 0x100u, pl->dims[7] = 0x101u; /* unused without an environment or area lights */
+    uint32_t k = 6;
+    if (w->env) /* the environment's direction */
+        pl->dims[k++] = 7;
+    for (uint32_t li = 0; li < w->light_count && k < SAMPLE_LANES; li++)
         if (world_light_is_area(&w->lights[li]))
             pl->dims[k++] = 0x100u + li;
 }
@@ -303,15 +307,14 @@ static vec3 direct_environment(const World *w, const Surface *sf, const Lobes *l
 }
 
 /* The share of the environment's light that a path leaving the scene
- * along dir after a bounce off a smooth lobe (density pdf_bounce) adds:
- * all of it where next-event estimation could not have drawn dir, else
- * the weight of the bounce. */
-static real environment_share(const World *w, real pdf_bounce, vec3 dir)
+ * after a bounce off a smooth lobe (density pdf_bounce) adds, where
+ * next-event estimation draws its direction with density pl: all of it
+ * where it could not have, else the weight of the bounce. */
+static real environment_share(const World *w, real pdf_bounce, real pl)
 {
     const EmitterSampling es = w->view.settings.emitter_sampling;
     if (es == EMITTERS_BSDF)
         return R(1);
-    const real pl = environment_pdf(w->env, dir);
     if (!(pl > R(0)))
         return R(1);
     return es == EMITTERS_NEE ? R(0) : power_weight(pdf_bounce, pl);
@@ -609,9 +612,10 @@ static int path_step(const World *w, Path *p, int found, const Hit *h, RayStats 
     if (!found) {
         vec3 seen = w->background;
         if (w->env) { /* weighed against the environment's next-event estimation after a smooth bounce */
-            seen = environment_radiance(w->env, p->ray.dir);
+            real pl;
+            seen = environment_seen(w->env, p->ray.dir, &pl);
             if (p->after_smooth)
-                seen = v3_scale(seen, environment_share(w, p->pdf_bounce, p->ray.dir));
+                seen = v3_scale(seen, environment_share(w, p->pdf_bounce, pl));
         }
         p->L = v3_add(p->L, v3_mul(p->beta, seen));
         if (b == 0 && p->key)

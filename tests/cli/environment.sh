@@ -13,6 +13,8 @@
 # - `rotate` turns the panorama as a camera's yaw turns.
 # - Bad input: an unknown texture, a second environment, a cut .hdr are
 #   errors naming the file and line.
+# - --environment FILE on the command line (lanray-render, lanray-server)
+#   puts one around any scene, --environment-strength and -rotate change it.
 # - Every SIMD path gives the same bytes; a server with a client
 #   lanray-render's, Whitted and path-traced (the .hdr travels as a texture
 #   asset of its own bytes).
@@ -99,6 +101,36 @@ bad $'texture sky sky.hdr\nenvironment strength 2' "bad.scene:2:.*texture" "an e
 bad $'texture sky sky.hdr\nenvironment texture sky strength -1' "bad.scene:2:.*strength" "a negative strength"
 head -c 300 "$dir/sky.hdr" >"$dir/cut.hdr"
 bad $'texture sky cut.hdr\nenvironment texture sky' "cut.hdr" "a cut .hdr"
+# --environment FILE puts one around any scene (the furnace's own
+# environment left out: the same bytes), --environment-strength makes it
+# stronger (1: code 255), and either without one is refused
+grep -v '^texture\|^environment' "$dir/furnace.scene" >"$dir/bare.scene"
+"$BIN/lanray-render" "$dir/bare.scene" --environment "$dir/grey.hdr" --width 32 --height 32 --aa 8 --linear \
+    -o "$dir/bare.png" --quiet >/dev/null 2>&1 || fail "--environment"
+cmp -s "$dir/bare.png" "$dir/furnace-whitted.png" || fail "--environment FILE should render as the scene's own environment (Whitted)"
+"$BIN/lanray-render" "$dir/bare.scene" --environment "$dir/grey.hdr" --integrator path --width 32 --height 32 --aa 8 \
+    --linear -o "$dir/bare-path.png" --quiet >/dev/null 2>&1 || fail "--environment (path)"
+cmp -s "$dir/bare-path.png" "$dir/furnace-path.png" || fail "--environment FILE should render as the scene's own environment"
+"$BIN/lanray-render" "$dir/furnace.scene" --environment-strength 2 --width 32 --height 32 --aa 1 --linear \
+    -o "$dir/strong.png" --quiet >/dev/null 2>&1 || fail "--environment-strength"
+got=$(python3 tests/tools/pngpixel.py "$dir/strong.png" 16 16 | tr '\n' ' ')
+[ "$got" = "255 255 255 " ] || fail "--environment-strength 2 should make the grey furnace's ball white: $got"
+"$BIN/lanray-render" "$dir/bare.scene" --environment-rotate 10 -o "$dir/no.png" --quiet >"$dir/no.log" 2>&1 &&
+    fail "--environment-rotate without an environment was accepted"
+grep -q "the scene has none: give --environment FILE" "$dir/no.log" || fail "--environment-rotate alone: $(cat "$dir/no.log")"
+"$BIN/lanray-render" "$dir/bare.scene" --environment "$dir/nothere.hdr" -o "$dir/no.png" --quiet >"$dir/no.log" 2>&1 &&
+    fail "a missing --environment file was accepted"
+grep -q -- "--environment: .*nothere.hdr" "$dir/no.log" || fail "a missing --environment file: $(cat "$dir/no.log")"
+[ ! -e "$dir/no.png" ] || fail "a refused --environment left an image"
+# a server puts it around its scene as lanray-render does
+"$BIN/lanray-render" "$dir/bare.scene" --environment "$dir/sky.hdr" --width 64 --height 64 --aa 1 -o "$dir/bare-sky.png" \
+    --quiet >/dev/null 2>&1 || fail "render bare + sky"
+start_server barenv "$dir/bare.scene" --environment "$dir/sky.hdr" --port 0 --width 64 --height 64 --frames 1 \
+    --wait-clients 1 --verify "$dir/bare-sky.png" --out "$dir/f-barenv"
+"$BIN/lanray-client" "127.0.0.1:$port" --threads 2 --once --quiet 2>/dev/null &
+pids+=("$!")
+for _ in $(seq 300); do kill -0 "$server_pid" 2>/dev/null || break; sleep 0.05; done
+wait "$server_pid" || fail "a server's --environment frame differs from lanray-render's: $(tail -3 "$dir/barenv.err")"
 # the same bytes on every SIMD path and through a server, both integrators
 for integ in whitted path; do
     sed "s/integrator path/integrator $integ/" "$dir/sky.scene" >"$dir/sky-$integ.scene"
@@ -107,4 +139,4 @@ for integ in whitted path; do
     same_on_simd_paths "$dir/sky-$integ.scene" "$dir/sky-$integ-1.png" 64 64 "the sky ($integ)"
     verify_distributed "sky-$integ" "$dir/sky-$integ.scene" "$dir/sky-$integ-1.png" "under an environment ($integ)"
 done
-echo "environment: a white ball in a grey furnace shows 0.5 (codes $furnace, path-traced; Whitted's too); the sky by NEE alone and by bounces alone = MIS (6x6 blocks: $nee_err and $bsdf_err, light $nee_ratio and $bsdf_ratio); Whitted's with the sun's shadows $w_err from it (light $w_ratio; without shadows $w0_err); rotate turns it as a yaw; bad input refused by file and line; on every SIMD path and through a server"
+echo "environment: a white ball in a grey furnace shows 0.5 (codes $furnace, path-traced; Whitted's too); the sky by NEE alone and by bounces alone = MIS (6x6 blocks: $nee_err and $bsdf_err, light $nee_ratio and $bsdf_ratio); Whitted's with the sun's shadows $w_err from it (light $w_ratio; without shadows $w0_err); rotate turns it as a yaw; bad input refused by file and line; --environment on the command line as in the file; on every SIMD path and through a server"

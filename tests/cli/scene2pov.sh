@@ -71,7 +71,8 @@ IFS=, read -r _ _ plain_rmse _ _ < <("$BIN/lanray-imgdiff" --csv "$dir/p.png" "$
 echo "scene2pov: metal rims: POV-Ray's picture RMSE $rim_rmse from lanray's (without rims $plain_rmse)"
 awk -v r="$rim_rmse" -v p="$plain_rmse" 'BEGIN { exit !(r <= 5.5 && p >= r + 0.8) }' ||
     fail "metal rims: POV-Ray's picture RMSE $rim_rmse from lanray's (at most 5.5), $plain_rmse from lanray's without rims (at least 0.8 more)"
-# refused: a light POV-Ray cannot fade alike, a camera it has not
+# refused: a light POV-Ray cannot fade alike, a camera it has not, an
+# environment (a sky_sphere lights nothing without radiosity)
 cat >"$dir/fade.scene" <<'SCENE'
 camera position 0 1 5 lookat 0 0 0
 material m diffuse 0.8 0.8 0.8
@@ -80,7 +81,9 @@ light point position 2 3 4 intensity 5 attenuate
 SCENE
 sed 's/^camera .*/camera position 0 1 5 lookat 0 0 0 fisheye 180/' "$dir/fade.scene" | grep -v attenuate >"$dir/eye.scene"
 echo "light point position 2 3 4" >>"$dir/eye.scene"
-for s in fade eye; do
+grep -v attenuate "$dir/fade.scene" >"$dir/env.scene"
+printf 'light point position 2 3 4\ntexture sky %s\nenvironment texture sky\n' "$PWD/tests/data/cycles/sky.hdr" >>"$dir/env.scene"
+for s in fade eye env; do
     "$SCENE2POV" "$dir/$s.scene" -o "$dir/$s.pov" 2>"$dir/err" && fail "$s.scene was written"
     [ -e "$dir/$s.pov" ] && fail "$s.scene left $s.pov behind"
     ls "$dir" | grep -q '\.tmp' && fail "$s.scene left a temporary file"

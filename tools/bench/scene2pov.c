@@ -35,7 +35,8 @@
  * Settings: the depth as max_trace_level, the cutoff as adc_bailout, the
  * background, and with --aa N > 1 POV-Ray's own anti-aliasing (+A0.0,
  * method 1, depth N) in the file's comment for the caller to pass.
- * What POV-Ray has no match for is refused or told: a rough mirror,
+ * What POV-Ray has no match for is refused or told (an environment is
+ * refused): a rough mirror,
  * frosted glass or rough clear coat is written as a plain one (a
  * warning), a coat over a mirror left out (a warning), a model's own
  * materials as its first. */
@@ -155,6 +156,8 @@ static int write_view(FILE *f, const World *w, int width, int height, Err *err)
     const Camera *c = &w->view.camera;
     if (c->kind != CAMERA_PINHOLE || c->aperture > R(0))
         return err_set(err, "only the pinhole camera without a lens is written");
+    if (w->env) /* a sky_sphere is only seen: it lights a scene through radiosity alone */
+        return err_set(err, "an environment is not written (POV-Ray's sky_sphere lights nothing without radiosity)");
     CameraFrame cf = camera_frame(c, width, height);
     /* camera_dir(x, y) = u x + v y + k over x in [0, W], y in [0, H] down
      * the image: direction its centre, right u W, up -v H, made
