@@ -10,23 +10,6 @@
 /* the most light a texel may hold: a float's range over the texels' sums and a bilinear blend */
 #define ENV_MAX_LIGHT 1e30
 
-/* The polar angle's sine and cosine (from +y) of row coordinate t in [0, 1]
- * (0 the top row's edge). */
-static void polar(double t, double *sn, double *cs)
-{
-    *sn = sin(t * PI);
-    *cs = cos(t * PI);
-}
-
-/* The unit direction of image point (u, v): u across, t down, both [0, 1]. */
-static vec3 env_dir(const Environment *e, double u, double t)
-{
-    double sn, cs;
-    polar(t, &sn, &cs);
-    const double phi = (u - (double)e->turn - 0.5) * 2.0 * PI;
-    return v3((real)(sn * cos(phi)), (real)cs, (real)(sn * sin(phi)));
-}
-
 /* Image coordinates of direction d: u across, t down, each in [0, 1]. */
 static void env_uv(const Environment *e, vec3 d, real *u, real *t)
 {
@@ -39,8 +22,15 @@ static void env_uv(const Environment *e, vec3 d, real *u, real *t)
         *t = R(0);
 }
 
+/* The light of texel i (row-major), times the gain. */
+static inline void texel(const Environment *e, size_t i, real c[3])
+{
+    for (int k = 0; k < 3; k++)
+        c[k] = (e->hdr ? (real)e->hdr[3 * i + k] : (real)srgb_decode8[e->codes[3 * i + k]]) * e->gain;
+}
+
 /* The weight a texel's light gives its solid angle: its channels' mean. */
-static double texel_weight(const float *c) { return ((double)c[0] + (double)c[1] + (double)c[2]) / 3.0; }
+static double texel_weight(const real *c) { return ((double)c[0] + (double)c[1] + (double)c[2]) / 3.0; }
 
 /* The nine real spherical harmonics at unit direction (x, y, z). */
 static void sh_basis(double x, double y, double z, double b[9])
@@ -60,25 +50,39 @@ static double texel_solid_angle(const Environment *e, uint32_t y, double rings)
     return (2.0 * PI / e->w) * (PI / e->h) * sin((y + 0.5) / e->h * PI) * (2.0 / rings);
 }
 
-/* Whether a texel of light t in direction dir is the sun's (environment.h:
- * near its brightest texel, and bright). */
-static int sun_texel(const Environment *e, const float *t, vec3 dir)
+/* The texels' centres as directions, made once: each column's azimuth's
+ * cosine and sine (the turn applied), each row's polar sine and cosine. */
+typedef struct {
+    double *cphi, *sphi; /* w each */
+    double rings;        /* texel_solid_angle's */
+} Grid;
+
+static vec3 grid_dir(const Grid *g, uint32_t x, double sn, double cs)
 {
-    return e->sun_peak > 0.0 && texel_weight(t) >= ENV_SUN_SHARE * e->sun_peak &&
+    return v3((real)(sn * g->cphi[x]), (real)cs, (real)(sn * g->sphi[x]));
+}
+
+/* Whether a texel of light c in direction dir is the sun's (environment.h:
+ * near its brightest texel, and bright). */
+static int sun_texel(const Environment *e, const real *c, vec3 dir)
+{
+    return e->sun_peak > 0.0 && texel_weight(c) >= ENV_SUN_SHARE * e->sun_peak &&
            (double)v3_dot(dir, e->sun_at) >= cos(ENV_SUN_DEGREES * PI / 180.0);
 }
 
 /* The sun (environment.h): its texels' light and direction, summed; 0
- * where the image has none.  `rings`: texel_solid_angle's. */
-static int env_find_sun(Environment *e, double rings)
+ * where the image has none. */
+static int env_find_sun(Environment *e, const Grid *g)
 {
     const uint32_t w = e->w, h = e->h;
     double power = 0.0, peak = 0.0;
     uint32_t px = 0, py = 0;
     for (uint32_t y = 0; y < h; y++) {
-        const double dw = texel_solid_angle(e, y, rings);
+        const double dw = texel_solid_angle(e, y, g->rings);
         for (uint32_t x = 0; x < w; x++) {
-            const double l = texel_weight(&e->light[3 * ((size_t)y * w + x)]);
+            real c[3];
+            texel(e, (size_t)y * w + x, c);
+            const double l = texel_weight(c);
             power += l * dw;
             if (l > peak)
                 peak = l, px = x, py = y;
@@ -87,18 +91,19 @@ static int env_find_sun(Environment *e, double rings)
     if (!(peak > ENV_SUN_CONTRAST * power / (4.0 * PI)))
         return 0;
     e->sun_peak = peak;
-    e->sun_at = env_dir(e, (px + 0.5) / w, (py + 0.5) / h);
-    double d[3] = {0, 0, 0}, c[3] = {0, 0, 0};
+    e->sun_at = grid_dir(g, px, sin((py + 0.5) / h * PI), cos((py + 0.5) / h * PI));
+    double d[3] = {0, 0, 0}, s[3] = {0, 0, 0};
     for (uint32_t y = 0; y < h; y++) {
-        const double dw = texel_solid_angle(e, y, rings);
+        const double dw = texel_solid_angle(e, y, g->rings), sn = sin((y + 0.5) / h * PI), cs = cos((y + 0.5) / h * PI);
         for (uint32_t x = 0; x < w; x++) {
-            const float *t = &e->light[3 * ((size_t)y * w + x)];
-            const vec3 dir = env_dir(e, (x + 0.5) / w, (y + 0.5) / h);
-            if (!sun_texel(e, t, dir))
+            real c[3];
+            texel(e, (size_t)y * w + x, c);
+            const vec3 dir = grid_dir(g, x, sn, cs);
+            if (!sun_texel(e, c, dir))
                 continue;
             for (int k = 0; k < 3; k++) {
-                d[k] += texel_weight(t) * dw * (double)dir.e[k];
-                c[k] += (double)t[k] * dw / PI;
+                d[k] += texel_weight(c) * dw * (double)dir.e[k];
+                s[k] += (double)c[k] * dw / PI;
             }
         }
     }
@@ -108,30 +113,31 @@ static int env_find_sun(Environment *e, double rings)
         return 0;
     }
     e->sun_dir = v3((real)(d[0] / n), (real)(d[1] / n), (real)(d[2] / n));
-    e->sun_light = v3((real)c[0], (real)c[1], (real)c[2]);
+    e->sun_light = v3((real)s[0], (real)s[1], (real)s[2]);
     e->has_sun = 1;
     return 1;
 }
 
 /* The sampling tables and the harmonics (without the sun's texels where
- * there is one), from the light (in row order); `acc`: w + 1 doubles. */
-static void env_tables(Environment *e, double *acc)
+ * there is one), from the light (in row order); `acc`: w + 1 doubles,
+ * `row_sums`: h. */
+static void env_tables(Environment *e, const Grid *g, double *acc, double *row_sums)
 {
     const uint32_t w = e->w, h = e->h;
     const double band[9] = {PI, 2.0 * PI / 3.0, 2.0 * PI / 3.0, 2.0 * PI / 3.0, PI / 4.0,
                             PI / 4.0, PI / 4.0, PI / 4.0, PI / 4.0};
-    double sh[9][3] = {{0}}, rings = 0.0;
-    for (uint32_t y = 0; y < h; y++)
-        rings += sin((y + 0.5) / h * PI) * (PI / h);
-    env_find_sun(e, rings);
-    e->rows[0] = 0.0;
+    double sh[9][3] = {{0}}, rows = 0.0;
+    env_find_sun(e, g);
+    e->rows[0] = 0.0f;
     for (uint32_t y = 0; y < h; y++) {
-        const double sn = sin((y + 0.5) / h * PI), dw = texel_solid_angle(e, y, rings);
+        const double sn = sin((y + 0.5) / h * PI), cs = cos((y + 0.5) / h * PI),
+                     dw = texel_solid_angle(e, y, g->rings);
         acc[0] = 0.0;
         for (uint32_t x = 0; x < w; x++) {
-            const float *c = &e->light[3 * ((size_t)y * w + x)];
+            real c[3];
+            texel(e, (size_t)y * w + x, c);
             acc[x + 1] = acc[x] + texel_weight(c) * sn;
-            const vec3 d = env_dir(e, (x + 0.5) / w, (y + 0.5) / h);
+            const vec3 d = grid_dir(g, x, sn, cs);
             if (sun_texel(e, c, d))
                 continue; /* the sun's: its own light for the Whitted integrator */
             double b[9];
@@ -141,41 +147,57 @@ static void env_tables(Environment *e, double *acc)
                     sh[k][ch] += (double)c[ch] * b[k] * dw;
         }
         const double sum = acc[w];
-        double *col = &e->cols[(size_t)y * (w + 1)];
+        float *col = &e->cols[(size_t)y * (w + 1)];
         for (uint32_t x = 0; x <= w; x++) /* the row's shares, 0 to 1 (a black row: even) */
-            col[x] = x == w ? 1.0 : sum > 0.0 ? acc[x] / sum : (double)x / w;
-        e->rows[y + 1] = e->rows[y] + sum;
+            col[x] = x == w ? 1.0f : (float)(sum > 0.0 ? acc[x] / sum : (double)x / w);
+        rows += sum;
+        row_sums[y] = rows;
     }
-    e->total = e->rows[h];
+    e->total = rows;
     for (uint32_t y = 1; y <= h; y++)
-        e->rows[y] = y == h ? 1.0 : e->total > 0.0 ? e->rows[y] / e->total : (double)y / h;
+        e->rows[y] = y == h ? 1.0f : (float)(e->total > 0.0 ? row_sums[y - 1] / e->total : (double)y / h);
     for (int k = 0; k < 9; k++)
         for (int ch = 0; ch < 3; ch++)
             e->sh[k][ch] = sh[k][ch] * band[k];
 }
 
+/* The gain that keeps every texel's light under ENV_MAX_LIGHT: the
+ * strength, or less (a sun's light times a strength past a float's range
+ * summed into the tables). */
+static real env_gain(const Texture *t, real strength)
+{
+    double most = 0.0;
+    for (size_t i = 0, n = (size_t)t->w * t->h * 3; t->hdr && i < n; i++)
+        most = fmax(most, (double)t->hdr[i]);
+    return most * (double)strength > ENV_MAX_LIGHT ? (real)(ENV_MAX_LIGHT / most) : strength;
+}
+
 Environment *environment_create(const Texture *t, real strength, real rotate, Err *err)
 {
     Environment *e = calloc(1, sizeof *e);
-    const size_t n = (size_t)t->w * t->h;
-    double *acc = malloc((t->w + 1) * sizeof *acc);
-    if (!e || !acc || !(e->light = malloc(n * 3 * sizeof *e->light)) ||
-        !(e->rows = malloc((t->h + 1) * sizeof *e->rows)) ||
+    double *acc = malloc((t->w + 1) * sizeof *acc), *cphi = malloc(t->w * sizeof *cphi),
+           *sphi = malloc(t->w * sizeof *sphi), *row_sums = malloc(t->h * sizeof *row_sums);
+    if (!e || !acc || !cphi || !sphi || !row_sums || !(e->rows = malloc((t->h + 1) * sizeof *e->rows)) ||
         !(e->cols = malloc((size_t)t->h * (t->w + 1) * sizeof *e->cols))) {
-        free(acc);
+        free(acc), free(cphi), free(sphi), free(row_sums);
         environment_destroy(e);
         err_set(err, "scene: out of memory for the environment's %ux%u texels", t->w, t->h);
         return NULL;
     }
     e->w = t->w, e->h = t->h;
+    e->hdr = t->hdr, e->codes = t->level[0].rgb;
+    e->gain = env_gain(t, strength);
     e->turn = rotate / R(360);
     e->turn -= floor(e->turn);
-    for (size_t i = 0; i < n * 3; i++) { /* held finite: the sums of a sun's light times a strength */
-        const double l = (t->hdr ? (double)t->hdr[i] : (double)srgb_decode8[t->level[0].rgb[i]]) * (double)strength;
-        e->light[i] = (float)fmin(l, ENV_MAX_LIGHT);
+    Grid g = {.cphi = cphi, .sphi = sphi, .rings = 0.0};
+    for (uint32_t x = 0; x < e->w; x++) {
+        const double phi = ((x + 0.5) / e->w - (double)e->turn - 0.5) * 2.0 * PI;
+        cphi[x] = cos(phi), sphi[x] = sin(phi);
     }
-    env_tables(e, acc);
-    free(acc);
+    for (uint32_t y = 0; y < e->h; y++)
+        g.rings += sin((y + 0.5) / e->h * PI) * (PI / e->h);
+    env_tables(e, &g, acc, row_sums);
+    free(acc), free(cphi), free(sphi), free(row_sums);
     return e;
 }
 
@@ -183,7 +205,6 @@ void environment_destroy(Environment *e)
 {
     if (!e)
         return;
-    free(e->light);
     free(e->rows);
     free(e->cols);
     free(e);
@@ -198,12 +219,12 @@ static vec3 light_at(const Environment *e, real u, real t)
     const int64_t x0 = (int64_t)x0f, y0 = (int64_t)y0f; /* u in [0, 1): x0 from -1 to w - 1 */
     const uint32_t xa = x0 < 0 ? e->w - 1 : (uint32_t)x0, xb = xa + 1 < e->w ? xa + 1 : 0;
     const uint32_t ya = y0 < 0 ? 0 : (uint32_t)y0, yb = y0 + 1 >= (int64_t)e->h ? e->h - 1 : (uint32_t)(y0 + 1);
-    const float *p00 = &e->light[3 * ((size_t)ya * e->w + xa)], *p01 = &e->light[3 * ((size_t)ya * e->w + xb)];
-    const float *p10 = &e->light[3 * ((size_t)yb * e->w + xa)], *p11 = &e->light[3 * ((size_t)yb * e->w + xb)];
+    real p00[3], p01[3], p10[3], p11[3];
+    texel(e, (size_t)ya * e->w + xa, p00), texel(e, (size_t)ya * e->w + xb, p01);
+    texel(e, (size_t)yb * e->w + xa, p10), texel(e, (size_t)yb * e->w + xb, p11);
     vec3 c;
     for (int k = 0; k < 3; k++) {
-        const real top = (R(1) - ax) * (real)p00[k] + ax * (real)p01[k],
-                   bottom = (R(1) - ax) * (real)p10[k] + ax * (real)p11[k];
+        const real top = (R(1) - ax) * p00[k] + ax * p01[k], bottom = (R(1) - ax) * p10[k] + ax * p11[k];
         c.e[k] = (R(1) - ay) * top + ay * bottom;
     }
     return c;
@@ -218,12 +239,12 @@ vec3 environment_radiance(const Environment *e, vec3 d)
 
 /* The first i of the n + 1 ascending cdf values with cdf[i] <= x < cdf[i + 1]
  * (skipping empty intervals). */
-static uint32_t find_double(const double *cdf, uint32_t n, double x)
+static uint32_t find(const float *cdf, uint32_t n, double x)
 {
     uint32_t lo = 0, hi = n; /* cdf[lo] <= x < cdf[hi] */
     while (hi - lo > 1) {
         const uint32_t mid = lo + (hi - lo) / 2;
-        if (cdf[mid] <= x)
+        if ((double)cdf[mid] <= x)
             lo = mid;
         else
             hi = mid;
@@ -234,23 +255,23 @@ static uint32_t find_double(const double *cdf, uint32_t n, double x)
 /* The density of image point (x, y) (a texel) over the unit square. */
 static double texel_density(const Environment *e, uint32_t x, uint32_t y)
 {
-    const double *col = &e->cols[(size_t)y * (e->w + 1)];
-    return (e->rows[y + 1] - e->rows[y]) * (col[x + 1] - col[x]) * e->w * e->h;
+    const float *col = &e->cols[(size_t)y * (e->w + 1)];
+    return ((double)e->rows[y + 1] - (double)e->rows[y]) * ((double)col[x + 1] - (double)col[x]) * e->w * e->h;
 }
 
 int environment_sample(const Environment *e, real u1, real u2, vec3 *dir, vec3 *light, real *pdf)
 {
     if (!(e->total > 0.0))
         return 0;
-    const uint32_t y = find_double(e->rows, e->h, (double)u1);
-    const double ry = e->rows[y + 1] - e->rows[y];
-    const double fy = ry > 0.0 ? ((double)u1 - e->rows[y]) / ry : 0.5;
-    const double *col = &e->cols[(size_t)y * (e->w + 1)];
-    const uint32_t x = find_double(col, e->w, (double)u2);
-    const double rx = col[x + 1] - col[x];
-    const double fx = rx > 0.0 ? ((double)u2 - col[x]) / rx : 0.5;
+    const uint32_t y = find(e->rows, e->h, (double)u1);
+    const double ry = (double)e->rows[y + 1] - (double)e->rows[y];
+    const double fy = ry > 0.0 ? ((double)u1 - (double)e->rows[y]) / ry : 0.5;
+    const float *col = &e->cols[(size_t)y * (e->w + 1)];
+    const uint32_t x = find(col, e->w, (double)u2);
+    const double rx = (double)col[x + 1] - (double)col[x];
+    const double fx = rx > 0.0 ? ((double)u2 - (double)col[x]) / rx : 0.5;
     const double t = (y + fmin(fmax(fy, 0.0), 1.0)) / e->h, u = (x + fmin(fmax(fx, 0.0), 1.0)) / e->w;
-    /* env_dir's direction in the precision of the rays, its sine kept */
+    /* the direction of (u, t) in the precision of the rays, its sine kept */
     const real theta = (real)(t * PI), phi = (real)((u - (double)e->turn - 0.5) * 2.0 * PI);
     const real sn = sin(theta), cs = cos(theta);
     const double density = texel_density(e, x, y);

@@ -32,23 +32,26 @@
 
 typedef struct {
     uint32_t w, h;
-    float *light;    /* w x h x 3: the image's light times the strength, top row first */
-    real turn;       /* the turn about +y as a fraction of a circle */
-    double *rows;    /* h + 1: the rows' cumulative shares, 0 to 1 */
-    double *cols;    /* h x (w + 1): each row's texels' cumulative shares, 0 to 1 */
-    double total;    /* the sum of the texels' weights: 0 where the image is black */
-    double sh[9][3]; /* the irradiance's spherical harmonics, each band's convolution applied
-                      * (without the sun's texels where it has one) */
+    const float *hdr;      /* the texture's light (Texture.hdr), or NULL: */
+    const uint8_t *codes;  /* its sRGB codes (level 0), both borrowed: no copy a client */
+    real gain;             /* the strength, held so that no texel's light passes ENV_MAX_LIGHT */
+    real turn;             /* the turn about +y as a fraction of a circle */
+    float *rows;           /* h + 1: the rows' cumulative shares, 0 to 1 */
+    float *cols;           /* h x (w + 1): each row's texels' cumulative shares, 0 to 1 */
+    double total;          /* the sum of the texels' weights: 0 where the image is black */
+    double sh[9][3];       /* the irradiance's spherical harmonics, each band's convolution applied
+                            * (without the sun's texels where it has one) */
     int has_sun;
-    vec3 sun_dir;    /* towards the sun: its texels' directions weighed by their light */
-    vec3 sun_light;  /* its irradiance head on over pi: a directional light's colour */
-    double sun_peak; /* its brightest texel's light (0: no sun) ... */
-    vec3 sun_at;     /* ... and direction: which texels are the sun's */
+    vec3 sun_dir;          /* towards the sun: its texels' directions weighed by their light */
+    vec3 sun_light;        /* its irradiance head on over pi: a directional light's colour */
+    double sun_peak;       /* its brightest texel's light (0: no sun) ... */
+    vec3 sun_at;           /* ... and direction: which texels are the sun's */
 } Environment;
 
 /* The environment of texture t (its .hdr light where it has one, else its
- * sRGB colours), times strength, turned by rotate degrees about +y; NULL
- * with err set when out of memory. */
+ * sRGB colours), times strength, turned by rotate degrees about +y; it
+ * reads t's texels, which must outlive it (a world's, its description's
+ * texture).  NULL with err set when out of memory. */
 Environment *environment_create(const Texture *t, real strength, real rotate, Err *err);
 void environment_destroy(Environment *e);
 
