@@ -482,7 +482,7 @@ static int apply_overrides(Scene *scene, const Args *a, Err *err)
     }
     scene->settings.linear = a->linear;
     scene->settings.hdr = a->hdr;
-    return cli_put_environment(scene, &a->env, err);
+    return cli_put_environment(scene, &a->env, a->scene_path, err);
 }
 
 /* The scene, with the command line's settings over its own, and the frame

@@ -358,7 +358,7 @@ static int job_open(Job *j, Args *a, Err *err)
         return 1;
     }
     int rc = apply_settings(j->scene, a);
-    if (rc == 0 && cli_put_environment(j->scene, &a->env, err)) {
+    if (rc == 0 && cli_put_environment(j->scene, &a->env, a->scene_path, err)) {
         fprintf(stderr, "lanray-render: %s\n", err->msg);
         rc = 1;
     }

@@ -92,7 +92,7 @@ int cli_open_scene(const char *path, const BvhOptions *bvh, int force, Scene **o
     return scene_load(path, bvh, force, out, err);
 }
 
-int cli_put_environment(Scene *s, const CliEnvironment *e, Err *err)
+int cli_put_environment(Scene *s, const CliEnvironment *e, const char *path, Err *err)
 {
     if (e->file) {
         Texture *t;
@@ -100,6 +100,10 @@ int cli_put_environment(Scene *s, const CliEnvironment *e, Err *err)
         if (scene_add_source(s, e->file, err) || texture_read(e->file, &t, err) || scene_add_texture(s, t, &id, err))
             return err_prefix(err, "--environment");
         s->environment = (SceneEnvironment){.texture = (int32_t)id, .strength = R(1), .rotate = R(0)};
+        if (path && model_load_knows(path)) { /* a model's preview: lit by the environment alone */
+            s->light_count = 0;
+            s->ambient = v3_splat(R(0));
+        }
     }
     if ((e->strength_given || e->rotate_given) && s->environment.texture < 0)
         return err_set(err, "--environment-strength and --environment-rotate change an environment, and the scene has "

@@ -122,6 +122,14 @@ grep -q "the scene has none: give --environment FILE" "$dir/no.log" || fail "--e
     fail "a missing --environment file was accepted"
 grep -q -- "--environment: .*nothere.hdr" "$dir/no.log" || fail "a missing --environment file: $(cat "$dir/no.log")"
 [ ! -e "$dir/no.png" ] || fail "a refused --environment left an image"
+# a model's preview under --environment is lit by it alone: in a grey
+# furnace the cube's two sides seen alike (its two lights made them differ)
+"$BIN/lanray-render" models/cube.obj --environment "$dir/grey.hdr" --width 64 --height 48 --aa 1 --linear \
+    -o "$dir/cube.png" --quiet >/dev/null 2>&1 || fail "a preview under --environment"
+got=$(python3 tests/tools/pngpixel.py "$dir/cube.png" 20 30 40 30 2 2 | tr '\n' ' ')
+set -- $got
+[ "$1 $2 $3" = "$4 $5 $6" ] && [ "$7 $8 $9" = "128 128 128" ] ||
+    fail "a cube's preview in a grey furnace: its sides and the background should be the furnace's alone: $got"
 # a server puts it around its scene as lanray-render does
 "$BIN/lanray-render" "$dir/bare.scene" --environment "$dir/sky.hdr" --width 64 --height 64 --aa 1 -o "$dir/bare-sky.png" \
     --quiet >/dev/null 2>&1 || fail "render bare + sky"
