@@ -25,19 +25,38 @@ static const uint8_t *glb_json(const uint8_t *b, size_t len, size_t *json_len)
     return b + sizeof head;
 }
 
-static json_object *member(json_object *o, const char *key)
+json_object *gltf_json_parse(const uint8_t *bytes, size_t len, int glb)
+{
+    size_t n = len;
+    const uint8_t *text = glb ? glb_json(bytes, len, &n) : bytes;
+    if (!text || n == 0 || n > INT_MAX)
+        return NULL;
+    json_tokener *tok = json_tokener_new();
+    if (!tok)
+        return NULL;
+    json_object *root = json_tokener_parse_ex(tok, (const char *)text, (int)n);
+    if (json_tokener_get_error(tok) != json_tokener_success) {
+        json_object_put(root);
+        root = NULL;
+    }
+    json_tokener_free(tok);
+    return root;
+}
+
+json_object *gltf_member(json_object *o, const char *key)
 {
     json_object *v = NULL;
     return o && json_object_is_type(o, json_type_object) && json_object_object_get_ex(o, key, &v) ? v : NULL;
 }
 
-static int number(json_object *v, double *out)
+int gltf_number(json_object *v, double *out)
 {
     if (!v || !(json_object_is_type(v, json_type_double) || json_object_is_type(v, json_type_int)))
         return 0;
     *out = json_object_get_double(v);
     return isfinite(*out);
 }
+
 
 /* n numbers of array a into out, where a is an array of at least n
  * numbers that a float holds; else out keeps its defaults (a number past
@@ -50,7 +69,7 @@ static void numbers(json_object *a, int n, float *out)
     float v[4];
     for (int k = 0; k < n; k++) {
         double d;
-        if (!number(json_object_array_get_idx(a, (size_t)k), &d) || fabs(d) > (double)FLT_MAX)
+        if (!gltf_number(json_object_array_get_idx(a, (size_t)k), &d) || fabs(d) > (double)FLT_MAX)
             return;
         v[k] = (float)d;
     }
@@ -61,23 +80,23 @@ static void numbers(json_object *a, int n, float *out)
 static int material_read(json_object *o, GltfMaterial *m)
 {
     *m = (GltfMaterial){.emissive = {0, 0, 0}, .base = {1, 1, 1}, .strength = 1, .specular = 1};
-    json_object *name = member(o, "name");
+    json_object *name = gltf_member(o, "name");
     m->name = strdup(name && json_object_is_type(name, json_type_string) ? json_object_get_string(name) : "");
     if (!m->name)
         return -1;
-    numbers(member(o, "emissiveFactor"), 3, m->emissive);
-    numbers(member(member(o, "pbrMetallicRoughness"), "baseColorFactor"), 3, m->base);
+    numbers(gltf_member(o, "emissiveFactor"), 3, m->emissive);
+    numbers(gltf_member(gltf_member(o, "pbrMetallicRoughness"), "baseColorFactor"), 3, m->base);
     double s;
-    if (number(member(member(member(o, "extensions"), "KHR_materials_emissive_strength"), "emissiveStrength"), &s) &&
+    if (gltf_number(gltf_member(gltf_member(gltf_member(o, "extensions"), "KHR_materials_emissive_strength"), "emissiveStrength"), &s) &&
         s >= 0 && s <= 1e30)
         m->strength = (float)s;
-    json_object *spec = member(member(o, "extensions"), "KHR_materials_specular");
+    json_object *spec = gltf_member(gltf_member(o, "extensions"), "KHR_materials_specular");
     if (spec) { /* glTF's defaults: factor 1, colour factor 1 1 1 */
         double f = 1;
         float c[3] = {1, 1, 1};
-        if (!number(member(spec, "specularFactor"), &f) || f < 0 || f > 1)
+        if (!gltf_number(gltf_member(spec, "specularFactor"), &f) || f < 0 || f > 1)
             f = 1;
-        numbers(member(spec, "specularColorFactor"), 3, c);
+        numbers(gltf_member(spec, "specularColorFactor"), 3, c);
         const float cmax = fmaxf(c[0], fmaxf(c[1], c[2]));
         m->specular = (float)f * (isfinite(cmax) && cmax >= 0 && cmax <= 1e6f ? cmax : 1);
     }
@@ -87,15 +106,8 @@ static int material_read(json_object *o, GltfMaterial *m)
 void gltf_materials_read(const uint8_t *bytes, size_t len, int glb, GltfMaterials *out)
 {
     memset(out, 0, sizeof *out);
-    size_t n = len;
-    const uint8_t *text = glb ? glb_json(bytes, len, &n) : bytes;
-    if (!text || n == 0 || n > INT_MAX)
-        return;
-    json_tokener *tok = json_tokener_new();
-    if (!tok)
-        return;
-    json_object *root = json_tokener_parse_ex(tok, (const char *)text, (int)n);
-    json_object *mats = json_tokener_get_error(tok) == json_tokener_success ? member(root, "materials") : NULL;
+    json_object *root = gltf_json_parse(bytes, len, glb);
+    json_object *mats = gltf_member(root, "materials");
     size_t count = mats && json_object_is_type(mats, json_type_array) ? json_object_array_length(mats) : 0;
     out->m = count ? calloc(count, sizeof *out->m) : NULL;
     for (size_t i = 0; out->m && i < count; i++) {
@@ -105,7 +117,6 @@ void gltf_materials_read(const uint8_t *bytes, size_t len, int glb, GltfMaterial
         out->n++;
     }
     json_object_put(root);
-    json_tokener_free(tok);
 }
 
 /* Whether two of Assimp's floats and the file's are one number (each read

@@ -44,4 +44,13 @@ const GltfMaterial *gltf_material_of(const GltfMaterials *gm, const char *name, 
 
 void gltf_materials_free(GltfMaterials *gm);
 
+/* The JSON of a glTF's bytes (as gltf_materials_read takes them), parsed
+ * by json-c (json_object_put it); NULL where there is none. */
+struct json_object;
+struct json_object *gltf_json_parse(const uint8_t *bytes, size_t len, int glb);
+/* Object o's member key, or NULL (o NULL or not an object too). */
+struct json_object *gltf_member(struct json_object *o, const char *key);
+/* A finite number v into *out: 1, else 0. */
+int gltf_number(struct json_object *v, double *out);
+
 #endif

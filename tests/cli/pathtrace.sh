@@ -221,6 +221,23 @@ fg_err=$err
 # noise halves).  Before 2026-11-29 lanray had no environment.
 against_cycles environment 16 0.03 "an environment"
 ev_err=$err
+# a glTF scene as Blender exports one (tests/data/gltf/lit.glb, made by
+# tools/bench/make-lit-glb: a ball and a box on a floor under a point lamp
+# and a sun, its camera): lanray-render's preview of the file takes its
+# camera and its lights (KHR_lights_punctual, candela and lux), within 1%
+# in 4x4 blocks of Cycles' frame of the same file through Blender's own
+# importer (its diffuse materials Lambert's, glTF's BRDF: scene2cycles
+# --lambert 1; 4096 samples), light within 1% (0.28%, 1.002 at 64
+# samples).  Before 2026-11-29 the preview framed the model itself under
+# two lamps of its own.
+gl_err="(not measured under a sanitizer)"
+if [ "$sanitized" = 0 ]; then
+    "$BIN/lanray-render" tests/data/gltf/lit.glb --integrator path --aa 8 --width 96 --height 72 -o "$dir/lit.hdr" \
+        --quiet >/dev/null || fail "lit.glb did not render"
+    IFS=, read -r gl_err gl_ratio <<<"$("$BIN/lanray-imgdiff" --relative --block 4 --csv "$dir/lit.hdr" tests/data/cycles/lit-96.hdr)"
+    python3 -c "import sys; sys.exit(0 if $gl_err <= 0.01 and abs($gl_ratio - 1) <= 0.01 else 1)" ||
+        fail "a Blender-exported glTF's camera and lights: $gl_err from Cycles' (light ratio $gl_ratio)"
+fi
 # a smooth coat over a rough metal reflects sharply: its mirror is not
 # bent by the metal's roughness (a metal of 0.1% under it: the picture is
 # the coat's alone within RMSE 5; bent with it, as before, RMSE 14.4)
@@ -477,4 +494,4 @@ start_server room "$dir/room.scene" --port 0 --width 64 --height 64 --aa 2 --fra
     --out "$dir/f-room"
 clients_until_done 2 1
 wait "$server_pid" || fail "the path-traced frame through 2 clients differs from lanray-render's (server exit $?)"
-echo "pathtrace: the Cornell box $cb_err from Cycles' (4x4 blocks, light ratio $cb_ratio); a scanned dragon $dr_err; a normal-mapped ball $nm_err; rough metals $mt_err; edged metals $eg_err; frosted glass $fg_err; an environment $ev_err; white furnace under MIS within $fur_err (6x6 blocks, light ratio $fur_ratio); emitters by NEE alone and by bounces alone = MIS (6x6 blocks: error $nee_err and $bsdf_err, light ratio $nee_ratio and $bsdf_ratio); a glass ball's darkest pixel $blo; a white furnace of diffuse spheres, coarse balls of smooth triangles (white and a mirror), a mirror, glass, a mirror over glass, a see-through diffuse veil and a metal with a highlight and a smooth clear coat come out 1 (codes $lo to $hi at exposure -1; rough white metals $ml and $mr (127.5; single scattering alone 118 and 92), frosted glass $gl and $gr, a rough coat $clo to $chi, its direct light Whitted's within $ag_err, coats $co_err from Cycles' (uncoated $un_err), a smooth coat over a rough metal sharp (RMSE $sh_rmse); the highlight shows a point light: $shi, without it $dhi, frosted glass $fhi, clear $chi2; frosted glass under Whitted the path integrator's within $fw_err (clear $cw_err); a grey room's $glo); a point light through a see-through blend $vl of $vr (Whitted $wl of $wr); the floor under an emissive sphere follows the inverse-square law (code $lmean, 127.5 expected; Whitted $whi); a path-traced frame through 2 clients = lanray-render's"
+echo "pathtrace: the Cornell box $cb_err from Cycles' (4x4 blocks, light ratio $cb_ratio); a scanned dragon $dr_err; a normal-mapped ball $nm_err; rough metals $mt_err; edged metals $eg_err; frosted glass $fg_err; an environment $ev_err; a Blender-exported glTF's camera and lights $gl_err; white furnace under MIS within $fur_err (6x6 blocks, light ratio $fur_ratio); emitters by NEE alone and by bounces alone = MIS (6x6 blocks: error $nee_err and $bsdf_err, light ratio $nee_ratio and $bsdf_ratio); a glass ball's darkest pixel $blo; a white furnace of diffuse spheres, coarse balls of smooth triangles (white and a mirror), a mirror, glass, a mirror over glass, a see-through diffuse veil and a metal with a highlight and a smooth clear coat come out 1 (codes $lo to $hi at exposure -1; rough white metals $ml and $mr (127.5; single scattering alone 118 and 92), frosted glass $gl and $gr, a rough coat $clo to $chi, its direct light Whitted's within $ag_err, coats $co_err from Cycles' (uncoated $un_err), a smooth coat over a rough metal sharp (RMSE $sh_rmse); the highlight shows a point light: $shi, without it $dhi, frosted glass $fhi, clear $chi2; frosted glass under Whitted the path integrator's within $fw_err (clear $cw_err); a grey room's $glo); a point light through a see-through blend $vl of $vr (Whitted $wl of $wr); the floor under an emissive sphere follows the inverse-square law (code $lmean, 127.5 expected; Whitted $whi); a path-traced frame through 2 clients = lanray-render's"
