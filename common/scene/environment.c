@@ -88,28 +88,40 @@ static int env_find_sun(Environment *e, const Grid *g)
                 peak = l, px = x, py = y;
         }
     }
-    if (!(peak > ENV_SUN_CONTRAST * power / (4.0 * PI)))
+    if (!(peak > ENV_SUN_CONTRAST * power / (4.0 * PI)) ||
+        !(e->sun_mask = calloc(((size_t)w * h + 7) / 8, 1))) /* (out of memory: no sun of its own) */
         return 0;
     e->sun_peak = peak;
     e->sun_at = grid_dir(g, px, sin((py + 0.5) / h * PI), cos((py + 0.5) / h * PI));
-    double d[3] = {0, 0, 0}, s[3] = {0, 0, 0};
+    double d[3] = {0, 0, 0}, s[3] = {0, 0, 0}, fill[4] = {0, 0, 0, 0};
+    const double ring = cos(2.0 * ENV_SUN_DEGREES * PI / 180.0);
     for (uint32_t y = 0; y < h; y++) {
         const double dw = texel_solid_angle(e, y, g->rings), sn = sin((y + 0.5) / h * PI), cs = cos((y + 0.5) / h * PI);
         for (uint32_t x = 0; x < w; x++) {
             real c[3];
-            texel(e, (size_t)y * w + x, c);
+            const size_t i = (size_t)y * w + x;
+            texel(e, i, c);
             const vec3 dir = grid_dir(g, x, sn, cs);
-            if (!sun_texel(e, c, dir))
+            if (!sun_texel(e, c, dir)) { /* the sky round it: what stands in for it */
+                if ((double)v3_dot(dir, e->sun_at) >= ring)
+                    for (int k = 0; k < 4; k++)
+                        fill[k] += (k < 3 ? (double)c[k] : 1.0) * dw;
                 continue;
+            }
+            e->sun_mask[i / 8] |= (uint8_t)(1u << (i % 8));
             for (int k = 0; k < 3; k++) {
                 d[k] += texel_weight(c) * dw * (double)dir.e[k];
                 s[k] += (double)c[k] * dw / PI;
             }
         }
     }
+    for (int k = 0; k < 3; k++)
+        e->sun_fill[k] = fill[3] > 0.0 ? (real)(fill[k] / fill[3]) : R(0);
     const double n = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
     if (!(n > 0.0)) {
         e->sun_peak = 0.0;
+        free(e->sun_mask);
+        e->sun_mask = NULL;
         return 0;
     }
     e->sun_dir = v3((real)(d[0] / n), (real)(d[1] / n), (real)(d[2] / n));
@@ -207,12 +219,13 @@ void environment_destroy(Environment *e)
         return;
     free(e->rows);
     free(e->cols);
+    free(e->sun_mask);
     free(e);
 }
 
 /* The light at image point (u, t), each in [0, 1]: bilinear between texel
  * centres, across the seam in u, held at the poles in t. */
-static vec3 light_at(const Environment *e, real u, real t)
+static vec3 light_at(const Environment *e, real u, real t, int sunless)
 {
     const real fx = u * (real)e->w - R(0.5), fy = t * (real)e->h - R(0.5);
     const real x0f = floor(fx), y0f = floor(fy), ax = fx - x0f, ay = fy - y0f;
@@ -220,8 +233,17 @@ static vec3 light_at(const Environment *e, real u, real t)
     const uint32_t xa = x0 < 0 ? e->w - 1 : (uint32_t)x0, xb = xa + 1 < e->w ? xa + 1 : 0;
     const uint32_t ya = y0 < 0 ? 0 : (uint32_t)y0, yb = y0 + 1 >= (int64_t)e->h ? e->h - 1 : (uint32_t)(y0 + 1);
     real p00[3], p01[3], p10[3], p11[3];
-    texel(e, (size_t)ya * e->w + xa, p00), texel(e, (size_t)ya * e->w + xb, p01);
-    texel(e, (size_t)yb * e->w + xa, p10), texel(e, (size_t)yb * e->w + xb, p11);
+    const size_t i00 = (size_t)ya * e->w + xa, i01 = (size_t)ya * e->w + xb, i10 = (size_t)yb * e->w + xa,
+                 i11 = (size_t)yb * e->w + xb;
+    texel(e, i00, p00), texel(e, i01, p01), texel(e, i10, p10), texel(e, i11, p11);
+    if (sunless && e->sun_mask) {
+        const size_t at[4] = {i00, i01, i10, i11};
+        real *p[4] = {p00, p01, p10, p11};
+        for (int q = 0; q < 4; q++)
+            if (e->sun_mask[at[q] / 8] >> (at[q] % 8) & 1)
+                for (int k = 0; k < 3; k++)
+                    p[q][k] = e->sun_fill[k];
+    }
     vec3 c;
     for (int k = 0; k < 3; k++) {
         const real top = (R(1) - ax) * p00[k] + ax * p01[k], bottom = (R(1) - ax) * p10[k] + ax * p11[k];
@@ -234,7 +256,14 @@ vec3 environment_radiance(const Environment *e, vec3 d)
 {
     real u, t;
     env_uv(e, d, &u, &t);
-    return light_at(e, u, t);
+    return light_at(e, u, t, 0);
+}
+
+vec3 environment_radiance_sunless(const Environment *e, vec3 d)
+{
+    real u, t;
+    env_uv(e, d, &u, &t);
+    return light_at(e, u, t, 1);
 }
 
 /* The first i of the n + 1 ascending cdf values with cdf[i] <= x < cdf[i + 1]
@@ -279,7 +308,7 @@ int environment_sample(const Environment *e, real u1, real u2, vec3 *dir, vec3 *
         return 0;
     *dir = v3(sn * cos(phi), cs, sn * sin(phi));
     *pdf = (real)(density / (2.0 * PI * PI * (double)sn));
-    *light = light_at(e, (real)u, (real)t); /* where it was drawn: no way back from the direction */
+    *light = light_at(e, (real)u, (real)t, 0); /* where it was drawn: no way back from the direction */
     return 1;
 }
 
@@ -296,7 +325,7 @@ vec3 environment_seen(const Environment *e, vec3 d, real *pdf)
         const uint32_t y = (uint32_t)real_min(t * (real)e->h, (real)(e->h - 1));
         *pdf = (real)(texel_density(e, x, y) / (2.0 * PI * PI * sn));
     }
-    return light_at(e, u, t);
+    return light_at(e, u, t, 0);
 }
 
 real environment_pdf(const Environment *e, vec3 d)

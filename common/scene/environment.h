@@ -46,6 +46,8 @@ typedef struct {
     vec3 sun_light;        /* its irradiance head on over pi: a directional light's colour */
     double sun_peak;       /* its brightest texel's light (0: no sun) ... */
     vec3 sun_at;           /* ... and direction: which texels are the sun's */
+    uint8_t *sun_mask;     /* a bit a texel, set for the sun's (NULL without a sun) */
+    real sun_fill[3];      /* the mean light of the texels round the sun, which stands in for it */
 } Environment;
 
 /* The environment of texture t (its .hdr light where it has one, else its
@@ -65,6 +67,12 @@ real environment_pdf(const Environment *e, vec3 d);
 /* Both at once, for a path that leaves the scene along d: the light
  * arriving from d, and the density into *pdf (one look-up of d). */
 vec3 environment_seen(const Environment *e, vec3 d, real *pdf);
+/* The light from d as the Whitted integrator's mirrors and glass see it:
+ * its sun's texels (where it has one: a light of its own, whose highlight
+ * stands for its reflection, as for every light) filled with the sky
+ * round the sun.  Without this a rough metal's rays that met the sun were
+ * sparkles, and an imported metal's highlight showed the sun twice. */
+vec3 environment_radiance_sunless(const Environment *e, vec3 d);
 /* What a white diffuse surface of normal n (unit) shows of it, unshadowed:
  * its irradiance / pi (less the sun's, where it has one). */
 vec3 environment_diffuse(const Environment *e, vec3 n);

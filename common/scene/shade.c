@@ -216,6 +216,11 @@ typedef struct {
     vec3 kd, col, view, origin, origin_ps; /* where light rays leave: off p, and a smooth triangle's off ps */
     vec3 ke; /* what the surface emits here (trace_emission) */
     int phong;
+    /* a rough metal without a Phong highlight: the lights' highlight is
+     * its GGX lobe (the path integrator's); its colour and rim */
+    int rough_metal;
+    real metal_alpha;
+    vec3 metal_kr, metal_kme;
     real coat;     /* a clear coat's share of the light here (dielectric_coat_share), 0 without one */
     real coat_alpha; /* and its GGX width */
     uint32_t lit;
@@ -242,6 +247,14 @@ static inline __attribute__((always_inline)) void add_light(Shading *sh, vec3 L,
         if (rv > R(0)) /* under a coat, what it lets through */
             sh->col = v3_add(sh->col, v3_scale(v3_mul(sh->sf.mat->ks, rad),
                                                pow(rv, sh->sf.mat->shininess) * (optional ? R(1) - sh->coat : R(1))));
+    }
+    if (optional && sh->rough_metal) { /* a rough metal's: its GGX lobe, as its rays' (rough_reflection) */
+        real pdf;
+        const real f = ggx_eval(sh->sf.ns, sh->view, L, sh->metal_alpha, &pdf) * REAL_PI * (R(1) - sh->coat);
+        vec3 k = sh->metal_kr;
+        if (material_edged(sh->sf.mat))
+            k = v3_add(k, v3_scale(sh->metal_kme, ggx_schlick_gain(sh->view, L)));
+        sh->col = v3_add(sh->col, v3_scale(v3_mul(k, rad), f));
     }
     if (optional && sh->coat > R(0)) { /* the coat's highlight: the path integrator's GGX lobe (lobes.h) */
         real pdf;
@@ -306,6 +319,14 @@ static inline __attribute__((always_inline)) void shade_start(const World *w, co
     if (optional && sh->sf.aotex) /* an occlusion texture: crevices take less of the ambient light */
         sh->col = v3_scale(sh->col, trace_occlusion(&sh->sf, sh->rd ? &fp : NULL));
     sh->phong = w->view.settings.shading == SHADE_PHONG && v3_max_comp(m->ks) > R(0);
+    /* a rough metal without a Phong highlight of its own (`specular`: a
+     * scene's that asks for one, an imported metal's keep it) */
+    sh->rough_metal = optional && world_uses(w, FEAT_ROUGH) && w->view.settings.shading == SHADE_PHONG &&
+                      material_rough(m) && !material_dielectric(m) && !sh->phong;
+    if (sh->rough_metal) {
+        sh->metal_alpha = ggx_alpha(m->roughness);
+        sh->metal_kr = ggx_metal_of(m, v3_dot(sh->sf.ns, sh->view), &sh->metal_kme);
+    }
     sh->origin = sh->origin_ps = sh->sf.p;
     if (world_has(w, FEAT_SHADOWS)) { /* every light ray leaves on the viewer's side, a smooth triangle's towards
                                        * its point lifted onto the curved surface as the light grazes its facet
@@ -630,7 +651,7 @@ static vec3 shade_beyond(const World *w, int i, const Shading *sh, int depth, ve
         const DepthLimit lim = w->view.settings.depth_limit;
         vec3 seen = lim == LIMIT_BACKGROUND ? w->background : lim == LIMIT_AMBIENT ? w->ambient : sh->irr;
         if (lim == LIMIT_BACKGROUND && w->env) /* what the environment shows the reflected ray */
-            seen = environment_radiance(w->env, trace_reflected(v3_neg(sh->view), sf));
+            seen = environment_radiance_sunless(w->env, trace_reflected(v3_neg(sh->view), sf));
         if (reflects)
             col = v3_add(col, v3_scale(v3_mul(kr, seen), R(1) - sh->coat));
         if (coat > R(0))
@@ -1127,7 +1148,10 @@ static inline __attribute__((always_inline)) void shade_rays_at(const World *w, 
             __builtin_prefetch(&w->models[w->instances[hits[i].index].model]->tris[hits[i].sub]);
     for (int i = 0; i < n; i++) {
         if (hits[i].kind == HIT_NONE) {
-            out[i] = w->env ? environment_radiance(w->env, rays[i].dir) : w->background;
+            /* (mirrors and glass see the sky without its sun, a light of its own here) */
+            out[i] = !w->env ? w->background
+                     : depth == 0 ? environment_radiance(w->env, rays[i].dir)
+                                  : environment_radiance_sunless(w->env, rays[i].dir);
             if (keys)
                 keys[i] = UINT64_MAX;
             continue;

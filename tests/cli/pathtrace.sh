@@ -303,6 +303,19 @@ S
 IFS=, read -r ag_err ag_ratio <<<"$("$BIN/lanray-imgdiff" --relative --csv "$dir/agree-p.hdr" "$dir/agree-w.hdr")"
 python3 -c "import sys; sys.exit(0 if $ag_err <= 1e-4 and abs($ag_ratio - 1) <= 1e-4 else 1)" ||
     fail "a rough coat's direct light: path $ag_err from Whitted's (light ratio $ag_ratio)"
+# so is a rough metal's without a `specular` of its own (a plain gold and
+# a steel with a rim): since 2026-11-29 the Whitted integrator's highlight
+# of such a metal is its GGX lobe, as its rays' and the path integrator's,
+# where it had none (a Phong `specular`, an imported metal's, stays)
+sed -e 's/^material satin .*/material satin reflect 1 0.78 0.34 roughness 0.4/' \
+    -e 's/^sphere centre 0 0 0 radius 1 material satin/sphere centre -0.55 0 0 radius 0.5 material satin\nmaterial steel reflect 0.2 0.2 0.22 roughness 0.25 reflect_edge 1 1 1\nsphere centre 0.55 0 0 radius 0.5 material steel/' \
+    "$dir/agree.scene" >"$dir/metal.scene"
+"$BIN/lanray-render" "$dir/metal.scene" -o "$dir/metal-w.hdr" --quiet >/dev/null &&
+    "$BIN/lanray-render" "$dir/metal.scene" --integrator path -o "$dir/metal-p.hdr" --quiet >/dev/null ||
+    fail "metal.scene did not render"
+IFS=, read -r mg_err mg_ratio <<<"$("$BIN/lanray-imgdiff" --relative --csv "$dir/metal-p.hdr" "$dir/metal-w.hdr")"
+python3 -c "import sys; sys.exit(0 if $mg_err <= 1e-4 and abs($mg_ratio - 1) <= 1e-4 else 1)" ||
+    fail "a rough metal's direct light: path $mg_err from Whitted's (light ratio $mg_ratio)"
 # frosted glass is the same under both integrators where what it shows
 # is emission alone (stripes behind a frosted ball, no light, no cutoff):
 # the Whitted integrator's rough_samples^2 facets a pixel against the
@@ -494,4 +507,4 @@ start_server room "$dir/room.scene" --port 0 --width 64 --height 64 --aa 2 --fra
     --out "$dir/f-room"
 clients_until_done 2 1
 wait "$server_pid" || fail "the path-traced frame through 2 clients differs from lanray-render's (server exit $?)"
-echo "pathtrace: the Cornell box $cb_err from Cycles' (4x4 blocks, light ratio $cb_ratio); a scanned dragon $dr_err; a normal-mapped ball $nm_err; rough metals $mt_err; edged metals $eg_err; frosted glass $fg_err; an environment $ev_err; a Blender-exported glTF's camera and lights $gl_err; white furnace under MIS within $fur_err (6x6 blocks, light ratio $fur_ratio); emitters by NEE alone and by bounces alone = MIS (6x6 blocks: error $nee_err and $bsdf_err, light ratio $nee_ratio and $bsdf_ratio); a glass ball's darkest pixel $blo; a white furnace of diffuse spheres, coarse balls of smooth triangles (white and a mirror), a mirror, glass, a mirror over glass, a see-through diffuse veil and a metal with a highlight and a smooth clear coat come out 1 (codes $lo to $hi at exposure -1; rough white metals $ml and $mr (127.5; single scattering alone 118 and 92), frosted glass $gl and $gr, a rough coat $clo to $chi, its direct light Whitted's within $ag_err, coats $co_err from Cycles' (uncoated $un_err), a smooth coat over a rough metal sharp (RMSE $sh_rmse); the highlight shows a point light: $shi, without it $dhi, frosted glass $fhi, clear $chi2; frosted glass under Whitted the path integrator's within $fw_err (clear $cw_err); a grey room's $glo); a point light through a see-through blend $vl of $vr (Whitted $wl of $wr); the floor under an emissive sphere follows the inverse-square law (code $lmean, 127.5 expected; Whitted $whi); a path-traced frame through 2 clients = lanray-render's"
+echo "pathtrace: the Cornell box $cb_err from Cycles' (4x4 blocks, light ratio $cb_ratio); a scanned dragon $dr_err; a normal-mapped ball $nm_err; rough metals $mt_err; edged metals $eg_err; frosted glass $fg_err; an environment $ev_err; a Blender-exported glTF's camera and lights $gl_err; white furnace under MIS within $fur_err (6x6 blocks, light ratio $fur_ratio); emitters by NEE alone and by bounces alone = MIS (6x6 blocks: error $nee_err and $bsdf_err, light ratio $nee_ratio and $bsdf_ratio); a glass ball's darkest pixel $blo; a white furnace of diffuse spheres, coarse balls of smooth triangles (white and a mirror), a mirror, glass, a mirror over glass, a see-through diffuse veil and a metal with a highlight and a smooth clear coat come out 1 (codes $lo to $hi at exposure -1; rough white metals $ml and $mr (127.5; single scattering alone 118 and 92), frosted glass $gl and $gr, a rough coat $clo to $chi, its direct light Whitted's within $ag_err (rough metals' $mg_err), coats $co_err from Cycles' (uncoated $un_err), a smooth coat over a rough metal sharp (RMSE $sh_rmse); the highlight shows a point light: $shi, without it $dhi, frosted glass $fhi, clear $chi2; frosted glass under Whitted the path integrator's within $fw_err (clear $cw_err); a grey room's $glo); a point light through a see-through blend $vl of $vr (Whitted $wl of $wr); the floor under an emissive sphere follows the inverse-square law (code $lmean, 127.5 expected; Whitted $whi); a path-traced frame through 2 clients = lanray-render's"
