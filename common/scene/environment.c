@@ -29,6 +29,12 @@ static inline void texel(const Environment *e, size_t i, real c[3])
         c[k] = (e->hdr ? (real)e->hdr[3 * i + k] : (real)srgb_decode8[e->codes[3 * i + k]]) * e->gain;
 }
 
+/* Whether texel i is the sun's (Environment.sun_mask). */
+static inline int sun_masked(const Environment *e, size_t i)
+{
+    return e->sun_mask && (e->sun_mask[i / 8] >> (i % 8) & 1);
+}
+
 /* The weight a texel's light gives its solid angle: its channels' mean. */
 static double texel_weight(const real *c) { return ((double)c[0] + (double)c[1] + (double)c[2]) / 3.0; }
 
@@ -149,9 +155,9 @@ static void env_tables(Environment *e, const Grid *g, double *acc, double *row_s
             real c[3];
             texel(e, (size_t)y * w + x, c);
             acc[x + 1] = acc[x] + texel_weight(c) * sn;
-            const vec3 d = grid_dir(g, x, sn, cs);
-            if (sun_texel(e, c, d))
+            if (sun_masked(e, (size_t)y * w + x))
                 continue; /* the sun's: its own light for the Whitted integrator */
+            const vec3 d = grid_dir(g, x, sn, cs);
             double b[9];
             sh_basis(d.x, d.y, d.z, b);
             for (int k = 0; k < 9; k++)
@@ -240,7 +246,7 @@ static vec3 light_at(const Environment *e, real u, real t, int sunless)
         const size_t at[4] = {i00, i01, i10, i11};
         real *p[4] = {p00, p01, p10, p11};
         for (int q = 0; q < 4; q++)
-            if (e->sun_mask[at[q] / 8] >> (at[q] % 8) & 1)
+            if (sun_masked(e, at[q]))
                 for (int k = 0; k < 3; k++)
                     p[q][k] = e->sun_fill[k];
     }
