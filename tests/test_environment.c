@@ -205,6 +205,38 @@ static void a_sun_is_found_and_taken_out_of_the_harmonics(void **state)
     texture_destroy(flat);
 }
 
+/* 1 x 1, 1 x 2, 3 x 1 and 2 x 2 images (a sun among them): every look-up,
+ * draw and density finite, the density still integrating to 1. */
+static void the_smallest_images_hold(void **state)
+{
+    (void)state;
+    const uint32_t sizes[4][2] = {{1, 1}, {1, 2}, {3, 1}, {2, 2}};
+    for (int s = 0; s < 4; s++) {
+        Err err;
+        Texture *t = light_texture(sizes[s][0], sizes[s][1], sky);
+        Environment *e = environment_create(t, R(1), R(-725), &err);
+        assert_non_null(e);
+        double sum = 0.0;
+        const int n = 1 << 14;
+        for (int i = 0; i < n; i++) {
+            real u, v, pdf;
+            vec3 d, l;
+            sample_sobol2((uint32_t)i, 5u, &u, &v);
+            const vec3 dir = sphere_dir(u, v);
+            sum += (double)environment_pdf(e, dir) * 4.0 * 3.14159265358979323846 / n;
+            const vec3 c = v3_add(environment_radiance(e, dir), v3_add(environment_radiance_sunless(e, dir),
+                                                                        environment_diffuse(e, dir)));
+            assert_true(v3_is_finite(c));
+            if (environment_sample(e, u, v, &d, &l, &pdf))
+                assert_true(v3_is_finite(d) && v3_is_finite(l) && pdf > R(0) && isfinite(pdf));
+        }
+        if (!(fabs(sum - 1.0) < 0.02))
+            fail_msg("%ux%u: the density integrates to %g", sizes[s][0], sizes[s][1], sum);
+        environment_destroy(e);
+        texture_destroy(t);
+    }
+}
+
 static void a_black_image_draws_nothing(void **state)
 {
     (void)state;
@@ -262,6 +294,7 @@ int main(void)
         cmocka_unit_test(a_constant_image_lights_as_its_value),
         cmocka_unit_test(the_turn_moves_the_image_as_a_yaw),
         cmocka_unit_test(a_sun_is_found_and_taken_out_of_the_harmonics),
+        cmocka_unit_test(the_smallest_images_hold),
         cmocka_unit_test(a_black_image_draws_nothing),
         cmocka_unit_test(an_hdr_texture_keeps_light_beyond_white),
     };
