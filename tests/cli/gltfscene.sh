@@ -1,0 +1,51 @@
+#!/usr/bin/env bash
+# A glTF's own camera and lights (model/gltf_scene.h) in a preview of the
+# file: Blender's export of a red ball and a white box on a floor under a
+# point lamp and a sun (tests/data/gltf/lit.glb, tools/bench/make-lit-glb).
+# The frame is the camera's (the ball left of the centre, the box right,
+# the floor below, the preview's grey background above); the sun and the
+# lamp light it (the ball's lit side far brighter than the preview's
+# ambient-free shadow side); the frame's shape the camera's 4:3; every
+# SIMD path the same bytes, and a server with a client lanray-render's.
+# (Against Cycles: tests/cli/pathtrace.sh.)
+set -u
+source tests/tools/server-lib.sh
+glb=tests/data/gltf/lit.glb
+"$BIN/lanray-render" "$glb" --width 64 --height 48 --aa 1 --linear -o "$dir/lit.png" --quiet >"$dir/r.log" 2>&1 ||
+    fail "render: $(cat "$dir/r.log")"
+# the ball (x 20, y 24), the box's lit face (x 44, y 23), the floor (32, 42), the background (32, 2)
+got=$(python3 tests/tools/pngpixel.py "$dir/lit.png" 20 24 44 23 32 42 32 2 | tr '\n' ' ')
+python3 - "$got" <<'PY' || fail "the glTF's camera and lights: ball, box, floor, background: $got"
+import sys
+v = list(map(int, sys.argv[1].split()))
+ball, box, floor, bg = (tuple(v[i:i + 3]) for i in range(0, 12, 3))
+ok = (ball[0] > 2 * ball[1] and ball[0] > 40    # the red ball, lit
+      and min(box) > 40 and max(box) - min(box) < 40  # the white box (the lamp warm)
+      and min(floor) > 20                          # the lit floor
+      and bg == (41, 43, 51))                      # the preview's background (0.16 0.17 0.2)
+sys.exit(0 if ok else 1)
+PY
+# without its lights (the preview's own lamps) the same frame differs
+python3 - "$glb" "$dir/unlit.glb" <<'PY'
+import json, struct, sys
+b = open(sys.argv[1], "rb").read()
+n = struct.unpack("<I", b[12:16])[0]
+j = json.loads(b[20:20 + n])
+j.pop("extensions", None)
+j.pop("extensionsUsed", None)
+for node in j["nodes"]:
+    node.pop("extensions", None)
+t = json.dumps(j).encode()
+t += b" " * ((4 - len(t) % 4) % 4)
+rest = b[20 + n:]
+out = b[:8] + struct.pack("<I", 12 + 8 + len(t) + len(rest)) + struct.pack("<II", len(t), 0x4E4F534A) + t + rest
+open(sys.argv[2], "wb").write(out)
+PY
+"$BIN/lanray-render" "$dir/unlit.glb" --width 64 --height 48 --aa 1 --linear -o "$dir/unlit.png" --quiet >/dev/null 2>&1 ||
+    fail "render without lights"
+cmp -s "$dir/lit.png" "$dir/unlit.png" && fail "the glTF's lights made no difference"
+"$BIN/lanray-render" "$glb" --width 64 --height 48 --aa 1 -o "$dir/lit-1.png" --quiet >/dev/null 2>&1 || fail "render"
+same_on_simd_paths "$glb" "$dir/lit-1.png" 64 48 "the glTF's scene"
+"$BIN/lanray-render" "$glb" --width 64 --height 64 --aa 1 -o "$dir/ref.png" --quiet >/dev/null 2>&1 || fail "reference"
+verify_distributed lit "$glb" "$dir/ref.png" "of the glTF's camera and lights"
+echo "gltfscene: a Blender-exported glTF previewed by its own camera and lights (ball, box, floor, background: $got), on every SIMD path and through a server"
