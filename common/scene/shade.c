@@ -378,7 +378,7 @@ vec3 shade_transmittance(const World *w, const Ray *sr, real tmax, const WorldLi
 }
 
 static void shade_rays(const World *w, const Ray *rays, int n, vec3 *out, RayStats *stats, uint64_t *keys,
-                       const SampleId *ids, const RayDiff *diffs, int depth, const vec3 *weights);
+                       const SampleId *ids, const RayDiff *diffs, int depth, const vec3 *weights, int sunless);
 
 /* A mirrored or refracted ray that a packet's hit sends: the ray `parent`
  * adds factor times what it sees.  The rays a packet sends are traced
@@ -431,7 +431,7 @@ static void spawn_trace(const World *w, const Spawn *sp, int ns, vec3 *out, RayS
             all_rd &= s->has_rd;
         }
         stats->secondary += (uint64_t)q;
-        shade_rays(w, rays, q, col, stats, NULL, ids, all_rd ? diffs : NULL, depth + 1, wt);
+        shade_rays(w, rays, q, col, stats, NULL, ids, all_rd ? diffs : NULL, depth + 1, wt, 0);
         for (int k = 0; k < q; k++) {
             const Spawn *s = &sp[first + k];
             out[s->parent] = v3_add(out[s->parent], v3_mul(s->factor, col[k]));
@@ -541,7 +541,7 @@ static vec3 rough_reflection(const World *w, const Shading *sh, vec3 front, int 
         }
         if (q == TRACE_PACKET || (j == n - 1 && q > 0)) {
             stats->secondary += q;
-            shade_rays(w, rays, (int)q, col, stats, NULL, child, rdp ? diff : NULL, depth + 1, wts);
+            shade_rays(w, rays, (int)q, col, stats, NULL, child, rdp ? diff : NULL, depth + 1, wts, 1);
             for (uint32_t i = 0; i < q; i++) {
                 sum = v3_add(sum, v3_scale(col[i], keep[i]));
                 if (edged)
@@ -606,7 +606,7 @@ static vec3 frosted_glass(const World *w, const Shading *sh, real fr, int depth,
             for (uint32_t i = 0; i < q; i++)
                 wts[i] = v3_scale(v3_mul(weight, kept[i]), share);
             stats->secondary += q;
-            shade_rays(w, rays, (int)q, col, stats, NULL, child, NULL, depth + 1, wts);
+            shade_rays(w, rays, (int)q, col, stats, NULL, child, NULL, depth + 1, wts, 1);
             for (uint32_t i = 0; i < q; i++)
                 sum = v3_add(sum, v3_mul(col[i], kept[i]));
             q = 0;
@@ -651,7 +651,8 @@ static vec3 shade_beyond(const World *w, int i, const Shading *sh, int depth, ve
         const DepthLimit lim = w->view.settings.depth_limit;
         vec3 seen = lim == LIMIT_BACKGROUND ? w->background : lim == LIMIT_AMBIENT ? w->ambient : sh->irr;
         if (lim == LIMIT_BACKGROUND && w->env) /* what the environment shows the reflected ray */
-            seen = environment_radiance_sunless(w->env, trace_reflected(v3_neg(sh->view), sf));
+            seen = material_rough(m) ? environment_radiance_sunless(w->env, trace_reflected(v3_neg(sh->view), sf))
+                                     : environment_radiance(w->env, trace_reflected(v3_neg(sh->view), sf));
         if (reflects)
             col = v3_add(col, v3_scale(v3_mul(kr, seen), R(1) - sh->coat));
         if (coat > R(0))
@@ -1120,7 +1121,7 @@ void shade_packet(const World *w, const Ray *rays, int n, vec3 *out, RayStats *s
     vec3 ones[TRACE_PACKET];
     for (int i = 0; i < n; i++)
         ones[i] = v3_splat(R(1));
-    shade_rays(w, rays, n, out, stats, keys, ids, diffs, 0, ones);
+    shade_rays(w, rays, n, out, stats, keys, ids, diffs, 0, ones, 0);
 }
 
 /* shade_rays' body; `optional` (a constant in each copy) lets in the paths
@@ -1128,7 +1129,7 @@ void shade_packet(const World *w, const Ray *rays, int n, vec3 *out, RayStats *s
 static inline __attribute__((always_inline)) void shade_rays_at(const World *w, const Ray *rays, int n, vec3 *out,
                                                                 RayStats *stats, uint64_t *keys, const SampleId *ids,
                                                                 const RayDiff *diffs, int depth, const vec3 *weights,
-                                                                const int optional)
+                                                                int sunless, const int optional)
 {
     Hit hits[TRACE_PACKET];
     Shading sh[TRACE_PACKET];
@@ -1148,10 +1149,11 @@ static inline __attribute__((always_inline)) void shade_rays_at(const World *w, 
             __builtin_prefetch(&w->models[w->instances[hits[i].index].model]->tris[hits[i].sub]);
     for (int i = 0; i < n; i++) {
         if (hits[i].kind == HIT_NONE) {
-            /* (mirrors and glass see the sky without its sun, a light of its own here) */
-            out[i] = !w->env ? w->background
-                     : depth == 0 ? environment_radiance(w->env, rays[i].dir)
-                                  : environment_radiance_sunless(w->env, rays[i].dir);
+            /* (a rough metal's and frosted glass's rays see the sky without
+             * its sun, a light of its own here whose lobe shows it) */
+            out[i] = !w->env   ? w->background
+                     : sunless ? environment_radiance_sunless(w->env, rays[i].dir)
+                               : environment_radiance(w->env, rays[i].dir);
             if (keys)
                 keys[i] = UINT64_MAX;
             continue;
@@ -1216,18 +1218,18 @@ static inline __attribute__((always_inline)) void shade_rays_at(const World *w, 
                         FEAT_EMIT | FEAT_AREA | FEAT_ROUGH | FEAT_CHECKER | FEAT_COAT)
 
 static void shade_rays(const World *w, const Ray *rays, int n, vec3 *out, RayStats *stats, uint64_t *keys,
-                       const SampleId *ids, const RayDiff *diffs, int depth, const vec3 *weights)
+                       const SampleId *ids, const RayDiff *diffs, int depth, const vec3 *weights, int sunless)
 {
     if (world_uses(w, SHADE_OPTIONAL))
-        shade_rays_at(w, rays, n, out, stats, keys, ids, diffs, depth, weights, 1);
+        shade_rays_at(w, rays, n, out, stats, keys, ids, diffs, depth, weights, sunless, 1);
     else
-        shade_rays_at(w, rays, n, out, stats, keys, ids, NULL, depth, weights, 0);
+        shade_rays_at(w, rays, n, out, stats, keys, ids, NULL, depth, weights, sunless, 0);
 }
 
 vec3 shade_ray(const World *w, const Ray *r, RayStats *stats, uint64_t *key)
 {
     vec3 c;
     const vec3 one = v3_splat(R(1));
-    shade_rays(w, r, 1, &c, stats, key, NULL, NULL, 0, &one);
+    shade_rays(w, r, 1, &c, stats, key, NULL, NULL, 0, &one, 0);
     return c;
 }
