@@ -47,7 +47,7 @@ static int gltf_camera(Scene *s, const GltfCamera *c)
     return 0;
 }
 
-/* The lights a glTF gives, in lanray's units: a point or spot light of
+/* The lights a glTF gives (those a float holds), in lanray's units: a point or spot light of
  * I candela lights a diffuse surface as lanray's light of intensity
  * I / (683 pi) attenuated (683 lumens a watt; Blender's importer and
  * Cycles agree: scene2cycles), a directional one of E lux as E / (683 pi). */
@@ -59,11 +59,13 @@ static int gltf_lights(Scene *s, const GltfScene *g, Err *err)
         const vec3 pos = v3((real)l->pos[0], (real)l->pos[1], (real)l->pos[2]);
         const vec3 dir = v3((real)l->dir[0], (real)l->dir[1], (real)l->dir[2]);
         const vec3 col = v3((real)l->color[0], (real)l->color[1], (real)l->color[2]);
-        const real power = (real)l->intensity * unit;
+        const real power = (real)(l->intensity * (double)unit);
+        if (!v3_is_finite(pos) || !v3_is_finite(col) || !isfinite(power)) /* past a float's range */
+            continue;
+        const real angle = real_min((real)l->outer * 2 * deg, R(179));
         Light lt = l->kind == GLTF_POINT ? light_point(pos, col, power, 1)
                    : l->kind == GLTF_SPOT
-                       ? light_spot(pos, dir, real_min((real)l->outer * 2 * deg, R(179)),
-                                    (real)(l->outer - l->inner) * deg, col, power, 1)
+                       ? light_spot(pos, dir, angle, real_min((real)(l->outer - l->inner) * deg, angle / 2), col, power, 1)
                        : light_directional(dir, col, power);
         if (scene_add_light(s, lt, err))
             return -1;
