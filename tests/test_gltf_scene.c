@@ -117,7 +117,7 @@ static void a_walk_over_shared_children_ends(void **state)
 /* The preview of a glTF with a camera and lights takes them: its camera
  * where the file's is, looking its way, the file's aspect 1024 wide; its
  * lights in lanray's units (683 candela: an intensity of 1 / pi), no lamp
- * of the preview's own and no ambient light.  The file: a triangle (three
+ * of the preview's own, and the background's light as the ambient.  The file: a triangle (three
  * vertices in a data URI) on a node of its own, scene_json's camera on
  * the turned child, the point light there and the spot. */
 static const char *preview_json =
@@ -169,7 +169,7 @@ static void a_preview_takes_the_files_camera_and_lights(void **state)
     assert_true(close_to(s->lights[0].intensity, 1 / PI, 1e-6) && s->lights[0].attenuate);
     assert_int_equal(s->lights[1].kind, LIGHT_SPOT);
     assert_true(close_to(s->lights[1].angle, 0.8 * 180 / PI, 1e-3) && close_to(s->lights[1].soft, 0.2 * 180 / PI, 1e-3));
-    assert_true(s->ambient.x == R(0));
+    assert_true(s->ambient.x == s->background.x && s->ambient.z == s->background.z);
     scene_destroy(s);
 }
 

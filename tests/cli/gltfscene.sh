@@ -4,8 +4,8 @@
 # point lamp and a sun (tests/data/gltf/lit.glb, tools/bench/make-lit-glb).
 # The frame is the camera's (the ball left of the centre, the box right,
 # the floor below, the preview's grey background above); the sun and the
-# lamp light it (the ball's lit side far brighter than the preview's
-# ambient-free shadow side); the frame's shape the camera's 4:3; every
+# lamp light it, the preview's lamps left out (the frame differs where the
+# file's lights are taken out); every
 # SIMD path the same bytes, and a server with a client lanray-render's.
 # (Against Cycles: tests/cli/pathtrace.sh.)
 set -u
