@@ -122,7 +122,7 @@ static int env_find_sun(Environment *e, const Grid *g)
         }
     }
     for (int k = 0; k < 3; k++)
-        e->sun_fill[k] = fill[3] > 0.0 ? (real)(fill[k] / fill[3]) : R(0);
+        e->sun_fill[k] = fill[3] > 0.0 && e->gain > R(0) ? (real)(fill[k] / fill[3] / (double)e->gain) : R(0);
     const double n = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
     if (!(n > 0.0)) {
         e->sun_peak = 0.0;
@@ -234,28 +234,34 @@ void environment_destroy(Environment *e)
 static vec3 light_at(const Environment *e, real u, real t, int sunless)
 {
     const real fx = u * (real)e->w - R(0.5), fy = t * (real)e->h - R(0.5);
-    const real x0f = floor(fx), y0f = floor(fy), ax = fx - x0f, ay = fy - y0f;
-    const int64_t x0 = (int64_t)x0f, y0 = (int64_t)y0f; /* u in [0, 1): x0 from -1 to w - 1 */
+    /* floor by truncation, a step down below zero (libm's floor is a call on the baseline x86-64) */
+    int64_t x0 = (int64_t)fx, y0 = (int64_t)fy; /* u in [0, 1): x0 from -1 to w - 1 */
+    x0 -= (real)x0 > fx, y0 -= (real)y0 > fy;
+    const real ax = fx - (real)x0, ay = fy - (real)y0;
     const uint32_t xa = x0 < 0 ? e->w - 1 : (uint32_t)x0, xb = xa + 1 < e->w ? xa + 1 : 0;
     const uint32_t ya = y0 < 0 ? 0 : (uint32_t)y0, yb = y0 + 1 >= (int64_t)e->h ? e->h - 1 : (uint32_t)(y0 + 1);
-    real p00[3], p01[3], p10[3], p11[3];
-    const size_t i00 = (size_t)ya * e->w + xa, i01 = (size_t)ya * e->w + xb, i10 = (size_t)yb * e->w + xa,
-                 i11 = (size_t)yb * e->w + xb;
-    texel(e, i00, p00), texel(e, i01, p01), texel(e, i10, p10), texel(e, i11, p11);
-    if (sunless && e->sun_mask) {
-        const size_t at[4] = {i00, i01, i10, i11};
-        real *p[4] = {p00, p01, p10, p11};
-        for (int q = 0; q < 4; q++)
-            if (sun_masked(e, at[q]))
-                for (int k = 0; k < 3; k++)
-                    p[q][k] = e->sun_fill[k];
+    const size_t at[4] = {(size_t)ya * e->w + xa, (size_t)ya * e->w + xb, (size_t)yb * e->w + xa,
+                          (size_t)yb * e->w + xb};
+    const real wq[4] = {(R(1) - ax) * (R(1) - ay), ax * (R(1) - ay), (R(1) - ax) * ay, ax * ay};
+    /* the four texels' blend, times the gain once (the blend is linear) */
+    real c[3] = {R(0), R(0), R(0)};
+    if (e->hdr && !(sunless && e->sun_mask)) { /* a .hdr's light, as drawn and where paths leave */
+        const float *p0 = e->hdr + 3 * at[0], *p1 = e->hdr + 3 * at[1], *p2 = e->hdr + 3 * at[2],
+                    *p3 = e->hdr + 3 * at[3];
+        for (int k = 0; k < 3; k++)
+            c[k] = wq[0] * (real)p0[k] + wq[1] * (real)p1[k] + wq[2] * (real)p2[k] + wq[3] * (real)p3[k];
+        return v3(c[0] * e->gain, c[1] * e->gain, c[2] * e->gain);
     }
-    vec3 c;
-    for (int k = 0; k < 3; k++) {
-        const real top = (R(1) - ax) * p00[k] + ax * p01[k], bottom = (R(1) - ax) * p10[k] + ax * p11[k];
-        c.e[k] = (R(1) - ay) * top + ay * bottom;
+    for (int q = 0; q < 4; q++) {
+        const real *fill = sunless && sun_masked(e, at[q]) ? e->sun_fill : NULL;
+        for (int k = 0; k < 3; k++) {
+            const real l = fill ? fill[k]
+                           : e->hdr ? (real)e->hdr[3 * at[q] + k]
+                                    : (real)srgb_decode8[e->codes[3 * at[q] + k]];
+            c[k] += wq[q] * l;
+        }
     }
-    return c;
+    return v3(c[0] * e->gain, c[1] * e->gain, c[2] * e->gain);
 }
 
 vec3 environment_radiance(const Environment *e, vec3 d)

@@ -47,7 +47,8 @@ typedef struct {
     double sun_peak;       /* its brightest texel's light (0: no sun) ... */
     vec3 sun_at;           /* ... and direction: which texels are the sun's */
     uint8_t *sun_mask;     /* a bit a texel, set for the sun's (NULL without a sun) */
-    real sun_fill[3];      /* the mean light of the texels round the sun, which stands in for it */
+    real sun_fill[3];      /* the mean light of the texels round the sun, which stands in for it
+                            * (before the gain, as the texels are stored) */
 } Environment;
 
 /* The environment of texture t (its .hdr light where it has one, else its
