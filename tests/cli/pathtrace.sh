@@ -297,12 +297,19 @@ sphere centre 0 0 0 radius 1 material satin
 light point position 3 4 4 intensity 0.9
 light directional direction 1 -1 -1 intensity 0.3
 S
-"$BIN/lanray-render" "$dir/agree.scene" -o "$dir/agree-w.hdr" --quiet >/dev/null &&
-    "$BIN/lanray-render" "$dir/agree.scene" --integrator path -o "$dir/agree-p.hdr" --quiet >/dev/null ||
-    fail "agree.scene did not render"
-IFS=, read -r ag_err ag_ratio <<<"$("$BIN/lanray-imgdiff" --relative --csv "$dir/agree-p.hdr" "$dir/agree-w.hdr")"
-python3 -c "import sys; sys.exit(0 if $ag_err <= 1e-4 and abs($ag_ratio - 1) <= 1e-4 else 1)" ||
-    fail "a rough coat's direct light: path $ag_err from Whitted's (light ratio $ag_ratio)"
+# direct_agree NAME WHAT: $dir/NAME.scene's picture under both integrators
+# the same light (within 1e-4); the error in $da_err
+direct_agree() {
+    local ratio
+    "$BIN/lanray-render" "$dir/$1.scene" -o "$dir/$1-w.hdr" --quiet >/dev/null &&
+        "$BIN/lanray-render" "$dir/$1.scene" --integrator path -o "$dir/$1-p.hdr" --quiet >/dev/null ||
+        fail "$1.scene did not render"
+    IFS=, read -r da_err ratio <<<"$("$BIN/lanray-imgdiff" --relative --csv "$dir/$1-p.hdr" "$dir/$1-w.hdr")"
+    python3 -c "import sys; sys.exit(0 if $da_err <= 1e-4 and abs($ratio - 1) <= 1e-4 else 1)" ||
+        fail "$2: path $da_err from Whitted's (light ratio $ratio)"
+}
+direct_agree agree "a rough coat's direct light"
+ag_err=$da_err
 # so is a rough metal's without a `specular` of its own (a plain gold and
 # a steel with a rim): since 2026-11-29 the Whitted integrator's highlight
 # of such a metal is its GGX lobe, as its rays' and the path integrator's,
@@ -310,12 +317,8 @@ python3 -c "import sys; sys.exit(0 if $ag_err <= 1e-4 and abs($ag_ratio - 1) <= 
 sed -e 's/^material satin .*/material satin reflect 1 0.78 0.34 roughness 0.4/' \
     -e 's/^sphere centre 0 0 0 radius 1 material satin/sphere centre -0.55 0 0 radius 0.5 material satin\nmaterial steel reflect 0.2 0.2 0.22 roughness 0.25 reflect_edge 1 1 1\nsphere centre 0.55 0 0 radius 0.5 material steel/' \
     "$dir/agree.scene" >"$dir/metal.scene"
-"$BIN/lanray-render" "$dir/metal.scene" -o "$dir/metal-w.hdr" --quiet >/dev/null &&
-    "$BIN/lanray-render" "$dir/metal.scene" --integrator path -o "$dir/metal-p.hdr" --quiet >/dev/null ||
-    fail "metal.scene did not render"
-IFS=, read -r mg_err mg_ratio <<<"$("$BIN/lanray-imgdiff" --relative --csv "$dir/metal-p.hdr" "$dir/metal-w.hdr")"
-python3 -c "import sys; sys.exit(0 if $mg_err <= 1e-4 and abs($mg_ratio - 1) <= 1e-4 else 1)" ||
-    fail "a rough metal's direct light: path $mg_err from Whitted's (light ratio $mg_ratio)"
+direct_agree metal "a rough metal's direct light"
+mg_err=$da_err
 # frosted glass is the same under both integrators where what it shows
 # is emission alone (stripes behind a frosted ball, no light, no cutoff):
 # the Whitted integrator's rough_samples^2 facets a pixel against the
