@@ -100,8 +100,9 @@ int cli_put_environment(Scene *s, const CliEnvironment *e, const char *path, Err
         if (scene_add_source(s, e->file, err) || texture_read(e->file, &t, err) || scene_add_texture(s, t, &id, err))
             return err_prefix(err, "--environment");
         s->environment = (SceneEnvironment){.texture = (int32_t)id, .strength = R(1), .rotate = R(0)};
-        if (path && model_load_knows(path)) { /* a model's preview: lit by the environment alone */
-            s->light_count = 0;
+        if (path && model_load_knows(path)) { /* a model's preview: the environment its light from everywhere */
+            if (s->preview_lamps) /* in place of the preview's own lamps (a glTF's own lights stay) */
+                s->light_count = 0;
             s->ambient = v3_splat(R(0));
         }
     }

@@ -59,8 +59,9 @@ typedef struct {
     {.name = "--environment-rotate", .kind = OPT_REAL, .dst = &(e)->rotate, .arg = "DEG", .rlo = -1e6, .rhi = 1e6, \
      .seen = &(e)->rotate_given, .help = "the environment turned by DEG degrees about +y", .def = "the scene's, else 0"}
 /* Puts e into s, the scene of `path` (cli_open_scene's: after the file's
- * settings, and again after every edit); a model's preview is then lit by
- * the environment alone (its lights and ambient light dropped).  -1 with
+ * settings, and again after every edit); a model's preview then takes the
+ * environment in place of its own two lamps and its ambient light (a
+ * glTF's own lights stay).  -1 with
  * err naming the file, or saying that there is no environment to make
  * stronger or to turn. */
 int cli_put_environment(Scene *s, const CliEnvironment *e, const char *path, Err *err);

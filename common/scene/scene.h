@@ -174,6 +174,8 @@ typedef struct {
     Light *lights;         uint32_t light_count, light_cap;
 
     int borrowed_assets;   /* models and textures belong to someone else (a client's asset cache) */
+    int preview_lamps;     /* a model's preview (scene_preview): its lights are the preview's own lamps,
+                            * not the file's; not on the wire */
     int checked;           /* scene_check passed since the last change */
     /* the files it was read from (the scene file, its models' and textures'
      * files), for a server that follows edits; not on the wire */

@@ -140,6 +140,7 @@ int scene_preview(const char *model_path, const BvhOptions *bvh, int rebuild, Sc
             rc = rc ? rc : scene_add_light(s, light_point(key, v3_splat(1), R(0.85), 0), err);
             rc = rc ? rc : scene_add_light(s, light_directional(v3(R(-0.7), R(-0.2), R(-0.4)), v3(R(0.8), R(0.85), R(1)), R(0.25)), err);
             s->ambient = v3_splat(R(0.12));
+            s->preview_lamps = 1;
         } else { /* the background's light, unshadowed, as the Whitted integrator's ambient (the
                   * path integrator's background lights the scene itself) */
             s->ambient = s->background;

@@ -5,7 +5,7 @@
 # The frame is the camera's (the ball left of the centre, the box right,
 # the floor below, the preview's grey background above); the sun and the
 # lamp light it, the preview's lamps left out (the frame differs where the
-# file's lights are taken out); every
+# file's lights are taken out, and they stay under --environment); every
 # SIMD path the same bytes, and a server with a client lanray-render's.
 # (Against Cycles: tests/cli/pathtrace.sh.)
 set -u
@@ -44,6 +44,17 @@ PY
 "$BIN/lanray-render" "$dir/unlit.glb" --width 64 --height 48 --aa 1 --linear -o "$dir/unlit.png" --quiet >/dev/null 2>&1 ||
     fail "render without lights"
 cmp -s "$dir/lit.png" "$dir/unlit.png" && fail "the glTF's lights made no difference"
+# under --environment its own lights stay (the preview's lamps are what it replaces)
+python3 tests/tools/envmap.py "$dir/grey.hdr" constant 16 8 0.5 0.5 0.5
+for g in lit unlit; do
+    src=$glb; [ $g = unlit ] && src=$dir/unlit.glb
+    "$BIN/lanray-render" "$src" --environment "$dir/grey.hdr" --width 64 --height 48 --aa 1 --linear \
+        -o "$dir/$g-env.png" --quiet >/dev/null 2>&1 || fail "$g under --environment"
+done
+env_lit=$(python3 tests/tools/pngpixel.py "$dir/lit-env.png" 20 24 | tr '\n' ' ')
+env_unlit=$(python3 tests/tools/pngpixel.py "$dir/unlit-env.png" 20 24 | tr '\n' ' ')
+set -- $env_lit $env_unlit
+[ "$1" -gt $(($4 + 20)) ] || fail "under --environment the glTF's own lights should still light the ball: $env_lit against $env_unlit"
 "$BIN/lanray-render" "$glb" --width 64 --height 48 --aa 1 -o "$dir/lit-1.png" --quiet >/dev/null 2>&1 || fail "render"
 same_on_simd_paths "$glb" "$dir/lit-1.png" 64 48 "the glTF's scene"
 "$BIN/lanray-render" "$glb" --width 64 --height 64 --aa 1 -o "$dir/ref.png" --quiet >/dev/null 2>&1 || fail "reference"
