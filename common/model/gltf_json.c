@@ -5,6 +5,7 @@
 #include <json-c/json.h>
 #include <limits.h>
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -23,6 +24,37 @@ static const uint8_t *glb_json(const uint8_t *b, size_t len, size_t *json_len)
         return NULL;
     *json_len = head[3];
     return b + sizeof head;
+}
+
+/* A .glb's header and JSON chunk, or a .gltf's whole text, from the file
+ * at path into a buffer of the caller's (*len its size); NULL where it
+ * cannot be read (Assimp, which read it, would have said why). */
+uint8_t *gltf_file_json(const char *path, int glb, size_t *len)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f)
+        return NULL;
+    long size = fseek(f, 0, SEEK_END) == 0 ? ftell(f) : -1;
+    uint8_t head[20];
+    size_t want = (size_t)size;
+    if (size < 0 || fseek(f, 0, SEEK_SET) != 0)
+        want = 0;
+    else if (glb) {
+        uint32_t chunk;
+        if (fread(head, 1, sizeof head, f) != sizeof head || fseek(f, 0, SEEK_SET) != 0)
+            want = 0;
+        memcpy(&chunk, head + 12, sizeof chunk);
+        if (want && (uint64_t)chunk <= (uint64_t)size - sizeof head)
+            want = sizeof head + chunk; /* gltf_materials_read checks the rest */
+    }
+    uint8_t *b = want ? malloc(want) : NULL;
+    if (b && fread(b, 1, want, f) != want) {
+        free(b);
+        b = NULL;
+    }
+    fclose(f);
+    *len = want;
+    return b;
 }
 
 json_object *gltf_json_parse(const uint8_t *bytes, size_t len, int glb)

@@ -44,6 +44,11 @@ const GltfMaterial *gltf_material_of(const GltfMaterials *gm, const char *name, 
 
 void gltf_materials_free(GltfMaterials *gm);
 
+/* A .glb's header and JSON chunk (not its buffers), or a .gltf's whole
+ * text, from the file at path: malloc'd, *len its size; NULL where it
+ * cannot be read.  What gltf_materials_read and gltf_scene_read take. */
+uint8_t *gltf_file_json(const char *path, int glb, size_t *len);
+
 /* The JSON of a glTF's bytes (as gltf_materials_read takes them), parsed
  * by json-c (json_object_put it); NULL where there is none. */
 struct json_object;

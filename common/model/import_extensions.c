@@ -10,37 +10,6 @@
 
 #include "model/gltf_json.h"
 
-/* A .glb's header and JSON chunk, or a .gltf's whole text, from the file
- * at path into a buffer of the caller's (*len its size); NULL where it
- * cannot be read (Assimp, which read it, would have said why). */
-static uint8_t *gltf_file_json(const char *path, int glb, size_t *len)
-{
-    FILE *f = fopen(path, "rb");
-    if (!f)
-        return NULL;
-    long size = fseek(f, 0, SEEK_END) == 0 ? ftell(f) : -1;
-    uint8_t head[20];
-    size_t want = (size_t)size;
-    if (size < 0 || fseek(f, 0, SEEK_SET) != 0)
-        want = 0;
-    else if (glb) {
-        uint32_t chunk;
-        if (fread(head, 1, sizeof head, f) != sizeof head || fseek(f, 0, SEEK_SET) != 0)
-            want = 0;
-        memcpy(&chunk, head + 12, sizeof chunk);
-        if (want && (uint64_t)chunk <= (uint64_t)size - sizeof head)
-            want = sizeof head + chunk; /* gltf_materials_read checks the rest */
-    }
-    uint8_t *b = want ? malloc(want) : NULL;
-    if (b && fread(b, 1, want, f) != want) {
-        free(b);
-        b = NULL;
-    }
-    fclose(f);
-    *len = want;
-    return b;
-}
-
 /* What Assimp keeps of a material that the file's JSON is matched by. */
 static void assimp_values(const struct aiMaterial *am, struct aiString *name, float emissive[3], float base[3])
 {

@@ -22,11 +22,17 @@ static void env_uv(const Environment *e, vec3 d, real *u, real *t)
         *t = R(0);
 }
 
-/* The light of texel i (row-major), times the gain. */
+/* Channel k of texel i (row-major) as stored: before the gain. */
+static inline real texel_raw(const Environment *e, size_t i, int k)
+{
+    return e->hdr ? (real)e->hdr[3 * i + k] : (real)srgb_decode8[e->codes[3 * i + k]];
+}
+
+/* The light of texel i, times the gain. */
 static inline void texel(const Environment *e, size_t i, real c[3])
 {
     for (int k = 0; k < 3; k++)
-        c[k] = (e->hdr ? (real)e->hdr[3 * i + k] : (real)srgb_decode8[e->codes[3 * i + k]]) * e->gain;
+        c[k] = texel_raw(e, i, k) * e->gain;
 }
 
 /* Whether texel i is the sun's (Environment.sun_mask). */
@@ -69,11 +75,10 @@ static vec3 grid_dir(const Grid *g, uint32_t x, double sn, double cs)
 }
 
 /* Whether a texel of light c in direction dir is the sun's (environment.h:
- * near its brightest texel, and bright). */
-static int sun_texel(const Environment *e, const real *c, vec3 dir)
+ * near its brightest texel, of light peak in direction at, and bright). */
+static int sun_texel(const real *c, vec3 dir, double peak, vec3 at)
 {
-    return e->sun_peak > 0.0 && texel_weight(c) >= ENV_SUN_SHARE * e->sun_peak &&
-           (double)v3_dot(dir, e->sun_at) >= cos(ENV_SUN_DEGREES * PI / 180.0);
+    return texel_weight(c) >= ENV_SUN_SHARE * peak && (double)v3_dot(dir, at) >= cos(ENV_SUN_DEGREES * PI / 180.0);
 }
 
 /* The sun (environment.h): its texels' light and direction, summed; 0
@@ -97,8 +102,7 @@ static int env_find_sun(Environment *e, const Grid *g)
     if (!(peak > ENV_SUN_CONTRAST * power / (4.0 * PI)) ||
         !(e->sun_mask = calloc(((size_t)w * h + 7) / 8, 1))) /* (out of memory: no sun of its own) */
         return 0;
-    e->sun_peak = peak;
-    e->sun_at = grid_dir(g, px, sin((py + 0.5) / h * PI), cos((py + 0.5) / h * PI));
+    const vec3 at = grid_dir(g, px, sin((py + 0.5) / h * PI), cos((py + 0.5) / h * PI));
     double d[3] = {0, 0, 0}, s[3] = {0, 0, 0}, fill[4] = {0, 0, 0, 0};
     const double ring = cos(2.0 * ENV_SUN_DEGREES * PI / 180.0);
     for (uint32_t y = 0; y < h; y++) {
@@ -108,8 +112,8 @@ static int env_find_sun(Environment *e, const Grid *g)
             const size_t i = (size_t)y * w + x;
             texel(e, i, c);
             const vec3 dir = grid_dir(g, x, sn, cs);
-            if (!sun_texel(e, c, dir)) { /* the sky round it: what stands in for it */
-                if ((double)v3_dot(dir, e->sun_at) >= ring)
+            if (!sun_texel(c, dir, peak, at)) { /* the sky round it: what stands in for it */
+                if ((double)v3_dot(dir, at) >= ring)
                     for (int k = 0; k < 4; k++)
                         fill[k] += (k < 3 ? (double)c[k] : 1.0) * dw;
                 continue;
@@ -125,7 +129,6 @@ static int env_find_sun(Environment *e, const Grid *g)
         e->sun_fill[k] = fill[3] > 0.0 && e->gain > R(0) ? (real)(fill[k] / fill[3] / (double)e->gain) : R(0);
     const double n = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
     if (!(n > 0.0)) {
-        e->sun_peak = 0.0;
         free(e->sun_mask);
         e->sun_mask = NULL;
         return 0;
@@ -255,10 +258,7 @@ static vec3 light_at(const Environment *e, real u, real t, int sunless)
     for (int q = 0; q < 4; q++) {
         const real *fill = sunless && sun_masked(e, at[q]) ? e->sun_fill : NULL;
         for (int k = 0; k < 3; k++) {
-            const real l = fill ? fill[k]
-                           : e->hdr ? (real)e->hdr[3 * at[q] + k]
-                                    : (real)srgb_decode8[e->codes[3 * at[q] + k]];
-            c[k] += wq[q] * l;
+            c[k] += wq[q] * (fill ? fill[k] : texel_raw(e, at[q], k));
         }
     }
     return v3(c[0] * e->gain, c[1] * e->gain, c[2] * e->gain);
@@ -324,27 +324,32 @@ int environment_sample(const Environment *e, real u1, real u2, vec3 *dir, vec3 *
     return 1;
 }
 
+/* The density environment_sample draws d with, d at image point (u, t). */
+static real dir_density(const Environment *e, vec3 d, real u, real t)
+{
+    /* the polar angle's sine: the direction's length across +y */
+    const double across = sqrt((double)d.x * (double)d.x + (double)d.z * (double)d.z),
+                 sn = across / sqrt(across * across + (double)d.y * (double)d.y);
+    if (!(e->total > 0.0 && sn > 0.0))
+        return R(0);
+    const uint32_t x = (uint32_t)real_min(u * (real)e->w, (real)(e->w - 1));
+    const uint32_t y = (uint32_t)real_min(t * (real)e->h, (real)(e->h - 1));
+    return (real)(texel_density(e, x, y) / (2.0 * PI * PI * sn));
+}
+
 vec3 environment_seen(const Environment *e, vec3 d, real *pdf)
 {
     real u, t;
     env_uv(e, d, &u, &t);
-    *pdf = R(0);
-    /* the polar angle's sine: the direction's length across +y */
-    const double across = sqrt((double)d.x * (double)d.x + (double)d.z * (double)d.z),
-                 sn = across / sqrt(across * across + (double)d.y * (double)d.y);
-    if (e->total > 0.0 && sn > 0.0) {
-        const uint32_t x = (uint32_t)real_min(u * (real)e->w, (real)(e->w - 1));
-        const uint32_t y = (uint32_t)real_min(t * (real)e->h, (real)(e->h - 1));
-        *pdf = (real)(texel_density(e, x, y) / (2.0 * PI * PI * sn));
-    }
+    *pdf = dir_density(e, d, u, t);
     return light_at(e, u, t, 0);
 }
 
 real environment_pdf(const Environment *e, vec3 d)
 {
-    real pdf;
-    environment_seen(e, d, &pdf);
-    return pdf;
+    real u, t;
+    env_uv(e, d, &u, &t);
+    return dir_density(e, d, u, t);
 }
 
 vec3 environment_diffuse(const Environment *e, vec3 n)

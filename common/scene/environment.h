@@ -44,8 +44,6 @@ typedef struct {
     int has_sun;
     vec3 sun_dir;          /* towards the sun: its texels' directions weighed by their light */
     vec3 sun_light;        /* its irradiance head on over pi: a directional light's colour */
-    double sun_peak;       /* its brightest texel's light (0: no sun) ... */
-    vec3 sun_at;           /* ... and direction: which texels are the sun's */
     uint8_t *sun_mask;     /* a bit a texel, set for the sun's (NULL without a sun) */
     real sun_fill[3];      /* the mean light of the texels round the sun, which stands in for it
                             * (before the gain, as the texels are stored) */

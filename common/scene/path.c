@@ -246,6 +246,19 @@ static vec3 direct_light(const World *w, const Surface *sf, const Lobes *lb, con
 /* The power heuristic's weight of a strategy of density a beside one of b. */
 static real power_weight(real a, real b) { return a * a / (a * a + b * b); }
 
+/* The weight of next-event estimation's draw of dir (density pdf_light)
+ * beside the bounce that could have left that way (density pdf_bounce):
+ * the power heuristic's under MIS, else all of it, as where no bounce
+ * follows (the last) or none leaves that way (below the smooth normal;
+ * frosted glass's bounce goes to either side). */
+static real nee_weight(const World *w, const Surface *sf, const Lobes *lb, int last, vec3 dir, real pdf_light,
+                       real pdf_bounce)
+{
+    const int bsdf_finds = w->view.settings.emitter_sampling == EMITTERS_MIS && !last &&
+                           (lb->frost > R(0) || v3_dot(dir, sf->nv) > R(0));
+    return bsdf_finds ? power_weight(pdf_light, pdf_bounce) : R(1);
+}
+
 /* Next-event estimation of emissive geometry from a point with smooth
  * lobes: one point of one emitter, f x cos x its radiance over its
  * density, weighed against the bounce that could have found it (at the
@@ -271,10 +284,7 @@ static vec3 direct_emitters(const World *w, const Surface *sf, const Lobes *lb, 
         if (!(v3_max_comp(through) > R(0)))
             return v3_splat(R(0));
     }
-    /* (frosted glass's bounce goes to either side) */
-    const int bsdf_finds = w->view.settings.emitter_sampling == EMITTERS_MIS && !last &&
-                           (lb->frost > R(0) || v3_dot(es.dir, sf->nv) > R(0));
-    const real weight = bsdf_finds ? power_weight(es.pdf, pdf) : R(1);
+    const real weight = nee_weight(w, sf, lb, last, es.dir, es.pdf, pdf);
     return v3_scale(v3_mul(v3_mul(fc, es.radiance), through), weight / es.pdf);
 }
 
@@ -300,22 +310,19 @@ static vec3 direct_environment(const World *w, const Surface *sf, const Lobes *l
         if (!(v3_max_comp(through) > R(0)))
             return v3_splat(R(0));
     }
-    const int bsdf_finds = w->view.settings.emitter_sampling == EMITTERS_MIS && !last &&
-                           (lb->frost > R(0) || v3_dot(dir, sf->nv) > R(0));
-    const real weight = bsdf_finds ? power_weight(pdf_env, pdf) : R(1);
+    const real weight = nee_weight(w, sf, lb, last, dir, pdf_env, pdf);
     return v3_scale(v3_mul(v3_mul(fc, light), through), weight / pdf_env);
 }
 
-/* The share of the environment's light that a path leaving the scene
- * after a bounce off a smooth lobe (density pdf_bounce) adds, where
- * next-event estimation draws its direction with density pl: all of it
- * where it could not have, else the weight of the bounce. */
-static real environment_share(const World *w, real pdf_bounce, real pl)
+/* The share of light that a bounce off a smooth lobe (density pdf_bounce)
+ * brings from an emitter or the environment that next-event estimation
+ * draws with density pl there: all of it where it could not have drawn
+ * it, else the bounce's weight (none where next-event estimation alone
+ * finds such light; all where the bounces alone do). */
+static real bounce_weight(const World *w, real pdf_bounce, real pl)
 {
     const EmitterSampling es = w->view.settings.emitter_sampling;
-    if (es == EMITTERS_BSDF)
-        return R(1);
-    if (!(pl > R(0)))
+    if (es == EMITTERS_BSDF || !(pl > R(0)))
         return R(1);
     return es == EMITTERS_NEE ? R(0) : power_weight(pdf_bounce, pl);
 }
@@ -325,8 +332,7 @@ static real environment_share(const World *w, real pdf_bounce, real pl)
  * estimation could not have found it, else the weight of the bounce. */
 static real bounce_share(const World *w, vec3 p, real pdf_bounce, const Ray *r, const Hit *h, int through)
 {
-    const EmitterSampling es = w->view.settings.emitter_sampling;
-    if (es == EMITTERS_BSDF)
+    if (w->view.settings.emitter_sampling == EMITTERS_BSDF) /* (the density not needed) */
         return R(1);
     Ray rp;
     Hit hp;
@@ -337,10 +343,7 @@ static real bounce_share(const World *w, vec3 p, real pdf_bounce, const Ray *r, 
         hp.t = v3_dot(v3_sub(q, p), r->dir);
         r = &rp, h = &hp;
     }
-    const real pl = emitters_pdf(w, p, r, h);
-    if (!(pl > R(0)))
-        return R(1);
-    return es == EMITTERS_NEE ? R(0) : power_weight(pdf_bounce, pl);
+    return bounce_weight(w, pdf_bounce, emitters_pdf(w, p, r, h));
 }
 
 /* The surface's diffuse colour here: its material's (or its checker's
@@ -615,7 +618,7 @@ static int path_step(const World *w, Path *p, int found, const Hit *h, RayStats 
             real pl;
             seen = environment_seen(w->env, p->ray.dir, &pl);
             if (p->after_smooth)
-                seen = v3_scale(seen, environment_share(w, p->pdf_bounce, pl));
+                seen = v3_scale(seen, bounce_weight(w, p->pdf_bounce, pl));
         }
         p->L = v3_add(p->L, v3_mul(p->beta, seen));
         if (b == 0 && p->key)

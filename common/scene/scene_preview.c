@@ -8,7 +8,7 @@
 #include <string.h>
 #include <strings.h>
 
-#include "base/fileio.h"
+#include "model/gltf_json.h"
 #include "model/gltf_scene.h"
 
 /* Whether path names a glTF (by its ending, as the importer is chosen). */
@@ -80,13 +80,11 @@ static int gltf_view(Scene *s, const char *path, Err *err)
     int glb;
     if (!is_gltf(path, &glb))
         return 0;
-    char *data;
     size_t len;
-    if (file_read_all(path, (size_t)1 << 30, &data, &len, err))
-        return -1;
+    uint8_t *json = gltf_file_json(path, glb, &len); /* (the importer has read it: NULL reads as none) */
     GltfScene g;
-    const int rc = gltf_scene_read((const uint8_t *)data, len, glb, &g);
-    free(data);
+    const int rc = gltf_scene_read(json, json ? len : 0, glb, &g);
+    free(json);
     if (rc)
         return err_set(err, "%s: out of memory reading its lights", path);
     if (g.has_camera && gltf_camera(s, &g.camera))
