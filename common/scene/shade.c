@@ -216,8 +216,9 @@ typedef struct {
     vec3 kd, col, view, origin, origin_ps; /* where light rays leave: off p, and a smooth triangle's off ps */
     vec3 ke; /* what the surface emits here (trace_emission) */
     int phong;
-    /* a rough metal without a Phong highlight: the lights' highlight is
-     * its GGX lobe (the path integrator's); its colour and rim */
+    /* a rough mirror's GGX width, colour and rim (rough_reflection's), and
+     * whether its lobe is the lights' highlight (a rough metal without a
+     * Phong highlight: the path integrator's) */
     int rough_metal;
     real metal_alpha;
     vec3 metal_kr, metal_kme;
@@ -319,13 +320,14 @@ static inline __attribute__((always_inline)) void shade_start(const World *w, co
     if (optional && sh->sf.aotex) /* an occlusion texture: crevices take less of the ambient light */
         sh->col = v3_scale(sh->col, trace_occlusion(&sh->sf, sh->rd ? &fp : NULL));
     sh->phong = w->view.settings.shading == SHADE_PHONG && v3_max_comp(m->ks) > R(0);
-    /* a rough metal without a Phong highlight of its own (`specular`: a
-     * scene's that asks for one, an imported metal's keep it) */
-    sh->rough_metal = optional && world_uses(w, FEAT_ROUGH) && w->view.settings.shading == SHADE_PHONG &&
-                      material_rough(m) && !material_dielectric(m) && !sh->phong;
-    if (sh->rough_metal) {
+    /* a rough mirror's lobe, for its rays (rough_reflection) and, on a
+     * metal without a Phong highlight of its own (`specular`: a scene's
+     * that asks for one, an imported metal's keep it), for the lights */
+    sh->rough_metal = 0;
+    if (optional && world_uses(w, FEAT_ROUGH) && material_rough(m)) {
         sh->metal_alpha = ggx_alpha(m->roughness);
         sh->metal_kr = ggx_metal_of(m, v3_dot(sh->sf.ns, sh->view), &sh->metal_kme);
+        sh->rough_metal = w->view.settings.shading == SHADE_PHONG && !material_dielectric(m) && !sh->phong;
     }
     sh->origin = sh->origin_ps = sh->sf.p;
     if (world_has(w, FEAT_SHADOWS)) { /* every light ray leaves on the viewer's side, a smooth triangle's towards
@@ -504,13 +506,12 @@ static vec3 rough_reflection(const World *w, const Shading *sh, vec3 front, int 
      * edged metal's colour rises by kme x Schlick's weight at each ray's
      * facet (sume gathers what the rays bring times that weight) */
     const int edged = material_edged(m);
-    vec3 kme;
-    const vec3 kr = ggx_metal_of(m, v3_dot(sf->ns, sh->view), &kme);
+    const vec3 kr = sh->metal_kr, kme = sh->metal_kme; /* (shade_start's) */
     vec3 wt = v3_scale(v3_mul(weight, kr), share), sum = v3_splat(0), sume = v3_splat(0);
     uint32_t key = sample_mix(sh->id.key, 0x52000000u);
     RayDiff rd; /* the mirror's, its cone widened by each ray's share of the lobe */
     const RayDiff *rdp = reflected_diff(sh, v3_neg(sh->view), &rd);
-    const real alpha = ggx_alpha(m->roughness);
+    const real alpha = sh->metal_alpha;
     if (rdp) /* the reflected lobe is some 2 alpha wide */
         raydiff_lobe(&rd, sh->rd, sh->t, real_min(R(2) * alpha, R(1)), product ? n : sh->id.count * n);
     /* the rays leave one point into one lobe: traced as packets, each
@@ -650,9 +651,10 @@ static vec3 shade_beyond(const World *w, int i, const Shading *sh, int depth, ve
          * estimate of what they see times their weight */
         const DepthLimit lim = w->view.settings.depth_limit;
         vec3 seen = lim == LIMIT_BACKGROUND ? w->background : lim == LIMIT_AMBIENT ? w->ambient : sh->irr;
-        if (lim == LIMIT_BACKGROUND && w->env) /* what the environment shows the reflected ray */
-            seen = material_rough(m) ? environment_radiance_sunless(w->env, trace_reflected(v3_neg(sh->view), sf))
-                                     : environment_radiance(w->env, trace_reflected(v3_neg(sh->view), sf));
+        if (lim == LIMIT_BACKGROUND && w->env) { /* what the environment shows the reflected ray */
+            const vec3 r = trace_reflected(v3_neg(sh->view), sf);
+            seen = material_rough(m) ? environment_radiance_sunless(w->env, r) : environment_radiance(w->env, r);
+        }
         if (reflects)
             col = v3_add(col, v3_scale(v3_mul(kr, seen), R(1) - sh->coat));
         if (coat > R(0))
