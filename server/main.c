@@ -276,6 +276,7 @@ typedef struct {
     const char *scene_path, *out_dir, *verify_path;
     int headless, force_bvh, discard, frames, wait_clients, tail, bvh_kind, width_given, height_given;
     int warmup, stall, handshake, machine_summary, linear, hdr;
+    int denoise; /* --denoise, or the first scene's settings denoise: fixed for the server's life */
     CliAa aa;
     double rotate;
     const char *path;
@@ -427,6 +428,11 @@ static int parse_args(Args *a, int argc, char **argv)
         {.name = "--hdr", .kind = OPT_FLAG, .dst = &a->hdr,
          .help = "high dynamic range frames: clients send RGBE, frames are written as .hdr (Radiance); the window shows "
                  "them after the scene's exposure"},
+        {.name = "--denoise", .kind = OPT_FLAG, .dst = &a->denoise,
+         .help = "path-traced frames filtered by what each pixel saw first (settings denoise on): clients send each "
+                 "pixel's guide, 9 bytes, beside its colour; a scene that asks for it is denoised without"},
+        {.name = "--denoise-threads", .kind = OPT_INT, .dst = &a->cfg.denoise_threads, .arg = "T", .lo = 0,
+         .hi = POOL_MAX_THREADS, .help = "threads of the denoiser, 0 = one per core", .def = "0"},
         {.name = "--headless", .kind = OPT_FLAG, .dst = &a->headless, .help = "no window: write frames to --out"},
         {.name = "--frames", .kind = OPT_INT, .dst = &a->frames, .arg = "N", .lo = 0, .hi = 100000000,
          .help = "stop after N frames, 0 = run until stopped"},
@@ -476,6 +482,7 @@ static void app_close(App *a)
  * reading of an edited scene); -1 where its environment cannot be put. */
 static int apply_overrides(Scene *scene, const Args *a, Err *err)
 {
+    scene->settings.denoise = a->denoise; /* as hdr, fixed: the pixels' size follows it */
     if (a->aa.given) {
         scene->settings.aa = a->aa.aa;
         scene->settings.adaptive = a->aa.adaptive;
@@ -495,6 +502,7 @@ static int open_scene(App *app, Args *a, Err *err)
         return 1;
     }
     Scene *scene = app->scene;
+    a->denoise = a->denoise || scene->settings.denoise;
     if (apply_overrides(scene, a, err)) {
         fprintf(stderr, "lanray-server: %s\n", err->msg);
         return 1;
@@ -580,7 +588,7 @@ static int open_outputs(App *app, Args *a, Err *err)
     }
     /* frames written beside the loop, two queued (a frame over 64 MB is
      * written in it: two more copies would be too many) */
-    const int bpp = (int)render_pixel_bytes(&app->scene->settings);
+    const int bpp = (int)render_colour_bytes(&app->scene->settings);
     if (a->headless && !a->discard && (size_t)cfg->width * (size_t)cfg->height * (size_t)bpp <= ((size_t)64 << 20) &&
         !(app->writer = framewriter_create(cfg->width, cfg->height, bpp, 2, err)))
         fprintf(stderr, "lanray-server: frames written in the loop: %s\n", err->msg);

@@ -103,8 +103,14 @@ struct Server {
     int settings_pending;
     uint32_t settings_id, last_settings_id; /* one up at each change of the view's settings */
     double frame_t0, last_frame_s; /* the current frame's start, the last finished frame's time */
-    uint8_t *pixels; /* the frame, bpp bytes a pixel: RGB8, or RGBE (hdr) */
+    uint8_t *pixels; /* the frame, bpp bytes a pixel: RGB8, or RGBE (hdr), then with denoise its guide */
     uint32_t bpp;
+    uint32_t cbpp;   /* bytes of a pixel's colour, as shown */
+    /* settings denoise (fixed for the server's life, as bpp): the filter,
+     * its threads, the filtered frame */
+    Denoiser *denoiser;
+    Pool *denoise_pool;
+    uint8_t *denoised;
     Asset *assets;    /* models then textures of the scene */
     uint32_t nassets;
     Sink scene_blob;  /* the serialised description (number scene_id) */
@@ -183,13 +189,23 @@ Server *server_create(const ServerConfig *cfg, Scene *scene, Err *err)
     s->sched = sched_create(&sc);
     s->sched_cfg = sc;
     s->bpp = render_pixel_bytes(&scene->settings);
+    s->cbpp = render_colour_bytes(&scene->settings);
     s->pixels = calloc((size_t)cfg->width * cfg->height, s->bpp);
-    s->shown = calloc((size_t)cfg->width * cfg->height, s->bpp);
+    s->shown = calloc((size_t)cfg->width * cfg->height, s->cbpp);
     s->scale = s->next_scale = s->shown_scale = 1;
     s->fw = (uint32_t)cfg->width, s->fh = (uint32_t)cfg->height;
     s->codec = pixcodec_create();
-    if (!s->sched || !s->pixels || !s->shown || !s->codec || build_assets(s, err)) {
-        if (!s->sched || !s->pixels || !s->shown || !s->codec)
+    int denoise_ok = 1;
+    if (scene->settings.denoise) {
+        const long cores = sysconf(_SC_NPROCESSORS_ONLN);
+        const int threads = cfg->denoise_threads > 0 ? cfg->denoise_threads : cores > 0 ? (int)cores : 1;
+        s->denoise_pool = pool_create(threads < POOL_MAX_THREADS ? threads : POOL_MAX_THREADS, err);
+        s->denoiser = s->denoise_pool ? denoiser_create(s->denoise_pool, (size_t)cfg->width * cfg->height) : NULL;
+        s->denoised = malloc((size_t)cfg->width * cfg->height * s->cbpp);
+        denoise_ok = s->denoiser && s->denoised;
+    }
+    if (!s->sched || !s->pixels || !s->shown || !s->codec || !denoise_ok || build_assets(s, err)) {
+        if (!s->sched || !s->pixels || !s->shown || !s->codec || !denoise_ok)
             err_set(err, "out of memory or invalid frame size");
         server_destroy(s);
         return NULL;
@@ -244,6 +260,9 @@ void server_destroy(Server *s)
     free(s->older.pixels);
     free(s->spare_pixels);
     free(s->shown);
+    denoiser_destroy(s->denoiser);
+    pool_destroy(s->denoise_pool);
+    free(s->denoised);
     free(s->upscale_scratch);
     free(s->upscale_rgbe);
     free(s);
@@ -286,7 +305,7 @@ static const uint8_t *scaled_up(Server *s, const uint8_t *pixels, int scale)
     if (scale == 1)
         return pixels;
     const uint32_t w = (uint32_t)s->cfg.width, h = (uint32_t)s->cfg.height, k = (uint32_t)scale;
-    const int smooth = s->cfg.upscale == UPSCALE_SMOOTH, rgbe = s->bpp == 4;
+    const int smooth = s->cfg.upscale == UPSCALE_SMOOTH, rgbe = s->cbpp == 4;
     /* scale 2's scratch is the most either needs */
     if (smooth && !rgbe && !s->upscale_scratch)
         s->upscale_scratch = malloc(upscale_scratch(w, h, 2) * sizeof *s->upscale_scratch);
@@ -297,7 +316,7 @@ static const uint8_t *scaled_up(Server *s, const uint8_t *pixels, int scale)
     else if (smooth && rgbe && s->upscale_rgbe)
         upscale_smooth_rgbe(pixels, s->shown, w, h, k, s->upscale_rgbe);
     else
-        upscale_blocks(pixels, s->shown, w, h, s->bpp, k);
+        upscale_blocks(pixels, s->shown, w, h, s->cbpp, k);
     return s->shown;
 }
 const char *server_address(const Server *s) { return s->address; }
@@ -929,6 +948,15 @@ static void show_frame(Server *s, uint32_t id, const uint8_t *pixels, int scale,
     s->shown_still = still;
     s->shown_converged = converged;
     s->shown_scale = scale;
+    if (s->denoiser) { /* filtered at the render scale, then brought up */
+        const uint32_t k = (uint32_t)scale, fw = ((uint32_t)s->cfg.width + k - 1) / k,
+                       fh = ((uint32_t)s->cfg.height + k - 1) / k;
+        Err e;
+        if (denoise_frame(s->denoiser, pixels, fw, fh, s->cbpp, s->view.settings.linear, s->denoised, &e) == 0)
+            pixels = s->denoised;
+        else /* cannot be: the denoiser was made for the whole frame */
+            log_line(0, "lanray-server", "frame %u: %s", id, e.msg);
+    }
     if (done)
         done(ctx, id, scaled_up(s, pixels, scale));
 }

@@ -53,12 +53,17 @@ typedef struct {
      * callback (UpscaleKind, upscale.h: smooth, the default, or blocks;
      * lanray-server --upscale) */
     int upscale;
+    /* threads of the denoiser's passes, where the scene's settings say
+     * denoise (each frame is filtered by its pixels' guides before it is
+     * shown: render/denoise.h); 0: one per core */
+    int denoise_threads;
 } ServerConfig;
 
 typedef struct Server Server;
 
 /* Called with each completed frame: width*height pixels of RGB8, or of RGBE
- * where the scene's settings say hdr (render_pixel_bytes). */
+ * where the scene's settings say hdr (render_colour_bytes); with settings
+ * denoise, filtered. */
 typedef void (*FrameDoneFn)(void *ctx, uint32_t frame, const uint8_t *pixels);
 
 /* Called before a frame starts (its number: frame), for the application's

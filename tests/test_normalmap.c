@@ -218,7 +218,7 @@ static void a_tilt_towards_a_grazing_light_takes_a_share_of_it(void **state)
             vec3 c;
             if (path) {
                 const SampleId id = {.key = 1, .index = 0, .count = 1};
-                path_radiance_packet(w, &r, 1, &id, &c, &st, NULL);
+                path_radiance_packet(w, &r, 1, &id, &c, &st, NULL, NULL);
             } else {
                 c = shade_ray(w, &r, &st, NULL);
             }

@@ -1,5 +1,7 @@
 /* test_pixcodec.c - DATA's pixel codings (common/net/pixcodec.c): every
- * coding gives back the bytes it was given, for RGB8 and RGBE; what does
+ * coding gives back the bytes it was given, for RGB8 and RGBE, and for
+ * both with each pixel's denoising guide after them (12 and 13 bytes a
+ * pixel: the predictor's byte-by-byte path); what does
  * not shrink goes raw; and the decoder writes exactly the segment's bytes
  * or refuses (a coded size as large as the raw one, a zstd frame that says
  * another size, data cut short or flipped, an unknown coding), never a
@@ -30,7 +32,9 @@ static void every_coding_round_trips(void **state)
     (void)state;
     PixCodec *c = pixcodec_create();
     assert_non_null(c);
-    for (uint32_t bpp = 3; bpp <= 4; bpp++) {
+    static const uint32_t sizes[] = {3, 4, 12, 13};
+    for (size_t b = 0; b < sizeof sizes / sizeof *sizes; b++) {
+        const uint32_t bpp = sizes[b];
         const size_t n = PIXELS * bpp;
         uint8_t *px = malloc(n), *out = malloc(pixcodec_bound(n)), *back = malloc(n + GUARD);
         picture(px, n, bpp, 7);

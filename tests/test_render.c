@@ -249,7 +249,7 @@ static vec3 look_path(Scene *s, vec3 eye, vec3 p)
     RayStats st = {0, 0, 0};
     const SampleId id = {.key = 1, .index = 0, .count = 1};
     vec3 out;
-    path_radiance_packet(world_now(s), &r, 1, &id, &out, &st, NULL);
+    path_radiance_packet(world_now(s), &r, 1, &id, &out, &st, NULL, NULL);
     return out;
 }
 

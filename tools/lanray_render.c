@@ -121,7 +121,7 @@ typedef struct {
     double cutoff;
     int light_samples, rough_samples, lens_samples, exposure_given;
     int sampling, sampling_given, limit, limit_given, lights, lights_given, integrator, integrator_given;
-    int emitters, emitters_given, roulette, roulette_given, contrast, contrast_given;
+    int emitters, emitters_given, roulette, roulette_given, contrast, contrast_given, denoise, denoise_given;
     double exposure;
     CliAa aa;
     CliEnvironment env;
@@ -193,6 +193,11 @@ static int parse_args(Args *a, int argc, char **argv)
          .help = "adaptive anti-aliasing also refines where a neighbour's colour differs by more than CODES in a "
                  "channel; 255: never (surfaces and lights only)",
          .def = "the scene's, else 15"},
+        {.name = "--denoise", .kind = OPT_CHOICE, .dst = &a->denoise, .choices = field_words(&settings_kind, "denoise"),
+         .seen = &a->denoise_given,
+         .help = "path: filter the frame's noise out, guided by the surfaces each pixel saw first (their colours, "
+                 "normals, distances; docs/renderer.md)",
+         .def = "the scene's, else off"},
         {.name = "--light-samples", .kind = OPT_INT, .dst = &a->light_samples, .arg = "K", .lo = 0, .hi = LIGHT_MAX_SAMPLES,
          .help = "shadow rays of every sphere and rect light: K x K a pixel (product: a ray); 0 = each light's own",
          .def = "0"},
@@ -289,6 +294,8 @@ static int apply_settings(Scene *scene, Args *a)
         rs->roulette = a->roulette;
     if (a->contrast_given)
         rs->contrast = a->contrast;
+    if (a->denoise_given)
+        rs->denoise = a->denoise;
     if (a->limit_given)
         rs->depth_limit = (DepthLimit)a->limit;
     if (a->rough_samples)
@@ -320,6 +327,7 @@ typedef struct {
     BvhOptions bvh;
     RenderPool *pool;
     uint8_t *pixels;
+    uint8_t *shown; /* settings denoise: the filtered frame, colours alone */
     ImageWriter *wr;
     int banded, band;
     uint32_t bpp;
@@ -330,6 +338,7 @@ static void job_close(Job *j)
 {
     image_writer_abort(j->wr);
     free(j->pixels);
+    free(j->shown);
     render_pool_destroy(j->pool);
     world_destroy(j->world);
     scene_destroy(j->scene);
@@ -379,9 +388,9 @@ static int job_open(Job *j, Args *a, Err *err)
     j->band = !j->banded ? height : a->band_lines ? a->band_lines : (int)(BAND_BYTES / ((uint64_t)width * j->bpp));
     if (j->band < 1)
         j->band = 1;
-    if (j->banded && a->profile)
-        rc = err_set(err, "%dx%d is rendered in bands (%.1f GB whole); --profile needs the whole frame", width, height,
-                     (double)frame_bytes / 1e9);
+    if (j->banded && (a->profile || j->scene->settings.denoise))
+        rc = err_set(err, "%dx%d is rendered in bands (%.1f GB whole); %s needs the whole frame", width, height,
+                     (double)frame_bytes / 1e9, a->profile ? "--profile" : "denoising");
     else
         rc = cli_check_memory((uint64_t)width * (uint64_t)j->band * j->bpp,
                               j->banded ? "a band of the frame" : "the frame", err);
@@ -391,6 +400,10 @@ static int job_open(Job *j, Args *a, Err *err)
                                &j->wr, err);
     j->pool = rc ? NULL : render_pool_create(a->threads, err);
     j->pixels = j->pool ? malloc((size_t)width * (size_t)j->band * j->bpp) : NULL;
+    if (j->pixels && rs->denoise && !(j->shown = malloc((size_t)width * (size_t)height * render_colour_bytes(rs)))) {
+        free(j->pixels);
+        j->pixels = NULL;
+    }
     if (rc == 0 && (!j->pool || !j->pixels))
         rc = j->pool ? err_set(err, "out of memory for %d lines of %d pixels", j->band, width) : -1;
     if (rc) {
@@ -398,6 +411,23 @@ static int job_open(Job *j, Args *a, Err *err)
         return 1;
     }
     return 0;
+}
+
+/* The rendered frame filtered by its guides into j->shown, its time added
+ * to the frame's (each of --repeat's, as the server filters each frame). */
+static int denoise_now(Job *j, const Args *a, double *best, double *sum, Err *err)
+{
+    Denoiser *d = denoiser_create(render_pool_pool(j->pool), (size_t)a->width * (size_t)a->height);
+    if (!d)
+        return err_set(err, "out of memory for the denoiser");
+    const RenderSettings *rs = &j->scene->settings;
+    const double t = timer_now();
+    const int rc = denoise_frame(d, j->pixels, (uint32_t)a->width, (uint32_t)a->height, render_colour_bytes(rs),
+                                 rs->linear, j->shown, err);
+    const double dt = timer_now() - t;
+    *best += dt, *sum += dt * a->repeat;
+    denoiser_destroy(d);
+    return rc;
 }
 
 /* The frame, --repeat times, by segments; in bands the last pass writes them. */
@@ -431,8 +461,10 @@ static int job_render(Job *j, const Args *a, RayStats *st, double *best, double 
     render_pool_watch(j->pool, NULL);
     if (rc == 0 && a->profile)
         rc = write_profile(j->pool, j->world, a->width, a->height, j->pixels, a->profile, err);
+    if (rc == 0 && j->shown) /* settings denoise: the frame filtered (in the timing: a client's frame is filtered too) */
+        rc = denoise_now(j, a, best, sum, err);
     if (rc == 0 && !j->banded)
-        rc = image_writer_rows(j->wr, j->pixels, a->height, err) ? (j->wr = NULL, -1) : 0;
+        rc = image_writer_rows(j->wr, j->shown ? j->shown : j->pixels, a->height, err) ? (j->wr = NULL, -1) : 0;
     ImageWriter *wr = j->wr;
     j->wr = NULL;
     if (rc == 0)

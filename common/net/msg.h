@@ -17,7 +17,7 @@
 #include "render/segment.h"
 
 #define PROTO_MAGIC 0x5941524cu /* "LRAY" */
-#define PROTO_VERSION 23u /* 8: an UPDATE carries the frame's view apart, and the scene only when it changed;
+#define PROTO_VERSION 24u /* 8: an UPDATE carries the frame's view apart, and the scene only when it changed;
                            * 9: the view's settings hold light_sampling (wire 6);
                            * 10: compressed pixels (HELLO codecs, WELCOME coding, DATA coding);
                            * 11: pipelined frames (UPDATE keep: the older frame still wanted);
@@ -34,7 +34,9 @@
                            * 21: materials a metal's rim colour, reflect_edge (wire 16);
                            * 22: materials a blending mask, mask_blend (wire 17);
                            * 23: the scene an environment (wire 18); a texture ASSET's
-                           *     codec may be 3, a Radiance .hdr */
+                           *     codec may be 3, a Radiance .hdr;
+                           * 24: the view's settings hold denoise (wire 19), and with it a
+                           *     DATA packet's pixels carry their guides (9 bytes each) */
 #define PROTO_BOM 0x01020304u
 #define PROTO_HEADER 8u
 #define PROTO_NONCE 32u

@@ -88,13 +88,15 @@ static void unpredict(uint8_t *px, size_t n, uint32_t bpp)
             a = (uint8_t)(a + px[i]), b = (uint8_t)(b + px[i + 1]), c = (uint8_t)(c + px[i + 2]);
             px[i] = a, px[i + 1] = b, px[i + 2] = c;
         }
-    } else {
+    } else if (bpp == 4) {
         for (; i + 4 <= n; i += 4) {
             a = (uint8_t)(a + px[i]), b = (uint8_t)(b + px[i + 1]), c = (uint8_t)(c + px[i + 2]), d = (uint8_t)(d + px[i + 3]);
             px[i] = a, px[i + 1] = b, px[i + 2] = c, px[i + 3] = d;
         }
     }
-    for (; i < n; i++) /* a partial pixel at the end (never in a DATA packet) */
+    /* a pixel with its guide (settings denoise: 12 or 13 bytes) byte by
+     * byte; a partial pixel at the end (never in a DATA packet) */
+    for (; i < n; i++)
         px[i] = (uint8_t)(px[i] + px[i - bpp]);
 }
 

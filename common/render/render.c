@@ -68,6 +68,7 @@ void render_pool_destroy(RenderPool *p)
 }
 
 int render_pool_threads(const RenderPool *p) { return pool_threads(p->pool); }
+Pool *render_pool_pool(RenderPool *p) { return p->pool; }
 void render_pool_watch(RenderPool *p, RenderProgress *progress) { p->progress = progress; }
 
 typedef struct {
@@ -105,7 +106,9 @@ typedef struct {
     RenderProgress *progress;
     int linear; /* write linear codes instead of sRGB (--linear) */
     int diffs;  /* the scene has textures or checkers: camera rays carry differentials (raydiff.h) */
-    int bpp;    /* bytes a pixel: 3 codes, or 4 of RGBE (settings hdr) */
+    int bpp;    /* bytes a pixel: its colour, then its guide where guided */
+    int cbpp;   /* bytes of its colour: 3 codes, or 4 of RGBE (settings hdr) */
+    int guided; /* settings denoise: each pixel's guide after its colour (render/denoise.h) */
     uint32_t chunk; /* pixels per work item (chunk_size) */
     /* the grid's pairs of whole lines (job_tiles): from line tile_line on,
      * each pair cut into blocks of tile_cols columns */
@@ -208,13 +211,33 @@ static const RayDiff *camera_diffs(const Frame *f, const real *xs, const real *y
     return out;
 }
 
+static inline real luminance_of(vec3 c) { return R(0.2126) * c.x + R(0.7152) * c.y + R(0.0722) * c.z; }
+
+/* g plus h: a pixel's guides summed sample by sample */
+static inline void guide_add(Guide *g, const Guide *h)
+{
+    g->albedo = v3_add(g->albedo, h->albedo);
+    g->lum2 += h->lum2;
+    if (h->surface) {
+        g->normal = v3_add(g->normal, h->normal);
+        g->depth += h->depth;
+        g->surface += h->surface;
+    }
+}
+
+static inline Guide guide_zero(void)
+{
+    return (Guide){.albedo = v3_splat(R(0)), .normal = v3_splat(R(0)), .depth = R(0), .surface = 0, .lum2 = R(0)};
+}
+
 /* A camera with an aperture: rays from stratified points of the lens for
  * each sample position, in packets, averaged; a position's key (adaptive
  * sampling) is its first lens ray's.  Per effect, lens_samples^2 rays a
  * position; one budget, the position's share of the lens_samples^2 its
  * pixel takes (at least one), points of one sequence for the pixel, each
  * ray a ray of the pixel's count. */
-static void sample_packet_lens(const Frame *f, const Samples *sm, vec3 *out, RayStats *st, uint64_t *keys)
+static void sample_packet_lens(const Frame *f, const Samples *sm, vec3 *out, RayStats *st, uint64_t *keys,
+                               Guide *guides)
 {
     const int product = f->w->view.settings.sampling == SAMPLING_PRODUCT;
     const uint32_t k = (uint32_t)settings_lens_samples(&f->w->view.settings),
@@ -230,8 +253,12 @@ static void sample_packet_lens(const Frame *f, const Samples *sm, vec3 *out, Ray
     uint64_t key[TRACE_PACKET];
     int which[TRACE_PACKET], first[TRACE_PACKET], m = 0;
     const int n = sm->n;
-    for (int i = 0; i < n; i++)
+    Guide rg[TRACE_PACKET];
+    for (int i = 0; i < n; i++) {
         out[i] = v3_splat(0);
+        if (guides)
+            guides[i] = guide_zero();
+    }
     for (int i = 0; i < n; i++) {
         const uint32_t lens_key = sample_mix(id[i].key, 0x4c454e53u); /* "LENS" */
         vec3 focal = v3_splat(0); /* where the position's lens rays meet */
@@ -264,9 +291,12 @@ static void sample_packet_lens(const Frame *f, const Samples *sm, vec3 *out, Ray
             first[m] = j == 0;
             which[m++] = i;
             if (m == TRACE_PACKET || (i == n - 1 && j == per - 1)) {
-                shade_packet(f->w, rays, m, col, st, keys ? key : NULL, rs, pd ? diff : NULL);
+                shade_packet_guided(f->w, rays, m, col, st, keys ? key : NULL, rs, pd ? diff : NULL,
+                                    guides ? rg : NULL);
                 for (int q = 0; q < m; q++) {
                     out[which[q]] = v3_add(out[which[q]], col[q]);
+                    if (guides)
+                        guide_add(&guides[which[q]], &rg[q]);
                     if (keys && first[q])
                         keys[which[q]] = key[q];
                 }
@@ -274,15 +304,20 @@ static void sample_packet_lens(const Frame *f, const Samples *sm, vec3 *out, Ray
             }
         }
     }
-    for (int i = 0; i < n; i++)
+    for (int i = 0; i < n; i++) {
         out[i] = v3_scale(out[i], R(1) / (real)per);
+        if (guides) /* a position's albedo the mean of its lens rays' (its normals and distances by their count) */
+            guides[i].albedo = v3_scale(guides[i].albedo, R(1) / (real)per);
+    }
 }
 
 /* The same for an orthographic or fisheye camera: each ray by camera_ray,
  * the ones it has (a fisheye sees nothing outside its circle) traced as one
  * packet, the others the background. */
-static void sample_packet_other(const Frame *f, const Samples *sm, vec3 *out, RayStats *st, uint64_t *keys)
+static void sample_packet_other(const Frame *f, const Samples *sm, vec3 *out, RayStats *st, uint64_t *keys,
+                                Guide *guides)
 {
+    Guide rg[TRACE_PACKET];
     Ray rays[TRACE_PACKET];
     vec3 col[TRACE_PACKET];
     uint64_t key[TRACE_PACKET];
@@ -303,28 +338,34 @@ static void sample_packet_other(const Frame *f, const Samples *sm, vec3 *out, Ra
             out[i] = f->w->background;
             if (keys)
                 keys[i] = UINT64_MAX;
+            if (guides)
+                guides[i] = (Guide){.albedo = v3_splat(R(1)), .normal = v3_splat(R(0)), .depth = R(0), .surface = 0};
         }
     }
     if (m == 0)
         return;
-    shade_packet(f->w, rays, m, col, st, keys ? key : NULL, rs, pd ? diff : NULL);
+    shade_packet_guided(f->w, rays, m, col, st, keys ? key : NULL, rs, pd ? diff : NULL, guides ? rg : NULL);
     for (int k = 0; k < m; k++) {
         out[which[k]] = col[k];
+        if (guides)
+            guides[which[k]] = rg[k];
         if (keys)
             keys[which[k]] = key[k];
     }
 }
 
 /* The colours of the sample positions, traced as one packet (shade_packet:
- * each colour is what the ray gives alone). */
-static void sample_packet(const Frame *f, const Samples *sm, vec3 *out, RayStats *st, uint64_t *keys)
+ * each colour is what the ray gives alone); where guides is not NULL,
+ * each position's guide. */
+static void sample_packet(const Frame *f, const Samples *sm, vec3 *out, RayStats *st, uint64_t *keys,
+                          Guide *guides)
 {
     if (f->cam.kind != CAMERA_PINHOLE) {
-        sample_packet_other(f, sm, out, st, keys);
+        sample_packet_other(f, sm, out, st, keys, guides);
         return;
     }
     if (world_uses(f->w, FEAT_LENS)) {
-        sample_packet_lens(f, sm, out, st, keys);
+        sample_packet_lens(f, sm, out, st, keys, guides);
         return;
     }
     /* ray_make(org, v3_norm(camera_dir(x, y))) for all eight lanes at once,
@@ -357,7 +398,8 @@ static void sample_packet(const Frame *f, const Samples *sm, vec3 *out, RayStats
     }
     SampleId id[TRACE_PACKET];
     RayDiff diff[TRACE_PACKET];
-    shade_packet(f->w, rays, n, out, st, keys, sample_ids(f, sm, id), camera_diffs(f, px, py, n, sm->step, diff));
+    shade_packet_guided(f->w, rays, n, out, st, keys, sample_ids(f, sm, id), camera_diffs(f, px, py, n, sm->step, diff),
+                        guides);
 }
 
 /* One sample a pixel at each of n positions (their pixels' centres). */
@@ -395,13 +437,17 @@ static inline __attribute__((always_inline)) void put_codes(const Frame *f, uint
 }
 
 /* A finished pixel: its codes, or its RGBE (high dynamic range: the light
- * itself, no exposure). */
-static inline __attribute__((always_inline)) void put_pixel(const Frame *f, uint8_t *dst, vec3 c)
+ * itself, no exposure); where guided, then its guide, of g (the sum of its
+ * n samples' guides). */
+static inline __attribute__((always_inline)) void put_pixel(const Frame *f, uint8_t *dst, vec3 c, const Guide *g,
+                                                            int n)
 {
-    if (f->bpp == 4)
+    if (f->cbpp == 4)
         rgbe_encode(c.x, c.y, c.z, dst);
     else
         put_codes(f, dst, c);
+    if (f->guided)
+        denoise_guide_pack(g, n, c, dst + f->cbpp);
 }
 
 /* Pixels' n x n sub-samples, gathered across pixels into full packets: a
@@ -422,6 +468,7 @@ typedef struct {
     uint32_t pos[TRACE_PACKET];
     int slot[TRACE_PACKET], m;
     vec3 sum[GRID_SLOTS];
+    Guide gsum[GRID_SLOTS]; /* where guided */
     uint8_t *dst[GRID_SLOTS];
     int left[GRID_SLOTS], next;
 } GridBatch;
@@ -437,14 +484,21 @@ static void grid_flush(GridBatch *g)
     if (g->m == 0)
         return;
     vec3 c[TRACE_PACKET];
+    Guide gd[TRACE_PACKET];
+    const int guided = g->f->guided;
     Samples sm = {.xs = g->xs, .ys = g->ys, .pos = g->pos, .per_pixel = (uint32_t)(g->n * g->n), .step = g->inv,
                   .n = g->m};
-    sample_packet(g->f, &sm, c, g->st, NULL);
+    sample_packet(g->f, &sm, c, g->st, NULL, guided ? gd : NULL);
     for (int q = 0; q < g->m; q++) {
         const int s = g->slot[q];
         g->sum[s] = v3_add(g->sum[s], c[q]);
+        if (guided) { /* the sample's light, for the spread of its pixel's samples */
+            const real l = luminance_of(c[q]);
+            gd[q].lum2 = l * l;
+            guide_add(&g->gsum[s], &gd[q]);
+        }
         if (--g->left[s] == 0)
-            put_pixel(g->f, g->dst[s], v3_scale(g->sum[s], g->inv * g->inv));
+            put_pixel(g->f, g->dst[s], v3_scale(g->sum[s], g->inv * g->inv), &g->gsum[s], g->n * g->n);
     }
     g->m = 0;
 }
@@ -455,6 +509,7 @@ static void grid_add(GridBatch *g, int px, int py, uint8_t *dst)
     const int s = g->next, n = g->n;
     g->next = (s + 1) % GRID_SLOTS;
     g->sum[s] = v3_splat(0);
+    g->gsum[s] = guide_zero();
     g->dst[s] = dst;
     g->left[s] = n * n;
     for (int j = 0; j < n; j++)
@@ -501,11 +556,12 @@ static void job_grid(void *ctx, uint32_t chunk, RayStats *st)
         if (n == 1) {
             real xs[TRACE_PACKET], ys[TRACE_PACKET];
             vec3 c[TRACE_PACKET];
+            Guide gd[TRACE_PACKET];
             int k = line_packet(g, i1 - i, f->width, xs, ys);
             Samples sm = centres(xs, ys, k);
-            sample_packet(f, &sm, c, st, NULL);
+            sample_packet(f, &sm, c, st, NULL, f->guided ? gd : NULL);
             for (int q = 0; q < k; q++)
-                put_pixel(f, &f->pixels[f->bpp * (i + (uint64_t)q)], c[q]);
+                put_pixel(f, &f->pixels[f->bpp * (i + (uint64_t)q)], c[q], &gd[q], 1);
             i += (uint64_t)k;
             continue;
         }
@@ -537,14 +593,16 @@ static void job_tiles(void *ctx, uint32_t chunk, RayStats *st)
         const int k = c1 - x < TILE_W ? c1 - x : TILE_W; /* columns in this packet */
         real xs[TRACE_PACKET], ys[TRACE_PACKET];
         vec3 c[TRACE_PACKET];
+        Guide gd[TRACE_PACKET];
         for (int q = 0; q < 2 * k; q++) {
             xs[q] = (real)(x + q % k) + R(0.5);
             ys[q] = (real)(y + (uint64_t)(q / k)) + R(0.5);
         }
         Samples sm = centres(xs, ys, 2 * k);
-        sample_packet(f, &sm, c, st, NULL);
+        sample_packet(f, &sm, c, st, NULL, f->guided ? gd : NULL);
         for (int q = 0; q < 2 * k; q++)
-            put_pixel(f, &f->pixels[f->bpp * ((y + (uint64_t)(q / k)) * w + (uint64_t)(x + q % k) - f->first)], c[q]);
+            put_pixel(f, &f->pixels[f->bpp * ((y + (uint64_t)(q / k)) * w + (uint64_t)(x + q % k) - f->first)], c[q],
+                      &gd[q], 1);
     }
     count_progress(f, 2 * (uint64_t)(c1 - c0), st, before);
 }
@@ -561,18 +619,19 @@ static void job_keys(void *ctx, uint32_t chunk, RayStats *st)
     for (uint64_t i = i0; i < i1;) {
         real xs[TRACE_PACKET], ys[TRACE_PACKET];
         vec3 c[TRACE_PACKET];
+        Guide gd[TRACE_PACKET];
         int k = line_packet(i, i1 - i, f->width, xs, ys);
         for (int q = 0; q < k; q++)
             ys[q] += (real)f->key_first;
         Samples sm = centres(xs, ys, k);
         sm.probe = f->probe;
-        sample_packet(f, &sm, c, st, &f->keys[i]);
+        sample_packet(f, &sm, c, st, &f->keys[i], f->guided ? gd : NULL);
         /* kept as written: the contrast test compares what a viewer sees, and
          * a pixel without an edge is this sample */
         for (int q = 0; q < k; q++) {
             put_codes(f, &f->colors[3 * (i + (uint64_t)q)], c[q]);
             if (f->centre != f->colors)
-                put_pixel(f, &f->centre[f->bpp * (i + (uint64_t)q)], c[q]);
+                put_pixel(f, &f->centre[f->bpp * (i + (uint64_t)q)], c[q], &gd[q], 1);
         }
         i += (uint64_t)k;
     }
@@ -654,10 +713,11 @@ static void job_refine(void *ctx, uint32_t chunk, RayStats *st)
         }
         if (m == TRACE_PACKET || (m > 0 && i + 1 == i1)) {
             vec3 c[TRACE_PACKET];
+            Guide gd[TRACE_PACKET];
             Samples sm = centres(xs, ys, m);
-            sample_packet(f, &sm, c, st, NULL);
+            sample_packet(f, &sm, c, st, NULL, f->guided ? gd : NULL);
             for (int q = 0; q < m; q++)
-                put_pixel(f, &f->pixels[f->bpp * at_px[q]], c[q]);
+                put_pixel(f, &f->pixels[f->bpp * at_px[q]], c[q], &gd[q], 1);
             m = 0;
         }
     }
@@ -748,6 +808,8 @@ int render_span(RenderPool *p, const World *w, int width, int height, uint64_t f
     f.linear = w->view.settings.linear;
     f.diffs = world_uses(w, FEAT_TEXTURES | FEAT_CHECKER);
     f.bpp = (int)render_pixel_bytes(&w->view.settings);
+    f.cbpp = (int)render_colour_bytes(&w->view.settings);
+    f.guided = w->view.settings.denoise;
     f.gain = pow(R(2), w->view.settings.exposure);
     f.chunk = chunk_size(count, pool_threads(p->pool));
     f.probe = render_probes_lights(w);

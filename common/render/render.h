@@ -12,6 +12,7 @@
 #include <stdatomic.h>
 #include <stdint.h>
 
+#include "render/denoise.h"
 #include "scene/shade.h"
 
 #define RENDER_MAX_SIDE 65536
@@ -19,9 +20,15 @@
 
 typedef struct RenderPool RenderPool;
 
-/* Bytes a pixel of the scene's frames: 3 (RGB8 codes), or 4 (RGBE) with
- * settings hdr. */
-static inline uint32_t render_pixel_bytes(const RenderSettings *rs) { return rs->hdr ? 4u : 3u; }
+/* Bytes of a pixel's colour: 3 (RGB8 codes), or 4 (RGBE) with settings hdr. */
+static inline uint32_t render_colour_bytes(const RenderSettings *rs) { return rs->hdr ? 4u : 3u; }
+/* Bytes a pixel of the scene's frames as rendered and sent: its colour,
+ * then with settings denoise its guide (render/denoise.h), which the
+ * frame's filter reads and the picture shown no longer has. */
+static inline uint32_t render_pixel_bytes(const RenderSettings *rs)
+{
+    return render_colour_bytes(rs) + (rs->denoise ? DENOISE_GUIDE_BYTES : 0u);
+}
 
 /* Pixels finished and rays traced so far, for a progress line that another
  * thread reads while the pool renders (relaxed atomics: a rough count). */
@@ -34,6 +41,8 @@ RenderPool *render_pool_create(int threads, Err *err);
 void render_pool_watch(RenderPool *p, RenderProgress *progress);
 void render_pool_destroy(RenderPool *p);
 int render_pool_threads(const RenderPool *p);
+/* Its threads, for other work between renders (the denoiser's passes). */
+Pool *render_pool_pool(RenderPool *p);
 
 /* Renders lines [first_line, first_line + count) of a width x height frame of
  * the prepared scene into pixels (RGB8, count*width*3 bytes; with settings

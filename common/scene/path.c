@@ -445,15 +445,59 @@ typedef struct {
     real pdf_bounce;  /* and the density of the bounce's direction */
     int through;      /* the ray left a see-through blend it passed straight, not that point */
     const DrawPlan *plan;
+    Guide *guide;     /* the denoiser's guide, while the path has not met its first rough surface; else NULL */
+    vec3 tint;        /* ... the smooth mirrors' and clear glass's colours on the way to it */
+    real dist;        /* ... and the path's length so far */
 } Path;
 
-static void path_start(Path *p, const DrawPlan *plan, const Ray *r, SampleId id, uint64_t *key)
+static void path_start(Path *p, const DrawPlan *plan, const Ray *r, SampleId id, uint64_t *key, Guide *guide)
 {
     p->plan = plan;
     /* field by field: a compound literal cleared the whole and copied it */
     p->L = v3_splat(R(0)), p->beta = v3_splat(R(1)), p->from = v3_splat(R(0));
     p->ray = *r, p->id = id, p->key = key;
     p->b = 0, p->after_smooth = 0, p->pdf_bounce = R(0), p->through = 0;
+    p->guide = guide;
+    if (guide) {
+        p->tint = v3_splat(R(1)), p->dist = R(0);
+        *guide = (Guide){.albedo = p->tint, .normal = v3_splat(R(0)), .depth = R(0), .surface = 0};
+    }
+}
+
+/* The guide at a hit of a path that has met no rough surface yet (kd: the
+ * surface's diffuse and Phong specular colours there, so that a white
+ * highlight on red is not divided by red's little green): the surface's colour, normal and
+ * distance; a smooth mirror or clear glass (delta: the path's next ray is
+ * its only one) gives its own where the path ends on it, else its colour
+ * tints what is seen through it, which sets the guide.  An emitter ends
+ * the guide as the background does (surface 0). */
+/* A metal rougher than this is a surface of its own to the guide; a
+ * smoother one's reflection is followed as a mirror's (what it reflects
+ * stays sharp: the brass ball of models/example.scene, roughness 0.15, lost
+ * its reflection to the filter as a surface) */
+#define GUIDE_GLOSSY R(0.3)
+
+static void guide_at(Path *p, const Surface *sf, const Hit *h, vec3 kd, int delta)
+{
+    const Material *m = sf->mat;
+    Guide *g = p->guide;
+    p->dist += h->t;
+    if (material_emits(m)) {
+        *g = (Guide){.albedo = p->tint, .normal = v3_splat(R(0)), .depth = R(0), .surface = 0};
+        p->guide = NULL;
+        return;
+    }
+    const real mu = v3_dot(sf->ns, v3_neg(p->ray.dir));
+    const vec3 kr = material_reflects(m) ? material_mirror_at(m, mu) : v3_splat(R(0)),
+               kt = material_dielectric(m) ? m->kt : v3_splat(R(0));
+    g->albedo = v3_mul(p->tint, v3_min(v3_add(v3_add(kd, kr), kt), v3_splat(R(1))));
+    g->normal = mu < R(0) ? v3_neg(sf->ns) : sf->ns;
+    g->depth = p->dist;
+    g->surface = 1;
+    if (delta) /* what the next ray meets sets it, seen through this colour */
+        p->tint = v3_mul(p->tint, material_dielectric(m) ? v3_splat(R(1)) : kr);
+    else
+        p->guide = NULL;
 }
 
 /* The Phong highlight (ks) of a surface that reflects rays itself (a
@@ -623,6 +667,8 @@ static int path_step(const World *w, Path *p, int found, const Hit *h, RayStats 
         p->L = v3_add(p->L, v3_mul(p->beta, seen));
         if (b == 0 && p->key)
             *p->key = UINT64_MAX;
+        if (p->guide) /* the background seen, through what tinted it */
+            *p->guide = (Guide){.albedo = p->tint, .normal = v3_splat(R(0)), .depth = R(0), .surface = 0};
         return 0;
     }
     const int depth = w->view.settings.depth;
@@ -658,6 +704,12 @@ static int path_step(const World *w, Path *p, int found, const Hit *h, RayStats 
     const int glass = material_dielectric(m);
     const vec3 kd = diffuse_at(w, &sf),
                ks = w->view.settings.shading == SHADE_PHONG && !glass ? m->ks : v3_splat(R(0));
+    if (p->guide) { /* delta: clear glass, or a mirror of nothing else, smooth or nearly */
+        const int bare = !(v3_max_comp(kd) > R(0));
+        guide_at(p, &sf, h, v3_add(kd, ks),
+                 bare && (glass ? !material_reflects(m) && !material_frosted(m)
+                                : material_reflects(m) && m->roughness < GUIDE_GLOSSY && !material_coats(m)));
+    }
     if (glass && !(v3_max_comp(kd) > R(0) || material_reflects(m)) && material_frosted(m)) {
         go = frosted_step(w, p, &sf, &dr, last, st);
     } else if (glass && !(v3_max_comp(kd) > R(0) || material_reflects(m))) {
@@ -683,7 +735,7 @@ static int path_step(const World *w, Path *p, int found, const Hit *h, RayStats 
 }
 
 void path_radiance_packet(const World *w, const Ray *rays, int n, const SampleId *ids, vec3 *out, RayStats *st,
-                          uint64_t *keys)
+                          uint64_t *keys, Guide *guides)
 {
     Path p[TRACE_PACKET];
     Hit h[TRACE_PACKET];
@@ -694,7 +746,7 @@ void path_radiance_packet(const World *w, const Ray *rays, int n, const SampleId
     int live[TRACE_PACKET], m = 0;
     for (int i = 0; i < n; i++) {
         const SampleId id = ids ? ids[i] : (SampleId){.key = 0, .index = 0, .count = 1};
-        path_start(&p[i], &plan, &rays[i], id, keys ? &keys[i] : NULL);
+        path_start(&p[i], &plan, &rays[i], id, keys ? &keys[i] : NULL, guides ? &guides[i] : NULL);
         if (path_step(w, &p[i], h[i].kind != HIT_NONE, &h[i], st))
             live[m++] = i;
     }

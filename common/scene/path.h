@@ -20,8 +20,9 @@
  * their samples, or NULL) in out[i]; keys[i] (keys may be NULL) receives
  * what ray i saw first, for adaptive anti-aliasing.  Each path is what it
  * is alone: the camera rays go as a packet, the bounces of the live
- * paths in one call (trace_closest_each). */
+ * paths in one call (trace_closest_each).  guides (may be NULL): each
+ * path's guide for the denoiser (scene/shade.h). */
 void path_radiance_packet(const World *w, const Ray *rays, int n, const SampleId *ids, vec3 *out, RayStats *stats,
-                          uint64_t *keys);
+                          uint64_t *keys, Guide *guides);
 
 #endif

@@ -143,6 +143,8 @@ typedef struct {
     int contrast;      /* adaptive: a pixel is refined where a neighbour's centre sample differs by more than this
                         * many codes in a channel (255: never by colour alone) */
     real exposure;     /* stops: the 8-bit codes encode light times 2^exposure */
+    int denoise;       /* path: each pixel also carries what its camera rays saw first (a guide), and the frame
+                        * is filtered by it (render/denoise.h) */
     int hdr;           /* pixels are RGBE, 4 bytes (a .hdr from lanray-render, lanray-server --hdr); not in scene files */
     /* what the scene file asked for, for the programs' defaults; not on the
      * wire (an UPDATE carries the frame's size, the samples are above) */

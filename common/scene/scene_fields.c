@@ -131,6 +131,10 @@ static const Field settings_fields[] = {
      .doc = "adaptive: also refine where a neighbour's colour differs by more than this many codes (255: never)"},
     {.key = "exposure", .type = FIELD_REAL, .group = SETTINGS_GROUP_OUTPUT, .off = SET(rs.exposure), .lo = -32, .hi = 32,
      .doc = "stops: 8-bit output shows the light times 2^exposure"},
+    {.key = "denoise", .type = FIELD_CHOICE, .group = SETTINGS_GROUP_OUTPUT, .off = SET(rs.denoise),
+     .words = onoff_words,
+     .doc = "path: the frame's noise filtered out, guided by the surfaces each pixel saw first (their colours, "
+            "normals, distances)"},
 };
 
 static const FieldRule settings_rules[] = {

@@ -1116,10 +1116,18 @@ static inline __attribute__((always_inline)) void light_pass(const World *w, Sha
 void shade_packet(const World *w, const Ray *rays, int n, vec3 *out, RayStats *stats, uint64_t *keys,
                   const SampleId *ids, const RayDiff *diffs)
 {
+    shade_packet_guided(w, rays, n, out, stats, keys, ids, diffs, NULL);
+}
+
+void shade_packet_guided(const World *w, const Ray *rays, int n, vec3 *out, RayStats *stats, uint64_t *keys,
+                         const SampleId *ids, const RayDiff *diffs, Guide *guides)
+{
     if (w->view.settings.integrator == INTEGRATOR_PATH) {
-        path_radiance_packet(w, rays, n, ids, out, stats, keys);
+        path_radiance_packet(w, rays, n, ids, out, stats, keys, guides);
         return;
     }
+    for (int i = 0; guides && i < n; i++)
+        guides[i] = (Guide){.albedo = v3_splat(R(1)), .normal = v3_splat(R(0)), .depth = R(0), .surface = 0};
     vec3 ones[TRACE_PACKET];
     for (int i = 0; i < n; i++)
         ones[i] = v3_splat(R(1));

@@ -23,6 +23,22 @@ static inline void ray_stats_add(RayStats *to, RayStats st)
     to->secondary += st.secondary;
 }
 
+/* What a camera ray's path saw first, for the denoiser (render/denoise.h):
+ * the first surface that is not a smooth mirror or clear glass (through
+ * which the path is followed, their colours in its albedo), its colour
+ * (albedo: the diffuse colour, a metal's, glass's), its shading normal
+ * towards the ray and the distance along the path; surface 0 where the
+ * path left the scene or met an emitter first (the background's light, a
+ * lamp's: no noise to take out), albedo then the tint on the way.  Summed
+ * over a pixel's samples: surface counts the samples that met one, and
+ * the normals and depths are theirs alone. */
+typedef struct {
+    vec3 albedo, normal;
+    real depth;
+    int surface;
+    real lum2; /* the square of the sample's luminance, summed (render.c sets it: the noise's measure) */
+} Guide;
+
 /* What of a light's radiance passes along shadow ray sr, which
  * trace_shadow let pass (nothing opaque in its way but in an instance
  * that is partly glass, so the walk looks at glass alone): the product of
@@ -48,6 +64,11 @@ vec3 shade_ray(const World *w, const Ray *r, RayStats *stats, uint64_t *key);
  * texture is read at one point of its image. */
 void shade_packet(const World *w, const Ray *rays, int n, vec3 *out, RayStats *stats, uint64_t *keys,
                   const SampleId *ids, const RayDiff *diffs);
+/* The same, with each ray's guide in guides[i] (the path integrator's;
+ * Whitted's frames have no noise of their own to take out: every guide
+ * there says surface 0, and its pixels pass the denoiser as they are). */
+void shade_packet_guided(const World *w, const Ray *rays, int n, vec3 *out, RayStats *stats, uint64_t *keys,
+                         const SampleId *ids, const RayDiff *diffs, Guide *guides);
 
 /* The path integrator's next-event estimation (scene/path.c): light li's
  * radiance arriving at p from the point (u, v) of the unit square on it

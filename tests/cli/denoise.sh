@@ -1,0 +1,95 @@
+#!/usr/bin/env bash
+# Denoising (settings denoise, --denoise: render/denoise.h): the Cornell box
+# path-traced at one sample a pixel (96 x 96) comes at least three times as
+# close to its converged picture denoised as not, at 4x4 samples 1.5 times
+# (at 400 x 400 the filter has more pixels a wall: 4.5 and 3.3 times,
+# docs/renderer.md); the denoised
+# frame is the same bytes on every SIMD path, in segments of any size,
+# with adaptive anti-aliasing, through a lens and a fisheye, in .hdr; a
+# Whitted frame passes as it is; through a server and two clients (moving
+# frames and the still ones that refine), the frames are lanray-render's
+# --denoise pictures bit for bit, with the server's --denoise or the
+# scene's own setting; a frame too large for memory whole is refused,
+# naming denoising, and leaves no file.
+set -u
+source tests/tools/server-lib.sh
+S=models/cornell.scene W=96 H=96
+render() { "$BIN/lanray-render" "$@" --quiet >/dev/null 2>"$dir/render.err" || fail "lanray-render $*: $(cat "$dir/render.err")"; }
+rmse() { "$BIN/lanray-imgdiff" --csv "$1" "$2" | cut -d, -f3; }
+# the converged reference: 24 x 24 samples a pixel
+render $S --integrator path --aa 24 --width $W --height $H -o "$dir/ref.png"
+for a in "1 3" "4 1.5"; do
+    set -- $a
+    a=$1 k=$2
+    render $S --integrator path --aa $a --width $W --height $H -o "$dir/raw-$a.png"
+    render $S --integrator path --aa $a --width $W --height $H --denoise on -o "$dir/dn-$a.png"
+    raw=$(rmse "$dir/raw-$a.png" "$dir/ref.png") dn=$(rmse "$dir/dn-$a.png" "$dir/ref.png")
+    echo "cornell ${a}x$a: RMSE $raw raw, $dn denoised"
+    python3 -c "import sys; sys.exit(0 if $dn * $k < $raw else 1)" ||
+        fail "at ${a}x$a samples denoising took RMSE $raw only to $dn"
+done
+# one picture on every path, in segments, whatever the threads
+render $S --integrator path --aa 1 --width $W --height $H --denoise on --segment 7 --threads 1 -o "$dir/seg.png"
+cmp -s "$dir/seg.png" "$dir/dn-1.png" || fail "in segments of 7 lines the denoised frame differs"
+sed 's/^settings \(.*\)/settings \1 integrator path denoise on/' $S >"$dir/on.scene"
+sed 's/^settings \(.*\)/settings \1 integrator path/' $S >"$dir/path.scene"
+grep -q "denoise on" "$dir/on.scene" || fail "no settings line to add denoise to in $S"
+render "$dir/on.scene" --aa 1 --width $W --height $H -o "$dir/scene-on.png"
+cmp -s "$dir/scene-on.png" "$dir/dn-1.png" || fail "the scene's settings denoise on is not --denoise on"
+same_on_simd_paths "$dir/on.scene" "$dir/dn-1.png" $W $H "the denoised Cornell box"
+# adaptive anti-aliasing, a lens, a fisheye, .hdr: denoised, changed, finite
+render $S --integrator path --aa adaptive:2 --width $W --height $H --denoise on -o "$dir/adapt.png"
+render $S --integrator path --aa adaptive:2 --width $W --height $H -o "$dir/adapt-raw.png"
+cmp -s "$dir/adapt.png" "$dir/adapt-raw.png" && fail "denoising changed no pixel of an adaptive frame"
+for cam in "fov 40 aperture 20 focus 800" "fisheye 170"; do
+    sed "s/^camera \(.*\) fov 40/camera \1 $cam/" "$dir/on.scene" >"$dir/cam.scene"
+    render "$dir/cam.scene" --aa 1 --width $W --height $H -o "$dir/cam.png"
+    render "$dir/cam.scene" --aa 1 --width $W --height $H --denoise off -o "$dir/cam-raw.png"
+    cmp -s "$dir/cam.png" "$dir/cam-raw.png" && fail "denoising changed nothing with camera $cam"
+done
+render $S --integrator path --aa 1 --width $W --height $H --denoise on -o "$dir/dn.hdr"
+render $S --integrator path --aa 1 --width $W --height $H -o "$dir/raw.hdr"
+render $S --integrator path --aa 24 --width $W --height $H -o "$dir/ref.hdr"
+e_dn=$("$BIN/lanray-imgdiff" --csv --relative --block 4 "$dir/dn.hdr" "$dir/ref.hdr" | cut -d, -f1)
+e_raw=$("$BIN/lanray-imgdiff" --csv --relative --block 4 "$dir/raw.hdr" "$dir/ref.hdr" | cut -d, -f1)
+echo "cornell .hdr 1x1: relative error in 4x4 blocks $e_raw raw, $e_dn denoised"
+python3 -c "import sys; sys.exit(0 if $e_dn < $e_raw else 1)" || fail "a denoised .hdr is no closer: $e_dn against $e_raw"
+# Whitted frames have no noise to take out: the same bytes
+render --aa 1 --width $W --height $H -o "$dir/w.png"
+render --aa 1 --width $W --height $H --denoise on -o "$dir/w-on.png"
+cmp -s "$dir/w.png" "$dir/w-on.png" || fail "a Whitted frame changed under --denoise on"
+# through a server: a flight of 3 moving frames (1 sample), then still
+# frames of 2x2 and 4x4 (--still-aa 4), each lanray-render's --denoise picture
+cat >"$dir/room.path" <<'PATH'
+key 0 position 278 273 -800 lookat 278 273 0 fov 40
+key 1 position 200 300 -700 lookat 278 273 0 fov 40
+PATH
+for t in 0 0.5 1; do
+    render $S --integrator path --path "$dir/room.path" --at $t --aa 1 --width 48 --height 48 --denoise on -o "$dir/m-$t.png"
+done
+for a in 2 4; do
+    render $S --integrator path --path "$dir/room.path" --at 1 --aa $a --width 48 --height 48 --denoise on -o "$dir/s-$a.png"
+done
+cmp -s "$dir/m-0.png" "$dir/m-1.png" && fail "the path does not move the camera: the test cannot fail"
+for how in flag scene; do
+    if [ $how = flag ]; then args=(--denoise "$dir/path.scene"); else args=("$dir/on.scene"); fi
+    start_server room-$how --port 0 --width 48 --height 48 --path "$dir/room.path" --path-step 0.5 --wait-clients 2 \
+        --still-aa 4 "${args[@]}" --out "$dir/$how"
+    for c in 1 2; do
+        "$BIN/lanray-client" "127.0.0.1:$port" --threads 1 --once 2>"$dir/c-$how-$c.err" >/dev/null &
+        pids+=("$!")
+    done
+    for _ in $(seq 400); do kill -0 "$server_pid" 2>/dev/null || break; sleep 0.05; done
+    wait "$server_pid" || fail "the server ($how) exited $?"
+    [ "$(ls "$dir/$how" | wc -l)" = 5 ] || fail "3 moving frames and 2 still ones ($how): $(ls "$dir/$how")"
+    k=1
+    for f in m-0 m-0.5 m-1 s-2 s-4; do
+        cmp -s "$dir/$how/frame-0000$k.png" "$dir/$f.png" || fail "served frame $k ($how) is not lanray-render's $f"
+        k=$((k + 1))
+    done
+done
+# too large to hold whole: refused, nothing left
+out=$("$BIN/lanray-render" $S --integrator path --denoise on --aa 1 --width 64 --height 64 --band 16 -o "$dir/big.png" 2>&1)
+[ $? = 1 ] && grep -q "denoising needs the whole frame" <<<"$out" || fail "a banded frame with --denoise: $out"
+[ -e "$dir/big.png" ] && fail "a refused render left its file"
+echo "denoise: ok"
