@@ -200,7 +200,7 @@ Server *server_create(const ServerConfig *cfg, Scene *scene, Err *err)
         const long cores = sysconf(_SC_NPROCESSORS_ONLN);
         const int threads = cfg->denoise_threads > 0 ? cfg->denoise_threads : cores > 0 ? (int)cores : 1;
         s->denoise_pool = pool_create(threads < POOL_MAX_THREADS ? threads : POOL_MAX_THREADS, err);
-        s->denoiser = s->denoise_pool ? denoiser_create(s->denoise_pool, (size_t)cfg->width * cfg->height) : NULL;
+        s->denoiser = s->denoise_pool ? denoiser_create(s->denoise_pool, (uint32_t)cfg->width, (uint32_t)cfg->height) : NULL;
         s->denoised = malloc((size_t)cfg->width * cfg->height * s->cbpp);
         denoise_ok = s->denoiser && s->denoised;
     }

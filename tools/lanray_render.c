@@ -417,7 +417,7 @@ static int job_open(Job *j, Args *a, Err *err)
  * to the frame's (each of --repeat's, as the server filters each frame). */
 static int denoise_now(Job *j, const Args *a, double *best, double *sum, Err *err)
 {
-    Denoiser *d = denoiser_create(render_pool_pool(j->pool), (size_t)a->width * (size_t)a->height);
+    Denoiser *d = denoiser_create(render_pool_pool(j->pool), (uint32_t)a->width, (uint32_t)a->height);
     if (!d)
         return err_set(err, "out of memory for the denoiser");
     const RenderSettings *rs = &j->scene->settings;

@@ -46,10 +46,10 @@ void denoise_guide_unpack(const uint8_t in[DENOISE_GUIDE_BYTES], float albedo[3]
 
 typedef struct Denoiser Denoiser;
 
-/* A denoiser for frames of up to `pixels` pixels, its scratch made once
- * (NULL where memory ran out); pool (may be NULL: the caller alone) runs
- * its passes' rows. */
-Denoiser *denoiser_create(Pool *pool, size_t pixels);
+/* A denoiser for frames of up to max_w x max_h pixels, its scratch made
+ * once (NULL where memory ran out); pool (may be NULL: the caller alone)
+ * runs its passes' rows. */
+Denoiser *denoiser_create(Pool *pool, uint32_t max_w, uint32_t max_h);
 void denoiser_destroy(Denoiser *d);
 
 /* Filters a w x h frame of guided pixels (colour_bytes of colour, 3 codes

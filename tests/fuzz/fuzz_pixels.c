@@ -35,7 +35,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     if (pixcodec_decode(c, coding, data + 7, size - 7, dst, n, bpp, &err) == 0 && guided) {
         const uint32_t w = (uint32_t)(data[6] >> 2) % 64 + 1, h = (pixels + w - 1) / w;
         uint8_t *frame = calloc((size_t)w * h, bpp), *out = malloc((size_t)w * h * cb);
-        Denoiser *d = denoiser_create(NULL, (size_t)w * h);
+        Denoiser *d = denoiser_create(NULL, w, h);
         if (frame && out && d) {
             memcpy(frame, dst, n);
             assert(denoise_frame(d, frame, w, h, cb, data[5] & 1, out, &err) == 0);
