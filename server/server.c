@@ -32,6 +32,7 @@
 
 #include "measure.h"
 #include "upscale.h"
+#include "denoisestage.h"
 
 #define MAX_CLIENTS 1024
 
@@ -106,11 +107,9 @@ struct Server {
     uint8_t *pixels; /* the frame, bpp bytes a pixel: RGB8, or RGBE (hdr), then with denoise its guide */
     uint32_t bpp;
     uint32_t cbpp;   /* bytes of a pixel's colour, as shown */
-    /* settings denoise (fixed for the server's life, as bpp): the filter,
-     * its threads, the filtered frame */
-    Denoiser *denoiser;
-    Pool *denoise_pool;
-    uint8_t *denoised;
+    /* settings denoise (fixed for the server's life, as bpp): each finished
+     * frame is filtered on the stage's thread, and shown once filtered */
+    DenoiseStage *stage;
     Asset *assets;    /* models then textures of the scene */
     uint32_t nassets;
     Sink scene_blob;  /* the serialised description (number scene_id) */
@@ -195,17 +194,18 @@ Server *server_create(const ServerConfig *cfg, Scene *scene, Err *err)
     s->scale = s->next_scale = s->shown_scale = 1;
     s->fw = (uint32_t)cfg->width, s->fh = (uint32_t)cfg->height;
     s->codec = pixcodec_create();
-    int denoise_ok = 1;
+    Err stage_err = {{0}};
     if (scene->settings.denoise) {
         const long cores = sysconf(_SC_NPROCESSORS_ONLN);
         const int threads = cfg->denoise_threads > 0 ? cfg->denoise_threads : cores > 0 ? (int)cores : 1;
-        s->denoise_pool = pool_create(threads < POOL_MAX_THREADS ? threads : POOL_MAX_THREADS, err);
-        s->denoiser = s->denoise_pool ? denoiser_create(s->denoise_pool, (uint32_t)cfg->width, (uint32_t)cfg->height) : NULL;
-        s->denoised = malloc((size_t)cfg->width * cfg->height * s->cbpp);
-        denoise_ok = s->denoiser && s->denoised;
+        s->stage = denoise_stage_create((uint32_t)cfg->width, (uint32_t)cfg->height, s->cbpp,
+                                        threads < POOL_MAX_THREADS ? threads : POOL_MAX_THREADS, &stage_err);
     }
-    if (!s->sched || !s->pixels || !s->shown || !s->codec || !denoise_ok || build_assets(s, err)) {
-        if (!s->sched || !s->pixels || !s->shown || !s->codec || !denoise_ok)
+    const int stage_ok = !scene->settings.denoise || s->stage;
+    if (!s->sched || !s->pixels || !s->shown || !s->codec || !stage_ok || build_assets(s, err)) {
+        if (!stage_ok)
+            *err = stage_err;
+        else if (!s->sched || !s->pixels || !s->shown || !s->codec)
             err_set(err, "out of memory or invalid frame size");
         server_destroy(s);
         return NULL;
@@ -260,9 +260,7 @@ void server_destroy(Server *s)
     free(s->older.pixels);
     free(s->spare_pixels);
     free(s->shown);
-    denoiser_destroy(s->denoiser);
-    pool_destroy(s->denoise_pool);
-    free(s->denoised);
+    denoise_stage_destroy(s->stage);
     free(s->upscale_scratch);
     free(s->upscale_rgbe);
     free(s);
@@ -948,17 +946,38 @@ static void show_frame(Server *s, uint32_t id, const uint8_t *pixels, int scale,
     s->shown_still = still;
     s->shown_converged = converged;
     s->shown_scale = scale;
-    if (s->denoiser) { /* filtered at the render scale, then brought up */
-        const uint32_t k = (uint32_t)scale, fw = ((uint32_t)s->cfg.width + k - 1) / k,
-                       fh = ((uint32_t)s->cfg.height + k - 1) / k;
-        Err e;
-        if (denoise_frame(s->denoiser, pixels, fw, fh, s->cbpp, s->view.settings.linear, s->denoised, &e) == 0)
-            pixels = s->denoised;
-        else /* cannot be: the denoiser was made for the whole frame */
-            log_line(0, "lanray-server", "frame %u: %s", id, e.msg);
-    }
     if (done)
         done(ctx, id, scaled_up(s, pixels, scale));
+}
+
+/* The frame the denoise stage filtered, shown (wait: once it is); 1 where
+ * one was. */
+static int show_filtered(Server *s, int wait, FrameDoneFn done, void *ctx)
+{
+    const uint8_t *colours;
+    StageFrame f;
+    if (!s->stage || !denoise_stage_take(s->stage, wait, &colours, &f))
+        return 0;
+    show_frame(s, f.id, colours, f.scale, f.still, f.converged, f.t0, done, ctx);
+    return 1;
+}
+
+/* A finished frame: shown, or with settings denoise handed to the stage to
+ * be filtered at its render scale (then brought up) and shown once it is
+ * (the frame before first: frames are shown in order). */
+static void frame_finished(Server *s, uint32_t id, const uint8_t *pixels, int scale, int still, int converged,
+                           double t0, FrameDoneFn done, void *ctx)
+{
+    if (!s->stage) {
+        show_frame(s, id, pixels, scale, still, converged, t0, done, ctx);
+        return;
+    }
+    if (denoise_stage_holds(s->stage))
+        show_filtered(s, 1, done, ctx);
+    const uint32_t k = (uint32_t)scale;
+    const StageFrame f = {.id = id, .scale = scale, .still = still, .converged = converged, .t0 = t0};
+    denoise_stage_put(s->stage, pixels, ((uint32_t)s->cfg.width + k - 1) / k, ((uint32_t)s->cfg.height + k - 1) / k,
+                      s->view.settings.linear, &f);
 }
 
 /* Frames shown in order: the older of two in flight first.  An older frame
@@ -966,6 +985,7 @@ static void show_frame(Server *s, uint32_t id, const uint8_t *pixels, int scale,
  * its view left) is dropped, not waited for. */
 static void finish_frames(Server *s, FrameDoneFn done, void *ctx)
 {
+    show_filtered(s, 0, done, ctx);
     if (s->older.id) {
         Older *o = &s->older;
         int stranded = !sched_frame_done(o->sched) && sched_has_fresh(o->sched);
@@ -977,7 +997,7 @@ static void finish_frames(Server *s, FrameDoneFn done, void *ctx)
             s->frames_dropped++;
             log_line(s->cfg.quiet, "lanray-server", "frame %u dropped: the clients that had its view left", o->id);
         } else {
-            show_frame(s, o->id, o->pixels, o->scale, o->still, o->converged, o->t0, done, ctx);
+            frame_finished(s, o->id, o->pixels, o->scale, o->still, o->converged, o->t0, done, ctx);
         }
         s->spare_sched = o->sched;
         s->spare_pixels = o->pixels;
@@ -985,7 +1005,7 @@ static void finish_frames(Server *s, FrameDoneFn done, void *ctx)
     }
     if (s->in_frame && sched_frame_done(s->sched)) {
         s->in_frame = 0;
-        show_frame(s, s->frame, s->pixels, s->scale, s->still, s->converged, s->frame_t0, done, ctx);
+        frame_finished(s, s->frame, s->pixels, s->scale, s->still, s->converged, s->frame_t0, done, ctx);
     }
 }
 
@@ -1014,7 +1034,9 @@ int server_step(Server *s, int timeout_ms, FrameDoneFn done, void *ctx, Err *err
         pfd[i + 1] = (struct pollfd){s->clients[i]->conn.fd, (short)(POLLIN | (conn_pending(&s->clients[i]->conn) ? POLLOUT : 0)), 0};
         buffered |= conn_buffered(&s->clients[i]->conn);
     }
-    int r = poll(pfd, n + 1, buffered ? 0 : timeout_ms);
+    /* a frame being filtered: back soon to show it */
+    const int wait_ms = s->stage && denoise_stage_holds(s->stage) && timeout_ms > 1 ? 1 : timeout_ms;
+    int r = poll(pfd, n + 1, buffered ? 0 : wait_ms);
     if (r < 0 && errno != EINTR)
         return err_set(err, "poll failed: %s", strerror(errno));
     if (buffered) {
