@@ -27,10 +27,9 @@
 #define LUM_FROM 2
 #define SIGMA_Z 1.0f       /* distances: a gradient's worth of difference a pixel apart weighs 1/e */
 #define SIGMA_A 0.25f      /* albedos: a sum of channel differences of 0.25 weighs 1/e */
-#define NORMAL_POWER 128   /* normals: the cosine's 128th power (7 squarings) */
 #define ALBEDO_FLOOR 0.05f /* the light is divided by the albedo, but never by less than this */
 #define VAR_RADIUS 2       /* the variance's window: 5 x 5 */
-#define FIREFLY 4.0f       /* a pixel's light above its neighbours' mean by this many of their deviations is cut to it */
+#define FIREFLY 4.0f       /* light this many deviations above the neighbours' mean is cut to it */
 
 /* exp(-x) for x >= 0, within about 2e-7 relative: 2^-(x log2 e) as a
  * power of two times a polynomial of the fraction; without a branch (past
@@ -51,8 +50,8 @@ static inline float exp_neg(float x)
     const float f = (float)i - t.f; /* in (-1, 0] */
     /* 2^f by its Taylor series in f ln 2 (degree 6) */
     const float u = f * 0.693147181f;
-    const float p = 1.0f + u * (1.0f + u * (0.5f + u * (0.166666667f + u * (0.0416666667f +
-                                                                             u * (0.00833333333f + u * 0.00138888889f)))));
+    const float p5 = 0.0416666667f + u * (0.00833333333f + u * 0.00138888889f);
+    const float p = 1.0f + u * (1.0f + u * (0.5f + u * (0.166666667f + u * p5)));
     const union {
         uint32_t u;
         float f;
@@ -112,7 +111,9 @@ static inline __attribute__((always_inline)) float tap_weight(const Lanes *L, in
 {
     float c = L->nx[l] * P[P_NX][q] + L->ny[l] * P[P_NY][q] + L->nz[l] * P[P_NZ][q];
     c = (c + fabsf(c)) * 0.5f; /* c, or 0 below 0 (exactly), without a branch */
-    c *= c, c *= c, c *= c, c *= c, c *= c, c *= c, c *= c; /* c^NORMAL_POWER (a loop here kept AVX2's compile from vector code) */
+    /* normals: the cosine's 128th power, 7 squarings (as a loop, AVX2's
+     * compile made no vector code of the taps) */
+    c *= c, c *= c, c *= c, c *= c, c *= c, c *= c, c *= c;
     const float ez = absf(P[P_Z][q] - L->z[l]) * L->inv_z[reach][l];
     const float el = absf(P[P_LUM][q] - L->lum[l]) * L->inv_l[l];
     const float ea = (absf(P[P_AR][q] - L->ar[l]) + absf(P[P_AG][q] - L->ag[l]) + absf(P[P_AB][q] - L->ab[l])) *

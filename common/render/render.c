@@ -306,8 +306,14 @@ static void sample_packet_lens(const Frame *f, const Samples *sm, vec3 *out, Ray
     }
     for (int i = 0; i < n; i++) {
         out[i] = v3_scale(out[i], R(1) / (real)per);
-        if (guides) /* a position's albedo the mean of its lens rays' (its normals and distances by their count) */
-            guides[i].albedo = v3_scale(guides[i].albedo, R(1) / (real)per);
+        if (guides) { /* a position's guide the mean of its lens rays', a surface where all met one */
+            Guide *g = &guides[i];
+            const int all = g->surface == (int)per;
+            g->albedo = v3_scale(g->albedo, R(1) / (real)per);
+            g->depth = all ? g->depth / (real)per : R(0);
+            g->normal = all ? g->normal : v3_splat(R(0));
+            g->surface = all;
+        }
     }
 }
 
