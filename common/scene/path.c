@@ -464,19 +464,19 @@ static void path_start(Path *p, const DrawPlan *plan, const Ray *r, SampleId id,
     }
 }
 
-/* The guide at a hit of a path that has met no rough surface yet (kd: the
- * surface's diffuse and Phong specular colours there, so that a white
- * highlight on red is not divided by red's little green): the surface's colour, normal and
- * distance; a smooth mirror or clear glass (delta: the path's next ray is
- * its only one) gives its own where the path ends on it, else its colour
- * tints what is seen through it, which sets the guide.  An emitter ends
- * the guide as the background does (surface 0). */
 /* A metal rougher than this is a surface of its own to the guide; a
  * smoother one's reflection is followed as a mirror's (what it reflects
  * stays sharp: the brass ball of models/example.scene, roughness 0.15, lost
  * its reflection to the filter as a surface) */
 #define GUIDE_GLOSSY R(0.3)
 
+/* The guide at a hit of a path that has met no rough surface yet (kd: the
+ * surface's diffuse and Phong specular colours there, so that a white
+ * highlight on red is not divided by red's little green): the surface's
+ * colour, normal and distance; a mirror or clear glass (delta: the path's
+ * next ray is its only one, or nearly) gives its own where the path ends
+ * on it, else its colour tints what is seen through it, which sets the
+ * guide.  An emitter ends the guide as the background does (surface 0). */
 static void guide_at(Path *p, const Surface *sf, const Hit *h, vec3 kd, int delta)
 {
     const Material *m = sf->mat;
