@@ -129,11 +129,16 @@ def main():
             elif ptype == COMPUTE:
                 frame, first, count = struct.unpack("=III", body[:12])
                 segs = [(first, count)]
-            for first, count in segs:
+            for first, count in segs[:1]:
+                # one bad packet, then what the server says: a second one
+                # sent after the server dropped the client met a closed
+                # socket (a broken pipe, and the error unread)
                 raw = 3 * count
                 pix = b"\x5a" * (raw // 2 if mode == "bad-coded" else raw)
                 body = struct.pack("=IIIII", frame, first, count, 100, coding) + pix
                 s.sendall(struct.pack("=II", DATA, 8 + len(body)) + body)
+                print(wait_error(s))
+                return
         return
     elif mode == "silent":
         pass
