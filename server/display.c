@@ -197,6 +197,7 @@ static void key_down(Display *d, const SDL_KeyboardEvent *k, DisplayInput *in)
     case SDLK_m: in->toggle_shading = 1; break;
     case SDLK_h: in->toggle_shadows = 1; break;
     case SDLK_u: in->toggle_upscale = 1; break;
+    case SDLK_x: in->toggle_denoise = 1; break;
     default: break;
     }
 }

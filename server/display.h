@@ -19,7 +19,7 @@ typedef struct {
     double zoom;               /* zoom steps (+ in, - out) */
     /* the knobs: */
     int toggle_panel, frame_all, target_up, target_down, next_still, toggle_lights, toggle_shading,
-        toggle_shadows, toggle_upscale;
+        toggle_shadows, toggle_upscale, toggle_denoise;
 } DisplayInput;
 
 /* Whether a display is there to open a window on. */

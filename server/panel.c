@@ -48,8 +48,9 @@ int panel_lines(const PanelInfo *p, char out[][PANEL_LINE])
         LINE("samples: moving %.16s, still %.16s, lights to %.9s [N]", moving, still, lights);
     } else
         LINE("samples: moving %s, still %s [N]", moving, still);
-    LINE("moving lights %s [L]  %s [M]  shadows %s [H]", p->light_adaptive ? "adaptive" : "full",
-         p->diffuse ? "diffuse" : "phong", p->shadows ? "on" : "off");
+    LINE("moving lights %s [L]  %s [M]  shadows %s [H]%s", p->light_adaptive ? "adaptive" : "full",
+         p->diffuse ? "diffuse" : "phong", p->shadows ? "on" : "off",
+         p->denoise == 1 ? "  denoised [X]" : p->denoise == 2 ? "  raw [X]" : "");
     LINE("segments of %u lines", p->segment_lines);
     LINE("%u client%s", p->nclients, p->nclients == 1 ? "" : "s");
     double rest_share = 0, rest_rate = 0;

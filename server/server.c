@@ -110,6 +110,8 @@ struct Server {
     /* settings denoise (fixed for the server's life, as bpp): each finished
      * frame is filtered on the stage's thread, and shown once filtered */
     DenoiseStage *stage;
+    int raw_view;     /* denoised frames shown raw (server_set_denoise_shown) */
+    uint8_t *stripped; /* ... a frame's colours without their guides */
     Asset *assets;    /* models then textures of the scene */
     uint32_t nassets;
     Sink scene_blob;  /* the serialised description (number scene_id) */
@@ -200,8 +202,11 @@ Server *server_create(const ServerConfig *cfg, Scene *scene, Err *err)
         const int threads = cfg->denoise_threads > 0 ? cfg->denoise_threads : cores > 0 ? (int)cores : 1;
         s->stage = denoise_stage_create((uint32_t)cfg->width, (uint32_t)cfg->height, s->cbpp,
                                         threads < POOL_MAX_THREADS ? threads : POOL_MAX_THREADS, &stage_err);
+        s->stripped = malloc((size_t)cfg->width * cfg->height * s->cbpp);
+        if (s->stage && !s->stripped)
+            err_set(&stage_err, "out of memory for the raw view of %dx%d frames", cfg->width, cfg->height);
     }
-    const int stage_ok = !scene->settings.denoise || s->stage;
+    const int stage_ok = !scene->settings.denoise || (s->stage && s->stripped);
     if (!s->sched || !s->pixels || !s->shown || !s->codec || !stage_ok || build_assets(s, err)) {
         if (!stage_ok)
             *err = stage_err;
@@ -261,6 +266,7 @@ void server_destroy(Server *s)
     free(s->spare_pixels);
     free(s->shown);
     denoise_stage_destroy(s->stage);
+    free(s->stripped);
     free(s->upscale_scratch);
     free(s->upscale_rgbe);
     free(s);
@@ -270,6 +276,14 @@ int server_port(const Server *s) { return s->port; }
 int server_frame_still(const Server *s) { return s->shown_still; }
 int server_frame_scale(const Server *s) { return s->shown_scale; }
 int server_frame_converged(const Server *s) { return s->shown_converged; }
+int server_denoises(const Server *s) { return s->stage != NULL; }
+int server_denoise_shown(const Server *s) { return !s->raw_view; }
+void server_set_denoise_shown(Server *s, int shown)
+{
+    s->raw_view = s->stage && !shown;
+    const RenderSettings rs = server_settings(s); /* the view again (with a change still pending), shown the new way */
+    server_set_settings(s, &rs);
+}
 int server_newest_converged(const Server *s) { return s->converged; }
 
 void server_on_next(Server *s, FrameNextFn next, void *ctx)
@@ -974,6 +988,14 @@ static void frame_finished(Server *s, uint32_t id, const uint8_t *pixels, int sc
     }
     if (denoise_stage_holds(s->stage))
         show_filtered(s, 1, done, ctx);
+    const uint32_t n = (((uint32_t)s->cfg.width + (uint32_t)scale - 1) / (uint32_t)scale) *
+                       (((uint32_t)s->cfg.height + (uint32_t)scale - 1) / (uint32_t)scale);
+    if (s->raw_view) { /* the colours alone, unfiltered */
+        for (uint32_t i = 0; i < n; i++)
+            memcpy(s->stripped + (size_t)i * s->cbpp, pixels + (size_t)i * s->bpp, s->cbpp);
+        show_frame(s, id, s->stripped, scale, still, converged, t0, done, ctx);
+        return;
+    }
     const uint32_t k = (uint32_t)scale;
     const StageFrame f = {.id = id, .scale = scale, .still = still, .converged = converged, .t0 = t0};
     denoise_stage_put(s->stage, pixels, ((uint32_t)s->cfg.width + k - 1) / k, ((uint32_t)s->cfg.height + k - 1) / k,

@@ -140,6 +140,13 @@ int server_frame_still(const Server *s);
  * view refines over several still frames first: refine_step in server.c),
  * or any still frame without refinement. */
 int server_frame_converged(const Server *s);
+/* Whether the server denoises its frames (settings denoise), and whether
+ * they are shown so (1, the default) or raw (0: the window's X key, to see
+ * what the filter took out; the guides still travel); a change renders the
+ * view again. */
+int server_denoises(const Server *s);
+int server_denoise_shown(const Server *s);
+void server_set_denoise_shown(Server *s, int shown);
 int server_newest_converged(const Server *s);
 /* One round of the event loop, waiting at most timeout_ms.  Starts a new frame
  * when the previous one is done and clients are connected, unless paused. */

@@ -57,6 +57,8 @@ static void turn_knobs(Window *w, const DisplayInput *in)
             w->knobs.shadows = rs.shadows = !rs.shadows;
         server_set_settings(w->server, &rs);
     }
+    if (in->toggle_denoise && server_denoises(w->server)) /* the raw frame beside the filtered one */
+        server_set_denoise_shown(w->server, !server_denoise_shown(w->server));
     if (in->toggle_upscale)
         server_set_upscale(w->server, server_upscale(w->server) == UPSCALE_SMOOTH ? UPSCALE_BLOCKS : UPSCALE_SMOOTH);
     if (in->next_still)
@@ -126,6 +128,7 @@ void window_panel(Window *w, double fps, const char *error)
                        .aa = rs.aa, .adaptive = rs.adaptive,
                        .light_adaptive = server_moving_lights(w->server) == LIGHTS_ADAPTIVE,
                        .diffuse = rs.shading == SHADE_DIFFUSE, .shadows = rs.shadows,
+                       .denoise = server_denoises(w->server) ? 2 - server_denoise_shown(w->server) : 0,
                        .segment_lines = server_segment_lines(w->server), .clients = clients, .error = error};
         server_still(w->server, &p.refine, &p.still_aa, &p.still_adaptive);
         p.still_lights = server_still_lights(w->server);

@@ -5,7 +5,9 @@
 # (shading) changes the setting that the next frame is rendered with: the
 # window then shows lanray-render's --shading diffuse picture; a still
 # frame that refines the lights gives way to a key that changes the view;
-# U shows a frame rendered at a render scale in blocks, and smooth again.
+# U shows a frame rendered at a render scale in blocks, and smooth again;
+# X shows a denoised server's frames raw (lanray-render's --denoise off
+# picture) and denoised again (its --denoise on one).
 # Keys go in through XTEST (xdotool), as a user's would.
 set -u
 BIN=${BIN:-bin}
@@ -90,4 +92,22 @@ echo "U: frames at render scale 8 shown in blocks"
 xdotool key u
 out=$(shows smooth) || fail "U again: frames at render scale 8 not smooth again: $out"
 echo "U again: smooth"
+stop_window_server scaled
+# X: the path-traced Cornell box served --denoise, shown raw, then denoised again
+W=160 H=120
+sed 's/^settings \(.*\)/settings \1 integrator path/' models/cornell.scene >"$dir/path.scene"
+"$BIN/lanray-render" "$dir/path.scene" --width $W --height $H --aa 1 --denoise on -o "$dir/dn.ppm" --quiet >/dev/null ||
+    fail "denoised reference"
+"$BIN/lanray-render" "$dir/path.scene" --width $W --height $H --aa 1 -o "$dir/raw.ppm" --quiet >/dev/null ||
+    fail "raw reference"
+window_server denoised "$dir/path.scene" --width $W --height $H --denoise
+at=$(appears "$dir/dn.ppm") || fail "the denoised frame never showed"
+read -r x y <<<"$(sed 's/found at \([0-9]*\),\([0-9]*\)/\1 \2/' <<<"$at")"
+xdotool mousemove $((x + W / 2)) $((y + H / 2))
+xdotool key x
+appears "$dir/raw.ppm" >/dev/null || fail "X: the frame was not shown raw"
+xdotool key x
+appears "$dir/dn.ppm" >/dev/null || fail "X again: the frame was not shown denoised again"
+echo "X: the denoised frame shown raw, and denoised again"
+stop_window_server denoised
 exit 0
