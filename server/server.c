@@ -988,18 +988,16 @@ static void frame_finished(Server *s, uint32_t id, const uint8_t *pixels, int sc
     }
     if (denoise_stage_holds(s->stage))
         show_filtered(s, 1, done, ctx);
-    const uint32_t n = (((uint32_t)s->cfg.width + (uint32_t)scale - 1) / (uint32_t)scale) *
-                       (((uint32_t)s->cfg.height + (uint32_t)scale - 1) / (uint32_t)scale);
+    const uint32_t k = (uint32_t)scale, fw = ((uint32_t)s->cfg.width + k - 1) / k,
+                   fh = ((uint32_t)s->cfg.height + k - 1) / k;
     if (s->raw_view) { /* the colours alone, unfiltered */
-        for (uint32_t i = 0; i < n; i++)
-            memcpy(s->stripped + (size_t)i * s->cbpp, pixels + (size_t)i * s->bpp, s->cbpp);
+        for (size_t i = 0; i < (size_t)fw * fh; i++)
+            memcpy(s->stripped + i * s->cbpp, pixels + i * s->bpp, s->cbpp);
         show_frame(s, id, s->stripped, scale, still, converged, t0, done, ctx);
         return;
     }
-    const uint32_t k = (uint32_t)scale;
     const StageFrame f = {.id = id, .scale = scale, .still = still, .converged = converged, .t0 = t0};
-    denoise_stage_put(s->stage, pixels, ((uint32_t)s->cfg.width + k - 1) / k, ((uint32_t)s->cfg.height + k - 1) / k,
-                      s->view.settings.linear, &f);
+    denoise_stage_put(s->stage, pixels, fw, fh, s->view.settings.linear, &f);
 }
 
 /* Frames shown in order: the older of two in flight first.  An older frame

@@ -33,7 +33,7 @@ void denoise_guide_pack(const Guide *sum, int n, vec3 mean, uint8_t out[DENOISE_
     const real inv = R(1) / (real)(n > 0 ? n : 1);
     for (int k = 0; k < 3; k++)
         out[k] = linear_encode8(sum->albedo.e[k] * inv);
-    out[8] = noise_code(R(0.2126) * mean.x + R(0.7152) * mean.y + R(0.0722) * mean.z, sum->lum2, n);
+    out[8] = noise_code(guide_luminance(mean), sum->lum2, n);
     if (sum->surface < n) { /* a sample saw the background or an emitter: the pixel passes as it is (its
                              * light, far from its surface's, spread into its neighbours and lost) */
         memset(out + 3, 0, 5);
@@ -66,10 +66,10 @@ void denoise_guide_unpack(const uint8_t in[DENOISE_GUIDE_BYTES], float albedo[3]
     for (int k = 0; k < 3; k++)
         albedo[k] = (float)in[k] / 255.0f;
     float x = (float)in[3] / 127.5f - 1.0f, y = (float)in[4] / 127.5f - 1.0f;
-    const float nz = 1.0f - (x < 0 ? -x : x) - (y < 0 ? -y : y);
+    const float nz = 1.0f - absf(x) - absf(y);
     if (nz < 0.0f) {
-        const float fx = (1.0f - (y < 0 ? -y : y)) * (x < 0 ? -1.0f : 1.0f);
-        const float fy = (1.0f - (x < 0 ? -x : x)) * (y < 0 ? -1.0f : 1.0f);
+        const float fx = (1.0f - absf(y)) * (x < 0 ? -1.0f : 1.0f);
+        const float fy = (1.0f - absf(x)) * (y < 0 ? -1.0f : 1.0f);
         x = fx, y = fy;
     }
     const float l = sqrtf(x * x + y * y + nz * nz);
@@ -253,7 +253,7 @@ int denoise_frame(Denoiser *d, const uint8_t *px, uint32_t w, uint32_t h, uint32
     const int avx2 = simd_path() >= SIMD_AVX2;
     PoolRangeFn moments = avx2 ? denoise_moments_avx2 : denoise_moments_sse,
                 atrous = avx2 ? denoise_atrous_avx2 : denoise_atrous_sse;
-    Pass ps = {.P = d->p, .px = px, .out = out, .w = w, .h = h, .cb = colour_bytes,
+    Pass ps = {.P = d->p, .px = px, .out = out, .w = w, .cb = colour_bytes,
                .bpp = colour_bytes + DENOISE_GUIDE_BYTES, .stride = (size_t)w + 2 * PAD, .linear = linear};
     float *const *P = d->p;
     const uint64_t grain = 4; /* rows a call */

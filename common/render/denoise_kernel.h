@@ -74,7 +74,7 @@ typedef struct {
     float *const *P;       /* the denoiser's planes */
     const uint8_t *px;
     uint8_t *out;
-    uint32_t w, h, cb, bpp;
+    uint32_t w, cb, bpp;
     size_t stride;         /* floats a row of the planes: w + 2 PAD */
     int linear;
     int step;              /* the a-trous pass's tap spacing */
@@ -93,7 +93,7 @@ void denoise_atrous_sse(void *ctx, uint64_t lo, uint64_t hi, int thread);
 void denoise_moments_avx2(void *ctx, uint64_t lo, uint64_t hi, int thread);
 void denoise_atrous_avx2(void *ctx, uint64_t lo, uint64_t hi, int thread);
 
-/* An a-trous pass over LANES pixels of a row at once: what each pixel
+/* LANES pixels of a row at once, for a pass over taps: what each pixel
  * keeps of itself, then its sums over the taps. */
 #define LANES 8
 typedef struct {
@@ -104,8 +104,7 @@ typedef struct {
 
 /* The weight of a tap: its kernel weight kw times how alike the pixel
  * (lane l of L) and the tap q are (surf: whether q met a surface, 0 or
- * 1; out of the frame also 0), one expression for the vector and the
- * border code, so that both give the same bits */
+ * 1; in the planes' margin, 0) */
 static inline __attribute__((always_inline)) float tap_weight(const Lanes *L, int l, float *const *P, size_t q,
                                                               float kw, int reach, float surf)
 {

@@ -211,8 +211,6 @@ static const RayDiff *camera_diffs(const Frame *f, const real *xs, const real *y
     return out;
 }
 
-static inline real luminance_of(vec3 c) { return R(0.2126) * c.x + R(0.7152) * c.y + R(0.0722) * c.z; }
-
 /* g plus h: a pixel's guides summed sample by sample */
 static inline void guide_add(Guide *g, const Guide *h)
 {
@@ -223,11 +221,6 @@ static inline void guide_add(Guide *g, const Guide *h)
         g->depth += h->depth;
         g->surface += h->surface;
     }
-}
-
-static inline Guide guide_zero(void)
-{
-    return (Guide){.albedo = v3_splat(R(0)), .normal = v3_splat(R(0)), .depth = R(0), .surface = 0, .lum2 = R(0)};
 }
 
 /* A camera with an aperture: rays from stratified points of the lens for
@@ -257,7 +250,7 @@ static void sample_packet_lens(const Frame *f, const Samples *sm, vec3 *out, Ray
     for (int i = 0; i < n; i++) {
         out[i] = v3_splat(0);
         if (guides)
-            guides[i] = guide_zero();
+            guides[i] = guide_none(v3_splat(R(0)));
     }
     for (int i = 0; i < n; i++) {
         const uint32_t lens_key = sample_mix(id[i].key, 0x4c454e53u); /* "LENS" */
@@ -345,7 +338,7 @@ static void sample_packet_other(const Frame *f, const Samples *sm, vec3 *out, Ra
             if (keys)
                 keys[i] = UINT64_MAX;
             if (guides)
-                guides[i] = (Guide){.albedo = v3_splat(R(1)), .normal = v3_splat(R(0)), .depth = R(0), .surface = 0};
+                guides[i] = guide_none(v3_splat(R(1)));
         }
     }
     if (m == 0)
@@ -499,7 +492,7 @@ static void grid_flush(GridBatch *g)
         const int s = g->slot[q];
         g->sum[s] = v3_add(g->sum[s], c[q]);
         if (guided) { /* the sample's light, for the spread of its pixel's samples */
-            const real l = luminance_of(c[q]);
+            const real l = guide_luminance(c[q]);
             gd[q].lum2 = l * l;
             guide_add(&g->gsum[s], &gd[q]);
         }
@@ -515,7 +508,7 @@ static void grid_add(GridBatch *g, int px, int py, uint8_t *dst)
     const int s = g->next, n = g->n;
     g->next = (s + 1) % GRID_SLOTS;
     g->sum[s] = v3_splat(0);
-    g->gsum[s] = guide_zero();
+    g->gsum[s] = guide_none(v3_splat(R(0)));
     g->dst[s] = dst;
     g->left[s] = n * n;
     for (int j = 0; j < n; j++)

@@ -460,7 +460,7 @@ static void path_start(Path *p, const DrawPlan *plan, const Ray *r, SampleId id,
     p->guide = guide;
     if (guide) {
         p->tint = v3_splat(R(1)), p->dist = R(0);
-        *guide = (Guide){.albedo = p->tint, .normal = v3_splat(R(0)), .depth = R(0), .surface = 0};
+        *guide = guide_none(p->tint);
     }
 }
 
@@ -483,7 +483,7 @@ static void guide_at(Path *p, const Surface *sf, const Hit *h, vec3 kd, int delt
     Guide *g = p->guide;
     p->dist += h->t;
     if (material_emits(m)) {
-        *g = (Guide){.albedo = p->tint, .normal = v3_splat(R(0)), .depth = R(0), .surface = 0};
+        *g = guide_none(p->tint);
         p->guide = NULL;
         return;
     }
@@ -668,7 +668,7 @@ static int path_step(const World *w, Path *p, int found, const Hit *h, RayStats 
         if (b == 0 && p->key)
             *p->key = UINT64_MAX;
         if (p->guide) /* the background seen, through what tinted it */
-            *p->guide = (Guide){.albedo = p->tint, .normal = v3_splat(R(0)), .depth = R(0), .surface = 0};
+            *p->guide = guide_none(p->tint);
         return 0;
     }
     const int depth = w->view.settings.depth;

@@ -1127,7 +1127,7 @@ void shade_packet_guided(const World *w, const Ray *rays, int n, vec3 *out, RayS
         return;
     }
     for (int i = 0; guides && i < n; i++)
-        guides[i] = (Guide){.albedo = v3_splat(R(1)), .normal = v3_splat(R(0)), .depth = R(0), .surface = 0};
+        guides[i] = guide_none(v3_splat(R(1)));
     vec3 ones[TRACE_PACKET];
     for (int i = 0; i < n; i++)
         ones[i] = v3_splat(R(1));

@@ -39,6 +39,16 @@ typedef struct {
     real lum2; /* the square of the sample's luminance, summed (render.c sets it: the noise's measure) */
 } Guide;
 
+/* The guide of a sample that met no surface (the background, an emitter),
+ * seen through a tint of albedo; with albedo 0, the empty sum. */
+static inline Guide guide_none(vec3 albedo)
+{
+    return (Guide){.albedo = albedo, .normal = v3_splat(R(0)), .depth = R(0), .surface = 0, .lum2 = R(0)};
+}
+
+/* Rec. 709 luminance of linear light: what a guide's noise is measured in. */
+static inline real guide_luminance(vec3 c) { return R(0.2126) * c.x + R(0.7152) * c.y + R(0.0722) * c.z; }
+
 /* What of a light's radiance passes along shadow ray sr, which
  * trace_shadow let pass (nothing opaque in its way but in an instance
  * that is partly glass, so the walk looks at glass alone): the product of
