@@ -19,6 +19,7 @@ typedef struct {
     uint32_t id;
     int scale, still, converged;
     double t0;
+    int samples; /* a pixel's (at most, adaptive) */
 } StageFrame;
 
 /* A stage for frames of up to width x height guided pixels of colour_bytes

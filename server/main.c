@@ -386,8 +386,11 @@ static int parse_args(Args *a, int argc, char **argv)
          .help = "seconds of the path a frame, 0 = the time that passes (a frame N shows the path at (N-1) x S)",
          .def = "0"},
         {.name = "--still-aa", .kind = OPT_CUSTOM, .dst = &a->still, .arg = "N|adaptive[:N]", .parse = cli_parse_aa,
-         .range = CLI_AA_RANGE, .help = "refine: a frame whose camera and scene did not change since the frame before "
-                                       "is rendered with these samples (adaptive:4 is lanray-render's picture)",
+         .range = CLI_AA_RANGE,
+         .help = "refine: a frame whose camera and scene did not change since the frame before is rendered with these "
+                 "samples (adaptive:4 is lanray-render's picture); path-traced, N x N of N a power of two comes in "
+                 "still frames that each add as many samples as all before (1, 2, 4 ... N x N a pixel), else in "
+                 "frames of 2x2, 4x4 ... N x N",
          .def = "none: every frame with --aa"},
         {.name = "--still-light-samples", .kind = OPT_INT, .dst = &a->still_lights, .arg = "K", .hi = LIGHT_MAX_SAMPLES,
          .help = "with --still-aa, the still frames after the first double the area lights' points a side, from the "

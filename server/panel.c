@@ -30,7 +30,10 @@ int panel_lines(const PanelInfo *p, char out[][PANEL_LINE])
 {
     int n = 0;
 #define LINE(...) snprintf(out[n++], PANEL_LINE, __VA_ARGS__)
-    LINE("%.1f fps  %.1f ms a frame  %s", p->fps, p->frame_s * 1e3, p->still ? "still" : "moving");
+    if (p->still && p->samples > 1)
+        LINE("%.1f fps  %.1f ms a frame  still, %d samples a pixel", p->fps, p->frame_s * 1e3, p->samples);
+    else
+        LINE("%.1f fps  %.1f ms a frame  %s", p->fps, p->frame_s * 1e3, p->still ? "still" : "moving");
     const char *up = p->upscale_blocks ? "blocks" : "smooth";
     if (p->target_fps > 0)
         LINE("target %.0f fps [T/Shift+T]  render scale 1/%d %s [U]", p->target_fps, p->scale, up);

@@ -18,6 +18,7 @@ typedef struct {
     int scale;             /* the last frame's render scale (1: every pixel) */
     int upscale_blocks;    /* frames at a scale shown in blocks, not smooth */
     int still;             /* the last frame was a still one */
+    int samples;           /* ... of this many samples a pixel (a path-traced still's so far) */
     int aa, adaptive;      /* the moving frames' sampling */
     int refine, still_aa, still_adaptive;
     int still_lights; /* the area lights' points a side the still frames refine up to; 0: their own */

@@ -69,6 +69,9 @@ typedef struct {
     uint32_t fw, fh;
     int scale, still, converged;
     double t0;
+    RenderSettings rs; /* its view's settings (a batch: its pixels are sums) */
+    uint32_t bpp;      /* its pixels' bytes */
+    uint32_t cap;      /* the bytes a pixel its buffer was made for */
 } Older;
 
 struct Server {
@@ -106,6 +109,16 @@ struct Server {
     double frame_t0, last_frame_s; /* the current frame's start, the last finished frame's time */
     uint8_t *pixels; /* the frame, bpp bytes a pixel: RGB8, or RGBE (hdr), then with denoise its guide */
     uint32_t bpp;
+    /* the current frame's settings and bytes a pixel (a path-traced still's
+     * batch: its sums, render/progressive.h); the bytes a pixel the frames'
+     * buffers (pixels, spare_pixels) are made for */
+    RenderSettings frame_rs;
+    uint32_t frame_bpp, frame_cap;
+    /* the batches of a path-traced still so far: their sums, the pixels
+     * they make (bpp), and the last batch added */
+    real *acc_sums;
+    uint8_t *acc_px;
+    int acc_batch;
     uint32_t cbpp;   /* bytes of a pixel's colour, as shown */
     /* settings denoise (fixed for the server's life, as bpp): each finished
      * frame is filtered on the stage's thread, and shown once filtered */
@@ -131,7 +144,7 @@ struct Server {
     uint8_t *spare_pixels;
     FrameNextFn next_fn;
     void *next_ctx;
-    int shown_still, shown_scale, shown_converged; /* the frame shown last */
+    int shown_still, shown_scale, shown_converged, shown_samples; /* the frame shown last */
     uint32_t frames_dropped;      /* older frames nobody left could finish */
     uint32_t frames_ahead;        /* frames started before the one before was finished */
     uint32_t frames_given_way;    /* still frames dropped for a change (a move, a setting, an edit) */
@@ -192,6 +205,7 @@ Server *server_create(const ServerConfig *cfg, Scene *scene, Err *err)
     s->bpp = render_pixel_bytes(&scene->settings);
     s->cbpp = render_colour_bytes(&scene->settings);
     s->pixels = calloc((size_t)cfg->width * cfg->height, s->bpp);
+    s->frame_bpp = s->frame_cap = s->bpp;
     s->shown = calloc((size_t)cfg->width * cfg->height, s->cbpp);
     s->scale = s->next_scale = s->shown_scale = 1;
     s->fw = (uint32_t)cfg->width, s->fh = (uint32_t)cfg->height;
@@ -264,6 +278,8 @@ void server_destroy(Server *s)
     free(s->pixels);
     free(s->older.pixels);
     free(s->spare_pixels);
+    free(s->acc_sums);
+    free(s->acc_px);
     free(s->shown);
     denoise_stage_destroy(s->stage);
     free(s->stripped);
@@ -276,6 +292,7 @@ int server_port(const Server *s) { return s->port; }
 int server_frame_still(const Server *s) { return s->shown_still; }
 int server_frame_scale(const Server *s) { return s->shown_scale; }
 int server_frame_converged(const Server *s) { return s->shown_converged; }
+int server_frame_samples(const Server *s) { return s->shown_samples; }
 int server_denoises(const Server *s) { return s->stage != NULL; }
 int server_denoise_shown(const Server *s) { return !s->raw_view; }
 void server_set_denoise_shown(Server *s, int shown)
@@ -606,16 +623,25 @@ static int largest_light_side(const Scene *scene, const RenderSettings *rs)
 /* Progressive refinement: the samples of still frame k (1 the first).  A
  * path-traced view doubles its samples a side each still frame, 2, 4, 8
  * ... up to the still quality: a picture that sharpens while it is looked
- * at, for 4/3 of the converged frame's cost where it renders that frame
- * alone.  The Whitted integrator's takes the still quality at once, and
+ * at.  Where that quality is N x N of N a power of two (`batches` log2 N,
+ * where the server has room for the sums), each frame renders the next
+ * batch of the N x N samples alone and the server adds them up: the
+ * converged frame costs what rendering it alone does; otherwise each
+ * frame is rendered whole, for 4/3 of that.  The Whitted integrator's takes the still quality at once, and
  * then, with still_lights, doubles its area lights' points a side each
  * frame from the largest light's own up to still_lights (its soft shadows'
  * grain: a round lamp of 3 x 3 points leaves penumbrae of ten grey levels
  * and noise; docs/realtime.md).  Whether frame k has the still quality
  * (the converged picture, which is lanray-render's with --aa still_aa and,
  * with still_lights, --light-samples still_lights). */
-static int refine_step(const ServerConfig *c, const Scene *scene, int k, RenderSettings *rs)
+static int refine_step(const ServerConfig *c, const Scene *scene, int k, RenderSettings *rs, int batches)
 {
+    if (batches > 0) { /* the batches of N x N, added up (render/progressive.h) */
+        rs->aa = c->still_aa;
+        rs->adaptive = 0;
+        rs->batch = k <= batches ? k : 0;
+        return k >= batches;
+    }
     const int side = k < 8 ? 2 << (k - 1) : AA_MAX;
     if (rs->integrator == INTEGRATOR_PATH && side < c->still_aa) {
         rs->aa = side;
@@ -645,6 +671,43 @@ static int adaptive_frame(const RenderSettings *rs)
     return (rs->adaptive && rs->aa > 1) || rs->light_sampling == LIGHTS_ADAPTIVE;
 }
 
+/* The batches a still frame of the view's settings at the still quality
+ * would take (render/progressive.h), with the frames' buffers grown to
+ * hold their sums and the sums' own made; 0 where its samples do not go
+ * in batches, the frame is too large, or there is no memory for them
+ * (each still frame is then rendered whole). */
+static int still_batches(Server *s)
+{
+    RenderSettings rs = s->view.settings;
+    rs.aa = s->cfg.still_aa, rs.adaptive = s->cfg.still_adaptive, rs.batch = 1;
+    const int batches = progressive_batches(&rs);
+    const size_t n = (size_t)s->cfg.width * s->cfg.height;
+    const uint32_t need = render_pixel_bytes(&rs);
+    /* a frame whose sums would not fit one DATA packet is rendered whole
+     * (sums of 12 bytes a pixel, 48 denoised: 4K UHD, or 1920x1080) */
+    if (!batches || (uint64_t)n * need > PROTO_MAX_PIXELS)
+        return 0;
+    if (!s->acc_sums) {
+        s->acc_sums = calloc(n, progressive_reals(&rs) * sizeof(real));
+        s->acc_px = malloc(n * s->bpp);
+        if (!s->acc_sums || !s->acc_px) {
+            free(s->acc_sums), free(s->acc_px);
+            s->acc_sums = NULL, s->acc_px = NULL;
+            return 0;
+        }
+    }
+    if (s->frame_cap < need) { /* the current frame's buffer is free: its frame has not started */
+        uint8_t *p = realloc(s->pixels, n * need);
+        if (!p)
+            return 0;
+        s->pixels = p;
+        s->frame_cap = need;
+        free(s->spare_pixels); /* made smaller: made again when wanted */
+        s->spare_pixels = NULL;
+    }
+    return batches;
+}
+
 static int start_frame(Server *s, Err *err)
 {
     if (apply_pending(s, err))
@@ -666,7 +729,10 @@ static int start_frame(Server *s, Err *err)
     s->frame_t0 = timer_now();
     s->still_step = s->still ? s->still_step + 1 : 0;
     View v = s->view;
-    s->converged = s->still && (!s->cfg.refine || refine_step(&s->cfg, s->scene, s->still_step, &v.settings));
+    const int batches = s->still && s->cfg.refine ? still_batches(s) : 0;
+    s->converged = s->still && (!s->cfg.refine || refine_step(&s->cfg, s->scene, s->still_step, &v.settings, batches));
+    s->frame_rs = v.settings;
+    s->frame_bpp = render_pixel_bytes(&v.settings);
     if (!s->still && s->cfg.moving_lights >= 0)
         v.settings.light_sampling = (LightSampling)s->cfg.moving_lights;
     /* a moving frame at the render scale, a still one whole */
@@ -709,11 +775,12 @@ static int start_ahead(Server *s, Err *err)
 {
     if (!s->spare_sched && !(s->spare_sched = sched_create(&s->sched_cfg)))
         return 0;
-    if (!s->spare_pixels && !(s->spare_pixels = calloc((size_t)s->cfg.width * s->cfg.height, s->bpp)))
+    if (!s->spare_pixels && !(s->spare_pixels = calloc((size_t)s->cfg.width * s->cfg.height, s->frame_cap)))
         return 0;
     if (s->next_fn && !s->next_fn(s->next_ctx, s->frame + 1, 1))
         return 0;
-    s->older = (Older){s->frame, s->sched, s->pixels, s->fw, s->fh, s->scale, s->still, s->converged, s->frame_t0};
+    s->older = (Older){s->frame,     s->sched, s->pixels,    s->fw,        s->fh,        s->scale, s->still,
+                       s->converged, s->frame_t0, s->frame_rs, s->frame_bpp, s->frame_cap};
     sched_set_segment_lines(s->spare_sched, sched_config(s->sched)->segment_lines);
     s->sched = s->spare_sched;
     s->pixels = s->spare_pixels;
@@ -823,7 +890,16 @@ static void on_data(Server *s, Client *c)
 {
     MsgData d;
     Err e;
-    if (msg_decode_data(c->conn.body, c->conn.body_size, s->bpp, &d, &e)) {
+    /* its pixels' size is its frame's: the older of two in flight, the
+     * current one, or one no longer held (not read) */
+    uint32_t id = 0, bpp = 0;
+    if (c->conn.body_size >= sizeof id)
+        memcpy(&id, c->conn.body, sizeof id);
+    if (id && id == s->older.id)
+        bpp = s->older.bpp;
+    else if (id == s->frame)
+        bpp = s->frame_bpp;
+    if (msg_decode_data(c->conn.body, c->conn.body_size, bpp, &d, &e)) {
         drop(s, c, e.msg);
         return;
     }
@@ -852,10 +928,10 @@ static void on_data(Server *s, Client *c)
      * does not decode to exactly its segment drops its client, and its
      * segment goes to another, which writes it whole */
     if (r == SCHED_ACCEPT) {
-        uint8_t *dst = frame_px + (size_t)seg.first * s->bpp;
+        uint8_t *dst = frame_px + (size_t)seg.first * bpp;
         if (d.coding == PIX_RAW)
-            memcpy(dst, d.pixels, (size_t)seg.count * s->bpp);
-        else if (pixcodec_decode(s->codec, d.coding, d.pixels, d.len, dst, (size_t)seg.count * s->bpp, s->bpp, &e)) {
+            memcpy(dst, d.pixels, (size_t)seg.count * bpp);
+        else if (pixcodec_decode(s->codec, d.coding, d.pixels, d.len, dst, (size_t)seg.count * bpp, bpp, &e)) {
             snprintf(why, sizeof why, "DATA packet for segment %u+%u of frame %u: %.200s", seg.first, seg.count, frame,
                      e.msg);
             drop(s, c, why);
@@ -944,24 +1020,32 @@ static void housekeeping(Server *s)
     }
 }
 
+/* The samples a pixel of a frame of settings rs shows: a batch's, all
+ * those so far (render/progressive.h); a whole frame's, N x N (adaptive:
+ * at most). */
+static int frame_samples(const RenderSettings *rs)
+{
+    return rs->batch ? (int)progressive_end(rs->batch) : rs->aa * rs->aa;
+}
+
 /* A finished frame to the application: the panel's and the pace's
  * figures first, then the callback. */
-static void show_frame(Server *s, uint32_t id, const uint8_t *pixels, int scale, int still,
-                       int converged, double t0, FrameDoneFn done, void *ctx)
+static void show_frame(Server *s, const StageFrame *f, const uint8_t *pixels, FrameDoneFn done, void *ctx)
 {
     const double now = timer_now();
     measure_frame_end(&s->m, now);
-    measure_latency(&s->m, now - t0);
-    s->last_frame_s = now - t0;
+    measure_latency(&s->m, now - f->t0);
+    s->last_frame_s = now - f->t0;
     for (uint32_t i = 0; i < s->nclients; i++) {
         s->clients[i]->last_frame_pixels = s->clients[i]->frame_pixels;
         s->clients[i]->frame_pixels = 0;
     }
-    s->shown_still = still;
-    s->shown_converged = converged;
-    s->shown_scale = scale;
+    s->shown_still = f->still;
+    s->shown_converged = f->converged;
+    s->shown_scale = f->scale;
+    s->shown_samples = f->samples;
     if (done)
-        done(ctx, id, scaled_up(s, pixels, scale));
+        done(ctx, f->id, scaled_up(s, pixels, f->scale));
 }
 
 /* The frame the denoise stage filtered, shown (wait: once it is); 1 where
@@ -972,32 +1056,48 @@ static int show_filtered(Server *s, int wait, FrameDoneFn done, void *ctx)
     StageFrame f;
     if (!s->stage || !denoise_stage_take(s->stage, wait, &colours, &f))
         return 0;
-    show_frame(s, f.id, colours, f.scale, f.still, f.converged, f.t0, done, ctx);
+    show_frame(s, &f, colours, done, ctx);
     return 1;
 }
 
 /* A finished frame: shown, or with settings denoise handed to the stage to
  * be filtered at its render scale (then brought up) and shown once it is
  * (the frame before first: frames are shown in order). */
-static void frame_finished(Server *s, uint32_t id, const uint8_t *pixels, int scale, int still, int converged,
-                           double t0, FrameDoneFn done, void *ctx)
+static void frame_finished(Server *s, const StageFrame *f, const uint8_t *pixels, const RenderSettings *rs,
+                           FrameDoneFn done, void *ctx)
 {
+    if (rs->batch) { /* a batch of a still's samples: added to the ones before, their picture shown */
+        if (rs->batch != 1 && rs->batch != s->acc_batch + 1) {
+            /* the batch before was lost (a frame dropped when the clients
+             * that had it left): the still frames start again from batch 1 */
+            log_line(s->cfg.quiet, "lanray-server", "frame %u: batch %d of the still's samples after batch %d: not shown",
+                     f->id, rs->batch, s->acc_batch);
+            s->still_step = 0;
+            s->converged = 0;
+            return;
+        }
+        const size_t n = (size_t)s->cfg.width * s->cfg.height;
+        if (rs->batch == 1)
+            memset(s->acc_sums, 0, n * progressive_reals(rs) * sizeof(real));
+        s->acc_batch = rs->batch;
+        progressive_frame_add(rs, s->acc_sums, pixels, n, s->acc_px);
+        pixels = s->acc_px;
+    }
     if (!s->stage) {
-        show_frame(s, id, pixels, scale, still, converged, t0, done, ctx);
+        show_frame(s, f, pixels, done, ctx);
         return;
     }
     if (denoise_stage_holds(s->stage))
         show_filtered(s, 1, done, ctx);
-    const uint32_t k = (uint32_t)scale, fw = ((uint32_t)s->cfg.width + k - 1) / k,
+    const uint32_t k = (uint32_t)f->scale, fw = ((uint32_t)s->cfg.width + k - 1) / k,
                    fh = ((uint32_t)s->cfg.height + k - 1) / k;
     if (s->raw_view) { /* the colours alone, unfiltered */
         for (size_t i = 0; i < (size_t)fw * fh; i++)
             memcpy(s->stripped + i * s->cbpp, pixels + i * s->bpp, s->cbpp);
-        show_frame(s, id, s->stripped, scale, still, converged, t0, done, ctx);
+        show_frame(s, f, s->stripped, done, ctx);
         return;
     }
-    const StageFrame f = {.id = id, .scale = scale, .still = still, .converged = converged, .t0 = t0};
-    denoise_stage_put(s->stage, pixels, fw, fh, s->view.settings.linear, &f);
+    denoise_stage_put(s->stage, pixels, fw, fh, s->view.settings.linear, f);
 }
 
 /* Frames shown in order: the older of two in flight first.  An older frame
@@ -1017,15 +1117,22 @@ static void finish_frames(Server *s, FrameDoneFn done, void *ctx)
             s->frames_dropped++;
             log_line(s->cfg.quiet, "lanray-server", "frame %u dropped: the clients that had its view left", o->id);
         } else {
-            frame_finished(s, o->id, o->pixels, o->scale, o->still, o->converged, o->t0, done, ctx);
+            const StageFrame f = {o->id, o->scale, o->still, o->converged, o->t0, frame_samples(&o->rs)};
+            frame_finished(s, &f, o->pixels, &o->rs, done, ctx);
         }
         s->spare_sched = o->sched;
-        s->spare_pixels = o->pixels;
+        if (o->cap == s->frame_cap) { /* else made before the buffers grew */
+            s->spare_pixels = o->pixels;
+        } else {
+            free(o->pixels);
+            s->spare_pixels = NULL;
+        }
         *o = (Older){0};
     }
     if (s->in_frame && sched_frame_done(s->sched)) {
         s->in_frame = 0;
-        frame_finished(s, s->frame, s->pixels, s->scale, s->still, s->converged, s->frame_t0, done, ctx);
+        const StageFrame f = {s->frame, s->scale, s->still, s->converged, s->frame_t0, frame_samples(&s->frame_rs)};
+        frame_finished(s, &f, s->pixels, &s->frame_rs, done, ctx);
     }
 }
 

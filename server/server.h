@@ -140,6 +140,9 @@ int server_frame_still(const Server *s);
  * view refines over several still frames first: refine_step in server.c),
  * or any still frame without refinement. */
 int server_frame_converged(const Server *s);
+/* The samples a pixel of the frame shown last: a path-traced still's
+ * batches so far, else its settings' N x N (at most, adaptive). */
+int server_frame_samples(const Server *s);
 /* Whether the server denoises its frames (settings denoise), and whether
  * they are shown so (1, the default) or raw (0: the window's X key, to see
  * what the filter took out; the guides still travel); a change renders the

@@ -140,6 +140,11 @@ static void panel_says_what_runs(void **state)
     p.still_lights = 12;
     n = panel_lines(&p, lines);
     assert_true(has(lines, n, "moving 1x1, still adaptive 4x4, lights to 12x12"));
+    /* a still frame says its samples (a path-traced one's so far) */
+    assert_true(has(lines, n, "moving") && !has(lines, n, "samples a pixel"));
+    p.still = 1, p.samples = 64;
+    n = panel_lines(&p, lines);
+    assert_true(has(lines, n, "still, 64 samples a pixel"));
 }
 
 static void target_steps(void **state)

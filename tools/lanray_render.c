@@ -122,6 +122,7 @@ typedef struct {
     int light_samples, rough_samples, lens_samples, exposure_given;
     int sampling, sampling_given, limit, limit_given, lights, lights_given, integrator, integrator_given;
     int emitters, emitters_given, roulette, roulette_given, contrast, contrast_given, denoise, denoise_given;
+    int still_frame;
     double exposure;
     CliAa aa;
     CliEnvironment env;
@@ -198,6 +199,9 @@ static int parse_args(Args *a, int argc, char **argv)
          .help = "path: filter the frame's noise out, guided by the surfaces each pixel saw first (their colours, "
                  "normals, distances; docs/renderer.md)",
          .def = "the scene's, else off"},
+        {.name = "--still-frame", .kind = OPT_INT, .dst = &a->still_frame, .arg = "K", .lo = 0, .hi = 11, .def = "0",
+         .help = "path, N x N samples, N a power of two: the picture of a server's still frame K on its way (--still-aa "
+                 "N): the first 2^(K-1) samples of each pixel's N x N; 0 = all"},
         {.name = "--light-samples", .kind = OPT_INT, .dst = &a->light_samples, .arg = "K", .lo = 0, .hi = LIGHT_MAX_SAMPLES,
          .help = "shadow rays of every sphere and rect light: K x K a pixel (product: a ray); 0 = each light's own",
          .def = "0"},
@@ -298,6 +302,17 @@ static int apply_settings(Scene *scene, Args *a)
         rs->denoise = a->denoise;
     if (a->limit_given)
         rs->depth_limit = (DepthLimit)a->limit;
+    if (a->still_frame) {
+        const int m = progressive_batches(rs);
+        if (a->still_frame > m) {
+            fprintf(stderr, "lanray-render: --still-frame %d: %s\n", a->still_frame,
+                    m ? "past the last still frame of these samples (N x N takes 2 log2 N + 1)"
+                      : "a path-traced frame of N x N samples a pixel, N a power of two, goes in still frames; this "
+                        "one does not");
+            return 2;
+        }
+        rs->batches = a->still_frame;
+    }
     if (a->rough_samples)
         rs->rough_samples = a->rough_samples;
     if (a->lens_samples)

@@ -169,6 +169,27 @@ static inline void sample_sobol2(uint32_t index, uint32_t seed, real *u, real *v
     sample_sobol_point(&q, index, u, v);
 }
 
+/* The sequence of a pixel of this key for sample_grid_cell: the cell of
+ * sample `index` of its 2^m x 2^m grid of sample positions (the path
+ * integrator's N x N, N a power of two), in an order whose every prefix is
+ * spread: the cell the Sobol point of index `index` of the pixel's own
+ * sequence falls in.  The first 4^m indices are
+ * an aligned block of the shuffled sequence, a (0,2m,2)-net, so they take
+ * every cell once; the first 4^k (k < m) take one cell in each 2^(m-k) x
+ * 2^(m-k) block, at a place that differs from pixel to pixel, so that a
+ * picture of the first 4^k samples of N x N is as even as one of 2^k x 2^k
+ * and the samples after them add to it (render/progressive.h). */
+static inline SampleSobol sample_grid_seq(uint32_t key) { return sample_sobol_seq(sample_mix(key, 0x43454c4cu)); /* "CELL" */ }
+
+/* ... of the pixel whose sequence is q (sample_grid_seq of its key). */
+static inline void sample_grid_cell(const SampleSobol *q, uint32_t index, int m, uint32_t *i, uint32_t *j)
+{
+    uint32_t u, v;
+    sample_sobol_bits(q->index, q->first, q->second, index, &u, &v);
+    *i = m > 0 ? u >> (32 - m) : 0;
+    *j = m > 0 ? v >> (32 - m) : 0;
+}
+
 /* (u, v) in the unit square to a unit vector, uniform over the sphere
  * (z uniform in [-1, 1], the longitude by v). */
 static inline vec3 sample_sphere(real u, real v)

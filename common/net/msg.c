@@ -65,7 +65,7 @@ static const Layout layouts[PKT_TYPE_END] = {
     [PKT_WELCOME] = {"WELCOME", welcome_f, NULL, 0},
     [PKT_UPDATE] = {"UPDATE", update_f, "view+scene", 64 * MIB},
     [PKT_COMPUTE] = {"COMPUTE", compute_f, NULL, 0},
-    [PKT_DATA] = {"DATA", data_f, "pixels", PROTO_HEADER + 20 + 256 * MIB}, /* a whole 8192x8192 frame of RGBE */
+    [PKT_DATA] = {"DATA", data_f, "pixels", PROTO_HEADER + 20 + PROTO_MAX_PIXELS},
     [PKT_ASSET] = {"ASSET", asset_f, "payload", 1024 * MIB},
     [PKT_ERROR] = {"ERROR", none_f, "text", PROTO_HEADER + PROTO_MAX_ERROR_TEXT},
     [PKT_BYE] = {"BYE", none_f, NULL, 0},
@@ -208,7 +208,7 @@ int msg_decode_data(const uint8_t *body, size_t len, uint32_t bpp, MsgData *m, E
         return -1;
     m->bpp = bpp;
     const uint64_t raw = bpp * (uint64_t)m->seg.count;
-    if (m->coding == 0 ? m->len != raw : m->len >= raw)
+    if (bpp && (m->coding == 0 ? m->len != raw : m->len >= raw))
         return err_set(err, "DATA packet of %zu %s pixel bytes for a segment of %u pixels of %u bytes", m->len,
                        m->coding == 0 ? "raw" : "coded", m->seg.count, bpp);
     return 0;

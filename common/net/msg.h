@@ -17,7 +17,7 @@
 #include "render/segment.h"
 
 #define PROTO_MAGIC 0x5941524cu /* "LRAY" */
-#define PROTO_VERSION 24u /* 8: an UPDATE carries the frame's view apart, and the scene only when it changed;
+#define PROTO_VERSION 25u /* 8: an UPDATE carries the frame's view apart, and the scene only when it changed;
                            * 9: the view's settings hold light_sampling (wire 6);
                            * 10: compressed pixels (HELLO codecs, WELCOME coding, DATA coding);
                            * 11: pipelined frames (UPDATE keep: the older frame still wanted);
@@ -36,7 +36,10 @@
                            * 23: the scene an environment (wire 18); a texture ASSET's
                            *     codec may be 3, a Radiance .hdr;
                            * 24: the view's settings hold denoise (wire 19), and with it a
-                           *     DATA packet's pixels carry their guides (9 bytes each) */
+                           *     DATA packet's pixels carry their guides (9 bytes each);
+                           * 25: the view's settings hold batch (wire 20): a path-traced
+                           *     still's batch of samples, whose DATA carries each
+                           *     pixel's sums (reals) */
 #define PROTO_BOM 0x01020304u
 #define PROTO_HEADER 8u
 #define PROTO_NONCE 32u
@@ -44,6 +47,7 @@
 #define PROTO_HASH 32u
 #define PROTO_DEFAULT_PORT 7878
 #define PROTO_MAX_ERROR_TEXT 1024u
+#define PROTO_MAX_PIXELS (256u << 20) /* a DATA packet's pixel bytes: a whole 8192x8192 frame of RGBE */
 
 typedef enum {
     PKT_SERVER_HELLO = 1, /* server -> client: magic, version, bom, flags, nonce */
@@ -153,10 +157,11 @@ int msg_decode_hello(const uint8_t *body, size_t len, MsgHello *m, Err *err);
 int msg_decode_welcome(const uint8_t *body, size_t len, MsgWelcome *m, Err *err);
 int msg_decode_update(const uint8_t *body, size_t len, MsgUpdate *m, Err *err);
 int msg_decode_compute(const uint8_t *body, size_t len, MsgCompute *m, Err *err);
-/* A DATA packet's pixel size is the frame's (3 or 4 bytes), which the
- * receiver knows from the scene it sent: bpp.  Raw pixels must be the
+/* A DATA packet's pixel size is the frame's (render_pixel_bytes), which
+ * the receiver knows from the view it sent: bpp.  Raw pixels must be the
  * segment's bytes exactly, coded ones fewer (pixcodec_decode then checks
- * that they decode to exactly the segment). */
+ * that they decode to exactly the segment).  bpp 0: not checked (a frame
+ * the receiver no longer holds, whose pixels it drops unread). */
 int msg_decode_data(const uint8_t *body, size_t len, uint32_t bpp, MsgData *m, Err *err);
 int msg_decode_asset(const uint8_t *body, size_t len, MsgAsset *m, Err *err);
 /* The text made printable (other bytes become '?') and NUL-terminated. */

@@ -1,6 +1,7 @@
 /* denoise.c - the guided a-trous filter of denoise.h. */
 #include "render/denoise.h"
 
+#include <float.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -52,7 +53,8 @@ void denoise_guide_pack(const Guide *sum, int n, vec3 mean, uint8_t out[DENOISE_
     }
     out[3] = (uint8_t)(int)((x + R(1)) * R(127.5) + R(0.5));
     out[4] = (uint8_t)(int)((y + R(1)) * R(127.5) + R(0.5));
-    const float depth = (float)(sum->depth / (real)sum->surface);
+    const real d = sum->depth / (real)sum->surface; /* a client's batch sums may say anything: kept in float's range */
+    const float depth = d > R(0) ? (d < (real)FLT_MAX ? (float)d : FLT_MAX) : 0.0f;
     uint32_t bits;
     memcpy(&bits, &depth, sizeof bits);
     bits = depth > 0.0f ? bits >> 8 : 0; /* below 0x7f8000: 24 bits */

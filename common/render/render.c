@@ -115,6 +115,11 @@ typedef struct {
     uint64_t tile_line;
     uint32_t tile_cols, tile_blocks;
     real gain;  /* 2^exposure, for the codes */
+    /* path, N x N of N = 2^prog_m (progressive.h; 0: not in batches):
+     * each pixel's samples [s0, s1) in their progressive order, written as
+     * their sums (sums: settings batch) or as the pixel they make */
+    int prog_m, sums;
+    uint32_t s0, s1;
     /* adaptive mode: keys and centre colours, as written, of whole lines key_first .. key_first + key_lines - 1 */
     int key_first, key_lines;
     int probe;         /* adaptive light sampling: the centre samples probe each area light (SampleId.probe) */
@@ -468,6 +473,10 @@ typedef struct {
     int slot[TRACE_PACKET], m;
     vec3 sum[GRID_SLOTS];
     Guide gsum[GRID_SLOTS]; /* where guided */
+    /* in batches (f->prog_m): each slot's sums of its batch so far and of
+     * the batches before; which samples end a batch */
+    real part[GRID_SLOTS][PROG_MAX], total[GRID_SLOTS][PROG_MAX];
+    uint8_t last[TRACE_PACKET];
     uint8_t *dst[GRID_SLOTS];
     int left[GRID_SLOTS], next;
 } GridBatch;
@@ -475,6 +484,33 @@ typedef struct {
 static GridBatch grid_start(const Frame *f, RayStats *st, int n)
 {
     return (GridBatch){.f = f, .st = st, .n = n, .inv = R(1) / (real)n};
+}
+
+/* The gathered samples' colours c (and guides gd) added to their pixels'
+ * sums, in batches (progressive.h); the pixels they finish written. */
+static void grid_flush_batches(GridBatch *g, const vec3 *c, Guide *gd)
+{
+    const Frame *f = g->f;
+    const uint32_t reals = progressive_reals(&f->w->view.settings);
+    for (int q = 0; q < g->m; q++) {
+        const int s = g->slot[q];
+        if (gd) {
+            const real l = guide_luminance(c[q]);
+            gd[q].lum2 = l * l;
+        }
+        progressive_add_sample(g->part[s], c[q], gd ? &gd[q] : NULL);
+        if (g->last[q]) {
+            progressive_fold(g->total[s], g->part[s], reals);
+            memset(g->part[s], 0, sizeof g->part[s]);
+        }
+        if (--g->left[s] == 0) {
+            if (f->sums)
+                memcpy(g->dst[s], g->total[s], reals * sizeof(real));
+            else
+                progressive_encode(&f->w->view.settings, f->gain, g->total[s], f->s1, g->dst[s]);
+        }
+    }
+    g->m = 0;
 }
 
 /* Traces the gathered samples; writes the pixels they finish. */
@@ -488,6 +524,10 @@ static void grid_flush(GridBatch *g)
     Samples sm = {.xs = g->xs, .ys = g->ys, .pos = g->pos, .per_pixel = (uint32_t)(g->n * g->n), .step = g->inv,
                   .n = g->m};
     sample_packet(g->f, &sm, c, g->st, NULL, guided ? gd : NULL);
+    if (g->f->prog_m) {
+        grid_flush_batches(g, c, guided ? gd : NULL);
+        return;
+    }
     for (int q = 0; q < g->m; q++) {
         const int s = g->slot[q];
         g->sum[s] = v3_add(g->sum[s], c[q]);
@@ -521,6 +561,32 @@ static void grid_add(GridBatch *g, int px, int py, uint8_t *dst)
             if (g->m == TRACE_PACKET)
                 grid_flush(g);
         }
+}
+
+/* Pixel (px, py) in batches: its samples [s0, s1) in their progressive
+ * order (sample_grid_cell), each its own number in the pixel's sequence. */
+static void grid_add_batches(GridBatch *g, int px, int py, uint8_t *dst)
+{
+    const Frame *f = g->f;
+    const int s = g->next;
+    g->next = (s + 1) % GRID_SLOTS;
+    memset(g->part[s], 0, sizeof g->part[s]);
+    memset(g->total[s], 0, sizeof g->total[s]);
+    g->dst[s] = dst;
+    g->left[s] = (int)(f->s1 - f->s0);
+    const SampleSobol q = sample_grid_seq(pixel_key((real)px, (real)py));
+    for (uint32_t n = f->s0; n < f->s1; n++) {
+        uint32_t i, j;
+        sample_grid_cell(&q, n, f->prog_m, &i, &j);
+        const int k = g->m++;
+        g->xs[k] = (real)px + ((real)i + R(0.5)) * g->inv;
+        g->ys[k] = (real)py + ((real)j + R(0.5)) * g->inv;
+        g->pos[k] = n;
+        g->slot[k] = s;
+        g->last[k] = (uint8_t)(progressive_last(n) || n + 1 == f->s1);
+        if (g->m == TRACE_PACKET)
+            grid_flush(g);
+    }
 }
 
 /* A chunk done: its finished pixels and the rays it took (since `before`). */
@@ -565,7 +631,10 @@ static void job_grid(void *ctx, uint32_t chunk, RayStats *st)
             continue;
         }
         int px = (int)(g % (uint64_t)f->width), py = (int)(g / (uint64_t)f->width);
-        grid_add(&grid, px, py, &f->pixels[f->bpp * i]);
+        if (f->prog_m)
+            grid_add_batches(&grid, px, py, &f->pixels[f->bpp * i]);
+        else
+            grid_add(&grid, px, py, &f->pixels[f->bpp * i]);
         i++;
     }
     grid_flush(&grid);
@@ -811,6 +880,19 @@ int render_span(RenderPool *p, const World *w, int width, int height, uint64_t f
     f.guided = w->view.settings.denoise;
     f.gain = pow(R(2), w->view.settings.exposure);
     f.chunk = chunk_size(count, pool_threads(p->pool));
+    const RenderSettings *rs = &w->view.settings;
+    const int batches = progressive_batches(rs);
+    if (batches) {
+        const int b = rs->batch, upto = rs->batches ? rs->batches : batches;
+        if (b > batches || upto > batches)
+            return err_set(err, "render: batch %d of %d", b ? b : upto, batches);
+        f.prog_m = __builtin_ctz((unsigned)rs->aa);
+        f.sums = b > 0;
+        f.s0 = b ? progressive_start(b) : 0;
+        f.s1 = b ? progressive_end(b) : progressive_end(upto);
+    } else if (rs->batch || rs->batches) {
+        return err_set(err, "render: batches of a frame whose samples do not go in batches (path, N x N, N a power of two)");
+    }
     f.probe = render_probes_lights(w);
     /* at one sample a pixel, adaptive light sampling refines only for the
      * area lights (the lights' bits of the keys: shade.c) */

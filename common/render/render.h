@@ -13,6 +13,7 @@
 #include <stdint.h>
 
 #include "render/denoise.h"
+#include "render/progressive.h"
 #include "scene/shade.h"
 
 #define RENDER_MAX_SIDE 65536
@@ -24,9 +25,12 @@ typedef struct RenderPool RenderPool;
 static inline uint32_t render_colour_bytes(const RenderSettings *rs) { return rs->hdr ? 4u : 3u; }
 /* Bytes a pixel of the scene's frames as rendered and sent: its colour,
  * then with settings denoise its guide (render/denoise.h), which the
- * frame's filter reads and the picture shown no longer has. */
+ * frame's filter reads and the picture shown no longer has; with settings
+ * batch, its sums (reals in host order, as the rest of the wire). */
 static inline uint32_t render_pixel_bytes(const RenderSettings *rs)
 {
+    if (rs->batch) /* a batch of a path-traced still: its sums (render/progressive.h) */
+        return progressive_reals(rs) * (uint32_t)sizeof(real);
     return render_colour_bytes(rs) + (rs->denoise ? DENOISE_GUIDE_BYTES : 0u);
 }
 

@@ -146,6 +146,14 @@ typedef struct {
     int denoise;       /* path: each pixel also carries what its camera rays saw first (a guide), and the frame
                         * is filtered by it (render/denoise.h) */
     int hdr;           /* pixels are RGBE, 4 bytes (a .hdr from lanray-render, lanray-server --hdr); not in scene files */
+    /* path, N x N, N a power of two (render/progressive.h): batch b of the
+     * samples, each pixel's sums in place of its colour (a farm's still
+     * frame, which its server adds up); 0: the whole picture.  On the wire
+     * only. */
+    int batch;
+    /* the picture of the first `batches` batches alone (lanray-render
+     * --still-frame); 0: all.  Not on the wire, not in scene files. */
+    int batches;
     /* what the scene file asked for, for the programs' defaults; not on the
      * wire (an UPDATE carries the frame's size, the samples are above) */
     int width, height;  /* 0: not given */

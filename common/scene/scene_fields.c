@@ -126,6 +126,8 @@ static const Field settings_fields[] = {
      .doc = "path: emissive surfaces found by next-event estimation and bounces weighed together (MIS), or one alone"},
     {.key = "roulette", .type = FIELD_WHOLE, .group = SETTINGS_GROUP_SAMPLING, .off = SET(rs.roulette), .lo = 0,
      .hi = SCENE_MAX_DEPTH, .def = 5, .doc = "path: bounces before Russian roulette may end a path"},
+    {.key = "batch", .type = FIELD_WHOLE, .flags = FIELD_WIRE, .group = SETTINGS_GROUP_SAMPLING, .off = SET(rs.batch),
+     .lo = 0, .hi = 11, .doc = "path, N x N, N a power of two: each pixel's sums of this batch of its samples (0: its colour)"},
     {.key = "contrast", .type = FIELD_WHOLE, .group = SETTINGS_GROUP_SAMPLING, .off = SET(rs.contrast), .lo = 0,
      .hi = 255, .def = 15,
      .doc = "adaptive: also refine where a neighbour's colour differs by more than this many codes (255: never)"},
@@ -370,7 +372,18 @@ const char *light_problem(const Light *l, char *buf, size_t size)
 const char *settings_problem(const RenderSettings *rs, char *buf, size_t size)
 {
     SettingsSpec sp = {.rs = *rs};
-    return field_problem(&settings_kind, &sp, 0, buf, size);
+    const char *why = field_problem(&settings_kind, &sp, 0, buf, size);
+    if (why)
+        return why;
+    /* a batch is one of a power-of-two grid's (render/progressive.h) */
+    const int n = rs->aa;
+    if (rs->batch && (rs->integrator != INTEGRATOR_PATH || rs->adaptive || (n & (n - 1)) != 0 ||
+                      (1 << rs->batch) > 2 * n * n)) {
+        snprintf(buf, size, "batch %d of a frame that is not path-traced on a regular grid of %d x %d, or past it",
+                 rs->batch, n, n);
+        return buf;
+    }
+    return NULL;
 }
 
 TriSpec tri_spec(const Scene *s, uint32_t i)

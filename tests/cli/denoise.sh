@@ -64,7 +64,9 @@ render --aa 1 --width $W --height $H -o "$dir/w.png"
 render --aa 1 --width $W --height $H --denoise on -o "$dir/w-on.png"
 cmp -s "$dir/w.png" "$dir/w-on.png" || fail "a Whitted frame changed under --denoise on"
 # through a server: a flight of 3 moving frames (1 sample), then still
-# frames of 2x2 and 4x4 (--still-aa 4), each lanray-render's --denoise picture
+# frames of 1, 2, 4, 8 and 16 samples of 4x4 (--still-aa 4: batches, their
+# sums and their guides' added up by the server), each lanray-render's
+# --denoise picture (--still-frame K)
 cat >"$dir/room.path" <<'PATH'
 key 0 position 278 273 -800 lookat 278 273 0 fov 40
 key 1 position 200 300 -700 lookat 278 273 0 fov 40
@@ -72,8 +74,9 @@ PATH
 for t in 0 0.5 1; do
     render $S --integrator path --path "$dir/room.path" --at $t --aa 1 --width 48 --height 48 --denoise on -o "$dir/m-$t.png"
 done
-for a in 2 4; do
-    render $S --integrator path --path "$dir/room.path" --at 1 --aa $a --width 48 --height 48 --denoise on -o "$dir/s-$a.png"
+for k in 1 2 3 4 5; do
+    render $S --integrator path --path "$dir/room.path" --at 1 --aa 4 --still-frame $k --width 48 --height 48 --denoise on \
+        -o "$dir/s-$k.png"
 done
 cmp -s "$dir/m-0.png" "$dir/m-1.png" && fail "the path does not move the camera: the test cannot fail"
 for how in flag scene; do
@@ -86,9 +89,9 @@ for how in flag scene; do
     done
     for _ in $(seq 400); do kill -0 "$server_pid" 2>/dev/null || break; sleep 0.05; done
     wait "$server_pid" || fail "the server ($how) exited $?"
-    [ "$(ls "$dir/$how" | wc -l)" = 5 ] || fail "3 moving frames and 2 still ones ($how): $(ls "$dir/$how")"
+    [ "$(ls "$dir/$how" | wc -l)" = 8 ] || fail "3 moving frames and 5 still ones ($how): $(ls "$dir/$how")"
     k=1
-    for f in m-0 m-0.5 m-1 s-2 s-4; do
+    for f in m-0 m-0.5 m-1 s-1 s-2 s-3 s-4 s-5; do
         cmp -s "$dir/$how/frame-0000$k.png" "$dir/$f.png" || fail "served frame $k ($how) is not lanray-render's $f"
         k=$((k + 1))
     done

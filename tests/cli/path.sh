@@ -82,9 +82,13 @@ for n in 1 2; do
     cmp -s "$dir/r$n/frame-00007.png" "$dir/still.png" || fail "the converged frame is not lanray-render's ($n clients)"
     grep -q "^path: converged frame 7, .* s after the last move" "$dir/refine-$n.log" || fail "no converged line"
 done
-# a path-traced scene refines over several still frames: 2x2, then 4x4
-# samples a pixel (--still-aa 4), each the whole picture; the last is
-# lanray-render's at 4x4 bit for bit, through 2 clients
+# a path-traced scene refines over several still frames.  At --still-aa
+# 4 each renders the next batch of each pixel's 4 x 4 samples, doubling
+# them (1, then 1, 2, 4, 8 more), and the server adds them up: still frame
+# K is lanray-render's --still-frame K, the last its 4x4 bit for bit,
+# through 2 clients; at 8 (with the denoiser: the guides' sums add up too)
+# 7 batches, the last lanray-render's 8x8; at 3, not a power of two, each
+# frame is rendered whole: 2x2, then 3x3
 cat >"$dir/room.scene" <<'S'
 camera position 0 1 5 lookat 0 0.5 0 fov 50
 background 0.2 0.25 0.3
@@ -99,17 +103,39 @@ cat >"$dir/room.path" <<'PATH'
 key 0 position 0 1 5 lookat 0 0.5 0 fov 50
 key 1 position 1 1.2 4.5 lookat 0 0.5 0 fov 50
 PATH
-for a in 2 4; do
-    "$BIN/lanray-render" "$dir/room.scene" --path "$dir/room.path" --at 1 --aa $a --width 48 --height 36 \
-        -o "$dir/room-$a.png" --quiet >/dev/null || fail "lanray-render the room at aa $a"
+room_ref() { # NAME AA [options]: lanray-render's picture of the room at the path's end
+    local name=$1 a=$2
+    shift 2
+    "$BIN/lanray-render" "$dir/room.scene" --path "$dir/room.path" --at 1 --aa "$a" --width 48 --height 36 "$@" \
+        -o "$dir/$name.png" --quiet >/dev/null || fail "lanray-render the room: $name"
+}
+room_ref room-2 2
+room_ref room-3 3
+room_ref room-4 4
+room_ref room-4-1 4 --still-frame 1
+room_ref room-4-3 4 --still-frame 3
+room_ref room-8 8 --denoise on
+room_ref room-8-5 8 --denoise on --still-frame 5
+cmp -s "$dir/room-4-3.png" "$dir/room-4.png" && fail "4 samples of 16 look like 16: the test cannot fail"
+cmp -s "$dir/room-4-3.png" "$dir/room-2.png" && fail "the first 4 of 4x4 are the 2x2 picture: the samples are not 4x4's"
+for q in 4 8 3; do
+    extra=()
+    [ $q = 8 ] && extra=(--denoise)
+    start_server "room$q" --port 0 --width 48 --height 36 --path "$dir/room.path" --path-step 0.5 --wait-clients 2 \
+        "$dir/room.scene" --still-aa $q "${extra[@]}" --out "$dir/room$q"
+    run_clients 2 "room$q"
 done
-start_server room --port 0 --width 48 --height 36 --path "$dir/room.path" --path-step 0.5 --wait-clients 2 \
-    "$dir/room.scene" --still-aa 4 --out "$dir/room"
-run_clients 2 room
-[ "$(ls "$dir/room" | wc -l)" = 5 ] || fail "a path-traced flight of 3 frames should refine in 2 still ones: $(ls "$dir/room")"
-cmp -s "$dir/room/frame-00004.png" "$dir/room-2.png" || fail "the first still path-traced frame is not lanray-render's at 2x2"
-cmp -s "$dir/room/frame-00005.png" "$dir/room-4.png" || fail "the converged path-traced frame is not lanray-render's at 4x4"
-grep -q "^path: converged frame 5, " "$dir/room.log" || fail "no converged line for frame 5: $(grep '^path' "$dir/room.log")"
+[ "$(ls "$dir/room4" | wc -l)" = 8 ] || fail "a path-traced flight of 3 frames should refine in 5 still ones: $(ls "$dir/room4")"
+cmp -s "$dir/room4/frame-00004.png" "$dir/room-4-1.png" || fail "the first still path-traced frame is not lanray-render's --still-frame 1"
+cmp -s "$dir/room4/frame-00006.png" "$dir/room-4-3.png" || fail "the third still path-traced frame is not lanray-render's --still-frame 3"
+cmp -s "$dir/room4/frame-00008.png" "$dir/room-4.png" || fail "the converged path-traced frame is not lanray-render's at 4x4"
+[ "$(ls "$dir/room8" | wc -l)" = 10 ] || fail "at --still-aa 8, 7 still frames: $(ls "$dir/room8")"
+cmp -s "$dir/room8/frame-00008.png" "$dir/room-8-5.png" || fail "the fifth of 7 batches, denoised, is not lanray-render's --still-frame 5"
+cmp -s "$dir/room8/frame-00010.png" "$dir/room-8.png" || fail "the converged denoised frame of 7 batches is not lanray-render's at 8x8"
+cmp -s "$dir/room3/frame-00004.png" "$dir/room-2.png" || fail "at --still-aa 3 the first still frame is not lanray-render's 2x2"
+cmp -s "$dir/room3/frame-00005.png" "$dir/room-3.png" || fail "at --still-aa 3 the converged frame is not lanray-render's 3x3"
+grep -q "^path: converged frame 8, " "$dir/room4.log" || fail "no converged line for frame 8: $(grep '^path' "$dir/room4.log")"
+grep -q "^path: converged frame 5, " "$dir/room3.log" || fail "no converged line for frame 5: $(grep '^path' "$dir/room3.log")"
 # soft shadows converge (--still-light-samples 6): after the still frame at
 # adaptive 4x4 with the round lamp's own 3 x 3 points, one more with 6 x 6,
 # lanray-render's --light-samples 6 bit for bit, the converged one; at the

@@ -6,7 +6,10 @@
  * HELLO first and steps the server until frame 1 has started (its segments
  * are 0+32 and 32+32), so that the rest lands in an active session (DATA,
  * BYE, ERROR and whatever else); otherwise the rest is the stream from its
- * first byte (the handshake itself).  The server steps until it has read
+ * first byte (the handshake itself), 256 bytes a step.  When its bit 2 is set the scene is
+ * path-traced and denoised, refined at --still-aa 2: frames after the
+ * first are batches of samples, whose DATA carries sums the server adds
+ * up (render/progressive.h).  The server steps until it has read
  * everything and closed the connection; what it sends back is dropped. */
 #include <fcntl.h>
 #include <stdio.h>
@@ -20,20 +23,31 @@
 #include "scene/scene_parse.h"
 #include "server.h"
 
-static Scene *scene;
+static Scene *scene, *path_scene;
+
+static Scene *parse_scene(const char *settings)
+{
+    /* no models or textures: a server serialises its assets when it is created */
+    char text[512];
+    const int n = snprintf(text, sizeof text,
+                           "camera position 0 1 4 lookat 0 0.5 0 fov 50\n%s"
+                           "material red diffuse 0.8 0.2 0.1 specular 0.5 0.5 0.5 shininess 30\n"
+                           "plane point 0 0 0 normal 0 1 0 material red\n"
+                           "sphere centre 0 0.5 0 radius 0.5 material red\n"
+                           "light point position 2 4 3 intensity 1\n",
+                           settings);
+    BvhOptions opt = bvh_options_default(BVH_SAH);
+    Scene *s;
+    if (scene_parse(text, (size_t)n, "fuzz.scene", ".", &opt, 0, &s, NULL) || scene_check(s, NULL))
+        abort();
+    return s;
+}
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
     if (!scene) {
-        /* no models or textures: a server serialises its assets when it is created */
-        char text[] = "camera position 0 1 4 lookat 0 0.5 0 fov 50\n"
-                      "material red diffuse 0.8 0.2 0.1 specular 0.5 0.5 0.5 shininess 30\n"
-                      "plane point 0 0 0 normal 0 1 0 material red\n"
-                      "sphere centre 0 0.5 0 radius 0.5 material red\n"
-                      "light point position 2 4 3 intensity 1\n";
-        BvhOptions opt = bvh_options_default(BVH_SAH);
-        if (scene_parse(text, sizeof text - 1, "fuzz.scene", ".", &opt, 0, &scene, NULL) || scene_check(scene, NULL))
-            abort();
+        scene = parse_scene("");
+        path_scene = parse_scene("settings integrator path denoise on\n");
     }
     if (size < 1 || size > 1 << 20)
         return 0;
@@ -47,8 +61,11 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     cfg.quiet = 1;
     cfg.moving_lights = -1;
     cfg.coding = PIX_ZSTD | PIX_PREDICT; /* the default: coded DATA decoded, as the seeds send it */
+    const int batches = data[0] & 2;
+    if (batches)
+        cfg.refine = 1, cfg.still_aa = 2, cfg.denoise_threads = 1;
     Err err;
-    Server *s = server_create(&cfg, scene, &err);
+    Server *s = server_create(&cfg, batches ? path_scene : scene, &err);
     int fds[2];
     if (!s || socketpair(AF_UNIX, SOCK_STREAM, 0, fds))
         abort();
@@ -74,7 +91,10 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     size_t off = 1;
     for (int round = 0; round < 100000; round++) {
         if (off < size) {
-            ssize_t w = send(fds[1], data + off, size - off, MSG_NOSIGNAL);
+            /* a little a step, as a network brings it: a frame's results
+             * arrive after it started, and the next frame starts between */
+            const size_t chunk = size - off < 256 ? size - off : 256;
+            ssize_t w = send(fds[1], data + off, chunk, MSG_NOSIGNAL);
             if (w > 0)
                 off += (size_t)w;
             if (off == size)

@@ -44,15 +44,19 @@ static void setup(void)
         abort();
 }
 
+/* The most bytes a pixel: a batch's sums with guides (render/progressive.h). */
+#define PIXEL_MOST (PROG_MAX * sizeof(real))
+
 /* A frame's view: decoded, then the default scene rendered with it. */
 static void view_one(const uint8_t *data, size_t size)
 {
     View v;
     if (wire_decode_view(data, size, &v, NULL))
         return;
-    v.settings.aa = 1; /* bounded work per input */
+    /* bounded work per input (a batch of a path-traced still's samples: of 2x2) */
+    v.settings.aa = v.settings.batch ? 2 : 1;
     World *w = world_with_view(base_world, &v, NULL);
-    uint8_t px[8 * 6 * 4];
+    uint8_t px[8 * 6 * PIXEL_MOST]; /* as render_pixel_bytes says */
     if (w)
         render_lines(pool, w, 8, 6, 0, 6, px, NULL, NULL);
     world_destroy(w);
@@ -79,9 +83,9 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     }
     Scene *s;
     if (wire_decode_scene(data + 1, size - 1, cache, &s, NULL) == 0) {
-        uint8_t px[8 * 6 * 4]; /* RGB8, or RGBE where the scene's hdr flag says so */
+        uint8_t px[8 * 6 * PIXEL_MOST]; /* RGB8, RGBE, with guides, or a batch's sums */
         assert(render_pixel_bytes(&s->settings) * 8 * 6 <= sizeof px);
-        s->settings.aa = 1; /* bounded work per input */
+        s->settings.aa = s->settings.batch ? 2 : 1; /* bounded work per input */
         World *w = world_build(s, NULL, NULL);
         if (w)
             render_lines(pool, w, 8, 6, 0, 6, px, NULL, NULL);

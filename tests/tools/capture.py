@@ -24,7 +24,10 @@ while open_:
     if not ready:
         break
     for s in ready:
-        data = s.recv(65536)
+        try:
+            data = s.recv(65536)
+        except ConnectionResetError:  # a side that closed with bytes unread (a server done with its frames)
+            data = b""
         if not data:
             open_.discard(s)
             try:

@@ -1,0 +1,78 @@
+/* progressive.c - sums of a pixel's samples in batches, and the pixel they
+ * make (progressive.h). */
+#include "render/progressive.h"
+
+#include <math.h>
+#include <string.h>
+
+#include "base/srgb.h"
+#include "render/denoise.h"
+
+int progressive_batches(const RenderSettings *rs)
+{
+    const int n = rs->aa;
+    if (rs->integrator != INTEGRATOR_PATH || rs->adaptive || n < 2 || (n & (n - 1)) != 0)
+        return 0;
+    return 2 * __builtin_ctz((unsigned)n) + 1;
+}
+
+void progressive_add_sample(real *sums, vec3 c, const Guide *g)
+{
+    for (int k = 0; k < 3; k++)
+        sums[k] += c.e[k];
+    if (!g)
+        return;
+    real *s = sums + PROG_COLOUR;
+    for (int k = 0; k < 3; k++)
+        s[k] += g->albedo.e[k];
+    s[3] += g->lum2;
+    if (g->surface) { /* as render.c's guide_add: the normals and distances of samples that met a surface */
+        for (int k = 0; k < 3; k++)
+            s[4 + k] += g->normal.e[k];
+        s[7] += g->depth;
+        s[8] += (real)g->surface;
+    }
+}
+
+void progressive_fold(real *total, const real *batch, uint32_t n)
+{
+    for (uint32_t k = 0; k < n; k++)
+        total[k] += batch[k];
+}
+
+void progressive_encode(const RenderSettings *rs, real gain, const real *sums, uint32_t samples, uint8_t *dst)
+{
+    const real inv = R(1) / (real)samples; /* a power of 4: exact */
+    const vec3 mean = v3(sums[0] * inv, sums[1] * inv, sums[2] * inv);
+    if (rs->hdr) {
+        rgbe_encode(mean.x, mean.y, mean.z, dst);
+    } else {
+        const vec3 c = gain != R(1) ? v3_scale(mean, gain) : mean;
+        for (int k = 0; k < 3; k++)
+            dst[k] = rs->linear ? linear_encode8(c.e[k]) : srgb_encode8(c.e[k]);
+    }
+    if (!rs->denoise)
+        return;
+    /* a client's sums, on a server: whatever their bits, numbers the
+     * guide's packing takes (finite, the surface count a count) */
+    real s[PROG_GUIDE];
+    for (uint32_t k = 0; k < PROG_GUIDE; k++)
+        s[k] = isfinite(sums[PROG_COLOUR + k]) ? sums[PROG_COLOUR + k] : R(0);
+    const int surface = s[8] >= R(1) ? (s[8] < (real)samples ? (int)s[8] : (int)samples) : 0;
+    const Guide g = {.albedo = v3(s[0], s[1], s[2]), .lum2 = s[3], .normal = v3(s[4], s[5], s[6]), .depth = s[7],
+                     .surface = surface};
+    denoise_guide_pack(&g, (int)samples, mean, dst + (rs->hdr ? 4 : 3));
+}
+
+void progressive_frame_add(const RenderSettings *rs, real *acc, const uint8_t *sums, size_t n, uint8_t *out)
+{
+    const uint32_t reals = progressive_reals(rs), bpp = (rs->hdr ? 4u : 3u) + (rs->denoise ? DENOISE_GUIDE_BYTES : 0u);
+    const uint32_t samples = progressive_end(rs->batch);
+    const real gain = pow(R(2), rs->exposure); /* as render.c's */
+    for (size_t i = 0; i < n; i++) {
+        real b[PROG_MAX];
+        memcpy(b, sums + i * reals * sizeof(real), reals * sizeof(real));
+        progressive_fold(acc + i * reals, b, reals);
+        progressive_encode(rs, gain, acc + i * reals, samples, out + i * bpp);
+    }
+}
