@@ -621,13 +621,14 @@ static int largest_light_side(const Scene *scene, const RenderSettings *rs)
 }
 
 /* Progressive refinement: the samples of still frame k (1 the first).  A
- * path-traced view doubles its samples a side each still frame, 2, 4, 8
- * ... up to the still quality: a picture that sharpens while it is looked
- * at.  Where that quality is N x N of N a power of two (`batches` log2 N,
- * where the server has room for the sums), each frame renders the next
- * batch of the N x N samples alone and the server adds them up: the
- * converged frame costs what rendering it alone does; otherwise each
- * frame is rendered whole, for 4/3 of that.  The Whitted integrator's takes the still quality at once, and
+ * path-traced view sharpens while it is looked at: where the still
+ * quality is N x N of N a power of two (`batches`, 2 log2 N + 1 of them,
+ * where the server has room for their sums), each still frame renders the
+ * next batch of the N x N samples alone, doubling what the picture has,
+ * and the server adds them up (the converged frame costs what rendering it
+ * alone does); otherwise each doubles the samples a side, 2, 4, 8 ... up
+ * to the still quality, rendered whole (4/3 of the converged frame's
+ * cost).  The Whitted integrator's takes the still quality at once, and
  * then, with still_lights, doubles its area lights' points a side each
  * frame from the largest light's own up to still_lights (its soft shadows'
  * grain: a round lamp of 3 x 3 points leaves penumbrae of ten grey levels
@@ -684,7 +685,7 @@ static int still_batches(Server *s)
     const size_t n = (size_t)s->cfg.width * s->cfg.height;
     const uint32_t need = render_pixel_bytes(&rs);
     /* a frame whose sums would not fit one DATA packet is rendered whole
-     * (sums of 12 bytes a pixel, 48 denoised: 4K UHD, or 1920x1080) */
+     * (12 bytes a pixel, 48 denoised: 4K UHD fits, and denoised 1920x1080) */
     if (!batches || (uint64_t)n * need > PROTO_MAX_PIXELS)
         return 0;
     if (!s->acc_sums) {
@@ -731,10 +732,10 @@ static int start_frame(Server *s, Err *err)
     View v = s->view;
     const int batches = s->still && s->cfg.refine ? still_batches(s) : 0;
     s->converged = s->still && (!s->cfg.refine || refine_step(&s->cfg, s->scene, s->still_step, &v.settings, batches));
-    s->frame_rs = v.settings;
-    s->frame_bpp = render_pixel_bytes(&v.settings);
     if (!s->still && s->cfg.moving_lights >= 0)
         v.settings.light_sampling = (LightSampling)s->cfg.moving_lights;
+    s->frame_rs = v.settings;
+    s->frame_bpp = render_pixel_bytes(&v.settings);
     /* a moving frame at the render scale, a still one whole */
     const uint32_t last_lines = s->fh;
     s->scale = s->still ? 1 : s->next_scale;
