@@ -343,6 +343,7 @@ typedef struct {
     RenderPool *pool;
     uint8_t *pixels;
     uint8_t *shown; /* settings denoise: the filtered frame, colours alone */
+    Denoiser *denoiser; /* ... and its scratch, made before rendering */
     ImageWriter *wr;
     int banded, band;
     uint32_t bpp;
@@ -354,6 +355,7 @@ static void job_close(Job *j)
     image_writer_abort(j->wr);
     free(j->pixels);
     free(j->shown);
+    denoiser_destroy(j->denoiser);
     render_pool_destroy(j->pool);
     world_destroy(j->world);
     scene_destroy(j->scene);
@@ -406,16 +408,24 @@ static int job_open(Job *j, Args *a, Err *err)
     if (j->banded && (a->profile || j->scene->settings.denoise))
         rc = err_set(err, "%dx%d is rendered in bands (%.1f GB whole); %s needs the whole frame", width, height,
                      (double)frame_bytes / 1e9, a->profile ? "--profile" : "denoising");
-    else
-        rc = cli_check_memory((uint64_t)width * (uint64_t)j->band * j->bpp,
-                              j->banded ? "a band of the frame" : "the frame", err);
+    else /* with the denoiser's planes (84 bytes a pixel) and the frame it writes */
+        rc = cli_check_memory((uint64_t)width * (uint64_t)j->band * j->bpp +
+                                  (j->scene->settings.denoise
+                                       ? denoiser_bytes((uint32_t)width, (uint32_t)height) +
+                                             (uint64_t)width * height * render_colour_bytes(&j->scene->settings)
+                                       : 0),
+                              j->banded ? "a band of the frame" : j->scene->settings.denoise ? "the frame with its denoiser"
+                                                                                              : "the frame",
+                              err);
     const RenderSettings *rs = &j->scene->settings;
     if (rc == 0) /* the file exists, under a temporary name, before any rendering */
         rc = image_writer_open(a->out, width, height, rs->hdr ? IMAGE_RGBE : rs->linear ? IMAGE_LINEAR : IMAGE_SRGB,
                                &j->wr, err);
     j->pool = rc ? NULL : render_pool_create(a->threads, err);
     j->pixels = j->pool ? malloc((size_t)width * (size_t)j->band * j->bpp) : NULL;
-    if (j->pixels && rs->denoise && !(j->shown = malloc((size_t)width * (size_t)height * render_colour_bytes(rs)))) {
+    if (j->pixels && rs->denoise &&
+        (!(j->shown = malloc((size_t)width * (size_t)height * render_colour_bytes(rs))) ||
+         !(j->denoiser = denoiser_create(render_pool_pool(j->pool), (uint32_t)width, (uint32_t)height)))) {
         free(j->pixels);
         j->pixels = NULL;
     }
@@ -432,16 +442,12 @@ static int job_open(Job *j, Args *a, Err *err)
  * to the frame's (each of --repeat's, as the server filters each frame). */
 static int denoise_now(Job *j, const Args *a, double *best, double *sum, Err *err)
 {
-    Denoiser *d = denoiser_create(render_pool_pool(j->pool), (uint32_t)a->width, (uint32_t)a->height);
-    if (!d)
-        return err_set(err, "out of memory for the denoiser");
     const RenderSettings *rs = &j->scene->settings;
     const double t = timer_now();
-    const int rc = denoise_frame(d, j->pixels, (uint32_t)a->width, (uint32_t)a->height, render_colour_bytes(rs),
+    const int rc = denoise_frame(j->denoiser, j->pixels, (uint32_t)a->width, (uint32_t)a->height, render_colour_bytes(rs),
                                  rs->linear, j->shown, err);
     const double dt = timer_now() - t;
     *best += dt, *sum += dt * a->repeat;
-    denoiser_destroy(d);
     return rc;
 }
 

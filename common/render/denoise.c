@@ -94,6 +94,11 @@ struct Denoiser {
     float *p[PLANES];
 };
 
+uint64_t denoiser_bytes(uint32_t max_w, uint32_t max_h)
+{
+    return ((uint64_t)max_w + 2 * PAD) * ((uint64_t)max_h + 2 * PAD) * PLANES * sizeof(float);
+}
+
 Denoiser *denoiser_create(Pool *pool, uint32_t max_w, uint32_t max_h)
 {
     Denoiser *d = calloc(1, sizeof *d);

@@ -50,6 +50,8 @@ typedef struct Denoiser Denoiser;
  * once (NULL where memory ran out); pool (may be NULL: the caller alone)
  * runs its passes' rows. */
 Denoiser *denoiser_create(Pool *pool, uint32_t max_w, uint32_t max_h);
+/* The bytes of that scratch (its planes of floats, with their margins). */
+uint64_t denoiser_bytes(uint32_t max_w, uint32_t max_h);
 void denoiser_destroy(Denoiser *d);
 
 /* Filters a w x h frame of guided pixels (colour_bytes of colour, 3 codes

@@ -100,4 +100,13 @@ done
 out=$("$BIN/lanray-render" $S --integrator path --denoise on --aa 1 --width 64 --height 64 --band 16 -o "$dir/big.png" 2>&1)
 [ $? = 1 ] && grep -q "denoising needs the whole frame" <<<"$out" || fail "a banded frame with --denoise: $out"
 [ -e "$dir/big.png" ] && fail "a refused render left its file"
+# a whole frame whose denoiser's planes (84 bytes a pixel) do not fit is
+# refused before rendering, naming them (under a limit on the address
+# space; not under the sanitizers, whose shadow memory takes it all)
+if [ $sanitized = 0 ]; then
+    out=$( (ulimit -v 700000; "$BIN/lanray-render" $S --integrator path --denoise on --aa 1 --width 4000 --height 4000 \
+        -o "$dir/big.png") 2>&1)
+    [ $? = 1 ] && grep -q "the frame with its denoiser needs" <<<"$out" || fail "a denoiser too large: $out"
+    [ -e "$dir/big.png" ] && fail "a render refused for its denoiser left its file"
+fi
 echo "denoise: ok"
