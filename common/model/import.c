@@ -200,6 +200,7 @@ static int import_optics(const struct aiMaterial *am, vec3 base, const MetalFact
         m->ks = v3_scale(m->ks, opacity);
         m->kr = v3_scale(m->kr, opacity);
         m->kre = v3_scale(m->kre, opacity);
+        m->ke = v3_scale(m->ke, opacity); /* the see-through share emits nothing (Blender's mix with Transparent) */
         did = 1;
     }
     return did;

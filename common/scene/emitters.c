@@ -298,10 +298,13 @@ static int in_hole(const World *w, const Emitter *e, real u, real v)
 
 /* What emitter e's point at (u, v) emits: its material's `emit`, times the
  * emission texture's colour there where a model's own material has one
- * (read at one point, as path.c reads it at a hit). */
+ * (read at one point, as path.c reads it at a hit), times a see-through
+ * blend's coverage there (trace_surface_blend: its see-through share
+ * emits nothing). */
 static vec3 glow_at(const World *w, const Emitter *e, const Material *m, real u, real v)
 {
-    if (e->kind != HIT_INSTANCE || !material_emit_mapped(m) || w->instances[e->index].material >= 0)
+    if (e->kind != HIT_INSTANCE || !(material_emit_mapped(m) || material_blends(m)) ||
+        w->instances[e->index].material >= 0)
         return m->ke;
     const Model *mo = w->models[w->instances[e->index].model];
     if (!mo->uvs)
@@ -309,7 +312,12 @@ static vec3 glow_at(const World *w, const Emitter *e, const Material *m, real u,
     real b[3], tu, tv;
     triangle_weights(u, v, b);
     model_uv(mo, e->sub, b[1], b[2], &tu, &tv);
-    return v3_mul(m->ke, texture_sample(mo->textures[m->emit_map], tu, tv, NULL, w->view.settings.filter));
+    vec3 ke = m->ke;
+    if (material_emit_mapped(m))
+        ke = v3_mul(ke, texture_sample(mo->textures[m->emit_map], tu, tv, NULL, w->view.settings.filter));
+    if (material_blends(m))
+        ke = v3_scale(ke, texture_coverage(mo->textures[m->mask], tu, tv));
+    return ke;
 }
 
 /* The emitter entry of the model's triangle that h met: found by halving,

@@ -833,6 +833,7 @@ void trace_surface_blend(Surface *sf)
     l->kd = v3_scale(l->kd, a), l->ks = v3_scale(l->ks, a);
     l->kr = v3_scale(l->kr, a), l->kre = v3_scale(l->kre, a);
     l->kt = v3_sub(v3_splat(R(1)), v3_scale(v3_sub(v3_splat(R(1)), l->kt), a));
+    l->ke = v3_scale(l->ke, a); /* its light too: the see-through share emits nothing (emitters.c's glow_at alike) */
     sf->mat = l;
     sf->btex = NULL; /* applied: not a second time */
 }
