@@ -335,8 +335,8 @@ static const char server_about[] =
     "mouse look (Esc lets it go), +/- or the wheel zoom, C frames the whole scene, Home resets, Space\n"
     "toggles --rotate, P saves a screenshot, Tab shows the panel (frame rate, render scale, samples,\n"
     "each client's lines/s and share, segment size), T/Shift+T the frame-rate target up/down, N the\n"
-    "still quality (off, 2x2, adaptive 4x4, 4x4), L light sampling, M shading, H shadows, U a scaled\n"
-    "frame smooth or in blocks (--upscale); Esc or Q quits.\n"
+    "still quality (off, 2x2, adaptive 4x4, 4x4, path-traced on to 16x16 and 32x32), L light sampling,\n"
+    "M shading, H shadows, U a scaled frame smooth or in blocks (--upscale); Esc or Q quits.\n"
     "A scene file is followed while it runs: an edit to it or to the models and textures it names is\n"
     "read again and sent between frames; an error keeps the last good scene and is shown with its line.\n"
     "SIGUSR1 prints per-client statistics.";

@@ -18,6 +18,22 @@ double panel_next_target(double target, int up)
     return targets[i > 0 ? i - 1 : 0];
 }
 
+void panel_next_still(int path, int *refine, int *aa, int *adaptive)
+{
+    if (!*refine)
+        *refine = 1, *aa = 2, *adaptive = 0;
+    else if (*aa == 2 && !*adaptive)
+        *aa = 4, *adaptive = 1;
+    else if (*adaptive)
+        *aa = 4, *adaptive = 0;
+    else if (path && *aa < 16)
+        *aa = 16;
+    else if (path && *aa < 32)
+        *aa = 32;
+    else
+        *refine = 0;
+}
+
 static void sampling_text(char *out, size_t size, int aa, int adaptive)
 {
     if (adaptive && aa > 1)

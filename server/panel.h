@@ -36,4 +36,10 @@ int panel_lines(const PanelInfo *p, char out[][PANEL_LINE]);
 /* The target frame rates the T key steps through (0: none). */
 double panel_next_target(double target, int up);
 
+/* The still quality the N key steps to from (refine, aa, adaptive): off,
+ * 2x2, adaptive 4x4, 4x4, off; a path-traced view's (path) goes on from
+ * 4x4 to 16x16 and 32x32 (its still frames add up: 1024 samples a pixel
+ * in 11 frames) before off. */
+void panel_next_still(int path, int *refine, int *aa, int *adaptive);
+
 #endif

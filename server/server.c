@@ -105,6 +105,7 @@ struct Server {
     real turn_pending;
     RenderSettings next_settings; /* server_set_settings */
     int settings_pending;
+    int still_pending; /* server_set_still: a new still quality */
     uint32_t settings_id, last_settings_id; /* one up at each change of the view's settings */
     double frame_t0, last_frame_s; /* the current frame's start, the last finished frame's time */
     uint8_t *pixels; /* the frame, bpp bytes a pixel: RGB8, or RGBE (hdr), then with denoise its guide */
@@ -372,7 +373,8 @@ Scene *server_scene(const Server *s) { return s->scene; }
 
 int server_changes_pending(const Server *s)
 {
-    return s->camera_pending || s->turn_pending != R(0) || s->next_scene != NULL || s->settings_pending;
+    return s->camera_pending || s->turn_pending != R(0) || s->next_scene != NULL || s->settings_pending ||
+           s->still_pending;
 }
 
 void server_set_settings(Server *s, const RenderSettings *rs)
@@ -386,7 +388,7 @@ RenderSettings server_settings(const Server *s) { return s->settings_pending ? s
 void server_set_still(Server *s, int refine, int aa, int adaptive)
 {
     s->cfg.refine = refine, s->cfg.still_aa = aa, s->cfg.still_adaptive = adaptive;
-    s->settings_id++; /* the next frame is not the last one refined */
+    s->still_pending = 1; /* a change: a converged view starts again, and a still frame on its way gives way */
 }
 
 void server_still(const Server *s, int *refine, int *aa, int *adaptive)
@@ -456,6 +458,10 @@ static int apply_pending(Server *s, Err *err)
     if (s->settings_pending) {
         s->view.settings = s->next_settings;
         s->settings_pending = 0;
+        s->settings_id++;
+    }
+    if (s->still_pending) { /* the next frame is not the last one refined */
+        s->still_pending = 0;
         s->settings_id++;
     }
     if (s->turn_pending != R(0)) {

@@ -28,19 +28,14 @@ void window_knobs_apply(const Window *w, RenderSettings *rs)
         rs->shadows = w->knobs.shadows;
 }
 
-/* The still qualities N steps through: off, 2x2, adaptive 4x4, 4x4. */
+/* The still quality N steps to (panel_next_still: a path-traced view's
+ * goes on to 16x16 and 32x32). */
 static void next_still(Server *s)
 {
     int refine, aa, adaptive;
     server_still(s, &refine, &aa, &adaptive);
-    if (!refine)
-        server_set_still(s, 1, 2, 0);
-    else if (aa == 2 && !adaptive)
-        server_set_still(s, 1, 4, 1);
-    else if (adaptive)
-        server_set_still(s, 1, 4, 0);
-    else
-        server_set_still(s, 0, aa, adaptive);
+    panel_next_still(server_settings(s).integrator == INTEGRATOR_PATH, &refine, &aa, &adaptive);
+    server_set_still(s, refine, aa, adaptive);
 }
 
 /* The knobs' keys: settings for the next frame, kept for scenes to come. */

@@ -147,6 +147,30 @@ static void panel_says_what_runs(void **state)
     assert_true(has(lines, n, "still, 64 samples a pixel"));
 }
 
+static void still_steps(void **state)
+{
+    (void)state;
+    for (int path = 0; path < 2; path++) {
+        int refine = 0, aa = 1, adaptive = 0;
+        char seen[64] = "";
+        for (int k = 0; k < 7; k++) {
+            panel_next_still(path, &refine, &aa, &adaptive);
+            char step[16];
+            snprintf(step, sizeof step, "%s%d ", !refine ? "off" : adaptive ? "a" : "", refine ? aa : 0);
+            strcat(seen, step);
+            if (!refine)
+                break;
+        }
+        assert_string_equal(seen, path ? "2 a4 4 16 32 off0 " : "2 a4 4 off0 ");
+    }
+    /* a quality given on the command line steps on from where it is */
+    int refine = 1, aa = 8, adaptive = 0;
+    panel_next_still(1, &refine, &aa, &adaptive);
+    assert_true(refine && aa == 16 && !adaptive);
+    panel_next_still(0, &refine, &aa, &adaptive);
+    assert_false(refine);
+}
+
 static void target_steps(void **state)
 {
     (void)state;
@@ -168,6 +192,7 @@ int main(void)
         cmocka_unit_test(frame_all_sees_the_whole_scene),
         cmocka_unit_test(panel_says_what_runs),
         cmocka_unit_test(target_steps),
+        cmocka_unit_test(still_steps),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
