@@ -391,7 +391,7 @@ static int parse_args(Args *a, int argc, char **argv)
                  "samples (adaptive:4 is lanray-render's picture); path-traced, N x N of N a power of two comes in "
                  "still frames that each add as many samples as all before (1, 2, 4 ... N x N a pixel), else in "
                  "frames of 2x2, 4x4 ... N x N",
-         .def = "none: every frame with --aa"},
+         .def = "none: every frame with --aa; in a window, a path-traced scene's 32"},
         {.name = "--still-light-samples", .kind = OPT_INT, .dst = &a->still_lights, .arg = "K", .hi = LIGHT_MAX_SAMPLES,
          .help = "with --still-aa, the still frames after the first double the area lights' points a side, from the "
                  "largest light's own up to K x K (lanray-render's picture with --light-samples K): soft shadows "
@@ -589,6 +589,10 @@ static int open_outputs(App *app, Args *a, Err *err)
         fprintf(stderr, "lanray-server: %s\n", err->msg);
         return 1;
     }
+    /* a path-traced view in a window converges once it stops, as Cycles'
+     * viewport does, to 1024 samples a pixel (its still frames add up) */
+    if (app->display && !a->still.given && app->scene->settings.integrator == INTEGRATOR_PATH)
+        server_set_still(app->server, 1, AA_MAX, 0);
     /* frames written beside the loop, two queued (a frame over 64 MB is
      * written in it: two more copies would be too many) */
     const int bpp = (int)render_colour_bytes(&app->scene->settings);

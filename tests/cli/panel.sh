@@ -7,8 +7,9 @@
 # frame that refines the lights gives way to a key that changes the view;
 # U shows a frame rendered at a render scale in blocks, and smooth again;
 # X shows a denoised server's frames raw (lanray-render's --denoise off
-# picture) and denoised again (its --denoise on one); N on a path-traced
-# view steps on past 4x4 to 16x16, the converged frame lanray-render's.
+# picture) and denoised again (its --denoise on one); a path-traced view
+# converges to 32x32 by itself, and N steps it on past 4x4 to 16x16, each
+# converged frame lanray-render's.
 # Keys go in through XTEST (xdotool), as a user's would.
 set -u
 BIN=${BIN:-bin}
@@ -101,7 +102,7 @@ sed 's/^settings \(.*\)/settings \1 integrator path/' models/cornell.scene >"$di
     fail "denoised reference"
 "$BIN/lanray-render" "$dir/path.scene" --width $W --height $H --aa 1 -o "$dir/raw.ppm" --quiet >/dev/null ||
     fail "raw reference"
-window_server denoised "$dir/path.scene" --width $W --height $H --denoise
+window_server denoised "$dir/path.scene" --width $W --height $H --denoise --still-aa 1 # one sample, still or not
 at=$(appears "$dir/dn.ppm") || fail "the denoised frame never showed"
 read -r x y <<<"$(sed 's/found at \([0-9]*\),\([0-9]*\)/\1 \2/' <<<"$at")"
 xdotool mousemove $((x + W / 2)) $((y + H / 2))
@@ -111,20 +112,22 @@ xdotool key x
 appears "$dir/dn.ppm" >/dev/null || fail "X again: the frame was not shown denoised again"
 echo "X: the denoised frame shown raw, and denoised again"
 stop_window_server denoised
-# N on a path-traced view steps past 4x4 to 16x16 (2x2, adaptive 4x4, 4x4,
-# 16x16: four presses), whose still frames add up to lanray-render's --aa
-# 16 picture
-W=64 H=48
-"$BIN/lanray-render" "$dir/path.scene" --width $W --height $H --aa 1 -o "$dir/p1.ppm" --quiet >/dev/null ||
-    fail "one-sample reference"
-"$BIN/lanray-render" "$dir/path.scene" --width $W --height $H --aa 16 -o "$dir/p16.ppm" --quiet >/dev/null ||
-    fail "16x16 reference"
+# a path-traced view in a window converges by itself to 32x32 (its still
+# frames adding up to lanray-render's --aa 32 picture); N steps from there
+# to off, 2x2, adaptive 4x4, 4x4 and on past it to 16x16 (five presses),
+# lanray-render's --aa 16 picture
+W=32 H=24
+for a in 1 16 32; do
+    "$BIN/lanray-render" "$dir/path.scene" --width $W --height $H --aa $a -o "$dir/p$a.ppm" --quiet >/dev/null ||
+        fail "reference at $a x $a"
+done
 window_server stepped "$dir/path.scene" --width $W --height $H
-at=$(appears "$dir/p1.ppm") || fail "the path-traced frame never showed"
+at=$(appears "$dir/p32.ppm" 300) || fail "a path-traced view in a window did not converge to lanray-render's 32x32"
 read -r x y <<<"$(sed 's/found at \([0-9]*\),\([0-9]*\)/\1 \2/' <<<"$at")"
+echo "a path-traced view converges to 32x32 by itself"
 xdotool mousemove $((x + W / 2)) $((y + H / 2))
-for _ in 1 2 3 4; do xdotool key n; sleep 0.1; done
-appears "$dir/p16.ppm" 300 >/dev/null || fail "N four times: a path-traced view did not converge to lanray-render's 16x16"
+for _ in 1 2 3 4 5; do xdotool key n; sleep 0.1; done
+appears "$dir/p16.ppm" 300 >/dev/null || fail "N five times: a path-traced view did not converge to lanray-render's 16x16"
 echo "N: a path-traced view steps on to 16x16, its still frames adding up to lanray-render's picture"
 stop_window_server stepped
 exit 0
