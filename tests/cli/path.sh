@@ -87,7 +87,8 @@ done
 # them (1, then 1, 2, 4, 8 more), and the server adds them up: still frame
 # K is lanray-render's --still-frame K, the last its 4x4 bit for bit,
 # through 2 clients; at 8 (with the denoiser: the guides' sums add up too)
-# 7 batches, the last lanray-render's 8x8; at 3, not a power of two, each
+# 7 batches, the last lanray-render's 8x8; RGBE (--hdr) at 2x2 in 3 batches,
+# lanray-render's .hdr; at 3, not a power of two, each
 # frame is rendered whole: 2x2, then 3x3
 cat >"$dir/room.scene" <<'S'
 camera position 0 1 5 lookat 0 0.5 0 fov 50
@@ -118,9 +119,13 @@ room_ref room-8 8 --denoise on
 room_ref room-8-5 8 --denoise on --still-frame 5
 cmp -s "$dir/room-4-3.png" "$dir/room-4.png" && fail "4 samples of 16 look like 16: the test cannot fail"
 cmp -s "$dir/room-4-3.png" "$dir/room-2.png" && fail "the first 4 of 4x4 are the 2x2 picture: the samples are not 4x4's"
-for q in 4 8 3; do
+# the light itself (RGBE): a batch's sums encoded so too
+"$BIN/lanray-render" "$dir/room.scene" --path "$dir/room.path" --at 1 --aa 2 --width 48 --height 36 -o "$dir/room-2.hdr" \
+    --quiet >/dev/null || fail "lanray-render the room's .hdr"
+for q in 4 8 3 2; do
     extra=()
     [ $q = 8 ] && extra=(--denoise)
+    [ $q = 2 ] && extra=(--hdr)
     start_server "room$q" --port 0 --width 48 --height 36 --path "$dir/room.path" --path-step 0.5 --wait-clients 2 \
         "$dir/room.scene" --still-aa $q "${extra[@]}" --out "$dir/room$q"
     run_clients 2 "room$q"
@@ -132,6 +137,7 @@ cmp -s "$dir/room4/frame-00008.png" "$dir/room-4.png" || fail "the converged pat
 [ "$(ls "$dir/room8" | wc -l)" = 10 ] || fail "at --still-aa 8, 7 still frames: $(ls "$dir/room8")"
 cmp -s "$dir/room8/frame-00008.png" "$dir/room-8-5.png" || fail "the fifth of 7 batches, denoised, is not lanray-render's --still-frame 5"
 cmp -s "$dir/room8/frame-00010.png" "$dir/room-8.png" || fail "the converged denoised frame of 7 batches is not lanray-render's at 8x8"
+cmp -s "$dir/room2/frame-00006.hdr" "$dir/room-2.hdr" || fail "an RGBE still at 2x2 in 3 batches is not lanray-render's .hdr"
 cmp -s "$dir/room3/frame-00004.png" "$dir/room-2.png" || fail "at --still-aa 3 the first still frame is not lanray-render's 2x2"
 cmp -s "$dir/room3/frame-00005.png" "$dir/room-3.png" || fail "at --still-aa 3 the converged frame is not lanray-render's 3x3"
 grep -q "^path: converged frame 8, " "$dir/room4.log" || fail "no converged line for frame 8: $(grep '^path' "$dir/room4.log")"
