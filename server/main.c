@@ -22,6 +22,7 @@
 #include "base/srgb.h"
 #include "render/render.h"
 #include "scene/camera_path.h"
+#include "scene/scene_fields.h"
 #include "net/mdns.h"
 #include "net/msg.h"
 #include "net/net.h"
@@ -277,6 +278,7 @@ typedef struct {
     int headless, force_bvh, discard, frames, wait_clients, tail, bvh_kind, width_given, height_given;
     int warmup, stall, handshake, machine_summary, linear, hdr;
     int denoise; /* --denoise, or the first scene's settings denoise: fixed for the server's life */
+    int integrator, integrator_given;
     CliAa aa;
     double rotate;
     const char *path;
@@ -377,6 +379,9 @@ static int parse_args(Args *a, int argc, char **argv)
          .help = "BVH builder for models; given, it rebuilds .tmd models too"},
         {.name = "--aa", .kind = OPT_CUSTOM, .dst = &a->aa, .arg = "N|adaptive[:N]", .parse = cli_parse_aa, .range = CLI_AA_RANGE,
          .help = "anti-aliasing", .def = "the scene's, else 1"},
+        {.name = "--integrator", .kind = OPT_CHOICE, .dst = &a->integrator, .seen = &a->integrator_given,
+         .choices = field_words(&settings_kind, "integrator"), .def = "the scene's, else whitted",
+         .help = "Whitted's, or a path tracer's: light that bounces (in a window, converging when the view stops)"},
         {.name = "--rotate", .kind = OPT_REAL, .dst = &a->rotate, .arg = "DEG",
          .help = "turn every model instance by DEG about y after each frame (Space toggles it in the window)"},
         {.name = "--path", .kind = OPT_STRING, .dst = &a->path, .arg = "FILE",
@@ -490,6 +495,8 @@ static int apply_overrides(Scene *scene, const Args *a, Err *err)
         scene->settings.aa = a->aa.aa;
         scene->settings.adaptive = a->aa.adaptive;
     }
+    if (a->integrator_given)
+        scene->settings.integrator = (Integrator)a->integrator;
     scene->settings.linear = a->linear;
     scene->settings.hdr = a->hdr;
     return cli_put_environment(scene, &a->env, a->scene_path, err);

@@ -284,4 +284,9 @@ bad 'key 0 position 0 1 5 fov 200\n' 'bad.path:1:'
 bad '# nothing\n' 'no camera keys'
 "$BIN/lanray-server" --headless --path "$dir/missing.path" --port 0 2>"$dir/miss.err" && fail "the server took a missing path"
 grep -q "missing.path" "$dir/miss.err" || fail "the server's error does not name the path: $(cat "$dir/miss.err")"
-echo "path: 6 frames of a flight through 2 clients equal lanray-render's cameras on the path, and the converged one its full picture; a frame at render scale 8 is its small picture brought up smooth (or in blocks), an RGBE one too; a camera move decodes no scene and builds no tree (6 each with a turning model); bad paths named by line"
+# the server's --integrator over a scene's: the Cornell box (Whitted in its
+# file) served path-traced is lanray-render --integrator path's picture
+"$BIN/lanray-render" models/cornell.scene --integrator path --aa 1 --width 64 --height 64 -o "$dir/cornell-path.png" \
+    --quiet >/dev/null || fail "lanray-render the Cornell box path-traced"
+verify_distributed cornell-path models/cornell.scene "$dir/cornell-path.png" "served --integrator path" --integrator path
+echo "path: 6 frames of a flight through 2 clients equal lanray-render's cameras on the path, and the converged one its full picture; a frame at render scale 8 is its small picture brought up smooth (or in blocks), an RGBE one too; a camera move decodes no scene and builds no tree (6 each with a turning model); bad paths named by line; a Whitted scene served --integrator path"

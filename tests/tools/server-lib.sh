@@ -49,12 +49,13 @@ clients_until_done() {
     done
     for _ in $(seq 600); do kill -0 "$server_pid" 2>/dev/null || break; sleep 0.05; done
 }
-# verify_distributed NAME SCENE REF.png WHAT: a server with one client renders
+# verify_distributed NAME SCENE REF.png WHAT [OPTIONS]: a server with one client renders
 # one frame of SCENE (64x64) and checks it against REF.png bit for bit; fails
 # naming WHAT when it differs
 verify_distributed() {
     local name=$1 scene=$2 ref=$3 what=$4
-    start_server "$name" "$scene" --port 0 --width 64 --height 64 --frames 1 --wait-clients 1 --verify "$ref" --out "$dir/f-$name"
+    shift 4 # the rest: more of the server's options
+    start_server "$name" "$scene" --port 0 --width 64 --height 64 --frames 1 --wait-clients 1 --verify "$ref" --out "$dir/f-$name" "$@"
     "$BIN/lanray-client" "127.0.0.1:$port" --threads 2 --once --quiet 2>/dev/null &
     pids+=("$!")
     for _ in $(seq 300); do kill -0 "$server_pid" 2>/dev/null || break; sleep 0.05; done
