@@ -47,7 +47,7 @@ int panel_lines(const PanelInfo *p, char out[][PANEL_LINE])
     int n = 0;
 #define LINE(...) snprintf(out[n++], PANEL_LINE, __VA_ARGS__)
     if (p->still && p->samples > 1)
-        LINE("%.1f fps  %.1f ms a frame  still, %d samples a pixel", p->fps, p->frame_s * 1e3, p->samples);
+        LINE("%.1f fps  %.1f ms  still, %d samples a pixel", p->fps, p->frame_s * 1e3, p->samples); /* fits 400 pixels */
     else
         LINE("%.1f fps  %.1f ms a frame  %s", p->fps, p->frame_s * 1e3, p->still ? "still" : "moving");
     const char *up = p->upscale_blocks ? "blocks" : "smooth";
@@ -67,9 +67,10 @@ int panel_lines(const PanelInfo *p, char out[][PANEL_LINE])
         LINE("samples: moving %.16s, still %.16s, lights to %.9s [N]", moving, still, lights);
     } else
         LINE("samples: moving %s, still %s [N]", moving, still);
-    LINE("moving lights %s [L]  %s [M]  shadows %s [H]%s", p->light_adaptive ? "adaptive" : "full",
-         p->diffuse ? "diffuse" : "phong", p->shadows ? "on" : "off",
-         p->denoise == 1 ? "  denoised [X]" : p->denoise == 2 ? "  raw [X]" : "");
+    LINE("moving lights %s [L]  %s [M]  shadows %s [H]", p->light_adaptive ? "adaptive" : "full",
+         p->diffuse ? "diffuse" : "phong", p->shadows ? "on" : "off");
+    if (p->denoise) /* a line of its own: the one above, longer, was cut by a window 400 pixels wide */
+        LINE("frames shown %s [X]", p->denoise == 1 ? "denoised" : "raw");
     LINE("segments of %u lines", p->segment_lines);
     LINE("%u client%s", p->nclients, p->nclients == 1 ? "" : "s");
     double rest_share = 0, rest_rate = 0;

@@ -140,6 +140,15 @@ static void panel_says_what_runs(void **state)
     p.still_lights = 12;
     n = panel_lines(&p, lines);
     assert_true(has(lines, n, "moving 1x1, still adaptive 4x4, lights to 12x12"));
+    /* a denoising server says how its frames are shown, on a line of its own */
+    assert_false(has(lines, n, "[X]"));
+    p.denoise = 2;
+    n = panel_lines(&p, lines);
+    assert_true(has(lines, n, "frames shown raw [X]"));
+    p.denoise = 1;
+    n = panel_lines(&p, lines);
+    assert_true(has(lines, n, "frames shown denoised [X]"));
+    assert_true(has(lines, n, "shadows on [H]") && !has(lines, n, "[H]  "));
     /* a still frame says its samples (a path-traced one's so far) */
     assert_true(has(lines, n, "moving") && !has(lines, n, "samples a pixel"));
     p.still = 1, p.samples = 64;
