@@ -288,6 +288,7 @@ typedef struct {
     int moving_lights, moving_lights_given;
     int compress, announce, pipeline;
     double target_fps, max_fps;
+    int target_given;
     CliEnvironment env;
 } Args;
 
@@ -421,9 +422,10 @@ static int parse_args(Args *a, int argc, char **argv)
          .help = "area lights in the frames that are not still ones: the scene's light_sampling, every point at every "
                  "pixel, or adaptive (one probe a pixel, every point in penumbrae: docs/tradeoff.md)",
          .def = "scene"},
-        {.name = "--target-fps", .kind = OPT_REAL, .dst = &a->target_fps, .arg = "F", .rlo = 0, .rhi = 1000,
+        {.name = "--target-fps", .kind = OPT_REAL, .dst = &a->target_fps, .arg = "F", .rlo = 0, .rhi = 1000, .seen = &a->target_given,
          .help = "while the view moves, render fewer pixels (a render scale of 1 to 8, chosen from the frame times "
-                 "measured) to hold F frames a second; 0 = every pixel", .def = "0"},
+                 "measured) to hold F frames a second; 0 = every pixel",
+         .def = "0; in a window, a path-traced scene's 10"},
         {.name = "--upscale", .kind = OPT_CHOICE, .dst = &cfg->upscale, .choices = upscale_names,
          .help = "how a frame rendered at a render scale fills the window and the frames written: smooth (bilinear "
                  "between its pixels) or blocks (its pixels as rendered, each a block)",
@@ -600,6 +602,12 @@ static int open_outputs(App *app, Args *a, Err *err)
      * viewport does, to 1024 samples a pixel (its still frames add up) */
     if (app->display && !a->still.given && app->scene->settings.integrator == INTEGRATOR_PATH)
         server_set_still(app->server, 1, AA_MAX, 0);
+    /* ... and moves at 10 frames a second, fewer pixels while it moves (as
+     * Cycles' viewport renders coarser while it is navigated) */
+    if (app->display && !a->target_given && app->scene->settings.integrator == INTEGRATOR_PATH) {
+        a->target_fps = 10;
+        pace_init(&app->pace, a->target_fps);
+    }
     /* frames written beside the loop, two queued (a frame over 64 MB is
      * written in it: two more copies would be too many) */
     const int bpp = (int)render_colour_bytes(&app->scene->settings);
