@@ -120,6 +120,7 @@ struct Server {
     real *acc_sums;
     uint8_t *acc_px;
     int acc_batch;
+    Pool *acc_pool; /* ... added on these threads (NULL: the loop's alone) */
     uint32_t cbpp;   /* bytes of a pixel's colour, as shown */
     /* settings denoise (fixed for the server's life, as bpp): each finished
      * frame is filtered on the stage's thread, and shown once filtered */
@@ -281,6 +282,7 @@ void server_destroy(Server *s)
     free(s->spare_pixels);
     free(s->acc_sums);
     free(s->acc_px);
+    pool_destroy(s->acc_pool);
     free(s->shown);
     denoise_stage_destroy(s->stage);
     free(s->stripped);
@@ -702,6 +704,11 @@ static int still_batches(Server *s)
             s->acc_sums = NULL, s->acc_px = NULL;
             return 0;
         }
+        /* a 1024x768 frame's batch took the loop 17 ms alone (39 with
+         * guides): its pixels are added on up to 8 threads (without them, on
+         * the loop's) */
+        const long cores = sysconf(_SC_NPROCESSORS_ONLN);
+        s->acc_pool = cores > 1 ? pool_create(cores < 8 ? (int)cores : 8, NULL) : NULL;
     }
     if (s->frame_cap < need) { /* the current frame's buffer is free: its frame has not started */
         uint8_t *p = realloc(s->pixels, n * need);
@@ -1027,6 +1034,25 @@ static void housekeeping(Server *s)
     }
 }
 
+/* A range of a batch frame's pixels added to the sums before it and
+ * encoded (progressive_frame_add), for pool_for. */
+typedef struct {
+    const RenderSettings *rs;
+    real *acc;
+    const uint8_t *sums;
+    uint8_t *out;
+    uint32_t bpp;
+} BatchAdd;
+
+static void batch_add_range(void *ctx, uint64_t lo, uint64_t hi, int thread)
+{
+    (void)thread;
+    const BatchAdd *b = ctx;
+    const uint32_t reals = progressive_reals(b->rs);
+    progressive_frame_add(b->rs, b->acc + lo * reals, b->sums + lo * reals * sizeof(real), (size_t)(hi - lo),
+                          b->out + lo * b->bpp);
+}
+
 /* The samples a pixel of a frame of settings rs shows: a batch's, all
  * those so far (render/progressive.h); a whole frame's, N x N (adaptive:
  * at most). */
@@ -1087,7 +1113,8 @@ static void frame_finished(Server *s, const StageFrame *f, const uint8_t *pixels
         if (rs->batch == 1)
             memset(s->acc_sums, 0, n * progressive_reals(rs) * sizeof(real));
         s->acc_batch = rs->batch;
-        progressive_frame_add(rs, s->acc_sums, pixels, n, s->acc_px);
+        BatchAdd b = {rs, s->acc_sums, pixels, s->acc_px, s->bpp};
+        pool_for(s->acc_pool, n, 8192, batch_add_range, &b);
         pixels = s->acc_px;
     }
     if (!s->stage) {
