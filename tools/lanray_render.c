@@ -122,13 +122,23 @@ typedef struct {
     int light_samples, rough_samples, lens_samples, exposure_given;
     int sampling, sampling_given, limit, limit_given, lights, lights_given, integrator, integrator_given;
     int emitters, emitters_given, roulette, roulette_given, contrast, contrast_given, denoise, denoise_given;
-    int still_frame;
+    int still_frame, progressive;
     double exposure;
     CliAa aa;
     CliEnvironment env;
 } Args;
 
 /* Parses the command line into a: OPT_GO, or the exit status. */
+/* lanray-render --help's text above the options, and its exit statuses */
+static const char render_about[] =
+    "Renders one frame: the built-in scene without an argument, a scene file (docs/scene.md), or a\n"
+    "preview of one model (camera framed on it, two lights).  On a terminal, a render longer than\n"
+    "a second shows its progress.  Frames over 256 MB are rendered in bands written as they finish.";
+static const char render_exits[] = "  0  the image was written\n"
+                                   "  1  an error: the scene, the output file or its directory, memory; nothing is "
+                                   "left behind\n"
+                                   "  2  bad command line, or an image format it does not write (-o x.jpg)\n";
+
 static int parse_args(Args *a, int argc, char **argv)
 {
     *a = (Args){.out = "lanray.png", .width = 1024, .height = 768, .repeat = 1, .bvh_kind = BVH_SAH,
@@ -202,6 +212,9 @@ static int parse_args(Args *a, int argc, char **argv)
         {.name = "--still-frame", .kind = OPT_INT, .dst = &a->still_frame, .arg = "K", .lo = 0, .hi = 11, .def = "0",
          .help = "path, N x N samples, N a power of two: the picture of a server's still frame K on its way (--still-aa "
                  "N): the first 2^(K-1) samples of each pixel's N x N; 0 = all"},
+        {.name = "--progressive", .kind = OPT_FLAG, .dst = &a->progressive,
+         .help = "path, N x N samples, N a power of two: render them in batches that double them (1, 2, 4 ... a "
+                 "pixel) and write the picture after each, the file replaced whole; the last is the same picture"},
         {.name = "--light-samples", .kind = OPT_INT, .dst = &a->light_samples, .arg = "K", .lo = 0, .hi = LIGHT_MAX_SAMPLES,
          .help = "shadow rays of every sphere and rect light: K x K a pixel (product: a ray); 0 = each light's own",
          .def = "0"},
@@ -238,13 +251,7 @@ static int parse_args(Args *a, int argc, char **argv)
     };
     const char *args[1] = {NULL};
     OptSpec spec = {.prog = "lanray-render", .synopsis = "[scene | model.obj | model.tmd] [options]",
-                    .about = "Renders one frame: the built-in scene without an argument, a scene file (docs/scene.md), or a\n"
-                    "preview of one model (camera framed on it, two lights).  On a terminal, a render longer than\n"
-                    "a second shows its progress.  Frames over 256 MB are rendered in bands written as they finish.",
-                    .opts = opts, .args = args, .max_args = 1,
-                    .exits = "  0  the image was written\n"
-                    "  1  an error: the scene, the output file or its directory, memory; nothing is left behind\n"
-                    "  2  bad command line, or an image format it does not write (-o x.jpg)\n"};
+                    .about = render_about, .opts = opts, .args = args, .max_args = 1, .exits = render_exits};
     int go = opt_run(&spec, argc, argv);
     a->scene_path = args[0];
     return go;
@@ -312,6 +319,13 @@ static int apply_settings(Scene *scene, Args *a)
             return 2;
         }
         rs->batches = a->still_frame;
+    }
+    if (a->progressive && (!progressive_batches(rs) || a->repeat > 1)) {
+        fprintf(stderr, "lanray-render: --progressive: %s\n",
+                a->repeat > 1 ? "one frame, not --repeat's"
+                              : "a path-traced frame of N x N samples a pixel, N a power of two, goes in batches; this "
+                                "one does not");
+        return 2;
     }
     if (a->rough_samples)
         rs->rough_samples = a->rough_samples;
@@ -405,9 +419,9 @@ static int job_open(Job *j, Args *a, Err *err)
     j->band = !j->banded ? height : a->band_lines ? a->band_lines : (int)(BAND_BYTES / ((uint64_t)width * j->bpp));
     if (j->band < 1)
         j->band = 1;
-    if (j->banded && (a->profile || j->scene->settings.denoise))
+    if (j->banded && (a->profile || a->progressive || j->scene->settings.denoise))
         rc = err_set(err, "%dx%d is rendered in bands (%.1f GB whole); %s needs the whole frame", width, height,
-                     (double)frame_bytes / 1e9, a->profile ? "--profile" : "denoising");
+                     (double)frame_bytes / 1e9, a->profile ? "--profile" : a->progressive ? "--progressive" : "denoising");
     else /* with the denoiser's planes (84 bytes a pixel) and the frame it writes */
         rc = cli_check_memory((uint64_t)width * (uint64_t)j->band * j->bpp +
                                   (j->scene->settings.denoise
@@ -451,12 +465,64 @@ static int denoise_now(Job *j, const Args *a, double *best, double *sum, Err *er
     return rc;
 }
 
+/* The picture of the batches so far (j->pixels, filtered where denoised),
+ * written to the output whole, replacing it (a temporary file renamed). */
+static int write_so_far(Job *j, const Args *a, int samples, Err *err)
+{
+    const RenderSettings *rs = &j->scene->settings;
+    double unused = 0, also = 0;
+    if (j->shown && denoise_now(j, a, &unused, &also, err))
+        return -1;
+    ImageWriter *wr;
+    if (image_writer_open(a->out, a->width, a->height, rs->hdr ? IMAGE_RGBE : rs->linear ? IMAGE_LINEAR : IMAGE_SRGB, &wr,
+                          err))
+        return -1;
+    if (image_writer_rows(wr, j->shown ? j->shown : j->pixels, a->height, err) || image_writer_close(wr, err))
+        return -1;
+    if (!a->quiet)
+        printf("wrote %s: %d sample%s a pixel\n", a->out, samples, samples == 1 ? "" : "s");
+    fflush(stdout);
+    return 0;
+}
+
+/* --progressive: the frame's batches one after another, each rendered as
+ * sums and added to those before as a server adds them (render/progressive.h),
+ * the picture written after each but the last (job_render writes that): the
+ * same picture as in one pass, bit for bit. */
+static int render_batches(Job *j, const Args *a, RayStats *st, Err *err)
+{
+    RenderSettings *rs = &j->world->view.settings;
+    const int batches = rs->batches ? rs->batches : progressive_batches(rs);
+    const uint64_t n = (uint64_t)a->width * (uint64_t)a->height;
+    const uint32_t reals = progressive_reals(rs);
+    real *acc = calloc(n * reals, sizeof(real));
+    uint8_t *sums = malloc(n * reals * sizeof(real));
+    int rc = acc && sums ? 0 : err_set(err, "out of memory for the sums of %dx%d pixels", a->width, a->height);
+    for (int b = 1; b <= batches && rc == 0; b++) {
+        RayStats part;
+        rs->batch = b;
+        rc = render_span(j->pool, j->world, a->width, a->height, 0, n, sums, &part, NULL, err);
+        if (rc == 0)
+            progressive_frame_add(rs, acc, sums, n, j->pixels);
+        rs->batch = 0;
+        ray_stats_add(st, part);
+        if (rc == 0 && b < batches)
+            rc = write_so_far(j, a, (int)progressive_end(b), err);
+    }
+    free(acc);
+    free(sums);
+    return rc;
+}
+
 /* The frame, --repeat times, by segments; in bands the last pass writes them. */
 static int job_render(Job *j, const Args *a, RayStats *st, double *best, double *sum, Err *err)
 {
     Watch watch;
     memset(&watch, 0, sizeof watch);
     watch.pixels = (uint64_t)a->width * (uint64_t)a->height * (uint64_t)a->repeat;
+    if (a->progressive) /* every batch a pass over the frame */
+        watch.pixels *= (uint64_t)(j->scene->settings.batches ? j->scene->settings.batches
+                                                              : progressive_batches(&j->scene->settings));
     watch.width = a->width;
     render_pool_watch(j->pool, &watch.counts);
     Progress *prog = progress_start("lanray-render", !a->quiet, show_progress, &watch);
@@ -465,6 +531,11 @@ static int job_render(Job *j, const Args *a, RayStats *st, double *best, double 
     for (int f = 0; f < a->repeat && rc == 0; f++) {
         double t = timer_now();
         *st = (RayStats){0, 0, 0};
+        if (a->progressive) {
+            rc = render_batches(j, a, st, err);
+            *sum = *best = timer_now() - t;
+            break;
+        }
         for (int y = 0; rc == 0 && y < a->height; y += seg) {
             RayStats part;
             int n = y + seg <= a->height ? seg : a->height - y;

@@ -117,6 +117,19 @@ room_ref room-4-1 4 --still-frame 1
 room_ref room-4-3 4 --still-frame 3
 room_ref room-8 8 --denoise on
 room_ref room-8-5 8 --denoise on --still-frame 5
+# lanray-render --progressive: the batches one after another, the picture
+# written after each (1, 2, 4 ... samples), the last the one-pass picture
+# byte for byte (denoised too, and RGBE); refused where there are no batches
+"$BIN/lanray-render" "$dir/room.scene" --path "$dir/room.path" --at 1 --aa 8 --denoise on --width 48 --height 36 \
+    --progressive -o "$dir/room-8-prog.png" >"$dir/prog.log" 2>&1 || fail "lanray-render --progressive: $(cat "$dir/prog.log")"
+cmp -s "$dir/room-8-prog.png" "$dir/room-8.png" || fail "--progressive's last picture is not the one-pass one"
+[ "$(grep -c "^wrote .*room-8-prog.png: [0-9]* samples\? a pixel" "$dir/prog.log")" = 6 ] ||
+    fail "--progressive at 8x8 should write 6 pictures on the way (1 ... 32 samples): $(cat "$dir/prog.log")"
+"$BIN/lanray-render" "$dir/room.scene" --path "$dir/room.path" --at 1 --aa 2 --width 48 --height 36 --progressive \
+    -o "$dir/room-2-prog.hdr" --quiet >/dev/null || fail "lanray-render --progressive .hdr"
+out=$("$BIN/lanray-render" "$dir/room.scene" --aa 3 --progressive -o "$dir/no.png" 2>&1)
+[ $? = 2 ] && grep -q "goes in batches; this one does not" <<<"$out" || fail "--progressive at 3x3: $out"
+[ -e "$dir/no.png" ] && fail "a refused --progressive left its file"
 cmp -s "$dir/room-4-3.png" "$dir/room-4.png" && fail "4 samples of 16 look like 16: the test cannot fail"
 cmp -s "$dir/room-4-3.png" "$dir/room-2.png" && fail "the first 4 of 4x4 are the 2x2 picture: the samples are not 4x4's"
 # the light itself (RGBE): a batch's sums encoded so too
@@ -138,6 +151,7 @@ cmp -s "$dir/room4/frame-00008.png" "$dir/room-4.png" || fail "the converged pat
 cmp -s "$dir/room8/frame-00008.png" "$dir/room-8-5.png" || fail "the fifth of 7 batches, denoised, is not lanray-render's --still-frame 5"
 cmp -s "$dir/room8/frame-00010.png" "$dir/room-8.png" || fail "the converged denoised frame of 7 batches is not lanray-render's at 8x8"
 cmp -s "$dir/room2/frame-00006.hdr" "$dir/room-2.hdr" || fail "an RGBE still at 2x2 in 3 batches is not lanray-render's .hdr"
+cmp -s "$dir/room-2-prog.hdr" "$dir/room-2.hdr" || fail "lanray-render --progressive's .hdr is not the one-pass one"
 cmp -s "$dir/room3/frame-00004.png" "$dir/room-2.png" || fail "at --still-aa 3 the first still frame is not lanray-render's 2x2"
 cmp -s "$dir/room3/frame-00005.png" "$dir/room-3.png" || fail "at --still-aa 3 the converged frame is not lanray-render's 3x3"
 grep -q "^path: converged frame 8, " "$dir/room4.log" || fail "no converged line for frame 8: $(grep '^path' "$dir/room4.log")"
