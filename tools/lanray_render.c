@@ -214,7 +214,8 @@ static int parse_args(Args *a, int argc, char **argv)
                  "N): the first 2^(K-1) samples of each pixel's N x N; 0 = all"},
         {.name = "--progressive", .kind = OPT_FLAG, .dst = &a->progressive,
          .help = "path, N x N samples, N a power of two: render them in batches that double them (1, 2, 4 ... a "
-                 "pixel) and write the picture after each, the file replaced whole; the last is the same picture"},
+                 "pixel) and write the picture after each, the file replaced whole (an interruption leaves the last); "
+                 "the last is the same picture"},
         {.name = "--light-samples", .kind = OPT_INT, .dst = &a->light_samples, .arg = "K", .lo = 0, .hi = LIGHT_MAX_SAMPLES,
          .help = "shadow rays of every sphere and rect light: K x K a pixel (product: a ray); 0 = each light's own",
          .def = "0"},
