@@ -350,6 +350,12 @@ static int apply_settings(Scene *scene, Args *a)
     return 0;
 }
 
+/* The output's encoding for a frame of settings rs. */
+static ImageEncoding encoding_of(const RenderSettings *rs)
+{
+    return rs->hdr ? IMAGE_RGBE : rs->linear ? IMAGE_LINEAR : IMAGE_SRGB;
+}
+
 /* A render: what job_open makes, job_close alone frees. */
 typedef struct {
     Scene *scene;
@@ -434,8 +440,7 @@ static int job_open(Job *j, Args *a, Err *err)
                               err);
     const RenderSettings *rs = &j->scene->settings;
     if (rc == 0) /* the file exists, under a temporary name, before any rendering */
-        rc = image_writer_open(a->out, width, height, rs->hdr ? IMAGE_RGBE : rs->linear ? IMAGE_LINEAR : IMAGE_SRGB,
-                               &j->wr, err);
+        rc = image_writer_open(a->out, width, height, encoding_of(rs), &j->wr, err);
     j->pool = rc ? NULL : render_pool_create(a->threads, err);
     j->pixels = j->pool ? malloc((size_t)width * (size_t)j->band * j->bpp) : NULL;
     if (j->pixels && rs->denoise &&
@@ -475,8 +480,7 @@ static int write_so_far(Job *j, const Args *a, int samples, Err *err)
     if (j->shown && denoise_now(j, a, &unused, &also, err))
         return -1;
     ImageWriter *wr;
-    if (image_writer_open(a->out, a->width, a->height, rs->hdr ? IMAGE_RGBE : rs->linear ? IMAGE_LINEAR : IMAGE_SRGB, &wr,
-                          err))
+    if (image_writer_open(a->out, a->width, a->height, encoding_of(rs), &wr, err))
         return -1;
     if (image_writer_rows(wr, j->shown ? j->shown : j->pixels, a->height, err) || image_writer_close(wr, err))
         return -1;
@@ -493,7 +497,7 @@ static int write_so_far(Job *j, const Args *a, int samples, Err *err)
 static int render_batches(Job *j, const Args *a, RayStats *st, Err *err)
 {
     RenderSettings *rs = &j->world->view.settings;
-    const int batches = rs->batches ? rs->batches : progressive_batches(rs);
+    const int batches = progressive_upto(rs);
     const uint64_t n = (uint64_t)a->width * (uint64_t)a->height;
     const uint32_t reals = progressive_reals(rs);
     real *acc = calloc(n * reals, sizeof(real));
@@ -522,8 +526,7 @@ static int job_render(Job *j, const Args *a, RayStats *st, double *best, double 
     memset(&watch, 0, sizeof watch);
     watch.pixels = (uint64_t)a->width * (uint64_t)a->height * (uint64_t)a->repeat;
     if (a->progressive) /* every batch a pass over the frame */
-        watch.pixels *= (uint64_t)(j->scene->settings.batches ? j->scene->settings.batches
-                                                              : progressive_batches(&j->scene->settings));
+        watch.pixels *= (uint64_t)progressive_upto(&j->scene->settings);
     watch.width = a->width;
     render_pool_watch(j->pool, &watch.counts);
     Progress *prog = progress_start("lanray-render", !a->quiet, show_progress, &watch);

@@ -5,8 +5,7 @@
 #include <math.h>
 #include <string.h>
 
-#include "base/srgb.h"
-#include "render/denoise.h"
+#include "render/pixel.h"
 
 int progressive_batches(const RenderSettings *rs)
 {
@@ -42,15 +41,9 @@ void progressive_fold(real *total, const real *batch, uint32_t n)
 
 void progressive_encode(const RenderSettings *rs, real gain, const real *sums, uint32_t samples, uint8_t *dst)
 {
-    const real inv = R(1) / (real)samples; /* a power of 4: exact */
+    const real inv = R(1) / (real)samples; /* a power of 2: exact */
     const vec3 mean = v3(sums[0] * inv, sums[1] * inv, sums[2] * inv);
-    if (rs->hdr) {
-        rgbe_encode(mean.x, mean.y, mean.z, dst);
-    } else {
-        const vec3 c = gain != R(1) ? v3_scale(mean, gain) : mean;
-        for (int k = 0; k < 3; k++)
-            dst[k] = rs->linear ? linear_encode8(c.e[k]) : srgb_encode8(c.e[k]);
-    }
+    pixel_put_colour(dst, mean, rs->hdr, gain, rs->linear);
     if (!rs->denoise)
         return;
     /* a client's sums, on a server: whatever their bits, numbers the
@@ -61,14 +54,14 @@ void progressive_encode(const RenderSettings *rs, real gain, const real *sums, u
     const int surface = s[8] >= R(1) ? (s[8] < (real)samples ? (int)s[8] : (int)samples) : 0;
     const Guide g = {.albedo = v3(s[0], s[1], s[2]), .lum2 = s[3], .normal = v3(s[4], s[5], s[6]), .depth = s[7],
                      .surface = surface};
-    denoise_guide_pack(&g, (int)samples, mean, dst + (rs->hdr ? 4 : 3));
+    denoise_guide_pack(&g, (int)samples, mean, dst + render_colour_bytes(rs));
 }
 
 void progressive_frame_add(const RenderSettings *rs, real *acc, const uint8_t *sums, size_t n, uint8_t *out)
 {
-    const uint32_t reals = progressive_reals(rs), bpp = (rs->hdr ? 4u : 3u) + (rs->denoise ? DENOISE_GUIDE_BYTES : 0u);
+    const uint32_t reals = progressive_reals(rs), bpp = render_shown_bytes(rs);
     const uint32_t samples = progressive_end(rs->batch);
-    const real gain = pow(R(2), rs->exposure); /* as render.c's */
+    const real gain = pixel_gain(rs);
     for (size_t i = 0; i < n; i++) {
         real b[PROG_MAX];
         memcpy(b, sums + i * reals * sizeof(real), reals * sizeof(real));

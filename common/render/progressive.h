@@ -33,6 +33,13 @@
  * more; 0 where its samples do not go in batches. */
 int progressive_batches(const RenderSettings *rs);
 
+/* The batches a frame of rs renders: the first rs->batches (lanray-render
+ * --still-frame), else all of them. */
+static inline int progressive_upto(const RenderSettings *rs)
+{
+    return rs->batches ? rs->batches : progressive_batches(rs);
+}
+
 /* The most batches (N = AA_MAX, 32: 1024 samples). */
 #define PROG_MAX_BATCHES 11
 /* Batch b's samples (1 <= b <= PROG_MAX_BATCHES): [progressive_start(b), progressive_end(b)). */

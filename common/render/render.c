@@ -430,26 +430,12 @@ static int line_packet(uint64_t g0, uint64_t left, int width, real *xs, real *ys
     return n;
 }
 
-/* Linear light to 8-bit codes: sRGB unless the scene asks for linear
- * output (srgb.h: both clamp, and NaN becomes 0), after the exposure. */
-static inline __attribute__((always_inline)) void put_codes(const Frame *f, uint8_t *dst, vec3 c)
-{
-    if (f->gain != R(1)) /* an exposure: apart, so that a frame without pays nothing */
-        c = v3_scale(c, f->gain);
-    for (int k = 0; k < 3; k++)
-        dst[k] = f->linear ? linear_encode8(c.e[k]) : srgb_encode8(c.e[k]);
-}
-
-/* A finished pixel: its codes, or its RGBE (high dynamic range: the light
- * itself, no exposure); where guided, then its guide, of g (the sum of its
- * n samples' guides). */
+/* A finished pixel: its colour (pixel.h); where guided, then its guide,
+ * of g (the sum of its n samples' guides). */
 static inline __attribute__((always_inline)) void put_pixel(const Frame *f, uint8_t *dst, vec3 c, const Guide *g,
                                                             int n)
 {
-    if (f->cbpp == 4)
-        rgbe_encode(c.x, c.y, c.z, dst);
-    else
-        put_codes(f, dst, c);
+    pixel_put_colour(dst, c, f->cbpp == 4, f->gain, f->linear);
     if (f->guided)
         denoise_guide_pack(g, n, c, dst + f->cbpp);
 }
@@ -697,7 +683,7 @@ static void job_keys(void *ctx, uint32_t chunk, RayStats *st)
         /* kept as written: the contrast test compares what a viewer sees, and
          * a pixel without an edge is this sample */
         for (int q = 0; q < k; q++) {
-            put_codes(f, &f->colors[3 * (i + (uint64_t)q)], c[q]);
+            pixel_put_codes(&f->colors[3 * (i + (uint64_t)q)], c[q], f->gain, f->linear);
             if (f->centre != f->colors)
                 put_pixel(f, &f->centre[f->bpp * (i + (uint64_t)q)], c[q], &gd[q], 1);
         }
@@ -878,12 +864,12 @@ int render_span(RenderPool *p, const World *w, int width, int height, uint64_t f
     f.bpp = (int)render_pixel_bytes(&w->view.settings);
     f.cbpp = (int)render_colour_bytes(&w->view.settings);
     f.guided = w->view.settings.denoise;
-    f.gain = pow(R(2), w->view.settings.exposure);
+    f.gain = pixel_gain(&w->view.settings);
     f.chunk = chunk_size(count, pool_threads(p->pool));
     const RenderSettings *rs = &w->view.settings;
     const int batches = progressive_batches(rs);
     if (batches) {
-        const int b = rs->batch, upto = rs->batches ? rs->batches : batches;
+        const int b = rs->batch, upto = progressive_upto(rs);
         if (b > batches || upto > batches)
             return err_set(err, "render: batch %d of %d", b ? b : upto, batches);
         f.prog_m = __builtin_ctz((unsigned)rs->aa);

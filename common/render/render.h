@@ -13,6 +13,7 @@
 #include <stdint.h>
 
 #include "render/denoise.h"
+#include "render/pixel.h"
 #include "render/progressive.h"
 #include "scene/shade.h"
 
@@ -21,8 +22,6 @@
 
 typedef struct RenderPool RenderPool;
 
-/* Bytes of a pixel's colour: 3 (RGB8 codes), or 4 (RGBE) with settings hdr. */
-static inline uint32_t render_colour_bytes(const RenderSettings *rs) { return rs->hdr ? 4u : 3u; }
 /* Bytes a pixel of the scene's frames as rendered and sent: its colour,
  * then with settings denoise its guide (render/denoise.h), which the
  * frame's filter reads and the picture shown no longer has; with settings
@@ -31,7 +30,7 @@ static inline uint32_t render_pixel_bytes(const RenderSettings *rs)
 {
     if (rs->batch) /* a batch of a path-traced still: its sums (render/progressive.h) */
         return progressive_reals(rs) * (uint32_t)sizeof(real);
-    return render_colour_bytes(rs) + (rs->denoise ? DENOISE_GUIDE_BYTES : 0u);
+    return render_shown_bytes(rs);
 }
 
 /* Pixels finished and rays traced so far, for a progress line that another

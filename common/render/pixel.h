@@ -1,0 +1,46 @@
+/* pixel.h - a rendered pixel's bytes: its colour as 8-bit codes (sRGB or
+ * linear, after the exposure) or RGBE, then with settings denoise its
+ * guide.  One for the pixels render.c writes and for those a path-traced
+ * still's batches make (progressive.c), so that both are the same bytes. */
+#ifndef LANRAY_PIXEL_H
+#define LANRAY_PIXEL_H
+
+#include <math.h>
+#include <stdint.h>
+
+#include "base/srgb.h"
+#include "render/denoise.h"
+
+/* Bytes of a pixel's colour: 3 (RGB8 codes), or 4 (RGBE) with settings hdr. */
+static inline uint32_t render_colour_bytes(const RenderSettings *rs) { return rs->hdr ? 4u : 3u; }
+/* ... and of a pixel as shown and filtered: its colour, then with
+ * settings denoise its guide (render/denoise.h). */
+static inline uint32_t render_shown_bytes(const RenderSettings *rs)
+{
+    return render_colour_bytes(rs) + (rs->denoise ? DENOISE_GUIDE_BYTES : 0u);
+}
+
+/* The codes' gain: 2^exposure. */
+static inline real pixel_gain(const RenderSettings *rs) { return pow(R(2), rs->exposure); }
+
+/* Linear light to 8-bit codes: sRGB unless linear (srgb.h: both clamp,
+ * and NaN becomes 0), after the gain. */
+static inline __attribute__((always_inline)) void pixel_put_codes(uint8_t *dst, vec3 c, real gain, int linear)
+{
+    if (gain != R(1)) /* an exposure: apart, so that a frame without pays nothing */
+        c = v3_scale(c, gain);
+    for (int k = 0; k < 3; k++)
+        dst[k] = linear ? linear_encode8(c.e[k]) : srgb_encode8(c.e[k]);
+}
+
+/* A pixel's colour: its codes, or its RGBE where hdr (high dynamic range:
+ * the light itself, no exposure). */
+static inline __attribute__((always_inline)) void pixel_put_colour(uint8_t *dst, vec3 c, int hdr, real gain, int linear)
+{
+    if (hdr)
+        rgbe_encode(c.x, c.y, c.z, dst);
+    else
+        pixel_put_codes(dst, c, gain, linear);
+}
+
+#endif
