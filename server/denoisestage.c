@@ -12,6 +12,7 @@ enum { EMPTY, WAITING, FILTERED };
 
 struct DenoiseStage {
     Denoiser *denoiser;
+    Temporal *history; /* NULL: none */
     Pool *pool;
     uint32_t cb, bpp;
     uint8_t *in, *out; /* the frame handed in (guided), and filtered */
@@ -36,7 +37,9 @@ static void *stage_main(void *arg)
             break;
         pthread_mutex_unlock(&st->lock);
         Err err;
-        /* cannot fail: the denoiser was made for the largest frame */
+        /* cannot fail: both were made for the largest frame */
+        if (st->history && st->frame.temporal)
+            temporal_add(st->history, st->in, st->w, st->h, st->cb, st->linear, &st->frame.tf);
         if (denoise_frame(st->denoiser, st->in, st->w, st->h, st->cb, st->linear, st->out, &err))
             memset(st->out, 0, (size_t)st->w * st->h * st->cb);
         pthread_mutex_lock(&st->lock);
@@ -47,7 +50,8 @@ static void *stage_main(void *arg)
     return NULL;
 }
 
-DenoiseStage *denoise_stage_create(uint32_t width, uint32_t height, uint32_t colour_bytes, int threads, Err *err)
+DenoiseStage *denoise_stage_create(uint32_t width, uint32_t height, uint32_t colour_bytes, int threads, int temporal,
+                                   Err *err)
 {
     DenoiseStage *st = calloc(1, sizeof *st);
     if (!st) {
@@ -60,11 +64,13 @@ DenoiseStage *denoise_stage_create(uint32_t width, uint32_t height, uint32_t col
     st->out = malloc(n * st->cb);
     st->pool = pool_create(threads, err);
     st->denoiser = st->pool ? denoiser_create(st->pool, width, height) : NULL;
+    st->history = st->pool && temporal ? temporal_create(st->pool, width, height, temporal) : NULL;
     pthread_mutex_init(&st->lock, NULL);
     pthread_cond_init(&st->changed, NULL);
-    if (!st->in || !st->out || !st->denoiser || pthread_create(&st->thread, NULL, stage_main, st) != 0) {
+    if (!st->in || !st->out || !st->denoiser || (temporal && !st->history) || pthread_create(&st->thread, NULL, stage_main, st) != 0) {
         if (st->pool)
-            err_set(err, "out of memory or threads for the denoiser of %ux%u frames", width, height);
+            err_set(err, "out of memory or threads for the denoiser%s of %ux%u frames",
+                    temporal ? " and the history (--temporal)" : "", width, height);
         denoise_stage_destroy(st);
         return NULL;
     }
@@ -86,6 +92,7 @@ void denoise_stage_destroy(DenoiseStage *st)
     pthread_mutex_destroy(&st->lock);
     pthread_cond_destroy(&st->changed);
     denoiser_destroy(st->denoiser);
+    temporal_destroy(st->history);
     pool_destroy(st->pool);
     free(st->in);
     free(st->out);

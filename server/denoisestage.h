@@ -11,6 +11,7 @@
 #include <stdint.h>
 
 #include "base/err.h"
+#include "render/temporal.h"
 
 typedef struct DenoiseStage DenoiseStage;
 
@@ -20,12 +21,17 @@ typedef struct {
     int scale, still, converged;
     double t0;
     int samples; /* a pixel's (at most, adaptive) */
+    int temporal; /* added to the history before it is filtered (path-traced) */
+    TemporalFrame tf;
 } StageFrame;
 
 /* A stage for frames of up to width x height guided pixels of colour_bytes
  * of colour (then the guide), filtered on `threads` threads (the stage's
- * own and threads - 1 more); NULL with the reason. */
-DenoiseStage *denoise_stage_create(uint32_t width, uint32_t height, uint32_t colour_bytes, int threads, Err *err);
+ * own and threads - 1 more), with a history of `temporal` frames (0:
+ * none) that frames marked temporal are added to first; NULL with the
+ * reason. */
+DenoiseStage *denoise_stage_create(uint32_t width, uint32_t height, uint32_t colour_bytes, int threads, int temporal,
+                                   Err *err);
 /* Stops the thread (a frame being filtered is finished first) and frees the stage. */
 void denoise_stage_destroy(DenoiseStage *st);
 /* Hands in a copy of a w x h frame (linear: its codes are linear) with

@@ -14,6 +14,7 @@
 #include <string.h>
 
 #include "app/cli.h"
+#include "app/flight.h"
 #include "display.h"
 #include "framewriter.h"
 #include "image/image.h"
@@ -351,12 +352,21 @@ static const char server_exits[] =
     "  3  --verify: a frame differed from the reference\n"
     "  4  stopped (SIGINT, SIGTERM, the window) before the requested frames were done\n";
 
+/* The denoiser's options, and the history's before it */
+#define DENOISE_OPTS(a) \
+    {.name = "--denoise", .kind = OPT_FLAG, .dst = &(a)->denoise, \
+     .help = "path-traced frames filtered by what each pixel saw first (settings denoise on): clients send each " \
+             "pixel's guide, 9 bytes, beside its colour; a scene that asks for it is denoised without"}, \
+    {.name = "--denoise-threads", .kind = OPT_INT, .dst = &(a)->cfg.denoise_threads, .arg = "T", .lo = 0, \
+     .hi = POOL_MAX_THREADS, .help = "threads of the denoiser, 0 = one per core", .def = "0"}, \
+    CLI_TEMPORAL_OPT(&(a)->cfg.temporal, "path-traced and denoised: ")
+
 /* Parses the command line into a: OPT_GO, or the exit status. */
 static int parse_args(Args *a, int argc, char **argv)
 {
     *a = (Args){.cfg = {.listen_addr = "127.0.0.1", .port = PROTO_DEFAULT_PORT, .token = getenv("LANRAY_TOKEN"),
                         .width = 1024, .height = 768, .tail = sched_tail_smart, .stall_timeout = 30,
-                        .handshake_timeout = 10},
+                        .handshake_timeout = 10, .temporal = TEMPORAL_DEFAULT_FRAMES},
                 .bvh = bvh_options_default(BVH_SAH), .out_dir = "frames", .tail = 1, .bvh_kind = BVH_SAH, .compress = 2, .pipeline = 1,
                 .stall = 30, .handshake = 10, .aa = {1, 0, 0}};
     ServerConfig *cfg = &a->cfg;
@@ -438,11 +448,7 @@ static int parse_args(Args *a, int argc, char **argv)
         {.name = "--hdr", .kind = OPT_FLAG, .dst = &a->hdr,
          .help = "high dynamic range frames: clients send RGBE, frames are written as .hdr (Radiance); the window shows "
                  "them after the scene's exposure"},
-        {.name = "--denoise", .kind = OPT_FLAG, .dst = &a->denoise,
-         .help = "path-traced frames filtered by what each pixel saw first (settings denoise on): clients send each "
-                 "pixel's guide, 9 bytes, beside its colour; a scene that asks for it is denoised without"},
-        {.name = "--denoise-threads", .kind = OPT_INT, .dst = &a->cfg.denoise_threads, .arg = "T", .lo = 0,
-         .hi = POOL_MAX_THREADS, .help = "threads of the denoiser, 0 = one per core", .def = "0"},
+        DENOISE_OPTS(a),
         {.name = "--headless", .kind = OPT_FLAG, .dst = &a->headless, .help = "no window: write frames to --out"},
         {.name = "--frames", .kind = OPT_INT, .dst = &a->frames, .arg = "N", .lo = 0, .hi = 100000000,
          .help = "stop after N frames, 0 = run until stopped"},

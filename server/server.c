@@ -72,6 +72,8 @@ typedef struct {
     RenderSettings rs; /* its view's settings (a batch: its pixels are sums) */
     uint32_t bpp;      /* its pixels' bytes */
     uint32_t cap;      /* the bytes a pixel its buffer was made for */
+    Camera cam;        /* its camera, and its description's and settings' numbers */
+    uint64_t epoch;
 } Older;
 
 struct Server {
@@ -115,6 +117,8 @@ struct Server {
      * buffers (pixels, spare_pixels) are made for */
     RenderSettings frame_rs;
     uint32_t frame_bpp, frame_cap;
+    Camera frame_cam;    /* the current frame's camera, and its description's and settings' numbers */
+    uint64_t frame_epoch;
     /* the batches of a path-traced still so far: their sums, the pixels
      * they make (bpp), and the last batch added */
     real *acc_sums;
@@ -217,7 +221,7 @@ Server *server_create(const ServerConfig *cfg, Scene *scene, Err *err)
         const long cores = sysconf(_SC_NPROCESSORS_ONLN);
         const int threads = cfg->denoise_threads > 0 ? cfg->denoise_threads : cores > 0 ? (int)cores : 1;
         s->stage = denoise_stage_create((uint32_t)cfg->width, (uint32_t)cfg->height, s->cbpp,
-                                        threads < POOL_MAX_THREADS ? threads : POOL_MAX_THREADS, &stage_err);
+                                        threads < POOL_MAX_THREADS ? threads : POOL_MAX_THREADS, cfg->temporal, &stage_err);
         s->stripped = malloc((size_t)cfg->width * cfg->height * s->cbpp);
         if (s->stage && !s->stripped)
             err_set(&stage_err, "out of memory for the raw view of %dx%d frames", cfg->width, cfg->height);
@@ -361,14 +365,6 @@ void server_set_camera(Server *s, const Camera *c)
 void server_turn_instances(Server *s, real degrees) { s->turn_pending += degrees; }
 
 Camera server_camera(const Server *s) { return s->camera_pending ? s->next_camera : s->view.camera; }
-
-/* The same camera, field by field (a struct may hold padding). */
-static int camera_same(const Camera *a, const Camera *b)
-{
-    return a->pos.x == b->pos.x && a->pos.y == b->pos.y && a->pos.z == b->pos.z && a->yaw == b->yaw &&
-           a->pitch == b->pitch && a->roll == b->roll && a->zoom == b->zoom && a->kind == b->kind &&
-           a->size == b->size && a->fov == b->fov && a->aperture == b->aperture && a->focus == b->focus;
-}
 
 void server_set_scene(Server *s, Scene *next) { s->next_scene = next; }
 Scene *server_scene(const Server *s) { return s->scene; }
@@ -722,6 +718,13 @@ static int still_batches(Server *s)
     return batches;
 }
 
+/* The frames a history adds up of a view of settings rs: the server's
+ * --temporal where it is path-traced and denoised, else 0. */
+static int temporal_frames(const Server *s, const RenderSettings *rs)
+{
+    return rs->integrator == INTEGRATOR_PATH && rs->denoise && s->stage ? s->cfg.temporal : 0;
+}
+
 static int start_frame(Server *s, Err *err)
 {
     if (apply_pending(s, err))
@@ -747,6 +750,12 @@ static int start_frame(Server *s, Err *err)
     s->converged = s->still && (!s->cfg.refine || refine_step(&s->cfg, s->scene, s->still_step, &v.settings, batches));
     if (!s->still && s->cfg.moving_lights >= 0)
         v.settings.light_sampling = (LightSampling)s->cfg.moving_lights;
+    /* a path-traced moving frame whose history adds it up: another of its
+     * pixels' samples each (frame id k takes sample (k - 1) mod 1024) */
+    if (!s->still && temporal_frames(s, &v.settings) && v.settings.aa == 1 && !v.settings.adaptive)
+        v.settings.jitter = (int)(s->frame % 1024u) + 1;
+    s->frame_cam = v.camera;
+    s->frame_epoch = (uint64_t)s->scene_id << 32 | s->settings_id;
     s->frame_rs = v.settings;
     s->frame_bpp = render_pixel_bytes(&v.settings);
     /* a moving frame at the render scale, a still one whole */
@@ -793,8 +802,9 @@ static int start_ahead(Server *s, Err *err)
         return 0;
     if (s->next_fn && !s->next_fn(s->next_ctx, s->frame + 1, 1))
         return 0;
-    s->older = (Older){s->frame,     s->sched, s->pixels,    s->fw,        s->fh,        s->scale, s->still,
-                       s->converged, s->frame_t0, s->frame_rs, s->frame_bpp, s->frame_cap};
+    s->older = (Older){s->frame,    s->sched,    s->pixels,    s->fw,        s->fh,        s->scale,
+                       s->still,    s->converged, s->frame_t0, s->frame_rs, s->frame_bpp, s->frame_cap,
+                       s->frame_cam, s->frame_epoch};
     sched_set_segment_lines(s->spare_sched, sched_config(s->sched)->segment_lines);
     s->sched = s->spare_sched;
     s->pixels = s->spare_pixels;
@@ -1061,6 +1071,15 @@ static int frame_samples(const RenderSettings *rs)
     return rs->batch ? (int)progressive_end(rs->batch) : rs->aa * rs->aa;
 }
 
+/* What a frame's showing needs, and its history's adding up. */
+static StageFrame stage_frame(const Server *s, uint32_t id, int scale, int still, int converged, double t0,
+                              const RenderSettings *rs, const Camera *cam, uint64_t epoch)
+{
+    const int samples = frame_samples(rs);
+    return (StageFrame){id, scale, still, converged, t0, samples, temporal_frames(s, rs) > 0,
+                        (TemporalFrame){*cam, epoch, samples, still}};
+}
+
 /* A finished frame to the application: the panel's and the pace's
  * figures first, then the callback. */
 static void show_frame(Server *s, const StageFrame *f, const uint8_t *pixels, FrameDoneFn done, void *ctx)
@@ -1151,7 +1170,7 @@ static void finish_frames(Server *s, FrameDoneFn done, void *ctx)
             s->frames_dropped++;
             log_line(s->cfg.quiet, "lanray-server", "frame %u dropped: the clients that had its view left", o->id);
         } else {
-            const StageFrame f = {o->id, o->scale, o->still, o->converged, o->t0, frame_samples(&o->rs)};
+            const StageFrame f = stage_frame(s, o->id, o->scale, o->still, o->converged, o->t0, &o->rs, &o->cam, o->epoch);
             frame_finished(s, &f, o->pixels, &o->rs, done, ctx);
         }
         s->spare_sched = o->sched;
@@ -1165,7 +1184,8 @@ static void finish_frames(Server *s, FrameDoneFn done, void *ctx)
     }
     if (s->in_frame && sched_frame_done(s->sched)) {
         s->in_frame = 0;
-        const StageFrame f = {s->frame, s->scale, s->still, s->converged, s->frame_t0, frame_samples(&s->frame_rs)};
+        const StageFrame f = stage_frame(s, s->frame, s->scale, s->still, s->converged, s->frame_t0, &s->frame_rs,
+                                         &s->frame_cam, s->frame_epoch);
         frame_finished(s, &f, s->pixels, &s->frame_rs, done, ctx);
     }
 }

@@ -57,6 +57,10 @@ typedef struct {
      * denoise (each frame is filtered by its pixels' guides before it is
      * shown: render/denoise.h); 0: one per core */
     int denoise_threads;
+    /* path-traced and denoised: the frames a pixel's history weighs while
+     * the camera moves (each moving frame another sample of its pixels,
+     * added to the frames before, reprojected: render/temporal.h); 0: none */
+    int temporal;
 } ServerConfig;
 
 typedef struct Server Server;

@@ -200,6 +200,49 @@ static void thin_lens_focuses_at_the_focus_distance(void **state)
     assert_true(v3_len(v3_sub(a, b)) > R(0.1));
 }
 
+/* camera_project inverts camera_ray: the point at distance t along the
+ * ray of image position (x, y) projects back to (x, y) and t, for every
+ * kind of camera, near and far (1e-3 to 1e6 away, at coordinates of 1e5),
+ * and points behind a camera or outside a fisheye's circle project
+ * nowhere. */
+static void projection_inverts_the_rays(void **state)
+{
+    (void)state;
+    for (int kind = 0; kind < 3; kind++)
+        for (int far = 0; far < 2; far++) {
+            Camera c = camera_from_angles(far ? v3(1e5, -3e4, 2e5) : v3(1, 2, 3), 35, -20, 15, camera_zoom_for_fov(70));
+            c.kind = (CameraKind)kind;
+            c.size = R(4);
+            c.fov = R(200);
+            CameraFrame fr = camera_frame(&c, 320, 240);
+            const real pos[5][2] = {{160, 120}, {0.5, 0.5}, {319.5, 17.25}, {40, 200}, {200, 60}};
+            const real dists[4] = {R(1e-3), R(0.7), R(40), R(1e6)};
+            for (int p = 0; p < 5; p++)
+                for (int k = 0; k < 4; k++) {
+                    vec3 o, d;
+                    /* (a millimetre at 1e5 is below a float's step there, and at 1e6 so is
+                     * an orthographic pixel's width, 1/80) */
+                    if (!camera_ray(&fr, pos[p][0], pos[p][1], &o, &d) || (far && k == 0) ||
+                        (kind == CAMERA_ORTHO && k == 3))
+                        continue;
+                    real x, y, t;
+                    assert_true(camera_project(&fr, v3_madd(o, d, dists[k]), &x, &y, &t));
+                    /* a relative error of the coordinates' size, spread by the lever to the point */
+                    const real tol = R(2e-3) * (far ? R(1e5) / dists[k] + R(1) : R(1) + R(1) / dists[k]);
+                    assert_float_equal(x, pos[p][0], tol);
+                    assert_float_equal(y, pos[p][1], tol);
+                    assert_float_equal(t, dists[k], R(1e-4) * dists[k] + (far ? R(0.05) : R(1e-5)));
+                }
+            vec3 r, u, f;
+            camera_basis(&c, &r, &u, &f);
+            real x, y, t;
+            if (kind != CAMERA_FISHEYE) /* behind the camera (a fisheye of 200 degrees sees some of it) */
+                assert_false(camera_project(&fr, v3_madd(c.pos, f, R(-5)), &x, &y, &t));
+            else /* straight back: past the circle's 100 degrees */
+                assert_false(camera_project(&fr, v3_madd(c.pos, f, R(-5)), &x, &y, &t));
+        }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -209,6 +252,7 @@ int main(void)
         cmocka_unit_test(orthographic_rays_are_parallel_and_evenly_spaced),
         cmocka_unit_test(fisheye_angles_grow_with_distance_from_the_centre),
         cmocka_unit_test(thin_lens_focuses_at_the_focus_distance),
+        cmocka_unit_test(projection_inverts_the_rays),
     };
     return cmocka_run_group_tests_name("camera", tests, NULL, NULL);
 }

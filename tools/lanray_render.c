@@ -15,6 +15,7 @@
 #include <unistd.h>
 
 #include "app/cli.h"
+#include "app/flight.h"
 #include "base/fileio.h"
 #include "image/image.h"
 #include "base/opt.h"
@@ -123,6 +124,7 @@ typedef struct {
     int sampling, sampling_given, limit, limit_given, lights, lights_given, integrator, integrator_given;
     int emitters, emitters_given, roulette, roulette_given, contrast, contrast_given, denoise, denoise_given;
     int still_frame, progressive;
+    Flight flight; /* --frames: a server's frames along --path */
     double exposure;
     CliAa aa;
     CliEnvironment env;
@@ -144,7 +146,8 @@ static int parse_args(Args *a, int argc, char **argv)
     *a = (Args){.out = "lanray.png", .width = 1024, .height = 768, .repeat = 1, .bvh_kind = BVH_SAH,
                 .shading = SHADE_PHONG, .shadows = 1, .filter = FILTER_ANISOTROPIC, .depth = 5,
                 .fresnel = FRESNEL_EXACT, .glass = 1, .cutoff = 0.01, .sampling = SAMPLING_BUDGET,
-                .limit = LIMIT_BACKGROUND, .aa = {4, 1, 0}};
+                .limit = LIMIT_BACKGROUND, .aa = {4, 1, 0},
+                .flight = {.temporal = TEMPORAL_DEFAULT_FRAMES}};
     const Opt opts[] = {
         {.name = "--output", .alias = "-o", .kind = OPT_STRING, .dst = &a->out, .arg = "FILE",
          .help = "the image: .png (tagged sRGB, or linear with --linear), .ppm, or .hdr (Radiance RGBE: high dynamic "
@@ -234,6 +237,7 @@ static int parse_args(Args *a, int argc, char **argv)
          .help = "a camera path (docs/scene.md): render its camera at --at in place of the scene's"},
         {.name = "--at", .kind = OPT_REAL, .dst = &a->at, .arg = "T", .rlo = 0, .rhi = 1e9,
          .help = "the time on --path, seconds", .def = "0"},
+        FLIGHT_OPTS(&a->flight),
         {.name = "--repeat", .kind = OPT_INT, .dst = &a->repeat, .arg = "N", .lo = 1, .hi = 100000,
          .help = "render the frame N times, report the best and mean time (benchmarks)"},
         {.name = "--segment", .kind = OPT_INT, .dst = &a->segment, .arg = "LINES", .lo = 0, .hi = RENDER_MAX_SIDE,
@@ -258,18 +262,17 @@ static int parse_args(Args *a, int argc, char **argv)
     return go;
 }
 
-/* --path: the path's camera at --at in place of the scene's (0, or 1). */
-static int apply_path(Scene *scene, const Args *a, Err *err)
+/* --path: the path's camera at --at in place of the scene's, the path
+ * kept for --frames (0, or 1). */
+static int apply_path(Scene *scene, const Args *a, CameraPath *path, Err *err)
 {
-    CameraPath path;
     if (!a->path)
         return 0;
-    if (camera_path_load(a->path, &path, err)) {
+    if (camera_path_load(a->path, path, err)) {
         fprintf(stderr, "lanray-render: %s\n", err->msg);
         return 1;
     }
-    scene->camera = camera_path_at(&path, (real)a->at);
-    camera_path_free(&path);
+    scene->camera = camera_path_at(path, (real)a->at);
     return 0;
 }
 
@@ -321,6 +324,10 @@ static int apply_settings(Scene *scene, Args *a)
         }
         rs->batches = a->still_frame;
     }
+    if (a->flight.frames && (a->still_frame || a->progressive || a->repeat > 1)) {
+        fprintf(stderr, "lanray-render: --frames: a server's frames, not with --still-frame, --progressive or --repeat\n");
+        return 2;
+    }
     if (a->progressive && (!progressive_batches(rs) || a->repeat > 1)) {
         fprintf(stderr, "lanray-render: --progressive: %s\n",
                 a->repeat > 1 ? "one frame, not --repeat's"
@@ -369,6 +376,7 @@ typedef struct {
     int banded, band;
     uint32_t bpp;
     double load_s;
+    CameraPath path; /* --path's */
 } Job;
 
 static void job_close(Job *j)
@@ -380,6 +388,7 @@ static void job_close(Job *j)
     render_pool_destroy(j->pool);
     world_destroy(j->world);
     scene_destroy(j->scene);
+    camera_path_free(&j->path);
 }
 
 /* The scene with its settings, the frame's memory (whole, or in bands), the
@@ -410,7 +419,7 @@ static int job_open(Job *j, Args *a, Err *err)
         rc = 1;
     }
     if (rc == 0)
-        rc = apply_path(j->scene, a, err);
+        rc = apply_path(j->scene, a, &j->path, err);
     if (rc)
         return rc;
     if (scene_check(j->scene, err) || !(j->world = world_build(j->scene, NULL, err))) {
@@ -426,14 +435,16 @@ static int job_open(Job *j, Args *a, Err *err)
     j->band = !j->banded ? height : a->band_lines ? a->band_lines : (int)(BAND_BYTES / ((uint64_t)width * j->bpp));
     if (j->band < 1)
         j->band = 1;
-    if (j->banded && (a->profile || a->progressive || j->scene->settings.denoise))
+    if (j->banded && (a->profile || a->progressive || a->flight.frames || j->scene->settings.denoise))
         rc = err_set(err, "%dx%d is rendered in bands (%.1f GB whole); %s needs the whole frame", width, height,
-                     (double)frame_bytes / 1e9, a->profile ? "--profile" : a->progressive ? "--progressive" : "denoising");
+                     (double)frame_bytes / 1e9,
+                     a->profile ? "--profile" : a->progressive ? "--progressive" : a->flight.frames ? "--frames" : "denoising");
     else /* with the denoiser's planes (84 bytes a pixel) and the frame it writes */
         rc = cli_check_memory((uint64_t)width * (uint64_t)j->band * j->bpp +
                                   (j->scene->settings.denoise
                                        ? denoiser_bytes((uint32_t)width, (uint32_t)height) +
-                                             (uint64_t)width * height * render_colour_bytes(&j->scene->settings)
+                                             (uint64_t)width * height * render_colour_bytes(&j->scene->settings) +
+                                             (a->flight.frames ? temporal_bytes((uint32_t)width, (uint32_t)height) : 0)
                                        : 0),
                               j->banded ? "a band of the frame" : j->scene->settings.denoise ? "the frame with its denoiser"
                                                                                               : "the frame",
@@ -527,6 +538,8 @@ static int job_render(Job *j, const Args *a, RayStats *st, double *best, double 
     watch.pixels = (uint64_t)a->width * (uint64_t)a->height * (uint64_t)a->repeat;
     if (a->progressive) /* every batch a pass over the frame */
         watch.pixels *= (uint64_t)progressive_upto(&j->scene->settings);
+    if (a->flight.frames) /* every frame a pass */
+        watch.pixels *= (uint64_t)a->flight.frames;
     watch.width = a->width;
     render_pool_watch(j->pool, &watch.counts);
     Progress *prog = progress_start("lanray-render", !a->quiet, show_progress, &watch);
@@ -535,8 +548,10 @@ static int job_render(Job *j, const Args *a, RayStats *st, double *best, double 
     for (int f = 0; f < a->repeat && rc == 0; f++) {
         double t = timer_now();
         *st = (RayStats){0, 0, 0};
-        if (a->progressive) {
-            rc = render_batches(j, a, st, err);
+        if (a->progressive || a->flight.frames) {
+            rc = a->progressive ? render_batches(j, a, st, err)
+                                : flight_render(j->pool, j->world, &j->path, &a->flight, a->width, a->height, j->pixels,
+                                                st, err);
             *sum = *best = timer_now() - t;
             break;
         }

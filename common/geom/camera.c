@@ -41,6 +41,13 @@ void camera_basis(const Camera *c, vec3 *right, vec3 *up, vec3 *forward)
     *forward = f;
 }
 
+int camera_same(const Camera *a, const Camera *b)
+{
+    return a->pos.x == b->pos.x && a->pos.y == b->pos.y && a->pos.z == b->pos.z && a->yaw == b->yaw &&
+           a->pitch == b->pitch && a->roll == b->roll && a->zoom == b->zoom && a->kind == b->kind &&
+           a->size == b->size && a->fov == b->fov && a->aperture == b->aperture && a->focus == b->focus;
+}
+
 CameraFrame camera_frame(const Camera *c, int width, int height)
 {
     CameraFrame fr;
@@ -104,5 +111,42 @@ int camera_ray(const CameraFrame *f, real x, real y, vec3 *org, vec3 *dir)
         *org = f->org;
         *dir = v3_norm(camera_dir(f, x, y));
         return 1;
+    }
+}
+
+int camera_project(const CameraFrame *f, vec3 p, real *x, real *y, real *dist)
+{
+    const vec3 d = v3_sub(p, f->org);
+    const real dr = v3_dot(d, f->right), du = v3_dot(d, f->up), df = v3_dot(d, f->forward);
+    switch (f->kind) {
+    case CAMERA_ORTHO: /* rays along forward from the view rectangle */
+        if (!(df > R(0)))
+            return 0;
+        *x = dr / v3_dot(f->u, f->right);
+        *y = du / v3_dot(f->v, f->up);
+        *dist = df;
+        return 1;
+    case CAMERA_FISHEYE: {
+        const real len = v3_len(d);
+        if (!(len > R(0)))
+            return 0;
+        const real side = sqrt(dr * dr + du * du);
+        const real r = atan2(side, df) / f->rad_per_px; /* the angle from forward, as pixels from the centre */
+        if (r > f->cx)
+            return 0;
+        *x = f->cx + (side > R(0) ? r * dr / side : R(0));
+        *y = f->cy - (side > R(0) ? r * du / side : R(0));
+        *dist = len;
+        return 1;
+    }
+    default: { /* d is along u x + v y + k, whose forward part is k's */
+        if (!(df > R(0)))
+            return 0;
+        const real s = v3_dot(f->k, f->forward) / df;
+        *x = (s * dr - v3_dot(f->k, f->right)) / v3_dot(f->u, f->right);
+        *y = (s * du - v3_dot(f->k, f->up)) / v3_dot(f->v, f->up);
+        *dist = v3_len(d);
+        return 1;
+    }
     }
 }

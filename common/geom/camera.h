@@ -45,6 +45,8 @@ typedef struct {
 } CameraFrame;
 
 Camera camera_from_angles(vec3 pos, real yaw, real pitch, real roll, real zoom);
+/* The same camera, field by field (a struct may hold padding). */
+int camera_same(const Camera *a, const Camera *b);
 /* Fails (returns -1) when target == pos. */
 int camera_look_at(Camera *c, vec3 pos, vec3 target, real roll, real zoom);
 /* Zoom for a horizontal field of view in degrees (0 < fov < 180). */
@@ -63,6 +65,12 @@ int camera_ray(const CameraFrame *f, real x, real y, vec3 *org, vec3 *dir);
  * focus distance (measured along the view direction): points there are
  * sharp, others blur with their distance from that plane. */
 void camera_lens_ray(const CameraFrame *f, real x, real y, real lu, real lv, vec3 *org, vec3 *dir);
+
+/* The image position (x, y) whose ray (camera_ray) passes through point p,
+ * and p's distance along that ray from its origin: 0 where no ray of the
+ * camera does (behind it, outside a fisheye's circle, past an orthographic
+ * view's back).  The position may lie outside the frame. */
+int camera_project(const CameraFrame *f, vec3 p, real *x, real *y, real *dist);
 
 /* Unnormalised pinhole direction through image position (x, y). */
 static inline vec3 camera_dir(const CameraFrame *f, real x, real y)

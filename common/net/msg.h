@@ -17,7 +17,7 @@
 #include "render/segment.h"
 
 #define PROTO_MAGIC 0x5941524cu /* "LRAY" */
-#define PROTO_VERSION 25u /* 8: an UPDATE carries the frame's view apart, and the scene only when it changed;
+#define PROTO_VERSION 26u /* 8: an UPDATE carries the frame's view apart, and the scene only when it changed;
                            * 9: the view's settings hold light_sampling (wire 6);
                            * 10: compressed pixels (HELLO codecs, WELCOME coding, DATA coding);
                            * 11: pipelined frames (UPDATE keep: the older frame still wanted);
@@ -39,7 +39,9 @@
                            *     DATA packet's pixels carry their guides (9 bytes each);
                            * 25: the view's settings hold batch (wire 20): a path-traced
                            *     still's batch of samples, whose DATA carries each
-                           *     pixel's sums (reals) */
+                           *     pixel's sums (reals);
+                           * 26: the view's settings hold jitter (wire 21): a path-traced
+                           *     moving frame's sample */
 #define PROTO_BOM 0x01020304u
 #define PROTO_HEADER 8u
 #define PROTO_NONCE 32u

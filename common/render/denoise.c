@@ -22,11 +22,30 @@ static uint8_t noise_code(real mean, real lum2, int n)
     if (n < 2)
         return 0;
     const real var = (lum2 / (real)n - mean * mean) / (real)(n - 1); /* of the mean */
-    const float rel = mean > R(0) && var > R(0) ? (float)(sqrt(var) / mean) : 0.0f;
+    return denoise_noise_code(mean > R(0) && var > R(0) ? (float)(sqrt(var) / mean) : 0.0f);
+}
+
+uint8_t denoise_noise_code(float rel)
+{
     uint32_t bits;
     memcpy(&bits, &rel, sizeof bits);
     const uint32_t v = bits >> 19;
     return (uint8_t)(v <= NOISE_BASE ? 1 : v - NOISE_BASE + 1 > 255 ? 255 : v - NOISE_BASE + 1);
+}
+
+void denoise_normal_pack(vec3 m, uint8_t out[2])
+{
+    /* onto the octahedron |x| + |y| + |z| = 1, the lower half folded out
+     * over the corners */
+    const real l1 = fabs(m.x) + fabs(m.y) + fabs(m.z);
+    real x = l1 > R(0) ? m.x / l1 : R(0), y = l1 > R(0) ? m.y / l1 : R(0);
+    if (l1 > R(0) && m.z < R(0)) {
+        const real fx = (R(1) - fabs(y)) * (x < R(0) ? R(-1) : R(1));
+        const real fy = (R(1) - fabs(x)) * (y < R(0) ? R(-1) : R(1));
+        x = fx, y = fy;
+    }
+    out[0] = (uint8_t)(int)((x + R(1)) * R(127.5) + R(0.5));
+    out[1] = (uint8_t)(int)((y + R(1)) * R(127.5) + R(0.5));
 }
 
 void denoise_guide_pack(const Guide *sum, int n, vec3 mean, uint8_t out[DENOISE_GUIDE_BYTES])
@@ -41,18 +60,7 @@ void denoise_guide_pack(const Guide *sum, int n, vec3 mean, uint8_t out[DENOISE_
         out[3] = out[4] = 128;
         return;
     }
-    /* the mean normal onto the octahedron |x| + |y| + |z| = 1, the lower
-     * half folded out over the corners */
-    const vec3 m = sum->normal;
-    const real l1 = fabs(m.x) + fabs(m.y) + fabs(m.z);
-    real x = l1 > R(0) ? m.x / l1 : R(0), y = l1 > R(0) ? m.y / l1 : R(0);
-    if (l1 > R(0) && m.z < R(0)) {
-        const real fx = (R(1) - fabs(y)) * (x < R(0) ? R(-1) : R(1));
-        const real fy = (R(1) - fabs(x)) * (y < R(0) ? R(-1) : R(1));
-        x = fx, y = fy;
-    }
-    out[3] = (uint8_t)(int)((x + R(1)) * R(127.5) + R(0.5));
-    out[4] = (uint8_t)(int)((y + R(1)) * R(127.5) + R(0.5));
+    denoise_normal_pack(sum->normal, out + 3);
     const real d = sum->depth / (real)sum->surface; /* a client's batch sums may say anything: kept in float's range */
     const float depth = d > R(0) ? (d < (real)FLT_MAX ? (float)d : FLT_MAX) : 0.0f;
     uint32_t bits;

@@ -39,6 +39,10 @@
 /* The guide of a pixel of n samples whose guides sum to *sum and whose
  * light is mean, as bytes. */
 void denoise_guide_pack(const Guide *sum, int n, vec3 mean, uint8_t out[DENOISE_GUIDE_BYTES]);
+/* A normal (any length but 0) as the guide's two bytes (octahedral). */
+void denoise_normal_pack(vec3 m, uint8_t out[2]);
+/* The noise byte of a relative standard error (0 and below: none). */
+uint8_t denoise_noise_code(float rel);
 /* Its albedo, unit normal, distance (0: no surface) and relative noise
  * (negative: not known), as the filter reads them. */
 void denoise_guide_unpack(const uint8_t in[DENOISE_GUIDE_BYTES], float albedo[3], float normal[3], float *depth,

@@ -40,6 +40,10 @@ static inline int progressive_upto(const RenderSettings *rs)
     return rs->batches ? rs->batches : progressive_batches(rs);
 }
 
+/* A jittered moving frame's sample (settings jitter) is one of a pixel's
+ * 2^m x 2^m in their progressive order, m this. */
+#define PROG_JITTER_M 5
+
 /* The most batches (N = AA_MAX, 32: 1024 samples). */
 #define PROG_MAX_BATCHES 11
 /* Batch b's samples (1 <= b <= PROG_MAX_BATCHES): [progressive_start(b), progressive_end(b)). */

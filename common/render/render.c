@@ -120,6 +120,7 @@ typedef struct {
      * their sums (sums: settings batch) or as the pixel they make */
     int prog_m, sums;
     uint32_t s0, s1;
+    int grid_n; /* the grid's N x N positions a pixel: settings aa, or 32 for a jittered frame's one sample */
     /* adaptive mode: keys and centre colours, as written, of whole lines key_first .. key_first + key_lines - 1 */
     int key_first, key_lines;
     int probe;         /* adaptive light sampling: the centre samples probe each area light (SampleId.probe) */
@@ -493,7 +494,7 @@ static void grid_flush_batches(GridBatch *g, const vec3 *c, Guide *gd)
             if (f->sums)
                 memcpy(g->dst[s], g->total[s], reals * sizeof(real));
             else
-                progressive_encode(&f->w->view.settings, f->gain, g->total[s], f->s1, g->dst[s]);
+                progressive_encode(&f->w->view.settings, f->gain, g->total[s], f->s1 - f->s0, g->dst[s]);
         }
     }
     g->m = 0;
@@ -599,7 +600,7 @@ static void job_grid(void *ctx, uint32_t chunk, RayStats *st)
         return;
     uint64_t i0, i1;
     chunk_range(f, chunk, f->count, &i0, &i1);
-    int n = f->w->view.settings.aa;
+    int n = f->grid_n;
     uint64_t before = ray_stats_total(st);
     GridBatch grid = grid_start(f, st, n);
     for (uint64_t i = i0; i < i1;) {
@@ -821,7 +822,7 @@ static RayStats render_grid(RenderPool *p, Frame *f)
 {
     const uint64_t w = (uint64_t)f->width, end = f->first + f->count;
     const uint64_t r0 = (f->first + w - 1) / w, r1 = end / w; /* whole lines [r0, r1) */
-    if (f->w->view.settings.aa != 1 || r1 < r0 + 2)
+    if (f->grid_n != 1 || r1 < r0 + 2)
         return pool_run_counted(p, job_grid, f, chunks_of(f, f->count));
     const uint64_t rb = r0 + (r1 - r0) / 2 * 2; /* the pairs end */
     RayStats st = grid_lines(p, f, f->first, r0 * w - f->first);
@@ -866,6 +867,7 @@ int render_span(RenderPool *p, const World *w, int width, int height, uint64_t f
     f.guided = w->view.settings.denoise;
     f.gain = pixel_gain(&w->view.settings);
     f.chunk = chunk_size(count, pool_threads(p->pool));
+    f.grid_n = w->view.settings.aa;
     const RenderSettings *rs = &w->view.settings;
     const int batches = progressive_batches(rs);
     if (batches) {
@@ -878,8 +880,18 @@ int render_span(RenderPool *p, const World *w, int width, int height, uint64_t f
         f.s1 = b ? progressive_end(b) : progressive_end(upto);
     } else if (rs->batch || rs->batches) {
         return err_set(err, "render: batches of a frame whose samples do not go in batches (path, N x N, N a power of two)");
+    } else if (rs->jitter) {
+        /* a moving frame's one sample: the pixel's sample jitter - 1 of
+         * its 32 x 32 in their progressive order, its key and place in the
+         * pixel's sequence those of that sample of a still of 32 x 32 */
+        if (rs->integrator != INTEGRATOR_PATH || rs->aa != 1 || rs->adaptive)
+            return err_set(err, "render: jitter %d of a frame that is not path-traced at one sample a pixel", rs->jitter);
+        f.grid_n = 1 << PROG_JITTER_M;
+        f.prog_m = PROG_JITTER_M;
+        f.s0 = (uint32_t)(rs->jitter - 1) % (1u << 2 * PROG_JITTER_M);
+        f.s1 = f.s0 + 1;
     }
-    f.probe = render_probes_lights(w);
+    f.probe = !rs->jitter && render_probes_lights(w);
     /* at one sample a pixel, adaptive light sampling refines only for the
      * area lights (the lights' bits of the keys: shade.c) */
     f.area_mask = 0;

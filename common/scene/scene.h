@@ -151,6 +151,12 @@ typedef struct {
      * frame, which its server adds up); 0: the whole picture.  On the wire
      * only. */
     int batch;
+    /* path, one sample a pixel on a regular grid: sample jitter - 1 (mod
+     * 1024) of the pixel's 32 x 32 in their progressive order, in place of
+     * its centre (a farm's moving frame, which its server adds to the
+     * frames before, reprojected: render/temporal.h); 0: the centre.  On
+     * the wire only. */
+    int jitter;
     /* the picture of the first `batches` batches alone (lanray-render
      * --still-frame); 0: all.  Not on the wire, not in scene files. */
     int batches;

@@ -128,6 +128,8 @@ static const Field settings_fields[] = {
      .hi = SCENE_MAX_DEPTH, .def = 5, .doc = "path: bounces before Russian roulette may end a path"},
     {.key = "batch", .type = FIELD_WHOLE, .flags = FIELD_WIRE, .group = SETTINGS_GROUP_SAMPLING, .off = SET(rs.batch),
      .lo = 0, .hi = 11, .doc = "path, N x N, N a power of two: each pixel's sums of this batch of its samples (0: its colour)"},
+    {.key = "jitter", .type = FIELD_WHOLE, .flags = FIELD_WIRE, .group = SETTINGS_GROUP_SAMPLING, .off = SET(rs.jitter),
+     .lo = 0, .hi = 65535, .doc = "path, one sample a pixel: its sample jitter - 1 (mod 1024) of its 32 x 32 (0: its centre)"},
     {.key = "contrast", .type = FIELD_WHOLE, .group = SETTINGS_GROUP_SAMPLING, .off = SET(rs.contrast), .lo = 0,
      .hi = 255, .def = 15,
      .doc = "adaptive: also refine where a neighbour's colour differs by more than this many codes (255: never)"},
@@ -381,6 +383,10 @@ const char *settings_problem(const RenderSettings *rs, char *buf, size_t size)
                       (1 << rs->batch) > 2 * n * n)) {
         snprintf(buf, size, "batch %d of a frame that is not path-traced on a regular grid of %d x %d, or past it",
                  rs->batch, n, n);
+        return buf;
+    }
+    if (rs->jitter && (rs->integrator != INTEGRATOR_PATH || rs->adaptive || rs->aa != 1 || rs->batch)) {
+        snprintf(buf, size, "jitter %d of a frame that is not path-traced at one sample a pixel", rs->jitter);
         return buf;
     }
     return NULL;

@@ -7,9 +7,10 @@
 # frame is the same bytes on every SIMD path, in segments of any size,
 # with adaptive anti-aliasing, through a lens and a fisheye, in .hdr; a
 # Whitted frame passes as it is; through a server and two clients (moving
-# frames and the still ones that refine), the frames are lanray-render's
-# --denoise pictures bit for bit, with the server's --denoise or the
-# scene's own setting; a frame too large for memory whole is refused,
+# frames added up by their history, and the still ones that refine), the
+# frames are lanray-render's --frames pictures bit for bit, with the
+# server's --denoise or the scene's own setting, and without the history
+# its one-frame --denoise pictures; a frame too large for memory whole is refused,
 # naming denoising, and leaves no file.  Under ThreadSanitizer (make
 # check-tsan: the server filters on a thread of its own) and ASan the
 # accuracy measurements are left out (the plain pass takes them).
@@ -63,14 +64,22 @@ python3 -c "import sys; sys.exit(0 if $e_dn < $e_raw else 1)" || fail "a denoise
 render --aa 1 --width $W --height $H -o "$dir/w.png"
 render --aa 1 --width $W --height $H --denoise on -o "$dir/w-on.png"
 cmp -s "$dir/w.png" "$dir/w-on.png" || fail "a Whitted frame changed under --denoise on"
-# through a server: a flight of 3 moving frames (1 sample), then still
-# frames of 1, 2, 4, 8 and 16 samples of 4x4 (--still-aa 4: batches, their
-# sums and their guides' added up by the server), each lanray-render's
-# --denoise picture (--still-frame K)
+# through a server: a flight of 3 moving frames (1 sample, each another of
+# the pixel's, added up by the history: --temporal 8, the default), then
+# still frames of 1, 2, 4, 8 and 16 samples of 4x4 (--still-aa 4: batches,
+# their sums and their guides' added up by the server, the first ones
+# weighed with the history), each lanray-render's --frames K picture bit for
+# bit; with --temporal 0 the moving frames are lanray-render's --denoise
+# pictures of one sample at their time, and the still frames its
+# --still-frame K pictures
 cat >"$dir/room.path" <<'PATH'
 key 0 position 278 273 -800 lookat 278 273 0 fov 40
 key 1 position 200 300 -700 lookat 278 273 0 fov 40
 PATH
+fly=(--integrator path --path "$dir/room.path" --path-step 0.5 --aa 1 --still-aa 4 --width 48 --height 48 --denoise on)
+for k in 1 2 3 4 5 6 7 8; do
+    render $S "${fly[@]}" --frames $k -o "$dir/t-$k.png"
+done
 for t in 0 0.5 1; do
     render $S --integrator path --path "$dir/room.path" --at $t --aa 1 --width 48 --height 48 --denoise on -o "$dir/m-$t.png"
 done
@@ -79,8 +88,14 @@ for k in 1 2 3 4 5; do
         -o "$dir/s-$k.png"
 done
 cmp -s "$dir/m-0.png" "$dir/m-1.png" && fail "the path does not move the camera: the test cannot fail"
-for how in flag scene; do
-    if [ $how = flag ]; then args=(--denoise "$dir/path.scene"); else args=("$dir/on.scene"); fi
+cmp -s "$dir/t-3.png" "$dir/m-1.png" && fail "the history changed nothing in the third moving frame"
+cmp -s "$dir/t-8.png" "$dir/s-5.png" || fail "the flight's converged frame is not lanray-render's --still-frame 5"
+for how in flag scene notemporal; do
+    case $how in
+    flag) args=(--denoise "$dir/path.scene") want=(t-1 t-2 t-3 t-4 t-5 t-6 t-7 t-8) ;;
+    scene) args=("$dir/on.scene") want=(t-1 t-2 t-3 t-4 t-5 t-6 t-7 t-8) ;;
+    notemporal) args=(--temporal 0 "$dir/on.scene") want=(m-0 m-0.5 m-1 s-1 s-2 s-3 s-4 s-5) ;;
+    esac
     start_server room-$how --port 0 --width 48 --height 48 --path "$dir/room.path" --path-step 0.5 --wait-clients 2 \
         --still-aa 4 "${args[@]}" --out "$dir/$how"
     for c in 1 2; do
@@ -91,7 +106,7 @@ for how in flag scene; do
     wait "$server_pid" || fail "the server ($how) exited $?"
     [ "$(ls "$dir/$how" | wc -l)" = 8 ] || fail "3 moving frames and 5 still ones ($how): $(ls "$dir/$how")"
     k=1
-    for f in m-0 m-0.5 m-1 s-1 s-2 s-3 s-4 s-5; do
+    for f in "${want[@]}"; do
         cmp -s "$dir/$how/frame-0000$k.png" "$dir/$f.png" || fail "served frame $k ($how) is not lanray-render's $f"
         k=$((k + 1))
     done

@@ -9,7 +9,8 @@
  * first byte (the handshake itself), 256 bytes a step.  When its bit 2 is set the scene is
  * path-traced and denoised, refined at --still-aa 2: frames after the
  * first are batches of samples, whose DATA carries sums the server adds
- * up (render/progressive.h).  The server steps until it has read
+ * up (render/progressive.h), and the frames go through the history
+ * (--temporal 8, render/temporal.h) before the denoiser.  The server steps until it has read
  * everything and closed the connection; what it sends back is dropped. */
 #include <fcntl.h>
 #include <stdio.h>
@@ -63,7 +64,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     cfg.coding = PIX_ZSTD | PIX_PREDICT; /* the default: coded DATA decoded, as the seeds send it */
     const int batches = data[0] & 2;
     if (batches)
-        cfg.refine = 1, cfg.still_aa = 2, cfg.denoise_threads = 1;
+        cfg.refine = 1, cfg.still_aa = 2, cfg.denoise_threads = 1, cfg.temporal = 8;
     Err err;
     Server *s = server_create(&cfg, batches ? path_scene : scene, &err);
     int fds[2];

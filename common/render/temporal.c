@@ -1,0 +1,293 @@
+/* temporal.c - the reprojected history of temporal.h. */
+#include "render/temporal.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "base/srgb.h"
+#include "render/denoise.h"
+
+/* A pixel as the history holds it: its light (linear, as its codes say),
+ * the mean square of its luminance, the frames (samples) it weighs, and
+ * its surface's distance (0: none) and normal, to find it again. */
+typedef struct {
+    float c[3], m2, len, depth, n[3];
+    float alb[3], an[3]; /* the albedo and the normal its guide shows, added up as the light */
+} Hist;
+
+/* A frame of the history: its pixels and the camera they were seen by. */
+typedef struct {
+    Hist *px;
+    CameraFrame cam;
+} HistFrame;
+
+struct Temporal {
+    Pool *pool;
+    uint32_t max_w, max_h;
+    int frames;
+    HistFrame f[2];
+    int prev, base; /* the last frame's, and under still frames the last moving frame's (-1: none) */
+    int in_still;   /* the last frame was a still one */
+    uint64_t epoch;
+};
+
+/* A surface seen again: distances within this share, normals whose cosine is above this. */
+#define SAME_DEPTH 0.05f
+#define SAME_NORMAL 0.9f
+/* The frames a pixel's temporal noise needs before the denoiser reads it. */
+#define NOISE_FRAMES 4.0f
+
+uint64_t temporal_bytes(uint32_t max_w, uint32_t max_h) { return 2ull * max_w * max_h * sizeof(Hist); }
+
+Temporal *temporal_create(Pool *pool, uint32_t max_w, uint32_t max_h, int frames)
+{
+    if (frames < 1 || frames > TEMPORAL_MAX_FRAMES || max_w < 1 || max_h < 1 || max_w > 1u << 16 || max_h > 1u << 16)
+        return NULL;
+    Temporal *t = calloc(1, sizeof *t);
+    if (!t)
+        return NULL;
+    *t = (Temporal){.pool = pool, .max_w = max_w, .max_h = max_h, .frames = frames, .prev = -1, .base = -1};
+    for (int k = 0; k < 2; k++)
+        if (!(t->f[k].px = malloc((size_t)max_w * max_h * sizeof(Hist)))) {
+            temporal_destroy(t);
+            return NULL;
+        }
+    return t;
+}
+
+void temporal_destroy(Temporal *t)
+{
+    if (!t)
+        return;
+    for (int k = 0; k < 2; k++)
+        free(t->f[k].px);
+    free(t);
+}
+
+static inline float luminance(const float c[3]) { return 0.2126f * c[0] + 0.7152f * c[1] + 0.0722f * c[2]; }
+
+/* A pixel's colour bytes as linear light, and back. */
+static void colour_read(const uint8_t *p, uint32_t cb, int linear, float c[3])
+{
+    if (cb == 4) {
+        double v[3];
+        rgbe_decode(p, v);
+        for (int k = 0; k < 3; k++)
+            c[k] = (float)v[k];
+        return;
+    }
+    for (int k = 0; k < 3; k++)
+        c[k] = linear ? (float)p[k] / 255.0f : srgb_decode8[p[k]];
+}
+
+static void colour_write(uint8_t *p, uint32_t cb, int linear, const float c[3])
+{
+    if (cb == 4)
+        rgbe_encode((real)c[0], (real)c[1], (real)c[2], p);
+    else
+        for (int k = 0; k < 3; k++)
+            p[k] = linear ? linear_encode8((real)c[k]) : srgb_encode8((real)c[k]);
+}
+
+/* What a pixel of the frame before must have seen to count: a surface at
+ * distance d (within SAME_DEPTH) facing n; at an edge (the pixel's 3 x 3
+ * saw surfaces at distances lo to hi further apart than that, or facing
+ * other ways), any surface between those distances, so that the edge's pixels add up what their
+ * samples meet on either side (its anti-aliasing) where the test of one
+ * surface would start them again at every frame that meets the other. */
+typedef struct {
+    float d, lo, hi, n[3];
+    int edge;
+} Seen;
+
+/* Pixel (x, y) of frame src added to acc by weight wt where it saw what
+ * `seen` asks: the weight it added. */
+static float tap(const HistFrame *src, int x, int y, const Seen *seen, float wt, Hist *acc)
+{
+    if (x < 0 || y < 0 || x >= src->cam.width || y >= src->cam.height || !(wt > 0.0f))
+        return 0.0f;
+    const Hist *q = &src->px[(size_t)y * (size_t)src->cam.width + (size_t)x];
+    if (!(q->depth > 0.0f) || !(q->len > 0.0f))
+        return 0.0f;
+    if (seen->edge ? q->depth < seen->lo || q->depth > seen->hi
+                   : fabsf(q->depth - seen->d) > SAME_DEPTH * (q->depth > seen->d ? q->depth : seen->d) ||
+                         q->n[0] * seen->n[0] + q->n[1] * seen->n[1] + q->n[2] * seen->n[2] < SAME_NORMAL)
+        return 0.0f;
+    for (int k = 0; k < 3; k++) {
+        acc->c[k] += wt * q->c[k];
+        acc->alb[k] += wt * q->alb[k];
+        acc->an[k] += wt * q->an[k];
+    }
+    acc->m2 += wt * q->m2;
+    acc->len += wt * q->len;
+    return wt;
+}
+
+/* What the history held of the surface point p (seen from the frame
+ * before's camera at `seen`'s distances) in frame src: its pixels about
+ * p's position weighed bilinearly where they saw it; 0 where none did. */
+static int history_at(const HistFrame *src, vec3 p, Seen *seen, Hist *out)
+{
+    real x, y, dist;
+    if (!camera_project(&src->cam, p, &x, &y, &dist))
+        return 0;
+    const int w = src->cam.width, h = src->cam.height;
+    const real fx = x - R(0.5), fy = y - R(0.5);
+    if (!(fx > R(-1)) || !(fy > R(-1)) || !(fx < (real)w) || !(fy < (real)h))
+        return 0;
+    /* the distances as the frame before's camera sees them: moved by what p's moved */
+    const float d = (float)dist, shift = d - seen->d;
+    seen->d = d, seen->lo = (seen->lo + shift) * (1.0f - SAME_DEPTH), seen->hi = (seen->hi + shift) * (1.0f + SAME_DEPTH);
+    const int x0 = (int)floor(fx), y0 = (int)floor(fy);
+    const float ax = (float)(fx - (real)x0), ay = (float)(fy - (real)y0);
+    float wsum = 0.0f;
+    Hist acc;
+    memset(&acc, 0, sizeof acc);
+    for (int j = 0; j < 2; j++)
+        for (int i = 0; i < 2; i++)
+            wsum += tap(src, x0 + i, y0 + j, seen, (i ? ax : 1.0f - ax) * (j ? ay : 1.0f - ay), &acc);
+    /* none of the four saw it: the 3 x 3 about the nearest that did, alike */
+    const int xn = (int)floor(x), yn = (int)floor(y);
+    for (int j = -1; j <= 1 && !(wsum > 1e-3f); j++)
+        for (int i = -1; i <= 1; i++)
+            wsum += tap(src, xn + i, yn + j, seen, 1.0f, &acc);
+    if (!(wsum > 1e-3f))
+        return 0;
+    const float inv = 1.0f / wsum;
+    for (int k = 0; k < 3; k++) {
+        out->c[k] = acc.c[k] * inv;
+        out->alb[k] = acc.alb[k] * inv;
+        out->an[k] = acc.an[k] * inv;
+    }
+    out->m2 = acc.m2 * inv;
+    out->len = acc.len * inv;
+    return 1;
+}
+
+/* One frame's pass: the frame, the history it reads (NULL: none) and the one it writes. */
+typedef struct {
+    uint8_t *px;
+    uint32_t w, h, cb, bpp;
+    int linear;
+    const TemporalFrame *f;
+    const HistFrame *src;
+    HistFrame *dst;
+    float frames;
+} Pass;
+
+/* The mean square of a pixel's luminance from its mean and its guide's
+ * noise (the standard error of the mean over it, of `samples` samples). */
+static float mean_square(float lum, float noise, float samples)
+{
+    const float se = noise > 0.0f ? noise * lum : 0.0f;
+    return lum * lum + se * se * samples;
+}
+
+/* Rows [lo, hi): the pixels' surfaces (distance, normal) into the history written. */
+static void pass_guides(void *ctx, uint64_t lo, uint64_t hi, int thread)
+{
+    (void)thread;
+    const Pass *ps = ctx;
+    for (size_t i = (size_t)lo * ps->w; i < (size_t)hi * ps->w; i++) {
+        float albedo[3], noise;
+        Hist *o = &ps->dst->px[i];
+        denoise_guide_unpack(ps->px + i * ps->bpp + ps->cb, albedo, o->n, &o->depth, &noise);
+    }
+}
+
+/* The surface pixel (x, y) saw, and whether its 3 x 3 is an edge. */
+static Seen seen_at(const Pass *ps, uint32_t x, uint32_t y)
+{
+    const Hist *o = &ps->dst->px[(size_t)y * ps->w + x];
+    Seen s = {o->depth, o->depth, o->depth, {o->n[0], o->n[1], o->n[2]}, 0};
+    for (uint32_t j = y > 0 ? y - 1 : 0; j <= y + 1 && j < ps->h; j++)
+        for (uint32_t i = x > 0 ? x - 1 : 0; i <= x + 1 && i < ps->w; i++) {
+            const Hist *q = &ps->dst->px[(size_t)j * ps->w + i];
+            if (!(q->depth > 0.0f))
+                continue;
+            s.lo = q->depth < s.lo ? q->depth : s.lo, s.hi = q->depth > s.hi ? q->depth : s.hi;
+            s.edge |= q->n[0] * s.n[0] + q->n[1] * s.n[1] + q->n[2] * s.n[2] < SAME_NORMAL;
+        }
+    s.edge |= s.hi > s.lo * (1.0f + 2.0f * SAME_DEPTH);
+    return s;
+}
+
+static void pass_pixel(const Pass *ps, uint32_t x, uint32_t y)
+{
+    const size_t i = (size_t)y * ps->w + x;
+    uint8_t *p = ps->px + i * ps->bpp;
+    Hist *o = &ps->dst->px[i];
+    float albedo[3], noise, c[3], n[3], depth;
+    denoise_guide_unpack(p + ps->cb, albedo, n, &depth, &noise);
+    colour_read(p, ps->cb, ps->linear, c);
+    const float s = (float)ps->f->samples, lum = luminance(c);
+    Hist h;
+    int found = 0;
+    vec3 org, dir;
+    if (ps->src && o->depth > 0.0f && camera_ray(&ps->dst->cam, (real)x + R(0.5), (real)y + R(0.5), &org, &dir)) {
+        Seen seen = seen_at(ps, x, y);
+        found = history_at(ps->src, v3_madd(org, dir, (real)o->depth), &seen, &h);
+    }
+    if (!found || (ps->f->still && s >= h.len)) { /* the frame's own bytes */
+        memcpy(o->c, c, sizeof c);
+        memcpy(o->alb, albedo, sizeof albedo);
+        memcpy(o->an, n, sizeof n);
+        o->m2 = mean_square(lum, noise, s);
+        o->len = s < ps->frames ? s : ps->frames;
+        return;
+    }
+    /* a moving frame's sample weighs 1/len, len the frames so far (at most
+     * `frames`); a still frame's samples by their share of all */
+    const float len = h.len + s < ps->frames ? h.len + s : ps->frames;
+    const float a = ps->f->still ? s / (h.len + s) : 1.0f / len;
+    for (int k = 0; k < 3; k++) {
+        o->c[k] = h.c[k] + (c[k] - h.c[k]) * a;
+        o->alb[k] = h.alb[k] + (albedo[k] - h.alb[k]) * a;
+        o->an[k] = h.an[k] + (n[k] - h.an[k]) * a;
+    }
+    o->m2 = h.m2 + (mean_square(lum, noise, s) - h.m2) * a;
+    o->len = len;
+    colour_write(p, ps->cb, ps->linear, o->c);
+    for (int k = 0; k < 3; k++)
+        p[ps->cb + k] = linear_encode8((real)o->alb[k]);
+    denoise_normal_pack(v3((real)o->an[0], (real)o->an[1], (real)o->an[2]), p + ps->cb + 3);
+    const float mean = luminance(o->c), var = o->m2 - mean * mean;
+    p[ps->cb + 8] =
+        len >= NOISE_FRAMES ? denoise_noise_code(mean > 0.0f && var > 0.0f ? sqrtf(var / len) / mean : 0.0f) : 0;
+}
+
+static void pass_rows(void *ctx, uint64_t lo, uint64_t hi, int thread)
+{
+    (void)thread;
+    const Pass *ps = ctx;
+    for (uint64_t y = lo; y < hi; y++)
+        for (uint32_t x = 0; x < ps->w; x++)
+            pass_pixel(ps, x, (uint32_t)y);
+}
+
+int temporal_add(Temporal *t, uint8_t *px, uint32_t w, uint32_t h, uint32_t colour_bytes, int linear,
+                 const TemporalFrame *f)
+{
+    if (w < 1 || h < 1 || w > t->max_w || h > t->max_h)
+        return -1;
+    if (f->epoch != t->epoch)
+        t->prev = t->base = -1, t->in_still = 0;
+    t->epoch = f->epoch;
+    /* a still frame reads the last moving frame's history (its own samples
+     * add up apart); a moving frame the last frame's, whichever it was */
+    if (!f->still)
+        t->in_still = 0;
+    else if (!t->in_still)
+        t->in_still = 1, t->base = t->prev;
+    /* two frames serve: the one read, and the other written (under still
+     * frames the last moving frame's is read by each, the other rewritten) */
+    const int src = f->still ? t->base : t->prev, dst = src == 0 ? 1 : 0;
+    t->f[dst].cam = camera_frame(&f->camera, (int)w, (int)h);
+    Pass ps = {px, w, h, colour_bytes, colour_bytes + DENOISE_GUIDE_BYTES, linear, f, src >= 0 ? &t->f[src] : NULL,
+               &t->f[dst], (float)t->frames};
+    pool_for(t->pool, h, 8, pass_guides, &ps);
+    pool_for(t->pool, h, 8, pass_rows, &ps);
+    t->prev = dst;
+    return 0;
+}

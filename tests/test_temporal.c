@@ -1,0 +1,237 @@
+/* test_temporal.c - a path-traced view's moving frames added up by a
+ * reprojected history (render/temporal.h), on frames made here: a striped
+ * wall seen by a camera that slides along it, each frame's light the
+ * stripes' plus noise.  After a dozen frames each pixel is as close to its
+ * stripe's light as some eight frames' mean would be (the history follows
+ * the wall across the pixels; a history that did not, or that was not
+ * there, is several times further off), in 8-bit codes and in RGBE; a
+ * surface that comes into view (another distance, another way) starts
+ * again from its own bytes, as does every pixel after a new epoch; a still
+ * frame with fewer samples than the history is weighed with it and one
+ * with as many is its own bytes; the bytes are the same on any threads,
+ * and a frame larger than the history is refused untouched. */
+#include "helpers.h"
+
+#include <math.h>
+#include <stdlib.h>
+
+#include "base/sample.h"
+#include "base/srgb.h"
+#include "render/denoise.h"
+#include "render/temporal.h"
+
+enum { W = 64, H = 48 };
+#define WALL_Z R(-10)
+
+/* The stripes' light at x along the wall. */
+static real stripes(real x) { return R(0.25) + R(0.15) * sin(x * R(3)); }
+
+/* A frame of the wall at distance z (its normal nz: 1 faces the camera)
+ * through camera c: its pixels (colour_bytes of colour, then the guide),
+ * each the stripes' light plus noise of +-amp (drawn from the frame's
+ * number and the pixel), and the light without noise into truth. */
+static void wall_frame(const Camera *c, real z, real nz, uint32_t frame, real amp, uint32_t cb, uint8_t *px,
+                       real *truth)
+{
+    CameraFrame cf = camera_frame(c, W, H);
+    for (int y = 0; y < H; y++)
+        for (int x = 0; x < W; x++) {
+            vec3 o, d;
+            camera_ray(&cf, (real)x + R(0.5), (real)y + R(0.5), &o, &d);
+            const real t = (z - o.z) / d.z;
+            const real l = stripes(o.x + d.x * t);
+            const uint32_t h = sample_mix(sample_hash(frame), (uint32_t)(y * W + x));
+            const real v = l + amp * (R(2) * sample_unit(h) - R(1));
+            uint8_t *p = px + (size_t)(y * W + x) * (cb + DENOISE_GUIDE_BYTES);
+            if (cb == 4)
+                rgbe_encode(v, v, v, p);
+            else
+                for (int k = 0; k < 3; k++)
+                    p[k] = srgb_encode8(v);
+            const Guide g = {v3(R(0.8), R(0.8), R(0.8)), v3(R(0), sqrt(R(1) - nz * nz), nz), t, 1, v * v};
+            denoise_guide_pack(&g, 1, v3(v, v, v), p + cb);
+            if (truth)
+                truth[y * W + x] = l;
+        }
+}
+
+/* A pixel's light as its colour bytes say. */
+static real light_of(const uint8_t *p, uint32_t cb)
+{
+    if (cb == 4) {
+        double v[3];
+        rgbe_decode(p, v);
+        return (real)v[1];
+    }
+    return (real)srgb_decode8[p[1]];
+}
+
+/* The RMS of a frame's light against truth. */
+static real rms_off(const uint8_t *px, uint32_t cb, const real *truth)
+{
+    double sum = 0;
+    for (int i = 0; i < W * H; i++) {
+        const double e = (double)(light_of(px + (size_t)i * (cb + DENOISE_GUIDE_BYTES), cb) - truth[i]);
+        sum += e * e;
+    }
+    return (real)sqrt(sum / (W * H));
+}
+
+static Camera slide(int i) { return camera_from_angles(v3(R(0.04) * (real)i, R(0), R(0)), 0, 0, 0, R(1.2)); }
+
+/* Frames 0 .. n - 1 of the sliding camera through t (epoch 1); the last
+ * frame's pixels (as the history showed them) and truth left in px, truth. */
+static void fly(Temporal *t, int n, uint32_t cb, uint8_t *px, real *truth)
+{
+    for (int i = 0; i < n; i++) {
+        const Camera c = slide(i);
+        wall_frame(&c, WALL_Z, R(1), (uint32_t)i, R(0.1), cb, px, truth);
+        const TemporalFrame f = {c, 1, 1, 0};
+        assert_int_equal(temporal_add(t, px, W, H, cb, 0, &f), 0);
+    }
+}
+
+static void history_follows_the_wall(void **state)
+{
+    (void)state;
+    for (uint32_t cb = 3; cb <= 4; cb++) {
+        uint8_t *px = malloc((size_t)W * H * (cb + DENOISE_GUIDE_BYTES));
+        real *truth = malloc(sizeof(real) * W * H);
+        Temporal *t = temporal_create(NULL, W, H, 8);
+        assert_non_null(t);
+        /* one frame alone: its noise (uniform +-0.1: RMS 0.058) */
+        const Camera c11 = slide(11);
+        wall_frame(&c11, WALL_Z, R(1), 11, R(0.1), cb, px, truth);
+        const real alone = rms_off(px, cb, truth);
+        fly(t, 12, cb, px, truth);
+        const real added = rms_off(px, cb, truth);
+        print_message("%u-byte colour: RMS %.4f one frame, %.4f after 12 through the history\n", cb, (double)alone,
+                      (double)added);
+        assert_true(alone > R(0.04));
+        assert_true(added < alone * R(0.5));
+        /* a history that stays where the pixels are (the camera said not to
+         * move) smears the stripes: much further off */
+        Temporal *fixed = temporal_create(NULL, W, H, 8);
+        for (int i = 0; i < 12; i++) {
+            const Camera c = slide(i), still = slide(0);
+            wall_frame(&c, WALL_Z, R(1), (uint32_t)i, R(0.1), cb, px, truth);
+            const TemporalFrame f = {still, 1, 1, 0};
+            temporal_add(fixed, px, W, H, cb, 0, &f);
+        }
+        assert_true(rms_off(px, cb, truth) > added * R(2));
+        temporal_destroy(fixed);
+        temporal_destroy(t);
+        free(px);
+        free(truth);
+    }
+}
+
+/* Whether every pixel of a is b's. */
+static int same_bytes(const uint8_t *a, const uint8_t *b, size_t n) { return memcmp(a, b, n) == 0; }
+
+static void new_surfaces_start_again(void **state)
+{
+    (void)state;
+    const size_t bytes = (size_t)W * H * (3 + DENOISE_GUIDE_BYTES);
+    uint8_t *px = malloc(bytes), *own = malloc(bytes);
+    Temporal *t = temporal_create(NULL, W, H, 8);
+    fly(t, 6, 3, px, NULL);
+    /* the next frame sees a wall half as far (a surface come into view),
+     * then one facing another way: each pixel its own bytes */
+    const Camera c = slide(6);
+    const real zs[2] = {R(-5), WALL_Z}, ns[2] = {R(1), R(0.7)};
+    for (int k = 0; k < 2; k++) {
+        wall_frame(&c, zs[k], ns[k], 100 + (uint32_t)k, R(0.1), 3, own, NULL);
+        memcpy(px, own, bytes);
+        const TemporalFrame f = {c, 1, 1, 0};
+        temporal_add(t, px, W, H, 3, 0, &f);
+        assert_true(same_bytes(px, own, bytes));
+        fly(t, 4, 3, px, NULL); /* history again */
+    }
+    /* the same wall again, a frame on: added up (not its own bytes) */
+    const Camera c4 = slide(4);
+    wall_frame(&c4, WALL_Z, R(1), 200, R(0.1), 3, own, NULL);
+    memcpy(px, own, bytes);
+    TemporalFrame f = {c4, 1, 1, 0};
+    temporal_add(t, px, W, H, 3, 0, &f);
+    assert_false(same_bytes(px, own, bytes));
+    /* ... but under a new epoch (a scene or settings changed) it is */
+    memcpy(px, own, bytes);
+    f.epoch = 2;
+    temporal_add(t, px, W, H, 3, 0, &f);
+    assert_true(same_bytes(px, own, bytes));
+    temporal_destroy(t);
+    free(px);
+    free(own);
+}
+
+static void still_frames_take_over(void **state)
+{
+    (void)state;
+    const size_t bytes = (size_t)W * H * (3 + DENOISE_GUIDE_BYTES);
+    uint8_t *px = malloc(bytes), *own = malloc(bytes);
+    real *truth = malloc(sizeof(real) * W * H);
+    Temporal *t = temporal_create(NULL, W, H, 8);
+    fly(t, 12, 3, px, NULL);
+    const Camera c = slide(11); /* the last moving frame's */
+    /* still frames of 1, 2, 4 and 8 samples (less noise each): the first
+     * three weighed with the history, which they read each alike (a still
+     * frame of 1 sample is as close as the history, not as one frame),
+     * the last its own bytes */
+    const int samples[4] = {1, 2, 4, 8};
+    for (int k = 0; k < 4; k++) {
+        wall_frame(&c, WALL_Z, R(1), 300 + (uint32_t)k, R(0.1) / sqrt((real)samples[k]), 3, own, truth);
+        memcpy(px, own, bytes);
+        const TemporalFrame f = {c, 1, samples[k], 1};
+        temporal_add(t, px, W, H, 3, 0, &f);
+        if (k < 3) {
+            assert_false(same_bytes(px, own, bytes));
+            assert_true(rms_off(px, 3, truth) < rms_off(own, 3, truth));
+        } else {
+            assert_true(same_bytes(px, own, bytes));
+        }
+    }
+    temporal_destroy(t);
+    free(px);
+    free(own);
+    free(truth);
+}
+
+static void same_bytes_on_any_threads(void **state)
+{
+    (void)state;
+    const size_t bytes = (size_t)W * H * (4 + DENOISE_GUIDE_BYTES);
+    uint8_t *a = malloc(bytes), *b = malloc(bytes);
+    Err err;
+    Pool *pool = pool_create(3, &err);
+    assert_non_null(pool);
+    Temporal *alone = temporal_create(NULL, W, H, 8), *three = temporal_create(pool, W, H, 8);
+    fly(alone, 9, 4, a, NULL);
+    fly(three, 9, 4, b, NULL);
+    assert_true(same_bytes(a, b, bytes));
+    /* a frame larger than the history: refused, untouched */
+    Temporal *small = temporal_create(NULL, W / 2, H, 8);
+    memcpy(b, a, bytes);
+    const TemporalFrame f = {slide(0), 1, 1, 0};
+    assert_int_equal(temporal_add(small, b, W, H, 4, 0, &f), -1);
+    assert_true(same_bytes(a, b, bytes));
+    assert_null(temporal_create(NULL, W, H, 0));
+    assert_null(temporal_create(NULL, W, H, TEMPORAL_MAX_FRAMES + 1));
+    temporal_destroy(small);
+    temporal_destroy(alone);
+    temporal_destroy(three);
+    pool_destroy(pool);
+    free(a);
+    free(b);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(history_follows_the_wall),
+        cmocka_unit_test(new_surfaces_start_again),
+        cmocka_unit_test(still_frames_take_over),
+        cmocka_unit_test(same_bytes_on_any_threads),
+    };
+    return cmocka_run_group_tests_name("temporal", tests, NULL, NULL);
+}
