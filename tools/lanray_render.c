@@ -124,7 +124,7 @@ typedef struct {
     int sampling, sampling_given, limit, limit_given, lights, lights_given, integrator, integrator_given;
     int emitters, emitters_given, roulette, roulette_given, contrast, contrast_given, denoise, denoise_given;
     int still_frame, progressive;
-    Flight flight; /* --frames: a server's frames along --path */
+    Flight flight; /* --server-frame: a server's frames, along --path */
     double exposure;
     CliAa aa;
     CliEnvironment env;
@@ -263,7 +263,7 @@ static int parse_args(Args *a, int argc, char **argv)
 }
 
 /* --path: the path's camera at --at in place of the scene's, the path
- * kept for --frames (0, or 1). */
+ * kept for --server-frame (0, or 1). */
 static int apply_path(Scene *scene, const Args *a, CameraPath *path, Err *err)
 {
     if (!a->path)
@@ -325,7 +325,7 @@ static int apply_settings(Scene *scene, Args *a)
         rs->batches = a->still_frame;
     }
     if (a->flight.frames && (a->still_frame || a->progressive || a->repeat > 1)) {
-        fprintf(stderr, "lanray-render: --frames: a server's frames, not with --still-frame, --progressive or --repeat\n");
+        fprintf(stderr, "lanray-render: --server-frame: a server's frames, not with --still-frame, --progressive or --repeat\n");
         return 2;
     }
     if (a->progressive && (!progressive_batches(rs) || a->repeat > 1)) {
@@ -438,7 +438,7 @@ static int job_open(Job *j, Args *a, Err *err)
     if (j->banded && (a->profile || a->progressive || a->flight.frames || j->scene->settings.denoise))
         rc = err_set(err, "%dx%d is rendered in bands (%.1f GB whole); %s needs the whole frame", width, height,
                      (double)frame_bytes / 1e9,
-                     a->profile ? "--profile" : a->progressive ? "--progressive" : a->flight.frames ? "--frames" : "denoising");
+                     a->profile ? "--profile" : a->progressive ? "--progressive" : a->flight.frames ? "--server-frame" : "denoising");
     else /* with the denoiser's planes (84 bytes a pixel) and the frame it writes */
         rc = cli_check_memory((uint64_t)width * (uint64_t)j->band * j->bpp +
                                   (j->scene->settings.denoise

@@ -15,7 +15,7 @@ static int frame_settings(const RenderSettings *view, const Flight *fl, uint32_t
         rs->aa = fl->still_aa, rs->adaptive = 0;
         const int batches = progressive_batches(rs);
         if (!batches)
-            return err_set(err, "--frames: still frames of %d x %d samples do not go in batches (path-traced, N a power "
+            return err_set(err, "--server-frame: still frames of %d x %d samples do not go in batches (path-traced, N a power "
                                 "of two, 2 or more)", fl->still_aa, fl->still_aa);
         rs->batches = still_step < batches ? still_step : batches;
         return (int)progressive_end(rs->batches);

@@ -1,5 +1,5 @@
 /* flight.h - the frames a farm shows along a camera path, made by one
- * program (lanray-render --frames), so that each of a server's frames in
+ * program (lanray-render --server-frame), so that each of a server's frames in
  * a flight can be checked bit for bit.
  *
  * Frame i shows the path at (i - 1) x step seconds (clamped to its end),
@@ -29,15 +29,15 @@ typedef struct {
 /* lanray-render's options for a flight; the server has --path-step,
  * --still-aa and --temporal of the same meaning. */
 #define FLIGHT_OPTS(f) \
-    {.name = "--frames", .kind = OPT_INT, .dst = &(f)->frames, .arg = "K", .lo = 0, .hi = 100000, .def = "0", \
-     .help = "render the first K frames a server shows of the scene, or flying --path (lanray-server " \
-             "--path-step, --still-aa, --temporal), and write the last; 0 = one frame at --at"}, \
+    {.name = "--server-frame", .kind = OPT_INT, .dst = &(f)->frames, .arg = "K", .lo = 0, .hi = 100000, .def = "0", \
+     .help = "the picture of a server's frame K of the scene, or flying --path (lanray-server --path-step, " \
+             "--still-aa, --temporal): its frames 1 to K rendered, the last written; 0 = one frame at --at"}, \
     {.name = "--path-step", .kind = OPT_REAL, .dst = &(f)->step, .arg = "S", .rlo = 0, .rhi = 1e6, .def = "0", \
-     .help = "--frames: seconds of the path a frame (frame i shows it at (i - 1) x S)"}, \
+     .help = "--server-frame: seconds of the path a frame (frame i shows it at (i - 1) x S)"}, \
     {.name = "--still-aa", .kind = OPT_INT, .dst = &(f)->still_aa, .arg = "N", .lo = 0, .hi = AA_MAX, .def = "0", \
-     .help = "--frames: the still frames' N x N samples, N a power of two, in batches that double them; 0 = as " \
+     .help = "--server-frame: the still frames' N x N samples, N a power of two, in batches that double them; 0 = as " \
              "the moving ones"}, \
-    CLI_TEMPORAL_OPT(&(f)->temporal, "--frames, path-traced and denoised: ")
+    CLI_TEMPORAL_OPT(&(f)->temporal, "--server-frame, path-traced and denoised: ")
 
 /* --temporal, the server's and lanray-render's */
 #define CLI_TEMPORAL_OPT(to, what) \

@@ -28,7 +28,7 @@
  * standard error of its mean where 4 frames or more weigh in, so that the
  * denoiser that follows smooths what is still noisy and keeps what is not.
  * Every pixel is computed alone, in float arithmetic in a fixed order: a
- * farm's frames and lanray-render --frames's are the same bytes. */
+ * farm's frames and lanray-render --server-frame's are the same bytes. */
 #ifndef LANRAY_TEMPORAL_H
 #define LANRAY_TEMPORAL_H
 

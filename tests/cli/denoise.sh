@@ -8,7 +8,7 @@
 # with adaptive anti-aliasing, through a lens and a fisheye, in .hdr; a
 # Whitted frame passes as it is; through a server and two clients (moving
 # frames added up by their history, and the still ones that refine), the
-# frames are lanray-render's --frames pictures bit for bit, with the
+# frames are lanray-render's --server-frame pictures bit for bit, with the
 # server's --denoise or the scene's own setting, and without the history
 # its one-frame --denoise pictures; a frame too large for memory whole is refused,
 # naming denoising, and leaves no file.  Under ThreadSanitizer (make
@@ -68,7 +68,7 @@ cmp -s "$dir/w.png" "$dir/w-on.png" || fail "a Whitted frame changed under --den
 # the pixel's, added up by the history: --temporal 8, the default), then
 # still frames of 1, 2, 4, 8 and 16 samples of 4x4 (--still-aa 4: batches,
 # their sums and their guides' added up by the server, the first ones
-# weighed with the history), each lanray-render's --frames K picture bit for
+# weighed with the history), each lanray-render's --server-frame K picture bit for
 # bit; with --temporal 0 the moving frames are lanray-render's --denoise
 # pictures of one sample at their time, and the still frames its
 # --still-frame K pictures
@@ -78,7 +78,7 @@ key 1 position 200 300 -700 lookat 278 273 0 fov 40
 PATH
 fly=(--integrator path --path "$dir/room.path" --path-step 0.5 --aa 1 --still-aa 4 --width 48 --height 48 --denoise on)
 for k in 1 2 3 4 5 6 7 8; do
-    render $S "${fly[@]}" --frames $k -o "$dir/t-$k.png"
+    render $S "${fly[@]}" --server-frame $k -o "$dir/t-$k.png"
 done
 for t in 0 0.5 1; do
     render $S --integrator path --path "$dir/room.path" --at $t --aa 1 --width 48 --height 48 --denoise on -o "$dir/m-$t.png"

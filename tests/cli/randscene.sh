@@ -37,9 +37,9 @@ for seed in $(seq "$FIRST_SEED" $((FIRST_SEED + SEEDS - 1))); do
     tail=${tails[$((seed / 6 % 3))]}
     linear=()
     [ $((seed % 5)) -eq 0 ] && linear=(--linear) # the output encoding travels to the clients too
-    # (unrefined, the server's frame 1: lanray-render's --frames 1, a
+    # (unrefined, the server's frame 1: lanray-render's --server-frame 1, a
     # path-traced denoised view's moving frame taking its first sample)
-    refine=() check=(--frames 1 --verify "$ref") aa=(--frames 1) last=2
+    refine=() check=(--frames 1 --verify "$ref") aa=(--server-frame 1) last=2
     grep -q "integrator path" "$scene" && last=3 # a path-traced view refines at 2x2 first, then adaptive:4
     if [ $((seed % 4)) -eq 0 ]; then
         aa=(--aa adaptive:4)
