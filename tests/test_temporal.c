@@ -6,7 +6,9 @@
  * the wall across the pixels; a history that did not, or that was not
  * there, is several times further off), in 8-bit codes and in RGBE; a
  * surface that comes into view (another distance, another way) starts
- * again from its own bytes, as does every pixel after a new epoch; a still
+ * again from its own bytes, as does every pixel after a new epoch, and a
+ * wall that comes out from behind a moving edge is not the edge's light,
+ * and a lamp's edge (no distance in its guide) adds up anti-aliased; a still
  * frame with fewer samples than the history is weighed with it and one
  * with as many is its own bytes; the bytes are the same on any threads,
  * and a frame larger than the history is refused untouched. */
@@ -165,6 +167,86 @@ static void new_surfaces_start_again(void **state)
     free(own);
 }
 
+/* A dark board before the wall, its edge at x = 0, the camera sliding
+ * right: the wall comes out from behind the edge.  A frame of it (the
+ * board's light 0.05, the wall's 0.5, noise +-0.1) into px, and per pixel
+ * whether it saw the board.  lamp: the board is a lamp in the wall's plane
+ * instead (light 0.9, no noise, and as an emitter no distance in its
+ * guide). */
+static void board_frame(const Camera *c, uint32_t frame, uint8_t *px, uint8_t *board, int lamp)
+{
+    CameraFrame cf = camera_frame(c, W, H);
+    for (int y = 0; y < H; y++)
+        for (int x = 0; x < W; x++) {
+            vec3 o, d;
+            camera_ray(&cf, (real)x + R(0.5), (real)y + R(0.5), &o, &d);
+            const real tb = ((lamp ? WALL_Z : R(-5)) - o.z) / d.z, tw = (WALL_Z - o.z) / d.z;
+            const int on = o.x + d.x * tb < R(0);
+            const real l = on ? (lamp ? R(0.9) : R(0.05)) : R(0.5), t = on ? tb : tw;
+            const real noise = on && lamp ? R(0) : R(0.1);
+            const real v = l + noise * (R(2) * sample_unit(sample_mix(sample_hash(frame), (uint32_t)(y * W + x))) - R(1));
+            uint8_t *p = px + (size_t)(y * W + x) * (3 + DENOISE_GUIDE_BYTES);
+            for (int k = 0; k < 3; k++)
+                p[k] = srgb_encode8(v);
+            const Guide g = {v3(R(0.8), R(0.8), R(0.8)), v3(R(0), R(0), R(1)), t, on && lamp ? 0 : 1, v * v};
+            denoise_guide_pack(&g, 1, v3(v, v, v), p + 3);
+            board[y * W + x] = (uint8_t)on;
+        }
+}
+
+/* The wall that comes out from behind the board's edge is the wall's light
+ * at once, not the board's that stood there the frame before (a dark
+ * trail beside every edge that moves). */
+static void what_comes_out_is_not_what_hid_it(void **state)
+{
+    (void)state;
+    uint8_t *px = malloc((size_t)W * H * (3 + DENOISE_GUIDE_BYTES)), before[W * H], now[W * H];
+    Temporal *t = temporal_create(NULL, W, H, 8);
+    int revealed = 0;
+    for (int i = 0; i < 10; i++) {
+        const Camera c = camera_from_angles(v3(R(0.08) * (real)i, R(0), R(0)), 0, 0, 0, R(1.2));
+        board_frame(&c, (uint32_t)i, px, now, 0);
+        const TemporalFrame f = {c, 1, 1, 0};
+        temporal_add(t, px, W, H, 3, 0, &f);
+        for (int p = 0; i > 0 && p < W * H; p++)
+            if (before[p] && !now[p]) { /* board the frame before, wall now */
+                assert_true(light_of(px + (size_t)p * (3 + DENOISE_GUIDE_BYTES), 3) > R(0.38));
+                revealed++;
+            }
+        memcpy(before, now, sizeof now);
+    }
+    assert_true(revealed > 20);
+    temporal_destroy(t);
+    free(px);
+}
+
+/* A lamp's edge (its pixels no distance, as an emitter's): the pixels it
+ * crosses as the camera slides add up lamp and wall, anti-aliased, where
+ * each was one or the other, as its own frame said. */
+static void a_lamp_edge_adds_up(void **state)
+{
+    (void)state;
+    uint8_t *px = malloc((size_t)W * H * (3 + DENOISE_GUIDE_BYTES)), lamp[W * H];
+    Temporal *t = temporal_create(NULL, W, H, 8);
+    int between = 0;
+    for (int i = 0; i < 10; i++) {
+        const Camera c = camera_from_angles(v3(R(0.031) * (real)i, R(0), R(0)), 0, 0, 0, R(1.2));
+        board_frame(&c, (uint32_t)i, px, lamp, 1);
+        const TemporalFrame f = {c, 1, 1, 0};
+        temporal_add(t, px, W, H, 3, 0, &f);
+    }
+    for (int p = 0; p < W * H; p++) {
+        const real l = light_of(px + (size_t)p * (3 + DENOISE_GUIDE_BYTES), 3);
+        if (lamp[p]) /* the lamp's own pixels: its light, or on its edge less */
+            assert_true(l <= R(0.91));
+        between += l > R(0.65) && l < R(0.85);
+    }
+    print_message("%d pixels between lamp and wall\n", between);
+    assert_true(between >= H / 2);
+    temporal_destroy(t);
+    free(px);
+}
+
 static void still_frames_take_over(void **state)
 {
     (void)state;
@@ -230,6 +312,8 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(history_follows_the_wall),
         cmocka_unit_test(new_surfaces_start_again),
+        cmocka_unit_test(what_comes_out_is_not_what_hid_it),
+        cmocka_unit_test(a_lamp_edge_adds_up),
         cmocka_unit_test(still_frames_take_over),
         cmocka_unit_test(same_bytes_on_any_threads),
     };

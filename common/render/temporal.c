@@ -1,6 +1,7 @@
 /* temporal.c - the reprojected history of temporal.h. */
 #include "render/temporal.h"
 
+#include <float.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -93,12 +94,14 @@ static void colour_write(uint8_t *p, uint32_t cb, int linear, const float c[3])
 /* What a pixel of the frame before must have seen to count: a surface at
  * distance d (within SAME_DEPTH) facing n; at an edge (the pixel's 3 x 3
  * saw surfaces at distances lo to hi further apart than that, or facing
- * other ways), any surface between those distances, so that the edge's pixels add up what their
+ * other ways), any surface between those distances (unless the point was
+ * hidden then: history_at), so that the edge's pixels add up what their
  * samples meet on either side (its anti-aliasing) where the test of one
  * surface would start them again at every frame that meets the other. */
 typedef struct {
     float d, lo, hi, n[3];
     int edge;
+    int open; /* its 3 x 3 also saw the background or an emitter (no distance): those count too */
 } Seen;
 
 /* Pixel (x, y) of frame src added to acc by weight wt where it saw what
@@ -108,11 +111,12 @@ static float tap(const HistFrame *src, int x, int y, const Seen *seen, float wt,
     if (x < 0 || y < 0 || x >= src->cam.width || y >= src->cam.height || !(wt > 0.0f))
         return 0.0f;
     const Hist *q = &src->px[(size_t)y * (size_t)src->cam.width + (size_t)x];
-    if (!(q->depth > 0.0f) || !(q->len > 0.0f))
+    if (!(q->len > 0.0f) || (!(q->depth > 0.0f) && !seen->open))
         return 0.0f;
-    if (seen->edge ? q->depth < seen->lo || q->depth > seen->hi
-                   : fabsf(q->depth - seen->d) > SAME_DEPTH * (q->depth > seen->d ? q->depth : seen->d) ||
-                         q->n[0] * seen->n[0] + q->n[1] * seen->n[1] + q->n[2] * seen->n[2] < SAME_NORMAL)
+    if (q->depth > 0.0f &&
+        (seen->edge ? q->depth < seen->lo || q->depth > seen->hi
+                    : fabsf(q->depth - seen->d) > SAME_DEPTH * (q->depth > seen->d ? q->depth : seen->d) ||
+                          q->n[0] * seen->n[0] + q->n[1] * seen->n[1] + q->n[2] * seen->n[2] < SAME_NORMAL))
         return 0.0f;
     for (int k = 0; k < 3; k++) {
         acc->c[k] += wt * q->c[k];
@@ -139,6 +143,14 @@ static int history_at(const HistFrame *src, vec3 p, Seen *seen, Hist *out)
     /* the distances as the frame before's camera sees them: moved by what p's moved */
     const float d = (float)dist, shift = d - seen->d;
     seen->d = d, seen->lo = (seen->lo + shift) * (1.0f - SAME_DEPTH), seen->hi = (seen->hi + shift) * (1.0f + SAME_DEPTH);
+    const int xn = (int)floor(x), yn = (int)floor(y);
+    if (seen->edge && xn >= 0 && yn >= 0 && xn < w && yn < h) {
+        /* the frame before saw a nearer surface there: p was hidden (a
+         * surface coming out from behind an edge), not one side of it */
+        const float dn = src->px[(size_t)yn * (size_t)w + (size_t)xn].depth;
+        if (dn > 0.0f && dn < d * (1.0f - 2.0f * SAME_DEPTH))
+            return 0;
+    }
     const int x0 = (int)floor(fx), y0 = (int)floor(fy);
     const float ax = (float)(fx - (real)x0), ay = (float)(fy - (real)y0);
     float wsum = 0.0f;
@@ -148,7 +160,6 @@ static int history_at(const HistFrame *src, vec3 p, Seen *seen, Hist *out)
         for (int i = 0; i < 2; i++)
             wsum += tap(src, x0 + i, y0 + j, seen, (i ? ax : 1.0f - ax) * (j ? ay : 1.0f - ay), &acc);
     /* none of the four saw it: the 3 x 3 about the nearest that did, alike */
-    const int xn = (int)floor(x), yn = (int)floor(y);
     for (int j = -1; j <= 1 && !(wsum > 1e-3f); j++)
         for (int i = -1; i <= 1; i++)
             wsum += tap(src, xn + i, yn + j, seen, 1.0f, &acc);
@@ -174,6 +185,7 @@ typedef struct {
     const HistFrame *src;
     HistFrame *dst;
     float frames;
+    float detail; /* the history's pixels over the frame's, at most 1 */
 } Pass;
 
 /* The mean square of a pixel's luminance from its mean and its guide's
@@ -184,32 +196,44 @@ static float mean_square(float lum, float noise, float samples)
     return lum * lum + se * se * samples;
 }
 
-/* Rows [lo, hi): the pixels' surfaces (distance, normal) into the history written. */
+/* Rows [lo, hi): the pixels' guides read into the history written: their
+ * surfaces (distance, normal) for their neighbours' edges, and until
+ * pass_pixel reads them their albedo (alb) and noise (m2). */
 static void pass_guides(void *ctx, uint64_t lo, uint64_t hi, int thread)
 {
     (void)thread;
     const Pass *ps = ctx;
     for (size_t i = (size_t)lo * ps->w; i < (size_t)hi * ps->w; i++) {
-        float albedo[3], noise;
         Hist *o = &ps->dst->px[i];
-        denoise_guide_unpack(ps->px + i * ps->bpp + ps->cb, albedo, o->n, &o->depth, &noise);
+        denoise_guide_unpack(ps->px + i * ps->bpp + ps->cb, o->alb, o->n, &o->depth, &o->m2);
     }
 }
 
-/* The surface pixel (x, y) saw, and whether its 3 x 3 is an edge. */
+/* The surface pixel (x, y) saw, and whether its 3 x 3 is an edge.  A
+ * pixel that saw no surface (the background, an emitter: no distance)
+ * beside ones that did is an open edge, taken at the farthest of their
+ * distances (a lamp in a ceiling moves with the ceiling, the sky beside a
+ * silhouette with it); d 0: none around either (it shows as it is). */
 static Seen seen_at(const Pass *ps, uint32_t x, uint32_t y)
 {
     const Hist *o = &ps->dst->px[(size_t)y * ps->w + x];
-    Seen s = {o->depth, o->depth, o->depth, {o->n[0], o->n[1], o->n[2]}, 0};
+    Seen s = {o->depth, FLT_MAX, 0.0f, {o->n[0], o->n[1], o->n[2]}, 0, 0};
+    const int own = o->depth > 0.0f;
     for (uint32_t j = y > 0 ? y - 1 : 0; j <= y + 1 && j < ps->h; j++)
         for (uint32_t i = x > 0 ? x - 1 : 0; i <= x + 1 && i < ps->w; i++) {
             const Hist *q = &ps->dst->px[(size_t)j * ps->w + i];
-            if (!(q->depth > 0.0f))
+            if (!(q->depth > 0.0f)) {
+                s.open = 1;
                 continue;
+            }
             s.lo = q->depth < s.lo ? q->depth : s.lo, s.hi = q->depth > s.hi ? q->depth : s.hi;
-            s.edge |= q->n[0] * s.n[0] + q->n[1] * s.n[1] + q->n[2] * s.n[2] < SAME_NORMAL;
+            s.edge |= own && q->n[0] * s.n[0] + q->n[1] * s.n[1] + q->n[2] * s.n[2] < SAME_NORMAL;
         }
-    s.edge |= s.hi > s.lo * (1.0f + 2.0f * SAME_DEPTH);
+    if (!(s.hi > 0.0f)) /* no surface in the 3 x 3 */
+        return (Seen){0};
+    s.edge |= s.open || s.hi > s.lo * (1.0f + 2.0f * SAME_DEPTH);
+    if (!own)
+        s.d = s.hi;
     return s;
 }
 
@@ -218,17 +242,20 @@ static void pass_pixel(const Pass *ps, uint32_t x, uint32_t y)
     const size_t i = (size_t)y * ps->w + x;
     uint8_t *p = ps->px + i * ps->bpp;
     Hist *o = &ps->dst->px[i];
-    float albedo[3], noise, c[3], n[3], depth;
-    denoise_guide_unpack(p + ps->cb, albedo, n, &depth, &noise);
+    float c[3];
+    const float albedo[3] = {o->alb[0], o->alb[1], o->alb[2]}, n[3] = {o->n[0], o->n[1], o->n[2]}, noise = o->m2;
     colour_read(p, ps->cb, ps->linear, c);
     const float s = (float)ps->f->samples, lum = luminance(c);
     Hist h;
     int found = 0;
     vec3 org, dir;
-    if (ps->src && o->depth > 0.0f && camera_ray(&ps->dst->cam, (real)x + R(0.5), (real)y + R(0.5), &org, &dir)) {
-        Seen seen = seen_at(ps, x, y);
-        found = history_at(ps->src, v3_madd(org, dir, (real)o->depth), &seen, &h);
-    }
+    Seen seen = ps->src ? seen_at(ps, x, y) : (Seen){0};
+    if (seen.d > 0.0f && camera_ray(&ps->dst->cam, (real)x + R(0.5), (real)y + R(0.5), &org, &dir))
+        found = history_at(ps->src, v3_madd(org, dir, (real)seen.d), &seen, &h);
+    /* a history of fewer pixels (a coarser render scale) has less of this
+     * pixel's detail: it counts as fewer frames */
+    if (found)
+        h.len *= ps->detail;
     if (!found || (ps->f->still && s >= h.len)) { /* the frame's own bytes */
         memcpy(o->c, c, sizeof c);
         memcpy(o->alb, albedo, sizeof albedo);
@@ -285,7 +312,9 @@ int temporal_add(Temporal *t, uint8_t *px, uint32_t w, uint32_t h, uint32_t colo
     const int src = f->still ? t->base : t->prev, dst = src == 0 ? 1 : 0;
     t->f[dst].cam = camera_frame(&f->camera, (int)w, (int)h);
     Pass ps = {px, w, h, colour_bytes, colour_bytes + DENOISE_GUIDE_BYTES, linear, f, src >= 0 ? &t->f[src] : NULL,
-               &t->f[dst], (float)t->frames};
+               &t->f[dst], (float)t->frames, 1.0f};
+    if (src >= 0 && (double)t->f[src].cam.width * t->f[src].cam.height < (double)w * h)
+        ps.detail = (float)((double)t->f[src].cam.width * t->f[src].cam.height / ((double)w * h));
     pool_for(t->pool, h, 8, pass_guides, &ps);
     pool_for(t->pool, h, 8, pass_rows, &ps);
     t->prev = dst;
