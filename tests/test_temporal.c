@@ -194,6 +194,16 @@ static void board_frame(const Camera *c, uint32_t frame, uint8_t *px, uint8_t *b
         }
 }
 
+/* Frame i of the board (or lamp) as the camera slides right by `step` a
+ * frame, added to t. */
+static void board_step(Temporal *t, int i, real step, int lamp, uint8_t *px, uint8_t *board)
+{
+    const Camera c = camera_from_angles(v3(step * (real)i, R(0), R(0)), 0, 0, 0, R(1.2));
+    board_frame(&c, (uint32_t)i, px, board, lamp);
+    const TemporalFrame f = {c, 1, 1, 0};
+    assert_int_equal(temporal_add(t, px, W, H, 3, 0, &f), 0);
+}
+
 /* The wall that comes out from behind the board's edge is the wall's light
  * at once, not the board's that stood there the frame before (a dark
  * trail beside every edge that moves). */
@@ -204,10 +214,7 @@ static void what_comes_out_is_not_what_hid_it(void **state)
     Temporal *t = temporal_create(NULL, W, H, 8);
     int revealed = 0;
     for (int i = 0; i < 10; i++) {
-        const Camera c = camera_from_angles(v3(R(0.08) * (real)i, R(0), R(0)), 0, 0, 0, R(1.2));
-        board_frame(&c, (uint32_t)i, px, now, 0);
-        const TemporalFrame f = {c, 1, 1, 0};
-        temporal_add(t, px, W, H, 3, 0, &f);
+        board_step(t, i, R(0.08), 0, px, now);
         for (int p = 0; i > 0 && p < W * H; p++)
             if (before[p] && !now[p]) { /* board the frame before, wall now */
                 assert_true(light_of(px + (size_t)p * (3 + DENOISE_GUIDE_BYTES), 3) > R(0.38));
@@ -229,12 +236,8 @@ static void a_lamp_edge_adds_up(void **state)
     uint8_t *px = malloc((size_t)W * H * (3 + DENOISE_GUIDE_BYTES)), lamp[W * H];
     Temporal *t = temporal_create(NULL, W, H, 8);
     int between = 0;
-    for (int i = 0; i < 10; i++) {
-        const Camera c = camera_from_angles(v3(R(0.031) * (real)i, R(0), R(0)), 0, 0, 0, R(1.2));
-        board_frame(&c, (uint32_t)i, px, lamp, 1);
-        const TemporalFrame f = {c, 1, 1, 0};
-        temporal_add(t, px, W, H, 3, 0, &f);
-    }
+    for (int i = 0; i < 10; i++)
+        board_step(t, i, R(0.031), 1, px, lamp);
     for (int p = 0; p < W * H; p++) {
         const real l = light_of(px + (size_t)p * (3 + DENOISE_GUIDE_BYTES), 3);
         if (lamp[p]) /* the lamp's own pixels: its light, or on its edge less */
