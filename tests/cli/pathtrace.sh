@@ -452,21 +452,27 @@ within_light() {
     python3 -c "import sys; sys.exit(0 if $err <= $3 and abs($ratio - 1) <= 0.015 else 1)" || return 1
     echo "$err $ratio"
 }
-read -r nee_err nee_ratio <<<"$(within_light "$dir/mis-nee.hdr" "$dir/mis-mis.hdr" 0.02)" ||
+# (each result taken apart from its read: a read of a failed command's
+# output succeeds, and these checks never failed before 2026-11-30; NEE
+# alone at 16x16 is 0.021 off its own 32x32 picture here, hence 0.03)
+out=$(within_light "$dir/mis-nee.hdr" "$dir/mis-mis.hdr" 0.03) ||
     fail "emitters by next-event estimation alone differ from MIS beyond the noise"
-read -r bsdf_err bsdf_ratio <<<"$(within_light "$dir/mis-bsdf.hdr" "$dir/mis-mis.hdr" 0.08)" ||
+read -r nee_err nee_ratio <<<"$out"
+out=$(within_light "$dir/mis-bsdf.hdr" "$dir/mis-mis.hdr" 0.08) ||
     fail "emitters by bounces alone differ from MIS beyond the noise"
+read -r bsdf_err bsdf_ratio <<<"$out"
 sed 's/emit 1.5 1.5 1.3/emit 1.56 1.56 1.352/' "$dir/mis.scene" >"$dir/mis4.scene"
 "$BIN/lanray-render" "$dir/mis4.scene" --emitter-sampling nee --aa 16 --width 48 --height 36 -o "$dir/mis4.hdr" --quiet >/dev/null
-within_light "$dir/mis4.hdr" "$dir/mis-mis.hdr" 0.02 >/dev/null && fail "a panel 4% brighter passes: the test cannot tell"
+within_light "$dir/mis4.hdr" "$dir/mis-mis.hdr" 0.03 >/dev/null && fail "a panel 4% brighter passes: the test cannot tell"
 # the furnace under MIS (the default): the emitter sampled as well, so
 # each path brings 1 only on average: within the noise of 6x6 blocks
 for m in mis bsdf; do
     "$BIN/lanray-render" "$dir/furnace.scene" --emitter-sampling $m --aa 8 --width 48 --height 36 -o "$dir/f-$m.hdr" \
         --quiet >/dev/null || fail "the furnace did not render with emitter_sampling $m"
 done
-read -r fur_err fur_ratio <<<"$(within_light "$dir/f-mis.hdr" "$dir/f-bsdf.hdr" 0.02)" ||
+out=$(within_light "$dir/f-mis.hdr" "$dir/f-bsdf.hdr" 0.02) ||
     fail "white furnace under MIS: not the emitter's radiance within the noise"
+read -r fur_err fur_ratio <<<"$out"
 # the Cornell box (models/cornell.scene) against Blender's Cycles: the
 # stored reference is Cycles' 64x64 frame at 4096 samples a pixel, made by
 # tools/bench/scene2cycles (docs/renderer.md); lanray's at 256 within 2%
