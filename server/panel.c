@@ -70,7 +70,8 @@ int panel_lines(const PanelInfo *p, char out[][PANEL_LINE])
     LINE("moving lights %s [L]  %s [M]  shadows %s [H]", p->light_adaptive ? "adaptive" : "full",
          p->diffuse ? "diffuse" : "phong", p->shadows ? "on" : "off");
     if (p->denoise) /* a line of its own: the one above, longer, was cut by a window 400 pixels wide */
-        LINE("frames shown %s [X]", p->denoise == 1 ? "denoised" : "raw");
+        LINE("frames shown %s [X]%s", p->denoise == 1 ? "denoised" : "raw",
+             p->denoise == 1 && p->temporal ? ", moving ones added up" : "");
     LINE("segments of %u lines", p->segment_lines);
     LINE("%u client%s", p->nclients, p->nclients == 1 ? "" : "s");
     double rest_share = 0, rest_rate = 0;

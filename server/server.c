@@ -300,8 +300,17 @@ int server_frame_still(const Server *s) { return s->shown_still; }
 int server_frame_scale(const Server *s) { return s->shown_scale; }
 int server_frame_converged(const Server *s) { return s->shown_converged; }
 int server_frame_samples(const Server *s) { return s->shown_samples; }
+
+/* The frames a history adds up of a view of settings rs: the server's
+ * --temporal where it is path-traced and denoised, else 0. */
+static int temporal_frames(const Server *s, const RenderSettings *rs)
+{
+    return rs->integrator == INTEGRATOR_PATH && rs->denoise && s->stage ? s->cfg.temporal : 0;
+}
+
 int server_denoises(const Server *s) { return s->stage != NULL; }
 int server_denoise_shown(const Server *s) { return !s->raw_view; }
+int server_temporal(const Server *s) { return temporal_frames(s, &s->view.settings); }
 void server_set_denoise_shown(Server *s, int shown)
 {
     s->raw_view = s->stage && !shown;
@@ -718,12 +727,6 @@ static int still_batches(Server *s)
     return batches;
 }
 
-/* The frames a history adds up of a view of settings rs: the server's
- * --temporal where it is path-traced and denoised, else 0. */
-static int temporal_frames(const Server *s, const RenderSettings *rs)
-{
-    return rs->integrator == INTEGRATOR_PATH && rs->denoise && s->stage ? s->cfg.temporal : 0;
-}
 
 static int start_frame(Server *s, Err *err)
 {

@@ -153,6 +153,9 @@ int server_frame_samples(const Server *s);
  * view again. */
 int server_denoises(const Server *s);
 int server_denoise_shown(const Server *s);
+/* The frames a moving pixel's history weighs (--temporal, where the view
+ * is path-traced and denoised: render/temporal.h); 0: none. */
+int server_temporal(const Server *s);
 void server_set_denoise_shown(Server *s, int shown);
 int server_newest_converged(const Server *s);
 /* One round of the event loop, waiting at most timeout_ms.  Starts a new frame

@@ -125,6 +125,7 @@ void window_panel(Window *w, double fps, const char *error)
                        .light_adaptive = server_moving_lights(w->server) == LIGHTS_ADAPTIVE,
                        .diffuse = rs.shading == SHADE_DIFFUSE, .shadows = rs.shadows,
                        .denoise = server_denoises(w->server) ? 2 - server_denoise_shown(w->server) : 0,
+                       .temporal = server_temporal(w->server),
                        .segment_lines = server_segment_lines(w->server), .clients = clients, .error = error};
         server_still(w->server, &p.refine, &p.still_aa, &p.still_adaptive);
         p.still_lights = server_still_lights(w->server);

@@ -147,7 +147,10 @@ static void panel_says_what_runs(void **state)
     assert_true(has(lines, n, "frames shown raw [X]"));
     p.denoise = 1;
     n = panel_lines(&p, lines);
-    assert_true(has(lines, n, "frames shown denoised [X]"));
+    assert_true(has(lines, n, "frames shown denoised [X]") && !has(lines, n, "added up"));
+    p.temporal = 8; /* ... and that its moving frames are added up */
+    n = panel_lines(&p, lines);
+    assert_true(has(lines, n, "frames shown denoised [X], moving ones added up"));
     assert_true(has(lines, n, "shadows on [H]") && !has(lines, n, "[H]  "));
     /* a still frame says its samples (a path-traced one's so far) */
     assert_true(has(lines, n, "moving") && !has(lines, n, "samples a pixel"));
