@@ -264,10 +264,11 @@ static void pass_pixel(const Pass *ps, uint32_t x, uint32_t y)
         o->len = s < ps->frames ? s : ps->frames;
         return;
     }
-    /* a moving frame's sample weighs 1/len, len the frames so far (at most
-     * `frames`); a still frame's samples by their share of all */
+    /* a moving frame's s samples weigh s/len, len the samples so far (at
+     * most `frames`: one a frame at one sample a pixel); a still frame's
+     * by their share of all */
     const float len = h.len + s < ps->frames ? h.len + s : ps->frames;
-    const float a = ps->f->still ? s / (h.len + s) : 1.0f / len;
+    const float a = ps->f->still ? s / (h.len + s) : s < len ? s / len : 1.0f;
     for (int k = 0; k < 3; k++) {
         o->c[k] = h.c[k] + (c[k] - h.c[k]) * a;
         o->alb[k] = h.alb[k] + (albedo[k] - h.alb[k]) * a;
