@@ -90,6 +90,13 @@ done
 cmp -s "$dir/m-0.png" "$dir/m-1.png" && fail "the path does not move the camera: the test cannot fail"
 cmp -s "$dir/t-3.png" "$dir/m-1.png" && fail "the history changed nothing in the third moving frame"
 cmp -s "$dir/t-8.png" "$dir/s-5.png" || fail "the flight's converged frame is not lanray-render's --still-frame 5"
+# a moving frame's one sample a pixel is sample 0 of the pixel's 32 x 32 in
+# their progressive order (settings jitter): a 32x32 still's first frame
+render $S --integrator path --aa 1 --server-frame 1 --width 48 --height 48 --denoise on -o "$dir/j-1.png"
+render $S --integrator path --aa 32 --still-frame 1 --width 48 --height 48 --denoise on -o "$dir/j-s1.png"
+cmp -s "$dir/j-1.png" "$dir/j-s1.png" || fail "a moving frame's sample is not the 32x32 still's first"
+render $S --integrator path --aa 1 --width 48 --height 48 --denoise on -o "$dir/c-1.png"
+cmp -s "$dir/j-1.png" "$dir/c-1.png" && fail "the moving frame's sample is the pixel's centre: the test cannot tell"
 for how in flag scene notemporal; do
     case $how in
     flag) args=(--denoise "$dir/path.scene") want=(t-1 t-2 t-3 t-4 t-5 t-6 t-7 t-8) ;;
