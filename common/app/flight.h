@@ -41,7 +41,7 @@ typedef struct {
 
 /* --temporal, the server's and lanray-render's */
 #define CLI_TEMPORAL_OPT(to, what) \
-    {.name = "--temporal", .kind = OPT_INT, .dst = to, .arg = "F", .lo = 0, .hi = TEMPORAL_MAX_FRAMES, .def = "8", \
+    {.name = "--temporal", .kind = OPT_INT, .dst = to, .arg = "F", .lo = 0, .hi = TEMPORAL_MAX_FRAMES, .def = "4", \
      .help = what "each moving frame takes another sample of its pixels, added to the frames before it (up to F " \
                   "of them, reprojected onto the moving camera); 0 = none"}
 

@@ -37,7 +37,7 @@
 #include "base/pool.h"
 #include "geom/camera.h"
 
-#define TEMPORAL_DEFAULT_FRAMES 8
+#define TEMPORAL_DEFAULT_FRAMES 4
 #define TEMPORAL_MAX_FRAMES 64
 
 typedef struct Temporal Temporal;

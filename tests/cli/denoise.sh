@@ -65,7 +65,7 @@ render --aa 1 --width $W --height $H -o "$dir/w.png"
 render --aa 1 --width $W --height $H --denoise on -o "$dir/w-on.png"
 cmp -s "$dir/w.png" "$dir/w-on.png" || fail "a Whitted frame changed under --denoise on"
 # through a server: a flight of 3 moving frames (1 sample, each another of
-# the pixel's, added up by the history: --temporal 8, the default), then
+# the pixel's, added up by the history: --temporal 4, the default), then
 # still frames of 1, 2, 4, 8 and 16 samples of 4x4 (--still-aa 4: batches,
 # their sums and their guides' added up by the server, the first ones
 # weighed with the history), each lanray-render's --server-frame K picture bit for
