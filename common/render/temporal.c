@@ -106,17 +106,26 @@ typedef struct {
 
 /* Pixel (x, y) of frame src added to acc by weight wt where it saw what
  * `seen` asks: the weight it added. */
-static float tap(const HistFrame *src, int x, int y, const Seen *seen, float wt, Hist *acc)
+/* Pixel (x, y) of frame src where it saw what `seen` asks, else NULL. */
+static const Hist *seen_there(const HistFrame *src, int x, int y, const Seen *seen)
 {
-    if (x < 0 || y < 0 || x >= src->cam.width || y >= src->cam.height || !(wt > 0.0f))
-        return 0.0f;
+    if (x < 0 || y < 0 || x >= src->cam.width || y >= src->cam.height)
+        return NULL;
     const Hist *q = &src->px[(size_t)y * (size_t)src->cam.width + (size_t)x];
     if (!(q->len > 0.0f) || (!(q->depth > 0.0f) && !seen->open))
-        return 0.0f;
+        return NULL;
     if (q->depth > 0.0f &&
         (seen->edge ? q->depth < seen->lo || q->depth > seen->hi
                     : fabsf(q->depth - seen->d) > SAME_DEPTH * (q->depth > seen->d ? q->depth : seen->d) ||
                           q->n[0] * seen->n[0] + q->n[1] * seen->n[1] + q->n[2] * seen->n[2] < SAME_NORMAL))
+        return NULL;
+    return q;
+}
+
+static float tap(const HistFrame *src, int x, int y, const Seen *seen, float wt, Hist *acc)
+{
+    const Hist *q = wt > 0.0f ? seen_there(src, x, y, seen) : NULL;
+    if (!q)
         return 0.0f;
     for (int k = 0; k < 3; k++) {
         acc->c[k] += wt * q->c[k];
@@ -126,6 +135,44 @@ static float tap(const HistFrame *src, int x, int y, const Seen *seen, float wt,
     acc->m2 += wt * q->m2;
     acc->len += wt * q->len;
     return wt;
+}
+
+/* Catmull-Rom's weights of the four taps about t in [0, 1). */
+static void cubic_weights(float t, float w[4])
+{
+    w[0] = t * (-0.5f + t * (1.0f - 0.5f * t));
+    w[1] = 1.0f + t * t * (-2.5f + 1.5f * t);
+    w[2] = t * (0.5f + t * (2.0f - 1.5f * t));
+    w[3] = t * t * (-0.5f + 0.5f * t);
+}
+
+/* acc's light (the four taps' bilinear sum, their weights summing to 1)
+ * made the 4 x 4 taps' cubic where all of them saw what `seen` asks,
+ * within the four's lights channel by channel. */
+static void cubic_light(const HistFrame *src, int x0, int y0, float ax, float ay, const Seen *seen, Hist *acc)
+{
+    float wx[4], wy[4], c[3] = {0, 0, 0}, lo[3] = {FLT_MAX, FLT_MAX, FLT_MAX}, hi[3] = {0, 0, 0};
+    cubic_weights(ax, wx);
+    cubic_weights(ay, wy);
+    for (int j = 0; j < 4; j++)
+        for (int i = 0; i < 4; i++) {
+            const Hist *q = seen_there(src, x0 - 1 + i, y0 - 1 + j, seen);
+            if (!q)
+                return;
+            const float w = wx[i] * wy[j];
+            for (int k = 0; k < 3; k++) {
+                c[k] += w * q->c[k];
+                if ((i == 1 || i == 2) && (j == 1 || j == 2)) {
+                    lo[k] = q->c[k] < lo[k] ? q->c[k] : lo[k];
+                    hi[k] = q->c[k] > hi[k] ? q->c[k] : hi[k];
+                }
+            }
+        }
+    const float wsum = (wx[0] + wx[1] + wx[2] + wx[3]) * (wy[0] + wy[1] + wy[2] + wy[3]);
+    for (int k = 0; k < 3; k++) {
+        const float v = c[k] / wsum;
+        acc->c[k] = v < lo[k] ? lo[k] : v > hi[k] ? hi[k] : v;
+    }
 }
 
 /* What the history held of the surface point p (seen from the frame
@@ -159,6 +206,12 @@ static int history_at(const HistFrame *src, vec3 p, Seen *seen, Hist *out)
     for (int j = 0; j < 2; j++)
         for (int i = 0; i < 2; i++)
             wsum += tap(src, x0 + i, y0 + j, seen, (i ? ax : 1.0f - ax) * (j ? ay : 1.0f - ay), &acc);
+    /* all sixteen about it saw it (inside a surface): its light by
+     * Catmull-Rom's cubic, sharper than the four's bilinear mean (which,
+     * taken again every frame, softened a texture), kept within the four's
+     * lights (the cubic overshoots at a step) */
+    if (wsum > 0.999f)
+        cubic_light(src, x0, y0, ax, ay, seen, &acc);
     /* none of the four saw it: the 3 x 3 about the nearest that did, alike */
     for (int j = -1; j <= 1 && !(wsum > 1e-3f); j++)
         for (int i = -1; i <= 1; i++)

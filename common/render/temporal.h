@@ -7,10 +7,12 @@
  * their progressive order), and the server adds each pixel to what the
  * frames before showed of the same surface point: the point (its guide's
  * distance along the pixel's ray) is projected into the frame before's
- * camera (geom/camera.h camera_project), and that frame's pixels about it,
- * weighed bilinearly, count where they saw a surface at that distance
- * (within 5%) facing the same way (normals within 25 degrees); a pixel
- * that finds none (a surface coming into view) starts again.  The mean
+ * camera (geom/camera.h camera_project), and that frame's pixels about it
+ * count where they saw a surface at that distance (within 5%) facing the
+ * same way (normals within 25 degrees): the four about it weighed
+ * bilinearly, their light by Catmull-Rom's cubic of the sixteen where all
+ * of those saw it; a pixel that finds none (a surface coming into view)
+ * starts again.  The mean
  * weighs the last `frames` frames at most (an exponential average of
  * weight 1/frames after that), so that light that changes (a mirror's
  * image, a shadow that moves) lags by a few frames, not for ever.
