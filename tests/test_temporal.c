@@ -4,7 +4,8 @@
  * stripes' plus noise.  After a dozen frames each pixel is as close to its
  * stripe's light as some eight frames' mean would be (the history follows
  * the wall across the pixels; a history that did not, or that was not
- * there, is several times further off), in 8-bit codes and in RGBE; a
+ * there, is several times further off), in 8-bit codes and in RGBE, and
+ * with frames of two render scales in turn; a
  * surface that comes into view (another distance, another way) starts
  * again from its own bytes, as does every pixel after a new epoch, and a
  * wall that comes out from behind a moving edge is not the edge's light,
@@ -32,19 +33,19 @@ static real stripes(real x) { return R(0.25) + R(0.15) * sin(x * R(3)); }
  * through camera c: its pixels (colour_bytes of colour, then the guide),
  * each the stripes' light plus noise of +-amp (drawn from the frame's
  * number and the pixel), and the light without noise into truth. */
-static void wall_frame(const Camera *c, real z, real nz, uint32_t frame, real amp, uint32_t cb, uint8_t *px,
-                       real *truth)
+static void wall_frame_at(const Camera *c, int w, int h, real z, real nz, uint32_t frame, real amp, uint32_t cb,
+                          uint8_t *px, real *truth)
 {
-    CameraFrame cf = camera_frame(c, W, H);
-    for (int y = 0; y < H; y++)
-        for (int x = 0; x < W; x++) {
+    CameraFrame cf = camera_frame(c, w, h);
+    for (int y = 0; y < h; y++)
+        for (int x = 0; x < w; x++) {
             vec3 o, d;
             camera_ray(&cf, (real)x + R(0.5), (real)y + R(0.5), &o, &d);
             const real t = (z - o.z) / d.z;
             const real l = stripes(o.x + d.x * t);
-            const uint32_t h = sample_mix(sample_hash(frame), (uint32_t)(y * W + x));
-            const real v = l + amp * (R(2) * sample_unit(h) - R(1));
-            uint8_t *p = px + (size_t)(y * W + x) * (cb + DENOISE_GUIDE_BYTES);
+            const uint32_t key = sample_mix(sample_hash(frame), (uint32_t)(y * w + x));
+            const real v = l + amp * (R(2) * sample_unit(key) - R(1));
+            uint8_t *p = px + (size_t)(y * w + x) * (cb + DENOISE_GUIDE_BYTES);
             if (cb == 4)
                 rgbe_encode(v, v, v, p);
             else
@@ -53,8 +54,15 @@ static void wall_frame(const Camera *c, real z, real nz, uint32_t frame, real am
             const Guide g = {v3(R(0.8), R(0.8), R(0.8)), v3(R(0), sqrt(R(1) - nz * nz), nz), t, 1, v * v};
             denoise_guide_pack(&g, 1, v3(v, v, v), p + cb);
             if (truth)
-                truth[y * W + x] = l;
+                truth[y * w + x] = l;
         }
+}
+
+/* ... at the full size */
+static void wall_frame(const Camera *c, real z, real nz, uint32_t frame, real amp, uint32_t cb, uint8_t *px,
+                       real *truth)
+{
+    wall_frame_at(c, W, H, z, nz, frame, amp, cb, px, truth);
 }
 
 /* A pixel's light as its colour bytes say. */
@@ -126,6 +134,34 @@ static void history_follows_the_wall(void **state)
         free(px);
         free(truth);
     }
+}
+
+/* Frames at render scales 1 and 2 in turn (64 x 48 and 32 x 24, as a
+ * window's pace may pick them): the history follows the wall from one
+ * size to the other, and the full-size frame after a dozen is closer to
+ * the stripes than one alone. */
+static void render_scales_alternate(void **state)
+{
+    (void)state;
+    uint8_t *px = malloc((size_t)W * H * (3 + DENOISE_GUIDE_BYTES));
+    real *truth = malloc(sizeof(real) * W * H);
+    Temporal *t = temporal_create(NULL, W, H, 4);
+    const Camera c12 = slide(12);
+    wall_frame(&c12, WALL_Z, R(1), 12, R(0.1), 3, px, truth);
+    const real alone = rms_off(px, 3, truth);
+    for (int i = 0; i <= 12; i++) {
+        const int k = i % 2 ? 2 : 1;
+        const Camera c = slide(i);
+        wall_frame_at(&c, W / k, H / k, WALL_Z, R(1), (uint32_t)i, R(0.1), 3, px, k == 1 ? truth : NULL);
+        const TemporalFrame f = {c, 1, 1, 0};
+        assert_int_equal(temporal_add(t, px, (uint32_t)(W / k), (uint32_t)(H / k), 3, 0, &f), 0);
+    }
+    const real added = rms_off(px, 3, truth);
+    print_message("scales 1 and 2 in turn: RMS %.4f, one frame %.4f\n", (double)added, (double)alone);
+    assert_true(added < alone * R(0.75));
+    temporal_destroy(t);
+    free(px);
+    free(truth);
 }
 
 /* Whether every pixel of a is b's. */
@@ -314,6 +350,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(history_follows_the_wall),
+        cmocka_unit_test(render_scales_alternate),
         cmocka_unit_test(new_surfaces_start_again),
         cmocka_unit_test(what_comes_out_is_not_what_hid_it),
         cmocka_unit_test(a_lamp_edge_adds_up),
