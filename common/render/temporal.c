@@ -306,8 +306,11 @@ static void pass_pixel(const Pass *ps, uint32_t x, uint32_t y)
     if (seen.d > 0.0f && camera_ray(&ps->dst->cam, (real)x + R(0.5), (real)y + R(0.5), &org, &dir))
         found = history_at(ps->src, v3_madd(org, dir, (real)seen.d), &seen, &h);
     /* a history of fewer pixels (a coarser render scale) has less of this
-     * pixel's detail: it counts as fewer frames */
-    if (found)
+     * pixel's detail: it counts as fewer frames to a moving frame, which
+     * brings that detail; a still frame (whole, after a scaled flight)
+     * takes it by its samples alone, so that stopping shows the smooth
+     * history until the still frame's own samples are as many */
+    if (found && !ps->f->still)
         h.len *= ps->detail;
     if (!found || (ps->f->still && s >= h.len)) { /* the frame's own bytes */
         memcpy(o->c, c, sizeof c);
