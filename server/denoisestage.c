@@ -38,8 +38,10 @@ static void *stage_main(void *arg)
         pthread_mutex_unlock(&st->lock);
         Err err;
         /* cannot fail: both were made for the largest frame */
-        if (st->history && st->frame.temporal)
-            temporal_add(st->history, st->in, st->w, st->h, st->cb, st->linear, &st->frame.tf);
+        const StageFrame *f = &st->frame;
+        if (st->history && f->temporal)
+            temporal_add(st->history, st->in, st->w, st->h, st->cb, st->linear,
+                         &(TemporalFrame){f->cam, f->epoch, f->samples, f->still});
         if (denoise_frame(st->denoiser, st->in, st->w, st->h, st->cb, st->linear, st->out, &err))
             memset(st->out, 0, (size_t)st->w * st->h * st->cb);
         pthread_mutex_lock(&st->lock);
@@ -67,7 +69,8 @@ DenoiseStage *denoise_stage_create(uint32_t width, uint32_t height, uint32_t col
     st->history = st->pool && temporal ? temporal_create(st->pool, width, height, temporal) : NULL;
     pthread_mutex_init(&st->lock, NULL);
     pthread_cond_init(&st->changed, NULL);
-    if (!st->in || !st->out || !st->denoiser || (temporal && !st->history) || pthread_create(&st->thread, NULL, stage_main, st) != 0) {
+    if (!st->in || !st->out || !st->denoiser || (temporal && !st->history) ||
+        pthread_create(&st->thread, NULL, stage_main, st) != 0) {
         if (st->pool)
             err_set(err, "out of memory or threads for the denoiser%s of %ux%u frames",
                     temporal ? " and the history (--temporal)" : "", width, height);

@@ -21,8 +21,9 @@ typedef struct {
     int scale, still, converged;
     double t0;
     int samples; /* a pixel's (at most, adaptive) */
-    int temporal; /* added to the history before it is filtered (path-traced) */
-    TemporalFrame tf;
+    int temporal; /* added to the history before it is filtered (path-traced) ... */
+    Camera cam;   /* ... as seen by this camera, of this description's and settings' numbers */
+    uint64_t epoch;
 } StageFrame;
 
 /* A stage for frames of up to width x height guided pixels of colour_bytes

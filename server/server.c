@@ -754,9 +754,9 @@ static int start_frame(Server *s, Err *err)
     if (!s->still && s->cfg.moving_lights >= 0)
         v.settings.light_sampling = (LightSampling)s->cfg.moving_lights;
     /* a path-traced moving frame whose history adds it up: another of its
-     * pixels' samples each (frame id k takes sample (k - 1) mod 1024) */
-    if (!s->still && temporal_frames(s, &v.settings) && v.settings.aa == 1 && !v.settings.adaptive)
-        v.settings.jitter = (int)(s->frame % 1024u) + 1;
+     * pixels' samples each (the frame to come is s->frame + 1) */
+    if (!s->still && temporal_frames(s, &v.settings))
+        v.settings.jitter = progressive_jitter(&v.settings, s->frame + 1);
     s->frame_cam = v.camera;
     s->frame_epoch = (uint64_t)s->scene_id << 32 | s->settings_id;
     s->frame_rs = v.settings;
@@ -1078,9 +1078,7 @@ static int frame_samples(const RenderSettings *rs)
 static StageFrame stage_frame(const Server *s, uint32_t id, int scale, int still, int converged, double t0,
                               const RenderSettings *rs, const Camera *cam, uint64_t epoch)
 {
-    const int samples = frame_samples(rs);
-    return (StageFrame){id, scale, still, converged, t0, samples, temporal_frames(s, rs) > 0,
-                        (TemporalFrame){*cam, epoch, samples, still}};
+    return (StageFrame){id, scale, still, converged, t0, frame_samples(rs), temporal_frames(s, rs) > 0, *cam, epoch};
 }
 
 /* A finished frame to the application: the panel's and the pace's

@@ -20,8 +20,8 @@ static int frame_settings(const RenderSettings *view, const Flight *fl, uint32_t
         rs->batches = still_step < batches ? still_step : batches;
         return (int)progressive_end(rs->batches);
     }
-    if (still_step == 0 && temporal && rs->aa == 1 && !rs->adaptive)
-        rs->jitter = (int)((i - 1) % 1024) + 1; /* as the server's frame i */
+    if (still_step == 0 && temporal)
+        rs->jitter = progressive_jitter(rs, i); /* as the server's frame i */
     return rs->aa * rs->aa;
 }
 

@@ -7,6 +7,7 @@
 
 #include "base/simd.h"
 #include "base/srgb.h"
+#include "render/pixel.h"
 #define DENOISE_KERNEL(name) name##_sse
 #include "render/denoise_kernel.h"
 
@@ -144,15 +145,7 @@ static void pass_read(void *ctx, uint64_t lo, uint64_t hi, int thread)
         const uint8_t *p = ps->px + b * ps->bpp;
         const size_t i = plane_at(ps, (int)(b % ps->w), (int)(b / ps->w));
         float c[3], n[3], a[3], z, noise;
-        if (ps->cb == 4) {
-            double v[3];
-            rgbe_decode(p, v);
-            for (int k = 0; k < 3; k++)
-                c[k] = (float)v[k];
-        } else {
-            for (int k = 0; k < 3; k++)
-                c[k] = ps->linear ? (float)p[k] / 255.0f : srgb_decode8[p[k]];
-        }
+        pixel_read_colour(p, ps->cb, ps->linear, c);
         denoise_guide_unpack(p + ps->cb, a, n, &z, &noise);
         P[P_SURF][i] = z > 0.0f ? 1.0f : 0.0f;
         P[P_NOISE][i] = noise;

@@ -43,4 +43,20 @@ static inline __attribute__((always_inline)) void pixel_put_colour(uint8_t *dst,
         pixel_put_codes(dst, c, gain, linear);
 }
 
+/* ... and back: a pixel's colour bytes (4: RGBE, else 8-bit codes, sRGB
+ * unless linear) as the light they hold, for the filters that read a
+ * frame's pixels (denoise.c, temporal.c). */
+static inline void pixel_read_colour(const uint8_t *p, uint32_t colour_bytes, int linear, float c[3])
+{
+    if (colour_bytes == 4) {
+        double v[3];
+        rgbe_decode(p, v);
+        for (int k = 0; k < 3; k++)
+            c[k] = (float)v[k];
+        return;
+    }
+    for (int k = 0; k < 3; k++)
+        c[k] = linear ? (float)p[k] / 255.0f : srgb_decode8[p[k]];
+}
+
 #endif

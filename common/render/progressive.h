@@ -44,6 +44,16 @@ static inline int progressive_upto(const RenderSettings *rs)
  * 2^m x 2^m in their progressive order, m this. */
 #define PROG_JITTER_M 5
 
+/* The settings jitter of moving frame k (1, 2 ...) of a view of settings
+ * rs whose frames a history adds up (render/temporal.h): sample k - 1 of
+ * its pixels' (mod their 4^m), so that each frame takes another; 0 where
+ * its frames take more than one sample a pixel (not jittered).  One rule
+ * for a server's frames and lanray-render --server-frame's. */
+static inline int progressive_jitter(const RenderSettings *rs, uint32_t frame)
+{
+    return rs->aa == 1 && !rs->adaptive ? (int)((frame - 1) % (1u << 2 * PROG_JITTER_M)) + 1 : 0;
+}
+
 /* The most batches (N = AA_MAX, 32: 1024 samples). */
 #define PROG_MAX_BATCHES 11
 /* Batch b's samples (1 <= b <= PROG_MAX_BATCHES): [progressive_start(b), progressive_end(b)). */

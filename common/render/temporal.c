@@ -8,6 +8,7 @@
 
 #include "base/srgb.h"
 #include "render/denoise.h"
+#include "render/pixel.h"
 
 /* A pixel as the history holds it: its light (linear, as its codes say),
  * the mean square of its luminance, the frames (samples) it weighs, and
@@ -68,29 +69,6 @@ void temporal_destroy(Temporal *t)
 
 static inline float luminance(const float c[3]) { return 0.2126f * c[0] + 0.7152f * c[1] + 0.0722f * c[2]; }
 
-/* A pixel's colour bytes as linear light, and back. */
-static void colour_read(const uint8_t *p, uint32_t cb, int linear, float c[3])
-{
-    if (cb == 4) {
-        double v[3];
-        rgbe_decode(p, v);
-        for (int k = 0; k < 3; k++)
-            c[k] = (float)v[k];
-        return;
-    }
-    for (int k = 0; k < 3; k++)
-        c[k] = linear ? (float)p[k] / 255.0f : srgb_decode8[p[k]];
-}
-
-static void colour_write(uint8_t *p, uint32_t cb, int linear, const float c[3])
-{
-    if (cb == 4)
-        rgbe_encode((real)c[0], (real)c[1], (real)c[2], p);
-    else
-        for (int k = 0; k < 3; k++)
-            p[k] = linear ? linear_encode8((real)c[k]) : srgb_encode8((real)c[k]);
-}
-
 /* What a pixel of the frame before must have seen to count: a surface at
  * distance d (within SAME_DEPTH) facing n; at an edge (the pixel's 3 x 3
  * saw surfaces at distances lo to hi further apart than that, or facing
@@ -104,8 +82,6 @@ typedef struct {
     int open; /* its 3 x 3 also saw the background or an emitter (no distance): those count too */
 } Seen;
 
-/* Pixel (x, y) of frame src added to acc by weight wt where it saw what
- * `seen` asks: the weight it added. */
 /* Pixel (x, y) of frame src where it saw what `seen` asks, else NULL. */
 static const Hist *seen_there(const HistFrame *src, int x, int y, const Seen *seen)
 {
@@ -122,6 +98,8 @@ static const Hist *seen_there(const HistFrame *src, int x, int y, const Seen *se
     return q;
 }
 
+/* Pixel (x, y) of frame src added to acc by weight wt where it saw what
+ * `seen` asks: the weight it added. */
 static float tap(const HistFrame *src, int x, int y, const Seen *seen, float wt, Hist *acc)
 {
     const Hist *q = wt > 0.0f ? seen_there(src, x, y, seen) : NULL;
@@ -297,7 +275,7 @@ static void pass_pixel(const Pass *ps, uint32_t x, uint32_t y)
     Hist *o = &ps->dst->px[i];
     float c[3];
     const float albedo[3] = {o->alb[0], o->alb[1], o->alb[2]}, n[3] = {o->n[0], o->n[1], o->n[2]}, noise = o->m2;
-    colour_read(p, ps->cb, ps->linear, c);
+    pixel_read_colour(p, ps->cb, ps->linear, c);
     const float s = (float)ps->f->samples, lum = luminance(c);
     Hist h;
     int found = 0;
@@ -332,7 +310,7 @@ static void pass_pixel(const Pass *ps, uint32_t x, uint32_t y)
     }
     o->m2 = h.m2 + (mean_square(lum, noise, s) - h.m2) * a;
     o->len = len;
-    colour_write(p, ps->cb, ps->linear, o->c);
+    pixel_put_colour(p, v3((real)o->c[0], (real)o->c[1], (real)o->c[2]), ps->cb == 4, R(1), ps->linear);
     for (int k = 0; k < 3; k++)
         p[ps->cb + k] = linear_encode8((real)o->alb[k]);
     denoise_normal_pack(v3((real)o->an[0], (real)o->an[1], (real)o->an[2]), p + ps->cb + 3);
