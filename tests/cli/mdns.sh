@@ -82,7 +82,7 @@ grep -q "not announced on the LAN: mDNS" "$dir/lone.err" || fail "no daemon: the
 in_ns unshare -m sh -c "mount -t tmpfs none /run && exec avahi-daemon --no-chroot --no-drop-root --no-rlimits -f $dir/avahi.conf" \
     >"$dir/avahi.log" 2>"$dir/avahi.err" &
 pids+=($!)
-for _ in $(seq 100); do grep -q "Server startup complete" "$dir/avahi.err" && break; sleep 0.1; done
+for _ in $(seq 100); do grep -qs "Server startup complete" "$dir/avahi.err" && break; sleep 0.1; done
 grep -q "Server startup complete" "$dir/avahi.err" || fail "avahi-daemon did not start"
 
 W=64 H=48
@@ -94,7 +94,7 @@ serve() {
         --headless --frames "$2" --verify "$dir/ref.png" --out "$dir/$1" >"$dir/$1.log" 2>"$dir/$1.err" &
     pids+=($!)
     last=$!
-    for _ in $(seq 100); do grep -q "announced on the LAN" "$dir/$1.err" && return 0; sleep 0.05; done
+    for _ in $(seq 100); do grep -qs "announced on the LAN" "$dir/$1.err" && return 0; sleep 0.05; done
     fail "$1 was not announced"
 }
 # a farm of another protocol version, which the client must not take

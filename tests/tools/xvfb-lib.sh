@@ -29,6 +29,20 @@ appears() {
     return 1
 }
 
+# appears_any TRIES REF.ppm...: as appears, until any of the REFs is on
+# the screen; prints 'found at X,Y: REF' (the first found)
+appears_any() {
+    local tries=$1 out=
+    shift
+    for _ in $(seq "$tries"); do
+        screenshot
+        out=$(python3 tests/tools/xwdfind.py "$dir/screen.xwd" "$@") && { echo "$out"; return 0; }
+        sleep 0.2
+    done
+    echo "$out"
+    return 1
+}
+
 # window_server NAME SERVER-ARGS...: a server with a window on the X screen
 # (its output in $dir/NAME.log and NAME.err) and one client of two threads
 # (NAME-client.err); sets spid, cpid and port

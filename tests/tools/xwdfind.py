@@ -1,9 +1,10 @@
 #!/usr/bin/env python3
 """Finds a PPM image, pixel for pixel, inside an X screen dump (xwd -root).
 
-    xwdfind.py screen.xwd frame.ppm
+    xwdfind.py screen.xwd frame.ppm [other.ppm ...]
 
-Prints 'found at X,Y' and exits 0, or 'not found' and exits 1.
+Prints 'found at X,Y' (with more than one image, 'found at X,Y: NAME',
+the first found) and exits 0, or 'not found' and exits 1.
 """
 import struct, sys
 
@@ -53,19 +54,29 @@ def read_ppm(path):
     return w, h, [pix[y * w * 3:(y + 1) * w * 3] for y in range(h)]
 
 
-def main():
-    sw, sh, screen = read_xwd(sys.argv[1])
-    w, h, img = read_ppm(sys.argv[2])
-    for y in range(sh - h + 1):
+def find(screen, img):
+    """The top-left corner of img on the screen, or None."""
+    w, h, rows = img
+    for y in range(len(screen) - h + 1):
         start = 0
         while True:
-            i = screen[y].find(img[0], start)
+            i = screen[y].find(rows[0], start)
             if i < 0:
                 break
-            if i % 3 == 0 and all(screen[y + k][i:i + 3 * w] == img[k] for k in range(h)):
-                print("found at %d,%d" % (i // 3, y))
-                return 0
+            if i % 3 == 0 and all(screen[y + k][i:i + 3 * w] == rows[k] for k in range(h)):
+                return i // 3, y
             start = i + 1
+    return None
+
+
+def main():
+    _, _, screen = read_xwd(sys.argv[1])
+    names = sys.argv[2:]
+    for name in names:
+        at = find(screen, read_ppm(name))
+        if at:
+            print("found at %d,%d%s" % (at[0], at[1], ": " + name if len(names) > 1 else ""))
+            return 0
     print("not found")
     return 1
 
