@@ -76,7 +76,7 @@ typedef struct {
     int refine;            /* --still-aa: still frames after the path's end, up to the converged one */
     double converged_t;    /* when it was shown, */
     uint32_t converged_frame; /* and its number */
-    /* --target-fps: the render scale of the moving frames */
+    /* --target-fps: the render scale of the moving frames (half steps, upscale.h) */
     Pace pace;
     double last_frame_t;
     uint64_t scale_sum, scaled_frames;
@@ -288,7 +288,7 @@ typedef struct {
     int still_lights;
     int moving_lights, moving_lights_given;
     int compress, announce, pipeline;
-    double target_fps, max_fps;
+    double target_fps, max_fps, render_scale;
     int target_given;
     CliEnvironment env;
 } Args;
@@ -433,9 +433,12 @@ static int parse_args(Args *a, int argc, char **argv)
                  "pixel, or adaptive (one probe a pixel, every point in penumbrae: docs/tradeoff.md)",
          .def = "scene"},
         {.name = "--target-fps", .kind = OPT_REAL, .dst = &a->target_fps, .arg = "F", .rlo = 0, .rhi = 1000, .seen = &a->target_given,
-         .help = "while the view moves, render fewer pixels (a render scale of 1 to 8, chosen from the frame times "
-                 "measured) to hold F frames a second; 0 = every pixel",
+         .help = "while the view moves, render fewer pixels (a render scale of 1 to 8 in half steps, chosen from the "
+                 "frame times measured) to hold F frames a second; 0 = every pixel",
          .def = "0; in a window, a path-traced scene's 10"},
+        {.name = "--render-scale", .kind = OPT_REAL, .dst = &a->render_scale, .arg = "K", .rlo = 0, .rhi = 8,
+         .help = "moving frames always at render scale K (1 to 8 in half steps: 2.5 renders 2/5 of each side) rather "
+                 "than as --target-fps chooses; 0 = as it chooses", .def = "0"},
         {.name = "--upscale", .kind = OPT_CHOICE, .dst = &cfg->upscale, .choices = upscale_names,
          .help = "how a frame rendered at a render scale fills the window and the frames written: smooth (bilinear "
                  "between its pixels) or blocks (its pixels as rendered, each a block)",
@@ -529,6 +532,12 @@ static int open_scene(App *app, Args *a, Err *err)
         fprintf(stderr, "lanray-server: --still-light-samples refines the still frames of --still-aa: give both\n");
         return 2;
     }
+    if (a->render_scale > 0 && (a->render_scale < 1 || a->render_scale * 2 != floor(a->render_scale * 2) ||
+                                a->target_given)) {
+        fprintf(stderr, "lanray-server: --render-scale %g: %s\n", a->render_scale,
+                a->target_given ? "a fixed scale or --target-fps's, not both" : "a scale of 1 to 8 in half steps (2.5, 3)");
+        return 2;
+    }
     if (a->hdr && (a->linear || a->verify_path)) {
         fprintf(stderr, "lanray-server: --hdr frames keep the light itself: %s\n",
                 a->linear ? "--linear is for 8-bit frames" : "--verify compares 8-bit frames (compare the .hdr files instead)");
@@ -561,6 +570,8 @@ static int open_scene(App *app, Args *a, Err *err)
     app->frames_wanted = (uint32_t)a->frames;
     app->refine = a->still.given;
     pace_init(&app->pace, a->target_fps);
+    if (a->render_scale > 0) /* no target: the pace keeps it */
+        app->pace.scale = (int)(a->render_scale * UPSCALE_ONE);
     return 0;
 }
 
@@ -610,7 +621,8 @@ static int open_outputs(App *app, Args *a, Err *err)
         server_set_still(app->server, 1, AA_MAX, 0);
     /* ... and moves at 10 frames a second, fewer pixels while it moves (as
      * Cycles' viewport renders coarser while it is navigated) */
-    if (app->display && !a->target_given && app->scene->settings.integrator == INTEGRATOR_PATH) {
+    if (app->display && !a->target_given && !(a->render_scale > 0) &&
+        app->scene->settings.integrator == INTEGRATOR_PATH) {
         a->target_fps = 10;
         pace_init(&app->pace, a->target_fps);
     }
@@ -794,7 +806,7 @@ static int finish(App *app, const Args *a, int rc)
                (app->path_final - 1) / (app->path_t1 - app->path_t0));
     if (app->scaled_frames && app->pace.target > 0)
         printf("pace: target %.1f fps, mean render scale %.2f over %llu moving frames\n", 1.0 / app->pace.target,
-               (double)app->scale_sum / (double)app->scaled_frames, (unsigned long long)app->scaled_frames);
+               (double)app->scale_sum / UPSCALE_ONE / (double)app->scaled_frames, (unsigned long long)app->scaled_frames);
     if (app->converged_t > 0)
         printf("path: converged frame %u, %.2f s after the last move\n", app->converged_frame,
                app->converged_t - app->path_t1);

@@ -20,7 +20,7 @@
 
 #define PACE_FINER 0.8
 #define PACE_PROBE 0.75
-#define PACE_SCALES 6
+#define PACE_SCALES 10
 
 typedef struct {
     double target;         /* seconds a frame */
@@ -28,17 +28,17 @@ typedef struct {
     int scale;
 } Pace;
 
-/* The scales a pace chooses from, finest first. */
+/* The scales a pace chooses from, finest first, in half steps (upscale.h). */
 extern const int pace_scales[];
 extern const int pace_scale_count;
 
-/* fps 0: no target (scale 1 always); else the scale starts at the coarsest. */
+/* fps 0: no target (scale 1, UPSCALE_ONE, always); else the scale starts at the coarsest. */
 void pace_init(Pace *p, double fps);
 /* A new target (the window's T key), the times measured kept; 0: none,
  * every frame whole. */
 void pace_set_target(Pace *p, double fps);
-/* A moving frame of width x height (the full frame) rendered at `scale` took
- * `seconds`: the scale for the next moving frame. */
+/* A moving frame of width x height (the full frame) rendered at `scale`
+ * (half steps) took `seconds`: the scale for the next moving frame. */
 int pace_update(Pace *p, double seconds, int scale, uint32_t width, uint32_t height);
 
 #endif

@@ -51,10 +51,13 @@ int panel_lines(const PanelInfo *p, char out[][PANEL_LINE])
     else
         LINE("%.1f fps  %.1f ms a frame  %s", p->fps, p->frame_s * 1e3, p->still ? "still" : "moving");
     const char *up = p->upscale_blocks ? "blocks" : "smooth";
+    /* half steps: 1/2, 1/2.5 */
+    char scale[16];
+    snprintf(scale, sizeof scale, p->scale % 2 ? "1/%d.5" : "1/%d", p->scale / 2);
     if (p->target_fps > 0)
-        LINE("target %.0f fps [T/Shift+T]  render scale 1/%d %s [U]", p->target_fps, p->scale, up);
+        LINE("target %.0f fps [T/Shift+T]  render scale %s %s [U]", p->target_fps, scale, up);
     else
-        LINE("target none [T]  render scale 1/%d %s [U]", p->scale, up);
+        LINE("target none [T]  render scale %s %s [U]", scale, up);
     char moving[32], still[32];
     sampling_text(moving, sizeof moving, p->aa, p->adaptive);
     if (p->refine)

@@ -95,7 +95,7 @@ struct Server {
     int still;          /* the current frame's are the same (refinement) */
     int still_step;     /* and how many frames they have been: 1 the first still one, 0 a moving one */
     int converged;      /* the current frame has the still quality (or is still, without refinement) */
-    int next_scale;     /* server_set_scale: the moving frames' render scale */
+    int next_scale;     /* server_set_scale: the moving frames' render scale (half steps: upscale.h) */
     int scale;          /* the current frame's, and its size: */
     uint32_t fw, fh;
     uint8_t *shown;     /* a scaled frame scaled up to the full size, for the callback */
@@ -213,7 +213,7 @@ Server *server_create(const ServerConfig *cfg, Scene *scene, Err *err)
     s->pixels = calloc((size_t)cfg->width * cfg->height, s->bpp);
     s->frame_bpp = s->frame_cap = s->bpp;
     s->shown = calloc((size_t)cfg->width * cfg->height, s->cbpp);
-    s->scale = s->next_scale = s->shown_scale = 1;
+    s->scale = s->next_scale = s->shown_scale = UPSCALE_ONE;
     s->fw = (uint32_t)cfg->width, s->fh = (uint32_t)cfg->height;
     s->codec = pixcodec_create();
     Err stage_err = {{0}};
@@ -339,7 +339,7 @@ static SchedStats stats_all(const Server *s)
 
 void server_set_scale(Server *s, int scale)
 {
-    s->next_scale = scale < 1 ? 1 : scale > SERVER_MAX_SCALE ? SERVER_MAX_SCALE : scale;
+    s->next_scale = scale < UPSCALE_ONE ? UPSCALE_ONE : scale > UPSCALE_MAX ? UPSCALE_MAX : scale;
 }
 
 /* A frame rendered at `scale`, brought up to the full size (upscale.h):
@@ -347,15 +347,15 @@ void server_set_scale(Server *s, int scale)
  * cannot be had. */
 static const uint8_t *scaled_up(Server *s, const uint8_t *pixels, int scale)
 {
-    if (scale == 1)
+    if (scale == UPSCALE_ONE)
         return pixels;
     const uint32_t w = (uint32_t)s->cfg.width, h = (uint32_t)s->cfg.height, k = (uint32_t)scale;
     const int smooth = s->cfg.upscale == UPSCALE_SMOOTH, rgbe = s->cbpp == 4;
-    /* scale 2's scratch is the most either needs */
+    /* the finest scale's (1.5) scratch is the most either needs */
     if (smooth && !rgbe && !s->upscale_scratch)
-        s->upscale_scratch = malloc(upscale_scratch(w, h, 2) * sizeof *s->upscale_scratch);
+        s->upscale_scratch = malloc(upscale_scratch(w, h, UPSCALE_ONE + 1) * sizeof *s->upscale_scratch);
     if (smooth && rgbe && !s->upscale_rgbe)
-        s->upscale_rgbe = malloc(upscale_scratch_rgbe(w, h, 2) * sizeof *s->upscale_rgbe);
+        s->upscale_rgbe = malloc(upscale_scratch_rgbe(w, h, UPSCALE_ONE + 1) * sizeof *s->upscale_rgbe);
     if (smooth && !rgbe && s->upscale_scratch)
         upscale_smooth(pixels, s->shown, w, h, k, s->upscale_scratch);
     else if (smooth && rgbe && s->upscale_rgbe)
@@ -763,9 +763,9 @@ static int start_frame(Server *s, Err *err)
     s->frame_bpp = render_pixel_bytes(&v.settings);
     /* a moving frame at the render scale, a still one whole */
     const uint32_t last_lines = s->fh;
-    s->scale = s->still ? 1 : s->next_scale;
-    s->fw = ((uint32_t)s->cfg.width + (uint32_t)s->scale - 1) / (uint32_t)s->scale;
-    s->fh = ((uint32_t)s->cfg.height + (uint32_t)s->scale - 1) / (uint32_t)s->scale;
+    s->scale = s->still ? UPSCALE_ONE : s->next_scale;
+    s->fw = upscale_side((uint32_t)s->cfg.width, (uint32_t)s->scale);
+    s->fh = upscale_side((uint32_t)s->cfg.height, (uint32_t)s->scale);
     sched_set_size(s->sched, s->fw, s->fh);
     s->blob.len = 0;
     if (wire_encode_view(&v, &s->blob, err))
@@ -1143,8 +1143,8 @@ static void frame_finished(Server *s, const StageFrame *f, const uint8_t *pixels
     }
     if (denoise_stage_holds(s->stage))
         show_filtered(s, 1, done, ctx);
-    const uint32_t k = (uint32_t)f->scale, fw = ((uint32_t)s->cfg.width + k - 1) / k,
-                   fh = ((uint32_t)s->cfg.height + k - 1) / k;
+    const uint32_t fw = upscale_side((uint32_t)s->cfg.width, (uint32_t)f->scale),
+                   fh = upscale_side((uint32_t)s->cfg.height, (uint32_t)f->scale);
     if (s->raw_view) { /* the colours alone, unfiltered */
         for (size_t i = 0; i < (size_t)fw * fh; i++)
             memcpy(s->stripped + i * s->cbpp, pixels + i * s->bpp, s->cbpp);

@@ -4,7 +4,12 @@
  * rendered) or smooth (bilinear between the pixels' centres, the default:
  * at a scale of 4 to 8 on a small farm, blocks are what the eye sees of a
  * moving picture).  Integer arithmetic, so a smooth frame is the same
- * bytes on every machine (tests/cli/path.sh computes it again). */
+ * bytes on every machine (tests/cli/path.sh computes it again).
+ *
+ * A render scale is counted in half steps, s = 2k (UPSCALE_ONE, 2: every
+ * pixel; 3: 1.5; 5: 2.5; 16: 8), so that a frame rate can be held between
+ * the whole scales, whose frames' pixels differ by 1.8 to 4 times from
+ * one to the next. */
 #ifndef LANRAY_UPSCALE_H
 #define LANRAY_UPSCALE_H
 
@@ -16,25 +21,38 @@ typedef enum { UPSCALE_SMOOTH, UPSCALE_BLOCKS } UpscaleKind;
 /* the words of lanray-server --upscale, in UpscaleKind's order */
 extern const char *const upscale_names[];
 
-/* The full frame w x h, bpp bytes a pixel, from src: ceil(w / k) pixels a
- * line and ceil(h / k) lines; each pixel copied into its block. */
-void upscale_blocks(const uint8_t *src, uint8_t *dst, uint32_t w, uint32_t h, uint32_t bpp, uint32_t k);
+#define UPSCALE_ONE 2
+/* The largest render scale, in half steps (8). */
+#define UPSCALE_MAX 16
 
-/* The scratch upscale_smooth needs for a w x h frame at scale k, in
+/* A side of `full` pixels at render scale s (half steps): ceil(2 full / s). */
+static inline uint32_t upscale_side(uint32_t full, uint32_t s)
+{
+    return (uint32_t)(((uint64_t)full * 2 + s - 1) / s);
+}
+
+/* The full frame w x h, bpp bytes a pixel, from src, a frame at scale s
+ * (half steps): upscale_side(w, s) pixels a line and upscale_side(h, s)
+ * lines; full pixel x shows the frame pixel its centre falls in,
+ * floor((2x + 1) / s) (a block of k x k where k is whole; at 2.5, of 2
+ * and 3 pixels a side in turn). */
+void upscale_blocks(const uint8_t *src, uint8_t *dst, uint32_t w, uint32_t h, uint32_t bpp, uint32_t s);
+
+/* The scratch upscale_smooth needs for a w x h frame at scale s, in
  * uint16_t. */
-size_t upscale_scratch(uint32_t w, uint32_t h, uint32_t k);
+size_t upscale_scratch(uint32_t w, uint32_t h, uint32_t s);
 
 /* The same, RGB8 only, each full pixel the bilinear mix of the four frame
  * pixels whose centres surround its own (clamped at the edges), rounded to
  * the nearest byte: the mix of bytes as they are coded (what a GPU's
  * linear filter does on a texture not marked sRGB). */
-void upscale_smooth(const uint8_t *src, uint8_t *dst, uint32_t w, uint32_t h, uint32_t k, uint16_t *scratch);
+void upscale_smooth(const uint8_t *src, uint8_t *dst, uint32_t w, uint32_t h, uint32_t s, uint16_t *scratch);
 
 /* The same for RGBE pixels (lanray-server --hdr), whose shared exponent
  * does not mix byte by byte: the four pixels decoded (rgbe_decode), mixed
  * in double with the same whole-number weights, and coded again.  The
- * scratch: upscale_scratch_rgbe(w, h, k) doubles. */
-size_t upscale_scratch_rgbe(uint32_t w, uint32_t h, uint32_t k);
-void upscale_smooth_rgbe(const uint8_t *src, uint8_t *dst, uint32_t w, uint32_t h, uint32_t k, double *scratch);
+ * scratch: upscale_scratch_rgbe(w, h, s) doubles. */
+size_t upscale_scratch_rgbe(uint32_t w, uint32_t h, uint32_t s);
+void upscale_smooth_rgbe(const uint8_t *src, uint8_t *dst, uint32_t w, uint32_t h, uint32_t s, double *scratch);
 
 #endif

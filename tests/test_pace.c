@@ -2,39 +2,44 @@
  * driven with made-up frame times: it goes coarser as soon as a frame
  * misses the target, finer only with room to spare, does not flicker
  * between two scales on times that wobble about a boundary, and never
- * leaves scale 1 without a target. */
+ * leaves scale 1 without a target.  Scales in half steps (upscale.h: 2 is
+ * every pixel, 5 is 2.5). */
 #include "helpers.h"
 
 #include "pace.h"
+#include "upscale.h"
 
 enum { W = 1024, H = 768 };
 
-/* A frame at scale k of a scene that costs `ns` nanoseconds a pixel. */
-static double frame_time(int k, double ns) { return ns * 1e-9 * (double)((W + k - 1) / k) * (double)((H + k - 1) / k); }
+/* A frame at scale s (half steps) of a scene that costs `ns` nanoseconds a pixel. */
+static double frame_time(int s, double ns)
+{
+    return ns * 1e-9 * (double)upscale_side(W, (uint32_t)s) * (double)upscale_side(H, (uint32_t)s);
+}
 
 static void coarser_at_once_finer_with_room(void **state)
 {
     (void)state;
     Pace p;
     pace_init(&p, 15); /* 66.7 ms a frame */
-    assert_int_equal(p.scale, 8); /* nothing measured: a fast first picture */
-    p.scale = 1;
-    /* 600 ns a pixel: 472 ms whole, 118 ms at 2, 52 ms at 3 */
-    int k = pace_update(&p, frame_time(1, 600), 1, W, H);
-    assert_int_equal(k, 3);
+    assert_int_equal(p.scale, 16); /* nothing measured: a fast first picture (8) */
+    p.scale = UPSCALE_ONE;
+    /* 600 ns a pixel: 472 ms whole, 118 ms at 2, 76 ms at 2.5, 53 ms at 3 */
+    int k = pace_update(&p, frame_time(2, 600), 2, W, H);
+    assert_int_equal(k, 6);
     for (int i = 0; i < 5; i++)
         k = pace_update(&p, frame_time(k, 600), k, W, H);
-    assert_int_equal(k, 3); /* steady */
-    /* the view turns to a cheap part: 100 ns a pixel, 79 ms whole, 20 ms at 2 */
+    assert_int_equal(k, 6); /* steady: 2.5 would miss the target */
+    /* the view turns to a cheap part: 100 ns a pixel, 79 ms whole, 35 ms at 1.5 */
     for (int i = 0; i < 5; i++)
         k = pace_update(&p, frame_time(k, 100), k, W, H);
-    assert_int_equal(k, 2);
-    /* and to a costly one: 2000 ns a pixel needs scale 6 (44 ms; 4: 98 ms) */
+    assert_int_equal(k, 3);
+    /* and to a costly one: 2000 ns a pixel needs scale 5 (63 ms; 4: 98 ms) */
     k = pace_update(&p, frame_time(k, 2000), k, W, H);
-    assert_true(k >= 4);
+    assert_true(k >= 8);
     for (int i = 0; i < 5; i++)
         k = pace_update(&p, frame_time(k, 2000), k, W, H);
-    assert_int_equal(k, 6);
+    assert_int_equal(k, 10);
 }
 
 /* 40 frames whose cost a pixel wobbles between lo and hi ns, from scale *k:
@@ -55,20 +60,20 @@ static void no_flicker_about_a_boundary(void **state)
     (void)state;
     Pace p;
     pace_init(&p, 15);
-    p.scale = 1;
+    p.scale = UPSCALE_ONE;
     /* whole frames at 70-77 ns (55-61 ms: fits, about 0.88 of the target):
-     * scale 2 would fit easily, 1 fits; a 10% wobble must not move it */
-    int k = 1;
+     * scale 1.5 would fit easily, 1 fits; a 10% wobble must not move it */
+    int k = UPSCALE_ONE;
     assert_int_equal(wobble(&p, &k, 70, 77), 0);
-    assert_int_equal(k, 1);
-    /* at scale 2 with whole frames predicted at 0.85 of the target (above
-     * PACE_FINER): it stays at 2 rather than trying 1 and coming back */
+    assert_int_equal(k, UPSCALE_ONE);
+    /* at scale 1.5 with whole frames predicted at 0.85 of the target (above
+     * PACE_FINER): it stays at 1.5 rather than trying 1 and coming back */
     pace_init(&p, 15);
-    p.scale = 1;
-    k = pace_update(&p, frame_time(1, 120), 1, W, H); /* 94 ms whole: coarser */
-    assert_int_equal(k, 2);
+    p.scale = UPSCALE_ONE;
+    k = pace_update(&p, frame_time(2, 120), 2, W, H); /* 94 ms whole: coarser */
+    assert_int_equal(k, 3);
     assert_int_equal(wobble(&p, &k, 70, 74), 0);
-    assert_int_equal(k, 2);
+    assert_int_equal(k, 3);
 }
 
 static void no_target_keeps_every_pixel(void **state)
@@ -76,10 +81,11 @@ static void no_target_keeps_every_pixel(void **state)
     (void)state;
     Pace p;
     pace_init(&p, 0);
-    assert_int_equal(pace_update(&p, 10.0, 1, W, H), 1);
+    assert_int_equal(pace_update(&p, 10.0, UPSCALE_ONE, W, H), UPSCALE_ONE);
     pace_init(&p, 1000); /* out of reach: the coarsest */
-    p.scale = 1;
-    assert_int_equal(pace_update(&p, frame_time(1, 100), 1, W, H), pace_scales[pace_scale_count - 1]);
+    p.scale = UPSCALE_ONE;
+    assert_int_equal(pace_update(&p, frame_time(2, 100), 2, W, H), pace_scales[pace_scale_count - 1]);
+    assert_int_equal(pace_scales[pace_scale_count - 1], UPSCALE_MAX);
 }
 
 int main(void)

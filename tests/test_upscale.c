@@ -5,7 +5,8 @@
  * pixel's centre (clamped beyond the first and last centres), every pixel
  * lies within the four it mixes, and a mirrored frame comes out mirrored
  * (the centres are where they belong, not half a pixel off); RGBE frames
- * mix their light, decoded. */
+ * mix their light, decoded.  Every render scale in half steps, 1.5 to 8
+ * (s = 3..16, k = s / 2: upscale.h). */
 #include "helpers.h"
 
 #include <math.h>
@@ -23,47 +24,61 @@ static uint8_t *frame_of(uint32_t sw, uint32_t sh, uint32_t bpp, uint32_t seed)
     return f;
 }
 
-/* upscale_smooth of src (sw x sh at scale k) to w x h, in a fresh buffer */
-static uint8_t *smooth(const uint8_t *src, uint32_t w, uint32_t h, uint32_t k)
+/* upscale_smooth of src (a frame at scale s, half steps) to w x h, in a fresh buffer */
+static uint8_t *smooth(const uint8_t *src, uint32_t w, uint32_t h, uint32_t s)
 {
     uint8_t *dst = malloc((size_t)w * h * 3);
-    uint16_t *scratch = malloc(upscale_scratch(w, h, k) * sizeof *scratch);
+    uint16_t *scratch = malloc(upscale_scratch(w, h, s) * sizeof *scratch);
     assert_non_null(dst);
     assert_non_null(scratch);
-    upscale_smooth(src, dst, w, h, k, scratch);
+    upscale_smooth(src, dst, w, h, s, scratch);
     free(scratch);
     return dst;
 }
 
+/* A side of n full pixels at scale s: ceil(n / k), k = s / 2. */
+static uint32_t side(uint32_t n, uint32_t s) { return (uint32_t)ceil(n / (s / 2.0) - 1e-9); }
+
+/* Each full pixel is the frame pixel its centre falls in, (x + 1/2) / k
+ * floored: blocks of k pixels a side, or at 2.5 of 2 and 3 in turn. */
 static void blocks_copy_each_pixel(void **state)
 {
     (void)state;
     for (uint32_t bpp = 3; bpp <= 4; bpp++)
-        for (uint32_t k = 2; k <= 8; k++) {
-            const uint32_t w = 13, h = 7, sw = (w + k - 1) / k, sh = (h + k - 1) / k;
-            uint8_t *src = frame_of(sw, sh, bpp, k), *dst = malloc((size_t)w * h * bpp);
+        for (uint32_t s = 3; s <= 16; s++) {
+            const double k = s / 2.0;
+            const uint32_t w = 13, h = 7, sw = side(w, s), sh = side(h, s);
+            assert_int_equal(sw, upscale_side(w, s));
+            assert_int_equal(sh, upscale_side(h, s));
+            uint8_t *src = frame_of(sw, sh, bpp, s), *dst = malloc((size_t)w * h * bpp);
             assert_non_null(dst);
-            upscale_blocks(src, dst, w, h, bpp, k);
+            upscale_blocks(src, dst, w, h, bpp, s);
             for (uint32_t y = 0; y < h; y++)
-                for (uint32_t x = 0; x < w; x++)
-                    assert_memory_equal(dst + ((size_t)y * w + x) * bpp, src + ((size_t)(y / k) * sw + x / k) * bpp, bpp);
+                for (uint32_t x = 0; x < w; x++) {
+                    const size_t i = (size_t)floor((x + 0.5) / k), j = (size_t)floor((y + 0.5) / k);
+                    assert_memory_equal(dst + ((size_t)y * w + x) * bpp, src + (j * sw + i) * bpp, bpp);
+                }
             free(src), free(dst);
         }
 }
 
 /* The frame pixels about full pixel (x, y) and the right and lower ones'
- * weights in 1/(2k), as upscale.c's header says: floor((2x + 1 - k) / 2k),
- * clamped at the edges. */
+ * weights in 1/(2p), k = p / q in lowest terms: the centre's place among
+ * the frame's centres, (x + 1/2) / k - 1/2, its floor and its fraction in
+ * those units (whole: the place is a multiple of 1/(2p)), clamped at the
+ * edges. */
 typedef struct {
-    int i0, i1, j0, j1, r, q;
+    int i0, i1, j0, j1, r, q, k2;
 } Taps;
 
-static Taps taps_of(uint32_t x, uint32_t y, uint32_t k, uint32_t sw, uint32_t sh)
+static Taps taps_of(uint32_t x, uint32_t y, uint32_t s, uint32_t sw, uint32_t sh)
 {
-    const int k2 = 2 * (int)k, u = (int)(2 * x + 1) - (int)k, v = (int)(2 * y + 1) - (int)k;
-    const int i = (int)floor((double)u / k2), j = (int)floor((double)v / k2);
+    const int k2 = s % 2 ? 2 * (int)s : (int)s; /* 2p */
+    const double k = s / 2.0, u = (x + 0.5) / k - 0.5, v = (y + 0.5) / k - 0.5;
+    const int i = (int)floor(u), j = (int)floor(v);
+    const int r = (int)lround((u - i) * k2), q = (int)lround((v - j) * k2);
     return (Taps){i < 0 ? 0 : i, i + 1 >= (int)sw ? (int)sw - 1 : i + 1, j < 0 ? 0 : j,
-                  j + 1 >= (int)sh ? (int)sh - 1 : j + 1, u - i * k2, v - j * k2};
+                  j + 1 >= (int)sh ? (int)sh - 1 : j + 1, r, q, k2};
 }
 
 /* Every byte the exact rounded mix, (sum of weights x pixels + sum / 2) /
@@ -71,19 +86,19 @@ static Taps taps_of(uint32_t x, uint32_t y, uint32_t k, uint32_t sw, uint32_t sh
 static void smooth_is_the_rounded_mix(void **state)
 {
     (void)state;
-    for (uint32_t k = 2; k <= 8; k++) {
-        const uint32_t w = 41 + k, h = 17, sw = (w + k - 1) / k, sh = (h + k - 1) / k, k2 = 2 * k;
-        uint8_t *src = frame_of(sw, sh, 3, 7 * k), *dst = smooth(src, w, h, k);
+    for (uint32_t s = 3; s <= 16; s++) {
+        const uint32_t w = 41 + s, h = 17, sw = side(w, s), sh = side(h, s);
+        uint8_t *src = frame_of(sw, sh, 3, 7 * s), *dst = smooth(src, w, h, s);
         for (uint32_t y = 0; y < h; y++)
             for (uint32_t x = 0; x < w; x++) {
-                const Taps t = taps_of(x, y, k, sw, sh);
-                const int r = t.r, q = t.q, i0 = t.i0, i1 = t.i1, j0 = t.j0, j1 = t.j1;
+                const Taps t = taps_of(x, y, s, sw, sh);
+                const int r = t.r, q = t.q, i0 = t.i0, i1 = t.i1, j0 = t.j0, j1 = t.j1, k2 = t.k2;
                 for (int c = 0; c < 3; c++) {
 #define PX(a, b) (int)src[3 * ((size_t)(b) * sw + (size_t)(a)) + (size_t)c]
-                    const int top = ((int)k2 - r) * PX(i0, j0) + r * PX(i1, j0);
-                    const int bottom = ((int)k2 - r) * PX(i0, j1) + r * PX(i1, j1);
+                    const int top = (k2 - r) * PX(i0, j0) + r * PX(i1, j0);
+                    const int bottom = (k2 - r) * PX(i0, j1) + r * PX(i1, j1);
 #undef PX
-                    const int sum = (int)(k2 * k2), want = (((int)k2 - q) * top + q * bottom + sum / 2) / sum;
+                    const int sum = k2 * k2, want = ((k2 - q) * top + q * bottom + sum / 2) / sum;
                     assert_int_equal(dst[3 * ((size_t)y * w + x) + (size_t)c], want);
                 }
             }
@@ -94,13 +109,13 @@ static void smooth_is_the_rounded_mix(void **state)
 static void smooth_keeps_a_flat_frame(void **state)
 {
     (void)state;
-    for (uint32_t k = 2; k <= 8; k++) {
-        const uint32_t w = 21, h = 11, sw = (w + k - 1) / k, sh = (h + k - 1) / k;
+    for (uint32_t s = 3; s <= 16; s++) {
+        const uint32_t w = 21, h = 11, sw = side(w, s), sh = side(h, s);
         uint8_t *src = malloc((size_t)sw * sh * 3);
         assert_non_null(src);
         for (size_t i = 0; i < (size_t)sw * sh; i++)
             src[3 * i] = 255, src[3 * i + 1] = 7, src[3 * i + 2] = 128;
-        uint8_t *dst = smooth(src, w, h, k);
+        uint8_t *dst = smooth(src, w, h, s);
         for (size_t i = 0; i < (size_t)w * h; i++) {
             assert_int_equal(dst[3 * i], 255);
             assert_int_equal(dst[3 * i + 1], 7);
@@ -117,16 +132,17 @@ static void smooth_follows_a_ramp(void **state)
 {
     (void)state;
     for (int down = 0; down <= 1; down++)
-        for (uint32_t k = 2; k <= 8; k++) {
-            const uint32_t w = down ? 5 : 8 * k + 3, h = down ? 8 * k + 3 : 5;
-            const uint32_t sw = (w + k - 1) / k, sh = (h + k - 1) / k, n = down ? sh : sw;
+        for (uint32_t s = 3; s <= 16; s++) {
+            const double k = s / 2.0;
+            const uint32_t w = down ? 5 : 4 * s + 3, h = down ? 4 * s + 3 : 5;
+            const uint32_t sw = side(w, s), sh = side(h, s), n = down ? sh : sw;
             uint8_t *src = malloc((size_t)sw * sh * 3);
             assert_non_null(src);
             for (uint32_t j = 0; j < sh; j++)
                 for (uint32_t i = 0; i < sw; i++)
                     for (int c = 0; c < 3; c++)
                         src[3 * ((size_t)j * sw + i) + c] = (uint8_t)(10 + (c + 1) * 9 * (down ? j : i));
-            uint8_t *dst = smooth(src, w, h, k);
+            uint8_t *dst = smooth(src, w, h, s);
             for (uint32_t y = 0; y < h; y++)
                 for (uint32_t x = 0; x < w; x++) {
                     double u = ((down ? y : x) + 0.5) / k - 0.5;
@@ -143,9 +159,10 @@ static void smooth_follows_a_ramp(void **state)
 static void smooth_stays_within_its_taps(void **state)
 {
     (void)state;
-    for (uint32_t k = 2; k <= 8; k++) {
-        const uint32_t w = 37, h = 29, sw = (w + k - 1) / k, sh = (h + k - 1) / k;
-        uint8_t *src = frame_of(sw, sh, 3, k), *dst = smooth(src, w, h, k);
+    for (uint32_t s = 3; s <= 16; s++) {
+        const double k = s / 2.0;
+        const uint32_t w = 37, h = 29, sw = side(w, s), sh = side(h, s);
+        uint8_t *src = frame_of(sw, sh, 3, s), *dst = smooth(src, w, h, s);
         for (uint32_t y = 0; y < h; y++)
             for (uint32_t x = 0; x < w; x++) {
                 /* the frame pixels whose centres surround this one's */
@@ -171,14 +188,17 @@ static void smooth_stays_within_its_taps(void **state)
 static void smooth_mirrors_a_mirrored_frame(void **state)
 {
     (void)state;
-    for (uint32_t k = 2; k <= 8; k++) {
-        const uint32_t sw = 9, sh = 6, w = sw * k, h = sh * k;
-        uint8_t *src = frame_of(sw, sh, 3, 3 * k), *mir = malloc((size_t)sw * sh * 3);
+    for (uint32_t s = 3; s <= 16; s++) {
+        /* whole full sides (k x 10, k x 6), the frame's sides those */
+        const uint32_t sw = 10, sh = 6, w = sw * s / 2, h = sh * s / 2;
+        assert_int_equal(upscale_side(w, s), sw);
+        assert_int_equal(upscale_side(h, s), sh);
+        uint8_t *src = frame_of(sw, sh, 3, 3 * s), *mir = malloc((size_t)sw * sh * 3);
         assert_non_null(mir);
         for (uint32_t j = 0; j < sh; j++)
             for (uint32_t i = 0; i < sw; i++)
                 memcpy(mir + 3 * ((size_t)(sh - 1 - j) * sw + (sw - 1 - i)), src + 3 * ((size_t)j * sw + i), 3);
-        uint8_t *a = smooth(src, w, h, k), *b = smooth(mir, w, h, k);
+        uint8_t *a = smooth(src, w, h, s), *b = smooth(mir, w, h, s);
         for (uint32_t y = 0; y < h; y++)
             for (uint32_t x = 0; x < w; x++)
                 assert_memory_equal(a + 3 * ((size_t)y * w + x), b + 3 * ((size_t)(h - 1 - y) * w + (w - 1 - x)), 3);
@@ -194,27 +214,27 @@ static void smooth_mirrors_a_mirrored_frame(void **state)
 static void smooth_rgbe_mixes_the_light(void **state)
 {
     (void)state;
-    for (uint32_t k = 2; k <= 8; k++) {
-        const uint32_t w = 23 + k, h = 19, sw = (w + k - 1) / k, sh = (h + k - 1) / k, k2 = 2 * k;
+    for (uint32_t s = 3; s <= 16; s++) {
+        const uint32_t w = 23 + s, h = 19, sw = side(w, s), sh = side(h, s);
         uint8_t *src = malloc((size_t)sw * sh * 4), *dst = malloc((size_t)w * h * 4);
-        double *scratch = malloc(upscale_scratch_rgbe(w, h, k) * sizeof *scratch);
+        double *scratch = malloc(upscale_scratch_rgbe(w, h, s) * sizeof *scratch);
         assert_true(src && dst && scratch);
         for (size_t i = 0; i < (size_t)sw * sh; i++) {
-            const double s = pow(10.0, (double)((i * 7919u) % 400) / 100.0 - 2.0); /* 0.01 .. 100 */
-            rgbe_encode((real)(s * 0.9), (real)(s * (double)(i % 5) / 4.0), (real)(s * 0.3), src + 4 * i);
+            const double l = pow(10.0, (double)((i * 7919u) % 400) / 100.0 - 2.0); /* 0.01 .. 100 */
+            rgbe_encode((real)(l * 0.9), (real)(l * (double)(i % 5) / 4.0), (real)(l * 0.3), src + 4 * i);
         }
-        upscale_smooth_rgbe(src, dst, w, h, k, scratch);
+        upscale_smooth_rgbe(src, dst, w, h, s, scratch);
         for (uint32_t y = 0; y < h; y++)
             for (uint32_t x = 0; x < w; x++) {
-                const Taps t = taps_of(x, y, k, sw, sh);
-                const int r = t.r, q = t.q, i0 = t.i0, i1 = t.i1, j0 = t.j0, j1 = t.j1;
+                const Taps t = taps_of(x, y, s, sw, sh);
+                const int r = t.r, q = t.q, i0 = t.i0, i1 = t.i1, j0 = t.j0, j1 = t.j1, k2 = t.k2;
                 double c00[3], c10[3], c01[3], c11[3], mix[3], got[3];
                 rgbe_decode(src + 4 * ((size_t)j0 * sw + (size_t)i0), c00);
                 rgbe_decode(src + 4 * ((size_t)j0 * sw + (size_t)i1), c10);
                 rgbe_decode(src + 4 * ((size_t)j1 * sw + (size_t)i0), c01);
                 rgbe_decode(src + 4 * ((size_t)j1 * sw + (size_t)i1), c11);
-                const double w00 = (double)(((int)k2 - r) * ((int)k2 - q)), w10 = (double)(r * ((int)k2 - q));
-                const double w01 = (double)(((int)k2 - r) * q), w11 = (double)(r * q), sum = (double)(k2 * k2);
+                const double w00 = (double)((k2 - r) * (k2 - q)), w10 = (double)(r * (k2 - q));
+                const double w01 = (double)((k2 - r) * q), w11 = (double)(r * q), sum = (double)(k2 * k2);
                 double top = 0;
                 for (int c = 0; c < 3; c++) {
                     mix[c] = (w00 * c00[c] + w10 * c10[c] + w01 * c01[c] + w11 * c11[c]) / sum;
@@ -236,7 +256,7 @@ static void smooth_rgbe_mixes_the_light(void **state)
         /* flat: the same bytes everywhere */
         for (size_t i = 0; i < (size_t)sw * sh; i++)
             rgbe_encode(R(0.7), R(0.2), R(0.05), src + 4 * i);
-        upscale_smooth_rgbe(src, dst, w, h, k, scratch);
+        upscale_smooth_rgbe(src, dst, w, h, s, scratch);
         for (size_t i = 0; i < (size_t)w * h; i++)
             assert_memory_equal(dst + 4 * i, src, 4);
         free(src), free(dst), free(scratch);

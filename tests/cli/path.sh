@@ -179,61 +179,29 @@ out=$("$BIN/lanray-server" --headless --port 0 --still-light-samples 6 2>&1)
 # smooth (the default: the integer bilinear rule of server/upscale.c,
 # computed again here) or, with --upscale blocks, each pixel an 8 x 8
 # block, and at least one of the six is; the still frame after the
-# flight is whole
-for k in 1 2 3 4 5 6; do
-    t=$(python3 -c "print(($k - 1) * 0.5)")
-    "$BIN/lanray-render" --path "$dir/fly.path" --at "$t" --aa 1 --width $((W / 8)) --height $((H / 8)) \
-        -o "$dir/small-$k.png" --quiet >/dev/null || fail "lanray-render small --at $t"
-done
-for up in smooth blocks; do
-    start_server "scale-$up" --port 0 --width $W --height $H --path "$dir/fly.path" --path-step 0.5 --wait-clients 2 \
-        --target-fps 1000 --still-aa adaptive:4 --upscale "$up" --out "$dir/sc-$up"
-    run_clients 2 "scale-$up"
-    python3 - "$dir/sc-$up" "$dir" 8 "$up" <<'PY' || fail "no moving frame at render scale 8 is lanray-render's small frame scaled up ($up)"
-import sys
-sys.path.insert(0, "tests/tools")
-from pngpixel import read
-def taps(x, k, n):  # the frame pixels about full pixel x and the right one's weight in 1/(2k)
-    u = 2 * x + 1 - k
-    i, r = u // (2 * k), u % (2 * k)
-    return min(max(i, 0), n - 1), min(max(i + 1, 0), n - 1), r
-def scaled(bigf, smallf, k, up):
-    (big, _), (small, _) = read(bigf), read(smallf)
-    assert len(big) == len(small) * k, "the frame is not full size"
-    sw, k2 = len(small[0]) // 3, 2 * k
-    for y, row in enumerate(big):
-        a, b, s = taps(y, k, len(small))
-        for x in range(len(row) // 3):
-            if up == "blocks":
-                want = small[y // k][3 * (x // k):3 * (x // k) + 3]
-            else:
-                i0, i1, r = taps(x, k, sw)
-                mix = lambda line, c: (k2 - r) * line[3 * i0 + c] + r * line[3 * i1 + c]
-                want = bytes(((k2 - s) * mix(small[a], c) + s * mix(small[b], c) + k2 * k2 // 2) // (k2 * k2) for c in range(3))
-            if row[3 * x:3 * x + 3] != want:
-                return "pixel %d,%d" % (x, y)
-    return None
-why = [scaled("%s/frame-%05d.png" % (sys.argv[1], f), "%s/small-%d.png" % (sys.argv[2], f), int(sys.argv[3]), sys.argv[4]) for f in range(1, 7)]
-if all(why):
-    sys.exit("; ".join("frame %d: %s" % (f + 1, w) for f, w in enumerate(why)))
-PY
-    grep -q "^pace: target 1000.0 fps, mean render scale " "$dir/scale-$up.log" || fail "no pace line: $(tail -3 "$dir/scale-$up.log")"
-    cmp -s "$dir/sc-$up/frame-00007.png" "$dir/still.png" || fail "the still frame after a scaled flight is not whole and refined"
-done
-# RGBE frames (--hdr) at render scale 8, smooth: the small frame's light
-# decoded, mixed with the same weights in double and coded again
-# (server/upscale.c's upscale_smooth_rgbe, computed again here)
-for k in 1 2 3 4 5 6; do
-    t=$(python3 -c "print(($k - 1) * 0.5)")
-    "$BIN/lanray-render" --path "$dir/fly.path" --at "$t" --aa 1 --width $((W / 8)) --height $((H / 8)) \
-        -o "$dir/small-$k.hdr" --quiet >/dev/null || fail "lanray-render small .hdr --at $t"
-done
-start_server scale-hdr --port 0 --width $W --height $H --path "$dir/fly.path" --path-step 0.5 --wait-clients 2 \
-    --target-fps 1000 --hdr --out "$dir/sc-hdr"
-run_clients 2 scale-hdr
-python3 - "$dir/sc-hdr" "$dir" 8 <<'PY' || fail "no RGBE frame at render scale 8 is lanray-render's small .hdr brought up smooth"
+# flight is whole.  At a fixed scale in half steps (--render-scale 2.5:
+# frames of ceil(W / 2.5) x ceil(H / 2.5) pixels, whose blocks are 2 and 3
+# pixels a side in turn) every moving frame is.
+# small EXT S: lanray-render's six small frames at scale S (half steps) as $dir/small-S-F.EXT
+small() {
+    local sw sh
+    sw=$(( (2 * W + $2 - 1) / $2 )) sh=$(( (2 * H + $2 - 1) / $2 ))
+    for f in 1 2 3 4 5 6; do
+        t=$(python3 -c "print(($f - 1) * 0.5)")
+        "$BIN/lanray-render" --path "$dir/fly.path" --at "$t" --aa 1 --width $sw --height $sh \
+            -o "$dir/small-$2-$f.$1" --quiet >/dev/null || fail "lanray-render small $sw x $sh --at $t"
+    done
+}
+# scaled_ok DIR S UP any|all: whether any (or all) of frames 1 to 6 in DIR
+# are the small frames at scale S (half steps) brought up UP (smooth,
+# blocks, or hdr: RGBE smooth, the light decoded, mixed with the same
+# weights in double and coded again: upscale_smooth_rgbe)
+scaled_ok() {
+    python3 - "$1" "$dir" "$2" "$3" "$4" 2>&1 <<'PY'
 import math, struct, sys
-def read(path):  # lanray's .hdr: a header, a blank line, the size line, flat RGBE pixels
+sys.path.insert(0, "tests/tools")
+from pngpixel import read as read_png
+def read_hdr(path):  # lanray's .hdr: a header, a blank line, the size line, flat RGBE pixels
     head, _, body = open(path, "rb").read().partition(b"\n\n")
     size, _, px = body.partition(b"\n")
     h, w = int(size.split()[1]), int(size.split()[3])
@@ -251,31 +219,81 @@ def encode(c):
     m, e = math.frexp(v)
     m = m * 256.0 / v
     return bytes([int(x * m) for x in c] + [e + 128])
-def taps(x, k, n):
-    u = 2 * x + 1 - k
-    i, r = u // (2 * k), u % (2 * k)
+s = int(sys.argv[3])
+p, q = (s, 2) if s % 2 else (s // 2, 1)  # the scale s / 2 in lowest terms
+k2 = 2 * p
+def taps(x, n):  # the frame pixels about full pixel x and the right one's weight in 1/(2p)
+    u = (2 * x + 1) * q - p
+    i, r = u // k2, u % k2
     return min(max(i, 0), n - 1), min(max(i + 1, 0), n - 1), r
-def scaled(bigf, smallf, k):
-    W, H, big = read(bigf)
-    sw, sh, small = read(smallf)
-    if W != sw * k or H != sh * k:
-        return "not full size"
-    lights = [decode(small[4 * i:4 * i + 4]) for i in range(sw * sh)]
-    k2 = 2 * k
+side = lambda n: (2 * n + s - 1) // s
+def scaled(bigf, smallf, up):
+    if up == "hdr":
+        W, H, big = read_hdr(bigf)
+        sw, sh, small = read_hdr(smallf)
+        lights = [decode(small[4 * i:4 * i + 4]) for i in range(sw * sh)]
+    else:
+        (rows, _), (srows, _) = read_png(bigf), read_png(smallf)
+        W, H, sw, sh = len(rows[0]) // 3, len(rows), len(srows[0]) // 3, len(srows)
+    if (sw, sh) != (side(W), side(H)):
+        return "the frame is %dx%d, its small one %dx%d" % (W, H, sw, sh)
     for y in range(H):
-        j0, j1, q = taps(y, k, sh)
+        j0, j1, t = taps(y, sh)
         for x in range(W):
-            i0, i1, r = taps(x, k, sw)
-            w = [float((k2 - r) * (k2 - q)), float(r * (k2 - q)), float((k2 - r) * q), float(r * q)]
-            p = [lights[j0 * sw + i0], lights[j0 * sw + i1], lights[j1 * sw + i0], lights[j1 * sw + i1]]
-            mix = [(w[0] * p[0][c] + w[1] * p[1][c] + w[2] * p[2][c] + w[3] * p[3][c]) / float(k2 * k2) for c in range(3)]
-            if big[4 * (y * W + x):4 * (y * W + x) + 4] != encode(mix):
+            i0, i1, r = taps(x, sw)
+            if up == "hdr":
+                w = [float((k2 - r) * (k2 - t)), float(r * (k2 - t)), float((k2 - r) * t), float(r * t)]
+                c4 = [lights[j0 * sw + i0], lights[j0 * sw + i1], lights[j1 * sw + i0], lights[j1 * sw + i1]]
+                mix = [(w[0] * c4[0][c] + w[1] * c4[1][c] + w[2] * c4[2][c] + w[3] * c4[3][c]) / float(k2 * k2) for c in range(3)]
+                got, want = big[4 * (y * W + x):4 * (y * W + x) + 4], encode(mix)
+            elif up == "blocks":
+                i, j = (2 * x + 1) // s, (2 * y + 1) // s  # the frame pixel the centre falls in
+                got, want = rows[y][3 * x:3 * x + 3], srows[j][3 * i:3 * i + 3]
+            else:
+                mix = lambda line, c: (k2 - r) * line[3 * i0 + c] + r * line[3 * i1 + c]
+                got = rows[y][3 * x:3 * x + 3]
+                want = bytes(((k2 - t) * mix(srows[j0], c) + t * mix(srows[j1], c) + k2 * k2 // 2) // (k2 * k2) for c in range(3))
+            if got != want:
                 return "pixel %d,%d" % (x, y)
     return None
-why = [scaled("%s/frame-%05d.hdr" % (sys.argv[1], f), "%s/small-%d.hdr" % (sys.argv[2], f), int(sys.argv[3])) for f in range(1, 7)]
-if all(why):
-    sys.exit("; ".join("frame %d: %s" % (f + 1, w) for f, w in enumerate(why)))
+ext = "hdr" if sys.argv[4] == "hdr" else "png"
+why = [scaled("%s/frame-%05d.%s" % (sys.argv[1], f, ext), "%s/small-%d-%d.%s" % (sys.argv[2], s, f, ext), sys.argv[4]) for f in range(1, 7)]
+if all(why) if sys.argv[5] == "any" else any(why):
+    sys.exit("; ".join("frame %d: %s" % (f + 1, w) for f, w in enumerate(why) if w))
 PY
+}
+small png 16
+small png 5
+for up in smooth blocks; do
+    start_server "scale-$up" --port 0 --width $W --height $H --path "$dir/fly.path" --path-step 0.5 --wait-clients 2 \
+        --target-fps 1000 --still-aa adaptive:4 --upscale "$up" --out "$dir/sc-$up"
+    run_clients 2 "scale-$up"
+    out=$(scaled_ok "$dir/sc-$up" 16 "$up" any) ||
+        fail "no moving frame at render scale 8 is lanray-render's small frame scaled up ($up): $out"
+    grep -q "^pace: target 1000.0 fps, mean render scale " "$dir/scale-$up.log" || fail "no pace line: $(tail -3 "$dir/scale-$up.log")"
+    cmp -s "$dir/sc-$up/frame-00007.png" "$dir/still.png" || fail "the still frame after a scaled flight is not whole and refined"
+    start_server "half-$up" --port 0 --width $W --height $H --path "$dir/fly.path" --path-step 0.5 --wait-clients 2 \
+        --render-scale 2.5 --upscale "$up" --out "$dir/half-$up"
+    run_clients 2 "half-$up"
+    out=$(scaled_ok "$dir/half-$up" 5 "$up" all) ||
+        fail "a moving frame at render scale 2.5 is not lanray-render's small frame scaled up ($up): $out"
+done
+# RGBE frames (--hdr) smooth, at render scales 8 and 2.5
+small hdr 16
+small hdr 5
+start_server scale-hdr --port 0 --width $W --height $H --path "$dir/fly.path" --path-step 0.5 --wait-clients 2 \
+    --target-fps 1000 --hdr --out "$dir/sc-hdr"
+run_clients 2 scale-hdr
+out=$(scaled_ok "$dir/sc-hdr" 16 hdr any) || fail "no RGBE frame at render scale 8 is lanray-render's small .hdr brought up smooth: $out"
+start_server half-hdr --port 0 --width $W --height $H --path "$dir/fly.path" --path-step 0.5 --wait-clients 2 \
+    --render-scale 2.5 --hdr --out "$dir/half-hdr"
+run_clients 2 half-hdr
+out=$(scaled_ok "$dir/half-hdr" 5 hdr all) || fail "an RGBE frame at render scale 2.5 is not lanray-render's small .hdr brought up smooth: $out"
+for bad in 0.7 2.25 "2.5 --target-fps 10"; do
+    # shellcheck disable=SC2086
+    out=$("$BIN/lanray-server" --headless --port 0 --render-scale $bad 2>&1)
+    [ $? -eq 2 ] && grep -q "\-\-render-scale" <<<"$out" || fail "--render-scale $bad: $out"
+done
 # the same flight with the model turning: a new description every frame
 start_server turn --port 0 --width $W --height $H --path "$dir/fly.path" --path-step 0.5 --wait-clients 1 --rotate 10 \
     --out "$dir/t"
@@ -303,4 +321,4 @@ grep -q "missing.path" "$dir/miss.err" || fail "the server's error does not name
 "$BIN/lanray-render" models/cornell.scene --integrator path --aa 1 --width 64 --height 64 -o "$dir/cornell-path.png" \
     --quiet >/dev/null || fail "lanray-render the Cornell box path-traced"
 verify_distributed cornell-path models/cornell.scene "$dir/cornell-path.png" "served --integrator path" --integrator path
-echo "path: 6 frames of a flight through 2 clients equal lanray-render's cameras on the path, and the converged one its full picture; a frame at render scale 8 is its small picture brought up smooth (or in blocks), an RGBE one too; a camera move decodes no scene and builds no tree (6 each with a turning model); bad paths named by line; a Whitted scene served --integrator path"
+echo "path: 6 frames of a flight through 2 clients equal lanray-render's cameras on the path, and the converged one its full picture; a frame at render scale 8 or 2.5 is its small picture brought up smooth (or in blocks), an RGBE one too; a camera move decodes no scene and builds no tree (6 each with a turning model); bad paths named by line; a Whitted scene served --integrator path"
