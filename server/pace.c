@@ -82,7 +82,16 @@ int pace_update(Pace *p, double seconds, int scale, uint32_t width, uint32_t hei
         while (i < pace_scale_count - 1 && predict(p, i, width, height) > p->target)
             i++;
     } else if (i > 0 && !(p->t[i - 1] > 0) && now <= PACE_PROBE * p->target) {
-        i--; /* far below the target and the finer scale never tried: try it */
+        /* far below the target and the finer scale never tried: try it, or
+         * a finer one never tried whose time in proportion to its pixels
+         * fits with room to spare (an overestimate where a small frame's
+         * time is mostly fixed costs): the first move comes down from the
+         * coarsest in a few frames, not one scale a frame */
+        const int at = i;
+        i--;
+        while (i > 0 && !(p->t[i - 1] > 0) &&
+               now * pixels_at(i - 1, width, height) / pixels_at(at, width, height) <= PACE_FINER * p->target)
+            i--;
     } else { /* finer only with room to spare */
         while (i > 0 && predict(p, i - 1, width, height) <= PACE_FINER * p->target)
             i--;

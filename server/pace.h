@@ -12,7 +12,9 @@
  * two scales: it goes coarser as soon as a frame misses the target, finer
  * only when the finer scale is predicted to take at most PACE_FINER of it;
  * a finer scale never measured is tried once the frames take at most
- * PACE_PROBE of the target. */
+ * PACE_PROBE of the target (the finest never measured whose time in
+ * proportion to its pixels fits, so that the first move does not walk
+ * down from the coarsest one scale a frame). */
 #ifndef LANRAY_PACE_H
 #define LANRAY_PACE_H
 

@@ -1,7 +1,8 @@
 /* test_pace.c - the render scale that holds a frame rate (server/pace.c),
  * driven with made-up frame times: it goes coarser as soon as a frame
  * misses the target, finer only with room to spare, does not flicker
- * between two scales on times that wobble about a boundary, and never
+ * between two scales on times that wobble about a boundary, comes down
+ * from the coarsest in a few frames at the first move, and never
  * leaves scale 1 without a target.  Scales in half steps (upscale.h: 2 is
  * every pixel, 5 is 2.5). */
 #include "helpers.h"
@@ -76,6 +77,30 @@ static void no_flicker_about_a_boundary(void **state)
     assert_int_equal(k, 3);
 }
 
+/* The first move: nothing measured but the coarsest scale's frames, whose
+ * time is mostly fixed costs (5 ms a frame here, 300 ns a pixel; target
+ * 10 fps: 1.5 would take 110 ms, 2 64 ms, the steady scale): the pace
+ * comes down in two frames, 8 -> 3 -> 2, never past the target on the
+ * way (one scale a frame took seven), and stays. */
+static void first_move_comes_down_at_once(void **state)
+{
+    (void)state;
+    Pace p;
+    pace_init(&p, 10);
+    int k = p.scale, frames = 0, over = 0;
+    for (; frames < 10 && k != 4; frames++) {
+        const double t = 0.005 + frame_time(k, 300);
+        over += t > 0.1;
+        k = pace_update(&p, t, k, W, H);
+    }
+    assert_int_equal(k, 4);
+    assert_true(frames <= 2);
+    assert_int_equal(over, 0);
+    for (int i = 0; i < 10; i++)
+        k = pace_update(&p, 0.005 + frame_time(k, 300), k, W, H);
+    assert_int_equal(k, 4);
+}
+
 static void no_target_keeps_every_pixel(void **state)
 {
     (void)state;
@@ -93,6 +118,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(coarser_at_once_finer_with_room),
         cmocka_unit_test(no_flicker_about_a_boundary),
+        cmocka_unit_test(first_move_comes_down_at_once),
         cmocka_unit_test(no_target_keeps_every_pixel),
     };
     return cmocka_run_group_tests_name("pace", tests, NULL, NULL);
