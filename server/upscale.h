@@ -33,9 +33,10 @@ static inline uint32_t upscale_side(uint32_t full, uint32_t s)
 
 /* The full frame w x h, bpp bytes a pixel, from src, a frame at scale s
  * (half steps): upscale_side(w, s) pixels a line and upscale_side(h, s)
- * lines; full pixel x shows the frame pixel its centre falls in,
- * floor((2x + 1) / s) (a block of k x k where k is whole; at 2.5, of 2
- * and 3 pixels a side in turn). */
+ * lines, each where its camera ray went (upscale.c: a frame spans the
+ * full frame's width, its lines centred on the full frame's); each full
+ * pixel shows the frame pixel whose centre is nearest its own (a block of
+ * k x k where k divides the sides; at 2.5, of 2 and 3 pixels a side). */
 void upscale_blocks(const uint8_t *src, uint8_t *dst, uint32_t w, uint32_t h, uint32_t bpp, uint32_t s);
 
 /* The scratch upscale_smooth needs for a w x h frame at scale s, in
@@ -43,9 +44,10 @@ void upscale_blocks(const uint8_t *src, uint8_t *dst, uint32_t w, uint32_t h, ui
 size_t upscale_scratch(uint32_t w, uint32_t h, uint32_t s);
 
 /* The same, RGB8 only, each full pixel the bilinear mix of the four frame
- * pixels whose centres surround its own (clamped at the edges), rounded to
- * the nearest byte: the mix of bytes as they are coded (what a GPU's
- * linear filter does on a texture not marked sRGB). */
+ * pixels whose centres surround its own (clamped at the edges), its place
+ * among them to 1/128 of a frame pixel, rounded to the nearest byte: the
+ * mix of bytes as they are coded (what a GPU's linear filter does on a
+ * texture not marked sRGB). */
 void upscale_smooth(const uint8_t *src, uint8_t *dst, uint32_t w, uint32_t h, uint32_t s, uint16_t *scratch);
 
 /* The same for RGBE pixels (lanray-server --hdr), whose shared exponent

@@ -6,7 +6,10 @@
  * lies within the four it mixes, and a mirrored frame comes out mirrored
  * (the centres are where they belong, not half a pixel off); RGBE frames
  * mix their light, decoded.  Every render scale in half steps, 1.5 to 8
- * (s = 3..16, k = s / 2: upscale.h). */
+ * (s = 3..16, k = s / 2: upscale.h), on sides that k divides and sides
+ * it does not, where a frame pixel is where its camera ray went (the
+ * frame spans the full width, its lines centred): not k x k blocks from
+ * the corner, which would move the picture by up to 2 full pixels. */
 #include "helpers.h"
 
 #include <math.h>
@@ -39,14 +42,23 @@ static uint8_t *smooth(const uint8_t *src, uint32_t w, uint32_t h, uint32_t s)
 /* A side of n full pixels at scale s: ceil(n / k), k = s / 2. */
 static uint32_t side(uint32_t n, uint32_t s) { return (uint32_t)ceil(n / (s / 2.0) - 1e-9); }
 
-/* Each full pixel is the frame pixel its centre falls in, (x + 1/2) / k
- * floored: blocks of k pixels a side, or at 2.5 of 2 and 3 in turn. */
+/* Where full pixel t's centre lies among the frame pixels' (0: the first
+ * one's centre) on an axis of N full and n frame pixels, the frame sw
+ * pixels across W full ones: a frame pixel is sw / W full ones wide (the
+ * camera spans the width with whatever pixels it has) and the lines are
+ * centred, worked here in floating point from that geometry. */
+static double place_of(uint32_t t, uint32_t N, uint32_t n, uint32_t sw, uint32_t W)
+{
+    const double size = (double)W / sw, off = (N - n * size) / 2; /* a frame pixel in full ones; the first's edge */
+    return (t + 0.5 - off) / size - 0.5;
+}
+
+/* Each full pixel is the frame pixel whose centre is nearest its own. */
 static void blocks_copy_each_pixel(void **state)
 {
     (void)state;
     for (uint32_t bpp = 3; bpp <= 4; bpp++)
         for (uint32_t s = 3; s <= 16; s++) {
-            const double k = s / 2.0;
             const uint32_t w = 13, h = 7, sw = side(w, s), sh = side(h, s);
             assert_int_equal(sw, upscale_side(w, s));
             assert_int_equal(sh, upscale_side(h, s));
@@ -55,7 +67,9 @@ static void blocks_copy_each_pixel(void **state)
             upscale_blocks(src, dst, w, h, bpp, s);
             for (uint32_t y = 0; y < h; y++)
                 for (uint32_t x = 0; x < w; x++) {
-                    const size_t i = (size_t)floor((x + 0.5) / k), j = (size_t)floor((y + 0.5) / k);
+                    const double u = floor(place_of(x, w, sw, sw, w) + 0.5), v = floor(place_of(y, h, sh, sw, w) + 0.5);
+                    const size_t i = u < 0 ? 0 : u > sw - 1 ? sw - 1 : (size_t)u;
+                    const size_t j = v < 0 ? 0 : v > sh - 1 ? sh - 1 : (size_t)v;
                     assert_memory_equal(dst + ((size_t)y * w + x) * bpp, src + (j * sw + i) * bpp, bpp);
                 }
             free(src), free(dst);
@@ -63,22 +77,35 @@ static void blocks_copy_each_pixel(void **state)
 }
 
 /* The frame pixels about full pixel (x, y) and the right and lower ones'
- * weights in 1/(2p), k = p / q in lowest terms: the centre's place among
- * the frame's centres, (x + 1/2) / k - 1/2, its floor and its fraction in
- * those units (whole: the place is a multiple of 1/(2p)), clamped at the
- * edges. */
+ * weights in 1/128: the place rounded to the nearest 1/128 (halves up),
+ * its floor and remainder, clamped at the edges. */
 typedef struct {
     int i0, i1, j0, j1, r, q, k2;
 } Taps;
 
-static Taps taps_of(uint32_t x, uint32_t y, uint32_t s, uint32_t sw, uint32_t sh)
+static Taps taps_of(uint32_t x, uint32_t y, uint32_t w, uint32_t h, uint32_t sw, uint32_t sh)
 {
-    const int k2 = s % 2 ? 2 * (int)s : (int)s; /* 2p */
-    const double k = s / 2.0, u = (x + 0.5) / k - 0.5, v = (y + 0.5) / k - 0.5;
-    const int i = (int)floor(u), j = (int)floor(v);
-    const int r = (int)lround((u - i) * k2), q = (int)lround((v - j) * k2);
+    const double u = floor(place_of(x, w, sw, sw, w) * 128 + 0.5), v = floor(place_of(y, h, sh, sw, w) * 128 + 0.5);
+    const int i = (int)floor(u / 128), j = (int)floor(v / 128);
     return (Taps){i < 0 ? 0 : i, i + 1 >= (int)sw ? (int)sw - 1 : i + 1, j < 0 ? 0 : j,
-                  j + 1 >= (int)sh ? (int)sh - 1 : j + 1, r, q, k2};
+                  j + 1 >= (int)sh ? (int)sh - 1 : j + 1, (int)u - i * 128, (int)v - j * 128, 128};
+}
+
+/* A frame whose sides k divides is k x k blocks from the corner: full
+ * pixel t at (t + 1/2) / k - 1/2 (1.5: 12 x 9 for 18 x 13.5 ... a side of
+ * 3 x 6 = 18 full pixels). */
+static void whole_blocks_where_k_divides(void **state)
+{
+    (void)state;
+    for (uint32_t s = 3; s <= 16; s++) {
+        const uint32_t sw = 12, sh = 8, w = sw * s / 2, h = sh * s / 2;
+        if (sw * s % 2 || sh * s % 2)
+            continue;
+        for (uint32_t t = 0; t < w; t++)
+            assert_true(fabs(place_of(t, w, sw, sw, w) - ((t + 0.5) / (s / 2.0) - 0.5)) < 1e-12);
+        for (uint32_t t = 0; t < h; t++)
+            assert_true(fabs(place_of(t, h, sh, sw, w) - ((t + 0.5) / (s / 2.0) - 0.5)) < 1e-12);
+    }
 }
 
 /* Every byte the exact rounded mix, (sum of weights x pixels + sum / 2) /
@@ -91,7 +118,7 @@ static void smooth_is_the_rounded_mix(void **state)
         uint8_t *src = frame_of(sw, sh, 3, 7 * s), *dst = smooth(src, w, h, s);
         for (uint32_t y = 0; y < h; y++)
             for (uint32_t x = 0; x < w; x++) {
-                const Taps t = taps_of(x, y, s, sw, sh);
+                const Taps t = taps_of(x, y, w, h, sw, sh);
                 const int r = t.r, q = t.q, i0 = t.i0, i1 = t.i1, j0 = t.j0, j1 = t.j1, k2 = t.k2;
                 for (int c = 0; c < 3; c++) {
 #define PX(a, b) (int)src[3 * ((size_t)(b) * sw + (size_t)(a)) + (size_t)c]
@@ -126,14 +153,14 @@ static void smooth_keeps_a_flat_frame(void **state)
 }
 
 /* A ramp across (or down) the frame: each full pixel is the ramp at its
- * centre's place among the frame's centres, (x + 1/2) / k - 1/2, held at
- * the ends, within the rounding to a byte. */
+ * centre's place among the frame's centres (place_of), held at the ends,
+ * within the rounding to a byte and the place's to 1/128 (a step of 27
+ * a frame pixel at most). */
 static void smooth_follows_a_ramp(void **state)
 {
     (void)state;
     for (int down = 0; down <= 1; down++)
         for (uint32_t s = 3; s <= 16; s++) {
-            const double k = s / 2.0;
             const uint32_t w = down ? 5 : 4 * s + 3, h = down ? 4 * s + 3 : 5;
             const uint32_t sw = side(w, s), sh = side(h, s), n = down ? sh : sw;
             uint8_t *src = malloc((size_t)sw * sh * 3);
@@ -145,11 +172,11 @@ static void smooth_follows_a_ramp(void **state)
             uint8_t *dst = smooth(src, w, h, s);
             for (uint32_t y = 0; y < h; y++)
                 for (uint32_t x = 0; x < w; x++) {
-                    double u = ((down ? y : x) + 0.5) / k - 0.5;
+                    double u = down ? place_of(y, h, sh, sw, w) : place_of(x, w, sw, sw, w);
                     u = u < 0 ? 0 : u > n - 1 ? n - 1 : u;
                     for (int c = 0; c < 3; c++) {
                         const double want = 10 + (c + 1) * 9 * u;
-                        assert_true(fabs(dst[3 * ((size_t)y * w + x) + c] - want) <= 0.5 + 1e-9);
+                        assert_true(fabs(dst[3 * ((size_t)y * w + x) + c] - want) <= 0.5 + 27.0 / 256 + 1e-9);
                     }
                 }
             free(src), free(dst);
@@ -160,13 +187,12 @@ static void smooth_stays_within_its_taps(void **state)
 {
     (void)state;
     for (uint32_t s = 3; s <= 16; s++) {
-        const double k = s / 2.0;
         const uint32_t w = 37, h = 29, sw = side(w, s), sh = side(h, s);
         uint8_t *src = frame_of(sw, sh, 3, s), *dst = smooth(src, w, h, s);
         for (uint32_t y = 0; y < h; y++)
             for (uint32_t x = 0; x < w; x++) {
                 /* the frame pixels whose centres surround this one's */
-                const double u = (x + 0.5) / k - 0.5, v = (y + 0.5) / k - 0.5;
+                const double u = place_of(x, w, sw, sw, w), v = place_of(y, h, sh, sw, w);
                 int i0 = (int)floor(u), j0 = (int)floor(v);
                 for (int c = 0; c < 3; c++) {
                     int lo = 255, hi = 0;
@@ -185,24 +211,32 @@ static void smooth_stays_within_its_taps(void **state)
     }
 }
 
+/* A frame mirrored both ways comes out mirrored, at w x h full pixels
+ * from a frame at scale s. */
+static void mirrors(uint32_t w, uint32_t h, uint32_t s)
+{
+    const uint32_t sw = upscale_side(w, s), sh = upscale_side(h, s);
+    uint8_t *src = frame_of(sw, sh, 3, 3 * s), *mir = malloc((size_t)sw * sh * 3);
+    assert_non_null(mir);
+    for (uint32_t j = 0; j < sh; j++)
+        for (uint32_t i = 0; i < sw; i++)
+            memcpy(mir + 3 * ((size_t)(sh - 1 - j) * sw + (sw - 1 - i)), src + 3 * ((size_t)j * sw + i), 3);
+    uint8_t *a = smooth(src, w, h, s), *b = smooth(mir, w, h, s);
+    for (uint32_t y = 0; y < h; y++)
+        for (uint32_t x = 0; x < w; x++)
+            assert_memory_equal(a + 3 * ((size_t)y * w + x), b + 3 * ((size_t)(h - 1 - y) * w + (w - 1 - x)), 3);
+    free(src), free(mir), free(a), free(b);
+}
+
+/* On sides that k divides (k x 10, k x 6) and sides it does not (41 x
+ * 23: the frame's lines centred, not k x k blocks from the corner, which
+ * would not mirror). */
 static void smooth_mirrors_a_mirrored_frame(void **state)
 {
     (void)state;
     for (uint32_t s = 3; s <= 16; s++) {
-        /* whole full sides (k x 10, k x 6), the frame's sides those */
-        const uint32_t sw = 10, sh = 6, w = sw * s / 2, h = sh * s / 2;
-        assert_int_equal(upscale_side(w, s), sw);
-        assert_int_equal(upscale_side(h, s), sh);
-        uint8_t *src = frame_of(sw, sh, 3, 3 * s), *mir = malloc((size_t)sw * sh * 3);
-        assert_non_null(mir);
-        for (uint32_t j = 0; j < sh; j++)
-            for (uint32_t i = 0; i < sw; i++)
-                memcpy(mir + 3 * ((size_t)(sh - 1 - j) * sw + (sw - 1 - i)), src + 3 * ((size_t)j * sw + i), 3);
-        uint8_t *a = smooth(src, w, h, s), *b = smooth(mir, w, h, s);
-        for (uint32_t y = 0; y < h; y++)
-            for (uint32_t x = 0; x < w; x++)
-                assert_memory_equal(a + 3 * ((size_t)y * w + x), b + 3 * ((size_t)(h - 1 - y) * w + (w - 1 - x)), 3);
-        free(src), free(mir), free(a), free(b);
+        mirrors(5 * s, 3 * s, s);
+        mirrors(41, 23, s);
     }
 }
 
@@ -226,7 +260,7 @@ static void smooth_rgbe_mixes_the_light(void **state)
         upscale_smooth_rgbe(src, dst, w, h, s, scratch);
         for (uint32_t y = 0; y < h; y++)
             for (uint32_t x = 0; x < w; x++) {
-                const Taps t = taps_of(x, y, s, sw, sh);
+                const Taps t = taps_of(x, y, w, h, sw, sh);
                 const int r = t.r, q = t.q, i0 = t.i0, i1 = t.i1, j0 = t.j0, j1 = t.j1, k2 = t.k2;
                 double c00[3], c10[3], c01[3], c11[3], mix[3], got[3];
                 rgbe_decode(src + 4 * ((size_t)j0 * sw + (size_t)i0), c00);
@@ -267,6 +301,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(blocks_copy_each_pixel),
+        cmocka_unit_test(whole_blocks_where_k_divides),
         cmocka_unit_test(smooth_is_the_rounded_mix),
         cmocka_unit_test(smooth_keeps_a_flat_frame),
         cmocka_unit_test(smooth_follows_a_ramp),

@@ -180,8 +180,9 @@ out=$("$BIN/lanray-server" --headless --port 0 --still-light-samples 6 2>&1)
 # computed again here) or, with --upscale blocks, each pixel an 8 x 8
 # block, and at least one of the six is; the still frame after the
 # flight is whole.  At a fixed scale in half steps (--render-scale 2.5:
-# frames of ceil(W / 2.5) x ceil(H / 2.5) pixels, whose blocks are 2 and 3
-# pixels a side in turn) every moving frame is.
+# frames of ceil(W / 2.5) x ceil(H / 2.5) pixels, 39 x 29 for 96 x 72,
+# each pixel where its ray went: 39 span the width, the 29 lines centred)
+# every moving frame is.
 # small EXT S: lanray-render's six small frames at scale S (half steps) as $dir/small-S-F.EXT
 small() {
     local sw sh
@@ -220,13 +221,17 @@ def encode(c):
     m = m * 256.0 / v
     return bytes([int(x * m) for x in c] + [e + 128])
 s = int(sys.argv[3])
-p, q = (s, 2) if s % 2 else (s // 2, 1)  # the scale s / 2 in lowest terms
-k2 = 2 * p
-def taps(x, n):  # the frame pixels about full pixel x and the right one's weight in 1/(2p)
-    u = (2 * x + 1) * q - p
+k2 = 128  # a place to 1/128 of a frame pixel
+side = lambda n: (2 * n + s - 1) // s
+def place(t, N, n, sw, W):  # full pixel t's centre among the frame's (camera: sw pixels span W, lines centred), rounded
+    num, den = ((2 * t + 1) * sw - N * sw + n * W - W) * k2, 2 * W
+    return (2 * num + den) // (2 * den)
+def taps(t, N, n, sw, W):  # the frame pixels about it and the right one's weight in 1/128
+    u = place(t, N, n, sw, W)
     i, r = u // k2, u % k2
     return min(max(i, 0), n - 1), min(max(i + 1, 0), n - 1), r
-side = lambda n: (2 * n + s - 1) // s
+def nearest(t, N, n, sw, W):
+    return min(max((place(t, N, n, sw, W) + k2 // 2) // k2, 0), n - 1)
 def scaled(bigf, smallf, up):
     if up == "hdr":
         W, H, big = read_hdr(bigf)
@@ -238,16 +243,16 @@ def scaled(bigf, smallf, up):
     if (sw, sh) != (side(W), side(H)):
         return "the frame is %dx%d, its small one %dx%d" % (W, H, sw, sh)
     for y in range(H):
-        j0, j1, t = taps(y, sh)
+        j0, j1, t = taps(y, H, sh, sw, W)
         for x in range(W):
-            i0, i1, r = taps(x, sw)
+            i0, i1, r = taps(x, W, sw, sw, W)
             if up == "hdr":
                 w = [float((k2 - r) * (k2 - t)), float(r * (k2 - t)), float((k2 - r) * t), float(r * t)]
                 c4 = [lights[j0 * sw + i0], lights[j0 * sw + i1], lights[j1 * sw + i0], lights[j1 * sw + i1]]
                 mix = [(w[0] * c4[0][c] + w[1] * c4[1][c] + w[2] * c4[2][c] + w[3] * c4[3][c]) / float(k2 * k2) for c in range(3)]
                 got, want = big[4 * (y * W + x):4 * (y * W + x) + 4], encode(mix)
             elif up == "blocks":
-                i, j = (2 * x + 1) // s, (2 * y + 1) // s  # the frame pixel the centre falls in
+                i, j = nearest(x, W, sw, sw, W), nearest(y, H, sh, sw, W)  # the nearest frame pixel
                 got, want = rows[y][3 * x:3 * x + 3], srows[j][3 * i:3 * i + 3]
             else:
                 mix = lambda line, c: (k2 - r) * line[3 * i0 + c] + r * line[3 * i1 + c]
@@ -278,6 +283,49 @@ for up in smooth blocks; do
     out=$(scaled_ok "$dir/half-$up" 5 "$up" all) ||
         fail "a moving frame at render scale 2.5 is not lanray-render's small frame scaled up ($up): $out"
 done
+# ... and lands where the full frame's pixels are: against lanray-render's
+# full-size frames of the same moments, the frames at 2.5 come closer than
+# the same small frames spread as 2.5 x 2.5 blocks from the corner would
+# (the rule before 2026-11-30, which moved the picture by up to a pixel)
+for f in 1 2 3 4 5 6; do
+    t=$(python3 -c "print(($f - 1) * 0.5)")
+    "$BIN/lanray-render" --path "$dir/fly.path" --at "$t" --aa 1 --width $W --height $H -o "$dir/full-$f.png" --quiet \
+        >/dev/null || fail "lanray-render full --at $t"
+done
+out=$(python3 - "$dir" 2>&1 <<'PY'
+import sys
+sys.path.insert(0, "tests/tools")
+from pngpixel import read
+d, k = sys.argv[1], 2.5
+def px(rows, x, y, c):
+    return rows[y][3 * x + c]
+def corner(small, W, H):  # bilinear, small pixel i's centre at (i + 1/2) k full pixels
+    sh, sw = len(small), len(small[0]) // 3
+    out = []
+    for y in range(H):
+        v = min(max((y + 0.5) / k - 0.5, 0), sh - 1)
+        j0 = int(v); j1 = min(j0 + 1, sh - 1); fy = v - j0
+        for x in range(W):
+            u = min(max((x + 0.5) / k - 0.5, 0), sw - 1)
+            i0 = int(u); i1 = min(i0 + 1, sw - 1); fx = u - i0
+            for c in range(3):
+                top = px(small, i0, j0, c) * (1 - fx) + px(small, i1, j0, c) * fx
+                bot = px(small, i0, j1, c) * (1 - fx) + px(small, i1, j1, c) * fx
+                out.append(top * (1 - fy) + bot * fy)
+    return out
+served = blocks = 0.0
+for f in range(1, 7):
+    full, _ = read("%s/full-%d.png" % (d, f))
+    got, _ = read("%s/half-smooth/frame-%05d.png" % (d, f))
+    small, _ = read("%s/small-5-%d.png" % (d, f))
+    H, W = len(full), len(full[0]) // 3
+    ref = [full[y][i] for y in range(H) for i in range(3 * W)]
+    served += sum((got[y][i] - ref[y * 3 * W + i]) ** 2 for y in range(H) for i in range(3 * W))
+    blocks += sum((a - b) ** 2 for a, b in zip(corner(small, W, H), ref))
+print("%.1f %.1f" % (served, blocks))
+sys.exit(0 if served < 0.9 * blocks else 1)
+PY
+) || fail "frames at render scale 2.5 are not where their rays went: squared error $out (served, blocks from the corner)"
 # RGBE frames (--hdr) smooth, at render scales 8 and 2.5
 small hdr 16
 small hdr 5
