@@ -9,7 +9,7 @@ MODE is one of:
   lie-size    a valid header that claims a 4 GiB packet
   forge-data  complete the handshake, then send pixels for a segment never given
   bad-coded   complete the handshake, then send coded pixels that do not decode
-              for the segments it is given
+              for every segment it is given, until the server's ERROR
   overclaim   the same, coded pixels as many bytes as the segment's raw ones
   silent      connect and send nothing, wait for the server to close
   slowloris   send a valid HELLO one byte every half second
@@ -116,6 +116,12 @@ def main():
     elif mode in ("bad-coded", "overclaim"):
         s.sendall(hello(nonce, token))
         coding = None
+        # bad pixels for every segment it is given, until the server's
+        # ERROR (session_packets prints it): the server decodes only the
+        # pixels it takes, and a segment whose frame the others finished
+        # first (the tail shared, frames pipelined) comes back stale and
+        # unread; answering its first segment alone left the client
+        # holding the next frame's, stalled, in two runs on loaded machines
         for ptype, body in session_packets(s):
             if ptype == WELCOME:
                 coding = struct.unpack("=II", body[:8])[1]
@@ -129,16 +135,17 @@ def main():
             elif ptype == COMPUTE:
                 frame, first, count = struct.unpack("=III", body[:12])
                 segs = [(first, count)]
-            for first, count in segs[:1]:
-                # one bad packet, then what the server says: a second one
-                # sent after the server dropped the client met a closed
-                # socket (a broken pipe, and the error unread)
+            for first, count in segs:
                 raw = 3 * count
                 pix = b"\x5a" * (raw // 2 if mode == "bad-coded" else raw)
                 body = struct.pack("=IIIII", frame, first, count, 100, coding) + pix
-                s.sendall(struct.pack("=II", DATA, 8 + len(body)) + body)
-                print(wait_error(s))
-                return
+                try:
+                    s.sendall(struct.pack("=II", DATA, 8 + len(body)) + body)
+                except OSError:
+                    # the server dropped it after an earlier packet: its
+                    # ERROR is still there to read (queued before the reset)
+                    print(wait_error(s))
+                    return
         return
     elif mode == "silent":
         pass
