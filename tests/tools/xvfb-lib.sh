@@ -15,22 +15,10 @@ start_xvfb() {
 # in this test's window steps until CI's own limit ended it, naming nothing.
 screenshot() { timeout 10 xwd -root -silent >"$dir/screen.xwd" 2>/dev/null; }
 
-# appears REF.ppm [TRIES]: waits (0.2 s a try, 60 tries) until REF is on
-# the screen, pixel for pixel; prints 'found at X,Y', or what xwdfind said
-# and returns 1.  The last screen stays in $dir/screen.xwd.
-appears() {
-    local out=
-    for _ in $(seq "${2:-60}"); do
-        screenshot
-        out=$(python3 tests/tools/xwdfind.py "$dir/screen.xwd" "$1") && { echo "$out"; return 0; }
-        sleep 0.2
-    done
-    echo "$out"
-    return 1
-}
-
-# appears_any TRIES REF.ppm...: as appears, until any of the REFs is on
-# the screen; prints 'found at X,Y: REF' (the first found)
+# appears_any TRIES REF.ppm...: waits (0.2 s a try) until any of the REFs
+# is on the screen, pixel for pixel; prints 'found at X,Y' (with more than
+# one REF, 'found at X,Y: REF', the first found), or what xwdfind said and
+# returns 1.  The last screen stays in $dir/screen.xwd.
 appears_any() {
     local tries=$1 out=
     shift
@@ -42,6 +30,9 @@ appears_any() {
     echo "$out"
     return 1
 }
+
+# appears REF.ppm [TRIES]: appears_any of one REF, 60 tries unless told
+appears() { appears_any "${2:-60}" "$1"; }
 
 # window_server NAME SERVER-ARGS...: a server with a window on the X screen
 # (its output in $dir/NAME.log and NAME.err) and one client of two threads
