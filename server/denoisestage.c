@@ -41,8 +41,11 @@ static void *stage_main(void *arg)
         const StageFrame *f = &st->frame;
         if (st->history && f->temporal)
             temporal_add(st->history, st->in, st->w, st->h, st->cb, st->linear,
-                         &(TemporalFrame){f->cam, f->epoch, f->samples, f->still});
-        if (denoise_frame(st->denoiser, st->in, st->w, st->h, st->cb, st->linear, st->out, &err))
+                         &(TemporalFrame){f->cam, f->epoch, f->samples, f->still, !st->denoiser});
+        if (!st->denoiser) /* the history alone: the colours without their guides */
+            for (size_t i = 0; i < (size_t)st->w * st->h; i++)
+                memcpy(st->out + i * st->cb, st->in + i * st->bpp, st->cb);
+        else if (denoise_frame(st->denoiser, st->in, st->w, st->h, st->cb, st->linear, st->out, &err))
             memset(st->out, 0, (size_t)st->w * st->h * st->cb);
         pthread_mutex_lock(&st->lock);
         st->state = FILTERED;
@@ -52,8 +55,8 @@ static void *stage_main(void *arg)
     return NULL;
 }
 
-DenoiseStage *denoise_stage_create(uint32_t width, uint32_t height, uint32_t colour_bytes, int threads, int temporal,
-                                   Err *err)
+DenoiseStage *denoise_stage_create(uint32_t width, uint32_t height, uint32_t colour_bytes, int threads, int filter,
+                                   int temporal, Err *err)
 {
     DenoiseStage *st = calloc(1, sizeof *st);
     if (!st) {
@@ -65,15 +68,16 @@ DenoiseStage *denoise_stage_create(uint32_t width, uint32_t height, uint32_t col
     st->in = malloc(n * st->bpp);
     st->out = malloc(n * st->cb);
     st->pool = pool_create(threads, err);
-    st->denoiser = st->pool ? denoiser_create(st->pool, width, height) : NULL;
+    st->denoiser = st->pool && filter ? denoiser_create(st->pool, width, height) : NULL;
     st->history = st->pool && temporal ? temporal_create(st->pool, width, height, temporal) : NULL;
     pthread_mutex_init(&st->lock, NULL);
     pthread_cond_init(&st->changed, NULL);
-    if (!st->in || !st->out || !st->denoiser || (temporal && !st->history) ||
+    if (!st->in || !st->out || (filter && !st->denoiser) || (temporal && !st->history) ||
         pthread_create(&st->thread, NULL, stage_main, st) != 0) {
         if (st->pool)
-            err_set(err, "out of memory or threads for the denoiser%s of %ux%u frames",
-                    temporal ? " and the history (--temporal)" : "", width, height);
+            err_set(err, "out of memory or threads for the %s of %ux%u frames",
+                    !filter ? "history (--temporal)" : temporal ? "denoiser and the history (--temporal)" : "denoiser",
+                    width, height);
         denoise_stage_destroy(st);
         return NULL;
     }

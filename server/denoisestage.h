@@ -4,7 +4,9 @@
  * filter (0.24 s on 2 cores) was time in which the clients' results waited
  * and no segment went out.  One frame at a time: the loop hands a copy in
  * and takes the filtered frame out, in order; handing in a frame while the
- * one before is still being filtered waits for it. */
+ * one before is still being filtered waits for it.  A stage without its
+ * filter serves a Whitted view's history alone (render/temporal.h): its
+ * moving frames are added up there, and leave without their guides. */
 #ifndef LANRAY_DENOISESTAGE_H
 #define LANRAY_DENOISESTAGE_H
 
@@ -27,12 +29,12 @@ typedef struct {
 } StageFrame;
 
 /* A stage for frames of up to width x height guided pixels of colour_bytes
- * of colour (then the guide), filtered on `threads` threads (the stage's
- * own and threads - 1 more), with a history of `temporal` frames (0:
- * none) that frames marked temporal are added to first; NULL with the
- * reason. */
-DenoiseStage *denoise_stage_create(uint32_t width, uint32_t height, uint32_t colour_bytes, int threads, int temporal,
-                                   Err *err);
+ * of colour (then the guide), filtered (filter 0: not) on `threads`
+ * threads (the stage's own and threads - 1 more), with a history of
+ * `temporal` frames (0: none) that frames marked temporal are added to
+ * first; NULL with the reason. */
+DenoiseStage *denoise_stage_create(uint32_t width, uint32_t height, uint32_t colour_bytes, int threads, int filter,
+                                   int temporal, Err *err);
 /* Stops the thread (a frame being filtered is finished first) and frees the stage. */
 void denoise_stage_destroy(DenoiseStage *st);
 /* Hands in a copy of a w x h frame (linear: its codes are linear) with

@@ -359,14 +359,16 @@ static const char server_exits[] =
              "pixel's guide, 9 bytes, beside its colour; a scene that asks for it is denoised without"}, \
     {.name = "--denoise-threads", .kind = OPT_INT, .dst = &(a)->cfg.denoise_threads, .arg = "T", .lo = 0, \
      .hi = POOL_MAX_THREADS, .help = "threads of the denoiser, 0 = one per core", .def = "0"}, \
-    CLI_TEMPORAL_OPT(&(a)->cfg.temporal, "path-traced and denoised: ")
+    CLI_TEMPORAL_OPT(&(a)->cfg.temporal, "path-traced and denoised: "), \
+    CLI_WHITTED_TEMPORAL_OPT(&(a)->cfg.whitted_temporal, "")
 
 /* Parses the command line into a: OPT_GO, or the exit status. */
 static int parse_args(Args *a, int argc, char **argv)
 {
     *a = (Args){.cfg = {.listen_addr = "127.0.0.1", .port = PROTO_DEFAULT_PORT, .token = getenv("LANRAY_TOKEN"),
                         .width = 1024, .height = 768, .tail = sched_tail_smart, .stall_timeout = 30,
-                        .handshake_timeout = 10, .temporal = TEMPORAL_DEFAULT_FRAMES},
+                        .handshake_timeout = 10, .temporal = TEMPORAL_DEFAULT_FRAMES,
+                        .whitted_temporal = TEMPORAL_WHITTED_FRAMES},
                 .bvh = bvh_options_default(BVH_SAH), .out_dir = "frames", .tail = 1, .bvh_kind = BVH_SAH, .compress = 2, .pipeline = 1,
                 .stall = 30, .handshake = 10, .aa = {1, 0, 0}};
     ServerConfig *cfg = &a->cfg;

@@ -127,8 +127,12 @@ struct Server {
     Pool *acc_pool; /* ... added on these threads (NULL: the loop's alone) */
     uint32_t cbpp;   /* bytes of a pixel's colour, as shown */
     /* settings denoise (fixed for the server's life, as bpp): each finished
-     * frame is filtered on the stage's thread, and shown once filtered */
+     * frame is filtered on the stage's thread, and shown once filtered; or
+     * a Whitted view's moving frames added up there (settings guides), the
+     * stage without its filter, made at the first (history_stage) */
     DenoiseStage *stage;
+    int filters;        /* the stage filters (settings denoise) */
+    int history_failed; /* a Whitted view's history could not be made: none */
     int raw_view;     /* denoised frames shown raw (server_set_denoise_shown) */
     uint8_t *stripped; /* ... a frame's colours without their guides */
     Asset *assets;    /* models then textures of the scene */
@@ -221,7 +225,9 @@ Server *server_create(const ServerConfig *cfg, Scene *scene, Err *err)
         const long cores = sysconf(_SC_NPROCESSORS_ONLN);
         const int threads = cfg->denoise_threads > 0 ? cfg->denoise_threads : cores > 0 ? (int)cores : 1;
         s->stage = denoise_stage_create((uint32_t)cfg->width, (uint32_t)cfg->height, s->cbpp,
-                                        threads < POOL_MAX_THREADS ? threads : POOL_MAX_THREADS, cfg->temporal, &stage_err);
+                                        threads < POOL_MAX_THREADS ? threads : POOL_MAX_THREADS, 1, cfg->temporal,
+                                        &stage_err);
+        s->filters = 1;
         s->stripped = malloc((size_t)cfg->width * cfg->height * s->cbpp);
         if (s->stage && !s->stripped)
             err_set(&stage_err, "out of memory for the raw view of %dx%d frames", cfg->width, cfg->height);
@@ -302,18 +308,22 @@ int server_frame_converged(const Server *s) { return s->shown_converged; }
 int server_frame_samples(const Server *s) { return s->shown_samples; }
 
 /* The frames a history adds up of a view of settings rs: the server's
- * --temporal where it is path-traced and denoised, else 0. */
+ * --temporal where it is path-traced and denoised, or Whitted's (not
+ * denoised: its guides would be filtered) unless its history could not be
+ * made, else 0. */
 static int temporal_frames(const Server *s, const RenderSettings *rs)
 {
-    return rs->integrator == INTEGRATOR_PATH && rs->denoise && s->stage ? s->cfg.temporal : 0;
+    if (rs->integrator == INTEGRATOR_PATH)
+        return rs->denoise && s->stage ? s->cfg.temporal : 0;
+    return !rs->denoise && !s->history_failed ? s->cfg.whitted_temporal : 0;
 }
 
-int server_denoises(const Server *s) { return s->stage != NULL; }
+int server_denoises(const Server *s) { return s->filters; }
 int server_denoise_shown(const Server *s) { return !s->raw_view; }
 int server_temporal(const Server *s) { return temporal_frames(s, &s->view.settings); }
 void server_set_denoise_shown(Server *s, int shown)
 {
-    s->raw_view = s->stage && !shown;
+    s->raw_view = s->filters && !shown;
     const RenderSettings rs = server_settings(s); /* the view again (with a change still pending), shown the new way */
     server_set_settings(s, &rs);
 }
@@ -690,6 +700,22 @@ static int adaptive_frame(const RenderSettings *rs)
  * hold their sums and the sums' own made; 0 where its samples do not go
  * in batches, the frame is too large, or there is no memory for them
  * (each still frame is then rendered whole). */
+/* The current frame's buffer (free: its frame has not started) made for
+ * need bytes a pixel; 0 where there is no memory for it. */
+static int frame_room(Server *s, uint32_t need)
+{
+    if (s->frame_cap >= need)
+        return 1;
+    uint8_t *p = realloc(s->pixels, (size_t)s->cfg.width * s->cfg.height * need);
+    if (!p)
+        return 0;
+    s->pixels = p;
+    s->frame_cap = need;
+    free(s->spare_pixels); /* made smaller: made again when wanted */
+    s->spare_pixels = NULL;
+    return 1;
+}
+
 static int still_batches(Server *s)
 {
     RenderSettings rs = s->view.settings;
@@ -715,16 +741,34 @@ static int still_batches(Server *s)
         const long cores = sysconf(_SC_NPROCESSORS_ONLN);
         s->acc_pool = cores > 1 ? pool_create(cores < 8 ? (int)cores : 8, NULL) : NULL;
     }
-    if (s->frame_cap < need) { /* the current frame's buffer is free: its frame has not started */
-        uint8_t *p = realloc(s->pixels, n * need);
-        if (!p)
-            return 0;
-        s->pixels = p;
-        s->frame_cap = need;
-        free(s->spare_pixels); /* made smaller: made again when wanted */
-        s->spare_pixels = NULL;
-    }
-    return batches;
+    return frame_room(s, need) ? batches : 0;
+}
+
+/* A Whitted view's history (server_temporal): the stage that adds its
+ * moving frames up, without a filter, made at the first of them (a
+ * server that never moves has none: 128 bytes a pixel), and the room
+ * for its guided pixels; 0 where there is no memory for them (logged
+ * once: the frames then go without). */
+static int history_stage(Server *s)
+{
+    if (s->stage)
+        return frame_room(s, s->cbpp + DENOISE_GUIDE_BYTES);
+    const size_t n = (size_t)s->cfg.width * s->cfg.height;
+    const long cores = sysconf(_SC_NPROCESSORS_ONLN);
+    const int threads = s->cfg.denoise_threads > 0 ? s->cfg.denoise_threads : cores > 0 ? (int)cores : 1;
+    Err err = {{0}};
+    s->stage = denoise_stage_create((uint32_t)s->cfg.width, (uint32_t)s->cfg.height, s->cbpp,
+                                    threads < POOL_MAX_THREADS ? threads : POOL_MAX_THREADS, 0, s->cfg.whitted_temporal,
+                                    &err);
+    if (s->stage && !frame_room(s, s->cbpp + DENOISE_GUIDE_BYTES))
+        err_set(&err, "out of memory for %zu guided pixels", n);
+    if (s->stage && !err.msg[0])
+        return 1;
+    log_line(s->cfg.quiet, "lanray-server", "moving frames without their history: %s", err.msg);
+    denoise_stage_destroy(s->stage);
+    s->stage = NULL;
+    s->history_failed = 1;
+    return 0;
 }
 
 
@@ -754,9 +798,16 @@ static int start_frame(Server *s, Err *err)
     if (!s->still && s->cfg.moving_lights >= 0)
         v.settings.light_sampling = (LightSampling)s->cfg.moving_lights;
     /* a path-traced moving frame whose history adds it up: another of its
-     * pixels' samples each (the frame to come is s->frame + 1) */
-    if (!s->still && temporal_frames(s, &v.settings))
-        v.settings.jitter = progressive_jitter(&v.settings, s->frame + 1);
+     * pixels' samples each (the frame to come is s->frame + 1); a Whitted
+     * one at the full size carries its guides there (at render scales 2 to
+     * 4 its history blurred more than it smoothed: the demo's flight
+     * 1-2% further from the full-quality frames, and slower) */
+    if (!s->still && temporal_frames(s, &v.settings)) {
+        if (v.settings.integrator == INTEGRATOR_PATH)
+            v.settings.jitter = progressive_jitter(&v.settings, s->frame + 1);
+        else if (s->next_scale == UPSCALE_ONE)
+            v.settings.guides = history_stage(s);
+    }
     s->frame_cam = v.camera;
     s->frame_epoch = (uint64_t)s->scene_id << 32 | s->settings_id;
     s->frame_rs = v.settings;
@@ -1078,7 +1129,8 @@ static int frame_samples(const RenderSettings *rs)
 static StageFrame stage_frame(const Server *s, uint32_t id, int scale, int still, int converged, double t0,
                               const RenderSettings *rs, const Camera *cam, uint64_t epoch)
 {
-    return (StageFrame){id, scale, still, converged, t0, frame_samples(rs), temporal_frames(s, rs) > 0, *cam, epoch};
+    const int temporal = rs->integrator == INTEGRATOR_PATH ? temporal_frames(s, rs) > 0 : rs->guides;
+    return (StageFrame){id, scale, still, converged, t0, frame_samples(rs), temporal, *cam, epoch};
 }
 
 /* A finished frame to the application: the panel's and the pace's
@@ -1114,8 +1166,9 @@ static int show_filtered(Server *s, int wait, FrameDoneFn done, void *ctx)
 }
 
 /* A finished frame: shown, or with settings denoise handed to the stage to
- * be filtered at its render scale (then brought up) and shown once it is
- * (the frame before first: frames are shown in order). */
+ * be filtered at its render scale (then brought up) and shown once it is,
+ * or with settings guides to be added to its history (the frame before
+ * first: frames are shown in order). */
 static void frame_finished(Server *s, const StageFrame *f, const uint8_t *pixels, const RenderSettings *rs,
                            FrameDoneFn done, void *ctx)
 {
@@ -1137,12 +1190,12 @@ static void frame_finished(Server *s, const StageFrame *f, const uint8_t *pixels
         pool_for(s->acc_pool, n, 8192, batch_add_range, &b);
         pixels = s->acc_px;
     }
-    if (!s->stage) {
+    if (s->stage && denoise_stage_holds(s->stage)) /* the frame before first */
+        show_filtered(s, 1, done, ctx);
+    if (!s->stage || !(rs->denoise || rs->guides)) { /* no guides: nothing for the stage */
         show_frame(s, f, pixels, done, ctx);
         return;
     }
-    if (denoise_stage_holds(s->stage))
-        show_filtered(s, 1, done, ctx);
     const uint32_t fw = upscale_side((uint32_t)s->cfg.width, (uint32_t)f->scale),
                    fh = upscale_side((uint32_t)s->cfg.height, (uint32_t)f->scale);
     if (s->raw_view) { /* the colours alone, unfiltered */

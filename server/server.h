@@ -61,6 +61,9 @@ typedef struct {
      * the camera moves (each moving frame another sample of its pixels,
      * added to the frames before, reprojected: render/temporal.h); 0: none */
     int temporal;
+    /* ... and Whitted's, its moving frames at the full size (render scale
+     * 1) carrying their guides for it (settings guides) */
+    int whitted_temporal;
 } ServerConfig;
 
 typedef struct Server Server;
@@ -154,7 +157,8 @@ int server_frame_samples(const Server *s);
 int server_denoises(const Server *s);
 int server_denoise_shown(const Server *s);
 /* The frames a moving pixel's history weighs (--temporal, where the view
- * is path-traced and denoised: render/temporal.h); 0: none. */
+ * is path-traced and denoised; --whitted-temporal, Whitted's:
+ * render/temporal.h); 0: none. */
 int server_temporal(const Server *s);
 void server_set_denoise_shown(Server *s, int shown);
 int server_newest_converged(const Server *s);

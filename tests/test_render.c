@@ -11,6 +11,7 @@
 #include "scene/path.h"
 #include "scene/scene_default.h"
 #include "base/simd.h"
+#include "scene/scene_fields.h"
 
 static Scene *empty_scene(void)
 {
@@ -757,6 +758,17 @@ static void packets_equal_single_rays(void **state)
     assert_true(packets > 100);
 }
 
+/* The built-in default scene (a bit of everything). */
+static Scene *default_scene(void)
+{
+    Scene *s;
+    BvhOptions opt = bvh_options_default(BVH_SAH);
+    Err err;
+    if (scene_default(&s, &opt, &err))
+        fail_msg("%s", err.msg);
+    return s;
+}
+
 static uint8_t *render_all(RenderPool *p, Scene *s, int w, int h, int segment)
 {
     uint8_t *px = malloc((size_t)w * h * 3);
@@ -773,11 +785,8 @@ static uint8_t *render_all(RenderPool *p, Scene *s, int w, int h, int segment)
 static void pixels_do_not_depend_on_threads_or_segments(void **state)
 {
     (void)state;
-    Scene *s;
-    BvhOptions opt = bvh_options_default(BVH_SAH);
+    Scene *s = default_scene();
     Err err;
-    if (scene_default(&s, &opt, &err))
-        fail_msg("%s", err.msg);
     RenderPool *one = render_pool_create(1, &err), *three = render_pool_create(3, &err);
     const int W = 97, H = 61;
     for (int mode = 0; mode < 3; mode++) {
@@ -799,6 +808,64 @@ static void pixels_do_not_depend_on_threads_or_segments(void **state)
     }
     render_pool_destroy(one);
     render_pool_destroy(three);
+    scene_destroy(s);
+}
+
+/* A Whitted frame's guides (settings guides, a moving frame's for the
+ * server's history): the colours are the frame's without them, byte for
+ * byte, and each pixel's guide is its camera ray's first hit (the
+ * distance to 24 bits of its float; 0 where it met nothing), the mirror
+ * and glass balls' too; with settings denoise alone the guides stay empty
+ * (a Whitted frame passes the filter as it is); guides are refused on a
+ * path-traced frame. */
+static void whitted_guides_are_first_hits(void **state)
+{
+    (void)state;
+    Scene *s = default_scene();
+    Err err;
+    RenderPool *pool = render_pool_create(2, &err);
+    const int W = 80, H = 60;
+    const size_t n = (size_t)W * H, bpp = 3 + DENOISE_GUIDE_BYTES;
+    uint8_t *plain = render_all(pool, s, W, H, H), *guided = malloc(n * bpp);
+    for (int mode = 0; mode < 2; mode++) {
+        s->settings.guides = mode == 0, s->settings.denoise = mode == 1;
+        const World *world = world_now(s);
+        if (render_lines(pool, world, W, H, 0, H, guided, NULL, &err))
+            fail_msg("%s", err.msg);
+        const CameraFrame cf = camera_frame(&world->view.camera, W, H);
+        int surfaces = 0, sky = 0;
+        for (size_t i = 0; i < n; i++) {
+            const uint8_t *p = guided + i * bpp;
+            assert_memory_equal(p, plain + i * 3, 3);
+            float albedo[3], normal[3], depth, noise;
+            denoise_guide_unpack(p + 3, albedo, normal, &depth, &noise);
+            vec3 o, d;
+            Hit hit;
+            assert_true(camera_ray(&cf, (real)(i % W) + R(0.5), (real)(i / W) + R(0.5), &o, &d));
+            const Ray r = ray_make(o, d, 0, REAL_INF);
+            if (mode == 1 || !trace_closest(world, &r, &hit)) {
+                assert_true(depth == 0.0f);
+                sky += mode == 0;
+                continue;
+            }
+            assert_true(fabs((double)depth - (double)hit.t) <= (double)hit.t * 0x1p-14);
+            /* the normal faces the ray */
+            assert_true(normal[0] * (float)d.x + normal[1] * (float)d.y + normal[2] * (float)d.z <= 0.01f);
+            surfaces++;
+        }
+        if (mode == 0) {
+            print_message("guides: %d pixels of surfaces, %d of the sky\n", surfaces, sky);
+            assert_true(surfaces > (int)n / 2 && sky > 0);
+        }
+    }
+    s->settings.denoise = 0, s->settings.guides = 1, s->settings.integrator = INTEGRATOR_PATH;
+    char why[200];
+    assert_non_null(settings_problem(&s->settings, why, sizeof why));
+    s->settings.integrator = INTEGRATOR_WHITTED;
+    assert_null(settings_problem(&s->settings, why, sizeof why));
+    free(plain);
+    free(guided);
+    render_pool_destroy(pool);
     scene_destroy(s);
 }
 
@@ -1194,6 +1261,7 @@ int main(void)
         cmocka_unit_test(smooth_mesh_has_no_shadow_terminator),
         cmocka_unit_test(textured_triangle_and_instances),
         cmocka_unit_test(pixels_do_not_depend_on_threads_or_segments),
+        cmocka_unit_test(whitted_guides_are_first_hits),
         cmocka_unit_test(partial_line_spans_and_cancel),
         cmocka_unit_test(adaptive_refines_only_edges),
         cmocka_unit_test(adaptive_refines_texture_edges),

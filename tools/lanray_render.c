@@ -147,7 +147,7 @@ static int parse_args(Args *a, int argc, char **argv)
                 .shading = SHADE_PHONG, .shadows = 1, .filter = FILTER_ANISOTROPIC, .depth = 5,
                 .fresnel = FRESNEL_EXACT, .glass = 1, .cutoff = 0.01, .sampling = SAMPLING_BUDGET,
                 .limit = LIMIT_BACKGROUND, .aa = {4, 1, 0},
-                .flight = {.temporal = TEMPORAL_DEFAULT_FRAMES}};
+                .flight = {.temporal = TEMPORAL_DEFAULT_FRAMES, .whitted_temporal = TEMPORAL_WHITTED_FRAMES}};
     const Opt opts[] = {
         {.name = "--output", .alias = "-o", .kind = OPT_STRING, .dst = &a->out, .arg = "FILE",
          .help = "the image: .png (tagged sRGB, or linear with --linear), .ppm, or .hdr (Radiance RGBE: high dynamic "
@@ -439,13 +439,13 @@ static int job_open(Job *j, Args *a, Err *err)
         rc = err_set(err, "%dx%d is rendered in bands (%.1f GB whole); %s needs the whole frame", width, height,
                      (double)frame_bytes / 1e9,
                      a->profile ? "--profile" : a->progressive ? "--progressive" : a->flight.frames ? "--server-frame" : "denoising");
-    else /* with the denoiser's planes (84 bytes a pixel) and the frame it writes */
+    else /* with the denoiser's planes (84 bytes a pixel) and the frame it writes, a flight's history */
         rc = cli_check_memory((uint64_t)width * (uint64_t)j->band * j->bpp +
                                   (j->scene->settings.denoise
                                        ? denoiser_bytes((uint32_t)width, (uint32_t)height) +
-                                             (uint64_t)width * height * render_colour_bytes(&j->scene->settings) +
-                                             (a->flight.frames ? temporal_bytes((uint32_t)width, (uint32_t)height) : 0)
-                                       : 0),
+                                             (uint64_t)width * height * render_colour_bytes(&j->scene->settings)
+                                       : 0) +
+                                  (a->flight.frames ? flight_bytes(&j->scene->settings, &a->flight, width, height) : 0),
                               j->banded ? "a band of the frame" : j->scene->settings.denoise ? "the frame with its denoiser"
                                                                                               : "the frame",
                               err);

@@ -1,6 +1,9 @@
 /* flight.c - a server's frames along a camera path, of flight.h. */
 #include "app/flight.h"
 
+#include <stdlib.h>
+#include <string.h>
+
 #include "render/pixel.h"
 #include "render/progressive.h"
 #include "render/temporal.h"
@@ -20,22 +23,50 @@ static int frame_settings(const RenderSettings *view, const Flight *fl, uint32_t
         rs->batches = still_step < batches ? still_step : batches;
         return (int)progressive_end(rs->batches);
     }
-    if (still_step == 0 && temporal)
+    if (still_step == 0 && temporal && rs->integrator == INTEGRATOR_PATH)
         rs->jitter = progressive_jitter(rs, i); /* as the server's frame i */
+    else if (still_step == 0 && temporal)
+        rs->guides = 1; /* Whitted's: its guides for the history (its samples where they were: jittered, the
+                         * edges' were noise that a few frames did not add up) */
     return rs->aa * rs->aa;
+}
+
+/* The frames a flight's history weighs over a view of settings vs, as
+ * the server's (server.c temporal_frames): path-traced and denoised, or
+ * Whitted's (not denoised: its guides would be filtered); 0: none. */
+static int flight_history(const RenderSettings *vs, const Flight *fl)
+{
+    if (vs->integrator == INTEGRATOR_PATH)
+        return vs->denoise ? fl->temporal : 0;
+    return vs->denoise ? 0 : fl->whitted_temporal;
+}
+
+uint64_t flight_bytes(const RenderSettings *rs, const Flight *fl, int width, int height)
+{
+    if (!flight_history(rs, fl))
+        return 0;
+    const uint64_t n = (uint64_t)width * (uint64_t)height;
+    return temporal_bytes((uint32_t)width, (uint32_t)height) +
+           (rs->integrator == INTEGRATOR_WHITTED ? n * (render_colour_bytes(rs) + DENOISE_GUIDE_BYTES) : 0);
 }
 
 int flight_render(RenderPool *pool, World *w, const CameraPath *path, const Flight *fl, int width, int height,
                   uint8_t *pixels, RayStats *st, Err *err)
 {
     const View view = w->view;
-    const int path_traced = view.settings.integrator == INTEGRATOR_PATH && view.settings.denoise;
-    Temporal *t = NULL;
-    if (fl->temporal && path_traced &&
-        !(t = temporal_create(render_pool_pool(pool), (uint32_t)width, (uint32_t)height, fl->temporal)))
-        return err_set(err, "out of memory for the history of %dx%d pixels", width, height);
-    const double end = (double)camera_path_end(path);
+    const RenderSettings *vs = &view.settings;
+    /* a Whitted view's moving frames guided for its history in pixels of
+     * their own (the view's have no guides) */
+    const int frames = flight_history(vs, fl), whitted = frames && vs->integrator == INTEGRATOR_WHITTED;
     const uint64_t n = (uint64_t)width * (uint64_t)height;
+    Temporal *t = NULL;
+    uint8_t *guided = NULL;
+    if (frames && (!(t = temporal_create(render_pool_pool(pool), (uint32_t)width, (uint32_t)height, frames)) ||
+         (whitted && !(guided = malloc(n * (render_colour_bytes(vs) + DENOISE_GUIDE_BYTES)))))) {
+        temporal_destroy(t);
+        return err_set(err, "out of memory for the history of %dx%d pixels", width, height);
+    }
+    const double end = (double)camera_path_end(path);
     Camera before = view.camera;
     int still_step = 0, rc = 0;
     for (int i = 1; i <= fl->frames && rc == 0; i++) {
@@ -51,13 +82,18 @@ int flight_render(RenderPool *pool, World *w, const CameraPath *path, const Flig
         }
         w->view.camera = cam, w->view.settings = rs;
         RayStats part;
-        rc = render_span(pool, w, width, height, 0, n, pixels, &part, NULL, err);
+        uint8_t *px = rs.guides ? guided : pixels;
+        rc = render_span(pool, w, width, height, 0, n, px, &part, NULL, err);
         ray_stats_add(st, part);
-        const TemporalFrame tf = {cam, 0, samples, still_step > 0};
-        if (rc == 0 && t)
-            temporal_add(t, pixels, (uint32_t)width, (uint32_t)height, render_colour_bytes(&rs), rs.linear, &tf);
+        const TemporalFrame tf = {cam, 0, samples, still_step > 0, whitted};
+        const uint32_t cb = render_colour_bytes(&rs), bpp = render_pixel_bytes(&rs);
+        if (rc == 0 && t && (!whitted || rs.guides))
+            temporal_add(t, px, (uint32_t)width, (uint32_t)height, cb, rs.linear, &tf);
+        for (uint64_t k = 0; rc == 0 && px != pixels && k < n; k++) /* the colours, as the server's stage strips them */
+            memcpy(pixels + k * cb, px + k * bpp, cb);
     }
     w->view = view;
     temporal_destroy(t);
+    free(guided);
     return rc;
 }

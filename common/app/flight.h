@@ -9,9 +9,10 @@
  * here).  A moving frame is rendered at the view's quality, path-traced
  * and denoised each taking another of its pixels' samples (settings
  * jitter) and added to the frames before by a reprojected history
- * (render/temporal.h); still frames take still_aa x still_aa in the
- * batches of render/progressive.h, still frame k the first k of them
- * (lanray-render --still-frame k). */
+ * (render/temporal.h), Whitted's (not denoised) added up too, guided
+ * (settings guides; the server's at the full size); still frames take
+ * still_aa x still_aa in the batches of render/progressive.h, still frame
+ * k the first k of them (lanray-render --still-frame k). */
 #ifndef LANRAY_FLIGHT_H
 #define LANRAY_FLIGHT_H
 
@@ -24,10 +25,11 @@ typedef struct {
     double step;    /* seconds of the path a frame */
     int still_aa;   /* still frames' N x N, N a power of two (0: the moving frames' quality) */
     int temporal;   /* the frames a pixel's history weighs at most (0: none) */
+    int whitted_temporal; /* ... of a Whitted view (0: none) */
 } Flight;
 
 /* lanray-render's options for a flight; the server has --path-step,
- * --still-aa and --temporal of the same meaning. */
+ * --still-aa, --temporal and --whitted-temporal of the same meaning. */
 #define FLIGHT_OPTS(f) \
     {.name = "--server-frame", .kind = OPT_INT, .dst = &(f)->frames, .arg = "K", .lo = 0, .hi = 100000, .def = "0", \
      .help = "the picture of a server's frame K of the scene, or flying --path (lanray-server --path-step, " \
@@ -37,13 +39,26 @@ typedef struct {
     {.name = "--still-aa", .kind = OPT_INT, .dst = &(f)->still_aa, .arg = "N", .lo = 0, .hi = AA_MAX, .def = "0", \
      .help = "--server-frame: the still frames' N x N samples, N a power of two, in batches that double them; 0 = as " \
              "the moving ones"}, \
-    CLI_TEMPORAL_OPT(&(f)->temporal, "--server-frame, path-traced and denoised: ")
+    CLI_TEMPORAL_OPT(&(f)->temporal, "--server-frame, path-traced and denoised: "), \
+    CLI_WHITTED_TEMPORAL_OPT(&(f)->whitted_temporal, "--server-frame, ")
+
+/* --whitted-temporal, the server's and lanray-render's */
+#define CLI_WHITTED_TEMPORAL_OPT(to, what) \
+    {.name = "--whitted-temporal", .kind = OPT_INT, .dst = to, .arg = "F", .lo = 0, .hi = TEMPORAL_MAX_FRAMES, \
+     .def = "2", \
+     .help = what "Whitted's moving frames at the full size added to the frames before them (up to F, reprojected " \
+                  "onto the moving camera, held within each frame's own light about a pixel): smoother shadows " \
+                  "and edges; 0 = none"}
 
 /* --temporal, the server's and lanray-render's */
 #define CLI_TEMPORAL_OPT(to, what) \
     {.name = "--temporal", .kind = OPT_INT, .dst = to, .arg = "F", .lo = 0, .hi = TEMPORAL_MAX_FRAMES, .def = "4", \
      .help = what "each moving frame takes another sample of its pixels, added to the frames before it (up to F " \
                   "of them, reprojected onto the moving camera); 0 = none"}
+
+/* The bytes of a flight's history over frames of settings rs (its guided
+ * frame too, for a Whitted view's); 0 where it has none. */
+uint64_t flight_bytes(const RenderSettings *rs, const Flight *fl, int width, int height);
 
 /* Renders the flight's frames along path (no keys: at w's camera) over w (its view's camera and settings
  * changed on the way, put back at the end) into pixels (width x height,

@@ -17,7 +17,7 @@
 #include "render/segment.h"
 
 #define PROTO_MAGIC 0x5941524cu /* "LRAY" */
-#define PROTO_VERSION 26u /* 8: an UPDATE carries the frame's view apart, and the scene only when it changed;
+#define PROTO_VERSION 27u /* 8: an UPDATE carries the frame's view apart, and the scene only when it changed;
                            * 9: the view's settings hold light_sampling (wire 6);
                            * 10: compressed pixels (HELLO codecs, WELCOME coding, DATA coding);
                            * 11: pipelined frames (UPDATE keep: the older frame still wanted);
@@ -41,7 +41,9 @@
                            *     still's batch of samples, whose DATA carries each
                            *     pixel's sums (reals);
                            * 26: the view's settings hold jitter (wire 21): a path-traced
-                           *     moving frame's sample */
+                           *     moving frame's sample;
+                           * 27: the view's settings hold guides (wire 22): a Whitted
+                           *     moving frame's DATA carries each pixel's guide */
 #define PROTO_BOM 0x01020304u
 #define PROTO_HEADER 8u
 #define PROTO_NONCE 32u

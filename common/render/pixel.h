@@ -13,11 +13,14 @@
 
 /* Bytes of a pixel's colour: 3 (RGB8 codes), or 4 (RGBE) with settings hdr. */
 static inline uint32_t render_colour_bytes(const RenderSettings *rs) { return rs->hdr ? 4u : 3u; }
-/* ... and of a pixel as shown and filtered: its colour, then with
- * settings denoise its guide (render/denoise.h). */
+/* Whether a pixel carries its guide: settings denoise (the filter's), or
+ * guides (a Whitted moving frame's, for the server's history). */
+static inline int render_guided(const RenderSettings *rs) { return rs->denoise || rs->guides; }
+/* ... and of a pixel as shown and filtered: its colour, then where
+ * guided its guide (render/denoise.h). */
 static inline uint32_t render_shown_bytes(const RenderSettings *rs)
 {
-    return render_colour_bytes(rs) + (rs->denoise ? DENOISE_GUIDE_BYTES : 0u);
+    return render_colour_bytes(rs) + (render_guided(rs) ? DENOISE_GUIDE_BYTES : 0u);
 }
 
 /* The codes' gain: 2^exposure. */

@@ -63,7 +63,10 @@ static inline uint32_t progressive_start(int b) { return b <= 1 ? 0u : progressi
 static inline int progressive_last(uint32_t s) { return ((s + 1) & s) == 0; }
 
 /* The reals of a pixel's sums with rs's settings. */
-static inline uint32_t progressive_reals(const RenderSettings *rs) { return PROG_COLOUR + (rs->denoise ? PROG_GUIDE : 0); }
+static inline uint32_t progressive_reals(const RenderSettings *rs)
+{
+    return PROG_COLOUR + (rs->denoise || rs->guides ? PROG_GUIDE : 0);
+}
 
 /* sums plus one sample's light c and (where guided, g not NULL) its guide */
 void progressive_add_sample(real *sums, vec3 c, const Guide *g);

@@ -108,7 +108,7 @@ typedef struct {
     int diffs;  /* the scene has textures or checkers: camera rays carry differentials (raydiff.h) */
     int bpp;    /* bytes a pixel: its colour, then its guide where guided */
     int cbpp;   /* bytes of its colour: 3 codes, or 4 of RGBE (settings hdr) */
-    int guided; /* settings denoise: each pixel's guide after its colour (render/denoise.h) */
+    int guided; /* settings denoise or guides: each pixel's guide after its colour (render/denoise.h) */
     uint32_t chunk; /* pixels per work item (chunk_size) */
     /* the grid's pairs of whole lines (job_tiles): from line tile_line on,
      * each pair cut into blocks of tile_cols columns */
@@ -864,7 +864,7 @@ int render_span(RenderPool *p, const World *w, int width, int height, uint64_t f
     f.diffs = world_uses(w, FEAT_TEXTURES | FEAT_CHECKER);
     f.bpp = (int)render_pixel_bytes(&w->view.settings);
     f.cbpp = (int)render_colour_bytes(&w->view.settings);
-    f.guided = w->view.settings.denoise;
+    f.guided = render_guided(&w->view.settings);
     f.gain = pixel_gain(&w->view.settings);
     f.chunk = chunk_size(count, pool_threads(p->pool));
     f.grid_n = w->view.settings.aa;

@@ -26,6 +26,7 @@ typedef struct {
 
 struct Temporal {
     Pool *pool;
+    float *light; /* the frame's own light, 3 floats a pixel, for its neighbours' clip */
     uint32_t max_w, max_h;
     int frames;
     HistFrame f[2];
@@ -40,7 +41,10 @@ struct Temporal {
 /* The frames a pixel's temporal noise needs before the denoiser reads it. */
 #define NOISE_FRAMES 4.0f
 
-uint64_t temporal_bytes(uint32_t max_w, uint32_t max_h) { return 2ull * max_w * max_h * sizeof(Hist); }
+uint64_t temporal_bytes(uint32_t max_w, uint32_t max_h)
+{
+    return (uint64_t)max_w * max_h * (2 * sizeof(Hist) + 3 * sizeof(float));
+}
 
 Temporal *temporal_create(Pool *pool, uint32_t max_w, uint32_t max_h, int frames)
 {
@@ -55,6 +59,10 @@ Temporal *temporal_create(Pool *pool, uint32_t max_w, uint32_t max_h, int frames
             temporal_destroy(t);
             return NULL;
         }
+    if (!(t->light = malloc((size_t)max_w * max_h * 3 * sizeof(float)))) {
+        temporal_destroy(t);
+        return NULL;
+    }
     return t;
 }
 
@@ -64,6 +72,7 @@ void temporal_destroy(Temporal *t)
         return;
     for (int k = 0; k < 2; k++)
         free(t->f[k].px);
+    free(t->light);
     free(t);
 }
 
@@ -213,6 +222,7 @@ typedef struct {
     uint32_t w, h, cb, bpp;
     int linear;
     const TemporalFrame *f;
+    float *light;
     const HistFrame *src;
     HistFrame *dst;
     float frames;
@@ -237,6 +247,8 @@ static void pass_guides(void *ctx, uint64_t lo, uint64_t hi, int thread)
     for (size_t i = (size_t)lo * ps->w; i < (size_t)hi * ps->w; i++) {
         Hist *o = &ps->dst->px[i];
         denoise_guide_unpack(ps->px + i * ps->bpp + ps->cb, o->alb, o->n, &o->depth, &o->m2);
+        if (ps->f->clip)
+            pixel_read_colour(ps->px + i * ps->bpp, ps->cb, ps->linear, ps->light + 3 * i);
     }
 }
 
@@ -268,6 +280,26 @@ static Seen seen_at(const Pass *ps, uint32_t x, uint32_t y)
     return s;
 }
 
+/* Light c held within the frame's own light about pixel (x, y), channel
+ * by channel (its 3 x 3's least and most): what the history kept that the
+ * frame no longer shows (a highlight or a reflection that moved with the
+ * view) goes, where one frame's noise (a penumbra's) leaves the range
+ * wide. */
+static void clip_light(const Pass *ps, uint32_t x, uint32_t y, float c[3])
+{
+    float lo[3] = {FLT_MAX, FLT_MAX, FLT_MAX}, hi[3] = {-FLT_MAX, -FLT_MAX, -FLT_MAX};
+    for (uint32_t j = y > 0 ? y - 1 : 0; j <= y + 1 && j < ps->h; j++)
+        for (uint32_t i = x > 0 ? x - 1 : 0; i <= x + 1 && i < ps->w; i++) {
+            const float *q = ps->light + 3 * ((size_t)j * ps->w + i);
+            for (int k = 0; k < 3; k++) {
+                lo[k] = q[k] < lo[k] ? q[k] : lo[k];
+                hi[k] = q[k] > hi[k] ? q[k] : hi[k];
+            }
+        }
+    for (int k = 0; k < 3; k++)
+        c[k] = c[k] < lo[k] ? lo[k] : c[k] > hi[k] ? hi[k] : c[k];
+}
+
 static void pass_pixel(const Pass *ps, uint32_t x, uint32_t y)
 {
     const size_t i = (size_t)y * ps->w + x;
@@ -290,6 +322,8 @@ static void pass_pixel(const Pass *ps, uint32_t x, uint32_t y)
      * history until the still frame's own samples are as many */
     if (found && !ps->f->still)
         h.len *= ps->detail;
+    if (found && ps->f->clip)
+        clip_light(ps, x, y, h.c);
     if (!found || (ps->f->still && s >= h.len)) { /* the frame's own bytes */
         memcpy(o->c, c, sizeof c);
         memcpy(o->alb, albedo, sizeof albedo);
@@ -346,8 +380,8 @@ int temporal_add(Temporal *t, uint8_t *px, uint32_t w, uint32_t h, uint32_t colo
      * frames the last moving frame's is read by each, the other rewritten) */
     const int src = f->still ? t->base : t->prev, dst = src == 0 ? 1 : 0;
     t->f[dst].cam = camera_frame(&f->camera, (int)w, (int)h);
-    Pass ps = {px, w, h, colour_bytes, colour_bytes + DENOISE_GUIDE_BYTES, linear, f, src >= 0 ? &t->f[src] : NULL,
-               &t->f[dst], (float)t->frames, 1.0f};
+    Pass ps = {px,        w,        h, colour_bytes, colour_bytes + DENOISE_GUIDE_BYTES, linear, f, t->light,
+               src >= 0 ? &t->f[src] : NULL, &t->f[dst], (float)t->frames, 1.0f};
     if (src >= 0 && (double)t->f[src].cam.width * t->f[src].cam.height < (double)w * h)
         ps.detail = (float)((double)t->f[src].cam.width * t->f[src].cam.height / ((double)w * h));
     pool_for(t->pool, h, 8, pass_guides, &ps);

@@ -29,6 +29,16 @@
  * the colour becomes the history's, and the guide's noise byte the
  * standard error of its mean where 4 frames or more weigh in, so that the
  * denoiser that follows smooths what is still noisy and keeps what is not.
+ * A Whitted view's moving frames at the full size are added up too
+ * (lanray-server --whitted-temporal; settings guides: each pixel's guide
+ * is what its camera ray met first, mirrors and glass included), without
+ * jitter (a jittered sample made the edges noise that two frames did not
+ * add up: the camera's own motion moves the samples over the surfaces)
+ * and with the clip: the light the history brings is held within the
+ * frame's own about the pixel (its 3 x 3's least and most, channel by
+ * channel), so that a highlight or a reflection that moved with the view
+ * does not linger, where a penumbra's grain leaves the range wide.
+ *
  * Every pixel is computed alone, in float arithmetic in a fixed order: a
  * farm's frames and lanray-render --server-frame's are the same bytes. */
 #ifndef LANRAY_TEMPORAL_H
@@ -40,6 +50,9 @@
 #include "geom/camera.h"
 
 #define TEMPORAL_DEFAULT_FRAMES 4
+/* ... and a Whitted view's (a longer history blurred its edges and
+ * highlights more than it took out of its lamps' grain) */
+#define TEMPORAL_WHITTED_FRAMES 2
 #define TEMPORAL_MAX_FRAMES 64
 
 typedef struct Temporal Temporal;
@@ -50,13 +63,15 @@ typedef struct {
     uint64_t epoch; /* its scene's and settings' number: a new one drops the history */
     int samples;    /* a pixel's: 1 for a moving frame, a still frame's so far */
     int still;      /* its camera is the frame before's: a still frame */
+    int clip;       /* the history held within the light of the frame's 3 x 3 about each pixel */
 } TemporalFrame;
 
 /* A history for frames of up to max_w x max_h pixels weighing `frames`
  * frames at most (1..TEMPORAL_MAX_FRAMES), its rows run on pool (may be
  * NULL); NULL where memory ran out. */
 Temporal *temporal_create(Pool *pool, uint32_t max_w, uint32_t max_h, int frames);
-/* The bytes of its history (two frames of 60 bytes a pixel). */
+/* The bytes of its history (two frames of 60 bytes a pixel) and of a
+ * frame's light for the clip (12). */
 uint64_t temporal_bytes(uint32_t max_w, uint32_t max_h);
 void temporal_destroy(Temporal *t);
 

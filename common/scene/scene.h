@@ -157,6 +157,11 @@ typedef struct {
      * frames before, reprojected: render/temporal.h); 0: the centre.  On
      * the wire only. */
     int jitter;
+    /* Whitted, a moving frame: each pixel carries the guide of what its
+     * camera rays met first (render/denoise.h), for the server's history
+     * that adds the moving frames up (render/temporal.h); not filtered.
+     * On the wire only. */
+    int guides;
     /* the picture of the first `batches` batches alone (lanray-render
      * --still-frame); 0: all.  Not on the wire, not in scene files. */
     int batches;

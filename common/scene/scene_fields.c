@@ -139,6 +139,10 @@ static const Field settings_fields[] = {
      .words = onoff_words,
      .doc = "path: the frame's noise filtered out, guided by the surfaces each pixel saw first (their colours, "
             "normals, distances)"},
+    {.key = "guides", .type = FIELD_CHOICE, .flags = FIELD_WIRE, .group = SETTINGS_GROUP_OUTPUT, .off = SET(rs.guides),
+     .words = onoff_words,
+     .doc = "Whitted: each pixel also carries what its camera rays met first, for the server's history of moving "
+            "frames"},
 };
 
 static const FieldRule settings_rules[] = {
@@ -387,6 +391,10 @@ const char *settings_problem(const RenderSettings *rs, char *buf, size_t size)
     }
     if (rs->jitter && (rs->integrator != INTEGRATOR_PATH || rs->adaptive || rs->aa != 1 || rs->batch)) {
         snprintf(buf, size, "jitter %d of a frame that is not path-traced at one sample a pixel", rs->jitter);
+        return buf;
+    }
+    if (rs->guides && rs->integrator != INTEGRATOR_WHITTED) {
+        snprintf(buf, size, "guides of a frame that is not Whitted's (a path-traced frame's come with denoise)");
         return buf;
     }
     return NULL;

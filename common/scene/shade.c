@@ -380,7 +380,8 @@ vec3 shade_transmittance(const World *w, const Ray *sr, real tmax, const WorldLi
 }
 
 static void shade_rays(const World *w, const Ray *rays, int n, vec3 *out, RayStats *stats, uint64_t *keys,
-                       const SampleId *ids, const RayDiff *diffs, int depth, const vec3 *weights, int sunless);
+                       const SampleId *ids, const RayDiff *diffs, int depth, const vec3 *weights, int sunless,
+                       Guide *guides);
 
 /* A mirrored or refracted ray that a packet's hit sends: the ray `parent`
  * adds factor times what it sees.  The rays a packet sends are traced
@@ -433,7 +434,7 @@ static void spawn_trace(const World *w, const Spawn *sp, int ns, vec3 *out, RayS
             all_rd &= s->has_rd;
         }
         stats->secondary += (uint64_t)q;
-        shade_rays(w, rays, q, col, stats, NULL, ids, all_rd ? diffs : NULL, depth + 1, wt, 0);
+        shade_rays(w, rays, q, col, stats, NULL, ids, all_rd ? diffs : NULL, depth + 1, wt, 0, NULL);
         for (int k = 0; k < q; k++) {
             const Spawn *s = &sp[first + k];
             out[s->parent] = v3_add(out[s->parent], v3_mul(s->factor, col[k]));
@@ -542,7 +543,7 @@ static vec3 rough_reflection(const World *w, const Shading *sh, vec3 front, int 
         }
         if (q == TRACE_PACKET || (j == n - 1 && q > 0)) {
             stats->secondary += q;
-            shade_rays(w, rays, (int)q, col, stats, NULL, child, rdp ? diff : NULL, depth + 1, wts, 1);
+            shade_rays(w, rays, (int)q, col, stats, NULL, child, rdp ? diff : NULL, depth + 1, wts, 1, NULL);
             for (uint32_t i = 0; i < q; i++) {
                 sum = v3_add(sum, v3_scale(col[i], keep[i]));
                 if (edged)
@@ -607,7 +608,7 @@ static vec3 frosted_glass(const World *w, const Shading *sh, real fr, int depth,
             for (uint32_t i = 0; i < q; i++)
                 wts[i] = v3_scale(v3_mul(weight, kept[i]), share);
             stats->secondary += q;
-            shade_rays(w, rays, (int)q, col, stats, NULL, child, NULL, depth + 1, wts, 1);
+            shade_rays(w, rays, (int)q, col, stats, NULL, child, NULL, depth + 1, wts, 1, NULL);
             for (uint32_t i = 0; i < q; i++)
                 sum = v3_add(sum, v3_mul(col[i], kept[i]));
             q = 0;
@@ -1113,6 +1114,23 @@ static inline __attribute__((always_inline)) void light_pass(const World *w, Sha
     }
 }
 
+/* The guide of a Whitted camera ray that met a surface (settings guides:
+ * for the server's history, render/temporal.h): the surface's colour,
+ * its shading normal towards the ray and its distance.  A mirror's and
+ * glass's too: what they show moves otherwise than they do, but the
+ * history holds its light within the frame's (TemporalFrame clip), and
+ * treating them as no surface let their neighbours take their light (an
+ * open edge's) and streak the floor by the glass ball. */
+static Guide first_guide(const Ray *r, const Hit *hit, const Shading *h)
+{
+    const real mu = v3_dot(h->sf.ns, v3_neg(r->dir));
+    return (Guide){.albedo = v3_min(v3_add(h->kd, h->sf.mat->kr), v3_splat(R(1))),
+                   .normal = mu < R(0) ? v3_neg(h->sf.ns) : h->sf.ns,
+                   .depth = hit->t,
+                   .surface = 1,
+                   .lum2 = R(0)};
+}
+
 void shade_packet(const World *w, const Ray *rays, int n, vec3 *out, RayStats *stats, uint64_t *keys,
                   const SampleId *ids, const RayDiff *diffs)
 {
@@ -1126,12 +1144,15 @@ void shade_packet_guided(const World *w, const Ray *rays, int n, vec3 *out, RayS
         path_radiance_packet(w, rays, n, ids, out, stats, keys, guides);
         return;
     }
-    for (int i = 0; guides && i < n; i++)
+    /* Whitted's frames have a guide where the server's history asks
+     * (settings guides); with settings denoise alone they pass as they are */
+    const int guided = guides && w->view.settings.guides;
+    for (int i = 0; guides && !guided && i < n; i++)
         guides[i] = guide_none(v3_splat(R(1)));
     vec3 ones[TRACE_PACKET];
     for (int i = 0; i < n; i++)
         ones[i] = v3_splat(R(1));
-    shade_rays(w, rays, n, out, stats, keys, ids, diffs, 0, ones, 0);
+    shade_rays(w, rays, n, out, stats, keys, ids, diffs, 0, ones, 0, guided ? guides : NULL);
 }
 
 /* shade_rays' body; `optional` (a constant in each copy) lets in the paths
@@ -1139,7 +1160,7 @@ void shade_packet_guided(const World *w, const Ray *rays, int n, vec3 *out, RayS
 static inline __attribute__((always_inline)) void shade_rays_at(const World *w, const Ray *rays, int n, vec3 *out,
                                                                 RayStats *stats, uint64_t *keys, const SampleId *ids,
                                                                 const RayDiff *diffs, int depth, const vec3 *weights,
-                                                                int sunless, const int optional)
+                                                                int sunless, Guide *guides, const int optional)
 {
     Hit hits[TRACE_PACKET];
     Shading sh[TRACE_PACKET];
@@ -1171,6 +1192,9 @@ static inline __attribute__((always_inline)) void shade_rays_at(const World *w, 
         shade_start(w, &rays[i], &hits[i], &sh[i], diffs ? &diffs[i] : NULL, optional);
         live[nl++] = i;
     }
+    if (guides) /* settings guides: what the camera rays met first */
+        for (int i = 0; i < n; i++)
+            guides[i] = hits[i].kind == HIT_NONE ? guide_none(v3_splat(R(1))) : first_guide(&rays[i], &hits[i], &sh[i]);
     /* a random key only where something draws from it (hashing every ray's
      * showed in the instruction count of scenes without) */
     if (optional && world_uses(w, FEAT_AREA | FEAT_ROUGH))
@@ -1228,18 +1252,19 @@ static inline __attribute__((always_inline)) void shade_rays_at(const World *w, 
                         FEAT_EMIT | FEAT_AREA | FEAT_ROUGH | FEAT_CHECKER | FEAT_COAT)
 
 static void shade_rays(const World *w, const Ray *rays, int n, vec3 *out, RayStats *stats, uint64_t *keys,
-                       const SampleId *ids, const RayDiff *diffs, int depth, const vec3 *weights, int sunless)
+                       const SampleId *ids, const RayDiff *diffs, int depth, const vec3 *weights, int sunless,
+                       Guide *guides)
 {
     if (world_uses(w, SHADE_OPTIONAL))
-        shade_rays_at(w, rays, n, out, stats, keys, ids, diffs, depth, weights, sunless, 1);
+        shade_rays_at(w, rays, n, out, stats, keys, ids, diffs, depth, weights, sunless, guides, 1);
     else
-        shade_rays_at(w, rays, n, out, stats, keys, ids, NULL, depth, weights, sunless, 0);
+        shade_rays_at(w, rays, n, out, stats, keys, ids, NULL, depth, weights, sunless, guides, 0);
 }
 
 vec3 shade_ray(const World *w, const Ray *r, RayStats *stats, uint64_t *key)
 {
     vec3 c;
     const vec3 one = v3_splat(R(1));
-    shade_rays(w, r, 1, &c, stats, key, NULL, NULL, 0, &one, 0);
+    shade_rays(w, r, 1, &c, stats, key, NULL, NULL, 0, &one, 0, NULL);
     return c;
 }

@@ -74,9 +74,11 @@ vec3 shade_ray(const World *w, const Ray *r, RayStats *stats, uint64_t *key);
  * texture is read at one point of its image. */
 void shade_packet(const World *w, const Ray *rays, int n, vec3 *out, RayStats *stats, uint64_t *keys,
                   const SampleId *ids, const RayDiff *diffs);
-/* The same, with each ray's guide in guides[i] (the path integrator's;
- * Whitted's frames have no noise of their own to take out: every guide
- * there says surface 0, and its pixels pass the denoiser as they are). */
+/* The same, with each ray's guide in guides[i]: the path integrator's;
+ * Whitted's where settings guides asks (a moving frame's, for the
+ * server's history: the first surface, none at a mirror, glass or an
+ * emitter), else surface 0 (with settings denoise alone its pixels pass
+ * the denoiser as they are). */
 void shade_packet_guided(const World *w, const Ray *rays, int n, vec3 *out, RayStats *stats, uint64_t *keys,
                          const SampleId *ids, const RayDiff *diffs, Guide *guides);
 

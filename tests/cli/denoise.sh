@@ -105,18 +105,8 @@ for how in flag scene notemporal; do
     esac
     start_server room-$how --port 0 --width 48 --height 48 --path "$dir/room.path" --path-step 0.5 --wait-clients 2 \
         --still-aa 4 "${args[@]}" --out "$dir/$how"
-    for c in 1 2; do
-        "$BIN/lanray-client" "127.0.0.1:$port" --threads 1 --once 2>"$dir/c-$how-$c.err" >/dev/null &
-        pids+=("$!")
-    done
-    for _ in $(seq 400); do kill -0 "$server_pid" 2>/dev/null || break; sleep 0.05; done
-    wait "$server_pid" || fail "the server ($how) exited $?"
-    [ "$(ls "$dir/$how" | wc -l)" = 8 ] || fail "3 moving frames and 5 still ones ($how): $(ls "$dir/$how")"
-    k=1
-    for f in "${want[@]}"; do
-        cmp -s "$dir/$how/frame-0000$k.png" "$dir/$f.png" || fail "served frame $k ($how) is not lanray-render's $f"
-        k=$((k + 1))
-    done
+    serve_flight $how 8 # 3 moving frames and 5 still ones
+    served_are $how "${want[@]}"
 done
 # too large to hold whole: refused, nothing left
 out=$("$BIN/lanray-render" $S --integrator path --denoise on --aa 1 --width 64 --height 64 --band 16 -o "$dir/big.png" 2>&1)

@@ -11,7 +11,9 @@
 # bit; a path-traced scene refines over still frames of 2x2, 4x4 ... samples
 # up to the converged one); with --target-fps a moving frame is rendered at a render scale and
 # shown in blocks, lanray-render's smaller picture; bad path files are
-# refused naming the file and line.
+# refused naming the file and line.  The flights of the default scene run
+# without the Whitted history (--whitted-temporal 0: each moving frame is
+# then the picture of its view; tests/cli/history.sh checks the history).
 set -u
 source tests/tools/server-lib.sh
 cat >"$dir/fly.path" <<'PATH'
@@ -37,7 +39,7 @@ run_clients() {
     wait "$server_pid" || fail "the server exited $?"
     sleep 0.2
 }
-start_server fly --port 0 --width $W --height $H --path "$dir/fly.path" --path-step 0.5 --wait-clients 2 --out "$dir/f"
+start_server fly --port 0 --width $W --height $H --path "$dir/fly.path" --path-step 0.5 --whitted-temporal 0 --wait-clients 2 --out "$dir/f"
 run_clients 2 fly
 n=$(ls "$dir/f" | wc -l)
 [ "$n" = 6 ] || fail "the flight of 2.5 s at 0.5 s a frame wrote $n frames, not 6 (it stops at the path's end)"
@@ -50,7 +52,7 @@ grep -q "^path: frames 1 to 6 in .* fps while moving" "$dir/fly.log" || fail "no
 # same, in order, as without (--pipeline off)
 grep -q "^pipelined: [1-9][0-9]* frames started before" "$dir/fly.log" ||
     fail "no frame of the flight started ahead: $(grep -E '^pipelined|^summary' "$dir/fly.log")"
-start_server serial --port 0 --width $W --height $H --path "$dir/fly.path" --path-step 0.5 --wait-clients 2 \
+start_server serial --port 0 --width $W --height $H --path "$dir/fly.path" --path-step 0.5 --whitted-temporal 0 --wait-clients 2 \
     --pipeline off --out "$dir/serial"
 run_clients 2 serial
 grep -q "^pipelined:" "$dir/serial.log" && fail "--pipeline off started frames ahead"
@@ -73,7 +75,7 @@ cmp -s "$dir/still.png" "$dir/ref-6.png" && fail "the still quality looks like t
     -o "$dir/ref-6a.png" --quiet >/dev/null || fail "lanray-render adaptive lights"
 cmp -s "$dir/ref-6a.png" "$dir/ref-6.png" && fail "adaptive light sampling changed no pixel: the test cannot tell"
 for n in 1 2; do
-    start_server refine-$n --port 0 --width $W --height $H --path "$dir/fly.path" --path-step 0.5 --wait-clients $n \
+    start_server refine-$n --port 0 --width $W --height $H --path "$dir/fly.path" --path-step 0.5 --whitted-temporal 0 --wait-clients $n \
         --still-aa adaptive:4 --moving-lights adaptive --out "$dir/r$n"
     run_clients $n refine-$n
     [ "$(ls "$dir/r$n" | wc -l)" = 7 ] || fail "refining, the flight should write 6 moving frames and the still one"
@@ -163,7 +165,7 @@ grep -q "^path: converged frame 5, " "$dir/room3.log" || fail "no converged line
 "$BIN/lanray-render" --path "$dir/fly.path" --at 2.5 --aa adaptive:4 --light-samples 6 --width $W --height $H \
     -o "$dir/soft.png" --quiet >/dev/null || fail "lanray-render --light-samples 6"
 cmp -s "$dir/soft.png" "$dir/still.png" && fail "6 x 6 points of the lamp changed no pixel: the test cannot tell"
-start_server soft --port 0 --width $W --height $H --path "$dir/fly.path" --path-step 0.5 --wait-clients 2 \
+start_server soft --port 0 --width $W --height $H --path "$dir/fly.path" --path-step 0.5 --whitted-temporal 0 --wait-clients 2 \
     --still-aa adaptive:4 --still-light-samples 6 --frames 8 --out "$dir/soft"
 run_clients 2 soft
 [ "$(ls "$dir/soft" | wc -l)" = 8 ] || fail "refining the lamp's points, 6 moving frames and 2 still ones: $(ls "$dir/soft")"
@@ -270,14 +272,14 @@ PY
 small png 16
 small png 5
 for up in smooth blocks; do
-    start_server "scale-$up" --port 0 --width $W --height $H --path "$dir/fly.path" --path-step 0.5 --wait-clients 2 \
+    start_server "scale-$up" --port 0 --width $W --height $H --path "$dir/fly.path" --path-step 0.5 --whitted-temporal 0 --wait-clients 2 \
         --target-fps 1000 --still-aa adaptive:4 --upscale "$up" --out "$dir/sc-$up"
     run_clients 2 "scale-$up"
     out=$(scaled_ok "$dir/sc-$up" 16 "$up" any) ||
         fail "no moving frame at render scale 8 is lanray-render's small frame scaled up ($up): $out"
     grep -q "^pace: target 1000.0 fps, mean render scale " "$dir/scale-$up.log" || fail "no pace line: $(tail -3 "$dir/scale-$up.log")"
     cmp -s "$dir/sc-$up/frame-00007.png" "$dir/still.png" || fail "the still frame after a scaled flight is not whole and refined"
-    start_server "half-$up" --port 0 --width $W --height $H --path "$dir/fly.path" --path-step 0.5 --wait-clients 2 \
+    start_server "half-$up" --port 0 --width $W --height $H --path "$dir/fly.path" --path-step 0.5 --whitted-temporal 0 --wait-clients 2 \
         --render-scale 2.5 --upscale "$up" --out "$dir/half-$up"
     run_clients 2 "half-$up"
     out=$(scaled_ok "$dir/half-$up" 5 "$up" all) ||
@@ -325,11 +327,11 @@ PY
 # RGBE frames (--hdr) smooth, at render scales 8 and 2.5
 small hdr 16
 small hdr 5
-start_server scale-hdr --port 0 --width $W --height $H --path "$dir/fly.path" --path-step 0.5 --wait-clients 2 \
+start_server scale-hdr --port 0 --width $W --height $H --path "$dir/fly.path" --path-step 0.5 --whitted-temporal 0 --wait-clients 2 \
     --target-fps 1000 --hdr --out "$dir/sc-hdr"
 run_clients 2 scale-hdr
 out=$(scaled_ok "$dir/sc-hdr" 16 hdr any) || fail "no RGBE frame at render scale 8 is lanray-render's small .hdr brought up smooth: $out"
-start_server half-hdr --port 0 --width $W --height $H --path "$dir/fly.path" --path-step 0.5 --wait-clients 2 \
+start_server half-hdr --port 0 --width $W --height $H --path "$dir/fly.path" --path-step 0.5 --whitted-temporal 0 --wait-clients 2 \
     --render-scale 2.5 --hdr --out "$dir/half-hdr"
 run_clients 2 half-hdr
 out=$(scaled_ok "$dir/half-hdr" 5 hdr all) || fail "an RGBE frame at render scale 2.5 is not lanray-render's small .hdr brought up smooth: $out"
@@ -339,7 +341,7 @@ for bad in 0.7 2.25 "2.5 --target-fps 10"; do
     [ $? -eq 2 ] && grep -q "\-\-render-scale" <<<"$out" || fail "--render-scale $bad: $out"
 done
 # the same flight with the model turning: a new description every frame
-start_server turn --port 0 --width $W --height $H --path "$dir/fly.path" --path-step 0.5 --wait-clients 1 --rotate 10 \
+start_server turn --port 0 --width $W --height $H --path "$dir/fly.path" --path-step 0.5 --whitted-temporal 0 --wait-clients 1 --rotate 10 \
     --out "$dir/t"
 run_clients 1 turn
 grep -q "6 scenes decoded, 6 top-level trees built" "$dir/turn-1.err" ||

@@ -10,7 +10,9 @@
  * path-traced and denoised, refined at --still-aa 2: frames after the
  * first are batches of samples, whose DATA carries sums the server adds
  * up (render/progressive.h), and the frames go through the history
- * (--temporal 8, render/temporal.h) before the denoiser.  The server steps until it has read
+ * (--temporal 8, render/temporal.h) before the denoiser; otherwise frame
+ * 1, a moving one, carries its pixels' guides to the Whitted history
+ * (--whitted-temporal 2).  The server steps until it has read
  * everything and closed the connection; what it sends back is dropped. */
 #include <fcntl.h>
 #include <stdio.h>
@@ -62,6 +64,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     cfg.quiet = 1;
     cfg.moving_lights = -1;
     cfg.coding = PIX_ZSTD | PIX_PREDICT; /* the default: coded DATA decoded, as the seeds send it */
+    cfg.whitted_temporal = 2;            /* the default: a Whitted frame 1 (moving) carries guides to the history */
     const int batches = data[0] & 2;
     if (batches)
         cfg.refine = 1, cfg.still_aa = 2, cfg.denoise_threads = 1, cfg.temporal = 8;

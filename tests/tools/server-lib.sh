@@ -1,7 +1,7 @@
 # server-lib.sh - helpers for the integration tests that run real servers
 # and clients (sourced by tests/cli/*.sh).
 # Provides: $dir (a scratch directory), pids (killed on exit), fail,
-# clients_until_done N THREADS,
+# clients_until_done N THREADS, serve_flight NAME FRAMES, served_are NAME PICTURES,
 # start_server NAME ARGS (sets $port and $server_pid), run_prog (how
 # start_server runs the server; a test may redefine it), verify_distributed
 # (one frame through a server and a client, checked against a reference),
@@ -48,6 +48,29 @@ clients_until_done() {
         pids+=("$!")
     done
     for _ in $(seq 600); do kill -0 "$server_pid" 2>/dev/null || break; sleep 0.05; done
+}
+# serve_flight NAME FRAMES: two clients of one thread (--once, their errors
+# in $dir/c-NAME-K.err) join the server started last, which must exit 0
+# (within 20 s) having written FRAMES frames into $dir/NAME
+serve_flight() {
+    local name=$1 frames=$2 c
+    for c in 1 2; do
+        "$BIN/lanray-client" "127.0.0.1:$port" --threads 1 --once 2>"$dir/c-$name-$c.err" >/dev/null &
+        pids+=("$!")
+    done
+    for _ in $(seq 400); do kill -0 "$server_pid" 2>/dev/null || break; sleep 0.05; done
+    wait "$server_pid" || fail "the server ($name) exited $?"
+    [ "$(ls "$dir/$name" | wc -l)" = "$frames" ] || fail "$frames frames ($name): $(ls "$dir/$name")"
+}
+# served_are NAME PICTURE...: frame k of the flight in $dir/NAME is
+# $dir/PICTURE_k.png bit for bit (lanray-render's)
+served_are() {
+    local name=$1 k=1 f
+    shift
+    for f in "$@"; do
+        cmp -s "$dir/$name/frame-$(printf %05d $k).png" "$dir/$f.png" || fail "served frame $k ($name) is not lanray-render's $f"
+        k=$((k + 1))
+    done
 }
 # verify_distributed NAME SCENE REF.png WHAT [OPTIONS]: a server with one client renders
 # one frame of SCENE (64x64) and checks it against REF.png bit for bit; fails
