@@ -695,11 +695,6 @@ static int adaptive_frame(const RenderSettings *rs)
     return (rs->adaptive && rs->aa > 1) || rs->light_sampling == LIGHTS_ADAPTIVE;
 }
 
-/* The batches a still frame of the view's settings at the still quality
- * would take (render/progressive.h), with the frames' buffers grown to
- * hold their sums and the sums' own made; 0 where its samples do not go
- * in batches, the frame is too large, or there is no memory for them
- * (each still frame is then rendered whole). */
 /* The current frame's buffer (free: its frame has not started) made for
  * need bytes a pixel; 0 where there is no memory for it. */
 static int frame_room(Server *s, uint32_t need)
@@ -716,6 +711,11 @@ static int frame_room(Server *s, uint32_t need)
     return 1;
 }
 
+/* The batches a still frame of the view's settings at the still quality
+ * would take (render/progressive.h), with the frames' buffers grown to
+ * hold their sums and the sums' own made; 0 where its samples do not go
+ * in batches, the frame is too large, or there is no memory for them
+ * (each still frame is then rendered whole). */
 static int still_batches(Server *s)
 {
     RenderSettings rs = s->view.settings;
@@ -746,7 +746,7 @@ static int still_batches(Server *s)
 
 /* A Whitted view's history (server_temporal): the stage that adds its
  * moving frames up, without a filter, made at the first of them (a
- * server that never moves has none: 128 bytes a pixel), and the room
+ * server that never moves has none: about 150 bytes a pixel), and the room
  * for its guided pixels; 0 where there is no memory for them (logged
  * once: the frames then go without). */
 static int history_stage(Server *s)
