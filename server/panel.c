@@ -76,7 +76,7 @@ int panel_lines(const PanelInfo *p, char out[][PANEL_LINE])
         LINE("frames shown %s [X]%s", p->denoise == 1 ? "denoised" : "raw",
              p->denoise == 1 && p->temporal ? ", moving ones added up" : "");
     else if (p->temporal) /* a Whitted view's history (--whitted-temporal) */
-        LINE("moving frames at the full size added up (%d)", p->temporal);
+        LINE("moving frames near the full size added up (%d)", p->temporal);
     LINE("segments of %u lines", p->segment_lines);
     LINE("%u client%s", p->nclients, p->nclients == 1 ? "" : "s");
     double rest_share = 0, rest_rate = 0;

@@ -25,7 +25,7 @@ typedef struct {
     int light_adaptive, diffuse, shadows;
     int denoise;           /* 0: the server does not denoise; 1: frames shown denoised; 2: shown raw */
     int temporal;          /* the frames a moving pixel's history weighs (render/temporal.h; with denoise 0, a Whitted
-                            * view's at the full size); 0: none */
+                            * view's near the full size); 0: none */
     uint32_t segment_lines;
     const ServerClientInfo *clients;
     uint32_t nclients;

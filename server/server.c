@@ -307,6 +307,11 @@ int server_frame_scale(const Server *s) { return s->shown_scale; }
 int server_frame_converged(const Server *s) { return s->shown_converged; }
 int server_frame_samples(const Server *s) { return s->shown_samples; }
 
+/* The coarsest render scale (half steps: 1.5) whose Whitted moving frames
+ * are added up: at 1.5 the demo's flight came 4% closer (SSIM 0.979 ->
+ * 0.980), at 2 as close as without, at 3 and 4 further. */
+#define HISTORY_SCALE 3
+
 /* The frames a history adds up of a view of settings rs: the server's
  * --temporal where it is path-traced and denoised, or Whitted's (not
  * denoised: its guides would be filtered) unless its history could not be
@@ -799,13 +804,13 @@ static int start_frame(Server *s, Err *err)
         v.settings.light_sampling = (LightSampling)s->cfg.moving_lights;
     /* a path-traced moving frame whose history adds it up: another of its
      * pixels' samples each (the frame to come is s->frame + 1); a Whitted
-     * one at the full size carries its guides there (at render scales 2 to
-     * 4 its history blurred more than it smoothed: the demo's flight
+     * one near the full size carries its guides there (at render scales 2
+     * to 4 its history blurred more than it smoothed: the demo's flight
      * 1-2% further from the full-quality frames, and slower) */
     if (!s->still && temporal_frames(s, &v.settings)) {
         if (v.settings.integrator == INTEGRATOR_PATH)
             v.settings.jitter = progressive_jitter(&v.settings, s->frame + 1);
-        else if (s->next_scale == UPSCALE_ONE)
+        else if (s->next_scale <= HISTORY_SCALE)
             v.settings.guides = history_stage(s);
     }
     s->frame_cam = v.camera;

@@ -61,8 +61,8 @@ typedef struct {
      * the camera moves (each moving frame another sample of its pixels,
      * added to the frames before, reprojected: render/temporal.h); 0: none */
     int temporal;
-    /* ... and Whitted's, its moving frames at the full size (render scale
-     * 1) carrying their guides for it (settings guides) */
+    /* ... and Whitted's, its moving frames near the full size (render
+     * scale 1 or 1.5) carrying their guides for it (settings guides) */
     int whitted_temporal;
 } ServerConfig;
 

@@ -147,7 +147,7 @@ static void panel_says_what_runs(void **state)
     assert_false(has(lines, n, "[X]") || has(lines, n, "added up"));
     p.temporal = 2; /* a Whitted view's history */
     n = panel_lines(&p, lines);
-    assert_true(has(lines, n, "moving frames at the full size added up (2)"));
+    assert_true(has(lines, n, "moving frames near the full size added up (2)"));
     p.temporal = 0;
     p.denoise = 2;
     n = panel_lines(&p, lines);
@@ -158,7 +158,7 @@ static void panel_says_what_runs(void **state)
     p.temporal = 8; /* ... and that its moving frames are added up */
     n = panel_lines(&p, lines);
     assert_true(has(lines, n, "frames shown denoised [X], moving ones added up"));
-    assert_false(has(lines, n, "at the full size"));
+    assert_false(has(lines, n, "near the full size"));
     assert_true(has(lines, n, "shadows on [H]") && !has(lines, n, "[H]  "));
     /* a still frame says its samples (a path-traced one's so far) */
     assert_true(has(lines, n, "moving") && !has(lines, n, "samples a pixel"));

@@ -10,7 +10,7 @@
  * and denoised each taking another of its pixels' samples (settings
  * jitter) and added to the frames before by a reprojected history
  * (render/temporal.h), Whitted's (not denoised) added up too, guided
- * (settings guides; the server's at the full size); still frames take
+ * (settings guides; the server's near the full size); still frames take
  * still_aa x still_aa in the batches of render/progressive.h, still frame
  * k the first k of them (lanray-render --still-frame k). */
 #ifndef LANRAY_FLIGHT_H
@@ -46,7 +46,8 @@ typedef struct {
 #define CLI_WHITTED_TEMPORAL_OPT(to, what) \
     {.name = "--whitted-temporal", .kind = OPT_INT, .dst = to, .arg = "F", .lo = 0, .hi = TEMPORAL_MAX_FRAMES, \
      .def = "2", \
-     .help = what "Whitted's moving frames at the full size added to the frames before them (up to F, reprojected " \
+     .help = what "Whitted's moving frames near the full size (render scale 1 or 1.5) added to the frames before " \
+                  "them (up to F, reprojected " \
                   "onto the moving camera, held within each frame's own light about a pixel): smoother shadows " \
                   "and edges; 0 = none"}
 

@@ -29,7 +29,7 @@
  * the colour becomes the history's, and the guide's noise byte the
  * standard error of its mean where 4 frames or more weigh in, so that the
  * denoiser that follows smooths what is still noisy and keeps what is not.
- * A Whitted view's moving frames at the full size are added up too
+ * A Whitted view's moving frames near the full size are added up too
  * (lanray-server --whitted-temporal; settings guides: each pixel's guide
  * is what its camera ray met first, mirrors and glass included), without
  * jitter (a jittered sample made the edges noise that two frames did not

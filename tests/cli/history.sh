@@ -8,8 +8,8 @@
 # lanray-render's --server-frame pictures bit for bit (the history changed
 # the third), the still frame after them its plain picture; with
 # --whitted-temporal 0 every moving frame is lanray-render's picture of its
-# view; at render scale 2 the moving frames carry no guides (the same bytes
-# as without the history).  Under the sanitizers the accuracy measurement is
+# view; at render scale 1.5 the history changes the third moving frame, at
+# 2 the moving frames carry no guides (the same bytes as without it).  Under the sanitizers the accuracy measurement is
 # left out (the plain pass takes it).
 set -u
 source tests/tools/server-lib.sh
@@ -44,18 +44,20 @@ render --path "$dir/fly.path" --at 1 --aa adaptive:2 --width $W --height $H -o "
 cmp -s "$dir/m-0.png" "$dir/m-1.png" && fail "the path does not move the camera: the test cannot fail"
 cmp -s "$dir/t-3.png" "$dir/m-1.png" && fail "the history changed nothing in the third moving frame"
 cmp -s "$dir/t-1.png" "$dir/m-0.png" || fail "the first moving frame (no history yet) is not the plain picture"
-for how in history none scale2 scale2none; do
+for how in history none scale2 scale2none scale15 scale15none; do
     case $how in
     history) args=() want=(t-1 t-2 t-3 still) ;;
     none) args=(--whitted-temporal 0) want=(m-0 m-0.5 m-1 still) ;;
     scale2) args=(--render-scale 2) ;;
     scale2none) args=(--render-scale 2 --whitted-temporal 0) ;;
+    scale15) args=(--render-scale 1.5) ;;
+    scale15none) args=(--render-scale 1.5 --whitted-temporal 0) ;;
     esac
     start_server $how --port 0 --width $W --height $H --path "$dir/fly.path" --path-step 0.5 --wait-clients 2 \
         --still-aa adaptive:2 "${args[@]}" --out "$dir/$how"
     serve_flight $how 4 # 3 moving frames and a still one
     case $how in
-    scale2*) continue ;;
+    scale*) continue ;;
     esac
     served_are $how "${want[@]}"
 done
@@ -64,4 +66,6 @@ for k in 1 2 3 4; do
         fail "at render scale 2 frame $k differs with the history: moving frames there are not added up"
 done
 cmp -s "$dir/scale2/frame-00002.png" "$dir/none/frame-00002.png" && fail "render scale 2 changed nothing: the test cannot tell"
+cmp -s "$dir/scale15/frame-00003.png" "$dir/scale15none/frame-00003.png" &&
+    fail "at render scale 1.5 the history changed nothing in the third moving frame"
 echo "history: ok"
