@@ -1115,18 +1115,27 @@ static inline __attribute__((always_inline)) void light_pass(const World *w, Sha
 }
 
 /* The guide of a Whitted camera ray that met a surface (settings guides:
- * for the server's history, render/temporal.h): the surface's colour,
- * its shading normal towards the ray and its distance.  A mirror's and
- * glass's too: what they show moves otherwise than they do, but the
- * history holds its light within the frame's (TemporalFrame clip), and
- * treating them as no surface let their neighbours take their light (an
- * open edge's) and streak the floor by the glass ball. */
+ * for the server's history, render/temporal.h): the surface's shading
+ * normal towards the ray and its distance.  A mirror's and glass's too:
+ * what they show moves otherwise than they do, but the history holds its
+ * light within the frame's (TemporalFrame clip), and treating them as no
+ * surface let their neighbours take their light (an open edge's) and
+ * streak the floor by the glass ball.  What the history does not read
+ * costs no bytes on the wire once coded: no colour (white), and the
+ * distance rounded to 16 bits of its float (0.4%; the history's test of
+ * a surface is 5%): a 1024 x 768 frame of the demo's flight coded 1.37 MB
+ * -> 0.88 MB (0.46 MB without guides), the pictures within 0.005 RMSE. */
 static Guide first_guide(const Ray *r, const Hit *hit, const Shading *h)
 {
     const real mu = v3_dot(h->sf.ns, v3_neg(r->dir));
-    return (Guide){.albedo = v3_min(v3_add(h->kd, h->sf.mat->kr), v3_splat(R(1))),
+    float d = (float)hit->t;
+    uint32_t bits;
+    memcpy(&bits, &d, sizeof bits);
+    bits = bits < 0x7f7f0000u ? (bits + 0x8000u) & 0xffff0000u : bits;
+    memcpy(&d, &bits, sizeof d);
+    return (Guide){.albedo = v3_splat(R(1)),
                    .normal = mu < R(0) ? v3_neg(h->sf.ns) : h->sf.ns,
-                   .depth = hit->t,
+                   .depth = (real)d,
                    .surface = 1,
                    .lum2 = R(0)};
 }
