@@ -380,7 +380,7 @@ int temporal_add(Temporal *t, uint8_t *px, uint32_t w, uint32_t h, uint32_t colo
      * frames the last moving frame's is read by each, the other rewritten) */
     const int src = f->still ? t->base : t->prev, dst = src == 0 ? 1 : 0;
     t->f[dst].cam = camera_frame(&f->camera, (int)w, (int)h);
-    Pass ps = {px,        w,        h, colour_bytes, colour_bytes + DENOISE_GUIDE_BYTES, linear, f, t->light,
+    Pass ps = {px, w, h, colour_bytes, colour_bytes + DENOISE_GUIDE_BYTES, linear, f, t->light,
                src >= 0 ? &t->f[src] : NULL, &t->f[dst], (float)t->frames, 1.0f};
     if (src >= 0 && (double)t->f[src].cam.width * t->f[src].cam.height < (double)w * h)
         ps.detail = (float)((double)t->f[src].cam.width * t->f[src].cam.height / ((double)w * h));
