@@ -8,8 +8,10 @@
 # lanray-render's --server-frame pictures bit for bit (the history changed
 # the third), the still frame after them its plain picture; with
 # --whitted-temporal 0 every moving frame is lanray-render's picture of its
-# view; at render scale 1.5 the history changes the third moving frame, at
-# 2 the moving frames carry no guides (the same bytes as without it).  Under the sanitizers the accuracy measurement is
+# view; at render scale 1.5 the history changes the third moving frame
+# (each moving frame lanray-render's --server-frame picture at the small
+# size, brought up), at 2 the moving frames carry no guides (the same bytes
+# as without it).  Under the sanitizers the accuracy measurement is
 # left out (the plain pass takes it).
 set -u
 source tests/tools/server-lib.sh
@@ -68,4 +70,13 @@ done
 cmp -s "$dir/scale2/frame-00002.png" "$dir/none/frame-00002.png" && fail "render scale 2 changed nothing: the test cannot tell"
 cmp -s "$dir/scale15/frame-00003.png" "$dir/scale15none/frame-00003.png" &&
     fail "at render scale 1.5 the history changed nothing in the third moving frame"
+# ... where each moving frame is lanray-render's frame of the flight at the
+# small size (43 x 32), its history the same, brought up smooth
+pairs=()
+for k in 1 2 3; do
+    render --path "$dir/fly.path" --path-step 0.5 --aa 1 --width 43 --height 32 --server-frame $k -o "$dir/small-$k.png"
+    pairs+=("$dir/scale15/frame-0000$k.png" "$dir/small-$k.png")
+done
+out=$(python3 tests/tools/scaledup.py 3 smooth all "${pairs[@]}" 2>&1) ||
+    fail "a moving frame at render scale 1.5 is not lanray-render's history at the small size brought up: $out"
 echo "history: ok"

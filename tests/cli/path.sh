@@ -200,74 +200,12 @@ small() {
 # blocks, or hdr: RGBE smooth, the light decoded, mixed with the same
 # weights in double and coded again: upscale_smooth_rgbe)
 scaled_ok() {
-    python3 - "$1" "$dir" "$2" "$3" "$4" 2>&1 <<'PY'
-import math, struct, sys
-sys.path.insert(0, "tests/tools")
-from pngpixel import read as read_png
-def read_hdr(path):  # lanray's .hdr: a header, a blank line, the size line, flat RGBE pixels
-    head, _, body = open(path, "rb").read().partition(b"\n\n")
-    size, _, px = body.partition(b"\n")
-    h, w = int(size.split()[1]), int(size.split()[3])
-    return w, h, px
-def decode(p):
-    f = math.ldexp(1.0, p[3] - 136) if p[3] else 0.0
-    return [(p[c] + 0.5) * f if p[3] else 0.0 for c in range(3)]
-def f32(v):
-    return struct.unpack("f", struct.pack("f", v))[0]
-def encode(c):
-    c = [f32(v) if v > 0 else 0.0 for v in c]
-    v = max(c)
-    if not v >= 1e-32:
-        return bytes(4)
-    m, e = math.frexp(v)
-    m = m * 256.0 / v
-    return bytes([int(x * m) for x in c] + [e + 128])
-s = int(sys.argv[3])
-k2 = 128  # a place to 1/128 of a frame pixel
-side = lambda n: (2 * n + s - 1) // s
-def place(t, N, n, sw, W):  # full pixel t's centre among the frame's (camera: sw pixels span W, lines centred), rounded
-    num, den = ((2 * t + 1) * sw - N * sw + n * W - W) * k2, 2 * W
-    return (2 * num + den) // (2 * den)
-def taps(t, N, n, sw, W):  # the frame pixels about it and the right one's weight in 1/128
-    u = place(t, N, n, sw, W)
-    i, r = u // k2, u % k2
-    return min(max(i, 0), n - 1), min(max(i + 1, 0), n - 1), r
-def nearest(t, N, n, sw, W):
-    return min(max((place(t, N, n, sw, W) + k2 // 2) // k2, 0), n - 1)
-def scaled(bigf, smallf, up):
-    if up == "hdr":
-        W, H, big = read_hdr(bigf)
-        sw, sh, small = read_hdr(smallf)
-        lights = [decode(small[4 * i:4 * i + 4]) for i in range(sw * sh)]
-    else:
-        (rows, _), (srows, _) = read_png(bigf), read_png(smallf)
-        W, H, sw, sh = len(rows[0]) // 3, len(rows), len(srows[0]) // 3, len(srows)
-    if (sw, sh) != (side(W), side(H)):
-        return "the frame is %dx%d, its small one %dx%d" % (W, H, sw, sh)
-    for y in range(H):
-        j0, j1, t = taps(y, H, sh, sw, W)
-        for x in range(W):
-            i0, i1, r = taps(x, W, sw, sw, W)
-            if up == "hdr":
-                w = [float((k2 - r) * (k2 - t)), float(r * (k2 - t)), float((k2 - r) * t), float(r * t)]
-                c4 = [lights[j0 * sw + i0], lights[j0 * sw + i1], lights[j1 * sw + i0], lights[j1 * sw + i1]]
-                mix = [(w[0] * c4[0][c] + w[1] * c4[1][c] + w[2] * c4[2][c] + w[3] * c4[3][c]) / float(k2 * k2) for c in range(3)]
-                got, want = big[4 * (y * W + x):4 * (y * W + x) + 4], encode(mix)
-            elif up == "blocks":
-                i, j = nearest(x, W, sw, sw, W), nearest(y, H, sh, sw, W)  # the nearest frame pixel
-                got, want = rows[y][3 * x:3 * x + 3], srows[j][3 * i:3 * i + 3]
-            else:
-                mix = lambda line, c: (k2 - r) * line[3 * i0 + c] + r * line[3 * i1 + c]
-                got = rows[y][3 * x:3 * x + 3]
-                want = bytes(((k2 - t) * mix(srows[j0], c) + t * mix(srows[j1], c) + k2 * k2 // 2) // (k2 * k2) for c in range(3))
-            if got != want:
-                return "pixel %d,%d" % (x, y)
-    return None
-ext = "hdr" if sys.argv[4] == "hdr" else "png"
-why = [scaled("%s/frame-%05d.%s" % (sys.argv[1], f, ext), "%s/small-%d-%d.%s" % (sys.argv[2], s, f, ext), sys.argv[4]) for f in range(1, 7)]
-if all(why) if sys.argv[5] == "any" else any(why):
-    sys.exit("; ".join("frame %d: %s" % (f + 1, w) for f, w in enumerate(why) if w))
-PY
+    local f pairs=() ext=png
+    [ "$3" = hdr ] && ext=hdr
+    for f in 1 2 3 4 5 6; do
+        pairs+=("$1/frame-$(printf %05d $f).$ext" "$dir/small-$2-$f.$ext")
+    done
+    python3 tests/tools/scaledup.py "$2" "$3" "$4" "${pairs[@]}" 2>&1
 }
 small png 16
 small png 5
