@@ -65,9 +65,10 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     cfg.moving_lights = -1;
     cfg.coding = PIX_ZSTD | PIX_PREDICT; /* the default: coded DATA decoded, as the seeds send it */
     cfg.whitted_temporal = 2;            /* the default: a Whitted frame 1 (moving) carries guides to the history */
+    cfg.denoise_threads = 1;             /* ... whose stage runs on one thread (none started a run for more) */
     const int batches = data[0] & 2;
     if (batches)
-        cfg.refine = 1, cfg.still_aa = 2, cfg.denoise_threads = 1, cfg.temporal = 8;
+        cfg.refine = 1, cfg.still_aa = 2, cfg.temporal = 8;
     Err err;
     Server *s = server_create(&cfg, batches ? path_scene : scene, &err);
     int fds[2];
