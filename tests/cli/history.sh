@@ -3,16 +3,17 @@
 # render/temporal.h): frame 11 of make demo's flight (models/demo.path at
 # 1/15 s a frame, one sample a pixel, 160 x 120) comes closer to the
 # full-quality picture of its view with the history of 2 frames than
-# without (RMSE 6.98 against 10.18: at least 15% closer); through a server
+# without (RMSE 6.98 against 10.18: at least 15% closer).  Through a server
 # and two clients the moving frames of a flight at the full size are
 # lanray-render's --server-frame pictures bit for bit (the history changed
-# the third), the still frame after them its plain picture; with
-# --whitted-temporal 0 every moving frame is lanray-render's picture of its
-# view; at render scale 1.5 the history changes the third moving frame
-# (each moving frame lanray-render's --server-frame picture at the small
-# size, brought up), at 2 the moving frames carry no guides (the same bytes
-# as without it).  Under the sanitizers the accuracy measurement is
-# left out (the plain pass takes it).
+# the third), the still frame after them its plain picture; so too in RGBE
+# (--hdr), with adaptive light sampling while moving, and from clients on
+# the scalar path; with --whitted-temporal 0 every moving frame is
+# lanray-render's picture of its view.  At render scale 1.5 the history
+# changes the third moving frame (each moving frame lanray-render's
+# --server-frame picture at the small size, brought up), at 2 the moving
+# frames carry no guides (the same bytes as without it).  Under the
+# sanitizers the accuracy measurement is left out (the plain pass takes it).
 set -u
 source tests/tools/server-lib.sh
 render() { "$BIN/lanray-render" "$@" --quiet >/dev/null 2>"$dir/render.err" || fail "lanray-render $*: $(cat "$dir/render.err")"; }
@@ -79,4 +80,22 @@ for k in 1 2 3; do
 done
 out=$(python3 tests/tools/scaledup.py 3 smooth all "${pairs[@]}" 2>&1) ||
     fail "a moving frame at render scale 1.5 is not lanray-render's history at the small size brought up: $out"
+# the light itself (--hdr: RGBE colours added up), moving frames with
+# adaptive light sampling (--moving-lights adaptive: the probes' frames
+# guided too), and clients on the scalar path against lanray-render's own
+for k in 1 2 3; do
+    render "${fly[@]}" --server-frame $k -o "$dir/t-$k.hdr"
+    render "${fly[@]}" --light-sampling adaptive --server-frame $k -o "$dir/a-$k.png"
+done
+cmp -s "$dir/a-3.png" "$dir/t-3.png" && fail "adaptive light sampling changed nothing: the test cannot tell"
+start_server hdr --port 0 --width $W --height $H --path "$dir/fly.path" --path-step 0.5 --wait-clients 2 --hdr \
+    --out "$dir/hdr"
+serve_flight hdr 3
+for k in 1 2 3; do
+    cmp -s "$dir/hdr/frame-0000$k.hdr" "$dir/t-$k.hdr" || fail "served RGBE frame $k is not lanray-render's"
+done
+start_server lights --port 0 --width $W --height $H --path "$dir/fly.path" --path-step 0.5 --wait-clients 2 \
+    --moving-lights adaptive --out "$dir/lights"
+LANRAY_SIMD=scalar serve_flight lights 3
+served_are lights a-1 a-2 a-3
 echo "history: ok"
