@@ -188,6 +188,16 @@ static int build_assets(Server *s, Err *err)
     return 0;
 }
 
+/* The denoise stage of s's frames (filter 0: the history alone, of
+ * `temporal` frames), on --denoise-threads threads or one a core. */
+static DenoiseStage *stage_make(const Server *s, int filter, int temporal, Err *err)
+{
+    const long cores = sysconf(_SC_NPROCESSORS_ONLN);
+    const int threads = s->cfg.denoise_threads > 0 ? s->cfg.denoise_threads : cores > 0 ? (int)cores : 1;
+    return denoise_stage_create((uint32_t)s->cfg.width, (uint32_t)s->cfg.height, s->cbpp,
+                                threads < POOL_MAX_THREADS ? threads : POOL_MAX_THREADS, filter, temporal, err);
+}
+
 Server *server_create(const ServerConfig *cfg, Scene *scene, Err *err)
 {
     const char *addr = cfg->listen_addr ? cfg->listen_addr : "127.0.0.1";
@@ -222,11 +232,7 @@ Server *server_create(const ServerConfig *cfg, Scene *scene, Err *err)
     s->codec = pixcodec_create();
     Err stage_err = {{0}};
     if (scene->settings.denoise) {
-        const long cores = sysconf(_SC_NPROCESSORS_ONLN);
-        const int threads = cfg->denoise_threads > 0 ? cfg->denoise_threads : cores > 0 ? (int)cores : 1;
-        s->stage = denoise_stage_create((uint32_t)cfg->width, (uint32_t)cfg->height, s->cbpp,
-                                        threads < POOL_MAX_THREADS ? threads : POOL_MAX_THREADS, 1, cfg->temporal,
-                                        &stage_err);
+        s->stage = stage_make(s, 1, cfg->temporal, &stage_err);
         s->filters = 1;
         s->stripped = malloc((size_t)cfg->width * cfg->height * s->cbpp);
         if (s->stage && !s->stripped)
@@ -312,15 +318,16 @@ int server_frame_samples(const Server *s) { return s->shown_samples; }
  * 0.980), at 2 as close as without, at 3 and 4 further. */
 #define HISTORY_SCALE 3
 
-/* The frames a history adds up of a view of settings rs: the server's
- * --temporal where it is path-traced and denoised, or Whitted's (not
- * denoised: its guides would be filtered) unless its history could not be
- * made, else 0. */
+/* The frames a history adds up of a view of settings rs
+ * (render/temporal.h temporal_history: --temporal or --whitted-temporal)
+ * where its stage is there (a path-traced view's, made with the server
+ * where it denoises) or can be made (a Whitted view's, made at its first
+ * moving frame), else 0. */
 static int temporal_frames(const Server *s, const RenderSettings *rs)
 {
-    if (rs->integrator == INTEGRATOR_PATH)
-        return rs->denoise && s->stage ? s->cfg.temporal : 0;
-    return !rs->denoise && !s->history_failed ? s->cfg.whitted_temporal : 0;
+    if (rs->integrator == INTEGRATOR_PATH ? !s->stage : s->history_failed)
+        return 0;
+    return temporal_history(rs, s->cfg.temporal, s->cfg.whitted_temporal);
 }
 
 int server_denoises(const Server *s) { return s->filters; }
@@ -758,15 +765,10 @@ static int history_stage(Server *s)
 {
     if (s->stage)
         return frame_room(s, s->cbpp + DENOISE_GUIDE_BYTES);
-    const size_t n = (size_t)s->cfg.width * s->cfg.height;
-    const long cores = sysconf(_SC_NPROCESSORS_ONLN);
-    const int threads = s->cfg.denoise_threads > 0 ? s->cfg.denoise_threads : cores > 0 ? (int)cores : 1;
     Err err = {{0}};
-    s->stage = denoise_stage_create((uint32_t)s->cfg.width, (uint32_t)s->cfg.height, s->cbpp,
-                                    threads < POOL_MAX_THREADS ? threads : POOL_MAX_THREADS, 0, s->cfg.whitted_temporal,
-                                    &err);
+    s->stage = stage_make(s, 0, s->cfg.whitted_temporal, &err);
     if (s->stage && !frame_room(s, s->cbpp + DENOISE_GUIDE_BYTES))
-        err_set(&err, "out of memory for %zu guided pixels", n);
+        err_set(&err, "out of memory for %dx%d guided pixels", s->cfg.width, s->cfg.height);
     if (s->stage && !err.msg[0])
         return 1;
     log_line(s->cfg.quiet, "lanray-server", "moving frames without their history: %s", err.msg);
@@ -1197,7 +1199,7 @@ static void frame_finished(Server *s, const StageFrame *f, const uint8_t *pixels
     }
     if (s->stage && denoise_stage_holds(s->stage)) /* the frame before first */
         show_filtered(s, 1, done, ctx);
-    if (!s->stage || !(rs->denoise || rs->guides)) { /* no guides: nothing for the stage */
+    if (!s->stage || !render_guided(rs)) { /* no guides: nothing for the stage */
         show_frame(s, f, pixels, done, ctx);
         return;
     }

@@ -32,13 +32,10 @@ static int frame_settings(const RenderSettings *view, const Flight *fl, uint32_t
 }
 
 /* The frames a flight's history weighs over a view of settings vs, as
- * the server's (server.c temporal_frames): path-traced and denoised, or
- * Whitted's (not denoised: its guides would be filtered); 0: none. */
+ * the server's (render/temporal.h temporal_history); 0: none. */
 static int flight_history(const RenderSettings *vs, const Flight *fl)
 {
-    if (vs->integrator == INTEGRATOR_PATH)
-        return vs->denoise ? fl->temporal : 0;
-    return vs->denoise ? 0 : fl->whitted_temporal;
+    return temporal_history(vs, fl->temporal, fl->whitted_temporal);
 }
 
 uint64_t flight_bytes(const RenderSettings *rs, const Flight *fl, int width, int height)

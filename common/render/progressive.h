@@ -19,6 +19,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "render/pixel.h"
 #include "scene/shade.h"
 
 /* A pixel's sums: its light (3), then where guided its guide's (9: albedo,
@@ -65,7 +66,7 @@ static inline int progressive_last(uint32_t s) { return ((s + 1) & s) == 0; }
 /* The reals of a pixel's sums with rs's settings. */
 static inline uint32_t progressive_reals(const RenderSettings *rs)
 {
-    return PROG_COLOUR + (rs->denoise || rs->guides ? PROG_GUIDE : 0);
+    return PROG_COLOUR + (render_guided(rs) ? PROG_GUIDE : 0);
 }
 
 /* sums plus one sample's light c and (where guided, g not NULL) its guide */

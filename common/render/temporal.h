@@ -48,12 +48,25 @@
 
 #include "base/pool.h"
 #include "geom/camera.h"
+#include "scene/scene.h"
 
 #define TEMPORAL_DEFAULT_FRAMES 4
 /* ... and a Whitted view's (a longer history blurred its edges and
  * highlights more than it took out of its lamps' grain) */
 #define TEMPORAL_WHITTED_FRAMES 2
 #define TEMPORAL_MAX_FRAMES 64
+
+/* The frames a history weighs over a view of settings rs (one rule for a
+ * server's frames and lanray-render --server-frame's): a path-traced
+ * view's `temporal` where it is denoised (the guides are its filter's), a
+ * Whitted one's `whitted` where it is not (denoised, its guides would be
+ * filtered); 0: none. */
+static inline int temporal_history(const RenderSettings *rs, int temporal, int whitted)
+{
+    if (rs->integrator == INTEGRATOR_PATH)
+        return rs->denoise ? temporal : 0;
+    return rs->denoise ? 0 : whitted;
+}
 
 typedef struct Temporal Temporal;
 

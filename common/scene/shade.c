@@ -1124,7 +1124,7 @@ static inline __attribute__((always_inline)) void light_pass(const World *w, Sha
  * costs no bytes on the wire once coded: no colour (white), and the
  * distance rounded to 16 bits of its float (0.4%; the history's test of
  * a surface is 5%): a 1024 x 768 frame of the demo's flight coded 1.37 MB
- * -> 0.88 MB (0.46 MB without guides), the pictures within 0.005 RMSE. */
+ * -> 0.88 MB (0.46 MB without guides), the pictures within 0.008 RMSE. */
 static Guide first_guide(const Ray *r, const Hit *hit, const Shading *h)
 {
     const real mu = v3_dot(h->sf.ns, v3_neg(r->dir));
