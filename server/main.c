@@ -286,7 +286,7 @@ typedef struct {
     double path_step;
     CliAa still;
     int still_lights;
-    int moving_lights, moving_lights_given;
+    int moving_lights, moving_lights_given, moving_light_samples;
     int compress, announce, pipeline;
     double target_fps, max_fps, render_scale;
     int target_given;
@@ -324,6 +324,7 @@ static void config_from_args(Args *a)
      * whole 512x384 frames, but slower on the small frames and segments of
      * a flight at a render scale (docs/tradeoff.md) */
     cfg->moving_lights = a->moving_lights_given ? a->moving_lights - 1 : -1;
+    cfg->moving_light_samples = a->moving_light_samples;
     cfg->coding = compress_codings[a->compress];
     cfg->pipeline = a->pipeline;
     a->bvh.kind = (BvhKind)a->bvh_kind;
@@ -361,6 +362,21 @@ static const char server_exits[] =
      .hi = POOL_MAX_THREADS, .help = "threads of the denoiser, 0 = one per core", .def = "0"}, \
     CLI_TEMPORAL_OPT(&(a)->cfg.temporal, "path-traced and denoised: "), \
     CLI_WHITTED_TEMPORAL_OPT(&(a)->cfg.whitted_temporal, "")
+
+/* --moving-lights and --moving-light-samples: the area lights of the
+ * frames that are not still ones */
+#define MOVING_LIGHTS_OPTS(a) \
+    {.name = "--moving-lights", .kind = OPT_CHOICE, .dst = &(a)->moving_lights, .choices = moving_lights_words, \
+     .seen = &(a)->moving_lights_given, \
+     .help = "area lights in the frames that are not still ones: the scene's light_sampling, every point at every " \
+             "pixel, or adaptive (one probe a pixel, every point in penumbrae: docs/tradeoff.md)", \
+     .def = "scene"}, \
+    {.name = "--moving-light-samples", .kind = OPT_INT, .dst = &(a)->moving_light_samples, .arg = "K", \
+     .hi = LIGHT_MAX_SAMPLES, \
+     .help = "area lights in the frames that are not still ones: K x K points a pixel (lanray-render " \
+             "--light-samples K); fewer points, a finer render scale at --target-fps (docs/realtime.md); 0 = " \
+             "each light's own", \
+     .def = "0"}
 
 /* Parses the command line into a: OPT_GO, or the exit status. */
 static int parse_args(Args *a, int argc, char **argv)
@@ -429,11 +445,7 @@ static int parse_args(Args *a, int argc, char **argv)
          .help = "announce the server on the LAN (DNS-SD over mDNS, through avahi-daemon): _lanray._tcp, the protocol "
                  "version as a subtype, TXT proto, size, token; clients started without an address find it",
          .def = "auto: where it listens beyond loopback"},
-        {.name = "--moving-lights", .kind = OPT_CHOICE, .dst = &a->moving_lights, .choices = moving_lights_words,
-         .seen = &a->moving_lights_given,
-         .help = "area lights in the frames that are not still ones: the scene's light_sampling, every point at every "
-                 "pixel, or adaptive (one probe a pixel, every point in penumbrae: docs/tradeoff.md)",
-         .def = "scene"},
+        MOVING_LIGHTS_OPTS(a),
         {.name = "--target-fps", .kind = OPT_REAL, .dst = &a->target_fps, .arg = "F", .rlo = 0, .rhi = 1000, .seen = &a->target_given,
          .help = "while the view moves, render fewer pixels (a render scale of 1 to 8 in half steps, chosen from the "
                  "frame times measured) to hold F frames a second; 0 = every pixel",

@@ -93,9 +93,17 @@ int pace_update(Pace *p, double seconds, int scale, uint32_t width, uint32_t hei
                now * pixels_at(i - 1, width, height) / pixels_at(at, width, height) <= PACE_FINER * p->target)
             i--;
     } else { /* finer only with room to spare */
+        const int at = i;
         while (i > 0 && predict(p, i - 1, width, height) <= PACE_FINER * p->target)
             i--;
+        /* the finer scale's time forgotten after PACE_RETRY such frames:
+         * the next one tries it (the branch above) */
+        p->easy = i == at && i > 0 && now <= PACE_PROBE * p->target ? p->easy + 1 : 0;
+        if (p->easy >= PACE_RETRY)
+            p->t[i - 1] = 0, p->easy = 0;
     }
+    if (pace_scales[i] != scale)
+        p->easy = 0;
     p->scale = pace_scales[i];
     return p->scale;
 }

@@ -14,7 +14,11 @@
  * a finer scale never measured is tried once the frames take at most
  * PACE_PROBE of the target (the finest never measured whose time in
  * proportion to its pixels fits, so that the first move does not walk
- * down from the coarsest one scale a frame). */
+ * down from the coarsest one scale a frame).  A finer scale's time is
+ * measured again after PACE_RETRY frames in a row that took at most
+ * PACE_PROBE of the target: a frame slowed once (the machine busy, a file
+ * written) left that scale's time too high, and the flight stayed at a
+ * coarse scale to its end. */
 #ifndef LANRAY_PACE_H
 #define LANRAY_PACE_H
 
@@ -23,11 +27,13 @@
 #define PACE_FINER 0.8
 #define PACE_PROBE 0.75
 #define PACE_SCALES 10
+#define PACE_RETRY 30 /* 2 s at 15 fps */
 
 typedef struct {
     double target;         /* seconds a frame */
     double t[PACE_SCALES]; /* seconds a frame at each of pace_scales (0: not measured) */
     int scale;
+    int easy; /* frames in a row at scale with room to spare (PACE_PROBE) that stayed there */
 } Pace;
 
 /* The scales a pace chooses from, finest first, in half steps (upscale.h). */

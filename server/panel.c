@@ -70,7 +70,10 @@ int panel_lines(const PanelInfo *p, char out[][PANEL_LINE])
         LINE("samples: moving %.16s, still %.16s, lights to %.9s [N]", moving, still, lights);
     } else
         LINE("samples: moving %s, still %s [N]", moving, still);
-    LINE("moving lights %s [L]  %s [M]  shadows %s [H]", p->light_adaptive ? "adaptive" : "full",
+    char points[16] = "";
+    if (p->moving_lights)
+        snprintf(points, sizeof points, " %dx%d", p->moving_lights, p->moving_lights);
+    LINE("moving lights %s%s [L]  %s [M]  shadows %s [H]", p->light_adaptive ? "adaptive" : "full", points,
          p->diffuse ? "diffuse" : "phong", p->shadows ? "on" : "off");
     if (p->denoise) /* a line of its own: the one above, longer, was cut by a window 400 pixels wide */
         LINE("frames shown %s [X]%s", p->denoise == 1 ? "denoised" : "raw",

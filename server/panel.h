@@ -23,6 +23,7 @@ typedef struct {
     int refine, still_aa, still_adaptive;
     int still_lights; /* the area lights' points a side the still frames refine up to; 0: their own */
     int light_adaptive, diffuse, shadows;
+    int moving_lights; /* the area lights' points a side in moving frames (--moving-light-samples); 0: their own */
     int denoise;           /* 0: the server does not denoise; 1: frames shown denoised; 2: shown raw */
     int temporal;          /* the frames a moving pixel's history weighs (render/temporal.h; with denoise 0, a Whitted
                             * view's near the full size); 0: none */

@@ -450,6 +450,7 @@ uint32_t server_clients_info(const Server *s, ServerClientInfo *out, uint32_t ma
 double server_last_frame_time(const Server *s) { return s->last_frame_s; }
 
 void server_set_moving_lights(Server *s, int lights) { s->cfg.moving_lights = lights; }
+int server_moving_light_samples(const Server *s) { return s->cfg.moving_light_samples; }
 int server_moving_lights(const Server *s)
 {
     return s->cfg.moving_lights >= 0 ? s->cfg.moving_lights : (int)server_settings(s).light_sampling;
@@ -804,6 +805,8 @@ static int start_frame(Server *s, Err *err)
     s->converged = s->still && (!s->cfg.refine || refine_step(&s->cfg, s->scene, s->still_step, &v.settings, batches));
     if (!s->still && s->cfg.moving_lights >= 0)
         v.settings.light_sampling = (LightSampling)s->cfg.moving_lights;
+    if (!s->still && s->cfg.moving_light_samples > 0)
+        v.settings.light_samples = s->cfg.moving_light_samples;
     /* a path-traced moving frame whose history adds it up: another of its
      * pixels' samples each (the frame to come is s->frame + 1); a Whitted
      * one near the full size carries its guides there (at render scales 2

@@ -40,6 +40,9 @@ typedef struct {
     /* the light sampling (LightSampling) of the frames that are not still
      * ones; -1: the scene's (lanray-server --moving-lights) */
     int moving_lights;
+    /* ... and its area lights' points a side (settings light_samples); 0:
+     * the view's (lanray-server --moving-light-samples) */
+    int moving_light_samples;
     /* how clients are asked to code their pixels (net/pixcodec.h: PIX_RAW,
      * PIX_LZ4, PIX_ZSTD | PIX_PREDICT; lanray-server --compress); a client
      * without that codec sends them raw */
@@ -115,6 +118,8 @@ int server_still_lights(const Server *s);
  * config's, else the settings'). */
 void server_set_moving_lights(Server *s, int lights);
 int server_moving_lights(const Server *s);
+/* ServerConfig moving_light_samples: the area lights' points a side in moving frames (0: the view's). */
+int server_moving_light_samples(const Server *s);
 /* How frames at a render scale fill the window from the next one shown
  * (UpscaleKind: the U key); server_upscale says it. */
 void server_set_upscale(Server *s, int upscale);

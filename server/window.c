@@ -123,6 +123,7 @@ void window_panel(Window *w, double fps, const char *error)
                        .samples = server_frame_samples(w->server),
                        .aa = rs.aa, .adaptive = rs.adaptive,
                        .light_adaptive = server_moving_lights(w->server) == LIGHTS_ADAPTIVE,
+                       .moving_lights = server_moving_light_samples(w->server),
                        .diffuse = rs.shading == SHADE_DIFFUSE, .shadows = rs.shadows,
                        .denoise = server_denoises(w->server) ? 2 - server_denoise_shown(w->server) : 0,
                        .temporal = server_temporal(w->server),

@@ -120,6 +120,11 @@ static void panel_says_what_runs(void **state)
     assert_true(has(lines, n, "target 15 fps") && has(lines, n, "render scale 1/4 smooth [U]"));
     assert_true(has(lines, n, "moving 1x1, still adaptive 4x4"));
     assert_true(has(lines, n, "moving lights adaptive") && has(lines, n, "phong") && has(lines, n, "shadows on"));
+    assert_true(has(lines, n, "moving lights adaptive [L]"));
+    p.moving_lights = 2; /* --moving-light-samples */
+    n = panel_lines(&p, lines);
+    assert_true(has(lines, n, "moving lights adaptive 2x2 [L]  phong [M]"));
+    p.moving_lights = 0;
     assert_true(has(lines, n, "segments of 8 lines") && has(lines, n, "2 clients"));
     assert_true(has(lines, n, "10.0.0.2:4000") && has(lines, n, "1001 lines/s") && has(lines, n, "30.0%"));
     assert_false(has(lines, n, "error"));

@@ -1,7 +1,8 @@
 /* test_pace.c - the render scale that holds a frame rate (server/pace.c),
  * driven with made-up frame times: it goes coarser as soon as a frame
  * misses the target, finer only with room to spare, does not flicker
- * between two scales on times that wobble about a boundary, comes down
+ * between two scales on times that wobble about a boundary, measures a
+ * finer scale again after a frame slowed once there, comes down
  * from the coarsest in a few frames at the first move, and never
  * leaves scale 1 without a target.  Scales in half steps (upscale.h: 2 is
  * every pixel, 5 is 2.5). */
@@ -68,13 +69,42 @@ static void no_flicker_about_a_boundary(void **state)
     assert_int_equal(wobble(&p, &k, 70, 77), 0);
     assert_int_equal(k, UPSCALE_ONE);
     /* at scale 1.5 with whole frames predicted at 0.85 of the target (above
-     * PACE_FINER): it stays at 1.5 rather than trying 1 and coming back */
+     * PACE_FINER): it stays at 1.5 rather than trying 1 and coming back,
+     * until whole frames are measured again (PACE_RETRY frames at 1.5 with
+     * room to spare): they fit, and it stays there */
     pace_init(&p, 15);
     p.scale = UPSCALE_ONE;
     k = pace_update(&p, frame_time(2, 120), 2, W, H); /* 94 ms whole: coarser */
     assert_int_equal(k, 3);
-    assert_int_equal(wobble(&p, &k, 70, 74), 0);
+    assert_true(PACE_RETRY >= 20);
+    for (int i = 0; i < PACE_RETRY - 1; i++)
+        k = pace_update(&p, frame_time(k, i % 2 ? 70 : 74), k, W, H);
     assert_int_equal(k, 3);
+    assert_int_equal(wobble(&p, &k, 70, 74), 1);
+    assert_int_equal(k, UPSCALE_ONE);
+}
+
+/* A frame slowed once at a finer scale (the machine busy) does not hold
+ * the pace at a coarser one for good: 600 ns a pixel fits at 3 (53 ms),
+ * one frame there took 150 ms and sent it to 4; its next frames have room
+ * to spare (33 ms), and within PACE_RETRY frames it is back at 3. */
+static void a_slow_frame_is_forgotten(void **state)
+{
+    (void)state;
+    Pace p;
+    pace_init(&p, 15);
+    p.scale = UPSCALE_ONE;
+    int k = pace_update(&p, frame_time(2, 600), 2, W, H);
+    for (int i = 0; i < 5; i++)
+        k = pace_update(&p, frame_time(k, 600), k, W, H);
+    assert_int_equal(k, 6);
+    k = pace_update(&p, 0.150, k, W, H);
+    assert_true(k > 6);
+    int frames = 0;
+    for (; frames < PACE_RETRY + 5 && k != 6; frames++)
+        k = pace_update(&p, frame_time(k, 600), k, W, H);
+    assert_int_equal(k, 6);
+    assert_true(frames > 5 && frames <= PACE_RETRY + 2);
 }
 
 /* The first move: nothing measured but the coarsest scale's frames, whose
@@ -119,6 +149,7 @@ int main(void)
         cmocka_unit_test(coarser_at_once_finer_with_room),
         cmocka_unit_test(no_flicker_about_a_boundary),
         cmocka_unit_test(first_move_comes_down_at_once),
+        cmocka_unit_test(a_slow_frame_is_forgotten),
         cmocka_unit_test(no_target_keeps_every_pixel),
     };
     return cmocka_run_group_tests_name("pace", tests, NULL, NULL);

@@ -8,7 +8,9 @@
 # lanray-render's --server-frame pictures bit for bit (the history changed
 # the third), the still frame after them its plain picture; so too in RGBE
 # (--hdr), with adaptive light sampling while moving, and from clients on
-# the scalar path; with --whitted-temporal 0 every moving frame is
+# the scalar path, and with the lamp's 2 x 2 points while moving
+# (--moving-light-samples 2: lanray-render --light-samples 2, the still
+# frame the lamp's own); with --whitted-temporal 0 every moving frame is
 # lanray-render's picture of its view.  At render scale 1.5 the history
 # changes the third moving frame (each moving frame lanray-render's
 # --server-frame picture at the small size, brought up), at 2 the moving
@@ -86,8 +88,10 @@ out=$(python3 tests/tools/scaledup.py 3 smooth all "${pairs[@]}" 2>&1) ||
 for k in 1 2 3; do
     render "${fly[@]}" --server-frame $k -o "$dir/t-$k.hdr"
     render "${fly[@]}" --light-sampling adaptive --server-frame $k -o "$dir/a-$k.png"
+    render "${fly[@]}" --light-samples 2 --server-frame $k -o "$dir/p-$k.png"
 done
 cmp -s "$dir/a-3.png" "$dir/t-3.png" && fail "adaptive light sampling changed nothing: the test cannot tell"
+cmp -s "$dir/p-3.png" "$dir/t-3.png" && fail "the lamp's 2 x 2 points changed nothing: the test cannot tell"
 start_server hdr --port 0 --width $W --height $H --path "$dir/fly.path" --path-step 0.5 --wait-clients 2 --hdr \
     --out "$dir/hdr"
 serve_flight hdr 3
@@ -98,4 +102,10 @@ start_server lights --port 0 --width $W --height $H --path "$dir/fly.path" --pat
     --moving-lights adaptive --out "$dir/lights"
 LANRAY_SIMD=scalar serve_flight lights 3
 served_are lights a-1 a-2 a-3
+# the lamp's 2 x 2 points while moving (--moving-light-samples 2), its
+# own 3 x 3 in the still frame
+start_server points --port 0 --width $W --height $H --path "$dir/fly.path" --path-step 0.5 --wait-clients 2 \
+    --still-aa adaptive:2 --moving-light-samples 2 --out "$dir/points"
+serve_flight points 4
+served_are points p-1 p-2 p-3 still
 echo "history: ok"
