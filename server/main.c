@@ -76,6 +76,7 @@ typedef struct {
     int refine;            /* --still-aa: still frames after the path's end, up to the converged one */
     double converged_t;    /* when it was shown, */
     uint32_t converged_frame; /* and its number */
+    double still_t;        /* when the first still frame after the path's end (whole) was shown, 0: not yet */
     /* --target-fps: the render scale of the moving frames (half steps, upscale.h) */
     Pace pace;
     double last_frame_t;
@@ -198,6 +199,8 @@ static void on_frame(void *ctx, uint32_t frame, const uint8_t *pixels)
     pace_frame(a);
     if (a->path_final && a->frames_done == a->path_final)
         a->path_t1 = timer_now();
+    if (a->path_final && a->refine && a->frames_done == a->path_final + 1)
+        a->still_t = timer_now();
     /* headless, no count: the flight is the job, and with refinement the
      * still frames after it up to the converged picture */
     const int last = a->path_final && (a->refine ? a->frames_done > a->path_final && server_frame_converged(a->server)
@@ -821,6 +824,9 @@ static int finish(App *app, const Args *a, int rc)
     if (app->scaled_frames && app->pace.target > 0)
         printf("pace: target %.1f fps, mean render scale %.2f over %llu moving frames\n", 1.0 / app->pace.target,
                (double)app->scale_sum / UPSCALE_ONE / (double)app->scaled_frames, (unsigned long long)app->scaled_frames);
+    if (app->still_t > 0 && app->converged_t > 0)
+        printf("path: first still frame %u, %.2f s after the last move\n", app->path_final + 1,
+               app->still_t - app->path_t1);
     if (app->converged_t > 0)
         printf("path: converged frame %u, %.2f s after the last move\n", app->converged_frame,
                app->converged_t - app->path_t1);

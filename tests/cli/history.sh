@@ -14,7 +14,9 @@
 # lanray-render's picture of its view.  At render scale 1.5 the history
 # changes the third moving frame (each moving frame lanray-render's
 # --server-frame picture at the small size, brought up), at 2 the moving
-# frames carry no guides (the same bytes as without it).  Under the
+# frames carry no guides (the same bytes as without it); after moving
+# frames at a render scale the first still frame is the plain picture,
+# whole (sharp at once), the next the still quality.  Under the
 # sanitizers the accuracy measurement is left out (the plain pass takes it).
 set -u
 source tests/tools/server-lib.sh
@@ -60,10 +62,17 @@ for how in history none scale2 scale2none scale15 scale15none; do
     esac
     start_server $how --port 0 --width $W --height $H --path "$dir/fly.path" --path-step 0.5 --wait-clients 2 \
         --still-aa adaptive:2 "${args[@]}" --out "$dir/$how"
-    serve_flight $how 4 # 3 moving frames and a still one
     case $how in
-    scale*) continue ;;
+    scale*) # 3 moving frames at a render scale, one still one whole of
+        # one sample a pixel (sharp at once), then the still quality
+        serve_flight $how 5
+        cmp -s "$dir/$how/frame-00004.png" "$dir/m-1.png" ||
+            fail "the first still frame after frames at a render scale ($how) is not the whole plain picture"
+        cmp -s "$dir/$how/frame-00005.png" "$dir/still.png" || fail "the converged frame ($how) is not lanray-render's"
+        continue
+        ;;
     esac
+    serve_flight $how 4 # 3 moving frames and a still one
     served_are $how "${want[@]}"
 done
 for k in 1 2 3 4; do

@@ -180,8 +180,9 @@ out=$("$BIN/lanray-server" --headless --port 0 --still-light-samples 6 2>&1)
 # is lanray-render's picture of W/8 x H/8 pixels brought to the full size,
 # smooth (the default: the integer bilinear rule of server/upscale.c,
 # computed again here) or, with --upscale blocks, each pixel an 8 x 8
-# block, and at least one of the six is; the still frame after the
-# flight is whole.  At a fixed scale in half steps (--render-scale 2.5:
+# block, and at least one of the six is; the first still frame after the
+# flight is whole at one sample a pixel (the view's own: sharp at once),
+# the next the refined one.  At a fixed scale in half steps (--render-scale 2.5:
 # frames of ceil(W / 2.5) x ceil(H / 2.5) pixels, 39 x 29 for 96 x 72,
 # each pixel where its ray went: 39 span the width, the 29 lines centred)
 # every moving frame is.
@@ -216,7 +217,10 @@ for up in smooth blocks; do
     out=$(scaled_ok "$dir/sc-$up" 16 "$up" any) ||
         fail "no moving frame at render scale 8 is lanray-render's small frame scaled up ($up): $out"
     grep -q "^pace: target 1000.0 fps, mean render scale " "$dir/scale-$up.log" || fail "no pace line: $(tail -3 "$dir/scale-$up.log")"
-    cmp -s "$dir/sc-$up/frame-00007.png" "$dir/still.png" || fail "the still frame after a scaled flight is not whole and refined"
+    cmp -s "$dir/sc-$up/frame-00007.png" "$dir/ref-6.png" ||
+        fail "the first still frame after a scaled flight is not whole at one sample a pixel (sharp at once)"
+    cmp -s "$dir/sc-$up/frame-00008.png" "$dir/still.png" || fail "the still frame after a scaled flight is not whole and refined"
+    grep -q "^path: converged frame 8, " "$dir/scale-$up.log" || fail "no converged line for frame 8: $(grep '^path' "$dir/scale-$up.log")"
     start_server "half-$up" --port 0 --width $W --height $H --path "$dir/fly.path" --path-step 0.5 --whitted-temporal 0 --wait-clients 2 \
         --render-scale 2.5 --upscale "$up" --out "$dir/half-$up"
     run_clients 2 "half-$up"
