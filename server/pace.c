@@ -93,8 +93,16 @@ int pace_update(Pace *p, double seconds, int scale, uint32_t width, uint32_t hei
                now * pixels_at(i - 1, width, height) / pixels_at(at, width, height) <= PACE_FINER * p->target)
             i--;
     } else { /* finer only with room to spare */
+        /* a scale never measured only where this frame's time in
+         * proportion to its pixels (an overestimate) stays within
+         * PACE_REACH of the target: times that disagree (more pixels
+         * measured faster, a few frames' noise) make a line of slope 0
+         * that predicts every finer scale at one time, and a flight went
+         * from scale 4 to 1 for a frame of 410 ms */
         const int at = i;
-        while (i > 0 && predict(p, i - 1, width, height) <= PACE_FINER * p->target)
+        while (i > 0 && predict(p, i - 1, width, height) <= PACE_FINER * p->target &&
+               (p->t[i - 1] > 0 ||
+                now * pixels_at(i - 1, width, height) / pixels_at(at, width, height) <= PACE_REACH * p->target))
             i--;
         /* the finer scale's time forgotten after PACE_RETRY such frames:
          * the next one tries it (the branch above) */

@@ -18,7 +18,10 @@
  * measured again after PACE_RETRY frames in a row that took at most
  * PACE_PROBE of the target: a frame slowed once (the machine busy, a file
  * written) left that scale's time too high, and the flight stayed at a
- * coarse scale to its end. */
+ * coarse scale to its end.  Going finer onto a scale never measured
+ * stays where this frame's time in proportion to the pixels is at most
+ * PACE_REACH times the target: a wrong prediction costs one frame of a
+ * few targets, not a whole frame's time. */
 #ifndef LANRAY_PACE_H
 #define LANRAY_PACE_H
 
@@ -28,6 +31,7 @@
 #define PACE_PROBE 0.75
 #define PACE_SCALES 10
 #define PACE_RETRY 30 /* 2 s at 15 fps */
+#define PACE_REACH 4.0 /* times the target */
 
 typedef struct {
     double target;         /* seconds a frame */

@@ -2,7 +2,8 @@
  * driven with made-up frame times: it goes coarser as soon as a frame
  * misses the target, finer only with room to spare, does not flicker
  * between two scales on times that wobble about a boundary, measures a
- * finer scale again after a frame slowed once there, comes down
+ * finer scale again after a frame slowed once there, does not leap to
+ * every pixel on times that disagree, comes down
  * from the coarsest in a few frames at the first move, and never
  * leaves scale 1 without a target.  Scales in half steps (upscale.h: 2 is
  * every pixel, 5 is 2.5). */
@@ -131,6 +132,27 @@ static void first_move_comes_down_at_once(void **state)
     assert_int_equal(k, 4);
 }
 
+/* The times of make demo's first frames, pipelined (a frame's time from
+ * the one before's end): scale 3.5 measured at 43.7 ms, then 4 at 50.4.
+ * Where more pixels measured faster the line through them is flat and
+ * predicts every finer scale at 44 ms; the pace went to scale 1 (a frame
+ * of 410 ms).  It goes no finer than PACE_REACH times the target allows
+ * in proportion to the pixels: scale 2 (4 x 50 ms). */
+static void disagreeing_times_do_not_jump(void **state)
+{
+    (void)state;
+    Pace p;
+    pace_init(&p, 15);
+    const struct {
+        int scale;
+        double ms;
+    } shown[] = {{16, 17.6}, {16, 21.2}, {10, 21.4}, {10, 40.2}, {7, 43.7}, {8, 50.4}};
+    int k = p.scale;
+    for (size_t i = 0; i < sizeof shown / sizeof shown[0]; i++)
+        k = pace_update(&p, shown[i].ms * 1e-3, shown[i].scale, W, H);
+    assert_true(k >= 4);
+}
+
 static void no_target_keeps_every_pixel(void **state)
 {
     (void)state;
@@ -150,6 +172,7 @@ int main(void)
         cmocka_unit_test(no_flicker_about_a_boundary),
         cmocka_unit_test(first_move_comes_down_at_once),
         cmocka_unit_test(a_slow_frame_is_forgotten),
+        cmocka_unit_test(disagreeing_times_do_not_jump),
         cmocka_unit_test(no_target_keeps_every_pixel),
     };
     return cmocka_run_group_tests_name("pace", tests, NULL, NULL);
