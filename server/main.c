@@ -81,6 +81,8 @@ typedef struct {
     Pace pace;
     double last_frame_t;
     uint64_t scale_sum, scaled_frames;
+    double longest;          /* the longest moving frame's time (a stutter), */
+    uint32_t longest_frame;  /* and its number */
     /* live edits: the scene file and its files watched, read again when one
      * changes; the new scene waits for the server to take it */
     Watch *watch;
@@ -167,6 +169,8 @@ static void pace_frame(App *a)
     const int scale = server_frame_scale(a->server);
     a->scale_sum += (uint64_t)scale;
     a->scaled_frames++;
+    if (dt > a->longest)
+        a->longest = dt, a->longest_frame = a->frames_done;
     if (a->pace.target > 0 && dt > 0)
         server_set_scale(a->server, pace_update(&a->pace, dt, scale, (uint32_t)a->width, (uint32_t)a->height));
 }
@@ -822,8 +826,9 @@ static int finish(App *app, const Args *a, int rc)
         printf("path: frames 1 to %u in %.2f s, %.2f fps while moving\n", app->path_final, app->path_t1 - app->path_t0,
                (app->path_final - 1) / (app->path_t1 - app->path_t0));
     if (app->scaled_frames && app->pace.target > 0)
-        printf("pace: target %.1f fps, mean render scale %.2f over %llu moving frames\n", 1.0 / app->pace.target,
-               (double)app->scale_sum / UPSCALE_ONE / (double)app->scaled_frames, (unsigned long long)app->scaled_frames);
+        printf("pace: target %.1f fps, mean render scale %.2f over %llu moving frames, the longest %.0f ms (frame %u)\n",
+               1.0 / app->pace.target, (double)app->scale_sum / UPSCALE_ONE / (double)app->scaled_frames,
+               (unsigned long long)app->scaled_frames, app->longest * 1e3, app->longest_frame);
     if (app->still_t > 0 && app->converged_t > 0)
         printf("path: first still frame %u, %.2f s after the last move\n", app->path_final + 1,
                app->still_t - app->path_t1);
