@@ -77,7 +77,7 @@ typedef struct {
     double converged_t;    /* when it was shown, */
     uint32_t converged_frame; /* and its number */
     double still_t;        /* when the first still frame after the path's end (whole) was shown, 0: not yet */
-    /* --target-fps: the render scale of the moving frames (half steps, upscale.h) */
+    /* --target-fps: the render scale of the moving frames (quarter steps, upscale.h) */
     Pace pace;
     double last_frame_t;
     uint64_t scale_sum, scaled_frames;
@@ -454,11 +454,11 @@ static int parse_args(Args *a, int argc, char **argv)
          .def = "auto: where it listens beyond loopback"},
         MOVING_LIGHTS_OPTS(a),
         {.name = "--target-fps", .kind = OPT_REAL, .dst = &a->target_fps, .arg = "F", .rlo = 0, .rhi = 1000, .seen = &a->target_given,
-         .help = "while the view moves, render fewer pixels (a render scale of 1 to 8 in half steps, chosen from the "
+         .help = "while the view moves, render fewer pixels (a render scale of 1 to 8 in quarter steps, chosen from the "
                  "frame times measured) to hold F frames a second; 0 = every pixel",
          .def = "0; in a window, a path-traced scene's 10"},
         {.name = "--render-scale", .kind = OPT_REAL, .dst = &a->render_scale, .arg = "K", .rlo = 0, .rhi = 8,
-         .help = "moving frames always at render scale K (1 to 8 in half steps: 2.5 renders 2/5 of each side) rather "
+         .help = "moving frames always at render scale K (1 to 8 in quarter steps: 2.5 renders 2/5 of each side) rather "
                  "than as --target-fps chooses; 0 = as it chooses", .def = "0"},
         {.name = "--upscale", .kind = OPT_CHOICE, .dst = &cfg->upscale, .choices = upscale_names,
          .help = "how a frame rendered at a render scale fills the window and the frames written: smooth (bilinear "
@@ -553,10 +553,10 @@ static int open_scene(App *app, Args *a, Err *err)
         fprintf(stderr, "lanray-server: --still-light-samples refines the still frames of --still-aa: give both\n");
         return 2;
     }
-    if (a->render_scale > 0 && (a->render_scale < 1 || a->render_scale * 2 != floor(a->render_scale * 2) ||
+    if (a->render_scale > 0 && (a->render_scale < 1 || a->render_scale * UPSCALE_ONE != floor(a->render_scale * UPSCALE_ONE) ||
                                 a->target_given)) {
         fprintf(stderr, "lanray-server: --render-scale %g: %s\n", a->render_scale,
-                a->target_given ? "a fixed scale or --target-fps's, not both" : "a scale of 1 to 8 in half steps (2.5, 3)");
+                a->target_given ? "a fixed scale or --target-fps's, not both" : "a scale of 1 to 8 in quarter steps (2.75, 3)");
         return 2;
     }
     if (a->hdr && (a->linear || a->verify_path)) {

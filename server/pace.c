@@ -3,11 +3,12 @@
 
 #include "upscale.h"
 
-/* half steps (upscale.h): 1, 1.5, 2, 2.5, 3, 3.5, 4, 5, 6, 8; from one to
- * the next the pixels shrink by 1.3 to 2.3 times (the whole scales alone:
- * 1.8 to 4, which left a 2-core farm at 22 fps where 10 was asked, the
- * next finer scale out of reach) */
-const int pace_scales[] = {2, 3, 4, 5, 6, 7, 8, 10, 12, 16};
+/* quarter steps (upscale.h): 1, 1.5, 2, 2.25, 2.5, 2.75, 3, 3.25, 3.5, 4,
+ * 4.5, 5, 6, 8; from one to the next the pixels shrink by 1.2 to 2.3
+ * times (the whole scales alone: 1.8 to 4, which left a 2-core farm at 22
+ * fps where 10 was asked, the next finer scale out of reach; the half
+ * steps 1.3 to 1.8: the demo's flight at 19-20 fps where 15 was asked) */
+const int pace_scales[] = {4, 6, 8, 9, 10, 11, 12, 13, 14, 16, 18, 20, 24, 32};
 const int pace_scale_count = (int)(sizeof pace_scales / sizeof pace_scales[0]);
 _Static_assert(sizeof pace_scales / sizeof pace_scales[0] == PACE_SCALES, "a time for every scale");
 
@@ -106,7 +107,7 @@ int pace_update(Pace *p, double seconds, int scale, uint32_t width, uint32_t hei
             i--;
         /* the finer scale's time forgotten after PACE_RETRY such frames:
          * the next one tries it (the branch above) */
-        p->easy = i == at && i > 0 && now <= PACE_PROBE * p->target ? p->easy + 1 : 0;
+        p->easy = i == at && i > 0 && now <= PACE_FINER * p->target ? p->easy + 1 : 0;
         if (p->easy >= PACE_RETRY)
             p->t[i - 1] = 0, p->easy = 0;
     }

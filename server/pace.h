@@ -16,7 +16,7 @@
  * proportion to its pixels fits, so that the first move does not walk
  * down from the coarsest one scale a frame).  A finer scale's time is
  * measured again after PACE_RETRY frames in a row that took at most
- * PACE_PROBE of the target: a frame slowed once (the machine busy, a file
+ * PACE_FINER of the target: a frame slowed once (the machine busy, a file
  * written) left that scale's time too high, and the flight stayed at a
  * coarse scale to its end.  Going finer onto a scale never measured
  * stays where this frame's time in proportion to the pixels is at most
@@ -29,7 +29,7 @@
 
 #define PACE_FINER 0.8
 #define PACE_PROBE 0.75
-#define PACE_SCALES 10
+#define PACE_SCALES 14
 #define PACE_RETRY 30 /* 2 s at 15 fps */
 #define PACE_REACH 4.0 /* times the target */
 
@@ -37,10 +37,10 @@ typedef struct {
     double target;         /* seconds a frame */
     double t[PACE_SCALES]; /* seconds a frame at each of pace_scales (0: not measured) */
     int scale;
-    int easy; /* frames in a row at scale with room to spare (PACE_PROBE) that stayed there */
+    int easy; /* frames in a row at scale with room to spare (PACE_FINER) that stayed there */
 } Pace;
 
-/* The scales a pace chooses from, finest first, in half steps (upscale.h). */
+/* The scales a pace chooses from, finest first, in quarter steps (upscale.h). */
 extern const int pace_scales[];
 extern const int pace_scale_count;
 
@@ -50,7 +50,7 @@ void pace_init(Pace *p, double fps);
  * every frame whole. */
 void pace_set_target(Pace *p, double fps);
 /* A moving frame of width x height (the full frame) rendered at `scale`
- * (half steps) took `seconds`: the scale for the next moving frame. */
+ * (quarter steps) took `seconds`: the scale for the next moving frame. */
 int pace_update(Pace *p, double seconds, int scale, uint32_t width, uint32_t height);
 
 #endif

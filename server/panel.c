@@ -3,6 +3,8 @@
 
 #include <stdio.h>
 
+#include "upscale.h"
+
 static const double targets[] = {0, 5, 10, 15, 24, 30, 60};
 #define NTARGETS (int)(sizeof targets / sizeof *targets)
 
@@ -51,9 +53,9 @@ int panel_lines(const PanelInfo *p, char out[][PANEL_LINE])
     else
         LINE("%.1f fps  %.1f ms a frame  %s", p->fps, p->frame_s * 1e3, p->still ? "still" : "moving");
     const char *up = p->upscale_blocks ? "blocks" : "smooth";
-    /* half steps: 1/2, 1/2.5 */
+    /* quarter steps: 1/2, 1/2.5, 1/2.75 */
     char scale[16];
-    snprintf(scale, sizeof scale, p->scale % 2 ? "1/%d.5" : "1/%d", p->scale / 2);
+    snprintf(scale, sizeof scale, "1/%g", p->scale / (double)UPSCALE_ONE);
     if (p->target_fps > 0)
         LINE("target %.0f fps [T/Shift+T]  render scale %s %s [U]", p->target_fps, scale, up);
     else

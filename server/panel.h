@@ -15,7 +15,7 @@
 typedef struct {
     double fps, frame_s;   /* frames a second shown, the last frame's time */
     double target_fps;     /* 0: none */
-    int scale;             /* the last frame's render scale, in half steps (upscale.h; 2: every pixel) */
+    int scale;             /* the last frame's render scale, in quarter steps (upscale.h; 4: every pixel) */
     int upscale_blocks;    /* frames at a scale shown in blocks, not smooth */
     int still;             /* the last frame was a still one */
     int samples;           /* ... of this many samples a pixel (a path-traced still's so far) */

@@ -136,13 +136,13 @@ typedef struct {
 uint32_t server_clients_info(const Server *s, ServerClientInfo *out, uint32_t max);
 /* The last finished frame's time, from its start to its last pixels, seconds. */
 double server_last_frame_time(const Server *s);
-/* The render scale of the moving frames to come, in half steps (upscale.h:
- * UPSCALE_ONE, 2, every pixel, to UPSCALE_MAX, 16, a scale of 8): the
+/* The render scale of the moving frames to come, in quarter steps (upscale.h:
+ * UPSCALE_ONE, 4, every pixel, to UPSCALE_MAX, 32, a scale of 8): the
  * clients render a frame of upscale_side(width, scale) x upscale_side(height,
  * scale) pixels and the server shows it brought up to the full size.  A
  * still frame is rendered whole. */
 void server_set_scale(Server *s, int scale);
-/* The scale of the frame shown last, in half steps (in the FrameDoneFn: that frame's). */
+/* The scale of the frame shown last, in quarter steps (in the FrameDoneFn: that frame's). */
 int server_frame_scale(const Server *s);
 /* Whether the frame shown last was a still one: its camera and scene those
  * of the frame before (rendered with the still quality when refining). */

@@ -6,10 +6,11 @@
  * moving picture).  Integer arithmetic, so a smooth frame is the same
  * bytes on every machine (tests/cli/path.sh computes it again).
  *
- * A render scale is counted in half steps, s = 2k (UPSCALE_ONE, 2: every
- * pixel; 3: 1.5; 5: 2.5; 16: 8), so that a frame rate can be held between
- * the whole scales, whose frames' pixels differ by 1.8 to 4 times from
- * one to the next. */
+ * A render scale is counted in quarter steps, s = 4k (UPSCALE_ONE, 4:
+ * every pixel; 6: 1.5; 10: 2.5; 11: 2.75; 32: 8), so that a frame rate can
+ * be held between the whole scales, whose frames' pixels differ by 1.8 to
+ * 4 times from one to the next (half steps still 1.3 to 1.6 times: the
+ * demo's flight held 19-20 fps where 15 was asked). */
 #ifndef LANRAY_UPSCALE_H
 #define LANRAY_UPSCALE_H
 
@@ -21,18 +22,18 @@ typedef enum { UPSCALE_SMOOTH, UPSCALE_BLOCKS } UpscaleKind;
 /* the words of lanray-server --upscale, in UpscaleKind's order */
 extern const char *const upscale_names[];
 
-#define UPSCALE_ONE 2
-/* The largest render scale, in half steps (8). */
-#define UPSCALE_MAX 16
+#define UPSCALE_ONE 4
+/* The largest render scale, in quarter steps (8). */
+#define UPSCALE_MAX 32
 
-/* A side of `full` pixels at render scale s (half steps): ceil(2 full / s). */
+/* A side of `full` pixels at render scale s (quarter steps): ceil(4 full / s). */
 static inline uint32_t upscale_side(uint32_t full, uint32_t s)
 {
-    return (uint32_t)(((uint64_t)full * 2 + s - 1) / s);
+    return (uint32_t)(((uint64_t)full * UPSCALE_ONE + s - 1) / s);
 }
 
 /* The full frame w x h, bpp bytes a pixel, from src, a frame at scale s
- * (half steps): upscale_side(w, s) pixels a line and upscale_side(h, s)
+ * (quarter steps): upscale_side(w, s) pixels a line and upscale_side(h, s)
  * lines, each where its camera ray went (upscale.c: a frame spans the
  * full frame's width, its lines centred on the full frame's); each full
  * pixel shows the frame pixel whose centre is nearest its own (a block of

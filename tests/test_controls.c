@@ -9,6 +9,7 @@
 
 #include "navigate.h"
 #include "panel.h"
+#include "upscale.h"
 #include "scene/scene_default.h"
 
 /* Where the camera is after `seconds` of the forward key, in steps of dt. */
@@ -111,7 +112,7 @@ static void panel_says_what_runs(void **state)
         clients[i] = (ServerClientInfo){.id = i + 1, .threads = 2, .share = i < 2 ? 0.3 : 0.05, .lines_per_s = 1000 + i};
         snprintf(clients[i].addr, sizeof clients[i].addr, "10.0.0.%d:4000", i + 1);
     }
-    PanelInfo p = {.fps = 14.64, .frame_s = 0.0683, .target_fps = 15, .scale = 8, .aa = 1, .refine = 1,
+    PanelInfo p = {.fps = 14.64, .frame_s = 0.0683, .target_fps = 15, .scale = 4 * UPSCALE_ONE, .aa = 1, .refine = 1,
                    .still_aa = 4, .still_adaptive = 1, .light_adaptive = 1, .shadows = 1, .segment_lines = 8,
                    .clients = clients, .nclients = 2};
     char lines[PANEL_MAX_LINES][PANEL_LINE];
@@ -140,7 +141,7 @@ static void panel_says_what_runs(void **state)
     p.upscale_blocks = 1;
     n = panel_lines(&p, lines);
     assert_true(has(lines, n, "render scale 1/4 blocks [U]") && !has(lines, n, "smooth"));
-    p.scale = 5; /* half steps: 2.5 */
+    p.scale = 10; /* quarter steps: 2.5 */
     n = panel_lines(&p, lines);
     assert_true(has(lines, n, "render scale 1/2.5 blocks [U]"));
     assert_false(has(lines, n, "lights to"));

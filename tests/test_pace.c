@@ -5,8 +5,8 @@
  * finer scale again after a frame slowed once there, does not leap to
  * every pixel on times that disagree, comes down
  * from the coarsest in a few frames at the first move, and never
- * leaves scale 1 without a target.  Scales in half steps (upscale.h: 2 is
- * every pixel, 5 is 2.5). */
+ * leaves scale 1 without a target.  Scales in quarter steps (upscale.h:
+ * Q(1), 4, is every pixel, Q(2.5) 10). */
 #include "helpers.h"
 
 #include "pace.h"
@@ -14,7 +14,10 @@
 
 enum { W = 1024, H = 768 };
 
-/* A frame at scale s (half steps) of a scene that costs `ns` nanoseconds a pixel. */
+/* Render scale x in quarter steps (upscale.h). */
+#define Q(x) ((int)((x) * UPSCALE_ONE))
+
+/* A frame at scale s (quarter steps) of a scene that costs `ns` nanoseconds a pixel. */
 static double frame_time(int s, double ns)
 {
     return ns * 1e-9 * (double)upscale_side(W, (uint32_t)s) * (double)upscale_side(H, (uint32_t)s);
@@ -25,24 +28,24 @@ static void coarser_at_once_finer_with_room(void **state)
     (void)state;
     Pace p;
     pace_init(&p, 15); /* 66.7 ms a frame */
-    assert_int_equal(p.scale, 16); /* nothing measured: a fast first picture (8) */
+    assert_int_equal(p.scale, Q(8)); /* nothing measured: a fast first picture */
     p.scale = UPSCALE_ONE;
-    /* 600 ns a pixel: 472 ms whole, 118 ms at 2, 76 ms at 2.5, 53 ms at 3 */
-    int k = pace_update(&p, frame_time(2, 600), 2, W, H);
-    assert_int_equal(k, 6);
+    /* 600 ns a pixel: 472 ms whole, 118 ms at 2, 76 ms at 2.5, 63 ms at 2.75 */
+    int k = pace_update(&p, frame_time(Q(1), 600), Q(1), W, H);
+    assert_int_equal(k, Q(2.75));
     for (int i = 0; i < 5; i++)
         k = pace_update(&p, frame_time(k, 600), k, W, H);
-    assert_int_equal(k, 6); /* steady: 2.5 would miss the target */
+    assert_int_equal(k, Q(2.75)); /* steady: 2.5 would miss the target */
     /* the view turns to a cheap part: 100 ns a pixel, 79 ms whole, 35 ms at 1.5 */
     for (int i = 0; i < 5; i++)
         k = pace_update(&p, frame_time(k, 100), k, W, H);
-    assert_int_equal(k, 3);
-    /* and to a costly one: 2000 ns a pixel needs scale 5 (63 ms; 4: 98 ms) */
+    assert_int_equal(k, Q(1.5));
+    /* and to a costly one: 2000 ns a pixel needs scale 5 (63 ms; 4.5: 78 ms) */
     k = pace_update(&p, frame_time(k, 2000), k, W, H);
-    assert_true(k >= 8);
+    assert_true(k >= Q(4));
     for (int i = 0; i < 5; i++)
         k = pace_update(&p, frame_time(k, 2000), k, W, H);
-    assert_int_equal(k, 10);
+    assert_int_equal(k, Q(5));
 }
 
 /* 40 frames whose cost a pixel wobbles between lo and hi ns, from scale *k:
@@ -75,43 +78,44 @@ static void no_flicker_about_a_boundary(void **state)
      * room to spare): they fit, and it stays there */
     pace_init(&p, 15);
     p.scale = UPSCALE_ONE;
-    k = pace_update(&p, frame_time(2, 120), 2, W, H); /* 94 ms whole: coarser */
-    assert_int_equal(k, 3);
+    k = pace_update(&p, frame_time(Q(1), 120), Q(1), W, H); /* 94 ms whole: coarser */
+    assert_int_equal(k, Q(1.5));
     assert_true(PACE_RETRY >= 20);
     for (int i = 0; i < PACE_RETRY - 1; i++)
         k = pace_update(&p, frame_time(k, i % 2 ? 70 : 74), k, W, H);
-    assert_int_equal(k, 3);
+    assert_int_equal(k, Q(1.5));
     assert_int_equal(wobble(&p, &k, 70, 74), 1);
     assert_int_equal(k, UPSCALE_ONE);
 }
 
 /* A frame slowed once at a finer scale (the machine busy) does not hold
- * the pace at a coarser one for good: 600 ns a pixel fits at 3 (53 ms),
- * one frame there took 150 ms and sent it to 4; its next frames have room
- * to spare (33 ms), and within PACE_RETRY frames it is back at 3. */
+ * the pace at a coarser one for good: 479 ns a pixel, 50 ms at 2.75 (0.75
+ * of the target), held there; one frame there took 150 ms and sent it
+ * coarser, where its frames have room to spare (42 ms at 3) but 2.75's
+ * time, carried along, says it would miss; within PACE_RETRY frames it is
+ * back at 2.75. */
 static void a_slow_frame_is_forgotten(void **state)
 {
     (void)state;
     Pace p;
     pace_init(&p, 15);
-    p.scale = UPSCALE_ONE;
-    int k = pace_update(&p, frame_time(2, 600), 2, W, H);
+    int k = Q(2.75);
     for (int i = 0; i < 5; i++)
-        k = pace_update(&p, frame_time(k, 600), k, W, H);
-    assert_int_equal(k, 6);
+        k = pace_update(&p, frame_time(k, 479), k, W, H);
+    assert_int_equal(k, Q(2.75));
     k = pace_update(&p, 0.150, k, W, H);
-    assert_true(k > 6);
+    assert_true(k > Q(2.75));
     int frames = 0;
-    for (; frames < PACE_RETRY + 5 && k != 6; frames++)
-        k = pace_update(&p, frame_time(k, 600), k, W, H);
-    assert_int_equal(k, 6);
+    for (; frames < PACE_RETRY + 5 && k != Q(2.75); frames++)
+        k = pace_update(&p, frame_time(k, 479), k, W, H);
+    assert_int_equal(k, Q(2.75));
     assert_true(frames > 5 && frames <= PACE_RETRY + 2);
 }
 
 /* The first move: nothing measured but the coarsest scale's frames, whose
  * time is mostly fixed costs (5 ms a frame here, 300 ns a pixel; target
  * 10 fps: 1.5 would take 110 ms, 2 64 ms, the steady scale): the pace
- * comes down in two frames, 8 -> 3 -> 2, never past the target on the
+ * comes down in two frames, 8 -> 2.75 -> 2, never past the target on the
  * way (one scale a frame took seven), and stays. */
 static void first_move_comes_down_at_once(void **state)
 {
@@ -119,17 +123,17 @@ static void first_move_comes_down_at_once(void **state)
     Pace p;
     pace_init(&p, 10);
     int k = p.scale, frames = 0, over = 0;
-    for (; frames < 10 && k != 4; frames++) {
+    for (; frames < 10 && k != Q(2); frames++) {
         const double t = 0.005 + frame_time(k, 300);
         over += t > 0.1;
         k = pace_update(&p, t, k, W, H);
     }
-    assert_int_equal(k, 4);
+    assert_int_equal(k, Q(2));
     assert_true(frames <= 2);
     assert_int_equal(over, 0);
     for (int i = 0; i < 10; i++)
         k = pace_update(&p, 0.005 + frame_time(k, 300), k, W, H);
-    assert_int_equal(k, 4);
+    assert_int_equal(k, Q(2));
 }
 
 /* The times of make demo's first frames, pipelined (a frame's time from
@@ -146,11 +150,11 @@ static void disagreeing_times_do_not_jump(void **state)
     const struct {
         int scale;
         double ms;
-    } shown[] = {{16, 17.6}, {16, 21.2}, {10, 21.4}, {10, 40.2}, {7, 43.7}, {8, 50.4}};
+    } shown[] = {{Q(8), 17.6}, {Q(8), 21.2}, {Q(5), 21.4}, {Q(5), 40.2}, {Q(3.5), 43.7}, {Q(4), 50.4}};
     int k = p.scale;
     for (size_t i = 0; i < sizeof shown / sizeof shown[0]; i++)
         k = pace_update(&p, shown[i].ms * 1e-3, shown[i].scale, W, H);
-    assert_true(k >= 4);
+    assert_true(k >= Q(2));
 }
 
 static void no_target_keeps_every_pixel(void **state)
@@ -161,7 +165,7 @@ static void no_target_keeps_every_pixel(void **state)
     assert_int_equal(pace_update(&p, 10.0, UPSCALE_ONE, W, H), UPSCALE_ONE);
     pace_init(&p, 1000); /* out of reach: the coarsest */
     p.scale = UPSCALE_ONE;
-    assert_int_equal(pace_update(&p, frame_time(2, 100), 2, W, H), pace_scales[pace_scale_count - 1]);
+    assert_int_equal(pace_update(&p, frame_time(Q(1), 100), Q(1), W, H), pace_scales[pace_scale_count - 1]);
     assert_int_equal(pace_scales[pace_scale_count - 1], UPSCALE_MAX);
 }
 

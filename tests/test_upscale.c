@@ -5,8 +5,8 @@
  * pixel's centre (clamped beyond the first and last centres), every pixel
  * lies within the four it mixes, and a mirrored frame comes out mirrored
  * (the centres are where they belong, not half a pixel off); RGBE frames
- * mix their light, decoded.  Every render scale in half steps, 1.5 to 8
- * (s = 3..16, k = s / 2: upscale.h), on sides that k divides and sides
+ * mix their light, decoded.  Every render scale in quarter steps, 1.25
+ * to 8 (s = 5..32, k = s / 4: upscale.h), on sides that k divides and sides
  * it does not, where a frame pixel is where its camera ray went (the
  * frame spans the full width, its lines centred): not k x k blocks from
  * the corner, which would move the picture by up to 2 full pixels. */
@@ -27,7 +27,7 @@ static uint8_t *frame_of(uint32_t sw, uint32_t sh, uint32_t bpp, uint32_t seed)
     return f;
 }
 
-/* upscale_smooth of src (a frame at scale s, half steps) to w x h, in a fresh buffer */
+/* upscale_smooth of src (a frame at scale s, quarter steps) to w x h, in a fresh buffer */
 static uint8_t *smooth(const uint8_t *src, uint32_t w, uint32_t h, uint32_t s)
 {
     uint8_t *dst = malloc((size_t)w * h * 3);
@@ -39,8 +39,8 @@ static uint8_t *smooth(const uint8_t *src, uint32_t w, uint32_t h, uint32_t s)
     return dst;
 }
 
-/* A side of n full pixels at scale s: ceil(n / k), k = s / 2. */
-static uint32_t side(uint32_t n, uint32_t s) { return (uint32_t)ceil(n / (s / 2.0) - 1e-9); }
+/* A side of n full pixels at scale s: ceil(n / k), k = s / UPSCALE_ONE. */
+static uint32_t side(uint32_t n, uint32_t s) { return (uint32_t)ceil(n / ((double)s / UPSCALE_ONE) - 1e-9); }
 
 /* Where full pixel t's centre lies among the frame pixels' (0: the first
  * one's centre) on an axis of N full and n frame pixels, the frame sw
@@ -58,7 +58,7 @@ static void blocks_copy_each_pixel(void **state)
 {
     (void)state;
     for (uint32_t bpp = 3; bpp <= 4; bpp++)
-        for (uint32_t s = 3; s <= 16; s++) {
+        for (uint32_t s = UPSCALE_ONE + 1; s <= UPSCALE_MAX; s++) {
             const uint32_t w = 13, h = 7, sw = side(w, s), sh = side(h, s);
             assert_int_equal(sw, upscale_side(w, s));
             assert_int_equal(sh, upscale_side(h, s));
@@ -97,14 +97,14 @@ static Taps taps_of(uint32_t x, uint32_t y, uint32_t w, uint32_t h, uint32_t sw,
 static void whole_blocks_where_k_divides(void **state)
 {
     (void)state;
-    for (uint32_t s = 3; s <= 16; s++) {
-        const uint32_t sw = 12, sh = 8, w = sw * s / 2, h = sh * s / 2;
-        if (sw * s % 2 || sh * s % 2)
+    for (uint32_t s = UPSCALE_ONE + 1; s <= UPSCALE_MAX; s++) {
+        const uint32_t sw = 12, sh = 8, w = sw * s / UPSCALE_ONE, h = sh * s / UPSCALE_ONE;
+        if (sw * s % UPSCALE_ONE || sh * s % UPSCALE_ONE)
             continue;
         for (uint32_t t = 0; t < w; t++)
-            assert_true(fabs(place_of(t, w, sw, sw, w) - ((t + 0.5) / (s / 2.0) - 0.5)) < 1e-12);
+            assert_true(fabs(place_of(t, w, sw, sw, w) - ((t + 0.5) / ((double)s / UPSCALE_ONE) - 0.5)) < 1e-12);
         for (uint32_t t = 0; t < h; t++)
-            assert_true(fabs(place_of(t, h, sh, sw, w) - ((t + 0.5) / (s / 2.0) - 0.5)) < 1e-12);
+            assert_true(fabs(place_of(t, h, sh, sw, w) - ((t + 0.5) / ((double)s / UPSCALE_ONE) - 0.5)) < 1e-12);
     }
 }
 
@@ -113,7 +113,7 @@ static void whole_blocks_where_k_divides(void **state)
 static void smooth_is_the_rounded_mix(void **state)
 {
     (void)state;
-    for (uint32_t s = 3; s <= 16; s++) {
+    for (uint32_t s = UPSCALE_ONE + 1; s <= UPSCALE_MAX; s++) {
         const uint32_t w = 41 + s, h = 17, sw = side(w, s), sh = side(h, s);
         uint8_t *src = frame_of(sw, sh, 3, 7 * s), *dst = smooth(src, w, h, s);
         for (uint32_t y = 0; y < h; y++)
@@ -136,7 +136,7 @@ static void smooth_is_the_rounded_mix(void **state)
 static void smooth_keeps_a_flat_frame(void **state)
 {
     (void)state;
-    for (uint32_t s = 3; s <= 16; s++) {
+    for (uint32_t s = UPSCALE_ONE + 1; s <= UPSCALE_MAX; s++) {
         const uint32_t w = 21, h = 11, sw = side(w, s), sh = side(h, s);
         uint8_t *src = malloc((size_t)sw * sh * 3);
         assert_non_null(src);
@@ -154,29 +154,29 @@ static void smooth_keeps_a_flat_frame(void **state)
 
 /* A ramp across (or down) the frame: each full pixel is the ramp at its
  * centre's place among the frame's centres (place_of), held at the ends,
- * within the rounding to a byte and the place's to 1/128 (a step of 27
+ * within the rounding to a byte and the place's to 1/128 (a step of 18
  * a frame pixel at most). */
 static void smooth_follows_a_ramp(void **state)
 {
     (void)state;
     for (int down = 0; down <= 1; down++)
-        for (uint32_t s = 3; s <= 16; s++) {
-            const uint32_t w = down ? 5 : 4 * s + 3, h = down ? 4 * s + 3 : 5;
+        for (uint32_t s = UPSCALE_ONE + 1; s <= UPSCALE_MAX; s++) {
+            const uint32_t w = down ? 5 : 2 * s + 3, h = down ? 2 * s + 3 : 5;
             const uint32_t sw = side(w, s), sh = side(h, s), n = down ? sh : sw;
             uint8_t *src = malloc((size_t)sw * sh * 3);
             assert_non_null(src);
             for (uint32_t j = 0; j < sh; j++)
                 for (uint32_t i = 0; i < sw; i++)
                     for (int c = 0; c < 3; c++)
-                        src[3 * ((size_t)j * sw + i) + c] = (uint8_t)(10 + (c + 1) * 9 * (down ? j : i));
+                        src[3 * ((size_t)j * sw + i) + c] = (uint8_t)(10 + (c + 1) * 6 * (down ? j : i));
             uint8_t *dst = smooth(src, w, h, s);
             for (uint32_t y = 0; y < h; y++)
                 for (uint32_t x = 0; x < w; x++) {
                     double u = down ? place_of(y, h, sh, sw, w) : place_of(x, w, sw, sw, w);
                     u = u < 0 ? 0 : u > n - 1 ? n - 1 : u;
                     for (int c = 0; c < 3; c++) {
-                        const double want = 10 + (c + 1) * 9 * u;
-                        assert_true(fabs(dst[3 * ((size_t)y * w + x) + c] - want) <= 0.5 + 27.0 / 256 + 1e-9);
+                        const double want = 10 + (c + 1) * 6 * u;
+                        assert_true(fabs(dst[3 * ((size_t)y * w + x) + c] - want) <= 0.5 + 18.0 / 256 + 1e-9);
                     }
                 }
             free(src), free(dst);
@@ -186,7 +186,7 @@ static void smooth_follows_a_ramp(void **state)
 static void smooth_stays_within_its_taps(void **state)
 {
     (void)state;
-    for (uint32_t s = 3; s <= 16; s++) {
+    for (uint32_t s = UPSCALE_ONE + 1; s <= UPSCALE_MAX; s++) {
         const uint32_t w = 37, h = 29, sw = side(w, s), sh = side(h, s);
         uint8_t *src = frame_of(sw, sh, 3, s), *dst = smooth(src, w, h, s);
         for (uint32_t y = 0; y < h; y++)
@@ -234,7 +234,7 @@ static void mirrors(uint32_t w, uint32_t h, uint32_t s)
 static void smooth_mirrors_a_mirrored_frame(void **state)
 {
     (void)state;
-    for (uint32_t s = 3; s <= 16; s++) {
+    for (uint32_t s = UPSCALE_ONE + 1; s <= UPSCALE_MAX; s++) {
         mirrors(5 * s, 3 * s, s);
         mirrors(41, 23, s);
     }
@@ -248,7 +248,7 @@ static void smooth_mirrors_a_mirrored_frame(void **state)
 static void smooth_rgbe_mixes_the_light(void **state)
 {
     (void)state;
-    for (uint32_t s = 3; s <= 16; s++) {
+    for (uint32_t s = UPSCALE_ONE + 1; s <= UPSCALE_MAX; s++) {
         const uint32_t w = 23 + s, h = 19, sw = side(w, s), sh = side(h, s);
         uint8_t *src = malloc((size_t)sw * sh * 4), *dst = malloc((size_t)w * h * 4);
         double *scratch = malloc(upscale_scratch_rgbe(w, h, s) * sizeof *scratch);

@@ -89,7 +89,7 @@ for k in 1 2 3; do
     render --path "$dir/fly.path" --path-step 0.5 --aa 1 --width 43 --height 32 --server-frame $k -o "$dir/small-$k.png"
     pairs+=("$dir/scale15/frame-0000$k.png" "$dir/small-$k.png")
 done
-out=$(python3 tests/tools/scaledup.py 3 smooth all "${pairs[@]}" 2>&1) ||
+out=$(python3 tests/tools/scaledup.py 6 smooth all "${pairs[@]}" 2>&1) ||
     fail "a moving frame at render scale 1.5 is not lanray-render's history at the small size brought up: $out"
 # the light itself (--hdr: RGBE colours added up), moving frames with
 # adaptive light sampling (--moving-lights adaptive: the probes' frames

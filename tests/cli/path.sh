@@ -182,14 +182,14 @@ out=$("$BIN/lanray-server" --headless --port 0 --still-light-samples 6 2>&1)
 # computed again here) or, with --upscale blocks, each pixel an 8 x 8
 # block, and at least one of the six is; the first still frame after the
 # flight is whole at one sample a pixel (the view's own: sharp at once),
-# the next the refined one.  At a fixed scale in half steps (--render-scale 2.5:
+# the next the refined one.  At a fixed scale in quarter steps (--render-scale 2.5:
 # frames of ceil(W / 2.5) x ceil(H / 2.5) pixels, 39 x 29 for 96 x 72,
 # each pixel where its ray went: 39 span the width, the 29 lines centred)
-# every moving frame is.
-# small EXT S: lanray-render's six small frames at scale S (half steps) as $dir/small-S-F.EXT
+# every moving frame is (so too at 2.75: 35 x 27).
+# small EXT S: lanray-render's six small frames at scale S (quarter steps) as $dir/small-S-F.EXT
 small() {
     local sw sh
-    sw=$(( (2 * W + $2 - 1) / $2 )) sh=$(( (2 * H + $2 - 1) / $2 ))
+    sw=$(( (4 * W + $2 - 1) / $2 )) sh=$(( (4 * H + $2 - 1) / $2 ))
     for f in 1 2 3 4 5 6; do
         t=$(python3 -c "print(($f - 1) * 0.5)")
         "$BIN/lanray-render" --path "$dir/fly.path" --at "$t" --aa 1 --width $sw --height $sh \
@@ -197,7 +197,7 @@ small() {
     done
 }
 # scaled_ok DIR S UP any|all: whether any (or all) of frames 1 to 6 in DIR
-# are the small frames at scale S (half steps) brought up UP (smooth,
+# are the small frames at scale S (quarter steps) brought up UP (smooth,
 # blocks, or hdr: RGBE smooth, the light decoded, mixed with the same
 # weights in double and coded again: upscale_smooth_rgbe)
 scaled_ok() {
@@ -208,13 +208,14 @@ scaled_ok() {
     done
     python3 tests/tools/scaledup.py "$2" "$3" "$4" "${pairs[@]}" 2>&1
 }
-small png 16
-small png 5
+small png 32
+small png 10
+small png 11
 for up in smooth blocks; do
     start_server "scale-$up" --port 0 --width $W --height $H --path "$dir/fly.path" --path-step 0.5 --whitted-temporal 0 --wait-clients 2 \
         --target-fps 1000 --still-aa adaptive:4 --upscale "$up" --out "$dir/sc-$up"
     run_clients 2 "scale-$up"
-    out=$(scaled_ok "$dir/sc-$up" 16 "$up" any) ||
+    out=$(scaled_ok "$dir/sc-$up" 32 "$up" any) ||
         fail "no moving frame at render scale 8 is lanray-render's small frame scaled up ($up): $out"
     grep -q "^pace: target 1000.0 fps, mean render scale " "$dir/scale-$up.log" || fail "no pace line: $(tail -3 "$dir/scale-$up.log")"
     cmp -s "$dir/sc-$up/frame-00007.png" "$dir/ref-6.png" ||
@@ -224,9 +225,16 @@ for up in smooth blocks; do
     start_server "half-$up" --port 0 --width $W --height $H --path "$dir/fly.path" --path-step 0.5 --whitted-temporal 0 --wait-clients 2 \
         --render-scale 2.5 --upscale "$up" --out "$dir/half-$up"
     run_clients 2 "half-$up"
-    out=$(scaled_ok "$dir/half-$up" 5 "$up" all) ||
+    out=$(scaled_ok "$dir/half-$up" 10 "$up" all) ||
         fail "a moving frame at render scale 2.5 is not lanray-render's small frame scaled up ($up): $out"
 done
+# and at a quarter step, 2.75 (35 x 27 pixels for 96 x 72)
+start_server quarter --port 0 --width $W --height $H --path "$dir/fly.path" --path-step 0.5 --whitted-temporal 0 --wait-clients 2 \
+    --render-scale 2.75 --out "$dir/quarter"
+run_clients 2 quarter
+out=$(scaled_ok "$dir/quarter" 11 smooth all) ||
+    fail "a moving frame at render scale 2.75 is not lanray-render's small frame scaled up: $out"
+
 # ... and lands where the full frame's pixels are: against lanray-render's
 # full-size frames of the same moments, the frames at 2.5 come closer than
 # the same small frames spread as 2.5 x 2.5 blocks from the corner would
@@ -257,7 +265,7 @@ served = blocks = 0.0
 for f in range(1, 7):
     full, _ = read("%s/ref-%d.png" % (d, f))
     got, _ = read("%s/half-smooth/frame-%05d.png" % (d, f))
-    small, _ = read("%s/small-5-%d.png" % (d, f))
+    small, _ = read("%s/small-10-%d.png" % (d, f))
     H, W = len(full), len(full[0]) // 3
     ref = [full[y][i] for y in range(H) for i in range(3 * W)]
     served += sum((got[y][i] - ref[y * 3 * W + i]) ** 2 for y in range(H) for i in range(3 * W))
@@ -267,17 +275,17 @@ sys.exit(0 if served < 0.9 * blocks else 1)
 PY
 ) || fail "frames at render scale 2.5 are not where their rays went: squared error $out (served, blocks from the corner)"
 # RGBE frames (--hdr) smooth, at render scales 8 and 2.5
-small hdr 16
-small hdr 5
+small hdr 32
+small hdr 10
 start_server scale-hdr --port 0 --width $W --height $H --path "$dir/fly.path" --path-step 0.5 --whitted-temporal 0 --wait-clients 2 \
     --target-fps 1000 --hdr --out "$dir/sc-hdr"
 run_clients 2 scale-hdr
-out=$(scaled_ok "$dir/sc-hdr" 16 hdr any) || fail "no RGBE frame at render scale 8 is lanray-render's small .hdr brought up smooth: $out"
+out=$(scaled_ok "$dir/sc-hdr" 32 hdr any) || fail "no RGBE frame at render scale 8 is lanray-render's small .hdr brought up smooth: $out"
 start_server half-hdr --port 0 --width $W --height $H --path "$dir/fly.path" --path-step 0.5 --whitted-temporal 0 --wait-clients 2 \
     --render-scale 2.5 --hdr --out "$dir/half-hdr"
 run_clients 2 half-hdr
-out=$(scaled_ok "$dir/half-hdr" 5 hdr all) || fail "an RGBE frame at render scale 2.5 is not lanray-render's small .hdr brought up smooth: $out"
-for bad in 0.7 2.25 "2.5 --target-fps 10"; do
+out=$(scaled_ok "$dir/half-hdr" 10 hdr all) || fail "an RGBE frame at render scale 2.5 is not lanray-render's small .hdr brought up smooth: $out"
+for bad in 0.7 2.1 "2.5 --target-fps 10"; do
     # shellcheck disable=SC2086
     out=$("$BIN/lanray-server" --headless --port 0 --render-scale $bad 2>&1)
     [ $? -eq 2 ] && grep -q "\-\-render-scale" <<<"$out" || fail "--render-scale $bad: $out"

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """scaledup.py S UP any|all BIG SMALL [BIG SMALL ...] - whether the server's
 frames BIG (full size) are the frames SMALL (the same moments at render
-scale S, in half steps: lanray-render at the small size) brought up UP:
+scale S, in quarter steps: lanray-render at the small size) brought up UP:
 smooth (bilinear between the small pixels' centres, placed where their
 rays went: server/upscale.c), blocks (the nearest), or hdr (RGBE smooth,
 the light decoded, mixed with the same weights in double and coded again:
@@ -29,7 +29,7 @@ def encode(c):
     m = m * 256.0 / v
     return bytes([int(x * m) for x in c] + [e + 128])
 k2 = 128  # a place to 1/128 of a frame pixel
-side = lambda n: (2 * n + s - 1) // s  # s: the render scale in half steps (set by main)
+side = lambda n: (4 * n + s - 1) // s  # s: the render scale in quarter steps (set by main)
 def place(t, N, n, sw, W):  # full pixel t's centre among the frame's (camera: sw pixels span W, lines centred), rounded
     num, den = ((2 * t + 1) * sw - N * sw + n * W - W) * k2, 2 * W
     return (2 * num + den) // (2 * den)
