@@ -33,6 +33,13 @@ static double pixels_at(int i, uint32_t width, uint32_t height)
     return (double)upscale_side(width, s) * (double)upscale_side(height, s);
 }
 
+/* Time t of a frame at scale index at, in proportion to the pixels at
+ * scale index j (an overestimate where fixed costs weigh). */
+static double proportional(double t, int j, int at, uint32_t width, uint32_t height)
+{
+    return t * pixels_at(j, width, height) / pixels_at(at, width, height);
+}
+
 /* The time predicted at scale index j: as measured there, else on the line
  * a + b x pixels through the two measured scales nearest j in pixels (a
  * frame's fixed cost and its cost a pixel, neither below 0), else in
@@ -56,7 +63,7 @@ static double predict(const Pace *p, int j, uint32_t w, uint32_t h)
         return 0;
     const double pa = pixels_at(a, w, h), pj = pixels_at(j, w, h);
     if (b < 0)
-        return p->t[a] * pj / pa;
+        return proportional(p->t[a], j, a, w, h);
     const double pb = pixels_at(b, w, h);
     double slope = (p->t[b] - p->t[a]) / (pb - pa);
     slope = slope > 0 ? slope : 0;
@@ -91,7 +98,7 @@ int pace_update(Pace *p, double seconds, int scale, uint32_t width, uint32_t hei
         const int at = i;
         i--;
         while (i > 0 && !(p->t[i - 1] > 0) &&
-               now * pixels_at(i - 1, width, height) / pixels_at(at, width, height) <= PACE_FINER * p->target)
+               proportional(now, i - 1, at, width, height) <= PACE_FINER * p->target)
             i--;
     } else { /* finer only with room to spare */
         /* a scale never measured only where this frame's time in
@@ -103,7 +110,7 @@ int pace_update(Pace *p, double seconds, int scale, uint32_t width, uint32_t hei
         const int at = i;
         while (i > 0 && predict(p, i - 1, width, height) <= PACE_FINER * p->target &&
                (p->t[i - 1] > 0 ||
-                now * pixels_at(i - 1, width, height) / pixels_at(at, width, height) <= PACE_REACH * p->target))
+                proportional(now, i - 1, at, width, height) <= PACE_REACH * p->target))
             i--;
         /* the finer scale's time forgotten after PACE_RETRY such frames:
          * the next one tries it (the branch above) */

@@ -667,8 +667,9 @@ static int largest_light_side(const Scene *scene, const RenderSettings *rs)
  * to the still quality, rendered whole (4/3 of the converged frame's
  * cost).  The Whitted integrator's takes the still quality at once (after
  * moving frames at a render scale, one frame of the view's own samples
- * first, sharp_first), and then, with still_lights, doubles its area lights' points a side each
- * frame from the largest light's own up to still_lights (its soft shadows'
+ * first, sharp_first), and then, with still_lights, doubles its area
+ * lights' points a side each frame from the largest light's own up to
+ * still_lights (its soft shadows'
  * grain: a round lamp of 3 x 3 points leaves penumbrae of ten grey levels
  * and noise; docs/realtime.md).  Whether frame k has the still quality
  * (the converged picture, which is lanray-render's with --aa still_aa and,
