@@ -28,6 +28,9 @@ struct Display {
     int ttf; /* TTF_Init done */
     int captured;
     int w, h;
+    uint8_t *rgb; /* the frame shown, with the lines shown since (display_lines) */
+    int pending;  /* lines shown in the texture, not yet on the screen */
+    uint32_t presented_ms;
 };
 
 int display_available(void)
@@ -50,11 +53,15 @@ Display *display_open(int w, int h, Err *err)
     }
     d->w = w;
     d->h = h;
+    d->rgb = calloc((size_t)w * h, 3);
     d->win = SDL_CreateWindow("lanray", SDL_WINDOWPOS_CENTERED, SDL_WINDOWPOS_CENTERED, w, h, 0);
     d->ren = d->win ? SDL_CreateRenderer(d->win, -1, SDL_RENDERER_SOFTWARE) : NULL;
     d->tex = d->ren ? SDL_CreateTexture(d->ren, SDL_PIXELFORMAT_RGB24, SDL_TEXTUREACCESS_STREAMING, w, h) : NULL;
-    if (!d->tex) {
-        err_set(err, "SDL: %s", SDL_GetError());
+    if (!d->tex || !d->rgb) {
+        if (d->rgb)
+            err_set(err, "SDL: %s", SDL_GetError());
+        else
+            err_set(err, "out of memory for the window's %dx%d frame", w, h);
         display_close(d);
         return NULL;
     }
@@ -80,6 +87,7 @@ void display_close(Display *d)
         SDL_DestroyRenderer(d->ren);
     if (d->win)
         SDL_DestroyWindow(d->win);
+    free(d->rgb);
     free(d);
     SDL_Quit();
 }
@@ -92,12 +100,41 @@ static void present(Display *d)
     if (d->panel)
         SDL_RenderCopy(d->ren, d->panel, NULL, &d->panel_at);
     SDL_RenderPresent(d->ren);
+    d->pending = 0;
+    d->presented_ms = SDL_GetTicks();
 }
 
 void display_show(Display *d, const uint8_t *rgb)
 {
+    memcpy(d->rgb, rgb, (size_t)d->w * d->h * 3);
     SDL_UpdateTexture(d->tex, NULL, rgb, d->w * 3);
     present(d);
+}
+
+/* Lines come as fast as segments do (a farm's many): the screen takes them
+ * at most this often, the rest at the next display_flush. */
+#define DISPLAY_LINES_MS 100
+
+void display_lines(Display *d, uint32_t first, uint32_t count, const uint8_t *rgb)
+{
+    const uint64_t n = (uint64_t)d->w * d->h;
+    if (first >= n || count == 0)
+        return;
+    if (count > n - first)
+        count = (uint32_t)(n - first);
+    memcpy(d->rgb + (size_t)first * 3, rgb, (size_t)count * 3);
+    /* the texture's rows that the pixels touch, whole */
+    const int y0 = (int)(first / (uint32_t)d->w), y1 = (int)((first + count - 1) / (uint32_t)d->w);
+    const SDL_Rect rows = {0, y0, d->w, y1 - y0 + 1};
+    SDL_UpdateTexture(d->tex, &rows, d->rgb + (size_t)y0 * d->w * 3, d->w * 3);
+    d->pending = 1;
+    display_flush(d);
+}
+
+void display_flush(Display *d)
+{
+    if (d->pending && SDL_GetTicks() - d->presented_ms >= DISPLAY_LINES_MS)
+        present(d);
 }
 
 static int open_font(Display *d, Err *err)

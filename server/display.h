@@ -28,6 +28,12 @@ Display *display_open(int width, int height, Err *err);
 void display_close(Display *d);
 /* Shows a frame (and the panel over it, where shown). */
 void display_show(Display *d, const uint8_t *rgb);
+/* Shows pixels [first, first + count) of the next frame (RGB8) over the
+ * frame shown: a still frame refining as its segments come.  The screen
+ * takes them at most ten times a second; display_flush, called
+ * from the event loop, puts the rest there. */
+void display_lines(Display *d, uint32_t first, uint32_t count, const uint8_t *rgb);
+void display_flush(Display *d);
 /* The panel's lines, drawn over the frame shown from now on (n = 0: no
  * panel); 0, or -1 with the reason where the window has no font. */
 int display_panel(Display *d, char (*lines)[100], int n, Err *err);

@@ -219,6 +219,23 @@ static void on_frame(void *ctx, uint32_t frame, const uint8_t *pixels)
         stop_flag = 1;
 }
 
+/* A still frame's segment as it comes (server_on_lines): on the window
+ * over the frame before, so that a long still frame (the lamp's 144 points
+ * a pixel, a path-traced view's last batches) refines where the clients
+ * have been rather than all at its end. */
+static void on_lines(void *ctx, uint32_t frame, uint32_t first, uint32_t count, const uint8_t *pixels)
+{
+    App *a = ctx;
+    (void)frame;
+    if (!a->display)
+        return;
+    if (a->view) {
+        srgb_from_rgbe(pixels, count, pow(2.0, (double)a->scene->settings.exposure), a->view + (size_t)first * 3);
+        pixels = a->view + (size_t)first * 3;
+    }
+    display_lines(a->display, first, count, pixels);
+}
+
 /* --path: frame `frame`'s camera, at (frame - 1) x --path-step seconds, or
  * without a step at the time since the first frame was shown (the flight's
  * own speed, whatever the frame rate). */
@@ -778,6 +795,7 @@ static int serve(App *app, const Args *a)
     app->path_step = a->path_step;
     app->max_fps = a->max_fps;
     server_on_next(app->server, next_frame, app);
+    server_on_lines(app->server, on_lines, app);
     app->fps_t0 = timer_now();
     double status_t = app->fps_t0;
     /* --wait-clients: no frame starts before that many clients have joined */
@@ -800,6 +818,7 @@ static int serve(App *app, const Args *a)
         if (app->watch)
             follow_edits(app, a);
         if (app->display) {
+            display_flush(app->display);
             if (window_poll(&app->win, &app->animate, &app->screenshot))
                 break;
             show_title(app);

@@ -155,6 +155,9 @@ struct Server {
     uint8_t *spare_pixels;
     FrameNextFn next_fn;
     void *next_ctx;
+    FrameLinesFn lines_fn; /* server_on_lines, and a batch's pixels shown before it is whole */
+    void *lines_ctx;
+    uint8_t *peek_px;
     int shown_still, shown_scale, shown_converged, shown_samples; /* the frame shown last */
     uint32_t frames_dropped;      /* older frames nobody left could finish */
     uint32_t frames_ahead;        /* frames started before the one before was finished */
@@ -299,6 +302,7 @@ void server_destroy(Server *s)
     free(s->spare_pixels);
     free(s->acc_sums);
     free(s->acc_px);
+    free(s->peek_px);
     pool_destroy(s->acc_pool);
     free(s->shown);
     denoise_stage_destroy(s->stage);
@@ -346,6 +350,12 @@ void server_on_next(Server *s, FrameNextFn next, void *ctx)
 {
     s->next_fn = next;
     s->next_ctx = ctx;
+}
+
+void server_on_lines(Server *s, FrameLinesFn lines, void *ctx)
+{
+    s->lines_fn = lines;
+    s->lines_ctx = ctx;
 }
 
 /* The scheduler statistics of every frame so far (the frames' schedulers
@@ -992,6 +1002,37 @@ static void on_hello(Server *s, Client *c)
     }
 }
 
+/* A segment of frame `old ? older : current` just written at px, to the
+ * application as it comes (server_on_lines) where the frame is the next to
+ * be shown, a still one, whole, and shown as its pixels say: not through
+ * the stage (a filter, a history), nor after a frame the stage holds.  A
+ * path-traced still's batch shows with the batches before it (peeked: its
+ * sums are added when it is finished, in order, as lanray-render adds
+ * them), unless it is one the finished frame would not show (a batch after
+ * a lost one). */
+static void show_lines(Server *s, int old, Segment seg, const uint8_t *px)
+{
+    const int still = old ? s->older.still : s->still, scale = old ? s->older.scale : s->scale;
+    const RenderSettings *rs = old ? &s->older.rs : &s->frame_rs;
+    const uint32_t frame = old ? s->older.id : s->frame, bpp = old ? s->older.bpp : s->frame_bpp;
+    if (!s->lines_fn || (!old && s->older.id) || !still || scale != UPSCALE_ONE || render_guided(rs) ||
+        (s->stage && denoise_stage_holds(s->stage)))
+        return;
+    if (rs->batch) {
+        if ((rs->batch != 1 && rs->batch != s->acc_batch + 1) || !s->acc_sums)
+            return;
+        if (!s->peek_px && !(s->peek_px = malloc((size_t)s->cfg.width * s->cfg.height * s->cbpp)))
+            return; /* shown when whole */
+        const uint32_t reals = progressive_reals(rs);
+        progressive_frame_peek(rs, rs->batch == 1 ? NULL : s->acc_sums + (size_t)seg.first * reals, px, seg.count,
+                               s->peek_px);
+        px = s->peek_px;
+    } else if (bpp != s->cbpp) {
+        return;
+    }
+    s->lines_fn(s->lines_ctx, frame, seg.first, seg.count, px);
+}
+
 static void on_data(Server *s, Client *c)
 {
     MsgData d;
@@ -1043,6 +1084,7 @@ static void on_data(Server *s, Client *c)
             drop(s, c, why);
             return;
         }
+        show_lines(s, old, seg, dst);
     }
     r = sched_complete(sc, c->id, frame, seg);
     measure_result(&s->m, render_us, r != SCHED_STALE, r == SCHED_ACCEPT);

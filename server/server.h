@@ -84,8 +84,18 @@ typedef void (*FrameDoneFn)(void *ctx, uint32_t frame, const uint8_t *pixels);
  * not looked at (server_pause holds frames back). */
 typedef int (*FrameNextFn)(void *ctx, uint32_t frame, int ahead);
 
+/* Called as a still frame's segment comes, where the frame is the next to
+ * be shown and whole (no render scale) and its pixels are what will be
+ * shown (not filtered, not added to a history): its pixels [first, first +
+ * count) of the full-size frame in the FrameDoneFn's format, for a window
+ * to show the picture refining as the clients make it (a path-traced
+ * still's batch: with the batches before, as the finished frame will be).
+ * The FrameDoneFn still comes with the whole frame. */
+typedef void (*FrameLinesFn)(void *ctx, uint32_t frame, uint32_t first, uint32_t count, const uint8_t *pixels);
+
 Server *server_create(const ServerConfig *cfg, Scene *scene, Err *err);
 void server_on_next(Server *s, FrameNextFn next, void *ctx);
+void server_on_lines(Server *s, FrameLinesFn lines, void *ctx);
 void server_destroy(Server *s);
 /* The camera of the next frame (the window's moves), and the instances
  * turned by `degrees` about y from the next frame on (its animation): held

@@ -137,7 +137,19 @@ static void batches_add_up_to_the_picture(void **state)
         for (int b = 1; b <= batches; b++) {
             uint8_t *sums = render_batch(b % 2 ? three : one, s, W, H, b, b % 2 ? 7 : n);
             s->settings.batch = b;
+            /* a server shows a batch's segments as they come (peeked) with
+             * the sums before, unchanged, and adds the whole batch after */
+            real *kept = malloc(n * reals * sizeof(real));
+            memcpy(kept, acc, n * reals * sizeof(real));
+            uint8_t *peeked = malloc(n * bpp);
+            for (size_t a = 0; a < n; a += 7)
+                progressive_frame_peek(&s->settings, b == 1 ? NULL : acc + a * reals, sums + a * reals * sizeof(real),
+                                       n - a < 7 ? n - a : 7, peeked + a * bpp);
+            assert_memory_equal(acc, kept, n * reals * sizeof(real));
             progressive_frame_add(&s->settings, acc, sums, n, shown);
+            assert_memory_equal(peeked, shown, n * bpp);
+            free(kept);
+            free(peeked);
             s->settings.batch = 0;
             uint8_t *ref = render_whole(one, s, W, H, b);
             assert_memory_equal(shown, ref, n * bpp);

@@ -57,15 +57,32 @@ void progressive_encode(const RenderSettings *rs, real gain, const real *sums, u
     denoise_guide_pack(&g, (int)samples, mean, dst + render_colour_bytes(rs));
 }
 
-void progressive_frame_add(const RenderSettings *rs, real *acc, const uint8_t *sums, size_t n, uint8_t *out)
+/* progressive_frame_add's pixels from acc (NULL: zeros), the sums kept
+ * in `kept` where not NULL. */
+static void frame_fold(const RenderSettings *rs, const real *acc, real *kept, const uint8_t *sums, size_t n,
+                       uint8_t *out)
 {
     const uint32_t reals = progressive_reals(rs), bpp = render_shown_bytes(rs);
     const uint32_t samples = progressive_end(rs->batch);
     const real gain = pixel_gain(rs);
     for (size_t i = 0; i < n; i++) {
-        real b[PROG_MAX];
+        real b[PROG_MAX], total[PROG_MAX] = {0};
         memcpy(b, sums + i * reals * sizeof(real), reals * sizeof(real));
-        progressive_fold(acc + i * reals, b, reals);
-        progressive_encode(rs, gain, acc + i * reals, samples, out + i * bpp);
+        if (acc)
+            memcpy(total, acc + i * reals, reals * sizeof(real));
+        progressive_fold(total, b, reals);
+        if (kept)
+            memcpy(kept + i * reals, total, reals * sizeof(real));
+        progressive_encode(rs, gain, total, samples, out + i * bpp);
     }
+}
+
+void progressive_frame_add(const RenderSettings *rs, real *acc, const uint8_t *sums, size_t n, uint8_t *out)
+{
+    frame_fold(rs, acc, acc, sums, n, out);
+}
+
+void progressive_frame_peek(const RenderSettings *rs, const real *acc, const uint8_t *sums, size_t n, uint8_t *out)
+{
+    frame_fold(rs, acc, NULL, sums, n, out);
 }

@@ -84,5 +84,9 @@ void progressive_encode(const RenderSettings *rs, real gain, const real *sums, u
  * the batches before (zeros before the first), and the pixels they now
  * make written to out (render_pixel_bytes of the frame without batch). */
 void progressive_frame_add(const RenderSettings *rs, real *acc, const uint8_t *sums, size_t n, uint8_t *out);
+/* The pixels progressive_frame_add would write, acc left as it is (NULL:
+ * zeros, the first batch's): a batch's part shown before the frame is
+ * whole, its sums added only then, in order. */
+void progressive_frame_peek(const RenderSettings *rs, const real *acc, const uint8_t *sums, size_t n, uint8_t *out);
 
 #endif

@@ -51,12 +51,13 @@ appears "$dir/diffuse.ppm" >/dev/null || fail "M: the next frames are not lanray
 echo "M: the next frame is lanray-render's --shading diffuse picture"
 stop_window_server server
 # a still frame gives way to a change: the still frames refine the lamp's
-# points up to 64 x 64 (a minute of work); once the 6 x 6 or the 12 x 12
-# one shows, a larger one is on its way (24, 48 and 64 after them), and M
-# drops it rather than wait for it.  Either picture will do: the 6 x 6 one
-# stays on the screen only while the 12 x 12 one renders (half a second
-# here, 3 s under AddressSanitizer), and a CI run's screenshots, a few a
-# second on loaded cores, once missed it and waited for it for 2 minutes.
+# points up to 64 x 64 (a minute of work); once rows of the 6 x 6 or the 12
+# x 12 one show (a still frame shows in part as its segments come), a
+# larger one is on its way (24, 48 and 64 after them), and M drops it
+# rather than wait for it.  Either picture will do: the 6 x 6 one stays on
+# the screen only while the 12 x 12 one renders (half a second here, 3 s
+# under AddressSanitizer), and a CI run's screenshots, a few a second on
+# loaded cores, once missed it and waited for it for 2 minutes.
 W=240 H=180
 for n in 6 12; do
     "$BIN/lanray-render" --width $W --height $H --aa adaptive:4 --light-samples $n -o "$dir/still$n.ppm" --quiet \
@@ -64,16 +65,24 @@ for n in 6 12; do
 done
 ! cmp -s "$dir/still6.ppm" "$dir/still12.ppm" || fail "6 x 6 and 12 x 12 points give one picture: no sign of refining"
 window_server still --width $W --height $H --still-aa adaptive:4 --still-light-samples 64
-at=$(appears_any 300 "$dir/still6.ppm" "$dir/still12.ppm") ||
-    fail "neither the still frame of 6 x 6 light points nor that of 12 x 12 showed"
-read -r x y <<<"$(sed 's/found at \([0-9]*\),\([0-9]*\).*/\1 \2/' <<<"$at")"
-xdotool mousemove $((x + W / 2)) $((y + H / 2))
+window_at
+rows=
+for _ in $(seq 300); do
+    screenshot
+    rows=$(python3 tests/tools/xwdrows.py "$dir/screen.xwd" "$X" "$Y" "$dir/still6.ppm" "$dir/still12.ppm") ||
+        fail "cannot read the screen: $rows"
+    read -r _ six _ twelve _ <<<"$rows"
+    [ "$six" -gt 0 ] || [ "$twelve" -gt 0 ] && break
+    rows=
+    sleep 0.2
+done
+[ -n "$rows" ] || fail "neither the still frame of 6 x 6 light points nor that of 12 x 12 showed"
+xdotool mousemove $((X + W / 2)) $((Y + H / 2))
 xdotool key m
 for _ in $(seq 100); do grep -q "gave way to a change" "$dir/still.err" && break; sleep 0.2; done
 grep -q "^lanray-server: frame [0-9]* gave way to a change$" "$dir/still.err" ||
     fail "M during a refining still frame: the frame did not give way: $(tail -3 "$dir/still.err")"
-seen=$(sed -n 's/.*still\([0-9]*\)\.ppm$/\1/p' <<<"$at")
-echo "a refining still frame gave way to M (pressed on the $seen x $seen one): $(grep -o 'frame [0-9]* gave way' "$dir/still.err")"
+echo "a refining still frame gave way to M (pressed with rows of 6 x 6 and 12 x 12 points on the screen: $six and $twelve): $(grep -o 'frame [0-9]* gave way' "$dir/still.err")"
 stop_window_server still
 # U: the knot turning (--rotate) at a target out of reach, every frame at
 # render scale 8, brought up smooth (the default: most 8 x 8 blocks of the

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # The real SDL window under Xvfb: the server opens its window, a client
 # renders, and the frame captured from the X screen equals lanray-render's;
-# with --hdr, the sRGB codes of lanray-render's .hdr.
+# with --hdr, the sRGB codes of lanray-render's .hdr; a still frame shows
+# as its segments come, over the frame before.
 set -u
 BIN=${BIN:-bin}
 dir=$(mktemp -d)
@@ -61,4 +62,46 @@ kill -0 "$spid" 2>/dev/null || fail "idle: the server died of a second SIGUSR1"
 [ -n "$n1" ] && [ "$n1" = "$n2" ] || fail "idle: frames kept starting on a converged picture ($n1, then $n2)"
 [ "$n1" -le 3 ] || fail "idle: $n1 frames for a picture that converged at the second"
 echo "idle: the converged picture stays, $n1 frames started, none in the second after"
+stop_window_server idle
+# a still frame refines on the screen as its segments come, over the frame
+# before: the round lamp's 6 x 6 points a pixel, then 12 x 12; a
+# path-traced view's 8 samples a pixel, then the last batch's 8 more.  The
+# client renders in short spells (SIGCONT ... SIGSTOP) and each pause's
+# screen is read: some rows must be the later picture's and others still
+# the earlier one's, every row one of the two.
+# in_part NAME OLD.ppm NEW.ppm SERVER-ARGS...
+in_part() {
+    local name=$1 old=$2 new=$3 seen= rows=
+    shift 3
+    window_server "$name" "$@" --segment 2
+    kill -STOP "$cpid"
+    window_at
+    for _ in $(seq 400); do
+        kill -CONT "$cpid"; sleep 0.02; kill -STOP "$cpid"; sleep 0.1
+        screenshot
+        rows=$(python3 tests/tools/xwdrows.py "$dir/screen.xwd" "$X" "$Y" "$old" "$new") ||
+            fail "$name: cannot read the screen: $rows"
+        read -r _ o _ n _ _ _ neither <<<"$rows"
+        if [ "$neither" -eq 0 ] && [ "$o" -gt 0 ] && [ "$n" -gt 0 ]; then seen=$rows; break; fi
+        [ "$neither" -eq 0 ] && [ "$o" -eq 0 ] && fail "$name: the last frame showed whole, never in part ($rows)"
+    done
+    kill -CONT "$cpid"
+    [ -n "$seen" ] || fail "$name: the two frames never showed together ($rows)"
+    echo "$name: the still frame showed in part over the one before: $seen"
+    stop_window_server "$name"
+}
+W=120 H=80
+for k in 6 12; do
+    "$BIN/lanray-render" --width $W --height $H --aa adaptive:4 --light-samples $k -o "$dir/lights$k.ppm" --quiet \
+        >/dev/null || fail "reference at $k x $k points"
+done
+! cmp -s "$dir/lights6.ppm" "$dir/lights12.ppm" || fail "6 x 6 and 12 x 12 points give one picture: no test"
+in_part lines "$dir/lights6.ppm" "$dir/lights12.ppm" --width $W --height $H --still-aa adaptive:4 \
+    --still-light-samples 12
+# the batch's part shown with the batches before, as its frame will be
+for k in 4 5; do
+    "$BIN/lanray-render" --width $W --height $H --integrator path --aa 4 --still-frame $k -o "$dir/batch$k.ppm" \
+        --quiet >/dev/null || fail "reference of still frame $k"
+done
+in_part batches "$dir/batch4.ppm" "$dir/batch5.ppm" --width $W --height $H --integrator path --still-aa 4
 exit 0
