@@ -822,22 +822,17 @@ static inline __attribute__((always_inline)) void rect_offsets(const WorldLight 
             d[e][k] = l->pos.e[e] + (l->edge1.e[e] * u[k] + l->edge2.e[e] * v[k]) - p[e][k];
 }
 
-/* A sphere light's points of the disc it shows each hit of the lanes of
- * ok, less the hits' positions p, into (dx, dy, dz): light_pos's point
- * (area_point: the disc's axes, v3_frame, where the ray has none yet; the
- * concentric map, sample_disc) operation for operation, lane by lane in
- * arrays, where one ray's square roots and divisions waited on each other
- * (the round lamp's points were a tenth of models/example.scene's frame).
- * The axes made are kept as area_point keeps them, for the ray's next
+/* The disc axes (area_point's: v3_frame of the unit vector from the
+ * sphere light's centre to the hit) of the hits p of the lanes of ok into
+ * (ax, bx), lane by lane: those a ray keeps for light li read back, the
+ * others made here and kept, as area_point keeps them, for the ray's next
  * point of the light. */
-static inline __attribute__((always_inline)) void sphere_offsets(const WorldLight *l, uint32_t li, Shading *sh,
-                                                                const int *live, uint32_t ok, const real *u,
-                                                                const real *v, real p[3][TRACE_PACKET], real *dx,
-                                                                real *dy, real *dz)
+static inline __attribute__((always_inline)) void sphere_axes(const WorldLight *l, uint32_t li, Shading *sh,
+                                                             const int *live, uint32_t ok, real p[3][TRACE_PACKET],
+                                                             real ax[3][TRACE_PACKET], real bx[3][TRACE_PACKET])
 {
     const real *px = p[0], *py = p[1], *pz = p[2];
     uint32_t fresh = 0; /* lanes whose disc axes are made here */
-    real ax[3][TRACE_PACKET], bx[3][TRACE_PACKET];
     for (int k = 0; k < TRACE_PACKET; k++) {
         for (int e = 0; e < 3; e++)
             ax[e][k] = bx[e][k] = R(0);
@@ -850,33 +845,46 @@ static inline __attribute__((always_inline)) void sphere_offsets(const WorldLigh
         else
             fresh |= 1u << k;
     }
-    const real cx = l->pos.x, cy = l->pos.y, cz = l->pos.z, radius = l->radius;
-    if (fresh) {
-        real fa[3][TRACE_PACKET], fb[3][TRACE_PACKET];
-        for (int k = 0; k < TRACE_PACKET; k++) {
-            /* w = v3_norm(p - centre) */
-            real wx = px[k] - cx, wy = py[k] - cy, wz = pz[k] - cz;
-            const real wl = sqrt(wx * wx + wy * wy + wz * wz), wi = R(1) / wl;
-            const int wok = wl > R(0);
-            wx = wok ? wx * wi : wx, wy = wok ? wy * wi : wy, wz = wok ? wz * wi : wz;
-            /* v3_frame: a = v3_norm(cross(|w.x| > 0.5 ? (0, 1, 0) : (1, 0, 0), w)), b = cross(w, a) */
-            const int side = fabs(wx) > R(0.5);
-            const real ex = side ? R(0) : R(1), ey = side ? R(1) : R(0), ez = R(0);
-            real qx = ey * wz - ez * wy, qy = ez * wx - ex * wz, qz = ex * wy - ey * wx;
-            const real ql = sqrt(qx * qx + qy * qy + qz * qz), qi = R(1) / ql;
-            const int qok = ql > R(0);
-            qx = qok ? qx * qi : qx, qy = qok ? qy * qi : qy, qz = qok ? qz * qi : qz;
-            fa[0][k] = qx, fa[1][k] = qy, fa[2][k] = qz;
-            fb[0][k] = wy * qz - wz * qy, fb[1][k] = wz * qx - wx * qz, fb[2][k] = wx * qy - wy * qx;
-        }
-        for (uint32_t m = fresh; m; m &= m - 1) {
-            const int k = __builtin_ctz(m);
-            DiscAxes *d = &sh[live[k]].disc;
-            for (int e = 0; e < 3; e++)
-                ax[e][k] = d->a.e[e] = fa[e][k], bx[e][k] = d->b.e[e] = fb[e][k];
-            d->of = li + 1;
-        }
+    if (!fresh)
+        return;
+    const real cx = l->pos.x, cy = l->pos.y, cz = l->pos.z;
+    real fa[3][TRACE_PACKET], fb[3][TRACE_PACKET];
+    for (int k = 0; k < TRACE_PACKET; k++) {
+        /* w = v3_norm(p - centre) */
+        real wx = px[k] - cx, wy = py[k] - cy, wz = pz[k] - cz;
+        const real wl = sqrt(wx * wx + wy * wy + wz * wz), wi = R(1) / wl;
+        const int wok = wl > R(0);
+        wx = wok ? wx * wi : wx, wy = wok ? wy * wi : wy, wz = wok ? wz * wi : wz;
+        /* v3_frame: a = v3_norm(cross(|w.x| > 0.5 ? (0, 1, 0) : (1, 0, 0), w)), b = cross(w, a) */
+        const int side = fabs(wx) > R(0.5);
+        const real ex = side ? R(0) : R(1), ey = side ? R(1) : R(0), ez = R(0);
+        real qx = ey * wz - ez * wy, qy = ez * wx - ex * wz, qz = ex * wy - ey * wx;
+        const real ql = sqrt(qx * qx + qy * qy + qz * qz), qi = R(1) / ql;
+        const int qok = ql > R(0);
+        qx = qok ? qx * qi : qx, qy = qok ? qy * qi : qy, qz = qok ? qz * qi : qz;
+        fa[0][k] = qx, fa[1][k] = qy, fa[2][k] = qz;
+        fb[0][k] = wy * qz - wz * qy, fb[1][k] = wz * qx - wx * qz, fb[2][k] = wx * qy - wy * qx;
     }
+    for (uint32_t m = fresh; m; m &= m - 1) {
+        const int k = __builtin_ctz(m);
+        DiscAxes *d = &sh[live[k]].disc;
+        for (int e = 0; e < 3; e++)
+            ax[e][k] = d->a.e[e] = fa[e][k], bx[e][k] = d->b.e[e] = fb[e][k];
+        d->of = li + 1;
+    }
+}
+
+/* A sphere light's points (u, v) of the discs of axes (ax, bx) it shows
+ * the hits p, less the hits' positions, into (dx, dy, dz): light_pos's
+ * point (area_point: the concentric map, sample_disc) operation for
+ * operation, lane by lane in arrays, where one ray's square roots and
+ * divisions waited on each other (the round lamp's points were a tenth of
+ * models/example.scene's frame). */
+static inline __attribute__((always_inline)) void sphere_points(const WorldLight *l, real ax[3][TRACE_PACKET],
+                                                               real bx[3][TRACE_PACKET], const real *u, const real *v,
+                                                               real p[3][TRACE_PACKET], real *dx, real *dy, real *dz)
+{
+    const real cx = l->pos.x, cy = l->pos.y, cz = l->pos.z, radius = l->radius;
     for (int k = 0; k < TRACE_PACKET; k++) {
         /* sample_disc(u, v) */
         const real a = R(2) * u[k] - R(1), b = R(2) * v[k] - R(1);
@@ -886,10 +894,23 @@ static inline __attribute__((always_inline)) void sphere_offsets(const WorldLigh
         sample_sincos_quarter((REAL_PI / R(4)) * (q / r), &sn, &cs);
         const real x = centre ? R(0) : r * (wide ? cs : sn), y = centre ? R(0) : r * (wide ? sn : cs);
         /* the point: centre + (a x + b y) radius, less p */
-        dx[k] = cx + (ax[0][k] * x + bx[0][k] * y) * radius - px[k];
-        dy[k] = cy + (ax[1][k] * x + bx[1][k] * y) * radius - py[k];
-        dz[k] = cz + (ax[2][k] * x + bx[2][k] * y) * radius - pz[k];
+        dx[k] = cx + (ax[0][k] * x + bx[0][k] * y) * radius - p[0][k];
+        dy[k] = cy + (ax[1][k] * x + bx[1][k] * y) * radius - p[1][k];
+        dz[k] = cz + (ax[2][k] * x + bx[2][k] * y) * radius - p[2][k];
     }
+}
+
+/* A sphere light's points of the disc it shows each hit of the lanes of
+ * ok, less the hits' positions p, into (dx, dy, dz): sphere_axes, then
+ * sphere_points. */
+static inline __attribute__((always_inline)) void sphere_offsets(const WorldLight *l, uint32_t li, Shading *sh,
+                                                                const int *live, uint32_t ok, const real *u,
+                                                                const real *v, real p[3][TRACE_PACKET], real *dx,
+                                                                real *dy, real *dz)
+{
+    real ax[3][TRACE_PACKET], bx[3][TRACE_PACKET];
+    sphere_axes(l, li, sh, live, ok, p, ax, bx);
+    sphere_points(l, ax, bx, u, v, p, dx, dy, dz);
 }
 
 /* The directions, distances, inverses and radiance (light_dirs_towards)
@@ -907,6 +928,89 @@ static inline __attribute__((always_inline)) uint32_t area_dirs(const World *w, 
     else
         rect_offsets(l, u, v, p, d);
     return light_dirs_towards(w, l, ok, d[0], d[1], d[2], sc, L, dist, inv, rad, 1);
+}
+
+/* What an area light's points share at a packet's hits, made once for
+ * all of the light's points (light_pass's j) where each point made it
+ * again: each lane's hit position, its disc axes (a sphere light), its
+ * share of the points (one budget: the m points of its pixel's sequence
+ * from base on) and that sequence's scrambles, and the light a point
+ * brings.  Lanes past the live rays take no point (m 0).  Measured
+ * (callgrind, one thread): the demo's last view at 12 x 12 points, 128 x
+ * 96, 3128M -> 2845M instructions; a moving frame's 2 x 2, 256 x 192,
+ * 482M -> 462M; models/example.scene at one sample 512M -> 474M. */
+typedef struct {
+    real p[3][TRACE_PACKET], ax[3][TRACE_PACKET], bx[3][TRACE_PACKET], sc[TRACE_PACKET];
+    uint32_t m[TRACE_PACKET], base[TRACE_PACKET];
+    uint32_t seq_index[TRACE_PACKET], seq_first[TRACE_PACKET], seq_second[TRACE_PACKET];
+} AreaLanes;
+
+/* AreaLanes of area light li at the live rays' hits, as area_plan and
+ * sphere_axes make them at the light's first point (the rays' keys and
+ * axes kept as they keep them); 0 where a ray's points are not its share
+ * of a scrambled Sobol sequence (per effect, or a pixel's one point of a
+ * light of one: those go point by point, light_uvs). */
+static inline __attribute__((always_inline)) int area_lanes(const World *w, Shading *sh, const int *live, int nl,
+                                                           uint32_t li, AreaLanes *al)
+{
+    const WorldLight *l = &w->lights[li];
+    const uint32_t side = (uint32_t)world_light_side(w, l), k = side * side;
+    if (w->view.settings.sampling == SAMPLING_PRODUCT)
+        return 0;
+    for (int q = 0; q < nl; q++)
+        if (sh[live[q]].id.count == 1 && k == 1)
+            return 0;
+    uint32_t ok = 0;
+    for (int q = 0; q < TRACE_PACKET; q++) {
+        for (int e = 0; e < 3; e++)
+            al->p[e][q] = R(0);
+        al->sc[q] = R(0);
+        al->m[q] = al->base[q] = al->seq_index[q] = al->seq_first[q] = al->seq_second[q] = 0;
+        if (q >= nl)
+            continue;
+        Shading *h = &sh[live[q]];
+        DiscAxes *ax = &h->disc;
+        if (ax->key_of != li + 1) {
+            ax->key = sample_mix(h->id.key, 0x4c000000u + li);
+            ax->seq = sample_sobol_seq(ax->key);
+            ax->key_of = li + 1;
+        }
+        const uint32_t m = sample_share(k, h->id.count);
+        al->p[0][q] = h->sf.p.x, al->p[1][q] = h->sf.p.y, al->p[2][q] = h->sf.p.z;
+        al->m[q] = m;
+        al->base[q] = h->id.index * m;
+        al->seq_index[q] = ax->seq.index, al->seq_first[q] = ax->seq.first, al->seq_second[q] = ax->seq.second;
+        al->sc[q] = l->intensity * (R(1) / (real)m);
+        ok |= 1u << q;
+    }
+    if (l->kind == LIGHT_SPHERE)
+        sphere_axes(l, li, sh, live, ok, al->p, al->ax, al->bx);
+    return 1;
+}
+
+/* area_dirs of point j of each lane of al (light_uvs' and area_dirs' arithmetic). */
+static inline __attribute__((always_inline)) uint32_t lanes_dirs(const World *w, uint32_t li, AreaLanes *al,
+                                                                uint32_t j, vec3 *L, real *dist, vec3 *inv, vec3 *rad)
+{
+    const WorldLight *l = &w->lights[li];
+    SampleLanes sl;
+    real u[TRACE_PACKET], v[TRACE_PACKET], d[3][TRACE_PACKET];
+    uint32_t ok = 0;
+    for (int k = 0; k < TRACE_PACKET; k++) {
+        sl.index[k] = al->base[k] + j;
+        sl.seq_index[k] = al->seq_index[k], sl.seq_first[k] = al->seq_first[k], sl.seq_second[k] = al->seq_second[k];
+        ok |= (uint32_t)(j < al->m[k]) << k;
+    }
+    if (!ok)
+        return 0;
+    sample_sobol_lanes(&sl);
+    for (int k = 0; k < TRACE_PACKET; k++)
+        u[k] = sample_unit(sl.u[k]), v[k] = sample_unit(sl.v[k]);
+    if (l->kind == LIGHT_SPHERE)
+        sphere_points(l, al->ax, al->bx, u, v, al->p, d[0], d[1], d[2]);
+    else
+        rect_offsets(l, u, v, al->p, d);
+    return light_dirs_towards(w, l, ok, d[0], d[1], d[2], al->sc, L, dist, inv, rad, 1);
 }
 
 /* What a packet's shading takes for an area light's points (area_dirs),
@@ -940,8 +1044,8 @@ uint32_t shade_light_points(const World *w, uint32_t li, int n, const vec3 *at, 
  * rays lane by lane, in arrays the compiler turns into vector code (one
  * ray's waited on each other: a fifth of the default scene's frame). */
 static inline __attribute__((always_inline)) uint32_t light_dirs(const World *w, Shading *sh, const int *live, int nl,
-                                                                uint32_t li, uint32_t j, vec3 *L, real *dist, vec3 *inv,
-                                                                vec3 *rad, const int optional)
+                                                                uint32_t li, uint32_t j, AreaLanes *al, vec3 *L,
+                                                                real *dist, vec3 *inv, vec3 *rad, const int optional)
 {
     const WorldLight *l = &w->lights[li];
     uint32_t ok = 0;
@@ -957,6 +1061,8 @@ static inline __attribute__((always_inline)) uint32_t light_dirs(const World *w,
     }
     real dx[TRACE_PACKET], dy[TRACE_PACKET], dz[TRACE_PACKET], sc[TRACE_PACKET];
     if (optional && world_uses(w, FEAT_AREA) && world_light_is_area(l)) { /* lane by lane */
+        if (al)
+            return lanes_dirs(w, li, al, j, L, dist, inv, rad);
         real u[TRACE_PACKET], v[TRACE_PACKET], p[3][TRACE_PACKET];
         const uint32_t got = light_uvs(w, sh, live, nl, li, j, u, v, sc, p);
         return area_dirs(w, li, sh, live, got, u, v, sc, p, L, dist, inv, rad);
@@ -1054,8 +1160,8 @@ static void probe_pass(const World *w, Shading *sh, const int *live, int nl, uin
  * shadow rays as one packet, and what reaches each hit added to it; the
  * rays whose probe decided (probe_pass) take the light as it said. */
 static inline __attribute__((always_inline)) void light_pass(const World *w, Shading *sh, const int *live, int nl,
-                                                             uint32_t li, uint32_t j, uint32_t probed, uint32_t clear,
-                                                             RayStats *stats, const int optional)
+                                                             uint32_t li, uint32_t j, AreaLanes *al, uint32_t probed,
+                                                             uint32_t clear, RayStats *stats, const int optional)
 {
     const int shadows = world_has(w, FEAT_SHADOWS);
     const int glass_shadows = optional && world_uses(w, FEAT_REFRACT) && w->view.settings.glass_shadows;
@@ -1068,7 +1174,7 @@ static inline __attribute__((always_inline)) void light_pass(const World *w, Sha
     vec3 L[TRACE_PACKET], rad[TRACE_PACKET];
     real ndotl[TRACE_PACKET];
     int who[TRACE_PACKET], m = 0;
-    for (uint32_t lit = light_dirs(w, sh, live, nl, li, j, Lk, dist, inv, radk, optional); lit; lit &= lit - 1) {
+    for (uint32_t lit = light_dirs(w, sh, live, nl, li, j, al, Lk, dist, inv, radk, optional); lit; lit &= lit - 1) {
         const int k = __builtin_ctz(lit);
         Shading *h = &sh[live[k]];
         L[m] = Lk[k], rad[m] = radk[k];
@@ -1215,6 +1321,7 @@ static inline __attribute__((always_inline)) void shade_rays_at(const World *w, 
     for (uint32_t li = 0; li < w->light_count + w->whitted_lights; li++) {
         const WorldLight *l = &w->lights[li];
         uint32_t points = 1, probed = 0, clear = 0;
+        AreaLanes lanes, *al = NULL;
         if (optional && world_uses(w, FEAT_AREA) && world_light_is_area(l)) {
             if (w->view.settings.light_sampling == LIGHTS_ADAPTIVE && depth == 0 && world_light_side(w, l) > 1)
                 probe_pass(w, sh, live, nl, li, &probed, &clear, stats);
@@ -1229,8 +1336,10 @@ static inline __attribute__((always_inline)) void shade_rays_at(const World *w, 
                 points = m > points ? m : points;
             }
         }
+        if (optional && points > 1 && area_lanes(w, sh, live, nl, li, &lanes))
+            al = &lanes;
         for (uint32_t j = 0; j < points; j++)
-            light_pass(w, sh, live, nl, li, j, probed, clear, stats, optional);
+            light_pass(w, sh, live, nl, li, j, al, probed, clear, stats, optional);
     }
     const int beyond = optional && world_uses(w, FEAT_REFLECT | FEAT_REFRACT | FEAT_EMIT | FEAT_COAT);
     Spawn sp[SPAWN_MAX];
