@@ -443,12 +443,15 @@ static inline __attribute__((always_inline)) uint32_t top_leaf_packet(void *vctx
     uint32_t done = 0;
     if (p >= w->sphere_count + w->tri_count) {
         done = instance_packet(w, p, c->rays, rs, c->best, closest, c->tmax);
-    } else {
+    } else if (closest) {
         for (uint32_t m = rs; m; m &= m - 1) {
             int i = __builtin_ctz(m);
-            if (closest)
-                leaf_closest(w, p, &c->rays[i], &c->best[i]);
-            else if (leaf_occluded(w, p, &c->rays[i], c->tmax[i], c->lamp))
+            leaf_closest(w, p, &c->rays[i], &c->best[i]);
+        }
+    } else if (!(c->lamp && lamp_part(w, c->lamp, p))) { /* the light's own lamp: passed by all of them */
+        for (uint32_t m = rs; m; m &= m - 1) {
+            int i = __builtin_ctz(m);
+            if (leaf_occluded(w, p, &c->rays[i], c->tmax[i], NULL))
                 done |= 1u << i;
         }
     }
