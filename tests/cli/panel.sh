@@ -59,11 +59,7 @@ stop_window_server server
 # under AddressSanitizer), and a CI run's screenshots, a few a second on
 # loaded cores, once missed it and waited for it for 2 minutes.
 W=240 H=180
-for n in 6 12; do
-    "$BIN/lanray-render" --width $W --height $H --aa adaptive:4 --light-samples $n -o "$dir/still$n.ppm" --quiet \
-        >/dev/null || fail "$n x $n reference"
-done
-! cmp -s "$dir/still6.ppm" "$dir/still12.ppm" || fail "6 x 6 and 12 x 12 points give one picture: no sign of refining"
+still_refs $W $H still
 window_server still --width $W --height $H --still-aa adaptive:4 --still-light-samples 64
 window_at
 rows=

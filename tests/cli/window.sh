@@ -91,11 +91,7 @@ in_part() {
     stop_window_server "$name"
 }
 W=120 H=80
-for k in 6 12; do
-    "$BIN/lanray-render" --width $W --height $H --aa adaptive:4 --light-samples $k -o "$dir/lights$k.ppm" --quiet \
-        >/dev/null || fail "reference at $k x $k points"
-done
-! cmp -s "$dir/lights6.ppm" "$dir/lights12.ppm" || fail "6 x 6 and 12 x 12 points give one picture: no test"
+still_refs $W $H lights
 in_part lines "$dir/lights6.ppm" "$dir/lights12.ppm" --width $W --height $H --still-aa adaptive:4 \
     --still-light-samples 12
 # the batch's part shown with the batches before, as its frame will be
