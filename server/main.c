@@ -175,6 +175,17 @@ static void pace_frame(App *a)
         server_set_scale(a->server, pace_update(&a->pace, dt, scale, (uint32_t)a->width, (uint32_t)a->height));
 }
 
+/* Pixels [first, first + count) of a frame as the window shows them:
+ * settings hdr's RGBE as sRGB codes of its light (in the view buffer),
+ * else as they are. */
+static const uint8_t *window_rgb(App *a, const uint8_t *pixels, size_t first, size_t count)
+{
+    if (!a->view)
+        return pixels;
+    srgb_from_rgbe(pixels, count, pow(2.0, (double)a->scene->settings.exposure), a->view + first * 3);
+    return a->view + first * 3;
+}
+
 static void on_frame(void *ctx, uint32_t frame, const uint8_t *pixels)
 {
     App *a = ctx;
@@ -184,9 +195,7 @@ static void on_frame(void *ctx, uint32_t frame, const uint8_t *pixels)
     if (a->verify)
         verify_frame(a, frame, pixels);
     if (a->display) {
-        if (a->view)
-            srgb_from_rgbe(pixels, (size_t)a->width * a->height, pow(2.0, (double)a->scene->settings.exposure), a->view);
-        display_show(a->display, a->view ? a->view : pixels);
+        display_show(a->display, window_rgb(a, pixels, 0, (size_t)a->width * a->height));
         if (a->screenshot) {
             char path[512];
             if (write_frame(a, "lanray-screenshot", frame, pixels, &err, path, sizeof path))
@@ -229,11 +238,7 @@ static void on_lines(void *ctx, uint32_t frame, uint32_t first, uint32_t count, 
     (void)frame;
     if (!a->display)
         return;
-    if (a->view) {
-        srgb_from_rgbe(pixels, count, pow(2.0, (double)a->scene->settings.exposure), a->view + (size_t)first * 3);
-        pixels = a->view + (size_t)first * 3;
-    }
-    display_lines(a->display, first, count, pixels);
+    display_lines(a->display, first, count, window_rgb(a, pixels, first, count));
 }
 
 /* --path: frame `frame`'s camera, at (frame - 1) x --path-step seconds, or

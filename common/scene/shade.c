@@ -945,21 +945,16 @@ typedef struct {
     uint32_t seq_index[TRACE_PACKET], seq_first[TRACE_PACKET], seq_second[TRACE_PACKET];
 } AreaLanes;
 
-/* AreaLanes of area light li at the live rays' hits, as area_plan and
- * sphere_axes make them at the light's first point (the rays' keys and
- * axes kept as they keep them); 0 where a ray's points are not its share
- * of a scrambled Sobol sequence (per effect, or a pixel's one point of a
- * light of one: those go point by point, light_uvs). */
+/* AreaLanes of area light li at the live rays' hits, from area_plan at the
+ * light's first point and sphere_axes (the rays' keys and axes kept as
+ * they keep them); 0 where a ray's points are not its share of a scrambled
+ * Sobol sequence (per effect, or a pixel's one point of a light of one:
+ * those go point by point, light_uvs). */
 static inline __attribute__((always_inline)) int area_lanes(const World *w, Shading *sh, const int *live, int nl,
                                                            uint32_t li, AreaLanes *al)
 {
     const WorldLight *l = &w->lights[li];
     const uint32_t side = (uint32_t)world_light_side(w, l), k = side * side;
-    if (w->view.settings.sampling == SAMPLING_PRODUCT)
-        return 0;
-    for (int q = 0; q < nl; q++)
-        if (sh[live[q]].id.count == 1 && k == 1)
-            return 0;
     uint32_t ok = 0;
     for (int q = 0; q < TRACE_PACKET; q++) {
         for (int e = 0; e < 3; e++)
@@ -969,18 +964,14 @@ static inline __attribute__((always_inline)) int area_lanes(const World *w, Shad
         if (q >= nl)
             continue;
         Shading *h = &sh[live[q]];
-        DiscAxes *ax = &h->disc;
-        if (ax->key_of != li + 1) {
-            ax->key = sample_mix(h->id.key, 0x4c000000u + li);
-            ax->seq = sample_sobol_seq(ax->key);
-            ax->key_of = li + 1;
-        }
-        const uint32_t m = sample_share(k, h->id.count);
+        real u, v, share;
+        if (area_plan(w, l, li, &h->id, &h->disc, 0, &u, &v, &share, &al->base[q]) != 2)
+            return 0;
         al->p[0][q] = h->sf.p.x, al->p[1][q] = h->sf.p.y, al->p[2][q] = h->sf.p.z;
-        al->m[q] = m;
-        al->base[q] = h->id.index * m;
-        al->seq_index[q] = ax->seq.index, al->seq_first[q] = ax->seq.first, al->seq_second[q] = ax->seq.second;
-        al->sc[q] = l->intensity * (R(1) / (real)m);
+        al->m[q] = sample_share(k, h->id.count);
+        const SampleSobol *seq = &h->disc.seq;
+        al->seq_index[q] = seq->index, al->seq_first[q] = seq->first, al->seq_second[q] = seq->second;
+        al->sc[q] = l->intensity * share;
         ok |= 1u << q;
     }
     if (l->kind == LIGHT_SPHERE)
