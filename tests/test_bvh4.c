@@ -165,12 +165,25 @@ static void walks_agree(void **state)
             Ray rays[8];
             real far_b[8], far_w[8];
             Near nb[8], nw[8];
+            const int axis = k % 3;
+            const vec3 from = rng_vec(&rng, -25, 25);
             for (int i = 0; i < 8; i++) {
-                /* packets of neighbours (one origin, directions close) and of strangers */
-                rays[i] = k % 2 ? random_ray(&rng, k + i)
-                                : ray_make(i ? rays[0].org : rng_vec(&rng, -25, 25),
-                                           v3_norm(v3_add(i ? rays[0].dir : rng_dir(&rng), v3_scale(rng_dir(&rng), R(0.02)))),
-                                           R(1e-4), REAL_INF);
+                /* packets of neighbours (one origin, directions close), of
+                 * strangers, and of rays from points near each other towards
+                 * a point along an axis, the other axes' directions either
+                 * side of 0 (or 0): the four-wide walk leaves those axes out */
+                if (k % 4 == 3) {
+                    vec3 d = v3_scale(rng_vec(&rng, -1, 1), R(0.05));
+                    d.e[axis] = k % 8 == 3 ? 1 : -1;
+                    if (i == 5)
+                        d.e[(axis + 1) % 3] = 0;
+                    rays[i] = ray_make(v3_add(from, rng_vec(&rng, -1, 1)), v3_norm(d), R(1e-4), REAL_INF);
+                } else {
+                    rays[i] = k % 2 ? random_ray(&rng, k + i)
+                                    : ray_make(i ? rays[0].org : from,
+                                               v3_norm(v3_add(i ? rays[0].dir : rng_dir(&rng), v3_scale(rng_dir(&rng), R(0.02)))),
+                                               R(1e-4), REAL_INF);
+                }
                 far_b[i] = far_w[i] = i % 3 == 2 ? rng_real(&rng, 1, 40) : REAL_INF;
                 nb[i] = nw[i] = (Near){&b, far_b[i], UINT32_MAX};
             }
@@ -188,7 +201,7 @@ static void walks_agree(void **state)
             /* a packet: the same hits as one by one, the same blocked rays */
             PacketCtx cb = {&b, rays, nb}, cw = {&b, rays, nw};
             bvh_packet(&tree, rays, 8, far_b, leaf_packet, &cb, 1);
-            bvh4_packet(&t, &tree, rays, 8, far_w, k % 4 ? INFINITY : 0.0f, leaf_packet, &cw);
+            bvh4_packet(&t, &tree, rays, 8, far_w, k % 4 ? INFINITY : 0.0f, 0, leaf_packet, &cw);
             for (int i = 0; i < 8; i++) {
                 assert_int_equal(nb[i].hit, nw[i].hit);
                 assert_true(nb[i].t == nw[i].t || nb[i].hit == UINT32_MAX);
@@ -197,7 +210,7 @@ static void walks_agree(void **state)
                 far_b[i] = far_w[i] = i % 2 ? rng_real(&rng, 1, 40) : REAL_INF;
             PacketCtx ob = {&b, rays, NULL}, ow = {&b, rays, NULL};
             assert_int_equal(bvh_packet(&tree, rays, 8, far_b, leaf_packet, &ob, 1),
-                             bvh4_packet(&t, &tree, rays, 8, far_w, INFINITY, leaf_packet, &ow));
+                             bvh4_packet(&t, &tree, rays, 8, far_w, INFINITY, 1, leaf_packet, &ow));
         }
         assert_true(hits > 0);
         bvh4_destroy(&t);

@@ -179,76 +179,89 @@ static inline __attribute__((always_inline)) int bvh4_any(const Bvh4 *t, const R
     }
 }
 
-/* The rays of `mask` whose own slab test enters child c of node n
- * (bvh_box_rays_soa, four rays a step).  far: a multiple of four readable. */
-static inline __attribute__((always_inline)) uint32_t bvh4_child_rays(const Bvh4Node *n, int c, const BvhPacketSoa *s,
-                                                                      uint32_t mask, const real *far)
-{
-    const real bmin[3] = {n->box[0][c], n->box[1][c], n->box[2][c]};
-    const real bmax[3] = {n->box[3][c], n->box[4][c], n->box[5][c]};
-    return bvh_box_rays_soa(bmin, bmax, s, mask, far);
-}
-
 /* A packet's rays as one interval: per axis the least and greatest origin
  * and reciprocal direction, where every ray's reciprocal has one sign and
  * is finite and nonzero, and the origins lie within ospread of each other
  * on every axis (INFINITY: any).  Its slab test of a node's four boxes admits
  * every box that any of the rays' own tests enters (rounding is monotone:
- * the interval's entry is at most each ray's, its exit at least). */
+ * the interval's entry is at most each ray's, its exit at least).  An axis
+ * whose reciprocals differ in sign or are infinite (rays towards a light
+ * straight above, whose x and z straddle 0) is left out of the interval
+ * (`loose`): its reciprocals span [-inf, inf], which bvh4_span_hit's
+ * products make -inf (or NaN) at entry and inf (or NaN) at exit, which the
+ * max and min pass over; the interval then bounds by the other axes, still
+ * never rejecting a box a ray enters, and the leaves' own tests (each ray's,
+ * bvh4_child_rays_span) decide.  Such packets had gone ray by ray down the
+ * binary tree: a quarter of the shadow packets of the demo's still frame,
+ * with a third of the top level's instructions. */
 typedef struct {
     __m128 o_near[3], o_far[3], ilo[3], ihi[3], tmin;
     int near[3], far[3]; /* rows of Bvh4Node.box */
+    int loose;           /* the axes left out, a bit each */
 } Bvh4Span;
 
-/* The least and greatest of a column's groups of four (lanes past n
- * repeat ray 0, so they change neither). */
-static inline __attribute__((always_inline)) void bvh4_column_range(const float *col, int groups, float *lo, float *hi)
+/* The least (greatest) of a vector's lanes, in every lane. */
+static inline __attribute__((always_inline)) __m128 bvh4_lanes_min(__m128 v)
 {
-    __m128 l = _mm_load_ps(col), h = l;
-    for (int g = 1; g < groups; g++) {
-        const __m128 v = _mm_load_ps(col + 4 * g);
-        l = _mm_min_ps(l, v), h = _mm_max_ps(h, v);
-    }
-    l = _mm_min_ps(l, _mm_shuffle_ps(l, l, _MM_SHUFFLE(1, 0, 3, 2)));
-    h = _mm_max_ps(h, _mm_shuffle_ps(h, h, _MM_SHUFFLE(1, 0, 3, 2)));
-    *lo = _mm_cvtss_f32(_mm_min_ps(l, _mm_shuffle_ps(l, l, _MM_SHUFFLE(2, 3, 0, 1))));
-    *hi = _mm_cvtss_f32(_mm_max_ps(h, _mm_shuffle_ps(h, h, _MM_SHUFFLE(2, 3, 0, 1))));
+    v = _mm_min_ps(v, _mm_shuffle_ps(v, v, _MM_SHUFFLE(1, 0, 3, 2)));
+    return _mm_min_ps(v, _mm_shuffle_ps(v, v, _MM_SHUFFLE(2, 3, 0, 1)));
 }
 
-/* Whether a column has a NaN. */
-static inline __attribute__((always_inline)) int bvh4_column_nan(const float *col, int groups)
+static inline __attribute__((always_inline)) __m128 bvh4_lanes_max(__m128 v)
 {
-    __m128 u = _mm_setzero_ps();
-    for (int g = 0; g < groups; g++) {
-        const __m128 v = _mm_load_ps(col + 4 * g);
-        u = _mm_or_ps(u, _mm_cmpunord_ps(v, v));
-    }
-    return _mm_movemask_ps(u) != 0;
+    v = _mm_max_ps(v, _mm_shuffle_ps(v, v, _MM_SHUFFLE(1, 0, 3, 2)));
+    return _mm_max_ps(v, _mm_shuffle_ps(v, v, _MM_SHUFFLE(2, 3, 0, 1)));
 }
 
-/* The interval from the packet's columns (bvh_packet_soa), four rays a
- * step: 0 where a ray's origin or reciprocal is NaN (its own tests, which
- * the binary walk keeps), where the reciprocals of an axis differ in sign
- * or are infinite, or where the origins spread wider than ospread (0 for
- * closest hits: a caller tests first that they are one point). */
+/* The interval from the packet's columns (bvh_packet_soa), all columns in
+ * one pass over the groups of four (lanes past n repeat ray 0, so they
+ * change no bound): 0 where a ray's origin or reciprocal is NaN (its own
+ * tests, which the binary walk keeps) or where the origins spread wider
+ * than ospread (0 for closest hits: a caller tests first that they are one
+ * point); an axis whose reciprocals differ in sign or are infinite is left
+ * out.  Any interval that encloses the rays' own serves (the leaves test
+ * each ray), so the order of the min and max does not matter. */
 static inline __attribute__((always_inline)) int bvh4_span(Bvh4Span *p, const BvhPacketSoa *s, float ospread)
 {
-    float tmin, tmax_unused;
-    bvh4_column_range(s->tmin, s->groups, &tmin, &tmax_unused);
-    p->tmin = _mm_set1_ps(tmin);
+    __m128 tl = _mm_load_ps(s->tmin), bad = _mm_setzero_ps();
+    __m128 ol[3], oh[3], il[3], ih[3];
+#pragma GCC unroll 3
     for (int a = 0; a < 3; a++) {
-        float olo, ohi, ilo, ihi;
-        if (bvh4_column_nan(s->org[a], s->groups) || bvh4_column_nan(s->inv[a], s->groups))
+        ol[a] = oh[a] = _mm_load_ps(s->org[a]), il[a] = ih[a] = _mm_load_ps(s->inv[a]);
+        bad = _mm_or_ps(bad, _mm_cmpunord_ps(ol[a], il[a])); /* either NaN */
+    }
+    for (int g = 1; g < s->groups; g++) {
+        tl = _mm_min_ps(tl, _mm_load_ps(&s->tmin[4 * g]));
+    #pragma GCC unroll 3
+    for (int a = 0; a < 3; a++) {
+            const __m128 o = _mm_load_ps(&s->org[a][4 * g]), iv = _mm_load_ps(&s->inv[a][4 * g]);
+            ol[a] = _mm_min_ps(ol[a], o), oh[a] = _mm_max_ps(oh[a], o);
+            il[a] = _mm_min_ps(il[a], iv), ih[a] = _mm_max_ps(ih[a], iv);
+            bad = _mm_or_ps(bad, _mm_cmpunord_ps(o, iv));
+        }
+    }
+    if (_mm_movemask_ps(bad))
+        return 0;
+    p->tmin = bvh4_lanes_min(tl);
+    p->loose = 0;
+#pragma GCC unroll 3
+    for (int a = 0; a < 3; a++) {
+        const __m128 olo = bvh4_lanes_min(ol[a]), ohi = bvh4_lanes_max(oh[a]);
+        const __m128 ilo = bvh4_lanes_min(il[a]), ihi = bvh4_lanes_max(ih[a]);
+        const float il0 = _mm_cvtss_f32(ilo), ih0 = _mm_cvtss_f32(ihi);
+        if (!(_mm_cvtss_f32(ohi) - _mm_cvtss_f32(olo) <= ospread))
             return 0;
-        bvh4_column_range(s->org[a], s->groups, &olo, &ohi);
-        bvh4_column_range(s->inv[a], s->groups, &ilo, &ihi);
-        const int pos = ilo > 0 && ihi < INFINITY, neg = ihi < 0 && ilo > -INFINITY;
-        if ((!pos && !neg) || !(ohi - olo <= ospread))
-            return 0;
-        p->o_near[a] = _mm_set1_ps(pos ? ohi : olo);
-        p->o_far[a] = _mm_set1_ps(pos ? olo : ohi);
-        p->ilo[a] = _mm_set1_ps(ilo);
-        p->ihi[a] = _mm_set1_ps(ihi);
+        const int pos = il0 > 0 && ih0 < INFINITY, neg = ih0 < 0 && il0 > -INFINITY;
+        if (!pos && !neg) { /* left out: a product of +-inf, never a bound */
+            p->o_near[a] = p->o_far[a] = _mm_setzero_ps();
+            p->ilo[a] = _mm_set1_ps(-INFINITY), p->ihi[a] = _mm_set1_ps(INFINITY);
+            p->near[a] = a, p->far[a] = a + 3;
+            p->loose |= 1 << a;
+            continue;
+        }
+        p->o_near[a] = pos ? ohi : olo;
+        p->o_far[a] = pos ? olo : ohi;
+        p->ilo[a] = ilo, p->ihi[a] = ihi;
         p->near[a] = pos ? a : a + 3;
         p->far[a] = pos ? a + 3 : a;
     }
@@ -279,6 +292,44 @@ static inline __attribute__((always_inline)) int bvh4_span_hit(const Bvh4Node *n
     return _mm_movemask_ps(_mm_cmple_ps(lo, _mm_mul_ps(hi, _mm_set1_ps(BVH_FUDGE)))) & nd->lanes;
 }
 
+/* The rays of `mask` whose own slab test enters child c of node n, four
+ * rays a step, for a packet with its interval (bvh4_span): on an axis
+ * whose reciprocals share one sign, each ray's entry and exit planes are
+ * the interval's rows (ray_set's choice, the same for all), so the choice
+ * lane by lane goes; a loose axis keeps it.  The same operations on the
+ * same numbers as bvh_box_rays_soa, so the same rays enter.  far: a
+ * multiple of four readable. */
+static inline __attribute__((always_inline)) uint32_t bvh4_child_rays_span(const Bvh4Node *n, int c, const Bvh4Span *p,
+                                                                           const BvhPacketSoa *s, uint32_t mask,
+                                                                           const real *far)
+{
+    const __m128 zero = _mm_setzero_ps(), fudge = _mm_set1_ps(BVH_FUDGE);
+    __m128 bn[3], bf[3];
+    for (int a = 0; a < 3; a++)
+        bn[a] = _mm_set1_ps(n->box[p->near[a]][c]), bf[a] = _mm_set1_ps(n->box[p->far[a]][c]);
+    uint32_t in = 0;
+    for (int g = 0; g < s->groups; g++) {
+        const uint32_t m = mask >> (4 * g) & 15u;
+        if (!m)
+            continue;
+        __m128 lo = _mm_load_ps(&s->tmin[4 * g]), hi = _mm_loadu_ps(&far[4 * g]);
+#pragma GCC unroll 3
+        for (int a = 0; a < 3; a++) {
+            const __m128 o = _mm_load_ps(&s->org[a][4 * g]), iv = _mm_load_ps(&s->inv[a][4 * g]);
+            __m128 tn = _mm_mul_ps(_mm_sub_ps(bn[a], o), iv), tf = _mm_mul_ps(_mm_sub_ps(bf[a], o), iv);
+            if (p->loose >> a & 1) { /* bn is bmin, bf bmax: each ray's own choice */
+                const __m128 pos = _mm_cmpge_ps(iv, zero), t0 = tn;
+                tn = _mm_or_ps(_mm_and_ps(pos, t0), _mm_andnot_ps(pos, tf));
+                tf = _mm_or_ps(_mm_and_ps(pos, tf), _mm_andnot_ps(pos, t0));
+            }
+            lo = _mm_max_ps(tn, lo); /* tn > lo ? tn : lo */
+            hi = _mm_min_ps(tf, hi); /* tf < hi ? tf : hi */
+        }
+        in |= ((uint32_t)_mm_movemask_ps(_mm_cmple_ps(lo, _mm_mul_ps(hi, fudge))) & m) << (4 * g);
+    }
+    return in;
+}
+
 static inline float bvh4_far_max(const real *far, uint32_t mask)
 {
     float m = -INFINITY;
@@ -295,15 +346,16 @@ static inline float bvh4_far_max(const real *far, uint32_t mask)
  * ospread of each other test a node's four boxes at once as one interval
  * (bvh4_span), nearest first, and take an interior child together; a leaf
  * child, when it comes off the stack, takes the rays whose own slab test
- * enters it with their limits then (bvh4_child_rays, four rays a step).
+ * enters it with their limits then (bvh4_child_rays_span, four rays a step).
  * A leaf hands its primitives one by one to the callback with its rays
  * less those blocked since.  Other packets go through the binary tree
  * (bvh_packet): ray by ray their masks part, and its pairs of boxes,
  * tested again as it pops them, cost them less.  far: a multiple of four
- * readable. */
+ * readable.  any: an occlusion walk, whose leaves block rays and lower no
+ * ray's far. */
 static inline __attribute__((always_inline)) uint32_t bvh4_packet(const Bvh4 *t, const Bvh *binary, const Ray *rays,
-                                                                  int n, real *far, float ospread, BvhPacketLeaf leaf,
-                                                                  void *ctx)
+                                                                  int n, real *far, float ospread, int any,
+                                                                  BvhPacketLeaf leaf, void *ctx)
 {
     struct {
         uint32_t child, count, rays;
@@ -325,11 +377,13 @@ static inline __attribute__((always_inline)) uint32_t bvh4_packet(const Bvh4 *t,
     for (;;) {
         rs &= ~done;
         if (rs && count) {
+            const uint32_t was = done;
             for (uint32_t j = 0; j < count && rs; j++) {
                 done |= leaf(ctx, t->prims[child + j], rs, far);
                 rs &= ~done;
             }
-            fmax = bvh4_far_max(far, all & ~done); /* a hit or a blocker brings it nearer */
+            if (!any || done != was) /* a hit or a blocker brings it nearer */
+                fmax = bvh4_far_max(far, all & ~done);
         } else if (rs) {
             const Bvh4Node *nd = &t->nodes[child];
             __m128 lo;
@@ -356,7 +410,7 @@ static inline __attribute__((always_inline)) uint32_t bvh4_packet(const Bvh4 *t,
             /* which rays enter a leaf: each ray's own test, when it comes up (a
              * nearer hit since may keep a ray out) */
             if (rs && count)
-                rs = bvh4_child_rays(&t->nodes[stack[sp].parent], (int)stack[sp].lane, &soa, rs, far);
+                rs = bvh4_child_rays_span(&t->nodes[stack[sp].parent], (int)stack[sp].lane, &span, &soa, rs, far);
         } while (!rs);
     }
 }

@@ -529,7 +529,8 @@ static uint32_t top_packet(const World *w, const Ray *rays, int n, Best *best, c
 #if BVH4_COMPILED
     const Bvh4 *t4 = top4(w);
     if (t4)
-        return bvh4_packet(t4, w->tree, rays, n, far, best ? TRACE_ORIGIN_SPREAD : INFINITY, top_leaf_packet, &c);
+        return bvh4_packet(t4, w->tree, rays, n, far, best ? TRACE_ORIGIN_SPREAD : INFINITY, !best,
+                           top_leaf_packet, &c);
 #endif
     return bvh_packet(w->tree, rays, n, far, top_leaf_packet, &c, simd_path() != SIMD_SCALAR);
 }
