@@ -233,6 +233,12 @@ static void errors_name_file_line_and_expectation(void **state)
     expect_error("settings shading toon\n", "'shading' of settings must be phong or diffuse");
     expect_error("ambient 1 1\n", "ambient expects 3 finite numbers");
     expect_error("instance nothing\n", "unknown model 'nothing'");
+    char obj[256];
+    snprintf(obj, sizeof obj, "%s/tri.obj", test_tmpdir());
+    test_write_file(obj, "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+    expect_error("model tri tri.obj\ninstance tri lights\n",
+                 "t.scene:2: instance 'tri' takes its model's lights, which only a glTF (.gltf, .glb) gives");
+    expect_error("model tri tri.obj\ninstance tri scale 2 camera lights\n", "takes its model's lights and camera, which only a glTF");
     expect_error("model m missing.tmd\n", "t.scene:1:");
     expect_error("model m thing.xyz\n", "must end in .tmd, .obj, or a format the importer reads");
     expect_error("model m thing.stl\n", "thing.stl: Unable to open file"); /* a format Assimp reads: its error, with the name */

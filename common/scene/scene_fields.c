@@ -258,6 +258,10 @@ static const Field instance_fields[] = {
      .doc = "scaled by this (uniform)"},
     {.key = "material", .type = FIELD_NAME, .off = INST(material), .def = -1, .shown_default = "the model's",
      .doc = "a `material` by its name, over the model's own"},
+    {.key = "lights", .type = FIELD_FLAG, .flags = FIELD_FILE, .off = offsetof(InstanceSpec, lights),
+     .doc = "the lights its model's glTF gives (KHR_lights_punctual), placed with it"},
+    {.key = "camera", .type = FIELD_FLAG, .flags = FIELD_FILE, .off = offsetof(InstanceSpec, camera),
+     .doc = "the scene's camera: its model's glTF's, placed with it"},
 };
 const FieldKind instance_kind = {.name = "instance", .fields = instance_fields,
                                  .count = sizeof instance_fields / sizeof *instance_fields};

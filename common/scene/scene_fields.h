@@ -43,6 +43,13 @@ typedef struct {
     int bvh, smooth;
 } ModelSpec;
 
+/* An instance as a scene file gives it: the Instance (first: its fields'
+ * offsets are the wire's), and what it takes from its model's file. */
+typedef struct {
+    Instance in;
+    int lights, camera;
+} InstanceSpec;
+
 extern const FieldKind model_kind;
 extern const FieldKind environment_kind;
 extern const FieldKind camera_kind, settings_kind, light_kind, sphere_kind, plane_kind, triangle_kind, instance_kind;

@@ -12,6 +12,7 @@
 #include "base/lex.h"
 #include "model/model_load.h"
 #include "scene/scene_fields.h"
+#include "scene/scene_gltf.h"
 
 #define SCENE_MAX_BYTES ((size_t)256 << 20)
 #define NAME_MAX_LEN 64
@@ -34,6 +35,8 @@ typedef struct {
     const BvhOptions *bvh;
     int force;
     NameTable materials, textures, models;
+    char **model_paths; /* each model's file, by its id */
+    uint32_t model_path_count;
     Err *err;
 } Ctx;
 
@@ -308,7 +311,37 @@ static int do_model(Ctx *c, const Tokens *t)
     uint32_t id;
     if (scene_add_model(c->s, m, &id, c->err))
         return -1;
+    char **paths = id < c->model_path_count ? c->model_paths : realloc(c->model_paths, (id + 1) * sizeof *paths);
+    if (!paths)
+        return fail(c, "out of memory");
+    c->model_paths = paths;
+    for (; c->model_path_count <= id; c->model_path_count++)
+        paths[c->model_path_count] = NULL;
+    if (!(paths[id] = strdup(path)))
+        return fail(c, "out of memory");
     return names_add(c, &c->models, "model", t->tok[1], id);
+}
+
+/* What an instance takes from its model's file: a glTF's lights and
+ * camera, placed with it (scene_gltf.h).  Asked of a file that has none,
+ * an error: the scene would not be lit or framed as its writer meant. */
+static int instance_takes(Ctx *c, const InstanceSpec *sp, const char *name)
+{
+    const int want = (sp->lights ? SCENE_GLTF_LIGHTS : 0) | (sp->camera ? SCENE_GLTF_CAMERA : 0);
+    if (!want)
+        return 0;
+    const char *path = sp->in.model < c->model_path_count ? c->model_paths[sp->in.model] : NULL;
+    const char *what = sp->lights && sp->camera ? "lights and camera" : sp->lights ? "lights" : "camera";
+    if (!path || !scene_gltf_is(path))
+        return fail(c, "instance '%s' takes its model's %s, which only a glTF (.gltf, .glb) gives", name, what);
+    int got;
+    if (scene_gltf_take(c->s, path, &sp->in, want, &got, c->err))
+        return err_prefix(c->err, "%s:%d", c->file, c->line);
+    if ((want & SCENE_GLTF_LIGHTS) && !(got & SCENE_GLTF_LIGHTS))
+        return fail(c, "instance '%s' takes its model's lights, but %s has none (KHR_lights_punctual)", name, path);
+    if ((want & SCENE_GLTF_CAMERA) && !(got & SCENE_GLTF_CAMERA))
+        return fail(c, "instance '%s' takes its model's camera, but %s has none", name, path);
+    return 0;
 }
 
 static int do_instance(Ctx *c, const Tokens *t)
@@ -318,16 +351,16 @@ static int do_instance(Ctx *c, const Tokens *t)
     uint32_t model;
     if (names_find(&c->models, t->tok[1], &model))
         return fail(c, "unknown model '%s' (define it with 'model %s FILE' first)", t->tok[1], t->tok[1]);
-    Instance in;
+    InstanceSpec sp;
     FieldSet given;
     const char *names[FIELD_MAX];
     int mat = -1;
-    if (read_new(c, &instance_kind, t, 2, 0, &in, sizeof in, &given, names) ||
+    if (read_new(c, &instance_kind, t, 2, 0, &sp, sizeof sp, &given, names) ||
         lookup_material(c, &instance_kind, names, "material", &mat))
         return -1;
-    in.model = model;
-    in.material = mat;
-    return scene_add_instance(c->s, in, c->err);
+    sp.in.model = model;
+    sp.in.material = mat;
+    return scene_add_instance(c->s, sp.in, c->err) || instance_takes(c, &sp, t->tok[1]) ? -1 : 0;
 }
 
 static int do_light(Ctx *c, const Tokens *t)
@@ -423,6 +456,9 @@ int scene_parse(char *text, size_t len, const char *name, const char *dir, const
     free(c.materials.items);
     free(c.textures.items);
     free(c.models.items);
+    for (uint32_t i = 0; i < c.model_path_count; i++)
+        free(c.model_paths[i]);
+    free(c.model_paths);
     if (rc) {
         scene_destroy(c.s);
         return -1;

@@ -59,4 +59,40 @@ set -- $env_lit $env_unlit
 same_on_simd_paths "$glb" "$dir/lit-1.png" 64 48 "the glTF's scene"
 "$BIN/lanray-render" "$glb" --width 64 --height 64 --aa 1 -o "$dir/ref.png" --quiet >/dev/null 2>&1 || fail "reference"
 verify_distributed lit "$glb" "$dir/ref.png" "of the glTF's camera and lights"
-echo "gltfscene: a Blender-exported glTF previewed by its own camera and lights (ball, box, floor, background: $got), on every SIMD path and through a server"
+# In a scene file: `instance MODEL lights camera` takes the glTF's lamps and
+# view, placed with the instance.  Under the preview's background and
+# ambient light, the preview's picture byte for byte; moved and turned, the
+# same picture (a few pixels a level apart: the placed numbers round);
+# without them a different one (no lamp, the default camera)
+cp "$glb" "$dir/lit.glb"
+cp "$dir/unlit.glb" "$dir/nolights.glb"
+look='background 0.16 0.17 0.2\nambient 0.16 0.17 0.2\nmodel room lit.glb\n'
+printf "${look}instance room lights camera\n" >"$dir/here.scene"
+printf "${look}instance room translate 10 -3 4 rotate 0 90 0 lights camera\n" >"$dir/moved.scene"
+printf "${look}instance room translate 10 -3 4 rotate 0 90 0\n" >"$dir/bare.scene"
+for sc in here moved bare; do
+    "$BIN/lanray-render" "$dir/$sc.scene" --width 64 --height 48 --aa 1 --linear -o "$dir/$sc.png" --quiet \
+        >"$dir/$sc.log" 2>&1 || fail "render $sc.scene: $(cat "$dir/$sc.log")"
+done
+cmp -s "$dir/lit.png" "$dir/here.png" || fail "a scene file's instance with the glTF's lights and camera should render the preview's picture"
+moved=$("$BIN/lanray-imgdiff" "$dir/here.png" "$dir/moved.png" 2>&1 | tail -1)
+python3 -c 'import re,sys; m=re.search(r"max difference (\d+), differing pixels (\d+)", sys.argv[1]); sys.exit(0 if m and int(m[1]) <= 2 and int(m[2]) <= 20 else 1)' "$moved" ||
+    fail "the moved instance's lights and camera should move with it: $moved"
+bare=$("$BIN/lanray-imgdiff" "$dir/here.png" "$dir/bare.png" 2>&1 | tail -1)
+python3 -c 'import re,sys; m=re.search(r"rmse ([0-9.]+)", sys.argv[1]); sys.exit(0 if m and float(m[1]) > 20 else 1)' "$bare" ||
+    fail "without lights and camera the instance should look otherwise: $bare"
+# asked of a file that has none: the file and line named, no picture
+printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n' >"$dir/tri.obj"
+printf 'model t tri.obj\ninstance t lights\n' >"$dir/obj.scene"
+printf 'model room nolights.glb\ninstance room camera\ninstance room lights\n' >"$dir/none.scene"
+for sc in obj:"only a glTF" none:"none.scene:3: instance 'room' takes its model's lights, but"; do
+    name=${sc%%:*} want=${sc#*:}
+    "$BIN/lanray-render" "$dir/$name.scene" -o "$dir/$name.png" --quiet >"$dir/$name.log" 2>&1 &&
+        fail "$name.scene: an instance taking what its file lacks should fail"
+    grep -qF "$want" "$dir/$name.log" || fail "$name.scene: the error should say '$want': $(cat "$dir/$name.log")"
+    [ ! -e "$dir/$name.png" ] || fail "$name.scene: a failed render left a picture"
+done
+"$BIN/lanray-render" "$dir/moved.scene" --width 64 --height 64 --aa 1 -o "$dir/moved-ref.png" --quiet >/dev/null 2>&1 ||
+    fail "reference of moved.scene"
+verify_distributed moved "$dir/moved.scene" "$dir/moved-ref.png" "of a scene file's glTF lights and camera"
+echo "gltfscene: a Blender-exported glTF previewed by its own camera and lights (ball, box, floor, background: $got), on every SIMD path and through a server; in a scene file the same picture by \`instance MODEL lights camera\`, moved with the instance ($moved)"

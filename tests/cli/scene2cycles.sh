@@ -61,4 +61,13 @@ refuse "a tinted rim" "material tint reflect 0.5 0.5 0.5 reflect_edge 1 0.9 0.8"
 { base; echo "material frost ior 1.5 roughness 0.4"; echo "light point position 0 2 0 attenuate"; } >"$dir/bad.scene"
 out=$(python3 "$S2C" --check "$dir/bad.scene" 2>&1) && fail "a light beside frosted glass taken: $out"
 case "$out" in *"beside frosted glass"*) ;; *) fail "a light beside frosted glass refused for another reason: $out" ;; esac
-echo "scene2cycles: $n Python tools compile; --check reads the Cycles reference scenes, maps point, round, sun and panel lights, refuses spots, unattenuated lights, lights beside frosted glass, tinted metal rims and unread keywords with their lines"
+# a glTF instance's own lights and camera (a scene without a camera line),
+# from a glTF only
+cp tests/data/gltf/lit.glb "$dir/lit.glb"
+printf 'model room lit.glb\ninstance room rotate 0 90 0 lights camera\n' >"$dir/gltf.scene"
+out=$(python3 "$S2C" --check "$dir/gltf.scene" 2>&1) || fail "a glTF instance's lights and camera refused: $out"
+printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n' >"$dir/tri.obj"
+printf 'camera position 0 0 5 lookat 0 0 0\nmodel t tri.obj\ninstance t lights\n' >"$dir/objlit.scene"
+out=$(python3 "$S2C" --check "$dir/objlit.scene" 2>&1) && fail "an OBJ instance's lights taken: $out"
+case "$out" in *"objlit.scene:3"*"from a glTF only"*) ;; *) fail "an OBJ instance's lights refused otherwise: $out" ;; esac
+echo "scene2cycles: $n Python tools compile; --check reads the Cycles reference scenes, maps point, round, sun and panel lights, refuses spots, unattenuated lights, lights beside frosted glass, tinted metal rims and unread keywords with their lines; takes a glTF instance's lights and camera"
