@@ -164,11 +164,11 @@ static const char *decode_items(Cursor *c, Scene *s, const AssetCache *cache, co
     if (bad)
         return bad;
     for (uint32_t i = 0; *rc == 0 && i < n[SEC_INSTANCES]; i++) {
-        Instance in;
+        InstanceSpec in; /* the kind's file-only fields (lights, camera) get their defaults there */
         memset(&in, 0, sizeof in);
         if (field_decode(&instance_kind, c, &in))
             return c->failed ? "truncated data" : "bad instance";
-        *rc = scene_add_instance(s, in, err);
+        *rc = scene_add_instance(s, in.in, err);
     }
     for (uint32_t i = 0; *rc == 0 && i < n[SEC_LIGHTS]; i++) {
         LightSpec l;
