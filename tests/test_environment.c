@@ -4,7 +4,8 @@
  * light over density integrates the image's light; a constant image's
  * irradiance is exact; the turn moves the image as a camera's yaw turns;
  * a sun is found (where it is, how bright) and left out of the harmonics;
- * a black image draws nothing.  And the texture it reads: a Radiance
+ * a black image draws nothing; its mip-map halves the image level by
+ * level and a wide footprint reads it.  And the texture it reads: a Radiance
  * .hdr keeps light beyond white, through its byte form too. */
 #include "helpers.h"
 
@@ -287,9 +288,57 @@ static void an_hdr_texture_keeps_light_beyond_white(void **state)
     texture_destroy(t);
 }
 
+/* Texel (x, y) numbered: its light x + 10 y on every channel. */
+static vec3 numbered(uint32_t x, uint32_t y, uint32_t w, uint32_t h)
+{
+    (void)w, (void)h;
+    return v3_splat((real)x + R(10) * (real)y);
+}
+
+/* The mip-map: each level the mean of the two by two above it (an odd
+ * row's or column's last texel the mean of what it covers), down to
+ * 1 x 1; a footprint within a texel reads the image itself (the same
+ * numbers as without one), a wide one a level's mean, a NaN or no
+ * footprint the image. */
+static void the_levels_halve_and_a_wide_footprint_reads_them(void **state)
+{
+    (void)state;
+    Texture *t = light_texture(5, 3, numbered);
+    Err err;
+    Environment *e = environment_create(t, R(2), R(0), &err);
+    assert_non_null(e);
+    assert_int_equal(e->levels, 4); /* 5 x 3, 3 x 2, 2 x 1, 1 x 1 */
+    assert_int_equal(e->lw[1], 3), assert_int_equal(e->lh[1], 2);
+    assert_int_equal(e->lw[2], 2), assert_int_equal(e->lh[2], 1);
+    assert_int_equal(e->lw[3], 1), assert_int_equal(e->lh[3], 1);
+    /* level 1: (0,0) the mean of 0 1 10 11; (2,0) of 4 14; (0,1) of 20 21; (2,1) texel 24 alone */
+    assert_true(fabsf(e->level[1][0] - 5.5f) < 1e-6f);
+    assert_true(fabsf(e->level[1][3 * 2] - 9.0f) < 1e-6f);
+    assert_true(fabsf(e->level[1][3 * 3] - 20.5f) < 1e-6f);
+    assert_true(fabsf(e->level[1][3 * 5] - 24.0f) < 1e-6f);
+    /* the last level: (mean of level 2's two texels) */
+    const float l2a = (5.5f + 7.5f + 20.5f + 22.5f) / 4, l2b = (9.0f + 24.0f) / 2;
+    assert_true(fabsf(e->level[2][0] - l2a) < 1e-5f && fabsf(e->level[2][3] - l2b) < 1e-5f);
+    assert_true(fabsf(e->level[3][0] - (l2a + l2b) / 2) < 1e-5f);
+    const vec3 d = v3(R(0.3), R(0.2), R(-0.9));
+    const vec3 plain = environment_radiance(e, d);
+    for (int k = 0; k < 4; k++) { /* within a texel, none and NaN: the image's very numbers */
+        const real wd[4] = {R(0.01), R(0), -R(1), (real)NAN};
+        const vec3 c = environment_radiance_over(e, d, wd[k]);
+        assert_memory_equal(&c, &plain, sizeof c);
+    }
+    const vec3 wide = environment_radiance_over(e, d, R(100)); /* the last level, times the gain */
+    assert_true(fabs((double)(wide.x - R(2) * (real)e->level[3][0])) < 1e-4);
+    const vec3 mid = environment_radiance_over(e, d, R(3)); /* between two levels: within the image's range */
+    assert_true(mid.x >= R(0) && mid.x <= R(2) * R(24) && !(fabs((double)(mid.x - plain.x)) < 1e-6));
+    environment_destroy(e);
+    texture_destroy(t);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
+        cmocka_unit_test(the_levels_halve_and_a_wide_footprint_reads_them),
         cmocka_unit_test(the_density_integrates_to_one_and_matches_the_draws),
         cmocka_unit_test(a_constant_image_lights_as_its_value),
         cmocka_unit_test(the_turn_moves_the_image_as_a_yaw),

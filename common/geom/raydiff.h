@@ -29,6 +29,15 @@ typedef struct {
     real w0, spread; /* the cone: extra width |w0 + t spread| at distance t */
 } RayDiff;
 
+/* The angle a ray's footprint spans far away (what it sees of an
+ * environment): its direction's larger change to the next sample, widened
+ * by its cone's spread. */
+static inline real raydiff_width(const RayDiff *rd)
+{
+    const real a = v3_len(rd->ddx), b = v3_len(rd->ddy);
+    return (a > b ? a : b) + fabs(rd->spread);
+}
+
 /* The footprint at the hit at distance t along unit direction d, on the
  * tangent plane of normal n: dP = dO + t dD + dt d, with dt keeping the
  * point on the plane (zero where d runs along the plane). */

@@ -861,7 +861,10 @@ int render_span(RenderPool *p, const World *w, int width, int height, uint64_t f
     f.cancel = cancel;
     f.progress = p->progress;
     f.linear = w->view.settings.linear;
-    f.diffs = world_uses(w, FEAT_TEXTURES | FEAT_CHECKER);
+    /* footprints where a texture or a checker is read, or an environment
+     * that the Whitted integrator reads over them (environment_levels.c) */
+    f.diffs = world_uses(w, FEAT_TEXTURES | FEAT_CHECKER) ||
+              (w->env && w->view.settings.integrator == INTEGRATOR_WHITTED && w->view.settings.filter >= FILTER_TRILINEAR);
     f.bpp = (int)render_pixel_bytes(&w->view.settings);
     f.cbpp = (int)render_colour_bytes(&w->view.settings);
     f.guided = render_guided(&w->view.settings);

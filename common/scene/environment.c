@@ -10,8 +10,7 @@
 /* the most light a texel may hold: a float's range over the texels' sums and a bilinear blend */
 #define ENV_MAX_LIGHT 1e30
 
-/* Image coordinates of direction d: u across, t down, each in [0, 1]. */
-static void env_uv(const Environment *e, vec3 d, real *u, real *t)
+void environment_uv(const Environment *e, vec3 d, real *u, real *t)
 {
     real a = atan2(d.z, d.x) / (R(2) * REAL_PI) + R(0.5) + e->turn;
     a -= floor(a);
@@ -219,6 +218,10 @@ Environment *environment_create(const Texture *t, real strength, real rotate, Er
         g.rings += sin((y + 0.5) / e->h * PI) * (PI / e->h);
     env_tables(e, &g, acc, row_sums);
     free(acc), free(cphi), free(sphi), free(row_sums);
+    if (environment_make_levels(e, err)) {
+        environment_destroy(e);
+        return NULL;
+    }
     return e;
 }
 
@@ -229,6 +232,8 @@ void environment_destroy(Environment *e)
     free(e->rows);
     free(e->cols);
     free(e->sun_mask);
+    for (uint32_t l = 1; l < e->levels; l++)
+        free(e->level[l]);
     free(e);
 }
 
@@ -236,16 +241,9 @@ void environment_destroy(Environment *e)
  * centres, across the seam in u, held at the poles in t. */
 static vec3 light_at(const Environment *e, real u, real t, int sunless)
 {
-    const real fx = u * (real)e->w - R(0.5), fy = t * (real)e->h - R(0.5);
-    /* floor by truncation, a step down below zero (libm's floor is a call on the baseline x86-64) */
-    int64_t x0 = (int64_t)fx, y0 = (int64_t)fy; /* u in [0, 1): x0 from -1 to w - 1 */
-    x0 -= (real)x0 > fx, y0 -= (real)y0 > fy;
-    const real ax = fx - (real)x0, ay = fy - (real)y0;
-    const uint32_t xa = x0 < 0 ? e->w - 1 : (uint32_t)x0, xb = xa + 1 < e->w ? xa + 1 : 0;
-    const uint32_t ya = y0 < 0 ? 0 : (uint32_t)y0, yb = y0 + 1 >= (int64_t)e->h ? e->h - 1 : (uint32_t)(y0 + 1);
-    const size_t at[4] = {(size_t)ya * e->w + xa, (size_t)ya * e->w + xb, (size_t)yb * e->w + xa,
-                          (size_t)yb * e->w + xb};
-    const real wq[4] = {(R(1) - ax) * (R(1) - ay), ax * (R(1) - ay), (R(1) - ax) * ay, ax * ay};
+    size_t at[4];
+    real wq[4];
+    environment_corners(e->w, e->h, u, t, at, wq);
     /* the four texels' blend, times the gain once (the blend is linear) */
     real c[3] = {R(0), R(0), R(0)};
     if (e->hdr && !(sunless && e->sun_mask)) { /* a .hdr's light, as drawn and where paths leave */
@@ -267,14 +265,14 @@ static vec3 light_at(const Environment *e, real u, real t, int sunless)
 vec3 environment_radiance(const Environment *e, vec3 d)
 {
     real u, t;
-    env_uv(e, d, &u, &t);
+    environment_uv(e, d, &u, &t);
     return light_at(e, u, t, 0);
 }
 
 vec3 environment_radiance_sunless(const Environment *e, vec3 d)
 {
     real u, t;
-    env_uv(e, d, &u, &t);
+    environment_uv(e, d, &u, &t);
     return light_at(e, u, t, 1);
 }
 
@@ -340,7 +338,7 @@ static real dir_density(const Environment *e, vec3 d, real u, real t)
 vec3 environment_seen(const Environment *e, vec3 d, real *pdf)
 {
     real u, t;
-    env_uv(e, d, &u, &t);
+    environment_uv(e, d, &u, &t);
     *pdf = dir_density(e, d, u, t);
     return light_at(e, u, t, 0);
 }
@@ -348,7 +346,7 @@ vec3 environment_seen(const Environment *e, vec3 d, real *pdf)
 real environment_pdf(const Environment *e, vec3 d)
 {
     real u, t;
-    env_uv(e, d, &u, &t);
+    environment_uv(e, d, &u, &t);
     return dir_density(e, d, u, t);
 }
 

@@ -30,6 +30,9 @@
 #include "base/vec.h"
 #include "model/texture.h"
 
+/* Levels of the image's mip-map: 1 (the image) + 15 down to 1 x 1 from 16384 wide. */
+#define ENV_MAX_LEVELS 16
+
 typedef struct {
     uint32_t w, h;
     const float *hdr;      /* the texture's light (Texture.hdr), or NULL: */
@@ -47,6 +50,9 @@ typedef struct {
     uint8_t *sun_mask;     /* a bit a texel, set for the sun's (NULL without a sun) */
     real sun_fill[3];      /* the mean light of the texels round the sun, which stands in for it
                             * (before the gain, as the texels are stored) */
+    uint32_t levels;       /* 1 + the box-filtered levels below the image (environment_levels.c) */
+    uint32_t lw[ENV_MAX_LEVELS], lh[ENV_MAX_LEVELS];
+    float *level[ENV_MAX_LEVELS]; /* level l >= 1: lw x lh texels, 3 floats each, before the gain */
 } Environment;
 
 /* The environment of texture t (its .hdr light where it has one, else its
@@ -58,6 +64,37 @@ void environment_destroy(Environment *e);
 
 /* The light arriving from direction d (any length; bilinear in the image). */
 vec3 environment_radiance(const Environment *e, vec3 d);
+/* Image coordinates of direction d: u across, t down, each in [0, 1]. */
+void environment_uv(const Environment *e, vec3 d, real *u, real *t);
+
+/* The four texels (row-major indices) round image point (u, t) of a w x h
+ * image and their bilinear weights: between texel centres, across the
+ * seam in u, held at the poles in t.  (For the image and its levels.) */
+static inline void environment_corners(uint32_t w, uint32_t h, real u, real t, size_t at[4], real wq[4])
+{
+    const real fx = u * (real)w - R(0.5), fy = t * (real)h - R(0.5);
+    /* floor by truncation, a step down below zero (libm's floor is a call on the baseline x86-64) */
+    int64_t x0 = (int64_t)fx, y0 = (int64_t)fy; /* u in [0, 1): x0 from -1 to w - 1 */
+    x0 -= (real)x0 > fx, y0 -= (real)y0 > fy;
+    const real ax = fx - (real)x0, ay = fy - (real)y0;
+    const uint32_t xa = x0 < 0 ? w - 1 : (uint32_t)x0, xb = xa + 1 < w ? xa + 1 : 0;
+    const uint32_t ya = y0 < 0 ? 0 : (uint32_t)y0, yb = y0 + 1 >= (int64_t)h ? h - 1 : (uint32_t)(y0 + 1);
+    at[0] = (size_t)ya * w + xa, at[1] = (size_t)ya * w + xb, at[2] = (size_t)yb * w + xa, at[3] = (size_t)yb * w + xb;
+    wq[0] = (R(1) - ax) * (R(1) - ay), wq[1] = ax * (R(1) - ay), wq[2] = (R(1) - ax) * ay, wq[3] = ax * ay;
+}
+
+/* environment_levels.c: the image's mip-map, each level the one above
+ * box-filtered to half its size, down to 1 x 1, made when the environment
+ * is (in one order, in double: every client the same floats); 0, or -1
+ * out of memory. */
+int environment_make_levels(Environment *e, Err *err);
+/* The light arriving from direction d seen over a footprint `width`
+ * radians wide (a sample's, from its ray differentials): bilinear in the
+ * image where the footprint spans at most a texel (environment_radiance's
+ * very numbers), else trilinear between the two levels whose texels span
+ * it, so that a mirror ball or a wide lens that shrinks the panorama
+ * shows its mean and does not alias. */
+vec3 environment_radiance_over(const Environment *e, vec3 d, real width);
 /* A direction drawn by importance from two numbers in [0, 1): its light
  * and its density over solid angle; 0 where the image is black. */
 int environment_sample(const Environment *e, real u1, real u2, vec3 *dir, vec3 *light, real *pdf);

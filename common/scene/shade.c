@@ -1290,7 +1290,9 @@ static inline __attribute__((always_inline)) void shade_rays_at(const World *w, 
              * its sun, a light of its own here whose lobe shows it) */
             out[i] = !w->env   ? w->background
                      : sunless ? environment_radiance_sunless(w->env, rays[i].dir)
-                               : environment_radiance(w->env, rays[i].dir);
+                     : diffs && w->view.settings.filter >= FILTER_TRILINEAR
+                         ? environment_radiance_over(w->env, rays[i].dir, raydiff_width(&diffs[i]))
+                         : environment_radiance(w->env, rays[i].dir);
             if (keys)
                 keys[i] = UINT64_MAX;
             continue;

@@ -147,4 +147,24 @@ for integ in whitted path; do
     same_on_simd_paths "$dir/sky-$integ.scene" "$dir/sky-$integ-1.png" 64 64 "the sky ($integ)"
     verify_distributed "sky-$integ" "$dir/sky-$integ.scene" "$dir/sky-$integ-1.png" "under an environment ($integ)"
 done
-echo "environment: a white ball in a grey furnace shows 0.5 (codes $furnace, path-traced; Whitted's too); the sky by NEE alone and by bounces alone = MIS (6x6 blocks: $nee_err and $bsdf_err, light $nee_ratio and $bsdf_ratio); Whitted's with the sun's shadows $w_err from it (light $w_ratio; without shadows $w0_err); rotate turns it as a yaw; bad input refused by file and line; --environment on the command line as in the file; on every SIMD path and through a server"
+# a mirror ball shrinks a fine checker panorama: at one sample a pixel the
+# mip-map (the default filter) shows the checks' mean, close to the picture
+# of 16 x 16 samples, where the image read at a point (bilinear) aliases;
+# where the camera sees the panorama magnified both read the image itself
+python3 tests/tools/envmap.py "$dir/chk.hdr" checker 1024 512 2
+printf 'camera position 0 0 4 lookat 0 0 0 fov 40\ntexture sky chk.hdr\nenvironment texture sky\n' >"$dir/chk-bare.scene"
+{ cat "$dir/chk-bare.scene"; printf 'material chrome diffuse 0 0 0 reflect 0.9 0.9 0.9\nsphere centre 0 0 0 radius 1 material chrome\n'; } >"$dir/chk.scene"
+for f in anisotropic bilinear; do
+    "$BIN/lanray-render" "$dir/chk.scene" --width 80 --height 60 --aa 1 --filter $f -o "$dir/chk-$f.png" --quiet \
+        >/dev/null 2>&1 || fail "render the mirror ball ($f)"
+    "$BIN/lanray-render" "$dir/chk-bare.scene" --width 80 --height 60 --aa 1 --filter $f -o "$dir/bare-$f.png" --quiet \
+        >/dev/null 2>&1 || fail "render the bare panorama ($f)"
+done
+"$BIN/lanray-render" "$dir/chk.scene" --width 80 --height 60 --aa 16 --filter bilinear -o "$dir/chk-ref.png" --quiet \
+    >/dev/null 2>&1 || fail "render the mirror ball's reference"
+cmp -s "$dir/bare-anisotropic.png" "$dir/bare-bilinear.png" || fail "a magnified panorama should read the image itself under every filter"
+mip=$("$BIN/lanray-imgdiff" "$dir/chk-ref.png" "$dir/chk-anisotropic.png" 2>&1 | tail -1 | sed 's/.*rmse \([0-9.]*\).*/\1/')
+point=$("$BIN/lanray-imgdiff" "$dir/chk-ref.png" "$dir/chk-bilinear.png" 2>&1 | tail -1 | sed 's/.*rmse \([0-9.]*\).*/\1/')
+python3 -c 'import sys; m, p = map(float, sys.argv[1:]); sys.exit(0 if m < 0.5 * p else 1)' "$mip" "$point" ||
+    fail "a mirror ball's panorama at one sample: RMSE $mip with the mip-map against $point without, from 16 x 16 samples"
+echo "environment: a white ball in a grey furnace shows 0.5 (codes $furnace, path-traced; Whitted's too); the sky by NEE alone and by bounces alone = MIS (6x6 blocks: $nee_err and $bsdf_err, light $nee_ratio and $bsdf_ratio); Whitted's with the sun's shadows $w_err from it (light $w_ratio; without shadows $w0_err); rotate turns it as a yaw; bad input refused by file and line; --environment on the command line as in the file; a mirror ball's panorama at one sample RMSE $mip from 16 x 16 samples with the mip-map, $point without; on every SIMD path and through a server"

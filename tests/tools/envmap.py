@@ -5,6 +5,7 @@ light, or a sky over a ground with a round sun (equirectangular, as lanray's
 
     python3 tests/tools/envmap.py OUT.hdr constant W H R G B
     python3 tests/tools/envmap.py OUT.hdr sky W H SUN_U SUN_V SUN_RADIUS SUN_LIGHT
+    python3 tests/tools/envmap.py OUT.hdr checker W H SQUARE (texels a side: black and white)
 """
 import math
 import sys
@@ -48,6 +49,9 @@ def main():
     if a[1] == "constant":
         c = tuple(float(v) for v in a[4:7])
         write_hdr(a[0], w, h, lambda u, t: c)
+    elif a[1] == "checker":
+        n = int(a[4])
+        write_hdr(a[0], w, h, lambda u, t: (1.0,) * 3 if (int(u * w) // n + int(t * h) // n) % 2 else (0.0,) * 3)
     else:
         write_hdr(a[0], w, h, sky(*(float(v) for v in a[4:8])))
 

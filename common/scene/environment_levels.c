@@ -1,0 +1,97 @@
+/* environment_levels.c - the environment's mip-map and its light over a
+ * footprint (environment.h).
+ *
+ * A mirror ball, glass or a fisheye lens shrinks the panorama: one sample
+ * a pixel then reads one texel of the many its footprint covers, and the
+ * reflection sparkles and crawls as the view moves.  Each level halves the
+ * one above (a texel the mean of the two by two above it; an odd row or
+ * column's last texel the mean of what it covers), and a sample reads the
+ * level whose texels span its footprint, as textures do (texture.h).  The
+ * footprint's width counts in texels across (its arc over the row's
+ * circumference, which shrinks towards the poles) and down, the larger of
+ * the two: blurred along a row near the poles rather than aliased. */
+#include "scene/environment.h"
+
+#include <math.h>
+#include <stdlib.h>
+
+#include "base/srgb.h"
+
+#define PI 3.14159265358979323846
+
+/* Channel k of the image's texel (x, y), before the gain. */
+static double image_texel(const Environment *e, uint32_t x, uint32_t y, int k)
+{
+    const size_t i = 3 * ((size_t)y * e->w + x) + (size_t)k;
+    return e->hdr ? (double)e->hdr[i] : (double)srgb_decode8[e->codes[i]];
+}
+
+/* Channel k of texel (x, y) of level l (0: the image). */
+static double level_texel(const Environment *e, uint32_t l, uint32_t x, uint32_t y, int k)
+{
+    return l == 0 ? image_texel(e, x, y, k) : (double)e->level[l][3 * ((size_t)y * e->lw[l] + x) + (size_t)k];
+}
+
+int environment_make_levels(Environment *e, Err *err)
+{
+    e->levels = 1, e->lw[0] = e->w, e->lh[0] = e->h;
+    while (e->levels < ENV_MAX_LEVELS && (e->lw[e->levels - 1] > 1 || e->lh[e->levels - 1] > 1)) {
+        const uint32_t l = e->levels, pw = e->lw[l - 1], ph = e->lh[l - 1];
+        const uint32_t w = (pw + 1) / 2, h = (ph + 1) / 2;
+        float *out = malloc((size_t)w * h * 3 * sizeof *out);
+        if (!out)
+            return err_set(err, "scene: out of memory for the environment's mip-map (%ux%u)", w, h);
+        for (uint32_t y = 0; y < h; y++)
+            for (uint32_t x = 0; x < w; x++) {
+                const uint32_t x1 = 2 * x + 1 < pw ? 2 * x + 1 : 2 * x, y1 = 2 * y + 1 < ph ? 2 * y + 1 : 2 * y;
+                const double n = (double)((x1 - 2 * x + 1) * (y1 - 2 * y + 1));
+                for (int k = 0; k < 3; k++) {
+                    double s = 0.0;
+                    for (uint32_t sy = 2 * y; sy <= y1; sy++)
+                        for (uint32_t sx = 2 * x; sx <= x1; sx++)
+                            s += level_texel(e, l - 1, sx, sy, k);
+                    out[3 * ((size_t)y * w + x) + (size_t)k] = (float)(s / n);
+                }
+            }
+        e->level[l] = out, e->lw[l] = w, e->lh[l] = h;
+        e->levels++;
+    }
+    return 0;
+}
+
+/* Level l (>= 1) at image point (u, t), bilinear (environment_corners),
+ * times the gain. */
+static vec3 level_at(const Environment *e, uint32_t l, real u, real t)
+{
+    size_t at[4];
+    real wq[4];
+    environment_corners(e->lw[l], e->lh[l], u, t, at, wq);
+    const float *p[4] = {&e->level[l][3 * at[0]], &e->level[l][3 * at[1]], &e->level[l][3 * at[2]], &e->level[l][3 * at[3]]};
+    real c[3];
+    for (int k = 0; k < 3; k++)
+        c[k] = (wq[0] * (real)p[0][k] + wq[1] * (real)p[1][k] + wq[2] * (real)p[2][k] + wq[3] * (real)p[3][k]) * e->gain;
+    return v3(c[0], c[1], c[2]);
+}
+
+vec3 environment_radiance_over(const Environment *e, vec3 d, real width)
+{
+    if (!(width > R(0)) || e->levels < 2)
+        return environment_radiance(e, d);
+    real u, t;
+    environment_uv(e, d, &u, &t);
+    /* texels the footprint spans: across, its arc over the row's circle
+     * (the cosine of the elevation, kept off 0), and down */
+    const real c = real_max(sin(t * (real)PI), R(1) / (real)e->w);
+    const real across = width * (real)e->w / (R(2) * (real)PI * c), down = width * (real)e->h / (real)PI;
+    const real lod = log2(real_max(across, down));
+    if (!(lod > R(0))) /* magnified: the image itself, as without a footprint */
+        return environment_radiance(e, d);
+    const real top = (real)(e->levels - 1);
+    const real at = lod < top ? lod : top;
+    const uint32_t l = (uint32_t)at;
+    const real f = at - (real)l;
+    const vec3 a = l == 0 ? environment_radiance(e, d) : level_at(e, l, u, t);
+    if (f == R(0) || l + 1 >= e->levels)
+        return a;
+    return v3_lerp(a, level_at(e, l + 1, u, t), f);
+}
