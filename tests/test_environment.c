@@ -198,6 +198,17 @@ static void a_sun_is_found_and_taken_out_of_the_harmonics(void **state)
         for (int k = 0; k < 3; k++)
             assert_true(fabs(a.e[k] - c.e[k]) < R(0.01) * c.e[k]);
     }
+    /* its mip-map without the sun (only an image with a sun has one): over
+     * a wide footprint at the sun the sky round it, where the mip-map with it
+     * holds the sun's light spread; within a texel the sunless image itself */
+    assert_non_null(e->sunless[1]);
+    assert_null(b->sunless[1]);
+    const vec3 wide = environment_radiance_over(e, want, R(0.4)), dark = environment_radiance_sunless_over(e, want, R(0.4));
+    const vec3 sky_there = environment_radiance_over(b, want, R(0.4));
+    assert_true(fabs(dark.z - sky_there.z) < R(0.05) * sky_there.z);
+    assert_true(wide.x > R(2) * dark.x);
+    const vec3 near = environment_radiance_sunless_over(e, want, R(0.001)), point = environment_radiance_sunless(e, want);
+    assert_memory_equal(&near, &point, sizeof near);
     environment_destroy(e);
     environment_destroy(b);
     environment_destroy(f);

@@ -34,11 +34,6 @@ static inline void texel(const Environment *e, size_t i, real c[3])
         c[k] = texel_raw(e, i, k) * e->gain;
 }
 
-/* Whether texel i is the sun's (Environment.sun_mask). */
-static inline int sun_masked(const Environment *e, size_t i)
-{
-    return e->sun_mask && (e->sun_mask[i / 8] >> (i % 8) & 1);
-}
 
 /* The weight a texel's light gives its solid angle: its channels' mean. */
 static double texel_weight(const real *c) { return ((double)c[0] + (double)c[1] + (double)c[2]) / 3.0; }
@@ -157,7 +152,7 @@ static void env_tables(Environment *e, const Grid *g, double *acc, double *row_s
             real c[3];
             texel(e, (size_t)y * w + x, c);
             acc[x + 1] = acc[x] + texel_weight(c) * sn;
-            if (sun_masked(e, (size_t)y * w + x))
+            if (environment_sun_texel(e, (size_t)y * w + x))
                 continue; /* the sun's: its own light for the Whitted integrator */
             const vec3 d = grid_dir(g, x, sn, cs);
             double b[9];
@@ -233,7 +228,7 @@ void environment_destroy(Environment *e)
     free(e->cols);
     free(e->sun_mask);
     for (uint32_t l = 1; l < e->levels; l++)
-        free(e->level[l]);
+        free(e->level[l]), free(e->sunless[l]);
     free(e);
 }
 
@@ -254,7 +249,7 @@ static vec3 light_at(const Environment *e, real u, real t, int sunless)
         return v3(c[0] * e->gain, c[1] * e->gain, c[2] * e->gain);
     }
     for (int q = 0; q < 4; q++) {
-        const real *fill = sunless && sun_masked(e, at[q]) ? e->sun_fill : NULL;
+        const real *fill = sunless && environment_sun_texel(e, at[q]) ? e->sun_fill : NULL;
         for (int k = 0; k < 3; k++) {
             c[k] += wq[q] * (fill ? fill[k] : texel_raw(e, at[q], k));
         }

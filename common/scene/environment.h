@@ -53,7 +53,15 @@ typedef struct {
     uint32_t levels;       /* 1 + the box-filtered levels below the image (environment_levels.c) */
     uint32_t lw[ENV_MAX_LEVELS], lh[ENV_MAX_LEVELS];
     float *level[ENV_MAX_LEVELS]; /* level l >= 1: lw x lh texels, 3 floats each, before the gain */
+    float *sunless[ENV_MAX_LEVELS]; /* the same of the image without its sun (its texels filled,
+                                     * as environment_radiance_sunless reads it); only with a sun */
 } Environment;
+
+/* Whether texel i (row-major) is the sun's (Environment.sun_mask). */
+static inline int environment_sun_texel(const Environment *e, size_t i)
+{
+    return e->sun_mask && (e->sun_mask[i / 8] >> (i % 8) & 1);
+}
 
 /* The environment of texture t (its .hdr light where it has one, else its
  * sRGB colours), times strength, turned by rotate degrees about +y; it
@@ -95,6 +103,9 @@ int environment_make_levels(Environment *e, Err *err);
  * it, so that a mirror ball or a wide lens that shrinks the panorama
  * shows its mean and does not alias. */
 vec3 environment_radiance_over(const Environment *e, vec3 d, real width);
+/* The same of the image without its sun (environment_radiance_sunless):
+ * what a rough metal's or frosted glass's ray sees over its cone. */
+vec3 environment_radiance_sunless_over(const Environment *e, vec3 d, real width);
 /* A direction drawn by importance from two numbers in [0, 1): its light
  * and its density over solid angle; 0 where the image is black. */
 int environment_sample(const Environment *e, real u1, real u2, vec3 *dir, vec3 *light, real *pdf);

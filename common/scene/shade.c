@@ -1288,11 +1288,12 @@ static inline __attribute__((always_inline)) void shade_rays_at(const World *w, 
         if (hits[i].kind == HIT_NONE) {
             /* (a rough metal's and frosted glass's rays see the sky without
              * its sun, a light of its own here whose lobe shows it) */
-            out[i] = !w->env   ? w->background
+            const int wide = diffs && w->view.settings.filter >= FILTER_TRILINEAR; /* a footprint: its mip-map */
+            out[i] = !w->env ? w->background
+                     : wide  ? (sunless ? environment_radiance_sunless_over : environment_radiance_over)(
+                                  w->env, rays[i].dir, raydiff_width(&diffs[i]))
                      : sunless ? environment_radiance_sunless(w->env, rays[i].dir)
-                     : diffs && w->view.settings.filter >= FILTER_TRILINEAR
-                         ? environment_radiance_over(w->env, rays[i].dir, raydiff_width(&diffs[i]))
-                         : environment_radiance(w->env, rays[i].dir);
+                               : environment_radiance(w->env, rays[i].dir);
             if (keys)
                 keys[i] = UINT64_MAX;
             continue;
