@@ -238,6 +238,35 @@ static void directive(const FieldKind *k, int v, int fi, char *buf, size_t size,
 
 /* Every key of every directive: parsed, it holds the value given; sent,
  * it comes back the same. */
+/* Every field of every kind lies within the item its kind says it
+ * addresses (FieldKind.size: the spec, file-only fields included), so that
+ * field_defaults and field_decode, given at least that, write nothing past
+ * it (a decoder once filled an instance's file-only fields past the
+ * Instance on its stack); and an item smaller than that stops the program
+ * rather than be written past. */
+static void every_field_lies_within_its_item(void **state)
+{
+    (void)state;
+    const FieldKind *const kinds[] = {&camera_kind, &settings_kind, &material_kind, &sphere_kind, &plane_kind,
+                                      &triangle_kind, &model_kind, &instance_kind, &light_kind, &environment_kind};
+    for (size_t i = 0; i < sizeof kinds / sizeof *kinds; i++) {
+        const FieldKind *k = kinds[i];
+        assert_true(k->size > 0);
+        for (uint32_t j = 0; j < k->count; j++) {
+            const Field *f = &k->fields[j];
+            const size_t bytes = f->type == FIELD_REAL ? sizeof(real)
+                                 : f->type == FIELD_VEC ? sizeof(vec3)
+                                 : f->type == FIELD_REALS ? (size_t)f->n * sizeof(real)
+                                                          : sizeof(int);
+            if (f->off + bytes > k->size)
+                fail_msg("%s's '%s' at %zu + %zu, past its %zu bytes", k->name, f->key, f->off, bytes, k->size);
+        }
+        if (k->variants)
+            assert_true(k->variant_off + sizeof(int) <= k->size);
+    }
+    assert_true(sizeof(InstanceSpec) > sizeof(Instance) && instance_kind.size == sizeof(InstanceSpec));
+}
+
 static void every_key_parses_and_travels(void **state)
 {
     (void)state;
@@ -298,7 +327,7 @@ static void every_key_parses_and_travels(void **state)
                     Material m;
                     Sphere sp;
                     Plane p;
-                    Instance in;
+                    InstanceSpec in;
                     SceneEnvironment env;
                     CameraSpec c;
                     SettingsSpec st;
@@ -307,7 +336,7 @@ static void every_key_parses_and_travels(void **state)
                 } back;
                 memset(&back, 0, sizeof back);
                 Cursor c = cursor_make(blob.data, blob.len);
-                assert_int_equal(field_decode(k, &c, &back), 0);
+                assert_int_equal(field_decode(k, &c, &back, sizeof back), 0);
                 assert_int_equal(c.left, 0);
                 for (uint32_t w = 0; w < k->count; w++) {
                     const Field *wf = &k->fields[w];
@@ -336,6 +365,7 @@ int main(int argc, char **argv)
         return write_tables(DOC, 0) || write_tables(PROTOCOL, 1);
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(docs_show_every_table),
+        cmocka_unit_test(every_field_lies_within_its_item),
         cmocka_unit_test(every_key_parses_and_travels),
     };
     return cmocka_run_group_tests_name("fields", tests, NULL, NULL);

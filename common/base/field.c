@@ -3,6 +3,7 @@
 
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "base/opt.h"
@@ -22,8 +23,12 @@ static const real *real_at_c(const Field *f, const void *item) { return (const r
 static int *int_at(const Field *f, void *item) { return (int *)((char *)item + f->off); }
 static const int *int_at_c(const Field *f, const void *item) { return (const int *)((const char *)item + f->off); }
 
-void field_defaults(const FieldKind *k, void *item, int variant)
+void field_defaults(const FieldKind *k, void *item, size_t size, int variant)
 {
+    if (size < k->size) { /* a caller's error, not the input's */
+        fprintf(stderr, "field_defaults: %zu bytes for an item of kind %s, which addresses %zu\n", size, k->name, k->size);
+        abort();
+    }
     for (uint32_t i = 0; i < k->count; i++) {
         const Field *f = &k->fields[i];
         if (!takes(f, variant))
@@ -358,7 +363,7 @@ void field_encode(const FieldKind *k, const void *item, Sink *out)
     walk_fields(k, variant, groups, (void *)item, out, NULL); /* only read from */
 }
 
-int field_decode(const FieldKind *k, Cursor *c, void *item)
+int field_decode(const FieldKind *k, Cursor *c, void *item, size_t size)
 {
     int variant = 0;
     if (k->variants) {
@@ -367,7 +372,7 @@ int field_decode(const FieldKind *k, Cursor *c, void *item)
             return -1;
         variant = (int)v;
     }
-    field_defaults(k, item, variant);
+    field_defaults(k, item, size, variant);
     if (k->variants)
         *(int *)((char *)item + k->variant_off) = variant;
     uint32_t groups = k->group_count ? cursor_u32(c) : 0;

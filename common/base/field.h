@@ -85,6 +85,8 @@ typedef struct {
     const char *const *variants; /* the variants' words (light kinds), NULL-terminated; NULL: none */
     size_t variant_off;        /* where the item keeps its variant (an int) */
     uint32_t group_count;      /* group bits in use: 0 for a kind without groups */
+    size_t size;               /* the bytes of the item (its spec) the offsets address, file-only fields
+                                * included: field_defaults and field_decode are given at least these */
 } FieldKind;
 
 /* Which fields a directive gave: bit i for field i; a kind has at most
@@ -93,8 +95,11 @@ typedef uint64_t FieldSet;
 #define FIELD_MAX 64
 
 /* Every field of item that the variant takes (0 for a kind without) at
- * its default, FIELD_FILE fields included; the rest is left alone. */
-void field_defaults(const FieldKind *k, void *item, int variant);
+ * its default, FIELD_FILE fields included; the rest is left alone.  item
+ * holds `size` bytes, at least the kind's (an item smaller than its spec,
+ * whose file-only fields lie past it, stops the program: a write past it
+ * would go unseen). */
+void field_defaults(const FieldKind *k, void *item, size_t size, int variant);
 
 /* The keys of tokens [start, n) of a directive into item, which holds its
  * defaults: unknown, repeated, malformed and out-of-range keys, missing
@@ -131,7 +136,7 @@ void field_encode(const FieldKind *k, const void *item, Sink *out);
 /* ... and back, into an item that is all zero: it holds the fields'
  * defaults where a group is absent.  Returns -1 on an unknown variant or
  * group bits, or truncation. */
-int field_decode(const FieldKind *k, Cursor *c, void *item);
+int field_decode(const FieldKind *k, Cursor *c, void *item, size_t size);
 /* The fewest bytes an item takes on the wire: to bound counts by the bytes left. */
 uint32_t field_min_bytes(const FieldKind *k);
 

@@ -296,7 +296,7 @@ static int read_materials(Cursor *c, const Header *hd, Model *m, const char *nam
     for (uint32_t i = 0; i < hd->mats && hd->version >= TMD_VERSION_FIELDS; i++) {
         Material *mt = &m->materials[i];
         memset(mt, 0, sizeof *mt);
-        if (field_decode(&material_kind, c, mt))
+        if (field_decode(&material_kind, c, mt, sizeof *mt))
             return err_set(err, "%s: material %u is %s", name, i, c->failed ? "cut short" : "malformed (unknown groups)");
         if (!material_textures_in(mt, (int32_t)hd->texs))
             return err_set(err,

@@ -74,19 +74,19 @@ static const char *decode_head(Cursor *c, Scene *s, uint32_t n[SECTIONS])
 {
     CameraSpec cam;
     memset(&cam, 0, sizeof cam);
-    if (field_decode(&camera_kind, c, &cam))
+    if (field_decode(&camera_kind, c, &cam, sizeof cam))
         return c->failed ? "truncated header" : "bad camera";
     s->camera = cam.cam;
     s->ambient = get_vec(c);
     s->background = get_vec(c);
     SceneEnvironment env;
     memset(&env, 0, sizeof env);
-    if (field_decode(&environment_kind, c, &env))
+    if (field_decode(&environment_kind, c, &env, sizeof env))
         return c->failed ? "truncated header" : "bad environment";
     s->environment = env;
     SettingsSpec set;
     memset(&set, 0, sizeof set);
-    if (field_decode(&settings_kind, c, &set))
+    if (field_decode(&settings_kind, c, &set, sizeof set))
         return c->failed ? "truncated header" : "bad settings";
     s->settings = set.rs;
     cursor_get(c, n, SECTIONS * sizeof *n);
@@ -135,28 +135,28 @@ static const char *decode_items(Cursor *c, Scene *s, const AssetCache *cache, co
     for (uint32_t i = 0; *rc == 0 && i < n[SEC_MATERIALS]; i++) {
         Material m;
         memset(&m, 0, sizeof m);
-        if (field_decode(&material_kind, c, &m))
+        if (field_decode(&material_kind, c, &m, sizeof m))
             return c->failed ? "truncated data" : "bad material";
         *rc = scene_add_material(s, m, NULL, err);
     }
     for (uint32_t i = 0; *rc == 0 && i < n[SEC_SPHERES]; i++) {
         Sphere sp;
         memset(&sp, 0, sizeof sp);
-        if (field_decode(&sphere_kind, c, &sp))
+        if (field_decode(&sphere_kind, c, &sp, sizeof sp))
             return c->failed ? "truncated data" : "bad sphere";
         *rc = scene_add_sphere(s, sp, err);
     }
     for (uint32_t i = 0; *rc == 0 && i < n[SEC_PLANES]; i++) {
         Plane p;
         memset(&p, 0, sizeof p);
-        if (field_decode(&plane_kind, c, &p))
+        if (field_decode(&plane_kind, c, &p, sizeof p))
             return c->failed ? "truncated data" : "bad plane";
         *rc = scene_add_plane(s, p, err);
     }
     for (uint32_t i = 0; *rc == 0 && i < n[SEC_TRIANGLES]; i++) {
         TriSpec t;
         memset(&t, 0, sizeof t);
-        if (field_decode(&triangle_kind, c, &t))
+        if (field_decode(&triangle_kind, c, &t, sizeof t))
             return c->failed ? "truncated data" : "bad triangle";
         *rc = scene_add_tri_spec(s, &t, err);
     }
@@ -166,14 +166,14 @@ static const char *decode_items(Cursor *c, Scene *s, const AssetCache *cache, co
     for (uint32_t i = 0; *rc == 0 && i < n[SEC_INSTANCES]; i++) {
         InstanceSpec in; /* the kind's file-only fields (lights, camera) get their defaults there */
         memset(&in, 0, sizeof in);
-        if (field_decode(&instance_kind, c, &in))
+        if (field_decode(&instance_kind, c, &in, sizeof in))
             return c->failed ? "truncated data" : "bad instance";
         *rc = scene_add_instance(s, in.in, err);
     }
     for (uint32_t i = 0; *rc == 0 && i < n[SEC_LIGHTS]; i++) {
         LightSpec l;
         memset(&l, 0, sizeof l);
-        if (field_decode(&light_kind, c, &l))
+        if (field_decode(&light_kind, c, &l, sizeof l))
             return c->failed ? "truncated data" : "bad light";
         *rc = scene_add_light(s, l.l, err);
     }
@@ -237,9 +237,9 @@ int wire_decode_view(const void *data, size_t len, View *out, Err *err)
     SettingsSpec set;
     memset(&cam, 0, sizeof cam);
     memset(&set, 0, sizeof set);
-    if (field_decode(&camera_kind, &c, &cam))
+    if (field_decode(&camera_kind, &c, &cam, sizeof cam))
         return err_set(err, "view: %s", c.failed ? "truncated camera" : "bad camera");
-    if (field_decode(&settings_kind, &c, &set))
+    if (field_decode(&settings_kind, &c, &set, sizeof set))
         return err_set(err, "view: %s", c.failed ? "truncated settings" : "bad settings");
     if (c.left != 0)
         return err_set(err, "view: %zu trailing bytes", c.left);

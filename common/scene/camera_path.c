@@ -47,7 +47,7 @@ static int read_key(const Tokens *t, const char *name, int line, real prev_t, in
     const char *names[FIELD_MAX];
     char at[512];
     memset(&sp, 0, sizeof sp);
-    field_defaults(&camera_kind, &sp, 0);
+    field_defaults(&camera_kind, &sp, sizeof sp, 0);
     snprintf(at, sizeof at, "%s:%d", name, line);
     if (field_read(&camera_kind, t, 2, 0, &sp, &given, names, at, err))
         return -1;

@@ -51,7 +51,7 @@ RenderSettings render_settings_default(void)
 {
     SettingsSpec sp;
     memset(&sp, 0, sizeof sp);
-    field_defaults(&settings_kind, &sp, 0);
+    field_defaults(&settings_kind, &sp, sizeof sp, 0);
     return sp.rs;
 }
 

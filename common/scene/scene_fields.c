@@ -58,7 +58,7 @@ static const FieldRule camera_rules[] = {
     {0, NULL, NULL, NULL, NULL},
 };
 
-const FieldKind camera_kind = {.name = "camera", .fields = camera_fields,
+const FieldKind camera_kind = {.name = "camera", .size = sizeof(CameraSpec), .fields = camera_fields,
                                .count = sizeof camera_fields / sizeof *camera_fields, .rules = camera_rules,
                                .group_count = 2};
 
@@ -150,7 +150,7 @@ static const FieldRule settings_rules[] = {
     {0, NULL, NULL, NULL, NULL},
 };
 
-const FieldKind settings_kind = {.name = "settings", .fields = settings_fields,
+const FieldKind settings_kind = {.name = "settings", .size = sizeof(SettingsSpec), .fields = settings_fields,
                                  .count = sizeof settings_fields / sizeof *settings_fields, .rules = settings_rules,
                                  .group_count = 3};
 
@@ -199,7 +199,7 @@ static const FieldRule light_rules[] = {
     {0, NULL, NULL, NULL, NULL},
 };
 
-const FieldKind light_kind = {.name = "light", .fields = light_fields,
+const FieldKind light_kind = {.name = "light", .size = sizeof(LightSpec), .fields = light_fields,
                               .count = sizeof light_fields / sizeof *light_fields, .rules = light_rules,
                               .variants = light_kinds, .variant_off = LIGHT(l.kind)};
 
@@ -212,7 +212,7 @@ static const Field sphere_fields[] = {
     {.key = "material", .type = FIELD_NAME, .off = SPHERE(material), .shown_default = "`default`",
      .doc = "a `material` by its name"},
 };
-const FieldKind sphere_kind = {.name = "sphere", .fields = sphere_fields,
+const FieldKind sphere_kind = {.name = "sphere", .size = sizeof(Sphere), .fields = sphere_fields,
                                .count = sizeof sphere_fields / sizeof *sphere_fields};
 
 #define PLANE(f) offsetof(Plane, f)
@@ -228,7 +228,7 @@ static const Field plane_fields[] = {
     {.key = "uvrotate", .type = FIELD_REAL, .group = 1, .off = PLANE(uv_rotate), .lo = -FIELD_INF, .hi = FIELD_INF,
      .doc = "its texture's turn about the normal, degrees"},
 };
-const FieldKind plane_kind = {.name = "plane", .fields = plane_fields,
+const FieldKind plane_kind = {.name = "plane", .size = sizeof(Plane), .fields = plane_fields,
                               .count = sizeof plane_fields / sizeof *plane_fields, .group_count = 1};
 
 #define TRI(f) offsetof(TriSpec, f)
@@ -244,7 +244,7 @@ static const Field triangle_fields[] = {
     {.key = "uv", .type = FIELD_REALS, .n = 6, .group = 2, .off = TRI(uv), .lo = -FIELD_INF, .hi = FIELD_INF,
      .shown_default = "none", .doc = "texture coordinates, u v each corner"},
 };
-const FieldKind triangle_kind = {.name = "triangle", .fields = triangle_fields,
+const FieldKind triangle_kind = {.name = "triangle", .size = sizeof(TriSpec), .fields = triangle_fields,
                                  .count = sizeof triangle_fields / sizeof *triangle_fields, .group_count = 2};
 
 #define INST(f) offsetof(Instance, f)
@@ -263,7 +263,7 @@ static const Field instance_fields[] = {
     {.key = "camera", .type = FIELD_FLAG, .flags = FIELD_FILE, .off = offsetof(InstanceSpec, camera),
      .doc = "the scene's camera: its model's glTF's, placed with it"},
 };
-const FieldKind instance_kind = {.name = "instance", .fields = instance_fields,
+const FieldKind instance_kind = {.name = "instance", .size = sizeof(InstanceSpec), .fields = instance_fields,
                                  .count = sizeof instance_fields / sizeof *instance_fields};
 
 static const Field model_fields[] = {
@@ -273,7 +273,7 @@ static const Field model_fields[] = {
     {.key = "smooth", .type = FIELD_FLAG, .flags = FIELD_FILE, .off = offsetof(ModelSpec, smooth),
      .doc = "smooth vertex normals where the model has none (an OBJ: its smoothing groups aside; another format: edges under 45 degrees)"},
 };
-const FieldKind model_kind = {.name = "model", .fields = model_fields,
+const FieldKind model_kind = {.name = "model", .size = sizeof(ModelSpec), .fields = model_fields,
                               .count = sizeof model_fields / sizeof *model_fields};
 
 #define ENV(f) offsetof(SceneEnvironment, f)
@@ -285,7 +285,7 @@ static const Field environment_fields[] = {
     {.key = "rotate", .type = FIELD_REAL, .group = 1, .off = ENV(rotate), .lo = -FIELD_INF, .hi = FIELD_INF,
      .doc = "turned by these degrees about +y (as a camera's yaw turns)"},
 };
-const FieldKind environment_kind = {.name = "environment", .fields = environment_fields,
+const FieldKind environment_kind = {.name = "environment", .size = sizeof(SceneEnvironment), .fields = environment_fields,
                                     .count = sizeof environment_fields / sizeof *environment_fields,
                                     .group_count = 1};
 

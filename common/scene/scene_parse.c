@@ -103,7 +103,7 @@ static int read_new(Ctx *c, const FieldKind *k, const Tokens *t, int start, int 
     memset(item, 0, size);
     if (k->variants)
         *(int *)((char *)item + k->variant_off) = variant;
-    field_defaults(k, item, variant);
+    field_defaults(k, item, size, variant);
     return read_fields(c, k, t, start, variant, item, given, names);
 }
 

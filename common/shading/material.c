@@ -105,14 +105,14 @@ static const FieldRule rules[] = {
     {0, NULL, NULL, NULL, NULL},
 };
 
-const FieldKind material_kind = {.name = "material", .fields = fields, .count = sizeof fields / sizeof *fields,
+const FieldKind material_kind = {.name = "material", .size = sizeof(Material), .fields = fields, .count = sizeof fields / sizeof *fields,
                                  .rules = rules, .group_count = 13};
 
 Material material_default(void)
 {
     Material m;
     memset(&m, 0, sizeof m);
-    field_defaults(&material_kind, &m, 0);
+    field_defaults(&material_kind, &m, sizeof m, 0);
     return m;
 }
 
