@@ -232,9 +232,7 @@ void environment_destroy(Environment *e)
     free(e);
 }
 
-/* The light at image point (u, t), each in [0, 1]: bilinear between texel
- * centres, across the seam in u, held at the poles in t. */
-static vec3 light_at(const Environment *e, real u, real t, int sunless)
+vec3 environment_light_at(const Environment *e, real u, real t, int sunless)
 {
     size_t at[4];
     real wq[4];
@@ -261,14 +259,14 @@ vec3 environment_radiance(const Environment *e, vec3 d)
 {
     real u, t;
     environment_uv(e, d, &u, &t);
-    return light_at(e, u, t, 0);
+    return environment_light_at(e, u, t, 0);
 }
 
 vec3 environment_radiance_sunless(const Environment *e, vec3 d)
 {
     real u, t;
     environment_uv(e, d, &u, &t);
-    return light_at(e, u, t, 1);
+    return environment_light_at(e, u, t, 1);
 }
 
 /* The first i of the n + 1 ascending cdf values with cdf[i] <= x < cdf[i + 1]
@@ -313,7 +311,7 @@ int environment_sample(const Environment *e, real u1, real u2, vec3 *dir, vec3 *
         return 0;
     *dir = v3(sn * cos(phi), cs, sn * sin(phi));
     *pdf = (real)(density / (2.0 * PI * PI * (double)sn));
-    *light = light_at(e, (real)u, (real)t, 0); /* where it was drawn: no way back from the direction */
+    *light = environment_light_at(e, (real)u, (real)t, 0); /* where it was drawn: no way back from the direction */
     return 1;
 }
 
@@ -335,7 +333,7 @@ vec3 environment_seen(const Environment *e, vec3 d, real *pdf)
     real u, t;
     environment_uv(e, d, &u, &t);
     *pdf = dir_density(e, d, u, t);
-    return light_at(e, u, t, 0);
+    return environment_light_at(e, u, t, 0);
 }
 
 real environment_pdf(const Environment *e, vec3 d)

@@ -74,6 +74,10 @@ void environment_destroy(Environment *e);
 vec3 environment_radiance(const Environment *e, vec3 d);
 /* Image coordinates of direction d: u across, t down, each in [0, 1]. */
 void environment_uv(const Environment *e, vec3 d, real *u, real *t);
+/* The light at image point (u, t) (environment_uv's): bilinear between
+ * texel centres, across the seam in u, held at the poles in t; sunless:
+ * the sun's texels filled (environment_radiance_sunless). */
+vec3 environment_light_at(const Environment *e, real u, real t, int sunless);
 
 /* The four texels (row-major indices) round image point (u, t) of a w x h
  * image and their bilinear weights: between texel centres, across the

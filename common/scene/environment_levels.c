@@ -101,12 +101,12 @@ static vec3 radiance_over(const Environment *e, vec3 d, real width, int dark)
     const real across = width * (real)e->w / (R(2) * (real)PI * c), down = width * (real)e->h / (real)PI;
     const real lod = log2(real_max(across, down));
     if (!(lod > R(0))) /* magnified: the image itself, as without a footprint */
-        return dark ? environment_radiance_sunless(e, d) : environment_radiance(e, d);
+        return environment_light_at(e, u, t, dark);
     const real top = (real)(e->levels - 1);
     const real at = lod < top ? lod : top;
     const uint32_t l = (uint32_t)at;
     const real f = at - (real)l;
-    const vec3 a = l > 0 ? level_at(e, dark, l, u, t) : dark ? environment_radiance_sunless(e, d) : environment_radiance(e, d);
+    const vec3 a = l > 0 ? level_at(e, dark, l, u, t) : environment_light_at(e, u, t, dark);
     if (f == R(0) || l + 1 >= e->levels)
         return a;
     return v3_lerp(a, level_at(e, dark, l + 1, u, t), f);
