@@ -59,11 +59,11 @@ static int take_camera(Camera *out, const GltfCamera *c, const Place *p)
 }
 
 /* The lights a glTF gives (those a float holds), placed, in lanray's
- * units: a point or spot light of I candela lights a diffuse surface as
+ * units, counted into *added: a point or spot light of I candela lights a diffuse surface as
  * lanray's light of intensity I / (683 pi) attenuated (683 lumens a watt;
  * Blender's importer and Cycles agree: scene2cycles), a directional one of
  * E lux as E / (683 pi). */
-static int take_lights(Scene *s, const GltfScene *g, const Place *p, Err *err)
+static int take_lights(Scene *s, const GltfScene *g, const Place *p, int *added, Err *err)
 {
     const real unit = R(1) / (R(683) * REAL_PI), deg = R(180) / REAL_PI;
     for (size_t i = 0; i < g->light_count; i++) {
@@ -80,6 +80,7 @@ static int take_lights(Scene *s, const GltfScene *g, const Place *p, Err *err)
                        : light_directional(dir, col, power);
         if (scene_add_light(s, lt, err))
             return -1;
+        ++*added;
     }
     return 0;
 }
@@ -109,9 +110,10 @@ int scene_gltf_take(Scene *s, const char *path, const Instance *place, int want,
             s->settings.height = (int)real_clamp((real)floor(1024.0 / g.camera.aspect + 0.5), R(1), R(SCENE_MAX_SIDE));
         }
     }
+    int added = 0;
     if ((want & SCENE_GLTF_LIGHTS) && g.light_count > 0) {
-        *got |= SCENE_GLTF_LIGHTS;
-        bad = take_lights(s, &g, &p, err);
+        bad = take_lights(s, &g, &p, &added, err);
+        *got |= added > 0 ? SCENE_GLTF_LIGHTS : 0;
     }
     gltf_scene_free(&g);
     return bad ? -1 : 0;

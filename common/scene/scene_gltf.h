@@ -21,9 +21,10 @@ int scene_gltf_is(const char *path);
  * camera made its first camera (glTF's vertical field of view across the
  * file's aspect ratio, else 4:3, as lanray's horizontal one).  Both placed
  * by `place` (its translate, rotate and scale; NULL: as the file has them).
- * *got: the bits of `want` the file had (a file without lights or camera
- * is no error here; a path that is no glTF has neither).  0, or -1 with
- * err set (out of memory). */
+ * *got: the bits of `want` taken (a file without lights or camera is no
+ * error here, nor lights or a camera that cannot be placed: past a
+ * float's range, or looking nowhere; a path that is no glTF has neither).
+ * 0, or -1 with err set (out of memory). */
 int scene_gltf_take(Scene *s, const char *path, const Instance *place, int want, int *got, Err *err);
 
 #endif

@@ -338,9 +338,10 @@ static int instance_takes(Ctx *c, const InstanceSpec *sp, const char *name)
     if (scene_gltf_take(c->s, path, &sp->in, want, &got, c->err))
         return err_prefix(c->err, "%s:%d", c->file, c->line);
     if ((want & SCENE_GLTF_LIGHTS) && !(got & SCENE_GLTF_LIGHTS))
-        return fail(c, "instance '%s' takes its model's lights, but %s has none (KHR_lights_punctual)", name, path);
+        return fail(c, "instance '%s' takes its model's lights, but %s gives none (KHR_lights_punctual) that can be placed there",
+                    name, path);
     if ((want & SCENE_GLTF_CAMERA) && !(got & SCENE_GLTF_CAMERA))
-        return fail(c, "instance '%s' takes its model's camera, but %s has none", name, path);
+        return fail(c, "instance '%s' takes its model's camera, but %s gives none that can be placed there", name, path);
     return 0;
 }
 

@@ -85,7 +85,9 @@ python3 -c 'import re,sys; m=re.search(r"rmse ([0-9.]+)", sys.argv[1]); sys.exit
 printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n' >"$dir/tri.obj"
 printf 'model t tri.obj\ninstance t lights\n' >"$dir/obj.scene"
 printf 'model room nolights.glb\ninstance room camera\ninstance room lights\n' >"$dir/none.scene"
-for sc in obj:"only a glTF" none:"none.scene:3: instance 'room' takes its model's lights, but"; do
+printf 'model room lit.glb\ninstance room scale 1e38 camera\n' >"$dir/far.scene" # its camera past a float's range
+for sc in obj:"only a glTF" none:"none.scene:3: instance 'room' takes its model's lights, but" \
+    far:"lit.glb gives none that can be placed there"; do
     name=${sc%%:*} want=${sc#*:}
     "$BIN/lanray-render" "$dir/$name.scene" -o "$dir/$name.png" --quiet >"$dir/$name.log" 2>&1 &&
         fail "$name.scene: an instance taking what its file lacks should fail"
