@@ -24,8 +24,9 @@ static inline void ray_stats_add(RayStats *to, RayStats st)
 }
 
 /* What a camera ray's path saw first, for the denoiser (render/denoise.h):
- * the first surface that is not a smooth mirror or clear glass (through
- * which the path is followed, their colours in its albedo), its colour
+ * the first surface that is not a smooth mirror or clear flat glass
+ * (through which the path is followed, their colours in its albedo; curved
+ * glass is a surface: scene/path.c guide_lens), its colour
  * (albedo: the diffuse colour, a metal's, glass's), its shading normal
  * towards the ray and the distance along the path; surface 0 where the
  * path left the scene or met an emitter first (the background's light, a
