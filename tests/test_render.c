@@ -869,6 +869,59 @@ static void whitted_guides_are_first_hits(void **state)
     scene_destroy(s);
 }
 
+/* A path-traced frame's guides (settings denoise) stop at curved glass:
+ * where the camera ray meets the default scene's glass ball, in the ball's
+ * inside (the pixel and its four neighbours on it), the guide's distance
+ * is the ball's surface (it was what each sample saw through it, farther
+ * and different from pixel to pixel: path.c guide_lens). */
+static void path_guides_stop_at_a_glass_ball(void **state)
+{
+    (void)state;
+    Scene *s = default_scene();
+    s->settings.integrator = INTEGRATOR_PATH, s->settings.denoise = 1;
+    Err err;
+    RenderPool *pool = render_pool_create(2, &err);
+    const int W = 80, H = 60;
+    const size_t bpp = 3 + DENOISE_GUIDE_BYTES;
+    uint8_t *px = malloc((size_t)W * H * bpp);
+    const World *world = world_now(s);
+    if (render_lines(pool, world, W, H, 0, H, px, NULL, &err))
+        fail_msg("%s", err.msg);
+    const CameraFrame cf = camera_frame(&world->view.camera, W, H);
+    int glass = 0;
+    for (int y = 1; y + 1 < H; y++)
+        for (int x = 1; x + 1 < W; x++) {
+            real t = 0;
+            int on = 1;
+            for (int k = 0; k < 5 && on; k++) { /* the pixel and its four neighbours, all on a glass sphere */
+                const int dx = k == 1 ? -1 : k == 2 ? 1 : 0, dy = k == 3 ? -1 : k == 4 ? 1 : 0;
+                vec3 o, d;
+                Hit hit;
+                assert_true(camera_ray(&cf, (real)(x + dx) + R(0.5), (real)(y + dy) + R(0.5), &o, &d));
+                const Ray r = ray_make(o, d, 0, REAL_INF);
+                Surface sf;
+                on = trace_closest(world, &r, &hit) && hit.kind == HIT_SPHERE;
+                if (on) {
+                    trace_surface(world, &r, &hit, &sf);
+                    on = material_dielectric(sf.mat);
+                }
+                t = k == 0 ? hit.t : t;
+            }
+            if (!on)
+                continue;
+            float albedo[3], normal[3], depth, noise;
+            denoise_guide_unpack(px + ((size_t)y * W + x) * bpp + 3, albedo, normal, &depth, &noise);
+            if (!(fabs((double)depth - (double)t) <= 0.05 * (double)t))
+                fail_msg("pixel %d %d on the glass ball: guide distance %g, the ball at %g", x, y, (double)depth, (double)t);
+            glass++;
+        }
+    print_message("guides at the glass ball: %d pixels\n", glass);
+    assert_true(glass > 10);
+    free(px);
+    render_pool_destroy(pool);
+    scene_destroy(s);
+}
+
 /* Segments that start and end inside lines (what the scheduler's adaptive
  * tail makes) give the same pixels as the whole frame; cancel stops work. */
 static void partial_line_spans_and_cancel(void **state)
@@ -1262,6 +1315,7 @@ int main(void)
         cmocka_unit_test(textured_triangle_and_instances),
         cmocka_unit_test(pixels_do_not_depend_on_threads_or_segments),
         cmocka_unit_test(whitted_guides_are_first_hits),
+        cmocka_unit_test(path_guides_stop_at_a_glass_ball),
         cmocka_unit_test(partial_line_spans_and_cancel),
         cmocka_unit_test(adaptive_refines_only_edges),
         cmocka_unit_test(adaptive_refines_texture_edges),
