@@ -19,9 +19,9 @@ for a in 0 15 30; do
         fail "lanray-render $a"
 done
 start_server anim "$dir/turn-0.scene" --port 0 --width 64 --height 48 --frames 3 --wait-clients 1 --rotate 15 --out "$dir/f"
-"$BIN/lanray-client" "127.0.0.1:$port" --threads 2 --once --quiet 2>/dev/null &
+"$BIN/lanray-client" "127.0.0.1:$port" --threads 2 --once --quiet 2>"$dir/client.err" &
 pids+=("$!")
-for _ in $(seq 300); do kill -0 "$server_pid" 2>/dev/null || break; sleep 0.05; done
+server_done 120 anim
 wait "$server_pid" || fail "the server exited $?"
 for k in 1 2 3; do
     a=$(((k - 1) * 15))

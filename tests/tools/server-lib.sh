@@ -1,7 +1,7 @@
 # server-lib.sh - helpers for the integration tests that run real servers
 # and clients (sourced by tests/cli/*.sh).
 # Provides: $dir (a scratch directory), pids (killed on exit), fail,
-# clients_until_done N THREADS, serve_flight NAME FRAMES, served_are NAME PICTURES,
+# server_done SECONDS WHAT, clients_until_done N THREADS, serve_flight NAME FRAMES, served_are NAME PICTURES,
 # start_server NAME ARGS (sets $port and $server_pid), run_prog (how
 # start_server runs the server; a test may redefine it), verify_distributed
 # (one frame through a server and a client, checked against a reference),
@@ -25,6 +25,15 @@ trap lib_cleanup EXIT
 # the precision of the build under test, for tests/tools/fakeclient.py's handshake
 case "$("$BIN/lanray-server" --version)" in *double*) export LANRAY_REAL_SIZE=8 ;; *) export LANRAY_REAL_SIZE=4 ;; esac
 fail() { echo "FAIL: $*"; for f in "$dir"/*.log "$dir"/*.err; do [ -f "$f" ] && { echo "--- $f"; tail -20 "$f"; }; done; exit 1; }
+# server_done SECONDS WHAT: waits for the server started last to exit, at
+# most SECONDS; one that still runs then (its clients gone: a client that
+# died, its error in $dir/*.err, which fail shows) fails naming WHAT, at
+# once rather than at the test's time limit
+server_done() {
+    local i
+    for i in $(seq $(($1 * 20))); do kill -0 "$server_pid" 2>/dev/null || return 0; sleep 0.05; done
+    fail "the server ($2) still runs after $1 s (its clients gone?)"
+}
 # exec: in the background the function runs in a subshell, which becomes the program, so $! is its pid
 run_prog() { exec "$@"; }
 # start_server NAME ARGS...: runs lanray-server --headless in the background, sets $port
@@ -51,14 +60,14 @@ clients_until_done() {
 }
 # serve_flight NAME FRAMES: two clients of one thread (--once, their errors
 # in $dir/c-NAME-K.err) join the server started last, which must exit 0
-# (within 20 s) having written FRAMES frames into $dir/NAME
+# (within 120 s) having written FRAMES frames into $dir/NAME
 serve_flight() {
     local name=$1 frames=$2 c
     for c in 1 2; do
         "$BIN/lanray-client" "127.0.0.1:$port" --threads 1 --once 2>"$dir/c-$name-$c.err" >/dev/null &
         pids+=("$!")
     done
-    for _ in $(seq 400); do kill -0 "$server_pid" 2>/dev/null || break; sleep 0.05; done
+    server_done 120 "$name"
     wait "$server_pid" || fail "the server ($name) exited $?"
     [ "$(ls "$dir/$name" | wc -l)" = "$frames" ] || fail "$frames frames ($name): $(ls "$dir/$name")"
 }
@@ -79,9 +88,9 @@ verify_distributed() {
     local name=$1 scene=$2 ref=$3 what=$4
     shift 4 # the rest: more of the server's options
     start_server "$name" "$scene" --port 0 --width 64 --height 64 --frames 1 --wait-clients 1 --verify "$ref" --out "$dir/f-$name" "$@"
-    "$BIN/lanray-client" "127.0.0.1:$port" --threads 2 --once --quiet 2>/dev/null &
+    "$BIN/lanray-client" "127.0.0.1:$port" --threads 2 --once --quiet 2>"$dir/c-$name.err" &
     pids+=("$!")
-    for _ in $(seq 300); do kill -0 "$server_pid" 2>/dev/null || break; sleep 0.05; done
+    server_done 120 "$name"
     wait "$server_pid" || fail "the distributed frame $what differs from lanray-render's (server exit $?): $(tail -3 "$dir/$name.err")"
 }
 # same_on_simd_paths SCENE PNG W H WHAT: lanray-render of SCENE at W x H
