@@ -232,8 +232,8 @@ static inline __attribute__((always_inline)) int bvh4_span(Bvh4Span *p, const Bv
     }
     for (int g = 1; g < s->groups; g++) {
         tl = _mm_min_ps(tl, _mm_load_ps(&s->tmin[4 * g]));
-    #pragma GCC unroll 3
-    for (int a = 0; a < 3; a++) {
+#pragma GCC unroll 3
+        for (int a = 0; a < 3; a++) {
             const __m128 o = _mm_load_ps(&s->org[a][4 * g]), iv = _mm_load_ps(&s->inv[a][4 * g]);
             ol[a] = _mm_min_ps(ol[a], o), oh[a] = _mm_max_ps(oh[a], o);
             il[a] = _mm_min_ps(il[a], iv), ih[a] = _mm_max_ps(ih[a], iv);
@@ -292,42 +292,21 @@ static inline __attribute__((always_inline)) int bvh4_span_hit(const Bvh4Node *n
     return _mm_movemask_ps(_mm_cmple_ps(lo, _mm_mul_ps(hi, _mm_set1_ps(BVH_FUDGE)))) & nd->lanes;
 }
 
-/* The rays of `mask` whose own slab test enters child c of node n, four
- * rays a step, for a packet with its interval (bvh4_span): on an axis
- * whose reciprocals share one sign, each ray's entry and exit planes are
- * the interval's rows (ray_set's choice, the same for all), so the choice
- * lane by lane goes; a loose axis keeps it.  The same operations on the
- * same numbers as bvh_box_rays_soa, so the same rays enter.  far: a
- * multiple of four readable. */
+/* The rays of `mask` whose own slab test enters child c of node n, for a
+ * packet with its interval (bvh4_span): on an axis whose reciprocals share
+ * one sign each ray's entry and exit planes are the interval's rows
+ * (ray_set's choice, the same for all), so no choice lane by lane; a loose
+ * axis keeps it (bvh_rows_rays_soa: the same operations on the same
+ * numbers as bvh_box_rays_soa, so the same rays enter).  far: a multiple
+ * of four readable. */
 static inline __attribute__((always_inline)) uint32_t bvh4_child_rays_span(const Bvh4Node *n, int c, const Bvh4Span *p,
                                                                            const BvhPacketSoa *s, uint32_t mask,
                                                                            const real *far)
 {
-    const __m128 zero = _mm_setzero_ps(), fudge = _mm_set1_ps(BVH_FUDGE);
     __m128 bn[3], bf[3];
     for (int a = 0; a < 3; a++)
         bn[a] = _mm_set1_ps(n->box[p->near[a]][c]), bf[a] = _mm_set1_ps(n->box[p->far[a]][c]);
-    uint32_t in = 0;
-    for (int g = 0; g < s->groups; g++) {
-        const uint32_t m = mask >> (4 * g) & 15u;
-        if (!m)
-            continue;
-        __m128 lo = _mm_load_ps(&s->tmin[4 * g]), hi = _mm_loadu_ps(&far[4 * g]);
-#pragma GCC unroll 3
-        for (int a = 0; a < 3; a++) {
-            const __m128 o = _mm_load_ps(&s->org[a][4 * g]), iv = _mm_load_ps(&s->inv[a][4 * g]);
-            __m128 tn = _mm_mul_ps(_mm_sub_ps(bn[a], o), iv), tf = _mm_mul_ps(_mm_sub_ps(bf[a], o), iv);
-            if (p->loose >> a & 1) { /* bn is bmin, bf bmax: each ray's own choice */
-                const __m128 pos = _mm_cmpge_ps(iv, zero), t0 = tn;
-                tn = _mm_or_ps(_mm_and_ps(pos, t0), _mm_andnot_ps(pos, tf));
-                tf = _mm_or_ps(_mm_and_ps(pos, tf), _mm_andnot_ps(pos, t0));
-            }
-            lo = _mm_max_ps(tn, lo); /* tn > lo ? tn : lo */
-            hi = _mm_min_ps(tf, hi); /* tf < hi ? tf : hi */
-        }
-        in |= ((uint32_t)_mm_movemask_ps(_mm_cmple_ps(lo, _mm_mul_ps(hi, fudge))) & m) << (4 * g);
-    }
-    return in;
+    return bvh_rows_rays_soa(bn, bf, p->loose, s, mask, far);
 }
 
 static inline float bvh4_far_max(const real *far, uint32_t mask)

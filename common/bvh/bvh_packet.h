@@ -49,14 +49,18 @@ typedef struct {
 } BvhPacketSoa;
 
 #ifdef BVH_PACKET_SSE
-/* The rays of `mask` whose slab test enters the box bmin..bmax, four rays
- * a step: bvh_node_hit's operations on the same numbers (no fused
- * multiply-add), max and min keeping lo and hi where a distance is NaN as
- * the comparisons do, so the same rays enter (the wide kernels' argument,
- * wide.h).  far: a multiple of four readable. */
-static inline __attribute__((always_inline)) uint32_t bvh_box_rays_soa(const real *bmin, const real *bmax,
-                                                                       const BvhPacketSoa *s, uint32_t mask,
-                                                                       const real *far)
+/* The rays of `mask` whose slab test enters a box, four rays a step: on
+ * axis a each ray's entry and exit distances from the planes near[a] and
+ * far[a] (splatted), where bit a of `choose` is clear; where it is set,
+ * near is bmin and far bmax and each ray takes its own entry plane (bmin
+ * where its reciprocal is >= 0, ray_set's choice).  bvh_node_hit's
+ * operations on the same numbers (no fused multiply-add), max and min
+ * keeping lo and hi where a distance is NaN as the comparisons do, so the
+ * same rays enter (the wide kernels' argument, wide.h).  far (the rays'
+ * limits): a multiple of four readable. */
+static inline __attribute__((always_inline)) uint32_t bvh_rows_rays_soa(const __m128 near[3], const __m128 far_plane[3],
+                                                                        int choose, const BvhPacketSoa *s,
+                                                                        uint32_t mask, const real *far)
 {
     uint32_t in = 0;
     const __m128 zero = _mm_setzero_ps(), fudge = _mm_set1_ps(BVH_FUDGE);
@@ -65,19 +69,32 @@ static inline __attribute__((always_inline)) uint32_t bvh_box_rays_soa(const rea
         if (!m)
             continue;
         __m128 lo = _mm_load_ps(&s->tmin[4 * g]), hi = _mm_loadu_ps(&far[4 * g]);
+#pragma GCC unroll 3
         for (int a = 0; a < 3; a++) {
             const __m128 o = _mm_load_ps(&s->org[a][4 * g]), iv = _mm_load_ps(&s->inv[a][4 * g]);
-            const __m128 t0 = _mm_mul_ps(_mm_sub_ps(_mm_set1_ps(bmin[a]), o), iv);
-            const __m128 t1 = _mm_mul_ps(_mm_sub_ps(_mm_set1_ps(bmax[a]), o), iv);
-            const __m128 pos = _mm_cmpge_ps(iv, zero); /* ray_set's near/far choice */
-            const __m128 tn = _mm_or_ps(_mm_and_ps(pos, t0), _mm_andnot_ps(pos, t1));
-            const __m128 tf = _mm_or_ps(_mm_and_ps(pos, t1), _mm_andnot_ps(pos, t0));
+            __m128 tn = _mm_mul_ps(_mm_sub_ps(near[a], o), iv), tf = _mm_mul_ps(_mm_sub_ps(far_plane[a], o), iv);
+            if (choose >> a & 1) { /* near is bmin, far bmax: each ray's own choice */
+                const __m128 pos = _mm_cmpge_ps(iv, zero), t0 = tn;
+                tn = _mm_or_ps(_mm_and_ps(pos, t0), _mm_andnot_ps(pos, tf));
+                tf = _mm_or_ps(_mm_and_ps(pos, tf), _mm_andnot_ps(pos, t0));
+            }
             lo = _mm_max_ps(tn, lo); /* tn > lo ? tn : lo */
             hi = _mm_min_ps(tf, hi); /* tf < hi ? tf : hi */
         }
         in |= ((uint32_t)_mm_movemask_ps(_mm_cmple_ps(lo, _mm_mul_ps(hi, fudge))) & m) << (4 * g);
     }
     return in;
+}
+
+/* The rays of `mask` whose slab test enters the box bmin..bmax (each ray
+ * its own entry plane: bvh_rows_rays_soa). */
+static inline __attribute__((always_inline)) uint32_t bvh_box_rays_soa(const real *bmin, const real *bmax,
+                                                                       const BvhPacketSoa *s, uint32_t mask,
+                                                                       const real *far)
+{
+    const __m128 lo[3] = {_mm_set1_ps(bmin[0]), _mm_set1_ps(bmin[1]), _mm_set1_ps(bmin[2])};
+    const __m128 hi[3] = {_mm_set1_ps(bmax[0]), _mm_set1_ps(bmax[1]), _mm_set1_ps(bmax[2])};
+    return bvh_rows_rays_soa(lo, hi, 7, s, mask, far);
 }
 
 /* bvh_node_rays with four rays a step. */
