@@ -21,19 +21,12 @@ void environment_uv(const Environment *e, vec3 d, real *u, real *t)
         *t = R(0);
 }
 
-/* Channel k of texel i (row-major) as stored: before the gain. */
-static inline real texel_raw(const Environment *e, size_t i, int k)
-{
-    return e->hdr ? (real)e->hdr[3 * i + k] : (real)srgb_decode8[e->codes[3 * i + k]];
-}
-
 /* The light of texel i, times the gain. */
 static inline void texel(const Environment *e, size_t i, real c[3])
 {
     for (int k = 0; k < 3; k++)
-        c[k] = texel_raw(e, i, k) * e->gain;
+        c[k] = environment_texel(e, i, k) * e->gain;
 }
-
 
 /* The weight a texel's light gives its solid angle: its channels' mean. */
 static double texel_weight(const real *c) { return ((double)c[0] + (double)c[1] + (double)c[2]) / 3.0; }
@@ -249,7 +242,7 @@ vec3 environment_light_at(const Environment *e, real u, real t, int sunless)
     for (int q = 0; q < 4; q++) {
         const real *fill = sunless && environment_sun_texel(e, at[q]) ? e->sun_fill : NULL;
         for (int k = 0; k < 3; k++) {
-            c[k] += wq[q] * (fill ? fill[k] : texel_raw(e, at[q], k));
+            c[k] += wq[q] * (fill ? fill[k] : environment_texel(e, at[q], k));
         }
     }
     return v3(c[0] * e->gain, c[1] * e->gain, c[2] * e->gain);

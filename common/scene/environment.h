@@ -27,6 +27,7 @@
 #define LANRAY_ENVIRONMENT_H
 
 #include "base/err.h"
+#include "base/srgb.h"
 #include "base/vec.h"
 #include "model/texture.h"
 
@@ -56,6 +57,12 @@ typedef struct {
     float *sunless[ENV_MAX_LEVELS]; /* the same of the image without its sun (its texels filled,
                                      * as environment_radiance_sunless reads it); only with a sun */
 } Environment;
+
+/* Channel k of texel i (row-major) as stored: before the gain. */
+static inline real environment_texel(const Environment *e, size_t i, int k)
+{
+    return e->hdr ? (real)e->hdr[3 * i + (size_t)k] : (real)srgb_decode8[e->codes[3 * i + (size_t)k]];
+}
 
 /* Whether texel i (row-major) is the sun's (Environment.sun_mask). */
 static inline int environment_sun_texel(const Environment *e, size_t i)

@@ -18,18 +18,12 @@
 #include <math.h>
 #include <stdlib.h>
 
-#include "base/srgb.h"
-
-#define PI 3.14159265358979323846
-
 /* Channel k of the image's texel (x, y), before the gain; `dark`: its
  * sun's texels filled with the sky round it (environment_radiance_sunless). */
 static double image_texel(const Environment *e, int dark, uint32_t x, uint32_t y, int k)
 {
     const size_t i = (size_t)y * e->w + x;
-    if (dark && environment_sun_texel(e, i))
-        return (double)e->sun_fill[k];
-    return e->hdr ? (double)e->hdr[3 * i + (size_t)k] : (double)srgb_decode8[e->codes[3 * i + (size_t)k]];
+    return (double)(dark && environment_sun_texel(e, i) ? e->sun_fill[k] : environment_texel(e, i, k));
 }
 
 /* Level l (>= 1) of the image, or of the image without its sun: the level
@@ -91,14 +85,14 @@ static vec3 level_at(const Environment *e, int dark, uint32_t l, real u, real t)
 static vec3 radiance_over(const Environment *e, vec3 d, real width, int dark)
 {
     dark = dark && e->sun_mask;
-    if (!(width > R(0)) || e->levels < 2)
-        return dark ? environment_radiance_sunless(e, d) : environment_radiance(e, d);
     real u, t;
     environment_uv(e, d, &u, &t);
+    if (!(width > R(0)) || e->levels < 2)
+        return environment_light_at(e, u, t, dark);
     /* texels the footprint spans: across, its arc over the row's circle
      * (the cosine of the elevation, kept off 0), and down */
-    const real c = real_max(sin(t * (real)PI), R(1) / (real)e->w);
-    const real across = width * (real)e->w / (R(2) * (real)PI * c), down = width * (real)e->h / (real)PI;
+    const real c = real_max(sin(t * REAL_PI), R(1) / (real)e->w);
+    const real across = width * (real)e->w / (R(2) * REAL_PI * c), down = width * (real)e->h / REAL_PI;
     const real lod = log2(real_max(across, down));
     if (!(lod > R(0))) /* magnified: the image itself, as without a footprint */
         return environment_light_at(e, u, t, dark);

@@ -1288,12 +1288,11 @@ static inline __attribute__((always_inline)) void shade_rays_at(const World *w, 
         if (hits[i].kind == HIT_NONE) {
             /* (a rough metal's and frosted glass's rays see the sky without
              * its sun, a light of its own here whose lobe shows it) */
-            const int wide = diffs && w->view.settings.filter >= FILTER_TRILINEAR; /* a footprint: its mip-map */
-            out[i] = !w->env ? w->background
-                     : wide  ? (sunless ? environment_radiance_sunless_over : environment_radiance_over)(
-                                  w->env, rays[i].dir, raydiff_width(&diffs[i]))
-                     : sunless ? environment_radiance_sunless(w->env, rays[i].dir)
-                               : environment_radiance(w->env, rays[i].dir);
+            /* over the ray's footprint where it has one and the filter reads mip-maps (0: at a point) */
+            const real width = diffs && w->view.settings.filter >= FILTER_TRILINEAR ? raydiff_width(&diffs[i]) : R(0);
+            out[i] = !w->env   ? w->background
+                     : sunless ? environment_radiance_sunless_over(w->env, rays[i].dir, width)
+                               : environment_radiance_over(w->env, rays[i].dir, width);
             if (keys)
                 keys[i] = UINT64_MAX;
             continue;
