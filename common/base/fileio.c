@@ -204,6 +204,12 @@ int file_write_bytes(const char *path, const void *data, size_t len, Err *err)
     return file_write_atomic(path, write_bytes, &b, err);
 }
 
+int file_has_suffix(const char *path, const char *suffix)
+{
+    const size_t n = strlen(path), m = strlen(suffix);
+    return n >= m && strcasecmp(path + n - m, suffix) == 0;
+}
+
 void file_dirname(const char *path, char *buf, size_t size)
 {
     const char *slash = strrchr(path, '/');

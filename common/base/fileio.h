@@ -37,6 +37,9 @@ typedef int (*file_write_fn)(FILE *f, void *ctx, Err *err);
 int file_write_atomic(const char *path, file_write_fn fn, void *ctx, Err *err);
 int file_write_bytes(const char *path, const void *data, size_t len, Err *err);
 
+/* Whether path ends in suffix, in any case (a model from a Windows machine
+ * is often MODEL.OBJ). */
+int file_has_suffix(const char *path, const char *suffix);
 /* Directory part of path ("." when none) into buf. */
 void file_dirname(const char *path, char *buf, size_t size);
 /* Joins dir and a relative name; absolute names are kept as they are. */

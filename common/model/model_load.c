@@ -1,25 +1,16 @@
 /* model_load.c - see model_load.h. */
 #include "model/model_load.h"
 
-#include <string.h>
-#include <strings.h>
-
+#include "base/fileio.h"
 #include "model/import.h"
 #include "model/obj.h"
 #include "model/tmd.h"
 
-/* in any case: models from Windows machines are often MODEL.OBJ */
-static int ends_with(const char *s, const char *suffix)
-{
-    size_t n = strlen(s), m = strlen(suffix);
-    return n >= m && strcasecmp(s + n - m, suffix) == 0;
-}
-
 ModelFormat model_format(const char *path)
 {
-    if (ends_with(path, ".obj"))
+    if (file_has_suffix(path, ".obj"))
         return MODEL_FORMAT_OBJ;
-    if (ends_with(path, ".tmd"))
+    if (file_has_suffix(path, ".tmd"))
         return MODEL_FORMAT_TMD;
     return import_knows(path) ? MODEL_FORMAT_IMPORT : MODEL_FORMAT_UNKNOWN;
 }

@@ -11,7 +11,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <strings.h>
 
 #include <jpeglib.h>
 
@@ -112,12 +111,6 @@ static int starts(const uint8_t *p, size_t len, const char *magic, size_t n)
     return len >= n && memcmp(p, magic, n) == 0;
 }
 
-static int ends_with(const char *name, const char *ext)
-{
-    size_t n = strlen(name), e = strlen(ext);
-    return n >= e && strcasecmp(name + n - e, ext) == 0;
-}
-
 /* The format of an image lanray does not read, from its bytes; NULL when
  * it is none of them. */
 static const char *unread_format(const uint8_t *p, size_t len)
@@ -143,7 +136,7 @@ static const char *unread_format(const uint8_t *p, size_t len)
  * format hint "(tga)"), or the footer of a TGA 2.0 file. */
 static int is_tga(const uint8_t *p, size_t len, const char *name)
 {
-    return ends_with(name, ".tga") || ends_with(name, "(tga)") ||
+    return file_has_suffix(name, ".tga") || file_has_suffix(name, "(tga)") ||
            starts(p + (len >= 18 ? len - 18 : 0), len >= 18 ? 18 : 0, "TRUEVISION-XFILE", 16);
 }
 

@@ -28,7 +28,7 @@ static void corners(const World *w, HitKind kind, uint32_t index, uint32_t sub, 
     const WorldInstance *in = &w->instances[index];
     const Tri *t = &w->models[in->model]->tris[sub];
     for (int k = 0; k < 3; k++)
-        c[k] = v3_add(v3_scale(m3_apply(&in->rot, tri_vertex(t, k)), in->scale), in->translate);
+        c[k] = world_instance_point(in, tri_vertex(t, k));
 }
 
 static real sphere_area(const Sphere *sp) { return R(4) * REAL_PI * sp->radius * sp->radius; }

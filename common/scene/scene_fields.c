@@ -285,9 +285,9 @@ static const Field environment_fields[] = {
     {.key = "rotate", .type = FIELD_REAL, .group = 1, .off = ENV(rotate), .lo = -FIELD_INF, .hi = FIELD_INF,
      .doc = "turned by these degrees about +y (as a camera's yaw turns)"},
 };
-const FieldKind environment_kind = {.name = "environment", .size = sizeof(SceneEnvironment), .fields = environment_fields,
-                                    .count = sizeof environment_fields / sizeof *environment_fields,
-                                    .group_count = 1};
+const FieldKind environment_kind = {.name = "environment", .size = sizeof(SceneEnvironment),
+                                    .fields = environment_fields,
+                                    .count = sizeof environment_fields / sizeof *environment_fields, .group_count = 1};
 
 const FieldKind *const scene_kinds[] = {&camera_kind, &settings_kind,  &material_kind, &sphere_kind, &plane_kind,
                                         &triangle_kind, &model_kind, &instance_kind, &light_kind, &environment_kind, NULL};

@@ -3,37 +3,31 @@
 
 #include <math.h>
 #include <stdlib.h>
-#include <string.h>
-#include <strings.h>
 
+#include "base/fileio.h"
 #include "model/gltf_json.h"
 #include "model/gltf_scene.h"
+#include "scene/world.h"
 
-int scene_gltf_is(const char *path)
-{
-    const size_t n = strlen(path);
-    return (n >= 4 && strcasecmp(path + n - 4, ".glb") == 0) || (n >= 5 && strcasecmp(path + n - 5, ".gltf") == 0);
-}
+int scene_gltf_is(const char *path) { return file_has_suffix(path, ".glb") || file_has_suffix(path, ".gltf"); }
 
-/* Where the instance puts a point (world.c's instance_derive and
- * instance_world_box: turned, scaled, moved) and a direction (turned). */
+/* Where the instance puts a point and a direction (world_instance_point),
+ * or (placed 0) the file's own numbers, untouched. */
 typedef struct {
-    int placed; /* 0: the file's own numbers, untouched */
-    mat3 rot;
-    vec3 translate;
-    real scale;
+    int placed;
+    WorldInstance in;
 } Place;
 
 static vec3 place_point(const Place *p, const double v[3])
 {
     const vec3 a = v3((real)v[0], (real)v[1], (real)v[2]);
-    return p->placed ? v3_add(v3_scale(m3_apply(&p->rot, a), p->scale), p->translate) : a;
+    return p->placed ? world_instance_point(&p->in, a) : a;
 }
 
 static vec3 place_dir(const Place *p, const double v[3])
 {
     const vec3 a = v3((real)v[0], (real)v[1], (real)v[2]);
-    return p->placed ? m3_apply(&p->rot, a) : a;
+    return p->placed ? m3_apply(&p->in.rot, a) : a;
 }
 
 /* The camera a glTF gives, placed (its up by the roll); -1 where it
@@ -52,7 +46,7 @@ static int take_camera(Camera *out, const GltfCamera *c, const Place *p)
     cam.roll = atan2(-v3_dot(up, r), v3_dot(up, u)) * R(180) / REAL_PI; /* up' = u cos - r sin */
     if (c->ortho) {
         cam.kind = CAMERA_ORTHO;
-        cam.size = (real)(2.0 * c->xmag) * p->scale;
+        cam.size = (real)(2.0 * c->xmag) * p->in.scale;
     }
     *out = cam;
     return 0;
@@ -90,8 +84,7 @@ int scene_gltf_take(Scene *s, const char *path, const Instance *place, int want,
     *got = 0;
     if (!scene_gltf_is(path))
         return 0;
-    const size_t n = strlen(path);
-    const int glb = n >= 4 && strcasecmp(path + n - 4, ".glb") == 0;
+    const int glb = file_has_suffix(path, ".glb");
     size_t len;
     uint8_t *json = gltf_file_json(path, glb, &len); /* (the importer has read it: NULL reads as none) */
     GltfScene g;
@@ -99,9 +92,9 @@ int scene_gltf_take(Scene *s, const char *path, const Instance *place, int want,
     free(json);
     if (rc)
         return err_set(err, "%s: out of memory reading its lights", path);
-    Place p = {.scale = R(1)};
+    Place p = {.in.scale = R(1)};
     if (place)
-        p = (Place){1, m3_rotation_xyz(place->rotate), place->translate, place->scale};
+        p = (Place){1, world_instance_derive(place)};
     int bad = 0;
     if ((want & SCENE_GLTF_CAMERA) && g.has_camera && take_camera(&s->camera, &g.camera, &p) == 0) {
         *got |= SCENE_GLTF_CAMERA;

@@ -685,7 +685,7 @@ static __attribute__((noinline)) void surface_lift(Surface *out, const Hit *h, c
     /* an instance: lifted in model space, carried to the world as p is */
     real e = 0;
     vec3 lifted = trace_terminator_point(pm, tv, tn, h->b1, h->b2, &e);
-    out->ps = v3_add(v3_scale(m3_apply(&inst->rot, lifted), inst->scale), inst->translate);
+    out->ps = world_instance_point(inst, lifted);
     out->ps_err = out->err + e * inst->scale * (R(1) + real_gamma(8)) +
                   real_gamma(10) * R(3) * inst->scale * v3_max_comp(v3_abs(lifted)) +
                   real_gamma(2) * v3_max_comp(v3_abs(out->ps));
@@ -921,7 +921,7 @@ static inline __attribute__((always_inline)) int surface_instance(const World *w
     const Tri *t = &m->tris[h->sub];
     vec3 v0 = tri_vertex(t, 0), v1 = tri_vertex(t, 1), v2 = tri_vertex(t, 2);
     lift->pm = bary(v0, v1, v2, h->b1, h->b2);
-    out->p = v3_add(v3_scale(m3_apply(&in->rot, lift->pm), in->scale), in->translate);
+    out->p = world_instance_point(in, lift->pm);
     /* the model-space point's error carried through rotation and scale, plus
      * the rounding of adding the translation (and of subtracting it again
      * when a new ray goes back into model space) */

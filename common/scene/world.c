@@ -36,7 +36,7 @@ static WorldPlane plane_derive(const Plane *p)
     return w;
 }
 
-static WorldInstance instance_derive(const Instance *in)
+WorldInstance world_instance_derive(const Instance *in)
 {
     return (WorldInstance){
         .model = in->model,
@@ -54,7 +54,7 @@ static Aabb instance_world_box(const WorldInstance *in, Aabb b)
     Aabb w = aabb_empty();
     for (int c = 0; c < 8; c++) {
         vec3 p = v3(c & 1 ? b.max.x : b.min.x, c & 2 ? b.max.y : b.min.y, c & 4 ? b.max.z : b.min.z);
-        aabb_grow(&w, v3_add(v3_scale(m3_apply(&in->rot, p), in->scale), in->translate));
+        aabb_grow(&w, world_instance_point(in, p));
     }
     /* pad by the rounding of the transform so that the box stays conservative */
     vec3 pad = v3_scale(v3_max(v3_abs(w.min), v3_abs(w.max)), real_gamma(8));
@@ -187,7 +187,7 @@ static int derive_items(World *w, const Scene *s, Err *err)
     for (uint32_t i = 0; i < s->tri_count; i++)
         f |= s->tri_attrs[i].smooth ? FEAT_SMOOTH : 0u;
     for (uint32_t i = 0; i < s->instance_count; i++) {
-        w->instances[i] = instance_derive(&s->instances[i]);
+        w->instances[i] = world_instance_derive(&s->instances[i]);
         const Model *m = s->models[s->instances[i].model];
         f |= (m->normals ? FEAT_SMOOTH : 0u) | (m->uvs ? FEAT_TEXTURES : 0u) |
              (m->colours && s->instances[i].material < 0 ? FEAT_COLOURS : 0u);

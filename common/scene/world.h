@@ -67,6 +67,16 @@ typedef struct {
                        * with world rays instead of the model; NULL: the model */
 } WorldInstance;
 
+/* An instance's placement (its rotation made once) from its description. */
+WorldInstance world_instance_derive(const Instance *in);
+
+/* Model-space point p where instance in puts it in the world: turned,
+ * scaled, moved (its directions: turned alone, m3_apply). */
+static inline vec3 world_instance_point(const WorldInstance *in, vec3 p)
+{
+    return v3_add(v3_scale(m3_apply(&in->rot, p), in->scale), in->translate);
+}
+
 /* Transformed instances of models of at most this many triangles are
  * traced as placed copies (WorldInstance.placed, model_place): a copy's
  * memory is a few kilobytes, and a ray needs no move into model space

@@ -105,8 +105,8 @@ static const FieldRule rules[] = {
     {0, NULL, NULL, NULL, NULL},
 };
 
-const FieldKind material_kind = {.name = "material", .size = sizeof(Material), .fields = fields, .count = sizeof fields / sizeof *fields,
-                                 .rules = rules, .group_count = 13};
+const FieldKind material_kind = {.name = "material", .size = sizeof(Material), .fields = fields,
+                                 .count = sizeof fields / sizeof *fields, .rules = rules, .group_count = 13};
 
 Material material_default(void)
 {
