@@ -19,7 +19,8 @@ absorb; some with a mirror share, reflect, some frosted, roughness), clear coats
 one material a texture (map_Kd with -s and -o), a cutout (map_d) and a height map (bump), the other a normal map (norm), one with vertex colours
 and no materials, and a GLB with its texture embedded (and one whose image is also its normal map,
 emission, metal-roughness and occlusion texture, and one of alphaMode BLEND whose image's alpha
-runs from holes to whole); lamps (an emissive
+runs from holes to whole), and Blender's glTF of a lit scene whose instances take its
+lights and camera (`lights`, `camera`); lamps (an emissive
 sphere at a light); spheres, planes (with and
 without their texture mapping keys) and triangles (with normals and uv); models from OBJ (with and without smooth, each builder) and from
 .tmd (converted by the caller as DIR/mesh.tmd); instances with transforms and
@@ -96,6 +97,9 @@ def write_assets(d):
         rgba = make_png(4, 4, [sum(([rng.randrange(256) for _ in range(3)] + [(85 * (x + y)) % 256]
                                     for x in range(4)), []) for y in range(4)], 6)
         gltftex.write_glb(os.path.join(d, "blend.glb"), rgba, "image/png", sampler, blend=True)
+    if not os.path.exists(os.path.join(d, "lit.glb")):  # Blender's scene with its point lamp, sun and camera
+        here = os.path.dirname(os.path.abspath(__file__))
+        shutil.copy(os.path.join(here, "..", "data", "gltf", "lit.glb"), os.path.join(d, "lit.glb"))
     if not os.path.exists(os.path.join(d, "mesh.obj")):
         # a bumpy 6x6 grid with texture coordinates, two materials, normals on one half
         n = 6
@@ -288,10 +292,14 @@ def scene(seed):
         if r.random() < 0.5:
             t += ["uv", " ".join(num(r, -1, 2) for _ in range(6))]
         out.append(" ".join(t + mat()))
-    models = []
+    models, lit = [], []
     for i in range(r.choice([0, 0, 1, 2])):
         name = "mod%d" % i
-        if r.random() < 0.15:
+        takes = random.Random(seed * 7919 + 83 + i)  # a draw of its own: a glTF's lights and camera
+        if newer and takes.random() < 0.1:
+            m = ["model", name, "lit.glb"]
+            lit.append(name)
+        elif r.random() < 0.15:
             m = ["model", name, "maps.glb" if r.random() < 0.5 else "quad.glb"]
             if newer and random.Random(seed * 7919 + 79 + i).random() < 0.3:  # a draw of its own
                 m[2] = "blend.glb"
@@ -322,6 +330,8 @@ def scene(seed):
                 ins += ["scale", num(r, 0.3, 2.5)]
             if r.random() < 0.3:
                 ins += mat()
+            if name in lit:  # its lamps, and perhaps its view (the scene's camera line then replaced)
+                ins += ["lights"] + (["camera"] if random.Random(seed * 7919 + 89).random() < 0.5 else [])
             out.append(" ".join(ins))
 
     for _ in range(r.randrange(0, 4)):
