@@ -168,8 +168,8 @@ static int parse_args(Args *a, int argc, char **argv)
         {.name = "--shadows", .kind = OPT_CHOICE, .dst = &a->shadows, .choices = field_words(&settings_kind, "shadows"), .seen = &a->shadows_given,
          .help = "shadow rays", .def = "the scene's, else on"},
         {.name = "--filter", .kind = OPT_CHOICE, .dst = &a->filter, .choices = texture_filter_names, .seen = &a->filter_given,
-         .help = "texture filtering: one texel, four, mip-maps by the ray's footprint, or mip-maps along it (a procedural "
-                 "checker: at a point with nearest, else over the footprint)",
+         .help = "texture filtering: one texel, four, mip-maps by the ray's footprint, or mip-maps along it (a procedural checker: at "
+                 "a point with nearest, else over the footprint; an environment: its mip-map by the footprint with the last two)",
          .def = "the scene's, else anisotropic"},
         {.name = "--depth", .kind = OPT_INT, .dst = &a->depth, .arg = "N", .lo = 0, .hi = SCENE_MAX_DEPTH, .seen = &a->depth_given,
          .help = "bounces of reflected and refracted rays after the camera ray", .def = "the scene's, else 5"},

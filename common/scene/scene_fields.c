@@ -86,7 +86,8 @@ static const Field settings_fields[] = {
      .doc = "shadow rays"},
     {.key = "filter", .type = FIELD_CHOICE, .off = SET(rs.filter), .words = texture_filter_names, .def = FILTER_ANISOTROPIC,
      .doc = "texture filtering: one texel, four, mip-maps by the ray's footprint, or mip-maps along it (a "
-            "procedural checker: at a point with nearest, else over the footprint)"},
+            "procedural checker: at a point with nearest, else over the footprint; an environment: its "
+            "mip-map by the footprint with the last two)"},
     {.key = "linear", .type = FIELD_FLAG, .flags = FIELD_WIRE, .off = SET(rs.linear), .doc = "linear output codes"},
     {.key = "hdr", .type = FIELD_FLAG, .flags = FIELD_WIRE, .off = SET(rs.hdr), .doc = "RGBE pixels (4 bytes)"},
     {.key = "width", .type = FIELD_WHOLE, .flags = FIELD_FILE, .off = SET(rs.width), .lo = 1, .hi = SCENE_MAX_SIDE,
