@@ -6,6 +6,9 @@ light, or a sky over a ground with a round sun (equirectangular, as lanray's
     python3 tests/tools/envmap.py OUT.hdr constant W H R G B
     python3 tests/tools/envmap.py OUT.hdr sky W H SUN_U SUN_V SUN_RADIUS SUN_LIGHT
     python3 tests/tools/envmap.py OUT.hdr checker W H SQUARE (texels a side: black and white)
+    python3 tests/tools/envmap.py OUT.hdr town W H SQUARE (a checker band about the horizon, as a
+        town's windows, under the sky's gradient and over a plain ground: detail where a mirror
+        ball shrinks it, none at the poles, where no sampling could resolve a checker)
 """
 import math
 import sys
@@ -52,6 +55,16 @@ def main():
     elif a[1] == "checker":
         n = int(a[4])
         write_hdr(a[0], w, h, lambda u, t: (1.0,) * 3 if (int(u * w) // n + int(t * h) // n) % 2 else (0.0,) * 3)
+    elif a[1] == "town":
+        n = int(a[4])
+        sky_f = sky(0, 0, 0, 0)
+
+        def town(u, t):
+            el = (0.5 - t) * 180
+            if el > 30 or el < -20:
+                return sky_f(u, t)
+            return (0.9, 0.85, 0.7) if (int(u * w) // n + int(t * h) // n) % 2 else (0.05, 0.05, 0.08)
+        write_hdr(a[0], w, h, town)
     else:
         write_hdr(a[0], w, h, sky(*(float(v) for v in a[4:8])))
 
