@@ -456,7 +456,7 @@ static int parse_args(Args *a, int argc, char **argv)
                  "frames of 2x2, 4x4 ... N x N",
          .def = "none: every frame with --aa; in a window, a path-traced scene's 32"},
         {.name = "--still-light-samples", .kind = OPT_INT, .dst = &a->still_lights, .arg = "K", .hi = LIGHT_MAX_SAMPLES,
-         .help = "with --still-aa, the still frames after the first double the area lights' points a side, from the "
+         .help = "with --still-aa, the still frames after the first take four times the area lights' points a side, from the "
                  "largest light's own up to K x K (lanray-render's picture with --light-samples K): soft shadows "
                  "without grain; 0 = each light's own",
          .def = "0"},

@@ -33,8 +33,8 @@ typedef struct {
      * lanray-render's picture bit for bit), a frame that moved with the
      * scene's own (refine 0: every frame with the scene's) */
     int refine, still_aa, still_adaptive;
-    /* and then, for the Whitted integrator, the area lights' points doubled
-     * a side each still frame up to still_lights x still_lights (settings
+    /* and then, for the Whitted integrator, the area lights' points four
+     * times a side each still frame up to still_lights x still_lights (settings
      * light_samples: soft shadows that converge); 0: the scene's own */
     int still_lights;
     /* the light sampling (LightSampling) of the frames that are not still

@@ -51,13 +51,13 @@ appears "$dir/diffuse.ppm" >/dev/null || fail "M: the next frames are not lanray
 echo "M: the next frame is lanray-render's --shading diffuse picture"
 stop_window_server server
 # a still frame gives way to a change: the still frames refine the lamp's
-# points up to 64 x 64 (a minute of work); once rows of the 6 x 6 or the 12
-# x 12 one show (a still frame shows in part as its segments come), a
-# larger one is on its way (24, 48 and 64 after them), and M drops it
-# rather than wait for it.  Either picture will do: the 6 x 6 one stays on
-# the screen only while the 12 x 12 one renders (half a second here, 3 s
+# points up to 64 x 64 (a minute of work); once rows of the lamp's own 3 x 3
+# or of the 12 x 12 one show (a still frame shows in part as its segments
+# come), a larger one is on its way (12, 48 and 64 after them), and M drops
+# it rather than wait for it.  Either picture will do: the 3 x 3 one stays
+# on the screen only while the 12 x 12 one renders (half a second here, 3 s
 # under AddressSanitizer), and a CI run's screenshots, a few a second on
-# loaded cores, once missed it and waited for it for 2 minutes.
+# loaded cores, once missed such a picture and waited for it for 2 minutes.
 W=240 H=180
 still_refs $W $H still
 window_server still --width $W --height $H --still-aa adaptive:4 --still-light-samples 64
@@ -65,20 +65,20 @@ window_at
 rows=
 for _ in $(seq 300); do
     screenshot
-    rows=$(python3 tests/tools/xwdrows.py "$dir/screen.xwd" "$X" "$Y" "$dir/still6.ppm" "$dir/still12.ppm") ||
+    rows=$(python3 tests/tools/xwdrows.py "$dir/screen.xwd" "$X" "$Y" "$dir/still3.ppm" "$dir/still12.ppm") ||
         fail "cannot read the screen: $rows"
-    read -r _ six _ twelve _ <<<"$rows"
-    [ "$six" -gt 0 ] || [ "$twelve" -gt 0 ] && break
+    read -r _ three _ twelve _ <<<"$rows"
+    [ "$three" -gt 0 ] || [ "$twelve" -gt 0 ] && break
     rows=
     sleep 0.2
 done
-[ -n "$rows" ] || fail "neither the still frame of 6 x 6 light points nor that of 12 x 12 showed"
+[ -n "$rows" ] || fail "neither the still frame of 3 x 3 light points nor that of 12 x 12 showed"
 xdotool mousemove $((X + W / 2)) $((Y + H / 2))
 xdotool key m
 for _ in $(seq 100); do grep -q "gave way to a change" "$dir/still.err" && break; sleep 0.2; done
 grep -q "^lanray-server: frame [0-9]* gave way to a change$" "$dir/still.err" ||
     fail "M during a refining still frame: the frame did not give way: $(tail -3 "$dir/still.err")"
-echo "a refining still frame gave way to M (pressed with rows of 6 x 6 and 12 x 12 points on the screen: $six and $twelve): $(grep -o 'frame [0-9]* gave way' "$dir/still.err")"
+echo "a refining still frame gave way to M (pressed with rows of 3 x 3 and 12 x 12 points on the screen: $three and $twelve): $(grep -o 'frame [0-9]* gave way' "$dir/still.err")"
 stop_window_server still
 # U: the knot turning (--rotate) at a target out of reach, every frame at
 # render scale 8, brought up smooth (the default: most 8 x 8 blocks of the

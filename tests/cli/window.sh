@@ -64,7 +64,7 @@ kill -0 "$spid" 2>/dev/null || fail "idle: the server died of a second SIGUSR1"
 echo "idle: the converged picture stays, $n1 frames started, none in the second after"
 stop_window_server idle
 # a still frame refines on the screen as its segments come, over the frame
-# before: the round lamp's 6 x 6 points a pixel, then 12 x 12; a
+# before: the round lamp's own 3 x 3 points a pixel, then 12 x 12; a
 # path-traced view's 8 samples a pixel, then the last batch's 8 more.  The
 # client renders in short spells (SIGCONT ... SIGSTOP) and each pause's
 # screen is read: some rows must be the later picture's and others still
@@ -92,7 +92,7 @@ in_part() {
 }
 W=120 H=80
 still_refs $W $H lights
-in_part lines "$dir/lights6.ppm" "$dir/lights12.ppm" --width $W --height $H --still-aa adaptive:4 \
+in_part lines "$dir/lights3.ppm" "$dir/lights12.ppm" --width $W --height $H --still-aa adaptive:4 \
     --still-light-samples 12
 # the batch's part shown with the batches before, as its frame will be
 for k in 4 5; do
