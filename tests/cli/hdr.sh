@@ -76,7 +76,6 @@ verify_distributed exposure "$dir/exp.scene" "$dir/exp64.png" "with an exposure"
 start_server hdrsrv "$dir/exp.scene" --port 0 --width 61 --height 37 --frames 2 --wait-clients 2 --segment 3 --hdr \
     --out "$dir/hdrframes"
 clients_until_done 2 2
-! kill -0 "$server_pid" 2>/dev/null || fail "the --hdr server did not finish 2 frames in 30 s: $(tail -3 "$dir/hdrsrv.err")"
 wait "$server_pid" || fail "the --hdr server failed (exit $?)"
 for f in 1 2; do
     cmp -s "$dir/hdrframes/frame-0000$f.hdr" "$dir/ref.hdr" || fail "the server's .hdr frame $f differs from lanray-render's"

@@ -49,14 +49,17 @@ start_server() {
     done
     fail "$name did not start"
 }
-# clients_until_done N THREADS: N clients of THREADS threads (--once) join
-# the server started last; waits up to 30 s for it to exit
+# clients_until_done N THREADS: N clients of THREADS threads (--once, their
+# errors in $dir/c-until-K.err) join the server started last; waits for it
+# to exit, and fails (showing every error file) where it still runs after
+# 120 s (server_done), not at the test run's time limit
 clients_until_done() {
-    for _ in $(seq "$1"); do
-        "$BIN/lanray-client" "127.0.0.1:$port" --threads "$2" --once --quiet 2>/dev/null &
+    local c
+    for c in $(seq "$1"); do
+        "$BIN/lanray-client" "127.0.0.1:$port" --threads "$2" --once --quiet 2>"$dir/c-until-$c.err" &
         pids+=("$!")
     done
-    for _ in $(seq 600); do kill -0 "$server_pid" 2>/dev/null || break; sleep 0.05; done
+    server_done 120 "clients_until_done: $1 clients of $2 threads"
 }
 # serve_flight NAME FRAMES: two clients of one thread (--once, their errors
 # in $dir/c-NAME-K.err) join the server started last, which must exit 0
