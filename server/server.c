@@ -89,6 +89,10 @@ struct Server {
     int in_frame, paused, dirty;
     View view;          /* the frame's camera and settings, apart from the description */
     uint32_t scene_id;  /* the description's number, one up each time it changes */
+    /* ... one up each time it changes but by the animation's turns: the
+     * histories' epoch (a turning model leaves the rest of the picture
+     * where it was, and its history with it) */
+    uint32_t edit_id;
     Scene *next_scene;  /* server_set_scene: the description of the frames to come */
     Camera last_camera; /* the camera of the frame before, and its description's number: */
     uint32_t last_scene_id;
@@ -483,6 +487,7 @@ static int swap_scene(Server *s, Err *err)
         s->view.camera = s->scene->camera;
     s->view.settings = s->scene->settings;
     s->dirty = 1;
+    s->edit_id++;
     return 0;
 }
 
@@ -851,7 +856,7 @@ static int start_frame(Server *s, Err *err)
             v.settings.guides = history_stage(s);
     }
     s->frame_cam = v.camera;
-    s->frame_epoch = (uint64_t)s->scene_id << 32 | s->settings_id;
+    s->frame_epoch = (uint64_t)s->edit_id << 32 | s->settings_id;
     s->frame_rs = v.settings;
     s->frame_bpp = render_pixel_bytes(&v.settings);
     /* a moving frame at the render scale, a still one whole */

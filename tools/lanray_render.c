@@ -550,8 +550,8 @@ static int job_render(Job *j, const Args *a, RayStats *st, double *best, double 
         *st = (RayStats){0, 0, 0};
         if (a->progressive || a->flight.frames) {
             rc = a->progressive ? render_batches(j, a, st, err)
-                                : flight_render(j->pool, j->world, &j->path, &a->flight, a->width, a->height, j->pixels,
-                                                st, err);
+                                : flight_render(j->pool, j->world, j->scene, &j->path, &a->flight, a->width,
+                                                a->height, j->pixels, st, err);
             *sum = *best = timer_now() - t;
             break;
         }

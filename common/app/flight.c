@@ -47,8 +47,48 @@ uint64_t flight_bytes(const RenderSettings *rs, const Flight *fl, int width, int
            (rs->integrator == INTEGRATOR_WHITTED ? n * (render_colour_bytes(rs) + DENOISE_GUIDE_BYTES) : 0);
 }
 
-int flight_render(RenderPool *pool, World *w, const CameraPath *path, const Flight *fl, int width, int height,
-                  uint8_t *pixels, RayStats *st, Err *err)
+/* A flight whose instances turn (lanray-server --rotate): a copy of the
+ * description whose instances' turns about y grow by `deg` each frame
+ * after the first, added frame by frame as the server adds them (the same
+ * bits), and the world of the frame, which shares the first's trees. */
+typedef struct {
+    Scene desc;
+    World *world; /* the frame's; NULL before the first turn */
+} Turning;
+
+static int turning_start(Turning *tn, const Scene *desc, Err *err)
+{
+    tn->desc = *desc, tn->world = NULL;
+    const size_t size = (size_t)desc->instance_count * sizeof *desc->instances;
+    tn->desc.instances = size ? malloc(size) : NULL;
+    if (size && !tn->desc.instances)
+        return err_set(err, "out of memory for the turning instances");
+    if (size)
+        memcpy(tn->desc.instances, desc->instances, size);
+    tn->desc.instance_cap = desc->instance_count;
+    return 0;
+}
+
+/* The next frame's world: the instances turned deg more. */
+static World *turning_next(Turning *tn, const World *first, real deg, Err *err)
+{
+    for (uint32_t k = 0; k < tn->desc.instance_count; k++)
+        tn->desc.instances[k].rotate.y += deg;
+    World *next = world_build(&tn->desc, first, err);
+    if (!next)
+        return NULL;
+    world_destroy(tn->world);
+    return tn->world = next;
+}
+
+static void turning_end(Turning *tn)
+{
+    world_destroy(tn->world);
+    free(tn->desc.instances);
+}
+
+int flight_render(RenderPool *pool, World *w, const Scene *desc, const CameraPath *path, const Flight *fl, int width,
+                  int height, uint8_t *pixels, RayStats *st, Err *err)
 {
     const View view = w->view;
     const RenderSettings *vs = &view.settings;
@@ -66,21 +106,33 @@ int flight_render(RenderPool *pool, World *w, const CameraPath *path, const Flig
     const double end = (double)camera_path_end(path);
     Camera before = view.camera;
     int still_step = 0, rc = 0;
+    Turning turning;
+    if (fl->rotate != 0 && turning_start(&turning, desc, err)) {
+        temporal_destroy(t);
+        free(guided);
+        return -1;
+    }
+    World *fw = w; /* the frame's world */
     for (int i = 1; i <= fl->frames && rc == 0; i++) {
         const double at = (i - 1) * fl->step;
         const Camera cam = path->count ? camera_path_at(path, (real)(at < end ? at : end)) : view.camera;
-        still_step = i > 1 && camera_same(&cam, &before) ? still_step + 1 : 0;
+        /* a turning scene makes every frame after the first a moving one */
+        still_step = i > 1 && fl->rotate == 0 && camera_same(&cam, &before) ? still_step + 1 : 0;
         before = cam;
+        if (fl->rotate != 0 && i > 1 && !(fw = turning_next(&turning, w, (real)fl->rotate, err))) {
+            rc = -1;
+            break;
+        }
         RenderSettings rs;
         const int samples = frame_settings(&view.settings, fl, (uint32_t)i, still_step, t != NULL, &rs, err);
         if (samples < 0) {
             rc = -1;
             break;
         }
-        w->view.camera = cam, w->view.settings = rs;
+        fw->view.camera = cam, fw->view.settings = rs;
         RayStats part;
         uint8_t *px = rs.guides ? guided : pixels;
-        rc = render_span(pool, w, width, height, 0, n, px, &part, NULL, err);
+        rc = render_span(pool, fw, width, height, 0, n, px, &part, NULL, err);
         ray_stats_add(st, part);
         const TemporalFrame tf = {cam, 0, samples, still_step > 0, whitted};
         const uint32_t cb = render_colour_bytes(&rs), bpp = render_pixel_bytes(&rs);
@@ -90,6 +142,8 @@ int flight_render(RenderPool *pool, World *w, const CameraPath *path, const Flig
             memcpy(pixels + k * cb, px + k * bpp, cb);
     }
     w->view = view;
+    if (fl->rotate != 0)
+        turning_end(&turning);
     temporal_destroy(t);
     free(guided);
     return rc;

@@ -26,6 +26,7 @@ typedef struct {
     int still_aa;   /* still frames' N x N, N a power of two (0: the moving frames' quality) */
     int temporal;   /* the frames a pixel's history weighs at most (0: none) */
     int whitted_temporal; /* ... of a Whitted view (0: none) */
+    double rotate;        /* degrees the instances turn about y each frame after the first (lanray-server --rotate) */
 } Flight;
 
 /* lanray-render's options for a flight; the server has --path-step,
@@ -40,6 +41,9 @@ typedef struct {
      .help = "--server-frame: the still frames' N x N samples, N a power of two, in batches that double them; 0 = as " \
              "the moving ones"}, \
     CLI_TEMPORAL_OPT(&(f)->temporal, "--server-frame, path-traced and denoised: "), \
+    {.name = "--rotate", .kind = OPT_REAL, .dst = &(f)->rotate, .arg = "DEG", .rlo = -360, .rhi = 360, .def = "0", \
+     .help = "--server-frame: the instances turn DEG degrees about y each frame after the first (lanray-server " \
+             "--rotate); those frames are moving ones"}, \
     CLI_WHITTED_TEMPORAL_OPT(&(f)->whitted_temporal, "--server-frame, ")
 
 /* --whitted-temporal, the server's and lanray-render's */
@@ -62,11 +66,12 @@ typedef struct {
 uint64_t flight_bytes(const RenderSettings *rs, const Flight *fl, int width, int height);
 
 /* Renders the flight's frames along path (no keys: at w's camera) over w (its view's camera and settings
- * changed on the way, put back at the end) into pixels (width x height,
+ * changed on the way, put back at the end; with fl->rotate, over worlds of
+ * desc, w's description, its instances turned) into pixels (width x height,
  * render_pixel_bytes of w's settings): the last frame's pixels as the
  * server has them before it denoises them.  0, or -1 with err (a still
  * quality that does not go in batches, memory). */
-int flight_render(RenderPool *pool, World *w, const CameraPath *path, const Flight *fl, int width, int height,
-                  uint8_t *pixels, RayStats *st, Err *err);
+int flight_render(RenderPool *pool, World *w, const Scene *desc, const CameraPath *path, const Flight *fl, int width,
+                  int height, uint8_t *pixels, RayStats *st, Err *err);
 
 #endif

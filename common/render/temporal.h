@@ -23,7 +23,8 @@
  * first still frame, one sample, is not noisier than the moving frames
  * before it), then the still frame's own bytes: a converged frame is
  * lanray-render's.  A new scene or new settings (the epoch) drop the
- * history.
+ * history; a model's turn (lanray-server --rotate) does not (the rest of
+ * the picture keeps it; the model's own motion is not followed).
  *
  * Pixels keep their layout (colour, then the guide, render/denoise.h):
  * the colour becomes the history's, and the guide's noise byte the
@@ -73,7 +74,7 @@ typedef struct Temporal Temporal;
 /* What a frame is, for its adding up. */
 typedef struct {
     Camera camera;
-    uint64_t epoch; /* its scene's and settings' number: a new one drops the history */
+    uint64_t epoch; /* its scene's (but for turns) and settings' number: a new one drops the history */
     int samples;    /* a pixel's: 1 for a moving frame, a still frame's so far */
     int still;      /* its camera is the frame before's: a still frame */
     int clip;       /* the history held within the light of the frame's 3 x 3 about each pixel */

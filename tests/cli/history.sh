@@ -16,7 +16,9 @@
 # --server-frame picture at the small size, brought up), at 2 the moving
 # frames carry no guides (the same bytes as without it); after moving
 # frames at a render scale the first still frame is the plain picture,
-# whole (sharp at once), the next the still quality.  Under the
+# whole (sharp at once), the next the still quality.  A turning model
+# (--rotate) keeps the history (Whitted's and a denoised path-traced
+# view's), through a server as lanray-render --server-frame --rotate.  Under the
 # sanitizers the accuracy measurement is left out (the plain pass takes it).
 set -u
 source tests/tools/server-lib.sh
@@ -117,4 +119,27 @@ start_server points --port 0 --width $W --height $H --path "$dir/fly.path" --pat
     --still-aa adaptive:2 --moving-light-samples 2 --out "$dir/points"
 serve_flight points 4
 served_are points p-1 p-2 p-3 still
+# a turning model (--rotate) changes the scene every frame but keeps the
+# history, Whitted's and a denoised path-traced view's (settings and
+# scenes that change otherwise still drop it): each served frame is
+# lanray-render's --server-frame K --rotate picture (a server that
+# dropped the history at each turn showed frame 2 alone); five frames, the
+# camera still after the third, every one a moving frame
+for how in turn pathturn; do
+    case $how in # (lanray-render's --denoise takes on or off, the server's none)
+    turn) args=() sargs=() ;;
+    pathturn) args=(--integrator path --denoise on) sargs=(--integrator path --denoise) ;;
+    esac
+    want=()
+    for k in 1 2 3 4 5; do
+        render "${fly[@]}" "${args[@]}" --rotate 5 --server-frame $k -o "$dir/$how-$k.png"
+        want+=("$how-$k")
+    done
+    render "${fly[@]}" "${args[@]}" --rotate 5 --server-frame 2 --whitted-temporal 0 --temporal 0 -o "$dir/$how-alone.png"
+    cmp -s "$dir/$how-2.png" "$dir/$how-alone.png" && fail "the history changed nothing in a turning frame ($how)"
+    start_server $how --port 0 --width $W --height $H --path "$dir/fly.path" --path-step 0.5 --wait-clients 2 \
+        --still-aa adaptive:2 --rotate 5 --frames 5 "${sargs[@]}" --out "$dir/$how"
+    serve_flight $how 5
+    served_are $how "${want[@]}"
+done
 echo "history: ok"
