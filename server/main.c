@@ -456,9 +456,9 @@ static int parse_args(Args *a, int argc, char **argv)
                  "frames of 2x2, 4x4 ... N x N",
          .def = "none: every frame with --aa; in a window, a path-traced scene's 32"},
         {.name = "--still-light-samples", .kind = OPT_INT, .dst = &a->still_lights, .arg = "K", .hi = LIGHT_MAX_SAMPLES,
-         .help = "with --still-aa, the still frames after the first take four times the area lights' points a side, from the "
-                 "largest light's own up to K x K (lanray-render's picture with --light-samples K): soft shadows "
-                 "without grain; 0 = each light's own",
+         .help = "with --still-aa, the still frames after the first take four times the area lights' points a "
+                 "side, from the largest light's own up to K x K (lanray-render's picture with --light-samples K): "
+                 "soft shadows without grain; 0 = each light's own",
          .def = "0"},
         {.name = "--compress", .kind = OPT_CHOICE, .dst = &a->compress, .choices = compress_words,
          .help = "how clients send their pixels: raw, LZ4, or zstd level 1 after a left-neighbour predictor (a "

@@ -722,7 +722,7 @@ static int refine_step(const ServerConfig *c, const Scene *scene, int k, RenderS
         return 1;
     if (k == 1)
         return 0;
-    /* own << 2 (k - 1), stopped at still_lights (k may grow without end):
+    /* own x 4^(k - 1), stopped at still_lights (k may grow without end):
      * sixteen times the points a frame, so that the frames before the
      * converged one cost a fifteenth of it, not a third as doubling a side
      * did (the demo's lamp, 3 x 3 to 12 x 12 at once: converged a fifth
