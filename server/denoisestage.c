@@ -19,6 +19,8 @@ struct DenoiseStage {
     uint32_t w, h;
     int linear;
     StageFrame frame;
+    Instance *inst; /* the frame's instances (frame.instances), the stage's copy */
+    uint32_t inst_cap;
     int state, stop;
     pthread_mutex_t lock;
     pthread_cond_t changed;
@@ -41,7 +43,8 @@ static void *stage_main(void *arg)
         const StageFrame *f = &st->frame;
         if (st->history && f->temporal)
             temporal_add(st->history, st->in, st->w, st->h, st->cb, st->linear,
-                         &(TemporalFrame){f->cam, f->epoch, f->samples, f->still, !st->denoiser});
+                         &(TemporalFrame){f->cam, f->epoch, f->samples, f->still, !st->denoiser, f->instances,
+                                          f->instance_count});
         if (!st->denoiser) /* the history alone: the colours without their guides */
             for (size_t i = 0; i < (size_t)st->w * st->h; i++)
                 memcpy(st->out + i * st->cb, st->in + i * st->bpp, st->cb);
@@ -103,6 +106,7 @@ void denoise_stage_destroy(DenoiseStage *st)
     pool_destroy(st->pool);
     free(st->in);
     free(st->out);
+    free(st->inst);
     free(st);
 }
 
@@ -111,8 +115,19 @@ void denoise_stage_put(DenoiseStage *st, const uint8_t *pixels, uint32_t w, uint
 {
     /* the stage is empty: the thread reads none of this until WAITING */
     memcpy(st->in, pixels, (size_t)w * h * st->bpp);
+    uint32_t n = frame->instance_count;
+    if (n > st->inst_cap) {
+        Instance *grown = realloc(st->inst, n * sizeof *grown);
+        if (grown)
+            st->inst = grown, st->inst_cap = n;
+        else
+            n = 0; /* the history then follows no instance */
+    }
+    if (n)
+        memcpy(st->inst, frame->instances, n * sizeof *st->inst);
     pthread_mutex_lock(&st->lock);
     st->w = w, st->h = h, st->linear = linear, st->frame = *frame;
+    st->frame.instances = st->inst, st->frame.instance_count = n;
     st->state = WAITING;
     pthread_cond_broadcast(&st->changed);
     pthread_mutex_unlock(&st->lock);

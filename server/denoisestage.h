@@ -26,6 +26,8 @@ typedef struct {
     int temporal; /* added to the history before it is filtered (path-traced) ... */
     Camera cam;   /* ... as seen by this camera, of this description's and settings' numbers */
     uint64_t epoch;
+    const Instance *instances; /* ... its instances placed so (copied in by the put: the stage's own after it) */
+    uint32_t instance_count;
 } StageFrame;
 
 /* A stage for frames of up to width x height guided pixels of colour_bytes

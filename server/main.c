@@ -386,7 +386,7 @@ static const char server_exits[] =
 #define DENOISE_OPTS(a) \
     {.name = "--denoise", .kind = OPT_FLAG, .dst = &(a)->denoise, \
      .help = "path-traced frames filtered by what each pixel saw first (settings denoise on): clients send each " \
-             "pixel's guide, 9 bytes, beside its colour; a scene that asks for it is denoised without"}, \
+             "pixel's guide, 11 bytes, beside its colour; a scene that asks for it is denoised without"}, \
     {.name = "--denoise-threads", .kind = OPT_INT, .dst = &(a)->cfg.denoise_threads, .arg = "T", .lo = 0, \
      .hi = POOL_MAX_THREADS, .help = "threads of the denoiser, 0 = one per core", .def = "0"}, \
     CLI_TEMPORAL_OPT(&(a)->cfg.temporal, "path-traced and denoised: "), \

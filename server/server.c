@@ -74,7 +74,15 @@ typedef struct {
     uint32_t cap;      /* the bytes a pixel its buffer was made for */
     Camera cam;        /* its camera, and its description's and settings' numbers */
     uint64_t epoch;
+    int placed;        /* its instances' placements: Server.placed[placed] */
 } Older;
+
+/* A frame's instances as its description placed them, for its history
+ * (render/temporal.h follows a turning model's pixels by their moves). */
+typedef struct {
+    Instance *inst;
+    uint32_t count, cap;
+} Placed;
 
 struct Server {
     ServerConfig cfg;
@@ -124,6 +132,10 @@ struct Server {
     uint32_t frame_bpp, frame_cap;
     Camera frame_cam;    /* the current frame's camera, and its description's and settings' numbers */
     uint64_t frame_epoch;
+    /* the placements of the frames in flight (two at most): the current
+     * frame's placed[frame_placed], the older's the other */
+    Placed placed[2];
+    int frame_placed;
     /* the batches of a path-traced still so far: their sums, the pixels
      * they make (bpp), and the last batch added */
     real *acc_sums;
@@ -302,6 +314,8 @@ void server_destroy(Server *s)
     sched_destroy(s->spare_sched);
     pixcodec_destroy(s->codec);
     free(s->pixels);
+    free(s->placed[0].inst);
+    free(s->placed[1].inst);
     free(s->older.pixels);
     free(s->spare_pixels);
     free(s->acc_sums);
@@ -814,6 +828,24 @@ static int history_stage(Server *s)
 }
 
 
+/* The description's placements of its instances into p (none where
+ * memory ran out: the history then follows no instance's motion). */
+static void place_frame(Placed *p, const Scene *scene)
+{
+    const uint32_t n = scene->instance_count;
+    if (n > p->cap) {
+        Instance *grown = realloc(p->inst, n * sizeof *grown);
+        if (!grown) {
+            p->count = 0;
+            return;
+        }
+        p->inst = grown, p->cap = n;
+    }
+    if (n)
+        memcpy(p->inst, scene->instances, n * sizeof *scene->instances);
+    p->count = n;
+}
+
 static int start_frame(Server *s, Err *err)
 {
     if (apply_pending(s, err))
@@ -857,6 +889,8 @@ static int start_frame(Server *s, Err *err)
     }
     s->frame_cam = v.camera;
     s->frame_epoch = (uint64_t)s->edit_id << 32 | s->settings_id;
+    s->frame_placed = s->older.id ? 1 - s->older.placed : 0;
+    place_frame(&s->placed[s->frame_placed], s->scene);
     s->frame_rs = v.settings;
     s->frame_bpp = render_pixel_bytes(&v.settings);
     /* a moving frame at the render scale, a still one whole */
@@ -905,7 +939,7 @@ static int start_ahead(Server *s, Err *err)
         return 0;
     s->older = (Older){s->frame,    s->sched,    s->pixels,    s->fw,        s->fh,        s->scale,
                        s->still,    s->converged, s->frame_t0, s->frame_rs, s->frame_bpp, s->frame_cap,
-                       s->frame_cam, s->frame_epoch};
+                       s->frame_cam, s->frame_epoch, s->frame_placed};
     sched_set_segment_lines(s->spare_sched, sched_config(s->sched)->segment_lines);
     s->sched = s->spare_sched;
     s->pixels = s->spare_pixels;
@@ -1206,10 +1240,11 @@ static int frame_samples(const RenderSettings *rs)
 
 /* What a frame's showing needs, and its history's adding up. */
 static StageFrame stage_frame(const Server *s, uint32_t id, int scale, int still, int converged, double t0,
-                              const RenderSettings *rs, const Camera *cam, uint64_t epoch)
+                              const RenderSettings *rs, const Camera *cam, uint64_t epoch, int placed)
 {
     const int temporal = rs->integrator == INTEGRATOR_PATH ? temporal_frames(s, rs) > 0 : rs->guides;
-    return (StageFrame){id, scale, still, converged, t0, frame_samples(rs), temporal, *cam, epoch};
+    const Placed *p = &s->placed[placed];
+    return (StageFrame){id, scale, still, converged, t0, frame_samples(rs), temporal, *cam, epoch, p->inst, p->count};
 }
 
 /* A finished frame to the application: the panel's and the pace's
@@ -1303,7 +1338,8 @@ static void finish_frames(Server *s, FrameDoneFn done, void *ctx)
             s->frames_dropped++;
             log_line(s->cfg.quiet, "lanray-server", "frame %u dropped: the clients that had its view left", o->id);
         } else {
-            const StageFrame f = stage_frame(s, o->id, o->scale, o->still, o->converged, o->t0, &o->rs, &o->cam, o->epoch);
+            const StageFrame f =
+                stage_frame(s, o->id, o->scale, o->still, o->converged, o->t0, &o->rs, &o->cam, o->epoch, o->placed);
             frame_finished(s, &f, o->pixels, &o->rs, done, ctx);
         }
         s->spare_sched = o->sched;
@@ -1318,7 +1354,7 @@ static void finish_frames(Server *s, FrameDoneFn done, void *ctx)
     if (s->in_frame && sched_frame_done(s->sched)) {
         s->in_frame = 0;
         const StageFrame f = stage_frame(s, s->frame, s->scale, s->still, s->converged, s->frame_t0, &s->frame_rs,
-                                         &s->frame_cam, s->frame_epoch);
+                                         &s->frame_cam, s->frame_epoch, s->frame_placed);
         frame_finished(s, &f, s->pixels, &s->frame_rs, done, ctx);
     }
 }

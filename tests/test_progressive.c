@@ -206,13 +206,15 @@ static void any_sums_make_a_pixel(void **state)
     const real a[2][PROG_MAX] = {{1, 1, 1, 2, 2, 2, 4, INFINITY, NAN, 0, R(5), R(1e30)},
                                  {NAN, NAN, NAN, NAN, NAN, NAN, NAN, NAN, NAN, NAN, NAN, NAN}};
     real acc[2 * PROG_MAX] = {0};
-    uint8_t out[2 * 12];
+    enum { PX = 3 + DENOISE_GUIDE_BYTES };
+    uint8_t out[2 * PX];
     progressive_frame_add(&rs, acc, (const uint8_t *)a, 2, out);
     float albedo[3], normal[3], depth, noise;
     denoise_guide_unpack(out + 3, albedo, normal, &depth, &noise);
     assert_float_equal(depth, 1.25, 1e-3); /* 5 over 4 samples */
     assert_float_equal(albedo[0], 0.5, 0.01);
-    denoise_guide_unpack(out + 12 + 3, albedo, normal, &depth, &noise);
+    assert_int_equal(denoise_guide_instance(out + 3), 0); /* sums carry no instance */
+    denoise_guide_unpack(out + PX + 3, albedo, normal, &depth, &noise);
     assert_true(depth == 0 && albedo[0] == 0);
 }
 

@@ -814,8 +814,8 @@ static void pixels_do_not_depend_on_threads_or_segments(void **state)
 /* A Whitted frame's guides (settings guides, a moving frame's for the
  * server's history): the colours are the frame's without them, byte for
  * byte, and each pixel's guide is its camera ray's first hit (the
- * distance to 16 bits of its float; 0 where it met nothing), the mirror
- * and glass balls' too; with settings denoise alone the guides stay empty
+ * distance to 16 bits of its float; 0 where it met nothing; the instance
+ * it is of), the mirror and glass balls' too; with settings denoise alone the guides stay empty
  * (a Whitted frame passes the filter as it is); guides are refused on a
  * path-traced frame. */
 static void whitted_guides_are_first_hits(void **state)
@@ -833,7 +833,7 @@ static void whitted_guides_are_first_hits(void **state)
         if (render_lines(pool, world, W, H, 0, H, guided, NULL, &err))
             fail_msg("%s", err.msg);
         const CameraFrame cf = camera_frame(&world->view.camera, W, H);
-        int surfaces = 0, sky = 0;
+        int surfaces = 0, sky = 0, knot = 0;
         for (size_t i = 0; i < n; i++) {
             const uint8_t *p = guided + i * bpp;
             assert_memory_equal(p, plain + i * 3, 3);
@@ -851,11 +851,14 @@ static void whitted_guides_are_first_hits(void **state)
             assert_true(fabs((double)depth - (double)hit.t) <= (double)hit.t * 0x1p-8);
             /* the normal faces the ray */
             assert_true(normal[0] * (float)d.x + normal[1] * (float)d.y + normal[2] * (float)d.z <= 0.01f);
+            /* the instance it is of (the knot), for a turning model's history */
+            assert_int_equal(denoise_guide_instance(p + 3), hit.kind == HIT_INSTANCE ? hit.index + 1 : 0);
+            knot += hit.kind == HIT_INSTANCE;
             surfaces++;
         }
         if (mode == 0) {
-            print_message("guides: %d pixels of surfaces, %d of the sky\n", surfaces, sky);
-            assert_true(surfaces > (int)n / 2 && sky > 0);
+            print_message("guides: %d pixels of surfaces (%d of the knot), %d of the sky\n", surfaces, knot, sky);
+            assert_true(surfaces > (int)n / 2 && sky > 0 && knot > 0);
         }
     }
     s->settings.denoise = 0, s->settings.guides = 1, s->settings.integrator = INTEGRATOR_PATH;

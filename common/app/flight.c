@@ -134,7 +134,9 @@ int flight_render(RenderPool *pool, World *w, const Scene *desc, const CameraPat
         uint8_t *px = rs.guides ? guided : pixels;
         rc = render_span(pool, fw, width, height, 0, n, px, &part, NULL, err);
         ray_stats_add(st, part);
-        const TemporalFrame tf = {cam, 0, samples, still_step > 0, whitted};
+        const Scene *placed = fl->rotate != 0 ? &turning.desc : desc; /* the frame's instances */
+        const TemporalFrame tf = {cam,     0, samples, still_step > 0, whitted, placed->instances,
+                                  placed->instance_count};
         const uint32_t cb = render_colour_bytes(&rs), bpp = render_pixel_bytes(&rs);
         if (rc == 0 && t && (!whitted || rs.guides))
             temporal_add(t, px, (uint32_t)width, (uint32_t)height, cb, rs.linear, &tf);

@@ -55,6 +55,7 @@ void denoise_guide_pack(const Guide *sum, int n, vec3 mean, uint8_t out[DENOISE_
     for (int k = 0; k < 3; k++)
         out[k] = linear_encode8(sum->albedo.e[k] * inv);
     out[8] = noise_code(guide_luminance(mean), sum->lum2, n);
+    denoise_guide_put_instance(out, sum->surface >= n ? sum->instance : 0);
     if (sum->surface < n) { /* a sample saw the background or an emitter: the pixel passes as it is (its
                              * light, far from its surface's, spread into its neighbours and lost) */
         memset(out + 3, 0, 5);

@@ -33,8 +33,9 @@
  * float; 0 where no sample met a surface), the noise (1 byte: the
  * standard error of the pixel's mean luminance relative to it, in
  * sixteenths of an octave from 2^-12; 0 for a pixel of one sample, whose
- * noise the filter estimates from its neighbours). */
-#define DENOISE_GUIDE_BYTES 9u
+ * noise the filter estimates from its neighbours), the instance (2 bytes,
+ * little-endian: Guide.instance, 0 past 65535 instances). */
+#define DENOISE_GUIDE_BYTES 11u
 
 /* The guide of a pixel of n samples whose guides sum to *sum and whose
  * light is mean, as bytes. */
@@ -43,6 +44,17 @@ void denoise_guide_pack(const Guide *sum, int n, vec3 mean, uint8_t out[DENOISE_
 void denoise_normal_pack(vec3 m, uint8_t out[2]);
 /* The noise byte of a relative standard error (0 and below: none). */
 uint8_t denoise_noise_code(float rel);
+/* A guide's instance bytes (Guide.instance: index + 1; 0 none, and past 65535). */
+static inline void denoise_guide_put_instance(uint8_t out[DENOISE_GUIDE_BYTES], uint32_t instance)
+{
+    const uint32_t i = instance <= 0xffffu ? instance : 0;
+    out[9] = (uint8_t)i, out[10] = (uint8_t)(i >> 8);
+}
+/* Its instance (Guide.instance: index + 1, 0 none). */
+static inline uint32_t denoise_guide_instance(const uint8_t in[DENOISE_GUIDE_BYTES])
+{
+    return (uint32_t)in[9] | (uint32_t)in[10] << 8;
+}
 /* Its albedo, unit normal, distance (0: no surface) and relative noise
  * (negative: not known), as the filter reads them. */
 void denoise_guide_unpack(const uint8_t in[DENOISE_GUIDE_BYTES], float albedo[3], float normal[3], float *depth,

@@ -222,6 +222,7 @@ static inline void guide_add(Guide *g, const Guide *h)
 {
     g->albedo = v3_add(g->albedo, h->albedo);
     g->lum2 += h->lum2;
+    g->instance = h->instance > g->instance ? h->instance : g->instance;
     if (h->surface) {
         g->normal = v3_add(g->normal, h->normal);
         g->depth += h->depth;
@@ -491,10 +492,15 @@ static void grid_flush_batches(GridBatch *g, const vec3 *c, Guide *gd)
             memset(g->part[s], 0, sizeof g->part[s]);
         }
         if (--g->left[s] == 0) {
-            if (f->sums)
+            if (f->sums) {
                 memcpy(g->dst[s], g->total[s], reals * sizeof(real));
-            else
+            } else {
                 progressive_encode(&f->w->view.settings, f->gain, g->total[s], f->s1 - f->s0, g->dst[s]);
+                /* a moving frame's one sample (settings jitter): its instance, which
+                 * sums do not carry (a still frame's first batch, a server's sums, has none) */
+                if (gd && f->w->view.settings.jitter)
+                    denoise_guide_put_instance(g->dst[s] + f->cbpp, gd[q].surface ? gd[q].instance : 0);
+            }
         }
     }
     g->m = 0;

@@ -9,6 +9,7 @@
 #include "base/srgb.h"
 #include "render/denoise.h"
 #include "render/pixel.h"
+#include "scene/world.h"
 
 /* A pixel as the history holds it: its light (linear, as its codes say),
  * the mean square of its luminance, the frames (samples) it weighs, and
@@ -24,8 +25,18 @@ typedef struct {
     CameraFrame cam;
 } HistFrame;
 
+/* An instance's move from the frame before to this one: where it placed
+ * its model then and now. */
+typedef struct {
+    int moved;
+    WorldInstance then, now;
+} Move;
+
 struct Temporal {
     Pool *pool;
+    Instance *placed; /* the instances as the frame before placed them */
+    Move *moves;      /* ... and each one's move since */
+    uint32_t placed_count, cap;
     float *light; /* the frame's own light, 3 floats a pixel, for its neighbours' clip */
     uint32_t max_w, max_h;
     int frames;
@@ -73,6 +84,8 @@ void temporal_destroy(Temporal *t)
     for (int k = 0; k < 2; k++)
         free(t->f[k].px);
     free(t->light);
+    free(t->placed);
+    free(t->moves);
     free(t);
 }
 
@@ -227,6 +240,8 @@ typedef struct {
     HistFrame *dst;
     float frames;
     float detail; /* the history's pixels over the frame's, at most 1 */
+    const Move *moves; /* the instances' since the history's frame */
+    uint32_t move_count;
 } Pass;
 
 /* The mean square of a pixel's luminance from its mean and its guide's
@@ -300,6 +315,21 @@ static void clip_light(const Pass *ps, uint32_t x, uint32_t y, float c[3])
         c[k] = c[k] < lo[k] ? lo[k] : c[k] > hi[k] ? hi[k] : c[k];
 }
 
+/* Where a point (direction) of the instance that moved by m was in the frame before. */
+static vec3 moved_back(const Move *m, vec3 p)
+{
+    const vec3 local = v3_scale(m3_apply_t(&m->now.rot, v3_sub(p, m->now.translate)), R(1) / m->now.scale);
+    return world_instance_point(&m->then, local);
+}
+static vec3 turned_back(const Move *m, vec3 d) { return m3_apply(&m->then.rot, m3_apply_t(&m->now.rot, d)); }
+
+/* The move of the instance pixel p's guide names since the frame before, or NULL. */
+static const Move *pixel_move(const Pass *ps, const uint8_t *p)
+{
+    const uint32_t inst = denoise_guide_instance(p + ps->cb);
+    return inst > 0 && inst <= ps->move_count && ps->moves[inst - 1].moved ? &ps->moves[inst - 1] : NULL;
+}
+
 static void pass_pixel(const Pass *ps, uint32_t x, uint32_t y)
 {
     const size_t i = (size_t)y * ps->w + x;
@@ -313,8 +343,16 @@ static void pass_pixel(const Pass *ps, uint32_t x, uint32_t y)
     int found = 0;
     vec3 org, dir;
     Seen seen = ps->src ? seen_at(ps, x, y) : (Seen){0};
-    if (seen.d > 0.0f && camera_ray(&ps->dst->cam, (real)x + R(0.5), (real)y + R(0.5), &org, &dir))
-        found = history_at(ps->src, v3_madd(org, dir, (real)seen.d), &seen, &h);
+    if (seen.d > 0.0f && camera_ray(&ps->dst->cam, (real)x + R(0.5), (real)y + R(0.5), &org, &dir)) {
+        vec3 at = v3_madd(org, dir, (real)seen.d);
+        const Move *m = pixel_move(ps, p);
+        if (m) { /* a moving model's point, and its normal, where they were */
+            at = moved_back(m, at);
+            const vec3 n0 = turned_back(m, v3((real)seen.n[0], (real)seen.n[1], (real)seen.n[2]));
+            seen.n[0] = (float)n0.x, seen.n[1] = (float)n0.y, seen.n[2] = (float)n0.z;
+        }
+        found = history_at(ps->src, at, &seen, &h);
+    }
     /* a history of fewer pixels (a coarser render scale) has less of this
      * pixel's detail: it counts as fewer frames to a moving frame, which
      * brings that detail; a still frame (whole, after a scaled flight)
@@ -362,14 +400,50 @@ static void pass_rows(void *ctx, uint64_t lo, uint64_t hi, int thread)
             pass_pixel(ps, x, (uint32_t)y);
 }
 
+static int same_v3(vec3 a, vec3 b) { return a.x == b.x && a.y == b.y && a.z == b.z; }
+
+/* Each instance's move from the frame before's placement (t->placed) to
+ * frame f's (instances that were not there then: none), and f's kept for
+ * the next: how many moves there are (0 where memory for them ran out:
+ * the history then follows no instance). */
+static uint32_t place_instances(Temporal *t, const TemporalFrame *f)
+{
+    const uint32_t n = f->instance_count;
+    if (n > t->cap) {
+        Instance *p = realloc(t->placed, n * sizeof *p);
+        if (p)
+            t->placed = p;
+        Move *m = realloc(t->moves, n * sizeof *m);
+        if (m)
+            t->moves = m;
+        if (!p || !m) {
+            t->placed_count = 0;
+            return 0;
+        }
+        t->cap = n;
+    }
+    for (uint32_t k = 0; k < n; k++) {
+        const Instance *a = k < t->placed_count ? &t->placed[k] : NULL, *b = &f->instances[k];
+        Move *m = &t->moves[k];
+        m->moved = a && (!same_v3(a->translate, b->translate) || !same_v3(a->rotate, b->rotate) || a->scale != b->scale);
+        if (m->moved)
+            m->then = world_instance_derive(a), m->now = world_instance_derive(b);
+    }
+    if (n)
+        memcpy(t->placed, f->instances, n * sizeof *f->instances);
+    t->placed_count = n;
+    return n;
+}
+
 int temporal_add(Temporal *t, uint8_t *px, uint32_t w, uint32_t h, uint32_t colour_bytes, int linear,
                  const TemporalFrame *f)
 {
     if (w < 1 || h < 1 || w > t->max_w || h > t->max_h)
         return -1;
     if (f->epoch != t->epoch)
-        t->prev = t->base = -1, t->in_still = 0;
+        t->prev = t->base = -1, t->in_still = 0, t->placed_count = 0;
     t->epoch = f->epoch;
+    const uint32_t moves = place_instances(t, f);
     /* a still frame reads the last moving frame's history (its own samples
      * add up apart); a moving frame the last frame's, whichever it was */
     if (!f->still)
@@ -381,7 +455,7 @@ int temporal_add(Temporal *t, uint8_t *px, uint32_t w, uint32_t h, uint32_t colo
     const int src = f->still ? t->base : t->prev, dst = src == 0 ? 1 : 0;
     t->f[dst].cam = camera_frame(&f->camera, (int)w, (int)h);
     Pass ps = {px, w, h, colour_bytes, colour_bytes + DENOISE_GUIDE_BYTES, linear, f, t->light,
-               src >= 0 ? &t->f[src] : NULL, &t->f[dst], (float)t->frames, 1.0f};
+               src >= 0 ? &t->f[src] : NULL, &t->f[dst], (float)t->frames, 1.0f, t->moves, moves};
     if (src >= 0 && (double)t->f[src].cam.width * t->f[src].cam.height < (double)w * h)
         ps.detail = (float)((double)t->f[src].cam.width * t->f[src].cam.height / ((double)w * h));
     pool_for(t->pool, h, 8, pass_guides, &ps);

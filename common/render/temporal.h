@@ -23,8 +23,10 @@
  * first still frame, one sample, is not noisier than the moving frames
  * before it), then the still frame's own bytes: a converged frame is
  * lanray-render's.  A new scene or new settings (the epoch) drop the
- * history; a model's turn (lanray-server --rotate) does not (the rest of
- * the picture keeps it; the model's own motion is not followed).
+ * history; a model's turn (lanray-server --rotate) does not: the rest of
+ * the picture keeps it, and a pixel whose guide names the instance it saw
+ * (Guide.instance) looks for its point where the instance had it in the
+ * frame before (TemporalFrame.instances).
  *
  * Pixels keep their layout (colour, then the guide, render/denoise.h):
  * the colour becomes the history's, and the guide's noise byte the
@@ -78,6 +80,11 @@ typedef struct {
     int samples;    /* a pixel's: 1 for a moving frame, a still frame's so far */
     int still;      /* its camera is the frame before's: a still frame */
     int clip;       /* the history held within the light of the frame's 3 x 3 about each pixel */
+    /* the scene's instances as this frame places them (NULL, 0: none): a
+     * pixel whose guide names one that moved since the frame before (a
+     * turning model) finds its history where that move had its point */
+    const Instance *instances;
+    uint32_t instance_count;
 } TemporalFrame;
 
 /* A history for frames of up to max_w x max_h pixels weighing `frames`

@@ -495,6 +495,7 @@ static void guide_at(Path *p, const Surface *sf, const Hit *h, vec3 kd, int delt
 {
     const Material *m = sf->mat;
     Guide *g = p->guide;
+    const int first = p->dist == R(0); /* the camera ray's own hit, not one seen through a mirror or glass */
     p->dist += h->t;
     if (material_emits(m)) {
         *g = guide_none(p->tint);
@@ -508,6 +509,7 @@ static void guide_at(Path *p, const Surface *sf, const Hit *h, vec3 kd, int delt
     g->normal = mu < R(0) ? v3_neg(sf->ns) : sf->ns;
     g->depth = p->dist;
     g->surface = 1;
+    g->instance = first && h->kind == HIT_INSTANCE ? h->index + 1 : 0;
     if (delta) /* what the next ray meets sets it, seen through this colour */
         p->tint = v3_mul(p->tint, material_dielectric(m) ? v3_splat(R(1)) : kr);
     else

@@ -1234,7 +1234,8 @@ static Guide first_guide(const Ray *r, const Hit *hit, const Shading *h)
                    .normal = mu < R(0) ? v3_neg(h->sf.ns) : h->sf.ns,
                    .depth = (real)d,
                    .surface = 1,
-                   .lum2 = R(0)};
+                   .lum2 = R(0),
+                   .instance = hit->kind == HIT_INSTANCE ? hit->index + 1 : 0};
 }
 
 void shade_packet(const World *w, const Ray *rays, int n, vec3 *out, RayStats *stats, uint64_t *keys,

@@ -38,6 +38,11 @@ typedef struct {
     real depth;
     int surface;
     real lum2; /* the square of the sample's luminance, summed (render.c sets it: the noise's measure) */
+    /* the model instance (its index + 1) whose surface the camera ray met
+     * first and the guide shows, so that a history follows the instance's
+     * own motion (render/temporal.h); 0: none, or seen through a mirror or
+     * glass.  Of samples summed, the largest. */
+    uint32_t instance;
 } Guide;
 
 /* The guide of a sample that met no surface (the background, an emitter),
