@@ -123,6 +123,8 @@ typedef struct {
     int light_samples, rough_samples, lens_samples, exposure_given;
     int sampling, sampling_given, limit, limit_given, lights, lights_given, integrator, integrator_given;
     int emitters, emitters_given, roulette, roulette_given, contrast, contrast_given, denoise, denoise_given;
+    double clamp;
+    int clamp_given;
     int still_frame, progressive;
     Flight flight; /* --server-frame: a server's frames, along --path */
     double exposure;
@@ -131,6 +133,32 @@ typedef struct {
 } Args;
 
 /* Parses the command line into a: OPT_GO, or the exit status. */
+/* The path integrator's options (parse_args' table, out of its length). */
+#define RENDER_PATH_OPTS(a) \
+    {.name = "--integrator", .kind = OPT_CHOICE, .dst = &(a)->integrator, \
+     .choices = field_words(&settings_kind, "integrator"), .seen = &(a)->integrator_given, \
+     .help = "Whitted's (lights, shadows, mirrors, glass; emission lights nothing), or a path tracer's: light that " \
+             "bounces, emission that lights (docs/renderer.md)", \
+     .def = "the scene's, else whitted"}, \
+    {.name = "--emitter-sampling", .kind = OPT_CHOICE, .dst = &(a)->emitters, \
+     .choices = field_words(&settings_kind, "emitter_sampling"), .seen = &(a)->emitters_given, \
+     .help = "path: emissive surfaces found by next-event estimation and by bounces, weighed together (MIS), or " \
+             "by one alone (the same picture, other noise)", \
+     .def = "the scene's, else mis"}, \
+    {.name = "--roulette", .kind = OPT_INT, .dst = &(a)->roulette, .arg = "N", .lo = 0, .hi = SCENE_MAX_DEPTH, \
+     .seen = &(a)->roulette_given, .help = "path: bounces before Russian roulette may end a path", \
+     .def = "the scene's, else 5"}, \
+    {.name = "--denoise", .kind = OPT_CHOICE, .dst = &(a)->denoise, .choices = field_words(&settings_kind, "denoise"), \
+     .seen = &(a)->denoise_given, \
+     .help = "path: filter the frame's noise out, guided by the surfaces each pixel saw first (their colours, " \
+             "normals, distances; docs/renderer.md)", \
+     .def = "the scene's, else off"}, \
+    {.name = "--clamp-indirect", .kind = OPT_REAL, .dst = &(a)->clamp, .arg = "L", .rlo = 0, .rhi = 1e6, \
+     .seen = &(a)->clamp_given, \
+     .help = "path: each light a sample gathers after its first bounce held to L, the sum of its red, green and " \
+             "blue (fewer fireflies, a little less light; Cycles' Clamp Indirect); 0 = never", \
+     .def = "the scene's, else 0"}
+
 /* lanray-render --help's text above the options, and its exit statuses */
 static const char render_about[] =
     "Renders one frame: the built-in scene without an argument, a scene file (docs/scene.md), or a\n"
@@ -189,29 +217,12 @@ static int parse_args(Args *a, int argc, char **argv)
          .seen = &a->lights_given, .help = "area lights: every point at every pixel, or one point until a pixel's 3 x 3 "
                                           "neighbours disagree (penumbrae, edges) and every point there",
          .def = "the scene's, else full"},
-        {.name = "--integrator", .kind = OPT_CHOICE, .dst = &a->integrator,
-         .choices = field_words(&settings_kind, "integrator"), .seen = &a->integrator_given,
-         .help = "Whitted's (lights, shadows, mirrors, glass; emission lights nothing), or a path tracer's: light that "
-                 "bounces, emission that lights (docs/renderer.md)",
-         .def = "the scene's, else whitted"},
-        {.name = "--emitter-sampling", .kind = OPT_CHOICE, .dst = &a->emitters,
-         .choices = field_words(&settings_kind, "emitter_sampling"), .seen = &a->emitters_given,
-         .help = "path: emissive surfaces found by next-event estimation and by bounces, weighed together (MIS), or "
-                 "by one alone (the same picture, other noise)",
-         .def = "the scene's, else mis"},
-        {.name = "--roulette", .kind = OPT_INT, .dst = &a->roulette, .arg = "N", .lo = 0, .hi = SCENE_MAX_DEPTH,
-         .seen = &a->roulette_given, .help = "path: bounces before Russian roulette may end a path",
-         .def = "the scene's, else 5"},
+        RENDER_PATH_OPTS(a),
         {.name = "--contrast", .kind = OPT_INT, .dst = &a->contrast, .arg = "CODES", .lo = 0, .hi = 255,
          .seen = &a->contrast_given,
          .help = "adaptive anti-aliasing also refines where a neighbour's colour differs by more than CODES in a "
                  "channel; 255: never (surfaces and lights only)",
          .def = "the scene's, else 15"},
-        {.name = "--denoise", .kind = OPT_CHOICE, .dst = &a->denoise, .choices = field_words(&settings_kind, "denoise"),
-         .seen = &a->denoise_given,
-         .help = "path: filter the frame's noise out, guided by the surfaces each pixel saw first (their colours, "
-                 "normals, distances; docs/renderer.md)",
-         .def = "the scene's, else off"},
         {.name = "--still-frame", .kind = OPT_INT, .dst = &a->still_frame, .arg = "K", .lo = 0, .hi = 11, .def = "0",
          .help = "path, N x N samples, N a power of two: the picture of a server's still frame K on its way (--still-aa "
                  "N): the first 2^(K-1) samples of each pixel's N x N; 0 = all"},
@@ -307,6 +318,8 @@ static int apply_settings(Scene *scene, Args *a)
         rs->emitter_sampling = (EmitterSampling)a->emitters;
     if (a->roulette_given)
         rs->roulette = a->roulette;
+    if (a->clamp_given)
+        rs->clamp_indirect = (real)a->clamp;
     if (a->contrast_given)
         rs->contrast = a->contrast;
     if (a->denoise_given)

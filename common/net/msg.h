@@ -17,7 +17,7 @@
 #include "render/segment.h"
 
 #define PROTO_MAGIC 0x5941524cu /* "LRAY" */
-#define PROTO_VERSION 28u /* 8: an UPDATE carries the frame's view apart, and the scene only when it changed;
+#define PROTO_VERSION 29u /* 8: an UPDATE carries the frame's view apart, and the scene only when it changed;
                            * 9: the view's settings hold light_sampling (wire 6);
                            * 10: compressed pixels (HELLO codecs, WELCOME coding, DATA coding);
                            * 11: pipelined frames (UPDATE keep: the older frame still wanted);
@@ -44,7 +44,8 @@
                            *     moving frame's sample;
                            * 27: the view's settings hold guides (wire 22): a Whitted
                            *     moving frame's DATA carries each pixel's guide;
-                           * 28: a guide 11 bytes: the instance its surface is of */
+                           * 28: a guide 11 bytes: the instance its surface is of;
+                           * 29: the view's settings hold clamp_indirect (wire 23) */
 #define PROTO_BOM 0x01020304u
 #define PROTO_HEADER 8u
 #define PROTO_NONCE 32u

@@ -538,6 +538,22 @@ static int highlight_make(const DrawPlan *pl, const Surface *sf, vec3 ks, vec3 d
  * the transmission, or frosted glass's facets, by the paths alone here): next-event estimation for the
  * smooth ones, then one lobe chosen by weight for the path's next ray.
  * 0 where the path ends. */
+/* Light c (times the path's weight) added to the sample's; where it came
+ * after the path's first bounce (indirect: a light met by the path's
+ * third ray or later, or sampled from its second surface or later), held
+ * to settings clamp_indirect, the sum of its channels, as Cycles' Clamp
+ * Indirect holds it: fewer fireflies, a little less light. */
+static inline void path_gather(const World *w, Path *p, vec3 c, int indirect)
+{
+    const real limit = w->view.settings.clamp_indirect;
+    if (indirect && limit > R(0)) {
+        const real sum = fabs(c.x) + fabs(c.y) + fabs(c.z);
+        if (sum > limit)
+            c = v3_scale(c, limit / sum);
+    }
+    p->L = v3_add(p->L, c);
+}
+
 static int surface_bounce(const World *w, Path *p, const Surface *sf, vec3 kd, vec3 ks, const Draws *dr, int last,
                           RayStats *st)
 {
@@ -589,12 +605,12 @@ static int surface_bounce(const World *w, Path *p, const Surface *sf, vec3 kd, v
      * triangle's each by its direction: trace_leave_origin) */
     const vec3 from_p = nee || !sf->smooth ? trace_offset_origin(sf->p, sf->ng, sf->err) : v3_splat(R(0));
     if (nee) { /* next-event estimation: what the smooth lobes take from the lights */
-        p->L = v3_add(p->L, v3_mul(p->beta, direct_light(w, sf, smooth ? &lb : NULL, highlight ? &hl : NULL, dr,
-                                                         from_p, st)));
+        path_gather(w, p, v3_mul(p->beta, direct_light(w, sf, smooth ? &lb : NULL, highlight ? &hl : NULL, dr,
+                                                         from_p, st)), p->b >= 1);
         if (smooth && emitters)
-            p->L = v3_add(p->L, v3_mul(p->beta, direct_emitters(w, sf, &lb, last, dr, from_p, st)));
+            path_gather(w, p, v3_mul(p->beta, direct_emitters(w, sf, &lb, last, dr, from_p, st)), p->b >= 1);
         if (smooth && envs)
-            p->L = v3_add(p->L, v3_mul(p->beta, direct_environment(w, sf, &lb, last, dr, from_p, st)));
+            path_gather(w, p, v3_mul(p->beta, direct_environment(w, sf, &lb, last, dr, from_p, st)), p->b >= 1);
     }
     if (last)
         return 0;
@@ -644,11 +660,11 @@ static int frosted_step(const World *w, Path *p, const Surface *sf, const Draws 
     const int envs = w->env && w->view.settings.emitter_sampling != EMITTERS_BSDF;
     if (w->light_count > 0 || emitters || envs) {
         const vec3 from_p = trace_offset_origin(sf->p, sf->ng, sf->err);
-        p->L = v3_add(p->L, v3_mul(p->beta, direct_light(w, sf, &lb, NULL, dr, from_p, st)));
+        path_gather(w, p, v3_mul(p->beta, direct_light(w, sf, &lb, NULL, dr, from_p, st)), p->b >= 1);
         if (emitters)
-            p->L = v3_add(p->L, v3_mul(p->beta, direct_emitters(w, sf, &lb, last, dr, from_p, st)));
+            path_gather(w, p, v3_mul(p->beta, direct_emitters(w, sf, &lb, last, dr, from_p, st)), p->b >= 1);
         if (envs)
-            p->L = v3_add(p->L, v3_mul(p->beta, direct_environment(w, sf, &lb, last, dr, from_p, st)));
+            path_gather(w, p, v3_mul(p->beta, direct_environment(w, sf, &lb, last, dr, from_p, st)), p->b >= 1);
     }
     if (last)
         return 0;
@@ -680,7 +696,7 @@ static int path_step(const World *w, Path *p, int found, const Hit *h, RayStats 
             if (p->after_smooth)
                 seen = v3_scale(seen, bounce_weight(w, p->pdf_bounce, pl));
         }
-        p->L = v3_add(p->L, v3_mul(p->beta, seen));
+        path_gather(w, p, v3_mul(p->beta, seen), b >= 2);
         if (b == 0 && p->key)
             *p->key = UINT64_MAX;
         if (p->guide) /* the background seen, through what tinted it */
@@ -700,9 +716,10 @@ static int path_step(const World *w, Path *p, int found, const Hit *h, RayStats 
         p->beta = v3_mul(p->beta, dielectric_absorbed(w, m, h));
     /* emission, but not a lamp's whose light was sampled at the point before */
     if (material_emits(m) && !(p->after_smooth && trace_any_lamp(w, h)))
-        p->L = v3_add(p->L, v3_scale(v3_mul(p->beta, trace_emission(w, &sf, NULL)),
-                                     p->after_smooth ? bounce_share(w, p->from, p->pdf_bounce, &p->ray, h, p->through)
-                                                     : R(1)));
+        path_gather(w, p,
+                    v3_scale(v3_mul(p->beta, trace_emission(w, &sf, NULL)),
+                             p->after_smooth ? bounce_share(w, p->from, p->pdf_bounce, &p->ray, h, p->through) : R(1)),
+                    b >= 2);
     const int last = b >= depth; /* the light that reaches this point still counts: depth 0 is direct light */
     Draws dr;
     draws_at(&dr, p->plan, &p->id, (uint32_t)b);

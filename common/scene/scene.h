@@ -140,6 +140,8 @@ typedef struct {
     Integrator integrator;
     EmitterSampling emitter_sampling;
     int roulette;      /* path: bounces before Russian roulette may end a path */
+    real clamp_indirect; /* path: each light a sample gathers after its first bounce held to this sum of
+                          * red, green and blue (Cycles' Clamp Indirect); 0: never */
     int contrast;      /* adaptive: a pixel is refined where a neighbour's centre sample differs by more than this
                         * many codes in a channel (255: never by colour alone) */
     real exposure;     /* stops: the 8-bit codes encode light times 2^exposure */

@@ -127,6 +127,10 @@ static const Field settings_fields[] = {
      .doc = "path: emissive surfaces found by next-event estimation and bounces weighed together (MIS), or one alone"},
     {.key = "roulette", .type = FIELD_WHOLE, .group = SETTINGS_GROUP_SAMPLING, .off = SET(rs.roulette), .lo = 0,
      .hi = SCENE_MAX_DEPTH, .def = 5, .doc = "path: bounces before Russian roulette may end a path"},
+    {.key = "clamp_indirect", .type = FIELD_REAL, .group = SETTINGS_GROUP_SAMPLING, .off = SET(rs.clamp_indirect),
+     .lo = 0, .hi = 1e6,
+     .doc = "path: each light a sample gathers after its first bounce held to this sum of red, green and blue (fewer "
+            "fireflies, a little darker; Cycles' Clamp Indirect); 0: never"},
     {.key = "batch", .type = FIELD_WHOLE, .flags = FIELD_WIRE, .group = SETTINGS_GROUP_SAMPLING, .off = SET(rs.batch),
      .lo = 0, .hi = 11, .doc = "path, N x N, N a power of two: each pixel's sums of this batch of its samples (0: its colour)"},
     {.key = "jitter", .type = FIELD_WHOLE, .flags = FIELD_WIRE, .group = SETTINGS_GROUP_SAMPLING, .off = SET(rs.jitter),
