@@ -188,7 +188,7 @@ static void any_sums_make_a_pixel(void **state)
     for (int hdr = 0; hdr < 2; hdr++) {
         const RenderSettings rs = {.aa = 4, .integrator = INTEGRATOR_PATH, .denoise = 1, .hdr = hdr, .batch = 3};
         real acc[N * PROG_MAX] = {0};
-        uint8_t out[N * 13];
+        uint8_t out[N * (4 + DENOISE_GUIDE_BYTES)];
         const uint32_t bpp = (hdr ? 4u : 3u) + DENOISE_GUIDE_BYTES;
         progressive_frame_add(&rs, acc, sums, N, out);
         for (int i = 0; i < N; i++) {

@@ -94,7 +94,7 @@ static void unpredict(uint8_t *px, size_t n, uint32_t bpp)
             px[i] = a, px[i + 1] = b, px[i + 2] = c, px[i + 3] = d;
         }
     }
-    /* a pixel with its guide (settings denoise: 12 or 13 bytes) byte by
+    /* a pixel with its guide (settings denoise: 14 or 15 bytes) byte by
      * byte; a partial pixel at the end (never in a DATA packet) */
     for (; i < n; i++)
         px[i] = (uint8_t)(px[i] + px[i - bpp]);

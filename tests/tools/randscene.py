@@ -11,7 +11,7 @@ focus), ortho or fisheye, and roll; ambient, background; every
 settings key and value (depth, cutoff, fresnel, glass_shadows,
 rough_samples, lens_samples, exposure, the four texture filters, the
 sampling and what the depth limit returns among them; the path integrator
-in a quarter of the scenes, adaptive sampling's contrast, the area
+in a quarter of the scenes, some with clamp_indirect, adaptive sampling's contrast, the area
 lights' light_samples and denoising in some); textures (PPM
 P3/P6, PGM P2/P5, PNG, JPEG, smooth or closest, wrapping each axis its way); materials with and without specular
 and textures, mirrors (reflect, roughness, some with a rim, reflect_edge), dielectrics (ior, transmit,
@@ -212,6 +212,9 @@ def scene(seed):
             st += ["emitter_sampling", extra.choice(["mis", "nee", "bsdf"])]
         if extra.random() < 0.3:
             st += ["roulette", str(extra.choice([0, 1, 3, 8]))]
+        held = random.Random(seed * 7919 + 97)  # Clamp Indirect, a draw of its own (older builds refuse it)
+        if held.random() < 0.3:
+            st += ["clamp_indirect", num(held, 0.05, 20)]
     if newer and random.Random(seed * 7919 + 41).random() < 0.3:  # adaptive sampling's colour threshold
         st += ["contrast", str(random.Random(seed * 7919 + 43).choice([0, 8, 40, 255]))]
     if newer and random.Random(seed * 7919 + 59).random() < 0.25:  # the frame filtered by its pixels' guides
