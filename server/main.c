@@ -308,7 +308,8 @@ typedef struct {
     int headless, force_bvh, discard, frames, wait_clients, tail, bvh_kind, width_given, height_given;
     int warmup, stall, handshake, machine_summary, linear, hdr;
     int denoise; /* --denoise, or the first scene's settings denoise: fixed for the server's life */
-    int integrator, integrator_given;
+    int integrator, integrator_given, clamp_given;
+    double clamp;
     CliAa aa;
     double rotate;
     const char *path;
@@ -440,6 +441,9 @@ static int parse_args(Args *a, int argc, char **argv)
         {.name = "--integrator", .kind = OPT_CHOICE, .dst = &a->integrator, .seen = &a->integrator_given,
          .choices = field_words(&settings_kind, "integrator"), .def = "the scene's, else whitted",
          .help = "Whitted's, or a path tracer's: light that bounces (in a window, converging when the view stops)"},
+        {.name = "--clamp-indirect", .kind = OPT_REAL, .dst = &a->clamp, .arg = "L", .rlo = 0, .rhi = 1e6,
+         .seen = &a->clamp_given, .def = "the scene's, else 0 (never)",
+         .help = "path: each light a sample gathers after its first bounce held to L, the sum of its channels"},
         {.name = "--rotate", .kind = OPT_REAL, .dst = &a->rotate, .arg = "DEG",
          .help = "turn every model instance by DEG about y after each frame (Space toggles it in the window)"},
         {.name = "--path", .kind = OPT_STRING, .dst = &a->path, .arg = "FILE",
@@ -551,6 +555,8 @@ static int apply_overrides(Scene *scene, const Args *a, Err *err)
     }
     if (a->integrator_given)
         scene->settings.integrator = (Integrator)a->integrator;
+    if (a->clamp_given)
+        scene->settings.clamp_indirect = (real)a->clamp;
     scene->settings.linear = a->linear;
     scene->settings.hdr = a->hdr;
     return cli_put_environment(scene, &a->env, a->scene_path, err);

@@ -7,7 +7,8 @@
 # its direct light, --depth 0, where the unclamped box is 30% brighter);
 # a scene's `settings clamp_indirect` is the option's picture; through a
 # server and a client the picture is lanray-render's (the setting travels
-# with the view); a negative hold is refused.
+# with the view), the server's --clamp-indirect too; a negative hold is
+# refused.
 set -u
 source tests/tools/server-lib.sh
 render() { "$BIN/lanray-render" "$@" --quiet >/dev/null 2>"$dir/render.err" || fail "lanray-render $*: $(cat "$dir/render.err")"; }
@@ -37,6 +38,7 @@ cmp -s "$dir/held.png" "$dir/opt.png" || fail "settings clamp_indirect 0.5 is no
 cmp -s "$dir/held.png" "$dir/free.png" && fail "a hold of 0.5 changed nothing: the test cannot tell"
 render "$dir/held.scene" --width 64 --height 64 --aa 1 -o "$dir/held64.png"
 verify_distributed held "$dir/held.scene" "$dir/held64.png" "with clamp_indirect"
+verify_distributed option "$dir/box.scene" "$dir/held64.png" "with --clamp-indirect" --clamp-indirect 0.5
 out=$("$BIN/lanray-render" "${box[@]}" --clamp-indirect -1 -o "$dir/no.png" 2>&1)
 [ $? = 2 ] && grep -q "clamp-indirect" <<<"$out" || fail "a negative hold: $out"
 echo "clamp: a hold no light reaches changes no byte; one near nothing leaves the direct light (mean $m_tiny against $m_direct, unclamped $m_free); the scene's setting is the option's; through a server as lanray-render"
