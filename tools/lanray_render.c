@@ -120,7 +120,7 @@ typedef struct {
     int shading, shadows, filter, shading_given, shadows_given, filter_given;
     int depth, fresnel, glass, depth_given, cutoff_given, fresnel_given, glass_given;
     double cutoff;
-    int light_samples, rough_samples, lens_samples, exposure_given;
+    int light_samples, rough_samples, lens_samples, exposure_given, tonemap, tonemap_given;
     int sampling, sampling_given, limit, limit_given, lights, lights_given, integrator, integrator_given;
     int emitters, emitters_given, roulette, roulette_given, contrast, contrast_given, denoise, denoise_given;
     double clamp;
@@ -241,6 +241,10 @@ static int parse_args(Args *a, int argc, char **argv)
          .def = "0: the scene's, else 3 (product: 4)"},
         {.name = "--exposure", .kind = OPT_REAL, .dst = &a->exposure, .arg = "STOPS", .rlo = -32, .rhi = 32,
          .seen = &a->exposure_given, .help = "8-bit output shows the light times 2^STOPS", .def = "the scene's, else 0"},
+        {.name = "--tonemap", .kind = OPT_CHOICE, .dst = &a->tonemap, .choices = field_words(&settings_kind, "tonemap"),
+         .seen = &a->tonemap_given, .def = "the scene's, else none",
+         .help = "8-bit output: light past white cut at white, or rolled off by ACES's filmic curve or Khronos' PBR "
+                 "Neutral (docs/renderer.md)"},
         {.name = "--linear", .kind = OPT_FLAG, .dst = &a->linear,
          .help = "write linear light (PNG tagged gAMA 1.0) instead of sRGB"},
         CLI_ENVIRONMENT_OPTS(&a->env),
@@ -357,10 +361,12 @@ static int apply_settings(Scene *scene, Args *a)
     rs->linear = a->linear;
     if (a->exposure_given)
         rs->exposure = (real)a->exposure;
+    if (a->tonemap_given)
+        rs->tonemap = (Tonemap)a->tonemap;
     rs->hdr = image_is_hdr(a->out);
-    if (rs->hdr && (a->linear || a->exposure_given)) {
-        fprintf(stderr, "lanray-render: --linear and --exposure are for 8-bit output (.png, .ppm); a .hdr keeps the light "
-                        "itself\n");
+    if (rs->hdr && (a->linear || a->exposure_given || a->tonemap_given)) {
+        fprintf(stderr, "lanray-render: --linear, --exposure and --tonemap are for 8-bit output (.png, .ppm); a .hdr "
+                        "keeps the light itself\n");
         return 2;
     }
     if (!a->width_given && rs->width)

@@ -10,6 +10,7 @@
 
 #include "base/srgb.h"
 #include "render/denoise.h"
+#include "render/tonemap.h"
 
 /* Bytes of a pixel's colour: 3 (RGB8 codes), or 4 (RGBE) with settings hdr. */
 static inline uint32_t render_colour_bytes(const RenderSettings *rs) { return rs->hdr ? 4u : 3u; }
@@ -27,23 +28,27 @@ static inline uint32_t render_shown_bytes(const RenderSettings *rs)
 static inline real pixel_gain(const RenderSettings *rs) { return pow(R(2), rs->exposure); }
 
 /* Linear light to 8-bit codes: sRGB unless linear (srgb.h: both clamp,
- * and NaN becomes 0), after the gain. */
-static inline __attribute__((always_inline)) void pixel_put_codes(uint8_t *dst, vec3 c, real gain, int linear)
+ * and NaN becomes 0), after the gain and the view transform (tonemap.h). */
+static inline __attribute__((always_inline)) void pixel_put_codes(uint8_t *dst, vec3 c, real gain, Tonemap tm,
+                                                                  int linear)
 {
     if (gain != R(1)) /* an exposure: apart, so that a frame without pays nothing */
         c = v3_scale(c, gain);
+    if (tm != TONEMAP_NONE)
+        c = tonemap_apply(c, tm);
     for (int k = 0; k < 3; k++)
         dst[k] = linear ? linear_encode8(c.e[k]) : srgb_encode8(c.e[k]);
 }
 
 /* A pixel's colour: its codes, or its RGBE where hdr (high dynamic range:
- * the light itself, no exposure). */
-static inline __attribute__((always_inline)) void pixel_put_colour(uint8_t *dst, vec3 c, int hdr, real gain, int linear)
+ * the light itself, no exposure, no view transform). */
+static inline __attribute__((always_inline)) void pixel_put_colour(uint8_t *dst, vec3 c, int hdr, real gain,
+                                                                   Tonemap tm, int linear)
 {
     if (hdr)
         rgbe_encode(c.x, c.y, c.z, dst);
     else
-        pixel_put_codes(dst, c, gain, linear);
+        pixel_put_codes(dst, c, gain, tm, linear);
 }
 
 /* ... and back: a pixel's colour bytes (4: RGBE, else 8-bit codes, sRGB

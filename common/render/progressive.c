@@ -43,7 +43,7 @@ void progressive_encode(const RenderSettings *rs, real gain, const real *sums, u
 {
     const real inv = R(1) / (real)samples; /* a power of 2: exact */
     const vec3 mean = v3(sums[0] * inv, sums[1] * inv, sums[2] * inv);
-    pixel_put_colour(dst, mean, rs->hdr, gain, rs->linear);
+    pixel_put_colour(dst, mean, rs->hdr, gain, rs->tonemap, rs->linear);
     if (!render_guided(rs))
         return;
     /* a client's sums, on a server: whatever their bits, numbers the

@@ -115,6 +115,7 @@ typedef struct {
     uint64_t tile_line;
     uint32_t tile_cols, tile_blocks;
     real gain;  /* 2^exposure, for the codes */
+    Tonemap tonemap; /* ... and their view transform */
     /* path, N x N of N = 2^prog_m (progressive.h; 0: not in batches):
      * each pixel's samples [s0, s1) in their progressive order, written as
      * their sums (sums: settings batch) or as the pixel they make */
@@ -437,7 +438,7 @@ static int line_packet(uint64_t g0, uint64_t left, int width, real *xs, real *ys
 static inline __attribute__((always_inline)) void put_pixel(const Frame *f, uint8_t *dst, vec3 c, const Guide *g,
                                                             int n)
 {
-    pixel_put_colour(dst, c, f->cbpp == 4, f->gain, f->linear);
+    pixel_put_colour(dst, c, f->cbpp == 4, f->gain, f->tonemap, f->linear);
     if (f->guided)
         denoise_guide_pack(g, n, c, dst + f->cbpp);
 }
@@ -690,7 +691,7 @@ static void job_keys(void *ctx, uint32_t chunk, RayStats *st)
         /* kept as written: the contrast test compares what a viewer sees, and
          * a pixel without an edge is this sample */
         for (int q = 0; q < k; q++) {
-            pixel_put_codes(&f->colors[3 * (i + (uint64_t)q)], c[q], f->gain, f->linear);
+            pixel_put_codes(&f->colors[3 * (i + (uint64_t)q)], c[q], f->gain, f->tonemap, f->linear);
             if (f->centre != f->colors)
                 put_pixel(f, &f->centre[f->bpp * (i + (uint64_t)q)], c[q], &gd[q], 1);
         }
@@ -875,6 +876,7 @@ int render_span(RenderPool *p, const World *w, int width, int height, uint64_t f
     f.cbpp = (int)render_colour_bytes(&w->view.settings);
     f.guided = render_guided(&w->view.settings);
     f.gain = pixel_gain(&w->view.settings);
+    f.tonemap = w->view.settings.tonemap;
     f.chunk = chunk_size(count, pool_threads(p->pool));
     f.grid_n = w->view.settings.aa;
     const RenderSettings *rs = &w->view.settings;

@@ -382,7 +382,8 @@ static void pass_pixel(const Pass *ps, uint32_t x, uint32_t y)
     }
     o->m2 = h.m2 + (mean_square(lum, noise, s) - h.m2) * a;
     o->len = len;
-    pixel_put_colour(p, v3((real)o->c[0], (real)o->c[1], (real)o->c[2]), ps->cb == 4, R(1), ps->linear);
+    /* the codes' light is already past the exposure and the view transform */
+    pixel_put_colour(p, v3((real)o->c[0], (real)o->c[1], (real)o->c[2]), ps->cb == 4, R(1), TONEMAP_NONE, ps->linear);
     for (int k = 0; k < 3; k++)
         p[ps->cb + k] = linear_encode8((real)o->alb[k]);
     denoise_normal_pack(v3((real)o->an[0], (real)o->an[1], (real)o->an[2]), p + ps->cb + 3);

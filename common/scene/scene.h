@@ -113,6 +113,10 @@ typedef enum { EMITTERS_MIS = 0, EMITTERS_NEE = 1, EMITTERS_BSDF = 2 } EmitterSa
  * it). */
 typedef enum { LIMIT_BLACK = 0, LIMIT_BACKGROUND = 1, LIMIT_AMBIENT = 2, LIMIT_LOCAL = 3, LIMIT_COUNT } DepthLimit;
 
+/* How light past white comes to the 8-bit codes (render/tonemap.h): cut
+ * at white, or a view transform's curve that rolls it off. */
+typedef enum { TONEMAP_NONE = 0, TONEMAP_ACES = 1, TONEMAP_NEUTRAL = 2 } Tonemap;
+
 /* Quality knobs: the scene file sets defaults, the command line may override. */
 typedef struct {
     int aa;            /* samples per pixel side: aa*aa per pixel (1..AA_MAX) */
@@ -145,6 +149,7 @@ typedef struct {
     int contrast;      /* adaptive: a pixel is refined where a neighbour's centre sample differs by more than this
                         * many codes in a channel (255: never by colour alone) */
     real exposure;     /* stops: the 8-bit codes encode light times 2^exposure */
+    Tonemap tonemap;   /* ... through this view transform's curve */
     int denoise;       /* path: each pixel also carries what its camera rays saw first (a guide), and the frame
                         * is filtered by it (render/denoise.h) */
     int hdr;           /* pixels are RGBE, 4 bytes (a .hdr from lanray-render, lanray-server --hdr); not in scene files */

@@ -71,6 +71,7 @@ static const char *const light_sampling_words[] = {"full", "adaptive", NULL};
 static const char *const integrator_words[] = {"whitted", "path", NULL};
 static const char *const emitter_words[] = {"mis", "nee", "bsdf", NULL};
 static const char *const limit_words[] = {"black", "background", "ambient", "local", NULL};
+static const char *const tonemap_words[] = {"none", "aces", "neutral", NULL};
 
 #define SET(f) offsetof(SettingsSpec, f)
 enum { SETTINGS_GROUP_SECONDARY = 1, SETTINGS_GROUP_SAMPLING = 2, SETTINGS_GROUP_OUTPUT = 3 };
@@ -140,6 +141,10 @@ static const Field settings_fields[] = {
      .doc = "adaptive: also refine where a neighbour's colour differs by more than this many codes (255: never)"},
     {.key = "exposure", .type = FIELD_REAL, .group = SETTINGS_GROUP_OUTPUT, .off = SET(rs.exposure), .lo = -32, .hi = 32,
      .doc = "stops: 8-bit output shows the light times 2^exposure"},
+    {.key = "tonemap", .type = FIELD_CHOICE, .group = SETTINGS_GROUP_OUTPUT, .off = SET(rs.tonemap),
+     .words = tonemap_words,
+     .doc = "8-bit output: light past white cut at white (none), or rolled off by ACES's filmic curve (Narkowicz's "
+            "fit) or Khronos' PBR Neutral (its colours kept up to 0.76)"},
     {.key = "denoise", .type = FIELD_CHOICE, .group = SETTINGS_GROUP_OUTPUT, .off = SET(rs.denoise),
      .words = onoff_words,
      .doc = "path: the frame's noise filtered out, guided by the surfaces each pixel saw first (their colours, "
