@@ -11,7 +11,8 @@ focus), ortho or fisheye, and roll; ambient, background; every
 settings key and value (depth, cutoff, fresnel, glass_shadows,
 rough_samples, lens_samples, exposure, the four texture filters, the
 sampling and what the depth limit returns among them; the path integrator
-in a quarter of the scenes, some with clamp_indirect, adaptive sampling's contrast, the area
+in a quarter of the scenes, some with clamp_indirect, a view transform
+(tonemap) in some, adaptive sampling's contrast, the area
 lights' light_samples and denoising in some); textures (PPM
 P3/P6, PGM P2/P5, PNG, JPEG, smooth or closest, wrapping each axis its way); materials with and without specular
 and textures, mirrors (reflect, roughness, some with a rim, reflect_edge), dielectrics (ior, transmit,
@@ -219,6 +220,9 @@ def scene(seed):
         st += ["contrast", str(random.Random(seed * 7919 + 43).choice([0, 8, 40, 255]))]
     if newer and random.Random(seed * 7919 + 59).random() < 0.25:  # the frame filtered by its pixels' guides
         st += ["denoise", "on"]
+    view = random.Random(seed * 7919 + 101)  # a view transform, a draw of its own (older builds refuse it)
+    if newer and view.random() < 0.2:
+        st += ["tonemap", view.choice(["none", "aces", "neutral"])]
     if newer and random.Random(seed * 7919 + 47).random() < 0.2:  # every area light's points, the view's
         st += ["light_samples", str(random.Random(seed * 7919 + 53).choice([1, 2, 5]))]
     if st:
