@@ -308,7 +308,7 @@ typedef struct {
     int headless, force_bvh, discard, frames, wait_clients, tail, bvh_kind, width_given, height_given;
     int warmup, stall, handshake, machine_summary, linear, hdr;
     int denoise; /* --denoise, or the first scene's settings denoise: fixed for the server's life */
-    int integrator, integrator_given, clamp_given;
+    int integrator, integrator_given, clamp_given, tonemap, tonemap_given;
     double clamp;
     CliAa aa;
     double rotate;
@@ -408,6 +408,20 @@ static const char server_exits[] =
              "each light's own", \
      .def = "0"}
 
+/* The integrator, its clamp and the view transform: how the picture
+ * looks, over the scene's settings */
+#define LOOK_OPTS(a) \
+    {.name = "--integrator", .kind = OPT_CHOICE, .dst = &(a)->integrator, .seen = &(a)->integrator_given, \
+     .choices = field_words(&settings_kind, "integrator"), .def = "the scene's, else whitted", \
+     .help = "Whitted's, or a path tracer's: light that bounces (in a window, converging when the view stops)"}, \
+    {.name = "--clamp-indirect", .kind = OPT_REAL, .dst = &(a)->clamp, .arg = "L", .rlo = 0, .rhi = 1e6, \
+     .seen = &(a)->clamp_given, .def = "the scene's, else 0 (never)", \
+     .help = "path: each light a sample gathers after its first bounce held to L, the sum of its channels"}, \
+    {.name = "--tonemap", .kind = OPT_CHOICE, .dst = &(a)->tonemap, .seen = &(a)->tonemap_given, \
+     .choices = field_words(&settings_kind, "tonemap"), .def = "the scene's, else none", \
+     .help = "8-bit frames: light past white cut at white, or rolled off by ACES's filmic curve or Khronos' PBR " \
+             "Neutral (docs/renderer.md)"}
+
 /* Parses the command line into a: OPT_GO, or the exit status. */
 static int parse_args(Args *a, int argc, char **argv)
 {
@@ -438,12 +452,7 @@ static int parse_args(Args *a, int argc, char **argv)
          .help = "BVH builder for models; given, it rebuilds .tmd models too"},
         {.name = "--aa", .kind = OPT_CUSTOM, .dst = &a->aa, .arg = "N|adaptive[:N]", .parse = cli_parse_aa, .range = CLI_AA_RANGE,
          .help = "anti-aliasing", .def = "the scene's, else 1"},
-        {.name = "--integrator", .kind = OPT_CHOICE, .dst = &a->integrator, .seen = &a->integrator_given,
-         .choices = field_words(&settings_kind, "integrator"), .def = "the scene's, else whitted",
-         .help = "Whitted's, or a path tracer's: light that bounces (in a window, converging when the view stops)"},
-        {.name = "--clamp-indirect", .kind = OPT_REAL, .dst = &a->clamp, .arg = "L", .rlo = 0, .rhi = 1e6,
-         .seen = &a->clamp_given, .def = "the scene's, else 0 (never)",
-         .help = "path: each light a sample gathers after its first bounce held to L, the sum of its channels"},
+        LOOK_OPTS(a),
         {.name = "--rotate", .kind = OPT_REAL, .dst = &a->rotate, .arg = "DEG",
          .help = "turn every model instance by DEG about y after each frame (Space toggles it in the window)"},
         {.name = "--path", .kind = OPT_STRING, .dst = &a->path, .arg = "FILE",
@@ -557,6 +566,8 @@ static int apply_overrides(Scene *scene, const Args *a, Err *err)
         scene->settings.integrator = (Integrator)a->integrator;
     if (a->clamp_given)
         scene->settings.clamp_indirect = (real)a->clamp;
+    if (a->tonemap_given)
+        scene->settings.tonemap = (Tonemap)a->tonemap;
     scene->settings.linear = a->linear;
     scene->settings.hdr = a->hdr;
     return cli_put_environment(scene, &a->env, a->scene_path, err);
@@ -587,9 +598,10 @@ static int open_scene(App *app, Args *a, Err *err)
                 a->target_given ? "a fixed scale or --target-fps's, not both" : "a scale of 1 to 8 in quarter steps (2.75, 3)");
         return 2;
     }
-    if (a->hdr && (a->linear || a->verify_path)) {
+    if (a->hdr && (a->linear || a->tonemap_given || a->verify_path)) {
         fprintf(stderr, "lanray-server: --hdr frames keep the light itself: %s\n",
-                a->linear ? "--linear is for 8-bit frames" : "--verify compares 8-bit frames (compare the .hdr files instead)");
+                a->linear || a->tonemap_given ? "--linear and --tonemap are for 8-bit frames"
+                                              : "--verify compares 8-bit frames (compare the .hdr files instead)");
         return 2;
     }
     if (!a->width_given && scene->settings.width)

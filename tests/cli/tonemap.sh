@@ -36,6 +36,11 @@ render "$dir/lit.scene" --width 64 --height 64 --aa 1 -o "$dir/lit.png"
 render "$dir/lit.scene" --width 64 --height 64 --aa 1 --tonemap none -o "$dir/lit-none.png"
 cmp -s "$dir/lit.png" "$dir/lit-none.png" && fail "the scene's tonemap changed nothing: the test cannot tell"
 verify_distributed lit "$dir/lit.scene" "$dir/lit.png" "with settings tonemap"
+# the server's --tonemap over the scene's setting
+sed 's/ tonemap neutral//' "$dir/lit.scene" >"$dir/bare.scene"
+verify_distributed option "$dir/bare.scene" "$dir/lit.png" "with lanray-server --tonemap" --tonemap neutral
+out=$("$BIN/lanray-server" --headless --port 0 --hdr --tonemap aces 2>&1)
+[ $? = 2 ] && grep -q "tonemap" <<<"$out" || fail "lanray-server --hdr --tonemap: $out"
 # a path-traced still of 2 x 2 samples in batches, coded by the server
 sed 's/^settings exposure 1 tonemap neutral/settings exposure 1 tonemap aces integrator path/' "$dir/lit.scene" >"$dir/pt.scene"
 render "$dir/pt.scene" --width 32 --height 24 --aa 2 -o "$dir/pt.png"
