@@ -600,8 +600,9 @@ static int open_scene(App *app, Args *a, Err *err)
     }
     if (a->hdr && (a->linear || a->tonemap_given || a->verify_path)) {
         fprintf(stderr, "lanray-server: --hdr frames keep the light itself: %s\n",
-                a->linear || a->tonemap_given ? "--linear and --tonemap are for 8-bit frames"
-                                              : "--verify compares 8-bit frames (compare the .hdr files instead)");
+                a->linear          ? "--linear is for 8-bit frames"
+                : a->tonemap_given ? "--tonemap is for 8-bit frames"
+                                   : "--verify compares 8-bit frames (compare the .hdr files instead)");
         return 2;
     }
     if (!a->width_given && scene->settings.width)
