@@ -115,16 +115,8 @@ void denoise_stage_put(DenoiseStage *st, const uint8_t *pixels, uint32_t w, uint
 {
     /* the stage is empty: the thread reads none of this until WAITING */
     memcpy(st->in, pixels, (size_t)w * h * st->bpp);
-    uint32_t n = frame->instance_count;
-    if (n > st->inst_cap) {
-        Instance *grown = realloc(st->inst, n * sizeof *grown);
-        if (grown)
-            st->inst = grown, st->inst_cap = n;
-        else
-            n = 0; /* the history then follows no instance */
-    }
-    if (n)
-        memcpy(st->inst, frame->instances, n * sizeof *st->inst);
+    /* none where memory ran out: the history then follows no instance */
+    const uint32_t n = instances_copy(&st->inst, &st->inst_cap, frame->instances, frame->instance_count);
     pthread_mutex_lock(&st->lock);
     st->w = w, st->h = h, st->linear = linear, st->frame = *frame;
     st->frame.instances = st->inst, st->frame.instance_count = n;

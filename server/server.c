@@ -828,24 +828,6 @@ static int history_stage(Server *s)
 }
 
 
-/* The description's placements of its instances into p (none where
- * memory ran out: the history then follows no instance's motion). */
-static void place_frame(Placed *p, const Scene *scene)
-{
-    const uint32_t n = scene->instance_count;
-    if (n > p->cap) {
-        Instance *grown = realloc(p->inst, n * sizeof *grown);
-        if (!grown) {
-            p->count = 0;
-            return;
-        }
-        p->inst = grown, p->cap = n;
-    }
-    if (n)
-        memcpy(p->inst, scene->instances, n * sizeof *scene->instances);
-    p->count = n;
-}
-
 static int start_frame(Server *s, Err *err)
 {
     if (apply_pending(s, err))
@@ -890,7 +872,8 @@ static int start_frame(Server *s, Err *err)
     s->frame_cam = v.camera;
     s->frame_epoch = (uint64_t)s->edit_id << 32 | s->settings_id;
     s->frame_placed = s->older.id ? 1 - s->older.placed : 0;
-    place_frame(&s->placed[s->frame_placed], s->scene);
+    Placed *p = &s->placed[s->frame_placed]; /* none where memory ran out: the history follows no instance */
+    p->count = instances_copy(&p->inst, &p->cap, s->scene->instances, s->scene->instance_count);
     s->frame_rs = v.settings;
     s->frame_bpp = render_pixel_bytes(&v.settings);
     /* a moving frame at the render scale, a still one whole */

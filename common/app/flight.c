@@ -59,13 +59,10 @@ typedef struct {
 static int turning_start(Turning *tn, const Scene *desc, Err *err)
 {
     tn->desc = *desc, tn->world = NULL;
-    const size_t size = (size_t)desc->instance_count * sizeof *desc->instances;
-    tn->desc.instances = size ? malloc(size) : NULL;
-    if (size && !tn->desc.instances)
+    tn->desc.instances = NULL, tn->desc.instance_cap = 0;
+    if (instances_copy(&tn->desc.instances, &tn->desc.instance_cap, desc->instances, desc->instance_count) !=
+        desc->instance_count)
         return err_set(err, "out of memory for the turning instances");
-    if (size)
-        memcpy(tn->desc.instances, desc->instances, size);
-    tn->desc.instance_cap = desc->instance_count;
     return 0;
 }
 

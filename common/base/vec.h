@@ -50,6 +50,8 @@ static inline vec3 v3_norm_any(vec3 a)
 }
 static inline real v3_min_comp(vec3 a) { return real_min(a.x, real_min(a.y, a.z)); }
 static inline int v3_is_finite(vec3 a) { return isfinite(a.x) && isfinite(a.y) && isfinite(a.z); }
+/* The same vector, component by component (exactly; a NaN is no vector's same). */
+static inline int v3_same(vec3 a, vec3 b) { return a.x == b.x && a.y == b.y && a.z == b.z; }
 static inline vec3 v3_lerp(vec3 a, vec3 b, real t) { return v3_madd(a, v3_sub(b, a), t); }
 /* mirror d about n (n unit length) */
 static inline vec3 v3_reflect(vec3 d, vec3 n) { return v3_sub(d, v3_scale(n, R(2) * v3_dot(d, n))); }

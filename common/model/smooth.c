@@ -136,7 +136,6 @@ static uint64_t position_hash(vec3 p)
     return h;
 }
 
-static int same_position(vec3 a, vec3 b) { return a.x == b.x && a.y == b.y && a.z == b.z; }
 
 /* Each corner's vertex: the first corner at its position (open addressing). */
 static int weld(const Mesh *m, uint32_t *vertex)
@@ -151,7 +150,7 @@ static int weld(const Mesh *m, uint32_t *vertex)
     memset(slot, 0xff, size * sizeof *slot);
     for (size_t c = 0; c < n; c++) {
         size_t at = (size_t)position_hash(m->pos[c]) & (size - 1);
-        while (slot[at] != UINT32_MAX && !same_position(m->pos[slot[at]], m->pos[c]))
+        while (slot[at] != UINT32_MAX && !v3_same(m->pos[slot[at]], m->pos[c]))
             at = (at + 1) & (size - 1);
         if (slot[at] == UINT32_MAX)
             slot[at] = (uint32_t)c;

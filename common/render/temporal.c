@@ -36,7 +36,7 @@ struct Temporal {
     Pool *pool;
     Instance *placed; /* the instances as the frame before placed them */
     Move *moves;      /* ... and each one's move since */
-    uint32_t placed_count, cap;
+    uint32_t placed_count, placed_cap, moves_cap;
     float *light; /* the frame's own light, 3 floats a pixel, for its neighbours' clip */
     uint32_t max_w, max_h;
     int frames;
@@ -401,8 +401,6 @@ static void pass_rows(void *ctx, uint64_t lo, uint64_t hi, int thread)
             pass_pixel(ps, x, (uint32_t)y);
 }
 
-static int same_v3(vec3 a, vec3 b) { return a.x == b.x && a.y == b.y && a.z == b.z; }
-
 /* Each instance's move from the frame before's placement (t->placed) to
  * frame f's (instances that were not there then: none), and f's kept for
  * the next: how many moves there are (0 where memory for them ran out:
@@ -410,29 +408,22 @@ static int same_v3(vec3 a, vec3 b) { return a.x == b.x && a.y == b.y && a.z == b
 static uint32_t place_instances(Temporal *t, const TemporalFrame *f)
 {
     const uint32_t n = f->instance_count;
-    if (n > t->cap) {
-        Instance *p = realloc(t->placed, n * sizeof *p);
-        if (p)
-            t->placed = p;
+    if (n > t->moves_cap) {
         Move *m = realloc(t->moves, n * sizeof *m);
-        if (m)
-            t->moves = m;
-        if (!p || !m) {
+        if (!m) {
             t->placed_count = 0;
             return 0;
         }
-        t->cap = n;
+        t->moves = m, t->moves_cap = n;
     }
     for (uint32_t k = 0; k < n; k++) {
         const Instance *a = k < t->placed_count ? &t->placed[k] : NULL, *b = &f->instances[k];
         Move *m = &t->moves[k];
-        m->moved = a && (!same_v3(a->translate, b->translate) || !same_v3(a->rotate, b->rotate) || a->scale != b->scale);
+        m->moved = a && (!v3_same(a->translate, b->translate) || !v3_same(a->rotate, b->rotate) || a->scale != b->scale);
         if (m->moved)
             m->then = world_instance_derive(a), m->now = world_instance_derive(b);
     }
-    if (n)
-        memcpy(t->placed, f->instances, n * sizeof *f->instances);
-    t->placed_count = n;
+    t->placed_count = instances_copy(&t->placed, &t->placed_cap, f->instances, n);
     return n;
 }
 

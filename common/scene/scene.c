@@ -229,6 +229,19 @@ Instance instance_make(uint32_t model, vec3 translate, vec3 rotate, real scale)
     return in;
 }
 
+uint32_t instances_copy(Instance **buf, uint32_t *cap, const Instance *src, uint32_t n)
+{
+    if (n > *cap) {
+        Instance *grown = realloc(*buf, (size_t)n * sizeof *grown);
+        if (!grown)
+            return 0;
+        *buf = grown, *cap = n;
+    }
+    if (n)
+        memcpy(*buf, src, (size_t)n * sizeof *src);
+    return n;
+}
+
 static int check_material(const Scene *s, uint32_t m, const char *what, uint32_t i, Err *err)
 {
     if (m >= s->material_count)

@@ -236,6 +236,9 @@ Light light_rect(vec3 corner, vec3 edge1, vec3 edge2, int samples, vec3 color, r
 static inline int light_is_area(const Light *l) { return l->kind == LIGHT_SPHERE || l->kind == LIGHT_RECT; }
 static inline int light_has_direction(const Light *l) { return l->kind == LIGHT_SPOT || l->kind == LIGHT_DIRECTIONAL; }
 Instance instance_make(uint32_t model, vec3 translate, vec3 rotate, real scale);
+/* Copies n instances from src into *buf, grown where it holds fewer
+ * (*cap: how many it holds): n, or 0 where memory ran out (*buf kept). */
+uint32_t instances_copy(Instance **buf, uint32_t *cap, const Instance *src, uint32_t n);
 RenderSettings render_settings_default(void);
 /* The rough mirrors' and the lens's samples a side: the scene's, else the
  * default of its sampling.  One budget: 6 x 6 rough rays and 3 x 3 lens rays
