@@ -414,13 +414,8 @@ static const char server_exits[] =
     {.name = "--integrator", .kind = OPT_CHOICE, .dst = &(a)->integrator, .seen = &(a)->integrator_given, \
      .choices = field_words(&settings_kind, "integrator"), .def = "the scene's, else whitted", \
      .help = "Whitted's, or a path tracer's: light that bounces (in a window, converging when the view stops)"}, \
-    {.name = "--clamp-indirect", .kind = OPT_REAL, .dst = &(a)->clamp, .arg = "L", .rlo = 0, .rhi = 1e6, \
-     .seen = &(a)->clamp_given, .def = "the scene's, else 0 (never)", \
-     .help = "path: each light a sample gathers after its first bounce held to L, the sum of its channels"}, \
-    {.name = "--tonemap", .kind = OPT_CHOICE, .dst = &(a)->tonemap, .seen = &(a)->tonemap_given, \
-     .choices = field_words(&settings_kind, "tonemap"), .def = "the scene's, else none", \
-     .help = "8-bit frames: light past white cut at white, or rolled off by ACES's filmic curve or Khronos' PBR " \
-             "Neutral (docs/renderer.md)"}
+    CLI_CLAMP_INDIRECT_OPT(&(a)->clamp, &(a)->clamp_given), \
+    CLI_TONEMAP_OPT(&(a)->tonemap, &(a)->tonemap_given)
 
 /* Parses the command line into a: OPT_GO, or the exit status. */
 static int parse_args(Args *a, int argc, char **argv)

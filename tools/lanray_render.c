@@ -153,11 +153,7 @@ typedef struct {
      .help = "path: filter the frame's noise out, guided by the surfaces each pixel saw first (their colours, " \
              "normals, distances; docs/renderer.md)", \
      .def = "the scene's, else off"}, \
-    {.name = "--clamp-indirect", .kind = OPT_REAL, .dst = &(a)->clamp, .arg = "L", .rlo = 0, .rhi = 1e6, \
-     .seen = &(a)->clamp_given, \
-     .help = "path: each light a sample gathers after its first bounce held to L, the sum of its red, green and " \
-             "blue (fewer fireflies, a little less light; Cycles' Clamp Indirect); 0 = never", \
-     .def = "the scene's, else 0"}
+    CLI_CLAMP_INDIRECT_OPT(&(a)->clamp, &(a)->clamp_given)
 
 /* lanray-render --help's text above the options, and its exit statuses */
 static const char render_about[] =
@@ -241,10 +237,7 @@ static int parse_args(Args *a, int argc, char **argv)
          .def = "0: the scene's, else 3 (product: 4)"},
         {.name = "--exposure", .kind = OPT_REAL, .dst = &a->exposure, .arg = "STOPS", .rlo = -32, .rhi = 32,
          .seen = &a->exposure_given, .help = "8-bit output shows the light times 2^STOPS", .def = "the scene's, else 0"},
-        {.name = "--tonemap", .kind = OPT_CHOICE, .dst = &a->tonemap, .choices = field_words(&settings_kind, "tonemap"),
-         .seen = &a->tonemap_given, .def = "the scene's, else none",
-         .help = "8-bit output: light past white cut at white, or rolled off by ACES's filmic curve or Khronos' PBR "
-                 "Neutral (docs/renderer.md)"},
+        CLI_TONEMAP_OPT(&a->tonemap, &a->tonemap_given),
         {.name = "--linear", .kind = OPT_FLAG, .dst = &a->linear,
          .help = "write linear light (PNG tagged gAMA 1.0) instead of sRGB"},
         CLI_ENVIRONMENT_OPTS(&a->env),

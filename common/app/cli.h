@@ -58,6 +58,18 @@ typedef struct {
      .seen = &(e)->strength_given, .help = "the environment's light times S", .def = "the scene's, else 1"}, \
     {.name = "--environment-rotate", .kind = OPT_REAL, .dst = &(e)->rotate, .arg = "DEG", .rlo = -1e6, .rhi = 1e6, \
      .seen = &(e)->rotate_given, .help = "the environment turned by DEG degrees about +y", .def = "the scene's, else 0"}
+/* --clamp-indirect and --tonemap, lanray-render's and the server's: a
+ * real into *to (given: *given), a Tonemap's word into *to (an int) */
+#define CLI_CLAMP_INDIRECT_OPT(to, given) \
+    {.name = "--clamp-indirect", .kind = OPT_REAL, .dst = to, .arg = "L", .rlo = 0, .rhi = 1e6, .seen = given, \
+     .help = "path: each light a sample gathers after its first bounce held to L, the sum of its red, green and " \
+             "blue (fewer fireflies, a little less light; Cycles' Clamp Indirect); 0 = never", \
+     .def = "the scene's, else 0"}
+#define CLI_TONEMAP_OPT(to, given) \
+    {.name = "--tonemap", .kind = OPT_CHOICE, .dst = to, .choices = field_words(&settings_kind, "tonemap"), \
+     .seen = given, .def = "the scene's, else none", \
+     .help = "8-bit output: light past white cut at white, or rolled off by ACES's filmic curve or Khronos' PBR " \
+             "Neutral (docs/renderer.md)"}
 /* Puts e into s, the scene of `path` (cli_open_scene's: after the file's
  * settings, and again after every edit); a model's preview then takes the
  * environment in place of its own two lamps and its ambient light (a
