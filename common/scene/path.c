@@ -532,12 +532,6 @@ static int highlight_make(const DrawPlan *pl, const Surface *sf, vec3 ks, vec3 d
     return v3_max_comp(ks) > R(0) && pl->lampless && lobes_make(hl, &c, sf->ns, d);
 }
 
-/* A surface of smooth lobes (diffuse, the Phong highlight, a rough coat's
- * and a rough metal's GGX lobes) and delta ones (a mirror share; a
- * dielectric's glass: Fresnel's reflection, less the mirror's share, and
- * the transmission, or frosted glass's facets, by the paths alone here): next-event estimation for the
- * smooth ones, then one lobe chosen by weight for the path's next ray.
- * 0 where the path ends. */
 /* Light c (times the path's weight) added to the sample's; where it came
  * after the path's first bounce (indirect: a light met by the path's
  * third ray or later, or sampled from its second surface or later), held
@@ -554,6 +548,12 @@ static inline void path_gather(const World *w, Path *p, vec3 c, int indirect)
     p->L = v3_add(p->L, c);
 }
 
+/* A surface of smooth lobes (diffuse, the Phong highlight, a rough coat's
+ * and a rough metal's GGX lobes) and delta ones (a mirror share; a
+ * dielectric's glass: Fresnel's reflection, less the mirror's share, and
+ * the transmission, or frosted glass's facets, by the paths alone here): next-event estimation for the
+ * smooth ones, then one lobe chosen by weight for the path's next ray.
+ * 0 where the path ends. */
 static int surface_bounce(const World *w, Path *p, const Surface *sf, vec3 kd, vec3 ks, const Draws *dr, int last,
                           RayStats *st)
 {
