@@ -8,7 +8,7 @@
 # a scene's `settings clamp_indirect` is the option's picture; through a
 # server and a client the picture is lanray-render's (the setting travels
 # with the view), the server's --clamp-indirect too; a negative hold is
-# refused.
+# refused, in a scene (naming its line) and on the command line.
 set -u
 source tests/tools/server-lib.sh
 render() { "$BIN/lanray-render" "$@" --quiet >/dev/null 2>"$dir/render.err" || fail "lanray-render $*: $(cat "$dir/render.err")"; }
@@ -39,6 +39,10 @@ cmp -s "$dir/held.png" "$dir/free.png" && fail "a hold of 0.5 changed nothing: t
 render "$dir/held.scene" --width 64 --height 64 --aa 1 -o "$dir/held64.png"
 verify_distributed held "$dir/held.scene" "$dir/held64.png" "with clamp_indirect"
 verify_distributed option "$dir/box.scene" "$dir/held64.png" "with --clamp-indirect" --clamp-indirect 0.5
+printf 'settings integrator path clamp_indirect -2\nsphere centre 0 0 -3 radius 1\n' >"$dir/bad.scene"
+out=$("$BIN/lanray-render" "$dir/bad.scene" -o "$dir/no.png" 2>&1)
+[ $? = 1 ] && grep -q "bad.scene:1: 'clamp_indirect' of settings must be from 0" <<<"$out" ||
+    fail "settings clamp_indirect -2: $out"
 out=$("$BIN/lanray-render" "${box[@]}" --clamp-indirect -1 -o "$dir/no.png" 2>&1)
 [ $? = 2 ] && grep -q "clamp-indirect" <<<"$out" || fail "a negative hold: $out"
 echo "clamp: a hold no light reaches changes no byte; one near nothing leaves the direct light (mean $m_tiny against $m_direct, unclamped $m_free); the scene's setting is the option's; through a server as lanray-render"

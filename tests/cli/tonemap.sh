@@ -3,10 +3,12 @@
 # neutral; render/tonemap.h): `none` is the picture without the option
 # byte for byte; the built-in scene one stop over (--exposure 1) has
 # pixels cut to 255 in a channel, and through either curve far fewer; a
-# scene's `settings tonemap` is the option's picture; a server's frames are
-# lanray-render's, a Whitted frame and a path-traced still whose batches
-# the server adds up and codes itself (the curve there too); a .hdr keeps
-# the light itself and refuses the option.
+# scene's `settings tonemap` is the option's picture (lanray-server's
+# --tonemap too); a server's frames are lanray-render's, a Whitted frame
+# and a path-traced still whose batches the server adds up and codes
+# itself (the curve there too); a word the format does not know is
+# refused naming the scene's line; a .hdr keeps the light itself and
+# refuses the option (lanray-render's and lanray-server --hdr's).
 set -u
 source tests/tools/server-lib.sh
 render() { "$BIN/lanray-render" "$@" --quiet >/dev/null 2>"$dir/render.err" || fail "lanray-render $*: $(cat "$dir/render.err")"; }
@@ -49,6 +51,12 @@ cmp -s "$dir/pt.png" "$dir/pt-none.png" && fail "a path-traced still of 2 x 2 sa
 start_server pt "$dir/pt.scene" --port 0 --width 32 --height 24 --wait-clients 2 --still-aa 2 --frames 4 --out "$dir/pt"
 serve_flight pt 4
 cmp -s "$dir/pt/frame-00004.png" "$dir/pt.png" || fail "a path-traced still through a server (batches coded there) is not lanray-render's"
+# a word the scene format does not know: refused, naming the file and line
+printf 'settings tonemap filmic\nsphere centre 0 0 -3 radius 1\n' >"$dir/bad.scene"
+out=$("$BIN/lanray-render" "$dir/bad.scene" -o "$dir/bad.png" 2>&1)
+[ $? = 1 ] && grep -q "bad.scene:1: 'tonemap' of settings must be none, aces or neutral" <<<"$out" ||
+    fail "settings tonemap filmic: $out"
+[ -e "$dir/bad.png" ] && fail "a refused scene left its picture"
 # a .hdr keeps the light
 out=$("$BIN/lanray-render" --width 8 --height 8 --tonemap aces -o "$dir/x.hdr" 2>&1)
 [ $? = 2 ] && grep -q "tonemap" <<<"$out" || fail "--tonemap with a .hdr: $out"
