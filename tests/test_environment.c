@@ -1,8 +1,8 @@
 /* test_environment.c - an environment's light (scene/environment.h): the
  * importance sampler's density is a density (it integrates to 1 over the
  * sphere) and is what environment_pdf says of the directions it draws;
- * light over density integrates the image's light; a constant image's
- * irradiance is exact; the turn moves the image as a camera's yaw turns;
+ * light over density integrates the image's light, and no draw's is a
+ * firefly beside a sun; a constant image's irradiance is exact; the turn moves the image as a camera's yaw turns;
  * a sun is found (where it is, how bright) and left out of the harmonics;
  * a black image draws nothing; its mip-map halves the image level by
  * level and a wide footprint reads it.  And the texture it reads: a Radiance
@@ -111,6 +111,37 @@ static void the_density_integrates_to_one_and_matches_the_draws(void **state)
 
 /* (the harmonics' sums over the texels hold the constant's band exactly
  * and the others to 0.6 / h^2: 3.8% at 4 rows, 0.2% at 16, 0.001% at 256) */
+/* The draws follow the light they read: a draw's light over its density
+ * (its channels' mean) stays within 1.5 times its mean over all draws,
+ * next to the sun too (1.1 times).  Before 2026-11-30 the density was
+ * constant over each texel while the light was read bilinear, so a draw
+ * in the sky beside the sun came at the sky's density and read up to half
+ * the sun: 272 times the mean, a firefly on every diffuse surface in
+ * sunlight.  What is left is the polar sine's change across a cell. */
+static void the_draws_carry_no_fireflies(void **state)
+{
+    (void)state;
+    Err err;
+    Texture *t = light_texture(64, 32, sky);
+    Environment *e = environment_create(t, R(1), R(30), &err);
+    assert_non_null(e);
+    const int n = 1 << 16;
+    double sum = 0.0, most = 0.0;
+    for (int i = 0; i < n; i++) {
+        real u, v, pdf;
+        vec3 d, l;
+        sample_sobol2((uint32_t)i, 17u, &u, &v);
+        assert_true(environment_sample(e, u, v, &d, &l, &pdf));
+        const double r = ((double)l.x + (double)l.y + (double)l.z) / 3.0 / (double)pdf;
+        sum += r / n;
+        most = fmax(most, r);
+    }
+    if (!(most < 1.5 * sum))
+        fail_msg("a draw's light over its density %g, %g times the mean", most, most / sum);
+    environment_destroy(e);
+    texture_destroy(t);
+}
+
 static void a_constant_image_lights_as_its_value(void **state)
 {
     (void)state;
@@ -351,6 +382,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(the_levels_halve_and_a_wide_footprint_reads_them),
         cmocka_unit_test(the_density_integrates_to_one_and_matches_the_draws),
+        cmocka_unit_test(the_draws_carry_no_fireflies),
         cmocka_unit_test(a_constant_image_lights_as_its_value),
         cmocka_unit_test(the_turn_moves_the_image_as_a_yaw),
         cmocka_unit_test(a_sun_is_found_and_taken_out_of_the_harmonics),

@@ -127,9 +127,17 @@ static int env_find_sun(Environment *e, const Grid *g)
 }
 
 /* The sampling tables and the harmonics (without the sun's texels where
- * there is one), from the light (in row order); `acc`: w + 1 doubles,
- * `row_sums`: h. */
-static void env_tables(Environment *e, const Grid *g, double *acc, double *row_sums)
+ * there is one), from the light (in row order).  The density drawn is the
+ * bilinear blend (environment_corners) of each texel's weight times its
+ * row's sine, so that it follows the light the draws read (bilinear too)
+ * within every cell between four texel centres: a piecewise constant
+ * density beside bilinear light drew the sky next to a sun at the sky's
+ * density and read half the sun there, fireflies on every diffuse
+ * surface in sunlight.  Cell row y lies between texel rows y - 1 and y,
+ * the first and last half rows held at the poles; cell x between texel
+ * columns x and x + 1, the last across the seam.  `top`, `bottom`: w
+ * doubles; `acc`: w + 1; `row_sums`: h + 1. */
+static void env_tables(Environment *e, const Grid *g, double *top, double *bottom, double *acc, double *row_sums)
 {
     const uint32_t w = e->w, h = e->h;
     const double band[9] = {PI, 2.0 * PI / 3.0, 2.0 * PI / 3.0, 2.0 * PI / 3.0, PI / 4.0,
@@ -137,33 +145,45 @@ static void env_tables(Environment *e, const Grid *g, double *acc, double *row_s
     double sh[9][3] = {{0}}, rows = 0.0;
     env_find_sun(e, g);
     e->rows[0] = 0.0f;
-    for (uint32_t y = 0; y < h; y++) {
-        const double sn = sin((y + 0.5) / h * PI), cs = cos((y + 0.5) / h * PI),
-                     dw = texel_solid_angle(e, y, g->rings);
+    for (uint32_t y = 0; y <= h; y++) {
+        if (y < h) { /* texel row y's weights into bottom, and its harmonics */
+            const double sn = sin((y + 0.5) / h * PI), cs = cos((y + 0.5) / h * PI),
+                         dw = texel_solid_angle(e, y, g->rings);
+            for (uint32_t x = 0; x < w; x++) {
+                real c[3];
+                texel(e, (size_t)y * w + x, c);
+                bottom[x] = texel_weight(c) * sn;
+                e->weight[(size_t)y * w + x] = (float)bottom[x];
+                if (environment_sun_texel(e, (size_t)y * w + x))
+                    continue; /* the sun's: its own light for the Whitted integrator */
+                const vec3 d = grid_dir(g, x, sn, cs);
+                double b[9];
+                sh_basis(d.x, d.y, d.z, b);
+                for (int k = 0; k < 9; k++)
+                    for (int ch = 0; ch < 3; ch++)
+                        sh[k][ch] += (double)c[ch] * b[k] * dw;
+            }
+        }
+        /* cell row y: its corners' sums, cell by cell */
+        const double *up = y == 0 ? bottom : top, *down = y == h ? top : bottom;
         acc[0] = 0.0;
         for (uint32_t x = 0; x < w; x++) {
-            real c[3];
-            texel(e, (size_t)y * w + x, c);
-            acc[x + 1] = acc[x] + texel_weight(c) * sn;
-            if (environment_sun_texel(e, (size_t)y * w + x))
-                continue; /* the sun's: its own light for the Whitted integrator */
-            const vec3 d = grid_dir(g, x, sn, cs);
-            double b[9];
-            sh_basis(d.x, d.y, d.z, b);
-            for (int k = 0; k < 9; k++)
-                for (int ch = 0; ch < 3; ch++)
-                    sh[k][ch] += (double)c[ch] * b[k] * dw;
+            const uint32_t xn = x + 1 < w ? x + 1 : 0;
+            acc[x + 1] = acc[x] + up[x] + up[xn] + down[x] + down[xn];
         }
         const double sum = acc[w];
         float *col = &e->cols[(size_t)y * (w + 1)];
         for (uint32_t x = 0; x <= w; x++) /* the row's shares, 0 to 1 (a black row: even) */
             col[x] = x == w ? 1.0f : (float)(sum > 0.0 ? acc[x] / sum : (double)x / w);
-        rows += sum;
+        rows += sum / 4.0 * (y == 0 || y == h ? 0.5 : 1.0); /* the cells' mean weight times their height */
         row_sums[y] = rows;
+        double *swap = top;
+        top = bottom, bottom = swap; /* texel row y is the next cell row's top */
     }
     e->total = rows;
-    for (uint32_t y = 1; y <= h; y++)
-        e->rows[y] = y == h ? 1.0f : (float)(e->total > 0.0 ? row_sums[y - 1] / e->total : (double)y / h);
+    e->scale = rows > 0.0 ? (double)w * h / rows : 0.0;
+    for (uint32_t y = 1; y <= h + 1; y++)
+        e->rows[y] = y == h + 1 ? 1.0f : (float)(e->total > 0.0 ? row_sums[y - 1] / e->total : (double)y / (h + 1));
     for (int k = 0; k < 9; k++)
         for (int ch = 0; ch < 3; ch++)
             e->sh[k][ch] = sh[k][ch] * band[k];
@@ -184,10 +204,12 @@ Environment *environment_create(const Texture *t, real strength, real rotate, Er
 {
     Environment *e = calloc(1, sizeof *e);
     double *acc = malloc((t->w + 1) * sizeof *acc), *cphi = malloc(t->w * sizeof *cphi),
-           *sphi = malloc(t->w * sizeof *sphi), *row_sums = malloc(t->h * sizeof *row_sums);
-    if (!e || !acc || !cphi || !sphi || !row_sums || !(e->rows = malloc((t->h + 1) * sizeof *e->rows)) ||
-        !(e->cols = malloc((size_t)t->h * (t->w + 1) * sizeof *e->cols))) {
-        free(acc), free(cphi), free(sphi), free(row_sums);
+           *sphi = malloc(t->w * sizeof *sphi), *row_sums = malloc((t->h + 1) * sizeof *row_sums),
+           *weights = malloc(2 * (size_t)t->w * sizeof *weights);
+    if (!e || !acc || !cphi || !sphi || !row_sums || !weights ||
+        !(e->rows = malloc((t->h + 2) * sizeof *e->rows)) || !(e->weight = malloc((size_t)t->w * t->h * sizeof *e->weight)) ||
+        !(e->cols = malloc((size_t)(t->h + 1) * (t->w + 1) * sizeof *e->cols))) {
+        free(acc), free(cphi), free(sphi), free(row_sums), free(weights);
         environment_destroy(e);
         err_set(err, "scene: out of memory for the environment's %ux%u texels", t->w, t->h);
         return NULL;
@@ -204,8 +226,8 @@ Environment *environment_create(const Texture *t, real strength, real rotate, Er
     }
     for (uint32_t y = 0; y < e->h; y++)
         g.rings += sin((y + 0.5) / e->h * PI) * (PI / e->h);
-    env_tables(e, &g, acc, row_sums);
-    free(acc), free(cphi), free(sphi), free(row_sums);
+    env_tables(e, &g, weights, weights + e->w, acc, row_sums);
+    free(acc), free(cphi), free(sphi), free(row_sums), free(weights);
     if (environment_make_levels(e, err)) {
         environment_destroy(e);
         return NULL;
@@ -218,6 +240,7 @@ void environment_destroy(Environment *e)
     if (!e)
         return;
     free(e->rows);
+    free(e->weight);
     free(e->cols);
     free(e->sun_mask);
     for (uint32_t l = 1; l < e->levels; l++)
@@ -277,29 +300,57 @@ static uint32_t find(const float *cdf, uint32_t n, double x)
     return lo;
 }
 
-/* The density of image point (x, y) (a texel) over the unit square. */
-static double texel_density(const Environment *e, uint32_t x, uint32_t y)
+/* The density environment_sample draws image point (u, t) with, over the
+ * unit square: the bilinear blend of the four texels' weights round it
+ * (env_tables), as environment_light_at blends their light. */
+static double point_density(const Environment *e, real u, real t)
 {
-    const float *col = &e->cols[(size_t)y * (e->w + 1)];
-    return ((double)e->rows[y + 1] - (double)e->rows[y]) * ((double)col[x + 1] - (double)col[x]) * e->w * e->h;
+    size_t at[4];
+    real wq[4];
+    environment_corners(e->w, e->h, u, t, at, wq);
+    const float *g = e->weight;
+    double d = 0.0;
+    for (int q = 0; q < 4; q++)
+        d += (double)wq[q] * (double)g[at[q]];
+    return d * e->scale;
+}
+
+/* x in [0, 1] drawn from u in [0, 1) by a density linear from p at 0 to q
+ * at 1 (p, q >= 0): the inverse of its quadratic distribution, in the form
+ * that loses no digits as p and q near each other. */
+static double sample_linear(double u, double p, double q)
+{
+    const double below = p + sqrt(p * p + u * (q * q - p * p));
+    return p == q || !(below > 0.0) ? u : fmin(u * (p + q) / below, 1.0);
 }
 
 int environment_sample(const Environment *e, real u1, real u2, vec3 *dir, vec3 *light, real *pdf)
 {
     if (!(e->total > 0.0))
         return 0;
-    const uint32_t y = find(e->rows, e->h, (double)u1);
+    const uint32_t w = e->w, h = e->h;
+    /* a cell by the tables, then a point in it by its bilinear weights */
+    const uint32_t y = find(e->rows, h + 1, (double)u1);
     const double ry = (double)e->rows[y + 1] - (double)e->rows[y];
-    const double fy = ry > 0.0 ? ((double)u1 - (double)e->rows[y]) / ry : 0.5;
-    const float *col = &e->cols[(size_t)y * (e->w + 1)];
-    const uint32_t x = find(col, e->w, (double)u2);
+    const double fy = fmin(fmax(ry > 0.0 ? ((double)u1 - (double)e->rows[y]) / ry : 0.5, 0.0), 1.0);
+    const float *col = &e->cols[(size_t)y * (w + 1)];
+    const uint32_t x = find(col, w, (double)u2);
     const double rx = (double)col[x + 1] - (double)col[x];
-    const double fx = rx > 0.0 ? ((double)u2 - (double)col[x]) / rx : 0.5;
-    const double t = (y + fmin(fmax(fy, 0.0), 1.0)) / e->h, u = (x + fmin(fmax(fx, 0.0), 1.0)) / e->w;
+    const double fx = fmin(fmax(rx > 0.0 ? ((double)u2 - (double)col[x]) / rx : 0.5, 0.0), 1.0);
+    const uint32_t ya = y == 0 ? 0 : y - 1, yb = y == h ? h - 1 : y, xb = x + 1 < w ? x + 1 : 0;
+    const float *g = e->weight;
+    const double a = g[(size_t)ya * w + x], b = g[(size_t)ya * w + xb], c = g[(size_t)yb * w + x],
+                 d = g[(size_t)yb * w + xb];
+    /* down the cell: even in the half rows held at the poles */
+    const double ay = y == 0 ? 0.5 + 0.5 * fy : y == h ? 0.5 * fy : sample_linear(fy, a + b, c + d);
+    const double ax = sample_linear(fx, (1.0 - ay) * a + ay * c, (1.0 - ay) * b + ay * d);
+    const double t = fmin(((double)y - 0.5 + ay) / h, 1.0);
+    double u = (x + 0.5 + ax) / w;
+    u -= u >= 1.0 ? 1.0 : 0.0;
     /* the direction of (u, t) in the precision of the rays, its sine kept */
     const real theta = (real)(t * PI), phi = (real)((u - (double)e->turn - 0.5) * 2.0 * PI);
     const real sn = sin(theta), cs = cos(theta);
-    const double density = texel_density(e, x, y);
+    const double density = ((1.0 - ay) * ((1.0 - ax) * a + ax * b) + ay * ((1.0 - ax) * c + ax * d)) * e->scale;
     if (!(sn > R(0)) || !(density > 0.0))
         return 0;
     *dir = v3(sn * cos(phi), cs, sn * sin(phi));
@@ -316,9 +367,7 @@ static real dir_density(const Environment *e, vec3 d, real u, real t)
                  sn = across / sqrt(across * across + (double)d.y * (double)d.y);
     if (!(e->total > 0.0 && sn > 0.0))
         return R(0);
-    const uint32_t x = (uint32_t)real_min(u * (real)e->w, (real)(e->w - 1));
-    const uint32_t y = (uint32_t)real_min(t * (real)e->h, (real)(e->h - 1));
-    return (real)(texel_density(e, x, y) / (2.0 * PI * PI * sn));
+    return (real)(point_density(e, u, t) / (2.0 * PI * PI * sn));
 }
 
 vec3 environment_seen(const Environment *e, vec3 d, real *pdf)

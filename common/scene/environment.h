@@ -10,9 +10,10 @@
  * up.  The path integrator
  * samples it by importance: a direction drawn in proportion to each
  * texel's light times the solid angle it spans (sin of its polar angle),
- * by a row picked from the rows' sums and a texel from the row's
- * (piecewise constant: environment_pdf is that density), weighed against
- * the paths that meet it by multiple importance sampling.  The Whitted
+ * blended between texel centres as the light is (bilinear: a cell between
+ * four centres picked by a row of cells from the rows' sums and a cell
+ * from the row's, then a point in it; environment_pdf is that density),
+ * weighed against the paths that meet it by multiple importance sampling.  The Whitted
  * integrator lights a diffuse surface by the image's irradiance at its
  * normal from nine spherical harmonics (Ramamoorthi and Hanrahan, "An
  * efficient representation for irradiance environment maps", 2001): no
@@ -40,9 +41,12 @@ typedef struct {
     const uint8_t *codes;  /* its sRGB codes (level 0), both borrowed: no copy a client */
     real gain;             /* the strength, held so that no texel's light passes ENV_MAX_LIGHT */
     real turn;             /* the turn about +y as a fraction of a circle */
-    float *rows;           /* h + 1: the rows' cumulative shares, 0 to 1 */
-    float *cols;           /* h x (w + 1): each row's texels' cumulative shares, 0 to 1 */
-    double total;          /* the sum of the texels' weights: 0 where the image is black */
+    float *rows;           /* h + 2: the cell rows' cumulative shares, 0 to 1 (environment.c) */
+    float *cols;           /* (h + 1) x (w + 1): each cell row's cells' cumulative shares, 0 to 1 */
+    float *weight;         /* w x h: each texel's weight in the draws, its light times its row's
+                            * polar sine (its solid angle's share) */
+    double total;          /* the cells' weights summed: 0 where the image is black */
+    double scale;          /* w x h / total: a blend of weights to a density over the unit square */
     double sh[9][3];       /* the irradiance's spherical harmonics, each band's convolution applied
                             * (without the sun's texels where it has one) */
     int has_sun;

@@ -216,10 +216,11 @@ fg_err=$err
 # light from everywhere against Cycles' Environment Texture
 # (tests/data/cycles/environment.scene: a sky panorama with a sun, turned
 # 40 degrees, over a white, a rough gold and a chrome ball on a floor;
-# Cycles' frame at 4096 samples): within 3% in 4x4 blocks at 256 samples,
-# its light within 1% (2.1%, 1.005; 1.1% at 1024 samples, where the
-# noise halves).  Before 2026-11-29 lanray had no environment.
-against_cycles environment 16 0.03 "an environment"
+# Cycles' frame at 4096 samples): within 2% in 4x4 blocks at 256 samples,
+# its light within 1% (1.32%, 1.004; 0.85% at 1024 samples; 2.1% and 1.1%
+# before the draws followed the bilinear light, 2026-11-30).  Before
+# 2026-11-29 lanray had no environment.
+against_cycles environment 16 0.02 "an environment"
 ev_err=$err
 # a glTF scene as Blender exports one (tests/data/gltf/lit.glb, made by
 # tools/bench/make-lit-glb: a ball and a box on a floor under a point lamp
