@@ -123,8 +123,8 @@ typedef struct {
     int light_samples, rough_samples, lens_samples, exposure_given, tonemap, tonemap_given;
     int sampling, sampling_given, limit, limit_given, lights, lights_given, integrator, integrator_given;
     int emitters, emitters_given, roulette, roulette_given, contrast, contrast_given, denoise, denoise_given;
-    double clamp;
-    int clamp_given;
+    double clamp, blur;
+    int clamp_given, blur_given;
     int still_frame, progressive;
     Flight flight; /* --server-frame: a server's frames, along --path */
     double exposure;
@@ -153,7 +153,8 @@ typedef struct {
      .help = "path: filter the frame's noise out, guided by the surfaces each pixel saw first (their colours, " \
              "normals, distances; docs/renderer.md)", \
      .def = "the scene's, else off"}, \
-    CLI_CLAMP_INDIRECT_OPT(&(a)->clamp, &(a)->clamp_given)
+    CLI_CLAMP_INDIRECT_OPT(&(a)->clamp, &(a)->clamp_given), \
+    CLI_FILTER_GLOSSY_OPT(&(a)->blur, &(a)->blur_given)
 
 /* lanray-render --help's text above the options, and its exit statuses */
 static const char render_about[] =
@@ -317,6 +318,8 @@ static int apply_settings(Scene *scene, Args *a)
         rs->roulette = a->roulette;
     if (a->clamp_given)
         rs->clamp_indirect = (real)a->clamp;
+    if (a->blur_given)
+        rs->filter_glossy = (real)a->blur;
     if (a->contrast_given)
         rs->contrast = a->contrast;
     if (a->denoise_given)

@@ -58,12 +58,19 @@ typedef struct {
      .seen = &(e)->strength_given, .help = "the environment's light times S", .def = "the scene's, else 1"}, \
     {.name = "--environment-rotate", .kind = OPT_REAL, .dst = &(e)->rotate, .arg = "DEG", .rlo = -1e6, .rhi = 1e6, \
      .seen = &(e)->rotate_given, .help = "the environment turned by DEG degrees about +y", .def = "the scene's, else 0"}
-/* --clamp-indirect and --tonemap, lanray-render's and the server's: a
- * real into *to (given: *given), a Tonemap's word into *to (an int) */
+/* --clamp-indirect, --filter-glossy and --tonemap, lanray-render's and
+ * the server's: a real into *to (given: *given), a Tonemap's word into
+ * *to (an int) */
 #define CLI_CLAMP_INDIRECT_OPT(to, given) \
     {.name = "--clamp-indirect", .kind = OPT_REAL, .dst = to, .arg = "L", .rlo = 0, .rhi = 1e6, .seen = given, \
      .help = "path: each light a sample gathers after its first bounce held to L, the sum of its red, green and " \
              "blue (fewer fireflies, a little less light; Cycles' Clamp Indirect); 0 = never", \
+     .def = "the scene's, else 0"}
+#define CLI_FILTER_GLOSSY_OPT(to, given) \
+    {.name = "--filter-glossy", .kind = OPT_REAL, .dst = to, .arg = "F", .rlo = 0, .rhi = 10, .seen = given, \
+     .help = "path: glossy surfaces, mirrors and glass blurred after a bounce that was unlikely to take its path, " \
+             "the more the higher F (caustics without fireflies, blurred; Cycles' Filter Glossy, whose default " \
+             "is 1); 0 = never", \
      .def = "the scene's, else 0"}
 #define CLI_TONEMAP_OPT(to, given) \
     {.name = "--tonemap", .kind = OPT_CHOICE, .dst = to, .choices = field_words(&settings_kind, "tonemap"), \

@@ -443,6 +443,7 @@ typedef struct {
     int after_smooth; /* the path left a point by a smooth lobe, which took the lights (next-event estimation) */
     vec3 from;        /* that point */
     real pdf_bounce;  /* and the density of the bounce's direction */
+    real min_pdf;     /* the least density of the path's bounces off smooth lobes (surface_blur) */
     int through;      /* the ray left a see-through blend it passed straight, not that point */
     const DrawPlan *plan;
     Guide *guide;     /* the denoiser's guide, while the path has not met its first rough surface; else NULL */
@@ -456,7 +457,7 @@ static void path_start(Path *p, const DrawPlan *plan, const Ray *r, SampleId id,
     /* field by field: a compound literal cleared the whole and copied it */
     p->L = v3_splat(R(0)), p->beta = v3_splat(R(1)), p->from = v3_splat(R(0));
     p->ray = *r, p->id = id, p->key = key;
-    p->b = 0, p->after_smooth = 0, p->pdf_bounce = R(0), p->through = 0;
+    p->b = 0, p->after_smooth = 0, p->pdf_bounce = R(0), p->through = 0, p->min_pdf = REAL_MAX;
     p->guide = guide;
     if (guide) {
         p->tint = v3_splat(R(1)), p->dist = R(0);
@@ -639,6 +640,7 @@ static int surface_bounce(const World *w, Path *p, const Surface *sf, vec3 kd, v
     p->after_smooth = 1;
     p->from = sf->p;
     p->pdf_bounce = pdf;
+    p->min_pdf = real_min(p->min_pdf, pdf * (R(1) - lb.pm)); /* the density of all its choices, as Cycles' */
     /* lifted as the shadow rays are, by how nearly it grazes the facet */
     ray_init(&p->ray, sf->smooth ? trace_leave_origin(sf, nd) : from_p, nd, R(0), REAL_MAX);
     return go;
@@ -676,7 +678,38 @@ static int frosted_step(const World *w, Path *p, const Surface *sf, const Draws 
     p->after_smooth = pdf > R(0);
     p->from = sf->p;
     p->pdf_bounce = pdf;
+    p->min_pdf = real_min(p->min_pdf, pdf);
     return 1;
+}
+
+/* Filter Glossy (settings filter_glossy F: Cycles' blur_glossy, as Cycles
+ * 3.4 applies it).  After bounces whose least density q (Path.min_pdf,
+ * solid angle) is under F, every GGX lobe of sf is at least
+ * sqrt(1 - q / F) / 2 wide (alpha; roughness its square root), and a
+ * mirror, clear glass or a smooth coat becomes one that wide: the sun
+ * that a diffuse bounce meets through a mirror ball only by chance, a
+ * firefly, becomes a glossy highlight that next-event estimation finds.
+ * Biased: caustics blur, the more the less likely the path that led
+ * there.  The camera's surface, and any after mirrors and glass alone
+ * (density unbounded), are never blurred. */
+static void surface_blur(const World *w, const Path *p, Surface *sf)
+{
+    const real f = w->view.settings.filter_glossy;
+    if (!(f > R(0) && p->min_pdf < f))
+        return;
+    const real rough = sqrt(sqrt(R(1) - p->min_pdf / f) * R(0.5)); /* ggx_alpha's square root */
+    const Material *m = sf->mat;
+    const int lobe = (material_reflects(m) || material_dielectric(m)) && m->roughness < rough,
+              coat = material_coats(m) && m->coat_roughness < rough;
+    if (!(lobe || coat))
+        return;
+    if (sf->mat != &sf->local) /* a copy of its own (trace_surface_metal's place) */
+        sf->local = *m;
+    if (lobe)
+        sf->local.roughness = rough;
+    if (coat)
+        sf->local.coat_roughness = rough;
+    sf->mat = &sf->local;
 }
 
 /* One bounce of path p: the hit h of its ray (found: whether there is
@@ -709,6 +742,7 @@ static int path_step(const World *w, Path *p, int found, const Hit *h, RayStats 
     trace_surface_bump(&sf, NULL); /* samples accumulate: the maps at a point each */
     trace_surface_metal(w, &sf, NULL);
     trace_surface_blend(&sf);
+    surface_blur(w, p, &sf);
     const Material *m = sf.mat;
     if (b == 0 && p->key)
         *p->key = (uint64_t)sf.object << 16;

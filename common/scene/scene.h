@@ -146,6 +146,8 @@ typedef struct {
     int roulette;      /* path: bounces before Russian roulette may end a path */
     real clamp_indirect; /* path: each light a sample gathers after its first bounce held to this sum of
                           * red, green and blue (Cycles' Clamp Indirect); 0: never */
+    real filter_glossy;  /* path: glossy lobes, mirrors and glass blurred after bounces of density under
+                          * this (Cycles' Filter Glossy, path.c surface_blur); 0: never */
     int contrast;      /* adaptive: a pixel is refined where a neighbour's centre sample differs by more than this
                         * many codes in a channel (255: never by colour alone) */
     real exposure;     /* stops: the 8-bit codes encode light times 2^exposure */

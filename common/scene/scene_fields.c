@@ -132,6 +132,10 @@ static const Field settings_fields[] = {
      .lo = 0, .hi = 1e6,
      .doc = "path: each light a sample gathers after its first bounce held to this sum of red, green and blue (fewer "
             "fireflies, a little darker; Cycles' Clamp Indirect); 0: never"},
+    {.key = "filter_glossy", .type = FIELD_REAL, .group = SETTINGS_GROUP_SAMPLING, .off = SET(rs.filter_glossy),
+     .lo = 0, .hi = 10,
+     .doc = "path: glossy surfaces, mirrors and glass blurred after a bounce that was unlikely to take its path, the "
+            "more the higher (caustics without fireflies, blurred; Cycles' Filter Glossy); 0: never"},
     {.key = "batch", .type = FIELD_WHOLE, .flags = FIELD_WIRE, .group = SETTINGS_GROUP_SAMPLING, .off = SET(rs.batch),
      .lo = 0, .hi = 11, .doc = "path, N x N, N a power of two: each pixel's sums of this batch of its samples (0: its colour)"},
     {.key = "jitter", .type = FIELD_WHOLE, .flags = FIELD_WIRE, .group = SETTINGS_GROUP_SAMPLING, .off = SET(rs.jitter),

@@ -36,13 +36,8 @@ render "$dir/held.scene" --width 48 --height 36 --aa 4 -o "$dir/held.png"
 render "${box[@]}" --clamp-indirect 0.5 -o "$dir/opt.png"
 cmp -s "$dir/held.png" "$dir/opt.png" || fail "settings clamp_indirect 0.5 is not --clamp-indirect 0.5's picture"
 cmp -s "$dir/held.png" "$dir/free.png" && fail "a hold of 0.5 changed nothing: the test cannot tell"
-render "$dir/held.scene" --width 64 --height 64 --aa 1 -o "$dir/held64.png"
-verify_distributed held "$dir/held.scene" "$dir/held64.png" "with clamp_indirect"
-verify_distributed option "$dir/box.scene" "$dir/held64.png" "with --clamp-indirect" --clamp-indirect 0.5
-printf 'settings integrator path clamp_indirect -2\nsphere centre 0 0 -3 radius 1\n' >"$dir/bad.scene"
-out=$("$BIN/lanray-render" "$dir/bad.scene" -o "$dir/no.png" 2>&1)
-[ $? = 1 ] && grep -q "bad.scene:1: 'clamp_indirect' of settings must be from 0" <<<"$out" ||
-    fail "settings clamp_indirect -2: $out"
+setting_travels held "$dir/held.scene" "$dir/box.scene" clamp_indirect --clamp-indirect 0.5
+refused_setting "settings integrator path clamp_indirect -2" "'clamp_indirect' of settings must be from 0"
 out=$("$BIN/lanray-render" "${box[@]}" --clamp-indirect -1 -o "$dir/no.png" 2>&1)
 [ $? = 2 ] && grep -q "clamp-indirect" <<<"$out" || fail "a negative hold: $out"
 echo "clamp: a hold no light reaches changes no byte; one near nothing leaves the direct light (mean $m_tiny against $m_direct, unclamped $m_free); the scene's setting is the option's; through a server as lanray-render"

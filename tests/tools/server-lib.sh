@@ -96,6 +96,29 @@ verify_distributed() {
     server_done 120 "$name"
     wait "$server_pid" || fail "the distributed frame $what differs from lanray-render's (server exit $?): $(tail -3 "$dir/$name.err")"
 }
+# setting_travels NAME SET PLAIN WHAT OPTION...: scene SET, whose settings
+# hold what OPTION gives scene PLAIN, through a server and a client is
+# lanray-render's picture of it (64 x 64, one sample), and so is PLAIN
+# served with OPTION (the setting travels with the view)
+setting_travels() {
+    local name=$1 set=$2 plain=$3 what=$4
+    shift 4
+    "$BIN/lanray-render" "$set" --width 64 --height 64 --aa 1 -o "$dir/$name-64.png" --quiet >/dev/null 2>&1 ||
+        fail "lanray-render $set did not render"
+    verify_distributed "$name-set" "$set" "$dir/$name-64.png" "with the scene's $what"
+    verify_distributed "$name-opt" "$plain" "$dir/$name-64.png" "with $*" "$@"
+}
+# refused_setting LINE MESSAGE: a scene whose first line is LINE (its
+# settings) is refused by lanray-render, exit 1, naming the file, line 1
+# and MESSAGE, and leaves no picture
+refused_setting() {
+    printf '%s\nsphere centre 0 0 -3 radius 1\n' "$1" >"$dir/bad.scene"
+    rm -f "$dir/bad.png"
+    local out
+    out=$("$BIN/lanray-render" "$dir/bad.scene" -o "$dir/bad.png" 2>&1)
+    [ $? = 1 ] && grep -q "bad.scene:1: $2" <<<"$out" || fail "$1: $out"
+    [ ! -e "$dir/bad.png" ] || fail "$1: the refused scene left its picture"
+}
 # same_on_simd_paths SCENE PNG W H WHAT: lanray-render of SCENE at W x H
 # (--aa 1) on each SIMD path this CPU and build have gives PNG's bytes
 same_on_simd_paths() {
