@@ -21,6 +21,7 @@
 #include "base/log.h"
 #include "base/opt.h"
 #include "base/srgb.h"
+#include "render/pixel.h"
 #include "render/render.h"
 #include "scene/camera_path.h"
 #include "scene/scene_fields.h"
@@ -177,13 +178,26 @@ static void pace_frame(App *a)
 
 /* Pixels [first, first + count) of a frame as the window shows them:
  * settings hdr's RGBE as sRGB codes of its light (in the view buffer),
+ * after the exposure and through the view transform (--tonemap: the
+ * frames keep the light, the window shows what an 8-bit frame would),
  * else as they are. */
 static const uint8_t *window_rgb(App *a, const uint8_t *pixels, size_t first, size_t count)
 {
     if (!a->view)
         return pixels;
-    srgb_from_rgbe(pixels, count, pow(2.0, (double)a->scene->settings.exposure), a->view + first * 3);
-    return a->view + first * 3;
+    const double gain = pow(2.0, (double)a->scene->settings.exposure);
+    const Tonemap tm = a->scene->settings.tonemap;
+    uint8_t *out = a->view + first * 3;
+    if (tm == TONEMAP_NONE) {
+        srgb_from_rgbe(pixels, count, gain, out);
+        return out;
+    }
+    for (size_t i = 0; i < count; i++) {
+        double c[3];
+        rgbe_decode(pixels + 4 * i, c);
+        pixel_put_codes(out + 3 * i, v3((real)(c[0] * gain), (real)(c[1] * gain), (real)(c[2] * gain)), R(1), tm, 0);
+    }
+    return out;
 }
 
 static void on_frame(void *ctx, uint32_t frame, const uint8_t *pixels)
@@ -502,7 +516,7 @@ static int parse_args(Args *a, int argc, char **argv)
         CLI_ENVIRONMENT_OPTS(&a->env),
         {.name = "--hdr", .kind = OPT_FLAG, .dst = &a->hdr,
          .help = "high dynamic range frames: clients send RGBE, frames are written as .hdr (Radiance); the window shows "
-                 "them after the scene's exposure"},
+                 "them after the scene's exposure, through --tonemap's curve"},
         DENOISE_OPTS(a),
         {.name = "--headless", .kind = OPT_FLAG, .dst = &a->headless, .help = "no window: write frames to --out"},
         {.name = "--frames", .kind = OPT_INT, .dst = &a->frames, .arg = "N", .lo = 0, .hi = 100000000,
@@ -596,11 +610,10 @@ static int open_scene(App *app, Args *a, Err *err)
                 a->target_given ? "a fixed scale or --target-fps's, not both" : "a scale of 1 to 8 in quarter steps (2.75, 3)");
         return 2;
     }
-    if (a->hdr && (a->linear || a->tonemap_given || a->verify_path)) {
+    if (a->hdr && (a->linear || a->verify_path)) { /* (--tonemap: the window's, the frames keep the light) */
         fprintf(stderr, "lanray-server: --hdr frames keep the light itself: %s\n",
-                a->linear          ? "--linear is for 8-bit frames"
-                : a->tonemap_given ? "--tonemap is for 8-bit frames"
-                                   : "--verify compares 8-bit frames (compare the .hdr files instead)");
+                a->linear ? "--linear is for 8-bit frames"
+                          : "--verify compares 8-bit frames (compare the .hdr files instead)");
         return 2;
     }
     if (!a->width_given && scene->settings.width)

@@ -207,7 +207,8 @@ Environment *environment_create(const Texture *t, real strength, real rotate, Er
            *sphi = malloc(t->w * sizeof *sphi), *row_sums = malloc((t->h + 1) * sizeof *row_sums),
            *weights = malloc(2 * (size_t)t->w * sizeof *weights);
     if (!e || !acc || !cphi || !sphi || !row_sums || !weights ||
-        !(e->rows = malloc((t->h + 2) * sizeof *e->rows)) || !(e->weight = malloc((size_t)t->w * t->h * sizeof *e->weight)) ||
+        !(e->rows = malloc((t->h + 2) * sizeof *e->rows)) ||
+        !(e->weight = malloc((size_t)t->w * t->h * sizeof *e->weight)) ||
         !(e->cols = malloc((size_t)(t->h + 1) * (t->w + 1) * sizeof *e->cols))) {
         free(acc), free(cphi), free(sphi), free(row_sums), free(weights);
         environment_destroy(e);

@@ -7,8 +7,9 @@
 # --tonemap too); a server's frames are lanray-render's, a Whitted frame
 # and a path-traced still whose batches the server adds up and codes
 # itself (the curve there too); a word the format does not know is
-# refused naming the scene's line; a .hdr keeps the light itself and
-# refuses the option (lanray-render's and lanray-server --hdr's).
+# refused naming the scene's line; a .hdr keeps the light itself:
+# lanray-render refuses the option with one, lanray-server --hdr writes
+# the same frames with it (the curve is its window's).
 set -u
 source tests/tools/server-lib.sh
 render() { "$BIN/lanray-render" "$@" --quiet >/dev/null 2>"$dir/render.err" || fail "lanray-render $*: $(cat "$dir/render.err")"; }
@@ -41,8 +42,18 @@ verify_distributed lit "$dir/lit.scene" "$dir/lit.png" "with settings tonemap"
 # the server's --tonemap over the scene's setting
 sed 's/ tonemap neutral//' "$dir/lit.scene" >"$dir/bare.scene"
 verify_distributed option "$dir/bare.scene" "$dir/lit.png" "with lanray-server --tonemap" --tonemap neutral
-out=$("$BIN/lanray-server" --headless --port 0 --hdr --tonemap aces 2>&1)
-[ $? = 2 ] && grep -q "tonemap" <<<"$out" || fail "lanray-server --hdr --tonemap: $out"
+# lanray-server --hdr's frames keep the light: with --tonemap the same
+# bytes (the curve is its window's: tests/cli/window.sh)
+for t in none aces; do
+    start_server "hdr-$t" "$dir/bare.scene" --port 0 --width 32 --height 24 --frames 1 --wait-clients 1 --hdr \
+        --tonemap "$t" --out "$dir/hdr-$t"
+    "$BIN/lanray-client" "127.0.0.1:$port" --threads 2 --once --quiet 2>"$dir/c-hdr-$t.err" &
+    pids+=("$!")
+    server_done 120 "hdr-$t"
+    [ -s "$dir/hdr-$t/frame-00001.hdr" ] || fail "lanray-server --hdr --tonemap $t wrote no frame"
+done
+cmp -s "$dir/hdr-none/frame-00001.hdr" "$dir/hdr-aces/frame-00001.hdr" ||
+    fail "lanray-server --hdr --tonemap aces changed the frames' light"
 # a path-traced still of 2 x 2 samples in batches, coded by the server
 sed 's/^settings exposure 1 tonemap neutral/settings exposure 1 tonemap aces integrator path/' "$dir/lit.scene" >"$dir/pt.scene"
 render "$dir/pt.scene" --width 32 --height 24 --aa 2 -o "$dir/pt.png"
@@ -56,4 +67,4 @@ refused_setting "settings tonemap filmic" "'tonemap' of settings must be none, a
 # a .hdr keeps the light
 out=$("$BIN/lanray-render" --width 8 --height 8 --tonemap aces -o "$dir/x.hdr" 2>&1)
 [ $? = 2 ] && grep -q "tonemap" <<<"$out" || fail "--tonemap with a .hdr: $out"
-echo "tonemap: none is the plain picture; a stop over, $n_none pixels cut at 255 plain, $n_aces through aces, $n_neutral through neutral; the scene's setting is the option's; through a server (Whitted, and a path-traced still coded by the server) as lanray-render; a .hdr refuses it"
+echo "tonemap: none is the plain picture; a stop over, $n_none pixels cut at 255 plain, $n_aces through aces, $n_neutral through neutral; the scene's setting is the option's; through a server (Whitted, and a path-traced still coded by the server) as lanray-render; a .hdr refuses it, a server's --hdr frames keep the light"

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # The real SDL window under Xvfb: the server opens its window, a client
 # renders, and the frame captured from the X screen equals lanray-render's;
-# with --hdr, the sRGB codes of lanray-render's .hdr; a still frame shows
+# with --hdr, the sRGB codes of lanray-render's .hdr (through ACES's curve
+# with --tonemap aces); a still frame shows
 # as its segments come, over the frame before.
 set -u
 BIN=${BIN:-bin}
@@ -48,6 +49,37 @@ PY
 # (RGBE's mantissas move some codes: else the check would not tell the paths apart)
 ! cmp -s "$dir/ref.ppm" "$dir/hdr.ppm" || fail "the .hdr's codes equal the PNG's: the test cannot tell them apart"
 shown hdr "$dir/hdr.ppm" --hdr
+# with --tonemap aces the frames keep the light and the window shows it
+# through the curve, as an 8-bit frame would: the .hdr's light in the
+# build's reals through Narkowicz's fit, each step rounded as the build
+# rounds it, coded by its sRGB thresholds (common/base/srgb_tables.c)
+case "$("$BIN/lanray-server" --version)" in *double*) real=d ;; *) real=f ;; esac
+python3 - "$dir/ref.hdr" "$dir/aces.ppm" "$real" <<'PY' || fail "cannot make the tone-mapped reference"
+import math, re, struct, sys
+head, _, body = open(sys.argv[1], "rb").read().partition(b"\n\n")
+size, _, px = body.partition(b"\n")
+h, w = int(size.split()[1]), int(size.split()[3])
+single = sys.argv[3] == "f"
+r = (lambda x: struct.unpack("f", struct.pack("f", x))[0]) if single else (lambda x: x)
+tables = open("common/base/srgb_tables.c").read()
+name = "srgb_threshold_f" if single else "srgb_threshold"
+body_t = re.search(name + r"\[255\] = \{([^}]*)\}", tables).group(1)
+thr = [r(float(t.rstrip("f"))) for t in body_t.replace("\n", " ").split(",") if t.strip()]
+def aces(x):
+    if not x > 0:
+        return 0.0
+    return r(r(x * r(r(r(2.51) * x) + r(0.03))) / r(r(x * r(r(r(2.43) * x) + r(0.59))) + r(0.14)))
+def code(v):
+    return sum(1 for t in thr if v >= t)
+out = bytearray()
+for i in range(w * h):
+    cr, cg, cb, e = px[4 * i:4 * i + 4]
+    f = math.ldexp(1.0, e - 136) if e else 0.0
+    out += bytes(code(aces(r((c + 0.5) * f) if e else 0.0)) for c in (cr, cg, cb))
+open(sys.argv[2], "wb").write(b"P6\n%d %d\n255\n" % (w, h) + bytes(out))
+PY
+! cmp -s "$dir/hdr.ppm" "$dir/aces.ppm" || fail "the curve changes no code: the test cannot tell"
+shown hdr-aces "$dir/aces.ppm" --hdr --tonemap aces
 # a window whose picture converged idles: with --still-aa 2 the second
 # frame is lanray-render's --aa 2 picture, and no frame starts after it
 # while nothing changes (the frames started, read twice a second apart)
