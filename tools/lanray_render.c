@@ -124,7 +124,7 @@ typedef struct {
     int sampling, sampling_given, limit, limit_given, lights, lights_given, integrator, integrator_given;
     int emitters, emitters_given, roulette, roulette_given, contrast, contrast_given, denoise, denoise_given;
     double clamp, blur;
-    int clamp_given, blur_given;
+    int clamp_given, blur_given, caustics, caustics_given;
     int still_frame, progressive;
     Flight flight; /* --server-frame: a server's frames, along --path */
     double exposure;
@@ -154,7 +154,8 @@ typedef struct {
              "normals, distances; docs/renderer.md)", \
      .def = "the scene's, else off"}, \
     CLI_CLAMP_INDIRECT_OPT(&(a)->clamp, &(a)->clamp_given), \
-    CLI_FILTER_GLOSSY_OPT(&(a)->blur, &(a)->blur_given)
+    CLI_FILTER_GLOSSY_OPT(&(a)->blur, &(a)->blur_given), \
+    CLI_CAUSTICS_OPT(&(a)->caustics, &(a)->caustics_given)
 
 /* lanray-render --help's text above the options, and its exit statuses */
 static const char render_about[] =
@@ -320,6 +321,8 @@ static int apply_settings(Scene *scene, Args *a)
         rs->clamp_indirect = (real)a->clamp;
     if (a->blur_given)
         rs->filter_glossy = (real)a->blur;
+    if (a->caustics_given)
+        rs->caustics = (Caustics)a->caustics;
     if (a->contrast_given)
         rs->contrast = a->contrast;
     if (a->denoise_given)

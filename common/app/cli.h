@@ -58,9 +58,9 @@ typedef struct {
      .seen = &(e)->strength_given, .help = "the environment's light times S", .def = "the scene's, else 1"}, \
     {.name = "--environment-rotate", .kind = OPT_REAL, .dst = &(e)->rotate, .arg = "DEG", .rlo = -1e6, .rhi = 1e6, \
      .seen = &(e)->rotate_given, .help = "the environment turned by DEG degrees about +y", .def = "the scene's, else 0"}
-/* --clamp-indirect, --filter-glossy and --tonemap, lanray-render's and
- * the server's: a real into *to (given: *given), a Tonemap's word into
- * *to (an int) */
+/* --clamp-indirect, --filter-glossy, --caustics and --tonemap,
+ * lanray-render's and the server's: a real into *to (given: *given), a
+ * Caustics' or Tonemap's word into *to (an int) */
 #define CLI_CLAMP_INDIRECT_OPT(to, given) \
     {.name = "--clamp-indirect", .kind = OPT_REAL, .dst = to, .arg = "L", .rlo = 0, .rhi = 1e6, .seen = given, \
      .help = "path: each light a sample gathers after its first bounce held to L, the sum of its red, green and " \
@@ -72,6 +72,12 @@ typedef struct {
              "the more the higher F (caustics without fireflies, blurred; Cycles' Filter Glossy, whose default " \
              "is 1); 0 = never", \
      .def = "the scene's, else 0"}
+#define CLI_CAUSTICS_OPT(to, given) \
+    {.name = "--caustics", .kind = OPT_CHOICE, .dst = to, .choices = field_words(&settings_kind, "caustics"), \
+     .seen = given, .def = "the scene's, else both", \
+     .help = "path: the caustics kept: what a surface reached by a diffuse bounce reflects (mirrors, metals, " \
+             "highlights) and refracts (glass); without them no fireflies from them, and less light (Cycles' " \
+             "Reflective and Refractive Caustics)"}
 #define CLI_TONEMAP_OPT(to, given) \
     {.name = "--tonemap", .kind = OPT_CHOICE, .dst = to, .choices = field_words(&settings_kind, "tonemap"), \
      .seen = given, .def = "the scene's, else none", \

@@ -17,7 +17,7 @@
 #include "render/segment.h"
 
 #define PROTO_MAGIC 0x5941524cu /* "LRAY" */
-#define PROTO_VERSION 31u /* 8: an UPDATE carries the frame's view apart, and the scene only when it changed;
+#define PROTO_VERSION 32u /* 8: an UPDATE carries the frame's view apart, and the scene only when it changed;
                            * 9: the view's settings hold light_sampling (wire 6);
                            * 10: compressed pixels (HELLO codecs, WELCOME coding, DATA coding);
                            * 11: pipelined frames (UPDATE keep: the older frame still wanted);
@@ -47,7 +47,8 @@
                            * 28: a guide 11 bytes: the instance its surface is of;
                            * 29: the view's settings hold clamp_indirect (wire 23);
                            * 30: and tonemap (wire 24);
-                           * 31: and filter_glossy (wire 25) */
+                           * 31: and filter_glossy (wire 25);
+                           * 32: and caustics (wire 26) */
 #define PROTO_BOM 0x01020304u
 #define PROTO_HEADER 8u
 #define PROTO_NONCE 32u

@@ -14,7 +14,7 @@
 #include "scene/world.h"
 
 #define WIRE_MAGIC 0x4353524cu /* "LRSC" */
-#define WIRE_VERSION 25u /* 2: the output encoding (linear or sRGB), a plane's texture mapping;
+#define WIRE_VERSION 26u /* 2: the output encoding (linear or sRGB), a plane's texture mapping;
                          * 3: the extras word, reflection, refraction and emission;
                          * 4: texture filters trilinear and anisotropic, the sampling
                          * (extras 16), what a ray cut at the depth limit returns;
@@ -38,7 +38,8 @@
                          * 22: settings guides (group 3, on the wire only);
                          * 23: settings clamp_indirect (group 2);
                          * 24: settings tonemap (group 3, the output's);
-                         * 25: settings filter_glossy (group 2) */
+                         * 25: settings filter_glossy (group 2);
+                         * 26: settings caustics (group 2) */
 
 /* Serialises s, checked (scene_check); model_assets[i] / texture_assets[i] are the assets of
  * s->models[i] / s->textures[i]. */

@@ -149,8 +149,10 @@ static vec3 passed(const World *w, vec3 origin, vec3 dir, real tmax, const World
  * weighs G2 / G1 (times the transmitted colour), as frosted_bounce's do:
  * no radiance scaling across the interface, as clear glass has none; and
  * times wt, the lobe's weight for the light between facets
- * (dielectric_frost_weight at wo). */
-static vec3 frosted_eval(const World *w, const Surface *sf, vec3 wo, vec3 wi, real alpha, real wt, real *pdf)
+ * (dielectric_frost_weight at wo); the reflection times keep (settings
+ * caustics: 0 where it is dropped, its density kept). */
+static vec3 frosted_eval(const World *w, const Surface *sf, vec3 wo, vec3 wi, real alpha, real wt, real keep,
+                         real *pdf)
 {
     *pdf = R(0);
     const vec3 n = sf->ns;
@@ -174,7 +176,7 @@ static vec3 frosted_eval(const World *w, const Surface *sf, vec3 wo, vec3 wi, re
     if (refl) {
         const real q = d / (R(4) * co);
         *pdf = f * g1 * q;
-        return v3_splat(f * g2 * q);
+        return v3_splat(f * g2 * q * keep);
     }
     const real den = eta * oh + ih, q = oh * d / co * fabs(ih) / (den * den);
     *pdf = (R(1) - f) * g1 * q;
@@ -185,7 +187,7 @@ static vec3 frosted_eval(const World *w, const Surface *sf, vec3 wo, vec3 wi, re
  * (lb->frost) or the lobes'. */
 static vec3 surface_eval(const World *w, const Surface *sf, const Lobes *lb, vec3 wi, real *pdf)
 {
-    return lb->frost > R(0) ? frosted_eval(w, sf, lb->wo, wi, lb->frost, lb->frost_wt, pdf)
+    return lb->frost > R(0) ? frosted_eval(w, sf, lb->wo, wi, lb->frost, lb->frost_wt, lb->frost_refl, pdf)
                             : lobes_eval(lb, wi, pdf);
 }
 
@@ -410,14 +412,14 @@ static int frosted_bounce(const World *w, const Surface *sf, vec3 d, real fr, re
 }
 
 /* A dielectric that is glass alone: reflected or refracted by Fresnel's
- * reflectance (so the weight stays; refraction takes the transmitted
- * colour).  0 where the path ends. */
-static int dielectric_bounce(const World *w, const Surface *sf, vec3 d, real pick, vec3 *beta, Ray *next)
+ * reflectance (so the weight stays, times fr on the reflection;
+ * refraction takes the transmitted colour).  0 where the path ends. */
+static int dielectric_bounce(const World *w, const Surface *sf, vec3 d, real fr, real pick, vec3 *beta, Ray *next)
 {
     real eta;
     vec3 td;
     const real f = dielectric_split(w, sf, d, &eta, &td);
-    return glass_bounce(sf, d, f, td, R(1), pick, beta, next);
+    return glass_bounce(sf, d, f, td, fr, pick, beta, next);
 }
 
 /* A mirror (a smooth metal; a smooth coat): the mirror direction,
@@ -444,6 +446,8 @@ typedef struct {
     vec3 from;        /* that point */
     real pdf_bounce;  /* and the density of the bounce's direction */
     real min_pdf;     /* the least density of the path's bounces off smooth lobes (surface_blur) */
+    int diffuse_before; /* its last bounce was the diffuse lobe's (settings caustics: surface_drop) */
+    real fresnel_keep;  /* what glass's Fresnel reflection keeps at this surface: 1, or 0 (surface_drop) */
     int through;      /* the ray left a see-through blend it passed straight, not that point */
     const DrawPlan *plan;
     Guide *guide;     /* the denoiser's guide, while the path has not met its first rough surface; else NULL */
@@ -458,6 +462,7 @@ static void path_start(Path *p, const DrawPlan *plan, const Ray *r, SampleId id,
     p->L = v3_splat(R(0)), p->beta = v3_splat(R(1)), p->from = v3_splat(R(0));
     p->ray = *r, p->id = id, p->key = key;
     p->b = 0, p->after_smooth = 0, p->pdf_bounce = R(0), p->through = 0, p->min_pdf = REAL_MAX;
+    p->diffuse_before = 0, p->fresnel_keep = R(1);
     p->guide = guide;
     if (guide) {
         p->tint = v3_splat(R(1)), p->dist = R(0);
@@ -577,7 +582,7 @@ static int surface_bounce(const World *w, Path *p, const Surface *sf, vec3 kd, v
     vec3 td = v3_splat(R(0)), kg = v3_splat(R(0));
     if (material_dielectric(m)) {
         f = dielectric_split(w, sf, d, &eta, &td);
-        fr = real_max(R(0), R(1) - v3_max_comp(kr));
+        fr = real_max(R(0), R(1) - v3_max_comp(kr)) * p->fresnel_keep;
         kg = v3_add(v3_splat(f * fr), v3_scale(m->kt, R(1) - f));
     }
     /* a rough metal reflects by its GGX lobe (ggx.h), a smooth one, lit
@@ -633,7 +638,9 @@ static int surface_bounce(const World *w, Path *p, const Surface *sf, vec3 kd, v
     }
     /* a smooth lobe's direction, weighed by both smooth lobes */
     real pdf;
-    const vec3 nd = lobes_sample_smooth(&lb, (pick - lb.pm) / (R(1) - lb.pm), u, v);
+    const real sub = (pick - lb.pm) / (R(1) - lb.pm);
+    const vec3 nd = lobes_sample_smooth(&lb, sub, u, v);
+    p->diffuse_before = lobes_picks_diffuse(&lb, sub);
     const vec3 fc = lobes_eval(&lb, nd, &pdf);
     const int go = pdf > R(0) && v3_dot(nd, sf->nv) > R(0); /* leaves the smooth surface (sf->nv) */
     p->beta = v3_mul(p->beta, v3_scale(fc, go ? R(1) / pdf : R(0)));
@@ -657,7 +664,8 @@ static int frosted_step(const World *w, Path *p, const Surface *sf, const Draws 
     const real alpha = ggx_alpha(sf->mat->roughness);
     const vec3 wo = v3_neg(d);
     /* the weight for the light between facets, once for the lights, the emitters and the bounce */
-    const Lobes lb = {.n = sf->ns, .wo = wo, .frost = alpha, .frost_wt = dielectric_frost_weight(sf, wo)};
+    const Lobes lb = {.n = sf->ns, .wo = wo, .frost = alpha, .frost_wt = dielectric_frost_weight(sf, wo),
+                      .frost_refl = p->fresnel_keep};
     const int emitters = w->emitter_count > 0 && w->view.settings.emitter_sampling != EMITTERS_BSDF;
     const int envs = w->env && w->view.settings.emitter_sampling != EMITTERS_BSDF;
     if (w->light_count > 0 || emitters || envs) {
@@ -672,9 +680,9 @@ static int frosted_step(const World *w, Path *p, const Surface *sf, const Draws 
         return 0;
     real u, v, pdf;
     draw2(dr, 1, &u, &v);
-    if (!frosted_bounce(w, sf, d, R(1), lb.frost_wt, draw1(dr, 2), u, v, &p->beta, &p->ray))
+    if (!frosted_bounce(w, sf, d, p->fresnel_keep, lb.frost_wt, draw1(dr, 2), u, v, &p->beta, &p->ray))
         return 0;
-    frosted_eval(w, sf, wo, p->ray.dir, alpha, lb.frost_wt, &pdf);
+    frosted_eval(w, sf, wo, p->ray.dir, alpha, lb.frost_wt, R(1), &pdf);
     p->after_smooth = pdf > R(0);
     p->from = sf->p;
     p->pdf_bounce = pdf;
@@ -712,6 +720,32 @@ static void surface_blur(const World *w, const Path *p, Surface *sf)
     sf->mat = &sf->local;
 }
 
+/* Caustics dropped (settings caustics: Cycles' Reflective and Refractive
+ * Caustics, as Cycles 3.4 drops a closure where the ray came from a
+ * diffuse bounce): at a surface the path reached by its diffuse lobe,
+ * without reflective caustics its mirror, metal, coat and Phong highlight
+ * are gone and glass keeps no Fresnel reflection (p->fresnel_keep 0),
+ * without refractive ones glass lets nothing through; what is gone takes
+ * neither light nor a path on.  The sun that a floor meets in a mirror
+ * ball or through a glass ball, fireflies, is then not there at all: less
+ * light, no noise from it. */
+static void surface_drop(const World *w, Path *p, Surface *sf)
+{
+    const Caustics c = w->view.settings.caustics;
+    const int reflect = c == CAUSTICS_BOTH || c == CAUSTICS_REFLECTIVE, refract = c == CAUSTICS_BOTH || c == CAUSTICS_REFRACTIVE;
+    p->fresnel_keep = R(1);
+    if (!p->diffuse_before || (reflect && refract))
+        return;
+    p->fresnel_keep = reflect ? R(1) : R(0);
+    if (sf->mat != &sf->local)
+        sf->local = *sf->mat;
+    if (!reflect)
+        sf->local.kr = sf->local.kre = sf->local.ks = v3_splat(R(0)), sf->local.coat = R(0);
+    if (!refract)
+        sf->local.kt = v3_splat(R(0));
+    sf->mat = &sf->local;
+}
+
 /* One bounce of path p: the hit h of its ray (found: whether there is
  * one) lit and scattered.  1 where the path goes on by p->ray. */
 static int path_step(const World *w, Path *p, int found, const Hit *h, RayStats *st)
@@ -743,6 +777,8 @@ static int path_step(const World *w, Path *p, int found, const Hit *h, RayStats 
     trace_surface_metal(w, &sf, NULL);
     trace_surface_blend(&sf);
     surface_blur(w, p, &sf);
+    surface_drop(w, p, &sf);
+    p->diffuse_before = 0; /* until surface_bounce takes the diffuse lobe again */
     const Material *m = sf.mat;
     if (b == 0 && p->key)
         *p->key = (uint64_t)sf.object << 16;
@@ -782,7 +818,7 @@ static int path_step(const World *w, Path *p, int found, const Hit *h, RayStats 
     } else if (glass && !(v3_max_comp(kd) > R(0) || material_reflects(m))) {
         if (last)
             return 0;
-        go = dielectric_bounce(w, &sf, p->ray.dir, draw1(&dr, 2), &p->beta, &p->ray);
+        go = dielectric_bounce(w, &sf, p->ray.dir, p->fresnel_keep, draw1(&dr, 2), &p->beta, &p->ray);
     } else {
         go = surface_bounce(w, p, &sf, kd, ks, &dr, last, st);
     }

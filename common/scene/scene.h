@@ -117,6 +117,12 @@ typedef enum { LIMIT_BLACK = 0, LIMIT_BACKGROUND = 1, LIMIT_AMBIENT = 2, LIMIT_L
  * at white, or a view transform's curve that rolls it off. */
 typedef enum { TONEMAP_NONE = 0, TONEMAP_ACES = 1, TONEMAP_NEUTRAL = 2 } Tonemap;
 
+/* Which caustics the path integrator keeps (Cycles' Reflective and
+ * Refractive Caustics): a surface met right after a diffuse bounce
+ * reflects (mirrors, metals, coats, highlights, glass's Fresnel
+ * reflection) and refracts (glass's transmission) only as this says. */
+typedef enum { CAUSTICS_BOTH = 0, CAUSTICS_REFLECTIVE = 1, CAUSTICS_REFRACTIVE = 2, CAUSTICS_NONE = 3 } Caustics;
+
 /* Quality knobs: the scene file sets defaults, the command line may override. */
 typedef struct {
     int aa;            /* samples per pixel side: aa*aa per pixel (1..AA_MAX) */
@@ -148,6 +154,7 @@ typedef struct {
                           * red, green and blue (Cycles' Clamp Indirect); 0: never */
     real filter_glossy;  /* path: glossy lobes, mirrors and glass blurred after bounces of density under
                           * this (Cycles' Filter Glossy, path.c surface_blur); 0: never */
+    Caustics caustics;   /* path: what a surface reached by a diffuse bounce reflects and refracts */
     int contrast;      /* adaptive: a pixel is refined where a neighbour's centre sample differs by more than this
                         * many codes in a channel (255: never by colour alone) */
     real exposure;     /* stops: the 8-bit codes encode light times 2^exposure */

@@ -72,6 +72,7 @@ static const char *const integrator_words[] = {"whitted", "path", NULL};
 static const char *const emitter_words[] = {"mis", "nee", "bsdf", NULL};
 static const char *const limit_words[] = {"black", "background", "ambient", "local", NULL};
 static const char *const tonemap_words[] = {"none", "aces", "neutral", NULL};
+static const char *const caustics_words[] = {"both", "reflective", "refractive", "none", NULL};
 
 #define SET(f) offsetof(SettingsSpec, f)
 enum { SETTINGS_GROUP_SECONDARY = 1, SETTINGS_GROUP_SAMPLING = 2, SETTINGS_GROUP_OUTPUT = 3 };
@@ -136,6 +137,11 @@ static const Field settings_fields[] = {
      .lo = 0, .hi = 10,
      .doc = "path: glossy surfaces, mirrors and glass blurred after a bounce that was unlikely to take its path, the "
             "more the higher (caustics without fireflies, blurred; Cycles' Filter Glossy); 0: never"},
+    {.key = "caustics", .type = FIELD_CHOICE, .group = SETTINGS_GROUP_SAMPLING, .off = SET(rs.caustics),
+     .words = caustics_words,
+     .doc = "path: the caustics kept: what a surface reached by a diffuse bounce reflects (mirrors, metals, "
+            "highlights) and refracts (glass); without them no fireflies from them, and less light (Cycles' "
+            "Reflective and Refractive Caustics)"},
     {.key = "batch", .type = FIELD_WHOLE, .flags = FIELD_WIRE, .group = SETTINGS_GROUP_SAMPLING, .off = SET(rs.batch),
      .lo = 0, .hi = 11, .doc = "path, N x N, N a power of two: each pixel's sums of this batch of its samples (0: its colour)"},
     {.key = "jitter", .type = FIELD_WHOLE, .flags = FIELD_WIRE, .group = SETTINGS_GROUP_SAMPLING, .off = SET(rs.jitter),

@@ -70,7 +70,7 @@ static vec3 in_frame(vec3 axis, real x, real y, real z)
 vec3 lobes_sample_smooth(const Lobes *lb, real pick, real u, real v)
 {
     const real smooth = lb->pd + lb->pg + lb->pc + lb->pr, at = pick * smooth;
-    if (at < lb->pd) { /* the cosine about the normal (Malley: a disc's point lifted) */
+    if (lobes_picks_diffuse(lb, pick)) { /* the cosine about the normal (Malley: a disc's point lifted) */
         real x, y;
         sample_disc(u, v, &x, &y);
         /* a point on the disc's rim would give a direction along the surface: kept just above it */

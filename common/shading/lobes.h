@@ -32,6 +32,7 @@ typedef struct {
     real frost;      /* > 0: frosted glass of this GGX width, both sides of n (the path
                       * integrator's frosted_eval; the other lobes none) */
     real frost_wt;   /* and its weight for the light between its facets (dielectric_frost_weight) */
+    real frost_refl; /* and what its reflection keeps: 1, or 0 without reflective caustics (path.c) */
 } Lobes;
 
 /* How much of the light from wi a normal-mapped surface's diffuse lobe
@@ -82,6 +83,12 @@ static inline int lobes_smooth(const Lobes *lb) { return lb->pd + lb->pg + lb->p
  * cosine's + pg x the highlight's + pc x the coat's + pr x the metal's.
  * 0 below the surface. */
 vec3 lobes_eval(const Lobes *lb, vec3 wi, real *pdf);
+
+/* Whether lobes_sample_smooth's `pick` chooses the diffuse lobe. */
+static inline int lobes_picks_diffuse(const Lobes *lb, real pick)
+{
+    return pick * (lb->pd + lb->pg + lb->pc + lb->pr) < lb->pd;
+}
 
 /* A direction of the smooth lobes: `pick` in [0, 1) chooses diffuse,
  * glossy, coat or metal by their shares, (u, v) in the unit square places

@@ -11,7 +11,7 @@ focus), ortho or fisheye, and roll; ambient, background; every
 settings key and value (depth, cutoff, fresnel, glass_shadows,
 rough_samples, lens_samples, exposure, the four texture filters, the
 sampling and what the depth limit returns among them; the path integrator
-in a quarter of the scenes, some with clamp_indirect or filter_glossy, a view transform
+in a quarter of the scenes, some with clamp_indirect, filter_glossy or caustics, a view transform
 (tonemap) in some, adaptive sampling's contrast, the area
 lights' light_samples and denoising in some); textures (PPM
 P3/P6, PGM P2/P5, PNG, JPEG, smooth or closest, wrapping each axis its way); materials with and without specular
@@ -219,6 +219,9 @@ def scene(seed):
         blur = random.Random(seed * 7919 + 103)  # Filter Glossy, a draw of its own (older builds refuse it)
         if blur.random() < 0.4:
             st += ["filter_glossy", num(blur, 0.05, 10)]
+        kept = random.Random(seed * 7919 + 107)  # the caustics kept, a draw of its own (older builds refuse it)
+        if kept.random() < 0.3:
+            st += ["caustics", kept.choice(["both", "reflective", "refractive", "none"])]
     if newer and random.Random(seed * 7919 + 41).random() < 0.3:  # adaptive sampling's colour threshold
         st += ["contrast", str(random.Random(seed * 7919 + 43).choice([0, 8, 40, 255]))]
     if newer and random.Random(seed * 7919 + 59).random() < 0.25:  # the frame filtered by its pixels' guides

@@ -108,6 +108,26 @@ setting_travels() {
     verify_distributed "$name-set" "$set" "$dir/$name-64.png" "with the scene's $what"
     verify_distributed "$name-opt" "$plain" "$dir/$name-64.png" "with $*" "$@"
 }
+# untouched_by WHAT OPTION...: path-traced scenes that OPTION must leave
+# byte for byte, as nothing in them is met right after a diffuse bounce
+# with a glossy lobe, a mirror or glass to change: the Cornell box's
+# diffuse walls (its panel a plain emitter: $dir/box.scene, left for the
+# test), and a mirror and a glass ball alone under the sky of
+# tests/data/cycles/caustics.scene (every path after the camera's a
+# delta's); fails naming WHAT
+untouched_by() {
+    local what=$1 s cy=tests/data/cycles
+    shift
+    grep -v "^light rect" models/cornell.scene | sed 's/^settings .*/settings integrator path depth 8/' >"$dir/box.scene"
+    sed -e "s|^texture sky sky.hdr|texture sky $PWD/$cy/sky.hdr|" -e '/gold\|floor/d' "$cy/caustics.scene" \
+        >"$dir/delta.scene"
+    for s in box delta; do
+        "$BIN/lanray-render" "$dir/$s.scene" --width 48 --height 36 --aa 2 -o "$dir/$s-0.png" --quiet >/dev/null 2>&1 &&
+            "$BIN/lanray-render" "$dir/$s.scene" --width 48 --height 36 --aa 2 "$@" -o "$dir/$s-1.png" --quiet \
+                >/dev/null 2>&1 || fail "lanray-render $s.scene $* did not render"
+        cmp -s "$dir/$s-0.png" "$dir/$s-1.png" || fail "$s.scene changed $what"
+    done
+}
 # refused_setting LINE MESSAGE: a scene whose first line is LINE (its
 # settings) is refused by lanray-render, exit 1, naming the file, line 1
 # and MESSAGE, and leaves no picture
