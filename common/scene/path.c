@@ -699,7 +699,8 @@ static int frosted_step(const World *w, Path *p, const Surface *sf, const Draws 
  * firefly, becomes a glossy highlight that next-event estimation finds.
  * Biased: caustics blur, the more the less likely the path that led
  * there.  The camera's surface, and any after mirrors and glass alone
- * (density unbounded), are never blurred. */
+ * (density unbounded), are never blurred, nor a see-through blend (ior 1:
+ * it bends nothing, as Cycles' Transparent BSDF, which is not blurred). */
 static void surface_blur(const World *w, const Path *p, Surface *sf)
 {
     const real f = w->view.settings.filter_glossy;
@@ -707,7 +708,7 @@ static void surface_blur(const World *w, const Path *p, Surface *sf)
         return;
     const real rough = sqrt(sqrt(R(1) - p->min_pdf / f) * R(0.5)); /* ggx_alpha's square root */
     const Material *m = sf->mat;
-    const int lobe = (material_reflects(m) || material_dielectric(m)) && m->roughness < rough,
+    const int lobe = (material_reflects(m) || material_dielectric(m)) && !material_null(m) && m->roughness < rough,
               coat = material_coats(m) && m->coat_roughness < rough;
     if (!(lobe || coat))
         return;
@@ -725,14 +726,16 @@ static void surface_blur(const World *w, const Path *p, Surface *sf)
  * diffuse bounce): at a surface the path reached by its diffuse lobe,
  * without reflective caustics its mirror, metal, coat and Phong highlight
  * are gone and glass keeps no Fresnel reflection (p->fresnel_keep 0),
- * without refractive ones glass lets nothing through; what is gone takes
- * neither light nor a path on.  The sun that a floor meets in a mirror
+ * without refractive ones glass lets nothing through (a see-through
+ * blend, which bends nothing, still does: Cycles' Transparent BSDF is no
+ * caustic either); what is gone takes neither light nor a path on.  The sun that a floor meets in a mirror
  * ball or through a glass ball, fireflies, is then not there at all: less
  * light, no noise from it. */
 static void surface_drop(const World *w, Path *p, Surface *sf)
 {
     const Caustics c = w->view.settings.caustics;
-    const int reflect = c == CAUSTICS_BOTH || c == CAUSTICS_REFLECTIVE, refract = c == CAUSTICS_BOTH || c == CAUSTICS_REFRACTIVE;
+    const int reflect = c == CAUSTICS_BOTH || c == CAUSTICS_REFLECTIVE,
+              refract = c == CAUSTICS_BOTH || c == CAUSTICS_REFRACTIVE;
     p->fresnel_keep = R(1);
     if (!p->diffuse_before || (reflect && refract))
         return;
@@ -741,7 +744,7 @@ static void surface_drop(const World *w, Path *p, Surface *sf)
         sf->local = *sf->mat;
     if (!reflect)
         sf->local.kr = sf->local.kre = sf->local.ks = v3_splat(R(0)), sf->local.coat = R(0);
-    if (!refract)
+    if (!refract && !material_null(sf->mat))
         sf->local.kt = v3_splat(R(0));
     sf->mat = &sf->local;
 }

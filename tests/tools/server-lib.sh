@@ -111,14 +111,17 @@ setting_travels() {
 # untouched_by WHAT OPTION...: path-traced scenes that OPTION must leave
 # byte for byte, as nothing in them is met right after a diffuse bounce
 # with a glossy lobe, a mirror or glass to change: the Cornell box's
-# diffuse walls (its panel a plain emitter: $dir/box.scene, left for the
+# diffuse walls (its panel a plain emitter) with a see-through veil in it
+# (ior 1: it bends nothing, no caustic; $dir/box.scene, left for the
 # test), and a mirror and a glass ball alone under the sky of
 # tests/data/cycles/caustics.scene (every path after the camera's a
 # delta's); fails naming WHAT
 untouched_by() {
     local what=$1 s cy=tests/data/cycles
     shift
-    grep -v "^light rect" models/cornell.scene | sed 's/^settings .*/settings integrator path depth 8/' >"$dir/box.scene"
+    { grep -v "^light rect" models/cornell.scene | sed 's/^settings .*/settings integrator path depth 8/'
+      printf 'material veil ior 1 transmit 0.5 0.5 0.5\nsphere centre 278 120 278 radius 120 material veil\n'; } \
+        >"$dir/box.scene"
     sed -e "s|^texture sky sky.hdr|texture sky $PWD/$cy/sky.hdr|" -e '/gold\|floor/d' "$cy/caustics.scene" \
         >"$dir/delta.scene"
     for s in box delta; do
