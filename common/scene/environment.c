@@ -316,13 +316,19 @@ static double point_density(const Environment *e, real u, real t)
     return d * e->scale;
 }
 
+/* min(x, 1) and max(0, min(x, 1)) as fmin and fmax give them (NaN: 1 and
+ * 0), inline: fmin and fmax are libm calls unless finite maths is
+ * assumed, five a draw */
+static inline double at_most_one(double x) { return x < 1.0 ? x : 1.0; }
+static inline double within_01(double x) { return x > 0.0 ? at_most_one(x) : 0.0; }
+
 /* x in [0, 1] drawn from u in [0, 1) by a density linear from p at 0 to q
  * at 1 (p, q >= 0): the inverse of its quadratic distribution, in the form
  * that loses no digits as p and q near each other. */
 static double sample_linear(double u, double p, double q)
 {
     const double below = p + sqrt(p * p + u * (q * q - p * p));
-    return p == q || !(below > 0.0) ? u : fmin(u * (p + q) / below, 1.0);
+    return p == q || !(below > 0.0) ? u : at_most_one(u * (p + q) / below);
 }
 
 int environment_sample(const Environment *e, real u1, real u2, vec3 *dir, vec3 *light, real *pdf)
@@ -333,11 +339,11 @@ int environment_sample(const Environment *e, real u1, real u2, vec3 *dir, vec3 *
     /* a cell by the tables, then a point in it by its bilinear weights */
     const uint32_t y = find(e->rows, h + 1, (double)u1);
     const double ry = (double)e->rows[y + 1] - (double)e->rows[y];
-    const double fy = fmin(fmax(ry > 0.0 ? ((double)u1 - (double)e->rows[y]) / ry : 0.5, 0.0), 1.0);
+    const double fy = within_01(ry > 0.0 ? ((double)u1 - (double)e->rows[y]) / ry : 0.5);
     const float *col = &e->cols[(size_t)y * (w + 1)];
     const uint32_t x = find(col, w, (double)u2);
     const double rx = (double)col[x + 1] - (double)col[x];
-    const double fx = fmin(fmax(rx > 0.0 ? ((double)u2 - (double)col[x]) / rx : 0.5, 0.0), 1.0);
+    const double fx = within_01(rx > 0.0 ? ((double)u2 - (double)col[x]) / rx : 0.5);
     const uint32_t ya = y == 0 ? 0 : y - 1, yb = y == h ? h - 1 : y, xb = x + 1 < w ? x + 1 : 0;
     const float *g = e->weight;
     const double a = g[(size_t)ya * w + x], b = g[(size_t)ya * w + xb], c = g[(size_t)yb * w + x],
@@ -345,7 +351,7 @@ int environment_sample(const Environment *e, real u1, real u2, vec3 *dir, vec3 *
     /* down the cell: even in the half rows held at the poles */
     const double ay = y == 0 ? 0.5 + 0.5 * fy : y == h ? 0.5 * fy : sample_linear(fy, a + b, c + d);
     const double ax = sample_linear(fx, (1.0 - ay) * a + ay * c, (1.0 - ay) * b + ay * d);
-    const double t = fmin(((double)y - 0.5 + ay) / h, 1.0);
+    const double t = at_most_one(((double)y - 0.5 + ay) / h);
     double u = (x + 0.5 + ax) / w;
     u -= u >= 1.0 ? 1.0 : 0.0;
     /* the direction of (u, t) in the precision of the rays, its sine kept */
