@@ -781,6 +781,7 @@ static int path_step(const World *w, Path *p, int found, const Hit *h, RayStats 
     trace_surface_blend(&sf);
     surface_blur(w, p, &sf);
     surface_drop(w, p, &sf);
+    const int was_diffuse = p->diffuse_before;
     p->diffuse_before = 0; /* until surface_bounce takes the diffuse lobe again */
     const Material *m = sf.mat;
     if (b == 0 && p->key)
@@ -827,9 +828,11 @@ static int path_step(const World *w, Path *p, int found, const Hit *h, RayStats 
     }
     if (!go)
         return 0;
-    if (was_smooth && !p->after_smooth && material_null(m) &&
-        v3_dot(p->ray.dir, was_dir) > R(1) - R(1e-6))
+    const int straight = material_null(m) && v3_dot(p->ray.dir, was_dir) > R(1) - R(1e-6);
+    if (was_smooth && !p->after_smooth && straight)
         p->after_smooth = 1, p->from = was_from, p->through = 1; /* pdf_bounce is still that bounce's */
+    if (straight) /* the diffuse bounce before it still counts past a veil (Cycles' transparent bounces) */
+        p->diffuse_before = was_diffuse;
     if (b + 1 >= w->view.settings.roulette) { /* Russian roulette: survivors weighed up by as much */
         const real keep = real_min(R(1), v3_max_comp(p->beta));
         if (!(draw1(&dr, 3) < keep))
