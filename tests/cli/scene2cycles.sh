@@ -6,7 +6,8 @@
 # has the same light, and refuses, naming the line, what it has not: a
 # spot (Cycles' cone falls off by the cosine inside it), a light without
 # attenuate, a light beside frosted glass (Cycles 3.4's Multiscatter GGX
-# glass lights it wrongly), a keyword it does not read.
+# glass lights it wrongly), a keyword it does not read; and reads the
+# light paths' settings (clamp_indirect, filter_glossy, caustics).
 set -u
 dir=$(mktemp -d)
 trap 'rm -rf "$dir"' EXIT
@@ -58,6 +59,12 @@ refuse "a spot" "light spot position 0 2 0 direction 0 -1 0 angle 30 attenuate" 
 refuse "a light without attenuate" "light point position 0 2 0" "without attenuate"
 refuse "an unknown keyword" "fog 0.1" "'fog' is not read"
 refuse "a tinted rim" "material tint reflect 0.5 0.5 0.5 reflect_edge 1 0.9 0.8" "grey reflect_edge"
+refuse "caustics of a word it does not know" "settings caustics some" "caustics must be both, reflective, refractive or none"
+# the light paths' settings, handed to Cycles' Clamp Indirect, Filter Glossy and Caustics
+{ base; echo "settings clamp_indirect 3 filter_glossy 1 caustics refractive"; } >"$dir/paths.scene"
+out=$(python3 "$S2C" --check "$dir/paths.scene" 2>&1) || fail "the light paths' settings refused: $out"
+case "$out" in *"light paths: clamp indirect 3, filter glossy 1, caustics refractive"*) ;;
+*) fail "the light paths' settings not taken: $out" ;; esac
 { base; echo "material frost ior 1.5 roughness 0.4"; echo "light point position 0 2 0 attenuate"; } >"$dir/bad.scene"
 out=$(python3 "$S2C" --check "$dir/bad.scene" 2>&1) && fail "a light beside frosted glass taken: $out"
 case "$out" in *"beside frosted glass"*) ;; *) fail "a light beside frosted glass refused for another reason: $out" ;; esac
@@ -70,4 +77,4 @@ printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n' >"$dir/tri.obj"
 printf 'camera position 0 0 5 lookat 0 0 0\nmodel t tri.obj\ninstance t lights\n' >"$dir/objlit.scene"
 out=$(python3 "$S2C" --check "$dir/objlit.scene" 2>&1) && fail "an OBJ instance's lights taken: $out"
 case "$out" in *"objlit.scene:3"*"from a glTF only"*) ;; *) fail "an OBJ instance's lights refused otherwise: $out" ;; esac
-echo "scene2cycles: $n Python tools compile; --check reads the Cycles reference scenes, maps point, round, sun and panel lights, refuses spots, unattenuated lights, lights beside frosted glass, tinted metal rims and unread keywords with their lines; takes a glTF instance's lights and camera"
+echo "scene2cycles: $n Python tools compile; --check reads the Cycles reference scenes, maps point, round, sun and panel lights, refuses spots, unattenuated lights, lights beside frosted glass, tinted metal rims, unknown caustics and unread keywords with their lines; takes the light paths' settings and a glTF instance's lights and camera"
