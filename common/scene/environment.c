@@ -7,6 +7,8 @@
 #include "base/srgb.h"
 
 #define PI 3.14159265358979323846
+/* the least share of its light a texel's weight in the draws keeps (env_tables) */
+#define ENV_DRAW_FLOOR 0.1
 /* the most light a texel may hold: a float's range over the texels' sums and a bilinear blend */
 #define ENV_MAX_LIGHT 1e30
 
@@ -69,8 +71,9 @@ static int sun_texel(const real *c, vec3 dir, double peak, vec3 at)
 }
 
 /* The sun (environment.h): its texels' light and direction, summed; 0
- * where the image has none. */
-static int env_find_sun(Environment *e, const Grid *g)
+ * where the image has none.  Into *mean the texels' mean weight over the
+ * sphere (their light's, by solid angle). */
+static int env_find_sun(Environment *e, const Grid *g, double *mean)
 {
     const uint32_t w = e->w, h = e->h;
     double power = 0.0, peak = 0.0;
@@ -86,6 +89,7 @@ static int env_find_sun(Environment *e, const Grid *g)
                 peak = l, px = x, py = y;
         }
     }
+    *mean = power / (4.0 * PI); /* the solid angles sum to 4 pi (texel_solid_angle) */
     if (!(peak > ENV_SUN_CONTRAST * power / (4.0 * PI)) ||
         !(e->sun_mask = calloc(((size_t)w * h + 7) / 8, 1))) /* (out of memory: no sun of its own) */
         return 0;
@@ -133,7 +137,14 @@ static int env_find_sun(Environment *e, const Grid *g)
  * within every cell between four texel centres: a piecewise constant
  * density beside bilinear light drew the sky next to a sun at the sky's
  * density and read half the sun there, fireflies on every diffuse
- * surface in sunlight.  Cell row y lies between texel rows y - 1 and y,
+ * surface in sunlight.  A texel's weight is its light less the mean
+ * light, and at least a tenth of its light (ENV_DRAW_FLOOR): what the
+ * image has everywhere the paths find as well as the draws (a diffuse
+ * bounce leaves by the cosine, which suits an even sky), and the draws go
+ * to what stands out, the sun (Karlik et al., "MIS Compensation", 2019);
+ * the floor keeps every lit texel drawable, so that light over density
+ * stays within ten times its mean where next-event estimation is taken
+ * alone (settings emitter_sampling nee).  Cell row y lies between texel rows y - 1 and y,
  * the first and last half rows held at the poles; cell x between texel
  * columns x and x + 1, the last across the seam.  `top`, `bottom`: w
  * doubles; `acc`: w + 1; `row_sums`: h + 1. */
@@ -142,8 +153,8 @@ static void env_tables(Environment *e, const Grid *g, double *top, double *botto
     const uint32_t w = e->w, h = e->h;
     const double band[9] = {PI, 2.0 * PI / 3.0, 2.0 * PI / 3.0, 2.0 * PI / 3.0, PI / 4.0,
                             PI / 4.0, PI / 4.0, PI / 4.0, PI / 4.0};
-    double sh[9][3] = {{0}}, rows = 0.0;
-    env_find_sun(e, g);
+    double sh[9][3] = {{0}}, rows = 0.0, mean;
+    env_find_sun(e, g, &mean);
     e->rows[0] = 0.0f;
     for (uint32_t y = 0; y <= h; y++) {
         if (y < h) { /* texel row y's weights into bottom, and its harmonics */
@@ -152,7 +163,7 @@ static void env_tables(Environment *e, const Grid *g, double *top, double *botto
             for (uint32_t x = 0; x < w; x++) {
                 real c[3];
                 texel(e, (size_t)y * w + x, c);
-                bottom[x] = texel_weight(c) * sn;
+                bottom[x] = fmax(texel_weight(c) - mean, ENV_DRAW_FLOOR * texel_weight(c)) * sn;
                 e->weight[(size_t)y * w + x] = (float)bottom[x];
                 if (environment_sun_texel(e, (size_t)y * w + x))
                     continue; /* the sun's: its own light for the Whitted integrator */

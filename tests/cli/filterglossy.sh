@@ -7,7 +7,7 @@
 # after the camera's a delta's), keep their bytes.  Under a sky with a
 # sun (tests/data/cycles/caustics.scene: glass, gold and chrome balls on a
 # floor) the fireflies go: 4 x 4 samples come nearer their own 16 x 16
-# picture than the unblurred ones do theirs (RMSE 11.7 against 14.8; the
+# picture than the unblurred ones do theirs (RMSE 8.7 against 13.5; the
 # test holds 15% less); the
 # light stays (the blurred 16 x 16 picture within 1.5% of the light of
 # Cycles' unblurred frame, where Cycles' own blur loses 3.5%) and the blur
