@@ -322,8 +322,8 @@ typedef struct {
     int headless, force_bvh, discard, frames, wait_clients, tail, bvh_kind, width_given, height_given;
     int warmup, stall, handshake, machine_summary, linear, hdr;
     int denoise; /* --denoise, or the first scene's settings denoise: fixed for the server's life */
-    int integrator, integrator_given, clamp_given, blur_given, caustics, caustics_given, tonemap, tonemap_given;
-    double clamp, blur;
+    int integrator, integrator_given, tonemap, tonemap_given;
+    CliLightPaths paths;
     CliAa aa;
     double rotate;
     const char *path;
@@ -428,9 +428,7 @@ static const char server_exits[] =
     {.name = "--integrator", .kind = OPT_CHOICE, .dst = &(a)->integrator, .seen = &(a)->integrator_given, \
      .choices = field_words(&settings_kind, "integrator"), .def = "the scene's, else whitted", \
      .help = "Whitted's, or a path tracer's: light that bounces (in a window, converging when the view stops)"}, \
-    CLI_CLAMP_INDIRECT_OPT(&(a)->clamp, &(a)->clamp_given), \
-    CLI_FILTER_GLOSSY_OPT(&(a)->blur, &(a)->blur_given), \
-    CLI_CAUSTICS_OPT(&(a)->caustics, &(a)->caustics_given), \
+    CLI_LIGHT_PATHS_OPTS(&(a)->paths), \
     CLI_TONEMAP_OPT(&(a)->tonemap, &(a)->tonemap_given)
 
 /* Parses the command line into a: OPT_GO, or the exit status. */
@@ -575,12 +573,7 @@ static int apply_overrides(Scene *scene, const Args *a, Err *err)
     }
     if (a->integrator_given)
         scene->settings.integrator = (Integrator)a->integrator;
-    if (a->clamp_given)
-        scene->settings.clamp_indirect = (real)a->clamp;
-    if (a->blur_given)
-        scene->settings.filter_glossy = (real)a->blur;
-    if (a->caustics_given)
-        scene->settings.caustics = (Caustics)a->caustics;
+    cli_put_light_paths(&scene->settings, &a->paths);
     if (a->tonemap_given)
         scene->settings.tonemap = (Tonemap)a->tonemap;
     scene->settings.linear = a->linear;

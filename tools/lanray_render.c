@@ -123,8 +123,7 @@ typedef struct {
     int light_samples, rough_samples, lens_samples, exposure_given, tonemap, tonemap_given;
     int sampling, sampling_given, limit, limit_given, lights, lights_given, integrator, integrator_given;
     int emitters, emitters_given, roulette, roulette_given, contrast, contrast_given, denoise, denoise_given;
-    double clamp, blur;
-    int clamp_given, blur_given, caustics, caustics_given;
+    CliLightPaths paths;
     int still_frame, progressive;
     Flight flight; /* --server-frame: a server's frames, along --path */
     double exposure;
@@ -153,9 +152,7 @@ typedef struct {
      .help = "path: filter the frame's noise out, guided by the surfaces each pixel saw first (their colours, " \
              "normals, distances; docs/renderer.md)", \
      .def = "the scene's, else off"}, \
-    CLI_CLAMP_INDIRECT_OPT(&(a)->clamp, &(a)->clamp_given), \
-    CLI_FILTER_GLOSSY_OPT(&(a)->blur, &(a)->blur_given), \
-    CLI_CAUSTICS_OPT(&(a)->caustics, &(a)->caustics_given)
+    CLI_LIGHT_PATHS_OPTS(&(a)->paths)
 
 /* lanray-render --help's text above the options, and its exit statuses */
 static const char render_about[] =
@@ -317,12 +314,7 @@ static int apply_settings(Scene *scene, Args *a)
         rs->emitter_sampling = (EmitterSampling)a->emitters;
     if (a->roulette_given)
         rs->roulette = a->roulette;
-    if (a->clamp_given)
-        rs->clamp_indirect = (real)a->clamp;
-    if (a->blur_given)
-        rs->filter_glossy = (real)a->blur;
-    if (a->caustics_given)
-        rs->caustics = (Caustics)a->caustics;
+    cli_put_light_paths(rs, &a->paths);
     if (a->contrast_given)
         rs->contrast = a->contrast;
     if (a->denoise_given)

@@ -92,6 +92,16 @@ int cli_open_scene(const char *path, const BvhOptions *bvh, int force, Scene **o
     return scene_load(path, bvh, force, out, err);
 }
 
+void cli_put_light_paths(RenderSettings *rs, const CliLightPaths *l)
+{
+    if (l->clamp_given)
+        rs->clamp_indirect = (real)l->clamp;
+    if (l->blur_given)
+        rs->filter_glossy = (real)l->blur;
+    if (l->caustics_given)
+        rs->caustics = (Caustics)l->caustics;
+}
+
 int cli_put_environment(Scene *s, const CliEnvironment *e, const char *path, Err *err)
 {
     if (e->file) {

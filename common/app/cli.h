@@ -58,26 +58,37 @@ typedef struct {
      .seen = &(e)->strength_given, .help = "the environment's light times S", .def = "the scene's, else 1"}, \
     {.name = "--environment-rotate", .kind = OPT_REAL, .dst = &(e)->rotate, .arg = "DEG", .rlo = -1e6, .rhi = 1e6, \
      .seen = &(e)->rotate_given, .help = "the environment turned by DEG degrees about +y", .def = "the scene's, else 0"}
-/* --clamp-indirect, --filter-glossy, --caustics and --tonemap,
- * lanray-render's and the server's: a real into *to (given: *given), a
- * Caustics' or Tonemap's word into *to (an int) */
-#define CLI_CLAMP_INDIRECT_OPT(to, given) \
-    {.name = "--clamp-indirect", .kind = OPT_REAL, .dst = to, .arg = "L", .rlo = 0, .rhi = 1e6, .seen = given, \
+/* --clamp-indirect, --filter-glossy and --caustics, the path
+ * integrator's light paths (Cycles' panel of that name), lanray-render's
+ * and the server's, over the scene's settings (cli_put_light_paths). */
+typedef struct {
+    double clamp, blur;
+    int caustics; /* a Caustics */
+    int clamp_given, blur_given, caustics_given;
+} CliLightPaths;
+/* Its three entries of a program's option table (base/opt.h), into l. */
+#define CLI_LIGHT_PATHS_OPTS(l) \
+    {.name = "--clamp-indirect", .kind = OPT_REAL, .dst = &(l)->clamp, .arg = "L", .rlo = 0, .rhi = 1e6, \
+     .seen = &(l)->clamp_given, \
      .help = "path: each light a sample gathers after its first bounce held to L, the sum of its red, green and " \
              "blue (fewer fireflies, a little less light; Cycles' Clamp Indirect); 0 = never", \
-     .def = "the scene's, else 0"}
-#define CLI_FILTER_GLOSSY_OPT(to, given) \
-    {.name = "--filter-glossy", .kind = OPT_REAL, .dst = to, .arg = "F", .rlo = 0, .rhi = 10, .seen = given, \
+     .def = "the scene's, else 0"}, \
+    {.name = "--filter-glossy", .kind = OPT_REAL, .dst = &(l)->blur, .arg = "F", .rlo = 0, .rhi = 10, \
+     .seen = &(l)->blur_given, \
      .help = "path: glossy surfaces, mirrors and glass blurred after a bounce that was unlikely to take its path, " \
              "the more the higher F (caustics without fireflies, blurred; Cycles' Filter Glossy, whose default " \
              "is 1); 0 = never", \
-     .def = "the scene's, else 0"}
-#define CLI_CAUSTICS_OPT(to, given) \
-    {.name = "--caustics", .kind = OPT_CHOICE, .dst = to, .choices = field_words(&settings_kind, "caustics"), \
-     .seen = given, .def = "the scene's, else both", \
+     .def = "the scene's, else 0"}, \
+    {.name = "--caustics", .kind = OPT_CHOICE, .dst = &(l)->caustics, \
+     .choices = field_words(&settings_kind, "caustics"), .seen = &(l)->caustics_given, \
+     .def = "the scene's, else both", \
      .help = "path: the caustics kept: what a surface reached by a diffuse bounce reflects (mirrors, metals, " \
              "highlights) and refracts (glass); without them no fireflies from them, and less light (Cycles' " \
              "Reflective and Refractive Caustics)"}
+/* Puts the light paths given on the command line into rs. */
+void cli_put_light_paths(RenderSettings *rs, const CliLightPaths *l);
+/* --tonemap, lanray-render's and the server's: a Tonemap's word into *to
+ * (an int; given: *given) */
 #define CLI_TONEMAP_OPT(to, given) \
     {.name = "--tonemap", .kind = OPT_CHOICE, .dst = to, .choices = field_words(&settings_kind, "tonemap"), \
      .seen = given, .def = "the scene's, else none", \

@@ -690,6 +690,16 @@ static int frosted_step(const World *w, Path *p, const Surface *sf, const Draws 
     return 1;
 }
 
+/* sf's material as one of its own to change (Surface.local, where
+ * trace_surface_metal may have made it already). */
+static Material *surface_local(Surface *sf)
+{
+    if (sf->mat != &sf->local)
+        sf->local = *sf->mat;
+    sf->mat = &sf->local;
+    return &sf->local;
+}
+
 /* Filter Glossy (settings filter_glossy F: Cycles' blur_glossy, as Cycles
  * 3.4 applies it).  After bounces whose least density q (Path.min_pdf,
  * solid angle) is under F, every GGX lobe of sf is at least
@@ -712,13 +722,11 @@ static void surface_blur(const World *w, const Path *p, Surface *sf)
               coat = material_coats(m) && m->coat_roughness < rough;
     if (!(lobe || coat))
         return;
-    if (sf->mat != &sf->local) /* a copy of its own (trace_surface_metal's place) */
-        sf->local = *m;
+    Material *l = surface_local(sf);
     if (lobe)
-        sf->local.roughness = rough;
+        l->roughness = rough;
     if (coat)
-        sf->local.coat_roughness = rough;
-    sf->mat = &sf->local;
+        l->coat_roughness = rough;
 }
 
 /* Caustics dropped (settings caustics: Cycles' Reflective and Refractive
@@ -728,9 +736,9 @@ static void surface_blur(const World *w, const Path *p, Surface *sf)
  * are gone and glass keeps no Fresnel reflection (p->fresnel_keep 0),
  * without refractive ones glass lets nothing through (a see-through
  * blend, which bends nothing, still does: Cycles' Transparent BSDF is no
- * caustic either); what is gone takes neither light nor a path on.  The sun that a floor meets in a mirror
- * ball or through a glass ball, fireflies, is then not there at all: less
- * light, no noise from it. */
+ * caustic either); what is gone takes neither light nor a path on.  The
+ * sun that a floor meets in a mirror ball or through a glass ball,
+ * fireflies, is then not there at all: less light, no noise from it. */
 static void surface_drop(const World *w, Path *p, Surface *sf)
 {
     const Caustics c = w->view.settings.caustics;
@@ -740,13 +748,11 @@ static void surface_drop(const World *w, Path *p, Surface *sf)
     if (!p->diffuse_before || (reflect && refract))
         return;
     p->fresnel_keep = reflect ? R(1) : R(0);
-    if (sf->mat != &sf->local)
-        sf->local = *sf->mat;
+    Material *l = surface_local(sf);
     if (!reflect)
-        sf->local.kr = sf->local.kre = sf->local.ks = v3_splat(R(0)), sf->local.coat = R(0);
-    if (!refract && !material_null(sf->mat))
-        sf->local.kt = v3_splat(R(0));
-    sf->mat = &sf->local;
+        l->kr = l->kre = l->ks = v3_splat(R(0)), l->coat = R(0);
+    if (!refract && !material_null(l))
+        l->kt = v3_splat(R(0));
 }
 
 /* One bounce of path p: the hit h of its ray (found: whether there is
