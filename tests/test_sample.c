@@ -163,6 +163,32 @@ static void draw_lanes_equal_single_draws(void **state)
     }
 }
 
+/* A pixel's cells made at once (sample_grid_cells, as the renderer takes
+ * a path-traced pixel's samples) are sample_grid_cell's one by one, on
+ * every SIMD path, for every count (fewer than the lanes, a whole number
+ * of lanes and between), start and grid size, m 0 included. */
+static void grid_cells_equal_single_cells(void **state)
+{
+    (void)state;
+    uint32_t x = 4242;
+    for (int path = -1; simd_next(&path);) {
+        for (int round = 0; round < 600; round++) {
+            const SampleSobol q = sample_grid_seq(x = sample_hash(x + 1));
+            const int m = round % 6;
+            const uint32_t count = 1 + (uint32_t)round % 40, first = round % 3 ? (uint32_t)round : (x = sample_hash(x + 1));
+            uint32_t i[40], j[40]; /* count rounded up to the lanes */
+            sample_grid_cells(&q, first, count, m, i, j);
+            for (uint32_t k = 0; k < count; k++) {
+                uint32_t a, b;
+                sample_grid_cell(&q, first + k, m, &a, &b);
+                if (a != i[k] || b != j[k])
+                    fail_msg("%s: sample %u of %u from %u, m %d: cell (%u, %u), alone (%u, %u)",
+                             simd_name((SimdPath)path), k, count, first, m, i[k], j[k], a, b);
+            }
+        }
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -173,6 +199,7 @@ int main(void)
         cmocka_unit_test(shares_add_up_to_the_budget),
         cmocka_unit_test(lanes_equal_single_points),
         cmocka_unit_test(draw_lanes_equal_single_draws),
+        cmocka_unit_test(grid_cells_equal_single_cells),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

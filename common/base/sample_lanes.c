@@ -30,6 +30,19 @@ void sample_draw_lanes(uint32_t key, uint32_t index, const uint32_t dim[SAMPLE_L
     }
 }
 
+void sample_grid_cells(const SampleSobol *q, uint32_t first, uint32_t count, int m, uint32_t *i, uint32_t *j)
+{
+#if defined(__x86_64__)
+    if (count >= 3 && simd_path() >= SIMD_AVX2) { /* fewer cost alone what eight lanes cost */
+        for (uint32_t at = 0; at < count; at += SAMPLE_LANES) /* past count to the lanes' end */
+            sample_grid_cells_avx2(q, first + at, m, &i[at], &j[at]);
+        return;
+    }
+#endif
+    for (uint32_t k = 0; k < count; k++)
+        sample_grid_cell(q, first + k, m, &i[k], &j[k]);
+}
+
 int sample_lanes_wide(void)
 {
 #if defined(__x86_64__)

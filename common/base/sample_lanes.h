@@ -37,6 +37,16 @@ void sample_draw_lanes(uint32_t key, uint32_t index, const uint32_t dim[SAMPLE_L
                        uint32_t v[SAMPLE_LANES]);
 void sample_draw_lanes_avx2(uint32_t key, uint32_t index, const uint32_t dim[SAMPLE_LANES], uint32_t u[SAMPLE_LANES],
                             uint32_t v[SAMPLE_LANES]);
+/* The cells of samples first .. first + count - 1 of the pixel whose
+ * sequence is q, as sample_grid_cell gives them one by one (i[k], j[k] for
+ * sample first + k), eight at a time where the lanes run side by side:
+ * a path-traced frame's every sample takes its cell this way, some 100
+ * instructions of hashes a sample alone.  i and j hold count rounded up
+ * to a multiple of SAMPLE_LANES: the last lanes may write past count. */
+void sample_grid_cells(const SampleSobol *q, uint32_t first, uint32_t count, int m, uint32_t *i, uint32_t *j);
+/* Eight of them, samples first .. first + 7, on the AVX2 path. */
+void sample_grid_cells_avx2(const SampleSobol *q, uint32_t first, int m, uint32_t i[SAMPLE_LANES],
+                            uint32_t j[SAMPLE_LANES]);
 /* Whether the lanes run side by side here (AVX2): elsewhere they go one
  * after another, and a caller that needs only some draws them alone. */
 int sample_lanes_wide(void);

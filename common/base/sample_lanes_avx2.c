@@ -64,6 +64,18 @@ void sample_sobol_lanes_avx2(SampleLanes *s)
     STORE(s->v, v);
 }
 
+void sample_grid_cells_avx2(const SampleSobol *q, uint32_t first, int m, uint32_t i[SAMPLE_LANES],
+                            uint32_t j[SAMPLE_LANES])
+{
+    __m256i u, v;
+    const __m256i index = _mm256_add_epi32(_mm256_set1_epi32((int)first), _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7));
+    sobol_bits8(index, _mm256_set1_epi32((int)q->index), _mm256_set1_epi32((int)q->first),
+                _mm256_set1_epi32((int)q->second), &u, &v);
+    const __m128i by = _mm_cvtsi32_si128(m > 0 ? 32 - m : 32); /* a shift by 32 or more gives 0 */
+    STORE(i, _mm256_srl_epi32(u, by));
+    STORE(j, _mm256_srl_epi32(v, by));
+}
+
 /* sample_hash on eight lanes. */
 static inline __m256i hash8(__m256i x)
 {

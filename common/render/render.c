@@ -4,6 +4,7 @@
 #include "render/render.h"
 
 #include "base/sample.h"
+#include "base/sample_lanes.h"
 
 #include <stdatomic.h>
 #include <stddef.h>
@@ -558,7 +559,12 @@ static void grid_add(GridBatch *g, int px, int py, uint8_t *dst)
 }
 
 /* Pixel (px, py) in batches: its samples [s0, s1) in their progressive
- * order (sample_grid_cell), each its own number in the pixel's sequence. */
+ * order (sample_grid_cell), each its own number in the pixel's sequence;
+ * their cells made GRID_CELLS at a time (sample_grid_cells: eight lanes
+ * side by side, where a cell alone took some 140 instructions, 3% of the
+ * 100 spheres' path-traced frame at 2 x 2). */
+#define GRID_CELLS 64
+_Static_assert(GRID_CELLS % SAMPLE_LANES == 0, "sample_grid_cells writes whole lanes");
 static void grid_add_batches(GridBatch *g, int px, int py, uint8_t *dst)
 {
     const Frame *f = g->f;
@@ -569,12 +575,14 @@ static void grid_add_batches(GridBatch *g, int px, int py, uint8_t *dst)
     g->dst[s] = dst;
     g->left[s] = (int)(f->s1 - f->s0);
     const SampleSobol q = sample_grid_seq(pixel_key((real)px, (real)py));
+    uint32_t ci[GRID_CELLS], cj[GRID_CELLS];
     for (uint32_t n = f->s0; n < f->s1; n++) {
-        uint32_t i, j;
-        sample_grid_cell(&q, n, f->prog_m, &i, &j);
+        const uint32_t c = (n - f->s0) % GRID_CELLS;
+        if (c == 0)
+            sample_grid_cells(&q, n, f->s1 - n < GRID_CELLS ? f->s1 - n : GRID_CELLS, f->prog_m, ci, cj);
         const int k = g->m++;
-        g->xs[k] = (real)px + ((real)i + R(0.5)) * g->inv;
-        g->ys[k] = (real)py + ((real)j + R(0.5)) * g->inv;
+        g->xs[k] = (real)px + ((real)ci[c] + R(0.5)) * g->inv;
+        g->ys[k] = (real)py + ((real)cj[c] + R(0.5)) * g->inv;
         g->pos[k] = n;
         g->slot[k] = s;
         g->last[k] = (uint8_t)(progressive_last(n) || n + 1 == f->s1);
