@@ -8,9 +8,9 @@
 # bytes without caustics.  Under the sky with its sun
 # (tests/data/cycles/caustics.scene: glass, gold and chrome balls on a
 # floor) the picture without caustics is Cycles' without them (within
-# 1.5% in 4x4 blocks at 256 samples, its light within 1%; 0.68%, 1.0027),
+# 1.5% in 4x4 blocks at 256 samples, its light within 1%; 0.51%, 0.9995),
 # where the picture with them is 31% off it, and so past a clear veil
-# over the floor (0.67%: the diffuse bounce before it counts past it, as
+# over the floor (0.48%: the diffuse bounce before it counts past it, as
 # Cycles' transparent bounces keep it); and the light orders itself:
 # none < reflective alone, refractive alone < both.  A scene's setting is
 # the option's picture; through a server and a client, lanray-render's
