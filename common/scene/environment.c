@@ -5,6 +5,7 @@
 #include <stdlib.h>
 
 #include "base/srgb.h"
+#include "base/trig.h"
 
 #define PI 3.14159265358979323846
 /* the least share of its light a texel's weight in the draws keeps (env_tables) */
@@ -14,10 +15,10 @@
 
 void environment_uv(const Environment *e, vec3 d, real *u, real *t)
 {
-    real a = atan2(d.z, d.x) / (R(2) * REAL_PI) + R(0.5) + e->turn;
+    real a = trig_atan2(d.z, d.x) / (R(2) * REAL_PI) + R(0.5) + e->turn;
     a -= floor(a);
     *u = a < R(1) ? a : R(0);
-    const real el = atan2(d.y, sqrt(d.x * d.x + d.z * d.z)); /* -pi/2 .. pi/2 */
+    const real el = trig_atan2(d.y, sqrt(d.x * d.x + d.z * d.z)); /* -pi/2 .. pi/2 */
     *t = real_clamp(R(0.5) - el / REAL_PI, R(0), R(1));
     if (!(*t >= R(0))) /* a direction of NaNs reads the top row */
         *t = R(0);
@@ -367,11 +368,13 @@ int environment_sample(const Environment *e, real u1, real u2, vec3 *dir, vec3 *
     u -= u >= 1.0 ? 1.0 : 0.0;
     /* the direction of (u, t) in the precision of the rays, its sine kept */
     const real theta = (real)(t * PI), phi = (real)((u - (double)e->turn - 0.5) * 2.0 * PI);
-    const real sn = sin(theta), cs = cos(theta);
+    real sn, cs, sp, cp;
+    trig_sincos(theta, &sn, &cs);
+    trig_sincos(phi, &sp, &cp);
     const double density = ((1.0 - ay) * ((1.0 - ax) * a + ax * b) + ay * ((1.0 - ax) * c + ax * d)) * e->scale;
     if (!(sn > R(0)) || !(density > 0.0))
         return 0;
-    *dir = v3(sn * cos(phi), cs, sn * sin(phi));
+    *dir = v3(sn * cp, cs, sn * sp);
     *pdf = (real)(density / (2.0 * PI * PI * (double)sn));
     *light = environment_light_at(e, (real)u, (real)t, 0); /* where it was drawn: no way back from the direction */
     return 1;
