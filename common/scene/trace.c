@@ -763,11 +763,9 @@ static vec3 height_normal(const Surface *sf, const Texture *map, const TexFootpr
  * surface_at turned it to the viewer), then turned as that one was
  * (ns_turned).  A mapped normal that would face away from the
  * viewer, or a frame that does not exist, leaves ns as it was. */
-void trace_surface_bump(Surface *out, const TexFootprint *fp)
+void trace_surface_bump_apply(Surface *out, const TexFootprint *fp)
 {
     const Texture *map = out->nmap;
-    if (!map)
-        return;
     out->nmap = NULL; /* applied once */
     const int flip = out->ns_turned;
     const vec3 n = flip ? v3_neg(out->ns) : out->ns;
@@ -796,10 +794,8 @@ void trace_surface_bump(Surface *out, const TexFootprint *fp)
     }
 }
 
-void trace_surface_metal(const World *w, Surface *sf, const TexFootprint *fp)
+void trace_surface_metal_apply(const World *w, Surface *sf, const TexFootprint *fp)
 {
-    if (!sf->mtex)
-        return;
     const Material *mt = sf->mat;
     const vec3 c = texture_fractions(sf->mtex, sf->u, sf->v, fp);
     Material *l = &sf->local;
@@ -825,10 +821,8 @@ void trace_surface_metal(const World *w, Surface *sf, const TexFootprint *fp)
     sf->mtex = NULL; /* applied: not a second time */
 }
 
-void trace_surface_blend(Surface *sf)
+void trace_surface_blend_apply(Surface *sf)
 {
-    if (!sf->btex)
-        return;
     const real a = texture_coverage(sf->btex, sf->u, sf->v);
     Material *l = &sf->local;
     if (sf->mat != l)

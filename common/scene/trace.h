@@ -124,7 +124,14 @@ void trace_surface(const World *w, const Ray *r, const Hit *hit, Surface *out);
 /* Tilts sf->ns as its normal map says (nothing without one, or a second
  * time), the map read over the footprint fp (NULL: at the point): after
  * trace_surface, once the caller knows the footprint. */
-void trace_surface_bump(Surface *sf, const TexFootprint *fp);
+void trace_surface_bump_apply(Surface *sf, const TexFootprint *fp);
+/* (each of these three asks inline whether there is anything to do: a
+ * call a hit for nothing was some 15 instructions, three a bounce) */
+static inline void trace_surface_bump(Surface *sf, const TexFootprint *fp)
+{
+    if (sf->nmap)
+        trace_surface_bump_apply(sf, fp);
+}
 /* The radiance the surface emits: its material's `emit`, times its
  * emission texture's colour at the hit where it has one (read over the
  * footprint fp, or at one point where fp is NULL, by the view's filter). */
@@ -143,7 +150,12 @@ real trace_occlusion(const Surface *sf, const TexFootprint *fp);
  * them), into sf->local, which sf->mat then names.  Read over the
  * footprint fp (NULL: at the point): after trace_surface, once the caller
  * knows the footprint, before it reads the material. */
-void trace_surface_metal(const World *w, Surface *sf, const TexFootprint *fp);
+void trace_surface_metal_apply(const World *w, Surface *sf, const TexFootprint *fp);
+static inline void trace_surface_metal(const World *w, Surface *sf, const TexFootprint *fp)
+{
+    if (sf->mtex)
+        trace_surface_metal_apply(w, sf, fp);
+}
 /* A blending material's see-through share at the hit (material.h's
  * mask_blend: glTF's alphaMode BLEND with an alpha texture), where
  * sf->btex says it is not yet applied: the mask's opacity a there scales
@@ -151,7 +163,12 @@ void trace_surface_metal(const World *w, Surface *sf, const TexFootprint *fp);
  * 1 - (1 - transmit) a through, into sf->local, which sf->mat then names
  * (after trace_surface_metal, over what it made).  The texel at the point,
  * as the cutout's test reads it. */
-void trace_surface_blend(Surface *sf);
+void trace_surface_blend_apply(Surface *sf);
+static inline void trace_surface_blend(Surface *sf)
+{
+    if (sf->btex)
+        trace_surface_blend_apply(sf);
+}
 /* The colour texture's sample at the hit (sf->tex set), over fp (NULL:
  * at the point): read by trace_surface_metal already where it made the
  * hit's metal with the same footprint, else now. */
