@@ -9,8 +9,8 @@
  * (where a camera of yaw 0 looks); v its elevation, the top row straight
  * up.  The path integrator
  * samples it by importance: a direction drawn in proportion to each
- * texel's weight (its light less the image's mean light, at least a tenth
- * of its light: what stands out, the sun, drawn, and the even rest left
+ * texel's weight (its light less the image's mean light, at least a
+ * twentieth of its light: what stands out, the sun, drawn, and the even rest left
  * mostly to the paths) times the solid angle it spans (sin of its polar
  * angle), blended between texel centres as the light is (bilinear: a cell between
  * four centres picked by a row of cells from the rows' sums and a cell

@@ -692,16 +692,6 @@ static int frosted_step(const World *w, Path *p, const Surface *sf, const Draws 
     return 1;
 }
 
-/* sf's material as one of its own to change (Surface.local, where
- * trace_surface_metal may have made it already). */
-static Material *surface_local(Surface *sf)
-{
-    if (sf->mat != &sf->local)
-        sf->local = *sf->mat;
-    sf->mat = &sf->local;
-    return &sf->local;
-}
-
 /* Filter Glossy (settings filter_glossy F: Cycles' blur_glossy, as Cycles
  * 3.4 applies it).  After bounces whose least density q (Path.min_pdf,
  * solid angle) is under F, every GGX lobe of sf is at least
@@ -724,7 +714,7 @@ static void surface_blur(const World *w, const Path *p, Surface *sf)
               coat = material_coats(m) && m->coat_roughness < rough;
     if (!(lobe || coat))
         return;
-    Material *l = surface_local(sf);
+    Material *l = trace_surface_local(sf);
     if (lobe)
         l->roughness = rough;
     if (coat)
@@ -750,7 +740,7 @@ static void surface_drop(const World *w, Path *p, Surface *sf)
     if (!p->diffuse_before || (reflect && refract))
         return;
     p->fresnel_keep = reflect ? R(1) : R(0);
-    Material *l = surface_local(sf);
+    Material *l = trace_surface_local(sf);
     if (!reflect)
         l->kr = l->kre = l->ks = v3_splat(R(0)), l->coat = R(0);
     if (!refract && !material_null(l))

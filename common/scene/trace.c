@@ -824,15 +824,12 @@ void trace_surface_metal_apply(const World *w, Surface *sf, const TexFootprint *
 void trace_surface_blend_apply(Surface *sf)
 {
     const real a = texture_coverage(sf->btex, sf->u, sf->v);
-    Material *l = &sf->local;
-    if (sf->mat != l)
-        *l = *sf->mat;
+    Material *l = trace_surface_local(sf);
     l->mask_blend = 0;
     l->kd = v3_scale(l->kd, a), l->ks = v3_scale(l->ks, a);
     l->kr = v3_scale(l->kr, a), l->kre = v3_scale(l->kre, a);
     l->kt = v3_sub(v3_splat(R(1)), v3_scale(v3_sub(v3_splat(R(1)), l->kt), a));
     l->ke = v3_scale(l->ke, a); /* its light too: the see-through share emits nothing (emitters.c's glow_at alike) */
-    sf->mat = l;
     sf->btex = NULL; /* applied: not a second time */
 }
 

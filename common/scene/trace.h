@@ -45,7 +45,7 @@ typedef struct {
     int ns_turned;    /* ns was turned round to face the viewer */
     vec3 nv;          /* the smooth normal: ns before a normal map tilts it */
     int bumped;       /* trace_surface_bump tilted ns from nv */
-    Material local;   /* a mapped metal's material at this hit, which mat then names */
+    Material local;   /* the hit's own material (a mapped metal's, a blend's: trace_surface_local), which mat then names */
     vec3 local_tex;   /* where local_read: the colour texture's sample that tinted a mapped metal's
                        * mirror, which the diffuse colour takes too (read once: trace_surface_texel) */
     int local_read;   /* local_tex holds it */
@@ -125,6 +125,16 @@ void trace_surface(const World *w, const Ray *r, const Hit *hit, Surface *out);
  * time), the map read over the footprint fp (NULL: at the point): after
  * trace_surface, once the caller knows the footprint. */
 void trace_surface_bump_apply(Surface *sf, const TexFootprint *fp);
+/* sf's material as one of its own to change (Surface.local, copied from
+ * sf->mat unless it is that already), which sf->mat then names: where a
+ * hit's blend mask, Filter Glossy or the caustics setting change it. */
+static inline Material *trace_surface_local(Surface *sf)
+{
+    if (sf->mat != &sf->local)
+        sf->local = *sf->mat;
+    sf->mat = &sf->local;
+    return &sf->local;
+}
 /* (each of these three asks inline whether there is anything to do: a
  * call a hit for nothing was some 15 instructions, three a bounce) */
 static inline void trace_surface_bump(Surface *sf, const TexFootprint *fp)
