@@ -11,7 +11,7 @@ static const char *const names[SIMD_PATH_COUNT] = {"scalar", "sse", "avx2", "avx
  * which may come from several render threads at once (the path
  * integrator's first draws): each finds the same path, and the atomic
  * makes that no data race (ThreadSanitizer found one, 2026-11-29) */
-static atomic_int chosen = -1;
+atomic_int simd_chosen = -1;
 
 int simd_available(SimdPath p)
 {
@@ -63,7 +63,7 @@ int simd_force(SimdPath p)
 {
     if (!simd_available(p))
         return -1;
-    atomic_store_explicit(&chosen, (int)p, memory_order_relaxed);
+    atomic_store_explicit(&simd_chosen, (int)p, memory_order_relaxed);
     return 0;
 }
 
@@ -82,16 +82,16 @@ int simd_select(const char *name, char *msg, unsigned msg_size)
     return 0;
 }
 
-SimdPath simd_path(void)
+SimdPath simd_path_pick(void)
 {
-    int c = atomic_load_explicit(&chosen, memory_order_relaxed);
+    int c = atomic_load_explicit(&simd_chosen, memory_order_relaxed);
     if (c < 0) {
         /* an unusable LANRAY_SIMD falls back to the best path: the tools
          * check the variable themselves and say so (cli_simd) */
         const char *env = getenv("LANRAY_SIMD");
         SimdPath p;
         c = env && simd_parse(env, &p) == 0 && simd_available(p) ? (int)p : (int)simd_best();
-        atomic_store_explicit(&chosen, c, memory_order_relaxed);
+        atomic_store_explicit(&simd_chosen, c, memory_order_relaxed);
     }
     return (SimdPath)c;
 }

@@ -107,6 +107,12 @@ static inline __attribute__((always_inline)) int bvh4_walk_step(Bvh4Walk *s, con
         const Bvh4Node *n = &t->nodes[s->e.child];
         __m128 lo;
         const int mask = bvh4_node_hit(n, &s->k, *s->tmax, &lo);
+        if (mask && !(mask & (mask - 1))) { /* one child: entered at once, not pushed and popped (the
+                                             * 100 spheres path-traced, 2 x 2: -2.5% instructions) */
+            const int i = __builtin_ctz((unsigned)mask);
+            s->e = (Bvh4Entry){n->child[i], n->count[i], 0};
+            return 1;
+        }
         assert(s->sp + 4 <= BVH4_STACK);
         bvh4_push(n, mask, lo, s->stack, &s->sp);
     }
@@ -170,6 +176,11 @@ static inline __attribute__((always_inline)) int bvh4_any(const Bvh4 *t, const R
             const Bvh4Node *n = &t->nodes[e.child];
             __m128 lo;
             const int mask = bvh4_node_hit(n, &k, tmax, &lo);
+            if (mask && !(mask & (mask - 1))) { /* one child: entered at once (bvh4_walk_step) */
+                const int i = __builtin_ctz((unsigned)mask);
+                e = (Bvh4Entry){n->child[i], n->count[i], 0};
+                continue;
+            }
             assert(sp + 4 <= BVH4_STACK);
             bvh4_push(n, mask, lo, stack, &sp);
         }

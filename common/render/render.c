@@ -144,6 +144,7 @@ static int cancelled(const Frame *f) { return f->cancel && atomic_load_explicit(
 typedef struct {
     const real *xs, *ys;
     const uint32_t *pos;
+    const uint32_t *keys; /* each position's pixel's key (pixel_key), or NULL: made from xs, ys */
     uint32_t per_pixel;
     real step;
     int n;
@@ -168,7 +169,8 @@ static const SampleId *sample_ids(const Frame *f, const Samples *sm, SampleId *i
     for (int i = 0; i < sm->n; i++) {
         ids[i] = f->w->view.settings.sampling == SAMPLING_PRODUCT
                      ? (SampleId){.key = sample_seed(sm->xs[i], sm->ys[i]), .index = 0, .count = 1}
-                     : (SampleId){.key = pixel_key(sm->xs[i], sm->ys[i]), .index = sm->pos ? sm->pos[i] : 0,
+                     : (SampleId){.key = sm->keys ? sm->keys[i] : pixel_key(sm->xs[i], sm->ys[i]),
+                                  .index = sm->pos ? sm->pos[i] : 0,
                                   .count = sm->per_pixel};
         if (sm->probe) {
             ids[i].probe = 1;
@@ -460,6 +462,7 @@ typedef struct {
     real inv; /* 1 / n */
     real xs[TRACE_PACKET], ys[TRACE_PACKET];
     uint32_t pos[TRACE_PACKET];
+    uint32_t key[TRACE_PACKET]; /* the samples' pixels' keys, made once a pixel (some 45 instructions) */
     int slot[TRACE_PACKET], m;
     vec3 sum[GRID_SLOTS];
     Guide gsum[GRID_SLOTS]; /* where guided */
@@ -516,7 +519,7 @@ static void grid_flush(GridBatch *g)
     vec3 c[TRACE_PACKET];
     Guide gd[TRACE_PACKET];
     const int guided = g->f->guided;
-    Samples sm = {.xs = g->xs, .ys = g->ys, .pos = g->pos, .per_pixel = (uint32_t)(g->n * g->n), .step = g->inv,
+    Samples sm = {.xs = g->xs, .ys = g->ys, .pos = g->pos, .keys = g->key, .per_pixel = (uint32_t)(g->n * g->n), .step = g->inv,
                   .n = g->m};
     sample_packet(g->f, &sm, c, g->st, NULL, guided ? gd : NULL);
     if (g->f->prog_m) {
@@ -546,12 +549,14 @@ static void grid_add(GridBatch *g, int px, int py, uint8_t *dst)
     g->gsum[s] = guide_none(v3_splat(R(0)));
     g->dst[s] = dst;
     g->left[s] = n * n;
+    const uint32_t key = pixel_key((real)px, (real)py); /* each sample's floor is the pixel (n <= 32) */
     for (int j = 0; j < n; j++)
         for (int i = 0; i < n; i++) {
             const int k = g->m++;
             g->xs[k] = (real)px + ((real)i + R(0.5)) * g->inv;
             g->ys[k] = (real)py + ((real)j + R(0.5)) * g->inv;
             g->pos[k] = (uint32_t)(j * n + i);
+            g->key[k] = key;
             g->slot[k] = s;
             if (g->m == TRACE_PACKET)
                 grid_flush(g);
@@ -574,7 +579,8 @@ static void grid_add_batches(GridBatch *g, int px, int py, uint8_t *dst)
     memset(g->total[s], 0, sizeof g->total[s]);
     g->dst[s] = dst;
     g->left[s] = (int)(f->s1 - f->s0);
-    const SampleSobol q = sample_grid_seq(pixel_key((real)px, (real)py));
+    const uint32_t key = pixel_key((real)px, (real)py);
+    const SampleSobol q = sample_grid_seq(key);
     uint32_t ci[GRID_CELLS], cj[GRID_CELLS];
     for (uint32_t n = f->s0; n < f->s1; n++) {
         const uint32_t c = (n - f->s0) % GRID_CELLS;
@@ -584,6 +590,7 @@ static void grid_add_batches(GridBatch *g, int px, int py, uint8_t *dst)
         g->xs[k] = (real)px + ((real)ci[c] + R(0.5)) * g->inv;
         g->ys[k] = (real)py + ((real)cj[c] + R(0.5)) * g->inv;
         g->pos[k] = n;
+        g->key[k] = key;
         g->slot[k] = s;
         g->last[k] = (uint8_t)(progressive_last(n) || n + 1 == f->s1);
         if (g->m == TRACE_PACKET)

@@ -13,9 +13,15 @@ int lobes_make(Lobes *lb, const LobeColours *c, vec3 n, vec3 d)
                wr = v3_max_comp(km), sum = wd + wg + wm + wc + wr;
     if (!(sum > R(0)))
         return 0;
-    *lb = (Lobes){.kd = c->kd, .ks = c->ks, .kr = c->kr, .shininess = c->shininess, .kc = wc, .coat_alpha = c->coat_alpha,
-                  .km = c->km, .alpha = c->alpha, .kme = c->kme, .edged = edged, .pd = wd / sum, .pg = wg / sum,
-                  .pc = wc / sum, .pr = wr / sum, .pm = wm / sum, .n = n, .wo = v3_neg(d), .r = v3_reflect(d, n)};
+    /* field by field: a compound literal cleared the whole struct first
+     * (a string store, its start-up in every bounce) and wrote it again */
+    lb->kd = c->kd, lb->ks = c->ks, lb->kr = c->kr, lb->shininess = c->shininess;
+    lb->kc = wc, lb->coat_alpha = c->coat_alpha, lb->km = c->km, lb->alpha = c->alpha, lb->kme = c->kme;
+    lb->edged = edged;
+    lb->pd = wd / sum, lb->pg = wg / sum, lb->pc = wc / sum, lb->pr = wr / sum, lb->pm = wm / sum;
+    lb->n = n, lb->wo = v3_neg(d), lb->r = v3_reflect(d, n);
+    lb->nv = v3_splat(R(0)), lb->bumped = 0;
+    lb->frost = lb->frost_wt = lb->frost_refl = R(0);
     return 1;
 }
 
