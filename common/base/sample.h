@@ -13,6 +13,7 @@
 #include <stdint.h>
 #include <string.h>
 
+#include "base/dmath.h"
 #include "base/real.h"
 #include "base/vec.h"
 
@@ -195,7 +196,9 @@ static inline void sample_grid_cell(const SampleSobol *q, uint32_t index, int m,
 static inline vec3 sample_sphere(real u, real v)
 {
     real z = R(1) - R(2) * u, phi = R(2) * REAL_PI * v, rr = sqrt(real_max(R(0), R(1) - z * z));
-    return v3(rr * cos(phi), rr * sin(phi), z);
+    real sp, cp;
+    dmath_sincosr(phi, &sp, &cp);
+    return v3(rr * cp, rr * sp, z);
 }
 
 /* sin and cos of |a| <= pi/4 by Cephes' minimax polynomials of sinf and

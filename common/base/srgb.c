@@ -1,6 +1,8 @@
 /* srgb.c - see srgb.h. */
 #include "base/srgb.h"
 
+#include "base/dmath.h"
+
 #include <math.h>
 
 double srgb_decode(double s)
@@ -9,7 +11,7 @@ double srgb_decode(double s)
         return 0;
     if (s >= 1)
         return 1;
-    return s <= 0.04045 ? s / 12.92 : pow((s + 0.055) / 1.055, 2.4);
+    return s <= 0.04045 ? s / 12.92 : dmath_pow((s + 0.055) / 1.055, 2.4);
 }
 
 void srgb_from_rgbe(const uint8_t *rgbe, size_t n, double gain, uint8_t *rgb)

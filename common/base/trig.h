@@ -10,12 +10,15 @@
  * client (glibc 2.36 takes sincosf's FMA variant where the CPU has FMA).
  * These are plain arithmetic (no contraction: -ffp-contract=off), the
  * same bits everywhere: atan2 within 3e-7 of the true value, relative,
- * the sine and cosine within 2e-7 (tests/test_trig.c). */
+ * the sine and cosine within 2e-7 (tests/test_trig.c); the double build's
+ * sine and cosine are dmath.h's, its atan2 the library's (which glibc
+ * does not vary by the CPU). */
 #ifndef LANRAY_TRIG_H
 #define LANRAY_TRIG_H
 
 #include <math.h>
 
+#include "base/dmath.h"
 #include "base/real.h"
 #include "base/sample.h"
 
@@ -53,10 +56,10 @@ static inline real trig_atan2(real y, real x)
 static inline void trig_sincos(real a, real *s, real *c)
 {
 #ifdef LANRAY_DOUBLE
-    *s = sin(a), *c = cos(a);
+    dmath_sincosr(a, s, c);
 #else
-    if (!(fabsf(a) < 8192.0f)) { /* NaNs, infinities, far turns: the library's */
-        *s = sinf(a), *c = cosf(a);
+    if (!(fabsf(a) < 8192.0f)) { /* NaNs, infinities, far turns: in double (dmath.h) */
+        dmath_sincosr(a, s, c);
         return;
     }
     const int ki = (int)lrintf(a * 0.6366197723675814f); /* the nearest quadrant: one conversion */

@@ -1,12 +1,15 @@
 /* vec.c - the few vector routines too large to inline. */
 #include "base/vec.h"
 
+#include "base/dmath.h"
+
 mat3 m3_rotation_xyz(vec3 deg)
 {
     real k = REAL_PI / R(180);
-    real cx = cos(deg.x * k), sx = sin(deg.x * k);
-    real cy = cos(deg.y * k), sy = sin(deg.y * k);
-    real cz = cos(deg.z * k), sz = sin(deg.z * k);
+    real cx, sx, cy, sy, cz, sz;
+    dmath_sincosr(deg.x * k, &sx, &cx);
+    dmath_sincosr(deg.y * k, &sy, &cy);
+    dmath_sincosr(deg.z * k, &sz, &cz);
     /* Rz * Ry * Rx */
     mat3 m;
     m.r[0] = v3(cz * cy, cz * sy * sx - sz * cx, cz * sy * cx + sz * sx);

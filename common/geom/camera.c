@@ -1,6 +1,8 @@
 /* camera.c - camera orientation and per-frame ray constants. */
 #include "geom/camera.h"
 
+#include "base/dmath.h"
+
 #include "base/sample.h"
 
 static const real DEG = REAL_PI / R(180);
@@ -25,17 +27,19 @@ int camera_look_at(Camera *c, vec3 pos, vec3 target, real roll, real zoom)
     return 0;
 }
 
-real camera_zoom_for_fov(real fov) { return R(1) / tan(fov * DEG * R(0.5)); }
+real camera_zoom_for_fov(real fov) { return R(1) / dmath_tanr(fov * DEG * R(0.5)); }
 
 void camera_basis(const Camera *c, vec3 *right, vec3 *up, vec3 *forward)
 {
-    real cy = cos(c->yaw * DEG), sy = sin(c->yaw * DEG);
-    real cp = cos(c->pitch * DEG), sp = sin(c->pitch * DEG);
+    real cy, sy, cp, sp;
+    dmath_sincosr(c->yaw * DEG, &sy, &cy);
+    dmath_sincosr(c->pitch * DEG, &sp, &cp);
     vec3 f = v3(-sy * cp, sp, -cy * cp);
     /* right does not depend on pitch: no degenerate case looking straight up or down */
     vec3 r = v3(cy, R(0), -sy);
     vec3 u = v3_cross(r, f);
-    real cr = cos(c->roll * DEG), sr = sin(c->roll * DEG);
+    real cr, sr;
+    dmath_sincosr(c->roll * DEG, &sr, &cr);
     *right = v3_add(v3_scale(r, cr), v3_scale(u, sr));
     *up = v3_sub(v3_scale(u, cr), v3_scale(r, sr));
     *forward = f;
@@ -104,7 +108,7 @@ int camera_ray(const CameraFrame *f, real x, real y, vec3 *org, vec3 *dir)
         real theta = r * f->rad_per_px;
         vec3 side = r > R(0) ? v3_add(v3_scale(f->right, dx / r), v3_scale(f->up, dy / r)) : f->right;
         *org = f->org;
-        *dir = v3_norm(v3_add(v3_scale(f->forward, cos(theta)), v3_scale(side, sin(theta))));
+        *dir = v3_norm(v3_add(v3_scale(f->forward, dmath_cosr(theta)), v3_scale(side, dmath_sinr(theta))));
         return 1;
     }
     default:

@@ -5,6 +5,8 @@
  * and one where groups meet sorts its corners by (group, corner) first. */
 #include "model/smooth.h"
 
+#include "base/dmath.h"
+
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -136,7 +138,6 @@ static uint64_t position_hash(vec3 p)
     return h;
 }
 
-
 /* Each corner's vertex: the first corner at its position (open addressing). */
 static int weld(const Mesh *m, uint32_t *vertex)
 {
@@ -202,7 +203,7 @@ int mesh_smooth(Mesh *m, real crease_deg, Err *err)
         return err_set(err, "out of memory for smooth normals");
     }
     corners_by_vertex(vertex, n, n, start, list); /* a vertex is named by its first corner */
-    const real cos_crease = (real)cos((double)crease_deg * 3.14159265358979323846 / 180.0);
+    const real cos_crease = (real)dmath_cos((double)crease_deg * 3.14159265358979323846 / 180.0);
     for (size_t v = 0; v < n; v++)
         if (start[v + 1] > start[v])
             crease_vertex(m, &list[start[v]], start[v + 1] - start[v], cos_crease, nrm);

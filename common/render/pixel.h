@@ -8,6 +8,7 @@
 #include <math.h>
 #include <stdint.h>
 
+#include "base/dmath.h"
 #include "base/srgb.h"
 #include "render/denoise.h"
 #include "render/tonemap.h"
@@ -25,7 +26,7 @@ static inline uint32_t render_shown_bytes(const RenderSettings *rs)
 }
 
 /* The codes' gain: 2^exposure. */
-static inline real pixel_gain(const RenderSettings *rs) { return pow(R(2), rs->exposure); }
+static inline real pixel_gain(const RenderSettings *rs) { return dmath_powr(R(2), rs->exposure); }
 
 /* Linear light to 8-bit codes: sRGB unless linear (srgb.h: both clamp,
  * and NaN becomes 0), after the gain and the view transform (tonemap.h). */

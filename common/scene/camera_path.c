@@ -1,6 +1,8 @@
 /* camera_path.c - see camera_path.h. */
 #include "scene/camera_path.h"
 
+#include "base/dmath.h"
+
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
@@ -148,7 +150,7 @@ Camera camera_path_at(const CameraPath *p, real t)
     out.yaw = spline(a->yaw, b->yaw, c->yaw, d->yaw, u);
     out.pitch = spline(a->pitch, b->pitch, c->pitch, d->pitch, u);
     out.roll = spline(a->roll, b->roll, c->roll, d->roll, u);
-    out.zoom = b->zoom * (real)pow((double)(c->zoom / b->zoom), (double)u);
+    out.zoom = b->zoom * (real)dmath_pow((double)(c->zoom / b->zoom), (double)u);
     out.size = lerp(b->size, c->size, u);
     out.fov = lerp(b->fov, c->fov, u);
     out.aperture = lerp(b->aperture, c->aperture, u);

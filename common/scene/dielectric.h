@@ -5,6 +5,7 @@
 #ifndef LANRAY_DIELECTRIC_H
 #define LANRAY_DIELECTRIC_H
 
+#include "base/dmath.h"
 #include "scene/trace.h"
 #include "shading/ggx.h"
 #include "shading/optics.h"
@@ -51,7 +52,7 @@ static inline real dielectric_split(const World *w, const Surface *sf, vec3 d, r
 static inline vec3 dielectric_absorbed(const World *w, const Material *m, const Hit *h)
 {
     const real t = trace_absorb_t(w, h);
-    return v3(exp(-m->absorb.x * t), exp(-m->absorb.y * t), exp(-m->absorb.z * t));
+    return v3(dmath_expr(-m->absorb.x * t), dmath_expr(-m->absorb.y * t), dmath_expr(-m->absorb.z * t));
 }
 
 /* The share of the light a clear coat (material.h's `coat`) at surface sf

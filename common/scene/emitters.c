@@ -1,6 +1,8 @@
 /* emitters.c - see emitters.h. */
 #include "scene/emitters.h"
 
+#include "base/dmath.h"
+
 #include <stdlib.h>
 
 #include "base/array.h"
@@ -236,7 +238,9 @@ static int sample_ball(const Sphere *sp, vec3 p, real u, real v, EmitterSample *
         const vec3 axis = v3_scale(to, R(1) / dc);
         vec3 a, b;
         v3_frame(axis, &a, &b);
-        out->dir = v3_norm(v3_add(v3_scale(axis, cos_t), v3_add(v3_scale(a, sin_t * cos(phi)), v3_scale(b, sin_t * sin(phi)))));
+        real sphi, cphi;
+        dmath_sincosr(phi, &sphi, &cphi);
+        out->dir = v3_norm(v3_add(v3_scale(axis, cos_t), v3_add(v3_scale(a, sin_t * cphi), v3_scale(b, sin_t * sphi))));
         const real r2 = sp->radius * sp->radius;
         out->dist = dc * cos_t - sqrt(real_max(R(0), r2 - dc * dc * sin_t * sin_t));
         out->pdf = R(1) / (R(2) * REAL_PI * gap);

@@ -1,6 +1,8 @@
 /* environment.c - see environment.h. */
 #include "scene/environment.h"
 
+#include "base/dmath.h"
+
 #include <math.h>
 #include <stdlib.h>
 
@@ -49,7 +51,7 @@ static void sh_basis(double x, double y, double z, double b[9])
  * 0.6 / h^2 of it (0.2% at 16 rows: tests/test_environment.c). */
 static double texel_solid_angle(const Environment *e, uint32_t y, double rings)
 {
-    return (2.0 * PI / e->w) * (PI / e->h) * sin((y + 0.5) / e->h * PI) * (2.0 / rings);
+    return (2.0 * PI / e->w) * (PI / e->h) * dmath_sin((y + 0.5) / e->h * PI) * (2.0 / rings);
 }
 
 /* The texels' centres as directions, made once: each column's azimuth's
@@ -68,7 +70,7 @@ static vec3 grid_dir(const Grid *g, uint32_t x, double sn, double cs)
  * near its brightest texel, of light peak in direction at, and bright). */
 static int sun_texel(const real *c, vec3 dir, double peak, vec3 at)
 {
-    return texel_weight(c) >= ENV_SUN_SHARE * peak && (double)v3_dot(dir, at) >= cos(ENV_SUN_DEGREES * PI / 180.0);
+    return texel_weight(c) >= ENV_SUN_SHARE * peak && (double)v3_dot(dir, at) >= dmath_cos(ENV_SUN_DEGREES * PI / 180.0);
 }
 
 /* The sun (environment.h): its texels' light and direction, summed; 0
@@ -94,11 +96,11 @@ static int env_find_sun(Environment *e, const Grid *g, double *mean)
     if (!(peak > ENV_SUN_CONTRAST * power / (4.0 * PI)) ||
         !(e->sun_mask = calloc(((size_t)w * h + 7) / 8, 1))) /* (out of memory: no sun of its own) */
         return 0;
-    const vec3 at = grid_dir(g, px, sin((py + 0.5) / h * PI), cos((py + 0.5) / h * PI));
+    const vec3 at = grid_dir(g, px, dmath_sin((py + 0.5) / h * PI), dmath_cos((py + 0.5) / h * PI));
     double d[3] = {0, 0, 0}, s[3] = {0, 0, 0}, fill[4] = {0, 0, 0, 0};
-    const double ring = cos(2.0 * ENV_SUN_DEGREES * PI / 180.0);
+    const double ring = dmath_cos(2.0 * ENV_SUN_DEGREES * PI / 180.0);
     for (uint32_t y = 0; y < h; y++) {
-        const double dw = texel_solid_angle(e, y, g->rings), sn = sin((y + 0.5) / h * PI), cs = cos((y + 0.5) / h * PI);
+        const double dw = texel_solid_angle(e, y, g->rings), sn = dmath_sin((y + 0.5) / h * PI), cs = dmath_cos((y + 0.5) / h * PI);
         for (uint32_t x = 0; x < w; x++) {
             real c[3];
             const size_t i = (size_t)y * w + x;
@@ -163,7 +165,7 @@ static void env_tables(Environment *e, const Grid *g, double *top, double *botto
     e->rows[0] = 0.0f;
     for (uint32_t y = 0; y <= h; y++) {
         if (y < h) { /* texel row y's weights into bottom, and its harmonics */
-            const double sn = sin((y + 0.5) / h * PI), cs = cos((y + 0.5) / h * PI),
+            const double sn = dmath_sin((y + 0.5) / h * PI), cs = dmath_cos((y + 0.5) / h * PI),
                          dw = texel_solid_angle(e, y, g->rings);
             for (uint32_t x = 0; x < w; x++) {
                 real c[3];
@@ -239,10 +241,10 @@ Environment *environment_create(const Texture *t, real strength, real rotate, Er
     Grid g = {.cphi = cphi, .sphi = sphi, .rings = 0.0};
     for (uint32_t x = 0; x < e->w; x++) {
         const double phi = ((x + 0.5) / e->w - (double)e->turn - 0.5) * 2.0 * PI;
-        cphi[x] = cos(phi), sphi[x] = sin(phi);
+        cphi[x] = dmath_cos(phi), sphi[x] = dmath_sin(phi);
     }
     for (uint32_t y = 0; y < e->h; y++)
-        g.rings += sin((y + 0.5) / e->h * PI) * (PI / e->h);
+        g.rings += dmath_sin((y + 0.5) / e->h * PI) * (PI / e->h);
     env_tables(e, &g, weights, weights + e->w, acc, row_sums);
     free(acc), free(cphi), free(sphi), free(row_sums), free(weights);
     if (environment_make_levels(e, err)) {

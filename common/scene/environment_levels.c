@@ -15,6 +15,8 @@
  * frosted glass's rays read over their cones. */
 #include "scene/environment.h"
 
+#include "base/dmath.h"
+
 #include <math.h>
 #include <stdlib.h>
 
@@ -91,9 +93,9 @@ static vec3 radiance_over(const Environment *e, vec3 d, real width, int dark)
         return environment_light_at(e, u, t, dark);
     /* texels the footprint spans: across, its arc over the row's circle
      * (the cosine of the elevation, kept off 0), and down */
-    const real c = real_max(sin(t * REAL_PI), R(1) / (real)e->w);
+    const real c = real_max(dmath_sinr(t * REAL_PI), R(1) / (real)e->w);
     const real across = width * (real)e->w / (R(2) * REAL_PI * c), down = width * (real)e->h / REAL_PI;
-    const real lod = log2(real_max(across, down));
+    const real lod = dmath_log2r(real_max(across, down));
     if (!(lod > R(0))) /* magnified: the image itself, as without a footprint */
         return environment_light_at(e, u, t, dark);
     const real top = (real)(e->levels - 1);

@@ -4,6 +4,8 @@
  * shadows) without any file on disk. */
 #include "scene/scene_default.h"
 
+#include "base/dmath.h"
+
 #include <stdlib.h>
 
 int mesh_torus_knot(Mesh *m, int segments, int sides, Err *err)
@@ -21,8 +23,8 @@ int mesh_torus_knot(Mesh *m, int segments, int sides, Err *err)
         real phi = R(2) * REAL_PI * (real)i / (real)segments, h = R(1e-3);
         vec3 c[3];
         for (int k = 0; k < 3; k++) {
-            real a = phi + (real)(k - 1) * h, r = cos(Q * a) + R(2);
-            c[k] = v3(r * cos(P * a), r * sin(P * a), -sin(Q * a));
+            real a = phi + (real)(k - 1) * h, r = dmath_cosr(Q * a) + R(2);
+            c[k] = v3(r * dmath_cosr(P * a), r * dmath_sinr(P * a), -dmath_sinr(Q * a));
         }
         vec3 t = v3_norm(v3_sub(c[2], c[0]));
         vec3 acc = v3_sub(v3_add(c[2], c[0]), v3_scale(c[1], R(2)));
@@ -30,7 +32,9 @@ int mesh_torus_knot(Mesh *m, int segments, int sides, Err *err)
         vec3 n = v3_cross(b, t);
         for (int j = 0; j < sides; j++) {
             real th = R(2) * REAL_PI * (real)j / (real)sides;
-            vec3 dir = v3_add(v3_scale(n, cos(th)), v3_scale(b, sin(th)));
+            real st, ct;
+            dmath_sincosr(th, &st, &ct);
+            vec3 dir = v3_add(v3_scale(n, ct), v3_scale(b, st));
             ring[2 * (i * sides + j)] = v3_madd(c[1], dir, tube);
             ring[2 * (i * sides + j) + 1] = dir;
         }

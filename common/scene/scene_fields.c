@@ -4,6 +4,8 @@
  * alone. */
 #include "scene/scene_fields.h"
 
+#include "base/dmath.h"
+
 #include <stdio.h>
 #include <string.h>
 
@@ -316,7 +318,7 @@ int scene_fields_finish_camera(CameraSpec *sp, FieldSet given)
 {
     const FieldKind *k = &camera_kind;
     Camera c = sp->cam;
-    real zoom = R(1) / tan(R(30) * REAL_PI / R(180));
+    real zoom = R(1) / dmath_tanr(R(30) * REAL_PI / R(180));
     if (field_given(k, given, "zoom"))
         zoom = c.zoom;
     else if (field_given(k, given, "fov"))

@@ -1,6 +1,8 @@
 /* scene_gltf.c - see scene_gltf.h. */
 #include "scene/scene_gltf.h"
 
+#include "base/dmath.h"
+
 #include <math.h>
 #include <stdlib.h>
 
@@ -36,7 +38,7 @@ static int take_camera(Camera *out, const GltfCamera *c, const Place *p)
 {
     const vec3 eye = place_point(p, c->pos), fwd = place_dir(p, c->fwd), up = place_dir(p, c->up);
     const double aspect = c->aspect > 0.0 ? c->aspect : 4.0 / 3.0;
-    const real fov = (real)(2.0 * atan(tan(c->yfov * 0.5) * aspect) * 180.0 / 3.14159265358979323846);
+    const real fov = (real)(2.0 * atan2(dmath_tan(c->yfov * 0.5) * aspect, 1.0) * 180.0 / 3.14159265358979323846);
     Camera cam;
     if (!v3_is_finite(eye) ||
         camera_look_at(&cam, eye, v3_add(eye, fwd), R(0), c->ortho ? R(1) : camera_zoom_for_fov(real_min(fov, R(179)))))

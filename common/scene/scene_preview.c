@@ -1,6 +1,8 @@
 /* scene_preview.c - see scene_preview.h. */
 #include "scene/scene_preview.h"
 
+#include "base/dmath.h"
+
 #include "model/model_load.h"
 
 #include <math.h>
@@ -34,13 +36,13 @@ int scene_preview(const char *model_path, const BvhOptions *bvh, int rebuild, Sc
             r = R(1);
         /* a 40 degree lens: the bounding sphere fits the shorter (vertical,
          * at 4:3) side with a margin */
-        real fov = R(40), half_v = atan(tan(fov * R(0.5) * REAL_PI / R(180)) * R(0.75));
+        real fov = R(40), half_v = atan2(dmath_tanr(fov * R(0.5) * REAL_PI / R(180)) * R(0.75), R(1));
         /* three quarters from the front of +z, or, for a model longer
          * along z than along x (a cow or a car walking along z), from the
          * side: seen along its length it was a narrow view of its back */
         vec3 ext = v3_sub(b.max, b.min);
         vec3 dir = v3_norm(ext.z > ext.x ? v3(R(1), R(0.4), R(0.55)) : v3(R(0.55), R(0.4), R(1)));
-        vec3 eye = v3_madd(c, dir, r * R(1.1) / sin(half_v));
+        vec3 eye = v3_madd(c, dir, r * R(1.1) / dmath_sinr(half_v));
         if (camera_look_at(&s->camera, eye, c, 0, camera_zoom_for_fov(fov)))
             rc = err_set(err, "%s: cannot frame the model", model_path);
         s->background = v3(R(0.16), R(0.17), R(0.2));

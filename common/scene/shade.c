@@ -28,6 +28,8 @@
  * for: any client renders any pixel the same. */
 #include "scene/shade.h"
 
+#include "base/dmath.h"
+
 #include "scene/dielectric.h"
 #include "scene/path.h"
 #include "shading/ggx.h"
@@ -247,7 +249,7 @@ static inline __attribute__((always_inline)) void add_light(Shading *sh, vec3 L,
         real rv = v3_dot(v3_reflect(v3_neg(L), sh->sf.ns), sh->view);
         if (rv > R(0)) /* under a coat, what it lets through */
             sh->col = v3_add(sh->col, v3_scale(v3_mul(sh->sf.mat->ks, rad),
-                                               pow(rv, sh->sf.mat->shininess) * (optional ? R(1) - sh->coat : R(1))));
+                                               dmath_powr(rv, sh->sf.mat->shininess) * (optional ? R(1) - sh->coat : R(1))));
     }
     if (optional && sh->rough_metal) { /* a rough metal's: its GGX lobe, as its rays' (rough_reflection) */
         real pdf;
@@ -346,7 +348,6 @@ static inline __attribute__((always_inline)) void shade_start(const World *w, co
 
 /* Shadow rays through dielectrics: at most this many surfaces crossed. */
 #define GLASS_MAX_CROSSINGS 32
-
 
 vec3 shade_transmittance(const World *w, const Ray *sr, real tmax, const WorldLight *l, int nulls_only,
                          RayStats *stats)

@@ -3,6 +3,8 @@
  * same) and the features the inner loop asks about. */
 #include "scene/world.h"
 
+#include "base/dmath.h"
+
 #include <stdlib.h>
 #include <string.h>
 
@@ -30,7 +32,7 @@ static WorldPlane plane_derive(const Plane *p)
     vec3 n = w.unit, a = fabs(n.x) < R(0.9) ? v3(1, 0, 0) : v3(0, 0, 1);
     vec3 u = v3_norm(v3_sub(a, v3_scale(n, v3_dot(a, n))));
     vec3 v = v3_cross(n, u);
-    real r = p->uv_rotate * REAL_PI / R(180), c = cos(r), s = sin(r), k = R(1) / p->uv_scale;
+    real r = p->uv_rotate * REAL_PI / R(180), c = dmath_cosr(r), s = dmath_sinr(r), k = R(1) / p->uv_scale;
     w.tu = v3_scale(v3_add(v3_scale(u, c), v3_scale(v, s)), k);
     w.tv = v3_scale(v3_sub(v3_scale(v, c), v3_scale(u, s)), k);
     return w;
@@ -75,8 +77,8 @@ static WorldLight light_derive(const Light *l)
     if (l->kind == LIGHT_SPOT) {
         real half = l->angle * R(0.5) * REAL_PI / R(180);
         real inner = real_max(R(0), l->angle * R(0.5) - l->soft) * REAL_PI / R(180);
-        w.cos_outer = cos(half);
-        w.cos_inner = cos(inner);
+        w.cos_outer = dmath_cosr(half);
+        w.cos_inner = dmath_cosr(inner);
     }
     return w;
 }

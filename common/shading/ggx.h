@@ -13,6 +13,7 @@
 
 #include <math.h>
 
+#include "base/dmath.h"
 #include "base/vec.h"
 #include "shading/material.h"
 #include "shading/optics.h"
@@ -65,7 +66,9 @@ static inline vec3 ggx_visible_normal(vec3 n, vec3 wo, real alpha, real u, real 
     const vec3 t1 = l2 > R(0) ? v3_scale(v3(-vh.y, vh.x, R(0)), R(1) / sqrt(l2)) : v3(R(1), R(0), R(0));
     const vec3 t2 = v3_cross(vh, t1);
     const real r = sqrt(u), phi = R(2) * REAL_PI * v, s = R(0.5) * (R(1) + vh.z);
-    const real p1 = r * cos(phi), p2r = r * sin(phi);
+    real sp, cp;
+    dmath_sincosr(phi, &sp, &cp);
+    const real p1 = r * cp, p2r = r * sp;
     const real p2 = (R(1) - s) * sqrt(real_max(R(0), R(1) - p1 * p1)) + s * p2r;
     const real p3 = sqrt(real_max(R(0), R(1) - p1 * p1 - p2 * p2));
     const vec3 nh = v3_add(v3_add(v3_scale(t1, p1), v3_scale(t2, p2)), v3_scale(vh, p3));

@@ -1,6 +1,8 @@
 /* lobes.c - see lobes.h. */
 #include "shading/lobes.h"
 
+#include "base/dmath.h"
+
 #include "base/sample.h"
 #include "shading/ggx.h"
 
@@ -29,7 +31,7 @@ int lobes_make(Lobes *lb, const LobeColours *c, vec3 n, vec3 d)
 static real glossy_power(const Lobes *lb, vec3 wi, real s)
 {
     const real ca = v3_dot(wi, lb->r);
-    return ca > R(0) ? pow(ca, s) : R(0);
+    return ca > R(0) ? dmath_powr(ca, s) : R(0);
 }
 
 vec3 lobes_eval(const Lobes *lb, vec3 wi, real *pdf)
@@ -84,9 +86,11 @@ vec3 lobes_sample_smooth(const Lobes *lb, real pick, real u, real v)
     }
     if (at < lb->pd + lb->pg || !(lb->pc + lb->pr > R(0))) {
         /* the highlight's cos^s about the mirror direction: cos a = u^(1 / (s + 1)) */
-        const real s = lb->shininess, z = pow(u, R(1) / (s + R(1))), rho = sqrt(real_max(R(0), R(1) - z * z));
+        const real s = lb->shininess, z = dmath_powr(u, R(1) / (s + R(1))), rho = sqrt(real_max(R(0), R(1) - z * z));
         const real phi = R(2) * REAL_PI * v;
-        return in_frame(lb->r, rho * cos(phi), rho * sin(phi), z);
+        real sp, cp;
+        dmath_sincosr(phi, &sp, &cp);
+        return in_frame(lb->r, rho * cp, rho * sp, z);
     }
     /* a visible normal of the coat's or the metal's facets (shading/ggx.h) */
     const int coat = lb->pr > R(0) ? at < lb->pd + lb->pg + lb->pc : 1;
