@@ -3,7 +3,7 @@
  *
  * A farm's frame must be the same bits from every client, and glibc picks
  * its variant of sinf, cosf, sincosf, expf and powf (and of the double
- * sin, cos, tan, atan) by the CPU: with FMA or without.  The two do not
+ * sin, cos, tan, atan and log2) by the CPU: with FMA or without.  The two do not
  * always agree: over all 2^32 floats (2026-12-01, glibc 2.36), expf's
  * differ on 2 inputs, sinf's on 12 and cosf's on 22 (all beyond 17 in
  * size), and powf(x, 20) on one x in (0, 1], powf(x, 1 / 2.2) on three,
@@ -13,11 +13,11 @@
  * every machine computes them alike.  In double, so that a float rounded
  * from them is nearly always the correctly rounded one: the float build's
  * pictures stay what the library's functions gave them but for such
- * inputs.  Accuracy: sine and cosine within 2 units of the last place of
- * a double for |x| below 10^6 (farther, a deterministic reduction and
- * less accuracy), log2 within 4e-16 absolute on [0.5, 2], exp2 and exp
- * within 3 units, pow within (4 + |y| + |y log2 x|) 3e-16 relative where the
- * result is a normal double (tests/test_dmath.c). */
+ * inputs.  Accuracy: sine and cosine within 4e-16 (absolute) for |x|
+ * below 10^6 (farther, a deterministic reduction and less accuracy), log2
+ * within 4e-16 absolute on [0.5, 2], exp2 and exp within 3 units of the
+ * last place, pow within (4 + |y| + |y log2 x|) 3e-16 relative, where the
+ * results are normal doubles (tests/test_dmath.c). */
 #ifndef LANRAY_DMATH_H
 #define LANRAY_DMATH_H
 

@@ -25,4 +25,6 @@ for scene in "" models/example.scene; do
     awk -v r="$rmse" 'BEGIN { exit !(r + 0 < 3) }' ||
         fail "${scene:-the default scene}: double and float pictures differ by RMSE $rmse"
 done
-echo "double: the double build compiles and renders the default scene and the example as the float build (RMSE under 3)"
+# its maths the same on every CPU, as the float build's (simd.sh)
+nlib=$(bash tests/tools/libm-imports.sh "$dir/bin/lanray-render") || fail "$nlib"
+echo "double: the double build compiles and renders the default scene and the example as the float build (RMSE under 3); of libm it calls only exact or CPU-independent functions ($nlib)"

@@ -68,24 +68,6 @@ for job in "whitted|--aa 2" "path|--integrator path --aa 2" "sky|$dir/environmen
 done
 # ... and the renderer and the client call none of the C library's
 # functions that glibc picks by the CPU and that were found to differ
-# (sinf, cosf, sincosf, expf, powf; the double sin, cos, tan, atan, log2:
-# docs/renderer.md, "Arithmetic the same on every machine"): base/dmath.h
-# has its own.  Of libm they may call only exact operations and these,
-# each without variants or checked on every float (logf, log2f, tanf).
-exact="fabs fabsf copysign copysignf floor floorf ceil ceilf rint rintf lrint lrintf trunc truncf fmod fmodf"
-exact="$exact remainder remainderf frexp frexpf ldexp ldexpf nextafter nextafterf fmax fmaxf fmin fminf sqrt sqrtf"
-same="asinf acosf atanf atan2f atan2 logf log2f tanf"
-libm=$(ls /lib/*/libm.so.6 /usr/lib/*/libm.so.6 /lib64/libm.so.6 2>/dev/null | head -1)
-nlib=0
-if [ -n "$libm" ]; then
-    exports=$(nm -D --defined-only "$libm" | awk '{print $3}' | sed 's/@.*//' | sort -u)
-    for b in lanray-render lanray-client; do
-        for f in $(nm -D --undefined-only "$BIN/$b" | awk '{print $2}' | sed 's/@.*//' | sort -u | comm -12 - <(echo "$exports")); do
-            case " $exact $same " in
-            *" $f "*) nlib=$((nlib + 1)) ;;
-            *) fail "$b calls the C library's $f, whose last bit glibc may give otherwise on another CPU (base/dmath.h)" ;;
-            esac
-        done
-    done
-fi
+# (tests/tools/libm-imports.sh says which)
+nlib=$(bash tests/tools/libm-imports.sh "$BIN/lanray-render" "$BIN/lanray-client") || fail "$nlib"
 echo "simd: $n scenes byte-identical across ${paths[*]}; the C library's variants without FMA and AVX2 give the same pixels; of libm the renderer and the client call only exact or CPU-independent functions ($nlib)"
