@@ -44,19 +44,13 @@ static inline void dmath_sincos(double x, double *s, double *c)
     const double r = ((x - kd * 1.57079632673412561417e+00) - kd * 6.07710050630396597660e-11) -
                      kd * 2.02226624879595063154e-21;
     const double z = r * r;
-    const double sr =
-        r + r * z *
-                (-1.66666666666666324348e-01 +
-                 z * (8.33333333332248946124e-03 +
-                      z * (-1.98412698298579493134e-04 +
-                           z * (2.75573137070700676789e-06 + z * (-2.50507602534068634195e-08 + z * 1.58969099521155010221e-10)))));
-    const double cr =
-        1.0 - 0.5 * z +
-        z * z *
-            (4.16666666666666019037e-02 +
-             z * (-1.38888888888741095749e-03 +
-                  z * (2.48015872894767294178e-05 +
-                       z * (-2.75573143513906633035e-07 + z * (2.08757232129817482790e-09 + z * -1.13596475577881948265e-11)))));
+    double ps = 1.58969099521155010221e-10, pc = -1.13596475577881948265e-11;
+    ps = ps * z - 2.50507602534068634195e-08, pc = pc * z + 2.08757232129817482790e-09;
+    ps = ps * z + 2.75573137070700676789e-06, pc = pc * z - 2.75573143513906633035e-07;
+    ps = ps * z - 1.98412698298579493134e-04, pc = pc * z + 2.48015872894767294178e-05;
+    ps = ps * z + 8.33333333332248946124e-03, pc = pc * z - 1.38888888888741095749e-03;
+    ps = ps * z - 1.66666666666666324348e-01, pc = pc * z + 4.16666666666666019037e-02;
+    const double sr = r + r * z * ps, cr = 1.0 - 0.5 * z + z * z * pc;
     /* quadrant q turns (sr, cr) by q x 90 degrees */
     const int q = (int)(k & 3);
     const double ss = q & 1 ? cr : sr, cc = q & 1 ? sr : cr;
@@ -153,7 +147,8 @@ static inline double dmath_log2(double x)
     memcpy(&m, &b, sizeof m);
     const double c = 1.0 + ((double)i + 0.5) * 0.03125;
     const double z = (m - c) / (m + c), w = z * z;
-    return (double)e + (log2_32[i] + 2.88539008177792681472 * z * (1.0 + w * (1.0 / 3.0 + w * (0.2 + w * (1.0 / 7.0)))));
+    const double series = 1.0 + w * (1.0 / 3.0 + w * (0.2 + w * (1.0 / 7.0)));
+    return (double)e + (log2_32[i] + 2.88539008177792681472 * z * series);
 }
 
 /* x^y as the C library's pow has it at the edges (x^0 = 1, 1^y = 1, a

@@ -2,7 +2,6 @@
 #include "geom/camera.h"
 
 #include "base/dmath.h"
-
 #include "base/sample.h"
 
 static const real DEG = REAL_PI / R(180);

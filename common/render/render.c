@@ -519,8 +519,8 @@ static void grid_flush(GridBatch *g)
     vec3 c[TRACE_PACKET];
     Guide gd[TRACE_PACKET];
     const int guided = g->f->guided;
-    Samples sm = {.xs = g->xs, .ys = g->ys, .pos = g->pos, .keys = g->key, .per_pixel = (uint32_t)(g->n * g->n), .step = g->inv,
-                  .n = g->m};
+    Samples sm = {.xs = g->xs, .ys = g->ys, .pos = g->pos, .keys = g->key, .per_pixel = (uint32_t)(g->n * g->n),
+                  .step = g->inv, .n = g->m};
     sample_packet(g->f, &sm, c, g->st, NULL, guided ? gd : NULL);
     if (g->f->prog_m) {
         grid_flush_batches(g, c, guided ? gd : NULL);

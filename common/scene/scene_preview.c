@@ -2,7 +2,6 @@
 #include "scene/scene_preview.h"
 
 #include "base/dmath.h"
-
 #include "model/model_load.h"
 
 #include <math.h>

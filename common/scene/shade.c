@@ -29,7 +29,6 @@
 #include "scene/shade.h"
 
 #include "base/dmath.h"
-
 #include "scene/dielectric.h"
 #include "scene/path.h"
 #include "shading/ggx.h"

@@ -2,7 +2,6 @@
 #include "shading/lobes.h"
 
 #include "base/dmath.h"
-
 #include "base/sample.h"
 #include "shading/ggx.h"
 
