@@ -176,8 +176,7 @@ static inline double dmath_pow(double x, double y)
     return odd ? -v : v;
 }
 
-/* The same in the renderer's precision (real: float, or double in the
- * double build), rounded once from the double. */
+/* One of the two, and their quotient. */
 static inline double dmath_sin(double x)
 {
     double s, c;
@@ -199,6 +198,11 @@ static inline double dmath_tan(double x)
     return s / c;
 }
 
+/* The same in the renderer's precision (real: float, or double in the
+ * double build), rounded once from the double.  (trig_sincos, base/trig.h,
+ * is the float build's cheaper sine and cosine, within 2e-7, for the
+ * panorama's per-sample draws; these round as the C library's float
+ * functions nearly always do, so that the pictures kept their bits.) */
 static inline void dmath_sincosr(real x, real *s, real *c)
 {
     double sd, cd;

@@ -1,6 +1,7 @@
 /* trig.h - atan2, sine and cosine for what runs every sample (a
  * panorama's directions): in the float build by polynomials of lanray's
- * own, the C library's in the double build.
+ * own, in the double build the C library's atan2 and dmath.h's sine and
+ * cosine.
  *
  * The C library's sinf, cosf and atan2f were a tenth of a sky-lit
  * path-traced frame (environment_uv's two atan2f a lookup, the draws' four

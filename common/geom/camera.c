@@ -107,7 +107,9 @@ int camera_ray(const CameraFrame *f, real x, real y, vec3 *org, vec3 *dir)
         real theta = r * f->rad_per_px;
         vec3 side = r > R(0) ? v3_add(v3_scale(f->right, dx / r), v3_scale(f->up, dy / r)) : f->right;
         *org = f->org;
-        *dir = v3_norm(v3_add(v3_scale(f->forward, dmath_cosr(theta)), v3_scale(side, dmath_sinr(theta))));
+        real st, ct;
+        dmath_sincosr(theta, &st, &ct);
+        *dir = v3_norm(v3_add(v3_scale(f->forward, ct), v3_scale(side, st)));
         return 1;
     }
     default:

@@ -375,7 +375,9 @@ static void import_uv_transforms(const struct aiScene *sc)
         if (!am->mTextureCoords[0] || !mt || !gltf_material(mt, &mode) ||
             aiGetMaterialUVTransform(mt, AI_MATKEY_UVTRANSFORM(aiTextureType_DIFFUSE, 0), &t) != aiReturn_SUCCESS)
             continue;
-        const double sx = t.mScaling.x, sy = t.mScaling.y, rot = -(double)t.mRotation, c = dmath_cos(rot), s = dmath_sin(rot);
+        const double sx = t.mScaling.x, sy = t.mScaling.y;
+        double s, c;
+        dmath_sincos(-(double)t.mRotation, &s, &c);
         const double tx = t.mTranslation.x, ty = t.mTranslation.y;
         const double ox = tx - 0.5 * sx * (-c + s + 1), oy = -(ty - 0.5 * sy * (s + c - 1) - 1 + sy);
         for (unsigned v = 0; v < am->mNumVertices; v++) {

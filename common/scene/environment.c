@@ -96,11 +96,15 @@ static int env_find_sun(Environment *e, const Grid *g, double *mean)
     if (!(peak > ENV_SUN_CONTRAST * power / (4.0 * PI)) ||
         !(e->sun_mask = calloc(((size_t)w * h + 7) / 8, 1))) /* (out of memory: no sun of its own) */
         return 0;
-    const vec3 at = grid_dir(g, px, dmath_sin((py + 0.5) / h * PI), dmath_cos((py + 0.5) / h * PI));
+    double psn, pcs;
+    dmath_sincos((py + 0.5) / h * PI, &psn, &pcs);
+    const vec3 at = grid_dir(g, px, psn, pcs);
     double d[3] = {0, 0, 0}, s[3] = {0, 0, 0}, fill[4] = {0, 0, 0, 0};
     const double ring = dmath_cos(2.0 * ENV_SUN_DEGREES * PI / 180.0);
     for (uint32_t y = 0; y < h; y++) {
-        const double dw = texel_solid_angle(e, y, g->rings), sn = dmath_sin((y + 0.5) / h * PI), cs = dmath_cos((y + 0.5) / h * PI);
+        const double dw = texel_solid_angle(e, y, g->rings);
+        double sn, cs;
+        dmath_sincos((y + 0.5) / h * PI, &sn, &cs);
         for (uint32_t x = 0; x < w; x++) {
             real c[3];
             const size_t i = (size_t)y * w + x;
@@ -165,8 +169,9 @@ static void env_tables(Environment *e, const Grid *g, double *top, double *botto
     e->rows[0] = 0.0f;
     for (uint32_t y = 0; y <= h; y++) {
         if (y < h) { /* texel row y's weights into bottom, and its harmonics */
-            const double sn = dmath_sin((y + 0.5) / h * PI), cs = dmath_cos((y + 0.5) / h * PI),
-                         dw = texel_solid_angle(e, y, g->rings);
+            const double dw = texel_solid_angle(e, y, g->rings);
+            double sn, cs;
+            dmath_sincos((y + 0.5) / h * PI, &sn, &cs);
             for (uint32_t x = 0; x < w; x++) {
                 real c[3];
                 texel(e, (size_t)y * w + x, c);
@@ -241,7 +246,7 @@ Environment *environment_create(const Texture *t, real strength, real rotate, Er
     Grid g = {.cphi = cphi, .sphi = sphi, .rings = 0.0};
     for (uint32_t x = 0; x < e->w; x++) {
         const double phi = ((x + 0.5) / e->w - (double)e->turn - 0.5) * 2.0 * PI;
-        cphi[x] = dmath_cos(phi), sphi[x] = dmath_sin(phi);
+        dmath_sincos(phi, &sphi[x], &cphi[x]);
     }
     for (uint32_t y = 0; y < e->h; y++)
         g.rings += dmath_sin((y + 0.5) / e->h * PI) * (PI / e->h);

@@ -23,8 +23,12 @@ int mesh_torus_knot(Mesh *m, int segments, int sides, Err *err)
         real phi = R(2) * REAL_PI * (real)i / (real)segments, h = R(1e-3);
         vec3 c[3];
         for (int k = 0; k < 3; k++) {
-            real a = phi + (real)(k - 1) * h, r = dmath_cosr(Q * a) + R(2);
-            c[k] = v3(r * dmath_cosr(P * a), r * dmath_sinr(P * a), -dmath_sinr(Q * a));
+            const real a = phi + (real)(k - 1) * h;
+            real sq, cq, sp, cp;
+            dmath_sincosr(Q * a, &sq, &cq);
+            dmath_sincosr(P * a, &sp, &cp);
+            const real r = cq + R(2);
+            c[k] = v3(r * cp, r * sp, -sq);
         }
         vec3 t = v3_norm(v3_sub(c[2], c[0]));
         vec3 acc = v3_sub(v3_add(c[2], c[0]), v3_scale(c[1], R(2)));

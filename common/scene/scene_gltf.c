@@ -38,6 +38,7 @@ static int take_camera(Camera *out, const GltfCamera *c, const Place *p)
 {
     const vec3 eye = place_point(p, c->pos), fwd = place_dir(p, c->fwd), up = place_dir(p, c->up);
     const double aspect = c->aspect > 0.0 ? c->aspect : 4.0 / 3.0;
+    /* atan(x) as atan2(x, 1): glibc's atan is one of two variants by the CPU, its atan2 one (dmath.h) */
     const real fov = (real)(2.0 * atan2(dmath_tan(c->yfov * 0.5) * aspect, 1.0) * 180.0 / 3.14159265358979323846);
     Camera cam;
     if (!v3_is_finite(eye) ||

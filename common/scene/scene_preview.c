@@ -35,6 +35,7 @@ int scene_preview(const char *model_path, const BvhOptions *bvh, int rebuild, Sc
             r = R(1);
         /* a 40 degree lens: the bounding sphere fits the shorter (vertical,
          * at 4:3) side with a margin */
+        /* (atan as atan2(x, 1): the double build's atan varies by the CPU, scene_gltf.c) */
         real fov = R(40), half_v = atan2(dmath_tanr(fov * R(0.5) * REAL_PI / R(180)) * R(0.75), R(1));
         /* three quarters from the front of +z, or, for a model longer
          * along z than along x (a cow or a car walking along z), from the

@@ -121,10 +121,6 @@ static inline real trace_absorb_t(const World *w, const Hit *h)
     return h->t;
 }
 void trace_surface(const World *w, const Ray *r, const Hit *hit, Surface *out);
-/* Tilts sf->ns as its normal map says (nothing without one, or a second
- * time), the map read over the footprint fp (NULL: at the point): after
- * trace_surface, once the caller knows the footprint. */
-void trace_surface_bump_apply(Surface *sf, const TexFootprint *fp);
 /* sf's material as one of its own to change (Surface.local, copied from
  * sf->mat unless it is that already), which sf->mat then names: where a
  * hit's blend mask, Filter Glossy or the caustics setting change it. */
@@ -135,6 +131,10 @@ static inline Material *trace_surface_local(Surface *sf)
     sf->mat = &sf->local;
     return &sf->local;
 }
+/* Tilts sf->ns as its normal map says (nothing without one, or a second
+ * time), the map read over the footprint fp (NULL: at the point): after
+ * trace_surface, once the caller knows the footprint. */
+void trace_surface_bump_apply(Surface *sf, const TexFootprint *fp);
 /* (each of these three asks inline whether there is anything to do: a
  * call a hit for nothing was some 15 instructions, three a bounce) */
 static inline void trace_surface_bump(Surface *sf, const TexFootprint *fp)

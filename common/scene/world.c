@@ -32,7 +32,8 @@ static WorldPlane plane_derive(const Plane *p)
     vec3 n = w.unit, a = fabs(n.x) < R(0.9) ? v3(1, 0, 0) : v3(0, 0, 1);
     vec3 u = v3_norm(v3_sub(a, v3_scale(n, v3_dot(a, n))));
     vec3 v = v3_cross(n, u);
-    real r = p->uv_rotate * REAL_PI / R(180), c = dmath_cosr(r), s = dmath_sinr(r), k = R(1) / p->uv_scale;
+    real c, s, k = R(1) / p->uv_scale;
+    dmath_sincosr(p->uv_rotate * REAL_PI / R(180), &s, &c);
     w.tu = v3_scale(v3_add(v3_scale(u, c), v3_scale(v, s)), k);
     w.tv = v3_scale(v3_sub(v3_scale(v, c), v3_scale(u, s)), k);
     return w;
