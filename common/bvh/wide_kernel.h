@@ -577,7 +577,10 @@ static inline __attribute__((always_inline)) int wide_walk_start(WideWalk *s, Wi
     s->ix = VN_SET1(r->inv.x), s->iy = VN_SET1(r->inv.y), s->iz = VN_SET1(r->inv.z);
     s->fx = VN_SET1(r->inv.x * WIDE_FAR), s->fy = VN_SET1(r->inv.y * WIDE_FAR), s->fz = VN_SET1(r->inv.z * WIDE_FAR);
     s->vtmin = VN_SET1(r->tmin);
-    return !wide_ray_nan(r); /* tested last: the walk's state is made either way */
+    /* tested last, every field set either way: the fields are registers
+     * now, and GCC cannot tell that a walk that never started is never
+     * stepped (-Wmaybe-uninitialized) */
+    return !wide_ray_nan(r);
 }
 
 /* One step of KERNEL_CLOSEST's loop: a node tested and descended, or a
