@@ -67,10 +67,12 @@ static vec3 grid_dir(const Grid *g, uint32_t x, double sn, double cs)
 }
 
 /* Whether a texel of light c in direction dir is the sun's (environment.h:
- * near its brightest texel, of light peak in direction at, and bright). */
-static int sun_texel(const real *c, vec3 dir, double peak, vec3 at)
+ * near its brightest texel, of light peak in direction at, and bright;
+ * near: a cosine to at of at least cos_sun, cos(ENV_SUN_DEGREES), made
+ * once by the caller). */
+static int sun_texel(const real *c, vec3 dir, double peak, vec3 at, double cos_sun)
 {
-    return texel_weight(c) >= ENV_SUN_SHARE * peak && (double)v3_dot(dir, at) >= dmath_cos(ENV_SUN_DEGREES * PI / 180.0);
+    return texel_weight(c) >= ENV_SUN_SHARE * peak && (double)v3_dot(dir, at) >= cos_sun;
 }
 
 /* The sun (environment.h): its texels' light and direction, summed; 0
@@ -100,7 +102,7 @@ static int env_find_sun(Environment *e, const Grid *g, double *mean)
     dmath_sincos((py + 0.5) / h * PI, &psn, &pcs);
     const vec3 at = grid_dir(g, px, psn, pcs);
     double d[3] = {0, 0, 0}, s[3] = {0, 0, 0}, fill[4] = {0, 0, 0, 0};
-    const double ring = dmath_cos(2.0 * ENV_SUN_DEGREES * PI / 180.0);
+    const double cos_sun = dmath_cos(ENV_SUN_DEGREES * PI / 180.0), ring = dmath_cos(2.0 * ENV_SUN_DEGREES * PI / 180.0);
     for (uint32_t y = 0; y < h; y++) {
         const double dw = texel_solid_angle(e, y, g->rings);
         double sn, cs;
@@ -110,7 +112,7 @@ static int env_find_sun(Environment *e, const Grid *g, double *mean)
             const size_t i = (size_t)y * w + x;
             texel(e, i, c);
             const vec3 dir = grid_dir(g, x, sn, cs);
-            if (!sun_texel(c, dir, peak, at)) { /* the sky round it: what stands in for it */
+            if (!sun_texel(c, dir, peak, at, cos_sun)) { /* the sky round it: what stands in for it */
                 if ((double)v3_dot(dir, at) >= ring)
                     for (int k = 0; k < 4; k++)
                         fill[k] += (k < 3 ? (double)c[k] : 1.0) * dw;
