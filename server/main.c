@@ -165,15 +165,18 @@ static void pace_frame(App *a)
 {
     const double now = timer_now(), dt = a->last_frame_t > 0 ? now - a->last_frame_t : 0;
     a->last_frame_t = now;
-    if (server_frame_still(a->server))
+    if (server_frame_still(a->server)) {
+        pace_still(&a->pace, now);
         return;
+    }
     const int scale = server_frame_scale(a->server);
     a->scale_sum += (uint64_t)scale;
     a->scaled_frames++;
     if (dt > a->longest)
         a->longest = dt, a->longest_frame = a->frames_done;
-    if (a->pace.target > 0 && dt > 0)
-        server_set_scale(a->server, pace_update(&a->pace, dt, scale, (uint32_t)a->width, (uint32_t)a->height));
+    const int next = pace_shown(&a->pace, now, scale, (uint32_t)a->width, (uint32_t)a->height);
+    if (a->pace.target > 0)
+        server_set_scale(a->server, next);
 }
 
 /* Pixels [first, first + count) of a frame as the window shows them:

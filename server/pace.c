@@ -123,3 +123,24 @@ int pace_update(Pace *p, double seconds, int scale, uint32_t width, uint32_t hei
     p->scale = pace_scales[i];
     return p->scale;
 }
+
+int pace_shown(Pace *p, double now, int scale, uint32_t width, uint32_t height)
+{
+    if (!(p->shown_t > 0) || !(p->target > 0)) { /* the first frame shown, or no target: a period starts */
+        pace_still(p, now);
+        return p->scale;
+    }
+    p->shown_frames++;
+    const double since = now - p->shown_t;
+    if (since < 0.5 * p->target)
+        return p->scale;
+    const int n = p->shown_frames;
+    pace_still(p, now);
+    return pace_update(p, since / n, scale, width, height);
+}
+
+void pace_still(Pace *p, double now)
+{
+    p->shown_t = now;
+    p->shown_frames = 0;
+}

@@ -38,6 +38,8 @@ typedef struct {
     double t[PACE_SCALES]; /* seconds a frame at each of pace_scales (0: not measured) */
     int scale;
     int easy; /* frames in a row at scale with room to spare (PACE_FINER) that stayed there */
+    double shown_t;   /* pace_shown: when the period being measured began (0: no frame yet) */
+    int shown_frames; /* and the moving frames shown in it */
 } Pace;
 
 /* The scales a pace chooses from, finest first, in quarter steps (upscale.h). */
@@ -52,5 +54,15 @@ void pace_set_target(Pace *p, double fps);
 /* A moving frame of width x height (the full frame) rendered at `scale`
  * (quarter steps) took `seconds`: the scale for the next moving frame. */
 int pace_update(Pace *p, double seconds, int scale, uint32_t width, uint32_t height);
+/* A moving frame rendered at `scale` was shown at `now` (seconds, any
+ * clock): pace_update with the period between shows, where the frames
+ * shown less than half a target after the last update count together (a
+ * pipelined farm hands over frames in bursts, two in one wake-up of the
+ * server, the second's period a few microseconds: taken alone, a probe
+ * from the coarsest scale went to every pixel at once).  The scale for
+ * the next moving frame; without a target, p->scale (a period starts). */
+int pace_shown(Pace *p, double now, int scale, uint32_t width, uint32_t height);
+/* A still frame was shown at `now`: the next moving frame's period starts there. */
+void pace_still(Pace *p, double now);
 
 #endif
