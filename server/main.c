@@ -589,6 +589,8 @@ static int apply_overrides(Scene *scene, const Args *a, Err *err)
 static int open_scene(App *app, Args *a, Err *err)
 {
     ServerConfig *cfg = &a->cfg;
+    if (!cfg->quiet)
+        cli_show_warnings("lanray-server");
     if (cli_open_scene(a->scene_path, &a->bvh, a->force_bvh, &app->scene, err)) {
         fprintf(stderr, "lanray-server: %s\n", err->msg);
         return 1;

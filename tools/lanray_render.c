@@ -419,6 +419,8 @@ static int job_open(Job *j, Args *a, Err *err)
     a->threads = cli_threads(a->threads);
     j->bvh = bvh_options_default((BvhKind)a->bvh_kind);
     double t0 = timer_now();
+    if (!a->quiet)
+        cli_show_warnings("lanray-render");
     if (cli_open_scene(a->scene_path, &j->bvh, a->force_bvh, &j->scene, err)) {
         fprintf(stderr, "lanray-render: %s\n", err->msg);
         return 1;

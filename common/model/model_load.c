@@ -15,6 +15,14 @@ ModelFormat model_format(const char *path)
     return import_knows(path) ? MODEL_FORMAT_IMPORT : MODEL_FORMAT_UNKNOWN;
 }
 
+static void (*load_warn)(void *ctx, const char *msg);
+static void *load_warn_ctx;
+
+void model_load_warnings(void (*warn)(void *ctx, const char *msg), void *ctx)
+{
+    load_warn = warn, load_warn_ctx = ctx;
+}
+
 int model_load_knows(const char *path) { return model_format(path) != MODEL_FORMAT_UNKNOWN; }
 
 int model_load(const char *path, const BvhOptions *opt, int rebuild, int smooth, Model **out, Err *err)
@@ -23,7 +31,7 @@ int model_load(const char *path, const BvhOptions *opt, int rebuild, int smooth,
     const ModelFormat f = model_format(path);
     if (f == MODEL_FORMAT_OBJ) {
         Mesh mesh;
-        ObjOptions oo = {.smooth = smooth};
+        ObjOptions oo = {.smooth = smooth, .warn = load_warn, .warn_ctx = load_warn_ctx};
         if (obj_read(path, &oo, &mesh, NULL, err))
             return -1;
         int rc = model_from_mesh(out, &mesh, opt, err);
@@ -32,7 +40,7 @@ int model_load(const char *path, const BvhOptions *opt, int rebuild, int smooth,
     }
     if (f == MODEL_FORMAT_IMPORT) { /* PLY, STL, glTF, ... (import.h) */
         Mesh mesh;
-        ObjOptions oo = {.smooth = smooth};
+        ObjOptions oo = {.smooth = smooth, .warn = load_warn, .warn_ctx = load_warn_ctx};
         if (import_read(path, &oo, &mesh, NULL, err))
             return -1;
         int rc = model_from_mesh(out, &mesh, opt, err);

@@ -37,6 +37,17 @@ check bmp "255 0 0|0 255 0|0 0 255|255 255 255|" 0
 check placed "0 255 0|0 255 0|255 255 255|255 255 255|" 0 # -s 0.5 1 -o 0.5 0: the right half
 check missing "255 255 255|255 255 255|255 255 255|255 255 255|" 0
 grep -q "obj2tmd: warning: $D/quad-missing.obj: material 'tex': texture not read" "$dir/missing.err" || fail "missing texture warning: $(cat "$dir/missing.err")"
+# the OBJ rendered or served straight (no obj2tmd) says so too; --quiet does not
+"$BIN/lanray-render" "$D/quad-missing.obj" --width 16 --height 16 -o "$dir/straight.png" >/dev/null 2>"$dir/straight.err" ||
+    fail "render quad-missing.obj: $(cat "$dir/straight.err")"
+grep -q "^lanray-render: warning: $D/quad-missing.obj: material 'tex': texture not read" "$dir/straight.err" ||
+    fail "lanray-render's missing texture warning: $(cat "$dir/straight.err")"
+"$BIN/lanray-render" "$D/quad-missing.obj" --width 16 --height 16 -o "$dir/straight.png" --quiet >/dev/null 2>"$dir/straight.err"
+[ -s "$dir/straight.err" ] && fail "--quiet printed: $(cat "$dir/straight.err")"
+start_server served "$D/quad-missing.obj" --frames 1 --discard --width 16 --height 16
+kill "$server_pid"
+grep -q "^lanray-server: warning: $D/quad-missing.obj: material 'tex': texture not read" "$dir/served.err" ||
+    fail "lanray-server's missing texture warning: $(cat "$dir/served.err")"
 # a model moved from the machine that wrote it: absolute Windows paths to its
 # library and texture, names in another case; found by file name, textured
 "$BIN/obj2tmd" tests/data/moved/crate.obj "$dir/quad.tmd" >"$dir/moved.log" 2>"$dir/moved.err" || fail "obj2tmd moved: $(cat "$dir/moved.err")"
