@@ -284,30 +284,37 @@ static int nothing_moves(const App *a)
     return !a->animate && !flying && !server_changes_pending(a->server) && !a->pending;
 }
 
-/* Pipelined frames (--pipeline): whether frame `frame` may start before
- * the one before it is shown, that is whether its view is known now and it
- * is wanted at all. */
-static int may_start_ahead(const App *a, uint32_t frame)
+/* Whether frame `frame` is past the job: the frames asked for, or
+ * headless, the flight (and its converged frame). */
+static int past_the_job(const App *a, uint32_t frame)
 {
-    if (a->max_fps > 0 || (a->frames_wanted && frame > a->frames_wanted))
+    if (a->frames_wanted)
+        return frame > a->frames_wanted;
+    return a->path.count && a->path_final && !a->display && frame > a->path_final &&
+           (!a->refine || server_newest_converged(a->server));
+}
+
+/* Pipelined frames (--pipeline): whether the next frame may start before
+ * the one before it is shown, that is whether its view is known now. */
+static int may_start_ahead(const App *a)
+{
+    if (a->max_fps > 0)
         return 0;
-    if (a->path.count) {
-        if (a->path_step <= 0 && a->path_t0 <= 0)
-            return 0; /* the flight's clock starts when its first frame is shown */
-        if (a->path_final && !a->frames_wanted && !a->display && frame > a->path_final &&
-            (!a->refine || server_newest_converged(a->server)))
-            return 0; /* headless, the flight (and its converged frame) is the job */
-    }
+    if (a->path.count && a->path_step <= 0 && a->path_t0 <= 0)
+        return 0; /* the flight's clock starts when its first frame is shown */
     /* a window whose newest frame is still (converged): the next waits for a change */
     return !(a->display && server_newest_converged(a->server) && nothing_moves(a));
 }
 
 /* Before each frame starts: its per-frame changes (the animation's turn,
- * the camera on its path). */
+ * the camera on its path); 0 for a frame past the job, which does not
+ * start, ahead or not (a frame handed to the history's stage is not shown
+ * yet, and a tiny one after it was rendered and written before the loop
+ * saw the job done: history.sh's served flight of 3 frames wrote 4). */
 static int next_frame(void *ctx, uint32_t frame, int ahead)
 {
     App *a = ctx;
-    if (ahead && !may_start_ahead(a, frame))
+    if (past_the_job(a, frame) || (ahead && !may_start_ahead(a)))
         return 0;
     if (a->animate && frame > 1)
         server_turn_instances(a->server, (real)a->rotate);

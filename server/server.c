@@ -1353,12 +1353,9 @@ int server_step(Server *s, int timeout_ms, FrameDoneFn done, void *ctx, Err *err
         s->frames_given_way++;
         log_line(s->cfg.quiet, "lanray-server", "frame %u gave way to a change", s->frame);
     }
-    if (!s->in_frame && !s->paused && server_client_count(s) > 0) {
-        if (s->next_fn)
-            s->next_fn(s->next_ctx, s->frame + 1, 0);
-        if (start_frame(s, err))
-            return -1;
-    }
+    if (!s->in_frame && !s->paused && server_client_count(s) > 0 &&
+        (!s->next_fn || s->next_fn(s->next_ctx, s->frame + 1, 0)) && start_frame(s, err))
+        return -1;
     struct pollfd pfd[MAX_CLIENTS + 1];
     pfd[0] = (struct pollfd){s->listen_fd, POLLIN, 0};
     uint32_t n = s->nclients;

@@ -78,10 +78,9 @@ typedef void (*FrameDoneFn)(void *ctx, uint32_t frame, const uint8_t *pixels);
 
 /* Called before a frame starts (its number: frame), for the application's
  * per-frame changes (a camera path, an animation), which that frame takes.
- * `ahead`: the frame before it is not finished yet (pipelined): return 0
- * to let it wait, where its view is not known yet or it is not wanted
- * (then the call comes again later).  Without ahead the return value is
- * not looked at (server_pause holds frames back). */
+ * `ahead`: the frame before it is not finished yet (pipelined).  Return 0
+ * to let it wait, where it is not wanted or (ahead) its view is not known
+ * yet: the call comes again later. */
 typedef int (*FrameNextFn)(void *ctx, uint32_t frame, int ahead);
 
 /* Called as a still frame's segment comes, where the frame is the next to

@@ -106,6 +106,10 @@ cmp -s "$dir/p-3.png" "$dir/t-3.png" && fail "the lamp's 2 x 2 points changed no
 start_server hdr --port 0 --width $W --height $H --path "$dir/fly.path" --path-step 0.5 --wait-clients 2 --hdr \
     --out "$dir/hdr"
 serve_flight hdr 3
+# no frame starts past the flight: the last one goes to the history's stage
+# before it is shown, and a fourth started then was, now and then, done and
+# written before the server stopped (4 frames where 3 were asked)
+grep -q "^frames started 3;" "$dir/hdr.log" || fail "a frame past the flight started: $(grep "^frames started" "$dir/hdr.log")"
 for k in 1 2 3; do
     cmp -s "$dir/hdr/frame-0000$k.hdr" "$dir/t-$k.hdr" || fail "served RGBE frame $k is not lanray-render's"
 done
