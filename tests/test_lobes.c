@@ -35,7 +35,8 @@ static void smooth_lobes_density_integrates_to_their_share(void **state)
     /* and a clear coat's lobe and a rough metal's */
     const LobeColours c = {v3(0.5f, 0.4f, 0.3f), v3(0.3f, 0.3f, 0.3f), 20, v3(0.2f, 0.2f, 0.2f), 0.25f, 0.3f,
                            v3(0.3f, 0.2f, 0.1f), 0.6f, v3(0.4f, 0.5f, 0.6f)}; /* an edged metal */
-    assert_true(lobes_make(&lb, &c, n, v3_neg(n)));
+    const vec3 d = v3_neg(n);
+    assert_true(lobes_make(&lb, &c, &n, &d));
     Rng rng = {11};
     const int N = 400000;
     double sum = 0;
@@ -77,7 +78,7 @@ static void samples_follow_the_density(void **state)
         const LobeColours c = {v3(0.6f, 0.5f, 0.4f), v3(0.4f, 0.4f, 0.4f), t == 0 ? 1 : 30 * t, v3(0, 0, 0),
                                t == 3 ? 0 : 0.3f, (real)(0.05 + 0.2 * t), t == 1 ? v3(0.5f, 0.4f, 0.3f) : v3(0, 0, 0),
                                0.4f, t == 1 ? v3(0.3f, 0.3f, 0.3f) : v3(0, 0, 0)};
-        assert_true(lobes_make(&lb, &c, n, d));
+        assert_true(lobes_make(&lb, &c, &n, &d));
         const int N = 200000;
         double sum = 0;
         for (int i = 0; i < N; i++) {
@@ -100,7 +101,8 @@ static void a_white_lambertian_weighs_one(void **state)
     Lobes lb;
     const vec3 n = v3(0, 0, 1);
     const LobeColours c = {.kd = v3(1, 1, 1), .shininess = 1};
-    assert_true(lobes_make(&lb, &c, n, v3_norm(v3(0.2f, 0.1f, -1))));
+    const vec3 d = v3_norm(v3(0.2f, 0.1f, -1));
+    assert_true(lobes_make(&lb, &c, &n, &d));
     Rng rng = {3};
     for (int i = 0; i < 10000; i++) {
         const vec3 wi = lobes_sample_smooth(&lb, rng_real(&rng, 0, 1), rng_real(&rng, 0, 1), rng_real(&rng, 0, 1));
@@ -125,7 +127,8 @@ static void lobe_albedo(const LobeColours *c, double deg, double *by_samples, do
     const double th = deg * TWO_PI / 360;
     const vec3 wo = v3_norm(v3_add(v3_scale(n, (real)cos(th)), v3_scale(t, (real)sin(th))));
     Lobes lb;
-    assert_true(lobes_make(&lb, c, n, v3_neg(wo)));
+    const vec3 d = v3_neg(wo);
+    assert_true(lobes_make(&lb, c, &n, &d));
     assert_true(lb.pr == 1);
     Rng rng = {17};
     const int N = 400000;

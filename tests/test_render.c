@@ -640,7 +640,7 @@ static void area_light_lanes_equal_scalar(void **state)
             for (int k = 0; k < n; k++) {
                 vec3 d, r;
                 real t;
-                const int got = shade_light_point(w, li, at[k], u[k], v[k], &d, &t, &r);
+                const int got = shade_light_point(w, li, &at[k], u[k], v[k], &d, &t, &r);
                 assert_int_equal(got, (int)(ok >> k & 1));
                 if (!got)
                     continue;

@@ -130,9 +130,11 @@ static inline __attribute__((always_inline)) real draw1(const Draws *d, uint32_t
  * none, except through see-through blends (material_null: unbent, so
  * the light's direction holds), times each one's transmitted colour; any
  * other dielectric stops it (its light comes by the paths). */
-static vec3 passed(const World *w, vec3 origin, vec3 dir, real tmax, const WorldLight *towards, RayStats *st)
+static vec3 passed(const World *w, const vec3 *origin, const vec3 *dir, real tmax, const WorldLight *towards,
+                   RayStats *st)
 {
-    const Ray r = ray_make(origin, dir, R(0), tmax);
+    Ray r; /* written in place: ray_make's copy stalled on store forwarding (ray_set) */
+    ray_init(&r, *origin, *dir, R(0), tmax);
     st->shadow++;
     int glass = 0;
     if (!world_has(w, FEAT_NULL) ? trace_occluded(w, &r, tmax, towards) : trace_shadow(w, &r, tmax, towards, &glass))
@@ -229,7 +231,7 @@ static vec3 direct_light(const World *w, const Surface *sf, const Lobes *lb, con
         if (world_light_is_area(&w->lights[li])) /* others have one point */
             draw2(dr, 0x100u + li, &u, &v);
         vec3 dir, rad, from;
-        if (!shade_light_point(w, li, sf->p, u, v, &dir, &dist, &rad) || !light_side(sf, lb, dir, origin, &from))
+        if (!shade_light_point(w, li, &sf->p, u, v, &dir, &dist, &rad) || !light_side(sf, lb, dir, origin, &from))
             continue;
         vec3 fc = lb ? surface_eval(w, sf, lb, dir, &pdf) : v3_splat(R(0));
         if (hl && w->lights[li].lamp_count == 0)
@@ -237,7 +239,7 @@ static vec3 direct_light(const World *w, const Surface *sf, const Lobes *lb, con
         if (!(v3_max_comp(fc) > R(0)))
             continue;
         if (world_has(w, FEAT_SHADOWS)) {
-            rad = v3_mul(rad, passed(w, from, dir, isfinite(dist) ? dist * (R(1) - R(64) * REAL_EPS) : REAL_MAX,
+            rad = v3_mul(rad, passed(w, &from, &dir, isfinite(dist) ? dist * (R(1) - R(64) * REAL_EPS) : REAL_MAX,
                                      &w->lights[li], st));
             if (!(v3_max_comp(rad) > R(0)))
                 continue;
@@ -284,7 +286,7 @@ static vec3 direct_emitters(const World *w, const Surface *sf, const Lobes *lb, 
     /* short of the point by more than the rounding of its place, so the emitter does not shadow itself */
     vec3 through = v3_splat(R(1));
     if (w->view.settings.shadows) {
-        through = passed(w, from, es.dir, es.dist * (R(1) - R(1024) * REAL_EPS), NULL, st);
+        through = passed(w, &from, &es.dir, es.dist * (R(1) - R(1024) * REAL_EPS), NULL, st);
         if (!(v3_max_comp(through) > R(0)))
             return v3_splat(R(0));
     }
@@ -310,7 +312,7 @@ static vec3 direct_environment(const World *w, const Surface *sf, const Lobes *l
         return v3_splat(R(0));
     vec3 through = v3_splat(R(1));
     if (w->view.settings.shadows) {
-        through = passed(w, from, dir, REAL_MAX, NULL, st);
+        through = passed(w, &from, &dir, REAL_MAX, NULL, st);
         if (!(v3_max_comp(through) > R(0)))
             return v3_splat(R(0));
     }
@@ -537,7 +539,7 @@ static int highlight_make(const DrawPlan *pl, const Surface *sf, vec3 ks, vec3 d
 {
     const vec3 zero = v3_splat(R(0));
     const LobeColours c = {.kd = zero, .ks = ks, .shininess = sf->mat->shininess, .kr = zero, .km = zero};
-    return v3_max_comp(ks) > R(0) && pl->lampless && lobes_make(hl, &c, sf->ns, d);
+    return v3_max_comp(ks) > R(0) && pl->lampless && lobes_make(hl, &c, &sf->ns, &d);
 }
 
 /* Light c (times the path's weight) added to the sample's; where it came
@@ -601,7 +603,7 @@ static int surface_bounce(const World *w, Path *p, const Surface *sf, vec3 kd, v
     }
     Lobes lb, hl;
     const int highlight = own && highlight_make(p->plan, sf, ks, d, &hl);
-    if (!lobes_make(&lb, &lc, sf->ns, d))
+    if (!lobes_make(&lb, &lc, &sf->ns, &d))
         return 0;
     lb.nv = sf->nv, lb.bumped = sf->bumped; /* a normal map's diffuse shadowing (lobes.h) */
     /* the shadow rays' origin, made once: a flat surface's bounce leaves from it too */

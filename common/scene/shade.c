@@ -203,8 +203,10 @@ static inline __attribute__((always_inline)) int light_at(const World *w, const 
     return light_towards(w, l, pos, p, scale, dir, dist, radiance, optional);
 }
 
-int shade_light_point(const World *w, uint32_t li, vec3 p, real u, real v, vec3 *dir, real *dist, vec3 *radiance)
+int shade_light_point(const World *w, uint32_t li, const vec3 *pp, real u, real v, vec3 *dir, real *dist,
+                      vec3 *radiance)
 {
+    const vec3 p = *pp;
     const WorldLight *l = &w->lights[li];
     DiscAxes ax = {.of = 0, .key_of = 0};
     vec3 pos = world_light_is_area(l) ? area_point(l, li, p, u, v, &ax) : l->pos;

@@ -89,11 +89,12 @@ void shade_packet_guided(const World *w, const Ray *rays, int n, vec3 *out, RayS
                          const SampleId *ids, const RayDiff *diffs, Guide *guides);
 
 /* The path integrator's next-event estimation (scene/path.c): light li's
- * radiance arriving at p from the point (u, v) of the unit square on it
+ * radiance arriving at *p from the point (u, v) of the unit square on it
  * (an area light's; other lights have one point), the whole light's
  * (no share of a pixel's budget), with its unit direction and distance; 0
- * where none arrives. */
-int shade_light_point(const World *w, uint32_t li, vec3 p, real u, real v, vec3 *dir, real *dist, vec3 *radiance);
+ * where none arrives.  (p by pointer: lobes_make says why.) */
+int shade_light_point(const World *w, uint32_t li, const vec3 *p, real u, real v, vec3 *dir, real *dist,
+                      vec3 *radiance);
 /* The same for the points of area light li at (u[k], v[k]) seen from n <=
  * TRACE_PACKET points at[k], by the lane-by-lane code a packet's shading
  * uses (each point as shade_light_point gives it: tests hold them to it);

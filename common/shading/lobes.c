@@ -5,8 +5,9 @@
 #include "base/sample.h"
 #include "shading/ggx.h"
 
-int lobes_make(Lobes *lb, const LobeColours *c, vec3 n, vec3 d)
+int lobes_make(Lobes *lb, const LobeColours *c, const vec3 *np, const vec3 *dp)
 {
+    const vec3 n = *np, d = *dp;
     const int edged = c->kme.x != R(0) || c->kme.y != R(0) || c->kme.z != R(0);
     /* an edged metal's lobe weighs as its colour seen along the normal's mirror direction */
     const vec3 km = edged ? v3_add(c->km, v3_scale(c->kme, optics_schlick_weight(-v3_dot(n, d)))) : c->km;

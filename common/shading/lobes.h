@@ -70,9 +70,13 @@ typedef struct {
     vec3 kme; /* an edged metal's rise: its colour km + kme x (1 - cos)^5 at a facet (0: none) */
 } LobeColours;
 
-/* The lobes of a surface of colours c at unit shading normal n seen along
- * unit direction d; 0 where it scatters nothing. */
-int lobes_make(Lobes *lb, const LobeColours *c, vec3 n, vec3 d);
+/* The lobes of a surface of colours c at unit shading normal *n seen along
+ * unit direction *d; 0 where it scatters nothing.  (By pointer: a vec3
+ * passed by value comes in two registers, x and y in one, z in the other,
+ * and GCC rejoined y and z through the stack, a load that spans two
+ * stores and waits for both: a third of this function's time in a
+ * path-traced Cornell box.) */
+int lobes_make(Lobes *lb, const LobeColours *c, const vec3 *n, const vec3 *d);
 
 /* Whether it has a smooth (not delta) lobe: what next-event estimation
  * serves. */
