@@ -1048,18 +1048,22 @@ vec3 trace_lifted_origin(const Surface *sf, real a)
     return trace_offset_origin(q, sf->ng, e);
 }
 
+/* Coordinate o one step further the way n points (none where n is 0). */
+static inline real offset_step(real o, real n)
+{
+    return n > R(0) ? real_next_up(o) : n < R(0) ? real_next_down(o) : o;
+}
+
 vec3 trace_offset_origin(vec3 p, vec3 n, real err)
 {
     /* distance along n that covers the error box of p: |n| . err (PBRT 3.9.5) */
     real d = err * (fabs(n.x) + fabs(n.y) + fabs(n.z));
-    vec3 o = v3_madd(p, n, d);
-    for (int a = 0; a < 3; a++) {
-        if (n.e[a] > R(0))
-            o.e[a] = real_next_up(o.e[a]);
-        else if (n.e[a] < R(0))
-            o.e[a] = real_next_down(o.e[a]);
-    }
-    return o;
+    const vec3 o = v3_madd(p, n, d);
+    /* coordinate by coordinate, not a loop over o.e[]: the loop kept o in
+     * memory, four bytes a store, and the result left as an eight-byte
+     * load across two of them, which waits for both to reach the cache
+     * (a third of this function's time, path-traced) */
+    return v3(offset_step(o.x, n.x), offset_step(o.y, n.y), offset_step(o.z, n.z));
 }
 
 /* Barycentric changes (db1, db2) of a displacement dp in the plane of the
