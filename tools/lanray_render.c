@@ -258,7 +258,7 @@ static int parse_args(Args *a, int argc, char **argv)
          .seen = &a->simd_given, .help = "traversal path (every path gives the same pixels)", .def = CLI_SIMD_DEFAULT},
         {.name = "--stats", .kind = OPT_FLAG, .dst = &a->stats,
          .help = "print the models' memory per triangle (triangles, tree, wide tree, attributes)"},
-        {.name = "--quiet", .kind = OPT_FLAG, .dst = &a->quiet, .help = "print only the timing line: no scene line, no progress"},
+        {.name = "--quiet", .kind = OPT_FLAG, .dst = &a->quiet, .help = "print only the timing line: no scene line, no progress, no warnings about the model"},
         {0},
     };
     const char *args[1] = {NULL};
