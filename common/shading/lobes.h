@@ -74,7 +74,7 @@ typedef struct {
  * unit direction *d; 0 where it scatters nothing.  (By pointer: a vec3
  * passed by value comes in two registers, x and y in one, z in the other,
  * and GCC rejoined y and z through the stack, a load that spans two
- * stores and waits for both: a third of this function's time in a
+ * stores and waits for both: two thirds of this function's samples in a
  * path-traced Cornell box.) */
 int lobes_make(Lobes *lb, const LobeColours *c, const vec3 *n, const vec3 *d);
 
