@@ -39,20 +39,9 @@ static void show_step(void *ctx, double elapsed, char *line, size_t size)
     snprintf(line, size, "%s %s (%s)", atomic_load(&s->step), atomic_load(&s->file), t);
 }
 
-/* Warnings go to standard error as they come, up to WARN_SHOWN; the
- * summary counts them all. */
-#define WARN_SHOWN 20
-static unsigned long warnings_shown;
-
-static void show_warning(void *ctx, const char *msg)
-{
-    (void)ctx;
-    if (warnings_shown < WARN_SHOWN)
-        fprintf(stderr, "obj2tmd: warning: %s\n", msg);
-    else if (warnings_shown == WARN_SHOWN)
-        fprintf(stderr, "obj2tmd: further warnings are counted in the summary\n");
-    warnings_shown++;
-}
+/* Warnings go to standard error as they come (cli_warning); the summary
+ * counts them all. */
+static CliWarnings warnings = {"obj2tmd", "further warnings are counted in the summary", 0};
 
 /* The same file, whatever the names: one device and inode. */
 static int same_file(const char *a, const char *b)
@@ -134,7 +123,8 @@ static int check_output(const char *in, const char *out)
 static int read_mesh(const Args *a, Mesh *mesh, ObjStats *st)
 {
     Err err = {{0}};
-    ObjOptions oo = {.smooth = a->smooth, .strict = a->strict, .warn = a->quiet ? NULL : show_warning};
+    ObjOptions oo = {.smooth = a->smooth, .strict = a->strict, .warn = a->quiet ? NULL : cli_warning,
+                   .warn_ctx = &warnings};
     const ModelFormat f = a->format;
     if (f == MODEL_FORMAT_UNKNOWN) { /* read as OBJ, such a file gave the OBJ reader's puzzles */
         fprintf(stderr, "obj2tmd: %s: not a model format by its name's extension; obj2tmd reads .obj, .tmd (its tree "

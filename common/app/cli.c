@@ -92,19 +92,23 @@ int cli_open_scene(const char *path, const BvhOptions *bvh, int force, Scene **o
     return scene_load(path, bvh, force, out, err);
 }
 
-static int warnings_shown;
-
-static void show_warning(void *ctx, const char *msg)
+void cli_warning(void *ctx, const char *msg)
 {
-    const char *prog = ctx;
-    if (warnings_shown < CLI_WARNINGS_SHOWN)
-        fprintf(stderr, "%s: warning: %s\n", prog, msg);
-    else if (warnings_shown == CLI_WARNINGS_SHOWN)
-        fprintf(stderr, "%s: further warnings not shown (obj2tmd MODEL counts them all)\n", prog);
-    warnings_shown++;
+    CliWarnings *w = ctx;
+    if (w->shown < CLI_WARNINGS_SHOWN)
+        fprintf(stderr, "%s: warning: %s\n", w->prog, msg);
+    else if (w->shown == CLI_WARNINGS_SHOWN)
+        fprintf(stderr, "%s: %s\n", w->prog, w->rest);
+    w->shown++;
 }
 
-void cli_show_warnings(const char *prog) { model_load_warnings(show_warning, (void *)prog); }
+static CliWarnings load_warnings;
+
+void cli_show_warnings(const char *prog)
+{
+    load_warnings = (CliWarnings){prog, "further warnings not shown (obj2tmd MODEL counts them all)", 0};
+    model_load_warnings(cli_warning, &load_warnings);
+}
 
 void cli_put_light_paths(RenderSettings *rs, const CliLightPaths *l)
 {

@@ -40,11 +40,18 @@ int cli_threads(int requested);
  * or an .obj/.tmd model, which gets a preview scene (camera framed on its
  * bounding box, two lights).  force: rebuild .tmd models with bvh. */
 int cli_open_scene(const char *path, const BvhOptions *bvh, int force, Scene **out, Err *err);
-/* The models' warnings, as cli_open_scene loads them (model_load_warnings),
- * printed as "PROG: warning: ...": the first CLI_WARNINGS_SHOWN, then one
- * line saying the rest are not (obj2tmd counts them all).  prog is a
- * string that lasts. */
+/* A model reader's warnings (ObjOptions.warn, ctx a CliWarnings) on
+ * standard error as "PROG: warning: ...": the first CLI_WARNINGS_SHOWN,
+ * then one line "PROG: REST" saying what became of the others. */
 #define CLI_WARNINGS_SHOWN 20
+typedef struct {
+    const char *prog, *rest;
+    unsigned long shown;
+} CliWarnings;
+void cli_warning(void *ctx, const char *msg);
+/* The models' warnings as cli_open_scene loads them (model_load_warnings),
+ * printed by cli_warning (the rest: obj2tmd counts them all).  prog is a
+ * string that lasts. */
 void cli_show_warnings(const char *prog);
 
 /* --environment FILE, --environment-strength S, --environment-rotate D:
