@@ -84,6 +84,8 @@ typedef struct {
     uint64_t scale_sum, scaled_frames;
     double longest;          /* the longest moving frame's time (a stutter), */
     uint32_t longest_frame;  /* and its number */
+    int scales_before[2];    /* the last two moving frames' scales in a row (0: a still frame or none) */
+    uint32_t scale_changes, scale_returns; /* a scale other than the frame before's; the one before that again */
     /* live edits: the scene file and its files watched, read again when one
      * changes; the new scene waits for the server to take it */
     Watch *watch;
@@ -159,6 +161,18 @@ static void save_frame(App *a, const uint8_t *pixels)
     count_write_failures(a, failed, &err);
 }
 
+/* The pace line's steadiness: how often a moving frame's scale differs
+ * from the frame before's, and how often it is the one before that again
+ * (the sharpness flickering). */
+static void count_scale_change(App *a, int scale)
+{
+    const int *b = a->scales_before;
+    a->scale_changes += b[1] && scale != b[1];
+    a->scale_returns += b[0] && scale != b[1] && scale == b[0];
+    a->scales_before[0] = b[1];
+    a->scales_before[1] = scale;
+}
+
 /* --target-fps: a moving frame's time (from the frame before's end) sets
  * the next moving frame's render scale; a still frame is whole anyway. */
 static void pace_frame(App *a)
@@ -167,9 +181,11 @@ static void pace_frame(App *a)
     a->last_frame_t = now;
     if (server_frame_still(a->server)) {
         pace_still(&a->pace, now);
+        a->scales_before[0] = a->scales_before[1] = 0;
         return;
     }
     const int scale = server_frame_scale(a->server);
+    count_scale_change(a, scale);
     a->scale_sum += (uint64_t)scale;
     a->scaled_frames++;
     if (dt > a->longest)
@@ -888,9 +904,11 @@ static int finish(App *app, const Args *a, int rc)
         printf("path: frames 1 to %u in %.2f s, %.2f fps while moving\n", app->path_final, app->path_t1 - app->path_t0,
                (app->path_final - 1) / (app->path_t1 - app->path_t0));
     if (app->scaled_frames && app->pace.target > 0)
-        printf("pace: target %.1f fps, mean render scale %.2f over %llu moving frames, the longest %.0f ms (frame %u)\n",
+        printf("pace: target %.1f fps, mean render scale %.2f over %llu moving frames, the longest %.0f ms (frame %u), "
+               "%u changes of scale (%u straight back)\n",
                1.0 / app->pace.target, (double)app->scale_sum / UPSCALE_ONE / (double)app->scaled_frames,
-               (unsigned long long)app->scaled_frames, app->longest * 1e3, app->longest_frame);
+               (unsigned long long)app->scaled_frames, app->longest * 1e3, app->longest_frame, app->scale_changes,
+               app->scale_returns);
     if (app->still_t > 0 && app->converged_t > 0)
         printf("path: first still frame %u, %.2f s after the last move\n", app->path_final + 1,
                app->still_t - app->path_t1);

@@ -89,6 +89,17 @@ int pace_update(Pace *p, double seconds, int scale, uint32_t width, uint32_t hei
     if (now > p->target) { /* coarser at once, as far as it takes */
         while (i < pace_scale_count - 1 && predict(p, i, width, height) > p->target)
             i++;
+        if (scale != p->scale && pace_scales[i] < p->scale)
+            return p->scale; /* in flight is coarser still (see below) */
+    } else if (scale != p->scale) {
+        /* a frame started before the last change of scale (a pipelined
+         * farm starts the next frame before this one is shown): its time
+         * counts, but the scale in flight stays until a frame rendered at
+         * it says how it fared.  Deciding from this frame as well made two
+         * chains of decisions a frame apart that alternated, the picture's
+         * sharpness flickering (4 and 4.5, 3.5 and 4.5 a frame each in the
+         * demo's flight) */
+        return p->scale;
     } else if (i > 0 && !(p->t[i - 1] > 0) && now <= PACE_PROBE * p->target) {
         /* far below the target and the finer scale never tried: try it, or
          * a finer one never tried whose time in proportion to its pixels

@@ -21,7 +21,11 @@
  * coarse scale to its end.  Going finer onto a scale never measured
  * stays where this frame's time in proportion to the pixels is at most
  * PACE_REACH times the target: a wrong prediction costs one frame of a
- * few targets, not a whole frame's time. */
+ * few targets, not a whole frame's time.  A frame rendered at another
+ * scale than the pace's (started before its last change: a pipelined
+ * farm) adds its time but moves the scale only coarser, where it missed:
+ * the frames between decisions would otherwise decide too, and the
+ * sharpness alternated frame by frame. */
 #ifndef LANRAY_PACE_H
 #define LANRAY_PACE_H
 
