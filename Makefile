@@ -168,7 +168,7 @@ $(BUILD)/tests/%: $(BUILD)/tests/%.o $(LIB)
 	$(CC) $(LDFLAGS) -o $@ $(LINK_INPUTS) -lcmocka $(LDLIBS)
 # the tests of the server's scheduler and measurements, and the packet
 # handlers' fuzz harnesses, link the archive they test
-$(BUILD)/tests/test_sched $(BUILD)/tests/test_measure $(BUILD)/tests/test_pace $(BUILD)/tests/test_upscale $(BUILD)/tests/test_framewriter $(BUILD)/tests/test_controls $(BUILD)/fuzz/replay_server: $(SERVER_LIB)
+$(BUILD)/tests/test_sched $(BUILD)/tests/test_measure $(BUILD)/tests/test_pace $(BUILD)/tests/test_framerate $(BUILD)/tests/test_upscale $(BUILD)/tests/test_framewriter $(BUILD)/tests/test_controls $(BUILD)/fuzz/replay_server: $(SERVER_LIB)
 $(BUILD)/fuzz/replay_client: $(CLIENT_LIB)
 
 # docs/scene.md's tables of keys, printed from the field tables that the

@@ -29,6 +29,7 @@
 #include "net/msg.h"
 #include "net/net.h"
 #include "net/pixcodec.h"
+#include "framerate.h"
 #include "pace.h"
 #include "server.h"
 #include "upscale.h"
@@ -60,8 +61,8 @@ typedef struct {
     int width, height;
     uint8_t *view; /* settings hdr: the RGBE frame as sRGB codes for the window */
     uint32_t frames_done, frames_wanted;
-    double last_title, fps_t0;
-    uint32_t fps_frames;
+    double last_title;
+    FrameRate rate; /* the window's frame rate */
     int screenshot;
     const char *progname;
     /* --verify: every frame compared with a reference image */
@@ -224,7 +225,7 @@ static void on_frame(void *ctx, uint32_t frame, const uint8_t *pixels)
     App *a = ctx;
     Err err;
     a->frames_done++;
-    a->fps_frames++;
+    framerate_add(&a->rate, timer_now());
     if (a->verify)
         verify_frame(a, frame, pixels);
     if (a->display) {
@@ -759,17 +760,20 @@ static void show_title(App *app)
         return;
     char title[160];
     uint32_t n = server_client_count(app->server);
-    double fps = app->fps_frames / (now - app->fps_t0);
+    const double fps = framerate_get(&app->rate, now);
+    char rate[32];
+    if (app->frames_done > 0 && server_frame_converged(app->server))
+        snprintf(rate, sizeof rate, "converged");
+    else
+        snprintf(rate, sizeof rate, "%.1f fps", fps);
     if (app->edit_error[0])
         snprintf(title, sizeof title, "lanray - error: %.130s", app->edit_error);
     else
-        snprintf(title, sizeof title, "lanray - %.1f fps - %u client%s%s", fps, n, n == 1 ? "" : "s",
+        snprintf(title, sizeof title, "lanray - %s - %u client%s%s", rate, n, n == 1 ? "" : "s",
                  n ? "" : " (waiting for clients)");
     display_title(app->display, title);
     window_panel(&app->win, fps, app->edit_error[0] ? app->edit_error : NULL);
     app->last_title = now;
-    app->fps_t0 = now;
-    app->fps_frames = 0;
 }
 
 /* Live edits: a scene file or one of its files changed (0.15 s ago, so
@@ -855,8 +859,7 @@ static int serve(App *app, const Args *a)
     app->max_fps = a->max_fps;
     server_on_next(app->server, next_frame, app);
     server_on_lines(app->server, on_lines, app);
-    app->fps_t0 = timer_now();
-    double status_t = app->fps_t0;
+    double status_t = timer_now();
     /* --wait-clients: no frame starts before that many clients have joined */
     server_pause(app->server, wait_clients > 0);
     server_set_scale(app->server, app->pace.scale);

@@ -48,10 +48,16 @@ int panel_lines(const PanelInfo *p, char out[][PANEL_LINE])
 {
     int n = 0;
 #define LINE(...) snprintf(out[n++], PANEL_LINE, __VA_ARGS__)
-    if (p->still && p->samples > 1)
-        LINE("%.1f fps  %.1f ms  still, %d samples a pixel", p->fps, p->frame_s * 1e3, p->samples); /* fits 400 pixels */
+    /* the rate, or that no frame comes until something changes */
+    char rate[24];
+    if (p->converged)
+        snprintf(rate, sizeof rate, "converged");
     else
-        LINE("%.1f fps  %.1f ms a frame  %s", p->fps, p->frame_s * 1e3, p->still ? "still" : "moving");
+        snprintf(rate, sizeof rate, "%.1f fps", p->fps);
+    if (p->still && p->samples > 1)
+        LINE("%s  %.1f ms  still, %d samples a pixel", rate, p->frame_s * 1e3, p->samples); /* fits 400 pixels */
+    else
+        LINE("%s  %.1f ms a frame  %s", rate, p->frame_s * 1e3, p->still ? "still" : "moving");
     const char *up = p->upscale_blocks ? "blocks" : "smooth";
     /* quarter steps: 1/2, 1/2.5, 1/2.75 */
     char scale[16];

@@ -13,11 +13,12 @@
 #define PANEL_MAX_CLIENTS 8 /* more are summed up in one line */
 
 typedef struct {
-    double fps, frame_s;   /* frames a second shown, the last frame's time */
+    double fps, frame_s;   /* frames a second shown (framerate.h), the last frame's time */
     double target_fps;     /* 0: none */
     int scale;             /* the last frame's render scale, in quarter steps (upscale.h; 4: every pixel) */
     int upscale_blocks;    /* frames at a scale shown in blocks, not smooth */
     int still;             /* the last frame was a still one */
+    int converged;         /* ... the converged picture: no frame comes until something changes */
     int samples;           /* ... of this many samples a pixel (a path-traced still's so far) */
     int aa, adaptive;      /* the moving frames' sampling */
     int refine, still_aa, still_adaptive;

@@ -120,6 +120,7 @@ void window_panel(Window *w, double fps, const char *error)
         PanelInfo p = {.fps = fps, .frame_s = server_last_frame_time(w->server), .target_fps = w->target_fps,
                        .scale = server_frame_scale(w->server),
                        .upscale_blocks = server_upscale(w->server) == UPSCALE_BLOCKS, .still = server_frame_still(w->server),
+                       .converged = server_frame_converged(w->server),
                        .samples = server_frame_samples(w->server),
                        .aa = rs.aa, .adaptive = rs.adaptive,
                        .light_adaptive = server_moving_lights(w->server) == LIGHTS_ADAPTIVE,

@@ -122,6 +122,14 @@ static void panel_says_what_runs(void **state)
     assert_true(has(lines, n, "moving 1x1, still adaptive 4x4"));
     assert_true(has(lines, n, "moving lights adaptive") && has(lines, n, "phong") && has(lines, n, "shadows on"));
     assert_true(has(lines, n, "moving lights adaptive [L]"));
+    /* a still picture refining, then the converged one: no rate, nothing comes */
+    p.still = 1, p.samples = 16, p.fps = 1.49, p.frame_s = 0.6716;
+    n = panel_lines(&p, lines);
+    assert_true(has(lines, n, "1.5 fps  671.6 ms  still, 16 samples a pixel"));
+    p.converged = 1;
+    n = panel_lines(&p, lines);
+    assert_true(has(lines, n, "converged  671.6 ms  still, 16 samples a pixel") && !has(lines, n, "fps  "));
+    p.still = 0, p.converged = 0, p.samples = 0, p.fps = 14.64, p.frame_s = 0.0683;
     p.moving_lights = 2; /* --moving-light-samples */
     n = panel_lines(&p, lines);
     assert_true(has(lines, n, "moving lights adaptive 2x2 [L]  phong [M]"));
