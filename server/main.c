@@ -178,7 +178,10 @@ static void count_scale_change(App *a, int scale)
  * the next moving frame's render scale; a still frame is whole anyway. */
 static void pace_frame(App *a)
 {
-    const double now = timer_now(), dt = a->last_frame_t > 0 ? now - a->last_frame_t : 0;
+    const double now = timer_now(), started = now - server_last_frame_time(a->server);
+    double dt = a->last_frame_t > 0 ? now - a->last_frame_t : 0;
+    if (a->scales_before[1] == 0 && dt > now - started) /* the first moving frame: not the wait before it */
+        dt = now - started;
     a->last_frame_t = now;
     if (server_frame_still(a->server)) {
         pace_still(&a->pace, now);
@@ -191,7 +194,7 @@ static void pace_frame(App *a)
     a->scaled_frames++;
     if (dt > a->longest)
         a->longest = dt, a->longest_frame = a->frames_done;
-    const int next = pace_shown(&a->pace, now, scale, (uint32_t)a->width, (uint32_t)a->height);
+    const int next = pace_shown(&a->pace, now, started, scale, (uint32_t)a->width, (uint32_t)a->height);
     if (a->pace.target > 0)
         server_set_scale(a->server, next);
 }

@@ -135,10 +135,21 @@ int pace_update(Pace *p, double seconds, int scale, uint32_t width, uint32_t hei
     return p->scale;
 }
 
-int pace_shown(Pace *p, double now, int scale, uint32_t width, uint32_t height)
+/* A period of moving frames starts at `now`. */
+static void period_start(Pace *p, double now)
 {
+    p->shown_t = now;
+    p->shown_frames = 0;
+    p->after_still = 0;
+}
+
+int pace_shown(Pace *p, double now, double started, int scale, uint32_t width, uint32_t height)
+{
+    if (p->after_still && started > p->shown_t)
+        p->shown_t = started;
+    p->after_still = 0;
     if (!(p->shown_t > 0) || !(p->target > 0)) { /* the first frame shown, or no target: a period starts */
-        pace_still(p, now);
+        period_start(p, now);
         return p->scale;
     }
     p->shown_frames++;
@@ -146,12 +157,12 @@ int pace_shown(Pace *p, double now, int scale, uint32_t width, uint32_t height)
     if (since < 0.5 * p->target)
         return p->scale;
     const int n = p->shown_frames;
-    pace_still(p, now);
+    period_start(p, now);
     return pace_update(p, since / n, scale, width, height);
 }
 
 void pace_still(Pace *p, double now)
 {
-    p->shown_t = now;
-    p->shown_frames = 0;
+    period_start(p, now);
+    p->after_still = 1;
 }

@@ -44,6 +44,7 @@ typedef struct {
     int easy; /* frames in a row at scale with room to spare (PACE_FINER) that stayed there */
     double shown_t;   /* pace_shown: when the period being measured began (0: no frame yet) */
     int shown_frames; /* and the moving frames shown in it */
+    int after_still;  /* the period began at a still frame (pace_still) */
 } Pace;
 
 /* The scales a pace chooses from, finest first, in quarter steps (upscale.h). */
@@ -58,15 +59,22 @@ void pace_set_target(Pace *p, double fps);
 /* A moving frame of width x height (the full frame) rendered at `scale`
  * (quarter steps) took `seconds`: the scale for the next moving frame. */
 int pace_update(Pace *p, double seconds, int scale, uint32_t width, uint32_t height);
-/* A moving frame rendered at `scale` was shown at `now` (seconds, any
- * clock): pace_update with the period between shows, where the frames
+/* A moving frame rendered at `scale`, started at `started`, was shown at
+ * `now` (seconds, one clock): pace_update with the period between shows,
+ * where the frames
  * shown less than half a target after the last update count together (a
  * pipelined farm hands over frames in bursts, two in one wake-up of the
  * server, the second's period a few microseconds: taken alone, a probe
  * from the coarsest scale went to every pixel at once).  The scale for
  * the next moving frame; without a target, p->scale (a period starts). */
-int pace_shown(Pace *p, double now, int scale, uint32_t width, uint32_t height);
-/* A still frame was shown at `now`: the next moving frame's period starts there. */
+int pace_shown(Pace *p, double now, double started, int scale, uint32_t width, uint32_t height);
+/* A still frame was shown at `now`: the next moving frame's period starts
+ * there, or where that frame was started if later (the farm idled in
+ * between: a window's converged picture waits for a move, and the seconds
+ * it waited, taken as the first moving frame's time, sent the scale to the
+ * coarsest and every finer scale's time up with it; the window then showed
+ * frames at scale 4.5 at 58 fps where 15 were asked, coming finer one
+ * scale every PACE_RETRY frames). */
 void pace_still(Pace *p, double now);
 
 #endif

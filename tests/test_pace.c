@@ -6,7 +6,8 @@
  * every pixel on times that disagree, does not alternate between two
  * scales when the frames are pipelined, comes down
  * from the coarsest in a few frames at the first move, takes frames shown
- * together (a pipelined farm's bursts) as one period, and never
+ * together (a pipelined farm's bursts) as one period, does not take a
+ * window's wait for a move as a frame's time, and never
  * leaves scale 1 without a target.  Scales in quarter steps (upscale.h:
  * Q(1), 4, is every pixel, Q(2.5) 10). */
 #include "helpers.h"
@@ -175,10 +176,10 @@ static void bursts_count_together(void **state)
     pace_init(&p, 1000);
     const int coarsest = pace_scales[pace_scale_count - 1];
     double now = 100.0;
-    int k = pace_shown(&p, now, p.scale, 96, 72);
+    int k = pace_shown(&p, now, 0, p.scale, 96, 72);
     for (int i = 0; i < 8; i++) {
         now += i % 2 ? 9e-3 : 1e-5; /* two frames in one wake-up (the first two too), 9 ms on */
-        k = pace_shown(&p, now, k, 96, 72);
+        k = pace_shown(&p, now, now - 0.03, k, 96, 72);
         assert_int_equal(k, coarsest);
     }
     /* the same periods one by one: the burst's second is a probe to every pixel */
@@ -186,13 +187,47 @@ static void bursts_count_together(void **state)
     assert_int_equal(pace_update(&p, 1e-5, coarsest, 96, 72), UPSCALE_ONE);
     /* a still frame starts a period: the next moving frame's is from it */
     pace_init(&p, 15);
-    k = pace_shown(&p, 200.0, p.scale, W, H);
-    k = pace_shown(&p, 200.040, k, W, H); /* 40 ms at the coarsest: finer */
+    k = pace_shown(&p, 200.0, 199.96, p.scale, W, H);
+    k = pace_shown(&p, 200.040, 199.99, k, W, H); /* 40 ms at the coarsest: finer */
     assert_true(k < coarsest);
     const int at = k;
     pace_still(&p, 201.0);
-    k = pace_shown(&p, 201.045, k, W, H);
+    k = pace_shown(&p, 201.045, 200.99, k, W, H);
     assert_true(k <= at); /* 45 ms from the still frame, not 1 s from the moving one before */
+}
+
+/* A window's converged picture waits for a move: the first moving frame's
+ * period starts where that frame was started, not at the still frame
+ * shown seconds before.  Taken from the still frame, a 3 s wait sent the
+ * scale to the coarsest and every finer scale's time up with it: the
+ * window showed frames at 4.5 at 58 fps where 15 were asked, coming finer
+ * one scale every PACE_RETRY frames (make demo in a window, a key held
+ * after the picture converged). */
+static void a_wait_is_not_a_frame(void **state)
+{
+    (void)state;
+    Pace p;
+    pace_init(&p, 15);
+    const double ns = 350; /* the demo's moving frames: 2.25 about 55 ms */
+    double now = 10;
+    int k = pace_shown(&p, now, now - 0.05, p.scale, W, H);
+    for (int i = 0; i < 60; i++) {
+        now += frame_time(k, ns);
+        k = pace_shown(&p, now, now - 0.05, k, W, H);
+    }
+    const int settled = k;
+    assert_true(settled <= Q(2.75));
+    pace_still(&p, now += 0.6); /* the still frames, the last converged */
+    now += 3;                   /* a wait, then a key: a moving frame started */
+    const double started = now;
+    now += frame_time(k, ns);
+    k = pace_shown(&p, now, started, k, W, H);
+    for (int i = 0; i < 10; i++) {
+        assert_true(k <= settled + 1); /* the old pace: the coarsest at once, 4.5 ten frames on */
+        now += frame_time(k, ns);
+        k = pace_shown(&p, now, now - 0.05, k, W, H);
+    }
+    assert_int_equal(k, settled);
 }
 
 /* A pipelined farm starts the next frame before this one is shown, so a
@@ -245,6 +280,7 @@ int main(void)
         cmocka_unit_test(a_slow_frame_is_forgotten),
         cmocka_unit_test(disagreeing_times_do_not_jump),
         cmocka_unit_test(bursts_count_together),
+        cmocka_unit_test(a_wait_is_not_a_frame),
         cmocka_unit_test(pipelined_frames_do_not_alternate),
         cmocka_unit_test(no_target_keeps_every_pixel),
     };
