@@ -4,7 +4,10 @@
  * it go), C frames the whole scene, Home resets the camera, Space toggles
  * the model animation, P saves a screenshot, Tab shows the panel, T /
  * Shift+T the frame-rate target, N the still quality, L the light
- * sampling, M the shading, H the shadows; Esc or Q quits.  The panel's
+ * sampling, M the shading, H the shadows, F11 fills the screen; Esc or Q
+ * quits.  The window can be resized: the frame is drawn as large as it
+ * fits, its shape kept (bars beside it), the panel at its own size.  A
+ * frame larger than the screen opens a window that fits it.  The panel's
  * text is drawn by SDL2_ttf in DejaVu Sans Mono (fonts-dejavu-core), or
  * the font LANRAY_FONT names. */
 #include "display.h"
@@ -39,6 +42,23 @@ int display_available(void)
     return (x && *x) || (wl && *wl);
 }
 
+/* A window of w x h shrunk, its shape kept, to fit the screen's usable
+ * part (less a title bar's height): a 4K frame on a smaller screen. */
+static void fit_screen(int *w, int *h)
+{
+    SDL_Rect r;
+    if (SDL_GetDisplayUsableBounds(0, &r) != 0 || r.w <= 0 || r.h <= 64)
+        return;
+    const int64_t fw = *w, fh = *h, sw = r.w, sh = r.h - 48;
+    if (fw <= sw && fh <= sh)
+        return;
+    if (fw * sh <= fh * sw) /* the height bounds it */
+        *h = (int)sh, *w = (int)((fw * sh + fh / 2) / fh);
+    else
+        *w = (int)sw, *h = (int)((fh * sw + fw / 2) / fw);
+    *w = *w > 1 ? *w : 1, *h = *h > 1 ? *h : 1;
+}
+
 Display *display_open(int w, int h, Err *err)
 {
     if (SDL_Init(SDL_INIT_VIDEO) != 0) {
@@ -54,9 +74,13 @@ Display *display_open(int w, int h, Err *err)
     d->w = w;
     d->h = h;
     d->rgb = calloc((size_t)w * h, 3);
-    d->win = SDL_CreateWindow("lanray", SDL_WINDOWPOS_CENTERED, SDL_WINDOWPOS_CENTERED, w, h, 0);
+    int ww = w, wh = h;
+    fit_screen(&ww, &wh);
+    d->win = SDL_CreateWindow("lanray", SDL_WINDOWPOS_CENTERED, SDL_WINDOWPOS_CENTERED, ww, wh, SDL_WINDOW_RESIZABLE);
     d->ren = d->win ? SDL_CreateRenderer(d->win, -1, SDL_RENDERER_SOFTWARE) : NULL;
     d->tex = d->ren ? SDL_CreateTexture(d->ren, SDL_PIXELFORMAT_RGB24, SDL_TEXTUREACCESS_STREAMING, w, h) : NULL;
+    if (d->tex) /* a frame drawn smaller or larger than it is: filtered, not every other pixel */
+        SDL_SetTextureScaleMode(d->tex, SDL_ScaleModeLinear);
     if (!d->tex || !d->rgb) {
         if (d->rgb)
             err_set(err, "SDL: %s", SDL_GetError());
@@ -92,13 +116,33 @@ void display_close(Display *d)
     SDL_Quit();
 }
 
-/* The last frame and the panel over it, to the screen. */
+/* Where the frame goes in the window: as large as it fits, its shape
+ * kept, centred (the whole window at the frame's own size). */
+static SDL_Rect frame_rect(const Display *d)
+{
+    int ow = d->w, oh = d->h;
+    SDL_GetRendererOutputSize(d->ren, &ow, &oh);
+    if (ow == d->w && oh == d->h)
+        return (SDL_Rect){0, 0, d->w, d->h};
+    /* the scale the narrower way bounds, in whole pixels */
+    int fw = ow, fh = (int)((int64_t)ow * d->h / d->w);
+    if (fh > oh)
+        fh = oh, fw = (int)((int64_t)oh * d->w / d->h);
+    fw = fw > 1 ? fw : 1, fh = fh > 1 ? fh : 1;
+    return (SDL_Rect){(ow - fw) / 2, (oh - fh) / 2, fw, fh};
+}
+
+/* The last frame and the panel over it (at its own size, at the frame's
+ * corner), to the screen. */
 static void present(Display *d)
 {
     SDL_RenderClear(d->ren);
-    SDL_RenderCopy(d->ren, d->tex, NULL, NULL);
-    if (d->panel)
-        SDL_RenderCopy(d->ren, d->panel, NULL, &d->panel_at);
+    const SDL_Rect at = frame_rect(d);
+    SDL_RenderCopy(d->ren, d->tex, NULL, &at);
+    if (d->panel) {
+        const SDL_Rect p = {at.x + d->panel_at.x, at.y + d->panel_at.y, d->panel_at.w, d->panel_at.h};
+        SDL_RenderCopy(d->ren, d->panel, NULL, &p);
+    }
     SDL_RenderPresent(d->ren);
     d->pending = 0;
     d->presented_ms = SDL_GetTicks();
@@ -235,6 +279,11 @@ static void key_down(Display *d, const SDL_KeyboardEvent *k, DisplayInput *in)
     case SDLK_h: in->toggle_shadows = 1; break;
     case SDLK_u: in->toggle_upscale = 1; break;
     case SDLK_x: in->toggle_denoise = 1; break;
+    case SDLK_F11: /* the screen filled, or the window back */
+        SDL_SetWindowFullscreen(d->win, (SDL_GetWindowFlags(d->win) & SDL_WINDOW_FULLSCREEN_DESKTOP) == SDL_WINDOW_FULLSCREEN_DESKTOP
+                                            ? 0
+                                            : SDL_WINDOW_FULLSCREEN_DESKTOP);
+        break;
     default: break;
     }
 }
@@ -246,8 +295,8 @@ void display_poll(Display *d, DisplayInput *in)
     while (SDL_PollEvent(&e)) {
         switch (e.type) {
         case SDL_QUIT: in->quit = 1; break;
-        case SDL_WINDOWEVENT: /* shown again: the last frame, drawn again (an idle window gets no new one) */
-            if (e.window.event == SDL_WINDOWEVENT_EXPOSED)
+        case SDL_WINDOWEVENT: /* shown again or resized: the last frame, drawn again (an idle window gets no new one) */
+            if (e.window.event == SDL_WINDOWEVENT_EXPOSED || e.window.event == SDL_WINDOWEVENT_SIZE_CHANGED)
                 present(d);
             else if (e.window.event == SDL_WINDOWEVENT_FOCUS_LOST && d->captured)
                 capture(d, 0);

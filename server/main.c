@@ -415,7 +415,9 @@ static const char server_about[] =
     "toggles --rotate, P saves a screenshot, Tab shows the panel (frame rate, render scale, samples,\n"
     "each client's lines/s and share, segment size), T/Shift+T the frame-rate target up/down, N the\n"
     "still quality (off, 2x2, adaptive 4x4, 4x4, path-traced on to 16x16 and 32x32), L light sampling,\n"
-    "M shading, H shadows, U a scaled frame smooth or in blocks (--upscale); Esc or Q quits.\n"
+    "M shading, H shadows, U a scaled frame smooth or in blocks (--upscale), F11 full screen; Esc or Q\n"
+    "quits.  The window resizes: the frame is drawn as large as it fits, its shape kept (a frame larger\n"
+    "than the screen opens a window that fits it).\n"
     "A scene file is followed while it runs: an edit to it or to the models and textures it names is\n"
     "read again and sent between frames; an error keeps the last good scene and is shown with its line.\n"
     "SIGUSR1 prints per-client statistics.";
