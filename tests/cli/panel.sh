@@ -13,19 +13,14 @@
 # Keys go in through XTEST (xdotool), as a user's would.
 set -u
 BIN=${BIN:-bin}
-dir=$(mktemp -d)
-pids=()
-cleanup() { for p in "${pids[@]}"; do kill "$p" 2>/dev/null; done; wait 2>/dev/null; rm -rf "$dir"; }
-trap cleanup EXIT
-fail() { echo "FAIL: $*"; tail -5 "$dir"/*.err 2>/dev/null; exit 1; }
-for t in Xvfb xwd xdotool; do command -v $t >/dev/null || fail "$t is needed (make deps installs it)"; done
+source tests/tools/xvfb-lib.sh
+window_test_begin Xvfb xwd xdotool
 
 W=480 H=360
 "$BIN/lanray-render" --width $W --height $H --aa 1 -o "$dir/phong.ppm" --quiet >/dev/null || fail "reference render"
 "$BIN/lanray-render" --width $W --height $H --aa 1 --shading diffuse -o "$dir/diffuse.ppm" --quiet >/dev/null ||
     fail "diffuse reference"
 ! cmp -s "$dir/phong.ppm" "$dir/diffuse.ppm" || fail "the two shadings give one picture: the test cannot tell them apart"
-source tests/tools/xvfb-lib.sh
 start_xvfb 800x600x24
 window_server server --width $W --height $H
 at=$(appears "$dir/phong.ppm") || fail "the frame never showed"

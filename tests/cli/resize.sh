@@ -10,16 +10,11 @@
 # corner unscaled, what a cropping window shows, is not).
 set -u
 BIN=${BIN:-bin}
-dir=$(mktemp -d)
-pids=()
-cleanup() { for p in "${pids[@]}"; do kill "$p" 2>/dev/null; done; wait 2>/dev/null; rm -rf "$dir"; }
-trap cleanup EXIT
-fail() { echo "FAIL: $*"; tail -5 "$dir"/*.err 2>/dev/null; exit 1; }
-for t in Xvfb xwd xdotool; do command -v $t >/dev/null || fail "$t is needed (make deps installs it)"; done
+source tests/tools/xvfb-lib.sh
+window_test_begin Xvfb xwd xdotool
 
 W=480 H=360 SW=400 SH=300
 "$BIN/lanray-render" --width $W --height $H --aa 1 -o "$dir/ref.ppm" --quiet >/dev/null || fail "reference render"
-source tests/tools/xvfb-lib.sh
 start_xvfb ${SW}x${SH}x24
 window_server resize --width $W --height $H --aa 1 --frames 0
 

@@ -6,16 +6,11 @@
 # as its segments come, over the frame before.
 set -u
 BIN=${BIN:-bin}
-dir=$(mktemp -d)
-pids=()
-cleanup() { for p in "${pids[@]}"; do kill "$p" 2>/dev/null; done; wait 2>/dev/null; rm -rf "$dir"; }
-trap cleanup EXIT
-fail() { echo "FAIL: $*"; tail -5 "$dir"/*.err 2>/dev/null; exit 1; }
-command -v Xvfb >/dev/null && command -v xwd >/dev/null || fail "Xvfb and xwd are needed (make deps installs them)"
+source tests/tools/xvfb-lib.sh
+window_test_begin Xvfb xwd
 
 W=240 H=160
 "$BIN/lanray-render" --width $W --height $H --aa 1 -o "$dir/ref.ppm" --quiet >/dev/null || fail "reference render"
-source tests/tools/xvfb-lib.sh
 start_xvfb 640x480x24
 # shown NAME REF.ppm SERVER-ARGS...: a server with a window and one client;
 # passes when REF appears on the X screen

@@ -1,5 +1,18 @@
-# xvfb-lib.sh - sourced by the window tests: an X server of their own and
-# a look at its screen.  Needs $dir, the pids array and fail() from the test.
+# xvfb-lib.sh - sourced by the window tests: their start (a folder, the
+# processes to end, fail()), an X server of their own and a look at its
+# screen.
+
+# window_test_begin TOOL...: $dir (a temporary folder, removed at exit),
+# the pids array (ended at exit), fail(); fails naming a TOOL missing
+window_test_begin() {
+    dir=$(mktemp -d)
+    pids=()
+    trap window_test_cleanup EXIT
+    local t
+    for t in "$@"; do command -v "$t" >/dev/null || fail "$t is needed (make deps installs it)"; done
+}
+window_test_cleanup() { for p in "${pids[@]}"; do kill "$p" 2>/dev/null; done; wait 2>/dev/null; rm -rf "$dir"; }
+fail() { echo "FAIL: $*"; tail -5 "$dir"/*.err 2>/dev/null; exit 1; }
 
 # start_xvfb WxHxD: Xvfb on a free display (it picks it: -displayfd), DISPLAY set
 start_xvfb() {
