@@ -64,6 +64,8 @@ typedef struct {
     double last_title;
     FrameRate rate; /* the window's frame rate */
     int screenshot;
+    uint8_t *shown;       /* the frame the window shows (P saves it), */
+    uint32_t shown_frame; /* and its number */
     const char *progname;
     /* --verify: every frame compared with a reference image */
     const char *verify_path;
@@ -223,24 +225,41 @@ static const uint8_t *window_rgb(App *a, const uint8_t *pixels, size_t first, si
     return out;
 }
 
+/* The frame shown, kept for P: the window's picture waits for a change
+ * once it converged, and a screenshot taken with the next frame (as it
+ * was) saved nothing until the view moved, and then a moving frame. */
+static void keep_shown(App *a, uint32_t frame, const uint8_t *pixels)
+{
+    const size_t bytes = (size_t)a->width * a->height * (a->scene->settings.hdr ? 4 : 3);
+    if (!a->shown && !(a->shown = malloc(bytes)))
+        return; /* P says so */
+    memcpy(a->shown, pixels, bytes);
+    a->shown_frame = frame;
+}
+
+/* P: the frame shown, saved now (lanray-screenshot-NNNNN.png, or .hdr). */
+static void save_screenshot(const App *a)
+{
+    char path[512];
+    Err err;
+    if (!a->shown)
+        fprintf(stderr, "lanray-server: no frame shown yet to save\n");
+    else if (write_frame(a, "lanray-screenshot", a->shown_frame, a->shown, &err, path, sizeof path))
+        fprintf(stderr, "lanray-server: %s\n", err.msg);
+    else
+        fprintf(stderr, "lanray-server: saved %s\n", path);
+}
+
 static void on_frame(void *ctx, uint32_t frame, const uint8_t *pixels)
 {
     App *a = ctx;
-    Err err;
     a->frames_done++;
     framerate_add(&a->rate, timer_now());
     if (a->verify)
         verify_frame(a, frame, pixels);
     if (a->display) {
         display_show(a->display, window_rgb(a, pixels, 0, (size_t)a->width * a->height));
-        if (a->screenshot) {
-            char path[512];
-            if (write_frame(a, "lanray-screenshot", frame, pixels, &err, path, sizeof path))
-                fprintf(stderr, "lanray-server: %s\n", err.msg);
-            else
-                fprintf(stderr, "lanray-server: saved %s\n", path);
-            a->screenshot = 0;
-        }
+        keep_shown(a, frame, pixels);
     } else if (a->out_dir) {
         save_frame(a, pixels);
     }
@@ -412,7 +431,8 @@ static const char server_about[] =
     "or writes them when headless or without a display.  In the window: W/S A/D R/F move (Shift: faster;\n"
     "the speed follows the scene's size), a mouse drag or the arrows look, V captures the mouse for\n"
     "mouse look (Esc lets it go), +/- or the wheel zoom, C frames the whole scene, Home resets, Space\n"
-    "toggles --rotate, P saves a screenshot, Tab shows the panel (frame rate, render scale, samples,\n"
+    "toggles --rotate, P saves the picture shown (lanray-screenshot-N.png, or .hdr, in the folder the\n"
+    "server runs in), Tab shows the panel (frame rate, render scale, samples,\n"
     "each client's lines/s and share, segment size), T/Shift+T the frame-rate target up/down, N the\n"
     "still quality (off, 2x2, adaptive 4x4, 4x4, path-traced on to 16x16 and 32x32), L light sampling,\n"
     "M shading, H shadows, U a scaled frame smooth or in blocks (--upscale), F11 full screen; Esc or Q\n"
@@ -587,6 +607,7 @@ static void app_close(App *a)
     framewriter_destroy(a->writer);
     free(a->verify);
     free(a->view);
+    free(a->shown);
     display_close(a->display);
     scene_destroy(a->scene);
     scene_destroy(a->pending);
@@ -888,6 +909,9 @@ static int serve(App *app, const Args *a)
             display_flush(app->display);
             if (window_poll(&app->win, &app->animate, &app->screenshot))
                 break;
+            if (app->screenshot)
+                save_screenshot(app);
+            app->screenshot = 0;
             show_title(app);
         } else if (!a->cfg.quiet) {
             show_status(app, &status_t, &status_frames);

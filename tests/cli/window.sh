@@ -3,11 +3,12 @@
 # renders, and the frame captured from the X screen equals lanray-render's;
 # with --hdr, the sRGB codes of lanray-render's .hdr (through ACES's curve
 # with --tonemap aces); a still frame shows
-# as its segments come, over the frame before.
+# as its segments come, over the frame before; P saves an idle window's
+# picture at once.
 set -u
 BIN=${BIN:-bin}
 source tests/tools/xvfb-lib.sh
-window_test_begin Xvfb xwd
+window_test_begin Xvfb xwd xdotool
 
 W=240 H=160
 "$BIN/lanray-render" --width $W --height $H --aa 1 -o "$dir/ref.ppm" --quiet >/dev/null || fail "reference render"
@@ -79,7 +80,8 @@ shown hdr-aces "$dir/aces.ppm" --hdr --tonemap aces
 # frame is lanray-render's --aa 2 picture, and no frame starts after it
 # while nothing changes (the frames started, read twice a second apart)
 "$BIN/lanray-render" --width $W --height $H --aa 2 -o "$dir/still.ppm" --quiet >/dev/null || fail "reference still"
-window_server idle --width $W --height $H --still-aa 2
+mkdir "$dir/shots"
+WINDOW_CWD=$dir/shots window_server idle --width $W --height $H --still-aa 2
 appears "$dir/still.ppm" 50 >/dev/null || fail "idle: the converged picture never showed"
 started() { kill -USR1 "$spid"; sleep 0.3; sed -n 's/^frames started \([0-9]*\);.*/\1/p' "$dir/idle.log" | tail -1; }
 n1=$(started)
@@ -89,6 +91,17 @@ kill -0 "$spid" 2>/dev/null || fail "idle: the server died of a second SIGUSR1"
 [ -n "$n1" ] && [ "$n1" = "$n2" ] || fail "idle: frames kept starting on a converged picture ($n1, then $n2)"
 [ "$n1" -le 3 ] || fail "idle: $n1 frames for a picture that converged at the second"
 echo "idle: the converged picture stays, $n1 frames started, none in the second after"
+# P saves the picture shown, at once: an idle window gets no frame to save
+# it with (P waited for the next frame, which never came)
+window_at
+xdotool mousemove $((X + W / 2)) $((Y + H / 2))
+xdotool key p
+for _ in $(seq 50); do compgen -G "$dir/shots/lanray-screenshot-*.png" >/dev/null && break; sleep 0.1; done
+shot=$(compgen -G "$dir/shots/lanray-screenshot-*.png") || fail "P: no screenshot within 5 s of an idle window ($(cat "$dir/idle.err"))"
+diff=$("$BIN/lanray-imgdiff" --csv "$shot" "$dir/still.ppm") || fail "P: cannot compare the screenshot"
+[ "${diff%%,*}" = 0 ] || fail "P: the screenshot is not the picture shown ($diff)"
+grep -q "saved lanray-screenshot-" "$dir/idle.err" || fail "P: the server did not say where it saved"
+echo "P: an idle window's picture saved at once ($(basename "$shot")), lanray-render's --aa 2"
 stop_window_server idle
 # a still frame refines on the screen as its segments come, over the frame
 # before: the round lamp's own 3 x 3 points a pixel, then 12 x 12; a

@@ -49,15 +49,17 @@ appears() { appears_any "${2:-60}" "$1"; }
 
 # window_server NAME SERVER-ARGS...: a server with a window on the X screen
 # (its output in $dir/NAME.log and NAME.err) and one client of two threads
-# (NAME-client.err); sets spid, cpid and port
+# (NAME-client.err); sets spid, cpid and port.  WINDOW_CWD: the folder the
+# server runs in (where P saves), else this one.
 window_server() {
-    local name=$1; shift
+    local name=$1 exe; shift
+    exe=$(realpath "$BIN/lanray-server")
     # under AddressSanitizer (make check-asan) without leak detection: SDL
     # opens a D-Bus connection for a window and libdbus keeps a kilobyte of
     # it to the end (its own stack, and 112 bytes more that LeakSanitizer
     # cannot place); the headless tests check the server's own leaks
-    ASAN_OPTIONS="detect_leaks=0${ASAN_OPTIONS:+:$ASAN_OPTIONS}" \
-        "$BIN/lanray-server" --port 0 "$@" >"$dir/$name.log" 2>"$dir/$name.err" &
+    (cd "${WINDOW_CWD:-.}" && ASAN_OPTIONS="detect_leaks=0${ASAN_OPTIONS:+:$ASAN_OPTIONS}" \
+        exec "$exe" --port 0 "$@") >"$dir/$name.log" 2>"$dir/$name.err" &
     spid=$!
     pids+=($spid)
     port=
