@@ -794,9 +794,10 @@ static void show_title(App *app)
         snprintf(rate, sizeof rate, "%.1f fps", fps);
     if (app->edit_error[0])
         snprintf(title, sizeof title, "lanray - error: %.130s", app->edit_error);
+    else if (n == 0) /* no rate: the last clients' falls as it waits */
+        snprintf(title, sizeof title, "lanray - waiting for clients");
     else
-        snprintf(title, sizeof title, "lanray - %s - %u client%s%s", rate, n, n == 1 ? "" : "s",
-                 n ? "" : " (waiting for clients)");
+        snprintf(title, sizeof title, "lanray - %s - %u client%s", rate, n, n == 1 ? "" : "s");
     display_title(app->display, title);
     window_panel(&app->win, fps, app->edit_error[0] ? app->edit_error : NULL);
     app->last_title = now;
