@@ -807,6 +807,18 @@ static void show_title(App *app)
  * that an editor's writes are over): the scene is read again and handed to
  * the server for the next frame; an error keeps the last good scene on
  * screen and says why, in the log and the window's title. */
+/* An edited scene's frame size that the server cannot take while it runs
+ * (its frames, the clients' buffers and the window are that size): said,
+ * not dropped without a word. */
+static void warn_size_edit(const App *app, const Args *a, const RenderSettings *rs)
+{
+    const int w = !a->width_given && rs->width ? rs->width : app->width;
+    const int h = !a->height_given && rs->height ? rs->height : app->height;
+    if (w != app->width || h != app->height)
+        fprintf(stderr, "lanray-server: %s asks for %dx%d frames; they stay %dx%d until the server is started again\n",
+                a->scene_path, w, h, app->width, app->height);
+}
+
 static void follow_edits(App *app, const Args *a)
 {
     if (app->pending && server_scene(app->server) == app->pending) { /* taken: the old one is free */
@@ -837,6 +849,7 @@ static void follow_edits(App *app, const Args *a)
     }
     if (app->display)
         window_knobs_apply(&app->win, &next->settings);
+    warn_size_edit(app, a, &next->settings);
     scene_destroy(app->pending);
     app->pending = next;
     server_set_scene(app->server, next);
