@@ -371,6 +371,7 @@ typedef struct {
     int headless, force_bvh, discard, frames, wait_clients, tail, bvh_kind, width_given, height_given;
     int warmup, stall, handshake, machine_summary, linear, hdr;
     int denoise; /* --denoise, or the first scene's settings denoise: fixed for the server's life */
+    int denoise_given;
     int integrator, integrator_given, tonemap, tonemap_given;
     CliLightPaths paths;
     CliAa aa;
@@ -451,7 +452,7 @@ static const char server_exits[] =
 
 /* The denoiser's options, and the history's before it */
 #define DENOISE_OPTS(a) \
-    {.name = "--denoise", .kind = OPT_FLAG, .dst = &(a)->denoise, \
+    {.name = "--denoise", .kind = OPT_FLAG, .dst = &(a)->denoise, .seen = &(a)->denoise_given, \
      .help = "path-traced frames filtered by what each pixel saw first (settings denoise on): clients send each " \
              "pixel's guide, 11 bytes, beside its colour; a scene that asks for it is denoised without"}, \
     {.name = "--denoise-threads", .kind = OPT_INT, .dst = &(a)->cfg.denoise_threads, .arg = "T", .lo = 0, \
@@ -807,16 +808,20 @@ static void show_title(App *app)
  * that an editor's writes are over): the scene is read again and handed to
  * the server for the next frame; an error keeps the last good scene on
  * screen and says why, in the log and the window's title. */
-/* An edited scene's frame size that the server cannot take while it runs
- * (its frames, the clients' buffers and the window are that size): said,
- * not dropped without a word. */
-static void warn_size_edit(const App *app, const Args *a, const RenderSettings *rs)
+/* What an edited scene asks that the server cannot take while it runs
+ * (rs: its settings before the command line's): the frame size (its
+ * frames, the clients' buffers and the window are that size) and denoise
+ * (the pixels' size follows it).  Said, not dropped without a word. */
+static void warn_fixed_edit(const App *app, const Args *a, const RenderSettings *rs)
 {
     const int w = !a->width_given && rs->width ? rs->width : app->width;
     const int h = !a->height_given && rs->height ? rs->height : app->height;
     if (w != app->width || h != app->height)
         fprintf(stderr, "lanray-server: %s asks for %dx%d frames; they stay %dx%d until the server is started again\n",
                 a->scene_path, w, h, app->width, app->height);
+    if (!a->denoise_given && rs->denoise != a->denoise)
+        fprintf(stderr, "lanray-server: %s asks for denoise %s; the frames stay %s until the server is started again\n",
+                a->scene_path, rs->denoise ? "on" : "off", a->denoise ? "denoised" : "raw");
 }
 
 static void follow_edits(App *app, const Args *a)
@@ -840,6 +845,7 @@ static void follow_edits(App *app, const Args *a)
         app->last_title = 0;
         return;
     }
+    const RenderSettings asked = next->settings;
     if (apply_overrides(next, a, &err)) {
         fprintf(stderr, "lanray-server: %s (the last good scene stays)\n", err.msg);
         snprintf(app->edit_error, sizeof app->edit_error, "%s", err.msg);
@@ -849,7 +855,7 @@ static void follow_edits(App *app, const Args *a)
     }
     if (app->display)
         window_knobs_apply(&app->win, &next->settings);
-    warn_size_edit(app, a, &next->settings);
+    warn_fixed_edit(app, a, &asked);
     scene_destroy(app->pending);
     app->pending = next;
     server_set_scene(app->server, next);

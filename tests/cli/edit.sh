@@ -4,7 +4,8 @@
 # syntax error, then a fix: the frames show each good version as
 # lanray-render draws it (byte for byte), the error is logged with its file
 # and line while the last good scene stays on, and the one client never
-# reconnects; a frame size edited in is said (the frames keep theirs).
+# reconnects; a frame size or denoise edited in is said (the frames keep
+# theirs).
 set -u
 source tests/tools/server-lib.sh
 W=64 H=48
@@ -72,23 +73,28 @@ n=$(grep -c "connected to" "$dir/client.err")
 [ "$n" = 1 ] || fail "the client connected $n times: $(cat "$dir/client.err")"
 grep -q "reconnecting" "$dir/client.err" && fail "the client reconnected: $(cat "$dir/client.err")"
 grep -q "scenes decoded" "$dir/client.err" || fail "the client did not end its session cleanly: $(cat "$dir/client.err")"
-# a frame size edited into a scene served without --width/--height: the
-# frames stay the size they are (the server cannot take another while it
-# runs) and the log says so, rather than nothing
+# a frame size and denoise edited into a scene served without --width,
+# --height, --denoise: the frames stay as they are (the server cannot take
+# another size while it runs) and the log says so, rather than nothing
 mkdir "$dir/z" "$dir/fz"
 printf 'settings width 64 height 48\n%s' "$v1" >"$dir/z/z.scene"
 cp "$dir/s/tex.ppm" "$dir/z/"
 start_server size "$dir/z/z.scene" --port 0 --aa 1 --max-fps 25 --out "$dir/fz"
-"$BIN/lanray-client" "127.0.0.1:$port" --threads 1 --quiet 2>/dev/null &
-pids+=("$!")
+"$BIN/lanray-client" "127.0.0.1:$port" --threads 1 --quiet --once 2>/dev/null &
+client=$!
+pids+=("$client")
 for _ in $(seq 100); do [ -n "$(ls "$dir/fz")" ] && break; sleep 0.05; done
-printf 'settings width 80 height 48\n%s' "$v1" >"$dir/z/z.scene"
-for _ in $(seq 200); do grep -q "asks for" "$dir/size.err" && break; sleep 0.05; done
+printf 'settings width 80 height 48 denoise on\n%s' "$v1" >"$dir/z/z.scene"
+for _ in $(seq 200); do grep -q "asks for denoise" "$dir/size.err" && break; sleep 0.05; done
 grep -q "z.scene asks for 80x48 frames; they stay 64x48 until the server is started again" "$dir/size.err" ||
     fail "a frame size edited in: not said ($(cat "$dir/size.err"))"
+grep -q "z.scene asks for denoise on; the frames stay raw until the server is started again" "$dir/size.err" ||
+    fail "denoise edited in: not said ($(cat "$dir/size.err"))"
 sleep 0.3
 last=$(ls "$dir/fz" | tail -1)
 size=$(python3 -c 'import struct,sys; print("%dx%d" % struct.unpack(">II", open(sys.argv[1], "rb").read()[16:24]))' "$dir/fz/$last")
 [ "$size" = 64x48 ] || fail "a frame size edited in: the frames are $size"
-echo "edit: a frame size edited in is said, the frames stay 64x48"
+kill -TERM "$server_pid"
+wait "$server_pid" "$client" 2>/dev/null
+echo "edit: a frame size and denoise edited in are said, the frames stay 64x48"
 echo "edit: a model added, a texture replaced, an error (logged with its line, the last good scene kept) and its fix, each followed by the frames as lanray-render draws it, with one connection"
