@@ -368,7 +368,7 @@ typedef struct {
     ServerConfig cfg;
     BvhOptions bvh;
     const char *scene_path, *out_dir, *verify_path;
-    int headless, force_bvh, discard, frames, wait_clients, tail, bvh_kind, width_given, height_given;
+    int headless, force_bvh, discard, frames, wait_clients, tail, bvh_kind, width_given, height_given, smooth;
     int warmup, stall, handshake, machine_summary, linear, hdr;
     int denoise; /* --denoise, or the first scene's settings denoise: fixed for the server's life */
     int denoise_given;
@@ -512,6 +512,7 @@ static int parse_args(Args *a, int argc, char **argv)
          .help = "how the last segments of a frame are cut and shared (docs/scaling.md)"},
         {.name = "--bvh", .kind = OPT_CHOICE, .dst = &a->bvh_kind, .choices = bvh_kind_names, .seen = &a->force_bvh,
          .help = "BVH builder for models; given, it rebuilds .tmd models too"},
+        CLI_SMOOTH_OPT(&a->smooth),
         {.name = "--aa", .kind = OPT_CUSTOM, .dst = &a->aa, .arg = "N|adaptive[:N]", .parse = cli_parse_aa, .range = CLI_AA_RANGE,
          .help = "anti-aliasing", .def = "the scene's, else 1"},
         LOOK_OPTS(a),
@@ -642,7 +643,7 @@ static int open_scene(App *app, Args *a, Err *err)
     ServerConfig *cfg = &a->cfg;
     if (!cfg->quiet)
         cli_show_warnings("lanray-server");
-    if (cli_open_scene(a->scene_path, &a->bvh, a->force_bvh, &app->scene, err)) {
+    if (cli_open_scene(a->scene_path, &a->bvh, a->force_bvh, a->smooth, &app->scene, err)) {
         fprintf(stderr, "lanray-server: %s\n", err->msg);
         return 1;
     }
@@ -839,7 +840,7 @@ static void follow_edits(App *app, const Args *a)
     app->edit_t = 0;
     Scene *next;
     Err err;
-    if (cli_open_scene(a->scene_path, &a->bvh, a->force_bvh, &next, &err)) {
+    if (cli_open_scene(a->scene_path, &a->bvh, a->force_bvh, a->smooth, &next, &err)) {
         fprintf(stderr, "lanray-server: %s (the last good scene stays)\n", err.msg);
         snprintf(app->edit_error, sizeof app->edit_error, "%s", err.msg);
         app->last_title = 0;

@@ -152,7 +152,7 @@ static void a_preview_takes_the_files_camera_and_lights(void **state)
     Scene *s;
     Err err;
     BvhOptions opt = bvh_options_default(BVH_SAH);
-    if (scene_preview(path, &opt, 0, &s, &err))
+    if (scene_preview(path, &opt, 0, 0, &s, &err))
         fail_msg("%s", err.msg);
     assert_true(close_to(s->camera.pos.x, 3, 1e-5) && close_to(s->camera.pos.y, 2, 1e-5) &&
                 close_to(s->camera.pos.z, 3, 1e-5));

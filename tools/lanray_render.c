@@ -116,7 +116,7 @@ typedef struct {
     const char *out, *profile, *scene_path, *path;
     double at;
     int width, height, repeat, quiet, segment, threads, linear, simd_given, stats;
-    int width_given, height_given, force_bvh, bvh_kind, band_lines;
+    int width_given, height_given, force_bvh, bvh_kind, band_lines, smooth;
     int shading, shadows, filter, shading_given, shadows_given, filter_given;
     int depth, fresnel, glass, depth_given, cutoff_given, fresnel_given, glass_given;
     double cutoff;
@@ -186,6 +186,7 @@ static int parse_args(Args *a, int argc, char **argv)
          .help = "render threads, 0 = one per core", .def = "0: all cores"},
         {.name = "--bvh", .kind = OPT_CHOICE, .dst = &a->bvh_kind, .choices = bvh_kind_names, .seen = &a->force_bvh,
          .help = "BVH builder for models; given, it rebuilds .tmd models too"},
+        CLI_SMOOTH_OPT(&a->smooth),
         {.name = "--shading", .kind = OPT_CHOICE, .dst = &a->shading, .choices = field_words(&settings_kind, "shading"), .seen = &a->shading_given,
          .help = "Phong, or diffuse only", .def = "the scene's, else phong"},
         {.name = "--shadows", .kind = OPT_CHOICE, .dst = &a->shadows, .choices = field_words(&settings_kind, "shadows"), .seen = &a->shadows_given,
@@ -421,7 +422,7 @@ static int job_open(Job *j, Args *a, Err *err)
     double t0 = timer_now();
     if (!a->quiet)
         cli_show_warnings("lanray-render");
-    if (cli_open_scene(a->scene_path, &j->bvh, a->force_bvh, &j->scene, err)) {
+    if (cli_open_scene(a->scene_path, &j->bvh, a->force_bvh, a->smooth, &j->scene, err)) {
         fprintf(stderr, "lanray-render: %s\n", err->msg);
         return 1;
     }

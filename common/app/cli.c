@@ -83,12 +83,17 @@ int cli_threads(int requested)
     return n > 0 ? (int)n : 1;
 }
 
-int cli_open_scene(const char *path, const BvhOptions *bvh, int force, Scene **out, Err *err)
+int cli_open_scene(const char *path, const BvhOptions *bvh, int force, int smooth, Scene **out, Err *err)
 {
+    if (path && model_load_knows(path))
+        return scene_preview(path, bvh, force, smooth, out, err);
+    if (smooth) {
+        *out = NULL;
+        return err_set(err, "--smooth is for a model given alone; in a scene file, `model NAME FILE smooth`%s%s",
+                       path ? ": " : " (the built-in scene's models have their normals)", path ? path : "");
+    }
     if (!path)
         return scene_default(out, bvh, err);
-    if (model_load_knows(path))
-        return scene_preview(path, bvh, force, out, err);
     return scene_load(path, bvh, force, out, err);
 }
 

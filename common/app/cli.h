@@ -38,8 +38,16 @@ int cli_threads(int requested);
 
 /* The scene a program was given: NULL for the built-in scene, a scene file,
  * or an .obj/.tmd model, which gets a preview scene (camera framed on its
- * bounding box, two lights).  force: rebuild .tmd models with bvh. */
-int cli_open_scene(const char *path, const BvhOptions *bvh, int force, Scene **out, Err *err);
+ * bounding box, two lights).  force: rebuild .tmd models with bvh.
+ * smooth (CLI_SMOOTH_OPT): the model alone's vertex normals where it has
+ * none; refused for a scene file, whose models say it themselves. */
+int cli_open_scene(const char *path, const BvhOptions *bvh, int force, int smooth, Scene **out, Err *err);
+
+/* --smooth for a model given alone, as obj2tmd's */
+#define CLI_SMOOTH_OPT(var) \
+    {.name = "--smooth", .kind = OPT_FLAG, .dst = (var), \
+     .help = "a model given alone: smooth vertex normals where it has none, as obj2tmd --smooth (an STL " \
+             "or an OBJ without normals looks faceted; edges sharper than 45 degrees stay)"}
 /* A model reader's warnings (ObjOptions.warn, ctx a CliWarnings) on
  * standard error as "PROG: warning: ...": the first CLI_WARNINGS_SHOWN,
  * then one line "PROG: REST" saying what became of the others. */

@@ -10,11 +10,11 @@
 
 #include "scene/scene_gltf.h"
 
-int scene_preview(const char *model_path, const BvhOptions *bvh, int rebuild, Scene **out, Err *err)
+int scene_preview(const char *model_path, const BvhOptions *bvh, int rebuild, int smooth, Scene **out, Err *err)
 {
     *out = NULL;
     Model *m;
-    if (model_load(model_path, bvh, rebuild, 0, &m, err))
+    if (model_load(model_path, bvh, rebuild, smooth, &m, err))
         return -1;
     Scene *s = scene_create();
     uint32_t id = 0;

@@ -7,7 +7,8 @@
 /* The model (.obj or .tmd, see model_load) at the origin, seen from the
  * front, right and above by a camera that frames its bounding sphere, lit
  * by a key light over the camera's shoulder and a dim fill from the other
- * side, with shadows.  The scene comes back checked (scene_check). */
-int scene_preview(const char *model_path, const BvhOptions *bvh, int rebuild, Scene **out, Err *err);
+ * side, with shadows.  The scene comes back checked (scene_check).
+ * smooth: vertex normals where the model has none (model_load's). */
+int scene_preview(const char *model_path, const BvhOptions *bvh, int rebuild, int smooth, Scene **out, Err *err);
 
 #endif

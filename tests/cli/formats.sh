@@ -5,7 +5,9 @@
 # as is the OBJ's named MODEL.OBJ; an AC3D file (one of Assimp's other
 # formats) converts, a Blender file stands up (Z-up turned Y-up), and a
 # name no reader takes is refused with a reason;
-# --smooth gives an STL sphere smooth normals and leaves a cube's edges sharp.
+# --smooth gives an STL sphere smooth normals and leaves a cube's edges sharp
+# (obj2tmd's, a scene's 'model ... smooth', lanray-render's and a server's
+# for a model alone).
 # The one difference the formats force: STL has only facet normals, so the
 # STL files are compared with the OBJ without vertex normals.  A damaged
 # file, and one that crashes Assimp, fail with the name, exit 1, no output.
@@ -100,7 +102,30 @@ for src in "sphere.stl smooth" "smooth-sphere.stl.tmd"; do
 done
 cmp -s "$dir/sphere.stl-scene.png" "$dir/smooth-sphere.stl.tmd-scene.png" ||
     fail "a scene's 'model sphere.stl smooth' differs from obj2tmd --smooth's .tmd"
-echo "STL --smooth: a sphere RMSE $smooth against exact normals (flat $flat), a cube's edges sharp; a scene's 'model ... smooth' the same"
+# the model previewed alone with --smooth (lanray-render and a headless
+# server): the picture of obj2tmd --smooth's .tmd previewed; with a scene
+# file --smooth is refused, naming what to write instead
+"$BIN/lanray-render" "$dir/sphere.stl" --smooth --width 96 --height 72 --quiet -o "$dir/direct-smooth.png" >/dev/null 2>&1 ||
+    fail "lanray-render sphere.stl --smooth"
+cmp -s "$dir/direct-smooth.png" "$dir/smooth-sphere.stl.png" ||
+    fail "lanray-render sphere.stl --smooth differs from obj2tmd --smooth's .tmd previewed"
+"$BIN/lanray-render" "$dir/sphere.stl" --smooth --aa 1 --width 96 --height 72 --quiet -o "$dir/direct-smooth-aa1.png" \
+    >/dev/null 2>&1 || fail "lanray-render sphere.stl --smooth --aa 1"
+"$BIN/lanray-server" "$dir/sphere.stl" --smooth --headless --port 0 --frames 1 --aa 1 --width 96 --height 72 \
+    --out "$dir/served" >"$dir/served.log" 2>&1 &
+spid=$!
+for _ in $(seq 100); do port=$(sed -n 's/.*listening on .*:\([0-9]*\) (.*/\1/p' "$dir/served.log"); [ -n "$port" ] && break; sleep 0.05; done
+[ -n "$port" ] || fail "lanray-server sphere.stl --smooth did not start: $(cat "$dir/served.log")"
+"$BIN/lanray-client" "127.0.0.1:$port" --threads 1 --once --quiet 2>/dev/null
+wait "$spid" || fail "lanray-server sphere.stl --smooth: $(cat "$dir/served.log")"
+cmp -s "$dir/served/frame-00001.png" "$dir/direct-smooth-aa1.png" ||
+    fail "lanray-server sphere.stl --smooth's frame differs from lanray-render's"
+"$BIN/lanray-render" "$dir/sphere.stl.scene" --smooth --quiet -o "$dir/x.png" >/dev/null 2>"$dir/scene-smooth.err"
+rc=$?
+[ $rc = 1 ] && grep -q "smooth is for a model given alone; in a scene file, .model NAME FILE smooth." "$dir/scene-smooth.err" ||
+    fail "--smooth with a scene file: exit $rc, $(cat "$dir/scene-smooth.err")"
+[ ! -e "$dir/x.png" ] || fail "--smooth with a scene file wrote an image"
+echo "STL --smooth: a sphere RMSE $smooth against exact normals (flat $flat), a cube's edges sharp; a scene's 'model ... smooth' the same; previewed alone with --smooth (lanray-render, a server) the same; refused with a scene file"
 # the rest of what Assimp reads: an AC3D tetrahedron (.ac)
 printf '%s\n' AC3Db 'MATERIAL "w" rgb 0.8 0.8 0.8 amb 0.2 0.2 0.2 emis 0 0 0 spec 0 0 0 shi 10 trans 0' \
     'OBJECT world' 'kids 1' 'OBJECT poly' 'numvert 4' '0 0 0' '1 0 0' '0 1 0' '0 0 1' 'numsurf 4' \

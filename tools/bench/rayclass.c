@@ -519,7 +519,7 @@ int main(int argc, char **argv)
     Err err;
     Scene *s = NULL;
     BvhOptions opt = bvh_options_default(BVH_SAH);
-    if (cli_open_scene(a.scene_path, &opt, 0, &s, &err)) {
+    if (cli_open_scene(a.scene_path, &opt, 0, 0, &s, &err)) {
         fprintf(stderr, "rayclass: %s\n", err.msg);
         return 1;
     }
