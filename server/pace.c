@@ -150,7 +150,11 @@ int pace_shown(Pace *p, double now, double started, int scale, uint32_t width, u
     p->after_still = 0;
     if (!(p->shown_t > 0) || !(p->target > 0)) { /* the first frame shown, or no target: a period starts */
         period_start(p, now);
-        return p->scale;
+        /* the first frame's time is its own, from its start (no frame
+         * before it shares the farm): the first move comes down a frame
+         * or two sooner (make demo without a display wrote its 9 moving
+         * frames all at scales 8 to 3.25, the pace still coming down) */
+        return started > 0 && started < now ? pace_update(p, now - started, scale, width, height) : p->scale;
     }
     p->shown_frames++;
     const double since = now - p->shown_t;

@@ -51,7 +51,9 @@ typedef struct {
 extern const int pace_scales[];
 extern const int pace_scale_count;
 
-/* fps 0: no target (scale 1, UPSCALE_ONE, always); else the scale starts at the coarsest. */
+/* fps 0: no target (scale 1, UPSCALE_ONE, always); else the scale starts
+ * at the coarsest, and the first frame shown (pace_shown: its time from
+ * its start) moves it. */
 void pace_init(Pace *p, double fps);
 /* A new target (the window's T key), the times measured kept; 0: none,
  * every frame whole. */

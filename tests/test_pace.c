@@ -137,6 +137,16 @@ static void first_move_comes_down_at_once(void **state)
     for (int i = 0; i < 10; i++)
         k = pace_update(&p, 0.005 + frame_time(k, 300), k, W, H);
     assert_int_equal(k, Q(2));
+    /* shown through pace_shown, the first frame's own time (from its
+     * start) counts: no period before it, yet the scale comes down at
+     * once.  The old pace only began a period there, and a pipelined farm
+     * rendered four more frames at the coarsest (make demo without a
+     * display wrote its 9 moving frames at scales 8 to 3.25). */
+    pace_init(&p, 15);
+    const double first = 0.005 + frame_time(p.scale, 300);
+    k = pace_shown(&p, 10 + first, 10, p.scale, W, H);
+    assert_true(k < pace_scales[pace_scale_count - 1]);
+    assert_true(frame_time(k, 300) <= PACE_FINER / 15); /* and no further than it fits */
 }
 
 /* The times of make demo's first frames, pipelined (a frame's time from
