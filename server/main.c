@@ -62,7 +62,8 @@ typedef struct {
     uint8_t *view; /* settings hdr: the RGBE frame as sRGB codes for the window */
     uint32_t frames_done, frames_wanted;
     double last_title;
-    FrameRate rate; /* the window's frame rate */
+    const char *name; /* the scene's file name, for the title (NULL: the built-in scene) */
+    FrameRate rate;   /* the window's frame rate */
     int screenshot;
     uint8_t *shown;       /* the frame the window shows (P saves it), */
     uint32_t shown_frame; /* and its number */
@@ -691,6 +692,10 @@ static int open_scene(App *app, Args *a, Err *err)
         return 1;
     }
     app->out_dir = a->discard ? NULL : a->out_dir;
+    if (a->scene_path) {
+        const char *slash = strrchr(a->scene_path, '/');
+        app->name = slash ? slash + 1 : a->scene_path;
+    }
     app->width = cfg->width;
     app->height = cfg->height;
     app->frames_wanted = (uint32_t)a->frames;
@@ -794,12 +799,14 @@ static void show_title(App *app)
         snprintf(rate, sizeof rate, "converged");
     else
         snprintf(rate, sizeof rate, "%.1f fps", fps);
+    /* the scene's name first: a user with several servers tells their windows apart */
+    const char *name = app->name ? app->name : "built-in scene";
     if (app->edit_error[0])
         snprintf(title, sizeof title, "lanray - error: %.130s", app->edit_error);
     else if (n == 0) /* no rate: the last clients' falls as it waits */
-        snprintf(title, sizeof title, "lanray - waiting for clients");
+        snprintf(title, sizeof title, "lanray - %.80s - waiting for clients", name);
     else
-        snprintf(title, sizeof title, "lanray - %s - %u client%s", rate, n, n == 1 ? "" : "s");
+        snprintf(title, sizeof title, "lanray - %.80s - %s - %u client%s", name, rate, n, n == 1 ? "" : "s");
     display_title(app->display, title);
     window_panel(&app->win, fps, app->edit_error[0] ? app->edit_error : NULL);
     app->last_title = now;
