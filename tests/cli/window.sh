@@ -91,6 +91,15 @@ kill -0 "$spid" 2>/dev/null || fail "idle: the server died of a second SIGUSR1"
 [ -n "$n1" ] && [ "$n1" = "$n2" ] || fail "idle: frames kept starting on a converged picture ($n1, then $n2)"
 [ "$n1" -le 3 ] || fail "idle: $n1 frames for a picture that converged at the second"
 echo "idle: the converged picture stays, $n1 frames started, none in the second after"
+# the title names the scene and says the picture converged (no rate: no frame comes)
+title=
+for _ in $(seq 20); do
+    title=$(timeout 5 xdotool getwindowname "$(timeout 5 xdotool search --name '^lanray')")
+    [ "$title" = "lanray - built-in scene - converged - 1 client" ] && break
+    sleep 0.2
+done
+[ "$title" = "lanray - built-in scene - converged - 1 client" ] || fail "idle: the title reads '$title'"
+echo "idle: the title reads '$title'"
 # P saves the picture shown, at once: an idle window gets no frame to save
 # it with (P waited for the next frame, which never came)
 window_at
