@@ -153,8 +153,16 @@ int pace_shown(Pace *p, double now, double started, int scale, uint32_t width, u
         /* the first frame's time is its own, from its start (no frame
          * before it shares the farm): the first move comes down a frame
          * or two sooner (make demo without a display wrote its 9 moving
-         * frames all at scales 8 to 3.25, the pace still coming down) */
-        return started > 0 && started < now ? pace_update(p, now - started, scale, width, height) : p->scale;
+         * frames all at scales 8 to 3.25, the pace still coming down).
+         * It moves the scale but is not kept: it may hold the scene's
+         * upload to the clients (a 1M-triangle model's 0.5 s, which kept
+         * the scale at 8 for a dozen frames while that time wore off) */
+        if (!(started > 0 && started < now) || !(p->target > 0))
+            return p->scale;
+        const int next = pace_update(p, now - started, scale, width, height);
+        for (int i = 0; i < pace_scale_count; i++)
+            p->t[i] = 0;
+        return next;
     }
     p->shown_frames++;
     const double since = now - p->shown_t;

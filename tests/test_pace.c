@@ -147,6 +147,20 @@ static void first_move_comes_down_at_once(void **state)
     k = pace_shown(&p, 10 + first, 10, p.scale, W, H);
     assert_true(k < pace_scales[pace_scale_count - 1]);
     assert_true(frame_time(k, 300) <= PACE_FINER / 15); /* and no further than it fits */
+    /* a first frame that took the scene's upload with it (0.5 s: a
+     * 1M-triangle model sent to the clients) moves nothing and is not
+     * kept: the frames after it bring the scale down as they would alone
+     * (kept, its time wore off over a dozen frames at the coarsest) */
+    pace_init(&p, 15);
+    double now = 10.5;
+    k = pace_shown(&p, now, 10.0, p.scale, W, H);
+    assert_int_equal(k, pace_scales[pace_scale_count - 1]);
+    frames = 0;
+    for (; frames < 12 && k == pace_scales[pace_scale_count - 1]; frames++) {
+        now += 0.002 + frame_time(k, 300);
+        k = pace_shown(&p, now, now - 0.012, k, W, H);
+    }
+    assert_true(frames <= 6);
 }
 
 /* The times of make demo's first frames, pipelined (a frame's time from
