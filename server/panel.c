@@ -54,10 +54,15 @@ int panel_lines(const PanelInfo *p, char out[][PANEL_LINE])
         snprintf(rate, sizeof rate, "converged");
     else
         snprintf(rate, sizeof rate, "%.1f fps", p->fps);
+    /* frame_s is from a frame's start to its showing: a moving frame's
+     * latency, longer than 1 / fps where the farm pipelines (18 fps and
+     * "73 ms a frame" read as a contradiction) */
     if (p->still && p->samples > 1)
         LINE("%s  %.1f ms  still, %d samples a pixel", rate, p->frame_s * 1e3, p->samples); /* fits 400 pixels */
+    else if (p->still)
+        LINE("%s  %.1f ms a frame  still", rate, p->frame_s * 1e3);
     else
-        LINE("%s  %.1f ms a frame  %s", rate, p->frame_s * 1e3, p->still ? "still" : "moving");
+        LINE("%s  latency %.1f ms  moving", rate, p->frame_s * 1e3);
     const char *up = p->upscale_blocks ? "blocks" : "smooth";
     /* quarter steps: 1/2, 1/2.5, 1/2.75 */
     char scale[16];

@@ -117,7 +117,7 @@ static void panel_says_what_runs(void **state)
                    .clients = clients, .nclients = 2};
     char lines[PANEL_MAX_LINES][PANEL_LINE];
     int n = panel_lines(&p, lines);
-    assert_true(has(lines, n, "14.6 fps") && has(lines, n, "68.3 ms"));
+    assert_true(has(lines, n, "14.6 fps  latency 68.3 ms  moving"));
     assert_true(has(lines, n, "target 15 fps") && has(lines, n, "render scale 1/4 smooth [U]"));
     assert_true(has(lines, n, "moving 1x1, still adaptive 4x4"));
     assert_true(has(lines, n, "moving lights adaptive") && has(lines, n, "phong") && has(lines, n, "shadows on"));
