@@ -598,9 +598,30 @@ static int job_render(Job *j, const Args *a, RayStats *st, double *best, double 
     return rc;
 }
 
+/* The BVH kinds the scene's models were built with: a .tmd keeps its own
+ * tree (the line said the --bvh default, "sah", for an MST file); the
+ * option's kind where there is no model, the kinds joined by '+' where
+ * models differ. */
+static void bvh_text(const Job *j, char *out, size_t size)
+{
+    unsigned seen = 0;
+    for (uint32_t i = 0; i < j->scene->model_count; i++)
+        seen |= 1u << j->scene->models[i]->bvh.kind;
+    if (!seen)
+        seen = 1u << j->bvh.kind;
+    out[0] = 0;
+    for (int k = 0; k < BVH_KIND_COUNT; k++)
+        if (seen >> k & 1) {
+            const size_t at = strlen(out);
+            snprintf(out + at, size - at, "%s%s", at ? "+" : "", bvh_kind_name((BvhKind)k));
+        }
+}
+
 /* The timing line (what benchmarks read), the memory table, the file's name. */
 static void report(const Job *j, const Args *a, RayStats st, double best, double sum)
 {
+    char bvh[32];
+    bvh_text(j, bvh, sizeof bvh);
     const RenderSettings *rs = &j->scene->settings;
     double rays = (double)ray_stats_total(&st);
     char second[64] = "";
@@ -609,7 +630,7 @@ static void report(const Job *j, const Args *a, RayStats st, double best, double
     printf("%dx%d aa %d%s %s shadows %s bvh %s threads %d simd %s (%s): frame %.4f s (mean %.4f s over %d), "
            "%.2f Mrays/s (%llu camera + %llu shadow%s rays)\n",
            a->width, a->height, rs->aa, rs->adaptive ? " adaptive" : "", rs->integrator == INTEGRATOR_PATH ? "path-traced" : rs->shading == SHADE_PHONG ? "phong" : "diffuse",
-           rs->shadows ? "on" : "off", bvh_kind_name(j->bvh.kind), a->threads, simd_name(simd_path()), REAL_NAME, best,
+           rs->shadows ? "on" : "off", bvh, a->threads, simd_name(simd_path()), REAL_NAME, best,
            sum / a->repeat, a->repeat, rays / best * 1e-6, (unsigned long long)st.primary, (unsigned long long)st.shadow,
            second);
     if (a->stats)

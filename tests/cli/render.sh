@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# lanray-render: the default scene with no arguments, a scene file, and errors.
+# lanray-render: the default scene with no arguments, a scene file, and errors;
+# the timing line names the models' BVH kinds.
 set -u
 BIN=${BIN:-bin}
 root=$(pwd)
@@ -11,6 +12,13 @@ fail() { echo "FAIL: $*"; exit 1; }
 out=$(cd "$dir" && "$root/$BIN/lanray-render" --threads 2) || fail "default render failed: $out"
 [ "$(head -c 8 "$dir/lanray.png" | od -An -tx1 | tr -d ' \n')" = 89504e470d0a1a0a ] || fail "lanray.png is not a PNG"
 grep -q "1024x768 .* Mrays/s" <<<"$out" || fail "no timing line: $out"
+# the timing line names the trees the models have: a .tmd keeps the kind it
+# was built with (the line said the --bvh default, sah, for an MST file)
+"$BIN/obj2tmd" --bvh mst --quiet models/cube.obj "$dir/cube-mst.tmd" >/dev/null || fail "obj2tmd --bvh mst"
+line=$("$BIN/lanray-render" "$dir/cube-mst.tmd" --width 8 --height 6 -o "$dir/c.png" --quiet) || fail "render an MST .tmd"
+grep -q " bvh mst threads" <<<"$line" || fail "an MST .tmd's line: $line"
+line=$("$BIN/lanray-render" "$dir/cube-mst.tmd" --bvh sbt --width 8 --height 6 -o "$dir/c.png" --quiet) || fail "rebuilt"
+grep -q " bvh sbt threads" <<<"$line" || fail "an MST .tmd rebuilt with --bvh sbt: $line"
 
 # what the PNG's numbers are: sRGB (sRGB chunk, with gAMA 45455 for older readers), or linear with --linear
 chunks() { python3 -c '
