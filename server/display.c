@@ -279,11 +279,11 @@ static void key_down(Display *d, const SDL_KeyboardEvent *k, DisplayInput *in)
     case SDLK_h: in->toggle_shadows = 1; break;
     case SDLK_u: in->toggle_upscale = 1; break;
     case SDLK_x: in->toggle_denoise = 1; break;
-    case SDLK_F11: /* the screen filled, or the window back */
-        SDL_SetWindowFullscreen(d->win, (SDL_GetWindowFlags(d->win) & SDL_WINDOW_FULLSCREEN_DESKTOP) == SDL_WINDOW_FULLSCREEN_DESKTOP
-                                            ? 0
-                                            : SDL_WINDOW_FULLSCREEN_DESKTOP);
+    case SDLK_F11: { /* the screen filled, or the window back */
+        const Uint32 full = SDL_WINDOW_FULLSCREEN_DESKTOP;
+        SDL_SetWindowFullscreen(d->win, (SDL_GetWindowFlags(d->win) & full) == full ? 0 : full);
         break;
+    }
     default: break;
     }
 }
