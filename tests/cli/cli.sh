@@ -175,7 +175,7 @@ kill $bc 2>/dev/null; wait $bc 2>/dev/null
 [ "$(grep -c "connected to 127.0.0.1:$port" "$dir/backoff.err")" -eq 2 ] || fail "back-off: two sessions: $(cat "$dir/backoff.err")"
 [ "$(grep -c "reconnecting in 0.1 s" "$dir/backoff.err")" -ge 2 ] || fail "back-off not reset after a session: $(cat "$dir/backoff.err")"
 # a server that cannot listen (its port taken) leaves no --out directory
-start_server taken --port 0 --width 32 --height 24
+start_server taken --port 0 --width 32 --height 24 --out "$dir/taken"
 err=$("$BIN/lanray-server" --headless --port "$port" --width 32 --height 24 --frames 1 --out "$dir/never" 2>&1); rc=$?
 [ $rc -eq 1 ] || fail "a server on a taken port exited $rc: $err"
 [ -e "$dir/never" ] && fail "a server that could not listen created its --out directory"
