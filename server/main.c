@@ -18,6 +18,7 @@
 #include "display.h"
 #include "framewriter.h"
 #include "image/image.h"
+#include "base/fileio.h"
 #include "base/log.h"
 #include "base/opt.h"
 #include "base/srgb.h"
@@ -31,6 +32,7 @@
 #include "net/pixcodec.h"
 #include "framerate.h"
 #include "pace.h"
+#include "panel.h"
 #include "server.h"
 #include "upscale.h"
 #include "watch.h"
@@ -231,7 +233,7 @@ static const uint8_t *window_rgb(App *a, const uint8_t *pixels, size_t first, si
  * was) saved nothing until the view moved, and then a moving frame. */
 static void keep_shown(App *a, uint32_t frame, const uint8_t *pixels)
 {
-    const size_t bytes = (size_t)a->width * a->height * (a->scene->settings.hdr ? 4 : 3);
+    const size_t bytes = (size_t)a->width * a->height * render_colour_bytes(&a->scene->settings);
     if (!a->shown && !(a->shown = malloc(bytes)))
         return; /* P says so */
     memcpy(a->shown, pixels, bytes);
@@ -692,10 +694,7 @@ static int open_scene(App *app, Args *a, Err *err)
         return 1;
     }
     app->out_dir = a->discard ? NULL : a->out_dir;
-    if (a->scene_path) {
-        const char *slash = strrchr(a->scene_path, '/');
-        app->name = slash ? slash + 1 : a->scene_path;
-    }
+    app->name = a->scene_path ? file_basename(a->scene_path) : NULL;
     app->width = cfg->width;
     app->height = cfg->height;
     app->frames_wanted = (uint32_t)a->frames;
@@ -794,11 +793,8 @@ static void show_title(App *app)
     char title[160];
     uint32_t n = server_client_count(app->server);
     const double fps = framerate_get(&app->rate, now);
-    char rate[32];
-    if (app->frames_done > 0 && server_frame_converged(app->server))
-        snprintf(rate, sizeof rate, "converged");
-    else
-        snprintf(rate, sizeof rate, "%.1f fps", fps);
+    char rate[PANEL_RATE];
+    panel_rate(rate, app->frames_done > 0 && server_frame_converged(app->server), fps);
     /* the scene's name first: a user with several servers tells their windows apart */
     const char *name = app->name ? app->name : "built-in scene";
     if (app->edit_error[0])
@@ -812,10 +808,6 @@ static void show_title(App *app)
     app->last_title = now;
 }
 
-/* Live edits: a scene file or one of its files changed (0.15 s ago, so
- * that an editor's writes are over): the scene is read again and handed to
- * the server for the next frame; an error keeps the last good scene on
- * screen and says why, in the log and the window's title. */
 /* What an edited scene asks that the server cannot take while it runs
  * (rs: its settings before the command line's): the frame size (its
  * frames, the clients' buffers and the window are that size) and denoise
@@ -832,6 +824,10 @@ static void warn_fixed_edit(const App *app, const Args *a, const RenderSettings 
                 a->scene_path, rs->denoise ? "on" : "off", a->denoise ? "denoised" : "raw");
 }
 
+/* Live edits: a scene file or one of its files changed (0.15 s ago, so
+ * that an editor's writes are over): the scene is read again and handed to
+ * the server for the next frame; an error keeps the last good scene on
+ * screen and says why, in the log and the window's title. */
 static void follow_edits(App *app, const Args *a)
 {
     if (app->pending && server_scene(app->server) == app->pending) { /* taken: the old one is free */

@@ -44,16 +44,20 @@ static void sampling_text(char *out, size_t size, int aa, int adaptive)
         snprintf(out, size, "%dx%d", aa, aa);
 }
 
+void panel_rate(char out[PANEL_RATE], int converged, double fps)
+{
+    if (converged)
+        snprintf(out, PANEL_RATE, "converged");
+    else
+        snprintf(out, PANEL_RATE, "%.1f fps", fps);
+}
+
 int panel_lines(const PanelInfo *p, char out[][PANEL_LINE])
 {
     int n = 0;
 #define LINE(...) snprintf(out[n++], PANEL_LINE, __VA_ARGS__)
-    /* the rate, or that no frame comes until something changes */
-    char rate[24];
-    if (p->converged)
-        snprintf(rate, sizeof rate, "converged");
-    else
-        snprintf(rate, sizeof rate, "%.1f fps", p->fps);
+    char rate[PANEL_RATE];
+    panel_rate(rate, p->converged, p->fps);
     /* frame_s is from a frame's start to its showing: a moving frame's
      * latency, longer than 1 / fps where the farm pipelines (18 fps and
      * "73 ms a frame" read as a contradiction) */

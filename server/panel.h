@@ -34,6 +34,12 @@ typedef struct {
     const char *error;     /* the last edit's error, or NULL */
 } PanelInfo;
 
+/* The rate as the panel and the window's title say it: "15.0 fps", or
+ * "converged" (the frame shown is the converged picture: no frame comes
+ * until something changes). */
+#define PANEL_RATE 24
+void panel_rate(char out[PANEL_RATE], int converged, double fps);
+
 /* The panel's lines into out (at most PANEL_MAX_LINES): how many. */
 int panel_lines(const PanelInfo *p, char out[][PANEL_LINE]);
 

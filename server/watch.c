@@ -25,12 +25,6 @@ struct Watch {
     uint32_t count;
 };
 
-static const char *base_name(const char *path)
-{
-    const char *slash = strrchr(path, '/');
-    return slash ? slash + 1 : path;
-}
-
 /* The watch of dir, added where it is new: its index, or -1. */
 static int dir_index(Watch *w, const char *dir, Err *err)
 {
@@ -66,7 +60,7 @@ Watch *watch_open(const Scene *s, Err *err)
         char dir[4096];
         file_dirname(s->sources[i], dir, sizeof dir);
         int d = dir_index(w, dir, err);
-        if (d < 0 || !(w->names[i] = strdup(base_name(s->sources[i])))) {
+        if (d < 0 || !(w->names[i] = strdup(file_basename(s->sources[i])))) {
             if (d >= 0)
                 err_set(err, "watch: out of memory");
             w->count = i + 1;

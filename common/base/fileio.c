@@ -221,6 +221,12 @@ void file_dirname(const char *path, char *buf, size_t size)
         snprintf(buf, size, "%.*s", (int)(slash - path), path);
 }
 
+const char *file_basename(const char *path)
+{
+    const char *slash = strrchr(path, '/');
+    return slash ? slash + 1 : path;
+}
+
 int file_join(const char *dir, const char *name, char *buf, size_t size)
 {
     int n = name[0] == '/' ? snprintf(buf, size, "%s", name) : snprintf(buf, size, "%s/%s", dir, name);
@@ -298,8 +304,7 @@ FileFound file_find_near(const char *dir, const char *name, char *buf, size_t si
         return FILE_AS_WRITTEN;
     char written[4096];
     snprintf(written, sizeof written, "%s", buf);
-    const char *slash = strrchr(n, '/');
-    FileFound how = find_in(dir, slash ? slash + 1 : n, buf, size); /* a bare name's exact try repeats the one above */
+    FileFound how = find_in(dir, file_basename(n), buf, size); /* a bare name's exact try repeats the one above */
     if (how == FILE_NOT_FOUND)
         how = find_by_tail(dir, n, buf, size);
     if (how == FILE_NOT_FOUND)

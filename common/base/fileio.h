@@ -42,6 +42,8 @@ int file_write_bytes(const char *path, const void *data, size_t len, Err *err);
 int file_has_suffix(const char *path, const char *suffix);
 /* Directory part of path ("." when none) into buf. */
 void file_dirname(const char *path, char *buf, size_t size);
+/* The name after path's last '/' (path itself when none). */
+const char *file_basename(const char *path);
 /* Joins dir and a relative name; absolute names are kept as they are. */
 int file_join(const char *dir, const char *name, char *buf, size_t size);
 /* Whether path names a regular file this process can read. */
