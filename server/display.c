@@ -5,8 +5,9 @@
  * the model animation, P saves a screenshot, Tab shows the panel, T /
  * Shift+T the frame-rate target, N the still quality, L the light
  * sampling, M the shading, H the shadows, F11 fills the screen; Esc or Q
- * quits.  The window can be resized: the frame is drawn as large as it
- * fits, its shape kept (bars beside it), the panel at its own size.  A
+ * quits.  The window can be resized: a frame is drawn as large as it
+ * fits, its shape kept (bars beside it), the panel at its own size (the
+ * frames of another size follow, unless --fixed-size: window.c).  A
  * frame larger than the screen opens a window that fits it.  The panel's
  * text is drawn by SDL2_ttf in DejaVu Sans Mono (fonts-dejavu-core), or
  * the font LANRAY_FONT names. */
@@ -148,8 +149,27 @@ static void present(Display *d)
     d->presented_ms = SDL_GetTicks();
 }
 
-void display_show(Display *d, const uint8_t *rgb)
+/* The frame's texture and copy made again for frames of w x h (the
+ * window's size followed); 0, or -1 where that failed (the old ones kept). */
+static int remake(Display *d, int w, int h)
 {
+    uint8_t *rgb = calloc((size_t)w * h, 3);
+    SDL_Texture *tex = rgb ? SDL_CreateTexture(d->ren, SDL_PIXELFORMAT_RGB24, SDL_TEXTUREACCESS_STREAMING, w, h) : NULL;
+    if (!tex) {
+        free(rgb);
+        return -1;
+    }
+    SDL_SetTextureScaleMode(tex, SDL_ScaleModeLinear);
+    SDL_DestroyTexture(d->tex);
+    free(d->rgb);
+    d->tex = tex, d->rgb = rgb, d->w = w, d->h = h;
+    return 0;
+}
+
+void display_show(Display *d, const uint8_t *rgb, int w, int h)
+{
+    if ((w != d->w || h != d->h) && remake(d, w, h))
+        return; /* no memory for it: the frame before stays */
     memcpy(d->rgb, rgb, (size_t)d->w * d->h * 3);
     SDL_UpdateTexture(d->tex, NULL, rgb, d->w * 3);
     present(d);
@@ -242,6 +262,18 @@ int display_panel(Display *d, char (*lines)[100], int n, Err *err)
 }
 
 void display_title(Display *d, const char *title) { SDL_SetWindowTitle(d->win, title); }
+
+void display_set_size(Display *d, int w, int h)
+{
+    fit_screen(&w, &h);
+    SDL_SetWindowSize(d->win, w, h);
+}
+
+void display_output_size(Display *d, int *w, int *h)
+{
+    if (SDL_GetRendererOutputSize(d->ren, w, h) != 0 || *w < 1 || *h < 1)
+        *w = d->w, *h = d->h;
+}
 
 static void capture(Display *d, int on)
 {

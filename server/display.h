@@ -26,8 +26,9 @@ typedef struct {
 int display_available(void);
 Display *display_open(int width, int height, Err *err);
 void display_close(Display *d);
-/* Shows a frame (and the panel over it, where shown). */
-void display_show(Display *d, const uint8_t *rgb);
+/* Shows a w x h frame (and the panel over it, where shown), drawn as
+ * large as the window fits. */
+void display_show(Display *d, const uint8_t *rgb, int w, int h);
 /* Shows pixels [first, first + count) of the next frame (RGB8) over the
  * frame shown: a still frame refining as its segments come.  The screen
  * takes them at most ten times a second; display_flush, called
@@ -39,5 +40,10 @@ void display_flush(Display *d);
 int display_panel(Display *d, char (*lines)[100], int n, Err *err);
 void display_poll(Display *d, DisplayInput *in);
 void display_title(Display *d, const char *title);
+/* The window made w x h (less where the screen is smaller, its shape
+ * kept), where the window manager lets it. */
+void display_set_size(Display *d, int w, int h);
+/* The window's size in pixels (what a frame drawn 1:1 would fill). */
+void display_output_size(Display *d, int *w, int *h);
 
 #endif

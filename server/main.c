@@ -60,7 +60,8 @@ typedef struct {
     Display *display;
     Server *server;
     Scene *scene;
-    int width, height;
+    int width, height; /* the frames' (in a window, they follow its size) */
+    int asked_w, asked_h; /* the size the scene (or the command line) asked last */
     uint8_t *view; /* settings hdr: the RGBE frame as sRGB codes for the window */
     uint32_t frames_done, frames_wanted;
     double last_title;
@@ -253,6 +254,25 @@ static void save_screenshot(const App *a)
         fprintf(stderr, "lanray-server: saved %s\n", path);
 }
 
+/* The frames' size, where the window's changed it (server_set_size): the
+ * window's view made again, the kept frame when next kept; -1 where there
+ * is no memory for the view (the frame is not shown). */
+static int follow_frame_size(App *a)
+{
+    int w, h;
+    server_size(a->server, &w, &h);
+    if (w == a->width && h == a->height)
+        return 0;
+    uint8_t *view = a->view ? malloc((size_t)w * h * 3) : NULL;
+    if (a->view && !view)
+        return -1;
+    free(a->view), a->view = view;
+    free(a->shown), a->shown = NULL;
+    a->width = a->win.width = w;
+    a->height = a->win.height = h;
+    return 0;
+}
+
 static void on_frame(void *ctx, uint32_t frame, const uint8_t *pixels)
 {
     App *a = ctx;
@@ -260,8 +280,8 @@ static void on_frame(void *ctx, uint32_t frame, const uint8_t *pixels)
     framerate_add(&a->rate, timer_now());
     if (a->verify)
         verify_frame(a, frame, pixels);
-    if (a->display) {
-        display_show(a->display, window_rgb(a, pixels, 0, (size_t)a->width * a->height));
+    if (a->display && follow_frame_size(a) == 0) {
+        display_show(a->display, window_rgb(a, pixels, 0, (size_t)a->width * a->height), a->width, a->height);
         keep_shown(a, frame, pixels);
     } else if (a->out_dir) {
         save_frame(a, pixels);
@@ -295,7 +315,9 @@ static void on_lines(void *ctx, uint32_t frame, uint32_t first, uint32_t count, 
 {
     App *a = ctx;
     (void)frame;
-    if (!a->display)
+    int w, h;
+    server_size(a->server, &w, &h);
+    if (!a->display || w != a->width || h != a->height) /* a new size comes with a whole frame first */
         return;
     display_lines(a->display, first, count, window_rgb(a, pixels, first, count));
 }
@@ -375,6 +397,7 @@ typedef struct {
     int warmup, stall, handshake, machine_summary, linear, hdr;
     int denoise; /* --denoise, or the first scene's settings denoise: fixed for the server's life */
     int denoise_given;
+    int fixed_size; /* --fixed-size: the window's frames keep their size */
     int integrator, integrator_given, tonemap, tonemap_given;
     CliLightPaths paths;
     CliAa aa;
@@ -440,8 +463,8 @@ static const char server_about[] =
     "each client's lines/s and share, segment size), T/Shift+T the frame-rate target up/down, N the\n"
     "still quality (off, 2x2, adaptive 4x4, 4x4, path-traced on to 16x16 and 32x32), L light sampling,\n"
     "M shading, H shadows, U a scaled frame smooth or in blocks (--upscale), F11 full screen; Esc or Q\n"
-    "quits.  The window resizes: the frame is drawn as large as it fits, its shape kept (a frame larger\n"
-    "than the screen opens a window that fits it).\n"
+    "quits.  The window resizes, and the frames with it: a larger window renders more pixels (the view\n"
+    "starts again at each new size); a frame larger than the screen opens a window that fits it.\n"
     "A scene file is followed while it runs: an edit to it or to the models and textures it names is\n"
     "read again and sent between frames; an error keeps the last good scene and is shown with its line.\n"
     "SIGUSR1 prints per-client statistics.";
@@ -509,6 +532,9 @@ static int parse_args(Args *a, int argc, char **argv)
          .help = "frame width in pixels", .def = "the scene's, else 1024", .seen = &a->width_given},
         {.name = "--height", .kind = OPT_INT, .dst = &cfg->height, .arg = "H", .lo = 1, .hi = SERVER_MAX_SIDE,
          .help = "frame height in pixels", .def = "the scene's, else 768", .seen = &a->height_given},
+        {.name = "--fixed-size", .kind = OPT_FLAG, .dst = &a->fixed_size,
+         .help = "in a window, the frames keep --width x --height whatever the window's size (drawn scaled to fit "
+                 "it); without it (and without --verify) they follow the window's size"},
         {.name = "--segment", .kind = OPT_CUSTOM, .dst = &cfg->segment_lines, .arg = "LINES|auto", .parse = cli_parse_segment,
          .range = CLI_SEGMENT_RANGE, .help = "lines per segment handed to a client", .def = "auto"},
         {.name = "--tail", .kind = OPT_CHOICE, .dst = &a->tail, .choices = sched_tail_names,
@@ -695,8 +721,8 @@ static int open_scene(App *app, Args *a, Err *err)
     }
     app->out_dir = a->discard ? NULL : a->out_dir;
     app->name = a->scene_path ? file_basename(a->scene_path) : NULL;
-    app->width = cfg->width;
-    app->height = cfg->height;
+    app->width = app->asked_w = cfg->width;
+    app->height = app->asked_h = cfg->height;
     app->frames_wanted = (uint32_t)a->frames;
     app->refine = a->still.given;
     pace_init(&app->pace, a->target_fps);
@@ -808,17 +834,27 @@ static void show_title(App *app)
     app->last_title = now;
 }
 
-/* What an edited scene asks that the server cannot take while it runs
- * (rs: its settings before the command line's): the frame size (its
- * frames, the clients' buffers and the window are that size) and denoise
- * (the pixels' size follows it).  Said, not dropped without a word. */
-static void warn_fixed_edit(const App *app, const Args *a, const RenderSettings *rs)
+/* What an edited scene asks of the frames (rs: its settings before the
+ * command line's).  A new size: a window whose frames follow its size
+ * takes it (the frames follow); headless, or at --fixed-size, the frames
+ * stay (the writer and the clients' share are made for them).  Denoise,
+ * which the server cannot take while it runs (the pixels' size follows
+ * it).  Said, not dropped without a word. */
+static void edit_frame_settings(App *app, const Args *a, const RenderSettings *rs)
 {
-    const int w = !a->width_given && rs->width ? rs->width : app->width;
-    const int h = !a->height_given && rs->height ? rs->height : app->height;
-    if (w != app->width || h != app->height)
-        fprintf(stderr, "lanray-server: %s asks for %dx%d frames; they stay %dx%d until the server is started again\n",
-                a->scene_path, w, h, app->width, app->height);
+    const int w = !a->width_given && rs->width ? rs->width : app->asked_w;
+    const int h = !a->height_given && rs->height ? rs->height : app->asked_h;
+    if (w != app->asked_w || h != app->asked_h) {
+        app->asked_w = w, app->asked_h = h;
+        if (app->display && app->win.follow) {
+            display_set_size(app->display, w, h);
+            log_line(a->cfg.quiet, "lanray-server", "%s asks for %dx%d frames: the window takes that size",
+                     a->scene_path, w, h);
+        } else {
+            fprintf(stderr, "lanray-server: %s asks for %dx%d frames; they stay %dx%d until the server is started again\n",
+                    a->scene_path, w, h, app->width, app->height);
+        }
+    }
     if (!a->denoise_given && rs->denoise != a->denoise)
         fprintf(stderr, "lanray-server: %s asks for denoise %s; the frames stay %s until the server is started again\n",
                 a->scene_path, rs->denoise ? "on" : "off", a->denoise ? "denoised" : "raw");
@@ -859,7 +895,7 @@ static void follow_edits(App *app, const Args *a)
     }
     if (app->display)
         window_knobs_apply(&app->win, &next->settings);
-    warn_fixed_edit(app, a, &asked);
+    edit_frame_settings(app, a, &asked);
     scene_destroy(app->pending);
     app->pending = next;
     server_set_scene(app->server, next);
@@ -900,7 +936,7 @@ static int serve(App *app, const Args *a)
     Err err = {{0}};
     if (app->display)
         window_init(&app->win, app->display, app->server, &app->pace, a->target_fps, app->scene, app->width,
-                    app->height);
+                    app->height, !a->fixed_size && !a->verify_path);
     int wait_clients = a->wait_clients;
     uint32_t status_frames = 0;
     app->animate = a->rotate != 0;

@@ -97,7 +97,7 @@ int panel_lines(const PanelInfo *p, char out[][PANEL_LINE])
              p->denoise == 1 && p->temporal ? ", moving ones added up" : "");
     else if (p->temporal) /* a Whitted view's history (--whitted-temporal) */
         LINE("moving frames near the full size added up (%d)", p->temporal);
-    LINE("segments of %u lines", p->segment_lines);
+    LINE("frames %dx%d, segments of %u lines", p->width, p->height, p->segment_lines);
     LINE("%u client%s", p->nclients, p->nclients == 1 ? "" : "s");
     double rest_share = 0, rest_rate = 0;
     for (uint32_t i = 0; i < p->nclients; i++) {

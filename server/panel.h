@@ -29,6 +29,7 @@ typedef struct {
     int temporal;          /* the frames a moving pixel's history weighs (render/temporal.h; with denoise 0, a Whitted
                             * view's near the full size); 0: none */
     uint32_t segment_lines;
+    int width, height;     /* the frames' size (in a window, its own unless --fixed-size) */
     const ServerClientInfo *clients;
     uint32_t nclients;
     const char *error;     /* the last edit's error, or NULL */

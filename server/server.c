@@ -121,6 +121,7 @@ struct Server {
     RenderSettings next_settings; /* server_set_settings */
     int settings_pending;
     int still_pending; /* server_set_still: a new still quality */
+    int next_width, next_height; /* server_set_size (0: none held) */
     uint32_t settings_id, last_settings_id; /* one up at each change of the view's settings */
     double frame_t0, last_frame_s; /* the current frame's start, the last finished frame's time */
     uint8_t *pixels; /* the frame, bpp bytes a pixel: RGB8, or RGBE (hdr), then with denoise its guide */
@@ -210,11 +211,11 @@ static int build_assets(Server *s, Err *err)
 
 /* The denoise stage of s's frames (filter 0: the history alone, of
  * `temporal` frames), on --denoise-threads threads or one a core. */
-static DenoiseStage *stage_make(const Server *s, int filter, int temporal, Err *err)
+static DenoiseStage *stage_make(const Server *s, int width, int height, int filter, int temporal, Err *err)
 {
     const long cores = sysconf(_SC_NPROCESSORS_ONLN);
     const int threads = s->cfg.denoise_threads > 0 ? s->cfg.denoise_threads : cores > 0 ? (int)cores : 1;
-    return denoise_stage_create((uint32_t)s->cfg.width, (uint32_t)s->cfg.height, s->cbpp,
+    return denoise_stage_create((uint32_t)width, (uint32_t)height, s->cbpp,
                                 threads < POOL_MAX_THREADS ? threads : POOL_MAX_THREADS, filter, temporal, err);
 }
 
@@ -252,7 +253,7 @@ Server *server_create(const ServerConfig *cfg, Scene *scene, Err *err)
     s->codec = pixcodec_create();
     Err stage_err = {{0}};
     if (scene->settings.denoise) {
-        s->stage = stage_make(s, 1, cfg->temporal, &stage_err);
+        s->stage = stage_make(s, cfg->width, cfg->height, 1, cfg->temporal, &stage_err);
         s->filters = 1;
         s->stripped = malloc((size_t)cfg->width * cfg->height * s->cbpp);
         if (s->stage && !s->stripped)
@@ -432,7 +433,22 @@ Scene *server_scene(const Server *s) { return s->scene; }
 int server_changes_pending(const Server *s)
 {
     return s->camera_pending || s->turn_pending != R(0) || s->next_scene != NULL || s->settings_pending ||
-           s->still_pending;
+           s->still_pending || s->next_width;
+}
+
+void server_set_size(Server *s, int width, int height)
+{
+    width = width < 1 ? 1 : width > SERVER_MAX_SIDE ? SERVER_MAX_SIDE : width;
+    height = height < 1 ? 1 : height > SERVER_MAX_SIDE ? SERVER_MAX_SIDE : height;
+    const int same = width == s->cfg.width && height == s->cfg.height;
+    s->next_width = same ? 0 : width;
+    s->next_height = same ? 0 : height;
+}
+
+void server_size(const Server *s, int *width, int *height)
+{
+    *width = s->cfg.width;
+    *height = s->cfg.height;
 }
 
 void server_set_settings(Server *s, const RenderSettings *rs)
@@ -800,7 +816,8 @@ static int still_batches(Server *s)
          * guides): its pixels are added on up to 8 threads (without them, on
          * the loop's) */
         const long cores = sysconf(_SC_NPROCESSORS_ONLN);
-        s->acc_pool = cores > 1 ? pool_create(cores < 8 ? (int)cores : 8, NULL) : NULL;
+        if (!s->acc_pool) /* kept through a change of size */
+            s->acc_pool = cores > 1 ? pool_create(cores < 8 ? (int)cores : 8, NULL) : NULL;
     }
     return frame_room(s, need) ? batches : 0;
 }
@@ -815,7 +832,7 @@ static int history_stage(Server *s)
     if (s->stage)
         return frame_room(s, s->cbpp + DENOISE_GUIDE_BYTES);
     Err err = {{0}};
-    s->stage = stage_make(s, 0, s->cfg.whitted_temporal, &err);
+    s->stage = stage_make(s, s->cfg.width, s->cfg.height, 0, s->cfg.whitted_temporal, &err);
     if (s->stage && !frame_room(s, s->cbpp + DENOISE_GUIDE_BYTES))
         err_set(&err, "out of memory for %dx%d guided pixels", s->cfg.width, s->cfg.height);
     if (s->stage && !err.msg[0])
@@ -827,9 +844,48 @@ static int history_stage(Server *s)
     return 0;
 }
 
+/* server_set_size, taken where no frame is in flight nor in the stage
+ * (server_step waits for that): the frames' buffers made again at the new
+ * size (those made when wanted, freed), the stage's filter and history
+ * too; the view starts again (the next frame is not a still one).  Where
+ * there is no memory for them the size stays, said in the log. */
+static void apply_size(Server *s)
+{
+    const int w = s->next_width, h = s->next_height;
+    s->next_width = s->next_height = 0;
+    const size_t n = (size_t)w * h;
+    uint8_t *px = malloc(n * s->frame_cap), *shown = malloc(n * s->cbpp);
+    uint8_t *stripped = s->stripped ? malloc(n * s->cbpp) : NULL;
+    Err err = {{0}};
+    DenoiseStage *stage = s->filters ? stage_make(s, w, h, 1, s->cfg.temporal, &err) : NULL;
+    if (!px || !shown || (s->stripped && !stripped) || (s->filters && !stage)) {
+        free(px), free(shown), free(stripped);
+        denoise_stage_destroy(stage);
+        log_line(s->cfg.quiet, "lanray-server", "%dx%d frames: %s; they stay %dx%d", w, h,
+                 err.msg[0] ? err.msg : "out of memory", s->cfg.width, s->cfg.height);
+        return;
+    }
+    free(s->pixels), free(s->shown), free(s->stripped);
+    s->pixels = px, s->shown = shown, s->stripped = stripped;
+    denoise_stage_destroy(s->stage); /* a Whitted view's history: made again at its next moving frame */
+    s->stage = stage;
+    uint8_t **made_later[] = {&s->spare_pixels, &s->peek_px, &s->acc_px};
+    for (size_t i = 0; i < sizeof made_later / sizeof *made_later; i++)
+        free(*made_later[i]), *made_later[i] = NULL;
+    free(s->acc_sums), s->acc_sums = NULL, s->acc_batch = 0;
+    free(s->upscale_scratch), s->upscale_scratch = NULL;
+    free(s->upscale_rgbe), s->upscale_rgbe = NULL;
+    sched_destroy(s->spare_sched), s->spare_sched = NULL;
+    s->cfg.width = w, s->cfg.height = h;
+    s->sched_cfg.width = (uint32_t)w, s->sched_cfg.height = (uint32_t)h;
+    s->sched_cfg.min_pixels = (uint32_t)(w / 4 > 0 ? w / 4 : 1);
+    s->settings_id++;
+}
 
 static int start_frame(Server *s, Err *err)
 {
+    if (s->next_width)
+        apply_size(s);
     if (apply_pending(s, err))
         return -1;
     if (s->dirty) { /* a new description: checked, encoded once, numbered */
@@ -914,6 +970,8 @@ static int start_frame(Server *s, Err *err)
  * it back), 1 where it did, -1 on an error. */
 static int start_ahead(Server *s, Err *err)
 {
+    if (s->next_width) /* a new size: after the frames in flight */
+        return 0;
     if (!s->spare_sched && !(s->spare_sched = sched_create(&s->sched_cfg)))
         return 0;
     if (!s->spare_pixels && !(s->spare_pixels = calloc((size_t)s->cfg.width * s->cfg.height, s->frame_cap)))
@@ -1353,7 +1411,9 @@ int server_step(Server *s, int timeout_ms, FrameDoneFn done, void *ctx, Err *err
         s->frames_given_way++;
         log_line(s->cfg.quiet, "lanray-server", "frame %u gave way to a change", s->frame);
     }
-    if (!s->in_frame && !s->paused && server_client_count(s) > 0 &&
+    /* a new size waits for the frame in the stage (shown at the old one) */
+    const int size_waits = s->next_width && s->stage && denoise_stage_holds(s->stage);
+    if (!s->in_frame && !s->paused && !size_waits && server_client_count(s) > 0 &&
         (!s->next_fn || s->next_fn(s->next_ctx, s->frame + 1, 0)) && start_frame(s, err))
         return -1;
     struct pollfd pfd[MAX_CLIENTS + 1];

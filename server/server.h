@@ -108,7 +108,15 @@ void server_turn_instances(Server *s, real degrees);
  * old one once server_scene returns the new one. */
 void server_set_scene(Server *s, Scene *next);
 Scene *server_scene(const Server *s);
-/* Whether a new camera, a turn or a new scene waits for the next frame. */
+/* The frames' size from the next frame on (the window's): taken once the
+ * frames in flight are shown, their buffers (and a denoised view's
+ * history) made again at it; the view starts again from a moving frame.
+ * server_size says the size of the newest frame started, which is the
+ * size of every frame the FrameDoneFn and FrameLinesFn get until the next
+ * change is taken. */
+void server_set_size(Server *s, int width, int height);
+void server_size(const Server *s, int *width, int *height);
+/* Whether a new camera, a turn, a new scene or a new size waits for the next frame. */
 int server_changes_pending(const Server *s);
 /* The camera the next frame starts from. */
 Camera server_camera(const Server *s);

@@ -9,10 +9,11 @@
 #include "upscale.h"
 
 void window_init(Window *w, Display *d, Server *s, Pace *pace, double target_fps, const Scene *scene, int width,
-                 int height)
+                 int height, int follow)
 {
     *w = (Window){.display = d, .server = s, .pace = pace, .home = scene->camera, .knobs = {-1, -1},
-                  .target_fps = target_fps, .width = width, .height = height};
+                  .target_fps = target_fps, .width = width, .height = height, .follow = follow,
+                  .asked_w = width, .asked_h = height};
     vec3 centre = v3_splat(0);
     real radius = R(1);
     if (scene_bounds(scene, &centre, &radius))
@@ -65,10 +66,25 @@ static void turn_knobs(Window *w, const DisplayInput *in)
     }
 }
 
+/* The frames at the window's size, as an image viewer would not but a
+ * renderer's viewport does: a larger window gets more pixels, not the
+ * same ones stretched (the server takes it between frames). */
+static void follow_size(Window *w)
+{
+    int ow, oh;
+    display_output_size(w->display, &ow, &oh);
+    if (ow == w->asked_w && oh == w->asked_h)
+        return;
+    w->asked_w = ow, w->asked_h = oh;
+    server_set_size(w->server, ow, oh);
+}
+
 int window_poll(Window *w, int *animate, int *screenshot)
 {
     DisplayInput in;
     display_poll(w->display, &in);
+    if (w->follow)
+        follow_size(w);
     const double now = timer_now(), dt = w->last_poll > 0 ? now - w->last_poll : 0;
     w->last_poll = now;
     if (in.quit)
@@ -128,7 +144,8 @@ void window_panel(Window *w, double fps, const char *error)
                        .diffuse = rs.shading == SHADE_DIFFUSE, .shadows = rs.shadows,
                        .denoise = server_denoises(w->server) ? 2 - server_denoise_shown(w->server) : 0,
                        .temporal = server_temporal(w->server),
-                       .segment_lines = server_segment_lines(w->server), .clients = clients, .error = error};
+                       .segment_lines = server_segment_lines(w->server), .width = w->width, .height = w->height,
+                       .clients = clients, .error = error};
         server_still(w->server, &p.refine, &p.still_aa, &p.still_adaptive);
         p.still_lights = server_still_lights(w->server);
         p.nclients = server_clients_info(w->server, clients, sizeof clients / sizeof *clients);

@@ -24,16 +24,18 @@ typedef struct {
     Knobs knobs;
     double target_fps;
     double last_poll, fps; /* fps: as the panel last said it */
-    int panel_on, width, height;
+    int panel_on, width, height; /* width, height: the frames' */
+    int follow;                  /* the frames' size follows the window's (not --fixed-size) */
+    int asked_w, asked_h;        /* ... the size last asked of the server */
 } Window;
 
 void window_init(Window *w, Display *d, Server *s, Pace *pace, double target_fps, const Scene *scene, int width,
-                 int height);
+                 int height, int follow);
 /* The knobs over a scene's settings (a scene read again). */
 void window_knobs_apply(const Window *w, RenderSettings *rs);
 /* The events since the last call, applied to the server for the next
- * frame: 1 where the user asked to quit; *animate toggled by Space,
- * *screenshot set by P. */
+ * frame (with follow, the window's size as the frames'): 1 where the user
+ * asked to quit; *animate toggled by Space, *screenshot set by P. */
 int window_poll(Window *w, int *animate, int *screenshot);
 /* The panel again, where it is shown: fps over the last half second, and
  * the last edit's error (or NULL). */

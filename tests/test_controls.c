@@ -114,7 +114,7 @@ static void panel_says_what_runs(void **state)
     }
     PanelInfo p = {.fps = 14.64, .frame_s = 0.0683, .target_fps = 15, .scale = 4 * UPSCALE_ONE, .aa = 1, .refine = 1,
                    .still_aa = 4, .still_adaptive = 1, .light_adaptive = 1, .shadows = 1, .segment_lines = 8,
-                   .clients = clients, .nclients = 2};
+                   .width = 390, .height = 150, .clients = clients, .nclients = 2};
     char lines[PANEL_MAX_LINES][PANEL_LINE];
     int n = panel_lines(&p, lines);
     assert_true(has(lines, n, "14.6 fps  latency 68.3 ms  moving"));
@@ -134,7 +134,7 @@ static void panel_says_what_runs(void **state)
     n = panel_lines(&p, lines);
     assert_true(has(lines, n, "moving lights adaptive 2x2 [L]  phong [M]"));
     p.moving_lights = 0;
-    assert_true(has(lines, n, "segments of 8 lines") && has(lines, n, "2 clients"));
+    assert_true(has(lines, n, "frames 390x150, segments of 8 lines") && has(lines, n, "2 clients"));
     assert_true(has(lines, n, "10.0.0.2:4000") && has(lines, n, "1001 lines/s") && has(lines, n, "30.0%"));
     assert_false(has(lines, n, "error"));
     /* ten clients: eight named, the other two summed */

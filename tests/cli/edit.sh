@@ -4,8 +4,8 @@
 # syntax error, then a fix: the frames show each good version as
 # lanray-render draws it (byte for byte), the error is logged with its file
 # and line while the last good scene stays on, and the one client never
-# reconnects; a frame size or denoise edited in is said (the frames keep
-# theirs).
+# reconnects; a frame size or denoise edited in is said (a headless
+# server's frames keep theirs; a window takes the size: resize.sh).
 set -u
 source tests/tools/server-lib.sh
 W=64 H=48
@@ -73,9 +73,10 @@ n=$(grep -c "connected to" "$dir/client.err")
 [ "$n" = 1 ] || fail "the client connected $n times: $(cat "$dir/client.err")"
 grep -q "reconnecting" "$dir/client.err" && fail "the client reconnected: $(cat "$dir/client.err")"
 grep -q "scenes decoded" "$dir/client.err" || fail "the client did not end its session cleanly: $(cat "$dir/client.err")"
-# a frame size and denoise edited into a scene served without --width,
-# --height, --denoise: the frames stay as they are (the server cannot take
-# another size while it runs) and the log says so, rather than nothing
+# a frame size and denoise edited into a scene served headless without
+# --width, --height, --denoise: the frames stay as they are (the frames
+# written are one size; denoise the server cannot take while it runs) and
+# the log says so, rather than nothing
 mkdir "$dir/z" "$dir/fz"
 printf 'settings width 64 height 48\n%s' "$v1" >"$dir/z/z.scene"
 cp "$dir/s/tex.ppm" "$dir/z/"
