@@ -1,7 +1,8 @@
 /* display.c - see display.h.  Keys: W/S or Up/Down move, A/D strafe,
  * Left/Right turn, R/F up/down (Shift: faster), +/- or the wheel zoom, a
- * mouse drag looks around, V captures the pointer for mouse look (Esc lets
- * it go), C frames the whole scene, Home resets the camera, Space toggles
+ * left drag looks around, a right or middle drag orbits, V captures the pointer for mouse look (Esc lets
+ * it go), C frames the whole scene, Home resets the camera, K prints the
+ * view as a scene's camera line, Space toggles
  * the model animation, P saves a screenshot, Tab shows the panel, T /
  * Shift+T the frame-rate target, N the still quality, L the light
  * sampling, M the shading, H the shadows, F11 fills the screen; Esc or Q
@@ -21,6 +22,7 @@
 #define DISPLAY_FONT "/usr/share/fonts/truetype/dejavu/DejaVuSansMono.ttf"
 #define DISPLAY_FONT_PT 12
 #define LOOK_DEG_PX 0.15 /* mouse look: degrees a pixel */
+#define ORBIT_DEG_PX 0.4 /* an orbit: degrees a pixel (a drag across a 900-pixel window goes once round) */
 
 struct Display {
     SDL_Window *win;
@@ -303,6 +305,7 @@ static void key_down(Display *d, const SDL_KeyboardEvent *k, DisplayInput *in)
     case SDLK_KP_MINUS: in->zoom -= 1; break;
     case SDLK_TAB: in->toggle_panel = 1; break;
     case SDLK_c: in->frame_all = 1; break;
+    case SDLK_k: in->print_view = 1; break;
     case SDLK_v: capture(d, !d->captured); break;
     case SDLK_t: *(shift ? &in->target_down : &in->target_up) = 1; break;
     case SDLK_n: in->next_still = 1; break;
@@ -337,6 +340,9 @@ void display_poll(Display *d, DisplayInput *in)
             if (d->captured || (e.motion.state & SDL_BUTTON_LMASK)) {
                 in->yaw -= e.motion.xrel * LOOK_DEG_PX;
                 in->pitch -= e.motion.yrel * LOOK_DEG_PX;
+            } else if (e.motion.state & (SDL_BUTTON_RMASK | SDL_BUTTON_MMASK)) {
+                in->orbit_yaw -= e.motion.xrel * ORBIT_DEG_PX;
+                in->orbit_pitch -= e.motion.yrel * ORBIT_DEG_PX;
             }
             break;
         case SDL_MOUSEWHEEL: in->zoom += e.wheel.y; break;

@@ -15,9 +15,11 @@ typedef struct {
     double forward, right, up; /* keys held: -1, 0 or 1 */
     int fast;                  /* Shift held: move faster */
     double turn;               /* arrow keys held: -1..1 (left +) */
-    double yaw, pitch;         /* degrees, from the mouse */
+    double yaw, pitch;         /* degrees, from the mouse: a left drag looks round */
+    double orbit_yaw, orbit_pitch; /* ... a right or middle drag orbits (navigate.h nav_orbit) */
     double zoom;               /* zoom steps (+ in, - out) */
     /* the knobs: */
+    int print_view; /* K: the view as a scene's camera line */
     int toggle_panel, frame_all, target_up, target_down, next_still, toggle_lights, toggle_shading,
         toggle_shadows, toggle_upscale, toggle_denoise;
 } DisplayInput;

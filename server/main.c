@@ -398,6 +398,7 @@ typedef struct {
     int denoise; /* --denoise, or the first scene's settings denoise: fixed for the server's life */
     int denoise_given;
     int fixed_size; /* --fixed-size: the window's frames keep their size */
+    const char *camera; /* --camera */
     int integrator, integrator_given, tonemap, tonemap_given;
     CliLightPaths paths;
     CliAa aa;
@@ -453,16 +454,17 @@ static void config_from_args(Args *a)
 
 /* lanray-server --help's text above and below the options */
 static const char server_about[] =
-    "Holds the scene (the built-in one without an argument; a model alone gets a preview scene),\n"
-    "hands out segments of each frame to lanray-client processes and shows the frames in a window,\n"
-    "or writes them when headless or without a display.  In the window: W/S A/D R/F move (Shift: faster;\n"
-    "the speed follows the scene's size), a mouse drag or the arrows look, V captures the mouse for\n"
-    "mouse look (Esc lets it go), +/- or the wheel zoom, C frames the whole scene, Home resets, Space\n"
-    "toggles --rotate, P saves the picture shown (lanray-screenshot-N.png, or .hdr, in the folder the\n"
-    "server runs in), Tab shows the panel (frame rate, render scale, samples,\n"
-    "each client's lines/s and share, segment size), T/Shift+T the frame-rate target up/down, N the\n"
-    "still quality (off, 2x2, adaptive 4x4, 4x4, path-traced on to 16x16 and 32x32), L light sampling,\n"
-    "M shading, H shadows, U a scaled frame smooth or in blocks (--upscale), F11 full screen; Esc or Q\n"
+    "Holds the scene (the built-in one without an argument; a model alone gets a preview scene), hands\n"
+    "out segments of each frame to lanray-client processes and shows the frames in a window, or writes\n"
+    "them when headless or without a display.  In the window: W/S A/D R/F move (Shift: faster; the speed\n"
+    "follows the scene's size), a mouse drag or the arrows look, a right or middle drag orbits round the\n"
+    "middle of the view, V captures the mouse for mouse look (Esc lets it go), +/- or the wheel zoom, C\n"
+    "frames the whole scene, Home resets, K prints the view as a scene's camera line (for a scene file or\n"
+    "lanray-render --camera), Space toggles --rotate, P saves the picture shown (lanray-screenshot-N.png,\n"
+    "or .hdr, in the folder the server runs in), Tab shows the panel (frame rate, render scale, samples,\n"
+    "each client's lines/s and share, segment size), T/Shift+T the frame-rate target up/down, N the still\n"
+    "quality (off, 2x2, adaptive 4x4, 4x4, path-traced on to 16x16 and 32x32), L light sampling, M\n"
+    "shading, H shadows, U a scaled frame smooth or in blocks (--upscale), F11 full screen; Esc or Q\n"
     "quits.  The window resizes, and the frames with it: a larger window renders more pixels (the view\n"
     "starts again at each new size); a frame larger than the screen opens a window that fits it.\n"
     "A scene file is followed while it runs: an edit to it or to the models and textures it names is\n"
@@ -542,6 +544,7 @@ static int parse_args(Args *a, int argc, char **argv)
         {.name = "--bvh", .kind = OPT_CHOICE, .dst = &a->bvh_kind, .choices = bvh_kind_names, .seen = &a->force_bvh,
          .help = "BVH builder for models; given, it rebuilds .tmd models too"},
         CLI_SMOOTH_OPT(&a->smooth),
+        CLI_CAMERA_OPT(&a->camera),
         {.name = "--aa", .kind = OPT_CUSTOM, .dst = &a->aa, .arg = "N|adaptive[:N]", .parse = cli_parse_aa, .range = CLI_AA_RANGE,
          .help = "anti-aliasing", .def = "the scene's, else 1"},
         LOOK_OPTS(a),
@@ -662,6 +665,8 @@ static int apply_overrides(Scene *scene, const Args *a, Err *err)
         scene->settings.tonemap = (Tonemap)a->tonemap;
     scene->settings.linear = a->linear;
     scene->settings.hdr = a->hdr;
+    if (cli_put_camera(scene, a->camera, err)) /* each reading: the file's camera moved is not a move */
+        return -1;
     return cli_put_environment(scene, &a->env, a->scene_path, err);
 }
 
@@ -677,6 +682,10 @@ static int open_scene(App *app, Args *a, Err *err)
         return 1;
     }
     Scene *scene = app->scene;
+    if (cli_put_camera(scene, a->camera, err)) { /* a bad command line, said before anything else */
+        fprintf(stderr, "lanray-server: %s\n", err->msg);
+        return 2;
+    }
     a->denoise = a->denoise || scene->settings.denoise;
     if (apply_overrides(scene, a, err)) {
         fprintf(stderr, "lanray-server: %s\n", err->msg);

@@ -46,3 +46,22 @@ void nav_frame_all(const Nav *n, Camera *c, int width, int height)
     const real half = atan(t);
     c->pos = v3_sub(n->centre, v3_scale(f, n->radius * R(1.1) / sin(half)));
 }
+
+void nav_orbit(Nav *n, Camera *c, real yaw, real pitch)
+{
+    vec3 r, u, f;
+    camera_basis(c, &r, &u, &f);
+    if (!n->orbiting || !camera_same(c, &n->orbited)) {
+        real d = v3_dot(v3_sub(n->centre, c->pos), f);
+        if (!(d > R(0.25) * n->radius)) /* behind, beside or at the camera: a point a radius ahead */
+            d = n->radius;
+        n->pivot = v3_add(c->pos, v3_scale(f, d));
+        n->pivot_d = d;
+    }
+    c->yaw += yaw;
+    c->pitch = real_clamp(c->pitch + pitch, -89, 89);
+    camera_basis(c, &r, &u, &f);
+    c->pos = v3_sub(n->pivot, v3_scale(f, n->pivot_d));
+    n->orbited = *c;
+    n->orbiting = 1;
+}

@@ -12,6 +12,12 @@ typedef struct {
     real speed; /* top speed: the scene's radius in NAV_CROSS_S seconds */
     vec3 centre;
     real radius; /* the scene's bounding sphere (scene_bounds), or a unit one */
+    /* the last orbit's point and distance, and the camera it left: the
+     * next orbit from that camera turns about the same point */
+    vec3 pivot;
+    real pivot_d;
+    Camera orbited;
+    int orbiting;
 } Nav;
 
 /* Seconds to cross the scene's radius at top speed, and the time constant
@@ -28,6 +34,15 @@ void nav_init(Nav *n, vec3 centre, real radius);
  * moved.  The speed eases towards the keys' and stops below a thousandth
  * of the top speed. */
 int nav_move(Nav *n, Camera *c, vec3 want, int fast, double dt);
+/* Orbits c by yaw and pitch degrees about the point straight ahead at
+ * the scene's depth (the view axis's point nearest the scene's centre; a
+ * radius ahead where the centre is behind or near): what is in the
+ * middle of the view stays there and the camera swings round it at its
+ * distance, as a model viewer's drag does.  A camera the last orbit left
+ * turns about that orbit's point again, so that a drag's steps make one
+ * orbit however the mouse's moves came in.  Pitch stops at +-89 degrees
+ * (the orbit with it). */
+void nav_orbit(Nav *n, Camera *c, real yaw, real pitch);
 /* The camera turned to see the whole bounding sphere from where it looks,
  * with a margin, at a frame of width x height; its direction kept. */
 void nav_frame_all(const Nav *n, Camera *c, int width, int height);

@@ -6,6 +6,7 @@
 
 #include "base/timer.h"
 #include "panel.h"
+#include "scene/scene_fields.h"
 #include "upscale.h"
 
 void window_init(Window *w, Display *d, Server *s, Pace *pace, double target_fps, const Scene *scene, int width,
@@ -107,12 +108,21 @@ int window_poll(Window *w, int *animate, int *screenshot)
         c->pitch = real_clamp(c->pitch + (real)in.pitch, -89, 89);
         changed = 1;
     }
+    if (in.orbit_yaw || in.orbit_pitch) {
+        nav_orbit(&w->nav, c, (real)in.orbit_yaw, (real)in.orbit_pitch);
+        changed = 1;
+    }
     if (in.zoom) {
         c->zoom *= pow(R(1.1), (real)in.zoom);
         changed = 1;
     }
     if (changed)
         server_set_camera(w->server, c);
+    if (in.print_view) { /* a view found in the window, for a scene file or lanray-render --camera */
+        char line[512];
+        camera_line(c, line, sizeof line);
+        fprintf(stderr, "lanray-server: the view: %s\n", line);
+    }
     if (in.toggle_animation)
         *animate = !*animate;
     if (in.screenshot)

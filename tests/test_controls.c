@@ -95,6 +95,67 @@ static void frame_all_sees_the_whole_scene(void **state)
     scene_destroy(p);
 }
 
+/* The orbit: what is in the middle of the view stays there, at the
+ * distance it was, the camera swung round it by the angles asked. */
+static void orbit_swings_round_the_middle(void **state)
+{
+    (void)state;
+    Nav n;
+    const vec3 centre = v3(1, 2, -3);
+    nav_init(&n, centre, 2);
+    /* looking at the centre from 10 away: the centre stays ahead, 10 away */
+    Camera c = camera_from_angles(v3_add(centre, v3(0, 0, 10)), 0, 0, 0, 1);
+    nav_orbit(&n, &c, 30, 20);
+    vec3 r, u, f;
+    camera_basis(&c, &r, &u, &f);
+    vec3 to = v3_sub(centre, c.pos);
+    assert_true(fabs(v3_len(to) - R(10)) < R(1e-4));
+    assert_true(v3_dot(v3_norm(to), f) > R(0.99999));
+    assert_true(c.yaw == R(30) && c.pitch == R(20));
+    /* where it went: 10 x (sin 30 cos 20, -sin 20, cos 30 cos 20) from the
+     * centre (yaw to the left swings it to the right; pitched up, it looks
+     * up at the centre from below) */
+    const real deg = REAL_PI / R(180);
+    const vec3 want = v3_scale(v3(sin(30 * deg) * cos(20 * deg), -sin(20 * deg), cos(30 * deg) * cos(20 * deg)), 10);
+    assert_true(v3_len(v3_sub(v3_sub(c.pos, centre), want)) < R(1e-4));
+    /* the pitch stops at 89 degrees and the orbit with it */
+    nav_orbit(&n, &c, 0, 200);
+    assert_true(c.pitch == R(89));
+    camera_basis(&c, &r, &u, &f);
+    to = v3_sub(centre, c.pos);
+    assert_true(fabs(v3_len(to) - R(10)) < R(1e-3) && v3_dot(v3_norm(to), f) > R(0.99999));
+    /* off-centre: the point of the view axis at the centre's depth stays put */
+    c = camera_from_angles(v3(centre.x + 3, centre.y, centre.z + 8), 0, 0, 0, 1);
+    const vec3 pivot = v3(centre.x + 3, centre.y, centre.z);
+    nav_orbit(&n, &c, -45, 0);
+    camera_basis(&c, &r, &u, &f);
+    to = v3_sub(pivot, c.pos);
+    assert_true(fabs(v3_len(to) - R(8)) < R(1e-4) && v3_dot(v3_norm(to), f) > R(0.99999));
+    /* a drag's steps make one orbit: 10 then 20 degrees off-centre is 30
+     * at once (the point found again from the turned camera would be
+     * another: the view axis's point nearest the centre has moved) */
+    Camera one = camera_from_angles(v3(centre.x + 3, centre.y + 1, centre.z + 8), 0, 0, 0, 1), two = one;
+    Nav n1, n2;
+    nav_init(&n1, centre, 2);
+    nav_init(&n2, centre, 2);
+    nav_orbit(&n1, &one, 30, -12);
+    nav_orbit(&n2, &two, 10, -4);
+    nav_orbit(&n2, &two, 20, -8);
+    assert_true(v3_len(v3_sub(one.pos, two.pos)) < R(1e-4) && one.yaw == two.yaw && one.pitch == two.pitch);
+    /* ... and a camera moved since starts a new one about its own middle */
+    two.pos.x += 1;
+    const vec3 moved = two.pos;
+    nav_orbit(&n2, &two, 0, 0);
+    assert_true(v3_len(v3_sub(two.pos, moved)) < R(1e-4));
+    /* the centre behind the camera: it swings round a point a radius ahead */
+    c = camera_from_angles(v3(centre.x, centre.y, centre.z - 5), 0, 0, 0, 1);
+    const vec3 ahead = v3(centre.x, centre.y, centre.z - 7);
+    nav_orbit(&n, &c, 90, 0);
+    camera_basis(&c, &r, &u, &f);
+    to = v3_sub(ahead, c.pos);
+    assert_true(fabs(v3_len(to) - R(2)) < R(1e-4) && v3_dot(v3_norm(to), f) > R(0.99999));
+}
+
 /* Whether a line of the panel holds `text`. */
 static int has(char lines[][PANEL_LINE], int n, const char *text)
 {
@@ -224,6 +285,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(speed_follows_the_scene_and_eases),
         cmocka_unit_test(frame_all_sees_the_whole_scene),
+        cmocka_unit_test(orbit_swings_round_the_middle),
         cmocka_unit_test(panel_says_what_runs),
         cmocka_unit_test(target_steps),
         cmocka_unit_test(still_steps),

@@ -2,6 +2,7 @@
 #include "helpers.h"
 #include "worlds.h"
 
+#include "scene/scene_fields.h"
 #include "scene/scene_parse.h"
 
 static int parse(const char *text, Scene **s, Err *err)
@@ -183,6 +184,55 @@ static void byte_order_mark_and_spellings(void **state)
     assert_contains(err.msg, "t.scene:2: unknown directive");
 }
 
+/* A camera written as a scene line (the window's K) reads back as the
+ * same camera, field for field, whatever its kind; a directive's fields
+ * alone (lanray-render --camera) read as the same line in a file does. */
+static void camera_line_reads_back(void **state)
+{
+    (void)state;
+    Camera cams[5];
+    cams[0] = camera_from_angles(v3(R(0.1), R(-2.0000002), R(1e7)), R(-1234.567), R(-88.9), R(0.3), R(1.7320508));
+    cams[1] = camera_from_angles(v3(R(3), R(1e-20), R(-4)), R(33.3), R(12.25), 0, R(0.7));
+    cams[2] = cams[1], cams[2].kind = CAMERA_ORTHO, cams[2].size = R(6.5);
+    cams[3] = cams[1], cams[3].kind = CAMERA_FISHEYE, cams[3].fov = R(187.5);
+    cams[4] = cams[0], cams[4].aperture = R(0.05), cams[4].focus = R(3.3);
+    for (int i = 0; i < 5; i++) {
+        char line[512];
+        assert_true(camera_line(&cams[i], line, sizeof line) < (int)sizeof line);
+        Camera back;
+        Err err = {{0}};
+        assert_int_equal(scene_parse_camera(line, "K", &back, &err), 0);
+        if (cams[i].kind != CAMERA_PINHOLE) /* a pinhole's zoom is none of theirs (the line leaves it out) */
+            back.zoom = cams[i].zoom;
+        assert_true(camera_same(&back, &cams[i]));
+        /* in a scene file too */
+        char text[600];
+        snprintf(text, sizeof text, "%s\nsphere centre 0 0 0 radius 1\n", line);
+        Scene *s = NULL;
+        assert_int_equal(parse(text, &s, &err), 0);
+        back = s->camera;
+        if (cams[i].kind != CAMERA_PINHOLE)
+            back.zoom = cams[i].zoom;
+        assert_true(camera_same(&back, &cams[i]));
+        scene_destroy(s);
+    }
+    Scene *s = NULL;
+    Err err = {{0}};
+    assert_int_equal(parse("camera position 0 1 5 lookat 0 0 0 fov 40\nsphere centre 0 0 0 radius 1\n", &s, &err), 0);
+    Camera c;
+    assert_int_equal(scene_parse_camera("position 0 1 5 lookat 0 0 0 fov 40", "--camera", &c, &err), 0);
+    assert_true(camera_same(&c, &s->camera));
+    scene_destroy(s);
+    assert_int_equal(scene_parse_camera("position 0 0 0 lookat 0 0 0", "--camera", &c, &err), -1);
+    assert_contains(err.msg, "--camera:1: camera 'lookat' point equals its position");
+    assert_int_equal(scene_parse_camera("position 1 2 yaw 3", "--camera", &c, &err), -1);
+    assert_contains(err.msg, "--camera:1:");
+    assert_int_equal(scene_parse_camera("position 1 2 3\nsphere", "--camera", &c, &err), -1);
+    assert_contains(err.msg, "--camera: one line");
+    assert_int_equal(scene_parse_camera("", "--camera", &c, &err), -1);
+    assert_contains(err.msg, "--camera");
+}
+
 static void expect_error(const char *text, const char *what)
 {
     Scene *s = NULL;
@@ -255,6 +305,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(full_scene),
+        cmocka_unit_test(camera_line_reads_back),
         cmocka_unit_test(features_reflect_what_is_used),
         cmocka_unit_test(a_smooth_triangle_needs_its_normals),
         cmocka_unit_test(roughness_goes_with_a_mirror_or_glass),

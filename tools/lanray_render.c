@@ -114,6 +114,7 @@ static void print_memory(const Scene *s)
 /* What the command line says. */
 typedef struct {
     const char *out, *profile, *scene_path, *path;
+    const char *camera; /* --camera */
     double at;
     int width, height, repeat, quiet, segment, threads, linear, simd_given, stats;
     int width_given, height_given, force_bvh, bvh_kind, band_lines, smooth;
@@ -241,6 +242,7 @@ static int parse_args(Args *a, int argc, char **argv)
         {.name = "--linear", .kind = OPT_FLAG, .dst = &a->linear,
          .help = "write linear light (PNG tagged gAMA 1.0) instead of sRGB"},
         CLI_ENVIRONMENT_OPTS(&a->env),
+        CLI_CAMERA_OPT(&a->camera),
         {.name = "--path", .kind = OPT_STRING, .dst = &a->path, .arg = "FILE",
          .help = "a camera path (docs/scene.md): render its camera at --at in place of the scene's"},
         {.name = "--at", .kind = OPT_REAL, .dst = &a->at, .arg = "T", .rlo = 0, .rhi = 1e9,
@@ -270,10 +272,19 @@ static int parse_args(Args *a, int argc, char **argv)
     return go;
 }
 
-/* --path: the path's camera at --at in place of the scene's, the path
- * kept for --server-frame (0, or 1). */
+/* --camera, or --path: the path's camera at --at in place of the
+ * scene's, the path kept for --server-frame (0, or 1; 2 for a camera that
+ * cannot be read). */
 static int apply_path(Scene *scene, const Args *a, CameraPath *path, Err *err)
 {
+    if (a->camera && a->path) {
+        fprintf(stderr, "lanray-render: --camera and --path each give the camera: give one\n");
+        return 2;
+    }
+    if (cli_put_camera(scene, a->camera, err)) {
+        fprintf(stderr, "lanray-render: %s\n", err->msg);
+        return 2;
+    }
     if (!a->path)
         return 0;
     if (camera_path_load(a->path, path, err)) {

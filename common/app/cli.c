@@ -125,6 +125,17 @@ void cli_put_light_paths(RenderSettings *rs, const CliLightPaths *l)
         rs->caustics = (Caustics)l->caustics;
 }
 
+int cli_put_camera(Scene *s, const char *text, Err *err)
+{
+    Camera c;
+    if (!text)
+        return 0;
+    if (scene_parse_camera(text, "--camera", &c, err))
+        return -1;
+    s->camera = c;
+    return 0;
+}
+
 int cli_put_environment(Scene *s, const CliEnvironment *e, const char *path, Err *err)
 {
     if (e->file) {

@@ -123,6 +123,17 @@ void cli_put_light_paths(RenderSettings *rs, const CliLightPaths *l);
  * stronger or to turn. */
 int cli_put_environment(Scene *s, const CliEnvironment *e, const char *path, Err *err);
 
+/* --camera, lanray-render's and the server's: a `camera` directive's
+ * fields, or the whole line the window's K prints, in place of the
+ * scene's camera (cli_put_camera) */
+#define CLI_CAMERA_OPT(var) \
+    {.name = "--camera", .kind = OPT_STRING, .dst = (var), .arg = "FIELDS", \
+     .help = "the scene's camera replaced: a camera directive's fields ('position 0 1 5 lookat 0 0 0 fov 40', " \
+             "docs/scene.md), or the line the server's window prints for its view (K)"}
+/* Puts --camera's camera (text, NULL: none) into s; -1 with err saying
+ * what is wrong with it. */
+int cli_put_camera(Scene *s, const char *text, Err *err);
+
 /* Warns on standard error about what a user would not want in a scene:
  * no light (only the ambient colour would show it). */
 void cli_warn_scene(const char *prog, const Scene *s);

@@ -18,11 +18,13 @@ typedef double real;
 #define REAL_EPS DBL_EPSILON
 #define REAL_MAX DBL_MAX
 #define REAL_NAME "double"
+#define REAL_DIGITS 17 /* significant digits that print a real so that it reads back the same */
 #else
 typedef float real;
 #define REAL_EPS FLT_EPSILON
 #define REAL_MAX FLT_MAX
 #define REAL_NAME "float"
+#define REAL_DIGITS 9
 #endif
 
 #define R(x) ((real)(x))

@@ -371,6 +371,24 @@ const char *scene_fields_finish_light(LightSpec *sp, FieldSet given)
     return NULL;
 }
 
+int camera_line(const Camera *c, char *buf, size_t size)
+{
+    const int p = REAL_DIGITS;
+    char proj[96];
+    if (c->kind == CAMERA_ORTHO)
+        snprintf(proj, sizeof proj, "ortho %.*g", p, (double)c->size);
+    else if (c->kind == CAMERA_FISHEYE)
+        snprintf(proj, sizeof proj, "fisheye %.*g", p, (double)c->fov);
+    else if (c->aperture > R(0))
+        snprintf(proj, sizeof proj, "zoom %.*g aperture %.*g focus %.*g", p, (double)c->zoom, p, (double)c->aperture, p,
+                 (double)c->focus);
+    else
+        snprintf(proj, sizeof proj, "zoom %.*g", p, (double)c->zoom);
+    return snprintf(buf, size, "camera position %.*g %.*g %.*g yaw %.*g pitch %.*g roll %.*g %s", p, (double)c->pos.x, p,
+                    (double)c->pos.y, p, (double)c->pos.z, p, (double)c->yaw, p, (double)c->pitch, p, (double)c->roll,
+                    proj);
+}
+
 const char *camera_problem(const Camera *c, char *buf, size_t size)
 {
     CameraSpec sp = {.cam = *c};

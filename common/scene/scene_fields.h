@@ -68,6 +68,12 @@ void scene_fields_finish_settings(SettingsSpec *sp, FieldSet given);
  * NULL, or what is wrong (a spot or directional light without a direction). */
 const char *scene_fields_finish_light(LightSpec *sp, FieldSet given);
 
+/* The camera as a scene file's `camera` line that reads back as the same
+ * camera, field for field (position and angles, zoom or the projection's
+ * width or field of view, the lens), into buf: its length, or how long
+ * it would be (snprintf). */
+int camera_line(const Camera *c, char *buf, size_t size);
+
 /* What is wrong with a camera's, a light's values (the table's ranges and
  * what holds between fields), into buf; or NULL. */
 const char *camera_problem(const Camera *c, char *buf, size_t size);

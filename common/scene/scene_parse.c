@@ -468,6 +468,35 @@ int scene_parse(char *text, size_t len, const char *name, const char *dir, const
     return 0;
 }
 
+int scene_parse_camera(const char *text, const char *name, Camera *out, Err *err)
+{
+    char line[1024];
+    const int whole = strncmp(text, "camera", 6) == 0 && (text[6] == ' ' || text[6] == '\t');
+    const int n = snprintf(line, sizeof line, "%s%s", whole ? "" : "camera ", text);
+    if (n < 0 || (size_t)n >= sizeof line)
+        return err_set(err, "%s: more than %zu characters", name, sizeof line - 8);
+    if (strpbrk(line, "\n\r"))
+        return err_set(err, "%s: one line, without line breaks", name);
+    Ctx c;
+    memset(&c, 0, sizeof c);
+    c.file = name;
+    c.dir = ".";
+    c.err = err;
+    c.line = 1;
+    if (!(c.s = scene_create()))
+        return err_set(err, "%s: out of memory", name);
+    Lexer lx = lex_make(line, (size_t)n);
+    Tokens t;
+    int rc = lex_next_line(&lx, &t) && t.n > 0 ? 0 : err_set(err, "%s: no camera fields", name);
+    if (rc == 0 && t.truncated)
+        rc = fail(&c, "line has more than 256 words");
+    rc = rc ? rc : do_camera(&c, &t);
+    if (rc == 0)
+        *out = c.s->camera;
+    scene_destroy(c.s);
+    return rc ? -1 : 0;
+}
+
 int scene_load(const char *path, const BvhOptions *bvh, int force, Scene **out, Err *err)
 {
     char *text;

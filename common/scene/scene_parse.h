@@ -17,5 +17,9 @@
 int scene_parse(char *text, size_t len, const char *name, const char *dir, const BvhOptions *bvh, int force,
                 Scene **out, Err *err);
 int scene_load(const char *path, const BvhOptions *bvh, int force, Scene **out, Err *err);
+/* A camera from a `camera` directive's fields alone, "position 0 1 5
+ * lookat 0 0 0 fov 40" (lanray-render --camera, named `name` in errors),
+ * or a whole `camera ...` line (camera_line's); -1 with the reason. */
+int scene_parse_camera(const char *text, const char *name, Camera *out, Err *err);
 
 #endif
