@@ -6,7 +6,7 @@
  * the model animation, P saves a screenshot, Tab shows the panel, T /
  * Shift+T the frame-rate target, N the still quality, L the light
  * sampling, M the shading, H the shadows, F11 fills the screen; Esc or Q
- * quits.  The window can be resized: a frame is drawn as large as it
+ * quits.  A file dropped on the window is opened (window.h).  The window can be resized: a frame is drawn as large as it
  * fits, its shape kept (bars beside it), the panel at its own size (the
  * frames of another size follow, unless --fixed-size: window.c).  A
  * frame larger than the screen opens a window that fits it.  The panel's
@@ -346,6 +346,11 @@ void display_poll(Display *d, DisplayInput *in)
             }
             break;
         case SDL_MOUSEWHEEL: in->zoom += e.wheel.y; break;
+        case SDL_DROPFILE: /* a path longer than the room is not opened cut short */
+            if (e.drop.file && strlen(e.drop.file) < sizeof in->dropped)
+                strcpy(in->dropped, e.drop.file);
+            SDL_free(e.drop.file);
+            break;
         case SDL_KEYDOWN:
             if (!e.key.repeat)
                 key_down(d, &e.key, in);

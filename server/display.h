@@ -20,6 +20,7 @@ typedef struct {
     double zoom;               /* zoom steps (+ in, - out) */
     /* the knobs: */
     int print_view; /* K: the view as a scene's camera line */
+    char dropped[4096]; /* a file dropped on the window ("": none; of several, the last) */
     int toggle_panel, frame_all, target_up, target_down, next_still, toggle_lights, toggle_shading,
         toggle_shadows, toggle_upscale, toggle_denoise;
 } DisplayInput;

@@ -18,6 +18,7 @@
 #include "display.h"
 #include "framewriter.h"
 #include "image/image.h"
+#include "model/model_load.h"
 #include "base/fileio.h"
 #include "base/log.h"
 #include "base/opt.h"
@@ -66,6 +67,8 @@ typedef struct {
     uint32_t frames_done, frames_wanted;
     double last_title;
     const char *name; /* the scene's file name, for the title (NULL: the built-in scene) */
+    const char *scene_path; /* its path (NULL: the built-in scene): --scene's, or */
+    char *dropped;          /* ... a file dropped on the window since, which it points to */
     FrameRate rate;   /* the window's frame rate */
     int screenshot;
     uint8_t *shown;       /* the frame the window shows (P saves it), */
@@ -469,6 +472,8 @@ static const char server_about[] =
     "starts again at each new size); a frame larger than the screen opens a window that fits it.\n"
     "A scene file is followed while it runs: an edit to it or to the models and textures it names is\n"
     "read again and sent between frames; an error keeps the last good scene and is shown with its line.\n"
+    "A scene file or a model dropped on the window (from a file manager) is opened in its place, followed\n"
+    "in turn.\n"
     "SIGUSR1 prints per-client statistics.";
 static const char server_exits[] =
     "  0  every requested frame was written (--frames N), or stopped by the window, SIGINT or SIGTERM\n"
@@ -647,11 +652,13 @@ static void app_close(App *a)
     scene_destroy(a->pending);
     watch_close(a->watch);
     camera_path_free(&a->path);
+    free(a->dropped);
 }
 
-/* The command line's settings over a scene's own (at the start, and on every
- * reading of an edited scene); -1 where its environment cannot be put. */
-static int apply_overrides(Scene *scene, const Args *a, Err *err)
+/* The command line's settings over a scene's own, the scene of `path` (at
+ * the start, on every reading of an edited scene, for a file dropped on
+ * the window); -1 where its environment cannot be put. */
+static int apply_overrides(Scene *scene, const Args *a, const char *path, Err *err)
 {
     scene->settings.denoise = a->denoise; /* as hdr, fixed: the pixels' size follows it */
     if (a->aa.given) {
@@ -667,7 +674,7 @@ static int apply_overrides(Scene *scene, const Args *a, Err *err)
     scene->settings.hdr = a->hdr;
     if (cli_put_camera(scene, a->camera, err)) /* each reading: the file's camera moved is not a move */
         return -1;
-    return cli_put_environment(scene, &a->env, a->scene_path, err);
+    return cli_put_environment(scene, &a->env, path, err);
 }
 
 /* The scene, with the command line's settings over its own, and the frame
@@ -687,7 +694,7 @@ static int open_scene(App *app, Args *a, Err *err)
         return 2;
     }
     a->denoise = a->denoise || scene->settings.denoise;
-    if (apply_overrides(scene, a, err)) {
+    if (apply_overrides(scene, a, a->scene_path, err)) {
         fprintf(stderr, "lanray-server: %s\n", err->msg);
         return 1;
     }
@@ -729,6 +736,7 @@ static int open_scene(App *app, Args *a, Err *err)
         return 1;
     }
     app->out_dir = a->discard ? NULL : a->out_dir;
+    app->scene_path = a->scene_path;
     app->name = a->scene_path ? file_basename(a->scene_path) : NULL;
     app->width = app->asked_w = cfg->width;
     app->height = app->asked_h = cfg->height;
@@ -858,28 +866,64 @@ static void edit_frame_settings(App *app, const Args *a, const RenderSettings *r
         if (app->display && app->win.follow) {
             display_set_size(app->display, w, h);
             log_line(a->cfg.quiet, "lanray-server", "%s asks for %dx%d frames: the window takes that size",
-                     a->scene_path, w, h);
+                     app->scene_path, w, h);
         } else {
             fprintf(stderr, "lanray-server: %s asks for %dx%d frames; they stay %dx%d until the server is started again\n",
-                    a->scene_path, w, h, app->width, app->height);
+                    app->scene_path, w, h, app->width, app->height);
         }
     }
     if (!a->denoise_given && rs->denoise != a->denoise)
         fprintf(stderr, "lanray-server: %s asks for denoise %s; the frames stay %s until the server is started again\n",
-                a->scene_path, rs->denoise ? "on" : "off", a->denoise ? "denoised" : "raw");
+                app->scene_path, rs->denoise ? "on" : "off", a->denoise ? "denoised" : "raw");
 }
 
 /* Live edits: a scene file or one of its files changed (0.15 s ago, so
  * that an editor's writes are over): the scene is read again and handed to
  * the server for the next frame; an error keeps the last good scene on
  * screen and says why, in the log and the window's title. */
-static void follow_edits(App *app, const Args *a)
+/* --smooth for the scene of `path`: a model's alone (a scene file's models say it themselves). */
+static int smooth_for(const Args *a, const char *path) { return a->smooth && path && model_load_knows(path); }
+
+/* A scene that could not be read (an edit, a file dropped on the window):
+ * the one shown stays, and the log and the title say why. */
+static void keep_scene(App *app, const Err *err, const char *why)
 {
-    if (app->pending && server_scene(app->server) == app->pending) { /* taken: the old one is free */
+    fprintf(stderr, "lanray-server: %s (%s)\n", err->msg, why);
+    snprintf(app->edit_error, sizeof app->edit_error, "%s", err->msg);
+    app->last_title = 0;
+}
+
+/* A scene read (next, rs its settings before the command line's) handed
+ * to the server for the next frame, its files watched from now on. */
+static void hand_over(App *app, const Args *a, Scene *next, const RenderSettings *rs)
+{
+    if (app->display)
+        window_knobs_apply(&app->win, &next->settings);
+    edit_frame_settings(app, a, rs);
+    scene_destroy(app->pending);
+    app->pending = next;
+    server_set_scene(app->server, next);
+    app->edit_error[0] = 0;
+    Err err;
+    Watch *w = watch_open(next, &err); /* its files from now on */
+    if (w) {
+        watch_close(app->watch);
+        app->watch = w;
+    }
+}
+
+/* The scene handed over, once the server took it: the old one is free. */
+static void adopt_taken(App *app)
+{
+    if (app->pending && server_scene(app->server) == app->pending) {
         scene_destroy(app->scene);
         app->scene = app->pending;
         app->pending = NULL;
     }
+}
+
+static void follow_edits(App *app, const Args *a)
+{
     const double now = timer_now();
     if (watch_changed(app->watch))
         app->edit_t = now;
@@ -888,33 +932,69 @@ static void follow_edits(App *app, const Args *a)
     app->edit_t = 0;
     Scene *next;
     Err err;
-    if (cli_open_scene(a->scene_path, &a->bvh, a->force_bvh, a->smooth, &next, &err)) {
-        fprintf(stderr, "lanray-server: %s (the last good scene stays)\n", err.msg);
-        snprintf(app->edit_error, sizeof app->edit_error, "%s", err.msg);
-        app->last_title = 0;
+    if (cli_open_scene(app->scene_path, &a->bvh, a->force_bvh, smooth_for(a, app->scene_path), &next, &err)) {
+        keep_scene(app, &err, "the last good scene stays");
         return;
     }
     const RenderSettings asked = next->settings;
-    if (apply_overrides(next, a, &err)) {
-        fprintf(stderr, "lanray-server: %s (the last good scene stays)\n", err.msg);
-        snprintf(app->edit_error, sizeof app->edit_error, "%s", err.msg);
-        app->last_title = 0;
+    if (apply_overrides(next, a, app->scene_path, &err)) {
+        keep_scene(app, &err, "the last good scene stays");
         scene_destroy(next);
         return;
     }
-    if (app->display)
-        window_knobs_apply(&app->win, &next->settings);
-    edit_frame_settings(app, a, &asked);
-    scene_destroy(app->pending);
-    app->pending = next;
-    server_set_scene(app->server, next);
-    app->edit_error[0] = 0;
-    log_line(a->cfg.quiet, "lanray-server", "%s read again", a->scene_path);
-    Watch *w = watch_open(next, &err); /* its files from now on */
-    if (w) {
-        watch_close(app->watch);
-        app->watch = w;
+    hand_over(app, a, next, &asked);
+    log_line(a->cfg.quiet, "lanray-server", "%s read again", app->scene_path);
+}
+
+/* The window's still quality and frame-rate target for a dropped scene,
+ * where the command line did not say them: as at the start, a
+ * path-traced view converges to 1024 samples a pixel and moves at 10
+ * frames a second, a Whitted view is not refined and has no target (a
+ * path-traced scene dropped on a Whitted window stayed at one sample a
+ * pixel, its noise never going). */
+static void integrator_defaults(App *app, const Args *a, const Scene *s)
+{
+    const int path = s->settings.integrator == INTEGRATOR_PATH;
+    if (!a->still.given)
+        server_set_still(app->server, path, path ? AA_MAX : a->still.aa, path ? 0 : a->still.adaptive);
+    if (!a->target_given && !(a->render_scale > 0)) {
+        app->win.target_fps = path ? 10 : 0;
+        pace_set_target(&app->pace, app->win.target_fps);
+        server_set_scale(app->server, app->pace.scale);
     }
+}
+
+/* A file dropped on the window: a scene file or a model (previewed, as
+ * given alone), read and shown in place of the scene, its camera and
+ * home, its files followed from now on; one that cannot be read leaves the
+ * scene shown, saying why. */
+static void open_dropped(App *app, const Args *a, const char *path)
+{
+    Scene *next = NULL;
+    Err err;
+    char *kept = strdup(path);
+    if (!kept || cli_open_scene(path, &a->bvh, a->force_bvh, smooth_for(a, path), &next, &err)) {
+        if (!kept)
+            err_set(&err, "%s: out of memory", path);
+        keep_scene(app, &err, "the scene shown stays");
+        free(kept);
+        return;
+    }
+    const RenderSettings asked = next->settings;
+    if (apply_overrides(next, a, path, &err)) {
+        keep_scene(app, &err, "the scene shown stays");
+        scene_destroy(next);
+        free(kept);
+        return;
+    }
+    free(app->dropped);
+    app->dropped = kept;
+    app->scene_path = kept;
+    app->name = file_basename(kept);
+    hand_over(app, a, next, &asked);
+    window_new_scene(&app->win, next);
+    integrator_defaults(app, a, next);
+    log_line(a->cfg.quiet, "lanray-server", "%s opened", path);
 }
 
 /* Headless: one line a second at most, to see it is alive. */
@@ -972,12 +1052,17 @@ static int serve(App *app, const Args *a)
             fprintf(stderr, "lanray-server: %s\n", err.msg);
             return 1;
         }
+        adopt_taken(app);
         if (app->watch)
             follow_edits(app, a);
         if (app->display) {
             display_flush(app->display);
             if (window_poll(&app->win, &app->animate, &app->screenshot))
                 break;
+            if (app->win.dropped[0]) {
+                open_dropped(app, a, app->win.dropped);
+                app->win.dropped[0] = 0;
+            }
             if (app->screenshot)
                 save_screenshot(app);
             app->screenshot = 0;

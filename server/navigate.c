@@ -5,6 +5,7 @@
 
 void nav_init(Nav *n, vec3 centre, real radius)
 {
+    *n = (Nav){0};
     n->vel = v3_splat(0);
     n->centre = centre;
     n->radius = radius > R(0) && isfinite(radius) ? radius : R(1);

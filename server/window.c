@@ -3,6 +3,7 @@
 
 #include <math.h>
 #include <stdio.h>
+#include <string.h>
 
 #include "base/timer.h"
 #include "panel.h"
@@ -12,9 +13,14 @@
 void window_init(Window *w, Display *d, Server *s, Pace *pace, double target_fps, const Scene *scene, int width,
                  int height, int follow)
 {
-    *w = (Window){.display = d, .server = s, .pace = pace, .home = scene->camera, .knobs = {-1, -1},
-                  .target_fps = target_fps, .width = width, .height = height, .follow = follow,
-                  .asked_w = width, .asked_h = height};
+    *w = (Window){.display = d, .server = s, .pace = pace, .knobs = {-1, -1}, .target_fps = target_fps,
+                  .width = width, .height = height, .follow = follow, .asked_w = width, .asked_h = height};
+    window_new_scene(w, scene);
+}
+
+void window_new_scene(Window *w, const Scene *scene)
+{
+    w->home = scene->camera;
     vec3 centre = v3_splat(0);
     real radius = R(1);
     if (scene_bounds(scene, &centre, &radius))
@@ -127,6 +133,8 @@ int window_poll(Window *w, int *animate, int *screenshot)
         *animate = !*animate;
     if (in.screenshot)
         *screenshot = 1;
+    if (in.dropped[0])
+        memcpy(w->dropped, in.dropped, sizeof w->dropped);
     turn_knobs(w, &in);
     if (in.toggle_panel) {
         w->panel_on = !w->panel_on;

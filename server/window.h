@@ -27,15 +27,20 @@ typedef struct {
     int panel_on, width, height; /* width, height: the frames' */
     int follow;                  /* the frames' size follows the window's (not --fixed-size) */
     int asked_w, asked_h;        /* ... the size last asked of the server */
+    char dropped[4096];          /* a file dropped on the window, for the application to open ("": none) */
 } Window;
 
 void window_init(Window *w, Display *d, Server *s, Pace *pace, double target_fps, const Scene *scene, int width,
                  int height, int follow);
+/* Another scene shown (a file dropped on the window): its camera is
+ * Home's, and the moves' speed and C's framing follow its size. */
+void window_new_scene(Window *w, const Scene *scene);
 /* The knobs over a scene's settings (a scene read again). */
 void window_knobs_apply(const Window *w, RenderSettings *rs);
 /* The events since the last call, applied to the server for the next
  * frame (with follow, the window's size as the frames'): 1 where the user
- * asked to quit; *animate toggled by Space, *screenshot set by P. */
+ * asked to quit; *animate toggled by Space, *screenshot set by P, a file
+ * dropped on the window in w->dropped. */
 int window_poll(Window *w, int *animate, int *screenshot);
 /* The panel again, where it is shown: fps over the last half second, and
  * the last edit's error (or NULL). */

@@ -47,10 +47,23 @@ def read_xwd(path):
 
 def read_ppm(path):
     d = open(path, "rb").read()
-    parts = d.split(maxsplit=4)
-    assert parts[0] == b"P6" and parts[3] == b"255"
-    w, h = int(parts[1]), int(parts[2])
-    pix = parts[4]
+    # the header's four words, then one whitespace byte, then the pixels:
+    # split(maxsplit=4) took pixel bytes that happen to be whitespace
+    # (a first pixel of 10 or 13) for the header's end, and every row after
+    # shifted (a dark sky's picture was "not found")
+    words, at = [], 0
+    while len(words) < 4:
+        while d[at:at + 1].isspace():
+            at += 1
+        end = at
+        while end < len(d) and not d[end:end + 1].isspace():
+            end += 1
+        words.append(d[at:end])
+        at = end
+    assert words[0] == b"P6" and words[3] == b"255"
+    w, h = int(words[1]), int(words[2])
+    pix = d[at + 1:]
+    assert len(pix) >= w * h * 3, "%s: short of pixels" % path
     return w, h, [pix[y * w * 3:(y + 1) * w * 3] for y in range(h)]
 
 
