@@ -1,6 +1,7 @@
 /* display.c - see display.h.  Keys: W/S or Up/Down move, A/D strafe,
  * Left/Right turn, R/F up/down (Shift: faster), +/- or the wheel zoom, a
- * left drag looks around, a right or middle drag orbits, V captures the pointer for mouse look (Esc lets
+ * left drag looks around, a right or middle drag orbits (with Shift,
+ * pans), V captures the pointer for mouse look (Esc lets
  * it go), C frames the whole scene, Home resets the camera, K prints the
  * view as a scene's camera line, Space toggles
  * the model animation, P saves a screenshot, Tab shows the panel, T /
@@ -340,6 +341,9 @@ void display_poll(Display *d, DisplayInput *in)
             if (d->captured || (e.motion.state & SDL_BUTTON_LMASK)) {
                 in->yaw -= e.motion.xrel * LOOK_DEG_PX;
                 in->pitch -= e.motion.yrel * LOOK_DEG_PX;
+            } else if ((e.motion.state & (SDL_BUTTON_RMASK | SDL_BUTTON_MMASK)) && (SDL_GetModState() & KMOD_SHIFT)) {
+                in->pan_x += e.motion.xrel;
+                in->pan_y += e.motion.yrel;
             } else if (e.motion.state & (SDL_BUTTON_RMASK | SDL_BUTTON_MMASK)) {
                 in->orbit_yaw -= e.motion.xrel * ORBIT_DEG_PX;
                 in->orbit_pitch -= e.motion.yrel * ORBIT_DEG_PX;

@@ -17,6 +17,7 @@ typedef struct {
     double turn;               /* arrow keys held: -1..1 (left +) */
     double yaw, pitch;         /* degrees, from the mouse: a left drag looks round */
     double orbit_yaw, orbit_pitch; /* ... a right or middle drag orbits (navigate.h nav_orbit) */
+    double pan_x, pan_y;           /* ... with Shift, pans: pixels (nav_pan) */
     double zoom;               /* zoom steps (+ in, - out) */
     /* the knobs: */
     int print_view; /* K: the view as a scene's camera line */

@@ -461,7 +461,7 @@ static const char server_about[] =
     "out segments of each frame to lanray-client processes and shows the frames in a window, or writes\n"
     "them when headless or without a display.  In the window: W/S A/D R/F move (Shift: faster; the speed\n"
     "follows the scene's size), a mouse drag or the arrows look, a right or middle drag orbits round the\n"
-    "middle of the view, V captures the mouse for mouse look (Esc lets it go), +/- or the wheel zoom, C\n"
+    "middle of the view (with Shift, pans), V captures the mouse for mouse look (Esc lets it go), +/- or the wheel zoom, C\n"
     "frames the whole scene, Home resets, K prints the view as a scene's camera line (for a scene file or\n"
     "lanray-render --camera), Space toggles --rotate, P saves the picture shown (lanray-screenshot-N.png,\n"
     "or .hdr, in the folder the server runs in), Tab shows the panel (frame rate, render scale, samples,\n"
@@ -854,7 +854,7 @@ static void show_title(App *app)
 /* What an edited scene asks of the frames (rs: its settings before the
  * command line's).  A new size: a window whose frames follow its size
  * takes it (the frames follow); headless, or at --fixed-size, the frames
- * stay (the writer and the clients' share are made for them).  Denoise,
+ * stay (the frames written are one size).  Denoise,
  * which the server cannot take while it runs (the pixels' size follows
  * it).  Said, not dropped without a word. */
 static void edit_frame_settings(App *app, const Args *a, const RenderSettings *rs)
@@ -972,6 +972,9 @@ static void open_dropped(App *app, const Args *a, const char *path)
 {
     Scene *next = NULL;
     Err err;
+    char title[600]; /* a large model takes seconds to read and build: said meanwhile */
+    snprintf(title, sizeof title, "lanray - opening %.500s ...", file_basename(path));
+    display_title(app->display, title);
     char *kept = strdup(path);
     if (!kept || cli_open_scene(path, &a->bvh, a->force_bvh, smooth_for(a, path), &next, &err)) {
         if (!kept)
@@ -994,6 +997,7 @@ static void open_dropped(App *app, const Args *a, const char *path)
     hand_over(app, a, next, &asked);
     window_new_scene(&app->win, next);
     integrator_defaults(app, a, next);
+    app->last_title = 0; /* its name in the title now */
     log_line(a->cfg.quiet, "lanray-server", "%s opened", path);
 }
 

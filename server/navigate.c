@@ -48,14 +48,21 @@ void nav_frame_all(const Nav *n, Camera *c, int width, int height)
     c->pos = v3_sub(n->centre, v3_scale(f, n->radius * R(1.1) / sin(half)));
 }
 
+/* How far ahead an orbit turns round (and a pan follows): the view axis's
+ * point nearest the scene's centre, or a radius ahead where that is
+ * behind, beside or at the camera. */
+static real orbit_depth(const Nav *n, const Camera *c, vec3 f)
+{
+    const real d = v3_dot(v3_sub(n->centre, c->pos), f);
+    return d > R(0.25) * n->radius ? d : n->radius;
+}
+
 void nav_orbit(Nav *n, Camera *c, real yaw, real pitch)
 {
     vec3 r, u, f;
     camera_basis(c, &r, &u, &f);
     if (!n->orbiting || !camera_same(c, &n->orbited)) {
-        real d = v3_dot(v3_sub(n->centre, c->pos), f);
-        if (!(d > R(0.25) * n->radius)) /* behind, beside or at the camera: a point a radius ahead */
-            d = n->radius;
+        const real d = orbit_depth(n, c, f);
         n->pivot = v3_add(c->pos, v3_scale(f, d));
         n->pivot_d = d;
     }
@@ -65,4 +72,17 @@ void nav_orbit(Nav *n, Camera *c, real yaw, real pitch)
     c->pos = v3_sub(n->pivot, v3_scale(f, n->pivot_d));
     n->orbited = *c;
     n->orbiting = 1;
+}
+
+void nav_pan(const Nav *n, Camera *c, double dx, double dy, int width)
+{
+    if (width < 1)
+        return;
+    vec3 r, u, f;
+    camera_basis(c, &r, &u, &f);
+    /* world units a pixel: the view plane is 2 wide at distance zoom */
+    const real per_px = c->kind == CAMERA_ORTHO ? c->size / (real)width
+                                                : R(2) * orbit_depth(n, c, f) / (c->zoom * (real)width);
+    c->pos = v3_add(c->pos, v3_scale(r, -(real)dx * per_px));
+    c->pos = v3_add(c->pos, v3_scale(u, (real)dy * per_px));
 }

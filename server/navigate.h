@@ -43,6 +43,11 @@ int nav_move(Nav *n, Camera *c, vec3 want, int fast, double dt);
  * orbit however the mouse's moves came in.  Pitch stops at +-89 degrees
  * (the orbit with it). */
 void nav_orbit(Nav *n, Camera *c, real yaw, real pitch);
+/* Pans c by dx, dy pixels of a view `width` pixels wide (a Shift drag):
+ * the camera slides along its right and up so that what lies at the
+ * orbit's depth (nav_orbit's point) follows the pointer; an orthographic
+ * view by its own width. */
+void nav_pan(const Nav *n, Camera *c, double dx, double dy, int width);
 /* The camera turned to see the whole bounding sphere from where it looks,
  * with a margin, at a frame of width x height; its direction kept. */
 void nav_frame_all(const Nav *n, Camera *c, int width, int height);

@@ -113,7 +113,7 @@ int panel_lines(const PanelInfo *p, char out[][PANEL_LINE])
     if (p->error)
         LINE("error: %.90s", p->error);
     LINE("WASD RF move, Shift fast, V mouse look");
-    LINE("drag look, right drag orbit, K print the view");
+    LINE("drag look, right drag orbit (Shift: pan), K print view");
     LINE("C frame all, Home reset, +/- zoom, Tab panel");
 #undef LINE
     return n;

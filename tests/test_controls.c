@@ -156,6 +156,32 @@ static void orbit_swings_round_the_middle(void **state)
     assert_true(fabs(v3_len(to) - R(2)) < R(1e-4) && v3_dot(v3_norm(to), f) > R(0.99999));
 }
 
+/* A pan: the point at the orbit's depth follows the pointer, pixel for
+ * pixel, the camera's angles kept. */
+static void pan_follows_the_pointer(void **state)
+{
+    (void)state;
+    Nav n;
+    const vec3 centre = v3(1, 2, -3);
+    nav_init(&n, centre, 2);
+    /* 10 ahead, zoom 2 (the view plane 2 wide at 2: 10 wide at the
+     * centre), 400 pixels wide: 1/40 a pixel */
+    Camera c = camera_from_angles(v3_add(centre, v3(0, 0, 10)), 0, 0, 0, 2);
+    nav_pan(&n, &c, 40, -20, 400);
+    const vec3 want = v3_add(centre, v3(-1, -0.5, 10)); /* dragged right and up: the camera goes left and down */
+    assert_true(v3_len(v3_sub(c.pos, want)) < R(1e-5));
+    assert_true(c.yaw == R(0) && c.pitch == R(0) && c.zoom == R(2));
+    /* turned 90 degrees (looking along -x), its right is -z */
+    c = camera_from_angles(v3_add(centre, v3(10, 0, 0)), 90, 0, 0, 2);
+    nav_pan(&n, &c, 40, 0, 400);
+    assert_true(v3_len(v3_sub(c.pos, v3_add(centre, v3(10, 0, 1)))) < R(1e-5));
+    /* an orthographic view 8 wide: 8/400 a pixel, whatever the depth */
+    c = camera_from_angles(v3_add(centre, v3(0, 0, 10)), 0, 0, 0, 2);
+    c.kind = CAMERA_ORTHO, c.size = 8;
+    nav_pan(&n, &c, 50, 0, 400);
+    assert_true(v3_len(v3_sub(c.pos, v3_add(centre, v3(-1, 0, 10)))) < R(1e-5));
+}
+
 /* Whether a line of the panel holds `text`. */
 static int has(char lines[][PANEL_LINE], int n, const char *text)
 {
@@ -286,6 +312,7 @@ int main(void)
         cmocka_unit_test(speed_follows_the_scene_and_eases),
         cmocka_unit_test(frame_all_sees_the_whole_scene),
         cmocka_unit_test(orbit_swings_round_the_middle),
+        cmocka_unit_test(pan_follows_the_pointer),
         cmocka_unit_test(panel_says_what_runs),
         cmocka_unit_test(target_steps),
         cmocka_unit_test(still_steps),

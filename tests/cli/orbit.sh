@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # A view found in the window, kept: under Xvfb, a right drag orbits the
 # camera round the middle of the view (the picture changes), a middle drag
-# too, and K prints the view as a scene's camera line, which
+# too, with Shift a right drag pans, and K prints the view as a scene's camera line, which
 # lanray-render --camera renders as the very picture the window shows,
 # pixel for pixel.  A bad --camera is a bad command line (exit 2, the
 # field named), for lanray-render and the server.
@@ -46,6 +46,12 @@ drag 3 100 -30
 view "right drag" 1
 drag 2 -60 20
 view "middle drag" 2
+xdotool keydown shift
+drag 3 50 40
+xdotool keyup shift
+view "Shift and a right drag (a pan)" 3
+angles() { sed -n "s/^lanray-server: the view: .*\( yaw .* pitch [^ ]*\).*/\1/p" "$dir/orbit.err" | sed -n "$1p"; }
+[ "$(angles 3)" = "$(angles 2)" ] || fail "the pan turned the camera: '$(angles 2)' to '$(angles 3)'"
 stop_window_server orbit
 
 # a bad --camera: exit 2, the field named, nothing rendered
