@@ -95,22 +95,36 @@ static void frame_all_sees_the_whole_scene(void **state)
     scene_destroy(p);
 }
 
+/* Whether c looks straight at p from dist away (within tol). */
+static int aims_at(const Camera *c, vec3 p, real dist, real tol)
+{
+    vec3 r, u, f;
+    camera_basis(c, &r, &u, &f);
+    const vec3 to = v3_sub(p, c->pos);
+    return fabs(v3_len(to) - dist) < tol && v3_dot(v3_norm(to), f) > R(0.99999);
+}
+
+/* A scene of radius 2 round (1, 2, -3) and a camera 10 in front of it
+ * (+z), looking at it, of that zoom. */
+static const vec3 *nav_before(Nav *n, Camera *c, real zoom)
+{
+    static const vec3 centre = {.e = {1, 2, -3}};
+    nav_init(n, centre, 2);
+    *c = camera_from_angles(v3_add(centre, v3(0, 0, 10)), 0, 0, 0, zoom);
+    return &centre;
+}
+
 /* The orbit: what is in the middle of the view stays there, at the
  * distance it was, the camera swung round it by the angles asked. */
 static void orbit_swings_round_the_middle(void **state)
 {
     (void)state;
     Nav n;
-    const vec3 centre = v3(1, 2, -3);
-    nav_init(&n, centre, 2);
+    Camera c;
+    const vec3 centre = *nav_before(&n, &c, 1);
     /* looking at the centre from 10 away: the centre stays ahead, 10 away */
-    Camera c = camera_from_angles(v3_add(centre, v3(0, 0, 10)), 0, 0, 0, 1);
     nav_orbit(&n, &c, 30, 20);
-    vec3 r, u, f;
-    camera_basis(&c, &r, &u, &f);
-    vec3 to = v3_sub(centre, c.pos);
-    assert_true(fabs(v3_len(to) - R(10)) < R(1e-4));
-    assert_true(v3_dot(v3_norm(to), f) > R(0.99999));
+    assert_true(aims_at(&c, centre, 10, R(1e-4)));
     assert_true(c.yaw == R(30) && c.pitch == R(20));
     /* where it went: 10 x (sin 30 cos 20, -sin 20, cos 30 cos 20) from the
      * centre (yaw to the left swings it to the right; pitched up, it looks
@@ -120,17 +134,11 @@ static void orbit_swings_round_the_middle(void **state)
     assert_true(v3_len(v3_sub(v3_sub(c.pos, centre), want)) < R(1e-4));
     /* the pitch stops at 89 degrees and the orbit with it */
     nav_orbit(&n, &c, 0, 200);
-    assert_true(c.pitch == R(89));
-    camera_basis(&c, &r, &u, &f);
-    to = v3_sub(centre, c.pos);
-    assert_true(fabs(v3_len(to) - R(10)) < R(1e-3) && v3_dot(v3_norm(to), f) > R(0.99999));
+    assert_true(c.pitch == R(89) && aims_at(&c, centre, 10, R(1e-3)));
     /* off-centre: the point of the view axis at the centre's depth stays put */
     c = camera_from_angles(v3(centre.x + 3, centre.y, centre.z + 8), 0, 0, 0, 1);
-    const vec3 pivot = v3(centre.x + 3, centre.y, centre.z);
     nav_orbit(&n, &c, -45, 0);
-    camera_basis(&c, &r, &u, &f);
-    to = v3_sub(pivot, c.pos);
-    assert_true(fabs(v3_len(to) - R(8)) < R(1e-4) && v3_dot(v3_norm(to), f) > R(0.99999));
+    assert_true(aims_at(&c, v3(centre.x + 3, centre.y, centre.z), 8, R(1e-4)));
     /* a drag's steps make one orbit: 10 then 20 degrees off-centre is 30
      * at once (the point found again from the turned camera would be
      * another: the view axis's point nearest the centre has moved) */
@@ -149,11 +157,8 @@ static void orbit_swings_round_the_middle(void **state)
     assert_true(v3_len(v3_sub(two.pos, moved)) < R(1e-4));
     /* the centre behind the camera: it swings round a point a radius ahead */
     c = camera_from_angles(v3(centre.x, centre.y, centre.z - 5), 0, 0, 0, 1);
-    const vec3 ahead = v3(centre.x, centre.y, centre.z - 7);
     nav_orbit(&n, &c, 90, 0);
-    camera_basis(&c, &r, &u, &f);
-    to = v3_sub(ahead, c.pos);
-    assert_true(fabs(v3_len(to) - R(2)) < R(1e-4) && v3_dot(v3_norm(to), f) > R(0.99999));
+    assert_true(aims_at(&c, v3(centre.x, centre.y, centre.z - 7), 2, R(1e-4)));
 }
 
 /* A pan: the point at the orbit's depth follows the pointer, pixel for
@@ -162,11 +167,10 @@ static void pan_follows_the_pointer(void **state)
 {
     (void)state;
     Nav n;
-    const vec3 centre = v3(1, 2, -3);
-    nav_init(&n, centre, 2);
+    Camera c;
     /* 10 ahead, zoom 2 (the view plane 2 wide at 2: 10 wide at the
      * centre), 400 pixels wide: 1/40 a pixel */
-    Camera c = camera_from_angles(v3_add(centre, v3(0, 0, 10)), 0, 0, 0, 2);
+    const vec3 centre = *nav_before(&n, &c, 2);
     nav_pan(&n, &c, 40, -20, 400);
     const vec3 want = v3_add(centre, v3(-1, -0.5, 10)); /* dragged right and up: the camera goes left and down */
     assert_true(v3_len(v3_sub(c.pos, want)) < R(1e-5));
