@@ -3,7 +3,7 @@
  * left drag looks around, a right or middle drag orbits (with Shift,
  * pans), V captures the pointer for mouse look (Esc lets
  * it go), C frames the whole scene, Home resets the camera, K prints the
- * view as a scene's camera line, Space toggles
+ * view as a scene's camera line (and puts it on the clipboard), Space toggles
  * the model animation, P saves a screenshot, Tab shows the panel, T /
  * Shift+T the frame-rate target, N the still quality, L the light
  * sampling, M the shading, H the shadows, F11 fills the screen; Esc or Q
@@ -265,6 +265,12 @@ int display_panel(Display *d, char (*lines)[100], int n, Err *err)
 }
 
 void display_title(Display *d, const char *title) { SDL_SetWindowTitle(d->win, title); }
+
+int display_clipboard(Display *d, const char *text)
+{
+    (void)d;
+    return SDL_SetClipboardText(text) == 0 ? 0 : -1;
+}
 
 void display_set_size(Display *d, int w, int h)
 {

@@ -44,6 +44,8 @@ void display_flush(Display *d);
 int display_panel(Display *d, char (*lines)[100], int n, Err *err);
 void display_poll(Display *d, DisplayInput *in);
 void display_title(Display *d, const char *title);
+/* text on the clipboard, to paste elsewhere; 0, or -1 where it could not be put. */
+int display_clipboard(Display *d, const char *text);
 /* The window made w x h (less where the screen is smaller, its shape
  * kept), where the window manager lets it. */
 void display_set_size(Display *d, int w, int h);

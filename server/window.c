@@ -142,7 +142,8 @@ int window_poll(Window *w, int *animate, int *screenshot)
     if (in.print_view) { /* a view found in the window, for a scene file or lanray-render --camera */
         char line[512];
         camera_line(c, line, sizeof line);
-        fprintf(stderr, "lanray-server: the view: %s\n", line);
+        const int copied = display_clipboard(w->display, line) == 0;
+        fprintf(stderr, "lanray-server: the view%s: %s\n", copied ? " (on the clipboard)" : "", line);
     }
     if (in.toggle_animation)
         *animate = !*animate;

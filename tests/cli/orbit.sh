@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # A view found in the window, kept: under Xvfb, a right drag orbits the
 # camera round the middle of the view (the picture changes), a middle drag
-# too, with Shift a right drag pans, and K prints the view as a scene's camera line, which
+# too, with Shift a right drag pans, and K prints the view as a scene's
+# camera line (and puts it on the clipboard), which
 # lanray-render --camera renders as the very picture the window shows,
 # pixel for pixel.  A bad --camera is a bad command line (exit 2, the
 # field named), for lanray-render and the server.
@@ -23,7 +24,7 @@ view() {
     xdotool key k
     local line=
     for _ in $(seq 50); do
-        line=$(sed -n "s/^lanray-server: the view: //p" "$dir/orbit.err" | sed -n "$2p")
+        line=$(sed -n "s/^lanray-server: the view[^:]*: //p" "$dir/orbit.err" | sed -n "$2p")
         [ -n "$line" ] && break
         sleep 0.1
     done
@@ -31,6 +32,10 @@ view() {
     "$BIN/lanray-render" --camera "$line" --width $W --height $H --aa 1 -o "$dir/$1.ppm" --quiet >/dev/null ||
         fail "$1: lanray-render --camera '$line'"
     cmp -s "$dir/$1.ppm" "$dir/home.ppm" && fail "$1: the view did not change ($line)"
+    # ... and on the clipboard, to paste
+    local pasted
+    pasted=$(timeout 10 python3 tests/tools/xclipboard.py) || fail "$1: nothing to paste ($pasted)"
+    [ "$pasted" = "$line" ] || fail "$1: the clipboard holds '$pasted', not the view"
     out=$(appears "$dir/$1.ppm" 75) || fail "$1: the window does not show lanray-render --camera '$line' ($out)"
     echo "$1: $line: the window's picture, pixel for pixel"
 }
@@ -50,7 +55,7 @@ xdotool keydown shift
 drag 3 50 40
 xdotool keyup shift
 view "Shift and a right drag (a pan)" 3
-angles() { sed -n "s/^lanray-server: the view: .*\( yaw .* pitch [^ ]*\).*/\1/p" "$dir/orbit.err" | sed -n "$1p"; }
+angles() { sed -n "s/^lanray-server: the view[^:]*: .*\( yaw .* pitch [^ ]*\).*/\1/p" "$dir/orbit.err" | sed -n "$1p"; }
 [ "$(angles 3)" = "$(angles 2)" ] || fail "the pan turned the camera: '$(angles 2)' to '$(angles 3)'"
 stop_window_server orbit
 
