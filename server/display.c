@@ -278,6 +278,8 @@ void display_set_size(Display *d, int w, int h)
     SDL_SetWindowSize(d->win, w, h);
 }
 
+int display_drawn_width(Display *d) { return frame_rect(d).w; }
+
 void display_output_size(Display *d, int *w, int *h)
 {
     if (SDL_GetRendererOutputSize(d->ren, w, h) != 0 || *w < 1 || *h < 1)

@@ -49,6 +49,9 @@ int display_clipboard(Display *d, const char *text);
 /* The window made w x h (less where the screen is smaller, its shape
  * kept), where the window manager lets it. */
 void display_set_size(Display *d, int w, int h);
+/* The width in pixels the frame shown is drawn at (the window's, or less
+ * where the window's shape is not the frame's). */
+int display_drawn_width(Display *d);
 /* The window's size in pixels (what a frame drawn 1:1 would fill). */
 void display_output_size(Display *d, int *w, int *h);
 

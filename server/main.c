@@ -27,6 +27,7 @@
 #include "render/render.h"
 #include "scene/camera_path.h"
 #include "scene/scene_fields.h"
+#include "scene/scene_parse.h"
 #include "net/mdns.h"
 #include "net/msg.h"
 #include "net/net.h"
@@ -401,7 +402,8 @@ typedef struct {
     int denoise; /* --denoise, or the first scene's settings denoise: fixed for the server's life */
     int denoise_given;
     int fixed_size; /* --fixed-size: the window's frames keep their size */
-    const char *camera; /* --camera */
+    const char *camera; /* --camera, */
+    Camera cam;         /* ... read once (open_scene) */
     int integrator, integrator_given, tonemap, tonemap_given;
     CliLightPaths paths;
     CliAa aa;
@@ -673,8 +675,8 @@ static int apply_overrides(Scene *scene, const Args *a, const char *path, Err *e
         scene->settings.tonemap = (Tonemap)a->tonemap;
     scene->settings.linear = a->linear;
     scene->settings.hdr = a->hdr;
-    if (cli_put_camera(scene, a->camera, err)) /* each reading: the file's camera moved is not a move */
-        return -1;
+    if (a->camera) /* each reading: the file's camera moved is not a move */
+        scene->camera = a->cam;
     return cli_put_environment(scene, &a->env, path, err);
 }
 
@@ -690,7 +692,7 @@ static int open_scene(App *app, Args *a, Err *err)
         return 1;
     }
     Scene *scene = app->scene;
-    if (cli_put_camera(scene, a->camera, err)) { /* a bad command line, said before anything else */
+    if (a->camera && scene_parse_camera(a->camera, "--camera", &a->cam, err)) { /* a bad command line */
         fprintf(stderr, "lanray-server: %s\n", err->msg);
         return 2;
     }
@@ -878,10 +880,6 @@ static void edit_frame_settings(App *app, const Args *a, const RenderSettings *r
                 app->scene_path, rs->denoise ? "on" : "off", a->denoise ? "denoised" : "raw");
 }
 
-/* Live edits: a scene file or one of its files changed (0.15 s ago, so
- * that an editor's writes are over): the scene is read again and handed to
- * the server for the next frame; an error keeps the last good scene on
- * screen and says why, in the log and the window's title. */
 /* --smooth for the scene of `path`: a model's alone (a scene file's models say it themselves). */
 static int smooth_for(const Args *a, const char *path) { return a->smooth && path && model_load_knows(path); }
 
@@ -923,6 +921,10 @@ static void adopt_taken(App *app)
     }
 }
 
+/* Live edits: a scene file or one of its files changed (0.15 s ago, so
+ * that an editor's writes are over): the scene is read again and handed to
+ * the server for the next frame; an error keeps the last good scene on
+ * screen and says why, in the log and the window's title. */
 static void follow_edits(App *app, const Args *a)
 {
     const double now = timer_now();

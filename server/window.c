@@ -73,15 +73,6 @@ static void turn_knobs(Window *w, const DisplayInput *in)
     }
 }
 
-/* The width the frame is drawn at in a window of ow x oh: all of it
- * where the frames follow the window, else as large as its shape fits. */
-static int frame_drawn_width(const Window *w, int ow, int oh)
-{
-    if ((int64_t)ow * w->height <= (int64_t)oh * w->width) /* the width bounds it */
-        return ow;
-    return (int)((int64_t)oh * w->width / w->height);
-}
-
 /* The frames at the window's size, as an image viewer would not but a
  * renderer's viewport does: a larger window gets more pixels, not the
  * same ones stretched (the server takes it between frames). */
@@ -123,10 +114,8 @@ int window_poll(Window *w, int *animate, int *screenshot)
         c->pitch = real_clamp(c->pitch + (real)in.pitch, -89, 89);
         changed = 1;
     }
-    if (in.pan_x || in.pan_y) { /* the pointer's pixels on the frame as drawn, the window's width */
-        int ow, oh;
-        display_output_size(w->display, &ow, &oh);
-        nav_pan(&w->nav, c, in.pan_x, in.pan_y, frame_drawn_width(w, ow, oh));
+    if (in.pan_x || in.pan_y) { /* the pointer's pixels on the frame as drawn */
+        nav_pan(&w->nav, c, in.pan_x, in.pan_y, display_drawn_width(w->display));
         changed = 1;
     }
     if (in.orbit_yaw || in.orbit_pitch) {
