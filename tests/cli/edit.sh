@@ -42,17 +42,19 @@ printf '%s' "$v1" >"$dir/s/e.scene"
 start_server edit "$dir/s/e.scene" --port 0 --width $W --height $H --aa 1 --max-fps 25 --out "$dir/f"
 "$BIN/lanray-client" "127.0.0.1:$port" --threads 1 --once 2>"$dir/client.err" >/dev/null &
 pids+=("$!")
+# the last frame in folder $1 written whole (one being written is a .tmp beside it)
+last_frame() { ls "$1" 2>/dev/null | grep '\.png$' | tail -1; }
 # shows REF WHAT: waits (10 s at most) for a frame written from now on that is REF
 shows() {
-    local from=$(ls "$dir/f" 2>/dev/null | tail -1)
+    local from=$(last_frame "$dir/f")
     for _ in $(seq 200); do
-        local last=$(ls "$dir/f" 2>/dev/null | tail -1)
+        local last=$(last_frame "$dir/f")
         if [ -n "$last" ] && [ "$last" != "$from" ] && cmp -s "$dir/f/$last" "$dir/$1.png"; then
             return 0
         fi
         sleep 0.05
     done
-    fail "$2: the frames did not become lanray-render's picture (last: $(ls "$dir/f" | tail -1))"
+    fail "$2: the frames did not become lanray-render's picture (last: $(last_frame "$dir/f"))"
 }
 shows ref1 "the first scene"
 printf '%s' "$v2" >"$dir/s/e.scene.tmp" && mv "$dir/s/e.scene.tmp" "$dir/s/e.scene" # as editors save
@@ -92,7 +94,7 @@ grep -q "z.scene asks for 80x48 frames; they stay 64x48 until the server is star
 grep -q "z.scene asks for denoise on; the frames stay raw until the server is started again" "$dir/size.err" ||
     fail "denoise edited in: not said ($(cat "$dir/size.err"))"
 sleep 0.3
-last=$(ls "$dir/fz" | tail -1)
+last=$(last_frame "$dir/fz")
 size=$(python3 -c 'import struct,sys; print("%dx%d" % struct.unpack(">II", open(sys.argv[1], "rb").read()[16:24]))' "$dir/fz/$last")
 [ "$size" = 64x48 ] || fail "a frame size edited in: the frames are $size"
 kill -TERM "$server_pid"
