@@ -194,7 +194,8 @@ check-asan: deps
 # server's frame writer, and the client's render thread against the server
 # (the integration test, whose server writes its frames on the writer's
 # thread; and denoising's and the Whitted history's, whose server filters
-# or adds up frames on a thread of its own)
+# or adds up frames on a thread of its own; and edits', whose scenes the
+# server reads on a thread of its own)
 TSAN_BUILD := build/float-tsan/tests/test_render build/float-tsan/tests/test_wire build/float-tsan/tests/test_bvh build/float-tsan/tests/test_framewriter bin/tsan/lanray-render bin/tsan/lanray-server bin/tsan/lanray-client bin/tsan/lanray-imgdiff
 tsan-build:
 	@$(MAKE) --no-print-directory SAN=tsan $(TSAN_BUILD)
@@ -208,9 +209,10 @@ check-tsan: deps
 	@TSAN_OPTIONS="halt_on_error=1 exitcode=66 log_path=$(CURDIR)/build/float-tsan/report" BIN=bin/tsan bash tests/cli/distributed.sh
 	@TSAN_OPTIONS="halt_on_error=1 exitcode=66 log_path=$(CURDIR)/build/float-tsan/report" BIN=bin/tsan bash tests/cli/denoise.sh
 	@TSAN_OPTIONS="halt_on_error=1 exitcode=66 log_path=$(CURDIR)/build/float-tsan/report" BIN=bin/tsan bash tests/cli/history.sh
+	@TSAN_OPTIONS="halt_on_error=1 exitcode=66 log_path=$(CURDIR)/build/float-tsan/report" BIN=bin/tsan bash tests/cli/edit.sh
 	@# a report from a client running in the background lands in a file: any file fails the run
 	@if ls build/float-tsan/report.* >/dev/null 2>&1; then cat build/float-tsan/report.*; exit 1; fi
-	@echo "[       OK ] distributed.sh, denoise.sh and history.sh under ThreadSanitizer, no reports"
+	@echo "[       OK ] distributed.sh, denoise.sh, history.sh and edit.sh under ThreadSanitizer, no reports"
 
 .PHONY: test-run test-build check-tsan tsan-build
 test-run: test-build

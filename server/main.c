@@ -8,38 +8,35 @@
  * clients send RGBE pixels, and the window shows them after the scene's
  * exposure).  SIGUSR1 prints per-client statistics; they are printed at exit
  * too. */
+#include <math.h>
 #include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include "app.h"
 #include "app/cli.h"
-#include "app/flight.h"
-#include "display.h"
-#include "framewriter.h"
-#include "image/image.h"
-#include "model/model_load.h"
+#include "args.h"
 #include "base/fileio.h"
 #include "base/log.h"
 #include "base/opt.h"
 #include "base/srgb.h"
-#include "render/pixel.h"
-#include "render/render.h"
-#include "scene/camera_path.h"
-#include "scene/scene_fields.h"
-#include "scene/scene_parse.h"
+#include "base/timer.h"
+#include "display.h"
+#include "framewriter.h"
+#include "image/image.h"
+#include "livescene.h"
 #include "net/mdns.h"
 #include "net/msg.h"
 #include "net/net.h"
-#include "net/pixcodec.h"
-#include "framerate.h"
-#include "pace.h"
 #include "panel.h"
+#include "render/pixel.h"
+#include "render/render.h"
+#include "scene/camera_path.h"
+#include "scene/scene_parse.h"
 #include "server.h"
 #include "upscale.h"
-#include "watch.h"
 #include "window.h"
-#include "base/timer.h"
 
 static volatile sig_atomic_t stop_flag, stats_flag;
 static void on_stop(int sig) { (void)sig; stop_flag = 1; }
@@ -57,57 +54,6 @@ static void on_signal(int sig, void (*fn)(int), int once)
     sigaction(sig, &sa, NULL);
 }
 
-typedef struct {
-    const char *out_dir; /* NULL: frames are discarded (benchmarks) */
-    Display *display;
-    Server *server;
-    Scene *scene;
-    int width, height; /* the frames' (in a window, they follow its size) */
-    int asked_w, asked_h; /* the size the scene (or the command line) asked last */
-    uint8_t *view; /* settings hdr: the RGBE frame as sRGB codes for the window */
-    uint32_t frames_done, frames_wanted;
-    double last_title;
-    const char *name; /* the scene's file name, for the title (NULL: the built-in scene) */
-    const char *scene_path; /* its path (NULL: the built-in scene): --scene's, or */
-    char *dropped;          /* ... a file dropped on the window since, which it points to */
-    FrameRate rate;   /* the window's frame rate */
-    int screenshot;
-    uint8_t *shown;       /* the frame the window shows (P saves it), */
-    uint32_t shown_frame; /* and its number */
-    const char *progname;
-    /* --verify: every frame compared with a reference image */
-    const char *verify_path;
-    uint8_t *verify;
-    uint64_t wrong_frames, wrong_pixels;
-    uint64_t write_failures;
-    FrameWriter *writer;   /* headless: the frames written on a thread of their own (NULL: here) */
-    /* --path: the camera flies it; the frames from the first to the one at its end */
-    CameraPath path;
-    uint32_t path_final;   /* the frame that shows the path's end (0: not set yet) */
-    double path_t0, path_t1; /* when the first and that frame were shown */
-    int refine;            /* --still-aa: still frames after the path's end, up to the converged one */
-    double converged_t;    /* when it was shown, */
-    uint32_t converged_frame; /* and its number */
-    double still_t;        /* when the first still frame after the path's end (whole) was shown, 0: not yet */
-    /* --target-fps: the render scale of the moving frames (quarter steps, upscale.h) */
-    Pace pace;
-    double last_frame_t;
-    uint64_t scale_sum, scaled_frames;
-    double longest;          /* the longest moving frame's time (a stutter), */
-    uint32_t longest_frame;  /* and its number */
-    int scales_before[2];    /* the last two moving frames' scales in a row (0: a still frame or none) */
-    uint32_t scale_changes, scale_returns; /* a scale other than the frame before's; the one before that again */
-    /* live edits: the scene file and its files watched, read again when one
-     * changes; the new scene waits for the server to take it */
-    Watch *watch;
-    Scene *pending;
-    double edit_t;         /* when the last event came (0: none waiting) */
-    char edit_error[600];  /* the last read's error, shown in the title until a good read */
-    Window win;            /* the window's controls and panel */
-    int animate;           /* --rotate turns the instances (R toggles it) */
-    double rotate, path_step, max_fps;
-    MdnsAnnounce *mdns;    /* the farm announced on the LAN, or NULL */
-} App;
 
 /* Pixels of a frame that differ from the reference (--verify): a farm test
  * (tests/cli/chaos.sh, tools/bench/loadtest) checks every frame without writing it. */
@@ -390,260 +336,11 @@ static int next_frame(void *ctx, uint32_t frame, int ahead)
     return 1;
 }
 
-_Static_assert(CLI_MAX_SEGMENT == SERVER_MAX_SIDE, "a segment is at most the tallest frame");
-
-/* What the command line says. */
-typedef struct {
-    ServerConfig cfg;
-    BvhOptions bvh;
-    const char *scene_path, *out_dir, *verify_path;
-    int headless, force_bvh, discard, frames, wait_clients, tail, bvh_kind, width_given, height_given, smooth;
-    int warmup, stall, handshake, machine_summary, linear, hdr;
-    int denoise; /* --denoise, or the first scene's settings denoise: fixed for the server's life */
-    int denoise_given;
-    int fixed_size; /* --fixed-size: the window's frames keep their size */
-    const char *camera; /* --camera, */
-    Camera cam;         /* ... read once (open_scene) */
-    int integrator, integrator_given, tonemap, tonemap_given;
-    CliLightPaths paths;
-    CliAa aa;
-    double rotate;
-    const char *path;
-    double path_step;
-    CliAa still;
-    int still_lights;
-    int moving_lights, moving_lights_given, moving_light_samples;
-    int compress, announce, pipeline;
-    double target_fps, max_fps, render_scale;
-    int target_given;
-    CliEnvironment env;
-} Args;
-
-/* --compress: how clients code their pixels (net/pixcodec.h) */
-static const char *const compress_words[] = {"raw", "lz4", "zstd", NULL};
-static const uint32_t compress_codings[] = {PIX_RAW, PIX_LZ4, PIX_ZSTD | PIX_PREDICT};
-
-/* --pipeline */
-static const char *const pipeline_words[] = {"off", "on", NULL};
-
-/* --announce */
-static const char *const announce_words[] = {"auto", "yes", "no", NULL};
-
-/* --moving-lights: the scene's (-1), or a LightSampling + 1 */
-static const char *const moving_lights_words[] = {"scene", "full", "adaptive", NULL};
-
-/* The server's configuration from what the options said. */
-static void config_from_args(Args *a)
-{
-    ServerConfig *cfg = &a->cfg;
-    if (cfg->token && !*cfg->token)
-        cfg->token = NULL;
-    cfg->tail = sched_tail_rules[a->tail];
-    cfg->warmup = (uint32_t)a->warmup;
-    cfg->stall_timeout = a->stall;
-    cfg->handshake_timeout = a->handshake;
-    cfg->refine = a->still.given;
-    cfg->still_aa = a->still.aa;
-    cfg->still_adaptive = a->still.adaptive;
-    cfg->still_lights = a->still_lights;
-    /* the scene's by default: adaptive light sampling is a fifth faster on
-     * whole 512x384 frames, but slower on the small frames and segments of
-     * a flight at a render scale (docs/tradeoff.md) */
-    cfg->moving_lights = a->moving_lights_given ? a->moving_lights - 1 : -1;
-    cfg->moving_light_samples = a->moving_light_samples;
-    cfg->coding = compress_codings[a->compress];
-    cfg->pipeline = a->pipeline;
-    a->bvh.kind = (BvhKind)a->bvh_kind;
-    a->headless |= a->discard;
-}
-
-/* lanray-server --help's text above and below the options */
-static const char server_about[] =
-    "Holds the scene (the built-in one without an argument; a model alone gets a preview scene), hands\n"
-    "out segments of each frame to lanray-client processes and shows the frames in a window, or writes\n"
-    "them when headless or without a display.  In the window: W/S A/D R/F move (Shift: faster; the speed\n"
-    "follows the scene's size), a mouse drag or the arrows look, a right or middle drag orbits round the\n"
-    "middle of the view (with Shift, pans), V captures the mouse for mouse look (Esc lets it go), +/- or\n"
-    "the wheel zoom, C frames the whole scene, Home resets, K prints the view as a scene's camera line\n"
-    "and puts it on the clipboard (for a scene file or lanray-render --camera), Space toggles --rotate, P\n"
-    "saves the picture shown (lanray-screenshot-N.png, or .hdr, in the folder the server runs in), Tab\n"
-    "shows the panel (frame rate, render scale, samples, each client's lines/s and share, segment size),\n"
-    "T/Shift+T the frame-rate target up/down, N the still quality (off, 2x2, adaptive 4x4, 4x4,\n"
-    "path-traced on to 16x16 and 32x32), L light sampling, M shading, H shadows, U a scaled frame smooth\n"
-    "or in blocks (--upscale), F11 full screen; Esc or Q quits.  The window resizes, and the frames with\n"
-    "it: a larger window renders more pixels (the view starts again at each new size); a frame larger\n"
-    "than the screen opens a window that fits it.\n"
-    "A scene file is followed while it runs: an edit to it or to the models and textures it names is\n"
-    "read again and sent between frames; an error keeps the last good scene and is shown with its line.\n"
-    "A scene file or a model dropped on the window (from a file manager) is opened in its place, followed\n"
-    "in turn.\n"
-    "SIGUSR1 prints per-client statistics.";
-static const char server_exits[] =
-    "  0  every requested frame was written (--frames N), or stopped by the window, SIGINT or SIGTERM\n"
-    "     when no count was asked\n"
-    "  1  an error: the scene, the address, memory, a frame that could not be written\n"
-    "  2  bad command line\n"
-    "  3  --verify: a frame differed from the reference\n"
-    "  4  stopped (SIGINT, SIGTERM, the window) before the requested frames were done\n";
-
-/* The denoiser's options, and the history's before it */
-#define DENOISE_OPTS(a) \
-    {.name = "--denoise", .kind = OPT_FLAG, .dst = &(a)->denoise, .seen = &(a)->denoise_given, \
-     .help = "path-traced frames filtered by what each pixel saw first (settings denoise on): clients send each " \
-             "pixel's guide, 11 bytes, beside its colour; a scene that asks for it is denoised without"}, \
-    {.name = "--denoise-threads", .kind = OPT_INT, .dst = &(a)->cfg.denoise_threads, .arg = "T", .lo = 0, \
-     .hi = POOL_MAX_THREADS, .help = "threads of the denoiser, 0 = one per core", .def = "0"}, \
-    CLI_TEMPORAL_OPT(&(a)->cfg.temporal, "path-traced and denoised: "), \
-    CLI_WHITTED_TEMPORAL_OPT(&(a)->cfg.whitted_temporal, "")
-
-/* --moving-lights and --moving-light-samples: the area lights of the
- * frames that are not still ones */
-#define MOVING_LIGHTS_OPTS(a) \
-    {.name = "--moving-lights", .kind = OPT_CHOICE, .dst = &(a)->moving_lights, .choices = moving_lights_words, \
-     .seen = &(a)->moving_lights_given, \
-     .help = "area lights in the frames that are not still ones: the scene's light_sampling, every point at every " \
-             "pixel, or adaptive (one probe a pixel, every point in penumbrae: docs/tradeoff.md)", \
-     .def = "scene"}, \
-    {.name = "--moving-light-samples", .kind = OPT_INT, .dst = &(a)->moving_light_samples, .arg = "K", \
-     .hi = LIGHT_MAX_SAMPLES, \
-     .help = "area lights in the frames that are not still ones: K x K points a pixel (lanray-render " \
-             "--light-samples K); fewer points, a finer render scale at --target-fps (docs/realtime.md); 0 = " \
-             "each light's own", \
-     .def = "0"}
-
-/* The integrator, its clamp, glossy filter and caustics, and the view
- * transform: how the picture looks, over the scene's settings */
-#define LOOK_OPTS(a) \
-    {.name = "--integrator", .kind = OPT_CHOICE, .dst = &(a)->integrator, .seen = &(a)->integrator_given, \
-     .choices = field_words(&settings_kind, "integrator"), .def = "the scene's, else whitted", \
-     .help = "Whitted's, or a path tracer's: light that bounces (in a window, converging when the view stops)"}, \
-    CLI_LIGHT_PATHS_OPTS(&(a)->paths), \
-    CLI_TONEMAP_OPT(&(a)->tonemap, &(a)->tonemap_given)
-
-/* Parses the command line into a: OPT_GO, or the exit status. */
-static int parse_args(Args *a, int argc, char **argv)
-{
-    *a = (Args){.cfg = {.listen_addr = "127.0.0.1", .port = PROTO_DEFAULT_PORT, .token = getenv("LANRAY_TOKEN"),
-                        .width = 1024, .height = 768, .tail = sched_tail_smart, .stall_timeout = 30,
-                        .handshake_timeout = 10, .temporal = TEMPORAL_DEFAULT_FRAMES,
-                        .whitted_temporal = TEMPORAL_WHITTED_FRAMES},
-                .bvh = bvh_options_default(BVH_SAH), .out_dir = "frames", .tail = 1, .bvh_kind = BVH_SAH, .compress = 2, .pipeline = 1,
-                .stall = 30, .handshake = 10, .aa = {1, 0, 0}};
-    ServerConfig *cfg = &a->cfg;
-    const Opt opts[] = {
-        {.name = "--port", .kind = OPT_INT, .dst = &cfg->port, .arg = "P", .lo = 0, .hi = 65535,
-         .help = "TCP port, 0 = any free one (the 'listening on' line says which)"},
-        {.name = "--listen", .kind = OPT_STRING, .dst = &cfg->listen_addr, .arg = "ADDR",
-         .help = "address to listen on: a name or an IPv4/IPv6 address; not loopback needs --token or --insecure"},
-        {.name = "--token", .kind = OPT_STRING, .dst = &cfg->token, .arg = "T",
-         .help = "shared secret clients must prove (or LANRAY_TOKEN in the environment)", .def = "none"},
-        {.name = "--insecure", .kind = OPT_FLAG, .dst = &cfg->insecure, .help = "allow a non-loopback address without a token"},
-        {.name = "--width", .kind = OPT_INT, .dst = &cfg->width, .arg = "W", .lo = 1, .hi = SERVER_MAX_SIDE,
-         .help = "frame width in pixels", .def = "the scene's, else 1024", .seen = &a->width_given},
-        {.name = "--height", .kind = OPT_INT, .dst = &cfg->height, .arg = "H", .lo = 1, .hi = SERVER_MAX_SIDE,
-         .help = "frame height in pixels", .def = "the scene's, else 768", .seen = &a->height_given},
-        {.name = "--fixed-size", .kind = OPT_FLAG, .dst = &a->fixed_size,
-         .help = "in a window, the frames keep --width x --height whatever the window's size (drawn scaled to fit "
-                 "it); without it (and without --verify) they follow the window's size"},
-        {.name = "--segment", .kind = OPT_CUSTOM, .dst = &cfg->segment_lines, .arg = "LINES|auto", .parse = cli_parse_segment,
-         .range = CLI_SEGMENT_RANGE, .help = "lines per segment handed to a client", .def = "auto"},
-        {.name = "--tail", .kind = OPT_CHOICE, .dst = &a->tail, .choices = sched_tail_names,
-         .help = "how the last segments of a frame are cut and shared (docs/scaling.md)"},
-        {.name = "--bvh", .kind = OPT_CHOICE, .dst = &a->bvh_kind, .choices = bvh_kind_names, .seen = &a->force_bvh,
-         .help = "BVH builder for models; given, it rebuilds .tmd models too"},
-        CLI_SMOOTH_OPT(&a->smooth),
-        CLI_CAMERA_OPT(&a->camera),
-        {.name = "--aa", .kind = OPT_CUSTOM, .dst = &a->aa, .arg = "N|adaptive[:N]", .parse = cli_parse_aa, .range = CLI_AA_RANGE,
-         .help = "anti-aliasing", .def = "the scene's, else 1"},
-        LOOK_OPTS(a),
-        {.name = "--rotate", .kind = OPT_REAL, .dst = &a->rotate, .arg = "DEG",
-         .help = "turn every model instance by DEG about y after each frame (Space toggles it in the window)"},
-        {.name = "--path", .kind = OPT_STRING, .dst = &a->path, .arg = "FILE",
-         .help = "fly the camera along a path (docs/scene.md); headless without --frames, stop at its end and print "
-                 "the frame rate held"},
-        {.name = "--path-step", .kind = OPT_REAL, .dst = &a->path_step, .arg = "S", .rlo = 0, .rhi = 1e6,
-         .help = "seconds of the path a frame, 0 = the time that passes (a frame N shows the path at (N-1) x S)",
-         .def = "0"},
-        {.name = "--still-aa", .kind = OPT_CUSTOM, .dst = &a->still, .arg = "N|adaptive[:N]", .parse = cli_parse_aa,
-         .range = CLI_AA_RANGE,
-         .help = "refine: a frame whose camera and scene did not change since the frame before is rendered with these "
-                 "samples (adaptive:4 is lanray-render's picture); path-traced, N x N of N a power of two comes in "
-                 "still frames that each add as many samples as all before (1, 2, 4 ... N x N a pixel), else in "
-                 "frames of 2x2, 4x4 ... N x N",
-         .def = "none: every frame with --aa; in a window, a path-traced scene's 32"},
-        {.name = "--still-light-samples", .kind = OPT_INT, .dst = &a->still_lights, .arg = "K", .hi = LIGHT_MAX_SAMPLES,
-         .help = "with --still-aa, the still frames after the first take four times the area lights' points a "
-                 "side, from the largest light's own up to K x K (lanray-render's picture with --light-samples K): "
-                 "soft shadows without grain; 0 = each light's own",
-         .def = "0"},
-        {.name = "--compress", .kind = OPT_CHOICE, .dst = &a->compress, .choices = compress_words,
-         .help = "how clients send their pixels: raw, LZ4, or zstd level 1 after a left-neighbour predictor (a "
-                 "rendered 2-line segment to 0.35 and 0.20 of its bytes: docs/scaling.md); a packet that would not "
-                 "shrink goes raw",
-         .def = "zstd"},
-        {.name = "--pipeline", .kind = OPT_CHOICE, .dst = &a->pipeline, .choices = pipeline_words,
-         .help = "start the next frame as soon as the current one has no fresh work left, where its view is known "
-                 "(a path, an animation, a camera that moves or stays): clients with nothing left render it rather "
-                 "than wait; frames are still shown in order (docs/scaling.md)",
-         .def = "on"},
-        {.name = "--announce", .kind = OPT_CHOICE, .dst = &a->announce, .choices = announce_words,
-         .help = "announce the server on the LAN (DNS-SD over mDNS, through avahi-daemon): _lanray._tcp, the protocol "
-                 "version as a subtype, TXT proto, size, token; clients started without an address find it",
-         .def = "auto: where it listens beyond loopback"},
-        MOVING_LIGHTS_OPTS(a),
-        {.name = "--target-fps", .kind = OPT_REAL, .dst = &a->target_fps, .arg = "F", .rlo = 0, .rhi = 1000, .seen = &a->target_given,
-         .help = "while the view moves, render fewer pixels (a render scale of 1 to 8 in quarter steps, chosen from the "
-                 "frame times measured) to hold F frames a second; 0 = every pixel",
-         .def = "0; in a window, a path-traced scene's 10"},
-        {.name = "--render-scale", .kind = OPT_REAL, .dst = &a->render_scale, .arg = "K", .rlo = 0, .rhi = 8,
-         .help = "moving frames always at render scale K (1 to 8 in quarter steps: 2.5 renders 2/5 of each side) rather "
-                 "than as --target-fps chooses; 0 = as it chooses", .def = "0"},
-        {.name = "--upscale", .kind = OPT_CHOICE, .dst = &cfg->upscale, .choices = upscale_names,
-         .help = "how a frame rendered at a render scale fills the window and the frames written: smooth (bilinear "
-                 "between its pixels) or blocks (its pixels as rendered, each a block)",
-         .def = "smooth"},
-        {.name = "--max-fps", .kind = OPT_REAL, .dst = &a->max_fps, .arg = "F", .rlo = 0, .rhi = 1000,
-         .help = "start at most F frames a second (the rest of the time the farm idles); 0 = no limit", .def = "0"},
-        {.name = "--linear", .kind = OPT_FLAG, .dst = &a->linear,
-         .help = "frames in linear light (PNG tagged gAMA 1.0) instead of sRGB"},
-        CLI_ENVIRONMENT_OPTS(&a->env),
-        {.name = "--hdr", .kind = OPT_FLAG, .dst = &a->hdr,
-         .help = "high dynamic range frames: clients send RGBE, frames are written as .hdr (Radiance); the window shows "
-                 "them after the scene's exposure, through --tonemap's curve"},
-        DENOISE_OPTS(a),
-        {.name = "--headless", .kind = OPT_FLAG, .dst = &a->headless, .help = "no window: write frames to --out"},
-        {.name = "--frames", .kind = OPT_INT, .dst = &a->frames, .arg = "N", .lo = 0, .hi = 100000000,
-         .help = "stop after N frames, 0 = run until stopped"},
-        {.name = "--out", .kind = OPT_STRING, .dst = &a->out_dir, .arg = "DIR",
-         .help = "headless: write DIR/frame-NNNNN.png, or .hdr with --hdr (DIR and its parents are created)"},
-        {.name = "--discard", .kind = OPT_FLAG, .dst = &a->discard, .help = "headless, and throw frames away (benchmarks)"},
-        {.name = "--verify", .kind = OPT_STRING, .dst = &a->verify_path, .arg = "REF.png",
-         .help = "compare every frame with a reference; exit 3 if any pixel differs"},
-        {.name = "--wait-clients", .kind = OPT_INT, .dst = &a->wait_clients, .arg = "N", .lo = 0, .hi = 4096,
-         .help = "start the first frame only once N clients have joined"},
-        {.name = "--warmup", .kind = OPT_INT, .dst = &a->warmup, .arg = "N", .lo = 0, .hi = 1000000,
-         .help = "leave the first N frames out of the summary (the first carries the assets)"},
-        {.name = "--stall-timeout", .kind = OPT_INT, .dst = &a->stall, .arg = "S", .lo = 1, .hi = 86400,
-         .help = "seconds a client may hold work without a result before it is dropped"},
-        {.name = "--handshake-timeout", .kind = OPT_INT, .dst = &a->handshake, .arg = "S", .lo = 1, .hi = 3600,
-         .help = "seconds a new connection has to finish the handshake"},
-        {.name = "--quiet", .kind = OPT_FLAG, .dst = &cfg->quiet, .help = "print errors and the listening line only"},
-        {.name = "--machine-summary", .kind = OPT_FLAG, .dst = &a->machine_summary,
-         .help = "end with one 'summary key=value ...' line for scripts (tools/bench/bench-scaling)"},
-        {0},
-    };
-    const char *args[1] = {NULL};
-    OptSpec spec = {.prog = "lanray-server", .synopsis = "[scene | model.obj | model.tmd] [options]",
-                    .about = server_about, .opts = opts, .args = args, .max_args = 1, .exits = server_exits};
-    int go = opt_run(&spec, argc, argv);
-    a->scene_path = args[0];
-    config_from_args(a);
-    return go;
-}
 
 /* Everything main opens, closed by app_close alone, whatever was reached. */
 static void app_close(App *a)
 {
+    livescene_close(a);
     mdns_withdraw(a->mdns);
     server_destroy(a->server);
     framewriter_destroy(a->writer);
@@ -656,28 +353,6 @@ static void app_close(App *a)
     watch_close(a->watch);
     camera_path_free(&a->path);
     free(a->dropped);
-}
-
-/* The command line's settings over a scene's own, the scene of `path` (at
- * the start, on every reading of an edited scene, for a file dropped on
- * the window); -1 where its environment cannot be put. */
-static int apply_overrides(Scene *scene, const Args *a, const char *path, Err *err)
-{
-    scene->settings.denoise = a->denoise; /* as hdr, fixed: the pixels' size follows it */
-    if (a->aa.given) {
-        scene->settings.aa = a->aa.aa;
-        scene->settings.adaptive = a->aa.adaptive;
-    }
-    if (a->integrator_given)
-        scene->settings.integrator = (Integrator)a->integrator;
-    cli_put_light_paths(&scene->settings, &a->paths);
-    if (a->tonemap_given)
-        scene->settings.tonemap = (Tonemap)a->tonemap;
-    scene->settings.linear = a->linear;
-    scene->settings.hdr = a->hdr;
-    if (a->camera) /* each reading: the file's camera moved is not a move */
-        scene->camera = a->cam;
-    return cli_put_environment(scene, &a->env, path, err);
 }
 
 /* The scene, with the command line's settings over its own, and the frame
@@ -697,7 +372,7 @@ static int open_scene(App *app, Args *a, Err *err)
         return 2;
     }
     a->denoise = a->denoise || scene->settings.denoise;
-    if (apply_overrides(scene, a, a->scene_path, err)) {
+    if (args_apply(scene, a, a->scene_path, err)) {
         fprintf(stderr, "lanray-server: %s\n", err->msg);
         return 1;
     }
@@ -836,14 +511,17 @@ static void show_title(App *app)
     double now = timer_now();
     if (now - app->last_title <= 0.5)
         return;
-    char title[160];
+    char title[200];
     uint32_t n = server_client_count(app->server);
     const double fps = framerate_get(&app->rate, now);
     char rate[PANEL_RATE];
     panel_rate(rate, app->frames_done > 0 && server_frame_converged(app->server), fps);
     /* the scene's name first: a user with several servers tells their windows apart */
     const char *name = app->name ? app->name : "built-in scene";
-    if (app->edit_error[0])
+    const char *opening = livescene_opening(app);
+    if (opening) /* a large model takes seconds to read and build */
+        snprintf(title, sizeof title, "lanray - %.80s - opening %.60s ...", name, opening);
+    else if (app->edit_error[0])
         snprintf(title, sizeof title, "lanray - error: %.130s", app->edit_error);
     else if (n == 0) /* no rate: the last clients' falls as it waits */
         snprintf(title, sizeof title, "lanray - %.80s - waiting for clients", name);
@@ -852,156 +530,6 @@ static void show_title(App *app)
     display_title(app->display, title);
     window_panel(&app->win, fps, app->edit_error[0] ? app->edit_error : NULL);
     app->last_title = now;
-}
-
-/* What an edited scene asks of the frames (rs: its settings before the
- * command line's).  A new size: a window whose frames follow its size
- * takes it (the frames follow); headless, or at --fixed-size, the frames
- * stay (the frames written are one size).  Denoise,
- * which the server cannot take while it runs (the pixels' size follows
- * it).  Said, not dropped without a word. */
-static void edit_frame_settings(App *app, const Args *a, const RenderSettings *rs)
-{
-    const int w = !a->width_given && rs->width ? rs->width : app->asked_w;
-    const int h = !a->height_given && rs->height ? rs->height : app->asked_h;
-    if (w != app->asked_w || h != app->asked_h) {
-        app->asked_w = w, app->asked_h = h;
-        if (app->display && app->win.follow) {
-            display_set_size(app->display, w, h);
-            log_line(a->cfg.quiet, "lanray-server", "%s asks for %dx%d frames: the window takes that size",
-                     app->scene_path, w, h);
-        } else {
-            fprintf(stderr, "lanray-server: %s asks for %dx%d frames; they stay %dx%d until the server is started again\n",
-                    app->scene_path, w, h, app->width, app->height);
-        }
-    }
-    if (!a->denoise_given && rs->denoise != a->denoise)
-        fprintf(stderr, "lanray-server: %s asks for denoise %s; the frames stay %s until the server is started again\n",
-                app->scene_path, rs->denoise ? "on" : "off", a->denoise ? "denoised" : "raw");
-}
-
-/* --smooth for the scene of `path`: a model's alone (a scene file's models say it themselves). */
-static int smooth_for(const Args *a, const char *path) { return a->smooth && path && model_load_knows(path); }
-
-/* A scene that could not be read (an edit, a file dropped on the window):
- * the one shown stays, and the log and the title say why. */
-static void keep_scene(App *app, const Err *err, const char *why)
-{
-    fprintf(stderr, "lanray-server: %s (%s)\n", err->msg, why);
-    snprintf(app->edit_error, sizeof app->edit_error, "%s", err->msg);
-    app->last_title = 0;
-}
-
-/* A scene read (next, rs its settings before the command line's) handed
- * to the server for the next frame, its files watched from now on. */
-static void hand_over(App *app, const Args *a, Scene *next, const RenderSettings *rs)
-{
-    if (app->display)
-        window_knobs_apply(&app->win, &next->settings);
-    edit_frame_settings(app, a, rs);
-    scene_destroy(app->pending);
-    app->pending = next;
-    server_set_scene(app->server, next);
-    app->edit_error[0] = 0;
-    Err err;
-    Watch *w = watch_open(next, &err); /* its files from now on */
-    if (w) {
-        watch_close(app->watch);
-        app->watch = w;
-    }
-}
-
-/* The scene handed over, once the server took it: the old one is free. */
-static void adopt_taken(App *app)
-{
-    if (app->pending && server_scene(app->server) == app->pending) {
-        scene_destroy(app->scene);
-        app->scene = app->pending;
-        app->pending = NULL;
-    }
-}
-
-/* Live edits: a scene file or one of its files changed (0.15 s ago, so
- * that an editor's writes are over): the scene is read again and handed to
- * the server for the next frame; an error keeps the last good scene on
- * screen and says why, in the log and the window's title. */
-static void follow_edits(App *app, const Args *a)
-{
-    const double now = timer_now();
-    if (watch_changed(app->watch))
-        app->edit_t = now;
-    if (app->edit_t == 0 || now - app->edit_t < 0.15)
-        return;
-    app->edit_t = 0;
-    Scene *next;
-    Err err;
-    if (cli_open_scene(app->scene_path, &a->bvh, a->force_bvh, smooth_for(a, app->scene_path), &next, &err)) {
-        keep_scene(app, &err, "the last good scene stays");
-        return;
-    }
-    const RenderSettings asked = next->settings;
-    if (apply_overrides(next, a, app->scene_path, &err)) {
-        keep_scene(app, &err, "the last good scene stays");
-        scene_destroy(next);
-        return;
-    }
-    hand_over(app, a, next, &asked);
-    log_line(a->cfg.quiet, "lanray-server", "%s read again", app->scene_path);
-}
-
-/* The window's still quality and frame-rate target for a dropped scene,
- * where the command line did not say them: as at the start, a
- * path-traced view converges to 1024 samples a pixel and moves at 10
- * frames a second, a Whitted view is not refined and has no target (a
- * path-traced scene dropped on a Whitted window stayed at one sample a
- * pixel, its noise never going). */
-static void integrator_defaults(App *app, const Args *a, const Scene *s)
-{
-    const int path = s->settings.integrator == INTEGRATOR_PATH;
-    if (!a->still.given)
-        server_set_still(app->server, path, path ? AA_MAX : a->still.aa, path ? 0 : a->still.adaptive);
-    if (!a->target_given && !(a->render_scale > 0)) {
-        app->win.target_fps = path ? 10 : 0;
-        pace_set_target(&app->pace, app->win.target_fps);
-        server_set_scale(app->server, app->pace.scale);
-    }
-}
-
-/* A file dropped on the window: a scene file or a model (previewed, as
- * given alone), read and shown in place of the scene, its camera and
- * home, its files followed from now on; one that cannot be read leaves the
- * scene shown, saying why. */
-static void open_dropped(App *app, const Args *a, const char *path)
-{
-    Scene *next = NULL;
-    Err err;
-    char title[600]; /* a large model takes seconds to read and build: said meanwhile */
-    snprintf(title, sizeof title, "lanray - opening %.500s ...", file_basename(path));
-    display_title(app->display, title);
-    char *kept = strdup(path);
-    if (!kept || cli_open_scene(path, &a->bvh, a->force_bvh, smooth_for(a, path), &next, &err)) {
-        if (!kept)
-            err_set(&err, "%s: out of memory", path);
-        keep_scene(app, &err, "the scene shown stays");
-        free(kept);
-        return;
-    }
-    const RenderSettings asked = next->settings;
-    if (apply_overrides(next, a, path, &err)) {
-        keep_scene(app, &err, "the scene shown stays");
-        scene_destroy(next);
-        free(kept);
-        return;
-    }
-    free(app->dropped);
-    app->dropped = kept;
-    app->scene_path = kept;
-    app->name = file_basename(kept);
-    hand_over(app, a, next, &asked);
-    window_new_scene(&app->win, next);
-    integrator_defaults(app, a, next);
-    app->last_title = 0; /* its name in the title now */
-    log_line(a->cfg.quiet, "lanray-server", "%s opened", path);
 }
 
 /* Headless: one line a second at most, to see it is alive. */
@@ -1059,15 +587,13 @@ static int serve(App *app, const Args *a)
             fprintf(stderr, "lanray-server: %s\n", err.msg);
             return 1;
         }
-        adopt_taken(app);
-        if (app->watch)
-            follow_edits(app, a);
+        livescene_step(app, a);
         if (app->display) {
             display_flush(app->display);
             if (window_poll(&app->win, &app->animate, &app->screenshot))
                 break;
             if (app->win.dropped[0]) {
-                open_dropped(app, a, app->win.dropped);
+                livescene_drop(app, a, app->win.dropped);
                 app->win.dropped[0] = 0;
             }
             if (app->screenshot)
@@ -1128,7 +654,7 @@ static int finish(App *app, const Args *a, int rc)
 int main(int argc, char **argv)
 {
     Args a;
-    int rc = parse_args(&a, argc, argv);
+    int rc = args_parse(&a, argc, argv);
     if (rc != OPT_GO)
         return rc;
     App app = {0};

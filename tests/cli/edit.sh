@@ -100,4 +100,34 @@ size=$(python3 -c 'import struct,sys; print("%dx%d" % struct.unpack(">II", open(
 kill -TERM "$server_pid"
 wait "$server_pid" "$client" 2>/dev/null
 echo "edit: a frame size and denoise edited in are said, the frames stay 64x48"
+
+# a scene is read on a thread of its own: while a large model is read and
+# its tree built, the scene shown goes on being served (read in the loop,
+# no frame was finished meanwhile); tiny frames, as many as the farm makes
+mkdir "$dir/big"
+cp "$dir/s/tex.ppm" "$dir/big/"
+printf '%s' "$v1" >"$dir/big/b.scene"
+python3 - "$dir/big/grid.obj" <<'GRID'
+import math, sys
+n = 224  # 2 n^2 = 100352 triangles: a tenth of a second to read and build, where a frame of 16x12 takes a millisecond
+rows = ["v %.5f %.5f %.5f" % (i / n - 0.5, 0.05 * math.sin(20 * i / n) * math.cos(20 * j / n), j / n - 0.5)
+        for j in range(n + 1) for i in range(n + 1)]
+w = n + 1
+rows += ["f %d %d %d\nf %d %d %d" % (a, a + w, a + 1, a + 1, a + w, a + w + 1)
+         for a in (j * w + i + 1 for j in range(n) for i in range(n))]
+open(sys.argv[1], "w").write("\n".join(rows) + "\n")
+GRID
+start_server big "$dir/big/b.scene" --port 0 --width 16 --height 12 --aa 1 --discard
+"$BIN/lanray-client" "127.0.0.1:$port" --threads 1 --quiet --once 2>/dev/null &
+client=$!
+pids+=("$client")
+for _ in $(seq 200); do grep -q "^lanray-server: [1-9][0-9]* frames" "$dir/big.err" && break; sleep 0.05; done
+printf '%smodel grid grid.obj\ninstance grid translate 0 0 0\n' "$v1" >"$dir/big/b.scene"
+for _ in $(seq 400); do grep -q "b.scene read again in" "$dir/big.err" && break; sleep 0.05; done
+line=$(grep "b.scene read again in" "$dir/big.err") || fail "the scene with a large model was not read again"
+meanwhile=$(sed -n 's/.*(\([0-9]*\) frames shown meanwhile).*/\1/p' <<<"$line")
+[ "${meanwhile:-0}" -ge 3 ] || fail "frames went on while the scene was read: $line"
+kill -TERM "$server_pid"
+wait "$server_pid" "$client" 2>/dev/null
+echo "edit: ${line#lanray-server: }"
 echo "edit: a model added, a texture replaced, an error (logged with its line, the last good scene kept) and its fix, each followed by the frames as lanray-render draws it, with one connection"

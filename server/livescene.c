@@ -1,0 +1,236 @@
+/* livescene.c - see livescene.h. */
+#include "livescene.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "app/cli.h"
+#include "base/fileio.h"
+#include "base/log.h"
+#include "base/timer.h"
+
+/* What an edited scene asks of the frames (rs: its settings before the
+ * command line's).  A new size: a window whose frames follow its size
+ * takes it (the frames follow); headless, or at --fixed-size, the frames
+ * stay (the frames written are one size).  Denoise,
+ * which the server cannot take while it runs (the pixels' size follows
+ * it).  Said, not dropped without a word. */
+static void edit_frame_settings(App *app, const Args *a, const RenderSettings *rs)
+{
+    const int w = !a->width_given && rs->width ? rs->width : app->asked_w;
+    const int h = !a->height_given && rs->height ? rs->height : app->asked_h;
+    if (w != app->asked_w || h != app->asked_h) {
+        app->asked_w = w, app->asked_h = h;
+        if (app->display && app->win.follow) {
+            display_set_size(app->display, w, h);
+            log_line(a->cfg.quiet, "lanray-server", "%s asks for %dx%d frames: the window takes that size",
+                     app->scene_path, w, h);
+        } else {
+            fprintf(stderr, "lanray-server: %s asks for %dx%d frames; they stay %dx%d until the server is started again\n",
+                    app->scene_path, w, h, app->width, app->height);
+        }
+    }
+    if (!a->denoise_given && rs->denoise != a->denoise)
+        fprintf(stderr, "lanray-server: %s asks for denoise %s; the frames stay %s until the server is started again\n",
+                app->scene_path, rs->denoise ? "on" : "off", a->denoise ? "denoised" : "raw");
+}
+
+/* A scene that could not be read (an edit, a file dropped on the window):
+ * the one shown stays, and the log and the title say why. */
+static void keep_scene(App *app, const Err *err, const char *why)
+{
+    fprintf(stderr, "lanray-server: %s (%s)\n", err->msg, why);
+    snprintf(app->edit_error, sizeof app->edit_error, "%s", err->msg);
+    app->last_title = 0;
+}
+
+/* A scene read (next, rs its settings before the command line's) handed
+ * to the server for the next frame, its files watched from now on. */
+static void hand_over(App *app, const Args *a, Scene *next, const RenderSettings *rs)
+{
+    if (app->display)
+        window_knobs_apply(&app->win, &next->settings);
+    edit_frame_settings(app, a, rs);
+    scene_destroy(app->pending);
+    app->pending = next;
+    server_set_scene(app->server, next);
+    app->edit_error[0] = 0;
+    Err err;
+    Watch *w = watch_open(next, &err); /* its files from now on */
+    if (w) {
+        watch_close(app->watch);
+        app->watch = w;
+    }
+}
+
+/* The scene handed over, once the server took it: the old one is free. */
+static void adopt_taken(App *app)
+{
+    if (app->pending && server_scene(app->server) == app->pending) {
+        scene_destroy(app->scene);
+        app->scene = app->pending;
+        app->pending = NULL;
+    }
+}
+
+/* The window's still quality and frame-rate target for a dropped scene,
+ * where the command line did not say them: as at the start, a
+ * path-traced view converges to 1024 samples a pixel and moves at 10
+ * frames a second, a Whitted view is not refined and has no target (a
+ * path-traced scene dropped on a Whitted window stayed at one sample a
+ * pixel, its noise never going). */
+static void integrator_defaults(App *app, const Args *a, const Scene *s)
+{
+    const int path = s->settings.integrator == INTEGRATOR_PATH;
+    if (!a->still.given)
+        server_set_still(app->server, path, path ? AA_MAX : a->still.aa, path ? 0 : a->still.adaptive);
+    if (!a->target_given && !(a->render_scale > 0)) {
+        app->win.target_fps = path ? 10 : 0;
+        pace_set_target(&app->pace, app->win.target_fps);
+        server_set_scale(app->server, app->pace.scale);
+    }
+}
+
+
+/* On the loader's thread: the scene of path, and the command line's
+ * settings over its own.  Reads only a (fixed while the server runs). */
+static void read_scene(const void *ctx, const char *path, SceneRead *r)
+{
+    const Args *a = ctx;
+    r->scene = NULL;
+    if (cli_open_scene(path, &a->bvh, a->force_bvh, args_smooth_for(a, path), &r->scene, &r->err)) {
+        r->scene = NULL;
+        return;
+    }
+    r->asked = r->scene->settings;
+    if (args_apply(r->scene, a, path, &r->err)) {
+        scene_destroy(r->scene);
+        r->scene = NULL;
+    }
+}
+
+static const char *stays(int drop) { return drop ? "the scene shown stays" : "the last good scene stays"; }
+
+/* Reads path (a file dropped, or the scene shown, edited) or, while a read
+ * is under way, queues it to be read after (that one's scene dropped).
+ * An edit of the scene shown is moot while a dropped file is to replace
+ * it. */
+static void request(App *app, const Args *a, const char *path, int drop)
+{
+    Err err;
+    if (app->loading) {
+        if (!drop && (app->loading_drop || (app->queued && app->queued_drop)))
+            return;
+        char *copy = strdup(path);
+        if (!copy) {
+            err_set(&err, "%s: out of memory", path);
+            keep_scene(app, &err, stays(drop));
+            return;
+        }
+        free(app->queued);
+        app->queued = copy;
+        app->queued_drop = drop;
+        return;
+    }
+    app->loading = sceneload_start(path, read_scene, a, &err);
+    if (!app->loading) {
+        keep_scene(app, &err, stays(drop));
+        return;
+    }
+    app->loading_drop = drop;
+    app->loading_t = timer_now();
+    app->loading_frames = app->frames_done;
+    app->last_title = 0; /* "opening NAME ..." */
+}
+
+/* A dropped file read: it is the scene shown now, its name in the title. */
+static void adopt_dropped(App *app, const Args *a, char *path, Scene *next)
+{
+    free(app->dropped);
+    app->dropped = path;
+    app->scene_path = path;
+    app->name = file_basename(path);
+    window_new_scene(&app->win, next);
+    integrator_defaults(app, a, next);
+}
+
+/* A read over: handed to the server, or, where a newer one waits, dropped
+ * for it. */
+static void take_read(App *app, const Args *a)
+{
+    if (!app->loading || !sceneload_done(app->loading))
+        return;
+    const int drop = app->loading_drop;
+    char *path = strdup(sceneload_path(app->loading));
+    SceneRead r = sceneload_finish(app->loading);
+    app->loading = NULL;
+    app->last_title = 0;
+    if (app->queued || !path) {
+        scene_destroy(r.scene);
+        char *next = app->queued;
+        app->queued = NULL;
+        if (next)
+            request(app, a, next, app->queued_drop);
+        else
+            keep_scene(app, &(Err){"out of memory"}, stays(drop));
+        free(next);
+        free(path);
+        return;
+    }
+    if (!r.scene) {
+        keep_scene(app, &r.err, stays(drop));
+        free(path);
+        return;
+    }
+    hand_over(app, a, r.scene, &r.asked);
+    /* the frames the farm went on with while it was read (none where the
+     * window was still: no frame is rendered then) */
+    const uint32_t meanwhile = app->frames_done - app->loading_frames;
+    char frames[48] = "";
+    if (meanwhile)
+        snprintf(frames, sizeof frames, " (%u frames shown meanwhile)", meanwhile);
+    log_line(a->cfg.quiet, "lanray-server", "%s %s in %.2f s%s", path, drop ? "opened" : "read again",
+             timer_now() - app->loading_t, frames);
+    if (drop)
+        adopt_dropped(app, a, path, r.scene);
+    else
+        free(path);
+}
+
+void livescene_step(App *app, const Args *a)
+{
+    adopt_taken(app);
+    take_read(app, a);
+    if (!app->watch || !app->scene_path)
+        return;
+    const double now = timer_now();
+    if (watch_changed(app->watch))
+        app->edit_t = now;
+    if (app->edit_t == 0 || now - app->edit_t < 0.15)
+        return;
+    app->edit_t = 0;
+    request(app, a, app->scene_path, 0);
+}
+
+void livescene_drop(App *app, const Args *a, const char *path) { request(app, a, path, 1); }
+
+const char *livescene_opening(const App *app)
+{
+    if (app->queued && app->queued_drop)
+        return file_basename(app->queued);
+    if (app->loading && app->loading_drop)
+        return file_basename(sceneload_path(app->loading));
+    return NULL;
+}
+
+void livescene_close(App *app)
+{
+    if (app->loading) {
+        SceneRead r = sceneload_finish(app->loading);
+        scene_destroy(r.scene);
+        app->loading = NULL;
+    }
+    free(app->queued);
+    app->queued = NULL;
+}
