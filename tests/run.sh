@@ -60,20 +60,48 @@ fi
 # under a minute under AddressSanitizer): one that hangs fails by name, its
 # processes ended (timeout signals the test's whole process group, and the
 # test's EXIT trap still removes its folder), and the rest still run.
+# They run CLI_JOBS at a time (2): most of a test's time is its processes
+# waiting on each other (a server for its clients, a window test for the
+# screen), one at a time they kept a core and a half of two busy, and CI
+# went past its 15 minutes.  Each keeps its own folder, ports (port 0)
+# and X display (-displayfd); its output is shown whole, in order, as
+# soon as it and those before it are done.
 limit=${CLI_TEST_TIMEOUT:-300}
-for t in tests/cli/*.sh; do
-    [ -e "$t" ] || continue
-    echo "[ RUN      ] $(basename "$t")"
-    t0=$SECONDS
-    BIN="${BIN:-bin}" timeout --kill-after=10 "$limit" bash "$t"
-    rc=$?
-    if [ "$rc" -eq 0 ]; then
-        echo "[       OK ] $(basename "$t") ($((SECONDS - t0)) s)"; passed=$((passed + 1))
-    else
-        why=; [ "$rc" -eq 124 ] || [ "$rc" -eq 137 ] && why=", timed out after $limit s"
-        echo "[  FAILED  ] $(basename "$t") ($((SECONDS - t0)) s$why)"; failed=$((failed + 1)); failed_names+=("$(basename "$t")")
-    fi
+clis=()
+for t in tests/cli/*.sh; do [ -e "$t" ] && clis+=("$t"); done
+cli_out=$units/cli
+mkdir -p "$cli_out"
+run_cli() { # INDEX TEST
+    local t0=$SECONDS
+    BIN="${BIN:-bin}" timeout --kill-after=10 "$limit" bash "$2" >"$cli_out/$1.log" 2>&1
+    local rc=$?
+    echo $((SECONDS - t0)) >"$cli_out/$1.s"
+    echo "$rc" >"$cli_out/$1.rc"
+}
+shown=0
+show_done() { # prints the tests done, in order, up to the first still running
+    while [ "$shown" -lt ${#clis[@]} ] && [ -e "$cli_out/$shown.rc" ]; do
+        local name rc s
+        name=$(basename "${clis[$shown]}")
+        rc=$(cat "$cli_out/$shown.rc")
+        s=$(cat "$cli_out/$shown.s")
+        echo "[ RUN      ] $name"
+        cat "$cli_out/$shown.log"
+        if [ "$rc" -eq 0 ]; then
+            echo "[       OK ] $name ($s s)"; passed=$((passed + 1))
+        else
+            why=; [ "$rc" -eq 124 ] || [ "$rc" -eq 137 ] && why=", timed out after $limit s"
+            echo "[  FAILED  ] $name ($s s$why)"; failed=$((failed + 1)); failed_names+=("$name")
+        fi
+        shown=$((shown + 1))
+    done
+}
+for i in "${!clis[@]}"; do
+    while [ "$(jobs -rp | wc -l)" -ge "${CLI_JOBS:-2}" ]; do wait -n; show_done; done
+    run_cli "$i" "${clis[$i]}" &
 done
+wait
+show_done
 [ ${#failed_names[@]} -eq 0 ] || echo "failing: ${failed_names[*]}"
 echo "$passed passed, $failed failed"
 [ "$failed" -eq 0 ] && [ ${#failed_names[@]} -eq 0 ]
