@@ -196,23 +196,20 @@ check-asan: deps
 # thread; and denoising's and the Whitted history's, whose server filters
 # or adds up frames on a thread of its own; and edits', whose scenes the
 # server reads on a thread of its own)
-TSAN_BUILD := build/float-tsan/tests/test_render build/float-tsan/tests/test_wire build/float-tsan/tests/test_bvh build/float-tsan/tests/test_framewriter bin/tsan/lanray-render bin/tsan/lanray-server bin/tsan/lanray-client bin/tsan/lanray-imgdiff
+TSAN_TESTS := build/float-tsan/tests/test_render build/float-tsan/tests/test_bvh build/float-tsan/tests/test_wire build/float-tsan/tests/test_framewriter
+TSAN_BUILD := $(TSAN_TESTS) bin/tsan/lanray-render bin/tsan/lanray-server bin/tsan/lanray-client bin/tsan/lanray-imgdiff
 tsan-build:
 	@$(MAKE) --no-print-directory SAN=tsan $(TSAN_BUILD)
+# (two at a time, as make check runs its tests: one after another they
+# took over two minutes of CI's fifteen; the slowest first)
 check-tsan: deps
 	@$(MAKE) --no-print-directory $(PARALLEL) tsan-build
-	@TSAN_OPTIONS="halt_on_error=1" build/float-tsan/tests/test_bvh
-	@TSAN_OPTIONS="halt_on_error=1" build/float-tsan/tests/test_framewriter
-	@TSAN_OPTIONS="halt_on_error=1" build/float-tsan/tests/test_render
-	@TSAN_OPTIONS="halt_on_error=1" build/float-tsan/tests/test_wire
 	@rm -f build/float-tsan/report.*
-	@TSAN_OPTIONS="halt_on_error=1 exitcode=66 log_path=$(CURDIR)/build/float-tsan/report" BIN=bin/tsan bash tests/cli/distributed.sh
-	@TSAN_OPTIONS="halt_on_error=1 exitcode=66 log_path=$(CURDIR)/build/float-tsan/report" BIN=bin/tsan bash tests/cli/denoise.sh
-	@TSAN_OPTIONS="halt_on_error=1 exitcode=66 log_path=$(CURDIR)/build/float-tsan/report" BIN=bin/tsan bash tests/cli/history.sh
-	@TSAN_OPTIONS="halt_on_error=1 exitcode=66 log_path=$(CURDIR)/build/float-tsan/report" BIN=bin/tsan bash tests/cli/edit.sh
+	@TSAN_OPTIONS="halt_on_error=1 exitcode=66 log_path=$(CURDIR)/build/float-tsan/report" BIN=bin/tsan \
+	    CLI_TESTS="history denoise distributed edit" bash tests/run.sh $(TSAN_TESTS)
 	@# a report from a client running in the background lands in a file: any file fails the run
 	@if ls build/float-tsan/report.* >/dev/null 2>&1; then cat build/float-tsan/report.*; exit 1; fi
-	@echo "[       OK ] distributed.sh, denoise.sh, history.sh and edit.sh under ThreadSanitizer, no reports"
+	@echo "[       OK ] test_render, test_bvh, test_wire, test_framewriter, distributed.sh, denoise.sh, history.sh and edit.sh under ThreadSanitizer, no reports"
 
 .PHONY: test-run test-build check-tsan tsan-build
 test-run: test-build

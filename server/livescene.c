@@ -74,25 +74,6 @@ static void adopt_taken(App *app)
     }
 }
 
-/* The window's still quality and frame-rate target for a dropped scene,
- * where the command line did not say them: as at the start, a
- * path-traced view converges to 1024 samples a pixel and moves at 10
- * frames a second, a Whitted view is not refined and has no target (a
- * path-traced scene dropped on a Whitted window stayed at one sample a
- * pixel, its noise never going). */
-static void integrator_defaults(App *app, const Args *a, const Scene *s)
-{
-    const int path = s->settings.integrator == INTEGRATOR_PATH;
-    if (!a->still.given)
-        server_set_still(app->server, path, path ? AA_MAX : a->still.aa, path ? 0 : a->still.adaptive);
-    if (!a->target_given && !(a->render_scale > 0)) {
-        app->win.target_fps = path ? 10 : 0;
-        pace_set_target(&app->pace, app->win.target_fps);
-        server_set_scale(app->server, app->pace.scale);
-    }
-}
-
-
 /* On the loader's thread: the scene of path, and the command line's
  * settings over its own.  Reads only a (fixed while the server runs). */
 static void read_scene(const void *ctx, const char *path, SceneRead *r)
@@ -152,7 +133,7 @@ static void adopt_dropped(App *app, const Args *a, char *path, Scene *next)
     app->scene_path = path;
     app->name = file_basename(path);
     window_new_scene(&app->win, next);
-    integrator_defaults(app, a, next);
+    livescene_defaults(app, a, next);
 }
 
 /* A read over: handed to the server, or, where a newer one waits, dropped
@@ -233,4 +214,27 @@ void livescene_close(App *app)
     }
     free(app->queued);
     app->queued = NULL;
+}
+
+void livescene_defaults(App *app, const Args *a, const Scene *s)
+{
+    const int path = s->settings.integrator == INTEGRATOR_PATH;
+    if (!a->still.given) {
+        const int want[3] = {path, path ? AA_MAX : a->still.aa, path ? 0 : a->still.adaptive};
+        int now[3];
+        server_still(app->server, &now[0], &now[1], &now[2]);
+        if (memcmp(want, now, sizeof want) != 0) /* (a change restarts a converged view) */
+            server_set_still(app->server, want[0], want[1], want[2]);
+    }
+    if (!a->target_given && !(a->render_scale > 0)) {
+        const double fps = path ? 10 : 0;
+        if (fps != app->win.target_fps) {
+            app->win.target_fps = fps;
+            if (app->pace.target > 0)
+                pace_set_target(&app->pace, fps);
+            else
+                pace_init(&app->pace, fps); /* from no target: starting at the coarsest scale, as at the start */
+            server_set_scale(app->server, app->pace.scale);
+        }
+    }
 }

@@ -20,6 +20,15 @@ void livescene_step(App *app, const Args *a);
 void livescene_drop(App *app, const Args *a, const char *path);
 /* The file name of a dropped file being opened, for the title, or NULL. */
 const char *livescene_opening(const App *app);
+/* The window's still quality and frame-rate target for scene s, where
+ * the command line did not say them (at the start, and for a dropped
+ * scene): a path-traced view converges once it stops to 1024 samples a
+ * pixel (its still frames add up) and moves at 10 frames a second, fewer
+ * pixels while it moves, as Cycles' viewport does; a Whitted view is not
+ * refined and has no target.  (A path-traced scene dropped on a Whitted
+ * window without them stayed at one sample a pixel, its noise never
+ * going.) */
+void livescene_defaults(App *app, const Args *a, const Scene *s);
 /* Waits for a read under way and drops it (the server's end). */
 void livescene_close(App *app);
 

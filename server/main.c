@@ -466,17 +466,6 @@ static int open_outputs(App *app, Args *a, Err *err)
         fprintf(stderr, "lanray-server: %s\n", err->msg);
         return 1;
     }
-    /* a path-traced view in a window converges once it stops, as Cycles'
-     * viewport does, to 1024 samples a pixel (its still frames add up) */
-    if (app->display && !a->still.given && app->scene->settings.integrator == INTEGRATOR_PATH)
-        server_set_still(app->server, 1, AA_MAX, 0);
-    /* ... and moves at 10 frames a second, fewer pixels while it moves (as
-     * Cycles' viewport renders coarser while it is navigated) */
-    if (app->display && !a->target_given && !(a->render_scale > 0) &&
-        app->scene->settings.integrator == INTEGRATOR_PATH) {
-        a->target_fps = 10;
-        pace_init(&app->pace, a->target_fps);
-    }
     /* frames written beside the loop, two queued (a frame over 64 MB is
      * written in it: two more copies would be too many) */
     const int bpp = (int)render_colour_bytes(&app->scene->settings);
@@ -558,9 +547,11 @@ static int idle(const App *app)
 static int serve(App *app, const Args *a)
 {
     Err err = {{0}};
-    if (app->display)
+    if (app->display) {
         window_init(&app->win, app->display, app->server, &app->pace, a->target_fps, app->scene, app->width,
                     app->height, !a->fixed_size && !a->verify_path);
+        livescene_defaults(app, a, app->scene);
+    }
     int wait_clients = a->wait_clients;
     uint32_t status_frames = 0;
     app->animate = a->rotate != 0;

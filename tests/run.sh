@@ -67,8 +67,13 @@ fi
 # and X display (-displayfd); its output is shown whole, in order, as
 # soon as it and those before it are done.
 limit=${CLI_TEST_TIMEOUT:-300}
+# (CLI_TESTS: the names of those to run, without .sh; all unless given)
 clis=()
-for t in tests/cli/*.sh; do [ -e "$t" ] && clis+=("$t"); done
+if [ -n "${CLI_TESTS+set}" ]; then
+    for n in $CLI_TESTS; do clis+=("tests/cli/$n.sh"); done
+else
+    for t in tests/cli/*.sh; do [ -e "$t" ] && clis+=("$t"); done
+fi
 cli_out=$units/cli
 mkdir -p "$cli_out"
 run_cli() { # INDEX TEST
