@@ -87,7 +87,7 @@ TESTS := $(TEST_SRC:%.c=$(BUILD)/%)
 FUZZ_NAMES := $(patsubst tests/fuzz/fuzz_%.c,%,$(wildcard tests/fuzz/fuzz_*.c))
 REPLAYS := $(FUZZ_NAMES:%=$(BUILD)/fuzz/replay_%)
 
-DEB_PACKAGES := gcc make pkg-config libjson-c-dev libsdl2-dev libsdl2-ttf-dev fonts-dejavu-core xdotool libnetpbm-dev libpng-dev libjpeg62-turbo-dev zlib1g-dev libassimp-dev libcmocka-dev libembree-dev libsodium-dev libzstd-dev liblz4-dev libavahi-client-dev avahi-daemon avahi-utils dbus dpkg-dev help2man xvfb x11-apps python3 clang libclang-rt-14-dev povray
+DEB_PACKAGES := gcc make pkg-config libjson-c-dev libsdl2-dev libsdl2-ttf-dev fonts-dejavu-core xdotool libnetpbm-dev libpng-dev libjpeg62-turbo-dev zlib1g-dev libassimp-dev libcmocka-dev libembree-dev libsodium-dev libzstd-dev liblz4-dev libavahi-client-dev avahi-daemon avahi-utils dbus dpkg-dev help2man xvfb x11-apps jwm python3 clang libclang-rt-14-dev povray
 
 .PHONY: all deps check check-asan bench demo clean tradeoff bench-scaling bench-realtime bench-compress bench-pipeline bench-path bench-cycles install uninstall deb fuzz loadtest tools-doc architecture scene-doc
 .SECONDARY:

@@ -65,14 +65,21 @@ fi
 # screen), one at a time they kept a core and a half of two busy, and CI
 # went past its 15 minutes.  Each keeps its own folder, ports (port 0)
 # and X display (-displayfd); its output is shown whole, in order, as
-# soon as it and those before it are done.
+# soon as it and those before it are done (the slowest started first).
 limit=${CLI_TEST_TIMEOUT:-300}
 # (CLI_TESTS: the names of those to run, without .sh; all unless given)
 clis=()
 if [ -n "${CLI_TESTS+set}" ]; then
     for n in $CLI_TESTS; do clis+=("tests/cli/$n.sh"); done
 else
-    for t in tests/cli/*.sh; do [ -e "$t" ] && clis+=("$t"); done
+    # the slowest first (seconds in CI, 2026-12-02), so that no long test
+    # starts last and runs alone while the other lane idles
+    for n in cli randscene path chaos double panel window pathtrace faults formats denoise drop desktop; do
+        [ -e "tests/cli/$n.sh" ] && clis+=("tests/cli/$n.sh")
+    done
+    for t in tests/cli/*.sh; do
+        [ -e "$t" ] && [[ " ${clis[*]} " != *" $t "* ]] && clis+=("$t")
+    done
 fi
 cli_out=$units/cli
 mkdir -p "$cli_out"

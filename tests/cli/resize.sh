@@ -11,8 +11,8 @@
 # lanray-render's picture averaged to the size shown, by
 # tests/tools/xwdscaled.py: within 6 levels on average, where the frame's
 # corner unscaled, what a cropping window shows, is not).  F11's full
-# screen goes through the window manager, which Xvfb has none of: not
-# checked here.
+# screen and a maximised window go through a window manager, which a bare
+# Xvfb has none of: desktop.sh runs one.
 set -u
 BIN=${BIN:-bin}
 source tests/tools/xvfb-lib.sh
@@ -21,15 +21,6 @@ window_test_begin Xvfb xwd xdotool
 W=480 H=360 SW=400 SH=300
 start_xvfb ${SW}x${SH}x24
 
-# sized W H: waits (5 s) until the window is W x H (WIDTH, HEIGHT set)
-sized() {
-    for _ in $(seq 25); do
-        window_at
-        [ "$WIDTH" -eq "$1" ] && [ "$HEIGHT" -eq "$2" ] && return 0
-        sleep 0.2
-    done
-    fail "the window is ${WIDTH}x$HEIGHT, not $1x$2"
-}
 
 # shows NAME [RENDER-ARGS...]: the window shows lanray-render's picture
 # (of the built-in scene at --aa 1 unless the ARGS say) at the window's own

@@ -85,6 +85,17 @@ window_at() {
     [ -n "${X:-}" ] && [ -n "${Y:-}" ] || fail "the window's geometry could not be read"
 }
 
+# sized W H: waits (5 s) until the window is W x H (WIDTH, HEIGHT, X, Y
+# set by WINDOW_AT, window_at unless the test names another)
+sized() {
+    for _ in $(seq 25); do
+        ${WINDOW_AT:-window_at}
+        [ "$WIDTH" -eq "$1" ] && [ "$HEIGHT" -eq "$2" ] && return 0
+        sleep 0.2
+    done
+    fail "the window is ${WIDTH}x$HEIGHT, not $1x$2"
+}
+
 # stop_window_server NAME: SIGTERM to the server that window_server started
 # and to its client; the server must end (exit 0, as its --help says) within
 # 10 s and take its window with it
