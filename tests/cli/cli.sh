@@ -17,7 +17,9 @@ for t in $tools; do
     grep -q "^usage: $t " <<<"$out" || fail "$t --help has no usage line"
     grep -q -- "--version" <<<"$out" || fail "$t --help does not list --version"
     grep -q "^exit status:" <<<"$out" || fail "$t --help does not document its exit statuses"
-    # every option the help lists is one the tool takes (help must not promise what the parser lacks)
+    # every option the help lists is one the tool takes (help must not promise what the parser lacks;
+    # the parser's tables, the same under the sanitizers, where 150 starts took a quarter minute)
+    [ $sanitized = 1 ] ||
     for o in $(grep -o '^  \(-[a-z], \)\?--[a-z-]*' <<<"$out" | sed 's/.*--/--/' | sort -u); do
         case $o in --help | --version) continue ;; esac
         "$BIN/$t" "$o" --help >/dev/null 2>&1 || fail "$t rejects $o, which its help lists"
