@@ -79,7 +79,6 @@ static void adopt_taken(App *app)
 static void read_scene(const void *ctx, const char *path, SceneRead *r)
 {
     const Args *a = ctx;
-    r->scene = NULL;
     if (cli_open_scene(path, &a->bvh, a->force_bvh, args_smooth_for(a, path), &r->scene, &r->err)) {
         r->scene = NULL;
         return;
@@ -143,25 +142,21 @@ static void take_read(App *app, const Args *a)
     if (!app->loading || !sceneload_done(app->loading))
         return;
     const int drop = app->loading_drop;
-    char *path = strdup(sceneload_path(app->loading));
     SceneRead r = sceneload_finish(app->loading);
     app->loading = NULL;
     app->last_title = 0;
-    if (app->queued || !path) {
+    if (app->queued) {
         scene_destroy(r.scene);
+        free(r.path);
         char *next = app->queued;
         app->queued = NULL;
-        if (next)
-            request(app, a, next, app->queued_drop);
-        else
-            keep_scene(app, &(Err){"out of memory"}, stays(drop));
+        request(app, a, next, app->queued_drop);
         free(next);
-        free(path);
         return;
     }
     if (!r.scene) {
         keep_scene(app, &r.err, stays(drop));
-        free(path);
+        free(r.path);
         return;
     }
     hand_over(app, a, r.scene, &r.asked);
@@ -171,12 +166,12 @@ static void take_read(App *app, const Args *a)
     char frames[48] = "";
     if (meanwhile)
         snprintf(frames, sizeof frames, " (%u frames shown meanwhile)", meanwhile);
-    log_line(a->cfg.quiet, "lanray-server", "%s %s in %.2f s%s", path, drop ? "opened" : "read again",
+    log_line(a->cfg.quiet, "lanray-server", "%s %s in %.2f s%s", r.path, drop ? "opened" : "read again",
              timer_now() - app->loading_t, frames);
     if (drop)
-        adopt_dropped(app, a, path, r.scene);
+        adopt_dropped(app, a, r.path, r.scene);
     else
-        free(path);
+        free(r.path);
 }
 
 void livescene_step(App *app, const Args *a)
@@ -210,6 +205,7 @@ void livescene_close(App *app)
     if (app->loading) {
         SceneRead r = sceneload_finish(app->loading);
         scene_destroy(r.scene);
+        free(r.path);
         app->loading = NULL;
     }
     free(app->queued);

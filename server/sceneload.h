@@ -13,16 +13,19 @@
 #include "base/err.h"
 #include "scene/scene.h"
 
-/* What a read gives: the scene (NULL on failure, err saying why) and the
- * settings it asked for itself, before the command line's went over
- * them. */
+/* What a read gives: the path read (the caller's to free, with the scene
+ * once sceneload_finish gave them), the scene (NULL on failure, err
+ * saying why) and the settings it asked for itself, before the command
+ * line's went over them. */
 typedef struct {
+    char *path;
     Scene *scene;
     RenderSettings asked;
     Err err;
 } SceneRead;
 
-/* Reads the scene of path into r (on the loader's thread). */
+/* Reads the scene of path into r's scene, asked and err (on the loader's
+ * thread). */
 typedef void (*SceneReadFn)(const void *ctx, const char *path, SceneRead *r);
 
 typedef struct SceneLoad SceneLoad;
@@ -35,8 +38,8 @@ SceneLoad *sceneload_start(const char *path, SceneReadFn fn, const void *ctx, Er
 int sceneload_done(SceneLoad *l);
 /* The path being read. */
 const char *sceneload_path(const SceneLoad *l);
-/* Waits for the read, frees l and gives what it read (the scene is the
- * caller's). */
+/* Waits for the read, frees l and gives what it read (the path and the
+ * scene are the caller's). */
 SceneRead sceneload_finish(SceneLoad *l);
 
 #endif

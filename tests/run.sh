@@ -26,13 +26,32 @@ before=$(tmpdirs)
 # done; its seconds are its own, beside another.
 units=$(mktemp -d)
 trap 'rm -rf "$units"' EXIT
-i=0
-for t in "$@"; do
-    while [ "$(jobs -rp | wc -l)" -ge "${TEST_JOBS:-2}" ]; do wait -n; done
-    (t0=$SECONDS; "$t" >"$units/$i.log" 2>&1; echo $? >"$units/$i.rc"; echo $((SECONDS - t0)) >"$units/$i.s") &
-    i=$((i + 1))
-done
-wait
+# run_in DIR I COMMAND...: the command's output in DIR/I.log, its exit
+# status in DIR/I.rc and its seconds in DIR/I.s
+run_in() {
+    local out=$1 i=$2 t0=$SECONDS
+    shift 2
+    "$@" >"$out/$i.log" 2>&1
+    local rc=$?
+    echo $((SECONDS - t0)) >"$out/$i.s"
+    echo "$rc" >"$out/$i.rc"
+}
+# in_lanes JOBS DIR COMMAND-PREFIX... -- ITEM...: run_in DIR I PREFIX ITEM
+# for each ITEM (I counting from 0), JOBS at a time; AFTER (a command) runs
+# each time one is done
+in_lanes() {
+    local lanes=$1 out=$2 i=0 prefix=()
+    shift 2
+    while [ "$1" != -- ]; do prefix+=("$1"); shift; done
+    shift
+    for t in "$@"; do
+        while [ "$(jobs -rp | wc -l)" -ge "$lanes" ]; do wait -n; ${AFTER:-:}; done
+        run_in "$out" "$i" "${prefix[@]}" "$t" &
+        i=$((i + 1))
+    done
+    wait
+}
+in_lanes "${TEST_JOBS:-2}" "$units" -- "$@"
 i=0
 for t in "$@"; do
     log=$units/$i.log
@@ -62,7 +81,7 @@ fi
 # test's EXIT trap still removes its folder), and the rest still run.
 # They run CLI_JOBS at a time (2): most of a test's time is its processes
 # waiting on each other (a server for its clients, a window test for the
-# screen), one at a time they kept a core and a half of two busy, and CI
+# screen), one at a time they kept 1.2 cores of 2 busy, and CI
 # went past its 15 minutes.  Each keeps its own folder, ports (port 0)
 # and X display (-displayfd); its output is shown whole, in order, as
 # soon as it and those before it are done (the slowest started first).
@@ -83,13 +102,6 @@ else
 fi
 cli_out=$units/cli
 mkdir -p "$cli_out"
-run_cli() { # INDEX TEST
-    local t0=$SECONDS
-    BIN="${BIN:-bin}" timeout --kill-after=10 "$limit" bash "$2" >"$cli_out/$1.log" 2>&1
-    local rc=$?
-    echo $((SECONDS - t0)) >"$cli_out/$1.s"
-    echo "$rc" >"$cli_out/$1.rc"
-}
 shown=0
 show_done() { # prints the tests done, in order, up to the first still running
     while [ "$shown" -lt ${#clis[@]} ] && [ -e "$cli_out/$shown.rc" ]; do
@@ -108,11 +120,7 @@ show_done() { # prints the tests done, in order, up to the first still running
         shown=$((shown + 1))
     done
 }
-for i in "${!clis[@]}"; do
-    while [ "$(jobs -rp | wc -l)" -ge "${CLI_JOBS:-2}" ]; do wait -n; show_done; done
-    run_cli "$i" "${clis[$i]}" &
-done
-wait
+AFTER=show_done in_lanes "${CLI_JOBS:-2}" "$cli_out" env BIN="${BIN:-bin}" timeout --kill-after=10 "$limit" bash -- "${clis[@]}"
 show_done
 [ ${#failed_names[@]} -eq 0 ] || echo "failing: ${failed_names[*]}"
 echo "$passed passed, $failed failed"

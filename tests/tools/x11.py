@@ -62,8 +62,8 @@ class X11:
             time.sleep(sleep)
         return None
 
-    def send(self, window, ev):
-        self.x.XSendEvent(self.dpy, ctypes.c_ulong(window), 0, ctypes.c_long(0), ctypes.byref(ev))
+    def send(self, window, ev, mask=0):
+        self.x.XSendEvent(self.dpy, ctypes.c_ulong(window), 0, ctypes.c_long(mask), ctypes.byref(ev))
         self.x.XFlush(self.dpy)
 
     def close(self):

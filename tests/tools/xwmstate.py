@@ -22,10 +22,7 @@ def main():
     for i, state in enumerate(sys.argv[3:]):
         ev.client.l[1 + i] = x.atom("_NET_WM_STATE_" + state.upper())
     ev.client.l[3] = 1  # from an application (a pager would say 2)
-    root = x.x.XDefaultRootWindow(x.dpy)
-    import ctypes
-    x.x.XSendEvent(x.dpy, ctypes.c_ulong(root), 0, ctypes.c_long(SUBSTRUCTURE_REDIRECT_AND_NOTIFY), ctypes.byref(ev))
-    x.x.XFlush(x.dpy)
+    x.send(x.x.XDefaultRootWindow(x.dpy), ev, SUBSTRUCTURE_REDIRECT_AND_NOTIFY)
     x.close()
 
 
