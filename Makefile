@@ -70,7 +70,9 @@ LDFLAGS := $(SANFLAGS)
 # session.  The server's SDL window is in none of them, so no test links
 # SDL, and a test links the server's or the client's archive only when it
 # tests them.
-DISPLAY_SRC := server/display.c server/window.c
+# (with them the scene shown replaced, livescene.c, which calls the window:
+# in an archive of the server's loop it broke the fuzz harnesses' link)
+DISPLAY_SRC := server/display.c server/window.c server/livescene.c
 COMMON_SRC := $(wildcard common/*/*.c)
 SERVER_SRC := $(filter-out server/main.c $(DISPLAY_SRC),$(wildcard server/*.c))
 CLIENT_SRC := $(filter-out client/main.c,$(wildcard client/*.c))
@@ -170,6 +172,8 @@ $(BUILD)/tests/%: $(BUILD)/tests/%.o $(LIB)
 # handlers' fuzz harnesses, link the archive they test
 $(BUILD)/tests/test_sched $(BUILD)/tests/test_measure $(BUILD)/tests/test_pace $(BUILD)/tests/test_framerate $(BUILD)/tests/test_upscale $(BUILD)/tests/test_framewriter $(BUILD)/tests/test_controls $(BUILD)/fuzz/replay_server: $(SERVER_LIB)
 $(BUILD)/fuzz/replay_client: $(CLIENT_LIB)
+# the assets' way from the server's uploads to the client's cache: both sides
+$(BUILD)/tests/test_upload: $(SERVER_LIB) $(CLIENT_LIB)
 
 # docs/scene.md's tables of keys, printed from the field tables that the
 # parser, the wire and the checks read (test_fields fails where they differ)
@@ -196,7 +200,7 @@ check-asan: deps
 # thread; and denoising's and the Whitted history's, whose server filters
 # or adds up frames on a thread of its own; and edits', whose scenes the
 # server reads on a thread of its own)
-TSAN_TESTS := build/float-tsan/tests/test_render build/float-tsan/tests/test_bvh build/float-tsan/tests/test_wire build/float-tsan/tests/test_framewriter
+TSAN_TESTS := build/float-tsan/tests/test_render build/float-tsan/tests/test_bvh build/float-tsan/tests/test_wire build/float-tsan/tests/test_framewriter build/float-tsan/tests/test_upload
 TSAN_BUILD := $(TSAN_TESTS) bin/tsan/lanray-render bin/tsan/lanray-server bin/tsan/lanray-client bin/tsan/lanray-imgdiff
 tsan-build:
 	@$(MAKE) --no-print-directory SAN=tsan $(TSAN_BUILD)
@@ -209,7 +213,7 @@ check-tsan: deps
 	    CLI_TESTS="history denoise distributed edit" bash tests/run.sh $(TSAN_TESTS)
 	@# a report from a client running in the background lands in a file: any file fails the run
 	@if ls build/float-tsan/report.* >/dev/null 2>&1; then cat build/float-tsan/report.*; exit 1; fi
-	@echo "[       OK ] test_render, test_bvh, test_wire, test_framewriter, distributed.sh, denoise.sh, history.sh and edit.sh under ThreadSanitizer, no reports"
+	@echo "[       OK ] test_render, test_bvh, test_wire, test_framewriter, test_upload, distributed.sh, denoise.sh, history.sh and edit.sh under ThreadSanitizer, no reports"
 
 .PHONY: test-run test-build check-tsan tsan-build
 test-run: test-build

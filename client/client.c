@@ -1,7 +1,9 @@
 /* client.c - see client.h.
  *
- * Two threads: the network thread (the caller's) owns the socket, decodes
- * UPDATEs and queues segments; the render thread renders them one at a time
+ * Three threads: the network thread (the caller's) owns the socket, decodes
+ * UPDATEs and queues segments; the assets' thread (assetload.c) decodes
+ * the models and textures sent, a HAVE sent for each as it is done; the
+ * render thread renders the segments one at a time
  * with render_span and hands finished pixels back through a pipe that wakes
  * the network thread.  An UPDATE for a newer frame drops the queued segments
  * of frames older than the one it says to keep, and cancels the one being
@@ -22,6 +24,7 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "assetload.h"
 #include "net/auth.h"
 #include "net/conn.h"
 #include "render/render.h"
@@ -79,6 +82,7 @@ typedef struct {
     uint32_t coding;  /* what the server asked for (WELCOME), set before any job */
     uint64_t segments, pixels;
     uint64_t scenes; /* descriptions decoded (the network thread's) */
+    AssetLoad *load; /* the assets sent, decoded on a thread of their own (it wakes the network thread too) */
 } Worker;
 
 static void desc_drop(Desc *d)
@@ -340,6 +344,23 @@ static int segment_ok(Segment seg, const SceneRef *ref, const char *packet, Err 
     return 0;
 }
 
+static void send_have(void *ctx, const uint8_t *hash)
+{
+    Conn *c = ctx;
+    MsgHave h;
+    memcpy(h.hash, hash, PROTO_HASH);
+    MsgOut out;
+    msg_encode_have(&h, &out);
+    Err e;
+    conn_send_msg(c, &out, CONN_MAX_QUEUE, &e); /* a connection that fails says so at its next send or read */
+}
+
+/* The assets decoded so far into the cache, a HAVE for each. */
+static int assets_taken(Worker *w, Conn *c, AssetCache *cache, Err *err)
+{
+    return assetload_take(w->load, cache, send_have, c, err);
+}
+
 /* Handles one packet from the server; returns -1 to end the session.  cur
  * is the newest frame, prev the one before it where the server keeps it
  * (NULL otherwise). */
@@ -349,10 +370,7 @@ static int on_packet(const ClientConfig *cfg, Worker *w, Conn *c, AssetCache *ca
     switch (c->type) {
     case PKT_ASSET: {
         MsgAsset a;
-        if (msg_decode_asset(c->body, c->body_size, &a, err) ||
-            asset_cache_add(cache, a.kind, a.hash, a.data, a.len, err))
-            return -1;
-        return 0;
+        return msg_decode_asset(c->body, c->body_size, &a, err) || assetload_slice(w->load, &a, err) ? -1 : 0;
     }
     case PKT_UPDATE: {
         MsgUpdate u;
@@ -364,6 +382,14 @@ static int on_packet(const ClientConfig *cfg, Worker *w, Conn *c, AssetCache *ca
         if (keep > frame || (*cur && frame <= (*cur)->frame))
             return err_set(err, "UPDATE for frame %u keeping frames from %u (after frame %u)", frame, keep,
                            *cur ? (*cur)->frame : 0);
+        /* a new description names assets sent before it: all of them in
+         * the cache first (most were taken in while the frames before
+         * rendered: server/ahead.c) */
+        if (u.scene_len > 0) {
+            assetload_wait(w->load);
+            if (assets_taken(w, c, cache, err))
+                return -1;
+        }
         SceneRef *ref = update_ref(&u, cache, *cur, err);
         if (!ref)
             return -1;
@@ -488,7 +514,7 @@ static int session(const ClientConfig *cfg, int fd, Worker *w, AssetCache *cache
                     bad = 1;
                 free(done[i].pixels);
             }
-            if (bad)
+            if (bad || assets_taken(w, &c, cache, err))
                 break;
         }
         if (p[0].revents & (POLLIN | POLLHUP | POLLERR)) {
@@ -504,7 +530,8 @@ static int session(const ClientConfig *cfg, int fd, Worker *w, AssetCache *cache
         if (conn_pending(&c) && conn_flush(&c, err) < 0)
             break;
     }
-    /* forget this server's work */
+    /* forget this server's work; keep the assets it sent that decoded */
+    assetload_settle(w->load, cache);
     pthread_mutex_lock(&w->mu);
     w->keep_from = UINT32_MAX; /* nothing of this session's frames */
     for (int i = 0; i < w->nqueue; i++)
@@ -531,13 +558,23 @@ static int worker_start(Worker *w, int threads, AssetCache **cache, pthread_t *t
     w->pool = render_pool_create(threads, err);
     w->codec = pixcodec_create();
     *cache = asset_cache_create();
-    if (!w->pool || !w->codec || !*cache || pthread_create(th, NULL, render_thread, w)) {
+    Err e = {{0}};
+    if (w->pool && w->codec && *cache)
+        w->load = assetload_create(w->wake[1], &e);
+    if (!w->pool || !w->codec || !*cache || !w->load || pthread_create(th, NULL, render_thread, w)) {
+        assetload_destroy(w->load);
         render_pool_destroy(w->pool);
         pixcodec_destroy(w->codec);
         asset_cache_destroy(*cache);
         close(w->wake[0]);
         close(w->wake[1]);
-        return w->pool ? err_set(err, w->codec ? "cannot start the render thread" : "out of memory") : -1;
+        if (!w->pool)
+            return -1;
+        if (w->codec && *cache && !w->load) {
+            *err = e;
+            return -1;
+        }
+        return err_set(err, w->codec && *cache ? "cannot start the render thread" : "out of memory");
     }
     return 0;
 }
@@ -550,6 +587,7 @@ static void worker_stop(Worker *w, AssetCache *cache, pthread_t th, ClientStats 
     pthread_cond_broadcast(&w->cv);
     pthread_mutex_unlock(&w->mu);
     pthread_join(th, NULL);
+    assetload_destroy(w->load);
     if (stats)
         *stats = (ClientStats){w->segments, w->pixels, sessions, w->scenes, world_tree_builds()};
     render_pool_destroy(w->pool);

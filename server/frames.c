@@ -237,12 +237,11 @@ int frames_start(Server *s, Err *err)
 {
     if (s->next_width)
         apply_size(s);
-    if (server_apply_pending(s, err))
-        return -1;
+    server_apply_pending(s);
     if (s->dirty) { /* a new description: checked, encoded once, numbered */
         s->scene_blob.len = 0;
         if (scene_check(s->scene, err) ||
-            wire_encode_scene(s->scene, s->assets, s->assets + s->scene->model_count, &s->scene_blob, err))
+            wire_encode_scene(s->scene, s->assets->a, s->assets->a + s->scene->model_count, &s->scene_blob, err))
             return -1;
         s->scene_id++;
         s->dirty = 0;

@@ -47,14 +47,16 @@ static void keep_scene(App *app, const Err *err, const char *why)
 
 /* A scene read (next, rs its settings before the command line's) handed
  * to the server for the next frame, its files watched from now on. */
-static void hand_over(App *app, const Args *a, Scene *next, const RenderSettings *rs)
+static void hand_over(App *app, const Args *a, SceneRead *r)
 {
+    Scene *next = r->scene;
     if (app->display)
         window_knobs_apply(&app->win, &next->settings);
-    edit_frame_settings(app, a, rs);
+    edit_frame_settings(app, a, &r->asked);
     scene_destroy(app->pending);
     app->pending = next;
-    server_set_scene(app->server, next);
+    server_set_scene(app->server, next, r->assets, r->nassets);
+    r->assets = NULL, r->nassets = 0;
     app->edit_error[0] = 0;
     Err err;
     Watch *w = watch_open(next, &err); /* its files from now on */
@@ -84,10 +86,20 @@ static void read_scene(const void *ctx, const char *path, SceneRead *r)
         return;
     }
     r->asked = r->scene->settings;
-    if (args_apply(r->scene, a, path, &r->err)) {
+    /* its assets too: the clients are sent them as soon as it is handed
+     * over (server/ahead.c) */
+    if (args_apply(r->scene, a, path, &r->err) || asset_make_scene(r->scene, &r->assets, &r->nassets, &r->err)) {
         scene_destroy(r->scene);
         r->scene = NULL;
     }
+}
+
+/* A read's scene and assets, not handed over. */
+static void read_drop(SceneRead *r)
+{
+    scene_destroy(r->scene);
+    assets_free(r->assets, r->nassets);
+    free(r->path);
 }
 
 static const char *stays(int drop) { return drop ? "the scene shown stays" : "the last good scene stays"; }
@@ -146,8 +158,7 @@ static void take_read(App *app, const Args *a)
     app->loading = NULL;
     app->last_title = 0;
     if (app->queued) {
-        scene_destroy(r.scene);
-        free(r.path);
+        read_drop(&r);
         char *next = app->queued;
         app->queued = NULL;
         request(app, a, next, app->queued_drop);
@@ -159,7 +170,7 @@ static void take_read(App *app, const Args *a)
         free(r.path);
         return;
     }
-    hand_over(app, a, r.scene, &r.asked);
+    hand_over(app, a, &r);
     /* the frames the farm went on with while it was read (none where the
      * window was still: no frame is rendered then) */
     const uint32_t meanwhile = app->frames_done - app->loading_frames;
@@ -204,8 +215,7 @@ void livescene_close(App *app)
 {
     if (app->loading) {
         SceneRead r = sceneload_finish(app->loading);
-        scene_destroy(r.scene);
-        free(r.path);
+        read_drop(&r);
         app->loading = NULL;
     }
     free(app->queued);

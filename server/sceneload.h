@@ -11,15 +11,19 @@
 #define LANRAY_SCENELOAD_H
 
 #include "base/err.h"
+#include "net/asset.h"
 #include "scene/scene.h"
 
 /* What a read gives: the path read (the caller's to free, with the scene
- * once sceneload_finish gave them), the scene (NULL on failure, err
- * saying why) and the settings it asked for itself, before the command
- * line's went over them. */
+ * and its assets once sceneload_finish gave them), the scene (NULL on
+ * failure, err saying why), its assets as the clients are sent them
+ * (asset_make_scene's), and the settings it asked for itself, before the
+ * command line's went over them. */
 typedef struct {
     char *path;
     Scene *scene;
+    Asset *assets;
+    uint32_t nassets;
     RenderSettings asked;
     Err err;
 } SceneRead;

@@ -1,7 +1,8 @@
 /* server.c - see server.h.
  *
  * Per client: handshake (SERVER_HELLO -> HELLO -> WELCOME or ERROR), then the
- * assets it lacks, then for every frame an UPDATE with two segments, and a
+ * assets it lacks (a new scene's sent ahead of its frames: ahead.c), then
+ * for every frame an UPDATE with two segments, and a
  * COMPUTE after every DATA so that it always holds two.  With pipelined
  * frames (ServerConfig pipeline) two frames may be in flight: the next one
  * starts when the current one has no fresh work left, the current one's
@@ -47,22 +48,14 @@
  * segment size matters, and the gap does not show it: it lands in render
  * times. */
 
-static int build_assets(Server *s, Err *err)
+/* The first scene's assets. */
+static int make_assets(Server *s, Err *err)
 {
-    for (uint32_t i = 0; i < s->nassets; i++)
-        asset_free(&s->assets[i]);
-    free(s->assets);
-    s->nassets = s->scene->model_count + s->scene->texture_count;
-    s->assets = calloc(s->nassets + 1, sizeof *s->assets);
-    if (!s->assets)
-        return err_set(err, "out of memory");
-    for (uint32_t i = 0; i < s->scene->model_count; i++)
-        if (asset_make_model(s->scene->models[i], &s->assets[i], err))
-            return -1;
-    for (uint32_t i = 0; i < s->scene->texture_count; i++)
-        if (asset_make_texture(s->scene->textures[i], &s->assets[s->scene->model_count + i], err))
-            return -1;
-    return 0;
+    Asset *a;
+    uint32_t n;
+    if (asset_make_scene(s->scene, &a, &n, err))
+        return -1;
+    return (s->assets = assetset_make(a, n)) ? 0 : err_set(err, "out of memory");
 }
 
 /* The denoise stage of s's frames (filter 0: the history alone, of
@@ -116,7 +109,7 @@ Server *server_create(const ServerConfig *cfg, Scene *scene, Err *err)
             err_set(&stage_err, "out of memory for the raw view of %dx%d frames", cfg->width, cfg->height);
     }
     const int stage_ok = !scene->settings.denoise || (s->stage && s->stripped);
-    if (!s->sched || !s->pixels || !s->shown || !s->codec || !stage_ok || build_assets(s, err)) {
+    if (!s->sched || !s->pixels || !s->shown || !s->codec || !stage_ok || make_assets(s, err)) {
         if (!stage_ok)
             *err = stage_err;
         else if (!s->sched || !s->pixels || !s->shown || !s->codec)
@@ -144,6 +137,7 @@ static void client_free(Server *s, Client *c)
     s->gone_bytes += c->conn.bytes_in + c->conn.bytes_out;
     conn_close(&c->conn);
     free(c->sent);
+    upload_free(&c->up);
     free(c);
 }
 
@@ -161,9 +155,8 @@ void server_destroy(Server *s)
     }
     if (s->listen_fd >= 0)
         close(s->listen_fd);
-    for (uint32_t i = 0; i < s->nassets; i++)
-        asset_free(&s->assets[i]);
-    free(s->assets);
+    assetset_drop(s->assets);
+    assetset_drop(s->next_assets);
     sink_free(&s->blob);
     sink_free(&s->scene_blob);
     sched_destroy(s->sched);
@@ -257,12 +250,11 @@ void server_turn_instances(Server *s, real degrees) { s->turn_pending += degrees
 
 Camera server_camera(const Server *s) { return s->camera_pending ? s->next_camera : s->view.camera; }
 
-void server_set_scene(Server *s, Scene *next) { s->next_scene = next; }
 Scene *server_scene(const Server *s) { return s->scene; }
 
 int server_changes_pending(const Server *s)
 {
-    return s->camera_pending || s->turn_pending != R(0) || s->next_scene != NULL || s->settings_pending ||
+    return s->camera_pending || s->turn_pending != R(0) || ahead_ready(s) || s->settings_pending ||
            s->still_pending || s->next_width;
 }
 
@@ -334,29 +326,12 @@ int server_moving_lights(const Server *s)
 void server_set_upscale(Server *s, int upscale) { s->cfg.upscale = upscale; }
 int server_upscale(const Server *s) { return s->cfg.upscale; }
 
-/* A new description (a reload): its assets, its camera where it moved the
- * file's, its settings. */
-static int swap_scene(Server *s, Err *err)
-{
-    const Camera before = s->scene->camera;
-    s->scene = s->next_scene;
-    s->next_scene = NULL;
-    if (build_assets(s, err))
-        return -1;
-    if (!camera_same(&before, &s->scene->camera))
-        s->view.camera = s->scene->camera;
-    s->view.settings = s->scene->settings;
-    s->dirty = 1;
-    s->edit_id++;
-    return 0;
-}
-
 /* What was held for this frame: a new description, a camera for the view,
  * a turn for the description (which then is checked and sent again). */
-int server_apply_pending(Server *s, Err *err)
+void server_apply_pending(Server *s)
 {
-    if (s->next_scene && swap_scene(s, err))
-        return -1;
+    if (ahead_ready(s))
+        ahead_swap(s);
     if (s->camera_pending) {
         s->view.camera = s->next_camera;
         s->camera_pending = 0;
@@ -376,7 +351,6 @@ int server_apply_pending(Server *s, Err *err)
         s->turn_pending = 0;
         s->dirty = 1;
     }
-    return 0;
 }
 void server_pause(Server *s, int paused) { s->paused = paused; }
 
@@ -412,23 +386,15 @@ static void drop_as(Server *s, Client *c, DropKind kind, const char *reason)
 }
 
 static void drop(Server *s, Client *c, const char *reason) { drop_as(s, c, DROP_TELL, reason); }
+void server_drop(Server *s, Client *c, const char *reason) { drop(s, c, reason); }
 
-static void send_or_drop(Server *s, Client *c, const MsgOut *m)
+void server_send_or_drop(Server *s, Client *c, const MsgOut *m)
 {
     Err e;
     if (c->closing)
         return;
     if (conn_send_msg(&c->conn, m, CONN_MAX_QUEUE, &e))
         drop(s, c, e.msg);
-}
-
-/* Whether the client was sent the asset of that hash. */
-static int client_has(const Client *c, const uint8_t *hash)
-{
-    for (uint32_t i = 0; i < c->nsent; i++)
-        if (memcmp(c->sent[i], hash, PROTO_HASH) == 0)
-            return 1;
-    return 0;
 }
 
 /* The older frame's scheduler where the client can render that frame. */
@@ -452,7 +418,7 @@ static void send_computes_but(Server *s, Client *c, Segment *seg, Sched **from, 
         MsgCompute m = {from[k] == s->sched ? s->frame : s->older.id, seg[k]};
         MsgOut out;
         msg_encode_compute(&m, &out);
-        send_or_drop(s, c, &out);
+        server_send_or_drop(s, c, &out);
     }
 }
 
@@ -469,19 +435,10 @@ void server_send_update(Server *s, Client *c)
 {
     /* a client that holds this description got its assets before it */
     const int held = c->scene_held == s->scene_id;
-    for (uint32_t i = 0; i < s->nassets && !held; i++)
-        if (!client_has(c, s->assets[i].hash)) {
-            MsgAsset a = {s->assets[i].kind, {0}, s->assets[i].data, s->assets[i].len};
-            memcpy(a.hash, s->assets[i].hash, PROTO_HASH);
-            MsgOut out;
-            msg_encode_asset(&a, &out);
-            send_or_drop(s, c, &out);
-            if (!c->closing && array_reserve((void **)&c->sent, &c->sent_cap, c->nsent + 1, sizeof *c->sent, 1u << 20))
-                drop(s, c, "out of memory for the assets it holds");
-            else if (!c->closing)
-                memcpy(c->sent[c->nsent++], s->assets[i].hash, PROTO_HASH);
-            measure_asset_sent(&s->m, PROTO_HEADER + out.head_len + out.tail_len);
-        }
+    if (!held)
+        ahead_send_now(s, c);
+    if (c->closing)
+        return;
     if (!held && !s->blob_has_scene) { /* the description behind the view: copied in a frame that needs it */
         sink_put(&s->blob, s->scene_blob.data, s->scene_blob.len);
         if (s->blob.failed) {
@@ -504,7 +461,7 @@ void server_send_update(Server *s, Client *c)
             u.seg[u.nseg++] = seg[k];
     MsgOut out;
     msg_encode_update(&u, &out);
-    send_or_drop(s, c, &out);
+    server_send_or_drop(s, c, &out);
     c->frame_sent = s->frame;
     c->scene_held = s->scene_id;
     send_computes_but(s, c, seg, from, n, 1); /* the older frame's, after the UPDATE that keeps it */
@@ -544,7 +501,7 @@ int server_adopt(Server *s, int fd, const char *addr)
     s->clients[s->nclients++] = c;
     MsgOut out;
     msg_encode_server_hello(&h, &out);
-    send_or_drop(s, c, &out);
+    server_send_or_drop(s, c, &out);
     return 0;
 }
 
@@ -603,7 +560,7 @@ static void on_hello(Server *s, Client *c)
     c->coding = codec < 32 && (h.codecs >> codec & 1) ? s->cfg.coding : PIX_RAW;
     MsgOut out;
     msg_encode_welcome(&(MsgWelcome){.id = (uint32_t)c->id, .coding = c->coding}, &out);
-    send_or_drop(s, c, &out);
+    server_send_or_drop(s, c, &out);
     log_line(s->cfg.quiet, "lanray-server", "client %d (%s) joined with %u thread%s", c->id, c->addr, c->threads,
              c->threads == 1 ? "" : "s");
     if (s->in_frame) {
@@ -611,6 +568,7 @@ static void on_hello(Server *s, Client *c)
         c->older_ok = 0; /* it never had the older frame's view */
         server_send_update(s, c);
     }
+    ahead_joined(s, c);
 }
 
 /* A segment of frame `old ? older : current` just written at px, to the
@@ -728,6 +686,7 @@ static void on_packet(Server *s, Client *c)
     switch (t) {
     case PKT_DATA: on_data(s, c); break;
     case PKT_BYE: drop_as(s, c, DROP_GOODBYE, "said goodbye"); break;
+    case PKT_HAVE: ahead_on_have(s, c); break;
     case PKT_ERROR: {
         char text[PROTO_MAX_ERROR_TEXT + 1];
         Err e;
@@ -796,6 +755,8 @@ int server_step(Server *s, int timeout_ms, FrameDoneFn done, void *ctx, Err *err
     if (!s->in_frame && !s->paused && !size_waits && server_client_count(s) > 0 &&
         (!s->next_fn || s->next_fn(s->next_ctx, s->frame + 1, 0)) && frames_start(s, err))
         return -1;
+    /* a new scene's assets paced onto the connections (ahead.c) */
+    const int uploading = ahead_pump(s);
     struct pollfd pfd[MAX_CLIENTS + 1];
     pfd[0] = (struct pollfd){s->listen_fd, POLLIN, 0};
     uint32_t n = s->nclients;
@@ -805,7 +766,7 @@ int server_step(Server *s, int timeout_ms, FrameDoneFn done, void *ctx, Err *err
         buffered |= conn_buffered(&s->clients[i]->conn);
     }
     /* a frame being filtered: back soon to show it */
-    const int wait_ms = s->stage && denoise_stage_holds(s->stage) && timeout_ms > 1 ? 1 : timeout_ms;
+    const int wait_ms = ((s->stage && denoise_stage_holds(s->stage)) || uploading) && timeout_ms > 1 ? 1 : timeout_ms;
     int r = poll(pfd, n + 1, buffered ? 0 : wait_ms);
     if (r < 0 && errno != EINTR)
         return err_set(err, "poll failed: %s", strerror(errno));

@@ -11,6 +11,7 @@
 #include <stdint.h>
 
 #include "scheduler.h"
+#include "net/asset.h"
 #include "scene/scene.h"
 
 /* The largest frame side a server assembles (lanray-render goes further). */
@@ -102,11 +103,15 @@ void server_destroy(Server *s);
  * never changed while the frame is under way. */
 void server_set_camera(Server *s, const Camera *c);
 void server_turn_instances(Server *s, real degrees);
-/* The description of the frames to come (a scene file read again): taken
- * at the next frame's start, when its assets are made and sent to whom
- * lacks them; the caller keeps ownership of both scenes and may free the
+/* The description of the frames to come (a scene file read again) and its
+ * assets (asset_make_scene's, which the server owns from now on): the
+ * assets a client lacks are sent to it at once, and the frames go on
+ * showing the scene before until every client holds them decoded, or
+ * AHEAD_WAIT_S passed (ahead.c); it is taken at the next frame's start
+ * after that.  A scene handed over before the one before was taken
+ * replaces it.  The caller keeps ownership of the scenes and may free the
  * old one once server_scene returns the new one. */
-void server_set_scene(Server *s, Scene *next);
+void server_set_scene(Server *s, Scene *next, Asset *assets, uint32_t nassets);
 Scene *server_scene(const Server *s);
 /* The frames' size from the next frame on (the window's): taken once the
  * frames in flight are shown, their buffers (and a denoised view's

@@ -10,6 +10,7 @@
 #include "denoisestage.h"
 #include "measure.h"
 #include "net/asset.h"
+#include "upload.h"
 #include "net/conn.h"
 #include "net/pixcodec.h"
 #include "scene/world.h"
@@ -24,6 +25,16 @@
 
 typedef enum { CLIENT_HANDSHAKE, CLIENT_ACTIVE } ClientState;
 
+/* An asset sent to a client, and whether its HAVE came. */
+typedef struct {
+    uint8_t hash[PROTO_HASH];
+    int have;
+} SentAsset;
+
+/* How long a new scene waits for its assets to be taken in by every
+ * client (ahead.c) before its frames start without that client. */
+#define AHEAD_WAIT_S 30.0
+
 typedef struct {
     int id;
     Conn conn;
@@ -35,8 +46,10 @@ typedef struct {
     double since, last_result;
     uint32_t frame_sent; /* last frame it got an UPDATE for (0: none) */
     uint32_t scene_held; /* the description it was sent last (Server.scene_id; 0: none) */
-    uint8_t (*sent)[PROTO_HASH]; /* the assets it was sent, by hash (a new scene keeps what it shares) */
+    SentAsset *sent; /* the assets it was sent, by hash (a new scene keeps what it shares) */
     uint32_t nsent, sent_cap;
+    uint32_t awaiting; /* ... of which it has not said HAVE */
+    Upload up;         /* ... of which these are on their way, slice by slice */
     uint64_t segments, pixels, duplicates;
     uint64_t frame_pixels, last_frame_pixels; /* this frame's, and the last finished one's (the panel) */
     uint64_t busy_us;
@@ -87,7 +100,11 @@ struct Server {
      * histories' epoch (a turning model leaves the rest of the picture
      * where it was, and its history with it) */
     uint32_t edit_id;
-    Scene *next_scene;  /* server_set_scene: the description of the frames to come */
+    Scene *next_scene;  /* server_set_scene: the description of the frames to come, */
+    AssetSet *next_assets; /* its assets, sent ahead to every client (ahead.c) */
+    double ahead_t;     /* when they were sent ahead (0: nothing was), */
+    uint64_t ahead_bytes; /* how many bytes, */
+    uint32_t ahead_frame; /* and the frame then */
     Camera last_camera; /* the camera of the frame before, and its description's number: */
     uint32_t last_scene_id;
     int still;          /* the current frame's are the same (refinement) */
@@ -139,8 +156,7 @@ struct Server {
     int history_failed; /* a Whitted view's history could not be made: none */
     int raw_view;     /* denoised frames shown raw (server_set_denoise_shown) */
     uint8_t *stripped; /* ... a frame's colours without their guides */
-    Asset *assets;    /* models then textures of the scene */
-    uint32_t nassets;
+    AssetSet *assets; /* models then textures of the scene */
     Sink scene_blob;  /* the serialised description (number scene_id) */
     Sink blob;        /* the current frame's view, and behind it scene_blob once a client lacks it */
     uint32_t view_len;
@@ -167,10 +183,20 @@ struct Server {
     uint32_t frames_given_way;    /* still frames dropped for a change (a move, a setting, an edit) */
 };
 
+/* ahead.c: a new scene's assets sent ahead of its frames */
+void ahead_send_now(Server *s, Client *c);
+void ahead_joined(Server *s, Client *c);
+int ahead_pump(Server *s);
+int ahead_ready(const Server *s);
+void ahead_swap(Server *s);
+void ahead_on_have(Server *s, Client *c);
+void server_drop(Server *s, Client *c, const char *reason);
+void server_send_or_drop(Server *s, Client *c, const MsgOut *m);
+
 /* server.c, for frames.c */
 int server_temporal_frames(const Server *s, const RenderSettings *rs);
 SchedStats server_stats_all(const Server *s);
-int server_apply_pending(Server *s, Err *err);
+void server_apply_pending(Server *s);
 void server_send_update(Server *s, Client *c);
 DenoiseStage *server_stage_make(const Server *s, int width, int height, int filter, int temporal, Err *err);
 uint64_t server_bytes(const Server *s);

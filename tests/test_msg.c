@@ -114,13 +114,35 @@ static void packets_round_trip(void **state)
     assert_int_equal(msg_decode_data(buf, n, 3, &d2, &err), 0);
     assert_true(d2.coding == (PIX_ZSTD | PIX_PREDICT) && d2.len == 6 && d2.seg.count == 4);
 
-    MsgAsset a = {ASSET_TEXTURE, {0}, px, sizeof px}, a2;
+    /* a slice: the payload's bytes 10 .. 15 of 16 */
+    MsgAsset a = {ASSET_TEXTURE, {0}, 16, 10, px, sizeof px}, a2;
     a.hash[0] = 0xab, a.hash[31] = 0xcd;
     msg_encode_asset(&a, &o);
     n = body_of(&o, buf);
     assert_int_equal(msg_decode_asset(buf, n, &a2, &err), 0);
     assert_true(a2.kind == ASSET_TEXTURE && a2.len == sizeof px && a2.hash[0] == 0xab && a2.hash[31] == 0xcd);
+    assert_true(a2.total == 16 && a2.offset == 10);
     assert_memory_equal(a2.data, px, sizeof px);
+    /* past its total, or a total past the most an asset may be */
+    a.offset = 11;
+    msg_encode_asset(&a, &o);
+    n = body_of(&o, buf);
+    assert_int_equal(msg_decode_asset(buf, n, &a2, &err), -1);
+    assert_non_null(strstr(err.msg, "ASSET slice of 6 bytes at 11 of an asset of 16 bytes"));
+    a.offset = 0, a.total = PROTO_ASSET_MAX + 1;
+    msg_encode_asset(&a, &o);
+    n = body_of(&o, buf);
+    assert_int_equal(msg_decode_asset(buf, n, &a2, &err), -1);
+    assert_non_null(strstr(err.msg, "ASSET of 1073741825 bytes"));
+
+    MsgHave hv = {{0}}, hv2;
+    hv.hash[0] = 7, hv.hash[31] = 9;
+    msg_encode_have(&hv, &o);
+    n = body_of(&o, buf);
+    assert_int_equal(n, PROTO_HASH);
+    assert_int_equal(msg_decode_have(buf, n, &hv2, &err), 0);
+    assert_memory_equal(hv2.hash, hv.hash, PROTO_HASH);
+    assert_int_equal(msg_decode_have(buf, n - 1, &hv2, &err), -1);
 
     char text[PROTO_MAX_ERROR_TEXT + 1];
     msg_encode_error(&(MsgError){"bad\nthing", 9}, &o);
@@ -175,7 +197,7 @@ static void bodies_that_do_not_fit_are_refused(void **state)
     assert_non_null(strstr(err.msg, "DATA packet of 30 coded pixel bytes for a segment of 10 pixels"));
     assert_int_equal(msg_decode_data(buf, 20 + 200, 3, &d, &err), -1);
     MsgAsset a;
-    assert_int_equal(msg_decode_asset(buf, 35, &a, &err), -1);
+    assert_int_equal(msg_decode_asset(buf, 43, &a, &err), -1);
     assert_int_equal(msg_type_name(99)[0], 'u'); /* "unknown" */
     assert_int_equal(msg_max_size(99), 0);
 }

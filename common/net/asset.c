@@ -7,12 +7,7 @@
 #include "net/auth.h"
 #include "model/tmd.h"
 
-typedef struct {
-    uint8_t hash[PROTO_HASH];
-    uint32_t kind;
-    Model *model;
-    Texture *texture;
-} CacheEntry;
+typedef AssetDecoded CacheEntry;
 
 struct AssetCache {
     CacheEntry *e;
@@ -57,38 +52,64 @@ Texture *asset_cache_texture(const AssetCache *c, const uint8_t hash[PROTO_HASH]
 
 #define ASSET_CACHE_MAX 4096u
 
-int asset_cache_add(AssetCache *c, uint32_t kind, const uint8_t hash[PROTO_HASH], const void *data, size_t len, Err *err)
+int asset_decode(uint32_t kind, const uint8_t hash[PROTO_HASH], const void *data, size_t len, AssetDecoded *out,
+                 Err *err)
 {
+    memset(out, 0, sizeof *out);
     uint8_t h[PROTO_HASH];
     auth_hash(data, len, h);
     if (memcmp(h, hash, PROTO_HASH) != 0)
         return err_set(err, "asset: payload does not match its hash");
-    if (cache_find(c, hash, kind))
+    memcpy(out->hash, hash, PROTO_HASH);
+    out->kind = kind;
+    if (kind == ASSET_MODEL)
+        return tmd_decode(data, len, "model asset", &out->model, err);
+    if (kind == ASSET_TEXTURE)
+        return texture_decode(data, len, "asset", &out->texture, err);
+    return err_set(err, "asset: unknown kind %u", kind);
+}
+
+void asset_decoded_free(AssetDecoded *d)
+{
+    model_destroy(d->model);
+    texture_destroy(d->texture);
+    memset(d, 0, sizeof *d);
+}
+
+int asset_cache_put(AssetCache *c, AssetDecoded *d, Err *err)
+{
+    if (cache_find(c, d->hash, d->kind)) {
+        asset_decoded_free(d);
         return 0;
-    if (c->n >= ASSET_CACHE_MAX)
+    }
+    if (c->n >= ASSET_CACHE_MAX) {
+        asset_decoded_free(d);
         return err_set(err, "asset: more than %u assets", ASSET_CACHE_MAX);
-    CacheEntry e;
-    memset(&e, 0, sizeof e);
-    memcpy(e.hash, hash, PROTO_HASH);
-    e.kind = kind;
-    if (kind == ASSET_MODEL) {
-        if (tmd_decode(data, len, "model asset", &e.model, err))
-            return -1;
-    } else if (kind == ASSET_TEXTURE) {
-        if (texture_decode(data, len, "asset", &e.texture, err))
-            return -1;
-    } else {
-        return err_set(err, "asset: unknown kind %u", kind);
     }
     CacheEntry *p = realloc(c->e, (c->n + 1) * sizeof *p);
     if (!p) {
-        model_destroy(e.model);
-        texture_destroy(e.texture);
+        asset_decoded_free(d);
         return err_set(err, "asset: out of memory");
     }
     c->e = p;
-    c->e[c->n++] = e;
+    c->e[c->n++] = *d;
+    memset(d, 0, sizeof *d);
     return 0;
+}
+
+int asset_cache_add(AssetCache *c, uint32_t kind, const uint8_t hash[PROTO_HASH], const void *data, size_t len, Err *err)
+{
+    if (cache_find(c, hash, kind)) { /* still checked: a payload that lies is an error either way */
+        uint8_t h[PROTO_HASH];
+        auth_hash(data, len, h);
+        return memcmp(h, hash, PROTO_HASH) ? err_set(err, "asset: payload does not match its hash") : 0;
+    }
+    AssetDecoded d;
+    if (asset_decode(kind, hash, data, len, &d, err)) {
+        asset_decoded_free(&d);
+        return -1;
+    }
+    return asset_cache_put(c, &d, err);
 }
 
 int asset_make_model(const Model *m, Asset *out, Err *err)
@@ -123,4 +144,34 @@ void asset_free(Asset *a)
 {
     free(a->data);
     memset(a, 0, sizeof *a);
+}
+
+void assets_free(Asset *a, uint32_t n)
+{
+    for (uint32_t i = 0; a && i < n; i++)
+        asset_free(&a[i]);
+    free(a);
+}
+
+int asset_make_scene(const Scene *s, Asset **out, uint32_t *n, Err *err)
+{
+    *n = s->model_count + s->texture_count;
+    *out = calloc(*n + 1, sizeof **out);
+    if (!*out)
+        return err_set(err, "out of memory");
+    int rc = 0;
+    for (uint32_t i = 0; i < s->model_count && !rc; i++)
+        rc = asset_make_model(s->models[i], &(*out)[i], err);
+    for (uint32_t i = 0; i < s->texture_count && !rc; i++)
+        rc = asset_make_texture(s->textures[i], &(*out)[s->model_count + i], err);
+    for (uint32_t i = 0; i < *n && !rc; i++)
+        if ((*out)[i].len > PROTO_ASSET_MAX)
+            rc = err_set(err, "%s %u of the scene is %.2f GiB as sent to the clients (%u MiB at most)",
+                         i < s->model_count ? "model" : "texture", i < s->model_count ? i + 1 : i - s->model_count + 1,
+                         (double)(*out)[i].len / (1u << 30), PROTO_ASSET_MAX >> 20);
+    if (rc) {
+        assets_free(*out, *n);
+        *out = NULL, *n = 0;
+    }
+    return rc;
 }

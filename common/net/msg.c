@@ -56,7 +56,9 @@ static const Field data_f[] = {{"frame", offsetof(MsgData, frame), 4},
                                {"coding", offsetof(MsgData, coding), 4},
                                {NULL, 0, 0}};
 static const Field asset_f[] = {{"kind", offsetof(MsgAsset, kind), 4}, {"hash", offsetof(MsgAsset, hash), PROTO_HASH},
+                                {"total", offsetof(MsgAsset, total), 4}, {"offset", offsetof(MsgAsset, offset), 4},
                                 {NULL, 0, 0}};
+static const Field have_f[] = {{"hash", offsetof(MsgHave, hash), PROTO_HASH}, {NULL, 0, 0}};
 static const Field none_f[] = {{NULL, 0, 0}};
 
 static const Layout layouts[PKT_TYPE_END] = {
@@ -66,9 +68,10 @@ static const Layout layouts[PKT_TYPE_END] = {
     [PKT_UPDATE] = {"UPDATE", update_f, "view+scene", 64 * MIB},
     [PKT_COMPUTE] = {"COMPUTE", compute_f, NULL, 0},
     [PKT_DATA] = {"DATA", data_f, "pixels", PROTO_HEADER + 20 + PROTO_MAX_PIXELS},
-    [PKT_ASSET] = {"ASSET", asset_f, "payload", 1024 * MIB},
+    [PKT_ASSET] = {"ASSET", asset_f, "slice", PROTO_HEADER + 44 + PROTO_ASSET_SLICE},
     [PKT_ERROR] = {"ERROR", none_f, "text", PROTO_HEADER + PROTO_MAX_ERROR_TEXT},
     [PKT_BYE] = {"BYE", none_f, NULL, 0},
+    [PKT_HAVE] = {"HAVE", have_f, NULL, 0},
 };
 
 static const Layout *layout_of(uint32_t type) { return type > 0 && type < PKT_TYPE_END ? &layouts[type] : NULL; }
@@ -168,6 +171,7 @@ void msg_encode_error(const MsgError *m, MsgOut *out)
     encode(PKT_ERROR, m, m->text, m->len < PROTO_MAX_ERROR_TEXT ? m->len : PROTO_MAX_ERROR_TEXT, out);
 }
 void msg_encode_bye(MsgOut *out) { encode(PKT_BYE, NULL, NULL, 0, out); }
+void msg_encode_have(const MsgHave *m, MsgOut *out) { encode(PKT_HAVE, m, NULL, 0, out); }
 
 int msg_decode_server_hello(const uint8_t *body, size_t len, MsgServerHello *m, Err *err)
 {
@@ -216,7 +220,18 @@ int msg_decode_data(const uint8_t *body, size_t len, uint32_t bpp, MsgData *m, E
 
 int msg_decode_asset(const uint8_t *body, size_t len, MsgAsset *m, Err *err)
 {
-    return decode(PKT_ASSET, body, len, m, &m->data, &m->len, err);
+    if (decode(PKT_ASSET, body, len, m, &m->data, &m->len, err))
+        return -1;
+    if (m->total > PROTO_ASSET_MAX)
+        return err_set(err, "ASSET of %u bytes (%u at most)", m->total, PROTO_ASSET_MAX);
+    if (m->offset > m->total || m->len > m->total - m->offset)
+        return err_set(err, "ASSET slice of %zu bytes at %u of an asset of %u bytes", m->len, m->offset, m->total);
+    return 0;
+}
+
+int msg_decode_have(const uint8_t *body, size_t len, MsgHave *m, Err *err)
+{
+    return decode(PKT_HAVE, body, len, m, NULL, NULL, err);
 }
 
 int msg_decode_error(const uint8_t *body, size_t len, char text[PROTO_MAX_ERROR_TEXT + 1], Err *err)

@@ -17,7 +17,7 @@
 #include "render/segment.h"
 
 #define PROTO_MAGIC 0x5941524cu /* "LRAY" */
-#define PROTO_VERSION 32u /* 8: an UPDATE carries the frame's view apart, and the scene only when it changed;
+#define PROTO_VERSION 33u /* 8: an UPDATE carries the frame's view apart, and the scene only when it changed;
                            * 9: the view's settings hold light_sampling (wire 6);
                            * 10: compressed pixels (HELLO codecs, WELCOME coding, DATA coding);
                            * 11: pipelined frames (UPDATE keep: the older frame still wanted);
@@ -48,7 +48,10 @@
                            * 29: the view's settings hold clamp_indirect (wire 23);
                            * 30: and tonemap (wire 24);
                            * 31: and filter_glossy (wire 25);
-                           * 32: and caustics (wire 26) */
+                           * 32: and caustics (wire 26);
+                           * 33: an ASSET a slice of its payload (total, offset); HAVE: a
+                           *     client says it holds an asset decoded; a new scene's
+                           *     assets are sent ahead of its frames */
 #define PROTO_BOM 0x01020304u
 #define PROTO_HEADER 8u
 #define PROTO_NONCE 32u
@@ -57,6 +60,8 @@
 #define PROTO_DEFAULT_PORT 7878
 #define PROTO_MAX_ERROR_TEXT 1024u
 #define PROTO_MAX_PIXELS (256u << 20) /* a DATA packet's pixel bytes: a whole 8192x8192 frame of RGBE */
+#define PROTO_ASSET_SLICE (256u << 10) /* an ASSET's bytes of the payload, at most */
+#define PROTO_ASSET_MAX (1024u << 20)  /* an asset's payload, at most */
 
 typedef enum {
     PKT_SERVER_HELLO = 1, /* server -> client: magic, version, bom, flags, nonce */
@@ -68,6 +73,7 @@ typedef enum {
     PKT_ASSET = 7,        /* server -> client: kind, content hash, payload */
     PKT_ERROR = 8,        /* either way: a reason, then the sender closes */
     PKT_BYE = 9,          /* either way: orderly goodbye */
+    PKT_HAVE = 10,        /* client -> server: the hash of an asset it holds decoded */
     PKT_TYPE_END
 } PacketType;
 
@@ -124,12 +130,23 @@ typedef struct {
     uint32_t bpp;          /* not sent: 3 (RGB8), or 4 (RGBE) where the frame's scene says hdr */
 } MsgData;
 
+/* A slice of an asset: its payload's bytes from offset on (len of them,
+ * PROTO_ASSET_SLICE at most), of a payload of total bytes
+ * (PROTO_ASSET_MAX at most).  An asset travels as its slices in order, one
+ * asset after another, so that the frames' packets pass between them. */
 typedef struct {
     uint32_t kind; /* ASSET_MODEL or ASSET_TEXTURE */
     uint8_t hash[PROTO_HASH];
+    uint32_t total, offset;
     const uint8_t *data;
     size_t len;
 } MsgAsset;
+
+/* A client's word that it holds the asset of that hash decoded, ready
+ * for a scene that names it (one for each ASSET, in its order). */
+typedef struct {
+    uint8_t hash[PROTO_HASH];
+} MsgHave;
 
 typedef struct {
     const char *text; /* encoding: up to PROTO_MAX_ERROR_TEXT bytes of it are sent */
@@ -156,6 +173,7 @@ void msg_encode_data(const MsgData *m, MsgOut *out);
 void msg_encode_asset(const MsgAsset *m, MsgOut *out);
 void msg_encode_error(const MsgError *m, MsgOut *out);
 void msg_encode_bye(MsgOut *out);
+void msg_encode_have(const MsgHave *m, MsgOut *out);
 
 /* Decoders take a body (without the header) and check its size against
  * the layout: -1 with the packet named in err when it does not fit.  What
@@ -172,7 +190,10 @@ int msg_decode_compute(const uint8_t *body, size_t len, MsgCompute *m, Err *err)
  * that they decode to exactly the segment).  bpp 0: not checked (a frame
  * the receiver no longer holds, whose pixels it drops unread). */
 int msg_decode_data(const uint8_t *body, size_t len, uint32_t bpp, MsgData *m, Err *err);
+/* An ASSET's slice must lie within its total, and the total within
+ * PROTO_ASSET_MAX. */
 int msg_decode_asset(const uint8_t *body, size_t len, MsgAsset *m, Err *err);
+int msg_decode_have(const uint8_t *body, size_t len, MsgHave *m, Err *err);
 /* The text made printable (other bytes become '?') and NUL-terminated. */
 int msg_decode_error(const uint8_t *body, size_t len, char text[PROTO_MAX_ERROR_TEXT + 1], Err *err);
 

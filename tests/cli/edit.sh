@@ -127,7 +127,14 @@ for _ in $(seq 400); do grep -q "b.scene read again in" "$dir/big.err" && break;
 line=$(grep "b.scene read again in" "$dir/big.err") || fail "the scene with a large model was not read again"
 meanwhile=$(sed -n 's/.*(\([0-9]*\) frames shown meanwhile).*/\1/p' <<<"$line")
 [ "${meanwhile:-0}" -ge 3 ] || fail "frames went on while the scene was read: $line"
+# and its model is sent ahead of its frames (server/ahead.c): the scene
+# shown goes on while the client takes the model in on its own thread
+for _ in $(seq 400); do grep -q "taken in by every client" "$dir/big.err" && break; sleep 0.05; done
+ahead=$(grep "taken in by every client" "$dir/big.err") || fail "the new model was not sent ahead: $(cat "$dir/big.err")"
+meanwhile=$(sed -n 's/.*(\([0-9]*\) frames meanwhile).*/\1/p' <<<"$ahead")
+[ "${meanwhile:-0}" -ge 3 ] || fail "frames went on while the client took the model in: $ahead"
 kill -TERM "$server_pid"
 wait "$server_pid" "$client" 2>/dev/null
 echo "edit: ${line#lanray-server: }"
+echo "edit: ${ahead#lanray-server: }"
 echo "edit: a model added, a texture replaced, an error (logged with its line, the last good scene kept) and its fix, each followed by the frames as lanray-render draws it, with one connection"

@@ -18,7 +18,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     const uint8_t *b = data + 1;
     size_t n = size - 1;
     MsgOut o;
-    switch (data[0] % 8) {
+    switch (data[0] % 9) {
     case 0: {
         MsgServerHello m;
         if (msg_decode_server_hello(b, n, &m, NULL) == 0)
@@ -60,6 +60,12 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         MsgAsset m;
         if (msg_decode_asset(b, n, &m, NULL) == 0)
             msg_encode_asset(&m, &o), same(&o, b, n);
+        break;
+    }
+    case 7: {
+        MsgHave m;
+        if (msg_decode_have(b, n, &m, NULL) == 0)
+            msg_encode_have(&m, &o), same(&o, b, n);
         break;
     }
     default: {
