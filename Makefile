@@ -91,7 +91,7 @@ REPLAYS := $(FUZZ_NAMES:%=$(BUILD)/fuzz/replay_%)
 
 DEB_PACKAGES := gcc make pkg-config libjson-c-dev libsdl2-dev libsdl2-ttf-dev fonts-dejavu-core xdotool libnetpbm-dev libpng-dev libjpeg62-turbo-dev zlib1g-dev libassimp-dev libcmocka-dev libembree-dev libsodium-dev libzstd-dev liblz4-dev libavahi-client-dev avahi-daemon avahi-utils dbus dpkg-dev help2man xvfb x11-apps jwm python3 clang libclang-rt-14-dev povray
 
-.PHONY: all deps check check-asan bench demo clean tradeoff bench-scaling bench-realtime bench-compress bench-pipeline bench-path bench-cycles install uninstall deb fuzz loadtest tools-doc architecture scene-doc
+.PHONY: all deps check check-asan bench demo clean tradeoff bench-scaling bench-realtime bench-ahead bench-compress bench-pipeline bench-path bench-cycles install uninstall deb fuzz loadtest tools-doc architecture scene-doc
 .SECONDARY:
 all: $(TOOLS)
 
@@ -330,6 +330,12 @@ bench-scaling: deps $(TOOLS)
 
 # the real-time viewer: make demo's flight at a frame-rate target, its error
 # and its time to converge against lanray-render (docs/realtime.md)
+# frames while a large model edited into the scene reaches the clients
+# (docs/protocol.md); links of 100 Mbit/s and 1 Gbit/s as root
+bench-ahead: deps $(TOOLS)
+	@$(MAKE) --no-print-directory DEB_PACKAGES=iproute2 deps
+	@BIN=$(BIN) bash tools/bench/bench-ahead
+
 bench-realtime: deps $(TOOLS)
 	@$(MAKE) --no-print-directory DEB_PACKAGES=gnuplot-nox deps
 	@BIN=$(BIN) bash tools/bench/bench-realtime docs

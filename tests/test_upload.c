@@ -90,7 +90,7 @@ static void slices_bring_every_asset_whole(void **state)
     assert_int_equal(asset_make_scene(grid, &ga, &gn, NULL), 0);
     assert_int_equal(asset_make_scene(def, &da, &dn, NULL), 0);
     assert_true(gn == 1 && dn >= 2);
-    assert_true(ga[0].len > 4 * (UPLOAD_LOW + PROTO_ASSET_SLICE));
+    assert_true(ga[0].len > 4 * (UPLOAD_LOW_MIN + UPLOAD_SLICE));
     AssetSet *gs = assetset_make(ga, gn), *ds = assetset_make(da, dn);
     Upload up = {0};
     assert_int_equal(upload_push(&up, gs, 0), 0);
@@ -105,9 +105,9 @@ static void slices_bring_every_asset_whole(void **state)
     AssetLoad *l = assetload_create(wake[1], &err);
     assert_non_null(l);
     /* paced: what waits to go (queued, and in the socket) stays under
-     * UPLOAD_LOW but for the slice that crossed it */
+     * UPLOAD_LOW_MIN (no pace measured yet) but for the slice that crossed it */
     long first = upload_pump(&up, &out, 0, &err);
-    assert_true(first > 0 && first <= (long)(UPLOAD_LOW + PROTO_ASSET_SLICE + PROTO_HEADER + 44));
+    assert_true(first > 0 && first <= (long)(UPLOAD_LOW_MIN + UPLOAD_SLICE + PROTO_HEADER + 44));
     assert_int_equal(upload_pump(&up, &out, 0, &err), 0); /* nothing drained: nothing more */
     assert_true(upload_pending(&up));
     uint32_t slices = 0, rounds = 0;
@@ -120,12 +120,12 @@ static void slices_bring_every_asset_whole(void **state)
         assert_true(++rounds < 100000);
     }
     read_slices(&in, l, &slices);
-    uint64_t bytes = 0;
+    uint64_t want = 0;
     for (uint32_t i = 0; i < gn; i++)
-        bytes += (ga[i].len + PROTO_ASSET_SLICE - 1) / PROTO_ASSET_SLICE;
+        want += (ga[i].len + UPLOAD_SLICE - 1) / UPLOAD_SLICE;
     for (uint32_t i = 0; i < dn; i++)
-        bytes += da[i].len ? (da[i].len + PROTO_ASSET_SLICE - 1) / PROTO_ASSET_SLICE : 1;
-    assert_int_equal(slices, bytes); /* every slice full but each asset's last */
+        want += da[i].len ? (da[i].len + UPLOAD_SLICE - 1) / UPLOAD_SLICE : 1;
+    assert_int_equal(slices, want); /* every slice full but each asset's last */
     assetload_wait(l);
     AssetCache *cache = asset_cache_create();
     Haves h = {.n = 0};
