@@ -152,10 +152,14 @@ void ahead_swap(Server *s)
             log_line(s->cfg.quiet, "lanray-server",
                      "a new scene's models and textures (%.1f MB) not taken in by %u client%s in %.0f s: its frames start",
                      (double)s->ahead_bytes / 1e6, late, late == 1 ? "" : "s", t);
-        else
+        else if (s->frame > s->ahead_frame)
             log_line(s->cfg.quiet, "lanray-server",
                      "a new scene's models and textures (%.1f MB) taken in by every client in %.2f s (%u frames meanwhile)",
                      (double)s->ahead_bytes / 1e6, t, s->frame - s->ahead_frame);
+        else /* a still window makes no frame meanwhile */
+            log_line(s->cfg.quiet, "lanray-server",
+                     "a new scene's models and textures (%.1f MB) taken in by every client in %.2f s",
+                     (double)s->ahead_bytes / 1e6, t);
         s->ahead_t = 0;
     }
     const Camera before = s->scene->camera;

@@ -28,7 +28,9 @@ typedef struct {
     uint8_t *view; /* settings hdr: the RGBE frame as sRGB codes for the window */
     uint32_t frames_done, frames_wanted;
     double last_title;
-    const char *name; /* the scene's file name, for the title (NULL: the built-in scene) */
+    const char *name; /* the scene's file name, for the title (NULL: the built-in scene): --scene's, or */
+    char shown_name[256]; /* ... a dropped file's, once its scene is shown */
+    const char *opening_name; /* a dropped file read, its scene not taken yet (its assets on their way), or NULL */
     const char *scene_path; /* its path (NULL: the built-in scene): --scene's, or */
     char *dropped;          /* ... a file dropped on the window since, which it points to */
     FrameRate rate;   /* the window's frame rate */

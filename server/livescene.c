@@ -66,13 +66,20 @@ static void hand_over(App *app, const Args *a, SceneRead *r)
     }
 }
 
-/* The scene handed over, once the server took it: the old one is free. */
+/* The scene handed over, once the server took it: the old one is free,
+ * and a dropped file's name is the title's. */
 static void adopt_taken(App *app)
 {
     if (app->pending && server_scene(app->server) == app->pending) {
         scene_destroy(app->scene);
         app->scene = app->pending;
         app->pending = NULL;
+        if (app->opening_name) {
+            snprintf(app->shown_name, sizeof app->shown_name, "%s", app->opening_name);
+            app->name = app->shown_name;
+            app->opening_name = NULL;
+            app->last_title = 0;
+        }
     }
 }
 
@@ -139,10 +146,16 @@ static void request(App *app, const Args *a, const char *path, int drop)
 /* A dropped file read: it is the scene shown now, its name in the title. */
 static void adopt_dropped(App *app, const Args *a, char *path, Scene *next)
 {
+    /* the title names the scene shown until the server takes this one
+     * (its models on their way to the clients: server/ahead.c) */
+    if (app->name && app->name != app->shown_name) {
+        snprintf(app->shown_name, sizeof app->shown_name, "%s", app->name);
+        app->name = app->shown_name;
+    }
     free(app->dropped);
     app->dropped = path;
     app->scene_path = path;
-    app->name = file_basename(path);
+    app->opening_name = file_basename(path);
     window_new_scene(&app->win, next);
     livescene_defaults(app, a, next);
 }
@@ -208,7 +221,7 @@ const char *livescene_opening(const App *app)
         return file_basename(app->queued);
     if (app->loading && app->loading_drop)
         return file_basename(sceneload_path(app->loading));
-    return NULL;
+    return app->opening_name;
 }
 
 void livescene_close(App *app)

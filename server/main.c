@@ -295,7 +295,9 @@ static void path_next(App *app, uint32_t frame)
 static int nothing_moves(const App *a)
 {
     const int flying = a->path.count && !a->path_final;
-    return !a->animate && !flying && !server_changes_pending(a->server) && !a->pending;
+    /* (a scene handed over counts once the server may take it: while its
+     * assets travel to the clients, a still view stays still) */
+    return !a->animate && !flying && !server_changes_pending(a->server);
 }
 
 /* Whether frame `frame` is past the job: the frames asked for, or
