@@ -105,8 +105,10 @@ int ahead_pump(Server *s)
 void server_set_scene(Server *s, Scene *next, Asset *assets, uint32_t nassets)
 {
     AssetSet *set = assetset_make(assets, nassets);
-    if (!set) { /* (a few bytes) */
+    if (!set) { /* (a few bytes); a scene handed over before is the caller's to free now */
         log_line(s->cfg.quiet, "lanray-server", "out of memory: a new scene is not taken");
+        assetset_drop(s->next_assets);
+        s->next_assets = NULL, s->next_scene = NULL;
         return;
     }
     assetset_drop(s->next_assets);
