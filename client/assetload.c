@@ -43,14 +43,21 @@ static void decode(Job *j)
     j->data = NULL;
 }
 
+/* The first job not decoded yet, or NULL (under mu). */
+static Job *first_pending(const AssetLoad *l)
+{
+    Job *j = l->head;
+    while (j && j->done)
+        j = j->next;
+    return j;
+}
+
 static void *load_main(void *arg)
 {
     AssetLoad *l = arg;
     pthread_mutex_lock(&l->mu);
     for (;;) {
-        Job *j = l->head;
-        while (j && j->done)
-            j = j->next;
+        Job *j = first_pending(l);
         if (!j) {
             if (l->quit)
                 break;
@@ -177,14 +184,8 @@ int assetload_slice(AssetLoad *l, const MsgAsset *a, Err *err)
 void assetload_wait(AssetLoad *l)
 {
     pthread_mutex_lock(&l->mu);
-    for (;;) {
-        Job *j = l->head;
-        while (j && j->done)
-            j = j->next;
-        if (!j)
-            break;
+    while (first_pending(l))
         pthread_cond_wait(&l->idle, &l->mu);
-    }
     pthread_mutex_unlock(&l->mu);
 }
 

@@ -33,11 +33,7 @@ static Scene *grid_scene(uint32_t n)
             assert_int_equal(mesh_add(&mesh, a, NULL, NULL, NULL, 0, NULL), 0);
             assert_int_equal(mesh_add(&mesh, b, NULL, NULL, NULL, 0, NULL), 0);
         }
-    Mesh *m = malloc(sizeof *m);
-    *m = mesh;
-    Scene *s = worlds_scene_of_mesh(m, v3(0, 0, 0));
-    free(m);
-    return s;
+    return worlds_scene_of_mesh(&mesh, v3(0, 0, 0));
 }
 
 typedef struct {

@@ -9,8 +9,11 @@
 #include "model/tmd.h"
 #include "net/wire.h"
 
+/* A scene's assets as the server makes them (asset_make_scene: models,
+ * then textures) and its serialised description. */
 typedef struct {
-    Asset *models, *textures;
+    Asset *models, *textures; /* one array: textures = models + model_count */
+    uint32_t n;
     uint8_t *blob;
     size_t len;
 } Encoded;
@@ -18,12 +21,8 @@ typedef struct {
 static Encoded encode(const Scene *s)
 {
     Encoded e;
-    e.models = calloc(s->model_count + 1, sizeof *e.models);
-    e.textures = calloc(s->texture_count + 1, sizeof *e.textures);
-    for (uint32_t i = 0; i < s->model_count; i++)
-        assert_int_equal(asset_make_model(s->models[i], &e.models[i], NULL), 0);
-    for (uint32_t i = 0; i < s->texture_count; i++)
-        assert_int_equal(asset_make_texture(s->textures[i], &e.textures[i], NULL), 0);
+    assert_int_equal(asset_make_scene(s, &e.models, &e.n, NULL), 0);
+    e.textures = e.models + s->model_count;
     Sink sink = {0};
     assert_int_equal(wire_encode_scene(s, e.models, e.textures, &sink, NULL), 0);
     e.blob = sink.data;
@@ -31,24 +30,17 @@ static Encoded encode(const Scene *s)
     return e;
 }
 
-static AssetCache *cache_of(const Scene *s, const Encoded *e)
+static AssetCache *cache_of(const Encoded *e)
 {
     AssetCache *c = asset_cache_create();
-    for (uint32_t i = 0; i < s->model_count; i++)
-        assert_int_equal(asset_cache_add(c, ASSET_MODEL, e->models[i].hash, e->models[i].data, e->models[i].len, NULL), 0);
-    for (uint32_t i = 0; i < s->texture_count; i++)
-        assert_int_equal(asset_cache_add(c, ASSET_TEXTURE, e->textures[i].hash, e->textures[i].data, e->textures[i].len, NULL), 0);
+    for (uint32_t i = 0; i < e->n; i++)
+        assert_int_equal(asset_cache_add(c, e->models[i].kind, e->models[i].hash, e->models[i].data, e->models[i].len, NULL), 0);
     return c;
 }
 
-static void free_encoded(const Scene *s, Encoded *e)
+static void free_encoded(Encoded *e)
 {
-    for (uint32_t i = 0; i < s->model_count; i++)
-        asset_free(&e->models[i]);
-    for (uint32_t i = 0; i < s->texture_count; i++)
-        asset_free(&e->textures[i]);
-    free(e->models);
-    free(e->textures);
+    assets_free(e->models, e->n);
     free(e->blob);
 }
 
@@ -209,7 +201,7 @@ static void scenes_round_trip(void **state)
     for (int k = 0; k < 2; k++) {
         Scene *s = scenes[k];
         Encoded e = encode(s);
-        AssetCache *c = cache_of(s, &e);
+        AssetCache *c = cache_of(&e);
         Scene *back;
         if (wire_decode_scene(e.blob, e.len, c, &back, &err))
             fail_msg("%s", err.msg);
@@ -226,7 +218,7 @@ static void scenes_round_trip(void **state)
         assert_true(e.len < 4096);
         scene_destroy(back);
         asset_cache_destroy(c);
-        free_encoded(s, &e);
+        free_encoded(&e);
         scene_destroy(s);
     }
 }
@@ -292,7 +284,7 @@ static void an_environment_travels(void **state)
     Encoded ea = encode(a), eb = encode(b);
     /* the group (texture i32, strength and rotate f64) and the texture's hash */
     assert_int_equal(eb.len - ea.len, 4 + 2 * 8 + PROTO_HASH);
-    AssetCache *c = cache_of(b, &eb);
+    AssetCache *c = cache_of(&eb);
     Scene *back;
     if (wire_decode_scene(eb.blob, eb.len, c, &back, &err))
         fail_msg("%s", err.msg);
@@ -303,8 +295,8 @@ static void an_environment_travels(void **state)
     assert_same_pixels(b, back);
     scene_destroy(back);
     asset_cache_destroy(c);
-    free_encoded(a, &ea);
-    free_encoded(b, &eb);
+    free_encoded(&ea);
+    free_encoded(&eb);
     scene_destroy(a);
     scene_destroy(b);
 }
@@ -330,14 +322,14 @@ static void a_models_optics_carry_the_settings(void **state)
         fail_msg("%s", err.msg);
     assert_true(world_has(world_now(s), FEAT_REFLECT) && s->material_count == 1 && !material_reflects(&s->materials[0]));
     Encoded e = encode(s);
-    AssetCache *c = cache_of(s, &e);
+    AssetCache *c = cache_of(&e);
     assert_int_equal(wire_decode_scene(e.blob, e.len, c, &back, &err), 0);
     assert_int_equal(back->settings.depth, 2);
     assert_int_equal(back->settings.rough_samples, 3);
     assert_int_equal(back->settings.fresnel, FRESNEL_SCHLICK);
     scene_destroy(back);
     asset_cache_destroy(c);
-    free_encoded(s, &e);
+    free_encoded(&e);
     scene_destroy(s);
 }
 
@@ -377,7 +369,7 @@ static void sampling_limit_and_filter_travel(void **state)
         s->settings.depth = 1;
         assert_int_equal(scene_check(s, NULL), 0);
         Encoded e = encode(s);
-        AssetCache *c = cache_of(s, &e);
+        AssetCache *c = cache_of(&e);
         if (wire_decode_scene(e.blob, e.len, c, &back, &err))
             fail_msg("%s", err.msg);
         assert_int_equal(back->settings.sampling, cases[i].sampling);
@@ -386,7 +378,7 @@ static void sampling_limit_and_filter_travel(void **state)
         assert_renders_alike(s, back);
         scene_destroy(back);
         asset_cache_destroy(c);
-        free_encoded(s, &e);
+        free_encoded(&e);
     }
     scene_destroy(s);
 }
@@ -402,7 +394,7 @@ static void hdr_travels_as_a_flag(void **state)
     s->settings.hdr = 1;
     Encoded e = encode(s);
     assert_int_equal(e.len, plain.len);
-    AssetCache *c = cache_of(s, &e);
+    AssetCache *c = cache_of(&e);
     if (wire_decode_scene(e.blob, e.len, c, &back, &err))
         fail_msg("%s", err.msg);
     assert_int_equal(back->settings.hdr, 1);
@@ -410,15 +402,15 @@ static void hdr_travels_as_a_flag(void **state)
     assert_renders_alike(s, back);
     scene_destroy(back);
     asset_cache_destroy(c);
-    free_encoded(s, &e);
+    free_encoded(&e);
     /* and without it, the client's pixels are RGB8 again */
     s->settings.hdr = 0;
-    c = cache_of(s, &plain);
+    c = cache_of(&plain);
     assert_int_equal(wire_decode_scene(plain.blob, plain.len, c, &back, NULL), 0);
     assert_int_equal(render_pixel_bytes(&back->settings), 3);
     scene_destroy(back);
     asset_cache_destroy(c);
-    free_encoded(s, &plain);
+    free_encoded(&plain);
     scene_destroy(s);
 }
 
@@ -451,7 +443,7 @@ static void malformed_scenes_and_assets_are_rejected(void **state)
     BvhOptions opt = bvh_options_default(BVH_SAH);
     assert_int_equal(scene_default(&s, &opt, NULL), 0);
     Encoded e = encode(s);
-    AssetCache *c = cache_of(s, &e);
+    AssetCache *c = cache_of(&e);
     Scene *back;
     for (size_t n = 0; n < e.len; n++) { /* every truncation */
         Err err = {{0}};
@@ -483,7 +475,7 @@ static void malformed_scenes_and_assets_are_rejected(void **state)
     asset_cache_destroy(empty);
     free(bad);
     asset_cache_destroy(c);
-    free_encoded(s, &e);
+    free_encoded(&e);
     scene_destroy(s);
     /* Every item travels by its field table (docs/protocol.md): a 12-byte
      * header; the camera, a group word (at 12) and position, yaw, pitch,

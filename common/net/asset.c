@@ -52,14 +52,20 @@ Texture *asset_cache_texture(const AssetCache *c, const uint8_t hash[PROTO_HASH]
 
 #define ASSET_CACHE_MAX 4096u
 
+/* 0 where the payload is the one its hash names. */
+static int check_hash(const uint8_t hash[PROTO_HASH], const void *data, size_t len, Err *err)
+{
+    uint8_t h[PROTO_HASH];
+    auth_hash(data, len, h);
+    return memcmp(h, hash, PROTO_HASH) ? err_set(err, "asset: payload does not match its hash") : 0;
+}
+
 int asset_decode(uint32_t kind, const uint8_t hash[PROTO_HASH], const void *data, size_t len, AssetDecoded *out,
                  Err *err)
 {
     memset(out, 0, sizeof *out);
-    uint8_t h[PROTO_HASH];
-    auth_hash(data, len, h);
-    if (memcmp(h, hash, PROTO_HASH) != 0)
-        return err_set(err, "asset: payload does not match its hash");
+    if (check_hash(hash, data, len, err))
+        return -1;
     memcpy(out->hash, hash, PROTO_HASH);
     out->kind = kind;
     if (kind == ASSET_MODEL)
@@ -99,11 +105,8 @@ int asset_cache_put(AssetCache *c, AssetDecoded *d, Err *err)
 
 int asset_cache_add(AssetCache *c, uint32_t kind, const uint8_t hash[PROTO_HASH], const void *data, size_t len, Err *err)
 {
-    if (cache_find(c, hash, kind)) { /* still checked: a payload that lies is an error either way */
-        uint8_t h[PROTO_HASH];
-        auth_hash(data, len, h);
-        return memcmp(h, hash, PROTO_HASH) ? err_set(err, "asset: payload does not match its hash") : 0;
-    }
+    if (cache_find(c, hash, kind)) /* still checked: a payload that lies is an error either way */
+        return check_hash(hash, data, len, err);
     AssetDecoded d;
     if (asset_decode(kind, hash, data, len, &d, err)) {
         asset_decoded_free(&d);

@@ -30,30 +30,22 @@ typedef struct {
     AssetCache *cache;
 } Assets;
 
+/* The scene's assets as the server sends them, and a client's cache of them. */
 static int assets_make(const Scene *s, Assets *a, Err *err)
 {
-    a->n = s->model_count + s->texture_count;
-    a->assets = calloc(a->n + 1, sizeof *a->assets);
-    a->cache = asset_cache_create();
-    if (!a->assets || !a->cache)
+    if (asset_make_scene(s, &a->assets, &a->n, err))
+        return -1;
+    if (!(a->cache = asset_cache_create()))
         return err_set(err, "out of memory");
-    for (uint32_t i = 0; i < a->n; i++) {
-        int model = i < s->model_count;
-        if (model ? asset_make_model(s->models[i], &a->assets[i], err)
-                  : asset_make_texture(s->textures[i - s->model_count], &a->assets[i], err))
+    for (uint32_t i = 0; i < a->n; i++)
+        if (asset_cache_add(a->cache, a->assets[i].kind, a->assets[i].hash, a->assets[i].data, a->assets[i].len, err))
             return -1;
-        if (asset_cache_add(a->cache, model ? ASSET_MODEL : ASSET_TEXTURE, a->assets[i].hash, a->assets[i].data,
-                            a->assets[i].len, err))
-            return -1;
-    }
     return 0;
 }
 
-static void assets_free(Assets *a)
+static void assets_drop(Assets *a)
 {
-    for (uint32_t i = 0; i < a->n; i++)
-        asset_free(&a->assets[i]);
-    free(a->assets);
+    assets_free(a->assets, a->n);
     asset_cache_destroy(a->cache);
 }
 
@@ -133,7 +125,7 @@ static int bench_scene(const char *path, int rounds, Err *err)
     world_destroy(held);
     sink_free(&blob);
     sink_free(&vb);
-    assets_free(&as);
+    assets_drop(&as);
     scene_destroy(s);
     return rc ? -1 : 0;
 }
